@@ -1,0 +1,16 @@
+/* Benchmarks of hairkit: each prints its figures side by side on `out`. They measure
+ * speed and never assert it (tests check correctness, benchmarks report speed). */
+#ifndef HK_BENCH_H
+#define HK_BENCH_H
+
+#include <stdio.h>
+
+typedef struct hk_BenchOptions {
+    int quick;          /* a smoke run with tiny repetition counts (used by the tests) */
+    double min_seconds; /* minimum measuring time per figure */
+} hk_BenchOptions;
+
+/* Super-Helix statics: Newton against the thesis's Rosenbrock on the same strands. */
+int hk_bench_statics(FILE *out, const hk_BenchOptions *options);
+
+#endif

@@ -1,0 +1,77 @@
+/* Helpers shared by the hairkit subcommands: argument parsing and error reporting. */
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "cli.h"
+
+int hk_cli_parse_double(const char *text, double *out)
+{
+    if (!text || !*text) return 0;
+    char *end;
+    errno = 0;
+    double v = strtod(text, &end);
+    if (*end != '\0' || errno == ERANGE || !isfinite(v)) return 0;
+    *out = v;
+    return 1;
+}
+
+int hk_cli_parse_int(const char *text, long lo, long hi, long *out)
+{
+    if (!text || !*text) return 0;
+    char *end;
+    errno = 0;
+    long v = strtol(text, &end, 10);
+    if (*end != '\0' || errno == ERANGE || v < lo || v > hi) return 0;
+    *out = v;
+    return 1;
+}
+
+int hk_cli_parse_vec3(const char *text, hk_Vec3 *out)
+{
+    double v[3];
+    const char *p = text;
+    for (int i = 0; i < 3; i++) {
+        char *end;
+        errno = 0;
+        v[i] = strtod(p, &end);
+        if (end == p || errno == ERANGE || !isfinite(v[i])) return 0;
+        p = end;
+        if (i < 2) {
+            if (*p != ',') return 0;
+            p++;
+        }
+    }
+    if (*p != '\0') return 0;
+    *out = hk_v3(v[0], v[1], v[2]);
+    return 1;
+}
+
+int hk_cli_fail(const char *cmd, const hk_Error *err)
+{
+    fprintf(stderr, "hairkit %s: %s\n", cmd, err->message[0] ? err->message : hk_status_name(err->code));
+    return HK_EXIT_FAIL;
+}
+
+int hk_cli_usage_error(const char *cmd, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fprintf(stderr, "hairkit %s: ", cmd);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fprintf(stderr, "\nTry 'hairkit %s --help'.\n", cmd);
+    return HK_EXIT_USAGE;
+}
+
+int hk_cli_stderr_is_tty(void) { return isatty(STDERR_FILENO); }
+
+double hk_cli_now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}

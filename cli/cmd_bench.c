@@ -1,0 +1,75 @@
+/* hairkit bench: runs the benchmarks of bench/ and prints their figures. */
+#include <getopt.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "bench.h"
+#include "cli.h"
+
+typedef struct Bench {
+    const char *name;
+    int (*run)(FILE *out, const hk_BenchOptions *options);
+    const char *summary;
+} Bench;
+
+static const Bench benches[] = {
+    {"statics", hk_bench_statics, "Super-Helix statics: Newton vs the thesis's Rosenbrock, N = 5..40"},
+};
+
+static void usage(FILE *out)
+{
+    fprintf(out,
+            "usage: hairkit bench [NAME...] [--quick] [--min-time SECONDS]\n"
+            "\n"
+            "Runs benchmarks and prints their figures side by side (all of them when no\n"
+            "NAME is given). Timings are wall-clock on this machine.\n"
+            "\n"
+            "benchmarks:\n");
+    for (size_t i = 0; i < sizeof benches / sizeof *benches; i++)
+        fprintf(out, "  %-10s %s\n", benches[i].name, benches[i].summary);
+    fprintf(out,
+            "\n"
+            "options:\n"
+            "  --quick            smoke run: few repetitions, figures not meaningful\n"
+            "  --min-time S       measure each figure for at least S seconds (default 0.5)\n"
+            "  -h, --help         this help\n");
+}
+
+int hk_cmd_bench(int argc, char **argv)
+{
+    static const struct option options[] = {
+        {"quick", no_argument, NULL, 'q'},
+        {"min-time", required_argument, NULL, 't'},
+        {"help", no_argument, NULL, 'h'},
+        {NULL, 0, NULL, 0},
+    };
+    hk_BenchOptions bo = {0, 0.5};
+    optind = 1;
+    opterr = 0;
+    int c;
+    while ((c = getopt_long(argc, argv, ":h", options, NULL)) != -1) {
+        switch (c) {
+        case 'q': bo.quick = 1; break;
+        case 't':
+            if (!hk_cli_parse_double(optarg, &bo.min_seconds) || bo.min_seconds < 0 || bo.min_seconds > 3600)
+                return hk_cli_usage_error("bench", "--min-time expects seconds in [0, 3600], got '%s'", optarg);
+            break;
+        case 'h': usage(stdout); return HK_EXIT_OK;
+        case ':': return hk_cli_usage_error("bench", "option '%s' needs a value", argv[optind - 1]);
+        default: return hk_cli_usage_error("bench", "unknown option '%s'", argv[optind - 1]);
+        }
+    }
+    if (bo.quick) bo.min_seconds = 0.0;
+    for (int i = optind; i < argc; i++) {
+        int found = 0;
+        for (size_t b = 0; b < sizeof benches / sizeof *benches; b++) found |= !strcmp(argv[i], benches[b].name);
+        if (!found) return hk_cli_usage_error("bench", "unknown benchmark '%s'", argv[i]);
+    }
+    int rc = HK_EXIT_OK;
+    for (size_t b = 0; b < sizeof benches / sizeof *benches; b++) {
+        int selected = optind >= argc;
+        for (int i = optind; i < argc; i++) selected |= !strcmp(argv[i], benches[b].name);
+        if (selected && benches[b].run(stdout, &bo) != 0) rc = HK_EXIT_FAIL;
+    }
+    return rc;
+}

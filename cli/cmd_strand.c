@@ -1,0 +1,193 @@
+/* hairkit strand: the rest shape of one Super-Helix strand (statics, paper 000 §3 and
+ * thesis 004 §4.1.1-4.1.3) printed as CSV samples along its arc length. */
+#include <getopt.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "cli.h"
+#include "hairkit/canvas.h"
+#include "hairkit/io.h"
+#include "hairkit/statics.h"
+
+static const char *const CMD = "strand";
+
+static void usage(FILE *out)
+{
+    fprintf(out,
+            "usage: hairkit strand HAIRSTYLE.txt [options]\n"
+            "\n"
+            "Finds the rest shape of one hair strand (a Super-Helix) under gravity and\n"
+            "collision penalties by minimising its energy, and prints it.\n"
+            "\n"
+            "options:\n"
+            "  --collision FILE   collision shapes (thesis Collision Info file)\n"
+            "  --root X,Y,Z       root position in metres (default 0,0,0)\n"
+            "  --dir X,Y,Z        direction in which the strand leaves the root (default 1,0,0)\n"
+            "  --solver NAME      newton (default: analytic gradient and Hessian) or\n"
+            "                     rosenbrock (the thesis's direct search, MaxIter/Epsilon)\n"
+            "  --envelope A       envelope level of this strand in [0,1] (thesis 4.1.2.2:\n"
+            "                     0 lowest follicle, 1 highest; default 0)\n"
+            "  --plot FILE.png    also draw side and front views of the strand and shapes\n"
+            "  --quiet            no summary on stderr\n"
+            "  -h, --help         this help\n"
+            "\n"
+            "output (stdout):\n"
+            "  # energy=<J> iterations=<n> evaluations=<n> solver=<name>\n"
+            "  s,x,y,z            one row every VisualityStep from the root, the tip last\n");
+}
+
+typedef struct StrandArgs {
+    const char *hairstyle, *collision, *plot;
+    hk_Vec3 root, dir;
+    hk_SolverKind solver;
+    double envelope;
+    int quiet;
+} StrandArgs;
+
+static int parse_args(int argc, char **argv, StrandArgs *a)
+{
+    enum { OPT_COLLISION = 1000, OPT_ROOT, OPT_DIR, OPT_SOLVER, OPT_ENVELOPE, OPT_PLOT, OPT_QUIET };
+    static const struct option options[] = {
+        {"collision", required_argument, NULL, OPT_COLLISION},
+        {"root", required_argument, NULL, OPT_ROOT},
+        {"dir", required_argument, NULL, OPT_DIR},
+        {"solver", required_argument, NULL, OPT_SOLVER},
+        {"envelope", required_argument, NULL, OPT_ENVELOPE},
+        {"plot", required_argument, NULL, OPT_PLOT},
+        {"quiet", no_argument, NULL, OPT_QUIET},
+        {"help", no_argument, NULL, 'h'},
+        {NULL, 0, NULL, 0},
+    };
+    *a = (StrandArgs){NULL, NULL, NULL, {0, 0, 0}, {1, 0, 0}, HK_SOLVER_NEWTON, 0.0, 0};
+    optind = 1;
+    opterr = 0;
+    int c;
+    while ((c = getopt_long(argc, argv, ":h", options, NULL)) != -1) {
+        switch (c) {
+        case OPT_COLLISION: a->collision = optarg; break;
+        case OPT_PLOT: a->plot = optarg; break;
+        case OPT_QUIET: a->quiet = 1; break;
+        case OPT_ROOT:
+            if (!hk_cli_parse_vec3(optarg, &a->root))
+                return hk_cli_usage_error(CMD, "--root expects X,Y,Z (three numbers), got '%s'", optarg);
+            break;
+        case OPT_DIR:
+            if (!hk_cli_parse_vec3(optarg, &a->dir) || hk_v3_norm(a->dir) == 0.0)
+                return hk_cli_usage_error(CMD, "--dir expects a non-zero X,Y,Z, got '%s'", optarg);
+            break;
+        case OPT_SOLVER: {
+            int s = hk_solver_from_name(optarg);
+            if (s < 0) return hk_cli_usage_error(CMD, "--solver must be newton or rosenbrock, got '%s'", optarg);
+            a->solver = (hk_SolverKind)s;
+            break;
+        }
+        case OPT_ENVELOPE:
+            if (!hk_cli_parse_double(optarg, &a->envelope) || a->envelope < 0.0 || a->envelope > 1.0)
+                return hk_cli_usage_error(CMD, "--envelope expects a number in [0, 1], got '%s'", optarg);
+            break;
+        case 'h': usage(stdout); return -1;
+        case ':': return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
+        default: return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
+        }
+    }
+    if (optind >= argc) return hk_cli_usage_error(CMD, "missing HAIRSTYLE file");
+    if (optind + 1 < argc) return hk_cli_usage_error(CMD, "unexpected argument '%s'", argv[optind + 1]);
+    a->hairstyle = argv[optind];
+    return 0;
+}
+
+/* Writes the sampled strand to stdout in the format of the command-line contract. */
+static void print_strand(const hk_MinimizeResult *res, hk_SolverKind solver, double energy, int count,
+                         const double *s, const hk_Vec3 *p)
+{
+    printf("# energy=%.10e iterations=%d evaluations=%ld solver=%s\n", energy, res->iterations,
+           res->evaluations, hk_solver_name(solver));
+    printf("s,x,y,z\n");
+    for (int j = 0; j < count; j++) printf("%.10g,%.10g,%.10g,%.10g\n", s[j], p[j].x, p[j].y, p[j].z);
+}
+
+int hk_cmd_strand(int argc, char **argv)
+{
+    StrandArgs a;
+    int rc = parse_args(argc, argv, &a);
+    if (rc) return rc < 0 ? HK_EXIT_OK : rc;
+
+    hk_Error err;
+    hk_HairstyleDef def;
+    hk_Shape *shapes = NULL;
+    int shape_count = 0;
+    hk_SuperHelix *sh = NULL;
+    hk_StrandWorkspace *ws = NULL;
+    double *s = NULL;
+    hk_Vec3 *p = NULL;
+    int status = HK_EXIT_FAIL;
+
+    if (hk_hairstyle_load(a.hairstyle, &def, &err) != HK_OK) return hk_cli_fail(CMD, &err);
+    if (a.collision && hk_collision_load(a.collision, &shapes, &shape_count, &err) != HK_OK) {
+        hk_cli_fail(CMD, &err);
+        goto done;
+    }
+    if (hk_superhelix_from_hairstyle(&def, a.root, a.dir, &sh, &err) != HK_OK) {
+        hk_cli_fail(CMD, &err);
+        goto done;
+    }
+    hk_StrandEnv env = hk_default_strand_env();
+    env.shapes = shapes;
+    env.shape_count = shape_count;
+    env.envelope_alpha = a.envelope;
+    env.collision_step = def.collision_step;
+
+    hk_StaticsOptions opt = hk_default_statics_options();
+    opt.solver = a.solver;
+    opt.rosenbrock = hk_rosenbrock_options_for(&def);
+    hk_MinimizeResult res;
+    const double t0 = hk_cli_now();
+    if (hk_statics_solve(sh, &env, &opt, &res, &err) != HK_OK) {
+        hk_cli_fail(CMD, &err);
+        goto done;
+    }
+    const double seconds = hk_cli_now() - t0;
+    if (hk_strand_workspace_create(sh, &env, &ws, &err) != HK_OK) {
+        hk_cli_fail(CMD, &err);
+        goto done;
+    }
+    const double energy = hk_strand_energy(sh, &env, sh->q, ws, NULL, NULL, NULL);
+
+    const int count = hk_superhelix_sample_count(sh, def.visuality_step);
+    s = hk_alloc_array((size_t)count, sizeof *s, &err);
+    p = hk_alloc_array((size_t)count, sizeof *p, &err);
+    if (!s || !p) {
+        hk_cli_fail(CMD, &err);
+        goto done;
+    }
+    hk_superhelix_sample(sh, NULL, def.visuality_step, s, p, NULL);
+    if (a.plot) {
+        hk_PlotStrand ps = {p, count, {0.45, 0.22, 0.05}};
+        if (hk_plot_strands_png(a.plot, 1200, 600, &ps, 1, shapes, shape_count, a.envelope, &err) != HK_OK) {
+            hk_cli_fail(CMD, &err);
+            goto done;
+        }
+    }
+    print_strand(&res, a.solver, energy, count, s, p);
+    if (fflush(stdout) != 0 || ferror(stdout)) {
+        fprintf(stderr, "hairkit strand: cannot write to standard output\n");
+        goto done;
+    }
+    if (!a.quiet && hk_cli_stderr_is_tty()) {
+        fprintf(stderr, "hairkit strand: %d elements, L = %.4g m, %s: %d iterations, %ld evaluations, %.3g ms%s\n",
+                sh->n, sh->total_length, hk_solver_name(a.solver), res.iterations, res.evaluations,
+                1e3 * seconds, res.converged ? "" : " (stopped by its limit before converging)");
+        if (shape_count > 0)
+            fprintf(stderr, "hairkit strand: deepest collision sample %.3g m inside the envelopes\n",
+                    hk_strand_max_penetration(sh, &env, sh->q, ws));
+    }
+    status = HK_EXIT_OK;
+done:
+    hk_free(s);
+    hk_free(p);
+    hk_strand_workspace_destroy(ws);
+    hk_superhelix_destroy(sh);
+    hk_free(shapes);
+    hk_hairstyle_free(&def);
+    return status;
+}

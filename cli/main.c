@@ -1,0 +1,62 @@
+/* hairkit: command-line front end. Each subcommand lives in its own file (cmd_*.c)
+ * and is a thin layer over the library. */
+#include <stdio.h>
+#include <string.h>
+
+#include "cli.h"
+
+typedef struct Command {
+    const char *name;
+    int (*run)(int argc, char **argv);
+    const char *summary;
+} Command;
+
+static const Command commands[] = {
+    {"strand", hk_cmd_strand, "rest shape of one Super-Helix strand under gravity and contacts"},
+    {"bench", hk_cmd_bench, "benchmarks with side-by-side figures"},
+};
+
+static void print_help(FILE *out)
+{
+    fprintf(out,
+            "hairkit %s - natural hair: Super-Helix statics and dynamics, grooming, rendering\n"
+            "\n"
+            "usage: hairkit COMMAND [ARGS...]\n"
+            "       hairkit COMMAND --help\n"
+            "\n"
+            "commands:\n",
+            HK_VERSION_STRING);
+    for (size_t i = 0; i < sizeof commands / sizeof *commands; i++)
+        fprintf(out, "  %-10s %s\n", commands[i].name, commands[i].summary);
+    fprintf(out,
+            "\n"
+            "Units are SI (metres, pascals, kg/m^3); y is up and gravity points along -y.\n"
+            "Input files are the thesis's text files (docs/file-formats.md).\n");
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        print_help(stderr);
+        return HK_EXIT_USAGE;
+    }
+    if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h") || !strcmp(argv[1], "help")) {
+        if (argc > 2 && strcmp(argv[1], "help") == 0) {
+            for (size_t i = 0; i < sizeof commands / sizeof *commands; i++)
+                if (!strcmp(argv[2], commands[i].name)) {
+                    char *sub[] = {argv[2], "--help", NULL};
+                    return commands[i].run(2, sub);
+                }
+        }
+        print_help(stdout);
+        return HK_EXIT_OK;
+    }
+    if (!strcmp(argv[1], "--version")) {
+        printf("hairkit %s\n", HK_VERSION_STRING);
+        return HK_EXIT_OK;
+    }
+    for (size_t i = 0; i < sizeof commands / sizeof *commands; i++)
+        if (!strcmp(argv[1], commands[i].name)) return commands[i].run(argc - 1, argv + 1);
+    fprintf(stderr, "hairkit: unknown command '%s'\nTry 'hairkit --help'.\n", argv[1]);
+    return HK_EXIT_USAGE;
+}

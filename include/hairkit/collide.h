@@ -1,0 +1,80 @@
+/* Collision shapes and their penalty energy (thesis 004 §4.1.2).
+ *
+ * A shape measures the penetration depth `dent` of a point (positive inside, negative
+ * outside). The penalty energy density of a point is
+ *     e(p) = 1/2 * k * max(dent(p) + extra, 0)^2,        extra = alpha * volume,
+ * where k is the shape's Penalty, volume its Volume (the envelope thickness v of
+ * §4.1.2.2) and alpha in [0, 1] the strand's envelope level (0 for the lowest
+ * follicle, 1 for the highest). A strand's collision energy is the sum of e over its
+ * collision samples times the sample spacing. Gradients and Hessians with respect to
+ * p are analytic; the rod energy chains them to its generalized coordinates. */
+#ifndef HAIRKIT_COLLIDE_H
+#define HAIRKIT_COLLIDE_H
+
+#include "hairkit/core.h"
+#include "hairkit/vecmath.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum hk_ShapeKind {
+    HK_SHAPE_SPHERE = 0,
+    HK_SHAPE_ELLIPSOID = 1,
+    HK_SHAPE_CUBOID = 2
+} hk_ShapeKind;
+
+typedef struct hk_Shape {
+    hk_ShapeKind kind;
+    double volume;   /* envelope thickness v in metres (may be negative, §4.1.2.2) */
+    double penalty;  /* stiffness k >= 0 (J/m^3: energy density per dent^2 per length) */
+    hk_Vec3 centre;
+    hk_Vec3 half;    /* ellipsoid radii / cuboid half-dimensions (a, b, c) along the
+                        axes; for a sphere all three equal the radius */
+    hk_Vec3 axis[3]; /* orthonormal local axes U, V, W (identity for a sphere) */
+    double bound;    /* |p - centre| > bound + sqrt(3) * |extra| implies
+                        dent(p) + extra < 0 (no contact); set by hk_shape_finish() */
+} hk_Shape;
+
+/* Shape constructors; axes are normalised. They fill `bound`. */
+hk_Shape hk_shape_sphere(hk_Vec3 centre, double radius, double volume, double penalty);
+hk_Shape hk_shape_ellipsoid(hk_Vec3 centre, hk_Vec3 radii, const hk_Vec3 axes[3], double volume,
+                            double penalty);
+hk_Shape hk_shape_cuboid(hk_Vec3 centre, hk_Vec3 half_dims, const hk_Vec3 axes[3], double volume,
+                         double penalty);
+
+/* Recomputes derived fields (bound) after the public fields were edited by hand. */
+void hk_shape_finish(hk_Shape *shape);
+
+/* Penetration depth of p as defined by the thesis:
+ *   sphere:    dent = r - |p - c|
+ *   ellipsoid: dent = |p - c| / ratio - |p - c|, ratio = |(pU/a, pV/b, pW/c)| (radial
+ *              distance to the surface along the ray from the centre, §4.1.2.1.1)
+ *   cuboid:    dent = min(a - |pU|, b - |pV|, c - |pW|)
+ * grad (if not NULL) receives d dent / dp and hess (if not NULL) the 3x3 second
+ * derivative (zero for the cuboid, which is piecewise linear). At the centre of an
+ * ellipsoid, where the radial measure is undefined, dent is the smallest radius and
+ * the derivatives are zero. */
+double hk_shape_dent(const hk_Shape *shape, hk_Vec3 p, hk_Vec3 *grad, hk_Mat3 *hess);
+
+/* Penalty energy density e(p) of one shape (see top of file) with envelope level
+ * alpha; adds its gradient to *grad and its Hessian to *hess when they are not NULL
+ * (callers zero them first). Returns the energy density. Cheap when p is far outside
+ * (see `bound`). */
+double hk_shape_penalty(const hk_Shape *shape, double alpha, hk_Vec3 p, hk_Vec3 *grad,
+                        hk_Mat3 *hess);
+
+/* Sum of hk_shape_penalty over shapes[0..count). grad and hess are overwritten (set
+ * to the sum) when not NULL. Returns the summed energy density. */
+double hk_collision_penalty(const hk_Shape *shapes, int count, double alpha, hk_Vec3 p,
+                            hk_Vec3 *grad, hk_Mat3 *hess);
+
+/* Largest dent + extra > 0 over shapes at p (0 when p touches none): how deep a
+ * point sits inside the envelopes. Used by tests and reports. */
+double hk_collision_depth(const hk_Shape *shapes, int count, double alpha, hk_Vec3 p);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* HAIRKIT_COLLIDE_H */

@@ -1,0 +1,60 @@
+/* hairkit core: status codes, error reports and checked allocation.
+ *
+ * Every library function that can fail returns an hk_Status (HK_OK == 0) and, when
+ * given a non-NULL hk_Error, fills it with a one-line message. Messages about input
+ * files start with "path:line: " so that editors can jump to the spot. */
+#ifndef HAIRKIT_CORE_H
+#define HAIRKIT_CORE_H
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define HK_VERSION_STRING "0.1.0"
+
+typedef enum hk_Status {
+    HK_OK = 0,
+    HK_ERR_IO = 1,      /* a file could not be opened, read or written */
+    HK_ERR_PARSE = 2,   /* an input file is malformed */
+    HK_ERR_INVALID = 3, /* a value is out of its physical or sane range */
+    HK_ERR_NOMEM = 4,   /* an allocation failed or would be absurdly large */
+    HK_ERR_NUMERIC = 5  /* a computation produced NaN/Inf or did not converge */
+} hk_Status;
+
+#define HK_ERROR_MESSAGE_SIZE 512
+
+typedef struct hk_Error {
+    hk_Status code;
+    char message[HK_ERROR_MESSAGE_SIZE];
+} hk_Error;
+
+/* Fills err (when not NULL) with code and a printf-style message; returns code so
+ * that callers can write `return hk_error_set(err, HK_ERR_PARSE, "...")`. */
+#if defined(__GNUC__)
+__attribute__((format(printf, 3, 4)))
+#endif
+hk_Status hk_error_set(hk_Error *err, hk_Status code, const char *fmt, ...);
+
+/* Clears err to HK_OK with an empty message. */
+void hk_error_clear(hk_Error *err);
+
+/* Short name of a status code ("io", "parse", ...). */
+const char *hk_status_name(hk_Status status);
+
+/* Largest single allocation the library will attempt (bytes). Bigger requests come
+ * from absurd input sizes and are refused with HK_ERR_NOMEM instead of trying. */
+#define HK_MAX_ALLOCATION ((size_t)8 << 30)
+
+/* malloc/calloc of count*size bytes with overflow and HK_MAX_ALLOCATION checks.
+ * On failure returns NULL and fills err. A zero count returns a valid minimal block. */
+void *hk_alloc_array(size_t count, size_t size, hk_Error *err);
+void *hk_calloc_array(size_t count, size_t size, hk_Error *err);
+void hk_free(void *ptr);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* HAIRKIT_CORE_H */

@@ -1,0 +1,76 @@
+/* Input files of the thesis framework (thesis 004 §4.2.1 and Appendix B).
+ *
+ * Every file is text: one `Key value...` per line, `#` starts a comment, keys match
+ * without regard to case, values are separated by blanks, a value with blanks is
+ * written in double quotes. All values are SI (metres, pascals, kg/m^3, m/s^2) except
+ * HairDensity, which is hairs per square centimetre of wick surface. Every error
+ * message names the file and the line: "hairstyle.txt:14: Young must be > 0, got -3". */
+#ifndef HAIRKIT_IO_H
+#define HAIRKIT_IO_H
+
+#include "hairkit/collide.h"
+#include "hairkit/core.h"
+#include "hairkit/vecmath.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Limits that keep absurd input from turning into absurd allocations or run times. */
+#define HK_MAX_INPUT_FILE_BYTES ((long)16 << 20) /* 16 MiB for any text input file */
+#define HK_MAX_ELEMENTS 1000                     /* Super-Helix elements per strand */
+#define HK_MAX_SAMPLES_PER_STRAND 1000000        /* L / VisualityStep, L / CollisionStep */
+#define HK_MAX_SHAPES 10000                      /* collision shapes in one file */
+
+/* Hairstyle Info (thesis Appendix B, "Hairstyle Info"). */
+typedef struct hk_HairstyleDef {
+    double visuality_step; /* VisualityStep: spacing of output vertices along s (m) */
+    double collision_step; /* CollisionStep: spacing of collision samples along s (m) */
+    int max_iter;          /* MaxIter: Rosenbrock stages */
+    double epsilon;        /* Epsilon: Rosenbrock relative energy decrease per stage */
+    int element_count;     /* N, the number of values of HairLengths */
+    double *element_lengths; /* HairLengths: l_Q for Q = 1..N (m), owned */
+    double hair_density;   /* HairDensity: hairs per cm^2 of wick surface */
+    double radius1;        /* HairRadius1: semi-axis a of the section along n1 (m) */
+    double radius2;        /* HairRadius2: semi-axis b of the section along n2 (m) */
+    double helix_radius;   /* HelixRadius r_h (m); 0 means straight hair */
+    double helix_step;     /* HelixStep Delta_h (m); negative gives a left-handed helix */
+    double poisson;        /* Poisson: sigma in (-1, 0.5) */
+    double young;          /* Young: E (Pa) */
+    double density;        /* Density: rho (kg/m^3) */
+    double gravity;        /* Gravity: |g| (m/s^2) */
+    hk_Vec3 gravity_dir;   /* GravityDirection: unit vector, default (0, -1, 0) */
+} hk_HairstyleDef;
+
+/* Defaults for every optional key (Density 1300, Gravity 9.81, Poisson 0.48, ...);
+ * element_lengths is NULL and element_count 0. */
+hk_HairstyleDef hk_default_hairstyle(void);
+
+/* Reads a hairstyle file. Required keys: HairLengths (alias HairLength), HairRadius1,
+ * HairRadius2, HelixRadius, HelixStep, Young. The others are optional. On error `out`
+ * is left empty (nothing to free) and err says file:line and what is wrong. */
+hk_Status hk_hairstyle_load(const char *path, hk_HairstyleDef *out, hk_Error *err);
+
+/* Sum of the element lengths. */
+double hk_hairstyle_length(const hk_HairstyleDef *def);
+
+/* Frees element_lengths and resets def to defaults. Safe on a default def. */
+void hk_hairstyle_free(hk_HairstyleDef *def);
+
+/* Deep copy (element_lengths duplicated). */
+hk_Status hk_hairstyle_copy(const hk_HairstyleDef *src, hk_HairstyleDef *dst, hk_Error *err);
+
+/* Collision Info (thesis Appendix B): zero or more lines
+ *   Sphere    Volume Penalty Cx Cy Cz Radius
+ *   Ellipsoid Volume Penalty Cx Cy Cz A B C Ux Uy Uz Vx Vy Vz Wx Wy Wz   (alias Elipsoid)
+ *   Cuboid    Volume Penalty Cx Cy Cz A B C Ux Uy Uz Vx Vy Vz Wx Wy Wz
+ * Axes are normalised; they must be mutually orthogonal within 1e-3. On success
+ * *shapes is an array of *count shapes to be released with hk_free (NULL when the
+ * file lists none). */
+hk_Status hk_collision_load(const char *path, hk_Shape **shapes, int *count, hk_Error *err);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* HAIRKIT_IO_H */

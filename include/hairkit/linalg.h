@@ -1,0 +1,21 @@
+/* Small dense linear algebra for the solvers (row-major n x n matrices). */
+#ifndef HAIRKIT_LINALG_H
+#define HAIRKIT_LINALG_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Cholesky factor of the symmetric matrix a + shift * diag(d) (d may be NULL: identity)
+ * into the lower triangle of l (n x n; the strict upper triangle is left alone).
+ * Returns 1 on success, 0 if the matrix is not numerically positive definite. */
+int hk_cholesky_factor(int n, const double *a, double shift, const double *d, double *l);
+
+/* Solves L L^T x = b in place (x holds b on entry) with the factor from above. */
+void hk_cholesky_solve(int n, const double *l, double *x);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

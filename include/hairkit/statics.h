@@ -1,0 +1,107 @@
+/* Energy minimisers for Super-Helix statics (paper 000 §3, thesis 004 §4.1.3).
+ *
+ * Two methods find the rest shape of a strand under gravity and contacts:
+ *  - the thesis's Rosenbrock direct search with Palmer's orthogonalisation, kept
+ *    faithful for comparison (MaxIter stages, Epsilon relative decrease per stage);
+ *  - the default Newton method with the analytic gradient and Hessian of the strand
+ *    energy, Levenberg-Marquardt damping and a backtracking line search. */
+#ifndef HAIRKIT_STATICS_H
+#define HAIRKIT_STATICS_H
+
+#include "hairkit/core.h"
+#include "hairkit/rod.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- generic minimisers ------------------------------------------------------- */
+
+/* Objective without derivatives: returns f(x) for x of the size given to the solver. */
+typedef double (*hk_ObjectiveFn)(const double *x, void *user);
+
+typedef struct hk_MinimizeResult {
+    double f;          /* objective at the returned x */
+    int iterations;    /* Rosenbrock: stages; Newton: Newton steps */
+    long evaluations;  /* objective evaluations (Newton: with derivatives or not) */
+    int converged;     /* 1 if the stopping test was met, 0 if a limit stopped it */
+} hk_MinimizeResult;
+
+typedef struct hk_RosenbrockOptions {
+    int max_stages;        /* MaxIter of the hairstyle file */
+    double epsilon;        /* stop when a stage lowers f by <= epsilon * |f| */
+    double initial_step;   /* trial step length at the start of every stage */
+    double alpha;          /* step growth after a success (Rosenbrock 1960: 3) */
+    double beta;           /* step shrink after a failure (Rosenbrock 1960: 0.5) */
+    long max_evaluations;  /* safety limit on objective evaluations (<= 0: none) */
+} hk_RosenbrockOptions;
+
+hk_RosenbrockOptions hk_default_rosenbrock_options(void);
+
+/* Rosenbrock's rotating-coordinates direct search (Rosenbrock 1960) with Palmer's
+ * (1969) orthonormalisation of the new directions, as described in thesis §4.1.3.2-3.
+ * A trial succeeds when f(x + step * xi_i) <= f(x); a stage ends once every direction
+ * has had a success followed by a failure; then the directions are rotated so that
+ * xi_1 points along the stage's total advance. x (size n) is updated in place. */
+hk_Status hk_rosenbrock_minimize(int n, double *x, hk_ObjectiveFn f, void *user,
+                                 const hk_RosenbrockOptions *options, hk_MinimizeResult *result,
+                                 hk_Error *err);
+
+/* Palmer's orthonormalisation step on its own (exposed for tests): given the n
+ * orthonormal directions xi (row-major n x n, row i = direction i) and the stage
+ * advances d[0..n), writes the new orthonormal directions into xi_new. */
+void hk_rosenbrock_palmer_directions(int n, const double *xi, const double *d, double *xi_new);
+
+/* Objective with derivatives: returns f(x); fills grad (n) and hess (n x n, row-major)
+ * when they are not NULL. */
+typedef double (*hk_DerivFn)(const double *x, double *grad, double *hess, void *user);
+
+typedef struct hk_NewtonOptions {
+    int max_iterations;   /* Newton steps (accepted or not) */
+    double tolerance;     /* stop when the Newton decrement g.H^-1.g / 2 <= tolerance * scale */
+    double energy_scale;  /* `scale` above; <= 0 uses max(|f|, tiny) */
+} hk_NewtonOptions;
+
+hk_NewtonOptions hk_default_newton_options(void);
+
+/* Newton's method with Levenberg-Marquardt damping (H + mu D) p = -g, D a positive
+ * diagonal metric (NULL: the identity), and the trust-region ratio test on the true
+ * f to accept steps: robust on the indefinite Hessians of strands far from rest, and
+ * quadratically convergent near the minimum. x (size n) is updated in place. */
+hk_Status hk_newton_minimize(int n, double *x, hk_DerivFn f, void *user, const double *metric,
+                             const hk_NewtonOptions *options, hk_MinimizeResult *result,
+                             hk_Error *err);
+
+/* ---- strand statics --------------------------------------------------------------- */
+
+typedef enum hk_SolverKind { HK_SOLVER_NEWTON = 0, HK_SOLVER_ROSENBROCK = 1 } hk_SolverKind;
+
+typedef struct hk_StaticsOptions {
+    hk_SolverKind solver;
+    hk_RosenbrockOptions rosenbrock; /* for HK_SOLVER_ROSENBROCK */
+    hk_NewtonOptions newton;         /* for HK_SOLVER_NEWTON */
+} hk_StaticsOptions;
+
+/* Newton by default; Rosenbrock settings from the thesis defaults (MaxIter 20,
+ * Epsilon 1e-4). */
+hk_StaticsOptions hk_default_statics_options(void);
+
+/* Rosenbrock settings of a hairstyle file (MaxIter, Epsilon) and its initial step. */
+hk_RosenbrockOptions hk_rosenbrock_options_for(const hk_HairstyleDef *def);
+
+/* Name of a solver for messages ("newton", "rosenbrock"); parse back with
+ * hk_solver_from_name (returns -1 for an unknown name). */
+const char *hk_solver_name(hk_SolverKind kind);
+int hk_solver_from_name(const char *name);
+
+/* Finds the rest shape of the strand: minimises hk_strand_energy over sh->q starting
+ * from the current sh->q. On success sh->q holds the minimiser. */
+hk_Status hk_statics_solve(hk_SuperHelix *sh, const hk_StrandEnv *env,
+                           const hk_StaticsOptions *options, hk_MinimizeResult *result,
+                           hk_Error *err);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* HAIRKIT_STATICS_H */

@@ -1,0 +1,46 @@
+/* Construction of collision shapes (thesis 004 §4.1.2.1): sphere, ellipsoid, cuboid. */
+#include "hairkit/collide.h"
+
+static hk_Shape shape_base(hk_ShapeKind kind, hk_Vec3 centre, hk_Vec3 half, const hk_Vec3 axes[3],
+                           double volume, double penalty)
+{
+    hk_Shape s;
+    s.kind = kind;
+    s.volume = volume;
+    s.penalty = penalty;
+    s.centre = centre;
+    s.half = half;
+    for (int i = 0; i < 3; i++) s.axis[i] = axes ? hk_v3_normalize(axes[i]) : hk_v3_unit(i);
+    hk_shape_finish(&s);
+    return s;
+}
+
+void hk_shape_finish(hk_Shape *s)
+{
+    /* For every kind, dent(p) <= R - |p - c| with R the largest radius (sphere,
+     * ellipsoid: the radial surface distance is at most the largest semi-axis) or the
+     * half-diagonal (cuboid), so |p - c| > R + |v| implies dent + extra < 0. */
+    double a = s->half.x, b = s->half.y, c = s->half.z;
+    if (s->kind == HK_SHAPE_CUBOID)
+        s->bound = sqrt(a * a + b * b + c * c);
+    else
+        s->bound = fmax(a, fmax(b, c));
+}
+
+hk_Shape hk_shape_sphere(hk_Vec3 centre, double radius, double volume, double penalty)
+{
+    return shape_base(HK_SHAPE_SPHERE, centre, hk_v3(radius, radius, radius), NULL, volume,
+                      penalty);
+}
+
+hk_Shape hk_shape_ellipsoid(hk_Vec3 centre, hk_Vec3 radii, const hk_Vec3 axes[3], double volume,
+                            double penalty)
+{
+    return shape_base(HK_SHAPE_ELLIPSOID, centre, radii, axes, volume, penalty);
+}
+
+hk_Shape hk_shape_cuboid(hk_Vec3 centre, hk_Vec3 half_dims, const hk_Vec3 axes[3], double volume,
+                         double penalty)
+{
+    return shape_base(HK_SHAPE_CUBOID, centre, half_dims, axes, volume, penalty);
+}

@@ -1,0 +1,127 @@
+/* One helical element in closed form with exact first and second derivatives in its
+ * curvatures and twist (paper 000 Appendix A, eq. 7; derivation in docs/physics.md). */
+#include "helix_local.h"
+
+hk_Mat3 hk_helix_rotation(const double c[HK_CN_COUNT], hk_Vec3 phi)
+{
+    /* exp(Phi) = I + c1 Phi + c2 Phi^2 with Phi^2 = phi phi^T - |phi|^2 I (Rodrigues). */
+    double x = hk_v3_dot(phi, phi);
+    hk_Mat3 r = hk_m3_outer(phi, phi);
+    hk_Mat3 s = hk_m3_skew(phi);
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++) r.m[i][j] = c[1] * s.m[i][j] + c[2] * r.m[i][j];
+        r.m[i][i] += 1.0 - c[2] * x;
+    }
+    return r;
+}
+
+void hk_helix_term(const double c[HK_CN_COUNT], int m, double alpha, hk_Vec3 phi, hk_Vec3 w,
+                   int order, hk_HelixTerm *out)
+{
+    const double cm = c[m], cm1 = c[m + 1];
+    const double x = hk_v3_dot(phi, phi), pw = hk_v3_dot(phi, w);
+    const hk_Vec3 pxw = hk_v3_cross(phi, w);
+    /* Q = phi x (phi x w) = phi (phi . w) - x w */
+    const hk_Vec3 q = hk_v3_sub(hk_v3_scale(phi, pw), hk_v3_scale(w, x));
+    out->value = hk_v3_add(hk_v3_scale(w, alpha), hk_v3_add(hk_v3_scale(pxw, cm), hk_v3_scale(q, cm1)));
+    if (order < 1) return;
+
+    /* dc_n/dx = -(c_{n+1} - n c_{n+2}) / 2, and x = phi . phi gives dx/dphi_j = 2 phi_j. */
+    const double dm = -0.5 * (c[m + 1] - m * c[m + 2]);
+    const double dm1 = -0.5 * (c[m + 2] - (m + 1) * c[m + 3]);
+    const double ph[3] = {phi.x, phi.y, phi.z}, wv[3] = {w.x, w.y, w.z};
+    hk_Vec3 exw[3], dq[3];
+    for (int j = 0; j < 3; j++) {
+        hk_Vec3 ej = hk_v3_unit(j);
+        exw[j] = hk_v3_cross(ej, w);
+        /* d Q / d phi_j = e_j (phi . w) + phi w_j - 2 phi_j w */
+        dq[j] = hk_v3_add(hk_v3_scale(ej, pw), hk_v3_sub(hk_v3_scale(phi, wv[j]), hk_v3_scale(w, 2.0 * ph[j])));
+        hk_Vec3 col = hk_v3_scale(pxw, 2.0 * dm * ph[j]);
+        col = hk_v3_madd(col, exw[j], cm);
+        col = hk_v3_madd(col, q, 2.0 * dm1 * ph[j]);
+        col = hk_v3_madd(col, dq[j], cm1);
+        out->jac.m[0][j] = col.x;
+        out->jac.m[1][j] = col.y;
+        out->jac.m[2][j] = col.z;
+    }
+    if (order < 2) return;
+
+    /* d2c_n/dx2 = (c_{n+2} - (2n+1) c_{n+3} + n (n+2) c_{n+4}) / 4 */
+    const double ddm = 0.25 * (c[m + 2] - (2 * m + 1) * c[m + 3] + m * (m + 2) * c[m + 4]);
+    const double ddm1 = 0.25 * (c[m + 3] - (2 * m + 3) * c[m + 4] + (m + 1) * (m + 3) * c[m + 5]);
+    for (int a = 0; a < 3; a++) {
+        for (int b = a; b < 3; b++) {
+            const double dab = a == b ? 1.0 : 0.0;
+            hk_Vec3 v = hk_v3_scale(pxw, 4.0 * ddm * ph[a] * ph[b] + 2.0 * dm * dab);
+            v = hk_v3_madd(v, exw[a], 2.0 * dm * ph[b]);
+            v = hk_v3_madd(v, exw[b], 2.0 * dm * ph[a]);
+            v = hk_v3_madd(v, q, 4.0 * ddm1 * ph[a] * ph[b] + 2.0 * dm1 * dab);
+            v = hk_v3_madd(v, dq[a], 2.0 * dm1 * ph[b]);
+            v = hk_v3_madd(v, dq[b], 2.0 * dm1 * ph[a]);
+            /* d2 Q / d phi_a d phi_b = e_a w_b + e_b w_a - 2 delta_ab w */
+            v = hk_v3_madd(v, hk_v3_unit(a), cm1 * wv[b]);
+            v = hk_v3_madd(v, hk_v3_unit(b), cm1 * wv[a]);
+            v = hk_v3_madd(v, w, -2.0 * cm1 * dab);
+            out->hess[a][b] = v;
+            out->hess[b][a] = v;
+        }
+    }
+}
+
+static void set_col(hk_Mat3 *m, int j, hk_Vec3 v)
+{
+    m->m[0][j] = v.x;
+    m->m[1][j] = v.y;
+    m->m[2][j] = v.z;
+}
+
+void hk_element_local(hk_Vec3 k, double u, int order, int with_g, hk_ElementLocal *out)
+{
+    const hk_Vec3 phi = hk_v3_scale(k, u);
+    double c[HK_CN_COUNT];
+    hk_helix_cn(hk_v3_dot(phi, phi), with_g ? HK_CN_NEEDED(3, order) : HK_CN_NEEDED(2, order), c);
+    out->rot = hk_helix_rotation(c, phi);
+
+    /* Lambda e_b = u h(phi; m = 2, alpha = 1, w = e_b); d/dk = u d/dphi. */
+    const double u2 = u * u, u3 = u2 * u;
+    for (int b = 0; b < (order > 0 ? 3 : 1); b++) {
+        int term_order = order >= 2 ? 2 : (b == 0 ? order : 0);
+        if (b > 0 && term_order > 1) term_order = 1; /* columns 1, 2: dlam only */
+        hk_HelixTerm t;
+        hk_helix_term(c, 2, 1.0, phi, hk_v3_unit(b), term_order, &t);
+        set_col(&out->lam, b, hk_v3_scale(t.value, u));
+        if (b == 0 && order >= 1) out->dd = hk_m3_scale(&t.jac, u2);
+        if (order >= 2) {
+            out->dlam[b] = hk_m3_scale(&t.jac, u2);
+            if (b == 0)
+                for (int i = 0; i < 3; i++)
+                    for (int j = 0; j < 3; j++) out->d2d[i][j] = hk_v3_scale(t.hess[i][j], u3);
+        }
+    }
+    if (with_g) {
+        /* g = u^2 h(phi; m = 3, alpha = 1/2, w = e0). */
+        hk_HelixTerm t;
+        hk_helix_term(c, 3, 0.5, phi, hk_v3_unit(0), order > 2 ? 2 : order, &t);
+        out->g = hk_v3_scale(t.value, u2);
+        if (order >= 1) out->dg = hk_m3_scale(&t.jac, u3);
+        if (order >= 2)
+            for (int i = 0; i < 3; i++)
+                for (int j = 0; j < 3; j++) out->d2g[i][j] = hk_v3_scale(t.hess[i][j], u3 * u);
+    }
+}
+
+hk_Vec3 hk_element_offset(hk_Vec3 k, double u, hk_Mat3 *dd, hk_Vec3 d2d[3][3])
+{
+    const hk_Vec3 phi = hk_v3_scale(k, u);
+    const int order = d2d ? 2 : (dd ? 1 : 0);
+    double c[HK_CN_COUNT];
+    hk_helix_cn(hk_v3_dot(phi, phi), HK_CN_NEEDED(2, order), c);
+    hk_HelixTerm t;
+    hk_helix_term(c, 2, 1.0, phi, hk_v3_unit(0), order, &t);
+    const double u2 = u * u;
+    if (dd) *dd = hk_m3_scale(&t.jac, u2);
+    if (d2d)
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++) d2d[i][j] = hk_v3_scale(t.hess[i][j], u2 * u);
+    return hk_v3_scale(t.value, u);
+}

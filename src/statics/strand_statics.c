@@ -1,0 +1,102 @@
+/* Rest shape of one strand: minimisation of the Super-Helix energy (paper 000 §3,
+ * thesis 004 §4.1.1.4) with the thesis's Rosenbrock search or the Newton default. */
+#include "hairkit/statics.h"
+
+#include <math.h>
+#include <string.h>
+#include <strings.h>
+
+typedef struct StrandProblem {
+    const hk_SuperHelix *sh;
+    const hk_StrandEnv *env;
+    hk_StrandWorkspace *ws;
+} StrandProblem;
+
+static double strand_value(const double *q, void *user)
+{
+    const StrandProblem *pb = user;
+    return hk_strand_energy(pb->sh, pb->env, q, pb->ws, NULL, NULL, NULL);
+}
+
+static double strand_derivs(const double *q, double *grad, double *hess, void *user)
+{
+    const StrandProblem *pb = user;
+    return hk_strand_energy(pb->sh, pb->env, q, pb->ws, grad, hess, NULL);
+}
+
+hk_StaticsOptions hk_default_statics_options(void)
+{
+    hk_StaticsOptions o;
+    o.solver = HK_SOLVER_NEWTON;
+    o.rosenbrock = hk_default_rosenbrock_options();
+    o.newton = hk_default_newton_options();
+    return o;
+}
+
+hk_RosenbrockOptions hk_rosenbrock_options_for(const hk_HairstyleDef *def)
+{
+    hk_RosenbrockOptions o = hk_default_rosenbrock_options();
+    o.max_stages = def->max_iter;
+    o.epsilon = def->epsilon;
+    /* The thesis gives no initial step. One radian of bending over the strand length
+     * is the natural unit of curvature; the search grows or shrinks it from there. */
+    const double length = hk_hairstyle_length(def);
+    if (length > 0.0) o.initial_step = 1.0 / length;
+    return o;
+}
+
+const char *hk_solver_name(hk_SolverKind kind)
+{
+    return kind == HK_SOLVER_ROSENBROCK ? "rosenbrock" : "newton";
+}
+
+int hk_solver_from_name(const char *name)
+{
+    if (!strcasecmp(name, "newton")) return HK_SOLVER_NEWTON;
+    if (!strcasecmp(name, "rosenbrock")) return HK_SOLVER_ROSENBROCK;
+    return -1;
+}
+
+/* Characteristic energy of a strand: bending it by a radian over its length plus
+ * lifting its weight by its length. Convergence is measured against it, so that the
+ * stopping test does not depend on where the zero of gravity energy lies. */
+static double energy_scale(const hk_SuperHelix *sh)
+{
+    const double len = sh->total_length;
+    double bend = 0.0;
+    for (int i = 0; i < 3; i++) bend += sh->material.stiffness[i];
+    bend *= 1.0 / len;
+    return bend + sh->material.mass_per_length * hk_v3_norm(sh->material.gravity) * len * len;
+}
+
+hk_Status hk_statics_solve(hk_SuperHelix *sh, const hk_StrandEnv *env,
+                           const hk_StaticsOptions *options, hk_MinimizeResult *result,
+                           hk_Error *err)
+{
+    const int dim = 3 * sh->n;
+    StrandProblem pb = {sh, env, NULL};
+    hk_Status st = hk_strand_workspace_create(sh, env, &pb.ws, err);
+    if (st != HK_OK) return st;
+    /* q and the metric in one block. */
+    double *q = hk_alloc_array((size_t)dim * 2, sizeof(double), err);
+    if (!q) {
+        hk_strand_workspace_destroy(pb.ws);
+        return HK_ERR_NOMEM;
+    }
+    double *metric = q + dim;
+    memcpy(q, sh->q, (size_t)dim * sizeof(double));
+    if (options->solver == HK_SOLVER_ROSENBROCK) {
+        st = hk_rosenbrock_minimize(dim, q, strand_value, &pb, &options->rosenbrock, result, err);
+    } else {
+        /* The elastic diagonal l_Q K_i makes the damping independent of units. */
+        for (int p = 0; p < sh->n; p++)
+            for (int i = 0; i < 3; i++) metric[3 * p + i] = sh->length[p] * sh->material.stiffness[i];
+        hk_NewtonOptions no = options->newton;
+        if (!(no.energy_scale > 0.0)) no.energy_scale = energy_scale(sh);
+        st = hk_newton_minimize(dim, q, strand_derivs, &pb, metric, &no, result, err);
+    }
+    if (st == HK_OK) memcpy(sh->q, q, (size_t)dim * sizeof(double));
+    hk_free(q);
+    hk_strand_workspace_destroy(pb.ws);
+    return st;
+}

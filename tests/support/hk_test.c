@@ -1,0 +1,73 @@
+/* Shared helpers for the cmocka tests (see hk_test.h). */
+#include "hk_test.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static char tmpdir[256];
+
+const char *hk_test_tmpdir(void)
+{
+    if (!tmpdir[0]) {
+        const char *base = getenv("TMPDIR");
+        snprintf(tmpdir, sizeof tmpdir, "%s/hairkit-test-XXXXXX", base && *base ? base : "/tmp");
+        if (!mkdtemp(tmpdir)) {
+            fprintf(stderr, "cannot create temporary folder %s\n", tmpdir);
+            abort();
+        }
+    }
+    return tmpdir;
+}
+
+#define SLOTS 64
+static char paths[SLOTS][512];
+static int next_slot;
+
+const char *hk_test_write_file(const char *name, const void *data, size_t size)
+{
+    char *path = paths[next_slot++ % SLOTS];
+    snprintf(path, 512, "%s/%s", hk_test_tmpdir(), name);
+    FILE *f = fopen(path, "wb");
+    if (!f || (size && fwrite(data, 1, size, f) != size) || fclose(f) != 0) {
+        fprintf(stderr, "cannot write %s\n", path);
+        abort();
+    }
+    return path;
+}
+
+const char *hk_test_write_text(const char *name, const char *text)
+{
+    return hk_test_write_file(name, text, strlen(text));
+}
+
+void hk_assert_near_impl(double a, double b, double tol, const char *as, const char *bs,
+                         const char *file, int line)
+{
+    if (!(fabs(a - b) <= tol)) {
+        print_error("%s = %.17g and %s = %.17g differ by %.3g > %.3g\n", as, a, bs, b, fabs(a - b),
+                    tol);
+        _fail(file, line);
+    }
+}
+
+void hk_assert_rel_impl(double a, double b, double rtol, double floor, const char *as,
+                        const char *bs, const char *file, int line)
+{
+    double scale = fmax(fmax(fabs(a), fabs(b)), floor);
+    if (!(fabs(a - b) <= rtol * scale)) {
+        print_error("%s = %.17g and %s = %.17g: relative difference %.3g > %.3g\n", as, a, bs, b,
+                    fabs(a - b) / scale, rtol);
+        _fail(file, line);
+    }
+}
+
+void hk_assert_contains_impl(const char *haystack, const char *needle, const char *file, int line)
+{
+    if (!haystack || !strstr(haystack, needle)) {
+        print_error("expected \"%s\" to contain \"%s\"\n", haystack ? haystack : "(null)", needle);
+        _fail(file, line);
+    }
+}

@@ -1,0 +1,39 @@
+/* Shared helpers for the cmocka tests: temporary files and tolerant comparisons. */
+#ifndef HK_TEST_H
+#define HK_TEST_H
+
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+/* Writes `size` bytes of `data` to a fresh file in a private temporary folder and
+ * returns its path (static storage per call slot, valid until the process ends).
+ * `name` is the file's base name, so error messages in tests look like real ones. */
+const char *hk_test_write_file(const char *name, const void *data, size_t size);
+
+/* Same for a NUL-terminated text. */
+const char *hk_test_write_text(const char *name, const char *text);
+
+/* Private temporary folder of this test process (created on first use). */
+const char *hk_test_tmpdir(void);
+
+/* |a - b| <= tol; prints both values and the tolerance when it fails. */
+#define hk_assert_near(a, b, tol) hk_assert_near_impl((a), (b), (tol), #a, #b, __FILE__, __LINE__)
+void hk_assert_near_impl(double a, double b, double tol, const char *as, const char *bs,
+                         const char *file, int line);
+
+/* |a - b| <= rtol * max(|a|, |b|, floor). */
+#define hk_assert_rel(a, b, rtol, floor) \
+    hk_assert_rel_impl((a), (b), (rtol), (floor), #a, #b, __FILE__, __LINE__)
+void hk_assert_rel_impl(double a, double b, double rtol, double floor, const char *as,
+                        const char *bs, const char *file, int line);
+
+/* Asserts that `haystack` contains `needle`, printing both when not. */
+#define hk_assert_contains(haystack, needle) \
+    hk_assert_contains_impl((haystack), (needle), __FILE__, __LINE__)
+void hk_assert_contains_impl(const char *haystack, const char *needle, const char *file, int line);
+
+#endif
