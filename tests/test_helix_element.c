@@ -50,7 +50,7 @@ static double cn_scale(double x, int n)
 static void check_cn_at(double x, double *worst)
 {
     double c[HK_CN_COUNT];
-    hk_helix_cn(x, HK_CN_COUNT, c);
+    hk_helix_cn(x, c);
     for (int n = 0; n < HK_CN_COUNT; n++) {
         long double r = ref_cn((long double)x, n);
         /* theta = sqrt(x) itself carries a rounding of ulp(theta), so the absolute
@@ -162,7 +162,7 @@ static void check_term_derivatives(int m, double alpha, hk_Vec3 phi, hk_Vec3 w)
 {
     double c[HK_CN_COUNT];
     hk_HelixTerm t;
-    hk_helix_cn(hk_v3_dot(phi, phi), HK_CN_COUNT, c);
+    hk_helix_cn(hk_v3_dot(phi, phi), c);
     hk_helix_term(c, m, alpha, phi, w, 2, &t);
     const double h = 1e-5 * fmax(1.0, hk_v3_norm(phi));
     for (int j = 0; j < 3; j++) {
@@ -171,8 +171,8 @@ static void check_term_derivatives(int m, double alpha, hk_Vec3 phi, hk_Vec3 w)
         hk_v3_set(&pp, j, hk_v3_get(phi, j) + h);
         hk_v3_set(&pm, j, hk_v3_get(phi, j) - h);
         double cp[HK_CN_COUNT], cm[HK_CN_COUNT];
-        hk_helix_cn(hk_v3_dot(pp, pp), HK_CN_COUNT, cp);
-        hk_helix_cn(hk_v3_dot(pm, pm), HK_CN_COUNT, cm);
+        hk_helix_cn(hk_v3_dot(pp, pp), cp);
+        hk_helix_cn(hk_v3_dot(pm, pm), cm);
         hk_helix_term(cp, m, alpha, pp, w, 1, &tp);
         hk_helix_term(cm, m, alpha, pm, w, 1, &tm);
         for (int i = 0; i < 3; i++) {

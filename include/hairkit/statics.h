@@ -64,10 +64,11 @@ typedef struct hk_NewtonOptions {
 
 hk_NewtonOptions hk_default_newton_options(void);
 
-/* Newton's method with Levenberg-Marquardt damping (H + mu D) p = -g, D a positive
- * diagonal metric (NULL: the identity), and the trust-region ratio test on the true
- * f to accept steps: robust on the indefinite Hessians of strands far from rest, and
- * quadratically convergent near the minimum. x (size n) is updated in place. */
+/* Newton's method: steps (H + mu D) p = -g with D a positive diagonal metric (NULL:
+ * the identity) and mu the smallest damping that makes H + mu D positive definite,
+ * then a backtracking (Armijo) line search on f: robust on the indefinite Hessians of
+ * strands far from rest, quadratically convergent near the minimum. x (size n) is
+ * updated in place. */
 hk_Status hk_newton_minimize(int n, double *x, hk_DerivFn f, void *user, const double *metric,
                              const hk_NewtonOptions *options, hk_MinimizeResult *result,
                              hk_Error *err);

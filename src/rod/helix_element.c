@@ -79,7 +79,7 @@ void hk_element_local(hk_Vec3 k, double u, int order, int with_g, hk_ElementLoca
 {
     const hk_Vec3 phi = hk_v3_scale(k, u);
     double c[HK_CN_COUNT];
-    hk_helix_cn(hk_v3_dot(phi, phi), with_g ? HK_CN_NEEDED(3, order) : HK_CN_NEEDED(2, order), c);
+    hk_helix_cn(hk_v3_dot(phi, phi), c);
     out->rot = hk_helix_rotation(c, phi);
 
     /* Lambda e_b = u h(phi; m = 2, alpha = 1, w = e_b); d/dk = u d/dphi. */
@@ -110,18 +110,34 @@ void hk_element_local(hk_Vec3 k, double u, int order, int with_g, hk_ElementLoca
     }
 }
 
-hk_Vec3 hk_element_offset(hk_Vec3 k, double u, hk_Mat3 *dd, hk_Vec3 d2d[3][3])
+hk_Vec3 hk_element_offset_begin(hk_Vec3 k, double u, double c[HK_CN_COUNT])
 {
     const hk_Vec3 phi = hk_v3_scale(k, u);
-    const int order = d2d ? 2 : (dd ? 1 : 0);
-    double c[HK_CN_COUNT];
-    hk_helix_cn(hk_v3_dot(phi, phi), HK_CN_NEEDED(2, order), c);
+    hk_helix_cn(hk_v3_dot(phi, phi), c);
     hk_HelixTerm t;
-    hk_helix_term(c, 2, 1.0, phi, hk_v3_unit(0), order, &t);
+    hk_helix_term(c, 2, 1.0, phi, hk_v3_unit(0), 0, &t);
+    return hk_v3_scale(t.value, u);
+}
+
+void hk_element_offset_derivs(hk_Vec3 k, double u, const double c[HK_CN_COUNT], hk_Mat3 *dd,
+                              hk_Vec3 d2d[3][3])
+{
+    hk_HelixTerm t;
+    hk_helix_term(c, 2, 1.0, hk_v3_scale(k, u), hk_v3_unit(0), d2d ? 2 : 1, &t);
     const double u2 = u * u;
     if (dd) *dd = hk_m3_scale(&t.jac, u2);
     if (d2d)
         for (int i = 0; i < 3; i++)
             for (int j = 0; j < 3; j++) d2d[i][j] = hk_v3_scale(t.hess[i][j], u2 * u);
-    return hk_v3_scale(t.value, u);
+}
+
+hk_Vec3 hk_element_offset(hk_Vec3 k, double u, hk_Mat3 *dd, hk_Vec3 d2d[3][3])
+{
+    double c[HK_CN_COUNT];
+    const hk_Vec3 d = hk_element_offset_begin(k, u, c);
+    if (dd || d2d) {
+        hk_Mat3 tmp;
+        hk_element_offset_derivs(k, u, c, dd ? dd : &tmp, d2d);
+    }
+    return d;
 }

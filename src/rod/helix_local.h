@@ -17,13 +17,10 @@
 
 #define HK_CN_COUNT 9
 
-/* c[n] = c_n(x) for n = 0..count-1 (count <= HK_CN_COUNT), x >= 0, accurate to a few
- * ulps of each value's magnitude: series below a threshold growing with n, the upward
- * recurrence c_{n+2} = (1/n! - c_n) / x above it (where it does not cancel). */
-void hk_helix_cn(double x, int count, double c[HK_CN_COUNT]);
-
-/* How many c_n a helix term of index m needs for derivatives of the given order. */
-#define HK_CN_NEEDED(m, order) ((m) + 2 + 2 * (order))
+/* c[n] = c_n(x) for n = 0..HK_CN_COUNT-1, x >= 0, accurate to a few ulps of each
+ * value's magnitude: upward recurrence from cos and sin where it does not cancel,
+ * series for the two highest orders and a stable downward recurrence elsewhere. */
+void hk_helix_cn(double x, double c[HK_CN_COUNT]);
 
 /* The vector function  h(phi) = alpha w + c_m(x) (phi x w) + c_{m+1}(x) phi x (phi x w)
  * (x = phi . phi) with its derivatives in phi. */
@@ -62,5 +59,12 @@ void hk_element_local(hk_Vec3 k, double u, int order, int with_g, hk_ElementLoca
  * when d2d is not NULL its second derivatives (order 2): the cheap path used for
  * collision samples inside an element. */
 hk_Vec3 hk_element_offset(hk_Vec3 k, double u, hk_Mat3 *dd, hk_Vec3 d2d[3][3]);
+
+/* The same in two stages, so that a caller can test the position before paying for
+ * derivatives: hk_element_offset_begin fills c and returns d;
+ * hk_element_offset_derivs then reuses c. */
+hk_Vec3 hk_element_offset_begin(hk_Vec3 k, double u, double c[HK_CN_COUNT]);
+void hk_element_offset_derivs(hk_Vec3 k, double u, const double c[HK_CN_COUNT], hk_Mat3 *dd,
+                              hk_Vec3 d2d[3][3]);
 
 #endif

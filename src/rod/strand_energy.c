@@ -130,18 +130,43 @@ static void forward(const hk_SuperHelix *sh, const double *q, int order, hk_Stra
 }
 
 /* Collision samples: energy, and for active samples the data the derivatives need. */
+/* Whether any point within `radius` of `centre` can touch a shape's envelope. */
+static int near_shapes(const hk_StrandEnv *env, hk_Vec3 centre, double radius)
+{
+    for (int j = 0; j < env->shape_count; j++) {
+        const hk_Shape *sh = &env->shapes[j];
+        const double reach = sh->bound + 1.7320508075688772 * fabs(env->envelope_alpha * sh->volume) + radius;
+        if (hk_v3_norm2(hk_v3_sub(centre, sh->centre)) <= reach * reach) return 1;
+    }
+    return 0;
+}
+
 static double collisions(const hk_SuperHelix *sh, const hk_StrandEnv *env, const double *q,
                          int order, hk_StrandWorkspace *ws, double *max_depth)
 {
     double energy = 0.0;
     const double w = ws->sample_weight;
     for (int p = 0; p < sh->n; p++) {
+        const int s0 = ws->elem_first_sample[p], s1 = ws->elem_first_sample[p + 1];
+        for (int i = s0; i < s1; i++) ws->active[i] = 0;
+        /* Broad phase: an inextensible element stays within its length of its start. */
+        if (s0 == s1 || !near_shapes(env, ws->pos[p], sh->length[p])) continue;
         const hk_Mat3 *r = &ws->frame[p];
         const hk_Vec3 k = k_of(q, p);
-        for (int i = ws->elem_first_sample[p]; i < ws->elem_first_sample[p + 1]; i++) {
-            const double u = ws->sample_u[i];
-            hk_Vec3 pt = hk_v3_add(ws->pos[p], hk_m3_mul_v3(r, hk_element_offset(k, u, NULL, NULL)));
-            ws->active[i] = 0;
+        /* Samples are evenly spaced by w: walk from one to the next with the element's
+         * own helix map, d(u + w) = d(u) + E(u) d(w), E(u + w) = E(u) E(w), instead of
+         * a closed form per sample. */
+        hk_ElementLocal at, step;
+        hk_element_local(k, ws->sample_u[s0], 0, 0, &at);
+        if (s1 - s0 > 1) hk_element_local(k, w, 0, 0, &step);
+        hk_Mat3 rot = at.rot;
+        hk_Vec3 d = hk_m3_col(&at.lam, 0);
+        for (int i = s0; i < s1; i++) {
+            if (i > s0) {
+                d = hk_v3_add(d, hk_m3_mul_v3(&rot, hk_m3_col(&step.lam, 0)));
+                rot = hk_m3_mul(&rot, &step.rot);
+            }
+            const hk_Vec3 pt = hk_v3_add(ws->pos[p], hk_m3_mul_v3(r, d));
             if (max_depth) {
                 double depth = hk_collision_depth(env->shapes, env->shape_count, env->envelope_alpha, pt);
                 if (depth > *max_depth) *max_depth = depth;
@@ -157,9 +182,12 @@ static double collisions(const hk_SuperHelix *sh, const hk_StrandEnv *env, const
             ws->active[i] = 1;
             ws->sp[i] = pt;
             ws->sf[i] = hk_v3_scale(g, w);
+            const double u = ws->sample_u[i];
+            double c[HK_CN_COUNT];
+            hk_element_offset_begin(k, u, c);
             hk_Mat3 dd;
             hk_Vec3 d2d[3][3];
-            hk_element_offset(k, u, &dd, order >= 2 ? d2d : NULL);
+            hk_element_offset_derivs(k, u, c, &dd, order >= 2 ? d2d : NULL);
             ws->sd[i] = hk_m3_mul(r, &dd);
             if (order >= 2) {
                 ws->sa[i] = hk_m3_scale(&h, w);

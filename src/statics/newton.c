@@ -1,5 +1,5 @@
-/* Newton's method with Levenberg-Marquardt damping and a trust-region ratio test: the
- * fast default minimiser of the statics (it uses the exact gradient and Hessian of
+/* Newton's method with Levenberg-Marquardt regularisation and a backtracking line
+ * search: the fast default minimiser of the statics (it uses the exact gradient and Hessian of
  * the strand energy, where the thesis's Rosenbrock search uses energies alone). */
 #include "hairkit/linalg.h"
 #include "hairkit/statics.h"
@@ -10,7 +10,7 @@
 
 hk_NewtonOptions hk_default_newton_options(void)
 {
-    hk_NewtonOptions o = {500, 1e-14, 0.0};
+    hk_NewtonOptions o = {500, 1e-16, 0.0};
     return o;
 }
 
@@ -28,10 +28,11 @@ hk_Status hk_newton_minimize(int n, double *x, hk_DerivFn f, void *user, const d
     if (n < 1 || !x || !f || !options || options->max_iterations < 0 || !(options->tolerance >= 0.0))
         return hk_error_set(err, HK_ERR_INVALID, "newton: invalid arguments (n = %d)", n);
     const size_t sn = (size_t)n;
-    /* g, p, trial x: 3n; H, L: 2 n^2. One block, allocated once per solve. */
-    double *block = hk_alloc_array(3 * sn + 2 * sn * sn, sizeof(double), err);
+    /* g, trial g, p, trial x: 4n; H, trial H, L: 3 n^2. One block per solve. */
+    double *block = hk_alloc_array(4 * sn + 3 * sn * sn, sizeof(double), err);
     if (!block) return HK_ERR_NOMEM;
-    double *g = block, *p = g + sn, *xt = p + sn, *h = xt + sn, *l = h + sn * sn;
+    double *g = block, *gt = g + sn, *p = gt + sn, *xt = p + sn;
+    double *h = xt + sn, *ht = h + sn * sn, *l = ht + sn * sn;
 
     double fx = f(x, g, h, user);
     res.evaluations = 1;
@@ -42,7 +43,10 @@ hk_Status hk_newton_minimize(int n, double *x, hk_DerivFn f, void *user, const d
     }
     const double scale = options->energy_scale > 0.0 ? options->energy_scale : fmax(fabs(fx), DBL_MIN);
     double mu = 0.0;
-    for (int trial = 0; trial < options->max_iterations; trial++) {
+    int last_full = 0; /* was the previous step a full Newton step? */
+    for (int it = 0; it < options->max_iterations; it++) {
+        /* Regularise only as much as needed to make H + mu D positive definite, so
+         * that p is a descent direction. */
         while (!hk_cholesky_factor(n, h, mu, metric, l)) {
             mu = mu > 0.0 ? 10.0 * mu : MU_START;
             if (mu > MU_LIMIT) {
@@ -52,48 +56,60 @@ hk_Status hk_newton_minimize(int n, double *x, hk_DerivFn f, void *user, const d
         }
         for (int i = 0; i < n; i++) p[i] = -g[i];
         hk_cholesky_solve(n, l, p);
-        double gp = 0.0, php = 0.0;
-        for (int i = 0; i < n; i++) {
-            gp += g[i] * p[i];
-            double hp = 0.0;
-            for (int j = 0; j < n; j++) hp += h[(size_t)i * sn + (size_t)j] * p[j];
-            php += p[i] * hp;
-        }
-        /* Newton decrement: the model's predicted decrease with the undamped Hessian. */
+        double gp = 0.0;
+        for (int i = 0; i < n; i++) gp += g[i] * p[i];
+        /* Newton decrement -g.p / 2: the predicted decrease of a full undamped step. */
         if (mu == 0.0 && -0.5 * gp <= options->tolerance * scale) {
             res.converged = 1;
             break;
         }
-        const double predicted = -(gp + 0.5 * php); /* > 0 whenever H + mu D is SPD */
-        for (int i = 0; i < n; i++) xt[i] = x[i] + p[i];
-        const double ft = f(xt, NULL, NULL, user);
-        res.evaluations++;
-        /* Below the rounding level of f the ratio test is noise: accept a step that
-         * does not measurably raise f and stop, we are at machine precision. */
+        /* Backtracking line search (Armijo, quadratic interpolation of f along p). */
         const double noise = 8.0 * DBL_EPSILON * fmax(fabs(fx), scale);
-        if (predicted <= noise) {
-            if (isfinite(ft) && ft <= fx + noise) {
-                memcpy(x, xt, sn * sizeof(double));
-                fx = ft;
+        double alpha = 1.0, ft = fx;
+        int accepted = 0;
+        for (int ls = 0; ls < 60; ls++) {
+            for (int i = 0; i < n; i++) xt[i] = x[i] + alpha * p[i];
+            /* Once full steps are being accepted they usually go on being accepted:
+             * then evaluate their derivatives right away. */
+            const int eager = ls == 0 && last_full;
+            ft = f(xt, eager ? gt : NULL, eager ? ht : NULL, user);
+            res.evaluations++;
+            if (isfinite(ft) && ft <= fx + 1e-4 * alpha * gp) {
+                accepted = 1;
+                break;
             }
-            res.converged = 1;
-            break;
+            if (-alpha * gp <= noise) break; /* the step's effect is below rounding */
+            double next = isfinite(ft) ? -gp * alpha * alpha / (2.0 * (ft - fx - gp * alpha)) : 0.1 * alpha;
+            alpha = fmin(fmax(next, 0.1 * alpha), 0.5 * alpha);
         }
-        const double rho = isfinite(ft) ? (fx - ft) / predicted : -1.0;
-        if (rho > 1e-4) {
-            memcpy(x, xt, sn * sizeof(double));
+        if (!accepted) {
+            if (-0.5 * gp <= noise) { /* at machine precision: nothing left to gain */
+                res.converged = 1;
+                break;
+            }
+            mu = fmax(10.0 * mu, MU_START); /* the quadratic model is poor here: damp more */
+            continue;
+        }
+        memcpy(x, xt, sn * sizeof(double));
+        const int had_derivs = alpha == 1.0 && last_full;
+        last_full = alpha == 1.0;
+        if (had_derivs) {
+            fx = ft;
+            double *swap = g;
+            g = gt, gt = swap;
+            swap = h;
+            h = ht, ht = swap;
+        } else {
             fx = f(x, g, h, user);
             res.evaluations++;
-            res.iterations++;
-            if (!isfinite(fx)) {
-                status = hk_error_set(err, HK_ERR_NUMERIC, "newton: objective became non-finite");
-                goto done;
-            }
-            if (rho > 0.75) mu = mu > MU_START ? 0.25 * mu : 0.0;
-            else if (rho < 0.25) mu = fmax(2.0 * mu, MU_START);
-        } else {
-            mu = fmax(4.0 * mu, MU_START);
         }
+        res.iterations++;
+        if (!isfinite(fx)) {
+            status = hk_error_set(err, HK_ERR_NUMERIC, "newton: objective became non-finite");
+            goto done;
+        }
+        /* A full step means the model was trusted rightly: relax the damping. */
+        if (alpha == 1.0) mu = mu > 10.0 * MU_START ? 0.1 * mu : 0.0;
     }
 done:
     res.f = fx;
