@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 
 #include "hairkit/io.h"
 
@@ -38,6 +39,11 @@ static hk_Status slurp(hk_KeyFile *kf, size_t *size, hk_Error *err)
 {
     FILE *fp = fopen(kf->path, "rb");
     if (!fp) return hk_error_set(err, HK_ERR_IO, "%s: cannot open: %s", kf->path, strerror(errno));
+    struct stat sb;
+    if (fstat(fileno(fp), &sb) != 0 || !S_ISREG(sb.st_mode)) {
+        fclose(fp);
+        return hk_error_set(err, HK_ERR_IO, "%s: not a regular file", kf->path);
+    }
     long len = -1;
     if (fseek(fp, 0, SEEK_END) == 0) len = ftell(fp);
     if (len < 0 || fseek(fp, 0, SEEK_SET) != 0) {

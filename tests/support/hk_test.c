@@ -5,9 +5,27 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <dirent.h>
 #include <unistd.h>
 
 static char tmpdir[256];
+
+/* Removes the private folder and the files the test put in it (one level deep). */
+static void remove_tmpdir(void)
+{
+    DIR *d = opendir(tmpdir);
+    if (d) {
+        struct dirent *e;
+        char path[600];
+        while ((e = readdir(d)) != NULL) {
+            if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
+            snprintf(path, sizeof path, "%s/%s", tmpdir, e->d_name);
+            unlink(path);
+        }
+        closedir(d);
+    }
+    rmdir(tmpdir);
+}
 
 const char *hk_test_tmpdir(void)
 {
@@ -18,6 +36,7 @@ const char *hk_test_tmpdir(void)
             fprintf(stderr, "cannot create temporary folder %s\n", tmpdir);
             abort();
         }
+        atexit(remove_tmpdir);
     }
     return tmpdir;
 }
