@@ -4,6 +4,7 @@
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 static char *dup_string(const char *s, size_t extra, hk_Error *err)
@@ -34,6 +35,18 @@ hk_Status hk_outfile_open(hk_OutFile *out, const char *path, hk_Error *err)
         hk_outfile_abort(out);
         return HK_ERR_IO;
     }
+    /* mkstemp makes the file private (0600); give it the permissions an ordinary new
+     * file would have, or those of the file it replaces. */
+    struct stat old;
+    mode_t mode;
+    if (stat(path, &old) == 0) {
+        mode = old.st_mode & 07777;
+    } else {
+        mode_t mask = umask(0);
+        umask(mask);
+        mode = 0666 & ~mask;
+    }
+    fchmod(fd, mode);
     out->fp = fdopen(fd, "wb");
     if (!out->fp) {
         close(fd);

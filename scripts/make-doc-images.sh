@@ -1,0 +1,12 @@
+#!/usr/bin/env bash
+# Regenerates the pictures under docs/images/ with the project's own tools.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+hk=./build/hairkit
+[ -x "$hk" ] || make build
+for hair in straight wavy curly fuzzy; do
+    "$hk" strand "examples/strand/$hair.txt" --collision examples/strand/head.txt \
+        --root 0.04,0.137,0.03 --dir 1,0.6,0.3 --plot "docs/images/strand-$hair.png" --quiet > /dev/null
+done
+cp docs/images/strand-wavy.png docs/images/demo-strand.png
+echo "docs/images updated"
