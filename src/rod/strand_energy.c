@@ -31,7 +31,8 @@ struct hk_StrandWorkspace {
     unsigned char *active;
     hk_Vec3 *sp, *sf;        /* position, weighted gradient of the penalty density */
     hk_Mat3 *sa, *sd;        /* weighted Hessian of the density, world dp/dk of own element */
-    hk_Vec3 (*sd2)[3][3];    /* world d2p/dk2 of own element */
+    hk_Vec3 (*sd2)[3][3];    /* d2p/dk2 of own element, in the element's start frame */
+    hk_Vec3 *sfl;            /* sf in the element's start frame */
     double *xi, *y;          /* Hessian: 6-vectors per coordinate */
 };
 
@@ -74,10 +75,11 @@ hk_Status hk_strand_workspace_create(const hk_SuperHelix *sh, const hk_StrandEnv
     ws->sa = hk_alloc_array(sn, sizeof(hk_Mat3), err);
     ws->sd = hk_alloc_array(sn, sizeof(hk_Mat3), err);
     ws->sd2 = hk_alloc_array(sn, sizeof *ws->sd2, err);
+    ws->sfl = hk_alloc_array(sn, sizeof(hk_Vec3), err);
     ws->xi = hk_alloc_array((size_t)n * 3 * 6, sizeof(double), err);
     ws->y = hk_alloc_array((size_t)n * 3 * 6, sizeof(double), err);
     if (!ws->elem_first_sample || !ws->sample_u || !ws->pos || !ws->frame || !ws->local ||
-        !ws->active || !ws->sp || !ws->sf || !ws->sa || !ws->sd || !ws->sd2 || !ws->xi || !ws->y) {
+        !ws->active || !ws->sp || !ws->sf || !ws->sa || !ws->sd || !ws->sd2 || !ws->sfl || !ws->xi || !ws->y) {
         hk_strand_workspace_destroy(ws);
         return HK_ERR_NOMEM;
     }
@@ -109,6 +111,7 @@ void hk_strand_workspace_destroy(hk_StrandWorkspace *ws)
     hk_free(ws->sa);
     hk_free(ws->sd);
     hk_free(ws->sd2);
+    hk_free(ws->sfl);
     hk_free(ws->xi);
     hk_free(ws->y);
     hk_free(ws);
@@ -191,8 +194,9 @@ static double collisions(const hk_SuperHelix *sh, const hk_StrandEnv *env, const
             ws->sd[i] = hk_m3_mul(r, &dd);
             if (order >= 2) {
                 ws->sa[i] = hk_m3_scale(&h, w);
+                ws->sfl[i] = hk_m3_tmul_v3(r, ws->sf[i]);
                 for (int a = 0; a < 3; a++)
-                    for (int b = 0; b < 3; b++) ws->sd2[i][a][b] = hk_m3_mul_v3(r, d2d[a][b]);
+                    for (int b = 0; b < 3; b++) ws->sd2[i][a][b] = d2d[a][b];
             }
         }
     }
@@ -331,19 +335,21 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnv *env, const 
                 yb[0] = y[0] + z.x, yb[1] = y[1] + z.y, yb[2] = y[2] + z.z;
                 yb[3] = y[3], yb[4] = y[4], yb[5] = y[5];
             }
-            /* Diagonal block: both coordinates in element p. */
+            /* Diagonal block: both coordinates in element p. Loads are brought into the
+             * element's start frame once, instead of rotating every derivative. */
+            const hk_Vec3 arm_local = hk_m3_tmul_v3(r, arm_moment);
+            const hk_Vec3 force_local = hk_m3_tmul_v3(r, force), fg_local = hk_m3_tmul_v3(r, fg);
             for (int a = 0; a < 3; a++) {
                 for (int b = a; b < 3; b++) {
-                    const hk_Vec3 dlam_ab = hk_m3_mul_v3(r, hk_m3_col(&el->dlam[b], a));
-                    double h = hk_v3_dot(dlam_ab, arm_moment);
+                    double h = hk_v3_dot(hk_m3_col(&el->dlam[b], a), arm_local);
                     h += hk_v3_dot(omega[b], moment_op(&s, trs, omega[a]));
-                    h += hk_v3_dot(force, hk_m3_mul_v3(r, el->d2d[a][b]));
-                    h += hk_v3_dot(fg, hk_m3_mul_v3(r, el->d2g[a][b]));
+                    h += hk_v3_dot(force_local, el->d2d[a][b]);
+                    h += hk_v3_dot(fg_local, el->d2g[a][b]);
                     h += dot6(ws->xi + (size_t)(3 * p + a) * 6, cxi[b]);
                     for (int i = s0; i < s1; i++) {
                         if (!ws->active[i]) continue;
                         const hk_Vec3 ja = hk_m3_col(&ws->sd[i], a), jb = hk_m3_col(&ws->sd[i], b);
-                        h += hk_v3_dot(ws->sf[i], ws->sd2[i][a][b]);
+                        h += hk_v3_dot(ws->sfl[i], ws->sd2[i][a][b]);
                         h += hk_v3_dot(ja, hk_m3_mul_v3(&ws->sa[i], jb));
                     }
                     const size_t ia = (size_t)(3 * p + a), ib = (size_t)(3 * p + b);
