@@ -66,16 +66,6 @@ static void test_centre_is_safe(void **state)
     }
 }
 
-/* Deterministic pseudo-random points in a box around the shape. */
-static unsigned long long rng = 88172645463325252ULL;
-static double uniform(void)
-{
-    rng ^= rng << 13;
-    rng ^= rng >> 7;
-    rng ^= rng << 17;
-    return (double)(rng >> 11) / 9007199254740992.0;
-}
-
 /* Central differences with h = 1e-6 m on shapes of centimetre size: truncation
  * h^2 |f'''| ~ 1e-12 / q^2 (q the distance to the centre, >= 5 mm here) and
  * rounding eps / h ~ 1e-10, so 1e-6 of the derivative's scale (1 for gradients, 1/q
@@ -89,7 +79,7 @@ static void test_derivatives_fd(void **state)
         int checked = 0;
         for (int t = 0; t < 400; t++) {
             hk_Vec3 p = s.centre;
-            for (int a = 0; a < 3; a++) hk_v3_set(&p, a, hk_v3_get(p, a) + (2 * uniform() - 1) * 1.5 * s.bound);
+            for (int a = 0; a < 3; a++) hk_v3_set(&p, a, hk_v3_get(p, a) + (2 * hk_test_uniform() - 1) * 1.5 * s.bound);
             if (hk_v3_dist(p, s.centre) < 0.05 * s.bound) continue;
             hk_Vec3 g;
             hk_Mat3 hs;
@@ -158,7 +148,7 @@ static void test_bound_never_rejects_contacts(void **state)
         for (int t = 0; t < 20000; t++) {
             hk_Vec3 p = s.centre;
             double reach = s.bound + 2.0 * s.volume;
-            for (int a = 0; a < 3; a++) hk_v3_set(&p, a, hk_v3_get(p, a) + (2 * uniform() - 1) * reach);
+            for (int a = 0; a < 3; a++) hk_v3_set(&p, a, hk_v3_get(p, a) + (2 * hk_test_uniform() - 1) * reach);
             double phi = hk_shape_dent(&s, p, NULL, NULL) + s.volume;
             double e = hk_shape_penalty(&s, 1.0, p, NULL, NULL);
             hk_assert_near(e, phi > 0 ? 0.5 * s.penalty * phi * phi : 0.0, 1e-15);

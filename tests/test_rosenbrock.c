@@ -10,20 +10,11 @@
 
 #define NMAX 8
 
-static unsigned long long rng = 0x9E3779B97F4A7C15ULL;
-static double uniform(void)
-{
-    rng ^= rng << 13;
-    rng ^= rng >> 7;
-    rng ^= rng << 17;
-    return (double)(rng >> 11) / 9007199254740992.0;
-}
-
 /* Random orthonormal basis (Gram-Schmidt of random vectors), rows = directions. */
 static void random_basis(int n, double *xi)
 {
     for (int i = 0; i < n; i++) {
-        for (int j = 0; j < n; j++) xi[i * n + j] = 2 * uniform() - 1;
+        for (int j = 0; j < n; j++) xi[i * n + j] = 2 * hk_test_uniform() - 1;
         for (int k = 0; k < i; k++) {
             double d = 0;
             for (int j = 0; j < n; j++) d += xi[i * n + j] * xi[k * n + j];
@@ -70,7 +61,7 @@ static void test_palmer_equals_gram_schmidt(void **state)
         const int n = 2 + t % (NMAX - 1);
         double xi[NMAX * NMAX], d[NMAX], palmer[NMAX * NMAX], gs[NMAX * NMAX];
         random_basis(n, xi);
-        for (int i = 0; i < n; i++) d[i] = (2 * uniform() - 1) * (1 + 10 * uniform());
+        for (int i = 0; i < n; i++) d[i] = (2 * hk_test_uniform() - 1) * (1 + 10 * hk_test_uniform());
         hk_rosenbrock_palmer_directions(n, xi, d, palmer);
         gram_schmidt_reference(n, xi, d, gs);
         assert_orthonormal(n, palmer);

@@ -126,6 +126,15 @@ void hk_superhelix_set_uniform_rest(hk_SuperHelix *sh, double tau, double kappa1
 
 static hk_Vec3 element_k(const double *q, int i) { return hk_v3(q[3 * i], q[3 * i + 1], q[3 * i + 2]); }
 
+/* Moves the start pose (r, p) of element i to its end (the start of element i + 1). */
+static void advance_element(const hk_SuperHelix *sh, const double *q, int i, hk_Mat3 *r, hk_Vec3 *p)
+{
+    hk_ElementLocal el;
+    hk_element_local(element_k(q, i), sh->length[i], 0, 0, &el);
+    *p = hk_v3_add(*p, hk_m3_mul_v3(r, hk_m3_col(&el.lam, 0)));
+    *r = hk_m3_mul(r, &el.rot);
+}
+
 void hk_superhelix_nodes(const hk_SuperHelix *sh, const double *q, hk_Vec3 *pos, hk_Mat3 *frame)
 {
     if (!q) q = sh->q;
@@ -135,10 +144,7 @@ void hk_superhelix_nodes(const hk_SuperHelix *sh, const double *q, hk_Vec3 *pos,
         if (pos) pos[i] = p;
         if (frame) frame[i] = r;
         if (i == sh->n) break;
-        hk_ElementLocal el;
-        hk_element_local(element_k(q, i), sh->length[i], 0, 0, &el);
-        p = hk_v3_add(p, hk_m3_mul_v3(&r, hk_m3_col(&el.lam, 0)));
-        r = hk_m3_mul(&r, &el.rot);
+        advance_element(sh, q, i, &r, &p);
     }
 }
 
@@ -161,13 +167,7 @@ void hk_superhelix_eval(const hk_SuperHelix *sh, const double *q, double s, hk_V
     hk_Mat3 r = sh->root_frame;
     hk_Vec3 p = sh->root;
     int i = 0;
-    while (i < sh->n - 1 && s >= sh->s_start[i + 1]) {
-        hk_ElementLocal el;
-        hk_element_local(element_k(q, i), sh->length[i], 0, 0, &el);
-        p = hk_v3_add(p, hk_m3_mul_v3(&r, hk_m3_col(&el.lam, 0)));
-        r = hk_m3_mul(&r, &el.rot);
-        i++;
-    }
+    while (i < sh->n - 1 && s >= sh->s_start[i + 1]) advance_element(sh, q, i++, &r, &p);
     element_pose(q, i, s - sh->s_start[i], &r, p, pos, frame);
 }
 
@@ -194,13 +194,7 @@ void hk_superhelix_sample(const hk_SuperHelix *sh, const double *q, double step,
     for (int j = 0; j < count; j++) {
         double sj = j == count - 1 ? sh->total_length : j * step;
         /* Advance the element start pose incrementally: O(N + samples) overall. */
-        while (elem < sh->n - 1 && sj >= sh->s_start[elem + 1]) {
-            hk_ElementLocal el;
-            hk_element_local(element_k(q, elem), sh->length[elem], 0, 0, &el);
-            p = hk_v3_add(p, hk_m3_mul_v3(&r, hk_m3_col(&el.lam, 0)));
-            r = hk_m3_mul(&r, &el.rot);
-            elem++;
-        }
+        while (elem < sh->n - 1 && sj >= sh->s_start[elem + 1]) advance_element(sh, q, elem++, &r, &p);
         hk_Vec3 pj;
         hk_Mat3 fj;
         element_pose(q, elem, sj - sh->s_start[elem], &r, p, &pj, &fj);

@@ -90,3 +90,12 @@ void hk_assert_contains_impl(const char *haystack, const char *needle, const cha
         _fail(file, line);
     }
 }
+
+double hk_test_uniform(void)
+{
+    static unsigned long long state = 88172645463325252ULL;
+    state ^= state << 13;
+    state ^= state >> 7;
+    state ^= state << 17;
+    return (double)(state >> 11) / 9007199254740992.0;
+}

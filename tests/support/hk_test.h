@@ -36,4 +36,7 @@ void hk_assert_rel_impl(double a, double b, double rtol, double floor, const cha
     hk_assert_contains_impl((haystack), (needle), __FILE__, __LINE__)
 void hk_assert_contains_impl(const char *haystack, const char *needle, const char *file, int line);
 
+/* Deterministic uniform numbers in [0, 1) (xorshift64), for reproducible test data. */
+double hk_test_uniform(void);
+
 #endif
