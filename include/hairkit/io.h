@@ -40,6 +40,15 @@ typedef struct hk_HairstyleDef {
     double density;        /* Density: rho (kg/m^3) */
     double gravity;        /* Gravity: |g| (m/s^2) */
     hk_Vec3 gravity_dir;   /* GravityDirection: unit vector, default (0, -1, 0) */
+    /* Interpolation of the full head (thesis §4.1.4.3-4, paper 000 §4.1): */
+    double clump;          /* ClumpFactor in [0, 1): spread of the tips around their nearest
+                              guide (thesis: 0.25; 0 = tips on the guide) */
+    double clump_profile;  /* ClumpProfile > 0: weights go from root to tip as t^profile
+                              (1 = the thesis's linear blend; > 1 interpolates further
+                              down before clumping, for straight hair) */
+    int stray_hairs;       /* StrayHairs: the thesis's stray-hair behaviour (§4.1.4.4) */
+    double max_tip_distance; /* MaxTipDistance (m): guides whose tips are farther apart are
+                              not interpolated between (paper 000 Fig. 4d); 0 = off */
 } hk_HairstyleDef;
 
 /* Defaults for every optional key (Density 1300, Gravity 9.81, Poisson 0.48, ...);
@@ -68,6 +77,40 @@ hk_Status hk_hairstyle_copy(const hk_HairstyleDef *src, hk_HairstyleDef *dst, hk
  * *shapes is an array of *count shapes to be released with hk_free (NULL when the
  * file lists none). */
 hk_Status hk_collision_load(const char *path, hk_Shape **shapes, int *count, hk_Error *err);
+
+/* Visuality Info (thesis Appendix B): colours of the Kajiya-Kay hair shader. */
+typedef struct hk_VisualityDef {
+    hk_Vec3 ambient;    /* AmbientColor: RGB in [0, 1] (values above 1 allowed: brighter) */
+    hk_Vec3 diffuse;    /* DiffuseColor */
+    hk_Vec3 specular;   /* SpecularColor */
+    double glossiness;  /* Glossiness: Kajiya-Kay specular exponent p > 0 */
+} hk_VisualityDef;
+
+/* Brown hair of the thesis's sample file. */
+hk_VisualityDef hk_default_visuality(void);
+hk_Status hk_visuality_load(const char *path, hk_VisualityDef *out, hk_Error *err);
+
+/* Setup (thesis Appendix B): which files make up a scene. Paths are resolved against
+ * the setup file's folder; keys that are absent give NULL. HeadVert, HeadFrag,
+ * HairVert and HairFrag (the thesis's GLSL shaders) are accepted and ignored: hairkit
+ * renders on the CPU. */
+typedef struct hk_SetupDef {
+    int load;          /* Load: read the hair from load_file instead of growing it */
+    int save;          /* Save: write the grown hair to save_file */
+    char *load_file;   /* LoadFile (alias LoadPath) */
+    char *save_file;   /* SaveFile (alias SavePath) */
+    char *hairstyle;   /* HairstyleInfo */
+    char *collision;   /* CollisionInfo */
+    char *visuality;   /* VisualityInfo */
+    char *head_model;  /* HeadModel: OBJ of the head */
+    char *wick_model;  /* WickModel (alias HairModel): OBJ of the scalp the hair grows from */
+} hk_SetupDef;
+
+/* Reads a setup file. Growing hair (Load false) needs HairstyleInfo and WickModel;
+ * Load true needs LoadFile, Save true SaveFile. Every file the setup names for reading
+ * must exist (checked here, so that the message can name the setup file's line). */
+hk_Status hk_setup_load(const char *path, hk_SetupDef *out, hk_Error *err);
+void hk_setup_free(hk_SetupDef *def);
 
 #ifdef __cplusplus
 }

@@ -60,6 +60,8 @@ typedef struct hk_NewtonOptions {
     int max_iterations;   /* Newton steps (accepted or not) */
     double tolerance;     /* stop when the Newton decrement g.H^-1.g / 2 <= tolerance * scale */
     double energy_scale;  /* `scale` above; <= 0 uses max(|f|, tiny) */
+    double max_step;      /* > 0: no step moves a variable by more than max_step units */
+    const double *step_unit; /* the unit of each variable for max_step (NULL: 1) */
 } hk_NewtonOptions;
 
 hk_NewtonOptions hk_default_newton_options(void);

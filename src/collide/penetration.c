@@ -1,152 +1,198 @@
-/* Penetration depth of points into collision shapes and the penalty energy of the
- * layered envelopes (thesis 004 §4.1.2), with exact gradients and Hessians. */
+/* Collision shapes' penetration depth and envelope penalty, exact derivatives (thesis 004 §4.1.2). */
 #include <float.h>
 
 #include "hairkit/collide.h"
 
-/* Below this fraction of the smallest radius a point counts as the centre, where the
- * radial measures have no direction: dent is the smallest radius, derivatives zero. */
+/* A point closer to the centre than this fraction of the smallest radius counts as
+ * the centre. The sphere's Hessian and the ellipsoid's gradient and Hessian grow like
+ * 1/|d| and 1/|d|^2 there (the radial measure has no direction at the centre), so a
+ * guard relative to the shape's own size keeps them finite whatever the units; 1e-9
+ * is small enough that no point a strand can reach is affected, and large enough that
+ * the derivatives stay far below overflow (|hess| <~ 1e18 amax / amin^2). */
 #define CENTRE_FRACTION 1e-9
+
+/* Corner factor of the rejection test: a cuboid's envelope reaches
+ * |(a, b, c) + extra (1, 1, 1)| <= bound + sqrt(3) |extra| from the centre. */
+#define SQRT3 1.7320508075688772
 
 static double min3(hk_Vec3 v) { return fmin(v.x, fmin(v.y, v.z)); }
 
-/* Rotates a local gradient and Hessian (in the shape's axes U, V, W) to world. */
-static void to_world(const hk_Shape *s, hk_Vec3 gl, const hk_Mat3 *hl, hk_Vec3 *grad, hk_Mat3 *hess)
+static void set_zero(hk_Vec3 *grad, hk_Mat3 *hess)
 {
-    const hk_Mat3 r = hk_m3_from_cols(s->axis[0], s->axis[1], s->axis[2]);
-    if (grad) *grad = hk_m3_mul_v3(&r, gl);
-    if (hess) {
-        hk_Mat3 t = hk_m3_mul(&r, hl), rt = hk_m3_transpose(&r);
-        *hess = hk_m3_mul(&t, &rt);
-    }
+    if (grad) *grad = hk_v3_zero();
+    if (hess) *hess = hk_m3_zero();
 }
 
-static double sphere_dent(const hk_Shape *s, hk_Vec3 d, hk_Vec3 *grad, hk_Mat3 *hess)
+/* All three kinds take d = p - centre and q2 = |d|^2, which the penalty already
+ * computed for its rejection test. */
+
+static double sphere_dent(const hk_Shape *s, hk_Vec3 d, double q2, hk_Vec3 *grad, hk_Mat3 *hess)
 {
-    const double r = s->half.x, q = hk_v3_norm(d);
-    if (q <= CENTRE_FRACTION * r) {
-        if (grad) *grad = hk_v3_zero();
-        if (hess) *hess = hk_m3_zero();
+    const double r = s->half.x, q = sqrt(q2);
+    if (q <= CENTRE_FRACTION * r) { /* no direction: deepest value, flat */
+        set_zero(grad, hess);
         return r;
     }
-    const hk_Vec3 n = hk_v3_scale(d, 1.0 / q);
+    const double iq = 1.0 / q;
+    const hk_Vec3 n = hk_v3_scale(d, iq);
     if (grad) *grad = hk_v3_neg(n);
-    if (hess) {
-        /* d2(-|d|) = -(I - n n^T) / |d| */
-        hk_Mat3 o = hk_m3_outer(n, n);
+    if (hess) /* d2(-|d|) = -(I - n n^T) / |d| */
         for (int i = 0; i < 3; i++)
-            for (int j = 0; j < 3; j++) hess->m[i][j] = ((i == j) - o.m[i][j]) / -q;
-    }
+            for (int j = 0; j < 3; j++)
+                hess->m[i][j] = (hk_v3_get(n, i) * hk_v3_get(n, j) - (i == j)) * iq;
     return r - q;
 }
 
-/* Thesis §4.1.2.1.1: dent = q / rho - q with q = |p| and rho = |(pU/a, pV/b, pW/c)|,
- * the distance from p to the surface along the ray from the centre. In local axes,
- * with A = diag(1/a^2, 1/b^2, 1/c^2):
- *   grad q = n,              hess q = (I - n n^T) / q
- *   grad rho = A p / rho,    hess rho = A / rho - (A p)(A p)^T / rho^3
- *   grad dent = n (1/rho - 1) - q grad rho / rho^2
- *   hess dent = hess q (1/rho - 1) - (n grad rho^T + grad rho n^T) / rho^2
- *               - q hess rho / rho^2 + 2 q grad rho grad rho^T / rho^3 */
-static double ellipsoid_dent(const hk_Shape *s, hk_Vec3 d, hk_Vec3 *grad, hk_Mat3 *hess)
+/* Thesis §4.1.2.1.1 measures the dent along the ray from the centre: with dist = |d|
+ * and ratio = |(pU/a, pV/b, pW/c)|, dent = dist/ratio - dist. Everything is done in
+ * world coordinates with the symmetric matrix
+ *     A = sum_i U_i U_i^T / a_i^2,       so ratio^2 = d^T A d,
+ * which is exact for the definition even when the file's axes are only orthogonal to
+ * within the loader's tolerance.
+ *
+ * Derivation. Let q = |d|, n = d/q, P = I - n n^T, m = A n, s = n^T m. Then
+ * ratio = q sqrt(s), so dist/ratio = R(n) = s^(-1/2): the distance from the centre to
+ * the surface along n, a function of the direction only (homogeneous of degree 0 in
+ * d), and dent = R - q. With dn/dd = P/q and dm/dd = A P/q:
+ *     grad s = 2 P m / q
+ *     grad R = -1/2 s^(-3/2) grad s = -R^3 P m / q = (R n - R^3 m) / q   (n^T m = R^-2)
+ * Write g = R n - R^3 m (so grad R = g/q; n^T g = 0: R is constant along rays). With
+ * grad q = n and hess q = P/q:
+ *     grad dent = g/q - n.
+ * Differentiating g/q:
+ *     hess R = (dg/dd) / q - g n^T / q^2,
+ *     dg/dd  = n grad R^T + R P/q - 3 R^2 m grad R^T - R^3 A P / q.
+ * Substituting R^3 m = R n - g, i.e. n - 3 R^2 m = -2 n + 3 g / R, and
+ * (R I - R^3 A) P = R I - R^3 A - g n^T (using A n = m, R^3 m = R n - g):
+ *     hess R    = [R I - R^3 A - 2 (n g^T + g n^T) + 3 g g^T / R] / q^2,
+ *     hess dent = hess R - P / q.
+ * Checks: a sphere (A = I/r^2) gives g = 0 and hess R = 0; Euler's relation for a
+ * degree-0 function, (hess R) d = -grad R, holds since n^T g = 0. On a local axis
+ * (n = U) g = 0 and hess dent = (a I - a^3 A)/q^2 - P/q, e.g. a (1 - a^2/b^2)/q^2 - 1/q
+ * along V. All terms are O(1) multiples of powers of 1/q (|g| <= R <= amax), so
+ * nothing under- or overflows away from the guarded centre. */
+static double ellipsoid_dent(const hk_Shape *s, hk_Vec3 d, double q2, hk_Vec3 *grad, hk_Mat3 *hess)
 {
-    const hk_Vec3 p = hk_v3(hk_v3_dot(d, s->axis[0]), hk_v3_dot(d, s->axis[1]), hk_v3_dot(d, s->axis[2]));
-    const double q = hk_v3_norm(p), amin = min3(s->half);
-    if (q <= CENTRE_FRACTION * amin) {
-        if (grad) *grad = hk_v3_zero();
-        if (hess) *hess = hk_m3_zero();
+    const double amin = min3(s->half), q = sqrt(q2);
+    if (q <= CENTRE_FRACTION * amin) { /* direction undefined: documented fallback */
+        set_zero(grad, hess);
         return amin;
     }
-    const hk_Vec3 inv2 = hk_v3(1.0 / (s->half.x * s->half.x), 1.0 / (s->half.y * s->half.y),
-                               1.0 / (s->half.z * s->half.z));
-    const hk_Vec3 ap = hk_v3(p.x * inv2.x, p.y * inv2.y, p.z * inv2.z);
-    const double rho = sqrt(hk_v3_dot(p, ap));
-    const double dent = q / rho - q;
+    const double iq = 1.0 / q;
+    const hk_Vec3 n = hk_v3_scale(d, iq);
+    double inv2[3], ml[3], sn = 0.0;
+    for (int i = 0; i < 3; i++) {
+        const double a = hk_v3_get(s->half, i);
+        inv2[i] = 1.0 / (a * a);
+        const double nl = hk_v3_dot(n, s->axis[i]);
+        ml[i] = nl * inv2[i]; /* local components of m = A n */
+        sn += nl * ml[i];
+    }
+    const double R = 1.0 / sqrt(sn);
+    const double dent = R - q;
     if (!grad && !hess) return dent;
-    const hk_Vec3 n = hk_v3_scale(p, 1.0 / q);
-    const hk_Vec3 grho = hk_v3_scale(ap, 1.0 / rho);
-    const double inv_rho = 1.0 / rho, f = inv_rho - 1.0;
-    const hk_Vec3 gl = hk_v3_sub(hk_v3_scale(n, f), hk_v3_scale(grho, q * inv_rho * inv_rho));
-    hk_Mat3 hl = hk_m3_zero();
+    hk_Vec3 m = hk_v3_scale(s->axis[0], ml[0]);
+    m = hk_v3_madd(m, s->axis[1], ml[1]);
+    m = hk_v3_madd(m, s->axis[2], ml[2]);
+    const double R3 = R * R * R;
+    const hk_Vec3 g = hk_v3_sub(hk_v3_scale(n, R), hk_v3_scale(m, R3));
+    if (grad) *grad = hk_v3_sub(hk_v3_scale(g, iq), n);
     if (hess) {
-        const double nn[3] = {n.x, n.y, n.z}, gr[3] = {grho.x, grho.y, grho.z};
-        const double ai[3] = {inv2.x, inv2.y, inv2.z}, apv[3] = {ap.x, ap.y, ap.z};
+        const double nv[3] = {n.x, n.y, n.z}, gv[3] = {g.x, g.y, g.z};
+        const double iq2 = iq * iq, iR = 1.0 / R;
         for (int i = 0; i < 3; i++)
-            for (int j = 0; j < 3; j++) {
-                double hq = ((i == j) - nn[i] * nn[j]) / q;
-                double hrho = (i == j ? ai[i] : 0.0) * inv_rho - apv[i] * apv[j] * inv_rho * inv_rho * inv_rho;
-                hl.m[i][j] = hq * f - (nn[i] * gr[j] + gr[i] * nn[j]) * inv_rho * inv_rho -
-                             q * hrho * inv_rho * inv_rho + 2.0 * q * gr[i] * gr[j] * inv_rho * inv_rho * inv_rho;
+            for (int j = i; j < 3; j++) {
+                double aij = 0.0; /* (A)_ij */
+                for (int k = 0; k < 3; k++)
+                    aij += inv2[k] * hk_v3_get(s->axis[k], i) * hk_v3_get(s->axis[k], j);
+                const double hr = ((i == j) * R - R3 * aij - 2.0 * (nv[i] * gv[j] + gv[i] * nv[j]) +
+                                   3.0 * gv[i] * gv[j] * iR) * iq2;
+                hess->m[i][j] = hess->m[j][i] = hr - ((i == j) - nv[i] * nv[j]) * iq;
             }
     }
-    to_world(s, gl, &hl, grad, hess);
     return dent;
 }
 
-/* Thesis §4.1.2.1.3: the smallest of the three face distances (ties: first axis). */
+/* Thesis §4.1.2.1.3: the smallest of the three face depths. Ties go to the first
+ * axis (strict <), and a point on a symmetry plane counts as on the + side, so the
+ * gradient is deterministic. Starting from the first term (not DBL_MAX) lets a NaN
+ * input come out as NaN. */
 static double cuboid_dent(const hk_Shape *s, hk_Vec3 d, hk_Vec3 *grad, hk_Mat3 *hess)
 {
     int best = 0;
-    double dent = DBL_MAX, sign = 1.0;
-    for (int i = 0; i < 3; i++) {
+    double pb = hk_v3_dot(d, s->axis[0]);
+    double dent = s->half.x - fabs(pb);
+    for (int i = 1; i < 3; i++) {
         const double pi = hk_v3_dot(d, s->axis[i]);
         const double di = hk_v3_get(s->half, i) - fabs(pi);
         if (di < dent) {
             dent = di;
             best = i;
-            sign = pi < 0.0 ? -1.0 : 1.0;
+            pb = pi;
         }
     }
-    if (grad) *grad = hk_v3_scale(s->axis[best], -sign);
+    if (grad) *grad = hk_v3_scale(s->axis[best], pb < 0.0 ? 1.0 : -1.0);
     if (hess) *hess = hk_m3_zero(); /* piecewise linear */
     return dent;
+}
+
+static double dent_at(const hk_Shape *s, hk_Vec3 d, double q2, hk_Vec3 *grad, hk_Mat3 *hess)
+{
+    switch (s->kind) {
+    case HK_SHAPE_SPHERE: return sphere_dent(s, d, q2, grad, hess);
+    case HK_SHAPE_ELLIPSOID: return ellipsoid_dent(s, d, q2, grad, hess);
+    case HK_SHAPE_CUBOID: return cuboid_dent(s, d, grad, hess);
+    }
+    set_zero(grad, hess); /* unknown kind: never in contact */
+    return -DBL_MAX;
 }
 
 double hk_shape_dent(const hk_Shape *shape, hk_Vec3 p, hk_Vec3 *grad, hk_Mat3 *hess)
 {
     const hk_Vec3 d = hk_v3_sub(p, shape->centre);
-    switch (shape->kind) {
-    case HK_SHAPE_SPHERE: return sphere_dent(shape, d, grad, hess);
-    case HK_SHAPE_ELLIPSOID: return ellipsoid_dent(shape, d, grad, hess);
-    case HK_SHAPE_CUBOID: return cuboid_dent(shape, d, grad, hess);
-    }
-    if (grad) *grad = hk_v3_zero();
-    if (hess) *hess = hk_m3_zero();
-    return -DBL_MAX;
+    return dent_at(shape, d, hk_v3_norm2(d), grad, hess);
 }
 
-/* Cheap test that p cannot touch the envelope (see hk_Shape.bound). */
-static int far_away(const hk_Shape *s, double extra, hk_Vec3 p)
+/* The quick rejection of hk_Shape.bound, on squares so no sqrt is spent on the
+ * (common) far points. */
+static int out_of_reach(const hk_Shape *s, double extra, double q2)
 {
-    const double reach = s->bound + 1.7320508075688772 * fabs(extra);
-    return hk_v3_norm2(hk_v3_sub(p, s->centre)) > reach * reach;
+    const double reach = s->bound + SQRT3 * fabs(extra);
+    return q2 > reach * reach;
 }
 
 double hk_shape_penalty(const hk_Shape *shape, double alpha, hk_Vec3 p, hk_Vec3 *grad, hk_Mat3 *hess)
 {
+    const double k = shape->penalty;
+    if (!(k > 0.0)) return 0.0; /* zero stiffness: no energy, nothing to differentiate */
     /* §4.1.2.2: the envelope adds extra = alpha v before clipping at zero, so a point
      * just outside the shape can already be inside its envelope. */
     const double extra = alpha * shape->volume;
-    if (!(shape->penalty > 0.0) || far_away(shape, extra, p)) return 0.0;
+    const hk_Vec3 d = hk_v3_sub(p, shape->centre);
+    const double q2 = hk_v3_norm2(d);
+    if (out_of_reach(shape, extra, q2)) return 0.0;
+    /* The Hessian needs the gradient (k g g^T) even when the caller does not; the
+     * cuboid's own Hessian is zero, so it is not asked for. */
     hk_Vec3 g;
     hk_Mat3 h;
-    const double phi = hk_shape_dent(shape, p, grad ? &g : NULL, hess ? &h : NULL) + extra;
+    hk_Mat3 *hp = hess && shape->kind != HK_SHAPE_CUBOID ? &h : NULL;
+    const double phi = dent_at(shape, d, q2, grad || hess ? &g : NULL, hp) + extra;
     if (!(phi > 0.0)) return 0.0;
-    const double k = shape->penalty;
-    if (grad) *grad = hk_v3_madd(*grad, g, k * phi);
+    const double kphi = k * phi;
+    if (grad) *grad = hk_v3_madd(*grad, g, kphi);
     if (hess) {
-        const hk_Mat3 o = hk_m3_outer(g, g);
+        const double gv[3] = {g.x, g.y, g.z};
         for (int i = 0; i < 3; i++)
-            for (int j = 0; j < 3; j++) hess->m[i][j] += k * (o.m[i][j] + phi * h.m[i][j]);
+            for (int j = 0; j < 3; j++)
+                hess->m[i][j] += k * gv[i] * gv[j] + (hp ? kphi * h.m[i][j] : 0.0);
     }
-    return 0.5 * k * phi * phi;
+    return 0.5 * kphi * phi;
 }
 
 double hk_collision_penalty(const hk_Shape *shapes, int count, double alpha, hk_Vec3 p, hk_Vec3 *grad,
                             hk_Mat3 *hess)
 {
-    if (grad) *grad = hk_v3_zero();
-    if (hess) *hess = hk_m3_zero();
+    set_zero(grad, hess);
     double e = 0.0;
     for (int i = 0; i < count; i++) e += hk_shape_penalty(&shapes[i], alpha, p, grad, hess);
     return e;
@@ -157,8 +203,10 @@ double hk_collision_depth(const hk_Shape *shapes, int count, double alpha, hk_Ve
     double depth = 0.0;
     for (int i = 0; i < count; i++) {
         const double extra = alpha * shapes[i].volume;
-        if (far_away(&shapes[i], extra, p)) continue;
-        const double phi = hk_shape_dent(&shapes[i], p, NULL, NULL) + extra;
+        const hk_Vec3 d = hk_v3_sub(p, shapes[i].centre);
+        const double q2 = hk_v3_norm2(d);
+        if (out_of_reach(&shapes[i], extra, q2)) continue;
+        const double phi = dent_at(&shapes[i], d, q2, NULL, NULL) + extra;
         if (phi > depth) depth = phi;
     }
     return depth;

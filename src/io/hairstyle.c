@@ -2,7 +2,6 @@
  * of a strand, checked for physical sense with file:line messages. */
 #include <math.h>
 #include <string.h>
-#include <strings.h>
 
 #include "hairkit/io.h"
 #include "keyfile.h"
@@ -10,24 +9,52 @@
 enum Key {
     K_VISUALITY_STEP, K_COLLISION_STEP, K_MAX_ITER, K_EPSILON, K_LENGTHS, K_HAIR_DENSITY,
     K_RADIUS1, K_RADIUS2, K_HELIX_RADIUS, K_HELIX_STEP, K_POISSON, K_YOUNG, K_DENSITY,
-    K_GRAVITY, K_GRAVITY_DIR, K_COUNT
+    K_GRAVITY, K_GRAVITY_DIR, K_CLUMP, K_CLUMP_PROFILE, K_STRAY_HAIRS, K_MAX_TIP_DISTANCE,
+    K_COUNT
 };
 
-typedef struct KeyInfo {
-    const char *name, *alias;
-    int required;
-} KeyInfo;
-
-static const KeyInfo keys[K_COUNT] = {
-    [K_VISUALITY_STEP] = {"VisualityStep", NULL, 0}, [K_COLLISION_STEP] = {"CollisionStep", NULL, 0},
-    [K_MAX_ITER] = {"MaxIter", NULL, 0},             [K_EPSILON] = {"Epsilon", NULL, 0},
-    [K_LENGTHS] = {"HairLengths", "HairLength", 1},  [K_HAIR_DENSITY] = {"HairDensity", NULL, 0},
-    [K_RADIUS1] = {"HairRadius1", NULL, 1},          [K_RADIUS2] = {"HairRadius2", NULL, 1},
-    [K_HELIX_RADIUS] = {"HelixRadius", NULL, 1},     [K_HELIX_STEP] = {"HelixStep", NULL, 1},
-    [K_POISSON] = {"Poisson", NULL, 0},              [K_YOUNG] = {"Young", NULL, 1},
-    [K_DENSITY] = {"Density", NULL, 0},              [K_GRAVITY] = {"Gravity", NULL, 0},
+/* The thesis's sample writes `HairLengths`, its text `HairLength` (§4.2.1). */
+static const hk_KeySpec specs[K_COUNT] = {
+    [K_VISUALITY_STEP] = {"VisualityStep", NULL, 0},
+    [K_COLLISION_STEP] = {"CollisionStep", NULL, 0},
+    [K_MAX_ITER] = {"MaxIter", NULL, 0},
+    [K_EPSILON] = {"Epsilon", NULL, 0},
+    [K_LENGTHS] = {"HairLengths", "HairLength", 1},
+    [K_HAIR_DENSITY] = {"HairDensity", NULL, 0},
+    [K_RADIUS1] = {"HairRadius1", NULL, 1},
+    [K_RADIUS2] = {"HairRadius2", NULL, 1},
+    [K_HELIX_RADIUS] = {"HelixRadius", NULL, 1},
+    [K_HELIX_STEP] = {"HelixStep", NULL, 1},
+    [K_POISSON] = {"Poisson", NULL, 0},
+    [K_YOUNG] = {"Young", NULL, 1},
+    [K_DENSITY] = {"Density", NULL, 0},
+    [K_GRAVITY] = {"Gravity", NULL, 0},
     [K_GRAVITY_DIR] = {"GravityDirection", NULL, 0},
+    /* Interpolation of the full head (§4.1.4.3-4; docs/grooming.md). */
+    [K_CLUMP] = {"ClumpFactor", NULL, 0},
+    [K_CLUMP_PROFILE] = {"ClumpProfile", NULL, 0},
+    [K_STRAY_HAIRS] = {"StrayHairs", NULL, 0},
+    [K_MAX_TIP_DISTANCE] = {"MaxTipDistance", NULL, 0},
 };
+
+/* Allowed interval of a one-number key; `text` says it as the message shows it. */
+typedef struct Range {
+    double lo, hi;
+    int lo_open, hi_open;
+    const char *text;
+} Range;
+
+#define HK_MAX_ELEMENT_LENGTH 10.0 /* m: no hair is longer than this */
+#define HK_MAX_HAIR_RADIUS 0.01    /* m: a hair 2 cm thick is no hair */
+
+static const Range any = {-HUGE_VAL, HUGE_VAL, 0, 0, "finite"};
+static const Range positive = {0.0, HUGE_VAL, 1, 0, "> 0"};
+static const Range non_negative = {0.0, HUGE_VAL, 0, 0, ">= 0"};
+static const Range hair_radius = {0.0, HK_MAX_HAIR_RADIUS, 1, 1, "in (0, 0.01) m"};
+static const Range helix_radius = {0.0, HUGE_VAL, 0, 0, ">= 0 (0 is straight hair)"};
+static const Range poisson = {-1.0, 0.5, 1, 1, "in (-1, 0.5)"};
+static const Range hair_density = {0.0, 100000.0, 0, 0, "in [0, 100000] hairs/cm^2"};
+static const Range clump = {0.0, 1.0, 0, 1, "in [0, 1)"};
 
 hk_HairstyleDef hk_default_hairstyle(void)
 {
@@ -39,9 +66,13 @@ hk_HairstyleDef hk_default_hairstyle(void)
     d.epsilon = 1e-4;
     d.hair_density = 250.0;
     d.poisson = 0.48;
-    d.density = 1300.0;
+    d.density = 1300.0; /* real hair; the thesis's sample says 13000 (seeds README) */
     d.gravity = 9.81;
     d.gravity_dir = hk_v3(0.0, -1.0, 0.0);
+    d.clump = 0.25; /* the thesis's clumping (§4.1.4.4) */
+    d.clump_profile = 1.0; /* the thesis's linear root-to-tip blend */
+    d.stray_hairs = 0;
+    d.max_tip_distance = 0.0; /* off */
     return d;
 }
 
@@ -54,92 +85,126 @@ double hk_hairstyle_length(const hk_HairstyleDef *def)
 
 void hk_hairstyle_free(hk_HairstyleDef *def)
 {
+    if (!def) return;
     hk_free(def->element_lengths);
     *def = hk_default_hairstyle();
 }
 
 hk_Status hk_hairstyle_copy(const hk_HairstyleDef *src, hk_HairstyleDef *dst, hk_Error *err)
 {
-    *dst = *src;
-    dst->element_lengths = NULL;
+    hk_HairstyleDef d = *src;
+    d.element_lengths = NULL;
     if (src->element_count > 0) {
-        dst->element_lengths = hk_alloc_array((size_t)src->element_count, sizeof(double), err);
-        if (!dst->element_lengths) {
+        d.element_lengths = hk_alloc_array((size_t)src->element_count, sizeof(double), err);
+        if (!d.element_lengths) {
             *dst = hk_default_hairstyle();
             return HK_ERR_NOMEM;
         }
-        memcpy(dst->element_lengths, src->element_lengths, (size_t)src->element_count * sizeof(double));
+        memcpy(d.element_lengths, src->element_lengths, (size_t)src->element_count * sizeof(double));
     }
+    *dst = d;
     return HK_OK;
 }
 
-static int find_key(const char *name)
+/* One number of key k within r. The message quotes the value as written, so that
+ * "0.0100000001" is not shown as a puzzling "0.01". */
+static hk_Status scalar(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, Range r, double *out,
+                        hk_Error *err)
 {
-    for (int k = 0; k < K_COUNT; k++)
-        if (!strcasecmp(name, keys[k].name) || (keys[k].alias && !strcasecmp(name, keys[k].alias))) return k;
-    return -1;
-}
-
-/* One number from line kl, which must satisfy lo < v (or lo <= v) and v < hi. */
-static hk_Status ranged(const hk_KeyFile *kf, const hk_KeyLine *kl, double *out, double lo, int lo_open,
-                        double hi, const char *range_text, hk_Error *err)
-{
-    hk_Status st = hk_keyline_doubles(kf, kl, 1, out, err);
+    double v;
+    hk_Status st = hk_keyline_doubles(kf, kl, 1, &v, err);
     if (st != HK_OK) return st;
-    if ((lo_open ? !(*out > lo) : !(*out >= lo)) || !(*out < hi))
-        return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err, "%s must be %s, got %g", keys[find_key(kl->key)].name,
-                                range_text, *out);
+    if ((r.lo_open ? !(v > r.lo) : !(v >= r.lo)) || (r.hi_open ? !(v < r.hi) : !(v <= r.hi)))
+        return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err, "%s must be %s, got %s",
+                                specs[k].name, r.text, kl->values[0]);
+    *out = v;
     return HK_OK;
 }
 
-static hk_Status read_value(const hk_KeyFile *kf, const hk_KeyLine *kl, int key, hk_HairstyleDef *d, hk_Error *err)
+static hk_Status read_lengths(const hk_KeyFile *kf, const hk_KeyLine *kl, hk_HairstyleDef *d,
+                              hk_Error *err)
 {
-    long iv;
-    double v3[3];
-    switch (key) {
-    case K_VISUALITY_STEP: return ranged(kf, kl, &d->visuality_step, 0.0, 1, HUGE_VAL, "> 0", err);
-    case K_COLLISION_STEP: return ranged(kf, kl, &d->collision_step, 0.0, 1, HUGE_VAL, "> 0", err);
-    case K_MAX_ITER: {
-        hk_Status st = hk_keyline_int(kf, kl, 1, 1000000000L, &iv, err);
-        d->max_iter = (int)iv;
+    /* Count first, then an array of exactly that size: never more than
+     * HK_MAX_ELEMENTS doubles, whatever the file says. */
+    if (kl->count > HK_MAX_ELEMENTS)
+        return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err,
+                                "%s has %d values (elements), at most %d allowed",
+                                specs[K_LENGTHS].name, kl->count, HK_MAX_ELEMENTS);
+    double *len = hk_alloc_array(kl->count > 0 ? (size_t)kl->count : 1, sizeof(double), err);
+    if (!len) return HK_ERR_NOMEM;
+    int n = 0;
+    hk_Status st = hk_keyline_double_list(kf, kl, HK_MAX_ELEMENTS, len, &n, err);
+    for (int i = 0; i < n && st == HK_OK; i++)
+        if (!(len[i] > 0.0) || len[i] > HK_MAX_ELEMENT_LENGTH)
+            st = hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err,
+                                  "element length %d must be in (0, 10] m, got %s", i + 1,
+                                  kl->values[i]);
+    if (st != HK_OK) {
+        hk_free(len);
         return st;
     }
-    case K_EPSILON: return ranged(kf, kl, &d->epsilon, 0.0, 1, HUGE_VAL, "> 0", err);
-    case K_LENGTHS: {
-        double buf[HK_MAX_ELEMENTS];
-        int n = 0;
-        hk_Status st = hk_keyline_double_list(kf, kl, HK_MAX_ELEMENTS, buf, &n, err);
-        if (st != HK_OK) return st;
-        for (int i = 0; i < n; i++)
-            if (!(buf[i] > 0.0) || buf[i] > 10.0)
-                return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err,
-                                        "element length %d must be in (0, 10] m, got %g", i + 1, buf[i]);
-        d->element_lengths = hk_alloc_array((size_t)n, sizeof(double), err);
-        if (!d->element_lengths) return HK_ERR_NOMEM;
-        memcpy(d->element_lengths, buf, (size_t)n * sizeof(double));
-        d->element_count = n;
-        return HK_OK;
+    d->element_lengths = len;
+    d->element_count = n;
+    return HK_OK;
+}
+
+static hk_Status read_value(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, hk_HairstyleDef *d,
+                            hk_Error *err)
+{
+    switch ((enum Key)k) {
+    case K_VISUALITY_STEP: return scalar(kf, kl, k, positive, &d->visuality_step, err);
+    case K_COLLISION_STEP: return scalar(kf, kl, k, positive, &d->collision_step, err);
+    case K_MAX_ITER: {
+        long v = 0;
+        hk_Status st = hk_keyline_int(kf, kl, 1, 1000000000L, &v, err);
+        if (st == HK_OK) d->max_iter = (int)v;
+        return st;
     }
-    case K_HAIR_DENSITY: return ranged(kf, kl, &d->hair_density, 0.0, 0, 100000.0 + 1e-9, "in [0, 100000] hairs/cm^2", err);
-    case K_RADIUS1: return ranged(kf, kl, &d->radius1, 0.0, 1, 0.01, "in (0, 0.01) m", err);
-    case K_RADIUS2: return ranged(kf, kl, &d->radius2, 0.0, 1, 0.01, "in (0, 0.01) m", err);
-    case K_HELIX_RADIUS: return ranged(kf, kl, &d->helix_radius, 0.0, 0, HUGE_VAL, ">= 0 (0: straight hair)", err);
-    case K_HELIX_STEP: return ranged(kf, kl, &d->helix_step, -HUGE_VAL, 1, HUGE_VAL, "finite", err);
-    case K_POISSON: return ranged(kf, kl, &d->poisson, -1.0, 1, 0.5, "in (-1, 0.5)", err);
-    case K_YOUNG: return ranged(kf, kl, &d->young, 0.0, 1, HUGE_VAL, "> 0", err);
-    case K_DENSITY: return ranged(kf, kl, &d->density, 0.0, 1, HUGE_VAL, "> 0", err);
-    case K_GRAVITY: return ranged(kf, kl, &d->gravity, 0.0, 0, HUGE_VAL, ">= 0", err);
+    case K_EPSILON: return scalar(kf, kl, k, positive, &d->epsilon, err);
+    case K_LENGTHS: return read_lengths(kf, kl, d, err);
+    case K_HAIR_DENSITY: return scalar(kf, kl, k, hair_density, &d->hair_density, err);
+    case K_RADIUS1: return scalar(kf, kl, k, hair_radius, &d->radius1, err);
+    case K_RADIUS2: return scalar(kf, kl, k, hair_radius, &d->radius2, err);
+    case K_HELIX_RADIUS: return scalar(kf, kl, k, helix_radius, &d->helix_radius, err);
+    case K_HELIX_STEP: return scalar(kf, kl, k, any, &d->helix_step, err);
+    case K_POISSON: return scalar(kf, kl, k, poisson, &d->poisson, err);
+    case K_YOUNG: return scalar(kf, kl, k, positive, &d->young, err);
+    case K_DENSITY: return scalar(kf, kl, k, positive, &d->density, err);
+    case K_GRAVITY: return scalar(kf, kl, k, non_negative, &d->gravity, err);
     case K_GRAVITY_DIR: {
-        hk_Status st = hk_keyline_doubles(kf, kl, 3, v3, err);
+        double v[3];
+        hk_Status st = hk_keyline_doubles(kf, kl, 3, v, err);
         if (st != HK_OK) return st;
-        hk_Vec3 g = hk_v3(v3[0], v3[1], v3[2]);
-        if (!(hk_v3_norm(g) > 0.0))
-            return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err, "GravityDirection must not be zero");
-        d->gravity_dir = hk_v3_normalize(g);
+        /* Scale by the largest component first: |(1e300, 1e300, 0)| overflows and
+         * |(1e-200, 0, 0)| underflows, yet both are fine directions. */
+        double m = fmax(fabs(v[0]), fmax(fabs(v[1]), fabs(v[2])));
+        if (!(m > 0.0))
+            return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err,
+                                    "GravityDirection must not be zero");
+        d->gravity_dir = hk_v3_normalize(hk_v3(v[0] / m, v[1] / m, v[2] / m));
         return HK_OK;
     }
+    case K_CLUMP: return scalar(kf, kl, k, clump, &d->clump, err);
+    case K_CLUMP_PROFILE: return scalar(kf, kl, k, positive, &d->clump_profile, err);
+    case K_STRAY_HAIRS: return hk_keyline_bool(kf, kl, &d->stray_hairs, err);
+    case K_MAX_TIP_DISTANCE: return scalar(kf, kl, k, non_negative, &d->max_tip_distance, err);
+    case K_COUNT: break;
     }
     return HK_OK;
+}
+
+/* The sample counts L / step size the arrays of every strand (§4.1.4): refuse absurd
+ * ones here, at the step's line (or at HairLengths' when the step is the default). */
+static hk_Status check_samples(const hk_KeyFile *kf, const hk_HairstyleDef *d, const int *line_of,
+                               int k, double step, hk_Error *err)
+{
+    const double len = hk_hairstyle_length(d), samples = len / step;
+    if (samples <= HK_MAX_SAMPLES_PER_STRAND) return HK_OK;
+    const int given = line_of[k] != 0;
+    return hk_keyfile_error(kf, given ? line_of[k] : line_of[K_LENGTHS], HK_ERR_INVALID, err,
+                            "%s %g%s gives %.3g samples over the %g m strand (at most %d)",
+                            specs[k].name, step, given ? "" : " (the default)", samples, len,
+                            HK_MAX_SAMPLES_PER_STRAND);
 }
 
 hk_Status hk_hairstyle_load(const char *path, hk_HairstyleDef *out, hk_Error *err)
@@ -149,37 +214,15 @@ hk_Status hk_hairstyle_load(const char *path, hk_HairstyleDef *out, hk_Error *er
     hk_Status st = hk_keyfile_read(path, &kf, err);
     if (st != HK_OK) return st;
     hk_HairstyleDef d = hk_default_hairstyle();
-    int seen[K_COUNT] = {0};
-    for (int i = 0; i < kf.line_count && st == HK_OK; i++) {
-        const hk_KeyLine *kl = &kf.lines[i];
-        int k = find_key(kl->key);
-        if (k < 0) {
-            st = hk_keyfile_error(&kf, kl->line, HK_ERR_PARSE, err, "unknown key '%s' in a hairstyle file", kl->key);
-            break;
-        }
-        if (seen[k]) {
-            st = hk_keyfile_error(&kf, kl->line, HK_ERR_PARSE, err, "duplicate key '%s' (first given at line %d)",
-                                  keys[k].name, seen[k]);
-            break;
-        }
-        seen[k] = kl->line;
-        st = read_value(&kf, kl, k, &d, err);
-    }
-    for (int k = 0; k < K_COUNT && st == HK_OK; k++)
-        if (keys[k].required && !seen[k])
-            st = hk_keyfile_error(&kf, 0, HK_ERR_PARSE, err, "missing required key '%s'", keys[k].name);
-    if (st == HK_OK) {
-        /* Sample counts follow from the length: refuse absurd ones before anyone allocates. */
-        const double len = hk_hairstyle_length(&d);
-        if (len / d.visuality_step > HK_MAX_SAMPLES_PER_STRAND)
-            st = hk_keyfile_error(&kf, seen[K_VISUALITY_STEP], HK_ERR_INVALID, err,
-                                  "VisualityStep %g gives %.3g samples over the %g m strand (at most %d)",
-                                  d.visuality_step, len / d.visuality_step, len, HK_MAX_SAMPLES_PER_STRAND);
-        else if (len / d.collision_step > HK_MAX_SAMPLES_PER_STRAND)
-            st = hk_keyfile_error(&kf, seen[K_COLLISION_STEP], HK_ERR_INVALID, err,
-                                  "CollisionStep %g gives %.3g samples over the %g m strand (at most %d)",
-                                  d.collision_step, len / d.collision_step, len, HK_MAX_SAMPLES_PER_STRAND);
-    }
+    int line_of[K_COUNT];
+    st = hk_keyfile_check_keys(&kf, specs, K_COUNT, "hairstyle", line_of, err);
+    for (int i = 0; i < kf.line_count && st == HK_OK; i++)
+        st = read_value(&kf, &kf.lines[i], hk_keyspec_find(specs, K_COUNT, kf.lines[i].key), &d,
+                        err);
+    if (st == HK_OK)
+        st = check_samples(&kf, &d, line_of, K_VISUALITY_STEP, d.visuality_step, err);
+    if (st == HK_OK)
+        st = check_samples(&kf, &d, line_of, K_COLLISION_STEP, d.collision_step, err);
     hk_keyfile_free(&kf);
     if (st != HK_OK) {
         hk_free(d.element_lengths);

@@ -10,7 +10,7 @@
 
 hk_NewtonOptions hk_default_newton_options(void)
 {
-    hk_NewtonOptions o = {500, 1e-16, 0.0};
+    hk_NewtonOptions o = {500, 1e-16, 0.0, 0.0, NULL};
     return o;
 }
 
@@ -56,6 +56,17 @@ hk_Status hk_newton_minimize(int n, double *x, hk_DerivFn f, void *user, const d
         }
         for (int i = 0; i < n; i++) p[i] = -g[i];
         hk_cholesky_solve(n, l, p);
+        /* Step control: a Newton step far from the minimum can leap into another basin
+         * (a strand flipping through wild twists); cap the largest move. */
+        if (options->max_step > 0.0) {
+            double worst = 0.0;
+            for (int i = 0; i < n; i++) {
+                double u = options->step_unit ? options->step_unit[i] : 1.0;
+                worst = fmax(worst, fabs(p[i]) / u);
+            }
+            if (worst > options->max_step)
+                for (int i = 0; i < n; i++) p[i] *= options->max_step / worst;
+        }
         double gp = 0.0;
         for (int i = 0; i < n; i++) gp += g[i] * p[i];
         /* Newton decrement -g.p / 2: the predicted decrease of a full undamped step. */

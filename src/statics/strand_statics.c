@@ -30,6 +30,9 @@ hk_StaticsOptions hk_default_statics_options(void)
     o.solver = HK_SOLVER_NEWTON;
     o.rosenbrock = hk_default_rosenbrock_options();
     o.newton = hk_default_newton_options();
+    /* Each Newton step turns no element by more than half a radian: far from rest it
+     * keeps the strand from leaping through wild twists into a poor local minimum. */
+    o.newton.max_step = 0.5;
     return o;
 }
 
@@ -78,21 +81,26 @@ hk_Status hk_statics_solve(hk_SuperHelix *sh, const hk_StrandEnv *env,
     hk_Status st = hk_strand_workspace_create(sh, env, &pb.ws, err);
     if (st != HK_OK) return st;
     /* q and the metric in one block. */
-    double *q = hk_alloc_array((size_t)dim * 2, sizeof(double), err);
+    double *q = hk_alloc_array((size_t)dim * 3, sizeof(double), err);
     if (!q) {
         hk_strand_workspace_destroy(pb.ws);
         return HK_ERR_NOMEM;
     }
-    double *metric = q + dim;
+    double *metric = q + dim, *unit = q + 2 * dim;
     memcpy(q, sh->q, (size_t)dim * sizeof(double));
     if (options->solver == HK_SOLVER_ROSENBROCK) {
         st = hk_rosenbrock_minimize(dim, q, strand_value, &pb, &options->rosenbrock, result, err);
     } else {
         /* The elastic diagonal l_Q K_i makes the damping independent of units. */
         for (int p = 0; p < sh->n; p++)
-            for (int i = 0; i < 3; i++) metric[3 * p + i] = sh->length[p] * sh->material.stiffness[i];
+            for (int i = 0; i < 3; i++) {
+                metric[3 * p + i] = sh->length[p] * sh->material.stiffness[i];
+                /* A change of 1 / l_Q turns element Q's end by a radian. */
+                unit[3 * p + i] = 1.0 / sh->length[p];
+            }
         hk_NewtonOptions no = options->newton;
         if (!(no.energy_scale > 0.0)) no.energy_scale = energy_scale(sh);
+        if (!no.step_unit) no.step_unit = unit;
         st = hk_newton_minimize(dim, q, strand_derivs, &pb, metric, &no, result, err);
     }
     if (st == HK_OK) memcpy(sh->q, q, (size_t)dim * sizeof(double));
