@@ -8,9 +8,13 @@
 typedef struct hk_BenchOptions {
     int quick;          /* a smoke run with tiny repetition counts (used by the tests) */
     double min_seconds; /* minimum measuring time per figure */
+    const char *root;   /* the repository (for examples/ and assets/), default "." */
 } hk_BenchOptions;
 
 /* Super-Helix statics: Newton against the thesis's Rosenbrock on the same strands. */
 int hk_bench_statics(FILE *out, const hk_BenchOptions *options);
+
+/* Grooming the default head: guides and strands per second, 1 and 2 threads. */
+int hk_bench_groom(FILE *out, const hk_BenchOptions *options);
 
 #endif

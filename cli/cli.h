@@ -16,6 +16,8 @@
 /* Subcommands: argv[0] is the subcommand name. */
 int hk_cmd_strand(int argc, char **argv);
 int hk_cmd_bench(int argc, char **argv);
+int hk_cmd_groom(int argc, char **argv);
+int hk_cmd_info(int argc, char **argv);
 
 /* "x,y,z" -> vector; returns 0 on malformed or non-finite input. */
 int hk_cli_parse_vec3(const char *text, hk_Vec3 *out);
@@ -35,6 +37,17 @@ int hk_cli_usage_error(const char *cmd, const char *fmt, ...);
 
 /* Whether progress and summaries may go to stderr (a terminal and not --quiet). */
 int hk_cli_stderr_is_tty(void);
+
+/* Progress bar on stderr for long work (hk_ProgressFn-compatible): redraws one line
+ * "stage [#####.....]  45%"; `user` is an hk_CliProgress. */
+typedef struct hk_CliProgress {
+    int enabled;          /* stderr is a terminal and --quiet was not given */
+    char stage[32];
+    int last_percent;
+} hk_CliProgress;
+void hk_cli_progress(void *user, const char *stage, double fraction);
+/* Ends the bar's line (if one was drawn). */
+void hk_cli_progress_done(hk_CliProgress *p);
 
 /* Monotonic wall clock in seconds. */
 double hk_cli_now(void);

@@ -3,6 +3,7 @@
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -74,4 +75,28 @@ double hk_cli_now(void)
     struct timespec t;
     clock_gettime(CLOCK_MONOTONIC, &t);
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+void hk_cli_progress(void *user, const char *stage, double fraction)
+{
+    hk_CliProgress *p = user;
+    if (!p->enabled) return;
+    const int percent = (int)(100.0 * fraction + 0.5);
+    const int new_stage = strncmp(p->stage, stage, sizeof p->stage - 1) != 0;
+    if (!new_stage && percent == p->last_percent) return;
+    if (new_stage && p->stage[0]) fputc('\n', stderr);
+    snprintf(p->stage, sizeof p->stage, "%s", stage);
+    p->last_percent = percent;
+    char bar[31];
+    const int filled = percent * 30 / 100;
+    for (int i = 0; i < 30; i++) bar[i] = i < filled ? '#' : '.';
+    bar[30] = '\0';
+    fprintf(stderr, "\r%-8s [%s] %3d%%", stage, bar, percent);
+    fflush(stderr);
+}
+
+void hk_cli_progress_done(hk_CliProgress *p)
+{
+    if (p->enabled && p->stage[0]) fputc('\n', stderr);
+    p->stage[0] = '\0';
 }

@@ -14,6 +14,7 @@ typedef struct Bench {
 
 static const Bench benches[] = {
     {"statics", hk_bench_statics, "Super-Helix statics: Newton vs the thesis's Rosenbrock, N = 5..40"},
+    {"groom", hk_bench_groom, "grooming examples/default with 1 and 2 threads"},
 };
 
 static void usage(FILE *out)
@@ -32,6 +33,7 @@ static void usage(FILE *out)
             "options:\n"
             "  --quick            smoke run: few repetitions, figures not meaningful\n"
             "  --min-time S       measure each figure for at least S seconds (default 0.5)\n"
+            "  --root DIR         the hairkit source folder, for its examples (default .)\n"
             "  -h, --help         this help\n");
 }
 
@@ -40,10 +42,11 @@ int hk_cmd_bench(int argc, char **argv)
     static const struct option options[] = {
         {"quick", no_argument, NULL, 'q'},
         {"min-time", required_argument, NULL, 't'},
+        {"root", required_argument, NULL, 'r'},
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
-    hk_BenchOptions bo = {0, 0.5};
+    hk_BenchOptions bo = {0, 0.5, "."};
     optind = 1;
     opterr = 0;
     int c;
@@ -54,6 +57,7 @@ int hk_cmd_bench(int argc, char **argv)
             if (!hk_cli_parse_double(optarg, &bo.min_seconds) || bo.min_seconds < 0 || bo.min_seconds > 3600)
                 return hk_cli_usage_error("bench", "--min-time expects seconds in [0, 3600], got '%s'", optarg);
             break;
+        case 'r': bo.root = optarg; break;
         case 'h': usage(stdout); return HK_EXIT_OK;
         case ':': return hk_cli_usage_error("bench", "option '%s' needs a value", argv[optind - 1]);
         default: return hk_cli_usage_error("bench", "unknown option '%s'", argv[optind - 1]);

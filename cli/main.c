@@ -13,6 +13,8 @@ typedef struct Command {
 
 static const Command commands[] = {
     {"strand", hk_cmd_strand, "rest shape of one Super-Helix strand under gravity and contacts"},
+    {"groom", hk_cmd_groom, "grow a full head of hair from a setup file into a .hair file"},
+    {"info", hk_cmd_info, "strands, points, lengths and bounding box of a .hair file"},
     {"bench", hk_cmd_bench, "benchmarks with side-by-side figures"},
 };
 

@@ -9,4 +9,11 @@ for hair in straight wavy curly fuzzy; do
         --root 0.04,0.137,0.03 --dir 1,0.6,0.3 --plot "docs/images/strand-$hair.png" --quiet > /dev/null
 done
 cp docs/images/strand-wavy.png docs/images/demo-strand.png
+# The guides of the default head and of the thesis's four coupes (docs/grooming.md).
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+for scene in default coupe1 coupe2 coupe3 coupe4; do
+    "$hk" groom "examples/$scene/setup.txt" -o "$tmp/$scene.hair" --quiet
+    build/plot_hair "$tmp/$scene.hair" "docs/images/groom-$scene.png" "examples/$scene/collision.txt"
+done
 echo "docs/images updated"

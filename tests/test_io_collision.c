@@ -263,7 +263,7 @@ static void test_fuzz(void **state)
     char base[1024];
     snprintf(base, sizeof base, "%s%sCuboid 0 1 0 0 0 1 1 1 1 0 0 0 1 0 0 0 1\n", thesis_collision,
              coupe_collision);
-    static const char junk[][12] = {"1e308 ", "-", "nan", "\"", "#", "\r\n", "Sphere ", "0x1p3",
+    static const char *const junk[12] = {"1e308 ", "-", "nan", "\"", "#", "\r\n", "Sphere ", "0x1p3",
                                     "\t", "Elipsoid ", " 0 0", "99e999"};
     unsigned long long x = 0xD1B54A32D192ED03ULL;
     int rejected = 0, accepted = 0;
@@ -272,31 +272,8 @@ static void test_fuzz(void **state)
         size_t len = strlen(base);
         memcpy(buf, base, len);
         int edits = 1 + iter % 4;
-        for (int e = 0; e < edits && len > 0; e++) {
-            x ^= x << 13, x ^= x >> 7, x ^= x << 17;
-            size_t at = (size_t)(x % len);
-            switch ((x >> 20) % 5) {
-            case 0: buf[at] = (char)(x >> 32); break;
-            case 1: len = at; break;
-            case 2: buf[at] = " \t\n#\"-.e0123456789"[(x >> 40) % 18]; break;
-            case 3: {
-                const char *j = junk[(x >> 44) % 12];
-                size_t jl = strlen(j);
-                if (len + jl < sizeof buf) {
-                    memmove(buf + at + jl, buf + at, len - at);
-                    memcpy(buf + at, j, jl);
-                    len += jl;
-                }
-                break;
-            }
-            default: {
-                size_t span = (size_t)((x >> 50) % 24);
-                if (at + span > len) span = len - at;
-                memmove(buf + at, buf + at + span, len - at - span);
-                len -= span;
-            }
-            }
-        }
+        for (int e = 0; e < edits; e++)
+            len = hk_test_mutate(buf, len, sizeof buf, " \t\n#\"-.e0123456789", junk, 12, &x);
         const char *path = hk_test_write_file("fuzz_collision.txt", buf, len);
         hk_Shape *s = (hk_Shape *)&s;
         int n = -1;

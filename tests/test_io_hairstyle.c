@@ -541,7 +541,7 @@ static void test_files(void **state)
 static void test_fuzz(void **state)
 {
     (void)state;
-    static const char junk[][12] = {"1e308 ", "-", "nan", "\"", "#", "\r\n", "Young 1\n", "0x1p3",
+    static const char *const junk[12] = {"1e308 ", "-", "nan", "\"", "#", "\r\n", "Young 1\n", "0x1p3",
                                     "\t\t", "HairLength ", "\xEF\xBB\xBF", "99999999999"};
     unsigned long long x = 0x2545F4914F6CDD1DULL;
     int rejected = 0, accepted = 0;
@@ -550,31 +550,8 @@ static void test_fuzz(void **state)
         size_t len = strlen(thesis_hairstyle);
         memcpy(buf, thesis_hairstyle, len);
         int edits = 1 + iter % 4;
-        for (int e = 0; e < edits && len > 0; e++) {
-            x ^= x << 13, x ^= x >> 7, x ^= x << 17;
-            size_t at = (size_t)(x % len);
-            switch ((x >> 20) % 5) {
-            case 0: buf[at] = (char)(x >> 32); break;                    /* any byte */
-            case 1: len = at; break;                                     /* truncate */
-            case 2: buf[at] = " \t\n#\"-.e0123456789"[(x >> 40) % 18]; break; /* plausible byte */
-            case 3: {                                                     /* insert junk */
-                const char *j = junk[(x >> 44) % 12];
-                size_t jl = strlen(j);
-                if (len + jl < sizeof buf) {
-                    memmove(buf + at + jl, buf + at, len - at);
-                    memcpy(buf + at, j, jl);
-                    len += jl;
-                }
-                break;
-            }
-            default: {                                                    /* delete a span */
-                size_t span = (size_t)((x >> 50) % 24);
-                if (at + span > len) span = len - at;
-                memmove(buf + at, buf + at + span, len - at - span);
-                len -= span;
-            }
-            }
-        }
+        for (int e = 0; e < edits; e++)
+            len = hk_test_mutate(buf, len, sizeof buf, " \t\n#\"-.e0123456789", junk, 12, &x);
         const char *path = hk_test_write_file("fuzz_hairstyle.txt", buf, len);
         hk_HairstyleDef d;
         hk_Error err;

@@ -1,22 +1,7 @@
 #!/usr/bin/env bash
 # Command-line contract of `hairkit strand` (DESIGN.md): output format, options, and
 # clear errors with the right exit codes for bad input. Usage: strand.sh HAIRKIT SRCDIR
-set -u
-hk="$1"
-src="$2"
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-fails=0
-fail() { echo "FAIL: $*" >&2; fails=$((fails + 1)); }
-
-# expect CODE CMD... : runs CMD, stdout to $tmp/out, stderr to $tmp/err, checks the exit code
-expect() {
-    local want=$1; shift
-    "$@" >"$tmp/out" 2>"$tmp/err"
-    local got=$?
-    [ "$got" -eq "$want" ] || fail "exit $got (wanted $want): $* ; stderr: $(cat "$tmp/err")"
-}
-contains() { grep -q -- "$2" "$1" || fail "$1 lacks '$2': $(head -c 300 "$1")"; }
+source "$(dirname "$0")/lib/common.sh"
 
 expect 0 "$hk" --help
 contains "$tmp/out" "strand"
@@ -78,5 +63,4 @@ expect 2 "$hk" strand "$src/examples/strand/curly.txt" extra.txt
 expect 0 "$hk" bench statics --quick
 contains "$tmp/out" "newton"
 
-[ "$fails" -eq 0 ] && echo "all strand CLI checks passed"
-exit $((fails > 0))
+finish "strand CLI"

@@ -99,3 +99,32 @@ double hk_test_uniform(void)
     state ^= state << 17;
     return (double)(state >> 11) / 9007199254740992.0;
 }
+
+size_t hk_test_mutate(char *buf, size_t len, size_t cap, const char *plausible,
+                      const char *const *junk, int junk_count, unsigned long long *state)
+{
+    unsigned long long x = *state;
+    x ^= x << 13, x ^= x >> 7, x ^= x << 17;
+    *state = x;
+    if (len == 0) return 0;
+    size_t at = (size_t)(x % len);
+    switch ((x >> 20) % 5) {
+    case 0: buf[at] = (char)(x >> 32); return len;                             /* any byte */
+    case 1: return at;                                                          /* truncate */
+    case 2: buf[at] = plausible[(x >> 40) % strlen(plausible)]; return len;    /* plausible byte */
+    case 3: {                                                                   /* insert junk */
+        const char *j = junk[(x >> 44) % (unsigned)junk_count];
+        size_t jl = strlen(j);
+        if (len + jl > cap) return len;
+        memmove(buf + at + jl, buf + at, len - at);
+        memcpy(buf + at, j, jl);
+        return len + jl;
+    }
+    default: {                                                                  /* delete a span */
+        size_t span = (size_t)((x >> 50) % 24);
+        if (at + span > len) span = len - at;
+        memmove(buf + at, buf + at + span, len - at - span);
+        return len - span;
+    }
+    }
+}

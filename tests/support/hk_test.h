@@ -39,4 +39,11 @@ void hk_assert_contains_impl(const char *haystack, const char *needle, const cha
 /* Deterministic uniform numbers in [0, 1) (xorshift64), for reproducible test data. */
 double hk_test_uniform(void);
 
+/* One random edit of buf[0..len) for the input fuzz loops: overwrite a byte with any
+ * byte or with one of `plausible`, truncate, insert one of the `junk` strings, or
+ * delete a span. `state` is a xorshift64 state (non-zero). Returns the new length,
+ * never more than cap. */
+size_t hk_test_mutate(char *buf, size_t len, size_t cap, const char *plausible,
+                      const char *const *junk, int junk_count, unsigned long long *state);
+
 #endif

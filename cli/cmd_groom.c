@@ -1,0 +1,134 @@
+/* hairkit groom: a setup file in, a full head of hair out (.hair), thesis 004 §4.1.4
+ * and §4.2.2 (load or grow, optionally save). */
+#include <errno.h>
+#include <getopt.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "hairkit/groom.h"
+#include "hairkit/io.h"
+
+static const char *const CMD = "groom";
+
+static void usage(FILE *out)
+{
+    fprintf(out,
+            "usage: hairkit groom SETUP.txt -o OUT.hair [--seed N] [--threads N] [--quiet]\n"
+            "\n"
+            "Grows a full head of hair from a setup file: one guide strand per vertex of the\n"
+            "wick (WickModel), each a Super-Helix at rest under gravity and the collision\n"
+            "shapes' envelopes, then area x HairDensity interpolated strands per wick\n"
+            "triangle. With 'Load true' in the setup the hair is read from LoadFile instead;\n"
+            "with 'Save true' it is also written to SaveFile.\n"
+            "\n"
+            "options:\n"
+            "  -o, --output FILE  the .hair file to write (optional when the setup saves)\n"
+            "  --seed N           random seed of the interpolation (default 1); the same\n"
+            "                     seed gives the same bytes whatever the thread count\n"
+            "  --threads N        threads to use (default: all cores)\n"
+            "  --quiet            no progress bar (shown on a terminal) or summary on stderr\n"
+            "  -h, --help         this help\n");
+}
+
+int hk_cmd_groom(int argc, char **argv)
+{
+    static const struct option options[] = {
+        {"output", required_argument, NULL, 'o'}, {"seed", required_argument, NULL, 's'},
+        {"threads", required_argument, NULL, 't'}, {"quiet", no_argument, NULL, 'q'},
+        {"help", no_argument, NULL, 'h'},         {NULL, 0, NULL, 0},
+    };
+    const char *output = NULL;
+    hk_GroomOptions go = hk_default_groom_options();
+    int quiet = 0;
+    optind = 1;
+    opterr = 0;
+    int c;
+    while ((c = getopt_long(argc, argv, ":ho:", options, NULL)) != -1) {
+        switch (c) {
+        case 'o': output = optarg; break;
+        case 'q': quiet = 1; break;
+        case 's': {
+            char *end;
+            errno = 0;
+            unsigned long long v = strtoull(optarg, &end, 10);
+            if (!*optarg || *end || errno || optarg[0] == '-')
+                return hk_cli_usage_error(CMD, "--seed expects a non-negative integer, got '%s'", optarg);
+            go.seed = v;
+            break;
+        }
+        case 't': {
+            long v;
+            if (!hk_cli_parse_int(optarg, 1, 1024, &v))
+                return hk_cli_usage_error(CMD, "--threads expects 1 to 1024, got '%s'", optarg);
+            go.threads = (int)v;
+            break;
+        }
+        case 'h': usage(stdout); return HK_EXIT_OK;
+        case ':': return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
+        default: return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
+        }
+    }
+    if (optind >= argc) return hk_cli_usage_error(CMD, "missing SETUP file");
+    if (optind + 1 < argc) return hk_cli_usage_error(CMD, "unexpected argument '%s'", argv[optind + 1]);
+    const char *setup_path = argv[optind];
+
+    hk_Error err;
+    hk_SetupDef setup;
+    if (hk_setup_load(setup_path, &setup, &err) != HK_OK) return hk_cli_fail(CMD, &err);
+    if (!output && !setup.save) {
+        hk_setup_free(&setup);
+        return hk_cli_usage_error(CMD, "no output: give -o OUT.hair (or 'Save true' in the setup)");
+    }
+    hk_CliProgress progress = {!quiet && hk_cli_stderr_is_tty(), "", -1};
+    go.progress = hk_cli_progress;
+    go.progress_user = &progress;
+
+    int status = HK_EXIT_FAIL;
+    hk_HairstyleDef style = hk_default_hairstyle();
+    hk_Shape *shapes = NULL;
+    int shape_count = 0;
+    hk_Mesh wick = {0, 0, NULL, NULL, NULL};
+    hk_Groom groom;
+    memset(&groom, 0, sizeof groom);
+    hk_HairFile hair;
+    memset(&hair, 0, sizeof hair);
+    const double t0 = hk_cli_now();
+    if (setup.load) {
+        if (hk_hair_load(setup.load_file, &hair, &err) != HK_OK) goto fail;
+    } else {
+        if (hk_hairstyle_load(setup.hairstyle, &style, &err) != HK_OK) goto fail;
+        if (setup.collision && hk_collision_load(setup.collision, &shapes, &shape_count, &err) != HK_OK) goto fail;
+        if (hk_obj_load(setup.wick_model, &wick, &err) != HK_OK) goto fail;
+        if (hk_groom_grow(&style, shapes, shape_count, &wick, &go, &groom, &err) != HK_OK) goto fail;
+        if (hk_groom_to_hair(&groom, &style, &hair, &err) != HK_OK) goto fail;
+    }
+    hk_cli_progress_done(&progress);
+    if (output && hk_hair_save(output, &hair, &err) != HK_OK) goto fail;
+    if (setup.save && hk_hair_save(setup.save_file, &hair, &err) != HK_OK) goto fail;
+    if (!quiet) {
+        if (setup.load)
+            fprintf(stderr, "hairkit groom: loaded %u strands from %s\n", hair.strand_count, setup.load_file);
+        else
+            fprintf(stderr,
+                    "hairkit groom: %d guides (%.2f s, %ld Newton steps%s), %d interpolated strands (%.2f s), "
+                    "%d points each; %.2f s in all\n",
+                    groom.guide_count, groom.stats.seconds_guides, groom.stats.guide_iterations,
+                    groom.stats.guides_not_converged ? ", some stopped by the iteration limit" : "",
+                    groom.strand_count, groom.stats.seconds_strands, groom.points_per_strand, hk_cli_now() - t0);
+    }
+    status = HK_EXIT_OK;
+    goto done;
+fail:
+    hk_cli_progress_done(&progress);
+    hk_cli_fail(CMD, &err);
+done:
+    hk_hair_free(&hair);
+    hk_groom_free(&groom);
+    hk_mesh_free(&wick);
+    hk_free(shapes);
+    hk_hairstyle_free(&style);
+    hk_setup_free(&setup);
+    return status;
+}

@@ -1,0 +1,56 @@
+/* hairkit info: what a .hair file holds (strands, points, lengths, bounding box). */
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "cli.h"
+#include "hairkit/hairfile.h"
+
+int hk_cmd_info(int argc, char **argv)
+{
+    if (argc == 2 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h"))) {
+        printf("usage: hairkit info FILE.hair\n\n"
+               "Prints the number of strands and points, the strand lengths (min, mean, max),\n"
+               "the bounding box, the arrays present and the information field of a cyHair\n"
+               ".hair file (hairkit's own or another tool's).\n");
+        return HK_EXIT_OK;
+    }
+    if (argc != 2) return hk_cli_usage_error("info", "expected exactly one FILE.hair");
+    hk_HairFile h;
+    hk_Error err;
+    if (hk_hair_load(argv[1], &h, &err) != HK_OK) return hk_cli_fail("info", &err);
+    double lmin = DBL_MAX, lmax = 0.0, lsum = 0.0, lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
+    uint32_t pmin = UINT32_MAX, pmax = 0;
+    for (uint32_t s = 0; s < h.strand_count; s++) {
+        double len = 0.0;
+        const uint32_t a = h.first_point[s], b = h.first_point[s + 1];
+        for (uint32_t p = a; p < b; p++) {
+            const float *q = h.points + 3 * (size_t)p;
+            for (int k = 0; k < 3; k++) lo[k] = fmin(lo[k], q[k]), hi[k] = fmax(hi[k], q[k]);
+            if (p > a) len += sqrt(pow(q[0] - q[-3], 2) + pow(q[1] - q[-2], 2) + pow(q[2] - q[-1], 2));
+        }
+        lmin = fmin(lmin, len), lmax = fmax(lmax, len), lsum += len;
+        if (b - a < pmin) pmin = b - a;
+        if (b - a > pmax) pmax = b - a;
+    }
+    char info[HK_HAIR_INFO_SIZE + 1];
+    memcpy(info, h.info, HK_HAIR_INFO_SIZE);
+    info[HK_HAIR_INFO_SIZE] = '\0';
+    printf("file:          %s\n", argv[1]);
+    printf("strands:       %u\n", h.strand_count);
+    printf("points:        %u (per strand: min %u, mean %.1f, max %u)\n", h.point_count, h.strand_count ? pmin : 0,
+           h.strand_count ? (double)h.point_count / h.strand_count : 0.0, pmax);
+    if (h.strand_count)
+        printf("length:        min %.6g, mean %.6g, max %.6g (file units)\n", lmin, lsum / h.strand_count, lmax);
+    if (h.point_count)
+        printf("bounding box:  (%.6g, %.6g, %.6g) to (%.6g, %.6g, %.6g)\n", lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+    printf("arrays:        %s%s%s%s%s\n", h.flags & HK_HAIR_SEGMENTS ? "segments " : "", "points ",
+           h.flags & HK_HAIR_THICKNESS ? "thickness " : "", h.flags & HK_HAIR_TRANSPARENCY ? "transparency " : "",
+           h.flags & HK_HAIR_COLORS ? "colours" : "");
+    printf("defaults:      thickness %g, transparency %g, colour (%g, %g, %g)\n", h.default_thickness,
+           h.default_transparency, h.default_color[0], h.default_color[1], h.default_color[2]);
+    printf("information:   \"%s\"\n", info);
+    hk_hair_free(&h);
+    return HK_EXIT_OK;
+}

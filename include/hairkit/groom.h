@@ -1,0 +1,81 @@
+/* Growing a full head of hair (thesis 004 §4.1.4, paper 000 §4.1): follicles on a
+ * wick mesh, guide strands solved as Super-Helices, and interpolated strands filling
+ * every wick triangle, with clumping, stray hairs and semi-interpolation. */
+#ifndef HAIRKIT_GROOM_H
+#define HAIRKIT_GROOM_H
+
+#include <stdint.h>
+
+#include "hairkit/collide.h"
+#include "hairkit/core.h"
+#include "hairkit/hairfile.h"
+#include "hairkit/io.h"
+#include "hairkit/mesh.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Progress report: stage name and fraction done in [0, 1]. Called from one thread. */
+typedef void (*hk_ProgressFn)(void *user, const char *stage, double fraction);
+
+typedef struct hk_GroomOptions {
+    uint64_t seed;          /* the same seed gives the same hair, byte for byte */
+    int threads;            /* OpenMP threads; <= 0: the OpenMP default */
+    hk_ProgressFn progress; /* may be NULL */
+    void *progress_user;
+} hk_GroomOptions;
+
+hk_GroomOptions hk_default_groom_options(void);
+
+/* Follicles of a wick (thesis §4.1.4.1): one per vertex, growing along the vertex
+ * normal, with the envelope level alpha = (y - y_min) / (y_max - y_min) of
+ * §4.1.2.2 (0 when all follicles are at the same height). */
+typedef struct hk_Follicles {
+    int count;
+    hk_Vec3 *position;
+    hk_Vec3 *normal;
+    double *alpha;
+} hk_Follicles;
+
+hk_Status hk_follicles_from_wick(const hk_Mesh *wick, hk_Follicles *out, hk_Error *err);
+void hk_follicles_free(hk_Follicles *f);
+
+typedef struct hk_GroomStats {
+    long guide_iterations;      /* Newton steps over all guides */
+    int guides_not_converged;   /* guides stopped by the iteration limit */
+    double max_guide_penetration; /* deepest collision sample of any guide (m) */
+    double seconds_guides, seconds_strands;
+} hk_GroomStats;
+
+typedef struct hk_Groom {
+    int points_per_strand;  /* every strand has this many points (VisualityStep samples) */
+    int guide_count;        /* = follicles = wick vertices */
+    double *guides;         /* guide_count x points x 3, the solved guide strands */
+    int strand_count;       /* interpolated strands */
+    float *strands;         /* strand_count x points x 3 */
+    int *strand_triangle;   /* wick triangle each interpolated strand grows from */
+    float *strand_root_weights; /* 3 per strand: barycentric root in its triangle */
+    hk_GroomStats stats;
+} hk_Groom;
+
+/* Grows the hair: solves one guide per follicle (in parallel) with the hairstyle's
+ * statics and the collision shapes' layered envelopes, then fills every wick triangle
+ * with round(area x HairDensity) interpolated strands (stochastic rounding, so the
+ * expected count is exact) at uniformly random roots. */
+hk_Status hk_groom_grow(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
+                        const hk_Mesh *wick, const hk_GroomOptions *options, hk_Groom *out,
+                        hk_Error *err);
+
+void hk_groom_free(hk_Groom *g);
+
+/* The groom as cyHair data: the guides first, then the interpolated strands; default
+ * thickness is the hair's mean diameter. */
+hk_Status hk_groom_to_hair(const hk_Groom *g, const hk_HairstyleDef *style, hk_HairFile *out,
+                           hk_Error *err);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,85 @@
+/* The groom pipeline (thesis 004 §4.1.4, Fig. 37): follicles from the wick, guides,
+ * interpolated strands; and its conversion to cyHair data. */
+#include <omp.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+
+#include "groom_internal.h"
+
+hk_GroomOptions hk_default_groom_options(void)
+{
+    hk_GroomOptions o = {1, 0, NULL, NULL};
+    return o;
+}
+
+void hk_groom_report(const hk_GroomOptions *o, const char *stage, long done, long total)
+{
+    if (!o->progress || total <= 0) return;
+    /* Only at whole steps of 1/200, so that reporting costs nothing. */
+    const long step = total / 200 + 1;
+    if (done == total || done % step == 0) o->progress(o->progress_user, stage, (double)done / (double)total);
+}
+
+static double seconds_now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+void hk_groom_free(hk_Groom *g)
+{
+    hk_free(g->guides);
+    hk_free(g->strands);
+    hk_free(g->strand_triangle);
+    hk_free(g->strand_root_weights);
+    memset(g, 0, sizeof *g);
+}
+
+hk_Status hk_groom_grow(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count, const hk_Mesh *wick,
+                        const hk_GroomOptions *options, hk_Groom *out, hk_Error *err)
+{
+    memset(out, 0, sizeof *out);
+    hk_GroomOptions o = options ? *options : hk_default_groom_options();
+    const int saved_threads = omp_get_max_threads();
+    if (o.threads > 0) omp_set_num_threads(o.threads);
+    hk_Follicles f;
+    hk_Status st = hk_follicles_from_wick(wick, &f, err);
+    if (st == HK_OK) {
+        double t0 = seconds_now();
+        st = hk_groom_solve_guides(style, shapes, shape_count, &f, &o, out, err);
+        double t1 = seconds_now();
+        if (st == HK_OK) st = hk_groom_interpolate(style, wick, &o, out, err);
+        out->stats.seconds_guides = t1 - t0;
+        out->stats.seconds_strands = seconds_now() - t1;
+        hk_follicles_free(&f);
+    }
+    if (o.threads > 0) omp_set_num_threads(saved_threads);
+    if (st != HK_OK) hk_groom_free(out);
+    return st;
+}
+
+hk_Status hk_groom_to_hair(const hk_Groom *g, const hk_HairstyleDef *style, hk_HairFile *out, hk_Error *err)
+{
+    const uint32_t n = (uint32_t)g->guide_count + (uint32_t)g->strand_count;
+    const int points = g->points_per_strand;
+    if (points > 65536)
+        return hk_error_set(err, HK_ERR_INVALID, "%d points per strand exceeds the .hair limit of 65536", points);
+    uint32_t *counts = hk_alloc_array(n, sizeof(uint32_t), err);
+    if (!counts) return HK_ERR_NOMEM;
+    for (uint32_t i = 0; i < n; i++) counts[i] = (uint32_t)points;
+    hk_Status st = hk_hair_alloc(out, n, counts, err);
+    hk_free(counts);
+    if (st != HK_OK) return st;
+    const size_t guide_values = (size_t)g->guide_count * (size_t)points * 3;
+    for (size_t i = 0; i < guide_values; i++) out->points[i] = (float)g->guides[i];
+    memcpy(out->points + guide_values, g->strands, (size_t)g->strand_count * (size_t)points * 3 * sizeof(float));
+    /* cyHair thickness is a diameter in the file's units (metres here). */
+    out->default_thickness = (float)(style->radius1 + style->radius2);
+    char info[HK_HAIR_INFO_SIZE + 1];
+    snprintf(info, sizeof info, "hairkit %s guides=%d strands=%d", HK_VERSION_STRING, g->guide_count,
+             g->strand_count);
+    hk_hair_set_info(out, info);
+    return HK_OK;
+}

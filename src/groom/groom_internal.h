@@ -1,0 +1,25 @@
+/* Stages of the groom pipeline shared between src/groom/ files. */
+#ifndef HK_GROOM_INTERNAL_H
+#define HK_GROOM_INTERNAL_H
+
+#include "hairkit/groom.h"
+
+/* Reports progress from thread 0 only (OpenMP), at most every 1/200 of the work. */
+void hk_groom_report(const hk_GroomOptions *o, const char *stage, long done, long total);
+
+/* Solves one guide per follicle; fills g->guides, g->points_per_strand, stats. */
+hk_Status hk_groom_solve_guides(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
+                                const hk_Follicles *f, const hk_GroomOptions *o, hk_Groom *g, hk_Error *err);
+
+/* Fills every wick triangle with interpolated strands from its three guides. */
+hk_Status hk_groom_interpolate(const hk_HairstyleDef *style, const hk_Mesh *wick, const hk_GroomOptions *o,
+                               hk_Groom *g, hk_Error *err);
+
+/* Root and tip barycentric weights of one interpolated strand (interpolate.c),
+ * exposed for the tests: uniform roots from two uniform numbers; the thesis's tip
+ * weights (§4.1.4.3) from the root weights and two uniform numbers, with its stray-hair
+ * assignment (§4.1.4.4, Table 4) when `stray` is set. */
+void hk_groom_root_weights(double r1, double r2, double b[3]);
+void hk_groom_tip_weights(const double root[3], double clump, double u1, double u2, int stray, double b[3]);
+
+#endif

@@ -1,0 +1,111 @@
+/* Guide strands (thesis 004 §4.1.4.2): one Super-Helix per follicle, its rest shape
+ * under gravity and the layered collision envelopes found by the Newton statics, all
+ * guides in parallel. */
+#include <omp.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "groom_internal.h"
+#include "hairkit/statics.h"
+
+/* Solves guide i and writes its samples; returns the status. */
+static hk_Status solve_one(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
+                           const hk_Follicles *f, int i, int points, double *out, long *iterations,
+                           int *converged, double *penetration, hk_Error *err)
+{
+    hk_SuperHelix *sh;
+    hk_Status st = hk_superhelix_from_hairstyle(style, f->position[i], f->normal[i], &sh, err);
+    if (st != HK_OK) return st;
+    hk_StrandEnv env = hk_default_strand_env();
+    env.shapes = shapes;
+    env.shape_count = shape_count;
+    env.envelope_alpha = f->alpha[i];
+    env.collision_step = style->collision_step;
+    hk_StaticsOptions opt = hk_default_statics_options();
+    hk_MinimizeResult res;
+    st = hk_statics_solve(sh, &env, &opt, &res, err);
+    if (st == HK_OK) {
+        hk_Vec3 buf[256], *p = points <= 256 ? buf : hk_alloc_array((size_t)points, sizeof(hk_Vec3), err);
+        if (!p) {
+            st = HK_ERR_NOMEM;
+        } else {
+            hk_superhelix_sample(sh, NULL, style->visuality_step, NULL, p, NULL);
+            for (int j = 0; j < points; j++) {
+                out[3 * j] = p[j].x;
+                out[3 * j + 1] = p[j].y;
+                out[3 * j + 2] = p[j].z;
+            }
+            if (p != buf) hk_free(p);
+        }
+        *iterations = res.iterations;
+        *converged = res.converged;
+        *penetration = 0.0;
+        if (st == HK_OK && shape_count > 0) {
+            hk_StrandWorkspace *ws;
+            if (hk_strand_workspace_create(sh, &env, &ws, err) == HK_OK) {
+                *penetration = hk_strand_max_penetration(sh, &env, sh->q, ws);
+                hk_strand_workspace_destroy(ws);
+            }
+        }
+    }
+    hk_superhelix_destroy(sh);
+    return st;
+}
+
+hk_Status hk_groom_solve_guides(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
+                                const hk_Follicles *f, const hk_GroomOptions *o, hk_Groom *g, hk_Error *err)
+{
+    /* Every guide has the same sample count: it depends on the length and step only. */
+    hk_SuperHelix *probe;
+    hk_Status st = hk_superhelix_create(style->element_count, style->element_lengths, &probe, err);
+    if (st != HK_OK) return st;
+    const int points = hk_superhelix_sample_count(probe, style->visuality_step);
+    hk_superhelix_destroy(probe);
+    g->points_per_strand = points;
+    g->guide_count = f->count;
+    g->guides = hk_alloc_array((size_t)f->count * (size_t)points, 3 * sizeof(double), err);
+    if (!g->guides) return HK_ERR_NOMEM;
+
+    long iterations = 0, done = 0;
+    int not_converged = 0, failed = -1;
+    double deepest = 0.0;
+    hk_Error first_error;
+    hk_error_clear(&first_error);
+    #pragma omp parallel for schedule(dynamic, 4) reduction(+ : iterations, not_converged) reduction(max : deepest)
+    for (int i = 0; i < f->count; i++) {
+        int skip;
+        #pragma omp atomic read
+        skip = failed;
+        if (skip >= 0) continue;
+        long it = 0;
+        int conv = 1;
+        double pen = 0.0;
+        hk_Error e;
+        hk_Status s = solve_one(style, shapes, shape_count, f, i, points, g->guides + (size_t)i * (size_t)points * 3,
+                                &it, &conv, &pen, &e);
+        if (s != HK_OK) {
+            #pragma omp critical(hk_groom_error)
+            if (failed < 0 || i < failed) {
+                failed = i;
+                first_error = e;
+            }
+        }
+        iterations += it;
+        not_converged += !conv;
+        deepest = pen > deepest ? pen : deepest;
+        long d;
+        #pragma omp atomic capture
+        d = ++done;
+        if (omp_get_thread_num() == 0) hk_groom_report(o, "guides", d, f->count);
+    }
+    if (failed >= 0) {
+        const hk_Vec3 p = f->position[failed];
+        return hk_error_set(err, first_error.code, "guide %d (follicle at %.4g, %.4g, %.4g): %s", failed + 1, p.x, p.y,
+                            p.z, first_error.message);
+    }
+    hk_groom_report(o, "guides", f->count, f->count);
+    g->stats.guide_iterations = iterations;
+    g->stats.guides_not_converged = not_converged;
+    g->stats.max_guide_penetration = deepest;
+    return HK_OK;
+}

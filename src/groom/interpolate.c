@@ -1,0 +1,166 @@
+/* Interpolated hair (thesis 004 §4.1.4.3-4.1.4.4, paper 000 §4.1): every wick triangle
+ * is filled with area x HairDensity strands whose points blend the triangle's three
+ * guides, evenly spread at the root and clumped around the nearest guide at the tip. */
+#include <math.h>
+#include <omp.h>
+#include <string.h>
+
+#include "groom_internal.h"
+#include "hairkit/rng.h"
+
+/* Random streams of the counter-based generator (rng.h). */
+enum { STREAM_COUNT = 1, STREAM_STRAND = 2 };
+
+/* Uniform barycentric coordinates: reflecting (r1, r2) into the triangle when
+ * r1 + r2 > 1 keeps the density uniform. (The thesis reflects only the larger value,
+ * which is not uniform; its roots crowd towards one edge.) */
+void hk_groom_root_weights(double r1, double r2, double b[3])
+{
+    if (r1 + r2 > 1.0) {
+        r1 = 1.0 - r1;
+        r2 = 1.0 - r2;
+    }
+    b[0] = r1;
+    b[1] = r2;
+    b[2] = 1.0 - r1 - r2;
+}
+
+/* Tip weights of thesis §4.1.4.3: two small values v1, v2 in [0, clump], the rest v3
+ * on the guide nearest to the root (the largest root weight). With stray hairs the
+ * thesis's own assignment is kept (§4.1.4.4): in half of the cases v1 goes to both
+ * other guides, the weights no longer sum to one and the tip strays towards or away
+ * from the origin. */
+void hk_groom_tip_weights(const double root[3], double clump, double u1, double u2, int stray, double b[3])
+{
+    double v1 = clump * u1, v2 = clump * u2;
+    if (v1 + v2 > 1.0) {
+        if (v1 > v2) v1 = 1.0 - v1;
+        else v2 = 1.0 - v2;
+    }
+    const double v3 = 1.0 - (v1 + v2);
+    const double a = root[0], bb = root[1], c = root[2];
+    if (stray) {
+        b[0] = (a < bb) ? v1 : ((a < c) ? v2 : v3);
+        b[1] = (bb < c) ? v1 : ((bb < a) ? v2 : v3);
+        b[2] = (c < a) ? v1 : ((c < bb) ? v2 : v3);
+        return;
+    }
+    const int near = (a >= bb && a >= c) ? 0 : (bb >= c ? 1 : 2);
+    b[near] = v3;
+    b[(near + 1) % 3] = v1;
+    b[(near + 2) % 3] = v2;
+}
+
+static double dist3(const double *p, const double *q)
+{
+    const double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
+    return sqrt(dx * dx + dy * dy + dz * dz);
+}
+
+/* One strand: blended points, then segment lengths restored to the blended lengths
+ * of the guides' segments, so that interpolation never shortens a strand
+ * (inextensibility). */
+static void make_strand(const hk_HairstyleDef *style, const double *const guide[3], int points,
+                        const double root[3], const double tip[3], int follow_nearest, float *out)
+{
+    double prev[3] = {0, 0, 0}, placed[3] = {0, 0, 0}, last_dir[3] = {0, 0, 1};
+    const int near = (root[0] >= root[1] && root[0] >= root[2]) ? 0 : (root[1] >= root[2] ? 1 : 2);
+    for (int j = 0; j < points; j++) {
+        double p[3];
+        double w[3];
+        if (follow_nearest) {
+            /* Semi-interpolation across diverging guides (paper 000 Fig. 4d): the strand
+             * takes the shape of its nearest guide, carried by its own root offset. */
+            for (int k = 0; k < 3; k++) {
+                double r = root[0] * guide[0][k] + root[1] * guide[1][k] + root[2] * guide[2][k];
+                p[k] = guide[near][3 * j + k] + (r - guide[near][k]);
+            }
+            w[0] = w[1] = w[2] = 0.0;
+            w[near] = 1.0;
+        } else {
+            const double t = points > 1 ? (double)j / (points - 1) : 0.0;
+            const double s = style->clump_profile == 1.0 ? t : pow(t, style->clump_profile);
+            for (int g = 0; g < 3; g++) w[g] = root[g] + (tip[g] - root[g]) * s;
+            for (int k = 0; k < 3; k++) p[k] = w[0] * guide[0][3 * j + k] + w[1] * guide[1][3 * j + k] + w[2] * guide[2][3 * j + k];
+        }
+        if (j == 0) {
+            memcpy(placed, p, sizeof placed);
+        } else {
+            /* Target length: the guides' segment lengths blended with normalised weights. */
+            const double ws = w[0] + w[1] + w[2];
+            double len = 0.0;
+            for (int g = 0; g < 3; g++) len += w[g] / ws * dist3(guide[g] + 3 * j, guide[g] + 3 * (j - 1));
+            double d[3] = {p[0] - prev[0], p[1] - prev[1], p[2] - prev[2]};
+            double n = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            if (n > 1e-300) {
+                for (int k = 0; k < 3; k++) last_dir[k] = d[k] / n;
+            }
+            for (int k = 0; k < 3; k++) placed[k] += last_dir[k] * len;
+        }
+        memcpy(prev, p, sizeof prev);
+        for (int k = 0; k < 3; k++) out[3 * j + k] = (float)placed[k];
+    }
+}
+
+hk_Status hk_groom_interpolate(const hk_HairstyleDef *style, const hk_Mesh *wick, const hk_GroomOptions *o,
+                               hk_Groom *g, hk_Error *err)
+{
+    const int nt = wick->triangle_count, points = g->points_per_strand;
+    /* Strand counts per triangle, then their offsets: a serial prefix sum, so the
+     * layout does not depend on threads. */
+    long *first = hk_alloc_array((size_t)nt + 1, sizeof(long), err);
+    if (!first) return HK_ERR_NOMEM;
+    long total = 0;
+    for (int t = 0; t < nt; t++) {
+        /* HairDensity is per cm^2; stochastic rounding keeps the expected count. */
+        const double expected = hk_mesh_triangle_area(wick, t) * 1e4 * style->hair_density;
+        first[t] = total;
+        total += (long)floor(expected + hk_rng_uniform(o->seed, STREAM_COUNT, (uint64_t)t));
+    }
+    first[nt] = total;
+    const double bytes = (double)total * points * 3 * sizeof(float);
+    if (total > 100000000L || bytes > (double)HK_MAX_ALLOCATION) {
+        hk_free(first);
+        return hk_error_set(err, HK_ERR_NOMEM, "%ld strands of %d points (%.3g GB) is too much hair", total, points,
+                            bytes / 1e9);
+    }
+    g->strand_count = (int)total;
+    g->strands = hk_alloc_array((size_t)total * (size_t)points, 3 * sizeof(float), err);
+    g->strand_triangle = hk_alloc_array((size_t)total, sizeof(int), err);
+    g->strand_root_weights = hk_alloc_array((size_t)total, 3 * sizeof(float), err);
+    if (!g->strands || !g->strand_triangle || !g->strand_root_weights) {
+        hk_free(first);
+        return HK_ERR_NOMEM;
+    }
+    long done = 0;
+    #pragma omp parallel for schedule(dynamic, 8)
+    for (int t = 0; t < nt; t++) {
+        const int *tri = wick->triangles + 3 * t;
+        const double *guide[3];
+        for (int k = 0; k < 3; k++) guide[k] = g->guides + (size_t)tri[k] * (size_t)points * 3;
+        int follow_nearest = 0;
+        if (style->max_tip_distance > 0.0) {
+            const size_t tipo = (size_t)(points - 1) * 3;
+            for (int a = 0; a < 3; a++)
+                if (dist3(guide[a] + tipo, guide[(a + 1) % 3] + tipo) > style->max_tip_distance) follow_nearest = 1;
+        }
+        for (long s = first[t]; s < first[t + 1]; s++) {
+            const uint64_t key = (uint64_t)(s - first[t]) * 4;
+            double root[3], tip[3];
+            hk_groom_root_weights(hk_rng_uniform(o->seed, STREAM_STRAND + ((uint64_t)t << 8), key),
+                         hk_rng_uniform(o->seed, STREAM_STRAND + ((uint64_t)t << 8), key + 1), root);
+            hk_groom_tip_weights(root, style->clump, hk_rng_uniform(o->seed, STREAM_STRAND + ((uint64_t)t << 8), key + 2),
+                        hk_rng_uniform(o->seed, STREAM_STRAND + ((uint64_t)t << 8), key + 3), style->stray_hairs, tip);
+            make_strand(style, guide, points, root, tip, follow_nearest, g->strands + (size_t)s * (size_t)points * 3);
+            g->strand_triangle[s] = t;
+            for (int k = 0; k < 3; k++) g->strand_root_weights[3 * s + k] = (float)root[k];
+        }
+        long d;
+        #pragma omp atomic capture
+        d = done += first[t + 1] - first[t];
+        if (omp_get_thread_num() == 0) hk_groom_report(o, "strands", d, total);
+    }
+    hk_groom_report(o, "strands", total, total);
+    hk_free(first);
+    return HK_OK;
+}

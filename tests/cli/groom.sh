@@ -1,0 +1,87 @@
+#!/usr/bin/env bash
+# Command-line contract of `hairkit groom` and `hairkit info` (DESIGN.md): a setup file
+# in, a cyHair file out; determinism across thread counts; Load/Save of the setup file;
+# clear errors naming file and line. Usage: groom.sh HAIRKIT SRCDIR
+source "$(dirname "$0")/lib/common.sh"
+
+expect 0 "$hk" groom --help
+contains "$tmp/out" "usage: hairkit groom SETUP.txt -o OUT.hair"
+expect 0 "$hk" info --help
+expect 2 "$hk" groom
+expect 2 "$hk" groom "$src/examples/default/setup.txt" --threads 0 -o "$tmp/x.hair"
+expect 2 "$hk" groom "$src/examples/default/setup.txt" --seed -1 -o "$tmp/x.hair"
+expect 2 "$hk" groom "$src/examples/default/setup.txt"
+contains "$tmp/err" "no output"
+
+# A light copy of the default scene (density 4 per cm^2: about 2,000 strands) so that
+# the test stays quick under the sanitizers; the paths point back to the assets.
+scene="$tmp/scene"
+mkdir "$scene"
+sed 's/^HairDensity .*/HairDensity 4/' "$src/examples/default/hairstyle.txt" > "$scene/hairstyle.txt"
+cp "$src/examples/default/collision.txt" "$src/examples/default/visuality.txt" "$scene/"
+cat > "$scene/setup.txt" <<SETUP
+Load false
+Save true
+SaveFile saved.hair
+HairstyleInfo hairstyle.txt
+CollisionInfo collision.txt
+VisualityInfo visuality.txt
+HeadModel $src/assets/head.obj
+WickModel $src/assets/wick.obj
+SETUP
+
+expect 0 "$hk" groom "$scene/setup.txt" -o "$tmp/seed8.hair" --seed 8 --quiet
+cmp -s "$tmp/one.hair" "$tmp/seed8.hair" && fail "seeds 7 and 8 give the same hair"
+expect 0 "$hk" groom "$scene/setup.txt" -o "$tmp/one.hair" --threads 1 --seed 7
+contains "$tmp/err" "guides"
+[ "$(head -c 4 "$tmp/one.hair")" = "HAIR" ] || fail "not a cyHair file"
+cmp -s "$tmp/one.hair" "$scene/saved.hair" || fail "SaveFile differs from -o output"
+expect 0 "$hk" groom "$scene/setup.txt" -o "$tmp/two.hair" --threads 2 --seed 7 --quiet
+[ -s "$tmp/err" ] && fail "--quiet printed to stderr: $(cat "$tmp/err")"
+cmp -s "$tmp/one.hair" "$tmp/two.hair" || fail "1 and 2 threads give different bytes"
+[ -n "$(find "$tmp" -name '*.tmp-*')" ] && fail "temporary file left behind"
+
+# info: counts consistent with the groom (401 guides + interpolated strands, 41 points).
+expect 0 "$hk" info "$tmp/one.hair"
+contains "$tmp/out" "points:.*min 41, mean 41.0, max 41"
+strands=$(sed -n 's/^strands: *//p' "$tmp/out")
+[ "$strands" -gt 1500 ] && [ "$strands" -lt 3500 ] || fail "unexpected strand count $strands"
+# Polyline lengths: a little under the 20 cm arc length (chords of a wavy strand).
+sed -n 's/^length: *min \([0-9.e-]*\), mean [0-9.e-]*, max \([0-9.e-]*\).*/\1 \2/p' "$tmp/out" |
+    awk '{ exit !($1 > 0.199 && $2 <= 0.2000001) }' || fail "strand lengths off: $(grep length "$tmp/out")"
+
+# Load: the setup reads the saved file instead of growing, and writes it back unchanged.
+sed -e 's/^Load false/Load true/' -e 's/^Save true/Save false/' "$scene/setup.txt" > "$scene/load.txt"
+echo "LoadFile saved.hair" >> "$scene/load.txt"
+expect 0 "$hk" groom "$scene/load.txt" -o "$tmp/loaded.hair"
+contains "$tmp/err" "loaded $strands strands"
+cmp -s "$tmp/one.hair" "$tmp/loaded.hair" || fail "load then save changed the bytes"
+
+# Bad input: exit 1, message with file and line.
+expect 1 "$hk" groom "$tmp/missing.txt" -o "$tmp/x.hair"
+contains "$tmp/err" "missing.txt"
+printf 'Load false\nFrobnicate 3\n' > "$scene/bad1.txt"
+expect 1 "$hk" groom "$scene/bad1.txt" -o "$tmp/x.hair"
+contains "$tmp/err" "bad1.txt:2:.*unknown key 'Frobnicate'"
+printf 'HairstyleInfo hairstyle.txt\nWickModel nowhere.obj\n' > "$scene/bad2.txt"
+expect 1 "$hk" groom "$scene/bad2.txt" -o "$tmp/x.hair"
+contains "$tmp/err" "bad2.txt:2:.*nowhere.obj"
+printf 'Load true\n' > "$scene/bad3.txt"
+expect 1 "$hk" groom "$scene/bad3.txt" -o "$tmp/x.hair"
+contains "$tmp/err" "bad3.txt:1:.*LoadFile"
+printf 'v 0 0 0\nv 1 0 0\nf 1 2 3\n' > "$scene/badwick.obj"
+printf 'HairstyleInfo hairstyle.txt\nWickModel badwick.obj\n' > "$scene/bad4.txt"
+expect 1 "$hk" groom "$scene/bad4.txt" -o "$tmp/x.hair"
+contains "$tmp/err" "badwick.obj:3:"
+[ -e "$tmp/x.hair" ] && fail "output written despite an error"
+
+# A truncated .hair file: a clear error, and the existing output is not touched.
+head -c 200 "$tmp/one.hair" > "$tmp/cut.hair"
+expect 1 "$hk" info "$tmp/cut.hair"
+contains "$tmp/err" "cut.hair"
+printf 'Load true\nLoadFile %s\n' "$tmp/cut.hair" > "$scene/cut.txt"
+cp "$tmp/one.hair" "$tmp/keep.hair"
+expect 1 "$hk" groom "$scene/cut.txt" -o "$tmp/keep.hair"
+cmp -s "$tmp/one.hair" "$tmp/keep.hair" || fail "a failed groom damaged the existing output"
+
+finish "groom CLI"

@@ -1,0 +1,275 @@
+/* Grooming a head (src/groom/): roots on the wick along its normals, strand counts
+ * from area x density, inextensible strands, roots inside their triangles,
+ * determinism across thread counts, the thesis's clumping and stray-hair tables,
+ * uniform roots, and semi-interpolation across diverging guides. */
+#include "hk_test.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "groom/groom_internal.h"
+#include "hairkit/groom.h"
+#include "hairkit/rod.h"
+
+/* A small wick: a 4 x 4 cm square made of a 3 x 3 grid of quads (18 triangles),
+ * gently domed, at height 0.1 m, normals pointing up and outwards. */
+static void make_wick(hk_Mesh *m)
+{
+    hk_Error err;
+    assert_int_equal(hk_mesh_alloc(m, 16, 18, &err), HK_OK);
+    for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 4; j++) {
+            double x = -0.02 + 0.04 * i / 3, z = -0.02 + 0.04 * j / 3;
+            m->positions[4 * i + j] = hk_v3(x, 0.1 - 2.0 * (x * x + z * z), z);
+        }
+    int t = 0;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            int a = 4 * i + j, b = a + 4, c = a + 1, d = b + 1;
+            int *tri = m->triangles + 3 * t++;
+            tri[0] = a, tri[1] = c, tri[2] = b;
+            tri = m->triangles + 3 * t++;
+            tri[0] = b, tri[1] = c, tri[2] = d;
+        }
+    hk_mesh_compute_normals(m);
+}
+
+static hk_HairstyleDef make_style(double gravity, double helix_radius)
+{
+    hk_HairstyleDef s = hk_default_hairstyle();
+    static double lengths[4] = {0.02, 0.02, 0.02, 0.02};
+    s.element_count = 4;
+    s.element_lengths = lengths; /* not freed: static */
+    s.radius1 = s.radius2 = 5e-5;
+    s.young = 1e9;
+    s.helix_radius = helix_radius;
+    s.helix_step = 0.02;
+    s.gravity = gravity;
+    s.visuality_step = 0.004;
+    s.hair_density = 300.0; /* per cm^2: about 4800 strands on 16 cm^2 */
+    s.clump = 0.25;
+    s.clump_profile = 1.0;
+    return s;
+}
+
+static double strand_length(const float *p, int points)
+{
+    double len = 0.0;
+    for (int j = 1; j < points; j++)
+        len += sqrt(pow(p[3 * j] - p[3 * j - 3], 2) + pow(p[3 * j + 1] - p[3 * j - 2], 2) + pow(p[3 * j + 2] - p[3 * j - 1], 2));
+    return len;
+}
+
+static void test_straight_guides_follow_normals(void **state)
+{
+    (void)state;
+    /* No gravity, no curl: every guide is the straight line along its follicle normal. */
+    hk_Mesh wick;
+    make_wick(&wick);
+    hk_HairstyleDef style = make_style(0.0, 0.0);
+    hk_GroomOptions o = hk_default_groom_options();
+    hk_Groom g;
+    hk_Error err;
+    assert_int_equal(hk_groom_grow(&style, NULL, 0, &wick, &o, &g, &err), HK_OK);
+    assert_int_equal(g.guide_count, wick.vertex_count);
+    assert_int_equal(g.points_per_strand, 21); /* 0.08 / 0.004 + 1 */
+    for (int i = 0; i < g.guide_count; i++)
+        for (int j = 0; j < g.points_per_strand; j++) {
+            const double *p = g.guides + ((size_t)i * g.points_per_strand + j) * 3;
+            hk_Vec3 ref = hk_v3_madd(wick.positions[i], wick.normals[i], 0.004 * j);
+            hk_assert_near(hk_v3_dist(hk_v3(p[0], p[1], p[2]), ref), 0.0, 1e-12);
+        }
+    hk_groom_free(&g);
+    hk_mesh_free(&wick);
+}
+
+static void test_roots_counts_lengths(void **state)
+{
+    (void)state;
+    hk_Mesh wick;
+    make_wick(&wick);
+    hk_HairstyleDef style = make_style(9.81, 0.01);
+    hk_GroomOptions o = hk_default_groom_options();
+    hk_Groom g;
+    hk_Error err;
+    assert_int_equal(hk_groom_grow(&style, NULL, 0, &wick, &o, &g, &err), HK_OK);
+    const int n = g.points_per_strand;
+    /* Guides: root on the wick vertex, first step along its normal: the chord of the
+     * first 4 mm leans from the root tangent by at most kappa_max ds / 2, where the
+     * curvature near the root is at most the natural one plus the bending of the whole
+     * weight, rho S g L^2 / (2 E I) (moment balance at the clamped root). */
+    hk_SuperHelix *probe;
+    assert_int_equal(hk_superhelix_from_hairstyle(&style, hk_v3(0, 0, 0), hk_v3(1, 0, 0), &probe, &err), HK_OK);
+    const double kappa0 = hypot(probe->q_rest[0], probe->q_rest[1]);
+    const double weight = probe->material.mass_per_length * 9.81 * 0.08 * 0.08 / 2.0;
+    const double lean = (kappa0 + weight / probe->material.stiffness[2]) * 0.004 / 2.0;
+    hk_superhelix_destroy(probe);
+    double guide_min = 1e9, guide_max = 0.0;
+    for (int i = 0; i < g.guide_count; i++) {
+        const double *p = g.guides + (size_t)i * n * 3;
+        hk_assert_near(hk_v3_dist(hk_v3(p[0], p[1], p[2]), wick.positions[i]), 0.0, 0.0);
+        hk_Vec3 first = hk_v3_normalize(hk_v3(p[3] - p[0], p[4] - p[1], p[5] - p[2]));
+        assert_true(hk_v3_dot(first, wick.normals[i]) >= cos(lean));
+        float tmp[3 * 64];
+        for (int k = 0; k < 3 * n; k++) tmp[k] = (float)p[k];
+        double len = strand_length(tmp, n);
+        guide_min = fmin(guide_min, len), guide_max = fmax(guide_max, len);
+    }
+    /* Counts: floor or ceil of area x density per triangle, the expected total overall. */
+    int *count = calloc((size_t)wick.triangle_count, sizeof *count);
+    for (int s = 0; s < g.strand_count; s++) count[g.strand_triangle[s]]++;
+    double expected = 0.0;
+    for (int t = 0; t < wick.triangle_count; t++) {
+        double e = hk_mesh_triangle_area(&wick, t) * 1e4 * style.hair_density;
+        expected += e;
+        assert_true(count[t] == (int)floor(e) || count[t] == (int)floor(e) + 1);
+    }
+    free(count);
+    /* Stochastic rounding: the total is within a few sqrt(triangles) of the sum. */
+    hk_assert_near((double)g.strand_count, expected, 4.0 * sqrt((double)wick.triangle_count) + 1);
+    /* Roots inside their triangle (on the wick within float rounding), lengths kept. */
+    for (int s = 0; s < g.strand_count; s++) {
+        const int *tri = wick.triangles + 3 * g.strand_triangle[s];
+        const float *w = g.strand_root_weights + 3 * s;
+        for (int k = 0; k < 3; k++) assert_true(w[k] >= 0.0f && w[k] <= 1.0f);
+        hk_Vec3 ref = hk_v3_zero();
+        for (int k = 0; k < 3; k++) ref = hk_v3_madd(ref, wick.positions[tri[k]], w[k]);
+        const float *p = g.strands + (size_t)s * n * 3;
+        hk_assert_near(hk_v3_dist(hk_v3(p[0], p[1], p[2]), ref), 0.0, 1e-6);
+        double len = strand_length(p, n);
+        assert_true(len >= guide_min - 1e-6 && len <= guide_max + 1e-6);
+    }
+    /* And no strand is shorter than the strand's arc length by more than the chord
+     * deficit of the guides' samples (the guides are sampled on arcs of length L). */
+    assert_true(guide_max <= 0.08 + 1e-9 && guide_min > 0.08 * 0.99);
+    hk_groom_free(&g);
+    hk_mesh_free(&wick);
+}
+
+static void test_deterministic_across_threads(void **state)
+{
+    (void)state;
+    hk_Mesh wick;
+    make_wick(&wick);
+    hk_HairstyleDef style = make_style(9.81, 0.01);
+    hk_Groom a, b, c;
+    hk_Error err;
+    hk_GroomOptions o = hk_default_groom_options();
+    o.seed = 42;
+    o.threads = 1;
+    assert_int_equal(hk_groom_grow(&style, NULL, 0, &wick, &o, &a, &err), HK_OK);
+    o.threads = 2;
+    assert_int_equal(hk_groom_grow(&style, NULL, 0, &wick, &o, &b, &err), HK_OK);
+    assert_int_equal(a.strand_count, b.strand_count);
+    const size_t bytes = (size_t)a.strand_count * a.points_per_strand * 3 * sizeof(float);
+    assert_memory_equal(a.strands, b.strands, bytes);
+    assert_memory_equal(a.guides, b.guides, (size_t)a.guide_count * a.points_per_strand * 3 * sizeof(double));
+    o.seed = 43;
+    assert_int_equal(hk_groom_grow(&style, NULL, 0, &wick, &o, &c, &err), HK_OK);
+    assert_true(c.strand_count != a.strand_count || memcmp(a.strands, c.strands, bytes) != 0);
+    hk_groom_free(&a);
+    hk_groom_free(&b);
+    hk_groom_free(&c);
+    hk_mesh_free(&wick);
+}
+
+/* Thesis §4.1.4.4, Table 4: where v1, v2, v3 go for each ordering of the root weights
+ * when the stray-hair behaviour is kept. */
+static void test_stray_hair_table(void **state)
+{
+    (void)state;
+    /* root weights ordered as A > B > C, A > C > B, B > C > A, B > A > C, C > A > B, C > B > A */
+    const double roots[6][3] = {{0.5, 0.3, 0.2}, {0.5, 0.2, 0.3}, {0.2, 0.5, 0.3},
+                                {0.3, 0.5, 0.2}, {0.3, 0.2, 0.5}, {0.2, 0.3, 0.5}};
+    /* expected index (1, 2, 3 for v1, v2, v3) given to A, B, C */
+    const int table[6][3] = {{3, 2, 1}, {3, 1, 1}, {1, 3, 2}, {1, 3, 1}, {2, 1, 3}, {1, 1, 3}};
+    const double clump = 0.25, u1 = 0.4, u2 = 0.8;
+    const double v[4] = {0, clump * u1, clump * u2, 1 - clump * (u1 + u2)};
+    for (int c = 0; c < 6; c++) {
+        double b[3];
+        hk_groom_tip_weights(roots[c], clump, u1, u2, 1, b);
+        for (int k = 0; k < 3; k++) hk_assert_near(b[k], v[table[c][k]], 1e-15);
+        /* Without stray hairs: v3 on the nearest guide, v1 and v2 on the others, sum 1. */
+        hk_groom_tip_weights(roots[c], clump, u1, u2, 0, b);
+        hk_assert_near(b[0] + b[1] + b[2], 1.0, 1e-15);
+        int near = roots[c][0] > roots[c][1] && roots[c][0] > roots[c][2] ? 0 : (roots[c][1] > roots[c][2] ? 1 : 2);
+        hk_assert_near(b[near], v[3], 1e-15);
+    }
+}
+
+static void test_uniform_roots(void **state)
+{
+    (void)state;
+    /* Uniform in the triangle: each weight has mean 1/3 and P(w_A < 1/2) = 3/4. */
+    double mean[3] = {0, 0, 0};
+    int below_half = 0;
+    const int n = 200000;
+    for (int i = 0; i < n; i++) {
+        double b[3];
+        hk_groom_root_weights(hk_test_uniform(), hk_test_uniform(), b);
+        for (int k = 0; k < 3; k++) {
+            assert_true(b[k] >= 0.0 && b[k] <= 1.0);
+            mean[k] += b[k] / n;
+        }
+        below_half += b[0] < 0.5;
+    }
+    /* Standard errors: sqrt(1/18 / n) ~ 5e-4 for the means, sqrt(3/16 / n) ~ 1e-3. */
+    for (int k = 0; k < 3; k++) hk_assert_near(mean[k], 1.0 / 3.0, 3e-3);
+    hk_assert_near((double)below_half / n, 0.75, 5e-3);
+}
+
+static void test_semi_interpolation(void **state)
+{
+    (void)state;
+    /* Guides that part in two directions (gravity along -x on a wick facing +y bends
+     * all guides the same way; instead part them with a negative max tip distance:
+     * any distance counts as far). With MaxTipDistance tiny, every strand copies its
+     * nearest guide, translated to its own root. */
+    hk_Mesh wick;
+    make_wick(&wick);
+    hk_HairstyleDef style = make_style(9.81, 0.01);
+    style.max_tip_distance = 1e-9;
+    hk_GroomOptions o = hk_default_groom_options();
+    hk_Groom g;
+    hk_Error err;
+    assert_int_equal(hk_groom_grow(&style, NULL, 0, &wick, &o, &g, &err), HK_OK);
+    const int n = g.points_per_strand;
+    for (int s = 0; s < g.strand_count; s += 37) {
+        const float *w = g.strand_root_weights + 3 * s;
+        const int near = w[0] >= w[1] && w[0] >= w[2] ? 0 : (w[1] >= w[2] ? 1 : 2);
+        const int gi = wick.triangles[3 * g.strand_triangle[s] + near];
+        const double *gp = g.guides + (size_t)gi * n * 3;
+        const float *p = g.strands + (size_t)s * n * 3;
+        for (int j = 1; j < n; j++)
+            for (int k = 0; k < 3; k++)
+                hk_assert_near(p[3 * j + k] - p[k], gp[3 * j + k] - gp[k], 2e-6);
+    }
+    hk_groom_free(&g);
+    hk_mesh_free(&wick);
+}
+
+static void test_bad_wick(void **state)
+{
+    (void)state;
+    hk_Mesh wick;
+    hk_Error err;
+    assert_int_equal(hk_mesh_alloc(&wick, 3, 0, &err), HK_OK);
+    hk_Follicles f;
+    assert_int_equal(hk_follicles_from_wick(&wick, &f, &err), HK_ERR_INVALID);
+    hk_mesh_free(&wick);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_straight_guides_follow_normals),
+        cmocka_unit_test(test_roots_counts_lengths),
+        cmocka_unit_test(test_deterministic_across_threads),
+        cmocka_unit_test(test_stray_hair_table),
+        cmocka_unit_test(test_uniform_roots),
+        cmocka_unit_test(test_semi_interpolation),
+        cmocka_unit_test(test_bad_wick),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
