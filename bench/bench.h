@@ -17,4 +17,7 @@ int hk_bench_statics(FILE *out, const hk_BenchOptions *options);
 /* Grooming the default head: guides and strands per second, 1 and 2 threads. */
 int hk_bench_groom(FILE *out, const hk_BenchOptions *options);
 
+/* Rendering the default head at 1920 x 1080 with shadows, 1 and 2 threads. */
+int hk_bench_render(FILE *out, const hk_BenchOptions *options);
+
 #endif

@@ -3,9 +3,14 @@
 #ifndef HK_CLI_H
 #define HK_CLI_H
 
+#include <stdint.h>
 #include <stdio.h>
 
 #include "hairkit/core.h"
+#include "hairkit/groom.h"
+#include "hairkit/hairfile.h"
+#include "hairkit/io.h"
+#include "hairkit/render.h"
 #include "hairkit/vecmath.h"
 
 /* Exit codes: 0 success, 1 failure (bad input file, I/O, numerics), 2 usage error. */
@@ -18,6 +23,8 @@ int hk_cmd_strand(int argc, char **argv);
 int hk_cmd_bench(int argc, char **argv);
 int hk_cmd_groom(int argc, char **argv);
 int hk_cmd_info(int argc, char **argv);
+int hk_cmd_render(int argc, char **argv);
+int hk_cmd_run(int argc, char **argv);
 
 /* "x,y,z" -> vector; returns 0 on malformed or non-finite input. */
 int hk_cli_parse_vec3(const char *text, hk_Vec3 *out);
@@ -25,6 +32,11 @@ int hk_cli_parse_vec3(const char *text, hk_Vec3 *out);
 int hk_cli_parse_double(const char *text, double *out);
 /* Whole-string integer in [lo, hi]; returns 0 otherwise. */
 int hk_cli_parse_int(const char *text, long lo, long hi, long *out);
+
+/* --threads N (1 to 1024) and --seed N (a non-negative integer): 0 when parsed into
+ * *out, else the usage error's exit code (the message names cmd). */
+int hk_cli_threads_option(const char *cmd, const char *value, int *out);
+int hk_cli_seed_option(const char *cmd, const char *value, uint64_t *out);
 
 /* Prints "hairkit <cmd>: <message>" to stderr and returns HK_EXIT_FAIL. */
 int hk_cli_fail(const char *cmd, const hk_Error *err);
@@ -48,6 +60,37 @@ typedef struct hk_CliProgress {
 void hk_cli_progress(void *user, const char *stage, double fraction);
 /* Ends the bar's line (if one was drawn). */
 void hk_cli_progress_done(hk_CliProgress *p);
+
+/* ---- the hair of a setup file (setup_hair.c) ---- */
+typedef struct hk_SetupHairReport {
+    int grown; /* 0: loaded from LoadFile */
+    int guides, strands, points_per_strand;
+    hk_GroomStats stats;
+} hk_SetupHairReport;
+/* Loads (Load true) or grows the setup's hair, and saves it when Save is true. */
+hk_Status hk_cli_setup_hair(const hk_SetupDef *setup, const hk_GroomOptions *go, hk_HairFile *hair,
+                            hk_SetupHairReport *report, hk_Error *err);
+/* One line on stderr: what was loaded or grown. */
+void hk_cli_report_setup_hair(const char *cmd, const hk_SetupDef *setup, const hk_HairFile *hair,
+                              const hk_SetupHairReport *report);
+
+/* ---- render options (render_options.c) ---- */
+/* getopt_long codes of the render options; add HK_CLI_RENDER_LONG_OPTIONS to the
+ * option table and pass these codes to hk_cli_render_option. */
+enum { HK_OPT_WIDTH = 1000, HK_OPT_HEIGHT, HK_OPT_NO_SHADOWS, HK_OPT_SHADING, HK_OPT_VIEW, HK_OPT_LIGHT,
+       HK_OPT_SHADOW_MAP, HK_OPT_THICKNESS };
+#define HK_CLI_RENDER_LONG_OPTIONS                                                                  \
+    {"width", required_argument, NULL, HK_OPT_WIDTH}, {"height", required_argument, NULL, HK_OPT_HEIGHT}, \
+    {"no-shadows", no_argument, NULL, HK_OPT_NO_SHADOWS},                                           \
+    {"shading", required_argument, NULL, HK_OPT_SHADING}, {"view", required_argument, NULL, HK_OPT_VIEW}, \
+    {"light", required_argument, NULL, HK_OPT_LIGHT},                                               \
+    {"shadow-map", required_argument, NULL, HK_OPT_SHADOW_MAP},                                     \
+    {"thickness", required_argument, NULL, HK_OPT_THICKNESS}
+#define HK_CLI_IS_RENDER_OPTION(c) ((c) >= HK_OPT_WIDTH && (c) <= HK_OPT_THICKNESS)
+/* Applies one render option; 0 on success, else the usage error's exit code. */
+int hk_cli_render_option(const char *cmd, int option, const char *value, hk_RenderOptions *o);
+void hk_cli_render_options_help(FILE *out);
+void hk_cli_report_render(const char *cmd, const char *path, const hk_RenderOptions *o, const hk_RenderStats *s);
 
 /* Monotonic wall clock in seconds. */
 double hk_cli_now(void);

@@ -100,3 +100,22 @@ void hk_cli_progress_done(hk_CliProgress *p)
     if (p->enabled && p->stage[0]) fputc('\n', stderr);
     p->stage[0] = '\0';
 }
+
+int hk_cli_threads_option(const char *cmd, const char *value, int *out)
+{
+    long n;
+    if (!hk_cli_parse_int(value, 1, 1024, &n)) return hk_cli_usage_error(cmd, "--threads expects 1 to 1024, got '%s'", value);
+    *out = (int)n;
+    return 0;
+}
+
+int hk_cli_seed_option(const char *cmd, const char *value, uint64_t *out)
+{
+    char *end;
+    errno = 0;
+    const unsigned long long v = strtoull(value, &end, 10);
+    if (!*value || *end || errno || value[0] == '-')
+        return hk_cli_usage_error(cmd, "--seed expects a non-negative integer, got '%s'", value);
+    *out = v;
+    return 0;
+}

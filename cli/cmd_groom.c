@@ -50,19 +50,13 @@ int hk_cmd_groom(int argc, char **argv)
         case 'o': output = optarg; break;
         case 'q': quiet = 1; break;
         case 's': {
-            char *end;
-            errno = 0;
-            unsigned long long v = strtoull(optarg, &end, 10);
-            if (!*optarg || *end || errno || optarg[0] == '-')
-                return hk_cli_usage_error(CMD, "--seed expects a non-negative integer, got '%s'", optarg);
-            go.seed = v;
+            int rc = hk_cli_seed_option(CMD, optarg, &go.seed);
+            if (rc) return rc;
             break;
         }
         case 't': {
-            long v;
-            if (!hk_cli_parse_int(optarg, 1, 1024, &v))
-                return hk_cli_usage_error(CMD, "--threads expects 1 to 1024, got '%s'", optarg);
-            go.threads = (int)v;
+            int rc = hk_cli_threads_option(CMD, optarg, &go.threads);
+            if (rc) return rc;
             break;
         }
         case 'h': usage(stdout); return HK_EXIT_OK;
@@ -86,49 +80,22 @@ int hk_cmd_groom(int argc, char **argv)
     go.progress_user = &progress;
 
     int status = HK_EXIT_FAIL;
-    hk_HairstyleDef style = hk_default_hairstyle();
-    hk_Shape *shapes = NULL;
-    int shape_count = 0;
-    hk_Mesh wick = {0, 0, NULL, NULL, NULL};
-    hk_Groom groom;
-    memset(&groom, 0, sizeof groom);
     hk_HairFile hair;
-    memset(&hair, 0, sizeof hair);
+    hk_SetupHairReport report;
     const double t0 = hk_cli_now();
-    if (setup.load) {
-        if (hk_hair_load(setup.load_file, &hair, &err) != HK_OK) goto fail;
+    hk_Status st = hk_cli_setup_hair(&setup, &go, &hair, &report, &err);
+    hk_cli_progress_done(&progress);
+    if (st == HK_OK && output) st = hk_hair_save(output, &hair, &err);
+    if (st == HK_OK) {
+        if (!quiet) {
+            hk_cli_report_setup_hair(CMD, &setup, &hair, &report);
+            fprintf(stderr, "hairkit %s: %.2f s in all\n", CMD, hk_cli_now() - t0);
+        }
+        status = HK_EXIT_OK;
     } else {
-        if (hk_hairstyle_load(setup.hairstyle, &style, &err) != HK_OK) goto fail;
-        if (setup.collision && hk_collision_load(setup.collision, &shapes, &shape_count, &err) != HK_OK) goto fail;
-        if (hk_obj_load(setup.wick_model, &wick, &err) != HK_OK) goto fail;
-        if (hk_groom_grow(&style, shapes, shape_count, &wick, &go, &groom, &err) != HK_OK) goto fail;
-        if (hk_groom_to_hair(&groom, &style, &hair, &err) != HK_OK) goto fail;
+        hk_cli_fail(CMD, &err);
     }
-    hk_cli_progress_done(&progress);
-    if (output && hk_hair_save(output, &hair, &err) != HK_OK) goto fail;
-    if (setup.save && hk_hair_save(setup.save_file, &hair, &err) != HK_OK) goto fail;
-    if (!quiet) {
-        if (setup.load)
-            fprintf(stderr, "hairkit groom: loaded %u strands from %s\n", hair.strand_count, setup.load_file);
-        else
-            fprintf(stderr,
-                    "hairkit groom: %d guides (%.2f s, %ld Newton steps%s), %d interpolated strands (%.2f s), "
-                    "%d points each; %.2f s in all\n",
-                    groom.guide_count, groom.stats.seconds_guides, groom.stats.guide_iterations,
-                    groom.stats.guides_not_converged ? ", some stopped by the iteration limit" : "",
-                    groom.strand_count, groom.stats.seconds_strands, groom.points_per_strand, hk_cli_now() - t0);
-    }
-    status = HK_EXIT_OK;
-    goto done;
-fail:
-    hk_cli_progress_done(&progress);
-    hk_cli_fail(CMD, &err);
-done:
     hk_hair_free(&hair);
-    hk_groom_free(&groom);
-    hk_mesh_free(&wick);
-    hk_free(shapes);
-    hk_hairstyle_free(&style);
     hk_setup_free(&setup);
     return status;
 }

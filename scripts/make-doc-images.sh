@@ -16,4 +16,15 @@ for scene in default coupe1 coupe2 coupe3 coupe4; do
     "$hk" groom "examples/$scene/setup.txt" -o "$tmp/$scene.hair" --quiet
     build/plot_hair "$tmp/$scene.hair" "docs/images/groom-$scene.png" "examples/$scene/collision.txt"
 done
+# Rendered pictures (docs/rendering.md, README).
+"$hk" run examples/default/setup.txt -o docs/images/render-default.png --width 960 --height 720 --quiet
+for scene in coupe1 coupe2 coupe3 coupe4; do
+    "$hk" run "examples/$scene/setup.txt" -o "docs/images/render-$scene.png" --width 480 --height 360 --quiet
+done
+"$hk" run examples/default/setup.txt -o docs/images/render-shadows.png --width 480 --height 360 --quiet \
+    --hair "$tmp/default.hair"
+"$hk" render "$tmp/default.hair" --head assets/head.obj --visuality examples/default/visuality.txt \
+    -o docs/images/render-no-shadows.png --width 480 --height 360 --no-shadows --quiet
+"$hk" render "$tmp/default.hair" --head assets/head.obj --visuality examples/default/visuality.txt \
+    -o docs/images/render-marschner.png --width 480 --height 360 --shading marschner --quiet
 echo "docs/images updated"

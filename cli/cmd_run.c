@@ -1,0 +1,118 @@
+/* hairkit run: the main job. A setup file in, a picture out: the hair is loaded or
+ * grown (as `groom` does), then rendered over the setup's head with its colours. */
+#include <errno.h>
+#include <getopt.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+
+static const char *const CMD = "run";
+
+static void usage(FILE *out)
+{
+    fprintf(out,
+            "usage: hairkit run SETUP.txt -o OUT.png [--width W --height H] [options]\n"
+            "\n"
+            "The main job: reads a setup file (thesis Appendix B), grows the hair (guides\n"
+            "solved as Super-Helices under gravity and the collision shapes, then the\n"
+            "interpolated strands) or loads it ('Load true'), saves it when the setup says\n"
+            "'Save true', and renders it over HeadModel with the VisualityInfo colours.\n"
+            "\n"
+            "options:\n"
+            "  -o, --output FILE  the PNG to write\n"
+            "  --hair FILE        also write the hair as a .hair file\n");
+    hk_cli_render_options_help(out);
+    fprintf(out,
+            "  --seed N           random seed of the interpolation (default 1)\n"
+            "  --threads N        threads to use (default: all cores); the results do not\n"
+            "                     depend on it\n"
+            "  --quiet            no progress or summary on stderr\n"
+            "  -h, --help         this help\n");
+}
+
+int hk_cmd_run(int argc, char **argv)
+{
+    static const struct option options[] = {
+        {"output", required_argument, NULL, 'o'}, {"hair", required_argument, NULL, 'a'},
+        {"seed", required_argument, NULL, 's'},   {"threads", required_argument, NULL, 't'},
+        {"quiet", no_argument, NULL, 'q'},        {"help", no_argument, NULL, 'h'},
+        HK_CLI_RENDER_LONG_OPTIONS,               {NULL, 0, NULL, 0},
+    };
+    const char *output = NULL, *hair_out = NULL;
+    hk_RenderOptions ro = hk_default_render_options();
+    hk_GroomOptions go = hk_default_groom_options();
+    int quiet = 0, c;
+    optind = 1;
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, ":ho:", options, NULL)) != -1) {
+        if (HK_CLI_IS_RENDER_OPTION(c)) {
+            int rc = hk_cli_render_option(CMD, c, optarg, &ro);
+            if (rc) return rc;
+            continue;
+        }
+        switch (c) {
+        case 'o': output = optarg; break;
+        case 'a': hair_out = optarg; break;
+        case 'q': quiet = 1; break;
+        case 's': {
+            int rc = hk_cli_seed_option(CMD, optarg, &go.seed);
+            if (rc) return rc;
+            break;
+        }
+        case 't': {
+            int rc = hk_cli_threads_option(CMD, optarg, &ro.threads);
+            if (rc) return rc;
+            go.threads = ro.threads;
+            break;
+        }
+        case 'h': usage(stdout); return HK_EXIT_OK;
+        case ':': return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
+        default: return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
+        }
+    }
+    if (optind >= argc) return hk_cli_usage_error(CMD, "missing SETUP file");
+    if (optind + 1 < argc) return hk_cli_usage_error(CMD, "unexpected argument '%s'", argv[optind + 1]);
+    if (!output) return hk_cli_usage_error(CMD, "no output: give -o OUT.png");
+
+    hk_Error err;
+    hk_SetupDef setup;
+    if (hk_setup_load(argv[optind], &setup, &err) != HK_OK) return hk_cli_fail(CMD, &err);
+    hk_CliProgress progress = {!quiet && hk_cli_stderr_is_tty(), "", -1};
+    go.progress = hk_cli_progress;
+    go.progress_user = &progress;
+    const double t0 = hk_cli_now();
+    hk_HairFile hair;
+    hk_SetupHairReport report;
+    hk_Mesh head = {0, 0, NULL, NULL, NULL};
+    hk_VisualityDef vis = hk_default_visuality();
+    hk_Canvas image = {0, 0, NULL};
+    hk_RenderStats stats;
+    int status = HK_EXIT_FAIL;
+    /* Read the small files first, so that their errors come before the long work. */
+    hk_Status st = HK_OK;
+    if (setup.head_model) st = hk_obj_load(setup.head_model, &head, &err);
+    if (st == HK_OK && setup.visuality) st = hk_visuality_load(setup.visuality, &vis, &err);
+    if (st == HK_OK) st = hk_cli_setup_hair(&setup, &go, &hair, &report, &err);
+    else memset(&hair, 0, sizeof hair);
+    hk_cli_progress_done(&progress);
+    if (st == HK_OK && hair_out) st = hk_hair_save(hair_out, &hair, &err);
+    if (st == HK_OK && !quiet) hk_cli_report_setup_hair(CMD, &setup, &hair, &report);
+    if (st == HK_OK) st = hk_render(&hair, setup.head_model ? &head : NULL, &vis, &ro, &image, &stats, &err);
+    if (st == HK_OK) st = hk_render_write_png(&image, output, &err);
+    if (st == HK_OK) {
+        if (!quiet) {
+            hk_cli_report_render(CMD, output, &ro, &stats);
+            fprintf(stderr, "hairkit %s: %.2f s in all\n", CMD, hk_cli_now() - t0);
+        }
+        status = HK_EXIT_OK;
+    } else {
+        hk_cli_fail(CMD, &err);
+    }
+    hk_canvas_destroy(&image);
+    hk_mesh_free(&head);
+    hk_hair_free(&hair);
+    hk_setup_free(&setup);
+    return status;
+}

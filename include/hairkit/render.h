@@ -1,0 +1,78 @@
+/* The CPU hair renderer (thesis 004 §4.1.5-4.1.6 done on the CPU): a perspective
+ * camera, the head rasterised with a z-buffer and Lambert shading, every strand drawn
+ * as an anti-aliased curve whose width is the hair's projected diameter (sub-pixel
+ * widths become opacity), exact transparency by sorting each pixel's fragments by
+ * depth (an A-buffer, per tile of 32 x 32 pixels), Kajiya-Kay or Marschner shading,
+ * and self-shadowing by deep opacity maps (Yuksel & Keyser 2008) plus a shadow map of
+ * the head. Tiles run in parallel; the picture is bit-identical whatever the thread
+ * count. */
+#ifndef HAIRKIT_RENDER_H
+#define HAIRKIT_RENDER_H
+
+#include "hairkit/canvas.h"
+#include "hairkit/hairfile.h"
+#include "hairkit/io.h"
+#include "hairkit/mesh.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define HK_MAX_OPACITY_LAYERS 16
+
+typedef enum hk_Shading { HK_SHADING_KAJIYA_KAY = 0, HK_SHADING_MARSCHNER = 1 } hk_Shading;
+
+typedef struct hk_RenderOptions {
+    int width, height;        /* pixels of the picture (default 1200 x 900) */
+    int threads;              /* 0: OpenMP's default (all cores) */
+    int shadows;              /* deep opacity maps and the head's shadow map (default on) */
+    hk_Shading shading;       /* default Kajiya-Kay */
+    /* Camera: it looks at the centre of the scene's bounding box from the direction
+     * given by azimuth (degrees about +y, 0 = in front of the face, +z; positive turns
+     * towards +x) and elevation (degrees above the horizontal), at the distance where
+     * everything fits the picture with a small margin. Default: three-quarter front. */
+    double azimuth_deg, elevation_deg;
+    double fov_deg;           /* vertical field of view (default 30) */
+    /* One directional key light, from the direction azimuth/elevation as above. */
+    double light_azimuth_deg, light_elevation_deg;
+    double light_intensity;   /* default 1 */
+    double ambient_intensity; /* multiplies AmbientColor (thesis shader: 0.2) */
+    int shadow_map_size;      /* texels per side of the light's maps (default 512) */
+    int opacity_layers;       /* K layers of the deep opacity map (thesis: 4) */
+    double layer_size;        /* depth of the first layer (m); layer k is 2^k times as deep
+                                 (<= 0: 2 mm) */
+    double scatter_floor;     /* light that reaches the deepest hair, as a fraction: a
+                                 stand-in for multiple scattering (thesis: 0.25) */
+    double hair_thickness;    /* strand diameter in scene units; <= 0: from the file */
+    double strand_variation;  /* each strand's brightness varies by up to this fraction
+                                 (default 0.15) */
+    hk_Vec3 background_top, background_bottom; /* vertical gradient, linear RGB */
+    hk_Vec3 skin;             /* diffuse colour of the head, linear RGB */
+} hk_RenderOptions;
+
+hk_RenderOptions hk_default_render_options(void);
+
+typedef struct hk_RenderStats {
+    long long hair_fragments;  /* camera fragments kept (in front of the head) */
+    long long light_fragments; /* fragments drawn into the deep opacity map */
+    int max_depth_complexity;  /* most fragments in one pixel */
+    double seconds_light;  /* the light's maps */
+    double seconds_camera; /* framing and projecting */
+    double seconds_hair;   /* head and hair, tile by tile, with the shading */
+} hk_RenderStats;
+
+/* Renders `hair` (the strands of a cyHair file; may have no strands) over `head` (may
+ * be NULL) with the colours of `visuality` into `out` (linear RGB, created here; free
+ * with hk_canvas_destroy). stats may be NULL. */
+hk_Status hk_render(const hk_HairFile *hair, const hk_Mesh *head, const hk_VisualityDef *visuality,
+                    const hk_RenderOptions *options, hk_Canvas *out, hk_RenderStats *stats,
+                    hk_Error *err);
+
+/* Writes a linear-RGB picture as an 8-bit sRGB PNG (atomically). */
+hk_Status hk_render_write_png(const hk_Canvas *image, const char *path, hk_Error *err);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

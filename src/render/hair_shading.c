@@ -1,0 +1,113 @@
+/* Shading of the hair's vertices (as the thesis's vertex shader prepares t, l and e,
+ * §4.1.5): the tangent from the neighbouring points, the light through the head's
+ * shadow and the hair's deep opacity map (§4.1.6), and Kajiya-Kay or Marschner.
+ *
+ * Vertices are shaded lazily, when a segment is first drawn: most segments of a full
+ * head lie behind saturated pixels and are never drawn. Each vertex has a state
+ * (0 new, 1 being shaded, 2 done); the thread that moves it from 0 to 1 shades and
+ * publishes it, a thread that finds it at 1 shades its own copy. The value does not
+ * depend on who computes it, so the picture does not depend on the threads. */
+#include <stdlib.h>
+
+#include "render_internal.h"
+#include "shading.h"
+
+hk_Status hk_hair_shader_init(hk_HairShader *s, const hk_Scene *sc, const uint8_t *segment_start,
+                              const hk_LightMaps *maps, const hk_View *camera, hk_Error *err)
+{
+    s->scene = sc, s->segment_start = segment_start, s->maps = maps, s->camera = camera;
+    s->marschner = hk_marschner_params_from_color(sc->vis->diffuse);
+    s->ambient = hk_v3_scale(sc->vis->ambient, sc->opt->ambient_intensity);
+    const size_t n = sc->hair->point_count ? sc->hair->point_count : 1;
+    s->rgb = hk_alloc_array(n, 3 * sizeof(float), err);
+    s->state = hk_alloc_array(n, sizeof(atomic_uchar), err);
+    s->strand_of = hk_alloc_array(n, sizeof(uint32_t), err);
+    if (!s->rgb || !s->state || !s->strand_of) {
+        hk_hair_shader_free(s);
+        return HK_ERR_NOMEM;
+    }
+    for (size_t i = 0; i < n; i++) atomic_init(&s->state[i], 0);
+    for (uint32_t k = 0; k < sc->hair->strand_count; k++)
+        for (uint32_t i = sc->hair->first_point[k]; i < sc->hair->first_point[k + 1]; i++) s->strand_of[i] = k;
+    return HK_OK;
+}
+
+void hk_hair_shader_free(hk_HairShader *s)
+{
+    hk_free(s->rgb);
+    hk_free((void *)s->state);
+    hk_free(s->strand_of);
+    s->rgb = NULL, s->state = NULL, s->strand_of = NULL;
+}
+
+/* A number in [-1, 1) from a strand's index (splitmix64 finaliser). */
+static double strand_jitter(uint32_t strand)
+{
+    uint64_t z = (uint64_t)strand + 0x9E3779B97F4A7C15ull;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    z ^= z >> 31;
+    return (double)(z >> 11) * (2.0 / 9007199254740992.0) - 1.0;
+}
+
+static void shade(const hk_HairShader *s, uint32_t i, float out[3])
+{
+    const hk_Scene *sc = s->scene;
+    const hk_HairFile *h = sc->hair;
+    const hk_RenderOptions *o = sc->opt;
+    const int has_next = s->segment_start[i], has_prev = i > 0 && s->segment_start[i - 1];
+    hk_Vec3 t = hk_v3_sub(hk_hair_point(h, has_next ? i + 1 : i), hk_hair_point(h, has_prev ? i - 1 : i));
+    t = hk_v3_norm(t) > 0.0 ? hk_v3_normalize(t) : hk_v3(0, 1, 0);
+    const hk_Vec3 p = hk_hair_point(h, i);
+    const hk_Vec3 e = hk_v3_normalize(hk_v3_sub(s->camera->origin, p));
+    double visible = 1.0;
+    if (s->maps) {
+        double head_visible, opacity;
+        hk_light_lookup(s->maps, p, &head_visible, &opacity);
+        visible = head_visible * (o->scatter_floor + (1.0 - o->scatter_floor) * exp(-opacity));
+    }
+    hk_VisualityDef v = *sc->vis;
+    if (h->colors) v.diffuse = hk_srgb_to_linear(hk_v3(h->colors[3 * (size_t)i], h->colors[3 * (size_t)i + 1],
+                                                       h->colors[3 * (size_t)i + 2]));
+    hk_Vec3 lit;
+    if (o->shading == HK_SHADING_MARSCHNER) {
+        /* Marschner's lobes are single scattering; the colour of brown and blond hair
+         * comes mostly from light scattered through many fibres, which Kajiya-Kay's
+         * diffuse term stands in for (as production Marschner shaders do). */
+        const double sin_tl = sqrt(fmax(0.0, 1.0 - hk_v3_dot(t, sc->light_dir) * hk_v3_dot(t, sc->light_dir)));
+        lit = hk_v3_madd(hk_shade_marschner(t, sc->light_dir, e, &s->marschner), v.diffuse, sin_tl);
+    } else {
+        lit = hk_shade_kajiya_kay(t, sc->light_dir, e, &v);
+    }
+    hk_Vec3 c = hk_v3_madd(s->ambient, lit, o->light_intensity * visible);
+    /* Real hairs differ slightly in colour; a fixed brightness per strand (from a hash
+     * of its index, so the same on every run) keeps a full head from looking painted. */
+    if (o->strand_variation > 0.0) c = hk_v3_scale(c, 1.0 + o->strand_variation * strand_jitter(s->strand_of[i]));
+    out[0] = (float)c.x, out[1] = (float)c.y, out[2] = (float)c.z;
+}
+
+void hk_hair_shader_get(hk_HairShader *s, uint32_t i, float out[3])
+{
+    unsigned char state = atomic_load_explicit(&s->state[i], memory_order_acquire);
+    if (state == 2) {
+        out[0] = s->rgb[3 * (size_t)i], out[1] = s->rgb[3 * (size_t)i + 1], out[2] = s->rgb[3 * (size_t)i + 2];
+        return;
+    }
+    shade(s, i, out);
+    unsigned char expected = 0;
+    if (state == 0 && atomic_compare_exchange_strong_explicit(&s->state[i], &expected, 1, memory_order_acq_rel,
+                                                              memory_order_acquire)) {
+        s->rgb[3 * (size_t)i] = out[0], s->rgb[3 * (size_t)i + 1] = out[1], s->rgb[3 * (size_t)i + 2] = out[2];
+        atomic_store_explicit(&s->state[i], 2, memory_order_release);
+    }
+}
+
+hk_Vec3 hk_srgb_to_linear(hk_Vec3 c)
+{
+    double v[3] = {c.x, c.y, c.z};
+    for (int k = 0; k < 3; k++) {
+        const double x = v[k];
+        v[k] = x <= 0.04045 ? x / 12.92 : pow((x + 0.055) / 1.055, 2.4); /* IEC 61966-2-1 */
+    }
+    return hk_v3(v[0], v[1], v[2]);
+}

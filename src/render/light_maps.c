@@ -1,0 +1,278 @@
+/* The light's view: a depth map of the head (its shadow on itself and on the hair)
+ * and the deep opacity map of the hair (Yuksel & Keyser, "Deep Opacity Maps", 2008;
+ * thesis 004 §4.1.6 and the opacity and hair shaders of Appendix A). The map is built
+ * per tile from the hair's fragments as seen from the light: z0, the depth where the
+ * hair begins in each texel, then the opacity of every fragment added to the layer it
+ * falls in, layers starting at z0 and growing deeper. Lookups interpolate between the
+ * layers' opacities; points beyond the last layer take its value. (The thesis's
+ * fragment shader tests zi.z twice, so its fourth layer is never interpolated; here
+ * every layer is.) Work is split into tiles of the map, each filled in segment order,
+ * so the sums are the same whatever the thread count. */
+#include <float.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render_internal.h"
+
+/* One fragment of the hair in the light's view, kept per tile until the tile's z0 is
+ * known. */
+typedef struct LightFragment {
+    float z, alpha;
+    uint32_t texel;
+} LightFragment;
+
+typedef struct LightPass {
+    const hk_Scene *scene;
+    hk_LightMaps *maps;
+    const hk_RasterPoint *proj; /* hair points in the light's view */
+    const uint8_t *segment_start;
+    hk_RasterPoint a, b;        /* the segment being drawn */
+    LightFragment *frag;
+    size_t count, cap;
+    int failed;
+} LightPass;
+
+static float segment_width(const hk_Scene *s, const hk_RasterPoint *proj, uint32_t i)
+{
+    return (float)(0.5 * (hk_hair_thickness_at(s, i) + hk_hair_thickness_at(s, i + 1))) * proj[i].px_per_unit;
+}
+
+static int hair_box(void *user, uint32_t i, hk_Rect *box)
+{
+    const LightPass *lp = user;
+    if (!lp->segment_start[i]) return 0;
+    return hk_segment_box(lp->proj[i], lp->proj[i + 1], segment_width(lp->scene, lp->proj, i), lp->maps->size,
+                          lp->maps->size, box);
+}
+
+static void hair_fragment(void *user, int x, int y, float t, float alpha)
+{
+    LightPass *lp = user;
+    if (lp->count == lp->cap) {
+        size_t cap = lp->cap ? 2 * lp->cap : 4096;
+        LightFragment *f = realloc(lp->frag, cap * sizeof *f);
+        if (!f) {
+            lp->failed = 1;
+            return;
+        }
+        lp->frag = f, lp->cap = cap;
+    }
+    LightFragment *f = &lp->frag[lp->count++];
+    f->z = lp->a.z + t * (lp->b.z - lp->a.z); /* orthographic: depth is linear */
+    f->alpha = alpha;
+    f->texel = (uint32_t)y * (uint32_t)lp->maps->size + (uint32_t)x;
+}
+
+/* One tile of the map: draw its segments, find z0, add each fragment to its layer,
+ * and turn the layers into running sums. */
+static void opacity_tile(LightPass *lp, const hk_TileBins *bins, int tile)
+{
+    hk_LightMaps *m = lp->maps;
+    const hk_Rect r = hk_tile_rect(bins, tile, m->size, m->size);
+    lp->count = 0;
+    for (uint32_t k = bins->start[tile]; k < bins->start[tile + 1]; k++) {
+        const uint32_t i = bins->items[k];
+        lp->a = lp->proj[i], lp->b = lp->proj[i + 1];
+        hk_raster_segment_thin(lp->a, lp->b, segment_width(lp->scene, lp->proj, i), r, hair_fragment, lp);
+    }
+    for (size_t f = 0; f < lp->count; f++)
+        if (lp->frag[f].z < m->hair_z0[lp->frag[f].texel]) m->hair_z0[lp->frag[f].texel] = lp->frag[f].z;
+    for (size_t f = 0; f < lp->count; f++) {
+        const float d = lp->frag[f].z - m->hair_z0[lp->frag[f].texel];
+        int k = 0;
+        while (k < m->layers - 1 && d >= m->layer_end[k]) k++;
+        m->opacity[(size_t)lp->frag[f].texel * (size_t)m->layers + (size_t)k] += lp->frag[f].alpha;
+    }
+    for (int y = r.y0; y < r.y1; y++)
+        for (int x = r.x0; x < r.x1; x++) {
+            float *o = m->opacity + ((size_t)y * (size_t)m->size + (size_t)x) * (size_t)m->layers;
+            for (int k = 1; k < m->layers; k++) o[k] += o[k - 1];
+        }
+}
+
+typedef struct HeadPass {
+    hk_LightMaps *maps;
+    const hk_RasterPoint *proj;
+    const int *tri;
+    const hk_RasterPoint *v; /* the current triangle */
+} HeadPass;
+
+static int head_box(void *user, uint32_t t, hk_Rect *box)
+{
+    const HeadPass *hp = user;
+    hk_RasterPoint v[3];
+    for (int k = 0; k < 3; k++) v[k] = hp->proj[hp->tri[3 * (size_t)t + k]];
+    return hk_triangle_box(v, hp->maps->size, hp->maps->size, box);
+}
+
+static void head_sample(void *user, int x, int y, int sample, float l0, float l1, float l2)
+{
+    (void)sample;
+    HeadPass *hp = user;
+    const float z = l0 * hp->v[0].z + l1 * hp->v[1].z + l2 * hp->v[2].z;
+    float *d = &hp->maps->head_depth[(size_t)y * (size_t)hp->maps->size + (size_t)x];
+    if (z < *d) *d = z;
+}
+
+static hk_Status head_depth_map(const hk_Scene *scene, hk_LightMaps *m, hk_Error *err)
+{
+    const hk_Mesh *head = scene->head;
+    if (!head || head->triangle_count == 0) return HK_OK;
+    hk_RasterPoint *proj = hk_alloc_array((size_t)head->vertex_count, sizeof *proj, err);
+    if (!proj) return HK_ERR_NOMEM;
+    for (int i = 0; i < head->vertex_count; i++) proj[i] = hk_view_project(&m->view, head->positions[i]);
+    HeadPass hp = {m, proj, head->triangles, NULL};
+    hk_TileBins bins;
+    hk_Status st = hk_tile_bins_build((uint32_t)head->triangle_count, head_box, &hp, m->size, m->size, &bins, err);
+    if (st == HK_OK) {
+        const int tiles = bins.tiles_x * bins.tiles_y;
+#pragma omp parallel for schedule(dynamic, 4) firstprivate(hp)
+        for (int tile = 0; tile < tiles; tile++) {
+            const hk_Rect r = hk_tile_rect(&bins, tile, m->size, m->size);
+            for (uint32_t k = bins.start[tile]; k < bins.start[tile + 1]; k++) {
+                const uint32_t t = bins.items[k];
+                hk_RasterPoint v[3];
+                for (int c = 0; c < 3; c++) v[c] = proj[head->triangles[3 * (size_t)t + c]];
+                hp.v = v;
+                hk_raster_triangle(v, r, 1, head_sample, &hp);
+            }
+        }
+        hk_tile_bins_free(&bins);
+    }
+    hk_free(proj);
+    return st;
+}
+
+static hk_Status hair_opacity_map(const hk_Scene *scene, const uint8_t *segment_start, hk_LightMaps *m,
+                                  long long *fragments, hk_Error *err)
+{
+    const hk_HairFile *hair = scene->hair;
+    if (hair->point_count == 0) return HK_OK;
+    hk_RasterPoint *proj = hk_alloc_array(hair->point_count, sizeof *proj, err);
+    if (!proj) return HK_ERR_NOMEM;
+#pragma omp parallel for schedule(static)
+    for (long i = 0; i < (long)hair->point_count; i++) proj[i] = hk_view_project(&m->view, hk_hair_point(hair, (uint32_t)i));
+    LightPass lp;
+    memset(&lp, 0, sizeof lp);
+    lp.scene = scene, lp.maps = m, lp.proj = proj, lp.segment_start = segment_start;
+    hk_TileBins bins;
+    hk_Status st = hk_tile_bins_build(hair->point_count, hair_box, &lp, m->size, m->size, &bins, err);
+    long long total = 0;
+    int failed = 0;
+    if (st == HK_OK) {
+        const int tiles = bins.tiles_x * bins.tiles_y;
+#pragma omp parallel firstprivate(lp) reduction(+ : total) reduction(| : failed)
+        {
+#pragma omp for schedule(dynamic, 4)
+            for (int tile = 0; tile < tiles; tile++) {
+                if (lp.failed) continue;
+                opacity_tile(&lp, &bins, tile);
+                total += (long long)lp.count;
+            }
+            failed |= lp.failed;
+            free(lp.frag);
+        }
+        hk_tile_bins_free(&bins);
+    }
+    *fragments = total;
+    hk_free(proj);
+    if (st == HK_OK && failed) st = hk_error_set(err, HK_ERR_NOMEM, "out of memory in the deep opacity map");
+    return st;
+}
+
+hk_Status hk_light_maps_build(const hk_Scene *scene, const uint8_t *segment_start, hk_LightMaps *m,
+                              hk_RenderStats *stats, hk_Error *err)
+{
+    memset(m, 0, sizeof *m);
+    const hk_RenderOptions *o = scene->opt;
+    m->size = o->shadow_map_size;
+    m->layers = o->opacity_layers;
+    const double first = o->layer_size > 0.0 ? o->layer_size : 0.002;
+    double end = 0.0;
+    for (int k = 0; k < m->layers; k++) m->layer_end[k] = (float)(end += first * ldexp(1.0, k));
+    /* Orthographic along the light, covering the scene's bounding sphere. */
+    hk_View *v = &m->view;
+    v->perspective = 0;
+    v->width = v->height = m->size;
+    v->forward = hk_v3_neg(scene->light_dir);
+    hk_Vec3 side = hk_v3_cross(v->forward, hk_v3(0, 1, 0));
+    if (hk_v3_norm(side) < 1e-9) side = hk_v3(1, 0, 0);
+    v->right = hk_v3_normalize(side);
+    v->up = hk_v3_cross(v->right, v->forward);
+    v->origin = hk_v3_scale(hk_v3_add(scene->lo, scene->hi), 0.5);
+    const double radius = fmax(0.5 * hk_v3_dist(scene->lo, scene->hi), 1e-6) * 1.02;
+    v->focal = 0.5 * m->size / radius;
+    v->depth_offset = radius;
+    m->texel = 1.0 / v->focal;
+    const size_t texels = (size_t)m->size * (size_t)m->size;
+    m->head_depth = hk_alloc_array(texels, sizeof(float), err);
+    m->hair_z0 = hk_alloc_array(texels, sizeof(float), err);
+    m->opacity = hk_calloc_array(texels * (size_t)m->layers, sizeof(float), err);
+    if (!m->head_depth || !m->hair_z0 || !m->opacity) {
+        hk_light_maps_free(m);
+        return HK_ERR_NOMEM;
+    }
+    for (size_t i = 0; i < texels; i++) m->head_depth[i] = m->hair_z0[i] = FLT_MAX;
+    long long fragments = 0;
+    hk_Status st = head_depth_map(scene, m, err);
+    if (st == HK_OK) st = hair_opacity_map(scene, segment_start, m, &fragments, err);
+    if (st != HK_OK) {
+        hk_light_maps_free(m);
+        return st;
+    }
+    if (stats) stats->light_fragments = fragments;
+    return HK_OK;
+}
+
+void hk_light_maps_free(hk_LightMaps *m)
+{
+    hk_free(m->head_depth);
+    hk_free(m->hair_z0);
+    hk_free(m->opacity);
+    memset(m, 0, sizeof *m);
+}
+
+/* Opacity in front of depth z in one texel: zero in front of the hair, then linear
+ * within each layer between the running sums at its two ends. */
+static double texel_opacity(const hk_LightMaps *m, size_t texel, float z)
+{
+    const float z0 = m->hair_z0[texel];
+    if (z0 == FLT_MAX || z <= z0) return 0.0;
+    const float d = z - z0;
+    const float *o = m->opacity + texel * (size_t)m->layers;
+    float start = 0.0f, before = 0.0f;
+    for (int k = 0; k < m->layers; k++) {
+        if (d < m->layer_end[k]) return before + (o[k] - before) * (d - start) / (m->layer_end[k] - start);
+        start = m->layer_end[k], before = o[k];
+    }
+    return o[m->layers - 1];
+}
+
+void hk_light_lookup(const hk_LightMaps *m, hk_Vec3 p, double *head_visible, double *opacity)
+{
+    const hk_RasterPoint q = hk_view_project(&m->view, p);
+    const int n = m->size;
+    /* Both maps are read at the four texel centres around p, weighted bilinearly:
+     * the head's as a percentage-closer filter (with a bias of two texels, so that
+     * lit surfaces and the hair roots on them do not shadow themselves), the hair's
+     * opacity interpolated between its layers in each texel. */
+    const float bias = (float)(2.0 * m->texel);
+    const float fx = q.x - 0.5f, fy = q.y - 0.5f;
+    const int x0 = (int)floorf(fx), y0 = (int)floorf(fy);
+    const float wx = fx - (float)x0, wy = fy - (float)y0;
+    double sum = 0.0, lit = 0.0;
+    for (int j = 0; j < 2; j++)
+        for (int i = 0; i < 2; i++) {
+            const int x = x0 + i, y = y0 + j;
+            const double w = (i ? wx : 1.0f - wx) * (j ? wy : 1.0f - wy);
+            if (x < 0 || y < 0 || x >= n || y >= n) {
+                lit += w;
+                continue;
+            }
+            const size_t texel = (size_t)y * n + x;
+            if (q.z <= m->head_depth[texel] + bias) lit += w;
+            sum += w * texel_opacity(m, texel, q.z);
+        }
+    *head_visible = lit;
+    *opacity = sum;
+}

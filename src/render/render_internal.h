@@ -1,0 +1,219 @@
+/* Internals of the renderer shared by its passes: projections, rasterisers, tile bins
+ * and the light's maps. */
+#ifndef HK_RENDER_INTERNAL_H
+#define HK_RENDER_INTERNAL_H
+
+#include <math.h>
+#include <stdint.h>
+
+#include "hairkit/render.h"
+#include "shading.h"
+
+#include <stdatomic.h>
+
+#define HK_TILE 32 /* pixels per side of a tile: the unit of parallel work */
+
+/* A projection onto an image: perspective (a camera) or orthographic (the light). */
+typedef struct hk_View {
+    int perspective;
+    hk_Vec3 origin;            /* eye (perspective) or centre of the map (orthographic) */
+    hk_Vec3 right, up, forward; /* orthonormal; forward points into the picture */
+    double focal;              /* pixels per unit at depth 1 (perspective) or per unit */
+    double depth_offset;       /* orthographic: added to the depth to keep it positive */
+    int width, height;
+} hk_View;
+
+/* A projected point: pixel position (x right, y down), depth along forward, and the
+ * number of pixels a scene unit spans there. */
+typedef struct hk_RasterPoint {
+    float x, y, z, px_per_unit;
+} hk_RasterPoint;
+
+static inline hk_RasterPoint hk_view_project(const hk_View *v, hk_Vec3 p)
+{
+    hk_Vec3 d = hk_v3_sub(p, v->origin);
+    double z = hk_v3_dot(d, v->forward);
+    double s = v->perspective ? (z > 1e-9 ? v->focal / z : 0.0) : v->focal;
+    hk_RasterPoint r;
+    r.x = (float)(0.5 * v->width + s * hk_v3_dot(d, v->right));
+    r.y = (float)(0.5 * v->height - s * hk_v3_dot(d, v->up));
+    r.z = (float)(v->perspective ? z : z + v->depth_offset);
+    r.px_per_unit = (float)s;
+    return r;
+}
+
+/* Pixel rectangle [x0, x1) x [y0, y1). */
+typedef struct hk_Rect {
+    int x0, y0, x1, y1;
+} hk_Rect;
+
+/* Fragment sink of the line rasteriser: pixel, parameter t in [0, 1) along the
+ * segment, and opacity (coverage times the sub-pixel width). */
+typedef void (*hk_FragmentFn)(void *user, int x, int y, float t, float alpha);
+
+/* Draws the segment a-b of width `width` pixels (the hair's projected diameter; at
+ * least one pixel is drawn, thinner hair becomes more transparent) into `clip`. A
+ * pixel belongs to the segment when its centre projects onto [0, 1) of it, so that
+ * consecutive segments of a strand do not cover the same pixel twice. Coverage is a
+ * box filter of the pixel against the line's width. */
+void hk_raster_segment(hk_RasterPoint a, hk_RasterPoint b, float width, hk_Rect clip, hk_FragmentFn emit,
+                       void *user);
+
+/* One pixel per step along the major axis (the pixel the centre line crosses), with
+ * the opacity of the strip of the given width within that column (clamped to 1): the
+ * segment's total opacity at half the fragments, for the light's opacity map. */
+void hk_raster_segment_thin(hk_RasterPoint a, hk_RasterPoint b, float width, hk_Rect clip, hk_FragmentFn emit,
+                            void *user);
+
+/* Pixel bounding box of a segment drawn by hk_raster_segment, clipped to the image;
+ * 0 when it is empty. */
+int hk_segment_box(hk_RasterPoint a, hk_RasterPoint b, float width, int image_w, int image_h, hk_Rect *box);
+
+/* Fills a triangle: emit(x, y, sample, l0, l1, l2) for every sample inside it, with
+ * its screen-space barycentric coordinates; one sample per pixel at its centre, or
+ * 2 x 2 (supersample 2: sample = 2 * row + column at quarter offsets). */
+typedef void (*hk_SampleFn)(void *user, int x, int y, int sample, float l0, float l1, float l2);
+void hk_raster_triangle(const hk_RasterPoint v[3], hk_Rect clip, int supersample, hk_SampleFn emit, void *user);
+int hk_triangle_box(const hk_RasterPoint v[3], int image_w, int image_h, hk_Rect *box);
+
+/* order[0..n) = the items sorted by increasing depth (stable: ties keep item order);
+ * work holds 3 n numbers. */
+void hk_depth_order(uint32_t n, const float *depth, uint32_t *order, uint32_t *work);
+
+/* Items (segments, triangles) sorted into the tiles their box touches, in item order
+ * within each tile (so that every tile sees them in the same order whatever the
+ * thread count). */
+typedef struct hk_TileBins {
+    int tiles_x, tiles_y;
+    uint32_t *start; /* tiles_x * tiles_y + 1 offsets into items */
+    uint32_t *items;
+} hk_TileBins;
+
+typedef int (*hk_BoxFn)(void *user, uint32_t item, hk_Rect *box);
+hk_Status hk_tile_bins_build(uint32_t item_count, hk_BoxFn box_of, void *user, int width, int height,
+                             hk_TileBins *bins, hk_Error *err);
+void hk_tile_bins_free(hk_TileBins *bins);
+static inline hk_Rect hk_tile_rect(const hk_TileBins *b, int tile, int width, int height)
+{
+    hk_Rect r;
+    r.x0 = (tile % b->tiles_x) * HK_TILE;
+    r.y0 = (tile / b->tiles_x) * HK_TILE;
+    r.x1 = r.x0 + HK_TILE < width ? r.x0 + HK_TILE : width;
+    r.y1 = r.y0 + HK_TILE < height ? r.y0 + HK_TILE : height;
+    return r;
+}
+
+/* The light's maps (orthographic, along the light): a depth map of the head and the
+ * deep opacity map of the hair (Yuksel & Keyser 2008; thesis §4.1.6). */
+typedef struct hk_LightMaps {
+    hk_View view;
+    int size, layers;
+    double texel;                         /* scene units per texel */
+    float layer_end[HK_MAX_OPACITY_LAYERS]; /* end of layer k behind z0 (scene units) */
+    float *head_depth;                    /* size^2; +inf where the head is not */
+    float *hair_z0;                       /* size^2; depth where the hair begins, +inf: none */
+    float *opacity;                       /* size^2 * layers: opacity accumulated up to the
+                                             end of each layer */
+} hk_LightMaps;
+
+/* The scene as the passes see it. */
+typedef struct hk_Scene {
+    const hk_HairFile *hair;
+    const hk_Mesh *head;
+    const hk_VisualityDef *vis;
+    const hk_RenderOptions *opt;
+    hk_Vec3 light_dir;   /* unit, towards the light */
+    hk_Vec3 lo, hi;      /* bounding box of hair and head */
+    double thickness;    /* strand diameter (scene units) when the file has no array */
+    uint32_t segment_count;
+} hk_Scene;
+
+static inline double hk_hair_thickness_at(const hk_Scene *s, uint32_t point)
+{
+    if (s->opt->hair_thickness > 0.0) return s->opt->hair_thickness;
+    return s->hair->thickness ? s->hair->thickness[point] : s->thickness;
+}
+
+static inline hk_Vec3 hk_hair_point(const hk_HairFile *h, uint32_t i)
+{
+    const float *p = h->points + 3 * (size_t)i;
+    return hk_v3(p[0], p[1], p[2]);
+}
+
+/* Segment i starts at point i; valid unless i is the last point of its strand. */
+uint8_t *hk_segment_starts(const hk_HairFile *hair, uint32_t *count, hk_Error *err);
+
+hk_Status hk_light_maps_build(const hk_Scene *scene, const uint8_t *segment_start, hk_LightMaps *maps,
+                              hk_RenderStats *stats, hk_Error *err);
+void hk_light_maps_free(hk_LightMaps *maps);
+
+/* Light reaching p: *head_visible in [0, 1] from the head's depth map (3 x 3
+ * percentage-closer filter), *opacity the hair's opacity in front of p (bilinear
+ * over the four nearest texels, each interpolated between its layers). */
+void hk_light_lookup(const hk_LightMaps *maps, hk_Vec3 p, double *head_visible, double *opacity);
+
+/* Perspective camera of the options framing the points of hair and head. */
+hk_View hk_camera_frame(const hk_Scene *scene);
+
+/* Colours of the hair vertices, computed when first asked for (hair_shading.c):
+ * ambient plus the shading model times the light that reaches the vertex (maps NULL:
+ * no shadows). */
+typedef struct hk_HairShader {
+    const hk_Scene *scene;
+    const uint8_t *segment_start;
+    const hk_LightMaps *maps;
+    const hk_View *camera;
+    hk_MarschnerParams marschner;
+    hk_Vec3 ambient;
+    float *rgb;
+    atomic_uchar *state;
+    uint32_t *strand_of; /* the strand of each vertex */
+} hk_HairShader;
+hk_Status hk_hair_shader_init(hk_HairShader *s, const hk_Scene *scene, const uint8_t *segment_start,
+                              const hk_LightMaps *maps, const hk_View *camera, hk_Error *err);
+void hk_hair_shader_free(hk_HairShader *s);
+/* The colour of vertex i (thread-safe). */
+void hk_hair_shader_get(hk_HairShader *s, uint32_t i, float out[3]);
+
+/* sRGB-encoded colour (the visuality file's, as the thesis's colours are display
+ * values) to linear RGB. */
+hk_Vec3 hk_srgb_to_linear(hk_Vec3 c);
+
+/* ---- per tile of the picture ---------------------------------------------------- */
+
+/* What every tile reads. */
+typedef struct hk_TileInput {
+    const hk_Scene *scene;
+    const hk_View *camera;
+    const hk_LightMaps *maps;        /* NULL: no shadows */
+    const hk_RasterPoint *hair_proj; /* hair points on the picture */
+    hk_HairShader *shader;           /* their colours */
+    const hk_TileBins *hair_bins;    /* segments (by first point) per tile */
+    const hk_RasterPoint *head_proj; /* head vertices on the picture, or NULL */
+    const hk_TileBins *head_bins;    /* front-facing head triangles per tile, or NULL */
+} hk_TileInput;
+
+/* The head in one tile: 2 x 2 samples per pixel, Lambert-shaded and shadowed, averaged
+ * over the background; base[] gets the colour behind the hair and cutoff[] the depth
+ * beyond which hair is hidden (the farthest head sample; +inf where a sample misses). */
+typedef struct hk_TileHead {
+    float sample_z[HK_TILE * HK_TILE * 4], sample_l[HK_TILE * HK_TILE * 4][2];
+    int sample_tri[HK_TILE * HK_TILE * 4];
+    float base[HK_TILE * HK_TILE][3], cutoff[HK_TILE * HK_TILE];
+    /* the triangle being drawn */
+    int tri;
+    const hk_RasterPoint *tv;
+    hk_Rect r;
+} hk_TileHead;
+void hk_tile_head(const hk_TileInput *in, int tile, hk_TileHead *out);
+
+/* Hair of one tile composited over the head: a workspace reused from tile to tile. */
+typedef struct hk_TileHair hk_TileHair;
+hk_TileHair *hk_tile_hair_create(void);
+void hk_tile_hair_destroy(hk_TileHair *w);
+/* Draws the tile into image; 0 when out of memory. Counts fragments kept and the
+ * most in one pixel. */
+int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_TileHead *head, hk_Canvas *image,
+                 long long *fragments, int *most);
+
+#endif

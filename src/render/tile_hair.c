@@ -1,0 +1,324 @@
+/* The hair of one tile of the picture, with exact transparency: every fragment of the
+ * tile's segments in front of the head is kept, each pixel's fragments are sorted by
+ * depth and composited front to back (an A-buffer).
+ *
+ * Early saturation keeps this fast without changing the result beyond a bound: the
+ * tile's segments are drawn nearest first (by the depth of their nearer end), so when
+ * a segment of nearest depth D begins, no later fragment can lie in front of D. The
+ * fragments in front of D are then final; once their transmittance in a pixel drops
+ * below 1/1024, that pixel takes no more fragments: anything behind could change it
+ * by less than 1/1024 of the brightest hair, a quarter of an 8-bit step. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "render_internal.h"
+
+#define NPX (HK_TILE * HK_TILE)
+#define SATURATED (1.0f / 1024.0f)
+#define NONE UINT32_MAX
+#define SETTLE_BATCH 64 /* segments between two saturation checks */
+#define BLOCK 8         /* saturation is also tracked per block of 8 x 8 pixels */
+#define BLOCKS (HK_TILE / BLOCK)
+
+typedef struct Fragment {
+    float z, a, r, g, b;
+    uint32_t pixel; /* index within the tile */
+    uint32_t next;  /* next pending fragment of the same pixel */
+} Fragment;
+
+/* A segment of the tile, gathered so that drawing it touches only this record. */
+typedef struct Segment {
+    hk_RasterPoint a, b;
+    float width;
+    uint32_t first; /* index of its first point */
+    float ca[3], cb[3]; /* colours, fetched only when the segment is drawn */
+} Segment;
+
+/* The blocks of the tile a segment's box covers, packed in 4 bytes so that the
+ * visibility test of a segment touches nothing else. */
+typedef struct Blocks {
+    uint8_t x0, y0, x1, y1;
+} Blocks;
+
+struct hk_TileHair {
+    hk_Rect r;
+    const hk_TileHead *head;
+    const hk_HairFile *hair;
+    /* gathered segments, depth order */
+    Segment *seg;
+    Blocks *blocks;
+    float *near;
+    uint32_t *order, *sort_work;
+    size_t seg_cap;
+    const Segment *current;
+    /* fragments */
+    Fragment *frag;
+    size_t count, cap;
+    int failed;
+    uint32_t pixel_start[NPX + 1];
+    uint64_t *keys;
+    size_t keys_cap;
+    /* saturation */
+    uint32_t pending[NPX];
+    float through[NPX];
+    uint8_t saturated[NPX], touched[NPX];
+    uint16_t touched_list[NPX];
+    int touched_count;
+    int block_open[BLOCKS * BLOCKS]; /* pixels of each block not yet saturated */
+    /* pixels behind the head: closed once the segments start behind it */
+    uint64_t head_order[NPX]; /* cutoff depth bits above the pixel, increasing */
+    int head_count, head_next;
+};
+
+hk_TileHair *hk_tile_hair_create(void) { return calloc(1, sizeof(hk_TileHair)); }
+
+void hk_tile_hair_destroy(hk_TileHair *w)
+{
+    if (!w) return;
+    free(w->seg);
+    free(w->blocks);
+    free(w->near);
+    free(w->order);
+    free(w->sort_work);
+    free(w->frag);
+    free(w->keys);
+    free(w);
+}
+
+static int reserve_segments(hk_TileHair *w, size_t n)
+{
+    if (n <= w->seg_cap) return 1;
+    size_t cap = n + n / 2 + 64;
+    Segment *s = realloc(w->seg, cap * sizeof *s);
+    if (s) w->seg = s;
+    Blocks *b = realloc(w->blocks, cap * sizeof *b);
+    if (b) w->blocks = b;
+    float *nr = realloc(w->near, cap * sizeof *nr);
+    if (nr) w->near = nr;
+    uint32_t *o = realloc(w->order, cap * sizeof *o);
+    if (o) w->order = o;
+    uint32_t *sw = realloc(w->sort_work, 3 * cap * sizeof *sw);
+    if (sw) w->sort_work = sw;
+    if (!s || !b || !nr || !o || !sw) return 0;
+    w->seg_cap = cap;
+    return 1;
+}
+
+static void hair_fragment(void *user, int x, int y, float t, float alpha)
+{
+    hk_TileHair *w = user;
+    const uint32_t p = (uint32_t)((y - w->r.y0) * HK_TILE + (x - w->r.x0));
+    if (w->saturated[p]) return;
+    const Segment *s = w->current;
+    const float z = 1.0f / ((1.0f - t) / s->a.z + t / s->b.z); /* perspective-correct */
+    if (z >= w->head->cutoff[p]) return;
+    if (w->count == w->cap) {
+        size_t cap = w->cap ? 2 * w->cap : 4096;
+        Fragment *f = realloc(w->frag, cap * sizeof *f);
+        if (!f) {
+            w->failed = 1;
+            return;
+        }
+        w->frag = f, w->cap = cap;
+    }
+    const hk_HairFile *h = w->hair;
+    if (h->transparency)
+        alpha *= 1.0f - ((1.0f - t) * h->transparency[s->first] + t * h->transparency[s->first + 1]);
+    Fragment *f = &w->frag[w->count];
+    f->z = z, f->a = alpha > 1.0f ? 1.0f : alpha, f->pixel = p;
+    f->r = s->ca[0] + t * (s->cb[0] - s->ca[0]);
+    f->g = s->ca[1] + t * (s->cb[1] - s->ca[1]);
+    f->b = s->ca[2] + t * (s->cb[2] - s->ca[2]);
+    f->next = w->pending[p];
+    w->pending[p] = (uint32_t)w->count++;
+    if (!w->touched[p]) w->touched[p] = 1, w->touched_list[w->touched_count++] = (uint16_t)p;
+}
+
+/* Fragments in front of `front` are final: fold them into their pixel's
+ * transmittance and close the pixels that no longer let light through. */
+static int cmp_u64(const void *a, const void *b)
+{
+    const uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return (x > y) - (x < y);
+}
+
+static void close_pixel(hk_TileHair *w, int p)
+{
+    if (w->saturated[p]) return;
+    w->saturated[p] = 1;
+    w->block_open[(p / HK_TILE / BLOCK) * BLOCKS + (p % HK_TILE) / BLOCK]--;
+}
+
+static void settle(hk_TileHair *w, float front)
+{
+    /* No later fragment can be in front of the head where the head is nearer than
+     * `front`. */
+    while (w->head_next < w->head_count) {
+        const uint64_t h = w->head_order[w->head_next];
+        float cutoff;
+        const uint32_t bits = (uint32_t)(h >> 32);
+        memcpy(&cutoff, &bits, sizeof cutoff);
+        if (cutoff > front) break;
+        close_pixel(w, (int)(h & 0xffffu));
+        w->head_next++;
+    }
+    for (int k = 0; k < w->touched_count; k++) {
+        const int p = w->touched_list[k];
+        uint32_t *link = &w->pending[p];
+        while (*link != NONE) {
+            Fragment *f = &w->frag[*link];
+            if (f->z <= front) {
+                w->through[p] *= 1.0f - f->a;
+                *link = f->next;
+            } else {
+                link = &f->next;
+            }
+        }
+        if (w->through[p] < SATURATED) close_pixel(w, p);
+        w->touched[p] = 0;
+    }
+    w->touched_count = 0;
+}
+
+/* The blocks of the tile under the segment's box; 0 when it misses the tile. */
+static int segment_blocks(const hk_TileHair *w, const Segment *s, Blocks *out)
+{
+    hk_Rect b;
+    if (!hk_segment_box(s->a, s->b, s->width, w->r.x1, w->r.y1, &b) || b.x1 <= w->r.x0 || b.y1 <= w->r.y0) return 0;
+    out->x0 = (uint8_t)((b.x0 > w->r.x0 ? b.x0 - w->r.x0 : 0) / BLOCK);
+    out->y0 = (uint8_t)((b.y0 > w->r.y0 ? b.y0 - w->r.y0 : 0) / BLOCK);
+    out->x1 = (uint8_t)((b.x1 - 1 - w->r.x0) / BLOCK), out->y1 = (uint8_t)((b.y1 - 1 - w->r.y0) / BLOCK);
+    return 1;
+}
+
+/* Whether every block under the segment is saturated. */
+static int hidden(const hk_TileHair *w, Blocks b)
+{
+    for (int by = b.y0; by <= b.y1; by++)
+        for (int bx = b.x0; bx <= b.x1; bx++)
+            if (w->block_open[by * BLOCKS + bx] > 0) return 0;
+    return 1;
+}
+
+
+/* Sorts each pixel's fragments by depth (ties by drawing order) and composites them
+ * front to back over the head or background. */
+static int composite(hk_TileHair *w, hk_Canvas *image)
+{
+    memset(w->pixel_start, 0, sizeof w->pixel_start);
+    for (size_t i = 0; i < w->count; i++) w->pixel_start[w->frag[i].pixel + 1]++;
+    int most = 0;
+    for (int p = 0; p < NPX; p++) {
+        if ((int)w->pixel_start[p + 1] > most) most = (int)w->pixel_start[p + 1];
+        w->pixel_start[p + 1] += w->pixel_start[p];
+    }
+    if (w->count > w->keys_cap) {
+        uint64_t *k = realloc(w->keys, w->count * sizeof *k);
+        if (!k) {
+            w->failed = 1;
+            return most;
+        }
+        w->keys = k, w->keys_cap = w->count;
+    }
+    /* Counting sort by pixel; key = depth bits (positive floats order as integers)
+     * above the fragment's index, so equal depths keep drawing order. */
+    uint32_t fill[NPX];
+    memcpy(fill, w->pixel_start, sizeof fill);
+    for (size_t i = 0; i < w->count; i++) {
+        uint32_t bits;
+        memcpy(&bits, &w->frag[i].z, sizeof bits);
+        w->keys[fill[w->frag[i].pixel]++] = ((uint64_t)bits << 32) | (uint64_t)i;
+    }
+    for (int y = w->r.y0; y < w->r.y1; y++)
+        for (int x = w->r.x0; x < w->r.x1; x++) {
+            const int p = (y - w->r.y0) * HK_TILE + (x - w->r.x0);
+            uint64_t *k = w->keys + w->pixel_start[p];
+            const size_t n = w->pixel_start[p + 1] - w->pixel_start[p];
+            if (n <= 64) { /* insertion sort: after saturation pixels hold few fragments */
+                for (size_t i = 1; i < n; i++) {
+                    uint64_t v = k[i];
+                    size_t j = i;
+                    for (; j > 0 && k[j - 1] > v; j--) k[j] = k[j - 1];
+                    k[j] = v;
+                }
+            } else {
+                qsort(k, n, sizeof *k, cmp_u64);
+            }
+            float cr = 0.0f, cg = 0.0f, cb = 0.0f, through = 1.0f;
+            for (size_t i = 0; i < n && through > 1e-4f; i++) {
+                const Fragment *f = &w->frag[k[i] & 0xffffffffu];
+                cr += through * f->a * f->r, cg += through * f->a * f->g, cb += through * f->a * f->b;
+                through *= 1.0f - f->a;
+            }
+            float *o = image->rgb + 3 * ((size_t)y * (size_t)image->width + (size_t)x);
+            o[0] = cr + through * w->head->base[p][0];
+            o[1] = cg + through * w->head->base[p][1];
+            o[2] = cb + through * w->head->base[p][2];
+        }
+    return most;
+}
+
+static float segment_width(const hk_Scene *sc, const hk_RasterPoint *proj, uint32_t i)
+{
+    return (float)(0.5 * (hk_hair_thickness_at(sc, i) * proj[i].px_per_unit +
+                          hk_hair_thickness_at(sc, i + 1) * proj[i + 1].px_per_unit));
+}
+
+int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_TileHead *head, hk_Canvas *image,
+                 long long *fragments, int *most)
+{
+    const hk_Scene *sc = in->scene;
+    const hk_TileBins *bins = in->hair_bins;
+    w->r = hk_tile_rect(bins, tile, sc->opt->width, sc->opt->height);
+    w->head = head, w->hair = sc->hair;
+    w->count = 0, w->failed = 0, w->touched_count = 0;
+    for (int p = 0; p < NPX; p++) w->pending[p] = NONE, w->through[p] = 1.0f, w->saturated[p] = 0, w->touched[p] = 0;
+    for (int b = 0; b < BLOCKS * BLOCKS; b++) w->block_open[b] = 0;
+    for (int y = w->r.y0; y < w->r.y1; y++)
+        for (int x = w->r.x0; x < w->r.x1; x++)
+            w->block_open[((y - w->r.y0) / BLOCK) * BLOCKS + (x - w->r.x0) / BLOCK]++;
+    w->head_count = w->head_next = 0;
+    for (int y = w->r.y0; y < w->r.y1; y++)
+        for (int x = w->r.x0; x < w->r.x1; x++) {
+            const int p = (y - w->r.y0) * HK_TILE + (x - w->r.x0);
+            uint32_t bits;
+            memcpy(&bits, &head->cutoff[p], sizeof bits);
+            if (head->cutoff[p] < 3.0e38f) w->head_order[w->head_count++] = ((uint64_t)bits << 32) | (uint64_t)p;
+        }
+    qsort(w->head_order, (size_t)w->head_count, sizeof *w->head_order, cmp_u64);
+    /* Gather the tile's segments (memory order: strands are contiguous), then sort
+     * them by the depth of their nearer end. */
+    const uint32_t total = bins->start[tile + 1] - bins->start[tile];
+    if (!reserve_segments(w, total)) return 0;
+    uint32_t n = 0;
+    for (uint32_t k = 0; k < total; k++) {
+        const uint32_t i = bins->items[bins->start[tile] + k];
+        Segment *s = &w->seg[n];
+        s->a = in->hair_proj[i], s->b = in->hair_proj[i + 1];
+        s->width = segment_width(sc, in->hair_proj, i);
+        if (!segment_blocks(w, s, &w->blocks[n])) continue;
+        s->first = i;
+        w->near[n++] = fminf(s->a.z, s->b.z);
+    }
+    hk_depth_order(n, w->near, w->order, w->sort_work);
+    for (uint32_t k = 0; k < n && !w->failed; k++) {
+        const uint32_t j = w->order[k];
+        if (k % SETTLE_BATCH == 0) {
+            settle(w, w->near[j]);
+            int open = 0;
+            for (int b = 0; b < BLOCKS * BLOCKS; b++) open += w->block_open[b];
+            if (open == 0) break; /* every pixel of the tile is saturated */
+        }
+        if (hidden(w, w->blocks[j])) continue;
+        Segment *s = &w->seg[j];
+        hk_hair_shader_get(in->shader, s->first, s->ca);
+        hk_hair_shader_get(in->shader, s->first + 1, s->cb);
+        w->current = s;
+        hk_raster_segment(s->a, s->b, s->width, w->r, hair_fragment, w);
+    }
+    if (w->failed) return 0;
+    *fragments += (long long)w->count;
+    const int m = composite(w, image);
+    if (m > *most) *most = m;
+    return !w->failed;
+}

@@ -1,0 +1,340 @@
+/* The renderer: the pixel of a lit strand against the Kajiya-Kay formula written out
+ * here from the paper (Kajiya & Kay 1989, thesis 004 §4.1.5), shadows from an
+ * occluder in the light's view, sub-pixel coverage against the analytic area of a
+ * thin line, determinism across thread counts, no NaN or black frames, and a PNG that
+ * libpng reads back. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "hk_test.h"
+#include "hairkit/image.h"
+#include "hairkit/render.h"
+#include "render/render_internal.h"
+
+static const double PI = 3.14159265358979323846;
+
+/* Straight strands along x in the plane z = z0, `points` points each. */
+static void make_strands(hk_HairFile *h, int strands, int points, double half_length, double spacing, double z0)
+{
+    uint32_t *counts = hk_alloc_array((size_t)strands, sizeof *counts, NULL);
+    for (int s = 0; s < strands; s++) counts[s] = (uint32_t)points;
+    assert_int_equal(hk_hair_alloc(h, (uint32_t)strands, counts, NULL), HK_OK);
+    hk_free(counts);
+    for (int s = 0; s < strands; s++)
+        for (int p = 0; p < points; p++) {
+            float *q = h->points + 3 * ((size_t)s * points + p);
+            q[0] = (float)(-half_length + 2.0 * half_length * p / (points - 1));
+            q[1] = (float)((s - 0.5 * (strands - 1)) * spacing);
+            q[2] = (float)z0;
+        }
+}
+
+static hk_RenderOptions plain_options(int size)
+{
+    hk_RenderOptions o = hk_default_render_options();
+    o.width = o.height = size;
+    o.shadows = 0;
+    o.azimuth_deg = 0.0, o.elevation_deg = 0.0; /* camera on +z looking along -z */
+    o.ambient_intensity = 0.0;
+    o.strand_variation = 0.0;
+    o.background_top = o.background_bottom = hk_v3(0, 0, 0);
+    return o;
+}
+
+/* The pixel where the renderer's camera sees the origin (the middle of the strand). */
+static hk_Vec3 last_eye; /* the camera's position, from the last call */
+static size_t origin_pixel(const hk_HairFile *h, const hk_Mesh *head, const hk_RenderOptions *o)
+{
+    hk_VisualityDef v = hk_default_visuality();
+    hk_Scene sc;
+    memset(&sc, 0, sizeof sc);
+    sc.hair = h, sc.head = head, sc.vis = &v, sc.opt = o;
+    sc.lo = hk_v3(1e9, 1e9, 1e9), sc.hi = hk_v3(-1e9, -1e9, -1e9);
+    for (uint32_t i = 0; i < h->point_count; i++) {
+        hk_Vec3 q = hk_hair_point(h, i);
+        sc.lo = hk_v3(fmin(sc.lo.x, q.x), fmin(sc.lo.y, q.y), fmin(sc.lo.z, q.z));
+        sc.hi = hk_v3(fmax(sc.hi.x, q.x), fmax(sc.hi.y, q.y), fmax(sc.hi.z, q.z));
+    }
+    for (int i = 0; head && i < head->vertex_count; i++) {
+        hk_Vec3 q = head->positions[i];
+        sc.lo = hk_v3(fmin(sc.lo.x, q.x), fmin(sc.lo.y, q.y), fmin(sc.lo.z, q.z));
+        sc.hi = hk_v3(fmax(sc.hi.x, q.x), fmax(sc.hi.y, q.y), fmax(sc.hi.z, q.z));
+    }
+    const hk_View cam = hk_camera_frame(&sc);
+    last_eye = cam.origin;
+    const hk_RasterPoint q = hk_view_project(&cam, hk_v3(0, 0, 0));
+    return (size_t)floor(q.y) * (size_t)o->width + (size_t)floor(q.x);
+}
+
+static double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4); }
+
+/* One thick strand across the picture along t = +x, its middle on the camera axis,
+ * lit by one light of direction l (as the options document it). Returns the linear
+ * colour of the pixel there; ambient is off and the background black. */
+static void lit_strand(double cam_azimuth, double light_az, double light_el, hk_Vec3 kd, hk_Vec3 ks, double p,
+                       float out[3])
+{
+    hk_HairFile h;
+    make_strands(&h, 1, 401, 0.1, 0.0, 0.0);
+    h.default_thickness = 0.01f; /* four pixels wide: the pixels near its axis are covered */
+    hk_RenderOptions o = plain_options(96);
+    o.azimuth_deg = cam_azimuth;
+    o.light_azimuth_deg = light_az, o.light_elevation_deg = light_el;
+    hk_VisualityDef v = hk_default_visuality();
+    v.diffuse = kd, v.specular = ks, v.glossiness = p;
+    hk_Canvas img;
+    assert_int_equal(hk_render(&h, NULL, &v, &o, &img, NULL, NULL), HK_OK);
+    memcpy(out, img.rgb + 3 * origin_pixel(&h, NULL, &o), 3 * sizeof(float));
+    hk_canvas_destroy(&img);
+    hk_hair_free(&h);
+}
+
+/* Kajiya-Kay (Kajiya & Kay 1989; thesis 004 §4.1.5), written out here:
+ *   I = K_d sin(t, l) + K_s (sin(t,l) sin(t,e) - (t.l)(t.e))^p,
+ * with the visuality colours read as sRGB. (1) Diffuse only, three light directions:
+ * I = K_d sin(t, l), with t.l = sin(az) cos(el). (2) Light perpendicular to the
+ * strand (t.l = 0) seen from the front (t.e = 0): I = K_d + K_s. (3) The specular
+ * cone: seen from about 30 degrees (t.e near 0.5), a light with t.l = -0.5 is near
+ * the mirror cone and one with t.l = +0.5 is not; the thesis shader's abs() would
+ * light both alike. Tolerances: float arithmetic in (1) and (2); in (3) the eye
+ * direction changes by ~1e-3 over the half pixel between the origin and the pixel's
+ * centre, which moves cone^p by p x 0.2% at most. */
+static void test_kajiya_kay_pixel(void **state)
+{
+    (void)state;
+    const hk_Vec3 kd = hk_v3(0.6, 0.4, 0.2), none = hk_v3(0, 0, 0), ks = hk_v3(0.3, 0.3, 0.3);
+    const double kd_lin[3] = {srgb_to_linear(0.6), srgb_to_linear(0.4), srgb_to_linear(0.2)};
+    const double ks_lin = srgb_to_linear(0.3);
+    const double elevations[] = {10.0, 35.0, 60.0}, azimuths[] = {-50.0, 20.0, 80.0};
+    float px[3], other[3];
+    for (int k = 0; k < 3; k++) {
+        lit_strand(0.0, azimuths[k], elevations[k], kd, none, 12.0, px);
+        const double tl = sin(azimuths[k] * PI / 180) * cos(elevations[k] * PI / 180);
+        for (int c = 0; c < 3; c++) hk_assert_rel(px[c], kd_lin[c] * sqrt(1.0 - tl * tl), 1e-4, 1e-7);
+    }
+    lit_strand(0.0, 0.0, 30.0, kd, ks, 12.0, px);
+    for (int c = 0; c < 3; c++) hk_assert_rel(px[c], kd_lin[c] + ks_lin, 1e-4, 1e-7);
+    /* Light directions with t.l = -0.5 and +0.5 at elevation 0: azimuth -30 and 30.
+     * The camera re-centres the picture, so the eye direction at the origin is taken
+     * from the camera's actual position. */
+    lit_strand(30.0, -30.0, 0.0, none, ks, 4.0, px);
+    const hk_Vec3 e = hk_v3_normalize(last_eye);
+    const double te = e.x, sin_te = sqrt(1.0 - te * te), sin_tl = sqrt(0.75);
+    assert_true(te > 0.3 && te < 0.7); /* seen from about 30 degrees */
+    lit_strand(30.0, 30.0, 0.0, none, ks, 4.0, other);
+    hk_assert_rel(px[0], ks_lin * pow(sin_tl * sin_te + 0.5 * te, 4.0), 0.01, 1e-7);
+    hk_assert_rel(other[0], ks_lin * pow(sin_tl * sin_te - 0.5 * te, 4.0), 0.01, 1e-7);
+    assert_true(px[0] > 5.0 * other[0]); /* the mirror cone, not its transmitted image */
+}
+
+/* A horizontal square above a strand hides it from a light straight overhead; seen
+ * from the front (edge-on) the square hides nothing. The strand must be darker with
+ * the square than without, and unchanged with --no-shadows. Likewise a layer of hair
+ * between the light and the strand darkens it, but not to black (the scatter floor). */
+static double strand_brightness(const hk_HairFile *h, const hk_Mesh *occluder, int shadows)
+{
+    hk_RenderOptions o = plain_options(96);
+    o.shadows = shadows;
+    o.light_azimuth_deg = 0.0, o.light_elevation_deg = 90.0;
+    hk_VisualityDef v = hk_default_visuality();
+    hk_Canvas img;
+    assert_int_equal(hk_render(h, occluder, &v, &o, &img, NULL, NULL), HK_OK);
+    const float *px = img.rgb + 3 * origin_pixel(h, occluder, &o);
+    const double b = px[0] + px[1] + px[2];
+    hk_canvas_destroy(&img);
+    return b;
+}
+
+static void make_quad(hk_Mesh *quad, double y)
+{
+    assert_int_equal(hk_mesh_alloc(quad, 4, 2, NULL), HK_OK);
+    const double r = 0.2;
+    quad->positions[0] = hk_v3(-r, y, -r), quad->positions[1] = hk_v3(-r, y, r);
+    quad->positions[2] = hk_v3(r, y, r), quad->positions[3] = hk_v3(r, y, -r);
+    const int tris[6] = {0, 1, 2, 0, 2, 3};
+    memcpy(quad->triangles, tris, sizeof tris);
+    hk_mesh_compute_normals(quad);
+}
+
+static void test_shadow_from_occluder(void **state)
+{
+    (void)state;
+    hk_HairFile h;
+    make_strands(&h, 1, 101, 0.1, 0.0, 0.0);
+    h.default_thickness = 0.01f;
+    /* The square 3 cm above the strand or 3 cm below it: the same framing (the
+     * scene's extent is mirrored), the light from straight above. */
+    hk_Mesh above, below;
+    make_quad(&above, 0.03);
+    make_quad(&below, -0.03);
+    const double shadowed = strand_brightness(&h, &above, 1);
+    const double lit = strand_brightness(&h, &below, 1);
+    const double no_shadows = strand_brightness(&h, &above, 0);
+    assert_true(lit > 0.05);
+    assert_true(shadowed < 0.01 * lit); /* ambient is off: nothing is left */
+    hk_assert_rel(no_shadows, lit, 1e-5, 1e-9);
+    hk_mesh_free(&above);
+    hk_mesh_free(&below);
+    hk_hair_free(&h);
+
+    /* Hair between the light and the strand: the strand at y = 0 and a sheet of 40
+     * strands 1 cm above it, side by side in z. With shadows the strand gets the
+     * light through the sheet's opacity: much darker, but not below the thesis's
+     * floor of 25% of the direct light (thesis §4.1.6, shadow mapped to [1, 0.25]). */
+    hk_HairFile cover;
+    make_strands(&cover, 41, 101, 0.1, 0.0005, 0.0);
+    for (uint32_t s = 0; s < cover.strand_count; s++)
+        for (uint32_t p = cover.first_point[s]; p < cover.first_point[s + 1]; p++) {
+            float *q = cover.points + 3 * (size_t)p;
+            if (s == 0) {
+                q[1] = 0.0f, q[2] = 0.0f;
+            } else {
+                q[2] = q[1] - 0.01f; /* spread in z ... */
+                q[1] = 0.01f;        /* ... 1 cm above the first strand */
+            }
+        }
+    cover.default_thickness = 0.01f;
+    const double under_hair = strand_brightness(&cover, NULL, 1);
+    const double unshaded = strand_brightness(&cover, NULL, 0);
+    assert_true(under_hair < 0.5 * unshaded);
+    assert_true(under_hair >= 0.24 * unshaded);
+    hk_hair_free(&cover);
+}
+
+/* A thin line's fragments carry its area: sum of opacities = width x length. */
+static float coverage_sum;
+static void sum_alpha(void *user, int x, int y, float t, float alpha)
+{
+    (void)user, (void)x, (void)y, (void)t;
+    coverage_sum += alpha;
+}
+
+static void test_subpixel_coverage(void **state)
+{
+    (void)state;
+    const hk_Rect clip = {0, 0, 200, 200};
+    const double widths[] = {0.05, 0.3, 0.9};
+    for (int k = 0; k < 3; k++)
+        for (int dir = 0; dir < 4; dir++) {
+            /* Lengths of 80 pixels in four directions, away from the edges. */
+            const double ang = 0.1 + dir * 0.4;
+            hk_RasterPoint a = {50.3f, 60.7f, 1.0f, 1.0f}, b = a;
+            b.x = (float)(a.x + 80.0 * cos(ang)), b.y = (float)(a.y + 80.0 * sin(ang));
+            coverage_sum = 0.0f;
+            hk_raster_segment(a, b, (float)widths[k], clip, sum_alpha, NULL);
+            /* Exact for the tent footprint, up to the half-open ends (one column). */
+            hk_assert_near(coverage_sum, widths[k] * 80.0, widths[k] * 1.5);
+            /* The thin version clamps a column's opacity at 1 (w / cos(angle) > 1). */
+            if (widths[k] / fmax(fabs(cos(ang)), fabs(sin(ang))) > 1.0) continue;
+            coverage_sum = 0.0f;
+            hk_raster_segment_thin(a, b, (float)widths[k], clip, sum_alpha, NULL);
+            hk_assert_near(coverage_sum, widths[k] * 80.0, widths[k] * 1.5);
+        }
+}
+
+/* A small random head of hair over a sphere: same bytes with 1 and 2 threads, every
+ * pixel finite, hair visible, and a PNG that libpng reads back. */
+static void make_scene(hk_HairFile *h, hk_Mesh *ball)
+{
+    const int strands = 3000, points = 12;
+    uint32_t counts[3000];
+    for (int s = 0; s < strands; s++) counts[s] = points;
+    assert_int_equal(hk_hair_alloc(h, strands, counts, NULL), HK_OK);
+    h->default_thickness = 8e-5f;
+    for (int s = 0; s < strands; s++) {
+        const double u = hk_test_uniform() * 2 * PI, v = acos(2 * hk_test_uniform() - 1);
+        hk_Vec3 n = hk_v3(sin(v) * cos(u), cos(v), sin(v) * sin(u)), p = hk_v3_scale(n, 0.08);
+        for (int k = 0; k < points; k++) {
+            float *q = h->points + 3 * ((size_t)s * points + k);
+            q[0] = (float)p.x, q[1] = (float)p.y, q[2] = (float)p.z;
+            p = hk_v3_add(p, hk_v3_scale(hk_v3_normalize(hk_v3_add(n, hk_v3(0, -0.3 * k, 0))), 0.01));
+        }
+    }
+    const int rings = 16, segs = 24;
+    assert_int_equal(hk_mesh_alloc(ball, (rings + 1) * segs, rings * segs * 2, NULL), HK_OK);
+    for (int i = 0; i <= rings; i++)
+        for (int j = 0; j < segs; j++) {
+            const double v = PI * i / rings, u = 2 * PI * j / segs;
+            ball->positions[i * segs + j] = hk_v3(0.078 * sin(v) * cos(u), 0.078 * cos(v), -0.078 * sin(v) * sin(u));
+        }
+    int t = 0;
+    for (int i = 0; i < rings; i++)
+        for (int j = 0; j < segs; j++) {
+            const int a = i * segs + j, b = i * segs + (j + 1) % segs, c = a + segs, d = b + segs;
+            ball->triangles[3 * t] = a, ball->triangles[3 * t + 1] = c, ball->triangles[3 * t + 2] = b, t++;
+            ball->triangles[3 * t] = b, ball->triangles[3 * t + 1] = c, ball->triangles[3 * t + 2] = d, t++;
+        }
+    hk_mesh_compute_normals(ball);
+}
+
+static void test_scene_deterministic_finite_png(void **state)
+{
+    (void)state;
+    hk_HairFile h;
+    hk_Mesh ball;
+    make_scene(&h, &ball);
+    hk_VisualityDef v = hk_default_visuality();
+    hk_Canvas img[2];
+    for (int k = 0; k < 2; k++) {
+        hk_RenderOptions o = hk_default_render_options();
+        o.width = 160, o.height = 120, o.threads = k + 1, o.shadow_map_size = 128;
+        hk_RenderStats stats;
+        assert_int_equal(hk_render(&h, &ball, &v, &o, &img[k], &stats, NULL), HK_OK);
+        assert_true(stats.hair_fragments > 1000 && stats.light_fragments > 1000);
+    }
+    const size_t n = 3 * 160 * 120;
+    assert_memory_equal(img[0].rgb, img[1].rgb, n * sizeof(float));
+    double lo = 1e9, hi = -1e9;
+    for (size_t i = 0; i < n; i++) {
+        assert_true(isfinite(img[0].rgb[i]) && img[0].rgb[i] >= 0.0f);
+        lo = fmin(lo, img[0].rgb[i]), hi = fmax(hi, img[0].rgb[i]);
+    }
+    assert_true(hi - lo > 0.1); /* not a flat (black) frame */
+    char path[4096];
+    snprintf(path, sizeof path, "%s/render.png", hk_test_tmpdir());
+    assert_int_equal(hk_render_write_png(&img[0], path, NULL), HK_OK);
+    int w, hgt;
+    uint8_t *rgb;
+    assert_int_equal(hk_png_read_rgb8(path, &w, &hgt, &rgb, NULL), HK_OK);
+    assert_int_equal(w, 160);
+    assert_int_equal(hgt, 120);
+    hk_free(rgb);
+    hk_canvas_destroy(&img[0]);
+    hk_canvas_destroy(&img[1]);
+    hk_mesh_free(&ball);
+    hk_hair_free(&h);
+}
+
+static void test_bad_options(void **state)
+{
+    (void)state;
+    hk_HairFile h;
+    make_strands(&h, 1, 5, 0.1, 0.0, 0.0);
+    hk_VisualityDef v = hk_default_visuality();
+    hk_RenderOptions o = hk_default_render_options();
+    hk_Canvas img;
+    hk_Error err;
+    o.width = 0;
+    assert_int_equal(hk_render(&h, NULL, &v, &o, &img, NULL, &err), HK_ERR_INVALID);
+    hk_assert_contains(err.message, "picture size");
+    o = hk_default_render_options();
+    o.opacity_layers = 99;
+    assert_int_equal(hk_render(&h, NULL, &v, &o, &img, NULL, &err), HK_ERR_INVALID);
+    h.points[4] = NAN;
+    o = hk_default_render_options();
+    assert_int_equal(hk_render(&h, NULL, &v, &o, &img, NULL, &err), HK_ERR_INVALID);
+    hk_assert_contains(err.message, "not finite");
+    assert_null(img.rgb);
+    hk_hair_free(&h);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_kajiya_kay_pixel),   cmocka_unit_test(test_shadow_from_occluder),
+        cmocka_unit_test(test_subpixel_coverage),  cmocka_unit_test(test_scene_deterministic_finite_png),
+        cmocka_unit_test(test_bad_options),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
