@@ -16,10 +16,7 @@ contains "$tmp/err" "no output"
 # A light copy of the default scene (density 4 per cm^2: about 2,000 strands) so that
 # the test stays quick under the sanitizers; the paths point back to the assets.
 scene="$tmp/scene"
-mkdir "$scene"
-sed 's/^HairDensity .*/HairDensity 4/' "$src/examples/default/hairstyle.txt" > "$scene/hairstyle.txt"
-cp "$src/examples/default/collision.txt" "$src/examples/default/visuality.txt" "$scene/"
-cat > "$scene/setup.txt" <<SETUP
+light_scene "$scene" "Load false" "Save true" "SaveFile saved.hair"
 Load false
 Save true
 SaveFile saved.hair

@@ -20,10 +20,7 @@ expect 2 "$hk" run "$src/examples/default/setup.txt" -o "$tmp/x.png" --light 0,1
 
 # A light copy of the default scene (about 2,000 strands), small pictures.
 scene="$tmp/scene"
-mkdir "$scene"
-sed 's/^HairDensity .*/HairDensity 4/' "$src/examples/default/hairstyle.txt" > "$scene/hairstyle.txt"
-cp "$src/examples/default/collision.txt" "$src/examples/default/visuality.txt" "$scene/"
-cat > "$scene/setup.txt" <<SETUP
+light_scene "$scene"
 HairstyleInfo hairstyle.txt
 CollisionInfo collision.txt
 VisualityInfo visuality.txt
