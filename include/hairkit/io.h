@@ -49,6 +49,15 @@ typedef struct hk_HairstyleDef {
     int stray_hairs;       /* StrayHairs: the thesis's stray-hair behaviour (§4.1.4.4) */
     double max_tip_distance; /* MaxTipDistance (m): guides whose tips are farther apart are
                               not interpolated between (paper 000 Fig. 4d); 0 = off */
+    /* Dynamics (paper 000 eq. 5 and §4.2; docs/dynamics.md): */
+    double internal_friction; /* InternalFriction gamma (kg m^3/s): visco-elastic dissipation
+                                 of the curvatures, paper: 5e-11 .. 5e-10 */
+    double air_drag;       /* AirDrag nu (kg/(m s)): viscous drag of the air at rest,
+                              paper: 5e-6 (disciplined) .. 5e-5 (fuzzy hair) */
+    double body_friction[2]; /* BodyFriction: friction coefficients against the body for a
+                              hair sliding with its scales (root first, as when the body
+                              sweeps from root to tip) and against them (tip first),
+                              paper 000 §4.2 */
 } hk_HairstyleDef;
 
 /* Defaults for every optional key (Density 1300, Gravity 9.81, Poisson 0.48, ...);

@@ -27,11 +27,14 @@ extern "C" {
 typedef struct hk_RodMaterial {
     double stiffness[3];    /* (mu J, E I1, E I2): twist and bending stiffnesses (N m^2) */
     double mass_per_length; /* rho * pi a b (kg/m) */
+    double rotary_inertia[3]; /* rho (I1 + I2, I1, I2): moments of inertia per length of the
+                                 section about n0, n1, n2 (kg m), for the dynamics */
     hk_Vec3 gravity;        /* acceleration of gravity (m/s^2), e.g. (0, -9.81, 0) */
 } hk_RodMaterial;
 
 /* Stiffnesses of an elliptic section with semi-axes a (along n1) and b (along n2):
- * I1 = pi a b^3 / 4, I2 = pi b a^3 / 4, J = pi a b (a^2 + b^2) / 4, mu = E / (2 (1 + sigma)). */
+ * I1 = pi a b^3 / 4, I2 = pi b a^3 / 4, J = pi a b (a^2 + b^2) / 4, mu = E / (2 (1 + sigma)).
+ * The section's polar moment I1 + I2 equals J for the ellipse. */
 hk_RodMaterial hk_rod_material(double radius1, double radius2, double young, double poisson,
                                double density, hk_Vec3 gravity);
 

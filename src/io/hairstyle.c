@@ -10,7 +10,7 @@ enum Key {
     K_VISUALITY_STEP, K_COLLISION_STEP, K_MAX_ITER, K_EPSILON, K_LENGTHS, K_HAIR_DENSITY,
     K_RADIUS1, K_RADIUS2, K_HELIX_RADIUS, K_HELIX_STEP, K_POISSON, K_YOUNG, K_DENSITY,
     K_GRAVITY, K_GRAVITY_DIR, K_CLUMP, K_CLUMP_PROFILE, K_STRAY_HAIRS, K_MAX_TIP_DISTANCE,
-    K_COUNT
+    K_INTERNAL_FRICTION, K_AIR_DRAG, K_BODY_FRICTION, K_COUNT
 };
 
 /* The thesis's sample writes `HairLengths`, its text `HairLength` (§4.2.1). */
@@ -35,6 +35,10 @@ static const hk_KeySpec specs[K_COUNT] = {
     [K_CLUMP_PROFILE] = {"ClumpProfile", NULL, 0},
     [K_STRAY_HAIRS] = {"StrayHairs", NULL, 0},
     [K_MAX_TIP_DISTANCE] = {"MaxTipDistance", NULL, 0},
+    /* Dynamics (paper 000 eq. 5d, 5a and §4.2; docs/dynamics.md). */
+    [K_INTERNAL_FRICTION] = {"InternalFriction", NULL, 0},
+    [K_AIR_DRAG] = {"AirDrag", NULL, 0},
+    [K_BODY_FRICTION] = {"BodyFriction", NULL, 0},
 };
 
 /* Allowed interval of a one-number key; `text` says it as the message shows it. */
@@ -73,6 +77,13 @@ hk_HairstyleDef hk_default_hairstyle(void)
     d.clump_profile = 1.0; /* the thesis's linear root-to-tip blend */
     d.stray_hairs = 0;
     d.max_tip_distance = 0.0; /* off */
+    /* Paper 000 §4.2: gamma = 1e-10 fitted its curly clump (Fig. 6), nu between 5e-6
+     * (disciplined) and 5e-5 (fuzzy); we take disciplined-to-average hair. */
+    d.internal_friction = 1e-10;
+    d.air_drag = 1e-5;
+    /* Hair on skin or fabric: about 0.2 along the scales, 0.4 against them. */
+    d.body_friction[0] = 0.2;
+    d.body_friction[1] = 0.4;
     return d;
 }
 
@@ -188,6 +199,22 @@ static hk_Status read_value(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, h
     case K_CLUMP_PROFILE: return scalar(kf, kl, k, positive, &d->clump_profile, err);
     case K_STRAY_HAIRS: return hk_keyline_bool(kf, kl, &d->stray_hairs, err);
     case K_MAX_TIP_DISTANCE: return scalar(kf, kl, k, non_negative, &d->max_tip_distance, err);
+    case K_INTERNAL_FRICTION:
+        return scalar(kf, kl, k, non_negative, &d->internal_friction, err);
+    case K_AIR_DRAG: return scalar(kf, kl, k, non_negative, &d->air_drag, err);
+    case K_BODY_FRICTION: {
+        double v[2];
+        hk_Status st = hk_keyline_doubles(kf, kl, 2, v, err);
+        if (st != HK_OK) return st;
+        if (!(v[0] >= 0.0 && v[1] >= 0.0 && v[0] <= 10.0 && v[1] <= 10.0))
+            return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err,
+                                    "BodyFriction needs two coefficients in [0, 10] (with and "
+                                    "against the scales), got %s %s",
+                                    kl->values[0], kl->values[1]);
+        d->body_friction[0] = v[0];
+        d->body_friction[1] = v[1];
+        return HK_OK;
+    }
     case K_COUNT: break;
     }
     return HK_OK;

@@ -1,0 +1,117 @@
+/* Super-Helix dynamics (paper 000 §3.3-3.4 and §4.1-4.2; docs/dynamics.md).
+ *
+ * The generalized coordinates q (twist and curvatures per element, hairkit/rod.h) obey
+ * Lagrange's equations (paper 000 eq. 4-6)
+ *     M(q) q'' + K (q - q_rest) = A(q, q', t) + int J^T F ds,
+ * with the kinetic energy of the centreline and the rotary inertia of the section, the
+ * elastic energy K, the internal friction gamma (eq. 5d), the air drag nu (eq. 5a),
+ * gravity, the inertial forces of a moving head and point forces (body contacts with
+ * anisotropic friction, hair-hair contacts).
+ *
+ * Time stepping is linearly implicit Euler with a fixed step dt (paper 000 §3.4):
+ *     (M + dt D + dt^2 K) dv = dt (f - dt K v),   v += dv,   q += dt v,
+ * where f is every force at the start of the step, D the damping (internal friction,
+ * air drag, contact friction) and K the stiffness (elastic, plus the Gauss-Newton part
+ * of the contact stiffness). The system is solved either by a dense Cholesky of the
+ * 3N x 3N matrix or by a recursive O(N) elimination along the strand (an articulated
+ * chain where each element's own mass moves with its coordinates); both solve the same
+ * equations and agree to rounding. */
+#ifndef HAIRKIT_DYNAMICS_H
+#define HAIRKIT_DYNAMICS_H
+
+#include "hairkit/core.h"
+#include "hairkit/io.h"
+#include "hairkit/motion.h"
+#include "hairkit/rod.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum hk_DynamicsSolver {
+    HK_DYNAMICS_LINEAR = 0, /* O(N) recursive elimination (default) */
+    HK_DYNAMICS_DENSE = 1   /* assembled M and Cholesky, O(N^2) + O(N^3): the reference */
+} hk_DynamicsSolver;
+
+typedef struct hk_DynamicsParams {
+    double internal_friction;  /* gamma (kg m^3/s), paper 000 eq. 5d */
+    double air_drag;           /* nu (kg/(m s)), paper 000 eq. 5a */
+    double friction_with;      /* body friction coefficient for the hair sliding with its
+                                  scales (root first relative to the body) */
+    double friction_against;   /* ... against them (tip first); paper 000 §4.2 blends the
+                                  two with the cosine of the sliding angle */
+    double friction_velocity;  /* sliding speed (m/s) below which friction is viscous,
+                                  proportional to the speed (paper 000 §4.2); Coulomb above */
+    int quadrature;            /* Gauss points per element; 0 chooses from the curvature */
+    hk_DynamicsSolver solver;
+} hk_DynamicsParams;
+
+/* Paper-range defaults: gamma 1e-10, nu 1e-5, friction 0.2 / 0.4, 5 cm/s, auto
+ * quadrature, linear-time solver. */
+hk_DynamicsParams hk_default_dynamics_params(void);
+
+/* The same from a hairstyle's InternalFriction, AirDrag and BodyFriction. */
+hk_DynamicsParams hk_dynamics_params_for(const hk_HairstyleDef *def);
+
+/* A point force on a strand at arc length s, with its linearisation for the implicit
+ * step (both matrices symmetric positive semi-definite). */
+typedef struct hk_PointForce {
+    double s;          /* arc length on the strand where the force acts */
+    hk_Vec3 force;     /* N */
+    hk_Mat3 stiffness; /* -dF/dx of this point */
+    hk_Mat3 damping;   /* -dF/dv of this point */
+} hk_PointForce;
+
+/* The head's rigid state for a head at rest: identity, no motion. */
+hk_RigidState hk_rigid_state_identity(void);
+
+typedef struct hk_StrandDynamics hk_StrandDynamics;
+
+/* Dynamics of the strand sh (borrowed: it must outlive the object; its q is the
+ * position state and is updated by every step). The strand's root and root frame at
+ * creation are taken as head-space: every step places them with the head's motion.
+ * body (may be NULL) holds the collision shapes, also in head space; it is copied. The
+ * velocity starts at zero. */
+hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *params,
+                                    const hk_StrandEnv *body, hk_StrandDynamics **out,
+                                    hk_Error *err);
+void hk_strand_dynamics_destroy(hk_StrandDynamics *d);
+
+/* Generalized velocities q' (3N values), readable and writable. */
+double *hk_strand_dynamics_velocity(hk_StrandDynamics *d);
+
+/* Places the root with the head state (NULL: at rest) without stepping: sh->root and
+ * sh->root_frame become R x + T and R F of their head-space values. */
+void hk_strand_dynamics_place(hk_StrandDynamics *d, const hk_RigidState *head);
+
+/* One step of dt seconds. head (NULL: at rest) is the head's state at the end of the
+ * step; forces (may be NULL) are extra point forces sorted by s, e.g. hair-hair
+ * contacts. Fails (HK_ERR_NUMERIC, state unchanged) if the system cannot be solved or
+ * the new state is not finite. */
+hk_Status hk_strand_dynamics_step(hk_StrandDynamics *d, const hk_RigidState *head,
+                                  const hk_PointForce *forces, int force_count, double dt,
+                                  hk_Error *err);
+
+/* Energies at the current state with the head state head (NULL: at rest): kinetic
+ * (centreline and rotary, absolute velocities) and potential (elastic + gravity, the
+ * statics energy without contacts). Either pointer may be NULL. */
+void hk_strand_dynamics_energy(hk_StrandDynamics *d, const hk_RigidState *head, double *kinetic,
+                               double *potential);
+
+/* Positions and world velocities at the arc lengths s[0..count) (sorted), for contact
+ * detection and output. vel may be NULL. head as above. */
+void hk_strand_dynamics_points(hk_StrandDynamics *d, const hk_RigidState *head, const double *s,
+                               int count, hk_Vec3 *pos, hk_Vec3 *vel);
+
+/* The generalized mass matrix M(q) (3N x 3N, row-major), assembled densely, for tests
+ * and diagnostics. */
+hk_Status hk_strand_dynamics_mass_matrix(hk_StrandDynamics *d, double *mass, hk_Error *err);
+
+/* Number of body contact samples that touched a shape during the last step. */
+int hk_strand_dynamics_contact_count(const hk_StrandDynamics *d);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* HAIRKIT_DYNAMICS_H */

@@ -1,0 +1,98 @@
+/* Private parts of the Super-Helix dynamics (docs/dynamics.md). */
+#ifndef HK_DYNAMICS_INTERNAL_H
+#define HK_DYNAMICS_INTERNAL_H
+
+#include "hairkit/dynamics.h"
+
+#define HK_GAUSS_MAX 16 /* most Gauss points per element */
+
+/* Gauss-Legendre rules on [0, 1] with 1..HK_GAUSS_MAX points: rule n has its nodes at
+ * node[n - 1][0..n) and weights at weight[n - 1][0..n). */
+typedef struct hk_GaussTable {
+    double node[HK_GAUSS_MAX][HK_GAUSS_MAX];
+    double weight[HK_GAUSS_MAX][HK_GAUSS_MAX];
+} hk_GaussTable;
+
+/* Fills the table (Newton's iteration on the Legendre polynomials, to rounding). */
+void hk_gauss_table_init(hk_GaussTable *table);
+
+/* Kinematic state of a material frame moving along the strand: pose, velocities and
+ * the "bias" accelerations, i.e. the accelerations the frame would have if every
+ * generalized acceleration q'' were zero (root motion and velocity products only). */
+typedef struct hk_FrameKinematics {
+    hk_Mat3 frame;  /* material frame (columns n0, n1, n2) */
+    hk_Vec3 pos;    /* centreline point */
+    hk_Vec3 omega;  /* world angular velocity of the frame */
+    hk_Vec3 vel;    /* world velocity of the point */
+    hk_Vec3 alpha;  /* bias angular acceleration */
+    hk_Vec3 acc;    /* bias acceleration of the point */
+} hk_FrameKinematics;
+
+/* A point inside an element, with the Jacobians of its own element's coordinates. */
+typedef struct hk_PointKinematics {
+    hk_FrameKinematics k;
+    hk_Mat3 jac;     /* d pos / d k_P (world), column b per coordinate */
+    hk_Mat3 jac_rot; /* d (rotation) / d k_P: world angular velocity per unit k_P' */
+} hk_PointKinematics;
+
+/* Kinematics at offset u into element P with start state `start`, coordinates k and
+ * rates kd. order 1: pose, velocities, Jacobians; order 2: also bias accelerations. */
+void hk_point_kinematics(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, double u,
+                         int order, hk_PointKinematics *out);
+
+/* Per element terms of one step, from its own points (quadrature, contacts). The
+ * spatial vectors are (angular; linear) about the world origin: a screw (w; v) moves
+ * the point p by w x p + v, a wrench (m; f) is a moment about the origin and a force. */
+typedef struct hk_ElementTerms {
+    double xi[3][6];       /* screw of the strand beyond the element per unit k_P b */
+    double inertia[6][6];  /* effective spatial inertia of the element's own points */
+    double coupling[3][6]; /* momentum (dual) of the own points moved by k_P b alone */
+    double mass[3][3];     /* effective mass of the own coordinates among themselves */
+    double load[3];        /* generalized force of the own points' loads */
+    double wrench[6];      /* the own points' loads as one wrench */
+} hk_ElementTerms;
+
+/* Adds one point to an element's terms: effective translational mass matrix a and
+ * rotational inertia b (may be NULL) at point p with Jacobians jac and jac_rot (NULL
+ * with b), load force f and moment tau. */
+void hk_element_terms_add(hk_ElementTerms *t, hk_Vec3 p, const hk_Mat3 *a, const hk_Mat3 *b,
+                          const hk_Mat3 *jac, const hk_Mat3 *jac_rot, hk_Vec3 f, hk_Vec3 tau);
+
+/* Fills t->xi from the element's end point (its Jacobians at u = l_P). */
+void hk_element_terms_set_screw(hk_ElementTerms *t, const hk_PointKinematics *end);
+
+/* Generalized force of the whole strand: out[3P + b] = load + xi . (wrench beyond). */
+void hk_terms_generalized_force(int n, const hk_ElementTerms *terms, double *out);
+
+/* Solves (M + diag(extra)) x = rhs where M is the effective mass the terms describe:
+ * dense assembly and Cholesky (work: HK_DENSE_WORK(n) doubles) or the O(n) recursion
+ * (work: HK_LINEAR_WORK(n) doubles). Returns 0 if the system is not positive definite. */
+#define HK_DENSE_WORK(n) ((size_t)18 * (size_t)(n) * (size_t)(n))
+#define HK_LINEAR_WORK(n) ((size_t)21 * (size_t)(n))
+int hk_terms_solve_dense(int n, const hk_ElementTerms *terms, const double *extra,
+                         const double *rhs, double *x, double *work);
+int hk_terms_solve_linear(int n, const hk_ElementTerms *terms, const double *extra,
+                          const double *rhs, double *x, double *work);
+
+/* out = (M + diag(extra)) x in O(n) (two sweeps; screws: 6 n doubles of work). */
+void hk_terms_multiply(int n, const hk_ElementTerms *terms, const double *extra, const double *x,
+                       double *out, double *screws);
+
+/* Dense effective mass matrix (9 n^2 values, row-major) of the terms. */
+void hk_terms_assemble(int n, const hk_ElementTerms *terms, double *mass);
+
+/* Body contact of one sample (paper 000 §4.2): penalty force of the shapes (head
+ * space) with anisotropic friction, as a point force with its linearisation. Returns 0
+ * when the point touches no shape. */
+typedef struct hk_BodyContact {
+    const hk_Shape *shapes;
+    int shape_count;
+    double envelope_alpha;
+    double weight;         /* arc length the sample stands for (m) */
+    double friction_with, friction_against, friction_velocity;
+} hk_BodyContact;
+
+int hk_body_contact_force(const hk_BodyContact *bc, const hk_RigidState *head, hk_Vec3 pos,
+                          hk_Vec3 vel, hk_Vec3 tangent, hk_PointForce *out);
+
+#endif

@@ -1,0 +1,415 @@
+/* Time stepping of one Super-Helix (paper 000 §3.3-3.4, §4.2; docs/dynamics.md).
+ *
+ * Every step sweeps the strand once from the root: the node states (pose, velocities,
+ * bias accelerations) advance element by element, and each element gathers its own
+ * points — Gauss points for the inertia, the air drag and the inertial forces, the
+ * collision samples for the body contacts, and the caller's point forces — into the
+ * per-element terms of strand_kinematics.c. The elastic and gravity forces are the exact
+ * gradient of the statics energy (hk_strand_energy). The linear system is then solved
+ * by strand_solve.c. */
+#include <math.h>
+#include <string.h>
+
+#include "dynamics_internal.h"
+#include "rod/helix_local.h"
+
+struct hk_StrandDynamics {
+    hk_SuperHelix *sh;
+    hk_DynamicsParams params;
+    hk_Vec3 root_head;   /* root in head space */
+    hk_Mat3 frame_head;  /* root frame in head space */
+    hk_Shape *shapes;    /* body shapes (head space), owned copy */
+    hk_BodyContact contact;
+    int contact_samples; /* collision samples along the strand (0: no body) */
+    int contact_count;   /* samples in contact during the last step */
+    hk_StrandEnv potential_env; /* no shapes: elastic + gravity */
+    hk_StrandWorkspace *ws;
+    double *v, *dv, *rhs, *extra, *grad, *work;
+    hk_ElementTerms *terms;
+    hk_GaussTable gauss;
+};
+
+hk_DynamicsParams hk_default_dynamics_params(void)
+{
+    const hk_HairstyleDef def = hk_default_hairstyle();
+    return hk_dynamics_params_for(&def);
+}
+
+hk_DynamicsParams hk_dynamics_params_for(const hk_HairstyleDef *def)
+{
+    hk_DynamicsParams p;
+    p.internal_friction = def->internal_friction;
+    p.air_drag = def->air_drag;
+    p.friction_with = def->body_friction[0];
+    p.friction_against = def->body_friction[1];
+    p.friction_velocity = 0.05;
+    p.quadrature = 0;
+    p.solver = HK_DYNAMICS_LINEAR;
+    return p;
+}
+
+hk_RigidState hk_rigid_state_identity(void)
+{
+    hk_RigidState s;
+    s.rot = hk_m3_identity();
+    s.trans = s.vel = s.acc = s.omega = s.alpha = hk_v3_zero();
+    return s;
+}
+
+void hk_strand_dynamics_destroy(hk_StrandDynamics *d)
+{
+    if (!d) return;
+    hk_strand_workspace_destroy(d->ws);
+    hk_free(d->shapes);
+    hk_free(d->v);
+    hk_free(d->terms);
+    hk_free(d->work);
+    hk_free(d);
+}
+
+static int params_valid(const hk_DynamicsParams *p)
+{
+    return p->internal_friction >= 0.0 && isfinite(p->internal_friction) && p->air_drag >= 0.0 &&
+           isfinite(p->air_drag) && p->friction_with >= 0.0 && isfinite(p->friction_with) &&
+           p->friction_against >= 0.0 && isfinite(p->friction_against) &&
+           p->friction_velocity > 0.0 && isfinite(p->friction_velocity) && p->quadrature >= 0 &&
+           p->quadrature <= HK_GAUSS_MAX &&
+           (p->solver == HK_DYNAMICS_LINEAR || p->solver == HK_DYNAMICS_DENSE);
+}
+
+hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *params,
+                                    const hk_StrandEnv *body, hk_StrandDynamics **out,
+                                    hk_Error *err)
+{
+    *out = NULL;
+    if (!params_valid(params))
+        return hk_error_set(err, HK_ERR_INVALID,
+                            "dynamics parameters out of range (friction and drag must be >= 0, "
+                            "quadrature 0..%d)", HK_GAUSS_MAX);
+    hk_StrandDynamics *d = hk_calloc_array(1, sizeof *d, err);
+    if (!d) return HK_ERR_NOMEM;
+    const int n = sh->n;
+    const size_t dim = (size_t)3 * (size_t)n;
+    d->sh = sh;
+    d->params = *params;
+    d->root_head = sh->root;
+    d->frame_head = sh->root_frame;
+    d->potential_env = hk_default_strand_env();
+    hk_gauss_table_init(&d->gauss);
+    /* One block for the 3N vectors: v, dv, rhs, extra, grad. */
+    d->v = hk_calloc_array(5 * dim, sizeof(double), err);
+    d->terms = hk_alloc_array((size_t)n, sizeof(hk_ElementTerms), err);
+    const int dense = params->solver == HK_DYNAMICS_DENSE;
+    d->work = hk_alloc_array(dense ? HK_DENSE_WORK(n) : HK_LINEAR_WORK(n), sizeof(double), err);
+    if (!d->v || !d->terms || !d->work ||
+        hk_strand_workspace_create(sh, &d->potential_env, &d->ws, err) != HK_OK) {
+        hk_strand_dynamics_destroy(d);
+        return err ? err->code : HK_ERR_NOMEM;
+    }
+    d->dv = d->v + dim;
+    d->rhs = d->v + 2 * dim;
+    d->extra = d->v + 3 * dim;
+    d->grad = d->v + 4 * dim;
+    if (body && body->shape_count > 0 && body->collision_step > 0.0) {
+        d->shapes = hk_alloc_array((size_t)body->shape_count, sizeof(hk_Shape), err);
+        if (!d->shapes) {
+            hk_strand_dynamics_destroy(d);
+            return HK_ERR_NOMEM;
+        }
+        memcpy(d->shapes, body->shapes, (size_t)body->shape_count * sizeof(hk_Shape));
+        /* The statics' collision samples: midpoints of ceil(L / step) equal pieces. */
+        double m = ceil(sh->total_length / body->collision_step - 1e-9);
+        if (m < 1.0) m = 1.0;
+        if (m > (double)HK_MAX_SAMPLES_PER_STRAND) m = (double)HK_MAX_SAMPLES_PER_STRAND;
+        d->contact_samples = (int)m;
+        d->contact.shapes = d->shapes;
+        d->contact.shape_count = body->shape_count;
+        d->contact.envelope_alpha = body->envelope_alpha;
+        d->contact.weight = sh->total_length / m;
+        d->contact.friction_with = params->friction_with;
+        d->contact.friction_against = params->friction_against;
+        d->contact.friction_velocity = params->friction_velocity;
+    }
+    *out = d;
+    return HK_OK;
+}
+
+double *hk_strand_dynamics_velocity(hk_StrandDynamics *d) { return d->v; }
+
+int hk_strand_dynamics_contact_count(const hk_StrandDynamics *d) { return d->contact_count; }
+
+void hk_strand_dynamics_place(hk_StrandDynamics *d, const hk_RigidState *head)
+{
+    const hk_RigidState still = hk_rigid_state_identity();
+    if (!head) head = &still;
+    d->sh->root = hk_v3_add(hk_m3_mul_v3(&head->rot, d->root_head), head->trans);
+    d->sh->root_frame = hk_m3_mul(&head->rot, &d->frame_head);
+}
+
+/* Root state: the root is a point of the head, its frame turns with the head. */
+static hk_FrameKinematics root_kinematics(const hk_StrandDynamics *d, const hk_RigidState *head)
+{
+    hk_FrameKinematics k;
+    const hk_Vec3 rel = hk_v3_sub(d->sh->root, head->trans);
+    k.frame = d->sh->root_frame;
+    k.pos = d->sh->root;
+    k.omega = head->omega;
+    k.vel = hk_v3_add(head->vel, hk_v3_cross(head->omega, rel));
+    k.alpha = head->alpha;
+    k.acc = hk_v3_add(head->acc, hk_v3_cross(head->alpha, rel));
+    k.acc = hk_v3_add(k.acc, hk_v3_cross(head->omega, hk_v3_cross(head->omega, rel)));
+    return k;
+}
+
+static hk_Vec3 k_of(const double *q, int p) { return hk_v3(q[3 * p], q[3 * p + 1], q[3 * p + 2]); }
+
+/* Gauss points for element p: enough for the helix phase |k| l of the element (and of
+ * its rest shape), whose trigonometric integrands a rule of n points integrates to
+ * about (phase)^(2n) / (2n)!. */
+static int gauss_count(const hk_StrandDynamics *d, int p)
+{
+    if (d->params.quadrature > 0) return d->params.quadrature;
+    const hk_SuperHelix *sh = d->sh;
+    const double phase = sh->length[p] * fmax(hk_v3_norm(k_of(sh->q, p)), hk_v3_norm(k_of(sh->q_rest, p)));
+    const double g = 4.0 + ceil(1.5 * phase);
+    return g < HK_GAUSS_MAX ? (int)g : HK_GAUSS_MAX;
+}
+
+/* Rotary inertia of the section in world axes: sum_i I_i n_i n_i^T. */
+static hk_Mat3 rotary_inertia(const hk_RodMaterial *m, const hk_Mat3 *frame, double weight)
+{
+    hk_Mat3 out = hk_m3_zero();
+    for (int i = 0; i < 3; i++) {
+        const hk_Vec3 n = hk_m3_col(frame, i);
+        const hk_Mat3 o = hk_m3_outer(n, n);
+        const hk_Mat3 so = hk_m3_scale(&o, weight * m->rotary_inertia[i]);
+        out = hk_m3_add(&out, &so);
+    }
+    return out;
+}
+
+/* A point force at a point of element p: its value minus dt K (J v) (the stiffness
+ * acting on the velocity, implicit Euler), and dt^2 K + dt D as effective mass. */
+static void add_point_force(hk_ElementTerms *t, const hk_PointKinematics *pk,
+                            const hk_PointForce *pf, const hk_RigidState *head, double dt)
+{
+    const hk_Vec3 rigid = hk_v3_add(head->vel, hk_v3_cross(head->omega, hk_v3_sub(pk->k.pos, head->trans)));
+    const hk_Vec3 rel = hk_v3_sub(pk->k.vel, rigid); /* J q' */
+    const hk_Vec3 f = hk_v3_sub(pf->force, hk_v3_scale(hk_m3_mul_v3(&pf->stiffness, rel), dt));
+    const hk_Mat3 ks = hk_m3_scale(&pf->stiffness, dt * dt), ds = hk_m3_scale(&pf->damping, dt);
+    const hk_Mat3 a = hk_m3_add(&ks, &ds);
+    hk_element_terms_add(t, pk->k.pos, &a, NULL, &pk->jac, NULL, f, hk_v3_zero());
+}
+
+typedef enum SweepMode { SWEEP_STEP, SWEEP_MASS } SweepMode;
+
+/* One sweep from root to tip filling d->terms. STEP: effective masses of the step and
+ * all loads; MASS: the plain mass matrix (dt = 0), no loads. */
+static void sweep(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces,
+                  int force_count, double dt, SweepMode mode)
+{
+    const hk_SuperHelix *sh = d->sh;
+    const hk_RodMaterial *mat = &sh->material;
+    const int n = sh->n;
+    const double rho_s = mat->mass_per_length;
+    const double nu = mode == SWEEP_STEP ? d->params.air_drag : 0.0;
+    const double cw = d->contact.weight;
+    memset(d->terms, 0, (size_t)n * sizeof(hk_ElementTerms));
+    hk_FrameKinematics node = root_kinematics(d, head);
+    int sample = 0, fi = 0;
+    d->contact_count = 0;
+    for (int p = 0; p < n; p++) {
+        hk_ElementTerms *t = &d->terms[p];
+        const hk_Vec3 k = k_of(sh->q, p), kd = k_of(d->v, p);
+        const double len = sh->length[p];
+        const int g = gauss_count(d, p);
+        for (int i = 0; i < g; i++) {
+            const double u = len * d->gauss.node[g - 1][i], w = len * d->gauss.weight[g - 1][i];
+            hk_PointKinematics pk;
+            hk_point_kinematics(&node, k, kd, u, mode == SWEEP_STEP ? 2 : 1, &pk);
+            const hk_Mat3 id = hk_m3_identity();
+            const hk_Mat3 a = hk_m3_scale(&id, (rho_s + dt * nu) * w);
+            const hk_Mat3 b = rotary_inertia(mat, &pk.k.frame, w);
+            hk_Vec3 f = hk_v3_zero(), tau = hk_v3_zero();
+            if (mode == SWEEP_STEP) {
+                /* Inertial forces of the bias acceleration and the air drag (eq. 5a). */
+                f = hk_v3_scale(hk_v3_add(hk_v3_scale(pk.k.acc, rho_s), hk_v3_scale(pk.k.vel, nu)), -w);
+                /* Euler's equations of the section: I w' + w x I w. */
+                const hk_Vec3 iw = hk_m3_mul_v3(&b, pk.k.omega);
+                tau = hk_v3_neg(hk_v3_add(hk_m3_mul_v3(&b, pk.k.alpha), hk_v3_cross(pk.k.omega, iw)));
+            }
+            hk_element_terms_add(t, pk.k.pos, &a, &b, &pk.jac, &pk.jac_rot, f, tau);
+        }
+        const double s_end = sh->s_start[p + 1];
+        const int last = p == n - 1;
+        /* Body contacts at the collision samples of this element. */
+        for (; mode == SWEEP_STEP && sample < d->contact_samples; sample++) {
+            const double s = (sample + 0.5) * cw;
+            if (!last && s >= s_end) break;
+            const double u = s - sh->s_start[p];
+            double c[HK_CN_COUNT];
+            const hk_Vec3 pos = hk_v3_add(node.pos, hk_m3_mul_v3(&node.frame, hk_element_offset_begin(k, u, c)));
+            const hk_Vec3 x = hk_m3_tmul_v3(&head->rot, hk_v3_sub(pos, head->trans));
+            if (!(hk_collision_depth(d->contact.shapes, d->contact.shape_count,
+                                     d->contact.envelope_alpha, x) > 0.0))
+                continue;
+            hk_PointKinematics pk;
+            hk_point_kinematics(&node, k, kd, u, 1, &pk);
+            hk_PointForce pf;
+            if (!hk_body_contact_force(&d->contact, head, pk.k.pos, pk.k.vel, hk_m3_col(&pk.k.frame, 0), &pf))
+                continue;
+            d->contact_count++;
+            add_point_force(t, &pk, &pf, head, dt);
+        }
+        /* The caller's point forces (sorted by s). */
+        for (; mode == SWEEP_STEP && fi < force_count; fi++) {
+            const double s = forces[fi].s;
+            if (!last && s >= s_end) break;
+            double u = s - sh->s_start[p];
+            if (!(u >= 0.0)) u = 0.0;
+            if (u > len) u = len;
+            hk_PointKinematics pk;
+            hk_point_kinematics(&node, k, kd, u, 1, &pk);
+            add_point_force(t, &pk, &forces[fi], head, dt);
+        }
+        hk_PointKinematics end;
+        hk_point_kinematics(&node, k, kd, len, mode == SWEEP_STEP ? 2 : 1, &end);
+        hk_element_terms_set_screw(t, &end);
+        node = end.k;
+    }
+}
+
+static int all_finite(const double *x, int count)
+{
+    for (int i = 0; i < count; i++)
+        if (!isfinite(x[i])) return 0;
+    return 1;
+}
+
+static int solve(hk_StrandDynamics *d)
+{
+    const int n = d->sh->n;
+    if (d->params.solver == HK_DYNAMICS_DENSE)
+        return hk_terms_solve_dense(n, d->terms, d->extra, d->rhs, d->dv, d->work);
+    return hk_terms_solve_linear(n, d->terms, d->extra, d->rhs, d->dv, d->work);
+}
+
+hk_Status hk_strand_dynamics_step(hk_StrandDynamics *d, const hk_RigidState *head,
+                                  const hk_PointForce *forces, int force_count, double dt,
+                                  hk_Error *err)
+{
+    if (!(dt > 0.0) || !isfinite(dt))
+        return hk_error_set(err, HK_ERR_INVALID, "time step must be > 0, got %g", dt);
+    if (force_count < 0 || (force_count > 0 && !forces))
+        return hk_error_set(err, HK_ERR_INVALID, "bad point force list");
+    const hk_RigidState still = hk_rigid_state_identity();
+    if (!head) head = &still;
+    hk_SuperHelix *sh = d->sh;
+    const int n = sh->n, dim = 3 * n;
+    hk_strand_dynamics_place(d, head);
+
+    /* Elastic energy and gravity: exact gradient of the statics energy. Gravity's
+     * stiffness (the second derivatives of the kinematics weighted by the weight) stays
+     * explicit, as in paper 000 §3.4: it is indefinite wherever hair lies above its
+     * root or a helix can turn its loops down, and implicit Euler amplifies such modes
+     * by 1 / (1 - dt^2 w^2) - we measured energy doubling per step at dt = 1/30 on a
+     * wavy strand, whose gravity Hessian in twist exceeds the twist stiffness, against
+     * a dissipative step with it explicit (docs/dynamics.md). */
+    hk_strand_energy(sh, &d->potential_env, sh->q, d->ws, d->grad, NULL, NULL);
+    sweep(d, head, forces, force_count, dt, SWEEP_STEP);
+    hk_terms_generalized_force(n, d->terms, d->rhs);
+    /* Elastic stiffness and internal friction (eq. 5c-d) are diagonal: gamma and K_i
+     * times the element length. */
+    for (int p = 0; p < n; p++)
+        for (int i = 0; i < 3; i++) {
+            const int j = 3 * p + i;
+            const double kl = sh->material.stiffness[i] * sh->length[p];
+            const double gl = d->params.internal_friction * sh->length[p];
+            d->rhs[j] = dt * (d->rhs[j] - d->grad[j] - gl * d->v[j] - dt * kl * d->v[j]);
+            d->extra[j] = dt * gl + dt * dt * kl;
+        }
+    const int ok = solve(d) && all_finite(d->dv, dim);
+    if (!ok)
+        return hk_error_set(err, HK_ERR_NUMERIC,
+                            "dynamics step failed: the system of the implicit step is singular "
+                            "or the state is not finite (time step %g s too large?)", dt);
+    for (int j = 0; j < dim; j++) {
+        const double v = d->v[j] + d->dv[j], q = sh->q[j] + dt * v;
+        if (!isfinite(q))
+            return hk_error_set(err, HK_ERR_NUMERIC, "dynamics step produced a non-finite state");
+        d->dv[j] = v;
+    }
+    for (int j = 0; j < dim; j++) {
+        d->v[j] = d->dv[j];
+        sh->q[j] += dt * d->v[j];
+    }
+    return HK_OK;
+}
+
+void hk_strand_dynamics_energy(hk_StrandDynamics *d, const hk_RigidState *head, double *kinetic,
+                               double *potential)
+{
+    const hk_RigidState still = hk_rigid_state_identity();
+    if (!head) head = &still;
+    hk_SuperHelix *sh = d->sh;
+    hk_strand_dynamics_place(d, head);
+    if (potential) *potential = hk_strand_energy(sh, &d->potential_env, sh->q, d->ws, NULL, NULL, NULL);
+    if (!kinetic) return;
+    /* T = 1/2 int (rho S |r'|^2 + w . I w) ds (eq. 5b plus the section's rotation). */
+    double t = 0.0;
+    hk_FrameKinematics node = root_kinematics(d, head);
+    for (int p = 0; p < sh->n; p++) {
+        const hk_Vec3 k = k_of(sh->q, p), kd = k_of(d->v, p);
+        const int g = gauss_count(d, p);
+        for (int i = 0; i < g; i++) {
+            const double u = sh->length[p] * d->gauss.node[g - 1][i];
+            const double w = sh->length[p] * d->gauss.weight[g - 1][i];
+            hk_PointKinematics pk;
+            hk_point_kinematics(&node, k, kd, u, 1, &pk);
+            const hk_Mat3 b = rotary_inertia(&sh->material, &pk.k.frame, w);
+            t += 0.5 * (w * sh->material.mass_per_length * hk_v3_norm2(pk.k.vel) +
+                        hk_v3_dot(pk.k.omega, hk_m3_mul_v3(&b, pk.k.omega)));
+        }
+        hk_PointKinematics end;
+        hk_point_kinematics(&node, k, kd, sh->length[p], 1, &end);
+        node = end.k;
+    }
+    *kinetic = t;
+}
+
+void hk_strand_dynamics_points(hk_StrandDynamics *d, const hk_RigidState *head, const double *s,
+                               int count, hk_Vec3 *pos, hk_Vec3 *vel)
+{
+    const hk_RigidState still = hk_rigid_state_identity();
+    if (!head) head = &still;
+    hk_SuperHelix *sh = d->sh;
+    hk_strand_dynamics_place(d, head);
+    hk_FrameKinematics node = root_kinematics(d, head);
+    int p = 0;
+    for (int i = 0; i < count; i++) {
+        double si = s[i];
+        while (p < sh->n - 1 && si >= sh->s_start[p + 1]) {
+            hk_PointKinematics end;
+            hk_point_kinematics(&node, k_of(sh->q, p), k_of(d->v, p), sh->length[p], 1, &end);
+            node = end.k;
+            p++;
+        }
+        double u = si - sh->s_start[p];
+        if (!(u >= 0.0)) u = 0.0;
+        if (u > sh->length[p]) u = sh->length[p];
+        hk_PointKinematics pk;
+        hk_point_kinematics(&node, k_of(sh->q, p), k_of(d->v, p), u, 1, &pk);
+        pos[i] = pk.k.pos;
+        if (vel) vel[i] = pk.k.vel;
+    }
+}
+
+hk_Status hk_strand_dynamics_mass_matrix(hk_StrandDynamics *d, double *mass, hk_Error *err)
+{
+    (void)err;
+    const hk_RigidState still = hk_rigid_state_identity();
+    hk_strand_dynamics_place(d, &still);
+    sweep(d, &still, NULL, 0, 0.0, SWEEP_MASS);
+    hk_terms_assemble(d->sh->n, d->terms, mass);
+    return HK_OK;
+}

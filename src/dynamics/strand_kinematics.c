@@ -1,0 +1,119 @@
+/* Velocities, bias accelerations and Jacobians along a moving Super-Helix, and the
+ * per-element terms of the equations of motion (paper 000 §3.3; docs/dynamics.md).
+ *
+ * Over element P the frame is R(u) = R_P E(u; k) and the centreline r(u) = r_P +
+ * R_P d(u; k) (hairkit/rod.h). With Lambda the element's rotation Jacobian (d E E^T =
+ * [Lambda dk]x) differentiating in time gives
+ *     w(u)  = w_P + R_P Lambda k'
+ *     r'(u) = r'_P + w_P x R_P d + R_P (dd/dk) k'
+ * and once more, keeping only what does not multiply k'' (the bias):
+ *     w'(u)  = w'_P + w_P x (R_P Lambda k') + R_P (sum_b k'_b (dLambda e_b/dk) k')
+ *     r''(u) = r''_P + w'_P x R_P d + w_P x (w_P x R_P d) + 2 w_P x (R_P (dd/dk) k')
+ *              + R_P (sum_ab k'_a k'_b d2d/dk_a dk_b).
+ * The element's end values start the next element: O(N) for the whole strand. */
+#include <string.h>
+
+#include "dynamics_internal.h"
+#include "rod/helix_local.h"
+
+void hk_point_kinematics(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, double u,
+                         int order, hk_PointKinematics *out)
+{
+    hk_ElementLocal el;
+    hk_element_local(k, u, order, 0, &el);
+    const hk_Mat3 *r = &start->frame;
+    const hk_Vec3 d = hk_m3_mul_v3(r, hk_m3_col(&el.lam, 0));
+    out->jac = hk_m3_mul(r, &el.dd);
+    out->jac_rot = hk_m3_mul(r, &el.lam);
+    hk_FrameKinematics *o = &out->k;
+    o->frame = hk_m3_mul(r, &el.rot);
+    o->pos = hk_v3_add(start->pos, d);
+    const hk_Vec3 spin = hk_m3_mul_v3(&out->jac_rot, kd); /* R_P Lambda k' */
+    const hk_Vec3 slide = hk_m3_mul_v3(&out->jac, kd);    /* R_P dd k' */
+    o->omega = hk_v3_add(start->omega, spin);
+    o->vel = hk_v3_add(hk_v3_add(start->vel, hk_v3_cross(start->omega, d)), slide);
+    if (order < 2) {
+        o->alpha = hk_v3_zero();
+        o->acc = hk_v3_zero();
+        return;
+    }
+    const double kv[3] = {kd.x, kd.y, kd.z};
+    hk_Vec3 spin_rate = hk_v3_zero(), curve = hk_v3_zero();
+    for (int b = 0; b < 3; b++) {
+        spin_rate = hk_v3_madd(spin_rate, hk_m3_mul_v3(&el.dlam[b], kd), kv[b]);
+        for (int a = 0; a < 3; a++) curve = hk_v3_madd(curve, el.d2d[a][b], kv[a] * kv[b]);
+    }
+    o->alpha = hk_v3_add(hk_v3_add(start->alpha, hk_v3_cross(start->omega, spin)),
+                         hk_m3_mul_v3(r, spin_rate));
+    hk_Vec3 acc = hk_v3_add(start->acc, hk_v3_cross(start->alpha, d));
+    acc = hk_v3_add(acc, hk_v3_cross(start->omega, hk_v3_cross(start->omega, d)));
+    acc = hk_v3_madd(acc, hk_v3_cross(start->omega, slide), 2.0);
+    o->acc = hk_v3_add(acc, hk_m3_mul_v3(r, curve));
+}
+
+static void add6(double *acc, hk_Vec3 ang, hk_Vec3 lin)
+{
+    acc[0] += ang.x, acc[1] += ang.y, acc[2] += ang.z;
+    acc[3] += lin.x, acc[4] += lin.y, acc[5] += lin.z;
+}
+
+void hk_element_terms_add(hk_ElementTerms *t, hk_Vec3 p, const hk_Mat3 *a, const hk_Mat3 *b,
+                          const hk_Mat3 *jac, const hk_Mat3 *jac_rot, hk_Vec3 f, hk_Vec3 tau)
+{
+    /* A point moved by the screw (w; v) has velocity T (w; v) with T = [-[p]x, I]; its
+     * spatial inertia is T^T a T (plus b on the angular block). */
+    const hk_Mat3 px = hk_m3_skew(p);
+    const hk_Mat3 pa = hk_m3_mul(&px, a);
+    const hk_Mat3 pap = hk_m3_mul(&pa, &px);
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            t->inertia[i][j] -= pap.m[i][j] - (b ? b->m[i][j] : 0.0);
+            t->inertia[i][j + 3] += pa.m[i][j];
+            t->inertia[j + 3][i] += pa.m[i][j]; /* -A [p]x = ([p]x A)^T */
+            t->inertia[i + 3][j + 3] += a->m[i][j];
+        }
+    hk_Vec3 aj[3], bj[3];
+    for (int c = 0; c < 3; c++) {
+        const hk_Vec3 jc = hk_m3_col(jac, c);
+        aj[c] = hk_m3_mul_v3(a, jc);
+        bj[c] = hk_v3_zero();
+        if (b) bj[c] = hk_m3_mul_v3(b, hk_m3_col(jac_rot, c));
+        add6(t->coupling[c], hk_v3_add(hk_v3_cross(p, aj[c]), bj[c]), aj[c]);
+        t->load[c] += hk_v3_dot(jc, f);
+        if (jac_rot) t->load[c] += hk_v3_dot(hk_m3_col(jac_rot, c), tau);
+    }
+    for (int c = 0; c < 3; c++)
+        for (int e = 0; e < 3; e++) {
+            double m = hk_v3_dot(hk_m3_col(jac, c), aj[e]);
+            if (b) m += hk_v3_dot(hk_m3_col(jac_rot, c), bj[e]);
+            t->mass[c][e] += m;
+        }
+    add6(t->wrench, hk_v3_add(hk_v3_cross(p, f), tau), f);
+}
+
+void hk_element_terms_set_screw(hk_ElementTerms *t, const hk_PointKinematics *end)
+{
+    /* Changing k_P b rotates everything beyond the end r_{P+1} by w_b and moves it by
+     * t_b: p moves by w_b x (p - r_{P+1}) + t_b = w_b x p + (t_b + r_{P+1} x w_b). */
+    for (int b = 0; b < 3; b++) {
+        const hk_Vec3 w = hk_m3_col(&end->jac_rot, b);
+        const hk_Vec3 v = hk_v3_add(hk_m3_col(&end->jac, b), hk_v3_cross(end->k.pos, w));
+        double *x = t->xi[b];
+        x[0] = w.x, x[1] = w.y, x[2] = w.z, x[3] = v.x, x[4] = v.y, x[5] = v.z;
+    }
+}
+
+static double dot6(const double *a, const double *b)
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3] + a[4] * b[4] + a[5] * b[5];
+}
+
+void hk_terms_generalized_force(int n, const hk_ElementTerms *terms, double *out)
+{
+    double beyond[6] = {0, 0, 0, 0, 0, 0};
+    for (int p = n - 1; p >= 0; p--) {
+        const hk_ElementTerms *t = &terms[p];
+        for (int b = 0; b < 3; b++) out[3 * p + b] = t->load[b] + dot6(t->xi[b], beyond);
+        for (int i = 0; i < 6; i++) beyond[i] += t->wrench[i];
+    }
+}

@@ -1,0 +1,180 @@
+/* The linear system of a dynamics step, (M + diag(extra)) x = rhs, solved two ways
+ * (docs/dynamics.md):
+ *
+ * Dense: M_ab = xi_a . Y_b for a in an earlier element than b, where Y_b, the momentum
+ * of the motion field of coordinate b, is its own element's coupling plus the inertia
+ * of everything beyond acting on xi_b; within one element M_ab = mass_ab + xi_a . S xi_b.
+ * Then Cholesky: O(N^2) to assemble, O(N^3) to factor (paper 000 §3.4 uses conjugate
+ * gradients on the same dense matrix).
+ *
+ * Linear: the strand is a chain whose element P moves with the screw A_P of its start
+ * frame and its own coordinates x_P. Eliminating from the tip, the rows of everything
+ * beyond node P+1 leave its momentum affine in the node's screw, h = IA A + z (an
+ * articulated-body inertia, Featherstone 1983). Element P's rows are then
+ *     K_P x_P = rhs_P - xi_P^T z - C_P A_P,
+ *     K_P = mass_P + diag(extra_P) + xi_P^T IA xi_P,   C_P = coupling_P + xi_P^T IA,
+ * and IA <- inertia_P + IA - C_P^T K_P^-1 C_P, z <- z + C_P^T K_P^-1 (rhs_P - xi_P^T z).
+ * A forward sweep from the clamped root (A_0 = 0) recovers x_P and A_{P+1} = A_P +
+ * xi_P x_P. 3x3 solves and 6x6 products per element: O(N). */
+#include <string.h>
+
+#include "dynamics_internal.h"
+#include "hairkit/linalg.h"
+
+static double dot6(const double *a, const double *b)
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3] + a[4] * b[4] + a[5] * b[5];
+}
+
+static void mul66(double m[6][6], const double *x, double *out)
+{
+    for (int i = 0; i < 6; i++) out[i] = dot6(m[i], x);
+}
+
+void hk_terms_assemble(int n, const hk_ElementTerms *terms, double *mass)
+{
+    const size_t dim = (size_t)3 * (size_t)n;
+    double beyond[6][6];
+    memset(beyond, 0, sizeof beyond);
+    for (int p = n - 1; p >= 0; p--) {
+        const hk_ElementTerms *t = &terms[p];
+        for (int b = 0; b < 3; b++) {
+            const size_t ib = (size_t)(3 * p + b);
+            double sxi[6], y[6];
+            mul66(beyond, t->xi[b], sxi);
+            for (int i = 0; i < 6; i++) y[i] = t->coupling[b][i] + sxi[i];
+            for (int a = 0; a < 3 * p; a++) {
+                const double m = dot6(terms[a / 3].xi[a % 3], y);
+                mass[(size_t)a * dim + ib] = m;
+                mass[ib * dim + (size_t)a] = m;
+            }
+            for (int a = 0; a < 3; a++)
+                mass[(size_t)(3 * p + a) * dim + ib] = t->mass[a][b] + dot6(t->xi[a], sxi);
+        }
+        for (int i = 0; i < 6; i++)
+            for (int j = 0; j < 6; j++) beyond[i][j] += t->inertia[i][j];
+    }
+}
+
+int hk_terms_solve_dense(int n, const hk_ElementTerms *terms, const double *extra,
+                         const double *rhs, double *x, double *work)
+{
+    const int dim = 3 * n;
+    double *mass = work, *factor = work + (size_t)dim * (size_t)dim;
+    hk_terms_assemble(n, terms, mass);
+    if (!hk_cholesky_factor(dim, mass, 1.0, extra, factor)) return 0;
+    memcpy(x, rhs, (size_t)dim * sizeof(double));
+    hk_cholesky_solve(dim, factor, x);
+    return 1;
+}
+
+/* Cholesky of a symmetric 3x3 matrix in place (lower triangle); 0 if not SPD. */
+static int chol3(double k[3][3])
+{
+    const double ref = fabs(k[0][0]) + fabs(k[1][1]) + fabs(k[2][2]);
+    for (int j = 0; j < 3; j++) {
+        double d = k[j][j];
+        for (int c = 0; c < j; c++) d -= k[j][c] * k[j][c];
+        if (!(d > 1e-15 * ref) || !isfinite(d)) return 0;
+        k[j][j] = sqrt(d);
+        for (int i = j + 1; i < 3; i++) {
+            double v = k[i][j];
+            for (int c = 0; c < j; c++) v -= k[i][c] * k[j][c];
+            k[i][j] = v / k[j][j];
+        }
+    }
+    return 1;
+}
+
+static void chol3_solve(double l[3][3], double *x)
+{
+    for (int i = 0; i < 3; i++) {
+        double v = x[i];
+        for (int c = 0; c < i; c++) v -= l[i][c] * x[c];
+        x[i] = v / l[i][i];
+    }
+    for (int i = 2; i >= 0; i--) {
+        double v = x[i];
+        for (int c = i + 1; c < 3; c++) v -= l[c][i] * x[c];
+        x[i] = v / l[i][i];
+    }
+}
+
+static int solve_recursive(int n, const hk_ElementTerms *terms, const double *extra,
+                           const double *rhs, double *x, double *work)
+{
+    /* work per element: u (3) then G = K^-1 C (3 x 6). */
+    double ia[6][6], z[6];
+    memset(ia, 0, sizeof ia);
+    memset(z, 0, sizeof z);
+    for (int p = n - 1; p >= 0; p--) {
+        const hk_ElementTerms *t = &terms[p];
+        double *u = work + (size_t)21 * (size_t)p, *g = u + 3;
+        double iaxi[3][6], k[3][3], c[3][6];
+        for (int b = 0; b < 3; b++) mul66(ia, t->xi[b], iaxi[b]);
+        for (int a = 0; a < 3; a++) {
+            for (int b = 0; b < 3; b++) k[a][b] = t->mass[a][b] + dot6(t->xi[a], iaxi[b]);
+            k[a][a] += extra[3 * p + a];
+            for (int i = 0; i < 6; i++) c[a][i] = t->coupling[a][i] + iaxi[a][i];
+            u[a] = rhs[3 * p + a] - dot6(t->xi[a], z);
+        }
+        if (!chol3(k)) return 0;
+        chol3_solve(k, u);
+        for (int i = 0; i < 6; i++) {
+            double col[3] = {c[0][i], c[1][i], c[2][i]};
+            chol3_solve(k, col);
+            for (int a = 0; a < 3; a++) g[6 * a + i] = col[a];
+        }
+        for (int i = 0; i < 6; i++) {
+            for (int j = 0; j < 6; j++) {
+                double s = 0.0;
+                for (int a = 0; a < 3; a++) s += c[a][i] * g[6 * a + j];
+                ia[i][j] += t->inertia[i][j] - s;
+            }
+            for (int a = 0; a < 3; a++) z[i] += c[a][i] * u[a];
+        }
+    }
+    double screw[6] = {0, 0, 0, 0, 0, 0};
+    for (int p = 0; p < n; p++) {
+        const hk_ElementTerms *t = &terms[p];
+        const double *u = work + (size_t)21 * (size_t)p, *g = u + 3;
+        for (int a = 0; a < 3; a++) x[3 * p + a] = u[a] - dot6(g + 6 * a, screw);
+        for (int i = 0; i < 6; i++)
+            screw[i] += t->xi[0][i] * x[3 * p] + t->xi[1][i] * x[3 * p + 1] + t->xi[2][i] * x[3 * p + 2];
+    }
+    return 1;
+}
+
+void hk_terms_multiply(int n, const hk_ElementTerms *terms, const double *extra, const double *x,
+                       double *out, double *screws)
+{
+    /* Row a of element P: its own points, mass_P x_P + coupling_P . A_P with A_P the
+     * screw of the element's start frame, plus xi_a . h_{P+1}, the momentum of
+     * everything beyond: sum over later elements Q of inertia_Q A_Q + coupling_Q^T x_Q. */
+    double screw[6] = {0, 0, 0, 0, 0, 0};
+    for (int p = 0; p < n; p++) {
+        const hk_ElementTerms *t = &terms[p];
+        const double *xp = x + 3 * p;
+        memcpy(screws + 6 * p, screw, sizeof screw);
+        for (int a = 0; a < 3; a++)
+            out[3 * p + a] = t->mass[a][0] * xp[0] + t->mass[a][1] * xp[1] + t->mass[a][2] * xp[2] +
+                             dot6(t->coupling[a], screw) + extra[3 * p + a] * xp[a];
+        for (int i = 0; i < 6; i++)
+            screw[i] += t->xi[0][i] * xp[0] + t->xi[1][i] * xp[1] + t->xi[2][i] * xp[2];
+    }
+    double h[6] = {0, 0, 0, 0, 0, 0};
+    for (int p = n - 1; p >= 0; p--) {
+        const hk_ElementTerms *t = &terms[p];
+        const double *xp = x + 3 * p, *a = screws + 6 * p;
+        for (int b = 0; b < 3; b++) out[3 * p + b] += dot6(t->xi[b], h);
+        for (int i = 0; i < 6; i++)
+            h[i] += dot6(t->inertia[i], a) + t->coupling[0][i] * xp[0] + t->coupling[1][i] * xp[1] +
+                    t->coupling[2][i] * xp[2];
+    }
+}
+
+int hk_terms_solve_linear(int n, const hk_ElementTerms *terms, const double *extra,
+                          const double *rhs, double *x, double *work)
+{
+    return solve_recursive(n, terms, extra, rhs, x, work);
+}

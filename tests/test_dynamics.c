@@ -1,0 +1,350 @@
+/* Building blocks of the Super-Helix dynamics, each against an independent reference:
+ *  - Gauss-Legendre rules integrate polynomials of degree 2n - 1 exactly (analytic);
+ *  - velocities and bias accelerations of a point equal finite differences in time of
+ *    the closed-form reconstruction under a known motion;
+ *  - the mass matrix gives back the kinetic energy computed from point velocities
+ *    (1/2 v^T M v = T for any v), is symmetric and positive definite;
+ *  - the O(N) recursion and the dense Cholesky solve the same step to rounding;
+ *  - body friction follows the cosine blend of paper 000 §4.2 and never pushes. */
+#include "hk_test.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "dynamics/dynamics_internal.h"
+#include "hairkit/dynamics.h"
+#include "rod/helix_local.h"
+
+static double rnd(double lo, double hi) { return lo + (hi - lo) * hk_test_uniform(); }
+
+static void test_gauss_rules_exact(void **state)
+{
+    (void)state;
+    hk_GaussTable t;
+    hk_gauss_table_init(&t);
+    for (int n = 1; n <= HK_GAUSS_MAX; n++) {
+        for (int deg = 0; deg <= 2 * n - 1; deg++) {
+            double sum = 0.0;
+            for (int i = 0; i < n; i++) sum += t.weight[n - 1][i] * pow(t.node[n - 1][i], deg);
+            hk_assert_near(sum, 1.0 / (deg + 1), 1e-14);
+        }
+        if (n <= 8) { /* not degree 2n: the error (n!)^4 / ((2n+1) ((2n)!)^2) >= 3.6e-10 */
+            double sum = 0.0;
+            for (int i = 0; i < n; i++) sum += t.weight[n - 1][i] * pow(t.node[n - 1][i], 2 * n);
+            assert_true(fabs(sum - 1.0 / (2 * n + 1)) > 1e-10);
+        }
+    }
+}
+
+static hk_Mat3 axis_rotation(hk_Vec3 axis, double angle)
+{
+    double c[HK_CN_COUNT];
+    const hk_Vec3 phi = hk_v3_scale(axis, angle);
+    hk_helix_cn(hk_v3_norm2(phi), c);
+    return hk_helix_rotation(c, phi);
+}
+
+/* A start frame turning about z by a(t) and then about its own x by b(t), with
+ * quadratic angles and a quadratic translation: exact pose, angular velocity and
+ * angular acceleration at any t. */
+typedef struct Motion {
+    double a1, a2, b1, b2; /* a(t) = a1 t + a2 t^2 / 2, b likewise */
+    hk_Vec3 p0, v0, acc0;
+    hk_Mat3 f0;
+} Motion;
+
+static hk_FrameKinematics motion_at(const Motion *m, double t)
+{
+    const hk_Vec3 ez = hk_v3(0, 0, 1), ex = hk_v3(1, 0, 0);
+    const double a = m->a1 * t + 0.5 * m->a2 * t * t, ad = m->a1 + m->a2 * t, add = m->a2;
+    const double b = m->b1 * t + 0.5 * m->b2 * t * t, bd = m->b1 + m->b2 * t, bdd = m->b2;
+    const hk_Mat3 rz = axis_rotation(ez, a), rx = axis_rotation(ex, b);
+    const hk_Mat3 rzx = hk_m3_mul(&rz, &rx);
+    hk_FrameKinematics k;
+    k.frame = hk_m3_mul(&rzx, &m->f0);
+    const hk_Vec3 ex_w = hk_m3_mul_v3(&rz, ex);
+    k.omega = hk_v3_add(hk_v3_scale(ez, ad), hk_v3_scale(ex_w, bd));
+    k.alpha = hk_v3_add(hk_v3_add(hk_v3_scale(ez, add), hk_v3_scale(ex_w, bdd)),
+                        hk_v3_scale(hk_v3_cross(ez, ex_w), ad * bd));
+    k.pos = hk_v3_add(m->p0, hk_v3_add(hk_v3_scale(m->v0, t), hk_v3_scale(m->acc0, 0.5 * t * t)));
+    k.vel = hk_v3_add(m->v0, hk_v3_scale(m->acc0, t));
+    k.acc = m->acc0;
+    return k;
+}
+
+static void test_point_kinematics_match_finite_differences(void **state)
+{
+    (void)state;
+    for (int trial = 0; trial < 20; trial++) {
+        Motion m = {rnd(-3, 3), rnd(-20, 20), rnd(-3, 3), rnd(-20, 20),
+                    hk_v3(rnd(-1, 1), rnd(-1, 1), rnd(-1, 1)),
+                    hk_v3(rnd(-1, 1), rnd(-1, 1), rnd(-1, 1)),
+                    hk_v3(rnd(-5, 5), rnd(-5, 5), rnd(-5, 5)), hk_m3_identity()};
+        m.f0 = axis_rotation(hk_v3_normalize(hk_v3(rnd(-1, 1), rnd(-1, 1), 1)), rnd(0, 3));
+        /* Curvatures from straight (series branch) to curly; rates of 1..100 / (m s). */
+        const double scale = trial < 4 ? 1e-7 : 300.0;
+        const hk_Vec3 k0 = hk_v3(rnd(-1, 1) * scale, rnd(-1, 1) * scale, rnd(-1, 1) * scale);
+        const hk_Vec3 kd = hk_v3(rnd(-100, 100), rnd(-100, 100), rnd(-100, 100));
+        const double u = rnd(0.001, 0.03), h = 1e-4;
+        hk_PointKinematics at[3];
+        for (int j = 0; j < 3; j++) {
+            const double t = (j - 1) * h;
+            const hk_FrameKinematics start = motion_at(&m, t);
+            hk_point_kinematics(&start, hk_v3_madd(k0, kd, t), kd, u, 2, &at[j]);
+        }
+        const hk_PointKinematics *c = &at[1];
+        /* velocity = d pos / dt, bias acceleration = d2 pos / dt2 (k'' = 0) */
+        const hk_Vec3 vel = hk_v3_scale(hk_v3_sub(at[2].k.pos, at[0].k.pos), 0.5 / h);
+        const hk_Vec3 acc = hk_v3_scale(
+            hk_v3_add(hk_v3_sub(at[2].k.pos, hk_v3_scale(c->k.pos, 2.0)), at[0].k.pos), 1.0 / (h * h));
+        const double vs = hk_v3_norm(c->k.vel) + 1e-3, as = hk_v3_norm(c->k.acc) + 1.0;
+        hk_assert_near(hk_v3_dist(vel, c->k.vel) / vs, 0.0, 1e-6);
+        hk_assert_near(hk_v3_dist(acc, c->k.acc) / as, 0.0, 1e-4);
+        /* also d vel / dt */
+        const hk_Vec3 acc2 = hk_v3_scale(hk_v3_sub(at[2].k.vel, at[0].k.vel), 0.5 / h);
+        hk_assert_near(hk_v3_dist(acc2, c->k.acc) / as, 0.0, 1e-6);
+        /* angular velocity from the frames: (R+ R-^T - R- R+^T) / (4 h) = [w]x */
+        const hk_Mat3 rmt = hk_m3_transpose(&at[0].k.frame);
+        const hk_Mat3 dr = hk_m3_mul(&at[2].k.frame, &rmt);
+        const hk_Vec3 w = hk_v3_scale(hk_v3(dr.m[2][1] - dr.m[1][2], dr.m[0][2] - dr.m[2][0],
+                                            dr.m[1][0] - dr.m[0][1]), 0.25 / h);
+        const double ws = hk_v3_norm(c->k.omega) + 1e-3;
+        hk_assert_near(hk_v3_dist(w, c->k.omega) / ws, 0.0, 1e-6);
+        /* bias angular acceleration = d w / dt */
+        const hk_Vec3 al = hk_v3_scale(hk_v3_sub(at[2].k.omega, at[0].k.omega), 0.5 / h);
+        hk_assert_near(hk_v3_dist(al, c->k.alpha) / (hk_v3_norm(c->k.alpha) + 1.0), 0.0, 1e-6);
+        /* Jacobians: a change of k moves the point by jac dk and turns it by jac_rot dk */
+        for (int b = 0; b < 3; b++) {
+            /* central differences of the offset (magnitude u): truncation e^2 u^4,
+             * rounding u eps / e, both far below 1e-9 u */
+            const double e = 1e-4;
+            hk_Vec3 kp = k0, km = k0;
+            hk_v3_set(&kp, b, hk_v3_get(k0, b) + e);
+            hk_v3_set(&km, b, hk_v3_get(k0, b) - e);
+            const hk_FrameKinematics start = motion_at(&m, 0.0);
+            hk_PointKinematics pp, pm;
+            hk_point_kinematics(&start, kp, kd, u, 1, &pp);
+            hk_point_kinematics(&start, km, kd, u, 1, &pm);
+            const hk_Vec3 op = hk_v3_sub(pp.k.pos, start.pos), om = hk_v3_sub(pm.k.pos, start.pos);
+            const hk_Vec3 dp = hk_v3_scale(hk_v3_sub(op, om), 0.5 / e);
+            hk_assert_near(hk_v3_dist(dp, hk_m3_col(&c->jac, b)), 0.0, 1e-9 * u);
+        }
+    }
+}
+
+/* A curly strand of n elements over 12 cm with random coordinates. */
+static hk_SuperHelix *curly_strand(int n)
+{
+    double len[32];
+    for (int i = 0; i < n; i++) len[i] = 0.12 / n * (0.7 + 0.6 * hk_test_uniform());
+    hk_SuperHelix *sh = NULL;
+    hk_Error err;
+    assert_int_equal(hk_superhelix_create(n, len, &sh, &err), HK_OK);
+    sh->material = hk_rod_material(5e-5, 4e-5, 1.5e9, 0.48, 1300.0, hk_v3(0, -9.81, 0));
+    sh->root = hk_v3(0.01, 0.1, 0.02);
+    sh->root_frame = hk_root_frame(hk_v3(0.3, 1.0, 0.2));
+    for (int i = 0; i < 3 * n; i++) {
+        sh->q_rest[i] = rnd(-1, 1) * 60.0;
+        sh->q[i] = sh->q_rest[i] + rnd(-1, 1) * 20.0;
+    }
+    return sh;
+}
+
+static void test_mass_matrix_gives_kinetic_energy(void **state)
+{
+    (void)state;
+    const int n = 6, dim = 3 * n;
+    hk_SuperHelix *sh = curly_strand(n);
+    hk_DynamicsParams prm = hk_default_dynamics_params();
+    hk_StrandDynamics *d = NULL;
+    hk_Error err;
+    assert_int_equal(hk_strand_dynamics_create(sh, &prm, NULL, &d, &err), HK_OK);
+    double *mass = malloc(sizeof(double) * dim * dim);
+    assert_int_equal(hk_strand_dynamics_mass_matrix(d, mass, &err), HK_OK);
+    for (int i = 0; i < dim; i++)
+        for (int j = 0; j < dim; j++)
+            hk_assert_near(mass[i * dim + j], mass[j * dim + i], 1e-14 * fabs(mass[i * dim + i]));
+    double *v = hk_strand_dynamics_velocity(d);
+    for (int trial = 0; trial < 10; trial++) {
+        for (int i = 0; i < dim; i++) v[i] = rnd(-1, 1) * (trial == 0 ? (i % 3 == 0) : 50.0);
+        double t = 0.0, quad = 0.0;
+        hk_strand_dynamics_energy(d, NULL, &t, NULL);
+        for (int i = 0; i < dim; i++)
+            for (int j = 0; j < dim; j++) quad += 0.5 * v[i] * mass[i * dim + j] * v[j];
+        assert_true(t > 0.0); /* positive definite, even for pure twist (trial 0) */
+        hk_assert_rel(quad, t, 1e-11, 0.0);
+    }
+    free(mass);
+    hk_strand_dynamics_destroy(d);
+    hk_superhelix_destroy(sh);
+}
+
+static void test_linear_and_dense_agree(void **state)
+{
+    (void)state;
+    const int n = 9, dim = 3 * n;
+    hk_SuperHelix *a = curly_strand(n);
+    hk_SuperHelix *b = NULL;
+    hk_Error err;
+    assert_int_equal(hk_superhelix_create(n, a->length, &b, &err), HK_OK);
+    b->material = a->material;
+    b->root = a->root;
+    b->root_frame = a->root_frame;
+    memcpy(b->q, a->q, sizeof(double) * dim);
+    memcpy(b->q_rest, a->q_rest, sizeof(double) * dim);
+    /* A sphere the strand dips into, so that body contacts and friction take part. */
+    hk_Vec3 mid;
+    hk_superhelix_eval(a, NULL, 0.6 * a->total_length, &mid, NULL);
+    hk_Shape sphere = hk_shape_sphere(hk_v3_add(mid, hk_v3(0.0, -0.02, 0.0)), 0.025, 0.0, 10.0);
+    hk_StrandEnv body = {&sphere, 1, 0.0, 0.004};
+    hk_DynamicsParams pl = hk_default_dynamics_params(), pd = pl;
+    pd.solver = HK_DYNAMICS_DENSE;
+    hk_StrandDynamics *dl = NULL, *dd = NULL;
+    assert_int_equal(hk_strand_dynamics_create(a, &pl, &body, &dl, &err), HK_OK);
+    assert_int_equal(hk_strand_dynamics_create(b, &pd, &body, &dd, &err), HK_OK);
+    for (int i = 0; i < dim; i++)
+        hk_strand_dynamics_velocity(dl)[i] = hk_strand_dynamics_velocity(dd)[i] = rnd(-30, 30);
+    hk_RigidState head = hk_rigid_state_identity();
+    head.omega = hk_v3(0.5, -1.0, 2.0);
+    head.alpha = hk_v3(3.0, 1.0, -2.0);
+    head.vel = hk_v3(0.1, 0.2, -0.1);
+    head.acc = hk_v3(-1.0, 2.0, 0.5);
+    hk_PointForce pf[3];
+    for (int i = 0; i < 3; i++) {
+        pf[i].s = a->total_length * (0.2 + 0.3 * i);
+        pf[i].force = hk_v3(rnd(-1, 1) * 1e-4, rnd(-1, 1) * 1e-4, rnd(-1, 1) * 1e-4);
+        const hk_Vec3 nrm = hk_v3_normalize(hk_v3(rnd(-1, 1), rnd(-1, 1), rnd(-1, 1)));
+        const hk_Mat3 o = hk_m3_outer(nrm, nrm);
+        pf[i].stiffness = hk_m3_scale(&o, 0.5);
+        pf[i].damping = hk_m3_scale(&o, 1e-3);
+    }
+    /* The step's matrix is badly conditioned (the twist's rotary inertia rho J l ~ 1e-16
+     * and the bending dt^2 K l ~ 1e-13 against translational terms ~ 1e-9: a condition
+     * number near 1e8), so two correct factorisations differ by up to about cond * eps
+     * ~ 1e-8 relative; a wrong recursion differs at O(1). The backward error of the
+     * recursion alone is checked tightly in test_linear_solve_residual. */
+    for (int step = 0; step < 5; step++) {
+        assert_int_equal(hk_strand_dynamics_step(dl, &head, pf, 3, 1.0 / 30, &err), HK_OK);
+        assert_int_equal(hk_strand_dynamics_step(dd, &head, pf, 3, 1.0 / 30, &err), HK_OK);
+        for (int i = 0; i < dim; i++) {
+            const double va = hk_strand_dynamics_velocity(dl)[i], vb = hk_strand_dynamics_velocity(dd)[i];
+            hk_assert_near(va, vb, 1e-6 * (fabs(vb) + 1.0));
+            hk_assert_near(a->q[i], b->q[i], 1e-7 * (fabs(b->q[i]) + 1.0));
+        }
+    }
+    assert_true(hk_strand_dynamics_contact_count(dl) > 0);
+    assert_int_equal(hk_strand_dynamics_contact_count(dl), hk_strand_dynamics_contact_count(dd));
+    hk_strand_dynamics_destroy(dl);
+    hk_strand_dynamics_destroy(dd);
+    hk_superhelix_destroy(a);
+    hk_superhelix_destroy(b);
+}
+
+/* Random element terms built from random points (so that the matrix they describe is
+ * a sum of J^T A J, positive semi-definite) with random screws: the O(N) solution
+ * satisfies the densely assembled system to a backward error of rounding. */
+static void test_linear_solve_residual(void **state)
+{
+    (void)state;
+    enum { N = 12, DIM = 3 * N };
+    hk_ElementTerms terms[N];
+    memset(terms, 0, sizeof terms);
+    for (int p = 0; p < N; p++) {
+        for (int i = 0; i < 4; i++) {
+            hk_Mat3 a = hk_m3_zero(), b = hk_m3_zero(), jac, jrot;
+            for (int r = 0; r < 3; r++) {
+                const hk_Vec3 v = hk_v3(rnd(-1, 1), rnd(-1, 1), rnd(-1, 1)), w = hk_v3(rnd(-1, 1), rnd(-1, 1), rnd(-1, 1));
+                const hk_Mat3 vv = hk_m3_outer(v, v), ww = hk_m3_outer(w, w);
+                a = hk_m3_add(&a, &vv);
+                b = hk_m3_add(&b, &ww);
+                for (int c = 0; c < 3; c++) {
+                    jac.m[r][c] = rnd(-1, 1);
+                    jrot.m[r][c] = rnd(-1, 1);
+                }
+            }
+            hk_element_terms_add(&terms[p], hk_v3(rnd(-1, 1), rnd(-1, 1), rnd(-1, 1)), &a, &b, &jac,
+                                 &jrot, hk_v3_zero(), hk_v3_zero());
+        }
+        for (int b = 0; b < 3; b++)
+            for (int i = 0; i < 6; i++) terms[p].xi[b][i] = rnd(-1, 1);
+    }
+    double extra[DIM], rhs[DIM], x[DIM], work[21 * N], mass[DIM * DIM], prod[DIM];
+    for (int i = 0; i < DIM; i++) {
+        extra[i] = rnd(0.01, 0.1);
+        rhs[i] = rnd(-1, 1);
+    }
+    assert_int_equal(hk_terms_solve_linear(N, terms, extra, rhs, x, work), 1);
+    hk_terms_assemble(N, terms, mass);
+    /* the O(N) product agrees with the assembled matrix */
+    hk_terms_multiply(N, terms, extra, rhs, prod, work);
+    for (int i = 0; i < DIM; i++) {
+        double r = extra[i] * rhs[i], scale = fabs(extra[i] * rhs[i]);
+        for (int j = 0; j < DIM; j++) {
+            r += mass[i * DIM + j] * rhs[j];
+            scale += fabs(mass[i * DIM + j] * rhs[j]);
+        }
+        hk_assert_near(prod[i], r, 1e-13 * scale);
+    }
+    double rnorm = 0.0, bnorm = 0.0;
+    for (int i = 0; i < DIM; i++) {
+        double r = extra[i] * x[i] - rhs[i];
+        for (int j = 0; j < DIM; j++) r += mass[i * DIM + j] * x[j];
+        rnorm += r * r;
+        bnorm += rhs[i] * rhs[i];
+    }
+    assert_true(sqrt(rnorm) <= 1e-11 * sqrt(bnorm));
+
+}
+
+static void test_body_friction_blend(void **state)
+{
+    (void)state;
+    /* A floor: a large cuboid below y = 0, the hair along +x touching it. */
+    const hk_Vec3 axes[3] = {hk_v3(1, 0, 0), hk_v3(0, 1, 0), hk_v3(0, 0, 1)};
+    hk_Shape floor = hk_shape_cuboid(hk_v3(0, -1, 0), hk_v3(2, 1, 2), axes, 0.0, 1e4);
+    hk_BodyContact bc = {&floor, 1, 0.0, 0.01, 0.2, 0.6, 0.05};
+    const hk_RigidState still = hk_rigid_state_identity();
+    const hk_Vec3 pos = hk_v3(0, -0.001, 0), tangent = hk_v3(1, 0, 0);
+    hk_PointForce pf;
+    /* at rest: only the normal force, up, of w k dent */
+    assert_int_equal(hk_body_contact_force(&bc, &still, pos, hk_v3_zero(), tangent, &pf), 1);
+    hk_assert_rel(pf.force.y, 0.01 * 1e4 * 0.001, 1e-12, 0.0);
+    hk_assert_near(pf.force.x, 0.0, 1e-15);
+    const double fn = pf.force.y;
+    /* sliding fast (Coulomb regime): tip first = against the scales, root first = with
+     * them, sideways = the mean (cos = 0) */
+    const struct { hk_Vec3 v; double mu; } cases[] = {
+        {hk_v3(1, 0, 0), 0.6}, {hk_v3(-1, 0, 0), 0.2}, {hk_v3(0, 0, 1), 0.4}, {hk_v3(0.5, 0, 0.5), 0.4 + 0.2 * sqrt(0.5)}};
+    for (int i = 0; i < 4; i++) {
+        assert_int_equal(hk_body_contact_force(&bc, &still, pos, cases[i].v, tangent, &pf), 1);
+        const hk_Vec3 ft = hk_v3(pf.force.x, 0.0, pf.force.z);
+        hk_assert_rel(hk_v3_norm(ft), cases[i].mu * fn, 1e-12, 0.0);
+        assert_true(hk_v3_dot(ft, cases[i].v) < 0.0); /* opposes the sliding */
+        hk_assert_rel(pf.force.y, fn, 1e-12, 0.0);
+    }
+    /* slow sliding: viscous, proportional to the speed */
+    assert_int_equal(hk_body_contact_force(&bc, &still, pos, hk_v3(-0.01, 0, 0), tangent, &pf), 1);
+    hk_assert_rel(pf.force.x, 0.2 * fn * 0.01 / 0.05, 1e-12, 0.0);
+    /* the body moves with the hair: no sliding, no friction */
+    hk_RigidState moving = still;
+    moving.vel = hk_v3(0.3, 0, 0);
+    assert_int_equal(hk_body_contact_force(&bc, &moving, pos, hk_v3(0.3, 0, 0), tangent, &pf), 1);
+    hk_assert_near(pf.force.x, 0.0, 1e-15);
+    /* out of contact: nothing */
+    assert_int_equal(hk_body_contact_force(&bc, &still, hk_v3(0, 0.001, 0), hk_v3_zero(), tangent, &pf), 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_gauss_rules_exact),
+        cmocka_unit_test(test_point_kinematics_match_finite_differences),
+        cmocka_unit_test(test_mass_matrix_gives_kinetic_energy),
+        cmocka_unit_test(test_linear_solve_residual),
+        cmocka_unit_test(test_linear_and_dense_agree),
+        cmocka_unit_test(test_body_friction_blend),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
