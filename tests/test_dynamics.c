@@ -206,7 +206,7 @@ static void test_linear_and_dense_agree(void **state)
     assert_int_equal(hk_strand_dynamics_create(b, &pd, &body, &dd, &err), HK_OK);
     for (int i = 0; i < dim; i++)
         hk_strand_dynamics_velocity(dl)[i] = hk_strand_dynamics_velocity(dd)[i] = rnd(-30, 30);
-    hk_RigidState head = hk_rigid_state_identity();
+    hk_RigidState head = hk_rigid_identity();
     head.omega = hk_v3(0.5, -1.0, 2.0);
     head.alpha = hk_v3(3.0, 1.0, -2.0);
     head.vel = hk_v3(0.1, 0.2, -0.1);
@@ -305,7 +305,7 @@ static void test_body_friction_blend(void **state)
     const hk_Vec3 axes[3] = {hk_v3(1, 0, 0), hk_v3(0, 1, 0), hk_v3(0, 0, 1)};
     hk_Shape floor = hk_shape_cuboid(hk_v3(0, -1, 0), hk_v3(2, 1, 2), axes, 0.0, 1e4);
     hk_BodyContact bc = {&floor, 1, 0.0, 0.01, 0.2, 0.6, 0.05};
-    const hk_RigidState still = hk_rigid_state_identity();
+    const hk_RigidState still = hk_rigid_identity();
     const hk_Vec3 pos = hk_v3(0, -0.001, 0), tangent = hk_v3(1, 0, 0);
     hk_PointForce pf;
     /* at rest: only the normal force, up, of w k dent */

@@ -240,7 +240,7 @@ static void test_translating_head_moves_strand_rigidly(void **state)
         /* constant velocity without gravity; free fall (acceleration g) with gravity */
         const hk_Vec3 v0 = hk_v3(0.5, -0.2, 0.3), acc = fall ? sh->material.gravity : hk_v3_zero();
         const double dt = 1.0 / 30.0;
-        hk_RigidState head = hk_rigid_state_identity();
+        hk_RigidState head = hk_rigid_identity();
         for (int i = 1; i <= 60; i++) {
             const double t = i * dt;
             head.trans = hk_v3_add(hk_v3_scale(v0, t), hk_v3_scale(acc, 0.5 * t * t));

@@ -62,9 +62,6 @@ typedef struct hk_PointForce {
     hk_Mat3 damping;   /* -dF/dv of this point */
 } hk_PointForce;
 
-/* The head's rigid state for a head at rest: identity, no motion. */
-hk_RigidState hk_rigid_state_identity(void);
-
 typedef struct hk_StrandDynamics hk_StrandDynamics;
 
 /* Dynamics of the strand sh (borrowed: it must outlive the object; its q is the

@@ -1,17 +1,92 @@
-/* Rigid motion of the head (placeholder until the head-motion module lands). */
+/* Head motion: where the scalp is, and how fast it moves, at any time (issue 6).
+ *
+ * The hair roots are fixed in head space; the dynamics needs their world positions,
+ * velocities and accelerations, and the head's angular velocity and acceleration (the
+ * clamped root frame turns with the head). A head motion is either scripted (nod,
+ * shake, tilt, sway, jump: closed forms, derivatives exact) or read from a motion file
+ * of keyframes (docs/file-formats.md, "Head motion file"; interpolation C2 in time).
+ * Conventions (DESIGN.md): metres, seconds, y up, the face looks along +z. Formulas and
+ * their reasons: docs/dynamics.md, "Head motion". */
 #ifndef HAIRKIT_MOTION_H
 #define HAIRKIT_MOTION_H
 
+#include "hairkit/core.h"
 #include "hairkit/vecmath.h"
 
-/* Rigid motion of the head at time t: a head-space point x is at world R x + T. */
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Rigid motion of the head at time t: the head-space point x is at world R x + T. */
 typedef struct hk_RigidState {
-    hk_Mat3 rot;    /* R(t) */
-    hk_Vec3 trans;  /* T(t) */
-    hk_Vec3 vel;    /* dT/dt */
-    hk_Vec3 acc;    /* d2T/dt2 */
-    hk_Vec3 omega;  /* world angular velocity: dR/dt = [omega]x R */
-    hk_Vec3 alpha;  /* d omega/dt */
+    hk_Mat3 rot;   /* R(t), a rotation */
+    hk_Vec3 trans; /* T(t) (m) */
+    hk_Vec3 vel;   /* dT/dt (m/s) */
+    hk_Vec3 acc;   /* d2T/dt2 (m/s^2) */
+    hk_Vec3 omega; /* world angular velocity (rad/s): dR/dt = [omega]x R */
+    hk_Vec3 alpha; /* d omega/dt (rad/s^2) */
 } hk_RigidState;
 
+/* The state of a head at rest at the origin: R = I, everything else zero. */
+hk_RigidState hk_rigid_identity(void);
+
+/* World position, velocity and acceleration of the head-space point x:
+ *   pos = R x + T,  vel = dT/dt + omega x (R x),
+ *   acc = d2T/dt2 + alpha x (R x) + omega x (omega x (R x)).
+ * Any of pos, vel, acc may be NULL. */
+void hk_rigid_point(const hk_RigidState *st, hk_Vec3 x, hk_Vec3 *pos, hk_Vec3 *vel, hk_Vec3 *acc);
+
+/* Default pivot of the head's rotations (m, head space): (0, -0.010, -0.015), the top
+ * of the neck of assets/head.obj, where the skull sits on the spine (see
+ * docs/dynamics.md). */
+hk_Vec3 hk_default_head_pivot(void);
+
+typedef struct hk_HeadMotion hk_HeadMotion;
+
+/* Scripted motions, by name (any case):
+ *   still                 the head does not move (amplitude, frequency ignored)
+ *   nod, shake, tilt      rotation about the axis x, y or z through `pivot` by the
+ *                         angle g(t) degrees (nod > 0 lowers the face, shake > 0
+ *                         turns it toward +x, tilt > 0 leans the crown toward -x)
+ *   sway, jump            translation by g(t) metres along x or y
+ * with g(t) = amplitude * s(t / T_e) * sin(2 pi frequency t), T_e = 1 / (2 frequency)
+ * (half a period) and the ease-in s(u) = 10u^3 - 15u^4 + 6u^5 for 0 <= u <= 1, 1
+ * after; g = 0 for t <= 0. s(0) = s'(0) = s''(0) = 0 and s(1) = 1, s'(1) = s''(1) = 0,
+ * so the motion starts from rest with zero acceleration and is C2 throughout.
+ * Amplitude: degrees for rotations, |amplitude| <= 180; metres for translations,
+ * |amplitude| <= 10. Frequency in (0, 1000] Hz. HK_ERR_INVALID, with a message, for an
+ * unknown name or values out of range. */
+hk_Status hk_head_motion_scripted(const char *name, double amplitude, double frequency,
+                                  hk_Vec3 pivot, hk_HeadMotion **out, hk_Error *err);
+
+/* Reads a head motion file (docs/file-formats.md, "Head motion file"): an optional
+ * `Pivot x y z` line, then keyframes `t tx ty tz ax ay az angle_deg`. Errors name the
+ * file and the line. On error *out is NULL. */
+hk_Status hk_head_motion_load(const char *path, hk_HeadMotion **out, hk_Error *err);
+
+/* The rigid state at time t (finite). Before the start (t <= 0 for a scripted motion,
+ * the first keyframe for a file) and after the last keyframe the head holds its pose
+ * with zero velocity and acceleration. */
+void hk_head_motion_eval(const hk_HeadMotion *m, double t, hk_RigidState *out);
+
+/* How long the motion lasts: INFINITY for a scripted motion (it never stops), the time
+ * of the last keyframe (at least 0) for a motion file. */
+double hk_head_motion_duration(const hk_HeadMotion *m);
+
+/* The pivot the rotations turn about (head space). */
+hk_Vec3 hk_head_motion_pivot(const hk_HeadMotion *m);
+
+/* Number of keyframes of a motion file; 0 for a scripted motion. */
+int hk_head_motion_key_count(const hk_HeadMotion *m);
+
+/* Releases a motion; safe on NULL. */
+void hk_head_motion_destroy(hk_HeadMotion *m);
+
+/* Most keyframes a motion file may hold (a 16 MiB file has room for about a million). */
+#define HK_MAX_MOTION_KEYS 1000000
+
+#ifdef __cplusplus
+}
 #endif
+
+#endif /* HAIRKIT_MOTION_H */

@@ -48,14 +48,6 @@ hk_DynamicsParams hk_dynamics_params_for(const hk_HairstyleDef *def)
     return p;
 }
 
-hk_RigidState hk_rigid_state_identity(void)
-{
-    hk_RigidState s;
-    s.rot = hk_m3_identity();
-    s.trans = s.vel = s.acc = s.omega = s.alpha = hk_v3_zero();
-    return s;
-}
-
 void hk_strand_dynamics_destroy(hk_StrandDynamics *d)
 {
     if (!d) return;
@@ -140,7 +132,7 @@ int hk_strand_dynamics_contact_count(const hk_StrandDynamics *d) { return d->con
 
 void hk_strand_dynamics_place(hk_StrandDynamics *d, const hk_RigidState *head)
 {
-    const hk_RigidState still = hk_rigid_state_identity();
+    const hk_RigidState still = hk_rigid_identity();
     if (!head) head = &still;
     d->sh->root = hk_v3_add(hk_m3_mul_v3(&head->rot, d->root_head), head->trans);
     d->sh->root_frame = hk_m3_mul(&head->rot, &d->frame_head);
@@ -302,7 +294,7 @@ hk_Status hk_strand_dynamics_step(hk_StrandDynamics *d, const hk_RigidState *hea
         return hk_error_set(err, HK_ERR_INVALID, "time step must be > 0, got %g", dt);
     if (force_count < 0 || (force_count > 0 && !forces))
         return hk_error_set(err, HK_ERR_INVALID, "bad point force list");
-    const hk_RigidState still = hk_rigid_state_identity();
+    const hk_RigidState still = hk_rigid_identity();
     if (!head) head = &still;
     hk_SuperHelix *sh = d->sh;
     const int n = sh->n, dim = 3 * n;
@@ -349,7 +341,7 @@ hk_Status hk_strand_dynamics_step(hk_StrandDynamics *d, const hk_RigidState *hea
 void hk_strand_dynamics_energy(hk_StrandDynamics *d, const hk_RigidState *head, double *kinetic,
                                double *potential)
 {
-    const hk_RigidState still = hk_rigid_state_identity();
+    const hk_RigidState still = hk_rigid_identity();
     if (!head) head = &still;
     hk_SuperHelix *sh = d->sh;
     hk_strand_dynamics_place(d, head);
@@ -380,7 +372,7 @@ void hk_strand_dynamics_energy(hk_StrandDynamics *d, const hk_RigidState *head, 
 void hk_strand_dynamics_points(hk_StrandDynamics *d, const hk_RigidState *head, const double *s,
                                int count, hk_Vec3 *pos, hk_Vec3 *vel)
 {
-    const hk_RigidState still = hk_rigid_state_identity();
+    const hk_RigidState still = hk_rigid_identity();
     if (!head) head = &still;
     hk_SuperHelix *sh = d->sh;
     hk_strand_dynamics_place(d, head);
@@ -407,7 +399,7 @@ void hk_strand_dynamics_points(hk_StrandDynamics *d, const hk_RigidState *head, 
 hk_Status hk_strand_dynamics_mass_matrix(hk_StrandDynamics *d, double *mass, hk_Error *err)
 {
     (void)err;
-    const hk_RigidState still = hk_rigid_state_identity();
+    const hk_RigidState still = hk_rigid_identity();
     hk_strand_dynamics_place(d, &still);
     sweep(d, &still, NULL, 0, 0.0, SWEEP_MASS);
     hk_terms_assemble(d->sh->n, d->terms, mass);
