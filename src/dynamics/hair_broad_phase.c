@@ -1,0 +1,358 @@
+/* Broad phase of the hair-hair contacts: the search that discovers new pairs every
+ * few updates, between which pairs are only tracked (paper 000 §4.1, after
+ * Raghupathi et al. 2003). Segment boxes grown by d0 go into a uniform grid hashed
+ * into buckets by a counting sort (linear time, and the order of the entries is that
+ * of the segments, so the result does not depend on anything but the input); two
+ * segments sharing a cell are measured once, in the cell holding the low corner of
+ * the overlap of their boxes. A segment pair within 2 d0 that is a local minimum of
+ * the distance becomes a pair: its neighbours within 2 d0 are candidates too, so the
+ * test is a look-up, not more measuring. */
+#include <omp.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "hair_contacts_internal.h"
+
+/* One cell covered by a segment's box, copied in bucket order so that the pair loop
+ * reads memory in sequence. */
+typedef struct Entry {
+    int32_t cell[3];
+    int32_t first[3]; /* the low cell of the segment's box */
+    int seg;          /* eligible segment index e */
+    int strand;
+    hk_Vec3 lo, hi;
+} Entry;
+
+/* Candidates found by one thread. */
+typedef struct Found {
+    hk_HcPair *pairs;
+    int count, cap;
+} Found;
+
+/* Scratch kept between rescans. */
+typedef struct Grid {
+    int seg_cap;
+    int *seg_strand, *seg_index; /* eligible segment e is segment seg_index[e] of seg_strand[e] */
+    hk_Vec3 *lo, *hi;            /* its box grown by d0 */
+    size_t entry_cap;
+    int32_t *cell;               /* 3 per entry: the cell's integer coordinates */
+    int *entry_seg;
+    uint32_t *entry_bucket;
+    Entry *sorted;               /* entries by bucket */
+    size_t table_cap;
+    size_t *bucket_start;        /* table size + 1 */
+    int found_count;
+    Found *found;                /* per thread */
+    int flag_cap;
+    unsigned char *is_min;       /* per candidate */
+} Grid;
+
+void hk_hc_grid_free(hk_HairContacts *c)
+{
+    Grid *g = c->grid;
+    if (!g) return;
+    hk_free(g->seg_strand), hk_free(g->seg_index), hk_free(g->lo), hk_free(g->hi);
+    hk_free(g->cell), hk_free(g->entry_seg), hk_free(g->entry_bucket), hk_free(g->sorted);
+    hk_free(g->bucket_start), hk_free(g->is_min);
+    for (int t = 0; t < g->found_count; t++) hk_free(g->found[t].pairs);
+    hk_free(g->found);
+    hk_free(g);
+    c->grid = NULL;
+}
+
+static hk_Status reserve_segments(Grid *g, int n, hk_Error *err)
+{
+    if (n <= g->seg_cap) return HK_OK;
+    hk_free(g->seg_strand), hk_free(g->seg_index), hk_free(g->lo), hk_free(g->hi);
+    g->seg_strand = hk_alloc_array((size_t)n, sizeof(int), err);
+    g->seg_index = hk_alloc_array((size_t)n, sizeof(int), err);
+    g->lo = hk_alloc_array((size_t)n, sizeof(hk_Vec3), err);
+    g->hi = hk_alloc_array((size_t)n, sizeof(hk_Vec3), err);
+    g->seg_cap = n;
+    if (g->seg_strand && g->seg_index && g->lo && g->hi) return HK_OK;
+    g->seg_cap = 0;
+    return HK_ERR_NOMEM;
+}
+
+static hk_Status reserve_entries(Grid *g, size_t n, size_t table, hk_Error *err)
+{
+    if (n > g->entry_cap) {
+        hk_free(g->cell), hk_free(g->entry_seg), hk_free(g->entry_bucket), hk_free(g->sorted);
+        g->cell = hk_alloc_array(n, 3 * sizeof(int32_t), err);
+        g->entry_seg = hk_alloc_array(n, sizeof(int), err);
+        g->entry_bucket = hk_alloc_array(n, sizeof(uint32_t), err);
+        g->sorted = hk_alloc_array(n, sizeof(Entry), err);
+        g->entry_cap = n;
+        if (!g->cell || !g->entry_seg || !g->entry_bucket || !g->sorted) {
+            g->entry_cap = 0;
+            return HK_ERR_NOMEM;
+        }
+    }
+    if (table + 1 > g->table_cap) {
+        hk_free(g->bucket_start);
+        g->bucket_start = hk_alloc_array(table + 1, sizeof(size_t), err);
+        g->table_cap = g->bucket_start ? table + 1 : 0;
+        if (!g->bucket_start) return HK_ERR_NOMEM;
+    }
+    return HK_OK;
+}
+
+static hk_Status reserve_threads(Grid *g, int threads, hk_Error *err)
+{
+    if (threads <= g->found_count) return HK_OK;
+    Found *grown = hk_calloc_array((size_t)threads, sizeof *grown, err);
+    if (!grown) return HK_ERR_NOMEM;
+    if (g->found_count > 0) memcpy(grown, g->found, (size_t)g->found_count * sizeof *grown);
+    hk_free(g->found);
+    g->found = grown;
+    g->found_count = threads;
+    return HK_OK;
+}
+
+/* Integer cell coordinate of x along one axis (x >= origin, and (x - origin) / h
+ * below 2^20 by the choice of h). The same expression serves boxes and corners. */
+static int32_t cell_of(double x, double origin, double h) { return (int32_t)((x - origin) / h); }
+
+static uint32_t bucket_of(const int32_t cell[3], uint32_t mask)
+{
+    uint64_t k = (uint64_t)(uint32_t)cell[0] * 0x9E3779B97F4A7C15ULL;
+    k ^= (uint64_t)(uint32_t)cell[1] * 0xC2B2AE3D27D4EB4FULL;
+    k ^= (uint64_t)(uint32_t)cell[2] * 0x165667B19E3779F9ULL;
+    k ^= k >> 29;
+    return (uint32_t)k & mask;
+}
+
+/* Cells covered by every box for the cell size h (as a double: it may be huge). */
+static double covered_cells(const Grid *g, int n, hk_Vec3 origin, double h)
+{
+    double total = 0.0;
+    for (int e = 0; e < n; e++) {
+        double cells = 1.0;
+        for (int ax = 0; ax < 3; ax++)
+            cells *= (double)(cell_of(hk_v3_get(g->hi[e], ax), hk_v3_get(origin, ax), h) -
+                              cell_of(hk_v3_get(g->lo[e], ax), hk_v3_get(origin, ax), h) + 1);
+        total += cells;
+    }
+    return total;
+}
+
+static int boxes_overlap(hk_Vec3 alo, hk_Vec3 ahi, hk_Vec3 blo, hk_Vec3 bhi)
+{
+    return alo.x <= bhi.x && blo.x <= ahi.x && alo.y <= bhi.y && blo.y <= ahi.y && alo.z <= bhi.z &&
+           blo.z <= ahi.z;
+}
+
+/* Measures two segments of different strands whose boxes overlap and keeps them as a
+ * candidate when they are closer than 2 d0. Returns 0 when out of memory. */
+static int consider(const hk_HairContacts *c, const Entry *x, const Entry *y, double band2, Found *out)
+{
+    const Grid *g = c->grid;
+    int si = x->strand, a = g->seg_index[x->seg], sj = y->strand, b = g->seg_index[y->seg];
+    if (si > sj) {
+        int t = si;
+        si = sj, sj = t, t = a, a = b, b = t;
+    }
+    hk_HcPair p = {si, a, sj, b, 0.0, 0.0, 0.0};
+    p.d2 = hk_hc_pair_distance2(&c->views[si], a, &c->views[sj], b, c->p.root_exclusion, &p.u, &p.v);
+    if (!(p.d2 < band2)) return 1;
+    return hk_hc_push_pair(&out->pairs, &out->count, &out->cap, &p, NULL);
+}
+
+/* Marks which candidates of segment a of strand i are pairs: local minima in the
+ * order (rank, a, b). Every neighbour closer than 2 d0 is a candidate, and one that is
+ * not is farther than the candidate itself, so the neighbours are looked up among
+ * the candidates of segments a - 1, a and a + 1, runs sorted by (j, b) that one
+ * forward scan each goes through. Only a candidate in the last quantum of rank below
+ * 2 d0, which could tie with a neighbour that is not a candidate, is measured again. */
+static void mark_minima(const hk_HairContacts *c, int i, int a, const hk_HcMetric *m, long long band_rank,
+                        unsigned char *is_min)
+{
+    const hk_HcStrand *si = &c->views[i];
+    const hk_HcPair *cand = c->candidates;
+    int begin, end;
+    hk_hc_run(c, i, a, &begin, &end);
+    int run_end[3], next[3];
+    for (int r = 0; r < 3; r++) {
+        const int na = a + r - 1;
+        if (na < si->first || na > si->count - 2) next[r] = run_end[r] = 0;
+        else hk_hc_run(c, i, na, &next[r], &run_end[r]);
+    }
+    for (int k = begin; k < end; k++) {
+        const hk_HcPair *p = &cand[k];
+        const long long rank = hk_hc_rank(p->d2, m->quantum);
+        if (rank >= band_rank) {
+            is_min[k] = (unsigned char)hk_hc_is_local_min(si, a, &c->views[p->j], p->b, p->d2, m);
+            continue;
+        }
+        int min = 1;
+        for (int r = 0; r < 3 && min; r++) {
+            /* Skip what sorts before (j, b - 1): the runs and the candidates go up together. */
+            while (next[r] < run_end[r] && (cand[next[r]].j < p->j || (cand[next[r]].j == p->j && cand[next[r]].b < p->b - 1)))
+                next[r]++;
+            const int na = a + r - 1;
+            for (int x = next[r]; x < run_end[r]; x++) {
+                const hk_HcPair *q = &cand[x];
+                if (q->j != p->j || q->b > p->b + 1) break;
+                if (na == a && q->b == p->b) continue; /* itself */
+                const long long e = hk_hc_rank(q->d2, m->quantum);
+                if (e < rank || (e == rank && (na < a || (na == a && q->b < p->b)))) {
+                    min = 0;
+                    break;
+                }
+            }
+        }
+        is_min[k] = (unsigned char)min;
+    }
+}
+
+hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
+{
+    c->pair_count = 0;
+    c->candidate_count = 0;
+    if (!c->grid) {
+        c->grid = hk_calloc_array(1, sizeof(Grid), err);
+        if (!c->grid) return HK_ERR_NOMEM;
+    }
+    Grid *g = c->grid;
+    const double d0 = c->p.distance, band2 = 4.0 * d0 * d0;
+
+    /* Boxes of the segments taking part, grown by d0 each: two segments closer than
+     * 2 d0 have overlapping boxes. */
+    long n_long = 0;
+    for (int s = 0; s < c->strand_count; s++)
+        if (c->views[s].first <= c->views[s].count - 2) n_long += c->views[s].count - 1 - c->views[s].first;
+    if (n_long == 0) return HK_OK;
+    const int n = (int)n_long; /* the update bounded the total number of segments */
+    if (reserve_segments(g, n, err) != HK_OK) return HK_ERR_NOMEM;
+    const hk_Vec3 grow = hk_v3(d0, d0, d0);
+    hk_Vec3 gmin = hk_v3(HUGE_VAL, HUGE_VAL, HUGE_VAL), gmax = hk_v3_neg(gmin);
+    double side_sum = 0.0;
+    int e = 0;
+    for (int s = 0; s < c->strand_count; s++)
+        for (int k = c->views[s].first; k <= c->views[s].count - 2; k++, e++) {
+            hk_Vec3 p0, p1;
+            double t0;
+            hk_hc_segment_ends(&c->views[s], k, c->p.root_exclusion, &p0, &p1, &t0);
+            hk_Vec3 lo = hk_v3(fmin(p0.x, p1.x), fmin(p0.y, p1.y), fmin(p0.z, p1.z));
+            hk_Vec3 hi = hk_v3(fmax(p0.x, p1.x), fmax(p0.y, p1.y), fmax(p0.z, p1.z));
+            g->seg_strand[e] = s, g->seg_index[e] = k;
+            g->lo[e] = hk_v3_sub(lo, grow), g->hi[e] = hk_v3_add(hi, grow);
+            gmin = hk_v3(fmin(gmin.x, g->lo[e].x), fmin(gmin.y, g->lo[e].y), fmin(gmin.z, g->lo[e].z));
+            gmax = hk_v3(fmax(gmax.x, g->hi[e].x), fmax(gmax.y, g->hi[e].y), fmax(gmax.z, g->hi[e].z));
+            hk_Vec3 side = hk_v3_sub(g->hi[e], g->lo[e]);
+            side_sum += fmax(side.x, fmax(side.y, side.z));
+        }
+    const hk_Vec3 extent = hk_v3_sub(gmax, gmin);
+    const double max_extent = fmax(extent.x, fmax(extent.y, extent.z));
+    if (!isfinite(max_extent) || !isfinite(side_sum))
+        return hk_error_set(err, HK_ERR_INVALID, "hair contacts: strand positions (grown by the contact distance) span more than the range of doubles");
+
+    /* Cell size: the mean box side, so that a typical segment covers up to 8 cells;
+     * at least the extent / 2^20 so that cell coordinates fit; doubled while long
+     * segments would make the entries more than 8 per segment on average. */
+    double h = fmax(side_sum / n, max_extent / 1048576.0);
+    for (int tries = 0; tries < 64 && covered_cells(g, n, gmin, h) > 8.0 * n + 1024.0; tries++) h *= 2.0;
+    const double entries_d = covered_cells(g, n, gmin, h);
+    if (entries_d > 8.0 * n + 1024.0) /* cannot happen: h >= every box side gives <= 8 */
+        return hk_error_set(err, HK_ERR_NUMERIC, "hair contacts: no usable grid for the broad phase");
+    const size_t entries = (size_t)entries_d;
+    size_t table = 1024;
+    while (table < 2 * entries) table *= 2;
+    if (reserve_entries(g, entries, table, err) != HK_OK) return HK_ERR_NOMEM;
+
+    size_t m = 0;
+    for (e = 0; e < n; e++) {
+        int32_t lo[3], hi[3];
+        for (int ax = 0; ax < 3; ax++) {
+            lo[ax] = cell_of(hk_v3_get(g->lo[e], ax), hk_v3_get(gmin, ax), h);
+            hi[ax] = cell_of(hk_v3_get(g->hi[e], ax), hk_v3_get(gmin, ax), h);
+        }
+        for (int32_t x = lo[0]; x <= hi[0]; x++)
+            for (int32_t y = lo[1]; y <= hi[1]; y++)
+                for (int32_t z = lo[2]; z <= hi[2]; z++, m++) {
+                    int32_t *cell = &g->cell[3 * m];
+                    cell[0] = x, cell[1] = y, cell[2] = z;
+                    g->entry_seg[m] = e;
+                    g->entry_bucket[m] = bucket_of(cell, (uint32_t)(table - 1));
+                }
+    }
+    /* Counting sort of the entries by bucket, stable; start[b] ends as the end of
+     * bucket b, which begins at the end of b - 1. */
+    size_t *start = g->bucket_start;
+    memset(start, 0, (table + 1) * sizeof *start);
+    for (size_t k = 0; k < m; k++) start[g->entry_bucket[k] + 1]++;
+    for (size_t k = 0; k < table; k++) start[k + 1] += start[k];
+    for (size_t k = 0; k < m; k++) {
+        Entry *en = &g->sorted[start[g->entry_bucket[k]]++];
+        memcpy(en->cell, &g->cell[3 * k], sizeof en->cell);
+        en->seg = g->entry_seg[k];
+        for (int ax = 0; ax < 3; ax++) en->first[ax] = cell_of(hk_v3_get(g->lo[en->seg], ax), hk_v3_get(gmin, ax), h);
+        en->strand = g->seg_strand[en->seg];
+        en->lo = g->lo[en->seg], en->hi = g->hi[en->seg];
+    }
+
+    /* Pairs of entries sharing a cell, buckets in parallel: each thread keeps its own
+     * candidates; they are sorted into one order afterwards, so what a thread found
+     * does not matter, only what all found. */
+    const int threads = omp_get_max_threads();
+    if (reserve_threads(g, threads, err) != HK_OK) return HK_ERR_NOMEM;
+    for (int t = 0; t < threads; t++) g->found[t].count = 0;
+    int failed = 0;
+    long evaluations = 0;
+    const long buckets = (long)table;
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : evaluations) reduction(| : failed)
+    for (long bucket = 0; bucket < buckets; bucket++) {
+        Found *out = &g->found[omp_get_thread_num()];
+        const size_t begin = bucket == 0 ? 0 : start[bucket - 1], end = start[bucket];
+        for (size_t x = begin; x < end && !failed; x++) {
+            const Entry *ex = &g->sorted[x];
+            for (size_t y = x + 1; y < end; y++) {
+                const Entry *ey = &g->sorted[y];
+                if (ex->cell[0] != ey->cell[0] || ex->cell[1] != ey->cell[1] || ex->cell[2] != ey->cell[2])
+                    continue; /* hash collision */
+                /* Measure the pair in one of the cells both boxes cover only: the one
+                 * holding the low corner of their overlap, whose cell is the larger
+                 * of their low cells on each axis. */
+                if (ex->cell[0] != (ex->first[0] > ey->first[0] ? ex->first[0] : ey->first[0]) ||
+                    ex->cell[1] != (ex->first[1] > ey->first[1] ? ex->first[1] : ey->first[1]) ||
+                    ex->cell[2] != (ex->first[2] > ey->first[2] ? ex->first[2] : ey->first[2]))
+                    continue;
+                if (ex->strand == ey->strand) continue; /* self-contacts: out of scope */
+                if (!boxes_overlap(ex->lo, ex->hi, ey->lo, ey->hi)) continue;
+                evaluations++;
+                if (!consider(c, ex, ey, band2, out)) {
+                    failed = 1;
+                    break;
+                }
+            }
+        }
+    }
+    c->distance_evaluations += evaluations;
+    if (failed) return hk_error_set(err, HK_ERR_NOMEM, "hair contacts: out of memory in the broad phase");
+    for (int t = 0; t < threads; t++)
+        for (int k = 0; k < g->found[t].count; k++)
+            if (!hk_hc_push_pair(&c->candidates, &c->candidate_count, &c->candidate_cap, &g->found[t].pairs[k], err))
+                return HK_ERR_NOMEM;
+
+    /* Pairs: the candidates that are local minima, found by looking their neighbours
+     * up among the candidates (sorted, so the pairs come out sorted too). */
+    hk_Status st = hk_hc_sort(c, c->candidates, c->candidate_count, err);
+    if (st != HK_OK) return st;
+    if (c->candidate_count > g->flag_cap) {
+        hk_free(g->is_min);
+        g->is_min = hk_alloc_array((size_t)c->candidate_count, 1, err);
+        g->flag_cap = g->is_min ? c->candidate_count : 0;
+        if (!g->is_min) return HK_ERR_NOMEM;
+    }
+    const hk_HcMetric metric = hk_hc_metric(&c->p);
+    const long long band_rank = hk_hc_rank(band2, metric.quantum);
+    const int count = c->candidate_count;
+    const int strands = c->strand_count;
+#pragma omp parallel for schedule(dynamic, 8)
+    for (int i = 0; i < strands; i++)
+        for (int a = c->views[i].first; a <= c->views[i].count - 2; a++) mark_minima(c, i, a, &metric, band_rank, g->is_min);
+    for (int k = 0; k < count; k++)
+        if (g->is_min[k] && !hk_hc_push_pair(&c->pairs, &c->pair_count, &c->pair_cap, &c->candidates[k], err))
+            return HK_ERR_NOMEM;
+    return HK_OK;
+}
