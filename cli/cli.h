@@ -25,6 +25,7 @@ int hk_cmd_groom(int argc, char **argv);
 int hk_cmd_info(int argc, char **argv);
 int hk_cmd_render(int argc, char **argv);
 int hk_cmd_run(int argc, char **argv);
+int hk_cmd_simulate(int argc, char **argv);
 
 /* "x,y,z" -> vector; returns 0 on malformed or non-finite input. */
 int hk_cli_parse_vec3(const char *text, hk_Vec3 *out);
@@ -91,6 +92,43 @@ enum { HK_OPT_WIDTH = 1000, HK_OPT_HEIGHT, HK_OPT_NO_SHADOWS, HK_OPT_SHADING, HK
 int hk_cli_render_option(const char *cmd, int option, const char *value, hk_RenderOptions *o);
 void hk_cli_render_options_help(FILE *out);
 void hk_cli_report_render(const char *cmd, const char *path, const hk_RenderOptions *o, const hk_RenderStats *s);
+
+/* ---- head motion options (motion_options.c) ---- */
+enum { HK_OPT_MOTION = 1100, HK_OPT_AMPLITUDE, HK_OPT_FREQUENCY };
+#define HK_CLI_MOTION_LONG_OPTIONS                                                                 \
+    {"motion", required_argument, NULL, HK_OPT_MOTION},                                             \
+    {"amplitude", required_argument, NULL, HK_OPT_AMPLITUDE},                                       \
+    {"frequency", required_argument, NULL, HK_OPT_FREQUENCY}
+#define HK_CLI_IS_MOTION_OPTION(c) ((c) >= HK_OPT_MOTION && (c) <= HK_OPT_FREQUENCY)
+typedef struct hk_CliMotion {
+    const char *spec;  /* a scripted motion's name or a motion file */
+    double amplitude;  /* given with has_amplitude */
+    double frequency;  /* Hz */
+    int has_amplitude;
+} hk_CliMotion;
+struct hk_HeadMotion;
+hk_CliMotion hk_cli_default_motion(void);
+/* Applies one motion option; 0 on success, else the usage error's exit code. */
+int hk_cli_motion_option(const char *cmd, int option, const char *value, hk_CliMotion *m);
+void hk_cli_motion_options_help(FILE *out);
+hk_Status hk_cli_motion_create(const hk_CliMotion *m, struct hk_HeadMotion **out, hk_Error *err);
+
+/* ---- hairkit strand --simulate (strand_simulate.c) ---- */
+typedef struct hk_CliStrandSim {
+    int enabled;
+    double duration, dt;
+    int damping, dense, quiet;
+    const char *tip_csv;
+    hk_CliMotion motion;
+} hk_CliStrandSim;
+hk_CliStrandSim hk_cli_default_strand_sim(void);
+struct hk_SuperHelix;
+struct hk_StrandEnv;
+/* Simulates the strand from rest and prints its shape at the end (the strand command's
+ * contract); returns the exit code. */
+int hk_cli_strand_simulate(const char *cmd, const hk_CliStrandSim *sim, const hk_HairstyleDef *def,
+                           struct hk_SuperHelix *sh, const struct hk_StrandEnv *env, const char *plot,
+                           const hk_Shape *shapes, int shape_count);
 
 /* Monotonic wall clock in seconds. */
 double hk_cli_now(void);

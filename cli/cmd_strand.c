@@ -3,6 +3,7 @@
 #include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "cli.h"
 #include "hairkit/canvas.h"
@@ -31,9 +32,24 @@ static void usage(FILE *out)
             "  --quiet            no summary on stderr\n"
             "  -h, --help         this help\n"
             "\n"
+            "dynamics (paper 000 3.3-3.4): instead of the rest shape, the strand's motion\n"
+            "from rest in its natural shape, under gravity, friction and the head's motion\n"
+            "  --simulate T       simulated time in seconds\n"
+            "  --dt DT            time step in seconds (default 1/30, the paper's)\n"
+            "  --damping on|off   internal friction and air drag (InternalFriction, AirDrag\n"
+            "                     of the hairstyle file; default on)\n"
+            "  --dynamics-solver linear|dense\n"
+            "                     O(N) recursion (default) or dense Cholesky (reference)\n"
+            "  --tip-csv FILE     write t,x,y,z of the tip at every step\n");
+    hk_cli_motion_options_help(out);
+    fprintf(out,
+            "\n"
             "output (stdout):\n"
             "  # energy=<J> iterations=<n> evaluations=<n> solver=<name>\n"
-            "  s,x,y,z            one row every VisualityStep from the root, the tip last\n");
+            "  s,x,y,z            one row every VisualityStep from the root, the tip last\n"
+            "with --simulate, energy is the total (kinetic + elastic + gravity) at time T,\n"
+            "iterations and evaluations count the steps, and the solver is dynamics-linear\n"
+            "or dynamics-dense.\n");
 }
 
 typedef struct StrandArgs {
@@ -42,12 +58,20 @@ typedef struct StrandArgs {
     hk_SolverKind solver;
     double envelope;
     int quiet;
+    hk_CliStrandSim sim;
 } StrandArgs;
 
 static int parse_args(int argc, char **argv, StrandArgs *a)
 {
-    enum { OPT_COLLISION = 1000, OPT_ROOT, OPT_DIR, OPT_SOLVER, OPT_ENVELOPE, OPT_PLOT, OPT_QUIET };
+    enum { OPT_COLLISION = 1000, OPT_ROOT, OPT_DIR, OPT_SOLVER, OPT_ENVELOPE, OPT_PLOT, OPT_QUIET,
+           OPT_SIMULATE, OPT_DT, OPT_DAMPING, OPT_DYN_SOLVER, OPT_TIP_CSV };
     static const struct option options[] = {
+        {"simulate", required_argument, NULL, OPT_SIMULATE},
+        {"dt", required_argument, NULL, OPT_DT},
+        {"damping", required_argument, NULL, OPT_DAMPING},
+        {"dynamics-solver", required_argument, NULL, OPT_DYN_SOLVER},
+        {"tip-csv", required_argument, NULL, OPT_TIP_CSV},
+        HK_CLI_MOTION_LONG_OPTIONS,
         {"collision", required_argument, NULL, OPT_COLLISION},
         {"root", required_argument, NULL, OPT_ROOT},
         {"dir", required_argument, NULL, OPT_DIR},
@@ -58,12 +82,46 @@ static int parse_args(int argc, char **argv, StrandArgs *a)
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
-    *a = (StrandArgs){NULL, NULL, NULL, {0, 0, 0}, {1, 0, 0}, HK_SOLVER_NEWTON, 0.0, 0};
+    *a = (StrandArgs){NULL, NULL, NULL, {0, 0, 0}, {1, 0, 0}, HK_SOLVER_NEWTON, 0.0, 0,
+                      hk_cli_default_strand_sim()};
     optind = 1;
     opterr = 0;
-    int c;
+    int c, dynamics_option = 0;
     while ((c = getopt_long(argc, argv, ":h", options, NULL)) != -1) {
+        if (HK_CLI_IS_MOTION_OPTION(c)) {
+            int rc = hk_cli_motion_option(CMD, c, optarg, &a->sim.motion);
+            if (rc) return rc;
+            dynamics_option = 1;
+            continue;
+        }
         switch (c) {
+        case OPT_SIMULATE:
+            if (!hk_cli_parse_double(optarg, &a->sim.duration) || !(a->sim.duration > 0.0) ||
+                a->sim.duration > 1e5)
+                return hk_cli_usage_error(CMD, "--simulate expects a time in (0, 1e5] s, got '%s'", optarg);
+            a->sim.enabled = 1;
+            break;
+        case OPT_DT:
+            if (!hk_cli_parse_double(optarg, &a->sim.dt) || !(a->sim.dt > 0.0) || a->sim.dt > 1.0)
+                return hk_cli_usage_error(CMD, "--dt expects a time step in (0, 1] s, got '%s'", optarg);
+            dynamics_option = 1;
+            break;
+        case OPT_DAMPING:
+            if (strcmp(optarg, "on") != 0 && strcmp(optarg, "off") != 0)
+                return hk_cli_usage_error(CMD, "--damping must be on or off, got '%s'", optarg);
+            a->sim.damping = strcmp(optarg, "on") == 0;
+            dynamics_option = 1;
+            break;
+        case OPT_DYN_SOLVER:
+            if (strcmp(optarg, "linear") != 0 && strcmp(optarg, "dense") != 0)
+                return hk_cli_usage_error(CMD, "--dynamics-solver must be linear or dense, got '%s'", optarg);
+            a->sim.dense = strcmp(optarg, "dense") == 0;
+            dynamics_option = 1;
+            break;
+        case OPT_TIP_CSV:
+            a->sim.tip_csv = optarg;
+            dynamics_option = 1;
+            break;
         case OPT_COLLISION: a->collision = optarg; break;
         case OPT_PLOT: a->plot = optarg; break;
         case OPT_QUIET: a->quiet = 1; break;
@@ -90,6 +148,11 @@ static int parse_args(int argc, char **argv, StrandArgs *a)
         default: return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
         }
     }
+    if (dynamics_option && !a->sim.enabled)
+        return hk_cli_usage_error(CMD, "--dt, --damping, --tip-csv and the motion options need --simulate T");
+    if (a->sim.enabled && a->sim.duration / a->sim.dt > 1e8)
+        return hk_cli_usage_error(CMD, "--simulate %g with --dt %g is more than 1e8 steps", a->sim.duration,
+                                  a->sim.dt);
     if (optind >= argc) return hk_cli_usage_error(CMD, "missing HAIRSTYLE file");
     if (optind + 1 < argc) return hk_cli_usage_error(CMD, "unexpected argument '%s'", argv[optind + 1]);
     a->hairstyle = argv[optind];
@@ -136,6 +199,12 @@ int hk_cmd_strand(int argc, char **argv)
     env.shape_count = shape_count;
     env.envelope_alpha = a.envelope;
     env.collision_step = def.collision_step;
+
+    if (a.sim.enabled) {
+        a.sim.quiet = a.quiet;
+        status = hk_cli_strand_simulate(CMD, &a.sim, &def, sh, &env, a.plot, shapes, shape_count);
+        goto done;
+    }
 
     hk_StaticsOptions opt = hk_default_statics_options();
     opt.solver = a.solver;

@@ -13,10 +13,11 @@ typedef struct Command {
 
 static const Command commands[] = {
     {"run", hk_cmd_run, "the main job: a setup file in, a picture of the groomed head out"},
-    {"strand", hk_cmd_strand, "rest shape of one Super-Helix strand under gravity and contacts"},
+    {"strand", hk_cmd_strand, "rest shape (or motion, --simulate) of one Super-Helix strand"},
     {"groom", hk_cmd_groom, "grow a full head of hair from a setup file into a .hair file"},
     {"info", hk_cmd_info, "strands, points, lengths and bounding box of a .hair file"},
     {"render", hk_cmd_render, "render a .hair file over a head into a PNG"},
+    {"simulate", hk_cmd_simulate, "a full head of hair in motion: frames of .hair and PNG"},
     {"bench", hk_cmd_bench, "benchmarks with side-by-side figures"},
 };
 

@@ -43,6 +43,9 @@ typedef struct hk_DynamicsParams {
     double friction_velocity;  /* sliding speed (m/s) below which friction is viscous,
                                   proportional to the speed (paper 000 §4.2); Coulomb above */
     int quadrature;            /* Gauss points per element; 0 chooses from the curvature */
+    double max_turn;           /* hk_strand_dynamics_advance: largest turn of an element's
+                                  frame in one step (rad) before the step is split */
+    int max_depth;             /* ... splits at most this deep (dt / 2^max_depth) */
     hk_DynamicsSolver solver;
 } hk_DynamicsParams;
 
@@ -88,6 +91,19 @@ void hk_strand_dynamics_place(hk_StrandDynamics *d, const hk_RigidState *head);
 hk_Status hk_strand_dynamics_step(hk_StrandDynamics *d, const hk_RigidState *head,
                                   const hk_PointForce *forces, int force_count, double dt,
                                   hk_Error *err);
+
+/* The head's state at time t, for hk_strand_dynamics_advance (user: caller data). */
+typedef void (*hk_HeadStateFn)(void *user, double t, hk_RigidState *out);
+
+/* Advances from time t to t + dt with error control: a step that turns some element's
+ * frame by more than max_turn radians (the linearisation of the step no longer holds:
+ * a whipping tip, a fast shake) or fails is undone and done again as two half steps,
+ * recursively, down to dt / 2^max_depth. head (NULL: at rest) gives the head's state at
+ * any time; the point forces are held over the whole interval. *substeps (may be NULL)
+ * receives the number of steps taken. */
+hk_Status hk_strand_dynamics_advance(hk_StrandDynamics *d, hk_HeadStateFn head, void *user,
+                                     double t, double dt, const hk_PointForce *forces,
+                                     int force_count, int *substeps, hk_Error *err);
 
 /* Energies at the current state with the head state head (NULL: at rest): kinetic
  * (centreline and rotary, absolute velocities) and potential (elastic + gravity, the

@@ -69,6 +69,13 @@ hk_Status hk_groom_grow(const hk_HairstyleDef *style, const hk_Shape *shapes, in
 
 void hk_groom_free(hk_Groom *g);
 
+/* Grows the interpolated strands of g again from its guides (g->guides,
+ * g->guide_count, g->points_per_strand set, e.g. moved by the dynamics; follicles =
+ * wick vertices): the same seed gives the same roots and clumps, so that strands
+ * follow their guides from frame to frame. Replaces any strands g had. */
+hk_Status hk_groom_interpolate_guides(const hk_HairstyleDef *style, const hk_Mesh *wick,
+                                      const hk_GroomOptions *options, hk_Groom *g, hk_Error *err);
+
 /* The groom as cyHair data: the guides first, then the interpolated strands; default
  * thickness is the hair's mean diameter. */
 hk_Status hk_groom_to_hair(const hk_Groom *g, const hk_HairstyleDef *style, hk_HairFile *out,

@@ -25,6 +25,7 @@
 #define HAIRKIT_HAIR_CONTACTS_H
 
 #include "hairkit/core.h"
+#include "hairkit/dynamics.h" /* hk_PointForce: a force at one point of a strand */
 #include "hairkit/vecmath.h"
 
 #ifdef __cplusplus
@@ -62,17 +63,6 @@ typedef struct hk_HairContactParams {
  * The dynamics depends on k / m, c_n / m and c_t / m: if a guide carries the mass of a
  * whole clump, scale the three coefficients by the same mass ratio. */
 hk_HairContactParams hk_default_hair_contact_params(void);
-
-/* A force applied at one point of a strand, with its linearisation for implicit
- * integration. The matrices are the derivatives with respect to this point alone
- * (the other strand of the contact is taken as moving with its current velocity);
- * both are symmetric positive semi-definite. */
-typedef struct hk_PointForce {
-    double s;          /* arc length on the strand where the force acts */
-    hk_Vec3 force;     /* N */
-    hk_Mat3 stiffness; /* -dF/dx of this point: k n n^T while the normal force is active */
-    hk_Mat3 damping;   /* -dF/dv of this point: c_n n n^T (while active) + c_t (I - n n^T) */
-} hk_PointForce;
 
 /* One tracked pair, for reports, pictures and tests. */
 typedef struct hk_HairContactPair {

@@ -33,6 +33,11 @@ typedef struct hk_RenderOptions {
      * everything fits the picture with a small margin. Default: three-quarter front. */
     double azimuth_deg, elevation_deg;
     double fov_deg;           /* vertical field of view (default 30) */
+    /* A fixed camera instead of the fit (for animations, so that the view does not follow
+     * the hair): it looks at camera_target from camera_distance along the direction
+     * above. camera_distance <= 0 (default): fit every picture. */
+    hk_Vec3 camera_target;
+    double camera_distance;
     /* One directional key light, from the direction azimuth/elevation as above. */
     double light_azimuth_deg, light_elevation_deg;
     double light_intensity;   /* default 1 */
@@ -67,6 +72,12 @@ typedef struct hk_RenderStats {
 hk_Status hk_render(const hk_HairFile *hair, const hk_Mesh *head, const hk_VisualityDef *visuality,
                     const hk_RenderOptions *options, hk_Canvas *out, hk_RenderStats *stats,
                     hk_Error *err);
+
+/* The camera hk_render would fit to this hair and head with these options: its target
+ * and distance (for a fixed camera over the frames of an animation). */
+hk_Status hk_render_fit_camera(const hk_HairFile *hair, const hk_Mesh *head,
+                               const hk_RenderOptions *options, hk_Vec3 *target, double *distance,
+                               hk_Error *err);
 
 /* Writes a linear-RGB picture as an 8-bit sRGB PNG (atomically). */
 hk_Status hk_render_write_png(const hk_Canvas *image, const char *path, hk_Error *err);

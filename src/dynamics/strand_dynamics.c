@@ -25,6 +25,12 @@ struct hk_StrandDynamics {
     hk_StrandEnv potential_env; /* no shapes: elastic + gravity */
     hk_StrandWorkspace *ws;
     double *v, *dv, *rhs, *extra, *grad, *work;
+    double *saved;       /* q and v before a step that may be undone, 2 x 3N */
+    /* hk_strand_dynamics_advance: where the caller's point forces act at the start of
+     * the interval, so that substeps follow the forces' linearisation */
+    hk_Vec3 *anchor_pos, *anchor_vel;
+    int anchor_capacity;
+    int anchored;
     hk_ElementTerms *terms;
     hk_GaussTable gauss;
 };
@@ -44,6 +50,10 @@ hk_DynamicsParams hk_dynamics_params_for(const hk_HairstyleDef *def)
     p.friction_against = def->body_friction[1];
     p.friction_velocity = 0.05;
     p.quadrature = 0;
+    /* 0.3 rad per step keeps the linearised step within a few percent of the exact
+     * rotation (1 - sin(x)/x ~ x^2 / 6 = 1.5 %); 2^8 = 256 substeps at most. */
+    p.max_turn = 0.3;
+    p.max_depth = 8;
     p.solver = HK_DYNAMICS_LINEAR;
     return p;
 }
@@ -56,6 +66,8 @@ void hk_strand_dynamics_destroy(hk_StrandDynamics *d)
     hk_free(d->v);
     hk_free(d->terms);
     hk_free(d->work);
+    hk_free(d->anchor_pos);
+    hk_free(d->anchor_vel);
     hk_free(d);
 }
 
@@ -65,7 +77,8 @@ static int params_valid(const hk_DynamicsParams *p)
            isfinite(p->air_drag) && p->friction_with >= 0.0 && isfinite(p->friction_with) &&
            p->friction_against >= 0.0 && isfinite(p->friction_against) &&
            p->friction_velocity > 0.0 && isfinite(p->friction_velocity) && p->quadrature >= 0 &&
-           p->quadrature <= HK_GAUSS_MAX &&
+           p->quadrature <= HK_GAUSS_MAX && p->max_turn > 0.0 && p->max_depth >= 0 &&
+           p->max_depth <= 30 &&
            (p->solver == HK_DYNAMICS_LINEAR || p->solver == HK_DYNAMICS_DENSE);
 }
 
@@ -88,8 +101,8 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *
     d->frame_head = sh->root_frame;
     d->potential_env = hk_default_strand_env();
     hk_gauss_table_init(&d->gauss);
-    /* One block for the 3N vectors: v, dv, rhs, extra, grad. */
-    d->v = hk_calloc_array(5 * dim, sizeof(double), err);
+    /* One block for the 3N vectors: v, dv, rhs, extra, grad, saved (2). */
+    d->v = hk_calloc_array(7 * dim, sizeof(double), err);
     d->terms = hk_alloc_array((size_t)n, sizeof(hk_ElementTerms), err);
     const int dense = params->solver == HK_DYNAMICS_DENSE;
     d->work = hk_alloc_array(dense ? HK_DENSE_WORK(n) : HK_LINEAR_WORK(n), sizeof(double), err);
@@ -102,6 +115,7 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *
     d->rhs = d->v + 2 * dim;
     d->extra = d->v + 3 * dim;
     d->grad = d->v + 4 * dim;
+    d->saved = d->v + 5 * dim;
     if (body && body->shape_count > 0 && body->collision_step > 0.0) {
         d->shapes = hk_alloc_array((size_t)body->shape_count, sizeof(hk_Shape), err);
         if (!d->shapes) {
@@ -183,11 +197,19 @@ static hk_Mat3 rotary_inertia(const hk_RodMaterial *m, const hk_Mat3 *frame, dou
 /* A point force at a point of element p: its value minus dt K (J v) (the stiffness
  * acting on the velocity, implicit Euler), and dt^2 K + dt D as effective mass. */
 static void add_point_force(hk_ElementTerms *t, const hk_PointKinematics *pk,
-                            const hk_PointForce *pf, const hk_RigidState *head, double dt)
+                            const hk_PointForce *pf, const hk_RigidState *head, double dt,
+                            const hk_Vec3 *anchor_pos, const hk_Vec3 *anchor_vel)
 {
     const hk_Vec3 rigid = hk_v3_add(head->vel, hk_v3_cross(head->omega, hk_v3_sub(pk->k.pos, head->trans)));
     const hk_Vec3 rel = hk_v3_sub(pk->k.vel, rigid); /* J q' */
-    const hk_Vec3 f = hk_v3_sub(pf->force, hk_v3_scale(hk_m3_mul_v3(&pf->stiffness, rel), dt));
+    hk_Vec3 force = pf->force;
+    if (anchor_pos) {
+        /* The force was given where the point was at the start of the interval: follow
+         * its linearisation, F0 - K (x - x0) - D (v - v0). */
+        force = hk_v3_sub(force, hk_m3_mul_v3(&pf->stiffness, hk_v3_sub(pk->k.pos, *anchor_pos)));
+        force = hk_v3_sub(force, hk_m3_mul_v3(&pf->damping, hk_v3_sub(pk->k.vel, *anchor_vel)));
+    }
+    const hk_Vec3 f = hk_v3_sub(force, hk_v3_scale(hk_m3_mul_v3(&pf->stiffness, rel), dt));
     const hk_Mat3 ks = hk_m3_scale(&pf->stiffness, dt * dt), ds = hk_m3_scale(&pf->damping, dt);
     const hk_Mat3 a = hk_m3_add(&ks, &ds);
     hk_element_terms_add(t, pk->k.pos, &a, NULL, &pk->jac, NULL, f, hk_v3_zero());
@@ -251,7 +273,7 @@ static void sweep(hk_StrandDynamics *d, const hk_RigidState *head, const hk_Poin
             if (!hk_body_contact_force(&d->contact, head, pk.k.pos, pk.k.vel, hk_m3_col(&pk.k.frame, 0), &pf))
                 continue;
             d->contact_count++;
-            add_point_force(t, &pk, &pf, head, dt);
+            add_point_force(t, &pk, &pf, head, dt, NULL, NULL);
         }
         /* The caller's point forces (sorted by s). */
         for (; mode == SWEEP_STEP && fi < force_count; fi++) {
@@ -262,7 +284,8 @@ static void sweep(hk_StrandDynamics *d, const hk_RigidState *head, const hk_Poin
             if (u > len) u = len;
             hk_PointKinematics pk;
             hk_point_kinematics(&node, k, kd, u, 1, &pk);
-            add_point_force(t, &pk, &forces[fi], head, dt);
+            add_point_force(t, &pk, &forces[fi], head, dt, d->anchored ? &d->anchor_pos[fi] : NULL,
+                            d->anchored ? &d->anchor_vel[fi] : NULL);
         }
         hk_PointKinematics end;
         hk_point_kinematics(&node, k, kd, len, mode == SWEEP_STEP ? 2 : 1, &end);
@@ -336,6 +359,76 @@ hk_Status hk_strand_dynamics_step(hk_StrandDynamics *d, const hk_RigidState *hea
         sh->q[j] += dt * d->v[j];
     }
     return HK_OK;
+}
+
+/* Largest turn of an element's end frame relative to its start over the step:
+ * |Lambda(l) dk| ~ l |dk| for the change dk of the element's coordinates. */
+static double largest_turn(const hk_StrandDynamics *d)
+{
+    const hk_SuperHelix *sh = d->sh;
+    double turn = 0.0;
+    for (int p = 0; p < sh->n; p++) {
+        const double *q0 = d->saved + 3 * p, *q1 = sh->q + 3 * p;
+        const double dq = sqrt((q1[0] - q0[0]) * (q1[0] - q0[0]) + (q1[1] - q0[1]) * (q1[1] - q0[1]) +
+                               (q1[2] - q0[2]) * (q1[2] - q0[2]));
+        turn = fmax(turn, sh->length[p] * dq);
+    }
+    return turn;
+}
+
+static hk_Status advance(hk_StrandDynamics *d, hk_HeadStateFn head, void *user, double t, double dt,
+                         const hk_PointForce *forces, int force_count, int depth, int *substeps,
+                         hk_Error *err)
+{
+    const int dim = 3 * d->sh->n;
+    hk_RigidState state = hk_rigid_identity();
+    if (head) head(user, t + dt, &state);
+    memcpy(d->saved, d->sh->q, (size_t)dim * sizeof(double));
+    memcpy(d->saved + dim, d->v, (size_t)dim * sizeof(double));
+    hk_Status st = hk_strand_dynamics_step(d, &state, forces, force_count, dt, err);
+    if (st == HK_OK && (depth >= d->params.max_depth || largest_turn(d) <= d->params.max_turn)) {
+        (*substeps)++;
+        return HK_OK;
+    }
+    if (depth >= d->params.max_depth) return st;
+    /* Undo and take two half steps. */
+    memcpy(d->sh->q, d->saved, (size_t)dim * sizeof(double));
+    memcpy(d->v, d->saved + dim, (size_t)dim * sizeof(double));
+    st = advance(d, head, user, t, 0.5 * dt, forces, force_count, depth + 1, substeps, err);
+    if (st != HK_OK) return st;
+    return advance(d, head, user, t + 0.5 * dt, 0.5 * dt, forces, force_count, depth + 1, substeps, err);
+}
+
+hk_Status hk_strand_dynamics_advance(hk_StrandDynamics *d, hk_HeadStateFn head, void *user,
+                                     double t, double dt, const hk_PointForce *forces,
+                                     int force_count, int *substeps, hk_Error *err)
+{
+    int count = 0;
+    if (force_count < 0 || (force_count > 0 && !forces))
+        return hk_error_set(err, HK_ERR_INVALID, "bad point force list");
+    if (force_count > d->anchor_capacity) {
+        hk_free(d->anchor_pos);
+        hk_free(d->anchor_vel);
+        d->anchor_capacity = 0;
+        d->anchor_pos = hk_alloc_array((size_t)force_count, sizeof(hk_Vec3), err);
+        d->anchor_vel = hk_alloc_array((size_t)force_count, sizeof(hk_Vec3), err);
+        if (!d->anchor_pos || !d->anchor_vel) return HK_ERR_NOMEM;
+        d->anchor_capacity = force_count;
+    }
+    if (force_count > 0) {
+        hk_RigidState start = hk_rigid_identity();
+        if (head) head(user, t, &start);
+        double s_buf[64], *s = force_count <= 64 ? s_buf : hk_alloc_array((size_t)force_count, sizeof(double), err);
+        if (!s) return HK_ERR_NOMEM;
+        for (int i = 0; i < force_count; i++) s[i] = forces[i].s;
+        hk_strand_dynamics_points(d, &start, s, force_count, d->anchor_pos, d->anchor_vel);
+        if (s != s_buf) hk_free(s);
+    }
+    d->anchored = force_count > 0;
+    const hk_Status st = advance(d, head, user, t, dt, forces, force_count, 0, &count, err);
+    d->anchored = 0;
+    if (substeps) *substeps = count;
+    return st;
 }
 
 void hk_strand_dynamics_energy(hk_StrandDynamics *d, const hk_RigidState *head, double *kinetic,

@@ -83,3 +83,26 @@ hk_Status hk_groom_to_hair(const hk_Groom *g, const hk_HairstyleDef *style, hk_H
     hk_hair_set_info(out, info);
     return HK_OK;
 }
+
+hk_Status hk_groom_interpolate_guides(const hk_HairstyleDef *style, const hk_Mesh *wick,
+                                      const hk_GroomOptions *options, hk_Groom *g, hk_Error *err)
+{
+    if (g->guide_count != wick->vertex_count || !g->guides || g->points_per_strand < 2)
+        return hk_error_set(err, HK_ERR_INVALID, "%d guides for a wick of %d vertices", g->guide_count,
+                            wick->vertex_count);
+    hk_GroomOptions o = options ? *options : hk_default_groom_options();
+    hk_free(g->strands);
+    hk_free(g->strand_triangle);
+    hk_free(g->strand_root_weights);
+    g->strands = NULL;
+    g->strand_triangle = NULL;
+    g->strand_root_weights = NULL;
+    g->strand_count = 0;
+    const int saved_threads = omp_get_max_threads();
+    if (o.threads > 0) omp_set_num_threads(o.threads);
+    const double t0 = seconds_now();
+    hk_Status st = hk_groom_interpolate(style, wick, &o, g, err);
+    g->stats.seconds_strands = seconds_now() - t0;
+    if (o.threads > 0) omp_set_num_threads(saved_threads);
+    return st;
+}

@@ -27,6 +27,12 @@ hk_View hk_camera_frame(const hk_Scene *scene)
     const double ty = tan(0.5 * o->fov_deg * DEG) * 0.92; /* 4% margin on each side */
     const double tx = ty * (double)o->width / (double)o->height;
     v.focal = 0.5 * o->height / tan(0.5 * o->fov_deg * DEG);
+    if (o->camera_distance > 0.0) {
+        v.target = o->camera_target;
+        v.distance = o->camera_distance;
+        v.origin = hk_v3_madd(v.target, v.forward, -v.distance);
+        return v;
+    }
     hk_Vec3 target = hk_v3_scale(hk_v3_add(scene->lo, scene->hi), 0.5);
     /* Distance so that every point fits, then centre the picture on the points'
      * projection and fit again. */
@@ -47,6 +53,8 @@ hk_View hk_camera_frame(const hk_Scene *scene)
             if (d > dist) dist = d;
         }
         v.origin = hk_v3_madd(target, v.forward, -dist);
+        v.target = target;
+        v.distance = dist;
         if (pass == 1) break;
         double xlo = 1e300, xhi = -1e300, ylo = 1e300, yhi = -1e300;
 #pragma omp parallel for schedule(static) reduction(min : xlo, ylo) reduction(max : xhi, yhi)

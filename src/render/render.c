@@ -23,6 +23,8 @@ hk_RenderOptions hk_default_render_options(void)
     o.azimuth_deg = 35.0;
     o.elevation_deg = 12.0;
     o.fov_deg = 30.0;
+    o.camera_target = hk_v3_zero();
+    o.camera_distance = 0.0; /* fit */
     o.light_azimuth_deg = -30.0;
     o.light_elevation_deg = 40.0;
     o.light_intensity = 1.0;
@@ -49,6 +51,8 @@ static hk_Status check_options(const hk_RenderOptions *o, hk_Error *err)
     if (o->shadows && (o->opacity_layers < 1 || o->opacity_layers > HK_MAX_OPACITY_LAYERS))
         return hk_error_set(err, HK_ERR_INVALID, "opacity layers %d: must be 1 to %d", o->opacity_layers,
                             HK_MAX_OPACITY_LAYERS);
+    if (!isfinite(o->camera_distance) || !hk_v3_isfinite(o->camera_target))
+        return hk_error_set(err, HK_ERR_INVALID, "camera target and distance must be finite");
     if (!(o->fov_deg >= 1.0 && o->fov_deg <= 150.0))
         return hk_error_set(err, HK_ERR_INVALID, "field of view %g degrees: must be 1 to 150", o->fov_deg);
     if (!isfinite(o->azimuth_deg) || !isfinite(o->elevation_deg) || !isfinite(o->light_azimuth_deg) ||
@@ -151,6 +155,23 @@ static hk_Status draw_tiles(const hk_TileInput *in, hk_Canvas *image, hk_RenderS
     if (failed) return hk_error_set(err, HK_ERR_NOMEM, "out of memory while drawing the hair");
     stats->hair_fragments = fragments;
     stats->max_depth_complexity = most;
+    return HK_OK;
+}
+
+hk_Status hk_render_fit_camera(const hk_HairFile *hair, const hk_Mesh *head,
+                               const hk_RenderOptions *opt, hk_Vec3 *target, double *distance,
+                               hk_Error *err)
+{
+    hk_Status st = check_options(opt, err);
+    if (st != HK_OK) return st;
+    hk_RenderOptions fit = *opt;
+    fit.camera_distance = 0.0;
+    hk_Scene sc = {hair, head && head->triangle_count > 0 ? head : NULL, NULL, &fit, hk_v3_zero(), hk_v3_zero(),
+                   hk_v3_zero(), 0.0, 0};
+    if ((st = scene_bounds(&sc, err)) != HK_OK) return st;
+    const hk_View cam = hk_camera_frame(&sc);
+    *target = cam.target;
+    *distance = cam.distance;
     return HK_OK;
 }
 

@@ -21,6 +21,8 @@ typedef struct hk_View {
     double focal;              /* pixels per unit at depth 1 (perspective) or per unit */
     double depth_offset;       /* orthographic: added to the depth to keep it positive */
     int width, height;
+    hk_Vec3 target;            /* camera: the point looked at, at `distance` from origin */
+    double distance;
 } hk_View;
 
 /* A projected point: pixel position (x right, y down), depth along forward, and the

@@ -1,0 +1,276 @@
+/* A full head of hair in motion (paper 000 §4.1; docs/dynamics.md): the guides of the
+ * groom as Super-Helices in motion, guide-guide interactions, and the interpolated hair
+ * regrown from the guides per frame. */
+#include <math.h>
+#include <omp.h>
+#include <string.h>
+#include <time.h>
+
+#include "hairkit/simulate.h"
+#include "hairkit/statics.h"
+
+struct hk_HairSim {
+    hk_HairstyleDef style;       /* own copy */
+    hk_HairSimOptions options;
+    hk_Shape *shapes;            /* own copy (head space) */
+    int shape_count;
+    int guide_count, points;
+    hk_SuperHelix **strand;
+    hk_StrandDynamics **dyn;
+    /* guide-guide contacts: samples every CollisionStep along each guide */
+    hk_HairContacts *contacts;
+    int sample_count;
+    double *sample_s;            /* sample_count arc lengths, shared by all guides */
+    hk_Vec3 *sample_pos, *sample_vel; /* guide_count x sample_count */
+    hk_StrandSamples *samples;   /* guide_count views of the above */
+};
+
+hk_HairSimOptions hk_default_hair_sim_options(const hk_HairstyleDef *style)
+{
+    hk_HairSimOptions o;
+    memset(&o, 0, sizeof o);
+    o.threads = 0;
+    o.dynamics = hk_dynamics_params_for(style);
+    o.hair_contacts = 1;
+    o.contacts = hk_default_hair_contact_params();
+    /* Contacts scaled to this hair (docs/dynamics.md): guides keep 2.5 mm apart, less
+     * than the spacing of neighbouring follicles near the crown (about 3 mm on the
+     * generated wick), so the groomed rest state is nearly free of contacts; a full
+     * overlap pushes with the strand's weight (several contacts add up: five times as
+     * much flung crown guides over the head in our tests); the normal damping is critical
+     * for a quarter of the strand's mass on that spring, the friction a fifth of it. */
+    const double mass = style->density * 3.14159265358979323846 * style->radius1 * style->radius2 *
+                        hk_hairstyle_length(style);
+    o.contacts.distance = 0.0025;
+    o.contacts.stiffness = 1.0 * mass * (style->gravity > 0.0 ? style->gravity : 9.81) / o.contacts.distance;
+    o.contacts.damping = 2.0 * sqrt(o.contacts.stiffness * 0.25 * mass);
+    o.contacts.friction = 0.2 * o.contacts.damping;
+    return o;
+}
+
+static double seconds_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+void hk_hair_sim_destroy(hk_HairSim *sim)
+{
+    if (!sim) return;
+    for (int i = 0; sim->dyn && i < sim->guide_count; i++) hk_strand_dynamics_destroy(sim->dyn[i]);
+    for (int i = 0; sim->strand && i < sim->guide_count; i++) hk_superhelix_destroy(sim->strand[i]);
+    hk_free(sim->dyn);
+    hk_free(sim->strand);
+    hk_hair_contacts_destroy(sim->contacts);
+    hk_free(sim->sample_s);
+    hk_free(sim->sample_pos);
+    hk_free(sim->sample_vel);
+    hk_free(sim->samples);
+    hk_free(sim->shapes);
+    hk_hairstyle_free(&sim->style);
+    hk_free(sim);
+}
+
+/* The groom's guide (guides.c): the statics rest shape with the envelope of its
+ * follicle's level, then its dynamics. */
+static hk_Status make_guide(hk_HairSim *sim, const hk_Follicles *f, int i, hk_Error *err)
+{
+    hk_Status st = hk_superhelix_from_hairstyle(&sim->style, f->position[i], f->normal[i], &sim->strand[i], err);
+    if (st != HK_OK) return st;
+    hk_StrandEnv env = hk_default_strand_env();
+    env.shapes = sim->shapes;
+    env.shape_count = sim->shape_count;
+    env.envelope_alpha = f->alpha[i];
+    env.collision_step = sim->style.collision_step;
+    hk_StaticsOptions opt = hk_default_statics_options();
+    hk_MinimizeResult res;
+    st = hk_statics_solve(sim->strand[i], &env, &opt, &res, err);
+    if (st == HK_OK) st = hk_strand_dynamics_create(sim->strand[i], &sim->options.dynamics, &env, &sim->dyn[i], err);
+    return st;
+}
+
+static hk_Status make_guides(hk_HairSim *sim, const hk_Follicles *f, hk_Error *err)
+{
+    int failed = -1;
+    hk_Error first;
+    hk_error_clear(&first);
+    long done = 0;
+    #pragma omp parallel for schedule(dynamic, 2)
+    for (int i = 0; i < f->count; i++) {
+        int skip;
+        #pragma omp atomic read
+        skip = failed;
+        if (skip >= 0) continue;
+        hk_Error e;
+        if (make_guide(sim, f, i, &e) != HK_OK) {
+            #pragma omp critical(hk_hair_sim_error)
+            if (failed < 0 || i < failed) {
+                failed = i;
+                first = e;
+            }
+        }
+        long d;
+        #pragma omp atomic capture
+        d = ++done;
+        if (sim->options.progress && omp_get_thread_num() == 0)
+            sim->options.progress(sim->options.progress_user, "guides", (double)d / f->count);
+    }
+    if (failed >= 0) {
+        if (err) *err = first;
+        return first.code;
+    }
+    return HK_OK;
+}
+
+static hk_Status make_contacts(hk_HairSim *sim, hk_Error *err)
+{
+    const double len = hk_hairstyle_length(&sim->style);
+    double m = ceil(len / sim->style.collision_step - 1e-9);
+    if (m < 1.0) m = 1.0;
+    if (m > 10000.0) m = 10000.0;
+    sim->sample_count = (int)m + 1;
+    const size_t total = (size_t)sim->guide_count * (size_t)sim->sample_count;
+    sim->sample_s = hk_alloc_array((size_t)sim->sample_count, sizeof(double), err);
+    sim->sample_pos = hk_alloc_array(total, sizeof(hk_Vec3), err);
+    sim->sample_vel = hk_alloc_array(total, sizeof(hk_Vec3), err);
+    sim->samples = hk_alloc_array((size_t)sim->guide_count, sizeof(hk_StrandSamples), err);
+    if (!sim->sample_s || !sim->sample_pos || !sim->sample_vel || !sim->samples) return HK_ERR_NOMEM;
+    for (int j = 0; j < sim->sample_count; j++) sim->sample_s[j] = len * j / (sim->sample_count - 1);
+    for (int i = 0; i < sim->guide_count; i++) {
+        const size_t o = (size_t)i * (size_t)sim->sample_count;
+        sim->samples[i] = (hk_StrandSamples){sim->sample_count, sim->sample_s, sim->sample_pos + o, sim->sample_vel + o};
+    }
+    return hk_hair_contacts_create(sim->guide_count, &sim->options.contacts, &sim->contacts, err);
+}
+
+hk_Status hk_hair_sim_create(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
+                             const hk_Mesh *wick, const hk_HairSimOptions *options, hk_HairSim **out,
+                             hk_Error *err)
+{
+    *out = NULL;
+    hk_HairSim *sim = hk_calloc_array(1, sizeof *sim, err);
+    if (!sim) return HK_ERR_NOMEM;
+    sim->options = options ? *options : hk_default_hair_sim_options(style);
+    hk_Follicles f = {0, NULL, NULL, NULL};
+    hk_Status st = hk_hairstyle_copy(style, &sim->style, err);
+    if (st == HK_OK && shape_count > 0) {
+        sim->shapes = hk_alloc_array((size_t)shape_count, sizeof(hk_Shape), err);
+        if (!sim->shapes) st = HK_ERR_NOMEM;
+        else memcpy(sim->shapes, shapes, (size_t)shape_count * sizeof(hk_Shape));
+        sim->shape_count = shape_count;
+    }
+    if (st == HK_OK) st = hk_follicles_from_wick(wick, &f, err);
+    if (st == HK_OK) {
+        sim->guide_count = f.count;
+        sim->strand = hk_calloc_array((size_t)f.count, sizeof(hk_SuperHelix *), err);
+        sim->dyn = hk_calloc_array((size_t)f.count, sizeof(hk_StrandDynamics *), err);
+        if (!sim->strand || !sim->dyn) st = HK_ERR_NOMEM;
+    }
+    const int saved_threads = omp_get_max_threads();
+    if (sim->options.threads > 0) omp_set_num_threads(sim->options.threads);
+    if (st == HK_OK) st = make_guides(sim, &f, err);
+    if (sim->options.threads > 0) omp_set_num_threads(saved_threads);
+    if (st == HK_OK) {
+        sim->points = hk_superhelix_sample_count(sim->strand[0], sim->style.visuality_step);
+        if (sim->options.hair_contacts) st = make_contacts(sim, err);
+    }
+    hk_follicles_free(&f);
+    if (st != HK_OK) {
+        hk_hair_sim_destroy(sim);
+        return st;
+    }
+    *out = sim;
+    return HK_OK;
+}
+
+int hk_hair_sim_guide_count(const hk_HairSim *sim) { return sim->guide_count; }
+int hk_hair_sim_points_per_strand(const hk_HairSim *sim) { return sim->points; }
+
+static void head_state(void *user, double t, hk_RigidState *out) { hk_head_motion_eval(user, t, out); }
+
+hk_Status hk_hair_sim_advance(hk_HairSim *sim, const hk_HeadMotion *motion, double t, double dt,
+                              hk_HairSimStats *stats, hk_Error *err)
+{
+    const double t0 = seconds_now();
+    hk_HairSimStats local;
+    memset(&local, 0, sizeof local);
+    hk_RigidState head = hk_rigid_identity();
+    if (motion) hk_head_motion_eval(motion, t, &head);
+    const int saved_threads = omp_get_max_threads();
+    if (sim->options.threads > 0) omp_set_num_threads(sim->options.threads);
+    /* Guide-guide interactions from the state at t (paper 000 §4.1), held over the
+     * step and treated implicitly through their linearisation. */
+    hk_Status st = HK_OK;
+    if (sim->contacts) {
+        #pragma omp parallel for schedule(static)
+        for (int i = 0; i < sim->guide_count; i++) {
+            const size_t o = (size_t)i * (size_t)sim->sample_count;
+            hk_strand_dynamics_points(sim->dyn[i], &head, sim->sample_s, sim->sample_count, sim->sample_pos + o,
+                                      sim->sample_vel + o);
+        }
+        st = hk_hair_contacts_update(sim->contacts, sim->samples, sim->guide_count, err);
+        local.contact_pairs = hk_hair_contacts_pair_count(sim->contacts);
+        local.contacts = hk_hair_contacts_contact_count(sim->contacts);
+    }
+    int failed = -1, substeps = 0, body = 0;
+    hk_Error first;
+    hk_error_clear(&first);
+    if (st == HK_OK) {
+        #pragma omp parallel for schedule(dynamic, 4) reduction(+ : substeps, body)
+        for (int i = 0; i < sim->guide_count; i++) {
+            int count = 0, taken = 0;
+            const hk_PointForce *forces = sim->contacts ? hk_hair_contacts_forces(sim->contacts, i, &count) : NULL;
+            hk_Error e;
+            if (hk_strand_dynamics_advance(sim->dyn[i], motion ? head_state : NULL, (void *)motion, t, dt, forces,
+                                           count, &taken, &e) != HK_OK) {
+                #pragma omp critical(hk_hair_sim_error)
+                if (failed < 0 || i < failed) {
+                    failed = i;
+                    first = e;
+                }
+            }
+            substeps += taken;
+            body += hk_strand_dynamics_contact_count(sim->dyn[i]);
+        }
+    }
+    if (sim->options.threads > 0) omp_set_num_threads(saved_threads);
+    if (st == HK_OK && failed >= 0)
+        st = hk_error_set(err, first.code, "guide %d at t = %.4g s: %s", failed, t, first.message);
+    local.substeps = substeps;
+    local.body_contacts = body;
+    local.seconds = seconds_now() - t0;
+    if (stats) *stats = local;
+    return st;
+}
+
+void hk_hair_sim_guides(const hk_HairSim *sim, double *out)
+{
+    #pragma omp parallel for schedule(static)
+    for (int i = 0; i < sim->guide_count; i++) {
+        hk_Vec3 buf[512], *p = sim->points <= 512 ? buf : hk_alloc_array((size_t)sim->points, sizeof(hk_Vec3), NULL);
+        if (!p) continue;
+        hk_superhelix_sample(sim->strand[i], NULL, sim->style.visuality_step, NULL, p, NULL);
+        double *o = out + (size_t)i * (size_t)sim->points * 3;
+        for (int j = 0; j < sim->points; j++) {
+            o[3 * j] = p[j].x;
+            o[3 * j + 1] = p[j].y;
+            o[3 * j + 2] = p[j].z;
+        }
+        if (p != buf) hk_free(p);
+    }
+}
+
+hk_Status hk_hair_sim_groom(const hk_HairSim *sim, const hk_Mesh *wick, const hk_GroomOptions *go,
+                            hk_Groom *g, hk_Error *err)
+{
+    memset(g, 0, sizeof *g);
+    g->points_per_strand = sim->points;
+    g->guide_count = sim->guide_count;
+    g->guides = hk_alloc_array((size_t)sim->guide_count * (size_t)sim->points, 3 * sizeof(double), err);
+    if (!g->guides) return HK_ERR_NOMEM;
+    hk_hair_sim_guides(sim, g->guides);
+    hk_Status st = hk_groom_interpolate_guides(&sim->style, wick, go, g, err);
+    if (st != HK_OK) hk_groom_free(g);
+    return st;
+}
