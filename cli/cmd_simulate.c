@@ -35,6 +35,9 @@ static void usage(FILE *out)
             "  --guides-only      simulate and write only the guides (DIR/guides_kkkk.hair),\n"
             "                     no interpolation and no pictures: a quick preview\n"
             "  --no-contacts      no guide-guide interactions\n"
+            "  --preroll S        let the hair settle S seconds on the still head before\n"
+            "                     frame 0 (default 1; the groomed shape ignores the\n"
+            "                     guide-guide contacts)\n"
             "  --damping on|off   internal friction and air drag (default on)\n");
     hk_cli_motion_options_help(out);
     fprintf(out, "pictures:\n");
@@ -52,6 +55,7 @@ typedef struct SimArgs {
     long frames;
     double fps;
     int guides_only, contacts, damping, quiet;
+    double preroll;
     hk_CliMotion motion;
     hk_RenderOptions render;
     hk_GroomOptions groom;
@@ -59,7 +63,7 @@ typedef struct SimArgs {
 
 static int parse_args(int argc, char **argv, SimArgs *a)
 {
-    enum { OPT_FRAMES = 2000, OPT_FPS, OPT_GUIDES_ONLY, OPT_NO_CONTACTS, OPT_DAMPING };
+    enum { OPT_FRAMES = 2000, OPT_FPS, OPT_GUIDES_ONLY, OPT_NO_CONTACTS, OPT_DAMPING, OPT_PREROLL };
     static const struct option options[] = {
         {"frames", required_argument, NULL, OPT_FRAMES},
         {"fps", required_argument, NULL, OPT_FPS},
@@ -67,6 +71,7 @@ static int parse_args(int argc, char **argv, SimArgs *a)
         {"guides-only", no_argument, NULL, OPT_GUIDES_ONLY},
         {"no-contacts", no_argument, NULL, OPT_NO_CONTACTS},
         {"damping", required_argument, NULL, OPT_DAMPING},
+        {"preroll", required_argument, NULL, OPT_PREROLL},
         {"seed", required_argument, NULL, 's'},
         {"threads", required_argument, NULL, 't'},
         {"quiet", no_argument, NULL, 'q'},
@@ -78,6 +83,7 @@ static int parse_args(int argc, char **argv, SimArgs *a)
     memset(a, 0, sizeof *a);
     a->contacts = 1;
     a->damping = 1;
+    a->preroll = 1.0;
     a->motion = hk_cli_default_motion();
     a->render = hk_default_render_options();
     a->groom = hk_default_groom_options();
@@ -105,6 +111,10 @@ static int parse_args(int argc, char **argv, SimArgs *a)
         case 'o': a->dir = optarg; break;
         case OPT_GUIDES_ONLY: a->guides_only = 1; break;
         case OPT_NO_CONTACTS: a->contacts = 0; break;
+        case OPT_PREROLL:
+            if (!hk_cli_parse_double(optarg, &a->preroll) || !(a->preroll >= 0.0 && a->preroll <= 100.0))
+                return hk_cli_usage_error(CMD, "--preroll expects seconds in [0, 100], got '%s'", optarg);
+            break;
         case OPT_DAMPING:
             if (strcmp(optarg, "on") != 0 && strcmp(optarg, "off") != 0)
                 return hk_cli_usage_error(CMD, "--damping must be on or off, got '%s'", optarg);
@@ -293,9 +303,16 @@ int hk_cmd_simulate(int argc, char **argv)
         st = hk_hair_sim_create(&s.style, s.shapes, s.shape_count, &s.wick, &so, &s.sim, &err);
         hk_cli_progress_done(&progress);
     }
+    if (st == HK_OK && a.preroll > 0.0) {
+        hk_RigidState pose;
+        hk_head_motion_eval(s.motion, 0.0, &pose);
+        st = hk_hair_sim_settle(s.sim, &pose, a.preroll, 1.0 / a.fps, &err);
+    }
     if (st == HK_OK && !a.quiet)
-        fprintf(stderr, "hairkit %s: %d guides of %d elements at rest after %.2f s; %ld frames at %g fps\n", CMD,
-                hk_hair_sim_guide_count(s.sim), s.style.element_count, hk_cli_now() - t0, a.frames, a.fps);
+        fprintf(stderr, "hairkit %s: %d guides of %d elements at rest (and settled %g s) after %.2f s; %ld frames at %g "
+                "fps\n",
+                CMD, hk_hair_sim_guide_count(s.sim), s.style.element_count, a.preroll, hk_cli_now() - t0, a.frames,
+                a.fps);
     hk_RenderOptions ro = a.render;
     const double dt = 1.0 / a.fps;
     double sim_seconds = 0.0;

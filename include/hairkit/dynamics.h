@@ -11,11 +11,11 @@
  * Time stepping is linearly implicit Euler with a fixed step dt (paper 000 §3.4):
  *     (M + dt D + dt^2 K) dv = dt (f - dt K v),   v += dv,   q += dt v,
  * where f is every force at the start of the step, D the damping (internal friction,
- * air drag, contact friction) and K the stiffness (elastic, plus the Gauss-Newton part
- * of the contact stiffness). The system is solved either by a dense Cholesky of the
- * 3N x 3N matrix or by a recursive O(N) elimination along the strand (an articulated
- * chain where each element's own mass moves with its coordinates); both solve the same
- * equations and agree to rounding. */
+ * air drag, contact friction) and K the stiffness: either the exact Hessian of the
+ * potential made positive semi-definite (dense Cholesky of the 3N x 3N matrix), or its
+ * elastic and Gauss-Newton contact parts only, which a recursive O(N) elimination along
+ * the strand solves (an articulated chain where each element's own mass moves with its
+ * coordinates); with the same stiffness the dense and O(N) solvers agree to rounding. */
 #ifndef HAIRKIT_DYNAMICS_H
 #define HAIRKIT_DYNAMICS_H
 
@@ -33,6 +33,18 @@ typedef enum hk_DynamicsSolver {
     HK_DYNAMICS_DENSE = 1   /* assembled M and Cholesky, O(N^2) + O(N^3): the reference */
 } hk_DynamicsSolver;
 
+typedef enum hk_DynamicsStiffness {
+    /* Implicit in the exact Hessian of the potential (elastic, gravity and the body's
+     * penalty, thesis §4.1.2), shifted by mu K (K the elastic diagonal) with the least
+     * mu >= 0 that makes it positive semi-definite; dense solver only. Stable on hair
+     * pressed into the collision envelopes. (default) */
+    HK_STIFFNESS_FULL = 0,
+    /* Implicit in the elastic stiffness and the Gauss-Newton part of the contacts (the
+     * terms the O(N) recursion can carry); gravity's and the contacts' geometric
+     * stiffness explicit, as in paper 000 §3.4. */
+    HK_STIFFNESS_GAUSS_NEWTON = 1
+} hk_DynamicsStiffness;
+
 typedef struct hk_DynamicsParams {
     double internal_friction;  /* gamma (kg m^3/s), paper 000 eq. 5d */
     double air_drag;           /* nu (kg/(m s)), paper 000 eq. 5a */
@@ -47,10 +59,11 @@ typedef struct hk_DynamicsParams {
                                   frame in one step (rad) before the step is split */
     int max_depth;             /* ... splits at most this deep (dt / 2^max_depth) */
     hk_DynamicsSolver solver;
+    hk_DynamicsStiffness stiffness; /* HK_STIFFNESS_FULL needs HK_DYNAMICS_DENSE */
 } hk_DynamicsParams;
 
 /* Paper-range defaults: gamma 1e-10, nu 1e-5, friction 0.2 / 0.4, 5 cm/s, auto
- * quadrature, linear-time solver. */
+ * quadrature, dense solver with the full stiffness. */
 hk_DynamicsParams hk_default_dynamics_params(void);
 
 /* The same from a hairstyle's InternalFriction, AirDrag and BodyFriction. */

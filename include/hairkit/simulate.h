@@ -51,6 +51,12 @@ typedef struct hk_HairSimStats {
 hk_Status hk_hair_sim_advance(hk_HairSim *sim, const hk_HeadMotion *motion, double t, double dt,
                               hk_HairSimStats *stats, hk_Error *err);
 
+/* Lets the hair settle for `seconds` (steps of dt) with the head held in the pose
+ * `head` (NULL: at rest): the groomed rest shape ignores guide-guide contacts, which
+ * then push neighbouring guides apart at first (a pre-roll, as animators do). */
+hk_Status hk_hair_sim_settle(hk_HairSim *sim, const hk_RigidState *head, double seconds, double dt,
+                             hk_Error *err);
+
 int hk_hair_sim_guide_count(const hk_HairSim *sim);
 int hk_hair_sim_points_per_strand(const hk_HairSim *sim);
 

@@ -9,7 +9,7 @@
 #include "dynamics_internal.h"
 
 int hk_body_contact_force(const hk_BodyContact *bc, const hk_RigidState *head, hk_Vec3 pos,
-                          hk_Vec3 vel, hk_Vec3 tangent, hk_PointForce *out)
+                          hk_Vec3 vel, hk_Vec3 tangent, int with_normal, hk_PointForce *out)
 {
     /* The shapes live in head space: x = R^T (p - T). */
     const hk_Vec3 rel = hk_v3_sub(pos, head->trans);
@@ -41,6 +41,10 @@ int hk_body_contact_force(const hk_BodyContact *bc, const hk_RigidState *head, h
                       (bc->friction_against - bc->friction_with) * 0.5 * (1.0 + cosine);
     const double c = mu * fn / (speed > bc->friction_velocity ? speed : bc->friction_velocity);
     out->force = hk_v3_madd(out->force, vt, -c);
+    if (!with_normal) {
+        out->force = hk_v3_scale(vt, -c);
+        out->stiffness = hk_m3_zero();
+    }
     /* Linearisation: c times the projector on the tangent plane. */
     const hk_Mat3 nn = hk_m3_outer(normal, normal);
     hk_Mat3 proj = hk_m3_identity();
@@ -50,3 +54,4 @@ int hk_body_contact_force(const hk_BodyContact *bc, const hk_RigidState *head, h
     out->s = 0.0;
     return 1;
 }
+

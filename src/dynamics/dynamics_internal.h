@@ -69,8 +69,10 @@ void hk_terms_generalized_force(int n, const hk_ElementTerms *terms, double *out
  * (work: HK_LINEAR_WORK(n) doubles). Returns 0 if the system is not positive definite. */
 #define HK_DENSE_WORK(n) ((size_t)18 * (size_t)(n) * (size_t)(n))
 #define HK_LINEAR_WORK(n) ((size_t)21 * (size_t)(n))
+/* dense: geo (may be NULL) is a further symmetric 3n x 3n matrix added times scale. */
 int hk_terms_solve_dense(int n, const hk_ElementTerms *terms, const double *extra,
-                         const double *rhs, double *x, double *work);
+                         const double *geo, double scale, const double *rhs, double *x,
+                         double *work);
 int hk_terms_solve_linear(int n, const hk_ElementTerms *terms, const double *extra,
                           const double *rhs, double *x, double *work);
 
@@ -82,8 +84,9 @@ void hk_terms_multiply(int n, const hk_ElementTerms *terms, const double *extra,
 void hk_terms_assemble(int n, const hk_ElementTerms *terms, double *mass);
 
 /* Body contact of one sample (paper 000 §4.2): penalty force of the shapes (head
- * space) with anisotropic friction, as a point force with its linearisation. Returns 0
- * when the point touches no shape. */
+ * space) with anisotropic friction, as a point force with its linearisation; without
+ * with_normal, the friction alone (the normal force then comes from the gradient of the
+ * penalty energy). Returns 0 when the point touches no shape. */
 typedef struct hk_BodyContact {
     const hk_Shape *shapes;
     int shape_count;
@@ -93,6 +96,6 @@ typedef struct hk_BodyContact {
 } hk_BodyContact;
 
 int hk_body_contact_force(const hk_BodyContact *bc, const hk_RigidState *head, hk_Vec3 pos,
-                          hk_Vec3 vel, hk_Vec3 tangent, hk_PointForce *out);
+                          hk_Vec3 vel, hk_Vec3 tangent, int with_normal, hk_PointForce *out);
 
 #endif

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "dynamics_internal.h"
+#include "hairkit/linalg.h"
 #include "rod/helix_local.h"
 
 struct hk_StrandDynamics {
@@ -31,6 +32,12 @@ struct hk_StrandDynamics {
     hk_Vec3 *anchor_pos, *anchor_vel;
     int anchor_capacity;
     int anchored;
+    /* HK_STIFFNESS_FULL: the potential with the body's penalty, its Hessian (then the
+     * shifted geometric stiffness G + mu K), a factor for the definiteness test */
+    hk_StrandEnv body_env;
+    hk_StrandWorkspace *ws_body;
+    double *hess, *factor, *metric, *geo_v;
+    double shift;        /* mu of the last step */
     hk_ElementTerms *terms;
     hk_GaussTable gauss;
 };
@@ -54,7 +61,8 @@ hk_DynamicsParams hk_dynamics_params_for(const hk_HairstyleDef *def)
      * rotation (1 - sin(x)/x ~ x^2 / 6 = 1.5 %); 2^8 = 256 substeps at most. */
     p.max_turn = 0.3;
     p.max_depth = 8;
-    p.solver = HK_DYNAMICS_LINEAR;
+    p.solver = HK_DYNAMICS_DENSE;
+    p.stiffness = HK_STIFFNESS_FULL;
     return p;
 }
 
@@ -68,6 +76,8 @@ void hk_strand_dynamics_destroy(hk_StrandDynamics *d)
     hk_free(d->work);
     hk_free(d->anchor_pos);
     hk_free(d->anchor_vel);
+    hk_strand_workspace_destroy(d->ws_body);
+    hk_free(d->hess);
     hk_free(d);
 }
 
@@ -79,7 +89,9 @@ static int params_valid(const hk_DynamicsParams *p)
            p->friction_velocity > 0.0 && isfinite(p->friction_velocity) && p->quadrature >= 0 &&
            p->quadrature <= HK_GAUSS_MAX && p->max_turn > 0.0 && p->max_depth >= 0 &&
            p->max_depth <= 30 &&
-           (p->solver == HK_DYNAMICS_LINEAR || p->solver == HK_DYNAMICS_DENSE);
+           (p->solver == HK_DYNAMICS_LINEAR || p->solver == HK_DYNAMICS_DENSE) &&
+           (p->stiffness == HK_STIFFNESS_GAUSS_NEWTON ||
+            (p->stiffness == HK_STIFFNESS_FULL && p->solver == HK_DYNAMICS_DENSE));
 }
 
 hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *params,
@@ -90,7 +102,8 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *
     if (!params_valid(params))
         return hk_error_set(err, HK_ERR_INVALID,
                             "dynamics parameters out of range (friction and drag must be >= 0, "
-                            "quadrature 0..%d)", HK_GAUSS_MAX);
+                            "quadrature 0..%d; the full stiffness needs the dense solver)",
+                            HK_GAUSS_MAX);
     hk_StrandDynamics *d = hk_calloc_array(1, sizeof *d, err);
     if (!d) return HK_ERR_NOMEM;
     const int n = sh->n;
@@ -135,6 +148,23 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *
         d->contact.friction_with = params->friction_with;
         d->contact.friction_against = params->friction_against;
         d->contact.friction_velocity = params->friction_velocity;
+        d->body_env = *body;
+        d->body_env.shapes = d->shapes;
+    } else {
+        d->body_env = hk_default_strand_env();
+    }
+    if (params->stiffness == HK_STIFFNESS_FULL) {
+        /* hess and factor (3N)^2 each, metric and G v 3N each */
+        d->hess = hk_alloc_array(2 * dim * dim + 2 * dim, sizeof(double), err);
+        if (!d->hess || hk_strand_workspace_create(sh, &d->body_env, &d->ws_body, err) != HK_OK) {
+            hk_strand_dynamics_destroy(d);
+            return err ? err->code : HK_ERR_NOMEM;
+        }
+        d->factor = d->hess + dim * dim;
+        d->metric = d->factor + dim * dim;
+        d->geo_v = d->metric + dim;
+        for (int p = 0; p < n; p++)
+            for (int i = 0; i < 3; i++) d->metric[3 * p + i] = sh->material.stiffness[i] * sh->length[p];
     }
     *out = d;
     return HK_OK;
@@ -270,7 +300,8 @@ static void sweep(hk_StrandDynamics *d, const hk_RigidState *head, const hk_Poin
             hk_PointKinematics pk;
             hk_point_kinematics(&node, k, kd, u, 1, &pk);
             hk_PointForce pf;
-            if (!hk_body_contact_force(&d->contact, head, pk.k.pos, pk.k.vel, hk_m3_col(&pk.k.frame, 0), &pf))
+            if (!hk_body_contact_force(&d->contact, head, pk.k.pos, pk.k.vel, hk_m3_col(&pk.k.frame, 0),
+                                       d->params.stiffness != HK_STIFFNESS_FULL, &pf))
                 continue;
             d->contact_count++;
             add_point_force(t, &pk, &pf, head, dt, NULL, NULL);
@@ -301,12 +332,44 @@ static int all_finite(const double *x, int count)
     return 1;
 }
 
-static int solve(hk_StrandDynamics *d)
+static int solve(hk_StrandDynamics *d, double dt)
 {
     const int n = d->sh->n;
     if (d->params.solver == HK_DYNAMICS_DENSE)
-        return hk_terms_solve_dense(n, d->terms, d->extra, d->rhs, d->dv, d->work);
+        return hk_terms_solve_dense(n, d->terms, d->extra, d->hess, dt * dt, d->rhs, d->dv, d->work);
     return hk_terms_solve_linear(n, d->terms, d->extra, d->rhs, d->dv, d->work);
+}
+
+/* HK_STIFFNESS_FULL: gradient and Hessian of the whole potential with the body's
+ * penalty, evaluated in head space (where the shapes are; the generalized Hessian does
+ * not change under a rigid motion of the scene, gravity turned with it), then the
+ * geometric stiffness G = Hess - K made positive semi-definite by the least shift
+ * mu K, mu in {0, 1e-6, 1e-5, ...}: it is indefinite where hair is held above its root
+ * or pressed into an envelope, and implicit Euler would amplify those modes (by
+ * 1 / (1 - dt^2 w^2)); the shift turns them into numerical damping instead. */
+static void full_stiffness(hk_StrandDynamics *d, const hk_RigidState *head)
+{
+    hk_SuperHelix *sh = d->sh;
+    const int n = sh->n, dim = 3 * n;
+    const hk_Vec3 root = sh->root, gravity = sh->material.gravity;
+    const hk_Mat3 frame = sh->root_frame;
+    sh->root = d->root_head;
+    sh->root_frame = d->frame_head;
+    sh->material.gravity = hk_m3_tmul_v3(&head->rot, gravity);
+    hk_strand_energy(sh, &d->body_env, sh->q, d->ws_body, d->grad, d->hess, NULL);
+    sh->root = root;
+    sh->root_frame = frame;
+    sh->material.gravity = gravity;
+    for (int j = 0; j < dim; j++) d->hess[(size_t)j * (size_t)dim + (size_t)j] -= d->metric[j];
+    double mu = 0.0;
+    while (!hk_cholesky_factor(dim, d->hess, mu, d->metric, d->factor) && mu < 1e12) mu = mu > 0.0 ? 10.0 * mu : 1e-6;
+    for (int j = 0; j < dim; j++) d->hess[(size_t)j * (size_t)dim + (size_t)j] += mu * d->metric[j];
+    d->shift = mu;
+    for (int i = 0; i < dim; i++) {
+        double s = 0.0;
+        for (int j = 0; j < dim; j++) s += d->hess[(size_t)i * (size_t)dim + (size_t)j] * d->v[j];
+        d->geo_v[i] = s;
+    }
 }
 
 hk_Status hk_strand_dynamics_step(hk_StrandDynamics *d, const hk_RigidState *head,
@@ -323,14 +386,19 @@ hk_Status hk_strand_dynamics_step(hk_StrandDynamics *d, const hk_RigidState *hea
     const int n = sh->n, dim = 3 * n;
     hk_strand_dynamics_place(d, head);
 
-    /* Elastic energy and gravity: exact gradient of the statics energy. Gravity's
-     * stiffness (the second derivatives of the kinematics weighted by the weight) stays
-     * explicit, as in paper 000 §3.4: it is indefinite wherever hair lies above its
+    /* Elastic energy and gravity (and with the full stiffness the body's penalty): the
+     * exact gradient of the statics energy. With the Gauss-Newton stiffness, gravity's
+     * (the second derivatives of the kinematics weighted by the weight) stays explicit,
+     * as in paper 000 §3.4; taken whole it is indefinite wherever hair lies above its
      * root or a helix can turn its loops down, and implicit Euler amplifies such modes
      * by 1 / (1 - dt^2 w^2) - we measured energy doubling per step at dt = 1/30 on a
-     * wavy strand, whose gravity Hessian in twist exceeds the twist stiffness, against
-     * a dissipative step with it explicit (docs/dynamics.md). */
-    hk_strand_energy(sh, &d->potential_env, sh->q, d->ws, d->grad, NULL, NULL);
+     * wavy strand, whose gravity Hessian in twist exceeds the twist stiffness - hence
+     * the shift of full_stiffness (docs/dynamics.md). */
+    const int full = d->params.stiffness == HK_STIFFNESS_FULL;
+    if (full)
+        full_stiffness(d, head);
+    else
+        hk_strand_energy(sh, &d->potential_env, sh->q, d->ws, d->grad, NULL, NULL);
     sweep(d, head, forces, force_count, dt, SWEEP_STEP);
     hk_terms_generalized_force(n, d->terms, d->rhs);
     /* Elastic stiffness and internal friction (eq. 5c-d) are diagonal: gamma and K_i
@@ -340,10 +408,11 @@ hk_Status hk_strand_dynamics_step(hk_StrandDynamics *d, const hk_RigidState *hea
             const int j = 3 * p + i;
             const double kl = sh->material.stiffness[i] * sh->length[p];
             const double gl = d->params.internal_friction * sh->length[p];
-            d->rhs[j] = dt * (d->rhs[j] - d->grad[j] - gl * d->v[j] - dt * kl * d->v[j]);
+            d->rhs[j] = dt * (d->rhs[j] - d->grad[j] - gl * d->v[j] - dt * kl * d->v[j] -
+                              (full ? dt * d->geo_v[j] : 0.0));
             d->extra[j] = dt * gl + dt * dt * kl;
         }
-    const int ok = solve(d) && all_finite(d->dv, dim);
+    const int ok = solve(d, dt) && all_finite(d->dv, dim);
     if (!ok)
         return hk_error_set(err, HK_ERR_NUMERIC,
                             "dynamics step failed: the system of the implicit step is singular "

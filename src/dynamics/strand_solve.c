@@ -57,11 +57,15 @@ void hk_terms_assemble(int n, const hk_ElementTerms *terms, double *mass)
 }
 
 int hk_terms_solve_dense(int n, const hk_ElementTerms *terms, const double *extra,
-                         const double *rhs, double *x, double *work)
+                         const double *geo, double scale, const double *rhs, double *x,
+                         double *work)
 {
     const int dim = 3 * n;
-    double *mass = work, *factor = work + (size_t)dim * (size_t)dim;
+    const size_t count = (size_t)dim * (size_t)dim;
+    double *mass = work, *factor = work + count;
     hk_terms_assemble(n, terms, mass);
+    if (geo)
+        for (size_t i = 0; i < count; i++) mass[i] += scale * geo[i];
     if (!hk_cholesky_factor(dim, mass, 1.0, extra, factor)) return 0;
     memcpy(x, rhs, (size_t)dim * sizeof(double));
     hk_cholesky_solve(dim, factor, x);
