@@ -38,8 +38,10 @@ static void usage(FILE *out)
             "  --dt DT            time step in seconds (default 1/30, the paper's)\n"
             "  --damping on|off   internal friction and air drag (InternalFriction, AirDrag\n"
             "                     of the hairstyle file; default on)\n"
-            "  --dynamics-solver linear|dense\n"
-            "                     O(N) recursion (default) or dense Cholesky (reference)\n"
+            "  --dynamics-solver dense|linear\n"
+            "                     dense Cholesky with the full stiffness (default) or the\n"
+            "                     O(N) recursion with the elastic and Gauss-Newton contact\n"
+            "                     stiffness (gravity's stiffness explicit, as in the paper)\n"
             "  --tip-csv FILE     write t,x,y,z of the tip at every step\n");
     hk_cli_motion_options_help(out);
     fprintf(out,

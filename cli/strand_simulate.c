@@ -11,7 +11,7 @@
 
 hk_CliStrandSim hk_cli_default_strand_sim(void)
 {
-    hk_CliStrandSim s = {0, 0.0, 1.0 / 30.0, 1, 0, 0, NULL, hk_cli_default_motion()};
+    hk_CliStrandSim s = {0, 0.0, 1.0 / 30.0, 1, 1, 0, NULL, hk_cli_default_motion()};
     return s;
 }
 
@@ -42,6 +42,7 @@ int hk_cli_strand_simulate(const char *cmd, const hk_CliStrandSim *sim, const hk
     hk_DynamicsParams params = hk_dynamics_params_for(def);
     if (!sim->damping) params.internal_friction = params.air_drag = 0.0;
     params.solver = sim->dense ? HK_DYNAMICS_DENSE : HK_DYNAMICS_LINEAR;
+    params.stiffness = sim->dense ? HK_STIFFNESS_FULL : HK_STIFFNESS_GAUSS_NEWTON;
     if (hk_cli_motion_create(&sim->motion, &motion, &err) != HK_OK ||
         hk_strand_dynamics_create(sh, &params, env, &dyn, &err) != HK_OK ||
         (sim->tip_csv && hk_outfile_open(&tip, sim->tip_csv, &err) != HK_OK)) {

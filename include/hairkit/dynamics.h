@@ -35,9 +35,9 @@ typedef enum hk_DynamicsSolver {
 
 typedef enum hk_DynamicsStiffness {
     /* Implicit in the exact Hessian of the potential (elastic, gravity and the body's
-     * penalty, thesis §4.1.2), shifted by mu K (K the elastic diagonal) with the least
-     * mu >= 0 that makes it positive semi-definite; dense solver only. Stable on hair
-     * pressed into the collision envelopes. (default) */
+     * penalty, thesis §4.1.2), its geometric part shifted by mu times the mass diagonal
+     * with the least mu >= 0 that makes it positive semi-definite; dense solver only.
+     * Stable on hair pressed into the collision envelopes. (default) */
     HK_STIFFNESS_FULL = 0,
     /* Implicit in the elastic stiffness and the Gauss-Newton part of the contacts (the
      * terms the O(N) recursion can carry); gravity's and the contacts' geometric
@@ -57,6 +57,8 @@ typedef struct hk_DynamicsParams {
     int quadrature;            /* Gauss points per element; 0 chooses from the curvature */
     double max_turn;           /* hk_strand_dynamics_advance: largest turn of an element's
                                   frame in one step (rad) before the step is split */
+    double max_travel;         /* ... or moves a node by more than this (m) relative to
+                                  the head: contacts are found at the start of a step */
     int max_depth;             /* ... splits at most this deep (dt / 2^max_depth) */
     hk_DynamicsSolver solver;
     hk_DynamicsStiffness stiffness; /* HK_STIFFNESS_FULL needs HK_DYNAMICS_DENSE */
@@ -110,7 +112,8 @@ typedef void (*hk_HeadStateFn)(void *user, double t, hk_RigidState *out);
 
 /* Advances from time t to t + dt with error control: a step that turns some element's
  * frame by more than max_turn radians (the linearisation of the step no longer holds:
- * a whipping tip, a fast shake) or fails is undone and done again as two half steps,
+ * a whipping tip, a fast shake), moves a node by more than max_travel relative to the
+ * head, or fails is undone and done again as two half steps,
  * recursively, down to dt / 2^max_depth. head (NULL: at rest) gives the head's state at
  * any time; the point forces are held over the whole interval. *substeps (may be NULL)
  * receives the number of steps taken. */

@@ -14,6 +14,8 @@
 #include "hairkit/linalg.h"
 #include "rod/helix_local.h"
 
+#define HK_TRAVEL_NODES 64
+
 struct hk_StrandDynamics {
     hk_SuperHelix *sh;
     hk_DynamicsParams params;
@@ -60,6 +62,9 @@ hk_DynamicsParams hk_dynamics_params_for(const hk_HairstyleDef *def)
     /* 0.3 rad per step keeps the linearised step within a few percent of the exact
      * rotation (1 - sin(x)/x ~ x^2 / 6 = 1.5 %); 2^8 = 256 substeps at most. */
     p.max_turn = 0.3;
+    /* and no node travels more than 5 mm relative to the head (the default CollisionStep)
+     * in one step */
+    p.max_travel = 0.005;
     p.max_depth = 8;
     p.solver = HK_DYNAMICS_DENSE;
     p.stiffness = HK_STIFFNESS_FULL;
@@ -87,7 +92,7 @@ static int params_valid(const hk_DynamicsParams *p)
            isfinite(p->air_drag) && p->friction_with >= 0.0 && isfinite(p->friction_with) &&
            p->friction_against >= 0.0 && isfinite(p->friction_against) &&
            p->friction_velocity > 0.0 && isfinite(p->friction_velocity) && p->quadrature >= 0 &&
-           p->quadrature <= HK_GAUSS_MAX && p->max_turn > 0.0 && p->max_depth >= 0 &&
+           p->quadrature <= HK_GAUSS_MAX && p->max_turn > 0.0 && p->max_travel > 0.0 && p->max_depth >= 0 &&
            p->max_depth <= 30 &&
            (p->solver == HK_DYNAMICS_LINEAR || p->solver == HK_DYNAMICS_DENSE) &&
            (p->stiffness == HK_STIFFNESS_GAUSS_NEWTON ||
@@ -163,8 +168,6 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *
         d->factor = d->hess + dim * dim;
         d->metric = d->factor + dim * dim;
         d->geo_v = d->metric + dim;
-        for (int p = 0; p < n; p++)
-            for (int i = 0; i < 3; i++) d->metric[3 * p + i] = sh->material.stiffness[i] * sh->length[p];
     }
     *out = d;
     return HK_OK;
@@ -199,15 +202,16 @@ static hk_FrameKinematics root_kinematics(const hk_StrandDynamics *d, const hk_R
 
 static hk_Vec3 k_of(const double *q, int p) { return hk_v3(q[3 * p], q[3 * p + 1], q[3 * p + 2]); }
 
-/* Gauss points for element p: enough for the helix phase |k| l of the element (and of
- * its rest shape), whose trigonometric integrands a rule of n points integrates to
- * about (phase)^(2n) / (2n)!. */
+/* Gauss points for element p: 3 integrate a straight element's products of Jacobians
+ * (polynomials of degree 4 in u) exactly; more for the helix phase |k| l of the element
+ * (and of its rest shape), whose trigonometric integrands a rule of n points
+ * integrates to about (phase)^(2n) / (2n)!. */
 static int gauss_count(const hk_StrandDynamics *d, int p)
 {
     if (d->params.quadrature > 0) return d->params.quadrature;
     const hk_SuperHelix *sh = d->sh;
     const double phase = sh->length[p] * fmax(hk_v3_norm(k_of(sh->q, p)), hk_v3_norm(k_of(sh->q_rest, p)));
-    const double g = 4.0 + ceil(1.5 * phase);
+    const double g = 3.0 + ceil(1.5 * phase);
     return g < HK_GAUSS_MAX ? (int)g : HK_GAUSS_MAX;
 }
 
@@ -342,15 +346,10 @@ static int solve(hk_StrandDynamics *d, double dt)
 
 /* HK_STIFFNESS_FULL: gradient and Hessian of the whole potential with the body's
  * penalty, evaluated in head space (where the shapes are; the generalized Hessian does
- * not change under a rigid motion of the scene, gravity turned with it), then the
- * geometric stiffness G = Hess - K made positive semi-definite by the least shift
- * mu K, mu in {0, 1e-6, 1e-5, ...}: it is indefinite where hair is held above its root
- * or pressed into an envelope, and implicit Euler would amplify those modes (by
- * 1 / (1 - dt^2 w^2)); the shift turns them into numerical damping instead. */
-static void full_stiffness(hk_StrandDynamics *d, const hk_RigidState *head)
+ * not change under a rigid motion of the scene, gravity turned with it). */
+static void full_potential(hk_StrandDynamics *d, const hk_RigidState *head)
 {
     hk_SuperHelix *sh = d->sh;
-    const int n = sh->n, dim = 3 * n;
     const hk_Vec3 root = sh->root, gravity = sh->material.gravity;
     const hk_Mat3 frame = sh->root_frame;
     sh->root = d->root_head;
@@ -360,9 +359,31 @@ static void full_stiffness(hk_StrandDynamics *d, const hk_RigidState *head)
     sh->root = root;
     sh->root_frame = frame;
     sh->material.gravity = gravity;
-    for (int j = 0; j < dim; j++) d->hess[(size_t)j * (size_t)dim + (size_t)j] -= d->metric[j];
+}
+
+/* Then the geometric stiffness G = Hess - K (the elastic diagonal K is in the system
+ * already) made positive semi-definite by the least shift mu D, D the diagonal of the
+ * step's mass matrix and mu in {0, 1, 10, 100, ...} s^-2. G is indefinite where
+ * gravity or a contact pulls hair over a crest - hair held above its root, pressed
+ * into an envelope - and implicit Euler amplifies such modes by 1 / (1 - dt^2 w^2);
+ * shifted, they are damped instead, by an extra inertia dt^2 mu D. What we tried:
+ *  - G explicit (the Gauss-Newton stiffness): hair pressed into the head's envelopes
+ *    vibrates at rest at dt = 1/30 (a mode of growth rate ~ 450 / s);
+ *  - the whole Hessian (elastic included) made semi-definite: the energy of a strand
+ *    released sideways rose by 70 % in one step;
+ *  - the shift measured by the elastic diagonal: mu up to 1e5 froze the strands'
+ *    bending for the step and a shaken head swung hair tips 1 cm into itself.
+ * This one keeps the energy from rising in our tests and hair out of the head; the
+ * price is extra damping of fast motion at large steps (docs/dynamics.md). */
+static void shift_to_semidefinite(hk_StrandDynamics *d)
+{
+    const hk_SuperHelix *sh = d->sh;
+    const int dim = 3 * sh->n;
+    hk_terms_mass_diagonal(sh->n, d->terms, d->metric);
+    for (int j = 0; j < dim; j++)
+        d->hess[(size_t)j * (size_t)dim + (size_t)j] -= sh->material.stiffness[j % 3] * sh->length[j / 3];
     double mu = 0.0;
-    while (!hk_cholesky_factor(dim, d->hess, mu, d->metric, d->factor) && mu < 1e12) mu = mu > 0.0 ? 10.0 * mu : 1e-6;
+    while (!hk_cholesky_factor(dim, d->hess, mu, d->metric, d->factor) && mu < 1e12) mu = mu > 0.0 ? 10.0 * mu : 1.0;
     for (int j = 0; j < dim; j++) d->hess[(size_t)j * (size_t)dim + (size_t)j] += mu * d->metric[j];
     d->shift = mu;
     for (int i = 0; i < dim; i++) {
@@ -396,10 +417,11 @@ hk_Status hk_strand_dynamics_step(hk_StrandDynamics *d, const hk_RigidState *hea
      * the shift of full_stiffness (docs/dynamics.md). */
     const int full = d->params.stiffness == HK_STIFFNESS_FULL;
     if (full)
-        full_stiffness(d, head);
+        full_potential(d, head);
     else
         hk_strand_energy(sh, &d->potential_env, sh->q, d->ws, d->grad, NULL, NULL);
     sweep(d, head, forces, force_count, dt, SWEEP_STEP);
+    if (full) shift_to_semidefinite(d);
     hk_terms_generalized_force(n, d->terms, d->rhs);
     /* Elastic stiffness and internal friction (eq. 5c-d) are diagonal: gamma and K_i
      * times the element length. */
@@ -445,6 +467,49 @@ static double largest_turn(const hk_StrandDynamics *d)
     return turn;
 }
 
+/* Whether a head-space point lies within `margin` of a body shape's envelope. */
+static int near_body(const hk_StrandDynamics *d, hk_Vec3 x, double margin)
+{
+    for (int k = 0; k < d->contact.shape_count; k++) {
+        const hk_Shape *sh = &d->contact.shapes[k];
+        if (hk_shape_dent(sh, x, NULL, NULL) + d->contact.envelope_alpha * sh->volume > -margin) return 1;
+    }
+    return 0;
+}
+
+/* Largest displacement over the step, relative to the head, of a node that ends near
+ * the body (the strand's shape in head space before and after): contacts are found at
+ * the start of a step, so a node that travels farther than the collision samples'
+ * spacing in one step can pass into the body before the penalty sees it. Far from the
+ * body a fast node needs no smaller step. */
+static double largest_travel(hk_StrandDynamics *d)
+{
+    if (d->contact.shape_count == 0) return 0.0;
+    hk_SuperHelix *sh = d->sh;
+    const hk_Vec3 root = sh->root;
+    const hk_Mat3 frame = sh->root_frame;
+    sh->root = d->root_head;
+    sh->root_frame = d->frame_head;
+    hk_Vec3 before[HK_TRAVEL_NODES + 1], after[HK_TRAVEL_NODES + 1];
+    int n = sh->n;
+    if (n <= HK_TRAVEL_NODES) {
+        hk_superhelix_nodes(sh, d->saved, before, NULL);
+        hk_superhelix_nodes(sh, sh->q, after, NULL);
+    } else { /* long strands: the tip alone */
+        n = 1;
+        hk_superhelix_eval(sh, d->saved, sh->total_length, &before[1], NULL);
+        hk_superhelix_eval(sh, sh->q, sh->total_length, &after[1], NULL);
+    }
+    sh->root = root;
+    sh->root_frame = frame;
+    double travel = 0.0;
+    for (int i = 1; i <= n; i++) {
+        const double step = hk_v3_dist(before[i], after[i]);
+        if (step > travel && near_body(d, after[i], step)) travel = step;
+    }
+    return travel;
+}
+
 static hk_Status advance(hk_StrandDynamics *d, hk_HeadStateFn head, void *user, double t, double dt,
                          const hk_PointForce *forces, int force_count, int depth, int *substeps,
                          hk_Error *err)
@@ -455,7 +520,8 @@ static hk_Status advance(hk_StrandDynamics *d, hk_HeadStateFn head, void *user, 
     memcpy(d->saved, d->sh->q, (size_t)dim * sizeof(double));
     memcpy(d->saved + dim, d->v, (size_t)dim * sizeof(double));
     hk_Status st = hk_strand_dynamics_step(d, &state, forces, force_count, dt, err);
-    if (st == HK_OK && (depth >= d->params.max_depth || largest_turn(d) <= d->params.max_turn)) {
+    if (st == HK_OK && (depth >= d->params.max_depth ||
+                        (largest_turn(d) <= d->params.max_turn && largest_travel(d) <= d->params.max_travel))) {
         (*substeps)++;
         return HK_OK;
     }

@@ -206,13 +206,15 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
 hk_Status hk_hair_sim_advance(hk_HairSim *sim, const hk_HeadMotion *motion, double t, double dt,
                               hk_HairSimStats *stats, hk_Error *err)
 {
+    if (!(dt > 0.0) || !isfinite(dt) || !isfinite(t))
+        return hk_error_set(err, HK_ERR_INVALID, "advancing from t = %g by %g s", t, dt);
     return advance(sim, motion ? head_state : NULL, (void *)motion, t, dt, stats, err);
 }
 
 hk_Status hk_hair_sim_settle(hk_HairSim *sim, const hk_RigidState *head, double seconds, double dt,
                              hk_Error *err)
 {
-    if (!(dt > 0.0) || !(seconds >= 0.0) || seconds / dt > 1e7)
+    if (!(dt > 0.0) || !isfinite(dt) || !(seconds >= 0.0) || seconds / dt > 1e7)
         return hk_error_set(err, HK_ERR_INVALID, "settling %g s in steps of %g s", seconds, dt);
     hk_RigidState pose = head ? *head : hk_rigid_identity();
     const long steps = (long)ceil(seconds / dt - 1e-9);
