@@ -48,8 +48,10 @@ void hk_terms_assemble(int n, const hk_ElementTerms *terms, double *mass)
                 mass[(size_t)a * dim + ib] = m;
                 mass[ib * dim + (size_t)a] = m;
             }
-            for (int a = 0; a < 3; a++)
-                mass[(size_t)(3 * p + a) * dim + ib] = t->mass[a][b] + dot6(t->xi[a], sxi);
+            for (int a = 0; a <= b; a++) { /* mirrored: exactly symmetric */
+                const size_t ia = (size_t)(3 * p + a);
+                mass[ia * dim + ib] = mass[ib * dim + ia] = t->mass[a][b] + dot6(t->xi[a], sxi);
+            }
         }
         for (int i = 0; i < 6; i++)
             for (int j = 0; j < 6; j++) beyond[i][j] += t->inertia[i][j];
