@@ -27,4 +27,12 @@ done
     -o docs/images/render-no-shadows.png --width 480 --height 360 --no-shadows --quiet
 "$hk" render "$tmp/default.hair" --head assets/head.obj --visuality examples/default/visuality.txt \
     -o docs/images/render-marschner.png --width 480 --height 360 --shading marschner --quiet
+# Dynamics (docs/dynamics.md): a strand falling, and the 201 guides on a shaking head.
+for t in 0.1 0.2 0.3; do
+    "$hk" strand examples/strand/straight.txt --simulate "$t" --plot "docs/images/dynamics-fall-$t.png" --quiet \
+        > /dev/null
+done
+"$hk" simulate examples/guides200/setup.txt --frames 13 --fps 30 --motion shake --amplitude 40 --frequency 1.5 \
+    --width 400 --height 300 -o "$tmp/shake" --quiet
+for k in 0000 0004 0008 0012; do cp "$tmp/shake/frame_$k.png" "docs/images/dynamics-shake-$k.png"; done
 echo "docs/images updated"

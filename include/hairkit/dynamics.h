@@ -35,8 +35,8 @@ typedef enum hk_DynamicsSolver {
 
 typedef enum hk_DynamicsStiffness {
     /* Implicit in the exact Hessian of the potential (elastic, gravity and the body's
-     * penalty, thesis §4.1.2), its geometric part shifted by mu times the mass diagonal
-     * with the least mu >= 0 that makes it positive semi-definite; dense solver only.
+     * penalty, thesis §4.1.2), of which the geometric part (all but the elastic
+     * diagonal) is projected on its positive semi-definite part; dense solver only.
      * Stable on hair pressed into the collision envelopes. (default) */
     HK_STIFFNESS_FULL = 0,
     /* Implicit in the elastic stiffness and the Gauss-Newton part of the contacts (the
@@ -62,6 +62,9 @@ typedef struct hk_DynamicsParams {
     int max_depth;             /* ... splits at most this deep (dt / 2^max_depth) */
     hk_DynamicsSolver solver;
     hk_DynamicsStiffness stiffness; /* HK_STIFFNESS_FULL needs HK_DYNAMICS_DENSE */
+    int hessian_interval;      /* HK_STIFFNESS_FULL: the Hessian and its positive part are
+                                  refreshed every this many steps (default 4), the gradient
+                                  every step */
 } hk_DynamicsParams;
 
 /* Paper-range defaults: gamma 1e-10, nu 1e-5, friction 0.2 / 0.4, 5 cm/s, auto

@@ -14,6 +14,12 @@ int hk_cholesky_factor(int n, const double *a, double shift, const double *d, do
 /* Solves L L^T x = b in place (x holds b on entry) with the factor from above. */
 void hk_cholesky_solve(int n, const double *l, double *x);
 
+/* Eigen-decomposition of the symmetric matrix a (n x n, row-major): eigenvalues w (n,
+ * unordered) and eigenvectors as the columns of v (n x n); e is n doubles of work.
+ * Householder tridiagonalisation and implicit QL (tred2/tql2). Returns 0 if the
+ * iteration did not converge. */
+int hk_symmetric_eigen(int n, const double *a, double *w, double *v, double *e);
+
 #ifdef __cplusplus
 }
 #endif

@@ -52,3 +52,122 @@ void hk_cholesky_solve(int n, const double *l, double *x)
         x[i] = v / l[(size_t)i * sn + (size_t)i];
     }
 }
+
+/* ---- symmetric eigen-decomposition ------------------------------------------------
+ * Householder reduction to tridiagonal form, then the implicit QL iteration with
+ * Wilkinson-like shifts (Wilkinson & Reinsch, Handbook for Automatic Computation II,
+ * procedures tred2 and tql2), accumulating the transformations into the eigenvectors. */
+
+/* sqrt(a^2 + b^2) without libm's hypot, several times slower and not needed: the
+ * matrices here hold physical values far from overflow. */
+static double hypot2(double a, double b) { return sqrt(a * a + b * b); }
+
+int hk_symmetric_eigen(int n, const double *a, double *w, double *v, double *e)
+{
+    const size_t sn = (size_t)n;
+#define V(i, j) v[(size_t)(i) * sn + (size_t)(j)]
+    for (size_t k = 0; k < sn * sn; k++) v[k] = a[k];
+    /* tred2: V becomes the orthogonal transformation, w the diagonal, e the
+     * subdiagonal (e[i] couples i - 1 and i). */
+    for (int i = n - 1; i > 0; i--) {
+        const int l = i - 1;
+        double h = 0.0, scale = 0.0;
+        if (l > 0) {
+            for (int k = 0; k <= l; k++) scale += fabs(V(i, k));
+            if (scale == 0.0) {
+                e[i] = V(i, l);
+            } else {
+                for (int k = 0; k <= l; k++) {
+                    V(i, k) /= scale;
+                    h += V(i, k) * V(i, k);
+                }
+                double f = V(i, l);
+                double g = f >= 0.0 ? -sqrt(h) : sqrt(h);
+                e[i] = scale * g;
+                h -= f * g;
+                V(i, l) = f - g;
+                f = 0.0;
+                for (int j = 0; j <= l; j++) {
+                    V(j, i) = V(i, j) / h;
+                    g = 0.0;
+                    for (int k = 0; k <= j; k++) g += V(j, k) * V(i, k);
+                    for (int k = j + 1; k <= l; k++) g += V(k, j) * V(i, k);
+                    e[j] = g / h;
+                    f += e[j] * V(i, j);
+                }
+                const double hh = f / (h + h);
+                for (int j = 0; j <= l; j++) {
+                    f = V(i, j);
+                    e[j] = g = e[j] - hh * f;
+                    for (int k = 0; k <= j; k++) V(j, k) -= f * e[k] + g * V(i, k);
+                }
+            }
+        } else {
+            e[i] = V(i, l);
+        }
+        w[i] = h;
+    }
+    w[0] = 0.0;
+    e[0] = 0.0;
+    for (int i = 0; i < n; i++) {
+        const int l = i - 1;
+        if (w[i] != 0.0) {
+            for (int j = 0; j <= l; j++) {
+                double g = 0.0;
+                for (int k = 0; k <= l; k++) g += V(i, k) * V(k, j);
+                for (int k = 0; k <= l; k++) V(k, j) -= g * V(k, i);
+            }
+        }
+        w[i] = V(i, i);
+        V(i, i) = 1.0;
+        for (int j = 0; j <= l; j++) V(j, i) = V(i, j) = 0.0;
+    }
+    /* tql2 (QL with implicit shifts) on the tridiagonal matrix; rows of V are
+     * rotated, so that in the end column j of V is the eigenvector of w[j]. */
+    for (int i = 1; i < n; i++) e[i - 1] = e[i];
+    if (n > 0) e[n - 1] = 0.0;
+    for (int l = 0; l < n; l++) {
+        int iter = 0, m;
+        do {
+            for (m = l; m < n - 1; m++) {
+                const double dd = fabs(w[m]) + fabs(w[m + 1]);
+                if (fabs(e[m]) <= 1e-15 * dd) break;
+            }
+            if (m != l) {
+                if (iter++ == 60) return 0; /* no convergence */
+                double g = (w[l + 1] - w[l]) / (2.0 * e[l]);
+                double r = hypot2(g, 1.0);
+                g = w[m] - w[l] + e[l] / (g + (g >= 0.0 ? fabs(r) : -fabs(r)));
+                double s = 1.0, c = 1.0, p = 0.0;
+                int i;
+                for (i = m - 1; i >= l; i--) {
+                    double f = s * e[i];
+                    const double b = c * e[i];
+                    e[i + 1] = (r = hypot2(f, g));
+                    if (r == 0.0) {
+                        w[i + 1] -= p;
+                        e[m] = 0.0;
+                        break;
+                    }
+                    s = f / r;
+                    c = g / r;
+                    g = w[i + 1] - p;
+                    r = (w[i] - g) * s + 2.0 * c * b;
+                    w[i + 1] = g + (p = s * r);
+                    g = c * r - b;
+                    for (int k = 0; k < n; k++) {
+                        f = V(k, i + 1);
+                        V(k, i + 1) = s * V(k, i) + c * f;
+                        V(k, i) = c * V(k, i) - s * f;
+                    }
+                }
+                if (r == 0.0 && i >= l) continue;
+                w[l] -= p;
+                e[l] = g;
+                e[m] = 0.0;
+            }
+        } while (m != l);
+    }
+#undef V
+    return 1;
+}

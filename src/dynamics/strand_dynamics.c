@@ -39,7 +39,8 @@ struct hk_StrandDynamics {
     hk_StrandEnv body_env;
     hk_StrandWorkspace *ws_body;
     double *hess, *factor, *metric, *geo_v;
-    double shift;        /* mu of the last step */
+    double shift;        /* most negative eigenvalue of G dropped in the last step */
+    long steps;          /* steps taken (or tried), to refresh G+ every few */
     hk_ElementTerms *terms;
     hk_GaussTable gauss;
 };
@@ -66,6 +67,7 @@ hk_DynamicsParams hk_dynamics_params_for(const hk_HairstyleDef *def)
      * in one step */
     p.max_travel = 0.005;
     p.max_depth = 8;
+    p.hessian_interval = 4;
     p.solver = HK_DYNAMICS_DENSE;
     p.stiffness = HK_STIFFNESS_FULL;
     return p;
@@ -92,7 +94,7 @@ static int params_valid(const hk_DynamicsParams *p)
            isfinite(p->air_drag) && p->friction_with >= 0.0 && isfinite(p->friction_with) &&
            p->friction_against >= 0.0 && isfinite(p->friction_against) &&
            p->friction_velocity > 0.0 && isfinite(p->friction_velocity) && p->quadrature >= 0 &&
-           p->quadrature <= HK_GAUSS_MAX && p->max_turn > 0.0 && p->max_travel > 0.0 && p->max_depth >= 0 &&
+           p->quadrature <= HK_GAUSS_MAX && p->max_turn > 0.0 && p->max_travel > 0.0 && p->max_depth >= 0 && p->hessian_interval >= 1 && p->hessian_interval <= 1000 &&
            p->max_depth <= 30 &&
            (p->solver == HK_DYNAMICS_LINEAR || p->solver == HK_DYNAMICS_DENSE) &&
            (p->stiffness == HK_STIFFNESS_GAUSS_NEWTON ||
@@ -159,15 +161,15 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *
         d->body_env = hk_default_strand_env();
     }
     if (params->stiffness == HK_STIFFNESS_FULL) {
-        /* hess and factor (3N)^2 each, metric and G v 3N each */
-        d->hess = hk_alloc_array(2 * dim * dim + 2 * dim, sizeof(double), err);
+        /* hess and factor (3N)^2 each, metric (2 x 3N: eigenvalues and work) and G v */
+        d->hess = hk_alloc_array(2 * dim * dim + 3 * dim, sizeof(double), err);
         if (!d->hess || hk_strand_workspace_create(sh, &d->body_env, &d->ws_body, err) != HK_OK) {
             hk_strand_dynamics_destroy(d);
             return err ? err->code : HK_ERR_NOMEM;
         }
         d->factor = d->hess + dim * dim;
         d->metric = d->factor + dim * dim;
-        d->geo_v = d->metric + dim;
+        d->geo_v = d->metric + 2 * dim;
     }
     *out = d;
     return HK_OK;
@@ -347,7 +349,7 @@ static int solve(hk_StrandDynamics *d, double dt)
 /* HK_STIFFNESS_FULL: gradient and Hessian of the whole potential with the body's
  * penalty, evaluated in head space (where the shapes are; the generalized Hessian does
  * not change under a rigid motion of the scene, gravity turned with it). */
-static void full_potential(hk_StrandDynamics *d, const hk_RigidState *head)
+static void full_potential(hk_StrandDynamics *d, const hk_RigidState *head, int with_hessian)
 {
     hk_SuperHelix *sh = d->sh;
     const hk_Vec3 root = sh->root, gravity = sh->material.gravity;
@@ -355,37 +357,52 @@ static void full_potential(hk_StrandDynamics *d, const hk_RigidState *head)
     sh->root = d->root_head;
     sh->root_frame = d->frame_head;
     sh->material.gravity = hk_m3_tmul_v3(&head->rot, gravity);
-    hk_strand_energy(sh, &d->body_env, sh->q, d->ws_body, d->grad, d->hess, NULL);
+    hk_strand_energy(sh, &d->body_env, sh->q, d->ws_body, d->grad, with_hessian ? d->hess : NULL, NULL);
     sh->root = root;
     sh->root_frame = frame;
     sh->material.gravity = gravity;
 }
 
 /* Then the geometric stiffness G = Hess - K (the elastic diagonal K is in the system
- * already) made positive semi-definite by the least shift mu D, D the diagonal of the
- * step's mass matrix and mu in {0, 1, 10, 100, ...} s^-2. G is indefinite where
- * gravity or a contact pulls hair over a crest - hair held above its root, pressed
- * into an envelope - and implicit Euler amplifies such modes by 1 / (1 - dt^2 w^2);
- * shifted, they are damped instead, by an extra inertia dt^2 mu D. What we tried:
- *  - G explicit (the Gauss-Newton stiffness): hair pressed into the head's envelopes
- *    vibrates at rest at dt = 1/30 (a mode of growth rate ~ 450 / s);
- *  - the whole Hessian (elastic included) made semi-definite: the energy of a strand
- *    released sideways rose by 70 % in one step;
- *  - the shift measured by the elastic diagonal: mu up to 1e5 froze the strands'
- *    bending for the step and a shaken head swung hair tips 1 cm into itself.
- * This one keeps the energy from rising in our tests and hair out of the head; the
- * price is extra damping of fast motion at large steps (docs/dynamics.md). */
-static void shift_to_semidefinite(hk_StrandDynamics *d)
+ * already), projected on its positive part: G+ = V max(L, 0) V^T from its
+ * eigen-decomposition, skipped when a Cholesky factorisation shows G semi-definite
+ * already. The positive part is implicit: hair pressed into the head's envelopes, whose
+ * contact forces stiffen it, stays at rest at dt = 1/30 (explicit, it vibrated with a
+ * growth rate near 450 / s). The negative part - gravity or a contact pulling hair over a
+ * crest, hair held above its root, the twist-bend saddle of a horizontal rod - stays
+ * explicit, as in paper 000 §3.4: implicit Euler would amplify those modes by
+ * 1 / (1 - dt^2 w^2) (the energy of a strand released sideways rose by 70 % in one
+ * step), and shifting the whole matrix until it is semi-definite instead slowed a
+ * falling strand tenfold (docs/dynamics.md). */
+static void project_positive(hk_StrandDynamics *d)
 {
     const hk_SuperHelix *sh = d->sh;
     const int dim = 3 * sh->n;
-    hk_terms_mass_diagonal(sh->n, d->terms, d->metric);
-    for (int j = 0; j < dim; j++)
-        d->hess[(size_t)j * (size_t)dim + (size_t)j] -= sh->material.stiffness[j % 3] * sh->length[j / 3];
-    double mu = 0.0;
-    while (!hk_cholesky_factor(dim, d->hess, mu, d->metric, d->factor) && mu < 1e12) mu = mu > 0.0 ? 10.0 * mu : 1.0;
-    for (int j = 0; j < dim; j++) d->hess[(size_t)j * (size_t)dim + (size_t)j] += mu * d->metric[j];
-    d->shift = mu;
+    const size_t sd = (size_t)dim;
+    for (int j = 0; j < dim; j++) d->hess[(size_t)j * sd + (size_t)j] -= sh->material.stiffness[j % 3] * sh->length[j / 3];
+    d->shift = 0.0;
+    if (!hk_cholesky_factor(dim, d->hess, 0.0, NULL, d->factor)) {
+        double *v = d->factor, *w = d->metric, *e = d->metric + dim;
+        if (hk_symmetric_eigen(dim, d->hess, w, v, e)) {
+            for (int k = 0; k < dim; k++) {
+                if (w[k] < 0.0) d->shift = fmax(d->shift, -w[k]);
+                w[k] = fmax(w[k], 0.0);
+            }
+            for (size_t i = 0; i < sd; i++)
+                for (size_t j = 0; j <= i; j++) {
+                    double s = 0.0;
+                    for (size_t k = 0; k < sd; k++) s += v[i * sd + k] * w[k] * v[j * sd + k];
+                    d->hess[i * sd + j] = d->hess[j * sd + i] = s;
+                }
+        } else { /* no convergence (not seen): the Gauss-Newton step, G explicit */
+            memset(d->hess, 0, sd * sd * sizeof(double));
+        }
+    }
+}
+
+static void geometric_times_velocity(hk_StrandDynamics *d)
+{
+    const int dim = 3 * d->sh->n;
     for (int i = 0; i < dim; i++) {
         double s = 0.0;
         for (int j = 0; j < dim; j++) s += d->hess[(size_t)i * (size_t)dim + (size_t)j] * d->v[j];
@@ -416,12 +433,17 @@ hk_Status hk_strand_dynamics_step(hk_StrandDynamics *d, const hk_RigidState *hea
      * wavy strand, whose gravity Hessian in twist exceeds the twist stiffness - hence
      * the shift of full_stiffness (docs/dynamics.md). */
     const int full = d->params.stiffness == HK_STIFFNESS_FULL;
+    /* G+ is only the linearisation: any positive semi-definite matrix on both sides of
+     * the step keeps it consistent. Refreshing it every few steps, with the gradient
+     * exact every step, saves the Hessian and its eigen-decomposition in between. */
+    const int refresh = full && d->steps++ % d->params.hessian_interval == 0;
     if (full)
-        full_potential(d, head);
+        full_potential(d, head, refresh);
     else
         hk_strand_energy(sh, &d->potential_env, sh->q, d->ws, d->grad, NULL, NULL);
     sweep(d, head, forces, force_count, dt, SWEEP_STEP);
-    if (full) shift_to_semidefinite(d);
+    if (refresh) project_positive(d);
+    if (full) geometric_times_velocity(d);
     hk_terms_generalized_force(n, d->terms, d->rhs);
     /* Elastic stiffness and internal friction (eq. 5c-d) are diagonal: gamma and K_i
      * times the element length. */

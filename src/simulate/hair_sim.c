@@ -45,9 +45,9 @@ hk_HairSimOptions hk_default_hair_sim_options(const hk_HairstyleDef *style)
     o.contacts.stiffness = 1.0 * mass * (style->gravity > 0.0 ? style->gravity : 9.81) / o.contacts.distance;
     o.contacts.damping = 2.0 * sqrt(o.contacts.stiffness * 0.25 * mass);
     o.contacts.friction = 0.2 * o.contacts.damping;
-    /* Rescan every step: with the other guides moving, closest points change often, and
-     * missed contacts made forces flicker (the guides jittered by a millimetre at rest). */
-    o.contacts.rescan_interval = 1;
+    /* The contacts module's default rescan_interval 2 stays: rescanning every step cost
+     * 15 % of the step for no visible change once the linearisation is doubled (see
+     * advance()). */
     return o;
 }
 

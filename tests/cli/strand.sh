@@ -62,5 +62,7 @@ expect 2 "$hk" strand "$src/examples/strand/curly.txt" extra.txt
 # The benchmark runs (figures are not checked: tests check correctness, not speed).
 expect 0 "$hk" bench statics --quick
 contains "$tmp/out" "newton"
+expect 0 "$hk" bench dynamics --quick --root "$src"
+contains "$tmp/out" "frames/s"
 
 finish "strand CLI"

@@ -1,0 +1,163 @@
+/* Benchmark of the dynamics (paper 000 §3.4, §4.4): steps per second of one strand for
+ * N = 5, 10, 20 with the dense solver (full stiffness) and the O(N) recursion
+ * (Gauss-Newton stiffness) side by side, and frames per second of the 201 guides of
+ * examples/guides200 (N = 10) on a shaking head with body and guide-guide contacts at
+ * dt = 1/30 s, with 1 and 2 threads. The paper: up to 10 strands in real time, and 0.3
+ * to 3 s per frame for 100 to 200 guides, on a 3 GHz Pentium 4. */
+#include <math.h>
+#include <omp.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+
+#include "bench.h"
+#include "hairkit/simulate.h"
+
+static double now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* Steps per second of a 20 cm wavy strand released sideways, restarted from rest
+ * every 3 s of simulated time so that it keeps moving. */
+static double strand_steps_per_second(int n, hk_DynamicsSolver solver, hk_DynamicsStiffness stiffness,
+                                      double min_seconds, int quick)
+{
+    double len[64];
+    for (int i = 0; i < n; i++) len[i] = 0.2 / n;
+    hk_SuperHelix *sh = NULL;
+    hk_StrandDynamics *d = NULL;
+    hk_Error err;
+    if (hk_superhelix_create(n, len, &sh, &err) != HK_OK) return 0.0;
+    sh->material = hk_rod_material(42e-6, 38e-6, 2e9, 0.48, 1300.0, hk_v3(0, -9.81, 0));
+    double tau, kappa;
+    hk_helix_natural_curvature(0.012, 0.12, &tau, &kappa);
+    hk_superhelix_set_uniform_rest(sh, tau, kappa, 0.0);
+    sh->root_frame = hk_root_frame(hk_v3(1, 0.2, 0.1));
+    hk_DynamicsParams p = hk_default_dynamics_params();
+    p.solver = solver;
+    p.stiffness = stiffness;
+    if (hk_strand_dynamics_create(sh, &p, NULL, &d, &err) != HK_OK) {
+        hk_superhelix_destroy(sh);
+        return 0.0;
+    }
+    long steps = 0;
+    const double t0 = now();
+    double elapsed = 0.0;
+    do {
+        memcpy(sh->q, sh->q_rest, sizeof(double) * 3 * (size_t)n);
+        memset(hk_strand_dynamics_velocity(d), 0, sizeof(double) * 3 * (size_t)n);
+        for (int i = 0; i < (quick ? 5 : 90); i++, steps++)
+            if (hk_strand_dynamics_step(d, NULL, NULL, 0, 1.0 / 30.0, &err) != HK_OK) break;
+        elapsed = now() - t0;
+    } while (!quick && elapsed < min_seconds);
+    hk_strand_dynamics_destroy(d);
+    hk_superhelix_destroy(sh);
+    return steps / elapsed;
+}
+
+typedef struct HeadRun {
+    double seconds_per_frame, substeps, contacts, body;
+} HeadRun;
+
+static int head_run(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count, const hk_Mesh *wick,
+                    int threads, int frames, HeadRun *out)
+{
+    hk_HairSimOptions o = hk_default_hair_sim_options(style);
+    o.threads = threads;
+    hk_HairSim *sim = NULL;
+    hk_HeadMotion *shake = NULL;
+    hk_Error err;
+    int rc = 1;
+    if (hk_hair_sim_create(style, shapes, shape_count, wick, &o, &sim, &err) != HK_OK ||
+        hk_head_motion_scripted("shake", 25.0, 1.0, hk_default_head_pivot(), &shake, &err) != HK_OK ||
+        hk_hair_sim_settle(sim, NULL, 0.5, 1.0 / 30.0, &err) != HK_OK) {
+        fprintf(stderr, "bench dynamics: %s\n", err.message);
+        goto done;
+    }
+    memset(out, 0, sizeof *out);
+    double seconds = 0.0;
+    for (int f = 0; f < frames; f++) {
+        hk_HairSimStats stats;
+        if (hk_hair_sim_advance(sim, shake, f / 30.0, 1.0 / 30.0, &stats, &err) != HK_OK) {
+            fprintf(stderr, "bench dynamics: %s\n", err.message);
+            goto done;
+        }
+        seconds += stats.seconds;
+        out->substeps += stats.substeps;
+        out->contacts += stats.contacts;
+        out->body += stats.body_contacts;
+    }
+    const int guides = hk_hair_sim_guide_count(sim);
+    out->seconds_per_frame = seconds / frames;
+    out->substeps /= (double)frames * guides;
+    out->contacts /= frames;
+    out->body /= frames;
+    rc = 0;
+done:
+    hk_head_motion_destroy(shake);
+    hk_hair_sim_destroy(sim);
+    return rc;
+}
+
+int hk_bench_dynamics(FILE *out, const hk_BenchOptions *options)
+{
+    fprintf(out,
+            "dynamics, one strand: 20 cm wavy hair released sideways, dt = 1/30 s, steps per second\n"
+            "  (the paper: up to 10 strands in real time, about 300 steps/s, on a 3 GHz Pentium 4)\n"
+            "      N   dense, full stiffness   dense, Gauss-Newton   O(N), Gauss-Newton   O(N) / dense GN\n");
+    const int ns[3] = {5, 10, 20};
+    for (int k = 0; k < 3; k++) {
+        const double full = strand_steps_per_second(ns[k], HK_DYNAMICS_DENSE, HK_STIFFNESS_FULL,
+                                                    options->min_seconds, options->quick);
+        const double dense = strand_steps_per_second(ns[k], HK_DYNAMICS_DENSE, HK_STIFFNESS_GAUSS_NEWTON,
+                                                     options->min_seconds, options->quick);
+        const double linear = strand_steps_per_second(ns[k], HK_DYNAMICS_LINEAR, HK_STIFFNESS_GAUSS_NEWTON,
+                                                      options->min_seconds, options->quick);
+        fprintf(out, "  %5d %23.0f %21.0f %20.0f %17.2fx\n", ns[k], full, dense, linear, linear / dense);
+    }
+
+    char setup_path[4096];
+    snprintf(setup_path, sizeof setup_path, "%s/examples/guides200/setup.txt", options->root);
+    hk_Error err;
+    hk_SetupDef setup;
+    hk_HairstyleDef style = hk_default_hairstyle();
+    hk_Shape *shapes = NULL;
+    int shape_count = 0;
+    hk_Mesh wick;
+    memset(&wick, 0, sizeof wick);
+    int rc = 0;
+    if (hk_setup_load(setup_path, &setup, &err) != HK_OK || hk_hairstyle_load(setup.hairstyle, &style, &err) != HK_OK ||
+        (setup.collision && hk_collision_load(setup.collision, &shapes, &shape_count, &err) != HK_OK) ||
+        hk_obj_load(setup.wick_model, &wick, &err) != HK_OK) {
+        fprintf(stderr, "bench dynamics: %s (run from the source folder or give --root)\n", err.message);
+        return 1;
+    }
+    const int frames = options->quick ? 3 : 90;
+    fprintf(out,
+            "\ndynamics, full head: examples/guides200, %d guides of N = %d, head shaking 25 degrees at 1 Hz,\n"
+            "body and guide-guide contacts, dt = 1/30 s, %d frames after 0.5 s of settling\n"
+            "  (the paper: 0.3 to 3 s per frame for 100 to 200 guides)\n"
+            "  threads   ms/frame   frames/s   steps/guide/frame   guide contacts   body samples\n",
+            wick.vertex_count, style.element_count, frames);
+    double fps[3] = {0, 0, 0};
+    for (int threads = 1; threads <= 2; threads++) {
+        HeadRun r;
+        if (head_run(&style, shapes, shape_count, &wick, threads, frames, &r) != 0) {
+            rc = 1;
+            break;
+        }
+        fps[threads] = 1.0 / r.seconds_per_frame;
+        fprintf(out, "  %7d %10.2f %10.1f %19.2f %16.0f %14.0f\n", threads, 1e3 * r.seconds_per_frame, fps[threads],
+                r.substeps, r.contacts, r.body);
+    }
+    if (!rc)
+        fprintf(out, "  speed-up with 2 threads: %.2fx; target: 60 frames/s or more on 2 cores\n\n", fps[2] / fps[1]);
+    hk_mesh_free(&wick);
+    hk_free(shapes);
+    hk_hairstyle_free(&style);
+    hk_setup_free(&setup);
+    return rc;
+}
