@@ -119,22 +119,11 @@ int hk_bench_dynamics(FILE *out, const hk_BenchOptions *options)
         fprintf(out, "  %5d %23.0f %21.0f %20.0f %17.2fx\n", ns[k], full, dense, linear, linear / dense);
     }
 
-    char setup_path[4096];
-    snprintf(setup_path, sizeof setup_path, "%s/examples/guides200/setup.txt", options->root);
-    hk_Error err;
-    hk_SetupDef setup;
-    hk_HairstyleDef style = hk_default_hairstyle();
-    hk_Shape *shapes = NULL;
-    int shape_count = 0;
-    hk_Mesh wick;
-    memset(&wick, 0, sizeof wick);
+    hk_BenchScene sc;
+    if (hk_bench_scene_load(options, "guides200", "dynamics", &sc)) return 1;
+    const hk_HairstyleDef style = sc.style;
+    const hk_Mesh wick = sc.wick;
     int rc = 0;
-    if (hk_setup_load(setup_path, &setup, &err) != HK_OK || hk_hairstyle_load(setup.hairstyle, &style, &err) != HK_OK ||
-        (setup.collision && hk_collision_load(setup.collision, &shapes, &shape_count, &err) != HK_OK) ||
-        hk_obj_load(setup.wick_model, &wick, &err) != HK_OK) {
-        fprintf(stderr, "bench dynamics: %s (run from the source folder or give --root)\n", err.message);
-        return 1;
-    }
     const int frames = options->quick ? 3 : 90;
     fprintf(out,
             "\ndynamics, full head: examples/guides200, %d guides of N = %d, head shaking 25 degrees at 1 Hz,\n"
@@ -145,7 +134,7 @@ int hk_bench_dynamics(FILE *out, const hk_BenchOptions *options)
     double fps[3] = {0, 0, 0};
     for (int threads = 1; threads <= 2; threads++) {
         HeadRun r;
-        if (head_run(&style, shapes, shape_count, &wick, threads, frames, &r) != 0) {
+        if (head_run(&style, sc.shapes, sc.shape_count, &wick, threads, frames, &r) != 0) {
             rc = 1;
             break;
         }
@@ -155,9 +144,6 @@ int hk_bench_dynamics(FILE *out, const hk_BenchOptions *options)
     }
     if (!rc)
         fprintf(out, "  speed-up with 2 threads: %.2fx; target: 60 frames/s or more on 2 cores\n\n", fps[2] / fps[1]);
-    hk_mesh_free(&wick);
-    hk_free(shapes);
-    hk_hairstyle_free(&style);
-    hk_setup_free(&setup);
+    hk_bench_scene_free(&sc);
     return rc;
 }

@@ -19,21 +19,13 @@ static double now(void)
 
 int hk_bench_groom(FILE *out, const hk_BenchOptions *options)
 {
-    char setup_path[4096];
-    snprintf(setup_path, sizeof setup_path, "%s/examples/default/setup.txt", options->root);
+    hk_BenchScene sc;
+    if (hk_bench_scene_load(options, "default", "groom", &sc)) return 1;
+    const hk_HairstyleDef style = sc.style;
+    const hk_Shape *shapes = sc.shapes;
+    const int shape_count = sc.shape_count;
+    const hk_Mesh wick = sc.wick;
     hk_Error err;
-    hk_SetupDef setup;
-    hk_HairstyleDef style = hk_default_hairstyle();
-    hk_Shape *shapes = NULL;
-    int shape_count = 0;
-    hk_Mesh wick;
-    memset(&wick, 0, sizeof wick);
-    if (hk_setup_load(setup_path, &setup, &err) != HK_OK || hk_hairstyle_load(setup.hairstyle, &style, &err) != HK_OK ||
-        (setup.collision && hk_collision_load(setup.collision, &shapes, &shape_count, &err) != HK_OK) ||
-        hk_obj_load(setup.wick_model, &wick, &err) != HK_OK) {
-        fprintf(stderr, "bench groom: %s (run from the source folder or give --root)\n", err.message);
-        return 1;
-    }
     fprintf(out, "groom: examples/default (%d guides, %.0f hairs/cm^2 on %.0f cm^2 of scalp)\n", wick.vertex_count,
             style.hair_density, 1e4 * hk_mesh_area(&wick));
     fprintf(out, "  threads   guides (s)  guides/s   strands (s)  strands/s   total (s)  strands   to .hair (s)\n");
@@ -84,9 +76,6 @@ int hk_bench_groom(FILE *out, const hk_BenchOptions *options)
     if (!rc)
         fprintf(out, "  speed-up with 2 threads: %.2fx; target: the default head groomed in under 1 s on 2 cores\n\n",
                 total[1] / total[2]);
-    hk_mesh_free(&wick);
-    hk_free(shapes);
-    hk_hairstyle_free(&style);
-    hk_setup_free(&setup);
+    hk_bench_scene_free(&sc);
     return rc;
 }

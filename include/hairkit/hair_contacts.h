@@ -57,7 +57,7 @@ typedef struct hk_HairContactParams {
 
 /* Defaults for the guides of a human head (20 cm guides with one hair's mass per
  * length, about 6.5e-6 kg/m, dt = 1/30 s, forces treated implicitly; see
- * docs/dynamics-contacts.md for the reasoning):
+ * docs/dynamics.md, "Hair–hair contacts" for the reasoning):
  *   distance 5 mm, stiffness 0.5 N/m, damping 1e-3 N s/m, friction 1e-5 N s/m,
  *   root_exclusion 2 cm, rescan_interval 2.
  * The dynamics depends on k / m, c_n / m and c_t / m: if a guide carries the mass of a

@@ -38,7 +38,7 @@ hk_HairContactParams hk_default_hair_contact_params(void)
     /* On a head of 401 guides a rescan costs ~25 tracked updates; rescanning every
      * other update, a contact that tracking cannot see (strands approaching from
      * beyond 2 d0) is found one update late, which concerns ~2% of the contacts of
-     * a head swinging at 0.5 Hz (docs/dynamics-contacts.md). */
+     * a head swinging at 0.5 Hz (docs/dynamics.md, "Hair–hair contacts"). */
     p.rescan_interval = 2;
     return p;
 }

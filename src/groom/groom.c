@@ -74,7 +74,8 @@ hk_Status hk_groom_to_hair(const hk_Groom *g, const hk_HairstyleDef *style, hk_H
     if (st != HK_OK) return st;
     const size_t guide_values = (size_t)g->guide_count * (size_t)points * 3;
     for (size_t i = 0; i < guide_values; i++) out->points[i] = (float)g->guides[i];
-    memcpy(out->points + guide_values, g->strands, (size_t)g->strand_count * (size_t)points * 3 * sizeof(float));
+    if (g->strand_count > 0) /* a groom of guides alone has no strands array */
+        memcpy(out->points + guide_values, g->strands, (size_t)g->strand_count * (size_t)points * 3 * sizeof(float));
     /* cyHair thickness is a diameter in the file's units (metres here). */
     out->default_thickness = (float)(style->radius1 + style->radius2);
     char info[HK_HAIR_INFO_SIZE + 1];
