@@ -49,6 +49,17 @@ int hk_cli_strand_simulate(const char *cmd, const hk_CliStrandSim *sim, const hk
         hk_cli_fail(cmd, &err);
         goto done;
     }
+    if (!sim->quiet && env->shape_count > 0) {
+        /* The natural shape inside an envelope starts far from equilibrium: the penalty
+         * then throws the strand out violently (a groomed head starts from its statics). */
+        const double depth = /* sh->root is still in head space, where the shapes are */
+            hk_collision_depth(env->shapes, env->shape_count, env->envelope_alpha, sh->root);
+        if (depth > 1e-3)
+            fprintf(stderr,
+                    "hairkit %s: warning: the root lies %.3g m inside the collision envelopes; the strand "
+                    "starts far from equilibrium\n",
+                    cmd, depth);
+    }
     hk_RigidState head;
     hk_head_motion_eval(motion, 0.0, &head);
     hk_strand_dynamics_place(dyn, &head);

@@ -58,6 +58,10 @@ typedef struct hk_ElementTerms {
 void hk_element_terms_add(hk_ElementTerms *t, hk_Vec3 p, const hk_Mat3 *a, const hk_Mat3 *b,
                           const hk_Mat3 *jac, const hk_Mat3 *jac_rot, hk_Vec3 f, hk_Vec3 tau);
 
+/* The same for a quadrature point, whose translational mass matrix is a I. */
+void hk_element_terms_add_quadrature(hk_ElementTerms *t, hk_Vec3 p, double a, const hk_Mat3 *b,
+                                     const hk_Mat3 *jac, const hk_Mat3 *jac_rot, hk_Vec3 f, hk_Vec3 tau);
+
 /* Fills t->xi from the element's end point (its Jacobians at u = l_P). */
 void hk_element_terms_set_screw(hk_ElementTerms *t, const hk_PointKinematics *end);
 

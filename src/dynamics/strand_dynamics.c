@@ -34,8 +34,9 @@ struct hk_StrandDynamics {
     hk_Vec3 *anchor_pos, *anchor_vel;
     int anchor_capacity;
     int anchored;
-    /* HK_STIFFNESS_FULL: the potential with the body's penalty, its Hessian (then the
-     * shifted geometric stiffness G + mu K), a factor for the definiteness test */
+    /* HK_STIFFNESS_FULL: the potential with the body's penalty; its Hessian, then G+
+     * (the positive part of the geometric stiffness, kept between refreshes); the
+     * Cholesky factor / eigenvectors; eigenvalues and work (2 x 3N); G+ v */
     hk_StrandEnv body_env;
     hk_StrandWorkspace *ws_body;
     double *hess, *factor, *metric, *geo_v;
@@ -63,9 +64,11 @@ hk_DynamicsParams hk_dynamics_params_for(const hk_HairstyleDef *def)
     /* 0.3 rad per step keeps the linearised step within a few percent of the exact
      * rotation (1 - sin(x)/x ~ x^2 / 6 = 1.5 %); 2^8 = 256 substeps at most. */
     p.max_turn = 0.3;
-    /* and no node travels more than 5 mm relative to the head (the default CollisionStep)
-     * in one step */
-    p.max_travel = 0.005;
+    /* and no node near the body travels more than 1 cm relative to the head (two of the
+     * default CollisionStep) in one step: with 5 mm a shaken head took 1.55 steps per
+     * guide and frame instead of 1.26, for no measurable change in how deep tips enter
+     * the head (the penalty's own reach dominates, tests/test_hair_sim.c) */
+    p.max_travel = 0.01;
     p.max_depth = 8;
     p.hessian_interval = 4;
     p.solver = HK_DYNAMICS_DENSE;
@@ -94,8 +97,9 @@ static int params_valid(const hk_DynamicsParams *p)
            isfinite(p->air_drag) && p->friction_with >= 0.0 && isfinite(p->friction_with) &&
            p->friction_against >= 0.0 && isfinite(p->friction_against) &&
            p->friction_velocity > 0.0 && isfinite(p->friction_velocity) && p->quadrature >= 0 &&
-           p->quadrature <= HK_GAUSS_MAX && p->max_turn > 0.0 && p->max_travel > 0.0 && p->max_depth >= 0 && p->hessian_interval >= 1 && p->hessian_interval <= 1000 &&
-           p->max_depth <= 30 &&
+           p->quadrature <= HK_GAUSS_MAX && p->max_turn > 0.0 && p->max_travel > 0.0 &&
+           p->max_depth >= 0 && p->max_depth <= 30 && p->hessian_interval >= 1 &&
+           p->hessian_interval <= 1000 &&
            (p->solver == HK_DYNAMICS_LINEAR || p->solver == HK_DYNAMICS_DENSE) &&
            (p->stiffness == HK_STIFFNESS_GAUSS_NEWTON ||
             (p->stiffness == HK_STIFFNESS_FULL && p->solver == HK_DYNAMICS_DENSE));
@@ -217,16 +221,18 @@ static int gauss_count(const hk_StrandDynamics *d, int p)
     return g < HK_GAUSS_MAX ? (int)g : HK_GAUSS_MAX;
 }
 
-/* Rotary inertia of the section in world axes: sum_i I_i n_i n_i^T. */
+/* Rotary inertia of the section in world axes: sum_i I_i n_i n_i^T, written as
+ * I_1 (the identity) + (I_0 - I_1) n0 n0^T + (I_2 - I_1) n2 n2^T since the n_i are
+ * orthonormal. */
 static hk_Mat3 rotary_inertia(const hk_RodMaterial *m, const hk_Mat3 *frame, double weight)
 {
-    hk_Mat3 out = hk_m3_zero();
-    for (int i = 0; i < 3; i++) {
-        const hk_Vec3 n = hk_m3_col(frame, i);
-        const hk_Mat3 o = hk_m3_outer(n, n);
-        const hk_Mat3 so = hk_m3_scale(&o, weight * m->rotary_inertia[i]);
-        out = hk_m3_add(&out, &so);
-    }
+    const double i1 = weight * m->rotary_inertia[1], d0 = weight * m->rotary_inertia[0] - i1,
+                 d2 = weight * m->rotary_inertia[2] - i1;
+    const hk_Vec3 n0 = hk_m3_col(frame, 0), n2 = hk_m3_col(frame, 2);
+    const double a[3] = {n0.x, n0.y, n0.z}, c[3] = {n2.x, n2.y, n2.z};
+    hk_Mat3 out;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) out.m[i][j] = (i == j ? i1 : 0.0) + d0 * a[i] * a[j] + d2 * c[i] * c[j];
     return out;
 }
 
@@ -277,8 +283,6 @@ static void sweep(hk_StrandDynamics *d, const hk_RigidState *head, const hk_Poin
             const double u = len * d->gauss.node[g - 1][i], w = len * d->gauss.weight[g - 1][i];
             hk_PointKinematics pk;
             hk_point_kinematics(&node, k, kd, u, mode == SWEEP_STEP ? 2 : 1, &pk);
-            const hk_Mat3 id = hk_m3_identity();
-            const hk_Mat3 a = hk_m3_scale(&id, (rho_s + dt * nu) * w);
             const hk_Mat3 b = rotary_inertia(mat, &pk.k.frame, w);
             hk_Vec3 f = hk_v3_zero(), tau = hk_v3_zero();
             if (mode == SWEEP_STEP) {
@@ -288,7 +292,7 @@ static void sweep(hk_StrandDynamics *d, const hk_RigidState *head, const hk_Poin
                 const hk_Vec3 iw = hk_m3_mul_v3(&b, pk.k.omega);
                 tau = hk_v3_neg(hk_v3_add(hk_m3_mul_v3(&b, pk.k.alpha), hk_v3_cross(pk.k.omega, iw)));
             }
-            hk_element_terms_add(t, pk.k.pos, &a, &b, &pk.jac, &pk.jac_rot, f, tau);
+            hk_element_terms_add_quadrature(t, pk.k.pos, (rho_s + dt * nu) * w, &b, &pk.jac, &pk.jac_rot, f, tau);
         }
         const double s_end = sh->s_start[p + 1];
         const int last = p == n - 1;
@@ -427,11 +431,8 @@ hk_Status hk_strand_dynamics_step(hk_StrandDynamics *d, const hk_RigidState *hea
     /* Elastic energy and gravity (and with the full stiffness the body's penalty): the
      * exact gradient of the statics energy. With the Gauss-Newton stiffness, gravity's
      * (the second derivatives of the kinematics weighted by the weight) stays explicit,
-     * as in paper 000 §3.4; taken whole it is indefinite wherever hair lies above its
-     * root or a helix can turn its loops down, and implicit Euler amplifies such modes
-     * by 1 / (1 - dt^2 w^2) - we measured energy doubling per step at dt = 1/30 on a
-     * wavy strand, whose gravity Hessian in twist exceeds the twist stiffness - hence
-     * the shift of full_stiffness (docs/dynamics.md). */
+     * as in paper 000 §3.4; with the full stiffness its positive part is implicit
+     * (project_positive). */
     const int full = d->params.stiffness == HK_STIFFNESS_FULL;
     /* G+ is only the linearisation: any positive semi-definite matrix on both sides of
      * the step keeps it consistent. Refreshing it every few steps, with the gradient

@@ -91,6 +91,34 @@ void hk_element_terms_add(hk_ElementTerms *t, hk_Vec3 p, const hk_Mat3 *a, const
     add6(t->wrench, hk_v3_add(hk_v3_cross(p, f), tau), f);
 }
 
+void hk_element_terms_add_quadrature(hk_ElementTerms *t, hk_Vec3 p, double a, const hk_Mat3 *b,
+                                     const hk_Mat3 *jac, const hk_Mat3 *jac_rot, hk_Vec3 f, hk_Vec3 tau)
+{
+    /* hk_element_terms_add with the mass matrix a I: T^T (a I) T = a [[|p|^2 I - p p^T,
+     * [p]x], [-[p]x, I]], without the 3x3 products. */
+    const double pp = hk_v3_dot(p, p), pv[3] = {p.x, p.y, p.z};
+    const hk_Mat3 px = hk_m3_skew(p);
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            t->inertia[i][j] += a * ((i == j ? pp : 0.0) - pv[i] * pv[j]) + b->m[i][j];
+            t->inertia[i][j + 3] += a * px.m[i][j];
+            t->inertia[j + 3][i] += a * px.m[i][j];
+        }
+    for (int i = 0; i < 3; i++) t->inertia[i + 3][i + 3] += a;
+    hk_Vec3 aj[3], bj[3];
+    for (int c = 0; c < 3; c++) {
+        const hk_Vec3 jc = hk_m3_col(jac, c), wc = hk_m3_col(jac_rot, c);
+        aj[c] = hk_v3_scale(jc, a);
+        bj[c] = hk_m3_mul_v3(b, wc);
+        add6(t->coupling[c], hk_v3_add(hk_v3_cross(p, aj[c]), bj[c]), aj[c]);
+        t->load[c] += hk_v3_dot(jc, f) + hk_v3_dot(wc, tau);
+    }
+    for (int c = 0; c < 3; c++)
+        for (int e = 0; e < 3; e++)
+            t->mass[c][e] += hk_v3_dot(hk_m3_col(jac, c), aj[e]) + hk_v3_dot(hk_m3_col(jac_rot, c), bj[e]);
+    add6(t->wrench, hk_v3_add(hk_v3_cross(p, f), tau), f);
+}
+
 void hk_element_terms_set_screw(hk_ElementTerms *t, const hk_PointKinematics *end)
 {
     /* Changing k_P b rotates everything beyond the end r_{P+1} by w_b and moves it by
