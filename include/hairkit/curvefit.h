@@ -1,0 +1,228 @@
+/* Fitting parametric curve models to polylines (helicoid paper 003 §5).
+ *
+ * The machinery of the paper's hair fitting, generic over the curve model: the model is
+ * a callback that traces points from a start pose (position + frame) with a parameter
+ * vector, so generalized helicoids, Frenet helices or anything else can be fitted.
+ *  - discrete Fréchet measures (§5.1): the coupling (minimum total leash length, the
+ *    paper's objective) and the distance (minimum longest leash, Eiter & Mannila 1994);
+ *  - a Nelder-Mead minimiser (Nelder & Mead 1965, the paper's [NM65]);
+ *  - single-piece fits, eq. (5): argmin_k C(h, H(k, Q, p0, L)) + lambda |k|;
+ *  - piecewise fits with recursive splitting (§5.3), pieces chained through the end pose
+ *    of their predecessor so that the frame is continuous across joins.
+ * See docs/helicoid-fitting.md for the choices made where the paper is vague. */
+#ifndef HAIRKIT_CURVEFIT_H
+#define HAIRKIT_CURVEFIT_H
+
+#include "hairkit/core.h"
+#include "hairkit/vecmath.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- discrete Fréchet measures (§5.1) ------------------------------------------- */
+
+/* A coupling of polylines a (p points) and b (q points) is a sequence of pairs
+ * (a_i, b_j) from (a_0, b_0) to (a_{p-1}, b_{q-1}) in which each step advances i, j or
+ * both by one (the walkers never backtrack, the leashes never cross). All three
+ * measures below are minima over couplings, computed by O(pq) dynamic programming in
+ * O(min(p, q)) memory, and are exactly symmetric in (a, b).
+ *
+ * `work` must hold HK_FRECHET_WORK(p, q) doubles. These fast entry points do not
+ * check their input: they return NaN when a pointer is NULL or a count < 1, and the
+ * result is meaningless when a point is not finite (use hk_frechet_measures to check). */
+#define HK_FRECHET_WORK(p, q) ((p) < (q) ? (p) : (q))
+
+/* Minimum over couplings of the SUM of leash lengths (the paper's "Fréchet coupling",
+ * C in eq. 5). Metres times pairs. */
+double hk_frechet_coupling(const hk_Vec3 *a, int p, const hk_Vec3 *b, int q, double *work);
+
+/* The coupling divided by max(p, q), the fewest pairs any coupling has: a length in
+ * metres, comparable across point counts (d for a curve against a copy of itself moved
+ * by d perpendicular to its plane). Minimising it is minimising the coupling. */
+double hk_frechet_coupling_normalized(const hk_Vec3 *a, int p, const hk_Vec3 *b, int q, double *work);
+
+/* Minimum over couplings of the LONGEST leash: the discrete Fréchet distance of Eiter &
+ * Mannila (1994). Metres. */
+double hk_frechet_distance(const hk_Vec3 *a, int p, const hk_Vec3 *b, int q, double *work);
+
+typedef struct hk_FrechetMeasures {
+    double coupling;   /* sum of leashes of the best coupling (m) */
+    double normalized; /* coupling / max(p, q) (m) */
+    double distance;   /* discrete Fréchet distance (m) */
+} hk_FrechetMeasures;
+
+/* All three measures with checked input (counts >= 1, finite points) and its own work
+ * memory: for occasional use; inner loops use the functions above with a workspace. */
+hk_Status hk_frechet_measures(const hk_Vec3 *a, int p, const hk_Vec3 *b, int q,
+                              hk_FrechetMeasures *out, hk_Error *err);
+
+/* ---- Nelder-Mead (Nelder & Mead 1965) -------------------------------------------- */
+
+#define HK_NELDER_MEAD_MAX_PARAMS 16
+
+/* Objective: f(x) for x of the size given to the minimiser. NaN counts as +infinity
+ * (a region where the objective is undefined is simply never accepted). */
+typedef double (*hk_CostFn)(const double *x, void *user);
+
+typedef struct hk_NelderMeadOptions {
+    long max_evaluations; /* hard limit on calls of f (>= n + 1) */
+    double x_tolerance;   /* stop when every vertex is within x_tolerance * |scale_j| of the
+                             best one in every coordinate j ... */
+    double f_tolerance;   /* ... and f(worst) - f(best) <= f_tolerance */
+} hk_NelderMeadOptions;
+
+/* 2000 evaluations, x_tolerance 1e-8, f_tolerance 1e-12. */
+hk_NelderMeadOptions hk_default_nelder_mead_options(void);
+
+typedef struct hk_NelderMeadResult {
+    double f;         /* objective at the returned x */
+    int iterations;   /* simplex moves */
+    long evaluations; /* calls of f */
+    int converged;    /* 1: both tolerances met; 0: the evaluation limit stopped it */
+} hk_NelderMeadResult;
+
+/* Minimises f over n (0..16) parameters with the standard Nelder-Mead simplex moves:
+ * reflection 1, expansion 2, contraction 0.5 (outside and inside), shrink 0.5, in the
+ * ordering and acceptance rules of Lagarias et al. (1998). The initial simplex is x and
+ * x + scale_j e_j (scale_j finite and non-zero). x is updated in place with the best
+ * vertex. Deterministic (ties keep the older vertex first). Returns HK_ERR_INVALID for
+ * bad arguments and HK_ERR_NUMERIC when f was NaN or +inf everywhere it was tried (x
+ * is then left at the start). Never allocates. */
+hk_Status hk_nelder_mead_minimize(int n, double *x, const double *scale, hk_CostFn f, void *user,
+                                  const hk_NelderMeadOptions *options, hk_NelderMeadResult *result,
+                                  hk_Error *err);
+
+/* ---- curve models ------------------------------------------------------------------- */
+
+/* A pose on a curve: position and frame. The frame's columns are the unit tangent, the
+ * normal and the binormal (T, N, B) of the paper's eq. (2), right-handed, world = frame *
+ * local (as in vecmath.h). */
+typedef struct hk_CurveStart {
+    hk_Vec3 pos;
+    hk_Mat3 frame;
+} hk_CurveStart;
+
+/* A curve model: traces `count` (>= 2) points of a curve of arc length `length` that
+ * starts at `start`, out_points[0] = start->pos and out_points[i] at arc length
+ * i * length / (count - 1) (a model traced with forward Euler steps, like the paper's
+ * eq. 3, places them at that polyline length). Writes the pose at the last point to
+ * `end` (never NULL), the pose the next piece of a p-helicoid starts from (§3.4, §5.3).
+ * Tracing more points at the same spacing must reproduce the same leading points.
+ * Returns 0 on success, non-zero when the parameters are unusable (the fit treats that
+ * as an infinitely bad fit). Must be deterministic and thread-safe for distinct
+ * out_points. */
+typedef int (*hk_CurveModelFn)(void *user, const double *params, const hk_CurveStart *start,
+                               double length, int count, hk_Vec3 *out_points, hk_CurveStart *end);
+
+/* The pose a fit starts from, estimated from a polyline's first points (the paper's
+ * "target hair h with estimated Frenet frame Q" [Ros03]): position = points[0]; tangent
+ * = the first segment of non-zero length (exact for curves traced by forward Euler, as
+ * the paper traces helicoids); normal = the part of the next chord orthogonal to the
+ * tangent, from the first later point not collinear with the first segment (the
+ * discrete Frenet frame of the first three non-collinear points); binormal = T x N.
+ * When every point lies on the first segment's line (straight hair) the normal is the
+ * world axis least aligned with the tangent, made orthogonal to it. HK_ERR_INVALID when
+ * count < 2, a point is not finite or every point is the same. */
+hk_Status hk_curve_estimate_start(const hk_Vec3 *points, int count, hk_CurveStart *out, hk_Error *err);
+
+/* Resamples a polyline to `samples` (>= 2) points spaced uniformly by arc length along
+ * it (first and last points kept exactly); *length (may be NULL) gets its length.
+ * HK_ERR_INVALID for count < 2, non-finite points or zero length. */
+hk_Status hk_curve_resample(const hk_Vec3 *points, int count, int samples, hk_Vec3 *out,
+                            double *length, hk_Error *err);
+
+/* ---- fitting (§5.2, §5.3) ------------------------------------------------------------ */
+
+#define HK_CURVEFIT_MAX_PIECES 64
+#define HK_CURVEFIT_MAX_PARAMS 8
+/* The coupling is O(samples^2) per evaluation: longer polylines are resampled (see
+ * hk_CurveFitOptions.samples) rather than fitted at full resolution. */
+#define HK_CURVEFIT_MAX_SAMPLES 4096
+
+typedef struct hk_CurveFitOptions {
+    double lambda;              /* eq. (5) regularisation (m per unit of |params|), >= 0 */
+    double tolerance;           /* accept a fit when its normalised coupling <= this (m) */
+    double split_threshold;     /* §5.3 Fréchet threshold in (0, 1]: 0.6 in the paper */
+    double min_fragment_length; /* shortest piece the splitting creates (m), >= 0 */
+    int max_pieces;             /* 1..HK_CURVEFIT_MAX_PIECES; 1 = single fit (§5.2) */
+    int max_evaluations;        /* per Nelder-Mead run (>= param_count + 1; a fit makes
+                                   a few runs, see fit.evaluations for the total) */
+    int samples;                /* points the target is resampled to; 0 = its own count */
+    int restarts;               /* Nelder-Mead restarts from a converged simplex that
+                                   still misses the tolerance (0..100) */
+    double param_tolerance;     /* NM stop: simplex size relative to `scale` */
+    double cost_tolerance;      /* NM stop: spread of the objective (m) */
+    int use_start;              /* non-zero: start from `start` instead of estimating it */
+    hk_CurveStart start;        /* the root pose when use_start is set */
+    int refine_start;           /* 1: a first piece that misses the tolerance in the root
+                                   frame is refitted with a rotation of that frame (3 more
+                                   Nelder-Mead parameters), for noisy captures whose first
+                                   points give a poor frame; 0: keep the frame as it is */
+} hk_CurveFitOptions;
+
+/* lambda 1e-7 m, tolerance 0.2 mm, split_threshold 0.6, min_fragment_length 5 mm,
+ * max_pieces 16, max_evaluations 1000, samples 0, restarts 1, param_tolerance 1e-5,
+ * cost_tolerance 1e-8 m, use_start 0, refine_start 1. */
+hk_CurveFitOptions hk_default_curve_fit_options(void);
+
+typedef struct hk_CurveFit {
+    int piece_count;
+    int param_count;
+    int sample_count;                    /* points of the resampled target */
+    double sample_spacing;               /* their spacing (m) */
+    hk_CurveStart start;                 /* the pose the first piece starts from: the
+                                            estimated (or given) root pose, turned when
+                                            refine_start refined it */
+    double params[HK_CURVEFIT_MAX_PIECES][HK_CURVEFIT_MAX_PARAMS];
+    double length[HK_CURVEFIT_MAX_PIECES];        /* arc length of each piece (m) */
+    int first_sample[HK_CURVEFIT_MAX_PIECES];     /* index of a piece's first sample; the
+                                                     piece ends at the next one's first */
+    double piece_error[HK_CURVEFIT_MAX_PIECES];   /* normalised coupling vs its fragment (m) */
+    double piece_frechet[HK_CURVEFIT_MAX_PIECES]; /* Fréchet distance vs its fragment (m) */
+    double error;     /* normalised coupling of the chained pieces vs the resampled target (m) */
+    double frechet;   /* discrete Fréchet distance, same pair (m) */
+    long evaluations; /* model evaluations in all */
+} hk_CurveFit;
+
+/* Work memory of the fits for targets of up to `max_samples` resampled points: create one
+ * per thread and reuse it, so that fitting never allocates. */
+typedef struct hk_CurveFitWorkspace hk_CurveFitWorkspace;
+hk_CurveFitWorkspace *hk_curve_fit_workspace_create(int max_samples, hk_Error *err);
+void hk_curve_fit_workspace_destroy(hk_CurveFitWorkspace *ws);
+
+/* Fits a chain of model pieces to the target polyline (count points):
+ *  1. the target is resampled uniformly by arc length (opt->samples points, default
+ *     its own count) and the root pose estimated (hk_curve_estimate_start) unless given;
+ *  2. the whole target is fitted, eq. (5), Nelder-Mead from the best of the seeds; with
+ *     refine_start, a fit at the root that misses the tolerance is redone with the root
+ *     frame's rotation free;
+ *  3. if its normalised coupling exceeds opt->tolerance the target is split (§5.3: the
+ *     Fréchet threshold gives an upper limit, a comparison of bends backtracks from
+ *     it) and both parts are fitted recursively, the second starting at the end pose of
+ *     the first; a split that ends up worse than the unsplit fit is undone.
+ * Pieces span at least min_fragment_length and max(param_count + 2, 4) samples.
+ * Deterministic; thread-safe with one workspace per thread (and a thread-safe model).
+ * `seed` and `scale` have param_count (0..HK_CURVEFIT_MAX_PARAMS) entries; scale gives
+ * the initial simplex steps (finite, non-zero); opt NULL means the defaults. Errors: HK_ERR_INVALID for bad input,
+ * HK_ERR_NUMERIC when the model fails for every parameter vector tried. */
+hk_Status hk_curve_fit_piecewise_ws(hk_CurveFitWorkspace *ws, const hk_Vec3 *target, int count,
+                                    hk_CurveModelFn model, void *user, int param_count,
+                                    const double *seed, const double *scale,
+                                    const hk_CurveFitOptions *opt, hk_CurveFit *out, hk_Error *err);
+
+/* The same with a workspace of its own (one allocation per call). */
+hk_Status hk_curve_fit_piecewise(const hk_Vec3 *target, int count, hk_CurveModelFn model, void *user,
+                                 int param_count, const double *seed, const double *scale,
+                                 const hk_CurveFitOptions *opt, hk_CurveFit *out, hk_Error *err);
+
+/* Traces a fit's chained pieces at its sample spacing into out (fit->sample_count
+ * points). HK_ERR_INVALID for a malformed fit, HK_ERR_NUMERIC when the model fails. */
+hk_Status hk_curve_fit_trace(const hk_CurveFit *fit, hk_CurveModelFn model, void *user,
+                             hk_Vec3 *out, hk_Error *err);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* HAIRKIT_CURVEFIT_H */
