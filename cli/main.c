@@ -18,6 +18,7 @@ static const Command commands[] = {
     {"info", hk_cmd_info, "strands, points, lengths and bounding box of a .hair file"},
     {"render", hk_cmd_render, "render a .hair file over a head into a PNG"},
     {"simulate", hk_cmd_simulate, "a full head of hair in motion: frames of .hair and PNG"},
+    {"helicoid", hk_cmd_helicoid, "generalized helicoids: trace, interpolate, fit, reconstruct"},
     {"bench", hk_cmd_bench, "benchmarks with side-by-side figures"},
 };
 

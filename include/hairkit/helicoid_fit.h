@@ -1,0 +1,40 @@
+/* Fitting p-helicoids to polylines (paper 003 §5) with the generic piecewise fitter of
+ * curvefit.h, the helicoid piece as the model; and reconstruction of a full head from
+ * sparse fitted strands (§5.4). */
+#ifndef HAIRKIT_HELICOID_FIT_H
+#define HAIRKIT_HELICOID_FIT_H
+
+#include "hairkit/curvefit.h"
+#include "hairkit/helicoid.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The fitter's defaults for hair (curvefit's, tolerance 0.2 mm) and the seed and
+ * simplex scale of the helicoid parameters (k_T, k_N, k_B, alpha) for a strand of the
+ * given length: straight to start, steps of a turn over the strand's length. */
+hk_CurveFitOptions hk_helicoid_fit_options(void);
+void hk_helicoid_fit_seed(double length, double seed[4], double scale[4]);
+
+/* Work memory of one fitting thread (no allocation per fit). */
+typedef struct hk_HelicoidFitter hk_HelicoidFitter;
+hk_HelicoidFitter *hk_helicoid_fitter_create(int max_samples, hk_Error *err);
+void hk_helicoid_fitter_destroy(hk_HelicoidFitter *f);
+
+/* Fits a p-helicoid to the polyline points[0..count): out gets root, frame and pieces;
+ * fit (may be NULL) the fitter's report (errors in metres, evaluations). */
+hk_Status hk_helicoid_fit(hk_HelicoidFitter *f, const hk_Vec3 *points, int count,
+                          const hk_CurveFitOptions *options, hk_PHelicoid *out, hk_CurveFit *fit,
+                          hk_Error *err);
+
+/* The curve model of one helicoid piece (params k_T, k_N, k_B, alpha), for curvefit.h;
+ * user is the fitter. */
+int hk_helicoid_piece_model(void *user, const double *params, const hk_CurveStart *start, double length,
+                            int count, hk_Vec3 *out_points, hk_CurveStart *end);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,100 @@
+/* p-helicoid fitting (paper 003 §5): the helicoid piece as the model of the generic
+ * piecewise fitter (curvefit.h: Fréchet coupling, Nelder-Mead with the regularisation of
+ * eq. 5, recursive splitting of §5.3). */
+#include <string.h>
+
+#include "hairkit/helicoid_fit.h"
+
+struct hk_HelicoidFitter {
+    int capacity;              /* points a model call may trace */
+    hk_Mat3 *frames;           /* their frames, for the end pose */
+    hk_CurveFitWorkspace *ws;
+};
+
+hk_CurveFitOptions hk_helicoid_fit_options(void) { return hk_default_curve_fit_options(); }
+
+void hk_helicoid_fit_seed(double length, double seed[4], double scale[4])
+{
+    /* Straight to start; a first simplex step of a quarter turn over the strand for
+     * the curvatures and of 0.5 for alpha (a dimensionless pitch). */
+    const double turn = 1.5707963267948966 / (length > 0.0 ? length : 1.0);
+    for (int i = 0; i < 4; i++) seed[i] = 0.0;
+    scale[0] = scale[1] = scale[2] = turn;
+    scale[3] = 0.5;
+}
+
+hk_HelicoidFitter *hk_helicoid_fitter_create(int max_samples, hk_Error *err)
+{
+    if (max_samples < 2 || max_samples > HK_CURVEFIT_MAX_SAMPLES) {
+        hk_error_set(err, HK_ERR_INVALID, "fitter for %d samples: 2 to %d", max_samples, HK_CURVEFIT_MAX_SAMPLES);
+        return NULL;
+    }
+    hk_HelicoidFitter *f = hk_calloc_array(1, sizeof *f, err);
+    if (!f) return NULL;
+    f->capacity = max_samples;
+    f->frames = hk_alloc_array((size_t)max_samples, sizeof(hk_Mat3), err);
+    f->ws = f->frames ? hk_curve_fit_workspace_create(max_samples, err) : NULL;
+    if (!f->frames || !f->ws) {
+        hk_helicoid_fitter_destroy(f);
+        return NULL;
+    }
+    return f;
+}
+
+void hk_helicoid_fitter_destroy(hk_HelicoidFitter *f)
+{
+    if (!f) return;
+    hk_free(f->frames);
+    hk_curve_fit_workspace_destroy(f->ws);
+    hk_free(f);
+}
+
+int hk_helicoid_piece_model(void *user, const double *params, const hk_CurveStart *start, double length,
+                            int count, hk_Vec3 *out_points, hk_CurveStart *end)
+{
+    hk_HelicoidFitter *f = user;
+    if (count < 2 || count > f->capacity || !(length > 0.0)) return 1;
+    hk_PHelicoid h;
+    memset(&h, 0, sizeof h);
+    h.root = start->pos;
+    h.frame = start->frame;
+    h.piece_count = 1;
+    h.k[0] = (hk_Helicoid){params[0], params[1], params[2], params[3]};
+    h.length[0] = length;
+    /* count points at spacing length / (count - 1): the trace's own step rule gives
+     * exactly that many when the step divides the length. */
+    const double step = length / (count - 1);
+    if (hk_phelicoid_point_count(&h, step) != count) return 1;
+    if (hk_phelicoid_trace(&h, step, NULL, NULL, out_points, f->frames, NULL) != HK_OK) return 1;
+    end->pos = out_points[count - 1];
+    end->frame = f->frames[count - 1];
+    return 0;
+}
+
+hk_Status hk_helicoid_fit(hk_HelicoidFitter *f, const hk_Vec3 *points, int count,
+                          const hk_CurveFitOptions *options, hk_PHelicoid *out, hk_CurveFit *fit,
+                          hk_Error *err)
+{
+    hk_CurveFit local;
+    if (!fit) fit = &local;
+    const hk_CurveFitOptions opt = options ? *options : hk_helicoid_fit_options();
+    double length = 0.0;
+    for (int i = 1; i < count; i++) length += hk_v3_dist(points[i], points[i - 1]);
+    double seed[4], scale[4];
+    hk_helicoid_fit_seed(length, seed, scale);
+    hk_Status st = hk_curve_fit_piecewise_ws(f->ws, points, count, hk_helicoid_piece_model, f, 4, seed, scale, &opt,
+                                             fit, err);
+    if (st != HK_OK) return st;
+    if (fit->piece_count > HK_HELICOID_MAX_PIECES)
+        return hk_error_set(err, HK_ERR_INVALID, "fit of %d pieces: at most %d", fit->piece_count,
+                            HK_HELICOID_MAX_PIECES);
+    memset(out, 0, sizeof *out);
+    out->root = fit->start.pos;
+    out->frame = fit->start.frame;
+    out->piece_count = fit->piece_count;
+    for (int p = 0; p < fit->piece_count; p++) {
+        out->k[p] = (hk_Helicoid){fit->params[p][0], fit->params[p][1], fit->params[p][2], fit->params[p][3]};
+        out->length[p] = fit->length[p];
+    }
+    return HK_OK;
+}
