@@ -39,4 +39,8 @@ int hk_bench_render(FILE *out, const hk_BenchOptions *options);
  * and frames per second of 201 guides on a shaking head, 1 and 2 threads. */
 int hk_bench_dynamics(FILE *out, const hk_BenchOptions *options);
 
+/* Follicle sampling: the thin-plate fit for 500..2000 points and the default wick
+ * sampled at 1 cm and 5 mm, 1 and 2 threads. */
+int hk_bench_follicles(FILE *out, const hk_BenchOptions *options);
+
 #endif

@@ -17,6 +17,7 @@ static const Bench benches[] = {
     {"groom", hk_bench_groom, "grooming examples/default with 1 and 2 threads"},
     {"render", hk_bench_render, "rendering examples/default at 1920x1080 with shadows, 1 and 2 threads"},
     {"dynamics", hk_bench_dynamics, "one strand's steps/s (dense and O(N)); 201 guides' frames/s, 1 and 2 threads"},
+    {"follicles", hk_bench_follicles, "thin-plate fit of 500..2000 points; follicles sampled on the wick, 1 and 2 threads"},
 };
 
 static void usage(FILE *out)
