@@ -43,4 +43,8 @@ int hk_bench_dynamics(FILE *out, const hk_BenchOptions *options);
  * threads, clean single and two-piece strands and noisy ones. */
 int hk_bench_curvefit(FILE *out, const hk_BenchOptions *options);
 
+/* Follicle sampling: the thin-plate fit for 500..2000 points and the default wick
+ * sampled at 1 cm and 5 mm, 1 and 2 threads. */
+int hk_bench_follicles(FILE *out, const hk_BenchOptions *options);
+
 #endif

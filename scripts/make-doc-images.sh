@@ -35,4 +35,6 @@ done
 "$hk" simulate examples/guides200/setup.txt --frames 13 --fps 30 --motion shake --amplitude 40 --frequency 1.5 \
     --width 400 --height 300 -o "$tmp/shake" --quiet
 for k in 0000 0004 0008 0012; do cp "$tmp/shake/frame_$k.png" "docs/images/dynamics-shake-$k.png"; done
+# Follicles sampled on the wick (docs/follicle-sampling.md).
+build/plot_follicles assets/head.obj assets/wick.obj 0.006 docs/images/follicles-wick.png
 echo "docs/images updated"
