@@ -1,0 +1,119 @@
+/* Fitting p-helicoids (paper 003 §5) with the helicoid piece as the model of the
+ * piecewise fitter: strands traced from known parameters are fitted back (the
+ * reference: the parameters they were made from), single pieces and two pieces; the
+ * fitted strand retraces the target; bad input is refused. */
+#include "hk_test.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "hairkit/helicoid_fit.h"
+
+static double rnd(double lo, double hi) { return lo + (hi - lo) * hk_test_uniform(); }
+
+/* A 30-point strand (the paper's data: about 30 vertices per hair) traced from h. */
+static int trace30(const hk_PHelicoid *h, hk_Vec3 *pts)
+{
+    const double step = hk_phelicoid_length(h) / 29.0;
+    hk_Error err;
+    assert_int_equal(hk_phelicoid_point_count(h, step), 30);
+    assert_int_equal(hk_phelicoid_trace(h, step, NULL, NULL, pts, NULL, &err), HK_OK);
+    return 30;
+}
+
+static void test_single_pieces_recovered(void **state)
+{
+    (void)state;
+    hk_Error err;
+    hk_HelicoidFitter *f = hk_helicoid_fitter_create(512, &err);
+    assert_non_null(f);
+    int recovered = 0;
+    const int trials = 20;
+    for (int t = 0; t < trials; t++) {
+        hk_PHelicoid h;
+        memset(&h, 0, sizeof h);
+        h.root = hk_v3(rnd(-0.1, 0.1), rnd(0, 0.2), rnd(-0.1, 0.1));
+        h.frame = hk_helicoid_frame(rnd(-3, 3), rnd(-1.2, 1.2));
+        h.piece_count = 1;
+        h.k[0] = (hk_Helicoid){rnd(2, 30), rnd(-5, 5), rnd(-10, 10), rnd(-0.5, 0.5)};
+        h.length[0] = rnd(0.05, 0.15);
+        hk_Vec3 pts[30];
+        trace30(&h, pts);
+        hk_CurveFitOptions opt = hk_helicoid_fit_options();
+        opt.tolerance = 1e-6; /* a strand the model can make exactly */
+        opt.max_pieces = 1;
+        opt.lambda = 0.0;
+        hk_PHelicoid fit;
+        hk_CurveFit report;
+        assert_int_equal(hk_helicoid_fit(f, pts, 30, &opt, &fit, &report, &err), HK_OK);
+        /* The shape is what the fit answers for: its mean leash to the target, whose
+         * floor is the fitter's resampling of the target by arc length (about 2.5e-5 m
+         * at this spacing, docs/helicoid-fitting.md). */
+        if (report.error < 5e-5) recovered++;
+        else print_message("trial %d: error %.3g m (k = %g %g %g %g)\n", t, report.error, h.k[0].kt, h.k[0].kn, h.k[0].kb,
+                           h.k[0].alpha);
+        /* retracing the fit gives back the target to the reported error */
+        hk_Vec3 again[30];
+        trace30(&fit, again);
+        double worst = 0.0;
+        for (int i = 0; i < 30; i++) worst = fmax(worst, hk_v3_dist(again[i], pts[i]));
+        assert_true(worst <= 10.0 * report.frechet + 1e-9);
+    }
+    print_message("single helicoids: %d of %d fitted to under 50 um\n", recovered, trials);
+    /* Nelder-Mead is local: a few starts may stop in a local minimum of the coupling. */
+    assert_true(recovered >= trials * 8 / 10);
+    hk_helicoid_fitter_destroy(f);
+}
+
+static void test_two_pieces(void **state)
+{
+    (void)state;
+    hk_Error err;
+    hk_HelicoidFitter *f = hk_helicoid_fitter_create(512, &err);
+    hk_PHelicoid h;
+    memset(&h, 0, sizeof h);
+    h.frame = hk_helicoid_frame(0.3, -0.4);
+    h.piece_count = 2;
+    h.k[0] = (hk_Helicoid){8, 1, 3, 0.2};
+    h.k[1] = (hk_Helicoid){40, -2, 0, 0.3};
+    h.length[0] = 0.08;
+    h.length[1] = 0.08;
+    hk_Vec3 pts[61];
+    const double step = 0.16 / 60.0; /* 30 steps per piece */
+    assert_int_equal(hk_phelicoid_point_count(&h, step), 61);
+    assert_int_equal(hk_phelicoid_trace(&h, step, NULL, NULL, pts, NULL, &err), HK_OK);
+    hk_CurveFitOptions opt = hk_helicoid_fit_options();
+    opt.tolerance = 1e-4; /* four times the fitter's resampling floor (see above) */
+    hk_PHelicoid fit;
+    hk_CurveFit report;
+    assert_int_equal(hk_helicoid_fit(f, pts, 61, &opt, &fit, &report, &err), HK_OK);
+    print_message("two pieces: %d pieces, error %.3g m, Frechet %.3g m\n", fit.piece_count, report.error,
+                  report.frechet);
+    assert_true(fit.piece_count >= 2);
+    assert_true(report.error <= opt.tolerance);
+    hk_assert_near(hk_phelicoid_length(&fit), 0.16, 1e-3);
+    hk_helicoid_fitter_destroy(f);
+}
+
+static void test_bad_input(void **state)
+{
+    (void)state;
+    hk_Error err;
+    assert_null(hk_helicoid_fitter_create(1, &err));
+    hk_HelicoidFitter *f = hk_helicoid_fitter_create(64, &err);
+    hk_Vec3 pts[3] = {{0, 0, 0}, {NAN, 0, 0}, {1, 0, 0}};
+    hk_PHelicoid out;
+    assert_int_not_equal(hk_helicoid_fit(f, pts, 3, NULL, &out, NULL, &err), HK_OK);
+    assert_int_not_equal(hk_helicoid_fit(f, pts, 1, NULL, &out, NULL, &err), HK_OK);
+    hk_helicoid_fitter_destroy(f);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_single_pieces_recovered),
+        cmocka_unit_test(test_two_pieces),
+        cmocka_unit_test(test_bad_input),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
