@@ -18,6 +18,7 @@ static const Bench benches[] = {
     {"render", hk_bench_render, "rendering examples/default at 1920x1080 with shadows, 1 and 2 threads"},
     {"dynamics", hk_bench_dynamics, "one strand's steps/s (dense and O(N)); 201 guides' frames/s, 1 and 2 threads"},
     {"curvefit", hk_bench_curvefit, "helicoid fitting machinery: fits/s of 30-sample strands, 1 and 2 threads"},
+    {"helicoid", hk_bench_helicoid, "helicoids: 90,000 hairs interpolated, fits/s of 30-vertex strands, reconstruction"},
     {"follicles", hk_bench_follicles, "thin-plate fit of 500..2000 points; follicles sampled on the wick, 1 and 2 threads"},
 };
 

@@ -37,4 +37,14 @@ done
 for k in 0000 0004 0008 0012; do cp "$tmp/shake/frame_$k.png" "docs/images/dynamics-shake-$k.png"; done
 # Follicles sampled on the wick (docs/follicle-sampling.md).
 build/plot_follicles assets/head.obj assets/wick.obj 0.006 docs/images/follicles-wick.png
+# Generalized helicoids (docs/helicoids.md).
+for f in wavy curly messy wisp; do
+    "$hk" helicoid trace "examples/helicoid/$f.txt" -o "$tmp/helicoid-$f.hair" --quiet
+    "$hk" render "$tmp/helicoid-$f.hair" -o "docs/images/helicoid-$f.png" --width 240 --height 320 --thickness 0.0006 \
+        --quiet
+done
+"$hk" helicoid interpolate examples/helicoid/guides.txt --surface assets/wick.obj --density 60 \
+    -o "$tmp/helicoid-head.hair" --quiet
+"$hk" render "$tmp/helicoid-head.hair" --head assets/head.obj --visuality examples/default/visuality.txt \
+    -o docs/images/helicoid-head.png --width 480 --height 360 --quiet
 echo "docs/images updated"
