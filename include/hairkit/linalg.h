@@ -6,6 +6,10 @@
 extern "C" {
 #endif
 
+/* sum a[k] b[k], k < n, with four partial sums in a fixed order (the same bytes on
+ * every machine and thread count). */
+double hk_dot(const double *a, const double *b, int n);
+
 /* Cholesky factor of the symmetric matrix a + shift * diag(d) (d may be NULL: identity)
  * into the lower triangle of l (n x n; the strict upper triangle is left alone).
  * Returns 1 on success, 0 if the matrix is not numerically positive definite. */

@@ -6,7 +6,7 @@
 
 /* Dot product with four partial sums: the compiler may not reorder floating-point
  * sums on its own, and a fixed order keeps results identical on every machine. */
-static double dot(const double *a, const double *b, int n)
+double hk_dot(const double *a, const double *b, int n)
 {
     double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
     int k = 0;
@@ -25,7 +25,7 @@ int hk_cholesky_factor(int n, const double *a, double shift, const double *d, do
     const size_t sn = (size_t)n;
     for (int j = 0; j < n; j++) {
         const double *lj = l + (size_t)j * sn;
-        double diag = a[(size_t)j * sn + (size_t)j] + shift * (d ? d[j] : 1.0) - dot(lj, lj, j);
+        double diag = a[(size_t)j * sn + (size_t)j] + shift * (d ? d[j] : 1.0) - hk_dot(lj, lj, j);
         /* A pivot this small relative to the original diagonal means the matrix is
          * indefinite or singular to working precision. */
         const double ref = fabs(a[(size_t)j * sn + (size_t)j]) + fabs(shift * (d ? d[j] : 1.0));
@@ -34,7 +34,7 @@ int hk_cholesky_factor(int n, const double *a, double shift, const double *d, do
         l[(size_t)j * sn + (size_t)j] = ljj;
         for (int i = j + 1; i < n; i++) {
             double *li = l + (size_t)i * sn;
-            li[j] = (a[(size_t)i * sn + (size_t)j] - dot(li, lj, j)) / ljj;
+            li[j] = (a[(size_t)i * sn + (size_t)j] - hk_dot(li, lj, j)) / ljj;
         }
     }
     return 1;
@@ -44,7 +44,7 @@ void hk_cholesky_solve(int n, const double *l, double *x)
 {
     const size_t sn = (size_t)n;
     for (int i = 0; i < n; i++) {
-        x[i] = (x[i] - dot(l + (size_t)i * sn, x, i)) / l[(size_t)i * sn + (size_t)i];
+        x[i] = (x[i] - hk_dot(l + (size_t)i * sn, x, i)) / l[(size_t)i * sn + (size_t)i];
     }
     for (int i = n - 1; i >= 0; i--) {
         double v = x[i];

@@ -16,21 +16,7 @@
 #include <string.h>
 
 #include "follicle_internal.h"
-
-/* Four partial sums in a fixed order: identical results on every machine. */
-static double dot(const double *a, const double *b, int n)
-{
-    double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
-    int k = 0;
-    for (; k + 4 <= n; k += 4) {
-        s0 += a[k] * b[k];
-        s1 += a[k + 1] * b[k + 1];
-        s2 += a[k + 2] * b[k + 2];
-        s3 += a[k + 3] * b[k + 3];
-    }
-    for (; k < n; k++) s0 += a[k] * b[k];
-    return (s0 + s1) + (s2 + s3);
-}
+#include "hairkit/linalg.h"
 
 typedef struct Reflector {
     double *v; /* n entries, zero before the reflector's index */
@@ -40,7 +26,7 @@ typedef struct Reflector {
 /* x <- (I - tau v v') x */
 static void reflect(const Reflector *r, int n, double *x)
 {
-    const double s = r->tau * dot(r->v, x, n);
+    const double s = r->tau * hk_dot(r->v, x, n);
     for (int i = 0; i < n; i++) x[i] -= s * r->v[i];
 }
 
@@ -51,14 +37,14 @@ static int householder_qr(int n, double *cols[4], Reflector h[4], double r[4][4]
 {
     for (int k = 0; k < 4; k++) {
         double *x = cols[k];
-        const double col_norm = sqrt(dot(x, x, n)); /* before this step's reflection */
-        double norm = sqrt(dot(x + k, x + k, n - k));
+        const double col_norm = sqrt(hk_dot(x, x, n)); /* before this step's reflection */
+        double norm = sqrt(hk_dot(x + k, x + k, n - k));
         if (!(norm > 1e-9 * (col_norm + 1e-300)) || !(norm > 1e-12 * sqrt((double)n))) return 0;
         const double alpha = x[k] > 0.0 ? -norm : norm;
         memset(h[k].v, 0, sizeof(double) * (size_t)n);
         for (int i = k; i < n; i++) h[k].v[i] = x[i];
         h[k].v[k] -= alpha;
-        const double vv = dot(h[k].v, h[k].v, n);
+        const double vv = hk_dot(h[k].v, h[k].v, n);
         h[k].tau = vv > 0.0 ? 2.0 / vv : 0.0;
         for (int j = k; j < 4; j++) reflect(&h[k], n, cols[j]);
         for (int j = 0; j < 4; j++) r[k][j] = j >= k ? cols[j][k] : 0.0;
@@ -72,8 +58,8 @@ static void reflect_both_sides(const Reflector *h, int n, double *a, double *u, 
 {
     const size_t sn = (size_t)n;
     #pragma omp parallel for schedule(static) num_threads(threads)
-    for (int i = 0; i < n; i++) u[i] = dot(a + (size_t)i * sn, h->v, n);
-    const double k = 0.5 * h->tau * h->tau * dot(h->v, u, n);
+    for (int i = 0; i < n; i++) u[i] = hk_dot(a + (size_t)i * sn, h->v, n);
+    const double k = 0.5 * h->tau * h->tau * hk_dot(h->v, u, n);
     for (int i = 0; i < n; i++) u[i] = h->tau * u[i] - k * h->v[i]; /* u becomes q */
     #pragma omp parallel for schedule(static) num_threads(threads)
     for (int i = 0; i < n; i++) {
@@ -97,14 +83,14 @@ static int cholesky_in_place(int m, double *a, int threads)
         /* the panel's diagonal block, column by column */
         for (int j = jb; j < je; j++) {
             double *lj = a + (size_t)j * sm;
-            const double d = lj[j] - dot(lj, lj, j);
+            const double d = lj[j] - hk_dot(lj, lj, j);
             /* a pivot this small against the original diagonal: the constraints are
              * degenerate to working precision */
             if (!(d > 1e-14 * fabs(lj[j])) || !isfinite(d)) return j;
             lj[j] = sqrt(d);
             for (int i = j + 1; i < je; i++) {
                 double *li = a + (size_t)i * sm;
-                li[j] = (li[j] - dot(li, lj, j)) / lj[j];
+                li[j] = (li[j] - hk_dot(li, lj, j)) / lj[j];
             }
         }
         /* the rows below the panel */
@@ -113,7 +99,7 @@ static int cholesky_in_place(int m, double *a, int threads)
         for (int i = je; i < m; i++) {
             double *li = a + (size_t)i * sm;
             double s[PANEL];
-            for (int c = 0; c < je - jb; c++) s[c] = li[jb + c] - dot(li, a + (size_t)(jb + c) * sm, jb);
+            for (int c = 0; c < je - jb; c++) s[c] = li[jb + c] - hk_dot(li, a + (size_t)(jb + c) * sm, jb);
             for (int c = 0; c < je - jb; c++) {
                 const double *lc = a + (size_t)(jb + c) * sm;
                 double v = s[c];
@@ -129,7 +115,7 @@ static int cholesky_in_place(int m, double *a, int threads)
 static void cholesky_solve(int m, const double *l, double *x)
 {
     const size_t sm = (size_t)m;
-    for (int i = 0; i < m; i++) x[i] = (x[i] - dot(l + (size_t)i * sm, x, i)) / l[(size_t)i * sm + (size_t)i];
+    for (int i = 0; i < m; i++) x[i] = (x[i] - hk_dot(l + (size_t)i * sm, x, i)) / l[(size_t)i * sm + (size_t)i];
     for (int i = m - 1; i >= 0; i--) {
         double v = x[i];
         for (int k = i + 1; k < m; k++) v -= l[(size_t)k * sm + (size_t)i] * x[k];
@@ -208,7 +194,7 @@ hk_Status hk_rbf_solve(int n, const hk_Vec3 *c, const double *h, int threads, do
     for (int k = 3; k >= 0; k--) reflect(&refl[k], n, w);
     /* R p = (Q' h)[0:4] - (Q' A Q)[0:4, 4:] z */
     double b[4];
-    for (int k = 0; k < 4; k++) b[k] = rhs[k] - dot(top + (size_t)k * sn + 4, z, m);
+    for (int k = 0; k < 4; k++) b[k] = rhs[k] - hk_dot(top + (size_t)k * sn + 4, z, m);
     for (int k = 3; k >= 0; k--) {
         double v = b[k];
         for (int j = k + 1; j < 4; j++) v -= r[k][j] * p[j];
