@@ -104,6 +104,11 @@ typedef struct hk_StrandEnv {
 
 hk_StrandEnv hk_default_strand_env(void);
 
+/* Collision samples of the strand in env: ceil(L / collision_step) pieces (at least 1,
+ * at most HK_MAX_SAMPLES_PER_STRAND) whose midpoints are sampled; 0 without shapes or
+ * step. The statics energy and the dynamics' body contacts use the same samples. */
+int hk_strand_collision_sample_count(const hk_SuperHelix *sh, const hk_StrandEnv *env);
+
 typedef struct hk_StrandEnergy {
     double total, elastic, gravity, collision;
 } hk_StrandEnergy;

@@ -84,9 +84,6 @@ int hk_terms_solve_linear(int n, const hk_ElementTerms *terms, const double *ext
 void hk_terms_multiply(int n, const hk_ElementTerms *terms, const double *extra, const double *x,
                        double *out, double *screws);
 
-/* Diagonal of the effective mass matrix (3n values), O(n). */
-void hk_terms_mass_diagonal(int n, const hk_ElementTerms *terms, double *out);
-
 /* Dense effective mass matrix (9 n^2 values, row-major) of the terms. */
 void hk_terms_assemble(int n, const hk_ElementTerms *terms, double *mass);
 

@@ -40,7 +40,6 @@ struct hk_StrandDynamics {
     hk_StrandEnv body_env;
     hk_StrandWorkspace *ws_body;
     double *hess, *factor, *metric, *geo_v;
-    double shift;        /* most negative eigenvalue of G dropped in the last step */
     long steps;          /* steps taken (or tried), to refresh G+ every few */
     hk_ElementTerms *terms;
     hk_GaussTable gauss;
@@ -147,11 +146,10 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *
             return HK_ERR_NOMEM;
         }
         memcpy(d->shapes, body->shapes, (size_t)body->shape_count * sizeof(hk_Shape));
-        /* The statics' collision samples: midpoints of ceil(L / step) equal pieces. */
-        double m = ceil(sh->total_length / body->collision_step - 1e-9);
-        if (m < 1.0) m = 1.0;
-        if (m > (double)HK_MAX_SAMPLES_PER_STRAND) m = (double)HK_MAX_SAMPLES_PER_STRAND;
-        d->contact_samples = (int)m;
+        /* The statics' collision samples, so that a strand at rest stays where the
+         * statics put it. */
+        d->contact_samples = hk_strand_collision_sample_count(sh, body);
+        const double m = d->contact_samples;
         d->contact.shapes = d->shapes;
         d->contact.shape_count = body->shape_count;
         d->contact.envelope_alpha = body->envelope_alpha;
@@ -350,21 +348,39 @@ static int solve(hk_StrandDynamics *d, double dt)
     return hk_terms_solve_linear(n, d->terms, d->extra, d->rhs, d->dv, d->work);
 }
 
+/* The strand's root pose moved to head space (where the body's shapes are) for a
+ * computation; returns the world pose, for restore_world_pose. */
+typedef struct RootPose {
+    hk_Vec3 root;
+    hk_Mat3 frame;
+} RootPose;
+
+static RootPose use_head_space(hk_StrandDynamics *d)
+{
+    const RootPose world = {d->sh->root, d->sh->root_frame};
+    d->sh->root = d->root_head;
+    d->sh->root_frame = d->frame_head;
+    return world;
+}
+
+static void restore_world_pose(hk_StrandDynamics *d, RootPose world)
+{
+    d->sh->root = world.root;
+    d->sh->root_frame = world.frame;
+}
+
 /* HK_STIFFNESS_FULL: gradient and Hessian of the whole potential with the body's
  * penalty, evaluated in head space (where the shapes are; the generalized Hessian does
  * not change under a rigid motion of the scene, gravity turned with it). */
 static void full_potential(hk_StrandDynamics *d, const hk_RigidState *head, int with_hessian)
 {
     hk_SuperHelix *sh = d->sh;
-    const hk_Vec3 root = sh->root, gravity = sh->material.gravity;
-    const hk_Mat3 frame = sh->root_frame;
-    sh->root = d->root_head;
-    sh->root_frame = d->frame_head;
+    const hk_Vec3 gravity = sh->material.gravity;
+    const RootPose world = use_head_space(d);
     sh->material.gravity = hk_m3_tmul_v3(&head->rot, gravity);
     hk_strand_energy(sh, &d->body_env, sh->q, d->ws_body, d->grad, with_hessian ? d->hess : NULL, NULL);
-    sh->root = root;
-    sh->root_frame = frame;
     sh->material.gravity = gravity;
+    restore_world_pose(d, world);
 }
 
 /* Then the geometric stiffness G = Hess - K (the elastic diagonal K is in the system
@@ -384,14 +400,10 @@ static void project_positive(hk_StrandDynamics *d)
     const int dim = 3 * sh->n;
     const size_t sd = (size_t)dim;
     for (int j = 0; j < dim; j++) d->hess[(size_t)j * sd + (size_t)j] -= sh->material.stiffness[j % 3] * sh->length[j / 3];
-    d->shift = 0.0;
     if (!hk_cholesky_factor(dim, d->hess, 0.0, NULL, d->factor)) {
         double *v = d->factor, *w = d->metric, *e = d->metric + dim;
         if (hk_symmetric_eigen(dim, d->hess, w, v, e)) {
-            for (int k = 0; k < dim; k++) {
-                if (w[k] < 0.0) d->shift = fmax(d->shift, -w[k]);
-                w[k] = fmax(w[k], 0.0);
-            }
+            for (int k = 0; k < dim; k++) w[k] = fmax(w[k], 0.0);
             for (size_t i = 0; i < sd; i++)
                 for (size_t j = 0; j <= i; j++) {
                     double s = 0.0;
@@ -509,10 +521,7 @@ static double largest_travel(hk_StrandDynamics *d)
 {
     if (d->contact.shape_count == 0) return 0.0;
     hk_SuperHelix *sh = d->sh;
-    const hk_Vec3 root = sh->root;
-    const hk_Mat3 frame = sh->root_frame;
-    sh->root = d->root_head;
-    sh->root_frame = d->frame_head;
+    const RootPose world = use_head_space(d);
     hk_Vec3 before[HK_TRAVEL_NODES + 1], after[HK_TRAVEL_NODES + 1];
     int n = sh->n;
     if (n <= HK_TRAVEL_NODES) {
@@ -523,8 +532,7 @@ static double largest_travel(hk_StrandDynamics *d)
         hk_superhelix_eval(sh, d->saved, sh->total_length, &before[1], NULL);
         hk_superhelix_eval(sh, sh->q, sh->total_length, &after[1], NULL);
     }
-    sh->root = root;
-    sh->root_frame = frame;
+    restore_world_pose(d, world);
     double travel = 0.0;
     for (int i = 1; i <= n; i++) {
         const double step = hk_v3_dist(before[i], after[i]);

@@ -58,22 +58,6 @@ void hk_terms_assemble(int n, const hk_ElementTerms *terms, double *mass)
     }
 }
 
-void hk_terms_mass_diagonal(int n, const hk_ElementTerms *terms, double *out)
-{
-    double beyond[6][6];
-    memset(beyond, 0, sizeof beyond);
-    for (int p = n - 1; p >= 0; p--) {
-        const hk_ElementTerms *t = &terms[p];
-        for (int b = 0; b < 3; b++) {
-            double sxi[6];
-            mul66(beyond, t->xi[b], sxi);
-            out[3 * p + b] = t->mass[b][b] + dot6(t->xi[b], sxi);
-        }
-        for (int i = 0; i < 6; i++)
-            for (int j = 0; j < 6; j++) beyond[i][j] += t->inertia[i][j];
-    }
-}
-
 int hk_terms_solve_dense(int n, const hk_ElementTerms *terms, const double *extra,
                          const double *geo, double scale, const double *rhs, double *x,
                          double *work)

@@ -42,7 +42,7 @@ hk_StrandEnv hk_default_strand_env(void)
     return env;
 }
 
-static int collision_sample_count(const hk_SuperHelix *sh, const hk_StrandEnv *env)
+int hk_strand_collision_sample_count(const hk_SuperHelix *sh, const hk_StrandEnv *env)
 {
     if (env->shape_count <= 0 || !(env->collision_step > 0.0)) return 0;
     double m = ceil(sh->total_length / env->collision_step - 1e-9);
@@ -57,7 +57,7 @@ hk_Status hk_strand_workspace_create(const hk_SuperHelix *sh, const hk_StrandEnv
     *out = NULL;
     hk_StrandWorkspace *ws = hk_calloc_array(1, sizeof *ws, err);
     if (!ws) return HK_ERR_NOMEM;
-    const int n = sh->n, ns = collision_sample_count(sh, env);
+    const int n = sh->n, ns = hk_strand_collision_sample_count(sh, env);
     const size_t sn = (size_t)(ns > 0 ? ns : 1);
     ws->n = n;
     ws->length = sh->total_length;
