@@ -25,7 +25,7 @@ static const Command commands[] = {
 static void print_help(FILE *out)
 {
     fprintf(out,
-            "hairkit %s - natural hair: Super-Helix statics and dynamics, grooming, rendering\n"
+            "hairkit %s - natural hair: Super-Helix statics and dynamics, grooming, rendering, helicoids\n"
             "\n"
             "usage: hairkit COMMAND [ARGS...]\n"
             "       hairkit COMMAND --help\n"

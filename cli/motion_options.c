@@ -53,7 +53,15 @@ void hk_cli_motion_options_help(FILE *out)
 
 hk_Status hk_cli_motion_create(const hk_CliMotion *m, hk_HeadMotion **out, hk_Error *err)
 {
-    if (!is_scripted(m->spec)) return hk_head_motion_load(m->spec, out, err);
+    if (!is_scripted(m->spec)) {
+        hk_Status st = hk_head_motion_load(m->spec, out, err);
+        /* A bare word that is no file was meant as a motion's name: say so. */
+        if (st == HK_ERR_IO && !strchr(m->spec, '/') && !strchr(m->spec, '.'))
+            st = hk_error_set(err, HK_ERR_INVALID,
+                              "unknown motion '%s': give still, nod, shake, tilt, sway, jump or a motion file",
+                              m->spec);
+        return st;
+    }
     const int translation = strcmp(m->spec, "sway") == 0 || strcmp(m->spec, "jump") == 0;
     const double amplitude = m->has_amplitude ? m->amplitude : (translation ? 0.03 : 25.0);
     return hk_head_motion_scripted(m->spec, amplitude, m->frequency, hk_default_head_pivot(), out, err);
