@@ -2,25 +2,17 @@
  * discrete Fréchet measures against brute force, Nelder-Mead on standard and hostile
  * functions, start poses and resampling, single and piecewise fits of targets traced by
  * the test's own models (recovery of known parameters, splits at the join, noise), bad
- * input, and a speed figure. */
+ * input; the fits with both minimisers (least squares and the paper's Nelder-Mead). */
 #include "hk_test.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "hairkit/curvefit.h"
 
 /* ---- helpers ---------------------------------------------------------------------- */
-
-static double now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 static double uniform(double lo, double hi) { return lo + (hi - lo) * hk_test_uniform(); }
 
@@ -494,11 +486,17 @@ static void test_resample(void **state)
         pts[i] = hk_v3(u * u * u, 0.0, 0.0);
     }
     pts[5] = pts[4]; /* a zero-length segment on the way */
+    /* Straight, by estimated arc length: the same (no vertex turns). */
+    hk_Vec3 straight[2 * N];
+    assert_int_equal(hk_curve_resample_arc(pts, N, 2 * N, straight, &len, NULL), HK_OK);
+    hk_assert_rel(len, 1.0, 1e-15, 0);
+    for (int i = 0; i < 2 * N; i++) hk_assert_near(straight[i].x, (double)i / (2 * N - 1), 1e-15);
     assert_int_equal(hk_curve_resample(pts, N, 2 * N, out, &len, NULL), HK_OK);
     hk_assert_rel(len, 1.0, 1e-15, 0);
     for (int i = 0; i < 2 * N; i++) hk_assert_near(out[i].x, (double)i / (2 * N - 1), 1e-15);
     assert_true(out[2 * N - 1].x == 1.0 && out[0].x == 0.0);
     hk_Error err;
+    assert_int_equal(hk_curve_resample_arc(pts, 1, 5, out, &len, &err), HK_ERR_INVALID);
     assert_int_equal(hk_curve_resample(pts, 1, 5, out, &len, &err), HK_ERR_INVALID);
     assert_int_equal(hk_curve_resample(pts, N, 1, out, &len, &err), HK_ERR_INVALID);
     for (int i = 0; i < N; i++) pts[i] = hk_v3(2, 2, 2);
@@ -506,11 +504,49 @@ static void test_resample(void **state)
     hk_assert_contains(err.message, "zero length");
 }
 
+/* Points at arc spacing s on a circle of radius R (an RK4 or closed-form trace): the
+ * estimated arc length is the circle's exactly (the reference: R times the angle), where
+ * the polyline is shorter by the chords' deficit 2 R sin(s / 2R) < s; resampled to their
+ * own count they come back, and halfway samples sit on the chords' midpoints. */
+static void test_resample_arc(void **state)
+{
+    (void)state;
+    enum { N = 25 };
+    const double radius = 0.03, angle = 2.5, s = radius * angle / (N - 1);
+    hk_Vec3 pts[N], out[2 * N - 1], by_chord[N];
+    for (int i = 0; i < N; i++) {
+        const double a = angle * i / (N - 1);
+        pts[i] = hk_v3(radius * cos(a), radius * sin(a), 0.01);
+    }
+    double arc, chord;
+    assert_int_equal(hk_curve_resample_arc(pts, N, N, out, &arc, NULL), HK_OK);
+    assert_int_equal(hk_curve_resample(pts, N, N, by_chord, &chord, NULL), HK_OK);
+    hk_assert_rel(arc, radius * angle, 1e-13, 0);
+    hk_assert_rel(chord, (N - 1) * 2.0 * radius * sin(s / (2.0 * radius)), 1e-13, 0);
+    assert_true(arc - chord > 1e-6); /* the deficit the arc estimate removes: 1.6e-5 m here */
+    assert_int_equal(hk_curve_resample_arc(pts, N, N, out, &arc, NULL), HK_OK);
+    for (int i = 0; i < N; i++) hk_assert_near(hk_v3_dist(out[i], pts[i]), 0.0, 1e-15);
+    assert_int_equal(hk_curve_resample_arc(pts, N, 2 * N - 1, out, &arc, NULL), HK_OK);
+    for (int i = 0; i + 1 < N; i++)
+        hk_assert_near(hk_v3_dist(out[2 * i + 1], hk_v3_scale(hk_v3_add(pts[i], pts[i + 1]), 0.5)), 0.0, 1e-15);
+}
+
 /* ---- fits -------------------------------------------------------------------------------- */
+
+/* The minimiser the fit tests below run with: least squares (the default) and again with
+ * the paper's Nelder-Mead (the *_nelder_mead entries of main). */
+static int fit_method = HK_CURVEFIT_LEAST_SQUARES;
+
+static hk_CurveFitOptions fit_options(void)
+{
+    hk_CurveFitOptions o = hk_default_curve_fit_options();
+    o.method = fit_method;
+    return o;
+}
 
 static hk_CurveFitOptions exact_options(void)
 {
-    hk_CurveFitOptions o = hk_default_curve_fit_options();
+    hk_CurveFitOptions o = fit_options();
     o.lambda = 0.0;
     o.tolerance = 1e-7;
     o.param_tolerance = 1e-9;
@@ -587,7 +623,7 @@ static void test_fit_straight(void **state)
     assert_true(fit.error < 1e-15);
     /* The helix with lambda > 0: the regularisation takes both parameters to 0, even the
      * torsion that does not change a straight line's points. */
-    hk_CurveFitOptions o = hk_default_curve_fit_options();
+    hk_CurveFitOptions o = fit_options();
     o.lambda = 1e-6;
     const double seed[2] = {40.0, 25.0}, scale[2] = {10.0, 10.0};
     assert_int_equal(hk_curve_fit_piecewise(target, N, helix_model, NULL, 2, seed, scale, &o, &fit, &err), HK_OK);
@@ -659,7 +695,7 @@ static void test_fit_noise(void **state)
         const double k[2] = {uniform(20.0, 60.0), uniform(-20.0, 20.0)};
         helix_trace(k[0], k[1], &s0, 0.1, N, target, &e);
         add_noise(target, N, sigma);
-        hk_CurveFitOptions o = hk_default_curve_fit_options();
+        hk_CurveFitOptions o = fit_options();
         o.lambda = 0.0;
         o.tolerance = 3e-4;
         hk_CurveFit fit;
@@ -740,6 +776,10 @@ static void test_fit_bad_input(void **state)
     EXPECT(HK_ERR_INVALID, "samples", target, N, helix_model, NULL, 2, seed, scale, &o);
     o = hk_default_curve_fit_options(), o.use_start = 1, o.start.frame.m[0][0] = 2.0;
     EXPECT(HK_ERR_INVALID, "start pose", target, N, helix_model, NULL, 2, seed, scale, &o);
+    o = hk_default_curve_fit_options(), o.method = 7;
+    EXPECT(HK_ERR_INVALID, "method", target, N, helix_model, NULL, 2, seed, scale, &o);
+    o = hk_default_curve_fit_options(), o.arc_length = 2;
+    EXPECT(HK_ERR_INVALID, "arc_length", target, N, helix_model, NULL, 2, seed, scale, &o);
     /* Bad points. */
     hk_Vec3 bad[N];
     memcpy(bad, target, sizeof bad);
@@ -872,39 +912,19 @@ static void test_fit_resampled(void **state)
     hk_curve_fit_workspace_destroy(ws);
 }
 
-/* Fits per second on one core, 30-sample strands: single helices and two-piece ones. */
-static void test_fit_speed(void **state)
-{
-    (void)state;
-    enum { N = 30, STRANDS = 40 };
-    static hk_Vec3 targets[STRANDS][N];
-    for (int s = 0; s < STRANDS; s++) {
-        const hk_CurveStart s0 = random_start();
-        const double k[2][2] = {{uniform(20, 100), uniform(-40, 40)}, {uniform(20, 100), uniform(-40, 40)}};
-        const int segments[2] = {s % 2 ? 14 : 29, 15};
-        make_helix_target(&s0, s % 2 ? 2 : 1, k, segments, 0.1 / 29, targets[s]);
+/* The fit tests again with the paper's minimiser. */
+#define WITH_NELDER_MEAD(name)                                                                                      \
+    static void name##_nelder_mead(void **state)                                                                   \
+    {                                                                                                              \
+        fit_method = HK_CURVEFIT_NELDER_MEAD;                                                                      \
+        name(state);                                                                                               \
+        fit_method = HK_CURVEFIT_LEAST_SQUARES;                                                                    \
     }
-    hk_Error err;
-    hk_CurveFitWorkspace *ws = hk_curve_fit_workspace_create(N, &err);
-    assert_non_null(ws);
-    const double seed[2] = {30.0, 0.0}, scale[2] = {20.0, 20.0};
-    hk_CurveFitOptions o = hk_default_curve_fit_options();
-    hk_CurveFit fit;
-    long evals = 0, pieces = 0;
-    const double t0 = now();
-    for (int s = 0; s < STRANDS; s++) {
-        assert_int_equal(hk_curve_fit_piecewise_ws(ws, targets[s], N, helix_model, NULL, 2, seed, scale, &o, &fit, &err),
-                         HK_OK);
-        evals += fit.evaluations;
-        pieces += fit.piece_count;
-        assert_true(fit.error <= o.tolerance);
-    }
-    const double dt = now() - t0;
-    hk_curve_fit_workspace_destroy(ws);
-    print_message("  speed: %d strands of %d samples (half single helices, half two-piece): %.0f fits/s on one core, "
-                  "%.0f evaluations and %.2f pieces per fit\n",
-                  STRANDS, N, STRANDS / dt, (double)evals / STRANDS, (double)pieces / STRANDS);
-}
+WITH_NELDER_MEAD(test_fit_single_arc)
+WITH_NELDER_MEAD(test_fit_single_helix)
+WITH_NELDER_MEAD(test_fit_straight)
+WITH_NELDER_MEAD(test_fit_two_pieces)
+WITH_NELDER_MEAD(test_fit_noise)
 
 int main(void)
 {
@@ -920,6 +940,7 @@ int main(void)
         cmocka_unit_test(test_nm_bad_arguments),
         cmocka_unit_test(test_start_pose),
         cmocka_unit_test(test_resample),
+        cmocka_unit_test(test_resample_arc),
         cmocka_unit_test(test_fit_single_arc),
         cmocka_unit_test(test_fit_single_helix),
         cmocka_unit_test(test_fit_straight),
@@ -929,7 +950,11 @@ int main(void)
         cmocka_unit_test(test_fit_hostile_targets),
         cmocka_unit_test(test_fit_evaluations_and_determinism),
         cmocka_unit_test(test_fit_resampled),
-        cmocka_unit_test(test_fit_speed),
+        cmocka_unit_test(test_fit_single_arc_nelder_mead),
+        cmocka_unit_test(test_fit_single_helix_nelder_mead),
+        cmocka_unit_test(test_fit_straight_nelder_mead),
+        cmocka_unit_test(test_fit_two_pieces_nelder_mead),
+        cmocka_unit_test(test_fit_noise_nelder_mead),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -93,6 +93,46 @@ hk_Status hk_nelder_mead_minimize(int n, double *x, const double *scale, hk_Cost
                                   const hk_NelderMeadOptions *options, hk_NelderMeadResult *result,
                                   hk_Error *err);
 
+/* ---- Levenberg-Marquardt (src/helicoid/least_squares.c) ------------------------------ */
+
+#define HK_LEAST_SQUARES_MAX_PARAMS 32
+#define HK_LEAST_SQUARES_MAX_RESIDUALS 1000000
+
+/* Residuals: writes the m values r(x); returns 0, or non-zero where r is undefined (the
+ * step is then rejected, like one that does not lower the cost). */
+typedef int (*hk_ResidualFn)(const double *x, double *residuals, void *user);
+
+typedef struct hk_LeastSquaresOptions {
+    long max_evaluations; /* hard limit on calls of r (>= n + 2) */
+    double x_tolerance;   /* stop when every |step_j| <= x_tolerance * |scale_j| ... */
+    double f_tolerance;   /* ... or two accepted steps in a row each lowered the cost by
+                             <= f_tolerance * cost ... */
+    double g_tolerance;   /* ... or max_j |g_j scale_j| <= g_tolerance * cost (g = J^T r) */
+} hk_LeastSquaresOptions;
+
+/* 400 evaluations, x_tolerance 1e-10, f_tolerance 1e-12, g_tolerance 1e-14. */
+hk_LeastSquaresOptions hk_default_least_squares_options(void);
+
+typedef struct hk_LeastSquaresResult {
+    double cost;      /* sum r_i^2 / 2 at the returned x */
+    int iterations;   /* trial steps */
+    long evaluations; /* calls of r, the Jacobian's included */
+    int converged;    /* 1: a tolerance was met; 0: the evaluation limit stopped it */
+} hk_LeastSquaresResult;
+
+/* Doubles of work memory for n parameters and m residuals. */
+#define HK_LEAST_SQUARES_WORK(n, m) ((size_t)(m) * ((size_t)(n) + 3))
+
+/* Minimises sum r_i(x)^2 / 2 over n (1..32) parameters, m >= n residuals, by
+ * Levenberg-Marquardt with a forward-difference Jacobian (step sqrt(eps) times
+ * max(|x_j|, |scale_j|)), Marquardt's diagonal scaling and Nielsen's damping update.
+ * x is updated in place with the best point found (never worse than the start).
+ * `work` holds HK_LEAST_SQUARES_WORK(n, m) doubles. Deterministic; never allocates.
+ * HK_ERR_INVALID for bad arguments, HK_ERR_NUMERIC when r is undefined at the start. */
+hk_Status hk_least_squares_minimize(int n, int m, double *x, const double *scale, hk_ResidualFn f, void *user,
+                                    const hk_LeastSquaresOptions *options, double *work,
+                                    hk_LeastSquaresResult *result, hk_Error *err);
+
 /* ---- curve models ------------------------------------------------------------------- */
 
 /* A pose on a curve: position and frame. The frame's columns are the unit tangent, the
@@ -132,6 +172,16 @@ hk_Status hk_curve_estimate_start(const hk_Vec3 *points, int count, hk_CurveStar
 hk_Status hk_curve_resample(const hk_Vec3 *points, int count, int samples, hk_Vec3 *out,
                             double *length, hk_Error *err);
 
+/* The same, uniformly by the arc length of the smooth curve the points sample: each
+ * chord lengthened to the arc of the circle turning by the polyline's turning angles
+ * there (chord * (phi/2) / sin(phi/2); exact for points on a circle). A curve sampled
+ * at arc spacing s has chords shorter than s by s (kappa s)^2 / 24: fitting a model
+ * traced at spacing s to chord-length samples leaves that much error per segment
+ * (30 microns over a 10 cm curl of 3 cm radius at 3.4 mm spacing). *length gets the
+ * estimated arc length. */
+hk_Status hk_curve_resample_arc(const hk_Vec3 *points, int count, int samples, hk_Vec3 *out,
+                                double *length, hk_Error *err);
+
 /* ---- fitting (§5.2, §5.3) ------------------------------------------------------------ */
 
 #define HK_CURVEFIT_MAX_PIECES 64
@@ -140,21 +190,51 @@ hk_Status hk_curve_resample(const hk_Vec3 *points, int count, int samples, hk_Ve
  * hk_CurveFitOptions.samples) rather than fitted at full resolution. */
 #define HK_CURVEFIT_MAX_SAMPLES 4096
 
+/* How a piece's parameters are found. */
+typedef enum hk_CurveFitMethod {
+    /* Levenberg-Marquardt on the squared distances between the target's samples and the
+     * model's points at the same arc length (the default: a few dozen traces per piece) */
+    HK_CURVEFIT_LEAST_SQUARES = 0,
+    /* the paper's: Nelder-Mead on the Fréchet coupling, eq. (5) (hundreds of traces) */
+    HK_CURVEFIT_NELDER_MEAD = 1
+} hk_CurveFitMethod;
+
 typedef struct hk_CurveFitOptions {
-    double lambda;              /* eq. (5) regularisation (m per unit of |params|), >= 0 */
+    int method;                 /* hk_CurveFitMethod */
+    double lambda;              /* eq. (5) regularisation (m per unit of |params|), >= 0;
+                                   least squares adds (lambda |params|)^2 to the mean
+                                   squared distance */
     double tolerance;           /* accept a fit when its normalised coupling <= this (m) */
     double split_threshold;     /* §5.3 Fréchet threshold in (0, 1]: 0.6 in the paper */
     double min_fragment_length; /* shortest piece the splitting creates (m), >= 0 */
     int max_pieces;             /* 1..HK_CURVEFIT_MAX_PIECES; 1 = single fit (§5.2) */
-    int max_evaluations;        /* per Nelder-Mead run (>= param_count + 1; a fit makes
+    int max_evaluations;        /* per minimiser run (>= param_count + 1; a fit makes
                                    a few runs, see fit.evaluations for the total) */
     int samples;                /* points the target is resampled to; 0 = its own count */
+    int arc_length;             /* 0: the model places its points at polyline spacing (forward
+                                   Euler traces, like the paper's eq. 3): resample the target
+                                   by polyline length; 1: at arc-length spacing on a smooth
+                                   curve (RK4, closed forms): resample by estimated arc length
+                                   (hk_curve_resample_arc) */
     int restarts;               /* Nelder-Mead restarts from a converged simplex that
                                    still misses the tolerance (0..100) */
-    double param_tolerance;     /* NM stop: simplex size relative to `scale` */
+    double param_tolerance;     /* NM stop: simplex size relative to `scale` (least
+                                   squares: a step of 1e-3 times this) */
     double cost_tolerance;      /* NM stop: spread of the objective (m) */
     int use_start;              /* non-zero: start from `start` instead of estimating it */
     hk_CurveStart start;        /* the root pose when use_start is set */
+    /* NULL, or the model's rule for its frame at the root: given the start pose (the
+     * estimated Frenet frame, or `start`) and the first piece's parameters, turn it
+     * into the frame the model is traced from (a helicoid's Frenet normal is rolled
+     * from its field's E_N by atan(alpha), helicoid_fit.c). Pieces after the first
+     * start from their predecessor's end pose, unchanged. */
+    void (*root_frame)(void *user, const double *params, hk_CurveStart *start);
+    /* NULL, or the model's guess of a piece's parameters from its fragment (points,
+     * count >= 3, at the fit's spacing) and the pose it starts from (for a root piece
+     * the estimated pose, before root_frame): tried as a starting point beside `seed`
+     * and the fits of overlapping ranges. */
+    void (*fragment_seed)(void *user, const hk_Vec3 *points, int count, const hk_CurveStart *start,
+                          double *params);
     int refine_start;           /* 1: a first piece that misses the tolerance in the root
                                    frame is refitted with a rotation of that frame (3 more
                                    Nelder-Mead parameters), for noisy captures whose first

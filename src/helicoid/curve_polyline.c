@@ -5,33 +5,58 @@
 
 #include "helicoid/curvefit_internal.h"
 
-hk_Status hk_curve_resample(const hk_Vec3 *points, int count, int samples, hk_Vec3 *out,
-                            double *length, hk_Error *err)
+/* Turning angle (rad) at vertex i of a polyline, 0 at its ends and where a segment is
+ * degenerate. */
+static double turning_angle(const hk_Vec3 *points, int count, int i)
+{
+    if (i <= 0 || i >= count - 1) return 0.0;
+    const hk_Vec3 a = hk_v3_sub(points[i], points[i - 1]), b = hk_v3_sub(points[i + 1], points[i]);
+    return atan2(hk_v3_norm(hk_v3_cross(a, b)), hk_v3_dot(a, b));
+}
+
+/* Length given to segment i (points i, i + 1): the chord, or with `arc` the arc of the
+ * circle that turns by the mean of the turning angles at its ends (the interior one at
+ * the polyline's ends): for points spaced by arc length s on a circle of radius R each
+ * vertex turns by phi = s / R and the chord is 2 R sin(phi / 2), so the arc is
+ * chord * (phi / 2) / sin(phi / 2), exact on circles and helices' osculating circles
+ * to O(s^2) where the curvature varies. */
+static double segment_length(const hk_Vec3 *points, int count, int i, int arc)
+{
+    const double chord = hk_v3_dist(points[i], points[i + 1]);
+    if (!arc || count < 3) return chord;
+    const double t0 = turning_angle(points, count, i), t1 = turning_angle(points, count, i + 1);
+    const double phi = i == 0 ? t1 : (i + 1 == count - 1 ? t0 : 0.5 * (t0 + t1));
+    const double half = 0.5 * phi;
+    /* x / sin x = 1 + x^2 / 6 + 7 x^4 / 360 + ...: the series below 1e-4 rad, where the
+     * quotient loses digits; the turning angle is at most pi, half of it pi / 2. */
+    return chord * (half < 1e-4 ? 1.0 + half * half / 6.0 : half / sin(half));
+}
+
+static hk_Status resample(const hk_Vec3 *points, int count, int samples, int arc, hk_Vec3 *out, double *length,
+                          hk_Error *err)
 {
     if (!points || !out) return hk_error_set(err, HK_ERR_INVALID, "resample: NULL argument");
     if (count < 2) return hk_error_set(err, HK_ERR_INVALID, "resample: a polyline needs at least 2 points, got %d", count);
     if (samples < 2) return hk_error_set(err, HK_ERR_INVALID, "resample: need at least 2 samples, got %d", samples);
+    for (int i = 0; i < count; i++)
+        if (!hk_v3_isfinite(points[i])) return hk_error_set(err, HK_ERR_INVALID, "resample: point %d is not finite", i);
     double total = 0.0;
-    for (int i = 0; i < count; i++) {
-        if (!hk_v3_isfinite(points[i]))
-            return hk_error_set(err, HK_ERR_INVALID, "resample: point %d is not finite", i);
-        if (i > 0) total += hk_v3_dist(points[i - 1], points[i]);
-    }
+    for (int i = 0; i + 1 < count; i++) total += segment_length(points, count, i, arc);
     if (!(total > 0.0) || !isfinite(total))
         return hk_error_set(err, HK_ERR_INVALID, "resample: the polyline has %s length",
                             total > 0.0 ? "infinite" : "zero");
     /* Walk the segments once; the running length is summed in the same order as the
      * total, so an evenly spaced polyline resampled to its own count comes back equal
-     * to rounding. */
+     * to rounding. A sample within a segment is placed on its chord, in proportion. */
     int seg = 0;
-    double seg_start = 0.0, seg_len = hk_v3_dist(points[0], points[1]);
+    double seg_start = 0.0, seg_len = segment_length(points, count, 0, arc);
     out[0] = points[0];
     for (int k = 1; k < samples - 1; k++) {
         const double s = total * (double)k / (double)(samples - 1);
         while (seg < count - 2 && seg_start + seg_len < s) {
             seg_start += seg_len;
             seg++;
-            seg_len = hk_v3_dist(points[seg], points[seg + 1]);
+            seg_len = segment_length(points, count, seg, arc);
         }
         double t = seg_len > 0.0 ? (s - seg_start) / seg_len : 0.0;
         t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
@@ -40,6 +65,18 @@ hk_Status hk_curve_resample(const hk_Vec3 *points, int count, int samples, hk_Ve
     out[samples - 1] = points[count - 1];
     if (length) *length = total;
     return HK_OK;
+}
+
+hk_Status hk_curve_resample(const hk_Vec3 *points, int count, int samples, hk_Vec3 *out, double *length,
+                            hk_Error *err)
+{
+    return resample(points, count, samples, 0, out, length, err);
+}
+
+hk_Status hk_curve_resample_arc(const hk_Vec3 *points, int count, int samples, hk_Vec3 *out, double *length,
+                                hk_Error *err)
+{
+    return resample(points, count, samples, 1, out, length, err);
 }
 
 /* Squared sine of the angle below which a chord counts as collinear with the tangent:

@@ -12,7 +12,12 @@ struct hk_HelicoidFitter {
     hk_CurveFitWorkspace *ws;
 };
 
-hk_CurveFitOptions hk_helicoid_fit_options(void) { return hk_default_curve_fit_options(); }
+hk_CurveFitOptions hk_helicoid_fit_options(void)
+{
+    hk_CurveFitOptions o = hk_default_curve_fit_options();
+    o.arc_length = 1; /* the pieces are traced by RK4 or closed forms at arc-length spacing */
+    return o;
+}
 
 void hk_helicoid_fit_seed(double length, double seed[4], double scale[4])
 {
@@ -72,6 +77,40 @@ int hk_helicoid_piece_model(void *user, const double *params, const hk_CurveStar
     return 0;
 }
 
+/* The helicoid's frame at the root from the estimated Frenet frame: its initial
+ * curvature vector is k_T (E_N + alpha E_B) (eq. 1-2 differentiated at the origin, where
+ * d theta/ds = k_T and d phi/ds = alpha k_T), so its Frenet normal is E_N rolled about
+ * E_T by atan(alpha): roll the estimate back by that much. With this rule the root frame
+ * follows alpha, and a fit started in the Frenet frame can reach every helicoid. */
+static void root_roll(void *user, const double *params, hk_CurveStart *start)
+{
+    (void)user;
+    const double roll = -atan(params[3]), c = cos(roll), sn = sin(roll);
+    const hk_Vec3 t = hk_m3_col(&start->frame, 0), n = hk_m3_col(&start->frame, 1), b = hk_m3_col(&start->frame, 2);
+    const hk_Vec3 n2 = hk_v3_add(hk_v3_scale(n, c), hk_v3_scale(b, sn));
+    start->frame = hk_m3_from_cols(t, n2, hk_v3_cross(t, n2));
+}
+
+/* A starting point from the fragment's discrete curvature vector kappa = (p0 - 2 p1 +
+ * p2) / h^2 in the start frame: k_T = kappa . N and alpha = (kappa . B) / (kappa . N)
+ * (the initial curvature vector above); k_N = k_B = 0. At the root the frame is the
+ * Frenet one, so kappa . B is about 0 and root_roll supplies the roll. */
+static void fragment_seed(void *user, const hk_Vec3 *p, int count, const hk_CurveStart *start, double *params)
+{
+    (void)user;
+    (void)count;
+    const double h = hk_v3_dist(p[1], p[0]);
+    for (int i = 0; i < 4; i++) params[i] = 0.0;
+    if (!(h > 0.0)) return;
+    const hk_Vec3 kappa = hk_v3_scale(hk_v3_add(hk_v3_sub(p[0], hk_v3_scale(p[1], 2.0)), p[2]), 1.0 / (h * h));
+    const double kn = hk_v3_dot(kappa, hk_m3_col(&start->frame, 1)), kb = hk_v3_dot(kappa, hk_m3_col(&start->frame, 2));
+    if (!isfinite(kn) || !isfinite(kb)) return;
+    params[0] = kn;
+    /* |alpha| <= 1: beyond it the curve climbs more than it turns, better found by the
+     * minimiser than guessed from one corner. */
+    if (fabs(kn) > 1e-9 * fabs(kb)) params[3] = fmax(-1.0, fmin(1.0, kb / kn));
+}
+
 hk_Status hk_helicoid_fit(hk_HelicoidFitter *f, const hk_Vec3 *points, int count,
                           const hk_CurveFitOptions *options, hk_PHelicoid *out, hk_CurveFit *fit,
                           hk_Error *err)
@@ -83,7 +122,10 @@ hk_Status hk_helicoid_fit(hk_HelicoidFitter *f, const hk_Vec3 *points, int count
     for (int i = 1; i < count; i++) length += hk_v3_dist(points[i], points[i - 1]);
     double seed[4], scale[4];
     hk_helicoid_fit_seed(length, seed, scale);
+
     hk_CurveFitOptions first = opt;
+    first.fragment_seed = fragment_seed;
+    if (!opt.use_start) first.root_frame = root_roll;
     if (!opt.use_start && count >= 3 && hk_curve_estimate_start(points, count, &first.start, NULL) == HK_OK) {
         /* curvefit's estimate takes the first segment as the tangent, exact for the
          * paper's forward-Euler traces but off by half a segment's turn for a smooth
@@ -109,31 +151,6 @@ hk_Status hk_helicoid_fit(hk_HelicoidFitter *f, const hk_Vec3 *points, int count
     hk_Status st = hk_curve_fit_piecewise_ws(f->ws, points, count, hk_helicoid_piece_model, f, 4, seed, scale, &first,
                                              fit, err);
     if (st != HK_OK) return st;
-    /* The root frame is estimated from the target as its discrete Frenet frame, but a
-     * helicoid's Frenet normal at its root is E_N + alpha E_B (the initial curvature
-     * vector is k_T (E_N + alpha E_B), from eq. 1-2): its field frame is rolled about
-     * E_T by atan(alpha) from the Frenet one. Fit again from the frame rolled back by
-     * the first fit's alpha, seeded with that fit, and keep the better of the two. */
-    if (!opt.use_start && fit->error > opt.tolerance && fit->piece_count >= 1) {
-        hk_CurveFitOptions again = opt;
-        again.use_start = 1;
-        const double roll = -atan(fit->params[0][3]), c = cos(roll), sn = sin(roll);
-        const hk_Vec3 t = hk_m3_col(&fit->start.frame, 0), n = hk_m3_col(&fit->start.frame, 1),
-                      b = hk_m3_col(&fit->start.frame, 2);
-        const hk_Vec3 n2 = hk_v3_add(hk_v3_scale(n, c), hk_v3_scale(b, sn));
-        again.start.pos = fit->start.pos;
-        again.start.frame = hk_m3_from_cols(t, n2, hk_v3_cross(t, n2));
-        double seed2[4];
-        for (int i = 0; i < 4; i++) seed2[i] = fit->params[0][i];
-        hk_CurveFit second;
-        hk_Error e2;
-        if (hk_curve_fit_piecewise_ws(f->ws, points, count, hk_helicoid_piece_model, f, 4, seed2, scale, &again,
-                                      &second, &e2) == HK_OK &&
-            second.error < fit->error) {
-            second.evaluations += fit->evaluations;
-            *fit = second;
-        }
-    }
     if (fit->piece_count > HK_HELICOID_MAX_PIECES)
         return hk_error_set(err, HK_ERR_INVALID, "fit of %d pieces: at most %d", fit->piece_count,
                             HK_HELICOID_MAX_PIECES);

@@ -32,9 +32,18 @@
 #include <math.h>
 #include <string.h>
 
+#include "hairkit/linalg.h"
 #include "helicoid/curvefit_internal.h"
 
 #define MAXP HK_CURVEFIT_MAX_PARAMS
+#define ROT 3 /* parameters of the root frame's rotation when it is refined */
+/* Least-squares residuals of a fragment of m samples: 3 per sample and one per model
+ * parameter (the regularisation). */
+#define RESIDUALS(m) (3 * (size_t)(m) + MAXP + 3)
+/* The polish of a whole chain (least squares): all pieces' parameters at once, up to the
+ * minimiser's limit; 3 residuals per sample and one per parameter. */
+#define POLISH_PARAMS HK_LEAST_SQUARES_MAX_PARAMS
+#define CHAIN_RESIDUALS(n) (3 * (size_t)(n) + POLISH_PARAMS)
 
 struct hk_CurveFitWorkspace {
     int capacity;
@@ -45,12 +54,14 @@ struct hk_CurveFitWorkspace {
     double *row;     /* 2 * capacity: dynamic programming rows */
     double *prefix;  /* coupling of growing fragments */
     double *diff;    /* bend differences */
+    double *lsq;     /* Levenberg-Marquardt work memory */
 };
 
 hk_CurveFitOptions hk_default_curve_fit_options(void)
 {
     hk_CurveFitOptions o;
     memset(&o, 0, sizeof o);
+    o.method = HK_CURVEFIT_LEAST_SQUARES;
     o.lambda = 1e-7;
     o.tolerance = 2e-4;
     o.split_threshold = 0.6;
@@ -86,7 +97,9 @@ hk_CurveFitWorkspace *hk_curve_fit_workspace_create(int max_samples, hk_Error *e
     ws->row = ws->chain ? hk_alloc_array(2 * n, sizeof(double), err) : NULL;
     ws->prefix = ws->row ? hk_alloc_array(n, sizeof(double), err) : NULL;
     ws->diff = ws->prefix ? hk_alloc_array(n, sizeof(double), err) : NULL;
-    if (!ws->diff) {
+    ws->lsq = ws->diff ? hk_alloc_array(HK_LEAST_SQUARES_WORK(POLISH_PARAMS, CHAIN_RESIDUALS(n)), sizeof(double), err)
+                       : NULL;
+    if (!ws->lsq) {
         hk_curve_fit_workspace_destroy(ws);
         return NULL;
     }
@@ -103,21 +116,25 @@ void hk_curve_fit_workspace_destroy(hk_CurveFitWorkspace *ws)
     hk_free(ws->row);
     hk_free(ws->prefix);
     hk_free(ws->diff);
+    hk_free(ws->lsq);
     hk_free(ws);
 }
 
 /* ---- one fit ------------------------------------------------------------------------ */
 
-#define ROT 3 /* parameters of the root frame's rotation when it is refined */
 #define M_PI_VALUE 3.14159265358979323846
 
 typedef struct Piece {
     double params[MAXP];
     double rot[ROT];     /* rotation of the root frame (refined first piece), else 0 */
     hk_CurveStart start; /* the pose it starts from */
+    hk_CurveStart base;  /* at the root: that pose before the model's root_frame rule */
     hk_CurveStart end;   /* and ends at */
     double error;        /* normalised coupling against its fragment (m) */
     double frechet;      /* Fréchet distance against its fragment (m) */
+    double join_error;   /* least squares, a piece with a successor: how far its end
+                            tangent's error turns the rest (m), see residuals() */
+    int params_valid_for_cut; /* a cut heuristic's fit: 1 when it is the first part's own */
 } Piece;
 
 typedef struct Fit {
@@ -134,6 +151,7 @@ typedef struct Fit {
     long evaluations;
     hk_CurveFit *out;
     hk_CurveStart starts[HK_CURVEFIT_MAX_PIECES]; /* start pose of each emitted piece */
+    hk_CurveStart root_base;                      /* the root piece's pose before root_frame */
     hk_Error *err;
     /* what the objective compares: samples i0 .. i0 + m - 1, traced from `base`, turned
      * by the last ROT parameters when `rotating` */
@@ -156,6 +174,16 @@ static hk_CurveStart rotated(const hk_CurveStart *base, const double *r)
     e = hk_m3_add(&e, &t1);
     e = hk_m3_add(&e, &t2);
     s.frame = hk_m3_mul(&base->frame, &e);
+    return s;
+}
+
+/* The pose the model starts from for parameters x: the base pose, turned by the root
+ * rotation when it is free, and at the root adjusted by the model's own rule
+ * (options.root_frame) from the estimated frame to its own. */
+static hk_CurveStart start_pose(const Fit *F, const hk_CurveStart *base, const double *x, int rotating, int at_root)
+{
+    hk_CurveStart s = rotating ? rotated(base, x + F->np) : *base;
+    if (at_root && F->opt->root_frame) F->opt->root_frame(F->user, x, &s);
     return s;
 }
 
@@ -193,10 +221,99 @@ static double objective(const double *x, void *user)
 {
     Fit *F = user;
     hk_CurveStart end;
-    const hk_CurveStart s = F->rotating ? rotated(&F->base, x + F->np) : F->base;
+    const hk_CurveStart s = start_pose(F, &F->base, x, F->rotating, F->i0 == 0);
     if (trace(F, x, &s, F->m, F->ws->trace, &end) != 0) return INFINITY;
     const double c = hk_frechet_coupling_prefix(F->ws->target + F->i0, F->ws->trace, F->m, F->ws->row, NULL);
     return c / (double)F->m + F->opt->lambda * param_norm(F->np, x);
+}
+
+/* 1 when the fragment being fitted ends before the target does: a later piece joins it
+ * (least squares only; the paper's Nelder-Mead fits positions alone). */
+static int has_join(const Fit *F)
+{
+    return F->opt->method == HK_CURVEFIT_LEAST_SQUARES && F->i0 + F->m < F->n && F->m >= 3;
+}
+
+/* The next piece starts along this one's end tangent (§3.4): a tangent off by delta at
+ * the join moves the rest of the strand by about delta times its length, which no
+ * position inside this fragment sees. The residual is the difference of the end tangent
+ * and the target's there (for a smooth model the second-order one-sided difference on
+ * the fragment's own points, not across a join where the bend may jump; for a forward
+ * Euler model the next segment), weighted by length / sqrt(3), the rms
+ * displacement of a straight strand of that length turned by delta about its start:
+ * the length of the rest of the target, at most the fragment's own (a piece further on
+ * can take up what this one cannot). Metres, like the distances. */
+static hk_Vec3 join_residual(const Fit *F, const hk_CurveStart *end)
+{
+    const int b = F->i0 + F->m - 1;
+    const hk_Vec3 *q = F->ws->target;
+    /* A model traced by forward Euler (polyline spacing) leaves the join along its
+     * next segment, exactly; a smooth one along the curve's tangent there. */
+    const hk_Vec3 t = F->opt->arc_length ? hk_v3_normalize(hk_v3_add(
+                                               hk_v3_sub(hk_v3_scale(q[b], 3.0), hk_v3_scale(q[b - 1], 4.0)), q[b - 2]))
+                                         : hk_v3_normalize(hk_v3_sub(q[b + 1], q[b]));
+    const double rest = F->h * (double)(F->n - 1 - b), own = F->h * (double)(F->m - 1);
+    return hk_v3_scale(hk_v3_sub(hk_m3_col(&end->frame, 0), t), (rest < own ? rest : own) / sqrt(3.0));
+}
+
+/* The least-squares form of eq. (5): the distances between the fragment's samples and the
+ * model's points at the same arc length, weighted 1/sqrt(m) so that the cost is half the
+ * mean squared distance, and lambda k_j for the regularisation (the root rotation is not
+ * penalised). The model is traced at the samples' spacing, so point i of both is at arc
+ * length i h: on clean data the minimum is 0 at the true parameters, as the coupling's. */
+static int residuals(const double *x, double *r, void *user)
+{
+    Fit *F = user;
+    hk_CurveStart end;
+    const hk_CurveStart s = start_pose(F, &F->base, x, F->rotating, F->i0 == 0);
+    if (trace(F, x, &s, F->m, F->ws->trace, &end) != 0) return 1;
+    const double w = 1.0 / sqrt((double)F->m);
+    const hk_Vec3 *target = F->ws->target + F->i0, *model = F->ws->trace;
+    for (int i = 0; i < F->m; i++) {
+        r[3 * i] = w * (model[i].x - target[i].x);
+        r[3 * i + 1] = w * (model[i].y - target[i].y);
+        r[3 * i + 2] = w * (model[i].z - target[i].z);
+    }
+    for (int j = 0; j < F->np; j++) r[3 * F->m + j] = F->opt->lambda * x[j];
+    if (has_join(F)) {
+        const hk_Vec3 d = join_residual(F, &end);
+        r[3 * F->m + F->np] = d.x;
+        r[3 * F->m + F->np + 1] = d.y;
+        r[3 * F->m + F->np + 2] = d.z;
+    }
+    return 0;
+}
+
+static int residual_count(const Fit *F) { return 3 * F->m + F->np + (has_join(F) ? 3 : 0); }
+
+/* The cost the method minimises, for choosing where it starts. */
+static double start_cost(const double *x, void *user)
+{
+    Fit *F = user;
+    if (F->opt->method == HK_CURVEFIT_NELDER_MEAD) return objective(x, F);
+    return residuals(x, F->ws->lsq, F) != 0 ? INFINITY : 0.5 * hk_dot(F->ws->lsq, F->ws->lsq, residual_count(F));
+}
+
+/* The Levenberg-Marquardt settings of the fits for nx parameters: the fit's evaluation
+ * budget (at least a Jacobian and a step), a step tolerance 1e-3 times the simplex's
+ * (quadratic convergence gets there in a step or two), and a stop once the cost levels
+ * off to 1e-6 of itself (on a target the model cannot follow exactly, sloppy directions
+ * would otherwise be crawled along for hundreds of evaluations for no visible gain). */
+static hk_LeastSquaresOptions least_squares_options(const Fit *F, int nx)
+{
+    hk_LeastSquaresOptions lo = hk_default_least_squares_options();
+    lo.max_evaluations = F->opt->max_evaluations > nx + 2 ? F->opt->max_evaluations : nx + 2;
+    lo.x_tolerance = 1e-3 * F->opt->param_tolerance;
+    lo.f_tolerance = 1e-6;
+    return lo;
+}
+
+/* Levenberg-Marquardt over the first nx entries of x. */
+static hk_Status minimise_least_squares(Fit *F, int nx, double *x, const double *scale)
+{
+    const hk_LeastSquaresOptions lo = least_squares_options(F, nx);
+    hk_LeastSquaresResult r;
+    return hk_least_squares_minimize(nx, residual_count(F), x, scale, residuals, F, &lo, F->ws->lsq, &r, NULL);
 }
 
 /* Nelder-Mead over the first nx entries of x, restarted from a converged simplex that
@@ -204,6 +321,8 @@ static double objective(const double *x, void *user)
  * 1998); a fresh simplex around it either confirms it or moves on. */
 static hk_Status minimise(Fit *F, int nx, double *x, const double *scale)
 {
+    if (nx == 0) return HK_OK; /* nothing to choose: the model has one shape */
+    if (F->opt->method == HK_CURVEFIT_LEAST_SQUARES) return minimise_least_squares(F, nx, x, scale);
     hk_NelderMeadOptions nm;
     nm.max_evaluations = F->opt->max_evaluations;
     nm.x_tolerance = F->opt->param_tolerance;
@@ -220,12 +339,12 @@ static hk_Status minimise(Fit *F, int nx, double *x, const double *scale)
     return st;
 }
 
-/* Copies into x the candidate (rows of cand, nx entries each) with the lowest objective. */
+/* Copies into x the candidate (rows of cand, nx entries each) with the lowest cost. */
 static void pick(Fit *F, double (*cand)[MAXP + ROT], int count, double *x)
 {
     double fx = INFINITY;
     for (int c = 0; c < count; c++) {
-        const double f = objective(cand[c], F);
+        const double f = start_cost(cand[c], F);
         if (c == 0 || f < fx) {
             memcpy(x, cand[c], (MAXP + ROT) * sizeof(double));
             fx = f;
@@ -251,6 +370,7 @@ static hk_Status fit_piece(Fit *F, int i0, int i1, const hk_CurveStart *start, i
     int count = 0;
     memset(cand, 0, sizeof cand);
     memcpy(cand[count++], F->seed, (size_t)F->np * sizeof(double));
+    if (F->opt->fragment_seed && F->m >= 3) F->opt->fragment_seed(F->user, F->ws->target + i0, F->m, start, cand[count++]);
     for (int h = 0; h < 2; h++)
         if (hints[h]) memcpy(cand[count++], hints[h]->params, (size_t)F->np * sizeof(double));
     double x[MAXP + ROT];
@@ -287,7 +407,8 @@ static hk_Status fit_piece(Fit *F, int i0, int i1, const hk_CurveStart *start, i
     memset(piece, 0, sizeof *piece);
     memcpy(piece->params, x, (size_t)F->np * sizeof(double));
     if (F->rotating) memcpy(piece->rot, x + F->np, sizeof piece->rot);
-    piece->start = F->rotating ? rotated(start, piece->rot) : *start;
+    piece->base = F->rotating ? rotated(start, piece->rot) : *start;
+    piece->start = start_pose(F, start, x, F->rotating, i0 == 0);
     if (trace(F, piece->params, &piece->start, F->m, F->ws->best, &piece->end) != 0)
         return hk_error_set(F->err, HK_ERR_NUMERIC, "curve fit: the model failed at its own best fit (samples %d..%d)",
                             i0, i1);
@@ -295,7 +416,15 @@ static hk_Status fit_piece(Fit *F, int i0, int i1, const hk_CurveStart *start, i
     hk_frechet_both(F->ws->target + i0, F->m, F->ws->best, F->m, F->ws->row, &c, &d);
     piece->error = c / (double)F->m;
     piece->frechet = d;
+    piece->join_error = has_join(F) ? hk_v3_norm(join_residual(F, &piece->end)) : 0.0;
     return HK_OK;
+}
+
+/* A piece is acceptable when it follows its fragment within the tolerance and, with a
+ * successor, leaves it a start tangent that turns the rest by no more. */
+static int acceptable(const Fit *F, const Piece *p)
+{
+    return p->error <= F->opt->tolerance && p->join_error <= F->opt->tolerance;
 }
 
 static void emit(Fit *F, const Piece *p, int i0, int i1)
@@ -308,6 +437,7 @@ static void emit(Fit *F, const Piece *p, int i0, int i1)
     o->piece_error[k] = p->error;
     o->piece_frechet[k] = p->frechet;
     F->starts[k] = p->start;
+    if (i0 == 0) F->root_base = p->base;
 }
 
 /* Traces pieces [from, to) of `fit` chained from `start` into out (indexed by sample; the
@@ -379,6 +509,80 @@ static hk_Status curvature_cut(Fit *F, int i0, int k_lo, int k_max, const Piece 
     return HK_OK;
 }
 
+/* The paper's cut (§5.3, see the top comment): an upper limit from the Fréchet threshold,
+ * grown while the fragment still fits, then backtracking by bends. frag gets a fit
+ * usable as the first part's hint, marked reusable when it fits exactly i0..cut. */
+static hk_Status paper_cut(Fit *F, int i0, int i1, int k_lo, int k_hi, const hk_CurveStart *start, const Piece *whole,
+                           Piece *frag, int *cut)
+{
+    hk_Status st;
+    /* The whole fit's trace for the Fréchet threshold (a `known` fit left none behind). */
+    hk_CurveStart tmp;
+    if (trace(F, whole->params, &whole->start, i1 - i0 + 1, F->ws->best, &tmp) != 0)
+        return hk_error_set(F->err, HK_ERR_NUMERIC, "curve fit: the model failed at its own best fit (samples %d..%d)",
+                            i0, i1);
+    int k_max = frechet_upper_limit(F, i0, i1);
+    k_max = k_max < k_lo ? k_lo : (k_max > k_hi ? k_hi : k_max);
+    *frag = *whole;
+    frag->params_valid_for_cut = 0;
+    *cut = k_lo;
+    if (k_max <= k_lo) return HK_OK;
+    /* Fits that only locate the cut stay in the estimated root frame: no refinement
+     * for each, and on clean data that frame is the exact one. */
+    if ((st = fit_piece(F, i0, k_max, start, 0, whole, NULL, frag)) != HK_OK) return st;
+    /* The threshold is only a first guess: while the fragment still fits within the
+     * tolerance, grow it by half, so that the backtracking starts past the change. */
+    while (frag->error <= F->opt->tolerance && k_max < k_hi) {
+        const int step = (k_max - i0) / 2 > F->min_points - 1 ? (k_max - i0) / 2 : F->min_points - 1;
+        const int next = k_max + step < k_hi ? k_max + step : k_hi;
+        Piece longer;
+        if ((st = fit_piece(F, i0, next, start, 0, frag, NULL, &longer)) != HK_OK) return st;
+        k_max = next;
+        *frag = longer;
+    }
+    if ((st = curvature_cut(F, i0, k_lo, k_max, frag, cut)) != HK_OK) return st;
+    /* The fragment's fit is the first part's when the cut is at its end (at the root
+     * with refine_start, the first part gets its own chance to refine the frame). */
+    frag->params_valid_for_cut = *cut == k_max && (i0 > 0 || !F->opt->refine_start);
+    return HK_OK;
+}
+
+/* Our cut for the least-squares fitter: the longest first fragment i0..k (k_lo <= k <=
+ * k_hi) whose own fit is within the tolerance, by bisection (a longer fragment can only
+ * fit worse, give or take the normalisation), each fit started from the last one that
+ * fitted. Cutting greedily at the longest acceptable prefix gives the fewest pieces when
+ * acceptability is monotone, and on a target made of pieces it lands on a join (the
+ * prefix stops fitting exactly where the next piece begins). When even the shortest
+ * fragment misses the tolerance the cut is there. frag gets the fit of i0..cut. */
+static hk_Status longest_prefix_cut(Fit *F, int i0, int k_lo, int k_hi, const hk_CurveStart *start,
+                                    const Piece *whole, Piece *frag, int *cut)
+{
+    hk_Status st;
+    Piece trial;
+    /* The probes stay in the estimated root frame (a probe that misses the tolerance is
+     * expected here, refining the frame for each would be costly and, on a range that
+     * needs two pieces, would turn the frame to fit the wrong shape); the shortest one
+     * may refine it, which noisy first points need. */
+    if ((st = fit_piece(F, i0, k_lo, start, 1, whole, NULL, frag)) != HK_OK) return st;
+    frag->params_valid_for_cut = 1;
+    *cut = k_lo;
+    if (!acceptable(F, frag)) return HK_OK;
+    int good = k_lo, bad = k_hi + 1; /* fits within the tolerance / does not (k_hi + 1: assumed) */
+    while (bad - good > 1) {
+        const int mid = good + (bad - good) / 2;
+        if ((st = fit_piece(F, i0, mid, &frag->base, 0, frag, whole, &trial)) != HK_OK) return st;
+        if (acceptable(F, &trial)) {
+            good = mid;
+            *frag = trial;
+            frag->params_valid_for_cut = 1;
+        } else {
+            bad = mid;
+        }
+    }
+    *cut = good;
+    return HK_OK;
+}
+
 /* Fits samples i0..i1 from `start` with at most `budget` pieces, appending them to
  * F->out; *end gets the end pose of the last one. `known` (may be NULL) is a fit of this
  * very range already computed; hint (may be NULL) an extra seed. */
@@ -392,45 +596,23 @@ static hk_Status fit_range(Fit *F, int i0, int i1, const hk_CurveStart *start, i
     /* A first fragment that also turns the root frame has ROT more unknowns to pin down. */
     const int first_points = F->min_points + (F->opt->refine_start && i0 == 0 ? ROT : 0);
     const int k_lo = i0 + first_points - 1, k_hi = i1 - (F->min_points - 1);
-    if (whole.error <= F->opt->tolerance || budget < 2 || k_lo > k_hi) {
+    if (acceptable(F, &whole) || budget < 2 || k_lo > k_hi) {
         emit(F, &whole, i0, i1);
         *end = whole.end;
         return HK_OK;
     }
 
-    /* The whole fit's trace for the Fréchet threshold (a `known` fit left none behind). */
-    hk_CurveStart tmp;
-    if (trace(F, whole.params, &whole.start, i1 - i0 + 1, F->ws->best, &tmp) != 0)
-        return hk_error_set(F->err, HK_ERR_NUMERIC, "curve fit: the model failed at its own best fit (samples %d..%d)",
-                            i0, i1);
-    int k_max = frechet_upper_limit(F, i0, i1);
-    k_max = k_max < k_lo ? k_lo : (k_max > k_hi ? k_hi : k_max);
     Piece frag;
-    int have_frag = 0, cut = k_lo;
-    if (k_max > k_lo) {
-        /* Fits that only locate the cut stay in the estimated root frame: no refinement
-         * for each, and on clean data that frame is the exact one. */
-        if ((st = fit_piece(F, i0, k_max, start, 0, &whole, NULL, &frag)) != HK_OK) return st;
-        have_frag = 1;
-        /* The threshold is only a first guess: while the fragment still fits within the
-         * tolerance, grow it by half, so that the backtracking starts past the change. */
-        while (frag.error <= F->opt->tolerance && k_max < k_hi) {
-            const int step = (k_max - i0) / 2 > F->min_points - 1 ? (k_max - i0) / 2 : F->min_points - 1;
-            const int next = k_max + step < k_hi ? k_max + step : k_hi;
-            Piece longer;
-            if ((st = fit_piece(F, i0, next, start, 0, &frag, NULL, &longer)) != HK_OK) return st;
-            k_max = next;
-            frag = longer;
-        }
-        if ((st = curvature_cut(F, i0, k_lo, k_max, &frag, &cut)) != HK_OK) return st;
-    }
-
+    int cut = k_lo, reuse;
+    st = F->opt->method == HK_CURVEFIT_LEAST_SQUARES ? longest_prefix_cut(F, i0, k_lo, k_hi, start, &whole, &frag, &cut)
+                                                     : paper_cut(F, i0, i1, k_lo, k_hi, start, &whole, &frag, &cut);
+    if (st != HK_OK) return st;
+    /* frag fits samples i0..cut when the heuristic says so (reuse); otherwise it is only a
+     * hint for the first part's own fit. */
+    reuse = frag.params_valid_for_cut;
     const int mark = F->out->piece_count;
     hk_CurveStart mid;
-    /* The fragment's fit is the first part's when the cut is at its end (at the root
-     * with refine_start, the first part gets its own chance to refine the frame). */
-    const int reuse = have_frag && cut == k_max && (i0 > 0 || !F->opt->refine_start);
-    st = fit_range(F, i0, cut, start, budget - 1, reuse ? &frag : NULL, have_frag ? &frag : &whole, &mid);
+    st = fit_range(F, i0, cut, start, budget - 1, reuse ? &frag : NULL, &frag, &mid);
     if (st != HK_OK) return st;
     const int used = F->out->piece_count - mark;
     st = fit_range(F, cut, i1, &mid, budget - used, NULL, &whole, end);
@@ -447,6 +629,82 @@ static hk_Status fit_range(Fit *F, int i0, int i1, const hk_CurveStart *start, i
         F->out->piece_count = mark;
         emit(F, &whole, i0, i1);
         *end = whole.end;
+    }
+    return HK_OK;
+}
+
+/* ---- polishing a chain (least squares) ------------------------------------------------ */
+
+/* The chain's residuals for all its parameters x (piece after piece): the distances of
+ * every sample to the chained model, weighted 1/sqrt(n), and lambda x_j. */
+static int chain_residuals(const double *x, double *r, void *user)
+{
+    Fit *F = user;
+    const hk_CurveFit *o = F->out;
+    hk_CurveStart pose = F->root_base, end;
+    if (F->opt->root_frame) F->opt->root_frame(F->user, x, &pose);
+    for (int k = 0; k < o->piece_count; k++) {
+        const int a = o->first_sample[k], b = k + 1 < o->piece_count ? o->first_sample[k + 1] : F->n - 1;
+        if (trace(F, x + k * F->np, &pose, b - a + 1, F->ws->chain + a, &end) != 0) return 1;
+        pose = end;
+    }
+    const double w = 1.0 / sqrt((double)F->n);
+    for (int i = 0; i < F->n; i++) {
+        r[3 * i] = w * (F->ws->chain[i].x - F->ws->target[i].x);
+        r[3 * i + 1] = w * (F->ws->chain[i].y - F->ws->target[i].y);
+        r[3 * i + 2] = w * (F->ws->chain[i].z - F->ws->target[i].z);
+    }
+    const int np = o->piece_count * F->np;
+    for (int j = 0; j < np; j++) r[3 * F->n + j] = F->opt->lambda * x[j];
+    return 0;
+}
+
+/* All pieces refitted together, their joins fixed: each piece was fitted alone from the
+ * end pose of its predecessor, whose small errors in the frame there its successors
+ * could only bend to follow; moving them together lets the first pieces end where the
+ * later ones need them (the p-helicoid's frame continuity of §3.4 is kept, the joins
+ * stay chained). Kept only when the chain's coupling improves. Chains of more than
+ * POLISH_PARAMS parameters are left as they are. */
+static hk_Status polish_chain(Fit *F)
+{
+    hk_CurveFit *o = F->out;
+    const int n = o->piece_count * F->np;
+    if (o->piece_count < 2 || n > POLISH_PARAMS || n < 1) return HK_OK;
+    double x[POLISH_PARAMS], scale[POLISH_PARAMS];
+    for (int k = 0; k < o->piece_count; k++)
+        for (int j = 0; j < F->np; j++) {
+            x[k * F->np + j] = o->params[k][j];
+            scale[k * F->np + j] = F->scale[j];
+        }
+    const hk_LeastSquaresOptions lo = least_squares_options(F, n);
+    const int m = (int)(3 * F->n) + n;
+    hk_LeastSquaresResult r;
+    if (hk_least_squares_minimize(n, m, x, scale, chain_residuals, F, &lo, F->ws->lsq, &r, NULL) != HK_OK) return HK_OK;
+    /* The polished chain, traced once more into ws->chain with its poses. */
+    double saved[HK_CURVEFIT_MAX_PIECES][MAXP];
+    memcpy(saved, o->params, sizeof saved);
+    for (int k = 0; k < o->piece_count; k++) memcpy(o->params[k], x + k * F->np, (size_t)F->np * sizeof(double));
+    hk_CurveStart pose = F->root_base, starts[HK_CURVEFIT_MAX_PIECES], end;
+    if (F->opt->root_frame) F->opt->root_frame(F->user, x, &pose);
+    int ok = 1;
+    for (int k = 0; k < o->piece_count && ok; k++) {
+        const int a = o->first_sample[k], b = k + 1 < o->piece_count ? o->first_sample[k + 1] : F->n - 1;
+        starts[k] = pose;
+        ok = trace(F, o->params[k], &pose, b - a + 1, F->ws->chain + a, &end) == 0;
+        pose = end;
+    }
+    const double polished = ok ? hk_frechet_coupling_prefix(F->ws->target, F->ws->chain, F->n, F->ws->row, NULL) : INFINITY;
+    if (!(polished / (double)F->n < o->error)) {
+        memcpy(o->params, saved, sizeof saved);
+        return HK_OK;
+    }
+    for (int k = 0; k < o->piece_count; k++) {
+        const int a = o->first_sample[k], b = k + 1 < o->piece_count ? o->first_sample[k + 1] : F->n - 1;
+        double c, d;
+        hk_frechet_both(F->ws->target + a, b - a + 1, F->ws->chain + a, b - a + 1, F->ws->row, &c, &d);
+        o->piece_error[k] = c / (double)(b - a + 1);
+        o->piece_frechet[k] = d;
+        F->starts[k] = starts[k];
     }
     return HK_OK;
 }
@@ -475,6 +733,8 @@ static hk_Status check_options(const hk_CurveFitOptions *o, int np, hk_Error *er
         return BAD("min_fragment_length must be finite and >= 0, got %g", o->min_fragment_length);
     if (o->max_pieces < 1 || o->max_pieces > HK_CURVEFIT_MAX_PIECES)
         return BAD("max_pieces must be in 1..%d, got %d", HK_CURVEFIT_MAX_PIECES, o->max_pieces);
+    if (o->method != HK_CURVEFIT_LEAST_SQUARES && o->method != HK_CURVEFIT_NELDER_MEAD)
+        return BAD("method must be HK_CURVEFIT_LEAST_SQUARES or HK_CURVEFIT_NELDER_MEAD, got %d", o->method);
     if (o->max_evaluations < np + 1)
         return BAD("max_evaluations must be >= param_count + 1 = %d, got %d", np + 1, o->max_evaluations);
     if (o->samples != 0 && (o->samples < 2 || o->samples > HK_CURVEFIT_MAX_SAMPLES))
@@ -483,6 +743,7 @@ static hk_Status check_options(const hk_CurveFitOptions *o, int np, hk_Error *er
     if (!(o->param_tolerance >= 0.0) || !(o->cost_tolerance >= 0.0))
         return BAD("param_tolerance and cost_tolerance must be >= 0 (got %g and %g)", o->param_tolerance,
                    o->cost_tolerance);
+    if (o->arc_length != 0 && o->arc_length != 1) return BAD("arc_length must be 0 or 1, got %d", o->arc_length);
     if (o->refine_start != 0 && o->refine_start != 1) return BAD("refine_start must be 0 or 1, got %d", o->refine_start);
     if (o->use_start && (!hk_v3_isfinite(o->start.pos) || !frame_ok(&o->start.frame)))
         return BAD("the given start pose needs a finite position and a right-handed orthonormal frame");
@@ -522,7 +783,9 @@ hk_Status hk_curve_fit_piecewise_ws(hk_CurveFitWorkspace *ws, const hk_Vec3 *tar
         return hk_error_set(err, HK_ERR_INVALID, "curve fit: %d samples exceed the workspace's %d", n, ws->capacity);
 
     double length;
-    if ((st = hk_curve_resample(target, count, n, ws->target, &length, err)) != HK_OK) return st;
+    st = opt->arc_length ? hk_curve_resample_arc(target, count, n, ws->target, &length, err)
+                         : hk_curve_resample(target, count, n, ws->target, &length, err);
+    if (st != HK_OK) return st;
     hk_CurveStart start = opt->start;
     if (!opt->use_start && (st = hk_curve_estimate_start(ws->target, n, &start, err)) != HK_OK) return st;
 
@@ -556,7 +819,7 @@ hk_Status hk_curve_fit_piecewise_ws(hk_CurveFitWorkspace *ws, const hk_Vec3 *tar
     out->start = start;
     hk_CurveStart end;
     st = fit_range(&F, 0, n - 1, &start, opt->max_pieces, NULL, NULL, &end);
-    if (st == HK_OK) {
+    for (int pass = 0; pass < 2 && st == HK_OK; pass++) {
         out->start = F.starts[0];
         if (trace_chain(model, user, out, 0, out->piece_count, n - 1, F.h, &out->start, ws->chain, &F.evaluations) != 0) {
             st = hk_error_set(err, HK_ERR_NUMERIC, "curve fit: the model failed re-tracing its own pieces");
@@ -566,6 +829,11 @@ hk_Status hk_curve_fit_piecewise_ws(hk_CurveFitWorkspace *ws, const hk_Vec3 *tar
             out->error = c / (double)n;
             out->frechet = d;
         }
+        /* Polish only a chain that misses the tolerance: its pieces each met it. */
+        if (st != HK_OK || pass == 1 || opt->method != HK_CURVEFIT_LEAST_SQUARES || out->piece_count < 2 ||
+            out->error <= opt->tolerance)
+            break;
+        st = polish_chain(&F);
     }
     out->evaluations = F.evaluations;
     if (st != HK_OK) out->piece_count = 0;
