@@ -633,6 +633,26 @@ static hk_Status fit_range(Fit *F, int i0, int i1, const hk_CurveStart *start, i
     return HK_OK;
 }
 
+/* ---- a fixed layout (§5.4) ------------------------------------------------------------ */
+
+/* Exactly P pieces of equal length, fitted one after the other from the end pose of the
+ * last (the root one may refine its frame), each seeded by its predecessor. */
+static hk_Status fit_fixed(Fit *F, int pieces, const hk_CurveStart *start)
+{
+    hk_CurveStart pose = *start;
+    Piece prev, piece;
+    for (int k = 0; k < pieces; k++) {
+        const int a = (int)(((long)k * (F->n - 1) + pieces / 2) / pieces);
+        const int b = (int)(((long)(k + 1) * (F->n - 1) + pieces / 2) / pieces);
+        hk_Status st = fit_piece(F, a, b, &pose, 1, k > 0 ? &prev : NULL, NULL, &piece);
+        if (st != HK_OK) return st;
+        emit(F, &piece, a, b);
+        pose = piece.end;
+        prev = piece;
+    }
+    return HK_OK;
+}
+
 /* ---- polishing a chain (least squares) ------------------------------------------------ */
 
 /* The chain's residuals for all its parameters x (piece after piece): the distances of
@@ -739,6 +759,8 @@ static hk_Status check_options(const hk_CurveFitOptions *o, int np, hk_Error *er
         return BAD("max_evaluations must be >= param_count + 1 = %d, got %d", np + 1, o->max_evaluations);
     if (o->samples != 0 && (o->samples < 2 || o->samples > HK_CURVEFIT_MAX_SAMPLES))
         return BAD("samples must be 0 or in 2..%d, got %d", HK_CURVEFIT_MAX_SAMPLES, o->samples);
+    if (o->fixed_pieces < 0 || o->fixed_pieces > HK_CURVEFIT_MAX_PIECES)
+        return BAD("fixed_pieces must be in 0..%d, got %d", HK_CURVEFIT_MAX_PIECES, o->fixed_pieces);
     if (o->restarts < 0 || o->restarts > 100) return BAD("restarts must be in 0..100, got %d", o->restarts);
     if (!(o->param_tolerance >= 0.0) || !(o->cost_tolerance >= 0.0))
         return BAD("param_tolerance and cost_tolerance must be >= 0 (got %g and %g)", o->param_tolerance,
@@ -818,7 +840,18 @@ hk_Status hk_curve_fit_piecewise_ws(hk_CurveFitWorkspace *ws, const hk_Vec3 *tar
     out->sample_spacing = F.h;
     out->start = start;
     hk_CurveStart end;
-    st = fit_range(&F, 0, n - 1, &start, opt->max_pieces, NULL, NULL, &end);
+    if (opt->fixed_pieces > 0) {
+        /* every piece needs the samples of the shortest fragment */
+        if ((long)opt->fixed_pieces * (F.min_points - 1) > n - 1)
+            st = hk_error_set(err, HK_ERR_INVALID,
+                              "curve fit: %d pieces of at least %d samples each do not fit in %d samples (a "
+                              "piece spans at least min_fragment_length = %g m and %d samples)",
+                              opt->fixed_pieces, F.min_points, n, opt->min_fragment_length,
+                              param_count + 2 > 4 ? param_count + 2 : 4);
+        else st = fit_fixed(&F, opt->fixed_pieces, &start);
+    } else {
+        st = fit_range(&F, 0, n - 1, &start, opt->max_pieces, NULL, NULL, &end);
+    }
     for (int pass = 0; pass < 2 && st == HK_OK; pass++) {
         out->start = F.starts[0];
         if (trace_chain(model, user, out, 0, out->piece_count, n - 1, F.h, &out->start, ws->chain, &F.evaluations) != 0) {
