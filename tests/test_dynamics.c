@@ -312,7 +312,7 @@ static void test_body_friction_blend(void **state)
     const hk_Vec3 pos = hk_v3(0, -0.001, 0), tangent = hk_v3(1, 0, 0);
     hk_PointForce pf;
     /* at rest: only the normal force, up, of w k dent */
-    assert_int_equal(hk_body_contact_force(&bc, &still, pos, hk_v3_zero(), tangent, 1, &pf), 1);
+    assert_int_equal(hk_body_contact_force(&bc, &still, pos, hk_v3_zero(), tangent, &pf), 1);
     hk_assert_rel(pf.force.y, 0.01 * 1e4 * 0.001, 1e-12, 0.0);
     hk_assert_near(pf.force.x, 0.0, 1e-15);
     const double fn = pf.force.y;
@@ -321,22 +321,39 @@ static void test_body_friction_blend(void **state)
     const struct { hk_Vec3 v; double mu; } cases[] = {
         {hk_v3(1, 0, 0), 0.6}, {hk_v3(-1, 0, 0), 0.2}, {hk_v3(0, 0, 1), 0.4}, {hk_v3(0.5, 0, 0.5), 0.4 + 0.2 * sqrt(0.5)}};
     for (int i = 0; i < 4; i++) {
-        assert_int_equal(hk_body_contact_force(&bc, &still, pos, cases[i].v, tangent, 1, &pf), 1);
+        assert_int_equal(hk_body_contact_force(&bc, &still, pos, cases[i].v, tangent, &pf), 1);
         const hk_Vec3 ft = hk_v3(pf.force.x, 0.0, pf.force.z);
         hk_assert_rel(hk_v3_norm(ft), cases[i].mu * fn, 1e-12, 0.0);
         assert_true(hk_v3_dot(ft, cases[i].v) < 0.0); /* opposes the sliding */
         hk_assert_rel(pf.force.y, fn, 1e-12, 0.0);
     }
     /* slow sliding: viscous, proportional to the speed */
-    assert_int_equal(hk_body_contact_force(&bc, &still, pos, hk_v3(-0.01, 0, 0), tangent, 1, &pf), 1);
+    assert_int_equal(hk_body_contact_force(&bc, &still, pos, hk_v3(-0.01, 0, 0), tangent, &pf), 1);
     hk_assert_rel(pf.force.x, 0.2 * fn * 0.01 / 0.05, 1e-12, 0.0);
     /* the body moves with the hair: no sliding, no friction */
     hk_RigidState moving = still;
     moving.vel = hk_v3(0.3, 0, 0);
-    assert_int_equal(hk_body_contact_force(&bc, &moving, pos, hk_v3(0.3, 0, 0), tangent, 1, &pf), 1);
+    assert_int_equal(hk_body_contact_force(&bc, &moving, pos, hk_v3(0.3, 0, 0), tangent, &pf), 1);
     hk_assert_near(pf.force.x, 0.0, 1e-15);
     /* out of contact: nothing */
-    assert_int_equal(hk_body_contact_force(&bc, &still, hk_v3(0, 0.001, 0), hk_v3_zero(), tangent, 1, &pf), 0);
+    assert_int_equal(hk_body_contact_force(&bc, &still, hk_v3(0, 0.001, 0), hk_v3_zero(), tangent, &pf), 0);
+    /* The friction alone from the penalty's gradient (the full stiffness, whose normal
+     * force is in the potential): the same friction and damping, no normal force and
+     * no stiffness. The sample's penalty energy w k dent^2 / 2 has the gradient
+     * -w k dent along y. */
+    const hk_Vec3 grad = hk_v3(0.0, -fn, 0.0);
+    for (int i = 0; i < 4; i++) {
+        hk_PointForce alone;
+        assert_int_equal(hk_body_contact_force(&bc, &still, pos, cases[i].v, tangent, &pf), 1);
+        assert_int_equal(hk_body_contact_friction(&bc, &still, pos, cases[i].v, tangent, grad, &alone), 1);
+        hk_assert_near(hk_v3_dist(alone.force, hk_v3_sub(pf.force, hk_v3(0.0, fn, 0.0))), 0.0, 1e-15);
+        for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 3; c++) {
+                hk_assert_near(alone.damping.m[r][c], pf.damping.m[r][c], 1e-15);
+                hk_assert_near(alone.stiffness.m[r][c], 0.0, 0.0);
+            }
+    }
+    assert_int_equal(hk_body_contact_friction(&bc, &still, pos, hk_v3(1, 0, 0), tangent, hk_v3_zero(), &pf), 0);
 }
 
 int main(void)

@@ -1,10 +1,13 @@
 /* Grooming a head (src/groom/): roots on the wick along its normals, strand counts
  * from area x density, inextensible strands, roots inside their triangles,
- * determinism across thread counts, the thesis's clumping and stray-hair tables,
+ * determinism across thread counts (of the hair and of the error when guides fail),
+ * the thesis's clumping and stray-hair tables,
  * uniform roots, and semi-interpolation across diverging guides. */
 #include "hk_test.h"
 
 #include <math.h>
+#include <omp.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -174,6 +177,41 @@ static void test_deterministic_across_threads(void **state)
     hk_mesh_free(&wick);
 }
 
+/* Guides whose follicles have no direction fail: the error reported is the lowest
+ * failing guide's, whatever the thread count and the order the guides finish in. */
+static void test_first_failing_guide_reported(void **state)
+{
+    (void)state;
+    enum { COUNT = 48 };
+    hk_Vec3 position[COUNT], normal[COUNT];
+    double alpha[COUNT];
+    for (int i = 0; i < COUNT; i++) {
+        position[i] = hk_v3(0.001 * i, 0.1, 0.0);
+        normal[i] = hk_v3(0.0, 1.0, 0.0);
+        alpha[i] = 0.0;
+    }
+    const int bad[3] = {41, 17, 30};
+    for (int k = 0; k < 3; k++) normal[bad[k]] = hk_v3_zero();
+    const hk_Follicles f = {COUNT, position, normal, alpha};
+    hk_HairstyleDef style = make_style(9.81, 0.01);
+    hk_GroomOptions o = hk_default_groom_options();
+    char expected[128];
+    snprintf(expected, sizeof expected, "guide 18 (follicle at %.4g, %.4g, %.4g): root direction must be a non-zero",
+             position[17].x, position[17].y, position[17].z);
+    const int saved = omp_get_max_threads();
+    for (int threads = 1; threads <= 4; threads++)
+        for (int rep = 0; rep < 3; rep++) {
+            omp_set_num_threads(threads);
+            hk_Groom g;
+            memset(&g, 0, sizeof g);
+            hk_Error err;
+            assert_int_equal(hk_groom_solve_guides(&style, NULL, 0, &f, &o, &g, &err), HK_ERR_INVALID);
+            hk_assert_contains(err.message, expected);
+            hk_groom_free(&g);
+        }
+    omp_set_num_threads(saved);
+}
+
 /* Thesis §4.1.4.4, Table 4: where v1, v2, v3 go for each ordering of the root weights
  * when the stray-hair behaviour is kept. */
 static void test_stray_hair_table(void **state)
@@ -266,6 +304,7 @@ int main(void)
         cmocka_unit_test(test_straight_guides_follow_normals),
         cmocka_unit_test(test_roots_counts_lengths),
         cmocka_unit_test(test_deterministic_across_threads),
+        cmocka_unit_test(test_first_failing_guide_reported),
         cmocka_unit_test(test_stray_hair_table),
         cmocka_unit_test(test_uniform_roots),
         cmocka_unit_test(test_semi_interpolation),

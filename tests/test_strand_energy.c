@@ -1,6 +1,7 @@
 /* Strand energy (src/rod/strand_energy.c): each term against an independent
  * evaluation, and the analytic gradient and Hessian against central finite
- * differences, for straight, curly, elliptic and colliding strands. */
+ * differences, for straight, curly, elliptic and colliding strands; the contacts the
+ * energy reports per collision sample against the shapes evaluated at the samples. */
 #include "hk_test.h"
 
 #include <math.h>
@@ -196,6 +197,42 @@ static void test_penetration_report(void **state)
     scene_free(&sc);
 }
 
+/* hk_strand_workspace_contact: after an evaluation with a gradient, exactly the samples
+ * inside an envelope are reported, each with w times the penalty gradient at its
+ * position (s = (i + 1/2) w, reconstructed independently); none after an evaluation
+ * without a gradient or a penetration query. */
+static void test_contacts_per_sample(void **state)
+{
+    (void)state;
+    Scene sc;
+    scene_init(&sc, 6, 1, 3);
+    const int m = hk_strand_collision_sample_count(sc.sh, &sc.env);
+    const double w = sc.sh->total_length / m;
+    double grad[18];
+    hk_strand_energy(sc.sh, &sc.env, sc.sh->q, sc.ws, grad, NULL, NULL);
+    int touching = 0;
+    for (int i = 0; i < m; i++) {
+        hk_Vec3 p, g, reported;
+        hk_superhelix_eval(sc.sh, NULL, (i + 0.5) * w, &p, NULL);
+        const double e = hk_collision_penalty(sc.shapes, 3, sc.env.envelope_alpha, p, &g, NULL);
+        const int touches = hk_strand_workspace_contact(sc.ws, i, &reported);
+        assert_int_equal(touches, e > 0.0);
+        if (!touches) continue;
+        touching++;
+        hk_assert_near(hk_v3_dist(reported, hk_v3_scale(g, w)), 0.0, 1e-9 * w * hk_v3_norm(g));
+    }
+    assert_true(touching > 0 && touching < m);
+    hk_Vec3 g;
+    assert_int_equal(hk_strand_workspace_contact(sc.ws, -1, &g), 0);
+    assert_int_equal(hk_strand_workspace_contact(sc.ws, m, &g), 0);
+    hk_strand_energy(sc.sh, &sc.env, sc.sh->q, sc.ws, NULL, NULL, NULL);
+    for (int i = 0; i < m; i++) assert_int_equal(hk_strand_workspace_contact(sc.ws, i, &g), 0);
+    hk_strand_energy(sc.sh, &sc.env, sc.sh->q, sc.ws, grad, NULL, NULL);
+    hk_strand_max_penetration(sc.sh, &sc.env, sc.sh->q, sc.ws);
+    for (int i = 0; i < m; i++) assert_int_equal(hk_strand_workspace_contact(sc.ws, i, &g), 0);
+    scene_free(&sc);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -204,6 +241,7 @@ int main(void)
         cmocka_unit_test(test_energy_terms_independent),
         cmocka_unit_test(test_gravity_of_straight_rods),
         cmocka_unit_test(test_penetration_report),
+        cmocka_unit_test(test_contacts_per_sample),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,4 +1,5 @@
-/* Error reporting: one formatted message per failure, carried up to the caller. */
+/* Error reporting: one formatted message per failure, carried up to the caller; the
+ * first (lowest index) error of a parallel loop. */
 #include "hairkit/core.h"
 
 #include <stdarg.h>
@@ -36,4 +37,40 @@ const char *hk_status_name(hk_Status status)
     case HK_ERR_NUMERIC: return "numeric";
     }
     return "unknown";
+}
+
+void hk_first_error_init(hk_FirstError *fe)
+{
+    fe->index = -1;
+    hk_error_clear(&fe->error);
+}
+
+/* Writes of fe->index happen inside the critical section and are atomic, so that
+ * hk_first_error_skip may read it at any time without a lock; the error is only read
+ * after the loop (its end is a barrier). */
+void hk_first_error_record(hk_FirstError *fe, long index, const hk_Error *err)
+{
+    #pragma omp critical(hk_first_error)
+    {
+        if (fe->index < 0 || index < fe->index) {
+            fe->error = *err;
+            #pragma omp atomic write
+            fe->index = index;
+        }
+    }
+}
+
+int hk_first_error_skip(const hk_FirstError *fe, long index)
+{
+    long failed;
+    #pragma omp atomic read
+    failed = fe->index;
+    return failed >= 0 && failed < index;
+}
+
+hk_Status hk_first_error_status(const hk_FirstError *fe, hk_Error *err)
+{
+    if (fe->index < 0) return HK_OK;
+    if (err) *err = fe->error;
+    return fe->error.code;
 }

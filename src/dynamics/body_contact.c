@@ -8,12 +8,37 @@
  * physical one. */
 #include "dynamics_internal.h"
 
+/* Friction of a sample pressed against the body with the normal force fn along
+ * `normal` (out of the body): out->force is the friction force, out->damping its
+ * linearisation; returns the force. */
+static hk_Vec3 friction(const hk_BodyContact *bc, const hk_RigidState *head, hk_Vec3 pos, hk_Vec3 vel,
+                        hk_Vec3 tangent, hk_Vec3 normal, double fn, hk_PointForce *out)
+{
+    /* Sliding velocity relative to the body surface. */
+    const hk_Vec3 body_vel = hk_v3_add(head->vel, hk_v3_cross(head->omega, hk_v3_sub(pos, head->trans)));
+    const hk_Vec3 vr = hk_v3_sub(vel, body_vel);
+    const hk_Vec3 vt = hk_v3_madd(vr, normal, -hk_v3_dot(vr, normal));
+    const double speed = hk_v3_norm(vt);
+    /* cos = +1: the hair slides tip first, against its scales. */
+    const double cosine = speed > 0.0 ? hk_v3_dot(hk_v3_normalize(tangent), vt) / speed : 0.0;
+    const double mu = bc->friction_with +
+                      (bc->friction_against - bc->friction_with) * 0.5 * (1.0 + cosine);
+    const double c = mu * fn / (speed > bc->friction_velocity ? speed : bc->friction_velocity);
+    /* Linearisation: c times the projector on the tangent plane. */
+    const hk_Mat3 nn = hk_m3_outer(normal, normal);
+    hk_Mat3 proj = hk_m3_identity();
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) proj.m[i][j] -= nn.m[i][j];
+    out->damping = hk_m3_scale(&proj, c);
+    out->s = 0.0;
+    return hk_v3_scale(vt, -c);
+}
+
 int hk_body_contact_force(const hk_BodyContact *bc, const hk_RigidState *head, hk_Vec3 pos,
-                          hk_Vec3 vel, hk_Vec3 tangent, int with_normal, hk_PointForce *out)
+                          hk_Vec3 vel, hk_Vec3 tangent, hk_PointForce *out)
 {
     /* The shapes live in head space: x = R^T (p - T). */
-    const hk_Vec3 rel = hk_v3_sub(pos, head->trans);
-    const hk_Vec3 x = hk_m3_tmul_v3(&head->rot, rel);
+    const hk_Vec3 x = hk_m3_tmul_v3(&head->rot, hk_v3_sub(pos, head->trans));
     hk_Vec3 g_head;
     const double e = hk_collision_penalty(bc->shapes, bc->shape_count, bc->envelope_alpha, x,
                                           &g_head, NULL);
@@ -23,35 +48,23 @@ int hk_body_contact_force(const hk_BodyContact *bc, const hk_RigidState *head, h
     if (!(gn > 0.0)) return 0;
     const hk_Vec3 normal = hk_v3_scale(g, -1.0 / gn); /* out of the body */
     const double fn = bc->weight * gn;
-    out->force = hk_v3_scale(normal, fn);
     /* Gauss-Newton stiffness: for one shape e = k dent^2 / 2, g = k dent grad(dent), so
      * w g g^T / (2 e) = w k grad(dent) grad(dent)^T, positive semi-definite (the
      * curvature term of the exact Hessian is left explicit). */
     const hk_Mat3 gg = hk_m3_outer(g, g);
     out->stiffness = hk_m3_scale(&gg, bc->weight / (2.0 * e));
-
-    /* Sliding velocity relative to the body surface. */
-    const hk_Vec3 body_vel = hk_v3_add(head->vel, hk_v3_cross(head->omega, rel));
-    const hk_Vec3 vr = hk_v3_sub(vel, body_vel);
-    const hk_Vec3 vt = hk_v3_madd(vr, normal, -hk_v3_dot(vr, normal));
-    const double speed = hk_v3_norm(vt);
-    /* cos = +1: the hair slides tip first, against its scales. */
-    const double cosine = speed > 0.0 ? hk_v3_dot(hk_v3_normalize(tangent), vt) / speed : 0.0;
-    const double mu = bc->friction_with +
-                      (bc->friction_against - bc->friction_with) * 0.5 * (1.0 + cosine);
-    const double c = mu * fn / (speed > bc->friction_velocity ? speed : bc->friction_velocity);
-    out->force = hk_v3_madd(out->force, vt, -c);
-    if (!with_normal) {
-        out->force = hk_v3_scale(vt, -c);
-        out->stiffness = hk_m3_zero();
-    }
-    /* Linearisation: c times the projector on the tangent plane. */
-    const hk_Mat3 nn = hk_m3_outer(normal, normal);
-    hk_Mat3 proj = hk_m3_identity();
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++) proj.m[i][j] -= nn.m[i][j];
-    out->damping = hk_m3_scale(&proj, c);
-    out->s = 0.0;
+    const hk_Vec3 f = friction(bc, head, pos, vel, tangent, normal, fn, out);
+    out->force = hk_v3_add(hk_v3_scale(normal, fn), f);
     return 1;
 }
 
+int hk_body_contact_friction(const hk_BodyContact *bc, const hk_RigidState *head, hk_Vec3 pos,
+                             hk_Vec3 vel, hk_Vec3 tangent, hk_Vec3 grad, hk_PointForce *out)
+{
+    const double fn = hk_v3_norm(grad);
+    if (!(fn > 0.0)) return 0;
+    const hk_Vec3 normal = hk_v3_scale(grad, -1.0 / fn); /* out of the body */
+    out->force = friction(bc, head, pos, vel, tangent, normal, fn, out);
+    out->stiffness = hk_m3_zero();
+    return 1;
+}

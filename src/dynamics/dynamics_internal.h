@@ -87,10 +87,10 @@ void hk_terms_multiply(int n, const hk_ElementTerms *terms, const double *extra,
 /* Dense effective mass matrix (9 n^2 values, row-major) of the terms. */
 void hk_terms_assemble(int n, const hk_ElementTerms *terms, double *mass);
 
-/* Body contact of one sample (paper 000 §4.2): penalty force of the shapes (head
- * space) with anisotropic friction, as a point force with its linearisation; without
- * with_normal, the friction alone (the normal force then comes from the gradient of the
- * penalty energy). Returns 0 when the point touches no shape. */
+/* Body contact of one sample (paper 000 §4.2) at world position pos moving at vel, the
+ * hair's tangent there, the head in state head: the penalty force of the shapes (head
+ * space) with anisotropic friction, as a point force with its linearisation. Returns 0
+ * when the point touches no shape. */
 typedef struct hk_BodyContact {
     const hk_Shape *shapes;
     int shape_count;
@@ -100,6 +100,12 @@ typedef struct hk_BodyContact {
 } hk_BodyContact;
 
 int hk_body_contact_force(const hk_BodyContact *bc, const hk_RigidState *head, hk_Vec3 pos,
-                          hk_Vec3 vel, hk_Vec3 tangent, int with_normal, hk_PointForce *out);
+                          hk_Vec3 vel, hk_Vec3 tangent, hk_PointForce *out);
+
+/* The friction alone, for a sample whose penalty energy has the world gradient grad
+ * (hk_strand_workspace_contact, turned to world axes): the normal force, -grad, then
+ * comes from the gradient of the potential. Returns 0 when grad is zero. */
+int hk_body_contact_friction(const hk_BodyContact *bc, const hk_RigidState *head, hk_Vec3 pos,
+                             hk_Vec3 vel, hk_Vec3 tangent, hk_Vec3 grad, hk_PointForce *out);
 
 #endif

@@ -255,6 +255,32 @@ static void add_point_force(hk_ElementTerms *t, const hk_PointKinematics *pk,
     hk_element_terms_add(t, pk->k.pos, &a, NULL, &pk->jac, NULL, f, hk_v3_zero());
 }
 
+/* Body contact of collision sample `sample`, at offset u into the element that starts
+ * at node (coordinates k, rates kd): fills pk and pf and returns 1 when the sample
+ * touches a shape. With the full stiffness the penalty's normal force is in the
+ * potential's gradient already (full_potential, evaluated at the same samples just
+ * before): its evaluation tells which samples touch and their penalty gradients, from
+ * which the friction alone is added here. With the Gauss-Newton stiffness the penalty
+ * is evaluated here, normal force and friction. */
+static int body_contact(const hk_StrandDynamics *d, const hk_RigidState *head, const hk_FrameKinematics *node,
+                        hk_Vec3 k, hk_Vec3 kd, double u, int sample, hk_PointKinematics *pk, hk_PointForce *pf)
+{
+    if (d->params.stiffness == HK_STIFFNESS_FULL) {
+        hk_Vec3 g; /* head space, as full_potential evaluates it */
+        if (!hk_strand_workspace_contact(d->ws_body, sample, &g)) return 0;
+        hk_point_kinematics(node, k, kd, u, 1, pk);
+        return hk_body_contact_friction(&d->contact, head, pk->k.pos, pk->k.vel, hk_m3_col(&pk->k.frame, 0),
+                                        hk_m3_mul_v3(&head->rot, g), pf);
+    }
+    double c[HK_CN_COUNT];
+    const hk_Vec3 pos = hk_v3_add(node->pos, hk_m3_mul_v3(&node->frame, hk_element_offset_begin(k, u, c)));
+    const hk_Vec3 x = hk_m3_tmul_v3(&head->rot, hk_v3_sub(pos, head->trans));
+    if (!(hk_collision_depth(d->contact.shapes, d->contact.shape_count, d->contact.envelope_alpha, x) > 0.0))
+        return 0;
+    hk_point_kinematics(node, k, kd, u, 1, pk);
+    return hk_body_contact_force(&d->contact, head, pk->k.pos, pk->k.vel, hk_m3_col(&pk->k.frame, 0), pf);
+}
+
 typedef enum SweepMode { SWEEP_STEP, SWEEP_MASS } SweepMode;
 
 /* One sweep from root to tip filling d->terms. STEP: effective masses of the step and
@@ -298,19 +324,9 @@ static void sweep(hk_StrandDynamics *d, const hk_RigidState *head, const hk_Poin
         for (; mode == SWEEP_STEP && sample < d->contact_samples; sample++) {
             const double s = (sample + 0.5) * cw;
             if (!last && s >= s_end) break;
-            const double u = s - sh->s_start[p];
-            double c[HK_CN_COUNT];
-            const hk_Vec3 pos = hk_v3_add(node.pos, hk_m3_mul_v3(&node.frame, hk_element_offset_begin(k, u, c)));
-            const hk_Vec3 x = hk_m3_tmul_v3(&head->rot, hk_v3_sub(pos, head->trans));
-            if (!(hk_collision_depth(d->contact.shapes, d->contact.shape_count,
-                                     d->contact.envelope_alpha, x) > 0.0))
-                continue;
             hk_PointKinematics pk;
-            hk_point_kinematics(&node, k, kd, u, 1, &pk);
             hk_PointForce pf;
-            if (!hk_body_contact_force(&d->contact, head, pk.k.pos, pk.k.vel, hk_m3_col(&pk.k.frame, 0),
-                                       d->params.stiffness != HK_STIFFNESS_FULL, &pf))
-                continue;
+            if (!body_contact(d, head, &node, k, kd, s - sh->s_start[p], sample, &pk, &pf)) continue;
             d->contact_count++;
             add_point_force(t, &pk, &pf, head, dt, NULL, NULL);
         }

@@ -67,29 +67,20 @@ hk_Status hk_groom_solve_guides(const hk_HairstyleDef *style, const hk_Shape *sh
     if (!g->guides) return HK_ERR_NOMEM;
 
     long iterations = 0, done = 0;
-    int not_converged = 0, failed = -1;
+    int not_converged = 0;
     double deepest = 0.0;
-    hk_Error first_error;
-    hk_error_clear(&first_error);
+    hk_FirstError first;
+    hk_first_error_init(&first);
     #pragma omp parallel for schedule(dynamic, 4) reduction(+ : iterations, not_converged) reduction(max : deepest)
     for (int i = 0; i < f->count; i++) {
-        int skip;
-        #pragma omp atomic read
-        skip = failed;
-        if (skip >= 0) continue;
+        if (hk_first_error_skip(&first, i)) continue;
         long it = 0;
         int conv = 1;
         double pen = 0.0;
         hk_Error e;
         hk_Status s = solve_one(style, shapes, shape_count, f, i, points, g->guides + (size_t)i * (size_t)points * 3,
                                 &it, &conv, &pen, &e);
-        if (s != HK_OK) {
-            #pragma omp critical(hk_groom_error)
-            if (failed < 0 || i < failed) {
-                failed = i;
-                first_error = e;
-            }
-        }
+        if (s != HK_OK) hk_first_error_record(&first, i, &e);
         iterations += it;
         not_converged += !conv;
         deepest = pen > deepest ? pen : deepest;
@@ -98,10 +89,10 @@ hk_Status hk_groom_solve_guides(const hk_HairstyleDef *style, const hk_Shape *sh
         d = ++done;
         if (omp_get_thread_num() == 0) hk_groom_report(o, "guides", d, f->count);
     }
-    if (failed >= 0) {
-        const hk_Vec3 p = f->position[failed];
-        return hk_error_set(err, first_error.code, "guide %d (follicle at %.4g, %.4g, %.4g): %s", failed + 1, p.x, p.y,
-                            p.z, first_error.message);
+    if (first.index >= 0) {
+        const hk_Vec3 p = f->position[first.index];
+        return hk_error_set(err, first.error.code, "guide %ld (follicle at %.4g, %.4g, %.4g): %s", first.index + 1, p.x,
+                            p.y, p.z, first.error.message);
     }
     hk_groom_report(o, "guides", f->count, f->count);
     g->stats.guide_iterations = iterations;

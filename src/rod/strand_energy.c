@@ -69,7 +69,7 @@ hk_Status hk_strand_workspace_create(const hk_SuperHelix *sh, const hk_StrandEnv
     ws->pos = hk_alloc_array((size_t)n + 1, sizeof(hk_Vec3), err);
     ws->frame = hk_alloc_array((size_t)n + 1, sizeof(hk_Mat3), err);
     ws->local = hk_alloc_array((size_t)n, sizeof(hk_ElementLocal), err);
-    ws->active = hk_alloc_array(sn, 1, err);
+    ws->active = hk_calloc_array(sn, 1, err); /* no contact before the first call */
     ws->sp = hk_alloc_array(sn, sizeof(hk_Vec3), err);
     ws->sf = hk_alloc_array(sn, sizeof(hk_Vec3), err);
     ws->sa = hk_alloc_array(sn, sizeof(hk_Mat3), err);
@@ -393,6 +393,13 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnv *env, const 
         }
     }
     return total;
+}
+
+int hk_strand_workspace_contact(const hk_StrandWorkspace *ws, int i, hk_Vec3 *grad)
+{
+    if (i < 0 || i >= ws->sample_count || !ws->active[i]) return 0;
+    *grad = ws->sf[i];
+    return 1;
 }
 
 double hk_strand_max_penetration(const hk_SuperHelix *sh, const hk_StrandEnv *env,

@@ -95,35 +95,21 @@ static hk_Status make_guide(hk_HairSim *sim, const hk_Follicles *f, int i, hk_Er
 
 static hk_Status make_guides(hk_HairSim *sim, const hk_Follicles *f, hk_Error *err)
 {
-    int failed = -1;
-    hk_Error first;
-    hk_error_clear(&first);
+    hk_FirstError first;
+    hk_first_error_init(&first);
     long done = 0;
     #pragma omp parallel for schedule(dynamic, 2)
     for (int i = 0; i < f->count; i++) {
-        int skip;
-        #pragma omp atomic read
-        skip = failed;
-        if (skip >= 0) continue;
+        if (hk_first_error_skip(&first, i)) continue;
         hk_Error e;
-        if (make_guide(sim, f, i, &e) != HK_OK) {
-            #pragma omp critical(hk_hair_sim_error)
-            if (failed < 0 || i < failed) {
-                failed = i;
-                first = e;
-            }
-        }
+        if (make_guide(sim, f, i, &e) != HK_OK) hk_first_error_record(&first, i, &e);
         long d;
         #pragma omp atomic capture
         d = ++done;
         if (sim->options.progress && omp_get_thread_num() == 0)
             sim->options.progress(sim->options.progress_user, "guides", (double)d / f->count);
     }
-    if (failed >= 0) {
-        if (err) *err = first;
-        return first.code;
-    }
-    return HK_OK;
+    return hk_first_error_status(&first, err);
 }
 
 static hk_Status make_contacts(hk_HairSim *sim, hk_Error *err)
@@ -249,9 +235,9 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
         local.contact_pairs = hk_hair_contacts_pair_count(sim->contacts);
         local.contacts = hk_hair_contacts_contact_count(sim->contacts);
     }
-    int failed = -1, substeps = 0, body = 0;
-    hk_Error first;
-    hk_error_clear(&first);
+    int substeps = 0, body = 0;
+    hk_FirstError first;
+    hk_first_error_init(&first);
     if (st == HK_OK) {
         #pragma omp parallel for schedule(dynamic, 4) reduction(+ : substeps, body)
         for (int i = 0; i < sim->guide_count; i++) {
@@ -273,20 +259,14 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
             if (gst == HK_OK)
                 gst = hk_strand_dynamics_advance(sim->dyn[i], head_fn, user, t, dt, forces, count, &taken, &e);
             if (forces != buffer) hk_free(forces);
-            if (gst != HK_OK) {
-                #pragma omp critical(hk_hair_sim_error)
-                if (failed < 0 || i < failed) {
-                    failed = i;
-                    first = e;
-                }
-            }
+            if (gst != HK_OK) hk_first_error_record(&first, i, &e);
             substeps += taken;
             body += hk_strand_dynamics_contact_count(sim->dyn[i]);
         }
     }
     if (sim->options.threads > 0) omp_set_num_threads(saved_threads);
-    if (st == HK_OK && failed >= 0)
-        st = hk_error_set(err, first.code, "guide %d at t = %.4g s: %s", failed, t, first.message);
+    if (st == HK_OK && first.index >= 0)
+        st = hk_error_set(err, first.error.code, "guide %ld at t = %.4g s: %s", first.index, t, first.error.message);
     local.substeps = substeps;
     local.body_contacts = body;
     local.seconds = seconds_now() - t0;
