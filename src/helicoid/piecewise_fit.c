@@ -547,6 +547,40 @@ static hk_Status paper_cut(Fit *F, int i0, int i1, int k_lo, int k_hi, const hk_
     return HK_OK;
 }
 
+/* Samples the longest acceptable prefix may overshoot a join by (its last points lean
+ * a little off the piece it belongs to, within the tolerance) and the cuts tried there. */
+#define SETTLE_BACK 3
+
+/* A prefix that runs a sample or two past a join still fits within the tolerance, but
+ * it ends in a pose the next piece cannot start from. Try the cut at the longest
+ * acceptable prefix and up to SETTLE_BACK samples before it: each with its first part
+ * fitted and a look-ahead piece (as long as half that part, at least a minimal fragment)
+ * fitted from its end pose; keep the cut whose two fits have the least mean error (the
+ * later cut on ties). frag holds the first part's fit of *cut on entry and on return. */
+static hk_Status settle_cut(Fit *F, int i0, int k_lo, int i1, Piece *frag, int *cut)
+{
+    const int good = *cut;
+    double best = INFINITY;
+    Piece first = *frag, ahead;
+    for (int c = good; c >= k_lo && c >= good - SETTLE_BACK; c--) {
+        hk_Status st;
+        if (c != good && (st = fit_piece(F, i0, c, &frag->base, 0, frag, NULL, &first)) != HK_OK) return st;
+        if (!acceptable(F, &first)) continue;
+        const int half = (c - i0) / 2 > F->min_points - 1 ? (c - i0) / 2 : F->min_points - 1;
+        const int end = c + half < i1 ? c + half : i1;
+        if (end <= c + 1) return HK_OK; /* no room to look ahead: keep the longest */
+        if ((st = fit_piece(F, c, end, &first.end, 0, NULL, NULL, &ahead)) != HK_OK) return st;
+        const double mean = (first.error * (c - i0 + 1) + ahead.error * (end - c + 1)) / (double)(end - i0 + 2);
+        if (mean < best) {
+            best = mean;
+            *cut = c;
+            if (c != good) *frag = first;
+        }
+    }
+    frag->params_valid_for_cut = 1;
+    return HK_OK;
+}
+
 /* Our cut for the least-squares fitter: the longest first fragment i0..k (k_lo <= k <=
  * k_hi) whose own fit is within the tolerance, by bisection (a longer fragment can only
  * fit worse, give or take the normalisation), each fit started from the last one that
@@ -554,7 +588,7 @@ static hk_Status paper_cut(Fit *F, int i0, int i1, int k_lo, int k_hi, const hk_
  * acceptability is monotone, and on a target made of pieces it lands on a join (the
  * prefix stops fitting exactly where the next piece begins). When even the shortest
  * fragment misses the tolerance the cut is there. frag gets the fit of i0..cut. */
-static hk_Status longest_prefix_cut(Fit *F, int i0, int k_lo, int k_hi, const hk_CurveStart *start,
+static hk_Status longest_prefix_cut(Fit *F, int i0, int i1, int k_lo, int k_hi, const hk_CurveStart *start,
                                     const Piece *whole, Piece *frag, int *cut)
 {
     hk_Status st;
@@ -580,7 +614,7 @@ static hk_Status longest_prefix_cut(Fit *F, int i0, int k_lo, int k_hi, const hk
         }
     }
     *cut = good;
-    return HK_OK;
+    return settle_cut(F, i0, k_lo, i1, frag, cut);
 }
 
 /* Fits samples i0..i1 from `start` with at most `budget` pieces, appending them to
@@ -604,7 +638,7 @@ static hk_Status fit_range(Fit *F, int i0, int i1, const hk_CurveStart *start, i
 
     Piece frag;
     int cut = k_lo, reuse;
-    st = F->opt->method == HK_CURVEFIT_LEAST_SQUARES ? longest_prefix_cut(F, i0, k_lo, k_hi, start, &whole, &frag, &cut)
+    st = F->opt->method == HK_CURVEFIT_LEAST_SQUARES ? longest_prefix_cut(F, i0, i1, k_lo, k_hi, start, &whole, &frag, &cut)
                                                      : paper_cut(F, i0, i1, k_lo, k_hi, start, &whole, &frag, &cut);
     if (st != HK_OK) return st;
     /* frag fits samples i0..cut when the heuristic says so (reuse); otherwise it is only a
