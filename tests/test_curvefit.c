@@ -673,6 +673,56 @@ static void test_fit_two_pieces(void **state)
     print_message("  two-piece targets: join found within %g samples\n", worst_join);
 }
 
+/* A fixed layout: P equal pieces whatever the target, fitted in turn and chained. On a
+ * two-piece target joined at its middle, two fixed pieces are the generating ones (the
+ * reference: their parameters); three pieces still follow it; too many pieces for the
+ * samples are refused. */
+static void test_fit_fixed_pieces(void **state)
+{
+    (void)state;
+    enum { N = 31 };
+    hk_Vec3 target[N];
+    const hk_CurveStart s0 = random_start();
+    const double k[2][2] = {{45.0, 12.0}, {120.0, -30.0}};
+    const int segments[2] = {15, 15};
+    make_helix_target(&s0, 2, k, segments, 0.004, target);
+    hk_CurveFitOptions o = exact_options();
+    o.fixed_pieces = 2;
+    const double seed[2] = {30.0, 0.0}, scale[2] = {20.0, 20.0};
+    hk_CurveFit fit;
+    hk_Error err;
+    assert_int_equal(hk_curve_fit_piecewise(target, N, helix_model, NULL, 2, seed, scale, &o, &fit, &err), HK_OK);
+    assert_int_equal(fit.piece_count, 2);
+    assert_int_equal(fit.first_sample[1], 15);
+    for (int p = 0; p < 2; p++) {
+        hk_assert_rel(fit.params[p][0], k[p][0], 1e-6, 0);
+        hk_assert_near(fit.params[p][1], k[p][1], 1e-6 * k[p][0]);
+    }
+    assert_true(fit.error < 1e-9);
+    o.fixed_pieces = 3;
+    o.tolerance = 1e-4;
+    assert_int_equal(hk_curve_fit_piecewise(target, N, helix_model, NULL, 2, seed, scale, &o, &fit, &err), HK_OK);
+    assert_int_equal(fit.piece_count, 3);
+    assert_int_equal(fit.first_sample[1], 10);
+    assert_int_equal(fit.first_sample[2], 20);
+    /* the middle piece straddles the join, which no helix follows: closer than one piece */
+    hk_CurveFit one;
+    o.fixed_pieces = 1;
+    assert_int_equal(hk_curve_fit_piecewise(target, N, helix_model, NULL, 2, seed, scale, &o, &one, &err), HK_OK);
+    assert_true(fit.error < 0.6 * one.error);
+    o.fixed_pieces = 10; /* 10 pieces of 3 segments (4 samples, at least 5 mm): just fit in 30 segments */
+    assert_int_equal(hk_curve_fit_piecewise(target, N, helix_model, NULL, 2, seed, scale, &o, &fit, &err), HK_OK);
+    assert_int_equal(fit.piece_count, 10);
+    o.fixed_pieces = 11;
+    assert_int_equal(hk_curve_fit_piecewise(target, N, helix_model, NULL, 2, seed, scale, &o, &fit, &err),
+                     HK_ERR_INVALID);
+    hk_assert_contains(err.message, "11 pieces");
+    o.fixed_pieces = -1;
+    assert_int_equal(hk_curve_fit_piecewise(target, N, helix_model, NULL, 2, seed, scale, &o, &fit, &err),
+                     HK_ERR_INVALID);
+    hk_assert_contains(err.message, "fixed_pieces");
+}
+
 /* Adds Gaussian noise of deviation sigma to every point but the root (which a capture
  * pins down). */
 static void add_noise(hk_Vec3 *pts, int n, double sigma)
@@ -925,6 +975,7 @@ WITH_NELDER_MEAD(test_fit_single_helix)
 WITH_NELDER_MEAD(test_fit_straight)
 WITH_NELDER_MEAD(test_fit_two_pieces)
 WITH_NELDER_MEAD(test_fit_noise)
+WITH_NELDER_MEAD(test_fit_fixed_pieces)
 
 int main(void)
 {
@@ -955,6 +1006,8 @@ int main(void)
         cmocka_unit_test(test_fit_straight_nelder_mead),
         cmocka_unit_test(test_fit_two_pieces_nelder_mead),
         cmocka_unit_test(test_fit_noise_nelder_mead),
+        cmocka_unit_test(test_fit_fixed_pieces),
+        cmocka_unit_test(test_fit_fixed_pieces_nelder_mead),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -122,6 +122,72 @@ static void test_two_pieces(void **state)
     hk_helicoid_fitter_destroy(f);
 }
 
+/* Paper §5.4: a tuft reconstructed from one strand in ten, by inverse-distance blending
+ * of their fits. The tuft's strands are themselves blends of four-piece guides, so the
+ * reference is the same reconstruction from the sampled strands' true parameters: what
+ * the inverse-distance blend alone can do. Fits on the common four-piece layout must come
+ * close to it; fits that split each strand its own way cannot be blended piece by piece. */
+enum { TUFT = 300, TUFT_POINTS = 41 };
+
+static double tuft_error(const hk_PHelicoid *guides, int count, hk_Vec3 (*original)[TUFT_POINTS])
+{
+    double sum = 0.0;
+    for (int i = 0; i < TUFT; i++) {
+        hk_PHelicoid h;
+        hk_Vec3 again[4 * TUFT_POINTS];
+        assert_int_equal(hk_phelicoid_interpolate(guides, count, original[i][0], NULL, 3.0, &h, NULL), HK_OK);
+        const double step = hk_phelicoid_length(&h) / (TUFT_POINTS - 1);
+        const int m = hk_phelicoid_point_count(&h, step);
+        assert_true(m >= 2 && m <= 4 * TUFT_POINTS);
+        assert_int_equal(hk_phelicoid_trace(&h, step, NULL, NULL, again, NULL, NULL), HK_OK);
+        hk_FrechetMeasures fm;
+        assert_int_equal(hk_frechet_measures(original[i], TUFT_POINTS, again, m, &fm, NULL), HK_OK);
+        sum += fm.normalized;
+    }
+    return sum / TUFT;
+}
+
+static void test_reconstruction(void **state)
+{
+    (void)state;
+    hk_PHelicoid guides[9];
+    for (int i = 0; i < 9; i++) {
+        memset(&guides[i], 0, sizeof guides[i]);
+        guides[i].root = hk_v3(0.02 * (i % 3) - 0.02, 0.0, 0.02 * (i / 3) - 0.02);
+        guides[i].frame = hk_m3_from_cols(hk_v3(0, -1, 0), hk_v3(1, 0, 0), hk_v3(0, 0, 1));
+        guides[i].piece_count = 4;
+        for (int p = 0; p < 4; p++) {
+            guides[i].k[p] = (hk_Helicoid){rnd(2, 30), rnd(-3, 3), rnd(-8, 8), rnd(-0.3, 0.3)};
+            guides[i].length[p] = 0.05;
+        }
+    }
+    static hk_Vec3 original[TUFT][TUFT_POINTS];
+    static hk_PHelicoid truth[TUFT / 10], common[TUFT / 10], own[TUFT / 10];
+    hk_HelicoidFitter *f = hk_helicoid_fitter_create(64, NULL);
+    assert_non_null(f);
+    for (int i = 0; i < TUFT; i++) {
+        hk_PHelicoid h;
+        const hk_Vec3 root = hk_v3(rnd(-0.025, 0.025), 0.0, rnd(-0.025, 0.025));
+        assert_int_equal(hk_phelicoid_interpolate(guides, 9, root, NULL, 3.0, &h, NULL), HK_OK);
+        assert_int_equal(hk_phelicoid_trace(&h, 0.2 / (TUFT_POINTS - 1), NULL, NULL, original[i], NULL, NULL), HK_OK);
+        if (i % 10) continue;
+        hk_CurveFitOptions opt = hk_helicoid_fit_options();
+        truth[i / 10] = h;
+        opt.fixed_pieces = 4;
+        assert_int_equal(hk_helicoid_fit(f, original[i], TUFT_POINTS, &opt, &common[i / 10], NULL, NULL), HK_OK);
+        opt.fixed_pieces = 0;
+        assert_int_equal(hk_helicoid_fit(f, original[i], TUFT_POINTS, &opt, &own[i / 10], NULL, NULL), HK_OK);
+    }
+    hk_helicoid_fitter_destroy(f);
+    const double floor = tuft_error(truth, TUFT / 10, original), with_common = tuft_error(common, TUFT / 10, original),
+                 with_own = tuft_error(own, TUFT / 10, original);
+    print_message("  tuft of %d from %d: mean error %.3g m from the true parameters, %.3g m from fits on a common "
+                  "4-piece layout, %.3g m from fits split their own way\n",
+                  TUFT, TUFT / 10, floor, with_common, with_own);
+    assert_true(with_common < 1.1 * floor + 1e-4);
+    assert_true(with_common < with_own);
+}
+
 static void test_bad_input(void **state)
 {
     (void)state;
@@ -141,6 +207,7 @@ int main(void)
         cmocka_unit_test(test_single_pieces_recovered),
         cmocka_unit_test(test_single_pieces_nelder_mead),
         cmocka_unit_test(test_two_pieces),
+        cmocka_unit_test(test_reconstruction),
         cmocka_unit_test(test_bad_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
