@@ -9,18 +9,25 @@
 #include <string.h>
 
 #include "cli.h"
+#include "hairkit/follicle_sampling.h"
 #include "hairkit/helicoid_file.h"
 #include "hairkit/helicoid_fit.h"
 #include "hairkit/rng.h"
 
 static const char *const CMD = "helicoid";
 
+/* Interpolated strands leave the surface at least this steeply (radians; §4.3, see
+ * hk_phelicoid_interpolate_on_surface): a floor for averages of guides that lean different
+ * ways, not a style (the guides set the angle). */
+static const double MIN_ELEVATION = 0.17453292519943295; /* 10 degrees */
+
 static void usage(FILE *out)
 {
     fprintf(out,
             "usage: hairkit helicoid trace FILE.txt -o OUT.hair [--step S]\n"
             "       hairkit helicoid interpolate GUIDES.txt --surface MESH.obj -o OUT.hair\n"
-            "               [--density D | --count N] [--power P] [--seed N] [--params OUT.txt]\n"
+            "               [--density D | --count N | --follicles SPACING [--head HEAD.obj]]\n"
+            "               [--power P] [--seed N] [--params OUT.txt]\n"
             "       hairkit helicoid fit IN.hair -o OUT.txt [--tolerance M] [--lambda L]\n"
             "               [--max-pieces N]\n"
             "       hairkit helicoid reconstruct IN.hair -o OUT.hair [--every K] [--power P]\n"
@@ -28,8 +35,10 @@ static void usage(FILE *out)
             "Generalized helicoids (Piuze, Kry, Siddiqi; docs/helicoids.md):\n"
             "  trace        p-helicoid strands of a helicoid file (docs/file-formats.md), with\n"
             "               their waviness and wisps, as a .hair file\n"
-            "  interpolate  new strands rooted on a surface mesh (area-uniform roots), each\n"
-            "               the inverse-distance blend of the file's guides (paper 4.1-4.2)\n"
+            "  interpolate  new strands rooted on a surface mesh (area-uniform random roots,\n"
+            "               or follicles with --follicles), each the inverse-distance blend of\n"
+            "               the file's guides (paper 4.1-4.3), their root frames averaged\n"
+            "               relative to the surface normal so that every strand leaves it\n"
             "  fit          a p-helicoid for every strand of a .hair file (Frechet coupling,\n"
             "               Nelder-Mead, recursive splitting, paper 5); prints the error of\n"
             "               every strand and in all; writes a helicoid file\n"
@@ -42,6 +51,14 @@ static void usage(FILE *out)
             "  --surface MESH     OBJ mesh the interpolated roots lie on (e.g. assets/wick.obj)\n"
             "  --density D        interpolated strands per cm^2 of the surface (default 100)\n"
             "  --count N          or exactly N interpolated strands\n"
+            "  --follicles D      or one strand per follicle, follicles D metres apart spread\n"
+            "                     by repelling particles over an implicit surface fitted to the\n"
+            "                     --surface mesh (the wick) and the head around it (paper 4.3,\n"
+            "                     docs/follicle-sampling.md); 0.005 gives about 2,300 on\n"
+            "                     assets/wick.obj in a second or two, 0.003 about 6,400\n"
+            "                     in ten; the time grows as 1 / D^2 or faster\n"
+            "  --head MESH        with --follicles: the head mesh, whose vertices near the\n"
+            "                     wick are fitted too (e.g. assets/head.obj; optional)\n"
             "  --power P          inverse-distance power (default 3, the paper's)\n"
             "  --params FILE      also write the interpolated strands as a helicoid file\n"
             "  --tolerance M      accept a fit when its mean leash (normalised Frechet\n"
@@ -56,8 +73,9 @@ static void usage(FILE *out)
 }
 
 typedef struct Args {
-    const char *action, *input, *output, *surface, *params;
-    double step, density, power, tolerance, lambda;
+    const char *action, *input, *output, *surface, *params, *head;
+    double step, density, power, tolerance, lambda, follicles; /* follicles: spacing, 0 = random roots */
+    int density_given;
     long count, max_pieces, every;
     uint64_t seed;
     int threads, quiet;
@@ -66,7 +84,7 @@ typedef struct Args {
 static int parse_args(int argc, char **argv, Args *a)
 {
     enum { OPT_STEP = 3000, OPT_SURFACE, OPT_DENSITY, OPT_COUNT, OPT_POWER, OPT_PARAMS, OPT_TOLERANCE, OPT_LAMBDA,
-           OPT_MAX_PIECES, OPT_EVERY };
+           OPT_MAX_PIECES, OPT_EVERY, OPT_FOLLICLES, OPT_HEAD };
     static const struct option options[] = {
         {"output", required_argument, NULL, 'o'},      {"step", required_argument, NULL, OPT_STEP},
         {"surface", required_argument, NULL, OPT_SURFACE}, {"density", required_argument, NULL, OPT_DENSITY},
@@ -74,6 +92,7 @@ static int parse_args(int argc, char **argv, Args *a)
         {"params", required_argument, NULL, OPT_PARAMS}, {"tolerance", required_argument, NULL, OPT_TOLERANCE},
         {"lambda", required_argument, NULL, OPT_LAMBDA}, {"max-pieces", required_argument, NULL, OPT_MAX_PIECES},
         {"every", required_argument, NULL, OPT_EVERY}, {"seed", required_argument, NULL, 's'},
+        {"follicles", required_argument, NULL, OPT_FOLLICLES}, {"head", required_argument, NULL, OPT_HEAD},
         {"threads", required_argument, NULL, 't'},     {"quiet", no_argument, NULL, 'q'},
         {"help", no_argument, NULL, 'h'},              {NULL, 0, NULL, 0},
     };
@@ -102,6 +121,11 @@ static int parse_args(int argc, char **argv, Args *a)
         case 'o': a->output = optarg; break;
         case OPT_SURFACE: a->surface = optarg; break;
         case OPT_PARAMS: a->params = optarg; break;
+        case OPT_HEAD: a->head = optarg; break;
+        case OPT_FOLLICLES:
+            if (!hk_cli_parse_double(optarg, &a->follicles) || !(a->follicles > 0.0 && a->follicles <= 1.0))
+                return hk_cli_usage_error(CMD, "--follicles expects a spacing in metres in (0, 1], got '%s'", optarg);
+            break;
         case OPT_STEP:
             if (!hk_cli_parse_double(optarg, &a->step) || !(a->step > 0.0 && a->step <= 1.0))
                 return hk_cli_usage_error(CMD, "--step expects metres in (0, 1], got '%s'", optarg);
@@ -109,6 +133,7 @@ static int parse_args(int argc, char **argv, Args *a)
         case OPT_DENSITY:
             if (!hk_cli_parse_double(optarg, &a->density) || !(a->density > 0.0 && a->density <= 100000.0))
                 return hk_cli_usage_error(CMD, "--density expects strands per cm^2 in (0, 100000], got '%s'", optarg);
+            a->density_given = 1;
             break;
         case OPT_COUNT:
             if (!hk_cli_parse_int(optarg, 1, 10000000, &a->count))
@@ -152,6 +177,11 @@ static int parse_args(int argc, char **argv, Args *a)
     if (!a->output) return hk_cli_usage_error(CMD, "no output: give -o FILE");
     if (!strcmp(a->action, "interpolate") && !a->surface)
         return hk_cli_usage_error(CMD, "interpolate needs --surface MESH.obj for the roots");
+    if (a->follicles > 0.0 && (a->count || a->density_given))
+        return hk_cli_usage_error(CMD, "--follicles places one strand per follicle: drop --%s",
+                                  a->count ? "count" : "density");
+    if (a->head && !(a->follicles > 0.0))
+        return hk_cli_usage_error(CMD, "--head is fitted with the wick by --follicles: give --follicles SPACING");
     return 0;
 }
 
@@ -280,9 +310,12 @@ static void mesh_roots(const hk_Mesh *m, long count, uint64_t seed, const double
     }
 }
 
-/* Interpolates the guides at the roots (with normals, may be NULL) into set->strands. */
-static hk_Status interpolate_at(const hk_PHelicoid *guides, int guide_count, const hk_Vec3 *roots,
-                                const hk_Vec3 *normals, long count, double power, hk_PHelicoid *out, hk_Error *err)
+/* Interpolates the guides at the roots into out. With guide_normals (then normals too) on the
+ * surface (§4.3: frames relative to the normals); else plain IDW, normals (may be NULL) only
+ * keeping E_T out of the surface. */
+static hk_Status interpolate_at(const hk_PHelicoid *guides, const hk_Vec3 *guide_normals, int guide_count,
+                                const hk_Vec3 *roots, const hk_Vec3 *normals, long count, double power,
+                                hk_PHelicoid *out, hk_Error *err)
 {
     int failed = -1;
     hk_Error first;
@@ -290,13 +323,100 @@ static hk_Status interpolate_at(const hk_PHelicoid *guides, int guide_count, con
 #pragma omp parallel for schedule(static)
     for (long i = 0; i < count; i++) {
         hk_Error e;
-        if (hk_phelicoid_interpolate(guides, guide_count, roots[i], normals ? &normals[i] : NULL, power, &out[i], &e) !=
-            HK_OK) {
+        const hk_Vec3 x = roots[i];
+        const hk_Status st =
+            guide_normals
+                ? hk_phelicoid_interpolate_on_surface(guides, guide_normals, guide_count, x, normals[i], power,
+                                                      MIN_ELEVATION, &out[i], &e)
+                : hk_phelicoid_interpolate(guides, guide_count, x, normals ? &normals[i] : NULL, power, &out[i], &e);
+        if (st != HK_OK) {
 #pragma omp critical(hk_helicoid_cli)
             if (failed < 0 || i < failed) failed = (int)i, first = e;
         }
     }
     if (failed >= 0) return hk_error_set(err, first.code, "interpolated strand %d: %s", failed + 1, first.message);
+    return HK_OK;
+}
+
+/* Roots drawn area-uniformly on the mesh: --count N, or --density per cm^2 of its area. */
+static hk_Status random_roots(const Args *a, const hk_Mesh *mesh, long *count, hk_Vec3 **roots, hk_Vec3 **normals,
+                              hk_Error *err)
+{
+    double *cumulative = hk_alloc_array((size_t)mesh->triangle_count + 1, sizeof(double), err);
+    if (!cumulative) return HK_ERR_NOMEM;
+    cumulative[0] = 0.0;
+    for (int t = 0; t < mesh->triangle_count; t++) cumulative[t + 1] = cumulative[t] + hk_mesh_triangle_area(mesh, t);
+    const double area = cumulative[mesh->triangle_count];
+    long n = a->count ? a->count : (long)llround(area * 1e4 * a->density);
+    hk_Status st = HK_OK;
+    if (n < 1 || !(area > 0.0))
+        st = hk_error_set(err, HK_ERR_INVALID, "%s: no area to grow %ld strands on", a->surface, n);
+    else if (n > 10000000)
+        st = hk_error_set(err, HK_ERR_INVALID, "%ld strands: at most 10,000,000", n);
+    if (st == HK_OK) {
+        *roots = hk_alloc_array((size_t)n, sizeof(hk_Vec3), err);
+        *normals = hk_alloc_array((size_t)n, sizeof(hk_Vec3), err);
+        if (!*roots || !*normals) st = HK_ERR_NOMEM;
+    }
+    if (st == HK_OK) {
+        mesh_roots(mesh, n, a->seed, cumulative, *roots, *normals);
+        *count = n;
+    }
+    hk_free(cumulative);
+    return st;
+}
+
+/* Roots at follicles (§4.3): the particle sampler on the implicit surface of the wick (the
+ * --surface mesh) and the head around it, normals from that surface. Prints a summary. */
+static hk_Status follicle_roots(const Args *a, const hk_Mesh *wick, long *count, hk_Vec3 **roots, hk_Vec3 **normals,
+                                hk_Error *err)
+{
+    hk_Mesh head;
+    memset(&head, 0, sizeof head);
+    if (a->head && hk_obj_load(a->head, &head, err) != HK_OK) return err->code;
+    if (hk_cli_stderr_is_tty() && !a->quiet)
+        fprintf(stderr, "hairkit %s interpolate: sampling follicles %g mm apart on %s...\n", CMD, 1e3 * a->follicles,
+                a->surface);
+    hk_WickSamplingDef def = hk_default_wick_sampling_def();
+    def.spacing = a->follicles;
+    def.seed = a->seed;
+    def.threads = a->threads;
+    hk_FollicleSamples f;
+    hk_Error e;
+    const double t0 = hk_cli_now();
+    hk_Status st = hk_wick_follicles(a->head ? &head : NULL, wick, &def, &f, &e);
+    hk_mesh_free(&head);
+    if (st != HK_OK) {
+        if (a->head) return hk_error_set(err, st, "follicles on %s (head %s): %s", a->surface, a->head, e.message);
+        return hk_error_set(err, st, "follicles on %s: %s", a->surface, e.message);
+    }
+    if (!a->quiet)
+        fprintf(stderr, "hairkit %s interpolate: %d follicles %g mm apart on %s (%.4g cm^2), %d iterations, %.3f s\n",
+                CMD, f.count, 1e3 * a->follicles, a->surface, 1e4 * hk_mesh_area(wick), f.iterations,
+                hk_cli_now() - t0);
+    *count = f.count, *roots = f.points, *normals = f.normals;
+    f.points = f.normals = NULL; /* handed over */
+    hk_follicle_samples_free(&f);
+    return HK_OK;
+}
+
+/* The surface normal at each guide's root: at the closest point of the surface mesh (§4.3's W_i).
+ * Warns about guides that leave into the surface (their neighbours are lifted off it, they are
+ * not: a guide is reproduced as it is). */
+static hk_Status guide_normals(const Args *a, const hk_Mesh *mesh, const hk_HelicoidSet *guides, hk_Vec3 *normals,
+                               hk_Error *err)
+{
+    for (int i = 0; i < guides->count; i++) {
+        const hk_PHelicoid *g = &guides->strands[i];
+        const double d = hk_mesh_closest_point(mesh, g->root, NULL, &normals[i]);
+        if (d < 0.0 || !(hk_v3_norm(normals[i]) > 0.5))
+            return hk_error_set(err, HK_ERR_INVALID, "%s: no surface normal for guide %d of %s", a->surface, i + 1,
+                                a->input);
+        const double lean = hk_v3_dot(hk_m3_col(&g->frame, 0), normals[i]);
+        if (lean < 0.0 && !a->quiet)
+            fprintf(stderr, "hairkit %s interpolate: warning: guide %d of %s points %.0f degrees into %s at its root\n",
+                    CMD, i + 1, a->input, asin(fmin(1.0, -lean)) * 57.29577951308232, a->surface);
+    }
     return HK_OK;
 }
 
@@ -309,37 +429,24 @@ static int do_interpolate(const Args *a)
     memset(&mesh, 0, sizeof mesh);
     if (hk_helicoid_file_load(a->input, &guides, &err) != HK_OK) return hk_cli_fail(CMD, &err);
     hk_Status st = hk_obj_load(a->surface, &mesh, &err);
-    double *cumulative = NULL;
-    hk_Vec3 *roots = NULL, *normals = NULL;
+    hk_Vec3 *roots = NULL, *normals = NULL, *gnormals = NULL;
     hk_HairFile hair;
     memset(&hair, 0, sizeof hair);
-    const double t0 = hk_cli_now();
     const int saved = omp_get_max_threads();
     if (a->threads > 0) omp_set_num_threads(a->threads);
-    long count = a->count;
+    long count = 0;
     if (st == HK_OK) {
-        cumulative = hk_alloc_array((size_t)mesh.triangle_count + 1, sizeof(double), &err);
-        if (!cumulative) st = HK_ERR_NOMEM;
+        gnormals = hk_alloc_array((size_t)guides.count, sizeof(hk_Vec3), &err);
+        st = gnormals ? guide_normals(a, &mesh, &guides, gnormals, &err) : HK_ERR_NOMEM;
     }
-    if (st == HK_OK) {
-        cumulative[0] = 0.0;
-        for (int t = 0; t < mesh.triangle_count; t++) cumulative[t + 1] = cumulative[t] + hk_mesh_triangle_area(&mesh, t);
-        if (!count) count = (long)llround(cumulative[mesh.triangle_count] * 1e4 * a->density);
-        if (count < 1 || !(cumulative[mesh.triangle_count] > 0.0))
-            st = hk_error_set(&err, HK_ERR_INVALID, "%s: no area to grow %ld strands on", a->surface, count);
-        else if (count > 10000000)
-            st = hk_error_set(&err, HK_ERR_INVALID, "%ld strands: at most 10,000,000", count);
-    }
+    if (st == HK_OK)
+        st = a->follicles > 0.0 ? follicle_roots(a, &mesh, &count, &roots, &normals, &err)
+                                : random_roots(a, &mesh, &count, &roots, &normals, &err);
+    const double t0 = hk_cli_now();
     if (st == HK_OK) st = hk_helicoid_set_alloc(&made, (int)count, &err);
-    if (st == HK_OK) {
-        roots = hk_alloc_array((size_t)count, sizeof(hk_Vec3), &err);
-        normals = hk_alloc_array((size_t)count, sizeof(hk_Vec3), &err);
-        if (!roots || !normals) st = HK_ERR_NOMEM;
-    }
-    if (st == HK_OK) {
-        mesh_roots(&mesh, count, a->seed, cumulative, roots, normals);
-        st = interpolate_at(guides.strands, guides.count, roots, normals, count, a->power, made.strands, &err);
-    }
+    if (st == HK_OK)
+        st = interpolate_at(guides.strands, gnormals, guides.count, roots, normals, count, a->power, made.strands,
+                            &err);
     const double t1 = hk_cli_now();
     made.step = a->step > 0.0 ? a->step : guides.step;
     made.waviness = guides.waviness;
@@ -353,7 +460,7 @@ static int do_interpolate(const Args *a)
                 "hairkit %s interpolate: %ld strands from %d guides: parameters %.3f s, traced %.3f s (%u points)\n",
                 CMD, count, guides.count, t1 - t0, t2 - t1, hair.point_count);
     hk_hair_free(&hair);
-    hk_free(cumulative), hk_free(roots), hk_free(normals);
+    hk_free(roots), hk_free(normals), hk_free(gnormals);
     hk_mesh_free(&mesh);
     hk_helicoid_set_free(&made);
     hk_helicoid_set_free(&guides);
@@ -501,7 +608,7 @@ static int do_reconstruct(const Args *a)
         }
         const int saved = omp_get_max_threads();
         if (a->threads > 0) omp_set_num_threads(a->threads);
-        st = interpolate_at(guides.strands, guides.count, roots, NULL, n, a->power, all.strands, &err);
+        st = interpolate_at(guides.strands, NULL, guides.count, roots, NULL, n, a->power, all.strands, &err);
         if (a->threads > 0) omp_set_num_threads(saved);
     }
     const double step = a->step > 0.0 ? a->step : 0.002;

@@ -43,8 +43,12 @@ for f in wavy curly messy wisp; do
     "$hk" render "$tmp/helicoid-$f.hair" -o "docs/images/helicoid-$f.png" --width 240 --height 320 --thickness 0.0006 \
         --quiet
 done
-"$hk" helicoid interpolate examples/helicoid/guides.txt --surface assets/wick.obj --density 60 \
-    -o "$tmp/helicoid-head.hair" --quiet
-"$hk" render "$tmp/helicoid-head.hair" --head assets/head.obj --visuality examples/default/visuality.txt \
-    -o docs/images/helicoid-head.png --width 480 --height 360 --quiet
+# Two hairstyles of guides (examples/helicoid/guides.txt and bob.txt, made by
+# build/make_helicoid_styles), interpolated at follicles 3 mm apart on the wick (paper 4.3).
+for style in guides:helicoid-head bob:helicoid-head-curly; do
+    "$hk" helicoid interpolate "examples/helicoid/${style%%:*}.txt" --surface assets/wick.obj --head assets/head.obj \
+        --follicles 0.003 -o "$tmp/${style#*:}.hair" --quiet
+    "$hk" render "$tmp/${style#*:}.hair" --head assets/head.obj --visuality examples/default/visuality.txt \
+        -o "docs/images/${style#*:}.png" --width 480 --height 360 --thickness 0.0005 --quiet
+done
 echo "docs/images updated"

@@ -126,6 +126,23 @@ void hk_phelicoid_canonical(hk_PHelicoid *h);
 hk_Status hk_phelicoid_interpolate(const hk_PHelicoid *guides, int guide_count, hk_Vec3 x, const hk_Vec3 *normal,
                                    double power, hk_PHelicoid *out, hk_Error *err);
 
+/* Interpolation on a surface (§4.3): as hk_phelicoid_interpolate (the same weights, pieces,
+ * lengths and parameters), but the root frames are averaged relative to the surface, the
+ * paper's frame W "oriented by the normal" combined with the guides' frames. guide_normals[i]
+ * is the outward surface normal at guide i's root, normal the one at x (any non-zero finite
+ * lengths). Each guide's canonical root frame is first carried to x by the smallest rotation
+ * taking guide_normals[i] to normal (the guide's frame W_i to W, transported across the
+ * surface), so what is averaged is how each guide sits on the surface (its angle to it and
+ * the way it leans), not its orientation in space: guides that leave along their normals give
+ * strands that leave along theirs, exactly, all round a head. Then, when E_T . normal <
+ * sin(min_elevation), the frame is turned by the smallest rotation that raises E_T to that
+ * elevation (keeping its azimuth), so that every interpolated strand leaves the surface
+ * (min_elevation in [0, pi/2) radians). At x equal to a guide's root the guide itself is
+ * returned in canonical form, as it is. No allocation; O(guide_count). */
+hk_Status hk_phelicoid_interpolate_on_surface(const hk_PHelicoid *guides, const hk_Vec3 *guide_normals,
+                                              int guide_count, hk_Vec3 x, hk_Vec3 normal, double power,
+                                              double min_elevation, hk_PHelicoid *out, hk_Error *err);
+
 /* Wisp (§3.3): count strands around a guide. Strand j's root offset is uniform in the disc of
  * radius `radius` in the guide's E_N-E_B plane at the root, drawn from the counter-based RNG
  * (rng.h) keyed by (seed, j), so strand j does not depend on count or on threads. It is the

@@ -37,6 +37,12 @@ void hk_mesh_compute_normals(hk_Mesh *mesh);
 double hk_mesh_triangle_area(const hk_Mesh *mesh, int triangle);
 double hk_mesh_area(const hk_Mesh *mesh);
 
+/* The point of the mesh closest to x and the normal there, the vertex normals blended by the
+ * point's barycentric weights (made unit; the face normal where they cancel). Brute force over
+ * the triangles. Returns the distance, or -1 when the mesh has no triangles or x is not
+ * finite (point and normal then untouched). point or normal may be NULL. */
+double hk_mesh_closest_point(const hk_Mesh *mesh, hk_Vec3 x, hk_Vec3 *point, hk_Vec3 *normal);
+
 /* Allocates an empty mesh of the given sizes (all zero). */
 hk_Status hk_mesh_alloc(hk_Mesh *mesh, int vertex_count, int triangle_count, hk_Error *err);
 void hk_mesh_free(hk_Mesh *mesh);

@@ -23,14 +23,144 @@ grep -q '^# strands=1 mean_error_m=' "$tmp/out" || fail "no summary line: $(tail
 awk -F'[= ]' '/^# strands/ { exit !($5 < 0.002) }' "$tmp/out" || fail "fit error over 2 mm: $(tail -n 1 "$tmp/out")"
 expect 0 "$hk" helicoid trace "$tmp/fit.txt" -o "$tmp/refit.hair" --quiet
 
-# interpolate: the example guides over the wick
-expect 0 "$hk" helicoid interpolate "$ex/guides.txt" --surface "$src/assets/wick.obj" --count 500 \
+# interpolate: random roots over the wick. Nine plain guides (the wavy 40 of the example
+# would make the reconstruction below slow to fit): curly at the back, straight in front
+nine="$tmp/nine.txt"
+cat > "$nine" <<'EOF'
+Step 0.002
+Strand
+Root  0.0 0.148 0.01
+Frame 0 1 0   0 0 -1
+Piece 10 0 0 0 0.1
+Piece 8 0 0 0 0.1
+Strand
+Root  -0.06 0.12 -0.04
+Frame -0.609208 0.507673 -0.609208   -0.358979 -0.861550 -0.358979
+Piece 60 0 5 0.3 0.08
+Piece 60 0 5 0.3 0.08
+Strand
+Root  0.06 0.12 -0.04
+Frame 0.609208 0.507673 -0.609208   0.358979 -0.861550 -0.358979
+Piece 60 0 -5 0.3 0.08
+Piece 60 0 -5 0.3 0.08
+Strand
+Root  0 0.11 -0.08
+Frame 0.000000 0.600000 -0.800000   0.000000 -0.800000 -0.600000
+Piece 40 0 0 0.2 0.08
+Piece 40 0 0 0.2 0.08
+Strand
+Root  -0.07 0.09 0.03
+Frame -0.847998 0.423999 0.317999   -0.397003 -0.905663 0.148876
+Piece 50 2 0 0.25 0.08
+Piece 50 2 0 0.25 0.08
+Strand
+Root  0.07 0.09 0.03
+Frame 0.847998 0.423999 0.317999   0.397003 -0.905663 0.148876
+Piece 50 -2 0 0.25 0.08
+Piece 50 -2 0 0.25 0.08
+Strand
+Root  -0.04 0.13 0.06
+Frame -0.390360 0.780720 0.487950   -0.487712 -0.624881 0.609640
+Piece 5 0 0 0 0.08
+Piece 5 0 0 0 0.08
+Strand
+Root  0.04 0.13 0.06
+Frame 0.390360 0.780720 0.487950   0.487712 -0.624881 0.609640
+Piece 5 0 0 0 0.08
+Piece 5 0 0 0 0.08
+Strand
+Root  0 0.14 0.07
+Frame 0.000000 0.800000 0.600000   0.000000 -0.600000 0.800000
+Piece 3 0 0 0 0.08
+Piece 3 0 0 0 0.08
+EOF
+expect 0 "$hk" helicoid interpolate "$nine" --surface "$src/assets/wick.obj" --count 500 \
     -o "$tmp/interp.hair" --params "$tmp/interp.txt" --quiet
 expect 0 "$hk" info "$tmp/interp.hair"
 contains "$tmp/out" "strands:       500"
-expect 0 "$hk" helicoid interpolate "$ex/guides.txt" --surface "$src/assets/wick.obj" --count 500 \
+expect 0 "$hk" helicoid interpolate "$nine" --surface "$src/assets/wick.obj" --count 500 \
     -o "$tmp/interp2.hair" --threads 1 --quiet
 cmp -s "$tmp/interp.hair" "$tmp/interp2.hair" || fail "interpolation depends on the threads"
+# leaves_scalp PARAMS.txt: every strand leaves the scalp steeply (E_T . n > 0.5 against the
+# outward normal of the head's cranium, the ellipsoid of assets/README.md, at its root): the
+# root frames are averaged relative to the surface normal (paper 4.3). Averaged in space the
+# nine guides' strands here come as low as 0.15; relative to the normal, 0.92.
+leaves_scalp() {
+    awk '$1 == "Root" { x = $2 + 0.001; y = $3 - 0.068; z = $4 - 0.010 }
+         $1 == "Frame" {
+             gx = x / 0.0064; gy = y / 0.0064; gz = z / 0.0121
+             up = ($2 * gx + $3 * gy + $4 * gz) / sqrt(gx * gx + gy * gy + gz * gz)
+             if (up < 0.5) { print "strand " NR ": E_T . n = " up; bad = 1 }
+         }
+         END { exit bad }' "$1" > "$tmp/up.log" || fail "strands not leaving the scalp in $1: $(head -n 3 "$tmp/up.log")"
+}
+leaves_scalp "$tmp/interp.txt"
+# the example styles load and interpolate
+for style in guides bob; do
+    expect 0 "$hk" helicoid interpolate "$ex/$style.txt" --surface "$src/assets/wick.obj" --count 100 \
+        -o "$tmp/style.hair" --quiet
+done
+
+# interpolate --follicles: one strand per follicle of the particle sampler (paper 4.3)
+wick="$src/assets/wick.obj"
+expect 0 "$hk" helicoid interpolate "$ex/guides.txt" --surface "$wick" --head "$src/assets/head.obj" \
+    --follicles 0.02 -o "$tmp/fol.hair" --params "$tmp/fol.txt" --threads 2
+contains "$tmp/err" "follicles 20 mm apart on .*wick.obj"
+n=$(grep -c '^Root' "$tmp/fol.txt")
+# a hexagonal packing of the wick's 493 cm^2 at 2 cm: 142, plus half the contour's row: 157
+awk -v n="$n" 'BEGIN { exit !(n >= 130 && n <= 185) }' || fail "$n follicles at 2 cm (about 157 expected)"
+expect 0 "$hk" info "$tmp/fol.hair"
+contains "$tmp/out" "strands:       $n\$"
+# the roots: on the wick (near its vertices), and follicles, not random points: no two
+# closer than 0.6 spacing (the sampler keeps them at 0.85 or more)
+awk 'FNR == NR && $1 == "v" { vx[++nv] = $2; vy[nv] = $3; vz[nv] = $4; next }
+     FNR != NR && $1 == "Root" { rx[++nr] = $2; ry[nr] = $3; rz[nr] = $4 }
+     END {
+         for (i = 1; i <= nr; i++) {
+             best = 1
+             for (j = 1; j <= nv; j++) {
+                 d = (rx[i]-vx[j])^2 + (ry[i]-vy[j])^2 + (rz[i]-vz[j])^2
+                 if (d < best) best = d
+             }
+             if (best > 0.01^2) { print "root " i " is " sqrt(best) " m from the wick"; bad = 1 }
+             for (j = 1; j < i; j++) {
+                 d = (rx[i]-rx[j])^2 + (ry[i]-ry[j])^2 + (rz[i]-rz[j])^2
+                 if (d < (0.6 * 0.02)^2) { print "roots " j " and " i " are " sqrt(d) " m apart"; bad = 1 }
+             }
+         }
+         exit bad
+     }' "$wick" "$tmp/fol.txt" > "$tmp/roots.log" || fail "follicle roots: $(head -n 3 "$tmp/roots.log")"
+leaves_scalp "$tmp/fol.txt"
+# the same bytes with one thread and two, and without the summary under --quiet
+expect 0 "$hk" helicoid interpolate "$ex/guides.txt" --surface "$wick" --head "$src/assets/head.obj" \
+    --follicles 0.02 -o "$tmp/fol1.hair" --params "$tmp/fol1.txt" --threads 1 --quiet
+[ -s "$tmp/err" ] && fail "--quiet printed: $(cat "$tmp/err")"
+cmp -s "$tmp/fol.hair" "$tmp/fol1.hair" || fail "--follicles: .hair differs between 1 and 2 threads"
+cmp -s "$tmp/fol.txt" "$tmp/fol1.txt" || fail "--follicles: parameters differ between 1 and 2 threads"
+# another seed, other follicles; no head, other follicles (the fit differs)
+expect 0 "$hk" helicoid interpolate "$ex/guides.txt" --surface "$wick" --head "$src/assets/head.obj" \
+    --follicles 0.02 -o "$tmp/fol2.hair" --seed 7 --quiet
+cmp -s "$tmp/fol.hair" "$tmp/fol2.hair" && fail "--seed does not change the follicles"
+expect 0 "$hk" helicoid interpolate "$ex/guides.txt" --surface "$wick" --follicles 0.02 -o "$tmp/fol3.hair" --quiet
+cmp -s "$tmp/fol.hair" "$tmp/fol3.hair" && fail "--head does not change the follicles"
+# errors: bad spacings, conflicting options, missing files, too many follicles
+expect 2 "$hk" helicoid interpolate "$ex/guides.txt" --surface "$wick" --follicles 0 -o "$tmp/x.hair"
+contains "$tmp/err" "--follicles expects a spacing"
+expect 2 "$hk" helicoid interpolate "$ex/guides.txt" --surface "$wick" --follicles 5mm -o "$tmp/x.hair"
+contains "$tmp/err" "'5mm'"
+expect 2 "$hk" helicoid interpolate "$ex/guides.txt" --surface "$wick" --follicles nan -o "$tmp/x.hair"
+expect 2 "$hk" helicoid interpolate "$ex/guides.txt" --surface "$wick" --follicles 0.01 --count 10 -o "$tmp/x.hair"
+contains "$tmp/err" "drop --count"
+expect 2 "$hk" helicoid interpolate "$ex/guides.txt" --surface "$wick" --follicles 0.01 --density 5 -o "$tmp/x.hair"
+contains "$tmp/err" "drop --density"
+expect 2 "$hk" helicoid interpolate "$ex/guides.txt" --surface "$wick" --head "$src/assets/head.obj" -o "$tmp/x.hair"
+contains "$tmp/err" "--head .*--follicles"
+expect 1 "$hk" helicoid interpolate "$ex/guides.txt" --surface "$wick" --follicles 0.01 \
+    --head "$tmp/nohead.obj" -o "$tmp/x.hair"
+contains "$tmp/err" "nohead.obj"
+expect 1 "$hk" helicoid interpolate "$ex/guides.txt" --surface "$wick" --follicles 0.0002 -o "$tmp/x.hair"
+contains "$tmp/err" "wick.obj.*follicles, more than"
+[ -e "$tmp/x.hair" ] && fail "output written despite an error"
 
 # reconstruct: from one strand in five
 expect 0 "$hk" helicoid reconstruct "$tmp/interp.hair" --every 5 -o "$tmp/recon.hair" --quiet
