@@ -6,6 +6,13 @@
 
 #include "hairkit/helicoid_fit.h"
 
+/* Least |w| a fitted piece may reach (1 at its origin): it stays at least a tenth of its
+ * origin's distance away from the singular axis, where it turns at most ten times faster
+ * than there. */
+#define MIN_AXIS_W 0.1
+/* Most the field may turn between two samples at a fitted piece's origin (rad). */
+#define MAX_TURN_PER_SAMPLE 1.0
+
 struct hk_HelicoidFitter {
     int capacity;              /* points a model call may trace */
     hk_Mat3 *frames;           /* their frames, for the end pose */
@@ -70,8 +77,23 @@ int hk_helicoid_piece_model(void *user, const double *params, const hk_CurveStar
     /* count points at spacing length / (count - 1): the trace's own step rule gives
      * exactly that many when the step divides the length. */
     const double step = length / (count - 1);
+    /* The field may not turn faster than MAX_TURN_PER_SAMPLE between two samples at the
+     * piece's origin (piece_rk4.c's bound on its turning rate): a bend the samples cannot
+     * resolve is not something they can be fitted with, and its trace would need many
+     * substeps. */
+    const double rate = (hypot(params[0], params[1]) + fabs(params[2])) * (1.0 + fabs(params[3]));
+    if (!(rate * step <= MAX_TURN_PER_SAMPLE)) return 1;
     if (hk_phelicoid_point_count(&h, step) != count) return 1;
     if (hk_phelicoid_trace(&h, step, NULL, NULL, out_points, f->frames, NULL) != HK_OK) return 1;
+    /* A piece that comes close to its field's singular axis w = 0 turns there at |k_N + i
+     * k_T| / |w|, and its phi = alpha theta depends on how often the trace winds round the
+     * axis: parameters that lead there describe no definite curve (a finer trace of them
+     * differs by centimetres), so the fit may not use them. */
+    for (int i = 1; i < count; i++) {
+        const hk_Vec3 l = hk_m3_tmul_v3(&h.frame, hk_v3_sub(out_points[i], h.root));
+        const double wr = 1.0 + params[1] * l.x - params[0] * l.y, wi = params[0] * l.x + params[1] * l.y;
+        if (wr * wr + wi * wi < MIN_AXIS_W * MIN_AXIS_W) return 1;
+    }
     end->pos = out_points[count - 1];
     end->frame = f->frames[count - 1];
     return 0;

@@ -54,24 +54,53 @@ static inline Deriv field(const hk_Helicoid *k, double x, double y, double z, do
     return d;
 }
 
+/* Most the field may turn over one RK4 step (rad): random helicoids with k_T up to 60/m
+ * traced at 3.4 mm then stay within 0.5 micron of a trace 64 times finer (0.1 rad: 16 nm,
+ * at twice the cost). Output spacings that would turn it more are split into substeps. */
+#define MAX_TURN_PER_STEP 0.25
+#define MAX_SUBSTEPS 64
+
+/* Substeps for an output step h starting at local (x, y): the field's direction turns at
+ * most at rate (|k_N + i k_T| / |w| + |k_B|) (1 + |alpha|) (the gradient of theta = arg w
+ * + k_B z, and phi = alpha theta), |w| taken where the step starts. Without this a fit could
+ * use curvatures of a radian per sample, or pass next to the singular axis w = 0, and be
+ * right only at the step it was fitted at: the parameters must describe the curve, not
+ * one discretisation of it. */
+static int substeps(const hk_Helicoid *k, double x, double y, double a, double b)
+{
+    /* a = |k_N + i k_T| (1 + |alpha|) h / MAX_TURN_PER_STEP, b = |k_B| (1 + |alpha|) h /
+     * MAX_TURN_PER_STEP: the substeps are ceil(a / |w| + b); one when a <= (1 - b) |w|,
+     * checked without a square root (the common case). */
+    const double wr = 1.0 + k->kn * x - k->kt * y, wi = k->kt * x + k->kn * y, r2 = wr * wr + wi * wi;
+    if (b < 1.0 && a * a <= (1.0 - b) * (1.0 - b) * r2) return 1;
+    const double n = ceil(a / fmax(sqrt(r2), 1e-12) + b);
+    return n < 1.0 ? 1 : (n > MAX_SUBSTEPS ? MAX_SUBSTEPS : (int)n);
+}
+
 void hk_helicoid_piece_rk4(const hk_HelicoidPiece *pc, hk_Vec3 *p, hk_HelicoidAngles *a, const hk_HelicoidSink *out)
 {
     const hk_Helicoid *k = pc->k;
-    const double h = pc->length / pc->steps, h2 = 0.5 * h, h6 = h / 6.0;
+    const double step = pc->length / pc->steps;
+    const double spin = (1.0 + fabs(k->alpha)) * step / MAX_TURN_PER_STEP;
+    const double sa = hypot(k->kt, k->kn) * spin, sb = fabs(k->kb) * spin;
     double x = p->x, y = p->y, z = p->z, psi = a->theta - k->kb * z;
     hk_HelicoidAngles a1, tmp;
     Deriv d1 = field(k, x, y, z, psi, &a1);
     for (int j = 1; j <= pc->steps; j++) {
-        const Deriv d2 = field(k, x + h2 * d1.x, y + h2 * d1.y, z + h2 * d1.z, psi + h2 * d1.psi, &tmp);
-        const Deriv d3 = field(k, x + h2 * d2.x, y + h2 * d2.y, z + h2 * d2.z, psi + h2 * d2.psi, &tmp);
-        const Deriv d4 = field(k, x + h * d3.x, y + h * d3.y, z + h * d3.z, psi + h * d3.psi, &tmp);
-        x += h6 * (d1.x + 2.0 * (d2.x + d3.x) + d4.x);
-        y += h6 * (d1.y + 2.0 * (d2.y + d3.y) + d4.y);
-        z += h6 * (d1.z + 2.0 * (d2.z + d3.z) + d4.z);
-        psi += h6 * (d1.psi + 2.0 * (d2.psi + d3.psi) + d4.psi);
-        /* The new point's angles: its frame, and the first stage of the next step. */
-        d1 = field(k, x, y, z, psi, &a1);
-        const double s = j == pc->steps ? pc->length : j * h;
+        const int sub = substeps(k, x, y, sa, sb);
+        const double h = step / sub, h2 = 0.5 * h, h6 = h / 6.0;
+        for (int u = 0; u < sub; u++) {
+            const Deriv d2 = field(k, x + h2 * d1.x, y + h2 * d1.y, z + h2 * d1.z, psi + h2 * d1.psi, &tmp);
+            const Deriv d3 = field(k, x + h2 * d2.x, y + h2 * d2.y, z + h2 * d2.z, psi + h2 * d2.psi, &tmp);
+            const Deriv d4 = field(k, x + h * d3.x, y + h * d3.y, z + h * d3.z, psi + h * d3.psi, &tmp);
+            x += h6 * (d1.x + 2.0 * (d2.x + d3.x) + d4.x);
+            y += h6 * (d1.y + 2.0 * (d2.y + d3.y) + d4.y);
+            z += h6 * (d1.z + 2.0 * (d2.z + d3.z) + d4.z);
+            psi += h6 * (d1.psi + 2.0 * (d2.psi + d3.psi) + d4.psi);
+            /* The new point's angles: its frame, and the first stage of the next step. */
+            d1 = field(k, x, y, z, psi, &a1);
+        }
+        const double s = j == pc->steps ? pc->length : j * step;
         hk_helicoid_emit(pc, out, j, x, y, z, &a1, out->s_start + s);
     }
     *p = hk_v3(x, y, z);

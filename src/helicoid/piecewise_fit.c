@@ -352,6 +352,49 @@ static void pick(Fit *F, double (*cand)[MAXP + ROT], int count, double *x)
     }
 }
 
+/* Minimises over the first nx entries from the candidates into x. Nelder-Mead (which
+ * explores by itself, and costs hundreds of traces a run) starts from the best of them.
+ * Levenberg-Marquardt is local and cheap: it runs from the candidates in the order of
+ * their cost until one ends within the tolerance, keeping the best end. On a target far
+ * from any single piece (a tight lift-off bend with waviness on top) the candidates lead
+ * to different minima, and the best start is not always the best end; on an easy one the
+ * first run is the only one. */
+static hk_Status descend(Fit *F, double (*cand)[MAXP + ROT], int count, int nx, double *x)
+{
+    if (F->opt->method != HK_CURVEFIT_LEAST_SQUARES || nx == 0) {
+        pick(F, cand, count, x);
+        return minimise(F, nx, x, F->scale);
+    }
+    double cost[8];
+    int order[8];
+    for (int c = 0; c < count; c++) {
+        cost[c] = start_cost(cand[c], F);
+        int k = c;
+        while (k > 0 && cost[order[k - 1]] > cost[c]) order[k] = order[k - 1], k--;
+        order[k] = c;
+    }
+    double best = INFINITY;
+    hk_Status result = HK_ERR_NUMERIC;
+    for (int r = 0; r < count; r++) {
+        const int c = order[r];
+        int seen = 0;
+        for (int d = 0; d < r && !seen; d++) seen = !memcmp(cand[c], cand[order[d]], (size_t)nx * sizeof(double));
+        if (seen || !isfinite(cost[c])) continue;
+        double y[MAXP + ROT];
+        memcpy(y, cand[c], sizeof y);
+        if (minimise(F, nx, y, F->scale) != HK_OK) continue;
+        const double f = start_cost(y, F);
+        if (result != HK_OK || f < best) {
+            memcpy(x, y, sizeof y);
+            best = f;
+            result = HK_OK;
+        }
+        if (objective(x, F) - F->opt->lambda * param_norm(F->np, x) <= F->opt->tolerance) break;
+    }
+    if (result != HK_OK) pick(F, cand, count, x); /* every start failed: hand back the least bad */
+    return result == HK_OK ? HK_OK : minimise(F, nx, x, F->scale);
+}
+
 /* Fits samples i0..i1 from `start`. Nelder-Mead starts at the best of the user's seed
  * and the hints (earlier fits of overlapping ranges, NULL when absent). With
  * refine_start and may_refine, a range at the root is first fitted in the estimated
@@ -374,9 +417,12 @@ static hk_Status fit_piece(Fit *F, int i0, int i1, const hk_CurveStart *start, i
     for (int h = 0; h < 2; h++)
         if (hints[h]) memcpy(cand[count++], hints[h]->params, (size_t)F->np * sizeof(double));
     double x[MAXP + ROT];
-    pick(F, cand, count, x);
-    hk_Status st = minimise(F, F->np, x, F->scale);
-    if (st == HK_OK && refine && objective(x, F) - F->opt->lambda * param_norm(F->np, x) > F->opt->tolerance) {
+    hk_Status st = descend(F, cand, count, F->np, x);
+    /* Least squares refines the frame already at a tenth of the tolerance: it costs a few
+     * dozen traces, and the root frame's error, small at the root, is what every later
+     * piece inherits through the joins. */
+    const double refine_above = F->opt->method == HK_CURVEFIT_LEAST_SQUARES ? 0.1 * F->opt->tolerance : F->opt->tolerance;
+    if (st == HK_OK && refine && objective(x, F) - F->opt->lambda * param_norm(F->np, x) > refine_above) {
         /* Free the frame: candidates are the fit so far, the hints with their own
          * rotations, and the seed rolled by quarter turns about the tangent, because the
          * normal estimated from noisy first points can be off by any roll (the first
@@ -396,8 +442,7 @@ static hk_Status fit_piece(Fit *F, int i0, int i1, const hk_CurveStart *start, i
             memcpy(cand[count], F->seed, (size_t)F->np * sizeof(double));
             cand[count++][F->np] = q * (M_PI_VALUE / 2.0);
         }
-        pick(F, cand, count, x);
-        st = minimise(F, F->np + ROT, x, F->scale);
+        st = descend(F, cand, count, F->np + ROT, x);
     }
     if (st != HK_OK)
         return hk_error_set(F->err, HK_ERR_NUMERIC,
@@ -614,7 +659,17 @@ static hk_Status longest_prefix_cut(Fit *F, int i0, int i1, int k_lo, int k_hi, 
         }
     }
     *cut = good;
-    return settle_cut(F, i0, k_lo, i1, frag, cut);
+    if ((st = settle_cut(F, i0, k_lo, i1, frag, cut)) != HK_OK) return st;
+    /* The first piece at the root, now that its extent is known, may refine the frame it
+     * starts from (the probes kept the estimated one): every later piece inherits it. */
+    if (i0 == 0 && F->opt->refine_start) {
+        if ((st = fit_piece(F, i0, *cut, start, 1, frag, NULL, &trial)) != HK_OK) return st;
+        if (acceptable(F, &trial) && trial.error + trial.join_error < frag->error + frag->join_error) {
+            *frag = trial;
+            frag->params_valid_for_cut = 1;
+        }
+    }
+    return HK_OK;
 }
 
 /* Fits samples i0..i1 from `start` with at most `budget` pieces, appending them to
