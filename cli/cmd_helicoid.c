@@ -170,6 +170,7 @@ static int parse_args(int argc, char **argv, hk_HelicoidArgs *a)
             if (!hk_cli_parse_int(optarg, 1, HK_HELICOID_MAX_PIECES, &a->max_pieces))
                 return hk_cli_usage_error(CMD, "--max-pieces expects 1 to %d, got '%s'", HK_HELICOID_MAX_PIECES,
                                           optarg);
+            a->max_pieces_given = 1;
             break;
         case OPT_PIECES:
             if (!hk_cli_parse_int(optarg, 0, HK_HELICOID_MAX_PIECES, &a->pieces))

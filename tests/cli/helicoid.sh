@@ -22,6 +22,21 @@ expect 0 "$hk" helicoid fit "$tmp/curly.hair" -o "$tmp/fit.txt" --quiet
 grep -q '^# strands=1 mean_error_m=' "$tmp/out" || fail "no summary line: $(tail -n 1 "$tmp/out")"
 awk -F'[= ]' '/^# strands/ { exit !($5 < 0.002) }' "$tmp/out" || fail "fit error over 2 mm: $(tail -n 1 "$tmp/out")"
 expect 0 "$hk" helicoid trace "$tmp/fit.txt" -o "$tmp/refit.hair" --quiet
+# the paper's Nelder-Mead, and a fixed layout of 4 pieces
+expect 0 "$hk" helicoid fit "$tmp/curly.hair" -o "$tmp/fit_nm.txt" --method nelder-mead --quiet
+awk -F'[= ]' '/^# strands/ { exit !($5 < 0.002) }' "$tmp/out" || fail "nelder-mead fit over 2 mm: $(tail -n 1 "$tmp/out")"
+expect 0 "$hk" helicoid fit "$tmp/curly.hair" -o "$tmp/fit4.txt" --pieces 4 --quiet
+grep -q '^1,121,4,' "$tmp/out" || fail "--pieces 4 gave: $(sed -n 2p "$tmp/out")"
+[ "$(grep -c '^Piece' "$tmp/fit4.txt")" = 4 ] || fail "--pieces 4 wrote $(grep -c '^Piece' "$tmp/fit4.txt") pieces"
+expect 2 "$hk" helicoid fit "$tmp/curly.hair" -o "$tmp/x.txt" --method simplex
+contains "$tmp/err" "--method expects lm or nelder-mead"
+expect 2 "$hk" helicoid fit "$tmp/curly.hair" -o "$tmp/x.txt" --pieces 65
+contains "$tmp/err" "--pieces expects"
+expect 2 "$hk" helicoid fit "$tmp/curly.hair" -o "$tmp/x.txt" --pieces 3 --max-pieces 5
+contains "$tmp/err" "drop --max-pieces"
+expect 1 "$hk" helicoid fit "$tmp/curly.hair" -o "$tmp/x.txt" --pieces 40 --tolerance 0.001
+contains "$tmp/err" "curly.hair: strand 1: curve fit: 40 pieces"
+[ -e "$tmp/x.txt" ] && fail "output written despite an error"
 
 # interpolate: random roots over the wick. Nine plain guides (the wavy 40 of the example
 # would make the reconstruction below slow to fit): curly at the back, straight in front
@@ -165,6 +180,9 @@ contains "$tmp/err" "wick.obj.*follicles, more than"
 # reconstruct: from one strand in five
 expect 0 "$hk" helicoid reconstruct "$tmp/interp.hair" --every 5 -o "$tmp/recon.hair" --quiet
 grep -q '^# strands=500 fitted=100 ' "$tmp/out" || fail "reconstruct summary: $(cat "$tmp/out")"
+# the same with 1 and 2 threads, byte for byte
+expect 0 "$hk" helicoid reconstruct "$tmp/interp.hair" --every 5 -o "$tmp/recon1.hair" --quiet --threads 1
+cmp -s "$tmp/recon.hair" "$tmp/recon1.hair" || fail "reconstruct differs between 1 and 2 threads"
 
 # errors
 expect 2 "$hk" helicoid
