@@ -828,6 +828,8 @@ static void test_fit_bad_input(void **state)
     EXPECT(HK_ERR_INVALID, "start pose", target, N, helix_model, NULL, 2, seed, scale, &o);
     o = hk_default_curve_fit_options(), o.method = 7;
     EXPECT(HK_ERR_INVALID, "method", target, N, helix_model, NULL, 2, seed, scale, &o);
+    o = hk_default_curve_fit_options(), o.penalty_weight[1] = -1.0;
+    EXPECT(HK_ERR_INVALID, "penalty_weight[1]", target, N, helix_model, NULL, 2, seed, scale, &o);
     o = hk_default_curve_fit_options(), o.arc_length = 2;
     EXPECT(HK_ERR_INVALID, "arc_length", target, N, helix_model, NULL, 2, seed, scale, &o);
     /* Bad points. */

@@ -204,6 +204,9 @@ typedef struct hk_CurveFitOptions {
     double lambda;              /* eq. (5) regularisation (m per unit of |params|), >= 0;
                                    least squares adds (lambda |params|)^2 to the mean
                                    squared distance */
+    double penalty_weight[HK_CURVEFIT_MAX_PARAMS]; /* the regularisation's |k| is |W k|, W =
+                                   diag(penalty_weight), 0 meaning 1: parameters of other
+                                   units or meaning can be weighed (helicoid_fit.c) */
     double tolerance;           /* accept a fit when its normalised coupling <= this (m) */
     double split_threshold;     /* §5.3 Fréchet threshold in (0, 1]: 0.6 in the paper */
     double min_fragment_length; /* shortest piece the splitting creates (m), >= 0 */

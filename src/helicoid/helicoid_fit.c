@@ -147,6 +147,14 @@ hk_Status hk_helicoid_fit(hk_HelicoidFitter *f, const hk_Vec3 *points, int count
 
     hk_CurveFitOptions first = opt;
     first.fragment_seed = fragment_seed;
+    /* alpha is a pitch ratio, not a curvature: weigh it as a curvature of one radian per
+     * sample spacing, so that the regularisation prefers a bend in the frame's normal
+     * plane (k_T, alpha near 0) to the same bend made with k_T near 0 and alpha huge (the
+     * root roll rule makes them equal at the root, and both are planar when alpha -> inf):
+     * fits of neighbouring strands then agree on their parameters and can be blended
+     * (§5.4). An |alpha| of 1 costs what k = 1/h does, lambda / h (50 um at 2 mm). */
+    if (!(first.penalty_weight[3] > 0.0) && count >= 2 && length > 0.0)
+        first.penalty_weight[3] = (double)(count - 1) / length;
     if (!opt.use_start) first.root_frame = root_roll;
     if (!opt.use_start && count >= 3 && hk_curve_estimate_start(points, count, &first.start, NULL) == HK_OK) {
         /* curvefit's estimate takes the first segment as the tangent, exact for the

@@ -208,10 +208,20 @@ static int trace(Fit *F, const double *params, const hk_CurveStart *start, int m
     return !trace_finite(out, m, end);
 }
 
-static double param_norm(int np, const double *x)
+/* The weight of parameter j in the regularisation (options.penalty_weight, 0 = 1). */
+static double penalty_weight(const hk_CurveFitOptions *o, int j)
+{
+    return o->penalty_weight[j] > 0.0 ? o->penalty_weight[j] : 1.0;
+}
+
+/* |W x| over the model's parameters, W the penalty weights: eq. (5)'s |k|. */
+static double param_norm(const Fit *F, const double *x)
 {
     double s = 0.0;
-    for (int j = 0; j < np; j++) s += x[j] * x[j];
+    for (int j = 0; j < F->np; j++) {
+        const double v = penalty_weight(F->opt, j) * x[j];
+        s += v * v;
+    }
     return sqrt(s);
 }
 
@@ -224,7 +234,7 @@ static double objective(const double *x, void *user)
     const hk_CurveStart s = start_pose(F, &F->base, x, F->rotating, F->i0 == 0);
     if (trace(F, x, &s, F->m, F->ws->trace, &end) != 0) return INFINITY;
     const double c = hk_frechet_coupling_prefix(F->ws->target + F->i0, F->ws->trace, F->m, F->ws->row, NULL);
-    return c / (double)F->m + F->opt->lambda * param_norm(F->np, x);
+    return c / (double)F->m + F->opt->lambda * param_norm(F, x);
 }
 
 /* 1 when the fragment being fitted ends before the target does: a later piece joins it
@@ -274,7 +284,7 @@ static int residuals(const double *x, double *r, void *user)
         r[3 * i + 1] = w * (model[i].y - target[i].y);
         r[3 * i + 2] = w * (model[i].z - target[i].z);
     }
-    for (int j = 0; j < F->np; j++) r[3 * F->m + j] = F->opt->lambda * x[j];
+    for (int j = 0; j < F->np; j++) r[3 * F->m + j] = F->opt->lambda * penalty_weight(F->opt, j) * x[j];
     if (has_join(F)) {
         const hk_Vec3 d = join_residual(F, &end);
         r[3 * F->m + F->np] = d.x;
@@ -330,7 +340,7 @@ static hk_Status minimise(Fit *F, int nx, double *x, const double *scale)
     hk_NelderMeadResult r;
     hk_Status st = hk_nelder_mead_minimize(nx, x, scale, objective, F, &nm, &r, NULL);
     for (int k = 0; st == HK_OK && r.converged && k < F->opt->restarts &&
-                    r.f - F->opt->lambda * param_norm(F->np, x) > F->opt->tolerance;
+                    r.f - F->opt->lambda * param_norm(F, x) > F->opt->tolerance;
          k++) {
         const double before = r.f;
         st = hk_nelder_mead_minimize(nx, x, scale, objective, F, &nm, &r, NULL);
@@ -389,7 +399,7 @@ static hk_Status descend(Fit *F, double (*cand)[MAXP + ROT], int count, int nx, 
             best = f;
             result = HK_OK;
         }
-        if (objective(x, F) - F->opt->lambda * param_norm(F->np, x) <= F->opt->tolerance) break;
+        if (objective(x, F) - F->opt->lambda * param_norm(F, x) <= F->opt->tolerance) break;
     }
     if (result != HK_OK) pick(F, cand, count, x); /* every start failed: hand back the least bad */
     return result == HK_OK ? HK_OK : minimise(F, nx, x, F->scale);
@@ -422,7 +432,7 @@ static hk_Status fit_piece(Fit *F, int i0, int i1, const hk_CurveStart *start, i
      * dozen traces, and the root frame's error, small at the root, is what every later
      * piece inherits through the joins. */
     const double refine_above = F->opt->method == HK_CURVEFIT_LEAST_SQUARES ? 0.1 * F->opt->tolerance : F->opt->tolerance;
-    if (st == HK_OK && refine && objective(x, F) - F->opt->lambda * param_norm(F->np, x) > refine_above) {
+    if (st == HK_OK && refine && objective(x, F) - F->opt->lambda * param_norm(F, x) > refine_above) {
         /* Free the frame: candidates are the fit so far, the hints with their own
          * rotations, and the seed rolled by quarter turns about the tangent, because the
          * normal estimated from noisy first points can be off by any roll (the first
@@ -764,7 +774,7 @@ static int chain_residuals(const double *x, double *r, void *user)
         r[3 * i + 2] = w * (F->ws->chain[i].z - F->ws->target[i].z);
     }
     const int np = o->piece_count * F->np;
-    for (int j = 0; j < np; j++) r[3 * F->n + j] = F->opt->lambda * x[j];
+    for (int j = 0; j < np; j++) r[3 * F->n + j] = F->opt->lambda * penalty_weight(F->opt, j % F->np) * x[j];
     return 0;
 }
 
@@ -835,6 +845,9 @@ static hk_Status check_options(const hk_CurveFitOptions *o, int np, hk_Error *er
 {
 #define BAD(...) hk_error_set(err, HK_ERR_INVALID, "curve fit: " __VA_ARGS__)
     if (!(o->lambda >= 0.0) || !isfinite(o->lambda)) return BAD("lambda must be finite and >= 0, got %g", o->lambda);
+    for (int j = 0; j < HK_CURVEFIT_MAX_PARAMS; j++)
+        if (!(o->penalty_weight[j] >= 0.0) || !isfinite(o->penalty_weight[j]))
+            return BAD("penalty_weight[%d] must be finite and >= 0, got %g", j, o->penalty_weight[j]);
     if (!(o->tolerance >= 0.0)) return BAD("tolerance must be >= 0, got %g", o->tolerance);
     if (!(o->split_threshold > 0.0 && o->split_threshold <= 1.0))
         return BAD("split_threshold must be in (0, 1], got %g", o->split_threshold);
