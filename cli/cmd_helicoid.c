@@ -11,8 +11,12 @@
 
 #include "helicoid_cli.h"
 #include "hairkit/helicoid_fit.h"
+#include "hairkit/rng.h"
 
 static const char *const CMD = HK_HELICOID_CMD;
+
+/* RNG stream of the strands' wave phases (hk_rng_uniform). */
+enum { WAVE_PHASE_STREAM = 104 };
 
 static void usage(FILE *out)
 {
@@ -217,8 +221,8 @@ static int parse_args(int argc, char **argv, hk_HelicoidArgs *a)
 
 /* ---- strands to .hair ------------------------------------------------------------- */
 
-hk_Status hk_helicoid_cli_trace_set(const hk_HelicoidSet *set, double step, int threads, hk_HairFile *hair,
-                                    hk_Error *err)
+hk_Status hk_helicoid_cli_trace_set(const hk_HelicoidSet *set, double step, uint64_t seed, int threads,
+                                    hk_HairFile *hair, hk_Error *err)
 {
     /* Point counts first, so that the file is allocated once. */
     long total = 0;
@@ -260,11 +264,14 @@ hk_Status hk_helicoid_cli_trace_set(const hk_HelicoidSet *set, double step, int 
         const int n = (int)(hair->first_point[first[s] + 1] - hair->first_point[first[s]]);
         const int m = 1 + set->wisp_count[s];
         hk_Error e;
+        /* the strand's wave phase: from the seed and its index, whatever the threads */
+        hk_Waviness wave = set->waviness;
+        wave.phase = 6.283185307179586 * set->wave_jitter * hk_rng_uniform(seed, WAVE_PHASE_STREAM, (uint64_t)s);
         hk_Vec3 *pts = hk_alloc_array((size_t)n * (size_t)m, sizeof(hk_Vec3), &e);
-        hk_Status rs = pts ? hk_phelicoid_trace(h, step, &set->waviness, NULL, pts, NULL, &e) : HK_ERR_NOMEM;
+        hk_Status rs = pts ? hk_phelicoid_trace(h, step, &wave, NULL, pts, NULL, &e) : HK_ERR_NOMEM;
         if (rs == HK_OK && m > 1)
-            rs = hk_phelicoid_wisp(h, m - 1, set->wisp_radius[s], set->wisp_spread[s], (uint64_t)s, step,
-                                   &set->waviness, pts + n, &e);
+            rs = hk_phelicoid_wisp(h, m - 1, set->wisp_radius[s], set->wisp_spread[s], (uint64_t)s, step, &wave,
+                                   pts + n, &e);
         if (rs == HK_OK) {
             float *out = hair->points + 3 * (size_t)hair->first_point[first[s]];
             for (long i = 0; i < (long)n * m; i++) {
@@ -295,7 +302,7 @@ static int do_trace(const hk_HelicoidArgs *a)
     memset(&hair, 0, sizeof hair);
     const double step = a->step > 0.0 ? a->step : set.step;
     const double t0 = hk_cli_now();
-    hk_Status st = hk_helicoid_cli_trace_set(&set, step, a->threads, &hair, &err);
+    hk_Status st = hk_helicoid_cli_trace_set(&set, step, a->seed, a->threads, &hair, &err);
     if (st == HK_OK) st = hk_hair_save(a->output, &hair, &err);
     if (st == HK_OK && !a->quiet)
         fprintf(stderr, "hairkit %s trace: %d helicoid strands, %u hair strands (with wisps), %u points in %.3f s\n",

@@ -19,9 +19,10 @@ typedef struct hk_HelicoidArgs {
     int threads, quiet;
 } hk_HelicoidArgs;
 
-/* Traces the set's strands, each followed by its wisp strands, into a .hair file. */
-hk_Status hk_helicoid_cli_trace_set(const hk_HelicoidSet *set, double step, int threads, hk_HairFile *hair,
-                                    hk_Error *err);
+/* Traces the set's strands, each followed by its wisp strands, into a .hair file; `seed` draws
+ * the strands' wave phases when the set's waviness has a jitter. */
+hk_Status hk_helicoid_cli_trace_set(const hk_HelicoidSet *set, double step, uint64_t seed, int threads,
+                                    hk_HairFile *hair, hk_Error *err);
 
 /* Interpolates the guides at the roots into out. With guide_normals (then normals too) on the
  * surface (§4.3: frames relative to the normals); else plain IDW, normals (may be NULL) only

@@ -173,7 +173,7 @@ int hk_helicoid_cli_reconstruct(const hk_HelicoidArgs *a)
     }
     const double step = a->step > 0.0 ? a->step : 0.002;
     all.step = step;
-    if (st == HK_OK) st = hk_helicoid_cli_trace_set(&all, step, a->threads, &out, &err);
+    if (st == HK_OK) st = hk_helicoid_cli_trace_set(&all, step, a->seed, a->threads, &out, &err);
     const double t2 = hk_cli_now();
     if (st == HK_OK) st = hk_hair_save(a->output, &out, &err);
     if (st == HK_OK) {

@@ -179,7 +179,8 @@ int hk_helicoid_cli_interpolate(const hk_HelicoidArgs *a)
     const double t1 = hk_cli_now();
     made.step = a->step > 0.0 ? a->step : guides.step;
     made.waviness = guides.waviness;
-    if (st == HK_OK) st = hk_helicoid_cli_trace_set(&made, made.step, a->threads, &hair, &err);
+    made.wave_jitter = guides.wave_jitter;
+    if (st == HK_OK) st = hk_helicoid_cli_trace_set(&made, made.step, a->seed, a->threads, &hair, &err);
     const double t2 = hk_cli_now();
     if (a->threads > 0) omp_set_num_threads(saved);
     if (st == HK_OK) st = hk_hair_save(a->output, &hair, &err);

@@ -399,12 +399,30 @@ static void test_joint_continuity(void **state)
     free(f);
 }
 
+/* A phase c: on a straight strand along x (frame identity, E_N = y, E_B = z) the waved
+ * points are exactly (s, a sin(b s + c), a cos(b s + c)), the root included. */
+static void test_waviness_phase(void **state)
+{
+    (void)state;
+    hk_PHelicoid h = one_piece(hk_v3_zero(), hk_m3_identity(), kv(0, 0, 0, 0), 0.3);
+    const hk_Waviness w = {0.01, 25.0, 1.1};
+    int n;
+    hk_Vec3 *q = trace(&h, 0.01, HK_HELICOID_AUTO, &w, NULL, NULL, &n);
+    assert_int_equal(n, 31);
+    for (int i = 0; i < n; i++) {
+        const double s = 0.01 * i;
+        const hk_Vec3 ref = hk_v3(s, 0.01 * sin(25.0 * s + 1.1), 0.01 * cos(25.0 * s + 1.1));
+        assert_true(hk_v3_dist(q[i], ref) < 1e-15);
+    }
+    free(q);
+}
+
 /* Eq. 4: the waved point is a cos(b s) E_B + a sin(b s) E_N away from the unwaved one. */
 static void test_waviness(void **state)
 {
     (void)state;
     hk_PHelicoid h = three_pieces();
-    const hk_Waviness w = {0.02, 40.0};
+    const hk_Waviness w = {0.02, 40.0, 0.0};
     int n, m;
     hk_Mat3 *f;
     hk_Vec3 *p = trace(&h, 0.05, HK_HELICOID_AUTO, NULL, NULL, &f, &n);
@@ -751,7 +769,7 @@ static void test_sink(void **state)
     (void)state;
     /* k_N = -1: every streamline of the plane runs into the axis at (1, 0) after length 1. */
     hk_PHelicoid h = one_piece(hk_v3_zero(), hk_m3_identity(), kv(0.0, -1.0, 0, 0), 3.0);
-    const hk_Waviness w = {0.01, 10.0};
+    const hk_Waviness w = {0.01, 10.0, 0.0};
     int n;
     hk_Mat3 *f;
     hk_Vec3 *p = trace(&h, 0.1, HK_HELICOID_AUTO, &w, NULL, &f, &n);
@@ -835,8 +853,8 @@ static void test_bad_input(void **state)
     EXPECT_BAD(hk_phelicoid_trace(&good, 0.5, NULL, NULL, NULL, NULL, &err));
     const hk_Vec3 bad_off = hk_v3(0, nan, 0);
     EXPECT_BAD(hk_phelicoid_trace(&good, 0.5, NULL, &bad_off, pts, NULL, &err));
-    const hk_Waviness bw[] = {{-0.1, 1.0}, {nan, 1.0}, {0.1, INFINITY}};
-    for (int i = 0; i < 3; i++) EXPECT_BAD(hk_phelicoid_trace(&good, 0.5, &bw[i], NULL, pts, NULL, &err));
+    const hk_Waviness bw[] = {{-0.1, 1.0, 0.0}, {nan, 1.0, 0.0}, {0.1, INFINITY, 0.0}, {0.1, 1.0, nan}};
+    for (int i = 0; i < 4; i++) EXPECT_BAD(hk_phelicoid_trace(&good, 0.5, &bw[i], NULL, pts, NULL, &err));
     /* huge parameters: finite input, non-finite trace reported */
     h = one_piece(hk_v3_zero(), hk_m3_identity(), kv(1e308, 1e308, 1e308, 1e308), 1.0);
     hk_error_clear(&err);
@@ -891,7 +909,7 @@ static void test_fuzz(void **state)
             if (hk_test_uniform() < 0.3) h.k[i].alpha = 0.0;
         }
         const hk_Vec3 off = hk_v3_scale(rand_unit(), hk_test_uniform());
-        const hk_Waviness w = {0.01, 30.0};
+        const hk_Waviness w = {0.01, 30.0, 0.0};
         const double step = 0.02 + 0.2 * hk_test_uniform();
         if (hk_phelicoid_point_count(&h, step) > 4096) continue;
         if (hk_phelicoid_trace(&h, step, &w, &off, pts, frames, &err) == HK_OK) {
@@ -917,6 +935,7 @@ int main(void)
         cmocka_unit_test(test_point_count),
         cmocka_unit_test(test_joint_continuity),
         cmocka_unit_test(test_waviness),
+        cmocka_unit_test(test_waviness_phase),
         cmocka_unit_test(test_canonical_rule),
         cmocka_unit_test(test_wisp),
         cmocka_unit_test(test_idw_reproduces_guides),

@@ -36,6 +36,7 @@ static void test_sample(void **state)
     hk_assert_near(set.step, 0.001, 0.0);
     hk_assert_near(set.waviness.amplitude, 0.0005, 0.0);
     hk_assert_near(set.waviness.frequency, 300.0, 0.0);
+    hk_assert_near(set.wave_jitter, 0.0, 0.0); /* two numbers: waves in step */
     const hk_PHelicoid *a = &set.strands[0], *b = &set.strands[1];
     assert_int_equal(a->piece_count, 2);
     hk_assert_near(a->k[0].kt, 20.0, 0.0);
@@ -70,6 +71,26 @@ static void test_sample(void **state)
     fclose(f1), fclose(f2);
     assert_int_equal(n1, n2);
     assert_memory_equal(b1, b2, n1);
+    hk_helicoid_set_free(&again);
+    hk_helicoid_set_free(&set);
+}
+
+/* The optional phase jitter of Waviness: read, written back, read again the same. */
+static void test_wave_jitter(void **state)
+{
+    (void)state;
+    hk_Error err;
+    hk_HelicoidSet set, again;
+    const char *path = hk_test_write_text("jitter.txt", "Waviness 0.002 150 0.25\nStrand\nRoot 0 0 0\n"
+                                                        "Frame 1 0 0  0 1 0\nPiece 10 0 0 0 0.1\n");
+    assert_int_equal(hk_helicoid_file_load(path, &set, &err), HK_OK);
+    hk_assert_near(set.wave_jitter, 0.25, 0.0);
+    char saved[512];
+    snprintf(saved, sizeof saved, "%s/jitter2.txt", hk_test_tmpdir());
+    assert_int_equal(hk_helicoid_file_save(saved, &set, "test", &err), HK_OK);
+    assert_int_equal(hk_helicoid_file_load(saved, &again, &err), HK_OK);
+    hk_assert_near(again.wave_jitter, 0.25, 0.0);
+    hk_assert_near(again.waviness.amplitude, 0.002, 0.0);
     hk_helicoid_set_free(&again);
     hk_helicoid_set_free(&set);
 }
@@ -111,6 +132,8 @@ static void test_errors(void **state)
     expect_error("Step 0.1\nStep 0.1\nStrand\n", "bad.txt:2", "duplicate");
     expect_error("Strand\nStep 0.1\n", "bad.txt:2", "before the first Strand");
     expect_error("Waviness -1 3\nStrand\n", "bad.txt:1", "Waviness");
+    expect_error("Waviness 0.001 3 1.5\nStrand\n", "bad.txt:1", "phase jitter in [0, 1]");
+    expect_error("Waviness 0.001 3 0.5 2\nStrand\n", "bad.txt:1", "2 or 3 numbers");
     expect_error("Strand\nRoot 0 0 0\nFrame 1 0 0 0 1 0\nPiece 1 0 0 0 1\nBend 3\n", "bad.txt:5", "unknown key");
     /* 65 pieces */
     char buf[8192] = "Strand\nRoot 0 0 0\nFrame 1 0 0 0 1 0\n";
@@ -152,6 +175,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sample),
         cmocka_unit_test(test_errors),
+        cmocka_unit_test(test_wave_jitter),
         cmocka_unit_test(test_fuzz),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

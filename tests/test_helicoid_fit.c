@@ -204,7 +204,7 @@ static void test_fit_is_a_curve(void **state)
     h.k[1] = (hk_Helicoid){20, 3, -4, 0.1};
     h.k[2] = (hk_Helicoid){12, -2, 5, -0.2};
     h.length[0] = 0.008, h.length[1] = 0.08, h.length[2] = 0.112;
-    const hk_Waviness wave = {0.004, 120.0};
+    const hk_Waviness wave = {0.004, 120.0, 0.0};
     enum { N = 101 };
     hk_Vec3 pts[N];
     assert_int_equal(hk_phelicoid_point_count(&h, 0.002), N);

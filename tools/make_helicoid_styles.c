@@ -37,13 +37,14 @@ typedef struct Style {
     double curl_under;           /* the last piece turns the tips under by this much (rad) */
     int hug, fall;               /* pieces over the head and below it */
     double wave_amplitude, wave_frequency; /* eq. 4 (m, rad/m) */
+    double wave_jitter;                    /* strands' phase spread (turns, file format) */
 } Style;
 
 static const Style STYLES[] = {
     {"long", "long wavy hair with a fringe", 40, {0.0, 0.0, -0.03}, 6, 0.015, 1.35, 0.008, 0.012, -0.22, 0.095, 0.045,
-     0.02, 0.0, 4, 6, 0.004, 120.0},
+     0.02, 0.0, 4, 6, 0.004, 120.0, 0.3},
     {"bob", "a curly bob with a fringe", 40, {0.0, 0.0, -0.06}, 6, 0.015, 1.0, 0.012, 0.016, -0.045, 0.095, 0.045,
-     0.02, 0.5, 4, 3, 0.006, 250.0},
+     0.02, 0.5, 4, 3, 0.006, 250.0, 0.4},
 };
 
 typedef struct Guide {
@@ -266,7 +267,7 @@ static int write_style(const Style *st, const Guide *g, int count, const char *p
             "# The fringe stops above the brows. Waviness (eq. 4) makes the %s.\n",
             st->comment, count, 1, st->hug, st->fall, st->curl_under > 0.0 ? " (the ends turned under)" : "",
             st->wave_frequency > 200.0 ? "curls" : "waves");
-    fprintf(fp, "Step 0.002\nWaviness %.4g %.4g\n", st->wave_amplitude, st->wave_frequency);
+    fprintf(fp, "Step 0.002\nWaviness %.4g %.4g %.4g\n", st->wave_amplitude, st->wave_frequency, st->wave_jitter);
     for (int i = 0; i < count; i++) {
         const hk_PHelicoid *h = &g[i].h;
         const hk_Vec3 t = hk_m3_col(&h->frame, 0), nn = hk_m3_col(&h->frame, 1);
@@ -361,7 +362,7 @@ int main(int argc, char **argv)
         hk_mesh_free(&head), hk_mesh_free(&wick);
         return 1;
     }
-    const hk_Waviness w = {st->wave_amplitude, st->wave_frequency};
+    const hk_Waviness w = {st->wave_amplitude, st->wave_frequency, 0.0};
     double worst = INFINITY;
     for (int i = 0; i < count; i++) {
         design(st, &head, &wick, roots[i], &g[i]);

@@ -50,11 +50,13 @@ typedef struct hk_PHelicoid {
     double length[HK_HELICOID_MAX_PIECES];  /* finite, > 0 */
 } hk_PHelicoid;
 
-/* Waviness of eq. 4: the traced point p(s) is offset by a cos(b s) E_B(s) + a sin(b s) E_N(s),
- * s the arc length from the root (the root itself moves by a E_B). amplitude = a >= 0 (0: none),
- * frequency = b in radians per unit length (one helical turn every 2 pi / b). */
+/* Waviness of eq. 4: the traced point p(s) is offset by a cos(b s + c) E_B(s) + a sin(b s + c)
+ * E_N(s), s the arc length from the root (the root itself moves by a cos c E_B + a sin c E_N).
+ * amplitude = a >= 0 (0: none), frequency = b in radians per unit length (one helical turn
+ * every 2 pi / b), phase = c in radians (the paper's eq. 4 has c = 0; a phase per strand keeps
+ * neighbouring strands from waving in step, which renders as a net). */
 typedef struct hk_Waviness {
-    double amplitude, frequency;
+    double amplitude, frequency, phase;
 } hk_Waviness;
 
 /* Field angles theta, phi of eq. 1 at the local point x of one helicoid. The arctangent of

@@ -13,7 +13,9 @@ extern "C" {
 
 typedef struct hk_HelicoidSet {
     double step;             /* Step: tracing step along the strands (m), default 0.002 */
-    hk_Waviness waviness;    /* Waviness a b (eq. 4), default none */
+    hk_Waviness waviness;    /* Waviness a b (eq. 4), default none; phase 0 */
+    double wave_jitter;      /* Waviness a b j: strand i's waves start at phase 2 pi j u_i, u_i
+                                uniform in [0, 1) from the trace's seed (0: all in step) */
     int count;               /* strands */
     hk_PHelicoid *strands;
     int *wisp_count;         /* Wisp count radius spread, per strand (count 0: none) */

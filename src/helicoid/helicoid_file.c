@@ -139,24 +139,32 @@ hk_Status hk_helicoid_file_load(const char *path, hk_HelicoidSet *out, hk_Error 
         } else if (hk_key_equal(kl->key, "Step") || hk_key_equal(kl->key, "Waviness")) {
             const int is_step = hk_key_equal(kl->key, "Step");
             int *seen = is_step ? &step_line : &wave_line;
-            double v[2];
+            double v[3] = {0.0, 0.0, 0.0};
             if (current >= 0)
                 st = hk_keyfile_error(&kf, kl->line, HK_ERR_PARSE, err, "%s must come before the first Strand", kl->key);
             else if (*seen)
                 st = hk_keyfile_error(&kf, kl->line, HK_ERR_PARSE, err, "duplicate key '%s' (first given at line %d)",
                                       kl->key, *seen);
-            else if ((st = hk_keyline_doubles(&kf, kl, is_step ? 1 : 2, v, err)) == HK_OK) {
+            else if (!is_step && kl->count != 2 && kl->count != 3)
+                st = hk_keyfile_error(&kf, kl->line, HK_ERR_PARSE, err,
+                                      "Waviness expects 2 or 3 numbers (amplitude, frequency[, phase jitter]), got %d",
+                                      kl->count);
+            else if ((st = hk_keyline_doubles(&kf, kl, is_step ? 1 : kl->count, v, err)) == HK_OK) {
                 *seen = kl->line;
                 if (is_step && !(v[0] > 0.0 && v[0] <= 1.0))
                     st = hk_keyfile_error(&kf, kl->line, HK_ERR_INVALID, err, "Step must be in (0, 1] m, got %s",
                                           kl->values[0]);
-                else if (!is_step && !(v[0] >= 0.0 && v[1] >= 0.0 && v[0] <= 1.0 && v[1] <= 1e6))
+                else if (!is_step && !(v[0] >= 0.0 && v[1] >= 0.0 && v[0] <= 1.0 && v[1] <= 1e6 && v[2] >= 0.0 &&
+                                       v[2] <= 1.0))
                     st = hk_keyfile_error(&kf, kl->line, HK_ERR_INVALID, err,
-                                          "Waviness needs an amplitude in [0, 1] m and a frequency in [0, 1e6] rad/m");
+                                          "Waviness needs an amplitude in [0, 1] m, a frequency in [0, 1e6] rad/m "
+                                          "and optionally a phase jitter in [0, 1] turns");
                 else if (is_step)
                     out->step = v[0];
-                else
-                    out->waviness = (hk_Waviness){v[0], v[1]};
+                else {
+                    out->waviness = (hk_Waviness){v[0], v[1], 0.0};
+                    out->wave_jitter = v[2];
+                }
             }
         } else if (!h) {
             st = hk_keyfile_error(&kf, kl->line, HK_ERR_PARSE, err, "'%s' before the first Strand", kl->key);
@@ -213,7 +221,10 @@ hk_Status hk_helicoid_file_save(const char *path, const hk_HelicoidSet *set, con
     int ok = 1;
     if (comment) ok &= fprintf(fp, "# %s\n", comment) > 0;
     ok &= fprintf(fp, "# hairkit helicoid file (docs/file-formats.md)\nStep %.17g\n", set->step) > 0;
-    if (set->waviness.amplitude > 0.0)
+    if (set->waviness.amplitude > 0.0 && set->wave_jitter > 0.0)
+        ok &= fprintf(fp, "Waviness %.17g %.17g %.17g\n", set->waviness.amplitude, set->waviness.frequency,
+                      set->wave_jitter) > 0;
+    else if (set->waviness.amplitude > 0.0)
         ok &= fprintf(fp, "Waviness %.17g %.17g\n", set->waviness.amplitude, set->waviness.frequency) > 0;
     for (int s = 0; s < set->count && ok; s++) {
         const hk_PHelicoid *h = &set->strands[s];

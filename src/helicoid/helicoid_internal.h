@@ -84,7 +84,7 @@ static inline void hk_helicoid_emit(const hk_HelicoidPiece *pc, const hk_Helicoi
         const hk_Mat3 w = hk_m3_mul(q, &f);
         if (out->frames) out->frames[j] = w;
         if (waved) {
-            const double b = out->wave->frequency * s, amp = out->wave->amplitude;
+            const double b = out->wave->frequency * s + out->wave->phase, amp = out->wave->amplitude;
             p = hk_v3_madd(p, hk_m3_col(&w, 2), amp * cos(b));
             p = hk_v3_madd(p, hk_m3_col(&w, 1), amp * sin(b));
         }

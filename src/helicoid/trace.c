@@ -73,7 +73,8 @@ hk_Status hk_phelicoid_trace(const hk_PHelicoid *h, double step, const hk_Wavine
     if (hk_phelicoid_point_count(h, step) < 0)
         return hk_error_set(err, HK_ERR_INVALID, "p-helicoid trace: step %g gives more than %d points for length %g",
                             step, HK_HELICOID_MAX_POINTS, hk_phelicoid_length(h));
-    if (waviness && (!isfinite(waviness->amplitude) || !isfinite(waviness->frequency) || waviness->amplitude < 0.0))
+    if (waviness && (!isfinite(waviness->amplitude) || !isfinite(waviness->frequency) || !isfinite(waviness->phase) ||
+                     waviness->amplitude < 0.0))
         return hk_error_set(err, HK_ERR_INVALID, "p-helicoid trace: waviness needs a finite amplitude >= 0 and "
                                                  "frequency, got %g, %g",
                             waviness->amplitude, waviness->frequency);

@@ -16,6 +16,18 @@ cp "$tmp/curly.hair" "$tmp/curly1.hair"
 expect 0 "$hk" helicoid trace "$ex/curly.txt" -o "$tmp/curly.hair" --step 0.002 --quiet --threads 1
 cmp -s "$tmp/curly.hair" "$tmp/curly1.hair" || fail "trace differs between runs"
 
+# waves out of step: a phase jitter draws each strand's phase from the seed, the same
+# bytes whatever the threads; without it the seed changes nothing
+sed 's/^Waviness.*/Waviness 0.002 120 0.5/' "$ex/wisp.txt" > "$tmp/jitter.txt"
+expect 0 "$hk" helicoid trace "$tmp/jitter.txt" -o "$tmp/j1.hair" --quiet --threads 1
+expect 0 "$hk" helicoid trace "$tmp/jitter.txt" -o "$tmp/j2.hair" --quiet --threads 2
+cmp -s "$tmp/j1.hair" "$tmp/j2.hair" || fail "jittered waves differ between 1 and 2 threads"
+expect 0 "$hk" helicoid trace "$tmp/jitter.txt" -o "$tmp/j3.hair" --quiet --seed 7
+cmp -s "$tmp/j1.hair" "$tmp/j3.hair" && fail "--seed does not change the jittered phases"
+expect 0 "$hk" helicoid trace "$ex/wisp.txt" -o "$tmp/j4.hair" --quiet --seed 7
+cmp -s "$tmp/wisp.hair" "$tmp/j4.hair" || fail "--seed changed waves without jitter"
+cmp -s "$tmp/wisp.hair" "$tmp/j1.hair" && fail "jitter changed nothing"
+
 # fit: the traced strand back; CSV per strand and a summary line
 expect 0 "$hk" helicoid fit "$tmp/curly.hair" -o "$tmp/fit.txt" --quiet
 [ "$(head -n 1 "$tmp/out")" = "strand,points,pieces,error_m,frechet_m" ] || fail "bad CSV header"
