@@ -110,10 +110,14 @@ static hk_Status follicle_roots(const hk_HelicoidArgs *a, const hk_Mesh *wick, l
     def.spacing = a->follicles;
     def.seed = a->seed;
     def.threads = a->threads;
+    hk_CliProgress bar = {hk_cli_stderr_is_tty() && !a->quiet, "", -1};
+    def.progress = hk_cli_progress;
+    def.progress_user = &bar;
     hk_FollicleSamples f;
     hk_Error e;
     const double t0 = hk_cli_now();
     hk_Status st = hk_wick_follicles(a->head ? &head : NULL, wick, &def, &f, &e);
+    hk_cli_progress_done(&bar);
     hk_mesh_free(&head);
     if (st != HK_OK) {
         if (a->head) return hk_error_set(err, st, "follicles on %s (head %s): %s", a->surface, a->head, e.message);

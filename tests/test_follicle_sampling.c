@@ -231,6 +231,21 @@ static Spacing nearest_neighbours(const hk_Vec3 *p, int n, const hk_Vec3 *extra,
     return r;
 }
 
+/* Progress reports: fractions that never go back, ending at 1. */
+typedef struct Progress {
+    int calls, backwards;
+    double last;
+} Progress;
+
+static void record_progress(void *user, const char *stage, double fraction)
+{
+    Progress *p = user;
+    assert_string_equal(stage, "follicles");
+    if (fraction < p->last) p->backwards++;
+    p->last = fraction;
+    p->calls++;
+}
+
 static void test_sphere_from_one_seed(void **state)
 {
     (void)state;
@@ -243,7 +258,13 @@ static void test_sphere_from_one_seed(void **state)
     const hk_Vec3 seed = hk_v3(0.3, 1.2, 0.1);
     hk_FollicleSamples out;
     hk_Error err;
+    Progress progress = {0, 0, 0.0};
+    def.progress = record_progress;
+    def.progress_user = &progress;
     assert_int_equal(hk_sample_follicles(sphere_fn, &seed, 1, &def, &out, &err), HK_OK);
+    assert_int_equal(progress.calls, out.iterations + 1); /* one per iteration, and the end */
+    assert_int_equal(progress.backwards, 0);
+    hk_assert_near(progress.last, 1.0, 0.0);
     const double expected = 4.0 * PI / (HEX_AREA * d * d);
     assert_true(fabs(out.count / expected - 1.0) < 0.05);
     assert_true(out.births >= out.count - 1);

@@ -82,6 +82,10 @@ int hk_first_error_skip(const hk_FirstError *fe, long index);
  * err (when not NULL) and returns its code. */
 hk_Status hk_first_error_status(const hk_FirstError *fe, hk_Error *err);
 
+/* Progress report of long work: stage name and fraction done in [0, 1]. Called from one
+ * thread at a time. */
+typedef void (*hk_ProgressFn)(void *user, const char *stage, double fraction);
+
 /* Largest single allocation the library will attempt (bytes). Bigger requests come
  * from absurd input sizes and are refused with HK_ERR_NOMEM instead of trying. */
 #define HK_MAX_ALLOCATION ((size_t)8 << 30)

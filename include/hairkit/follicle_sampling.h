@@ -89,6 +89,8 @@ typedef struct hk_FollicleSamplingDef {
     hk_InsideFn inside;    /* NULL: hair grows everywhere on the surface */
     void *inside_user;
     int threads;           /* OpenMP threads; <= 0: the OpenMP default */
+    hk_ProgressFn progress; /* may be NULL: stage "follicles", fraction of the iterations */
+    void *progress_user;
 } hk_FollicleSamplingDef;
 
 /* spacing 0 (must be set), max_particles 100000, max_iterations 600, relax_iterations
@@ -127,6 +129,8 @@ typedef struct hk_WickSamplingDef {
     int max_particles, max_iterations, relax_iterations;
     uint64_t seed;
     int threads;
+    hk_ProgressFn progress; /* may be NULL: stages "surface" (the fit) and "follicles" */
+    void *progress_user;
 } hk_WickSamplingDef;
 
 hk_WickSamplingDef hk_default_wick_sampling_def(void);

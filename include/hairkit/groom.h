@@ -16,9 +16,6 @@
 extern "C" {
 #endif
 
-/* Progress report: stage name and fraction done in [0, 1]. Called from one thread. */
-typedef void (*hk_ProgressFn)(void *user, const char *stage, double fraction);
-
 typedef struct hk_GroomOptions {
     uint64_t seed;          /* the same seed gives the same hair, byte for byte */
     int threads;            /* OpenMP threads; <= 0: the OpenMP default */

@@ -397,20 +397,26 @@ hk_Status hk_sample_follicles(hk_ImplicitFunction fn, const hk_Vec3 *seeds, int 
     const int population_budget = def->max_iterations - def->relax_iterations;
     int it = 0, quiet = 0;
     double max_move = 0.0;
+    /* Progress: the population phase usually settles early (QUIET_ITERATIONS without a
+     * birth or death); the bar counts it against its budget, then the relaxation. */
+    const double total = (double)def->max_iterations;
     for (; it < population_budget && quiet < QUIET_ITERATIONS && s.n > 0; it++) {
         if ((st = iterate(&s, 1, threads, &max_move, err)) != HK_OK) goto done;
         quiet = population(&s, it, &out->births, &out->deaths) ? 0 : quiet + 1;
+        if (def->progress) def->progress(def->progress_user, "follicles", (double)it / total);
     }
     for (int k = 0; k < s.fixed + s.n; k++) s.sigma[k] = s.sigma_star;
 
     for (int r = 0; r < def->relax_iterations && s.n > 0; r++, it++) {
         if ((st = iterate(&s, 0, threads, &max_move, err)) != HK_OK) goto done;
+        if (def->progress) def->progress(def->progress_user, "follicles", (double)(population_budget + r) / total);
         if (max_move < 1e-6 * s.d) {
             it++;
             break;
         }
     }
     out->iterations = it;
+    if (def->progress) def->progress(def->progress_user, "follicles", 1.0);
 
     out->points = hk_alloc_array((size_t)s.n, sizeof(hk_Vec3), err);
     out->normals = hk_alloc_array((size_t)s.n, sizeof(hk_Vec3), err);

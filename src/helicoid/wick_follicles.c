@@ -251,7 +251,9 @@ hk_Status hk_wick_follicles(const hk_Mesh *head, const hk_Mesh *wick, const hk_W
         goto done;
     hk_ImplicitFitDef fit = hk_default_implicit_fit_def();
     fit.threads = d.threads;
+    if (d.progress) d.progress(d.progress_user, "surface", 0.0);
     if ((st = hk_implicit_surface_fit(fp, fn, fit_count, &fit, &surface, err)) != HK_OK) goto done;
+    if (d.progress) d.progress(d.progress_user, "surface", 1.0);
     const hk_ImplicitFunction f = hk_implicit_surface_function(surface);
 
     /* How far the wick's flat triangles stray from the smooth surface: the mask must
@@ -303,6 +305,8 @@ hk_Status hk_wick_follicles(const hk_Mesh *head, const hk_Mesh *wick, const hk_W
     sd.inside = on_wick;
     sd.inside_user = &mask;
     sd.threads = d.threads;
+    sd.progress = d.progress;
+    sd.progress_user = d.progress_user;
     if ((st = hk_sample_follicles(f, seeds, seed_count, &sd, &free_part, err)) != HK_OK) goto done;
 
     const int extra = d.include_contour ? contour_count : 0;
