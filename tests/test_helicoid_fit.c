@@ -188,6 +188,17 @@ static void test_reconstruction(void **state)
     assert_true(with_common < with_own);
 }
 
+/* A p-helicoid of three pieces at the origin. */
+static hk_PHelicoid three_pieces(hk_Mat3 frame, const hk_Helicoid *k, const double *length)
+{
+    hk_PHelicoid h;
+    memset(&h, 0, sizeof h);
+    h.frame = frame;
+    h.piece_count = 3;
+    for (int p = 0; p < 3; p++) h.k[p] = k[p], h.length[p] = length[p];
+    return h;
+}
+
 /* A fit describes a curve, not one discretisation of it: a wavy strand (not a p-helicoid:
  * eq. 4's waviness on top) fitted piece by piece, then traced 4 times finer than its
  * samples, is as close to the target as the fit said. Before the fitter refused pieces
@@ -196,14 +207,8 @@ static void test_reconstruction(void **state)
 static void test_fit_is_a_curve(void **state)
 {
     (void)state;
-    hk_PHelicoid h;
-    memset(&h, 0, sizeof h);
-    h.frame = hk_helicoid_frame(0.4, 0.2);
-    h.piece_count = 3;
-    h.k[0] = (hk_Helicoid){150, 0, 0, 0};
-    h.k[1] = (hk_Helicoid){20, 3, -4, 0.1};
-    h.k[2] = (hk_Helicoid){12, -2, 5, -0.2};
-    h.length[0] = 0.008, h.length[1] = 0.08, h.length[2] = 0.112;
+    const hk_Helicoid k[3] = {{150, 0, 0, 0}, {20, 3, -4, 0.1}, {12, -2, 5, -0.2}};
+    const hk_PHelicoid h = three_pieces(hk_helicoid_frame(0.4, 0.2), k, (const double[3]){0.008, 0.08, 0.112});
     const hk_Waviness wave = {0.004, 120.0, 0.0};
     enum { N = 101 };
     hk_Vec3 pts[N];
@@ -240,14 +245,8 @@ static void test_fit_is_a_curve(void **state)
 static void test_lift_off_layouts(void **state)
 {
     (void)state;
-    hk_PHelicoid h;
-    memset(&h, 0, sizeof h);
-    h.frame = hk_helicoid_frame(0.3, 0.2);
-    h.piece_count = 3;
-    h.k[0] = (hk_Helicoid){168.75, 0, 0, 0};
-    h.k[1] = (hk_Helicoid){20, 0, 0, 0};
-    h.k[2] = (hk_Helicoid){5, 0, 0, 0};
-    h.length[0] = 0.008, h.length[1] = 0.05, h.length[2] = 0.05;
+    const hk_Helicoid k[3] = {{168.75, 0, 0, 0}, {20, 0, 0, 0}, {5, 0, 0, 0}};
+    const hk_PHelicoid h = three_pieces(hk_helicoid_frame(0.3, 0.2), k, (const double[3]){0.008, 0.05, 0.05});
     enum { N = 55 };
     hk_Vec3 pts[N];
     assert_int_equal(hk_phelicoid_point_count(&h, 0.002), N);

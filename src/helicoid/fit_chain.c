@@ -1,0 +1,102 @@
+/* Whole chains of pieces: fixed layouts of equal pieces (§5.4 blends fits piece by
+ * piece) and the joint polish of all a chain's parameters (least squares). */
+#include <math.h>
+#include <string.h>
+
+#include "helicoid/piecewise_internal.h"
+
+/* ---- a fixed layout (§5.4) ------------------------------------------------------------ */
+
+/* Exactly P pieces of equal length, fitted one after the other from the end pose of the
+ * last (the root one may refine its frame), each seeded by its predecessor. */
+hk_Status hk_cf_fit_fixed(Fit *F, int pieces, const hk_CurveStart *start)
+{
+    hk_CurveStart pose = *start;
+    Piece prev, piece;
+    for (int k = 0; k < pieces; k++) {
+        const int a = (int)(((long)k * (F->n - 1) + pieces / 2) / pieces);
+        const int b = (int)(((long)(k + 1) * (F->n - 1) + pieces / 2) / pieces);
+        hk_Status st = hk_cf_fit_piece(F, a, b, &pose, 1, k > 0 ? &prev : NULL, NULL, &piece);
+        if (st != HK_OK) return st;
+        hk_cf_emit(F, &piece, a, b);
+        pose = piece.end;
+        prev = piece;
+    }
+    return HK_OK;
+}
+
+/* ---- polishing a chain (least squares) ------------------------------------------------ */
+
+/* The chain's residuals for all its parameters x (piece after piece): the distances of
+ * every sample to the chained model, weighted 1/sqrt(n), and lambda x_j. */
+static int chain_residuals(const double *x, double *r, void *user)
+{
+    Fit *F = user;
+    const hk_CurveFit *o = F->out;
+    hk_CurveStart pose = F->root_base, end;
+    if (F->opt->root_frame) F->opt->root_frame(F->user, x, &pose);
+    for (int k = 0; k < o->piece_count; k++) {
+        const int a = o->first_sample[k], b = k + 1 < o->piece_count ? o->first_sample[k + 1] : F->n - 1;
+        if (hk_cf_trace(F, x + k * F->np, &pose, b - a + 1, F->ws->chain + a, &end) != 0) return 1;
+        pose = end;
+    }
+    const double w = 1.0 / sqrt((double)F->n);
+    for (int i = 0; i < F->n; i++) {
+        r[3 * i] = w * (F->ws->chain[i].x - F->ws->target[i].x);
+        r[3 * i + 1] = w * (F->ws->chain[i].y - F->ws->target[i].y);
+        r[3 * i + 2] = w * (F->ws->chain[i].z - F->ws->target[i].z);
+    }
+    const int np = o->piece_count * F->np;
+    for (int j = 0; j < np; j++) r[3 * F->n + j] = F->opt->lambda * hk_cf_penalty_weight(F->opt, j % F->np) * x[j];
+    return 0;
+}
+
+/* All pieces refitted together, their joins fixed: each piece was fitted alone from the
+ * end pose of its predecessor, whose small errors in the frame there its successors
+ * could only bend to follow; moving them together lets the first pieces end where the
+ * later ones need them (the p-helicoid's frame continuity of §3.4 is kept, the joins
+ * stay chained). Kept only when the chain's coupling improves. Chains of more than
+ * POLISH_PARAMS parameters are left as they are. */
+hk_Status hk_cf_polish_chain(Fit *F)
+{
+    hk_CurveFit *o = F->out;
+    const int n = o->piece_count * F->np;
+    if (o->piece_count < 2 || n > POLISH_PARAMS || n < 1) return HK_OK;
+    double x[POLISH_PARAMS], scale[POLISH_PARAMS];
+    for (int k = 0; k < o->piece_count; k++)
+        for (int j = 0; j < F->np; j++) {
+            x[k * F->np + j] = o->params[k][j];
+            scale[k * F->np + j] = F->scale[j];
+        }
+    const hk_LeastSquaresOptions lo = hk_cf_least_squares_options(F, n);
+    const int m = (int)(3 * F->n) + n;
+    hk_LeastSquaresResult r;
+    if (hk_least_squares_minimize(n, m, x, scale, chain_residuals, F, &lo, F->ws->lsq, &r, NULL) != HK_OK) return HK_OK;
+    /* The polished chain, traced once more into ws->chain with its poses. */
+    double saved[HK_CURVEFIT_MAX_PIECES][MAXP];
+    memcpy(saved, o->params, sizeof saved);
+    for (int k = 0; k < o->piece_count; k++) memcpy(o->params[k], x + k * F->np, (size_t)F->np * sizeof(double));
+    hk_CurveStart pose = F->root_base, starts[HK_CURVEFIT_MAX_PIECES], end;
+    if (F->opt->root_frame) F->opt->root_frame(F->user, x, &pose);
+    int ok = 1;
+    for (int k = 0; k < o->piece_count && ok; k++) {
+        const int a = o->first_sample[k], b = k + 1 < o->piece_count ? o->first_sample[k + 1] : F->n - 1;
+        starts[k] = pose;
+        ok = hk_cf_trace(F, o->params[k], &pose, b - a + 1, F->ws->chain + a, &end) == 0;
+        pose = end;
+    }
+    const double polished = ok ? hk_frechet_coupling_prefix(F->ws->target, F->ws->chain, F->n, F->ws->row, NULL) : INFINITY;
+    if (!(polished / (double)F->n < o->error)) {
+        memcpy(o->params, saved, sizeof saved);
+        return HK_OK;
+    }
+    for (int k = 0; k < o->piece_count; k++) {
+        const int a = o->first_sample[k], b = k + 1 < o->piece_count ? o->first_sample[k + 1] : F->n - 1;
+        double c, d;
+        hk_frechet_both(F->ws->target + a, b - a + 1, F->ws->chain + a, b - a + 1, F->ws->row, &c, &d);
+        o->piece_error[k] = c / (double)(b - a + 1);
+        o->piece_frechet[k] = d;
+        F->starts[k] = starts[k];
+    }
+    return HK_OK;
+}

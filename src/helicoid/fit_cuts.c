@@ -1,0 +1,247 @@
+/* Where to cut a range that one piece cannot fit (helicoid paper 003 §5.3), and the
+ * recursion over ranges.
+ *
+ * The paper's cut (with Nelder-Mead):
+ *  - upper limit (Fréchet threshold): grow a fragment from the start of the range while
+ *    the coupling of the fragment against the same stretch of the fit stays within
+ *    split_threshold (60% in the paper) of the whole fit's coupling; at 100% the whole
+ *    range is one fragment, as the paper says. Fit that fragment; while its fit is
+ *    still within tolerance, grow it by half and fit again, so that the limit lies past
+ *    the change the split is looking for;
+ *  - backtracking (curvature): compare the bend of the target and of the fragment's fit
+ *    vertex by vertex (turning and twisting angles, which do not depend on where the
+ *    fit has drifted to) and cut where the target stops agreeing with the fit: the
+ *    minimum of the cumulative sum of (difference - its mean) over the fragment (a CUSUM
+ *    change point), no closer to the start than the minimal fragment.
+ * Ours (with least squares): the longest acceptable prefix by bisection, settled up to
+ * SETTLE_BACK samples back by a look-ahead fit. */
+#include <math.h>
+#include <string.h>
+
+#include "helicoid/piecewise_internal.h"
+
+/* Upper limit of the first fragment: the last sample k such that the fragment i0..k
+ * couples with the same stretch of the fit (in ws->best) within `threshold` of the
+ * whole range's coupling. */
+static int frechet_upper_limit(Fit *F, int i0, int i1)
+{
+    const int m = i1 - i0 + 1;
+    const double total = hk_frechet_coupling_prefix(F->ws->target + i0, F->ws->best, m, F->ws->row, F->ws->prefix);
+    const double limit = F->opt->split_threshold * total;
+    for (int k = 1; k < m; k++)
+        if (F->ws->prefix[k] > limit) return i0 + k - 1;
+    return i1;
+}
+
+/* Backtracking from the upper limit k_max: the cut k in [k_lo, k_max] where the target's
+ * bend stops agreeing with the fit of fragment i0..k_max (see above). Vertex j's
+ * bend (its turning angle and the twist that follows) belongs to the piece that owns the
+ * step from segment j-1 to segment j, so a cut at k keeps vertices up to k. The fit is
+ * traced two samples past k_max (k_max <= i1 - 2) so that those bends exist. */
+static hk_Status curvature_cut(Fit *F, int i0, int k_lo, int k_max, const Piece *frag, int *cut)
+{
+    const int m = k_max - i0 + 3;
+    hk_CurveStart end;
+    /* A model may refuse to go on past its fragment (a helicoid nearing its singular
+     * axis): then the last two vertices' bends are not compared (they count as the mean
+     * difference, neutral in the cumulative sum below). */
+    int last = k_max;
+    if (hk_cf_trace(F, frag->params, &frag->start, m, F->ws->best, &end) != 0) {
+        last = k_max - 2;
+        if (last <= i0 || hk_cf_trace(F, frag->params, &frag->start, m - 2, F->ws->best, &end) != 0)
+            return hk_error_set(F->err, HK_ERR_NUMERIC,
+                                "curve fit: the model failed at its own best fit (samples %d..%d)", i0, k_max);
+    }
+    double *d = F->ws->diff;
+    double mean = 0.0;
+    for (int j = i0 + 1; j <= last; j++) {
+        double turn_t, twist_t, turn_f, twist_f;
+        hk_polyline_bend(F->ws->target, j, &turn_t, &twist_t);
+        hk_polyline_bend(F->ws->best, j - i0, &turn_f, &twist_f);
+        d[j] = fabs(turn_t - turn_f) + fabs(twist_t - twist_f);
+        mean += d[j];
+    }
+    mean /= (double)(last - i0);
+    for (int j = last + 1; j <= k_max; j++) d[j] = mean;
+    double s = 0.0, best_s = INFINITY;
+    int best_k = k_max;
+    for (int k = i0 + 1; k <= k_max; k++) {
+        s += d[k] - mean;
+        /* <=: among equal sums the longest fragment, the first met when backtracking
+         * from the upper limit as the paper does. */
+        if (k >= k_lo && s <= best_s) {
+            best_s = s;
+            best_k = k;
+        }
+    }
+    *cut = best_k;
+    return HK_OK;
+}
+
+/* The paper's cut (§5.3, see above): an upper limit from the Fréchet threshold,
+ * grown while the fragment still fits, then backtracking by bends. frag gets a fit
+ * usable as the first part's hint, marked reusable when it fits exactly i0..cut. */
+static hk_Status paper_cut(Fit *F, int i0, int i1, int k_lo, int k_hi, const hk_CurveStart *start, const Piece *whole,
+                           Piece *frag, int *cut)
+{
+    hk_Status st;
+    /* The whole fit's trace for the Fréchet threshold (a `known` fit left none behind). */
+    hk_CurveStart tmp;
+    if (hk_cf_trace(F, whole->params, &whole->start, i1 - i0 + 1, F->ws->best, &tmp) != 0)
+        return hk_error_set(F->err, HK_ERR_NUMERIC, "curve fit: the model failed at its own best fit (samples %d..%d)",
+                            i0, i1);
+    int k_max = frechet_upper_limit(F, i0, i1);
+    k_max = k_max < k_lo ? k_lo : (k_max > k_hi ? k_hi : k_max);
+    *frag = *whole;
+    frag->params_valid_for_cut = 0;
+    *cut = k_lo;
+    if (k_max <= k_lo) return HK_OK;
+    /* Fits that only locate the cut stay in the estimated root frame: no refinement
+     * for each, and on clean data that frame is the exact one. */
+    if ((st = hk_cf_fit_piece(F, i0, k_max, start, 0, whole, NULL, frag)) != HK_OK) return st;
+    /* The threshold is only a first guess: while the fragment still fits within the
+     * tolerance, grow it by half, so that the backtracking starts past the change. */
+    while (frag->error <= F->opt->tolerance && k_max < k_hi) {
+        const int step = (k_max - i0) / 2 > F->min_points - 1 ? (k_max - i0) / 2 : F->min_points - 1;
+        const int next = k_max + step < k_hi ? k_max + step : k_hi;
+        Piece longer;
+        if ((st = hk_cf_fit_piece(F, i0, next, start, 0, frag, NULL, &longer)) != HK_OK) return st;
+        k_max = next;
+        *frag = longer;
+    }
+    if ((st = curvature_cut(F, i0, k_lo, k_max, frag, cut)) != HK_OK) return st;
+    /* The fragment's fit is the first part's when the cut is at its end (at the root
+     * with refine_start, the first part gets its own chance to refine the frame). */
+    frag->params_valid_for_cut = *cut == k_max && (i0 > 0 || !F->opt->refine_start);
+    return HK_OK;
+}
+
+/* Samples the longest acceptable prefix may overshoot a join by (its last points lean
+ * a little off the piece it belongs to, within the tolerance) and the cuts tried there. */
+#define SETTLE_BACK 3
+
+/* A prefix that runs a sample or two past a join still fits within the tolerance, but
+ * it ends in a pose the next piece cannot start from. Try the cut at the longest
+ * acceptable prefix and up to SETTLE_BACK samples before it: each with its first part
+ * fitted and a look-ahead piece (as long as half that part, at least a minimal fragment)
+ * fitted from its end pose; keep the cut whose two fits have the least mean error (the
+ * later cut on ties). frag holds the first part's fit of *cut on entry and on return. */
+static hk_Status settle_cut(Fit *F, int i0, int k_lo, int i1, Piece *frag, int *cut)
+{
+    const int good = *cut;
+    double best = INFINITY;
+    Piece first = *frag, ahead;
+    for (int c = good; c >= k_lo && c >= good - SETTLE_BACK; c--) {
+        hk_Status st;
+        if (c != good && (st = hk_cf_fit_piece(F, i0, c, &frag->base, 0, frag, NULL, &first)) != HK_OK) return st;
+        if (!hk_cf_acceptable(F, &first)) continue;
+        const int half = (c - i0) / 2 > F->min_points - 1 ? (c - i0) / 2 : F->min_points - 1;
+        const int end = c + half < i1 ? c + half : i1;
+        if (end <= c + 1) return HK_OK; /* no room to look ahead: keep the longest */
+        if ((st = hk_cf_fit_piece(F, c, end, &first.end, 0, NULL, NULL, &ahead)) != HK_OK) return st;
+        const double mean = (first.error * (c - i0 + 1) + ahead.error * (end - c + 1)) / (double)(end - i0 + 2);
+        if (mean < best) {
+            best = mean;
+            *cut = c;
+            if (c != good) *frag = first;
+        }
+    }
+    frag->params_valid_for_cut = 1;
+    return HK_OK;
+}
+
+/* Our cut for the least-squares fitter: the longest first fragment i0..k (k_lo <= k <=
+ * k_hi) whose own fit is within the tolerance, by bisection (a longer fragment can only
+ * fit worse, give or take the normalisation), each fit started from the last one that
+ * fitted. Cutting greedily at the longest acceptable prefix gives the fewest pieces when
+ * acceptability is monotone, and on a target made of pieces it lands on a join (the
+ * prefix stops fitting exactly where the next piece begins). When even the shortest
+ * fragment misses the tolerance the cut is there. frag gets the fit of i0..cut. */
+static hk_Status longest_prefix_cut(Fit *F, int i0, int i1, int k_lo, int k_hi, const hk_CurveStart *start,
+                                    const Piece *whole, Piece *frag, int *cut)
+{
+    hk_Status st;
+    Piece trial;
+    /* The probes stay in the estimated root frame (a probe that misses the tolerance is
+     * expected here, refining the frame for each would be costly and, on a range that
+     * needs two pieces, would turn the frame to fit the wrong shape); the shortest one
+     * may refine it, which noisy first points need. */
+    if ((st = hk_cf_fit_piece(F, i0, k_lo, start, 1, whole, NULL, frag)) != HK_OK) return st;
+    frag->params_valid_for_cut = 1;
+    *cut = k_lo;
+    if (!hk_cf_acceptable(F, frag)) return HK_OK;
+    int good = k_lo, bad = k_hi + 1; /* fits within the tolerance / does not (k_hi + 1: assumed) */
+    while (bad - good > 1) {
+        const int mid = good + (bad - good) / 2;
+        if ((st = hk_cf_fit_piece(F, i0, mid, &frag->base, 0, frag, whole, &trial)) != HK_OK) return st;
+        if (hk_cf_acceptable(F, &trial)) {
+            good = mid;
+            *frag = trial;
+            frag->params_valid_for_cut = 1;
+        } else {
+            bad = mid;
+        }
+    }
+    *cut = good;
+    if ((st = settle_cut(F, i0, k_lo, i1, frag, cut)) != HK_OK) return st;
+    /* The first piece at the root, now that its extent is known, may refine the frame it
+     * starts from (the probes kept the estimated one): every later piece inherits it. */
+    if (i0 == 0 && F->opt->refine_start) {
+        if ((st = hk_cf_fit_piece(F, i0, *cut, start, 1, frag, NULL, &trial)) != HK_OK) return st;
+        if (hk_cf_acceptable(F, &trial) && trial.error + trial.join_error < frag->error + frag->join_error) {
+            *frag = trial;
+            frag->params_valid_for_cut = 1;
+        }
+    }
+    return HK_OK;
+}
+
+/* Fits samples i0..i1 from `start` with at most `budget` pieces, appending them to
+ * F->out; *end gets the end pose of the last one. `known` (may be NULL) is a fit of this
+ * very range already computed; hint (may be NULL) an extra seed. */
+hk_Status hk_cf_fit_range(Fit *F, int i0, int i1, const hk_CurveStart *start, int budget, const Piece *known,
+                           const Piece *hint, hk_CurveStart *end)
+{
+    Piece whole;
+    hk_Status st;
+    if (known) whole = *known;
+    else if ((st = hk_cf_fit_piece(F, i0, i1, start, 1, hint, NULL, &whole)) != HK_OK) return st;
+    /* A first fragment that also turns the root frame has ROT more unknowns to pin down. */
+    const int first_points = F->min_points + (F->opt->refine_start && i0 == 0 ? ROT : 0);
+    const int k_lo = i0 + first_points - 1, k_hi = i1 - (F->min_points - 1);
+    if (hk_cf_acceptable(F, &whole) || budget < 2 || k_lo > k_hi) {
+        hk_cf_emit(F, &whole, i0, i1);
+        *end = whole.end;
+        return HK_OK;
+    }
+
+    Piece frag;
+    int cut = k_lo, reuse;
+    st = F->opt->method == HK_CURVEFIT_LEAST_SQUARES ? longest_prefix_cut(F, i0, i1, k_lo, k_hi, start, &whole, &frag, &cut)
+                                                     : paper_cut(F, i0, i1, k_lo, k_hi, start, &whole, &frag, &cut);
+    if (st != HK_OK) return st;
+    /* frag fits samples i0..cut when the heuristic says so (reuse); otherwise it is only a
+     * hint for the first part's own fit. */
+    reuse = frag.params_valid_for_cut;
+    const int mark = F->out->piece_count;
+    hk_CurveStart mid;
+    st = hk_cf_fit_range(F, i0, cut, start, budget - 1, reuse ? &frag : NULL, &frag, &mid);
+    if (st != HK_OK) return st;
+    const int used = F->out->piece_count - mark;
+    st = hk_cf_fit_range(F, cut, i1, &mid, budget - used, NULL, &whole, end);
+    if (st != HK_OK) return st;
+
+    /* Undo a split that made the range worse (the heuristics can misjudge a cut). */
+    if (hk_cf_trace_chain(F->model, F->user, F->out, mark, F->out->piece_count, i1, F->h, &F->starts[mark],
+                    F->ws->chain, &F->evaluations) != 0)
+        return hk_error_set(F->err, HK_ERR_NUMERIC, "curve fit: the model failed re-tracing its own pieces");
+    const int m = i1 - i0 + 1;
+    const double split_error =
+        hk_frechet_coupling_prefix(F->ws->target + i0, F->ws->chain + i0, m, F->ws->row, NULL) / (double)m;
+    if (!(split_error < whole.error)) {
+        F->out->piece_count = mark;
+        hk_cf_emit(F, &whole, i0, i1);
+        *end = whole.end;
+    }
+    return HK_OK;
+}

@@ -1,0 +1,372 @@
+/* One piece of the piecewise fitter (helicoid paper 003 §5.2, eq. 5): the objectives
+ * (the normalised Fréchet coupling for Nelder-Mead, point distances and the join term for
+ * Levenberg-Marquardt), the root frame's pose and refinement, the minimisers' starts, and
+ * the bookkeeping of emitted pieces. */
+#include <math.h>
+#include <string.h>
+
+#include "hairkit/linalg.h"
+#include "helicoid/piecewise_internal.h"
+
+#define M_PI_VALUE 3.14159265358979323846
+
+
+/* The root pose turned by the rotation vector r (radians, in the frame's own axes: roll
+ * about T, tilts about N and B): frame * exp([r]x), by Rodrigues' formula. */
+static hk_CurveStart rotated(const hk_CurveStart *base, const double *r)
+{
+    hk_CurveStart s = *base;
+    const hk_Vec3 v = hk_v3(r[0], r[1], r[2]);
+    const double a = hk_v3_norm(v);
+    if (!(a > 0.0)) return s;
+    const hk_Mat3 k = hk_m3_skew(hk_v3_scale(v, 1.0 / a));
+    const hk_Mat3 k2 = hk_m3_mul(&k, &k);
+    hk_Mat3 e = hk_m3_identity();
+    const hk_Mat3 t1 = hk_m3_scale(&k, sin(a)), t2 = hk_m3_scale(&k2, 1.0 - cos(a));
+    e = hk_m3_add(&e, &t1);
+    e = hk_m3_add(&e, &t2);
+    s.frame = hk_m3_mul(&base->frame, &e);
+    return s;
+}
+
+/* The pose the model starts from for parameters x: the base pose, turned by the root
+ * rotation when it is free, and at the root adjusted by the model's own rule
+ * (options.root_frame) from the estimated frame to its own. */
+static hk_CurveStart start_pose(const Fit *F, const hk_CurveStart *base, const double *x, int rotating, int at_root)
+{
+    hk_CurveStart s = rotating ? rotated(base, x + F->np) : *base;
+    if (at_root && F->opt->root_frame) F->opt->root_frame(F->user, x, &s);
+    return s;
+}
+
+/* 1 when the points and the end pose are finite (a NaN end pose would poison every
+ * later piece). */
+static int trace_finite(const hk_Vec3 *pts, int m, const hk_CurveStart *end)
+{
+    for (int i = 0; i < m; i++)
+        if (!hk_v3_isfinite(pts[i])) return 0;
+    if (!hk_v3_isfinite(end->pos)) return 0;
+    for (int i = 0; i < 3; i++)
+        if (!hk_v3_isfinite(hk_m3_row(&end->frame, i))) return 0;
+    return 1;
+}
+
+/* Traces m samples from `start`; 0 when the model succeeded with finite output. */
+int hk_cf_trace(Fit *F, const double *params, const hk_CurveStart *start, int m, hk_Vec3 *out,
+                 hk_CurveStart *end)
+{
+    F->evaluations++;
+    if (F->model(F->user, params, start, F->h * (double)(m - 1), m, out, end) != 0) return 1;
+    return !trace_finite(out, m, end);
+}
+
+/* The weight of parameter j in the regularisation (options.penalty_weight, 0 = 1). */
+double hk_cf_penalty_weight(const hk_CurveFitOptions *o, int j)
+{
+    return o->penalty_weight[j] > 0.0 ? o->penalty_weight[j] : 1.0;
+}
+
+/* |W x| over the model's parameters, W the penalty weights: eq. (5)'s |k|. */
+static double param_norm(const Fit *F, const double *x)
+{
+    double s = 0.0;
+    for (int j = 0; j < F->np; j++) {
+        const double v = hk_cf_penalty_weight(F->opt, j) * x[j];
+        s += v * v;
+    }
+    return sqrt(s);
+}
+
+/* Eq. (5): normalised coupling + lambda |k| (the root rotation is not penalised).
+ * Model failure: +inf, which Nelder-Mead never accepts. */
+static double objective(const double *x, void *user)
+{
+    Fit *F = user;
+    hk_CurveStart end;
+    const hk_CurveStart s = start_pose(F, &F->base, x, F->rotating, F->i0 == 0);
+    if (hk_cf_trace(F, x, &s, F->m, F->ws->trace, &end) != 0) return INFINITY;
+    const double c = hk_frechet_coupling_prefix(F->ws->target + F->i0, F->ws->trace, F->m, F->ws->row, NULL);
+    return c / (double)F->m + F->opt->lambda * param_norm(F, x);
+}
+
+/* 1 when the fragment being fitted ends before the target does: a later piece joins it
+ * (least squares only; the paper's Nelder-Mead fits positions alone). */
+static int has_join(const Fit *F)
+{
+    return F->opt->method == HK_CURVEFIT_LEAST_SQUARES && F->i0 + F->m < F->n && F->m >= 3;
+}
+
+/* The next piece starts along this one's end tangent (§3.4): a tangent off by delta at
+ * the join moves the rest of the strand by about delta times its length, which no
+ * position inside this fragment sees. The residual is the difference of the end tangent
+ * and the target's there (for a smooth model the second-order one-sided difference on
+ * the fragment's own points, not across a join where the bend may jump; for a forward
+ * Euler model the next segment), weighted by length / sqrt(3), the rms
+ * displacement of a straight strand of that length turned by delta about its start:
+ * the length of the rest of the target, at most the fragment's own (a piece further on
+ * can take up what this one cannot). Metres, like the distances. */
+static hk_Vec3 join_residual(const Fit *F, const hk_CurveStart *end)
+{
+    const int b = F->i0 + F->m - 1;
+    const hk_Vec3 *q = F->ws->target;
+    /* A model traced by forward Euler (polyline spacing) leaves the join along its
+     * next segment, exactly; a smooth one along the curve's tangent there. */
+    const hk_Vec3 t = F->opt->arc_length ? hk_v3_normalize(hk_v3_add(
+                                               hk_v3_sub(hk_v3_scale(q[b], 3.0), hk_v3_scale(q[b - 1], 4.0)), q[b - 2]))
+                                         : hk_v3_normalize(hk_v3_sub(q[b + 1], q[b]));
+    const double rest = F->h * (double)(F->n - 1 - b), own = F->h * (double)(F->m - 1);
+    return hk_v3_scale(hk_v3_sub(hk_m3_col(&end->frame, 0), t), (rest < own ? rest : own) / sqrt(3.0));
+}
+
+/* The least-squares form of eq. (5): the distances between the fragment's samples and the
+ * model's points at the same arc length, weighted 1/sqrt(m) so that the cost is half the
+ * mean squared distance, and lambda k_j for the regularisation (the root rotation is not
+ * penalised). The model is traced at the samples' spacing, so point i of both is at arc
+ * length i h: on clean data the minimum is 0 at the true parameters, as the coupling's. */
+static int residuals(const double *x, double *r, void *user)
+{
+    Fit *F = user;
+    hk_CurveStart end;
+    const hk_CurveStart s = start_pose(F, &F->base, x, F->rotating, F->i0 == 0);
+    if (hk_cf_trace(F, x, &s, F->m, F->ws->trace, &end) != 0) return 1;
+    const double w = 1.0 / sqrt((double)F->m);
+    const hk_Vec3 *target = F->ws->target + F->i0, *model = F->ws->trace;
+    for (int i = 0; i < F->m; i++) {
+        r[3 * i] = w * (model[i].x - target[i].x);
+        r[3 * i + 1] = w * (model[i].y - target[i].y);
+        r[3 * i + 2] = w * (model[i].z - target[i].z);
+    }
+    for (int j = 0; j < F->np; j++) r[3 * F->m + j] = F->opt->lambda * hk_cf_penalty_weight(F->opt, j) * x[j];
+    if (has_join(F)) {
+        const hk_Vec3 d = join_residual(F, &end);
+        r[3 * F->m + F->np] = d.x;
+        r[3 * F->m + F->np + 1] = d.y;
+        r[3 * F->m + F->np + 2] = d.z;
+    }
+    return 0;
+}
+
+static int residual_count(const Fit *F) { return 3 * F->m + F->np + (has_join(F) ? 3 : 0); }
+
+/* The cost the method minimises, for choosing where it starts. */
+static double start_cost(const double *x, void *user)
+{
+    Fit *F = user;
+    if (F->opt->method == HK_CURVEFIT_NELDER_MEAD) return objective(x, F);
+    return residuals(x, F->ws->lsq, F) != 0 ? INFINITY : 0.5 * hk_dot(F->ws->lsq, F->ws->lsq, residual_count(F));
+}
+
+/* The Levenberg-Marquardt settings of the fits for nx parameters: the fit's evaluation
+ * budget (at least a Jacobian and a step), a step tolerance 1e-3 times the simplex's
+ * (quadratic convergence gets there in a step or two), and a stop once the cost levels
+ * off to 1e-6 of itself (on a target the model cannot follow exactly, sloppy directions
+ * would otherwise be crawled along for hundreds of evaluations for no visible gain). */
+hk_LeastSquaresOptions hk_cf_least_squares_options(const Fit *F, int nx)
+{
+    hk_LeastSquaresOptions lo = hk_default_least_squares_options();
+    lo.max_evaluations = F->opt->max_evaluations > nx + 2 ? F->opt->max_evaluations : nx + 2;
+    lo.x_tolerance = 1e-3 * F->opt->param_tolerance;
+    lo.f_tolerance = 1e-6;
+    return lo;
+}
+
+/* Levenberg-Marquardt over the first nx entries of x. */
+static hk_Status minimise_least_squares(Fit *F, int nx, double *x, const double *scale)
+{
+    const hk_LeastSquaresOptions lo = hk_cf_least_squares_options(F, nx);
+    hk_LeastSquaresResult r;
+    return hk_least_squares_minimize(nx, residual_count(F), x, scale, residuals, F, &lo, F->ws->lsq, &r, NULL);
+}
+
+/* Nelder-Mead over the first nx entries of x, restarted from a converged simplex that
+ * still misses the tolerance: Nelder-Mead can stall on a non-stationary point (McKinnon
+ * 1998); a fresh simplex around it either confirms it or moves on. */
+static hk_Status minimise(Fit *F, int nx, double *x, const double *scale)
+{
+    if (nx == 0) return HK_OK; /* nothing to choose: the model has one shape */
+    if (F->opt->method == HK_CURVEFIT_LEAST_SQUARES) return minimise_least_squares(F, nx, x, scale);
+    hk_NelderMeadOptions nm;
+    nm.max_evaluations = F->opt->max_evaluations;
+    nm.x_tolerance = F->opt->param_tolerance;
+    nm.f_tolerance = F->opt->cost_tolerance;
+    hk_NelderMeadResult r;
+    hk_Status st = hk_nelder_mead_minimize(nx, x, scale, objective, F, &nm, &r, NULL);
+    for (int k = 0; st == HK_OK && r.converged && k < F->opt->restarts &&
+                    r.f - F->opt->lambda * param_norm(F, x) > F->opt->tolerance;
+         k++) {
+        const double before = r.f;
+        st = hk_nelder_mead_minimize(nx, x, scale, objective, F, &nm, &r, NULL);
+        if (st != HK_OK || !(before - r.f > F->opt->cost_tolerance)) break;
+    }
+    return st;
+}
+
+/* Copies into x the candidate (rows of cand, nx entries each) with the lowest cost. */
+static void pick(Fit *F, double (*cand)[MAXP + ROT], int count, double *x)
+{
+    double fx = INFINITY;
+    for (int c = 0; c < count; c++) {
+        const double f = start_cost(cand[c], F);
+        if (c == 0 || f < fx) {
+            memcpy(x, cand[c], (MAXP + ROT) * sizeof(double));
+            fx = f;
+        }
+    }
+}
+
+/* Minimises over the first nx entries from the candidates into x. Nelder-Mead (which
+ * explores by itself, and costs hundreds of traces a run) starts from the best of them.
+ * Levenberg-Marquardt is local and cheap: it runs from the candidates in the order of
+ * their cost until one ends within the tolerance (at most MAX_STARTS), keeping the best end. On a target far
+ * from any single piece (a tight lift-off bend with waviness on top) the candidates lead
+ * to different minima, and the best start is not always the best end; on an easy one the
+ * first run is the only one. */
+/* Levenberg-Marquardt runs per fit at most: the best starts in the order of their cost.
+ * On 100 groomed strands one run left 8 above the tolerance (largest 0.76 mm), three 4
+ * (0.31 mm); a planar lift-off fitted on 3 fixed pieces ends 3.9 mm off with two runs,
+ * 0.29 mm with three (test_lift_off_layouts). Clean two-piece strands cost 2.5 times
+ * more with three than with one (bisection probes that miss the tolerance run all). */
+#define MAX_STARTS 3
+static hk_Status descend(Fit *F, double (*cand)[MAXP + ROT], int count, int nx, double *x)
+{
+    if (F->opt->method != HK_CURVEFIT_LEAST_SQUARES || nx == 0) {
+        pick(F, cand, count, x);
+        return minimise(F, nx, x, F->scale);
+    }
+    double cost[8];
+    int order[8];
+    for (int c = 0; c < count; c++) {
+        cost[c] = start_cost(cand[c], F);
+        int k = c;
+        while (k > 0 && cost[order[k - 1]] > cost[c]) order[k] = order[k - 1], k--;
+        order[k] = c;
+    }
+    double best = INFINITY;
+    hk_Status result = HK_ERR_NUMERIC;
+    for (int r = 0, runs = 0; r < count && runs < MAX_STARTS; r++) {
+        const int c = order[r];
+        int seen = 0;
+        for (int d = 0; d < r && !seen; d++) seen = !memcmp(cand[c], cand[order[d]], (size_t)nx * sizeof(double));
+        if (seen || !isfinite(cost[c])) continue;
+        double y[MAXP + ROT];
+        memcpy(y, cand[c], sizeof y);
+        runs++;
+        if (minimise(F, nx, y, F->scale) != HK_OK) continue;
+        const double f = start_cost(y, F);
+        if (result != HK_OK || f < best) {
+            memcpy(x, y, sizeof y);
+            best = f;
+            result = HK_OK;
+        }
+        if (objective(x, F) - F->opt->lambda * param_norm(F, x) <= F->opt->tolerance) break;
+    }
+    if (result != HK_OK) pick(F, cand, count, x); /* every start failed: hand back the least bad */
+    return result == HK_OK ? HK_OK : minimise(F, nx, x, F->scale);
+}
+
+/* Fits samples i0..i1 from `start`. Nelder-Mead starts at the best of the user's seed
+ * and the hints (earlier fits of overlapping ranges, NULL when absent). With
+ * refine_start and may_refine, a range at the root is first fitted in the estimated
+ * frame, and only when that misses the tolerance is the frame's rotation freed: a good
+ * frame (clean data) is kept exactly and costs nothing more. */
+hk_Status hk_cf_fit_piece(Fit *F, int i0, int i1, const hk_CurveStart *start, int may_refine, const Piece *hint1,
+                           const Piece *hint2, Piece *piece)
+{
+    const int refine = F->opt->refine_start && i0 == 0 && may_refine;
+    const Piece *hints[2] = {hint1, hint2};
+    F->i0 = i0;
+    F->m = i1 - i0 + 1;
+    F->base = *start;
+    F->rotating = 0;
+    double cand[6][MAXP + ROT];
+    int count = 0;
+    memset(cand, 0, sizeof cand);
+    memcpy(cand[count++], F->seed, (size_t)F->np * sizeof(double));
+    if (F->opt->fragment_seed && F->m >= 3) F->opt->fragment_seed(F->user, F->ws->target + i0, F->m, start, cand[count++]);
+    for (int h = 0; h < 2; h++)
+        if (hints[h]) memcpy(cand[count++], hints[h]->params, (size_t)F->np * sizeof(double));
+    double x[MAXP + ROT];
+    hk_Status st = descend(F, cand, count, F->np, x);
+    /* Least squares refines the frame already at a tenth of the tolerance: it costs a few
+     * dozen traces, and the root frame's error, small at the root, is what every later
+     * piece inherits through the joins. */
+    const double refine_above = F->opt->method == HK_CURVEFIT_LEAST_SQUARES ? 0.1 * F->opt->tolerance : F->opt->tolerance;
+    if (st == HK_OK && refine && objective(x, F) - F->opt->lambda * param_norm(F, x) > refine_above) {
+        /* Free the frame: candidates are the fit so far, the hints with their own
+         * rotations, and the seed rolled by quarter turns about the tangent, because the
+         * normal estimated from noisy first points can be off by any roll (the first
+         * bend, h^2 kappa, is comparable to the noise) and the coupling has local minima
+         * in the roll. */
+        F->base = *start;
+        F->rotating = 1;
+        memset(cand, 0, sizeof cand);
+        count = 0;
+        memcpy(cand[count++], x, (size_t)F->np * sizeof(double));
+        for (int h = 0; h < 2; h++) {
+            if (!hints[h]) continue;
+            memcpy(cand[count], hints[h]->params, (size_t)F->np * sizeof(double));
+            memcpy(cand[count++] + F->np, hints[h]->rot, sizeof hints[h]->rot);
+        }
+        for (int q = 1; q < 4; q++) {
+            memcpy(cand[count], F->seed, (size_t)F->np * sizeof(double));
+            cand[count++][F->np] = q * (M_PI_VALUE / 2.0);
+        }
+        st = descend(F, cand, count, F->np + ROT, x);
+    }
+    if (st != HK_OK)
+        return hk_error_set(F->err, HK_ERR_NUMERIC,
+                            "curve fit: the model failed (or gave non-finite points) for every parameter "
+                            "vector tried on samples %d..%d",
+                            i0, i1);
+    memset(piece, 0, sizeof *piece);
+    memcpy(piece->params, x, (size_t)F->np * sizeof(double));
+    if (F->rotating) memcpy(piece->rot, x + F->np, sizeof piece->rot);
+    piece->base = F->rotating ? rotated(start, piece->rot) : *start;
+    piece->start = start_pose(F, start, x, F->rotating, i0 == 0);
+    if (hk_cf_trace(F, piece->params, &piece->start, F->m, F->ws->best, &piece->end) != 0)
+        return hk_error_set(F->err, HK_ERR_NUMERIC, "curve fit: the model failed at its own best fit (samples %d..%d)",
+                            i0, i1);
+    double c, d;
+    hk_frechet_both(F->ws->target + i0, F->m, F->ws->best, F->m, F->ws->row, &c, &d);
+    piece->error = c / (double)F->m;
+    piece->frechet = d;
+    piece->join_error = has_join(F) ? hk_v3_norm(join_residual(F, &piece->end)) : 0.0;
+    return HK_OK;
+}
+
+/* A piece is acceptable when it follows its fragment within the tolerance and, with a
+ * successor, leaves it a start tangent that turns the rest by no more. */
+int hk_cf_acceptable(const Fit *F, const Piece *p)
+{
+    return p->error <= F->opt->tolerance && p->join_error <= F->opt->tolerance;
+}
+
+void hk_cf_emit(Fit *F, const Piece *p, int i0, int i1)
+{
+    hk_CurveFit *o = F->out;
+    const int k = o->piece_count++;
+    memcpy(o->params[k], p->params, sizeof o->params[k]);
+    o->length[k] = F->h * (double)(i1 - i0);
+    o->first_sample[k] = i0;
+    o->piece_error[k] = p->error;
+    o->piece_frechet[k] = p->frechet;
+    F->starts[k] = p->start;
+    if (i0 == 0) F->root_base = p->base;
+}
+
+/* Traces pieces [from, to) of `fit` chained from `start` into out (indexed by sample; the
+ * last piece ends at sample i_end). 0 on success. */
+int hk_cf_trace_chain(hk_CurveModelFn model, void *user, const hk_CurveFit *fit, int from, int to, int i_end,
+                       double h, const hk_CurveStart *start, hk_Vec3 *out, long *evaluations)
+{
+    hk_CurveStart pose = *start, end;
+    for (int k = from; k < to; k++) {
+        const int a = fit->first_sample[k], b = k + 1 < to ? fit->first_sample[k + 1] : i_end;
+        const int m = b - a + 1;
+        (*evaluations)++;
+        if (model(user, fit->params[k], &pose, h * (double)(m - 1), m, out + a, &end) != 0) return 1;
+        if (!trace_finite(out + a, m, &end)) return 1;
+        pose = end;
+    }
+    return 0;
+}

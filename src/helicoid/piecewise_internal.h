@@ -1,0 +1,103 @@
+/* The piecewise fitter's parts (curvefit.h; docs/helicoid-fitting.md): one piece
+ * (fit_piece.c), cuts and the recursion (fit_cuts.c), fixed layouts and the polish of a
+ * chain (fit_chain.c), options and entry points (piecewise_fit.c). Private. */
+#ifndef HK_PIECEWISE_INTERNAL_H
+#define HK_PIECEWISE_INTERNAL_H
+
+#include "helicoid/curvefit_internal.h"
+
+#define MAXP HK_CURVEFIT_MAX_PARAMS
+#define ROT 3 /* parameters of the root frame's rotation when it is refined */
+/* Least-squares residuals of a fragment of m samples: 3 per sample and one per model
+ * parameter (the regularisation). */
+#define RESIDUALS(m) (3 * (size_t)(m) + MAXP + 3)
+/* The polish of a whole chain (least squares): all pieces' parameters at once, up to the
+ * minimiser's limit; 3 residuals per sample and one per parameter. */
+#define POLISH_PARAMS HK_LEAST_SQUARES_MAX_PARAMS
+#define CHAIN_RESIDUALS(n) (3 * (size_t)(n) + POLISH_PARAMS)
+
+struct hk_CurveFitWorkspace {
+    int capacity;
+    hk_Vec3 *target; /* the resampled target */
+    hk_Vec3 *trace;  /* the objective's model output */
+    hk_Vec3 *best;   /* a fit's trace kept for the split heuristics */
+    hk_Vec3 *chain;  /* chained pieces, for the error of a split and of the result */
+    double *row;     /* 2 * capacity: dynamic programming rows */
+    double *prefix;  /* coupling of growing fragments */
+    double *diff;    /* bend differences */
+    double *lsq;     /* Levenberg-Marquardt work memory */
+};
+
+typedef struct Piece {
+    double params[MAXP];
+    double rot[ROT];     /* rotation of the root frame (refined first piece), else 0 */
+    hk_CurveStart start; /* the pose it starts from */
+    hk_CurveStart base;  /* at the root: that pose before the model's root_frame rule */
+    hk_CurveStart end;   /* and ends at */
+    double error;        /* normalised coupling against its fragment (m) */
+    double frechet;      /* Fréchet distance against its fragment (m) */
+    double join_error;   /* least squares, a piece with a successor: how far its end
+                            tangent's error turns the rest (m), see residuals() */
+    int params_valid_for_cut; /* a cut heuristic's fit: 1 when it is the first part's own */
+} Piece;
+
+typedef struct Fit {
+    hk_CurveFitWorkspace *ws;
+    hk_CurveModelFn model;
+    void *user;
+    int np;
+    const double *seed;
+    double scale[MAXP + ROT];
+    const hk_CurveFitOptions *opt;
+    int n;          /* samples */
+    double h;       /* their spacing */
+    int min_points; /* samples of the shortest fragment a split may create */
+    long evaluations;
+    hk_CurveFit *out;
+    hk_CurveStart starts[HK_CURVEFIT_MAX_PIECES]; /* start pose of each emitted piece */
+    hk_CurveStart root_base;                      /* the root piece's pose before root_frame */
+    hk_Error *err;
+    /* what the objective compares: samples i0 .. i0 + m - 1, traced from `base`, turned
+     * by the last ROT parameters when `rotating` */
+    int i0, m, rotating;
+    hk_CurveStart base;
+} Fit;
+
+/* Traces m samples of the model from `start` into out, counting the evaluation; 0 when
+ * the model succeeded with finite points and end pose. */
+int hk_cf_trace(Fit *F, const double *params, const hk_CurveStart *start, int m, hk_Vec3 *out,
+                hk_CurveStart *end);
+
+/* The weight of parameter j in the regularisation (options.penalty_weight, 0 = 1). */
+double hk_cf_penalty_weight(const hk_CurveFitOptions *o, int j);
+
+/* The Levenberg-Marquardt settings of the fits for nx parameters. */
+hk_LeastSquaresOptions hk_cf_least_squares_options(const Fit *F, int nx);
+
+/* Fits samples i0..i1 from `start` (see fit_piece.c), from the seeds and hints. */
+hk_Status hk_cf_fit_piece(Fit *F, int i0, int i1, const hk_CurveStart *start, int may_refine, const Piece *hint1,
+                          const Piece *hint2, Piece *piece);
+
+/* 1 when a piece follows its fragment within the tolerance and, with a successor, leaves
+ * it a start tangent that turns the rest by no more. */
+int hk_cf_acceptable(const Fit *F, const Piece *p);
+
+/* Appends the piece (samples i0..i1) to the output. */
+void hk_cf_emit(Fit *F, const Piece *p, int i0, int i1);
+
+/* Traces pieces [from, to) of `fit` chained from `start` into out (indexed by sample; the
+ * last piece ends at sample i_end). 0 on success. */
+int hk_cf_trace_chain(hk_CurveModelFn model, void *user, const hk_CurveFit *fit, int from, int to, int i_end,
+                      double h, const hk_CurveStart *start, hk_Vec3 *out, long *evaluations);
+
+/* Fits samples i0..i1 from `start` with at most `budget` pieces, recursively (§5.3). */
+hk_Status hk_cf_fit_range(Fit *F, int i0, int i1, const hk_CurveStart *start, int budget, const Piece *known,
+                          const Piece *hint, hk_CurveStart *end);
+
+/* Exactly `pieces` pieces of equal length (§5.4 layouts). */
+hk_Status hk_cf_fit_fixed(Fit *F, int pieces, const hk_CurveStart *start);
+
+/* Refits all the output's pieces together when they miss the tolerance (least squares). */
+hk_Status hk_cf_polish_chain(Fit *F);
+
+#endif
