@@ -211,10 +211,12 @@ typedef struct hk_CurveFitOptions {
     double split_threshold;     /* §5.3 Fréchet threshold in (0, 1]: 0.6 in the paper */
     double min_fragment_length; /* shortest piece the splitting creates (m), >= 0 */
     int max_pieces;             /* 1..HK_CURVEFIT_MAX_PIECES; 1 = single fit (§5.2) */
-    int fixed_pieces;           /* 0: split where the target needs it (§5.3); P >= 1: exactly P
-                                   pieces of equal length (sample counts differing by at most
-                                   one), the same layout for every strand, so that fits of
-                                   neighbouring strands can be blended piece by piece (§5.4) */
+    int fixed_pieces;           /* 0: split where the target needs it (§5.3); P >= 1: P pieces
+                                   of equal length (sample counts differing by at most one),
+                                   the same layout for every strand, so that fits of
+                                   neighbouring strands can be blended piece by piece (§5.4);
+                                   a target too short for P minimal fragments gets as many as
+                                   it holds (at least one): see fit.piece_count */
     int max_evaluations;        /* per minimiser run (>= param_count + 1; a fit makes
                                    a few runs, see fit.evaluations for the total) */
     int samples;                /* points the target is resampled to; 0 = its own count */

@@ -204,14 +204,12 @@ hk_Status hk_curve_fit_piecewise_ws(hk_CurveFitWorkspace *ws, const hk_Vec3 *tar
     out->start = start;
     hk_CurveStart end;
     if (opt->fixed_pieces > 0) {
-        /* every piece needs the samples of the shortest fragment */
-        if ((long)opt->fixed_pieces * (F.min_points - 1) > n - 1)
-            st = hk_error_set(err, HK_ERR_INVALID,
-                              "curve fit: %d pieces of at least %d samples each do not fit in %d samples (a "
-                              "piece spans at least min_fragment_length = %g m and %d samples)",
-                              opt->fixed_pieces, F.min_points, n, opt->min_fragment_length,
-                              param_count + 2 > 4 ? param_count + 2 : 4);
-        else st = hk_cf_fit_fixed(&F, opt->fixed_pieces, &start);
+        /* Every piece needs the samples of the shortest fragment: a target too short for
+         * all of them gets as many as it holds, at least one (a strand of a head may be
+         * short, and failing the whole head for it would help nobody). */
+        const long fit = (n - 1) / (F.min_points > 1 ? F.min_points - 1 : 1);
+        const int pieces = fit < 1 ? 1 : (fit < opt->fixed_pieces ? (int)fit : opt->fixed_pieces);
+        st = hk_cf_fit_fixed(&F, pieces, &start);
     } else {
         st = hk_cf_fit_range(&F, 0, n - 1, &start, opt->max_pieces, NULL, NULL, &end);
     }
