@@ -108,8 +108,8 @@ static double fit_run(long n, int threads, int method, double *mean_error, doubl
 /* A tuft of n strands interpolated from the guides (41 points), one in ten fitted, all
  * reconstructed at their roots from the fits: the mean and largest normalised Fréchet
  * coupling against the originals. */
-static void reconstruct_run(const hk_PHelicoid *guides, long n, int fixed_pieces, double *mean, double *worst,
-                            double *seconds)
+static void reconstruct_run(const hk_PHelicoid *guides, long n, int fixed_pieces, double piece_length,
+                            double root_piece, double *mean, double *worst, double *seconds)
 {
     enum { P = 41 };
     static hk_Vec3 original[1000][P];
@@ -123,6 +123,8 @@ static void reconstruct_run(const hk_PHelicoid *guides, long n, int fixed_pieces
         hk_phelicoid_trace(&h, hk_phelicoid_length(&h) / (P - 1), NULL, NULL, original[i], NULL, NULL);
         hk_CurveFitOptions opt = hk_helicoid_fit_options();
         opt.fixed_pieces = fixed_pieces;
+        opt.piece_length = piece_length;
+        opt.root_piece_length = root_piece;
         if (i % 10 == 0 && f && hk_helicoid_fit(f, original[i], P, &opt, &fitted[k], NULL, NULL) == HK_OK) k++;
     }
     hk_helicoid_fitter_destroy(f);
@@ -193,11 +195,17 @@ int hk_bench_helicoid(FILE *out, const hk_BenchOptions *options)
             "  against the originals (m)\n"
             "  fitted pieces                    mean error   largest error   seconds (1 thread)\n",
             tuft);
-    for (int fixed = 0; fixed <= 4; fixed += 4) {
+    static const struct {
+        const char *name;
+        int fixed;
+        double length, root;
+    } layouts[3] = {{"as each strand needs", 0, 0.0, 0.0},
+                    {"4, the same layout on every fit", 4, 0.0, 0.0},
+                    {"1 cm, then 3 cm (reconstruct's)", 0, 0.03, 0.01}};
+    for (int l = 0; l < 3; l++) {
         double mean, worst, seconds;
-        reconstruct_run(guides, tuft, fixed, &mean, &worst, &seconds);
-        fprintf(out, "  %-32s %10.3g %15.3g %20.2f\n", fixed ? "4, the same layout on every fit" : "as each strand needs",
-                mean, worst, seconds);
+        reconstruct_run(guides, tuft, layouts[l].fixed, layouts[l].length, layouts[l].root, &mean, &worst, &seconds);
+        fprintf(out, "  %-32s %10.3g %15.3g %20.2f\n", layouts[l].name, mean, worst, seconds);
     }
     fprintf(out, "\n");
     return 0;

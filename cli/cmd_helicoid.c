@@ -64,8 +64,14 @@ static void usage(FILE *out)
                  "  --max-pieces N     pieces per fitted strand (default 16)\n"
                  "  --pieces N         exactly N pieces of equal length on every strand, the same\n"
                  "                     layout for all (default: split where each strand needs it;\n"
-                 "                     reconstruct: 4, since fits are blended piece by piece)\n"
-                 "  --method M         lm: Levenberg-Marquardt on point distances (default, fast);\n"
+                 "                     reconstruct: --piece-length 0.03 --root-piece 0.01, since\n"
+                 "                     fits are blended piece by piece)\n"
+                 "  --piece-length L   or pieces L metres long from the root (the same stretch of\n"
+            "                     hair for piece j on strands of any length; the last piece\n"
+            "                     takes what is left)\n"
+            "  --root-piece R     with --piece-length: the first piece R metres long (a lift\n"
+            "                     off the scalp); default L\n"
+            "  --method M         lm: Levenberg-Marquardt on point distances (default, fast);\n"
                  "                     nelder-mead: the paper's, on the Frechet coupling (slow)\n"
                  "  --every K          reconstruct: fit one strand in K (default 10)\n"
                  "  --seed N           random seed (default 1)\n"
@@ -90,7 +96,9 @@ static int parse_args(int argc, char **argv, hk_HelicoidArgs *a)
         OPT_FOLLICLES,
         OPT_HEAD,
         OPT_PIECES,
-        OPT_METHOD
+        OPT_METHOD,
+        OPT_PIECE_LENGTH,
+        OPT_ROOT_PIECE
     };
     static const struct option options[] = {
         {"output", required_argument, NULL, 'o'},
@@ -108,6 +116,8 @@ static int parse_args(int argc, char **argv, hk_HelicoidArgs *a)
         {"follicles", required_argument, NULL, OPT_FOLLICLES},
         {"head", required_argument, NULL, OPT_HEAD},
         {"pieces", required_argument, NULL, OPT_PIECES},
+        {"piece-length", required_argument, NULL, OPT_PIECE_LENGTH},
+        {"root-piece", required_argument, NULL, OPT_ROOT_PIECE},
         {"method", required_argument, NULL, OPT_METHOD},
         {"threads", required_argument, NULL, 't'},
         {"quiet", no_argument, NULL, 'q'},
@@ -182,6 +192,14 @@ static int parse_args(int argc, char **argv, hk_HelicoidArgs *a)
                                           HK_HELICOID_MAX_PIECES, optarg);
             a->pieces_given = 1;
             break;
+        case OPT_PIECE_LENGTH:
+        case OPT_ROOT_PIECE: {
+            double *v = c == OPT_PIECE_LENGTH ? &a->piece_length : &a->root_piece;
+            if (!hk_cli_parse_double(optarg, v) || !(*v > 0.0 && *v <= 10.0))
+                return hk_cli_usage_error(CMD, "--%s expects metres in (0, 10], got '%s'",
+                                          c == OPT_PIECE_LENGTH ? "piece-length" : "root-piece", optarg);
+            break;
+        }
         case OPT_METHOD:
             if (!strcmp(optarg, "lm")) a->method = HK_CURVEFIT_LEAST_SQUARES;
             else if (!strcmp(optarg, "nelder-mead")) a->method = HK_CURVEFIT_NELDER_MEAD;
@@ -212,8 +230,12 @@ static int parse_args(int argc, char **argv, hk_HelicoidArgs *a)
     if (a->follicles > 0.0 && (a->count || a->density_given))
         return hk_cli_usage_error(CMD, "--follicles places one strand per follicle: drop --%s",
                                   a->count ? "count" : "density");
-    if (a->pieces > 0 && a->max_pieces_given)
-        return hk_cli_usage_error(CMD, "--pieces fixes the layout: drop --max-pieces");
+    if ((a->pieces > 0 || a->piece_length > 0.0) && a->max_pieces_given)
+        return hk_cli_usage_error(CMD, "--%s fixes the layout: drop --max-pieces", a->pieces > 0 ? "pieces" : "piece-length");
+    if (a->pieces_given && a->piece_length > 0.0)
+        return hk_cli_usage_error(CMD, "--pieces and --piece-length are two layouts: give one");
+    if (a->root_piece > 0.0 && !(a->piece_length > 0.0))
+        return hk_cli_usage_error(CMD, "--root-piece is the first piece of a --piece-length layout: give --piece-length");
     if (a->head && !(a->follicles > 0.0))
         return hk_cli_usage_error(CMD, "--head is fitted with the wick by --follicles: give --follicles SPACING");
     return 0;

@@ -12,6 +12,7 @@
 typedef struct hk_HelicoidArgs {
     const char *action, *input, *output, *surface, *params, *head;
     double step, density, power, tolerance, lambda, follicles; /* follicles: spacing, 0 = random roots */
+    double piece_length, root_piece;                           /* layout by length (m), 0 = none */
     int density_given;
     long count, max_pieces, every, pieces;      /* pieces: fixed layout, 0 = split as needed */
     int pieces_given, max_pieces_given, method; /* method: hk_CurveFitMethod */

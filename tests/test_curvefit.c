@@ -723,6 +723,27 @@ static void test_fit_fixed_pieces(void **state)
     assert_int_equal(hk_curve_fit_piecewise(target, N, helix_model, NULL, 2, seed, scale, &o, &fit, &err),
                      HK_ERR_INVALID);
     hk_assert_contains(err.message, "fixed_pieces");
+    /* By length from the root (4 mm samples, pieces of at least 3 segments): a root piece
+     * of 8 mm widened to 3 segments, then 20 mm (5 segments) from 8 mm on: starts at 0, 3
+     * (the root piece), 7, 12, 17, 22, 27; the rest (3 segments) is the last piece's. */
+    o.fixed_pieces = 0;
+    o.piece_length = 0.02;
+    o.root_piece_length = 0.008;
+    assert_int_equal(hk_curve_fit_piecewise(target, N, helix_model, NULL, 2, seed, scale, &o, &fit, &err), HK_OK);
+    const int starts[7] = {0, 3, 7, 12, 17, 22, 27};
+    assert_int_equal(fit.piece_count, 7);
+    for (int p = 0; p < 7; p++) assert_int_equal(fit.first_sample[p], starts[p]);
+    o.piece_length = 1.0, o.root_piece_length = 0.0; /* longer than the target: one piece */
+    assert_int_equal(hk_curve_fit_piecewise(target, N, helix_model, NULL, 2, seed, scale, &o, &fit, &err), HK_OK);
+    assert_int_equal(fit.piece_count, 1);
+    o.fixed_pieces = 2; /* two layouts at once */
+    assert_int_equal(hk_curve_fit_piecewise(target, N, helix_model, NULL, 2, seed, scale, &o, &fit, &err),
+                     HK_ERR_INVALID);
+    hk_assert_contains(err.message, "two layouts");
+    o.fixed_pieces = 0, o.piece_length = -0.01;
+    assert_int_equal(hk_curve_fit_piecewise(target, N, helix_model, NULL, 2, seed, scale, &o, &fit, &err),
+                     HK_ERR_INVALID);
+    hk_assert_contains(err.message, "piece_length");
 }
 
 /* Adds Gaussian noise of deviation sigma to every point but the root (which a capture

@@ -217,6 +217,12 @@ typedef struct hk_CurveFitOptions {
                                    neighbouring strands can be blended piece by piece (§5.4);
                                    a target too short for P minimal fragments gets as many as
                                    it holds (at least one): see fit.piece_count */
+    double piece_length;        /* > 0 (instead of fixed_pieces): a layout by arc length from
+                                   the root, the same stretch of hair for piece j on strands
+                                   of any length: the first piece root_piece_length long (0:
+                                   piece_length), the next ones piece_length, the last one
+                                   what is left (m) */
+    double root_piece_length;
     int max_evaluations;        /* per minimiser run (>= param_count + 1; a fit makes
                                    a few runs, see fit.evaluations for the total) */
     int samples;                /* points the target is resampled to; 0 = its own count */

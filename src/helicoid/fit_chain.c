@@ -1,5 +1,5 @@
-/* Whole chains of pieces: fixed layouts of equal pieces (§5.4 blends fits piece by
- * piece) and the joint polish of all a chain's parameters (least squares). */
+/* Whole chains of pieces: fixed layouts (§5.4 blends fits piece by piece) and the joint
+ * polish of all a chain's parameters (least squares). */
 #include <math.h>
 #include <string.h>
 
@@ -7,15 +7,14 @@
 
 /* ---- a fixed layout (§5.4) ------------------------------------------------------------ */
 
-/* Exactly P pieces of equal length, fitted one after the other from the end pose of the
- * last (the root one may refine its frame), each seeded by its predecessor. */
-hk_Status hk_cf_fit_fixed(Fit *F, int pieces, const hk_CurveStart *start)
+/* The pieces of a given layout, fitted one after the other from the end pose of the last
+ * (the root one may refine its frame), each seeded by its predecessor. */
+hk_Status hk_cf_fit_fixed(Fit *F, const int *bounds, int pieces, const hk_CurveStart *start)
 {
     hk_CurveStart pose = *start;
     Piece prev, piece;
     for (int k = 0; k < pieces; k++) {
-        const int a = (int)(((long)k * (F->n - 1) + pieces / 2) / pieces);
-        const int b = (int)(((long)(k + 1) * (F->n - 1) + pieces / 2) / pieces);
+        const int a = bounds[k], b = bounds[k + 1];
         hk_Status st = hk_cf_fit_piece(F, a, b, &pose, 1, k > 0 ? &prev : NULL, NULL, &piece);
         if (st != HK_OK) return st;
         hk_cf_emit(F, &piece, a, b);

@@ -124,6 +124,13 @@ static hk_Status check_options(const hk_CurveFitOptions *o, int np, hk_Error *er
         return BAD("samples must be 0 or in 2..%d, got %d", HK_CURVEFIT_MAX_SAMPLES, o->samples);
     if (o->fixed_pieces < 0 || o->fixed_pieces > HK_CURVEFIT_MAX_PIECES)
         return BAD("fixed_pieces must be in 0..%d, got %d", HK_CURVEFIT_MAX_PIECES, o->fixed_pieces);
+    if (!(o->piece_length >= 0.0) || !isfinite(o->piece_length) || !(o->root_piece_length >= 0.0) ||
+        !isfinite(o->root_piece_length))
+        return BAD("piece_length and root_piece_length must be finite and >= 0, got %g and %g", o->piece_length,
+                   o->root_piece_length);
+    if (o->piece_length > 0.0 && o->fixed_pieces > 0)
+        return BAD("fixed_pieces (%d) and piece_length (%g m) are two layouts: set one", o->fixed_pieces,
+                   o->piece_length);
     if (o->restarts < 0 || o->restarts > 100) return BAD("restarts must be in 0..100, got %d", o->restarts);
     if (!(o->param_tolerance >= 0.0) || !(o->cost_tolerance >= 0.0))
         return BAD("param_tolerance and cost_tolerance must be >= 0 (got %g and %g)", o->param_tolerance,
@@ -139,6 +146,35 @@ static hk_Status check_options(const hk_CurveFitOptions *o, int np, hk_Error *er
 /* Initial simplex step of the root frame's rotation (rad): a noisy first segment tilts
  * the estimated frame by about noise / spacing, a few degrees for captured hair. */
 #define ROOT_TURN_SCALE 0.2
+
+/* The samples where the pieces of a fixed layout start, bounds[0] = 0 and bounds[count] =
+ * n - 1; returns the count. Every piece needs the samples of the shortest fragment: a
+ * target too short for the layout gets as many pieces as it holds, at least one (a strand
+ * of a head may be short, and failing the whole head for it would help nobody); with
+ * piece_length, a rest shorter than that goes to the last piece. */
+static int fixed_layout(const Fit *F, const hk_CurveFitOptions *o, int *bounds)
+{
+    const int least = F->min_points > 1 ? F->min_points - 1 : 1; /* segments of a piece */
+    int count = 0;
+    bounds[0] = 0;
+    if (o->piece_length > 0.0) {
+        double at = o->root_piece_length > 0.0 ? o->root_piece_length : o->piece_length;
+        while (count < HK_CURVEFIT_MAX_PIECES - 1) {
+            const double q = at / F->h;
+            int b = q < (double)F->n ? (int)lround(q) : F->n;
+            if (b < bounds[count] + least) b = bounds[count] + least;
+            if (b > F->n - 1 - least) break;
+            bounds[++count] = b;
+            at += o->piece_length;
+        }
+        bounds[++count] = F->n - 1;
+        return count;
+    }
+    const long fit = (F->n - 1) / least;
+    const int pieces = fit < 1 ? 1 : (fit < o->fixed_pieces ? (int)fit : o->fixed_pieces);
+    for (int k = 1; k <= pieces; k++) bounds[k] = (int)(((long)k * (F->n - 1) + pieces / 2) / pieces);
+    return pieces;
+}
 
 static int samples_for(const hk_CurveFitOptions *o, int count) { return o->samples ? o->samples : count; }
 
@@ -203,13 +239,10 @@ hk_Status hk_curve_fit_piecewise_ws(hk_CurveFitWorkspace *ws, const hk_Vec3 *tar
     out->sample_spacing = F.h;
     out->start = start;
     hk_CurveStart end;
-    if (opt->fixed_pieces > 0) {
-        /* Every piece needs the samples of the shortest fragment: a target too short for
-         * all of them gets as many as it holds, at least one (a strand of a head may be
-         * short, and failing the whole head for it would help nobody). */
-        const long fit = (n - 1) / (F.min_points > 1 ? F.min_points - 1 : 1);
-        const int pieces = fit < 1 ? 1 : (fit < opt->fixed_pieces ? (int)fit : opt->fixed_pieces);
-        st = hk_cf_fit_fixed(&F, pieces, &start);
+    if (opt->fixed_pieces > 0 || opt->piece_length > 0.0) {
+        int bounds[HK_CURVEFIT_MAX_PIECES + 1];
+        const int pieces = fixed_layout(&F, opt, bounds);
+        st = hk_cf_fit_fixed(&F, bounds, pieces, &start);
     } else {
         st = hk_cf_fit_range(&F, 0, n - 1, &start, opt->max_pieces, NULL, NULL, &end);
     }

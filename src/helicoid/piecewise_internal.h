@@ -94,8 +94,8 @@ int hk_cf_trace_chain(hk_CurveModelFn model, void *user, const hk_CurveFit *fit,
 hk_Status hk_cf_fit_range(Fit *F, int i0, int i1, const hk_CurveStart *start, int budget, const Piece *known,
                           const Piece *hint, hk_CurveStart *end);
 
-/* Exactly `pieces` pieces of equal length (§5.4 layouts). */
-hk_Status hk_cf_fit_fixed(Fit *F, int pieces, const hk_CurveStart *start);
+/* A fixed layout (§5.4): piece k spans samples bounds[k]..bounds[k + 1], k < pieces. */
+hk_Status hk_cf_fit_fixed(Fit *F, const int *bounds, int pieces, const hk_CurveStart *start);
 
 /* Refits all the output's pieces together when they miss the tolerance (least squares). */
 hk_Status hk_cf_polish_chain(Fit *F);
