@@ -5,10 +5,15 @@
  * vector, so generalized helicoids, Frenet helices or anything else can be fitted.
  *  - discrete Fréchet measures (§5.1): the coupling (minimum total leash length, the
  *    paper's objective) and the distance (minimum longest leash, Eiter & Mannila 1994);
- *  - a Nelder-Mead minimiser (Nelder & Mead 1965, the paper's [NM65]);
- *  - single-piece fits, eq. (5): argmin_k C(h, H(k, Q, p0, L)) + lambda |k|;
+ *  - a Nelder-Mead minimiser (Nelder & Mead 1965, the paper's [NM65]) and a
+ *    Levenberg-Marquardt one for least squares (ours, the default: 10-20 times fewer
+ *    model traces);
+ *  - single-piece fits, eq. (5): argmin_k C(h, H(k, Q, p0, L)) + lambda |k| (the paper's,
+ *    Nelder-Mead), or the mean squared distance of samples and model points at the same
+ *    arc length (least squares);
  *  - piecewise fits with recursive splitting (§5.3), pieces chained through the end pose
- *    of their predecessor so that the frame is continuous across joins.
+ *    of their predecessor so that the frame is continuous across joins; fixed layouts
+ *    shared by every strand (§5.4).
  * See docs/helicoid-fitting.md for the choices made where the paper is vague. */
 #ifndef HAIRKIT_CURVEFIT_H
 #define HAIRKIT_CURVEFIT_H
