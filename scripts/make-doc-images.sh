@@ -51,4 +51,14 @@ for style in guides:helicoid-head bob:helicoid-head-curly; do
     "$hk" render "$tmp/${style#*:}.hair" --head assets/head.obj --visuality examples/default/visuality.txt \
         -o "docs/images/${style#*:}.png" --width 480 --height 360 --thickness 0.0005 --quiet
 done
+# Reconstruction (paper 5.4): the long hair without its waves at follicles 4 mm apart, and
+# the same rebuilt from the fits of one strand in ten (docs/helicoid-fitting.md).
+sed 's/^Waviness.*//' examples/helicoid/guides.txt > "$tmp/smooth.txt"
+"$hk" helicoid interpolate "$tmp/smooth.txt" --surface assets/wick.obj --head assets/head.obj --follicles 0.004 \
+    -o "$tmp/smooth.hair" --quiet
+"$hk" helicoid reconstruct "$tmp/smooth.hair" --every 10 -o "$tmp/rebuilt.hair" --quiet
+for pair in smooth:helicoid-reconstruct-original rebuilt:helicoid-reconstruct; do
+    "$hk" render "$tmp/${pair%%:*}.hair" --head assets/head.obj --visuality examples/default/visuality.txt \
+        -o "docs/images/${pair#*:}.png" --width 320 --height 300 --thickness 0.0005 --quiet
+done
 echo "docs/images updated"
