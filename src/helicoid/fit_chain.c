@@ -26,27 +26,36 @@ hk_Status hk_cf_fit_fixed(Fit *F, const int *bounds, int pieces, const hk_CurveS
 
 /* ---- polishing a chain (least squares) ------------------------------------------------ */
 
-/* The chain's residuals for all its parameters x (piece after piece): the distances of
- * every sample to the chained model, weighted 1/sqrt(n), and lambda x_j. */
+/* The sample where the output's piece k ends. */
+static int piece_end(const Fit *F, int k)
+{
+    return k + 1 < F->out->piece_count ? F->out->first_sample[k + 1] : F->n - 1;
+}
+
+/* Traces the output's pieces with the parameters x (piece after piece) into ws->chain,
+ * from the root pose of the fit (the model's root_frame rule applied with x); starts (may
+ * be NULL) gets each piece's start pose. 0 on success. */
+static int trace_params(Fit *F, const double *x, hk_CurveStart *starts)
+{
+    hk_CurveStart pose = F->root_base, end;
+    if (F->opt->root_frame) F->opt->root_frame(F->user, x, &pose);
+    for (int k = 0; k < F->out->piece_count; k++) {
+        const int a = F->out->first_sample[k];
+        if (starts) starts[k] = pose;
+        if (hk_cf_trace(F, x + k * F->np, &pose, piece_end(F, k) - a + 1, F->ws->chain + a, &end) != 0) return 1;
+        pose = end;
+    }
+    return 0;
+}
+
+/* The chain's residuals for all its parameters x: the distances of every sample to the
+ * chained model and the regularisation. */
 static int chain_residuals(const double *x, double *r, void *user)
 {
     Fit *F = user;
-    const hk_CurveFit *o = F->out;
-    hk_CurveStart pose = F->root_base, end;
-    if (F->opt->root_frame) F->opt->root_frame(F->user, x, &pose);
-    for (int k = 0; k < o->piece_count; k++) {
-        const int a = o->first_sample[k], b = k + 1 < o->piece_count ? o->first_sample[k + 1] : F->n - 1;
-        if (hk_cf_trace(F, x + k * F->np, &pose, b - a + 1, F->ws->chain + a, &end) != 0) return 1;
-        pose = end;
-    }
-    const double w = 1.0 / sqrt((double)F->n);
-    for (int i = 0; i < F->n; i++) {
-        r[3 * i] = w * (F->ws->chain[i].x - F->ws->target[i].x);
-        r[3 * i + 1] = w * (F->ws->chain[i].y - F->ws->target[i].y);
-        r[3 * i + 2] = w * (F->ws->chain[i].z - F->ws->target[i].z);
-    }
-    const int np = o->piece_count * F->np;
-    for (int j = 0; j < np; j++) r[3 * F->n + j] = F->opt->lambda * hk_cf_penalty_weight(F->opt, j % F->np) * x[j];
+    if (trace_params(F, x, NULL) != 0) return 1;
+    hk_cf_distance_residuals(F->ws->chain, F->ws->target, F->n, r);
+    hk_cf_penalty_residuals(F, x, F->out->piece_count * F->np, r + 3 * F->n);
     return 0;
 }
 
@@ -54,8 +63,9 @@ static int chain_residuals(const double *x, double *r, void *user)
  * end pose of its predecessor, whose small errors in the frame there its successors
  * could only bend to follow; moving them together lets the first pieces end where the
  * later ones need them (the p-helicoid's frame continuity of §3.4 is kept, the joins
- * stay chained). Kept only when the chain's coupling improves. Chains of more than
- * POLISH_PARAMS parameters are left as they are. */
+ * stay chained). Kept only when the chain's coupling improves; then the output's
+ * parameters, start, errors (whole and per piece) are the polished chain's. Chains of
+ * more than POLISH_PARAMS parameters are left as they are. */
 hk_Status hk_cf_polish_chain(Fit *F)
 {
     hk_CurveFit *o = F->out;
@@ -71,27 +81,19 @@ hk_Status hk_cf_polish_chain(Fit *F)
     const int m = (int)(3 * F->n) + n;
     hk_LeastSquaresResult r;
     if (hk_least_squares_minimize(n, m, x, scale, chain_residuals, F, &lo, F->ws->lsq, &r, NULL) != HK_OK) return HK_OK;
-    /* The polished chain, traced once more into ws->chain with its poses. */
-    double saved[HK_CURVEFIT_MAX_PIECES][MAXP];
-    memcpy(saved, o->params, sizeof saved);
-    for (int k = 0; k < o->piece_count; k++) memcpy(o->params[k], x + k * F->np, (size_t)F->np * sizeof(double));
-    hk_CurveStart pose = F->root_base, starts[HK_CURVEFIT_MAX_PIECES], end;
-    if (F->opt->root_frame) F->opt->root_frame(F->user, x, &pose);
-    int ok = 1;
-    for (int k = 0; k < o->piece_count && ok; k++) {
-        const int a = o->first_sample[k], b = k + 1 < o->piece_count ? o->first_sample[k + 1] : F->n - 1;
-        starts[k] = pose;
-        ok = hk_cf_trace(F, o->params[k], &pose, b - a + 1, F->ws->chain + a, &end) == 0;
-        pose = end;
-    }
-    const double polished = ok ? hk_frechet_coupling_prefix(F->ws->target, F->ws->chain, F->n, F->ws->row, NULL) : INFINITY;
-    if (!(polished / (double)F->n < o->error)) {
-        memcpy(o->params, saved, sizeof saved);
-        return HK_OK;
-    }
+    /* The polished chain, traced once more (the minimiser's last trace may have been a
+     * rejected step) with its poses. */
+    hk_CurveStart starts[HK_CURVEFIT_MAX_PIECES];
+    if (trace_params(F, x, starts) != 0) return HK_OK;
+    double c, d;
+    hk_frechet_both(F->ws->target, F->n, F->ws->chain, F->n, F->ws->row, &c, &d);
+    if (!(c / (double)F->n < o->error)) return HK_OK;
+    o->error = c / (double)F->n;
+    o->frechet = d;
+    o->start = starts[0];
     for (int k = 0; k < o->piece_count; k++) {
-        const int a = o->first_sample[k], b = k + 1 < o->piece_count ? o->first_sample[k + 1] : F->n - 1;
-        double c, d;
+        const int a = o->first_sample[k], b = piece_end(F, k);
+        memcpy(o->params[k], x + k * F->np, (size_t)F->np * sizeof(double));
         hk_frechet_both(F->ws->target + a, b - a + 1, F->ws->chain + a, b - a + 1, F->ws->row, &c, &d);
         o->piece_error[k] = c / (double)(b - a + 1);
         o->piece_frechet[k] = d;

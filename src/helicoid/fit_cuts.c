@@ -80,9 +80,9 @@ static hk_Status curvature_cut(Fit *F, int i0, int k_lo, int k_max, const Piece 
 
 /* The paper's cut (§5.3, see above): an upper limit from the Fréchet threshold,
  * grown while the fragment still fits, then backtracking by bends. frag gets a fit
- * usable as the first part's hint, marked reusable when it fits exactly i0..cut. */
+ * usable as the first part's hint; *reuse says whether it is the fit of exactly i0..cut. */
 static hk_Status paper_cut(Fit *F, int i0, int i1, int k_lo, int k_hi, const hk_CurveStart *start, const Piece *whole,
-                           Piece *frag, int *cut)
+                           Piece *frag, int *cut, int *reuse)
 {
     hk_Status st;
     /* The whole fit's trace for the Fréchet threshold (a `known` fit left none behind). */
@@ -93,7 +93,7 @@ static hk_Status paper_cut(Fit *F, int i0, int i1, int k_lo, int k_hi, const hk_
     int k_max = frechet_upper_limit(F, i0, i1);
     k_max = k_max < k_lo ? k_lo : (k_max > k_hi ? k_hi : k_max);
     *frag = *whole;
-    frag->params_valid_for_cut = 0;
+    *reuse = 0;
     *cut = k_lo;
     if (k_max <= k_lo) return HK_OK;
     /* Fits that only locate the cut stay in the estimated root frame: no refinement
@@ -112,7 +112,7 @@ static hk_Status paper_cut(Fit *F, int i0, int i1, int k_lo, int k_hi, const hk_
     if ((st = curvature_cut(F, i0, k_lo, k_max, frag, cut)) != HK_OK) return st;
     /* The fragment's fit is the first part's when the cut is at its end (at the root
      * with refine_start, the first part gets its own chance to refine the frame). */
-    frag->params_valid_for_cut = *cut == k_max && (i0 > 0 || !F->opt->refine_start);
+    *reuse = *cut == k_max && (i0 > 0 || !F->opt->refine_start);
     return HK_OK;
 }
 
@@ -146,7 +146,6 @@ static hk_Status settle_cut(Fit *F, int i0, int k_lo, int i1, Piece *frag, int *
             if (c != good) *frag = first;
         }
     }
-    frag->params_valid_for_cut = 1;
     return HK_OK;
 }
 
@@ -156,7 +155,8 @@ static hk_Status settle_cut(Fit *F, int i0, int k_lo, int i1, Piece *frag, int *
  * fitted. Cutting greedily at the longest acceptable prefix gives the fewest pieces when
  * acceptability is monotone, and on a target made of pieces it lands on a join (the
  * prefix stops fitting exactly where the next piece begins). When even the shortest
- * fragment misses the tolerance the cut is there. frag gets the fit of i0..cut. */
+ * fragment misses the tolerance the cut is there. frag gets the fit of i0..cut (to be
+ * reused as the first part's). */
 static hk_Status longest_prefix_cut(Fit *F, int i0, int i1, int k_lo, int k_hi, const hk_CurveStart *start,
                                     const Piece *whole, Piece *frag, int *cut)
 {
@@ -167,7 +167,6 @@ static hk_Status longest_prefix_cut(Fit *F, int i0, int i1, int k_lo, int k_hi, 
      * needs two pieces, would turn the frame to fit the wrong shape); the shortest one
      * may refine it, which noisy first points need. */
     if ((st = hk_cf_fit_piece(F, i0, k_lo, start, 1, whole, NULL, frag)) != HK_OK) return st;
-    frag->params_valid_for_cut = 1;
     *cut = k_lo;
     if (!hk_cf_acceptable(F, frag)) return HK_OK;
     int good = k_lo, bad = k_hi + 1; /* fits within the tolerance / does not (k_hi + 1: assumed) */
@@ -177,7 +176,6 @@ static hk_Status longest_prefix_cut(Fit *F, int i0, int i1, int k_lo, int k_hi, 
         if (hk_cf_acceptable(F, &trial)) {
             good = mid;
             *frag = trial;
-            frag->params_valid_for_cut = 1;
         } else {
             bad = mid;
         }
@@ -188,10 +186,8 @@ static hk_Status longest_prefix_cut(Fit *F, int i0, int i1, int k_lo, int k_hi, 
      * starts from (the probes kept the estimated one): every later piece inherits it. */
     if (i0 == 0 && F->opt->refine_start) {
         if ((st = hk_cf_fit_piece(F, i0, *cut, start, 1, frag, NULL, &trial)) != HK_OK) return st;
-        if (hk_cf_acceptable(F, &trial) && trial.error + trial.join_error < frag->error + frag->join_error) {
+        if (hk_cf_acceptable(F, &trial) && trial.error + trial.join_error < frag->error + frag->join_error)
             *frag = trial;
-            frag->params_valid_for_cut = 1;
-        }
     }
     return HK_OK;
 }
@@ -215,14 +211,14 @@ hk_Status hk_cf_fit_range(Fit *F, int i0, int i1, const hk_CurveStart *start, in
         return HK_OK;
     }
 
+    /* frag fits samples i0..cut when the heuristic says so (reuse: always ours); otherwise
+     * it is only a hint for the first part's own fit. */
     Piece frag;
-    int cut = k_lo, reuse;
-    st = F->opt->method == HK_CURVEFIT_LEAST_SQUARES ? longest_prefix_cut(F, i0, i1, k_lo, k_hi, start, &whole, &frag, &cut)
-                                                     : paper_cut(F, i0, i1, k_lo, k_hi, start, &whole, &frag, &cut);
+    int cut = k_lo, reuse = 1;
+    st = F->opt->method == HK_CURVEFIT_LEAST_SQUARES
+             ? longest_prefix_cut(F, i0, i1, k_lo, k_hi, start, &whole, &frag, &cut)
+             : paper_cut(F, i0, i1, k_lo, k_hi, start, &whole, &frag, &cut, &reuse);
     if (st != HK_OK) return st;
-    /* frag fits samples i0..cut when the heuristic says so (reuse); otherwise it is only a
-     * hint for the first part's own fit. */
-    reuse = frag.params_valid_for_cut;
     const int mark = F->out->piece_count;
     hk_CurveStart mid;
     st = hk_cf_fit_range(F, i0, cut, start, budget - 1, reuse ? &frag : NULL, &frag, &mid);

@@ -10,7 +10,6 @@
 
 #define M_PI_VALUE 3.14159265358979323846
 
-
 /* The root pose turned by the rotation vector r (radians, in the frame's own axes: roll
  * about T, tilts about N and B): frame * exp([r]x), by Rodrigues' formula. */
 static hk_CurveStart rotated(const hk_CurveStart *base, const double *r)
@@ -77,16 +76,43 @@ static double param_norm(const Fit *F, const double *x)
     return sqrt(s);
 }
 
+/* The normalised coupling of the fragment and ws->trace (a trace of it). */
+static double traced_error(Fit *F)
+{
+    return hk_frechet_coupling_prefix(F->ws->target + F->i0, F->ws->trace, F->m, F->ws->row, NULL) / (double)F->m;
+}
+
+/* The normalised coupling of the fragment and the model at x (traced into ws->trace):
+ * what the tolerance is checked against. Model failure: +inf. */
+static double coupling_error(const double *x, Fit *F)
+{
+    hk_CurveStart end;
+    const hk_CurveStart s = start_pose(F, &F->base, x, F->rotating, F->i0 == 0);
+    if (hk_cf_trace(F, x, &s, F->m, F->ws->trace, &end) != 0) return INFINITY;
+    return traced_error(F);
+}
+
 /* Eq. (5): normalised coupling + lambda |k| (the root rotation is not penalised).
  * Model failure: +inf, which Nelder-Mead never accepts. */
 static double objective(const double *x, void *user)
 {
     Fit *F = user;
-    hk_CurveStart end;
-    const hk_CurveStart s = start_pose(F, &F->base, x, F->rotating, F->i0 == 0);
-    if (hk_cf_trace(F, x, &s, F->m, F->ws->trace, &end) != 0) return INFINITY;
-    const double c = hk_frechet_coupling_prefix(F->ws->target + F->i0, F->ws->trace, F->m, F->ws->row, NULL);
-    return c / (double)F->m + F->opt->lambda * param_norm(F, x);
+    return coupling_error(x, F) + F->opt->lambda * param_norm(F, x);
+}
+
+void hk_cf_distance_residuals(const hk_Vec3 *model, const hk_Vec3 *target, int m, double *r)
+{
+    const double w = 1.0 / sqrt((double)m);
+    for (int i = 0; i < m; i++) {
+        r[3 * i] = w * (model[i].x - target[i].x);
+        r[3 * i + 1] = w * (model[i].y - target[i].y);
+        r[3 * i + 2] = w * (model[i].z - target[i].z);
+    }
+}
+
+void hk_cf_penalty_residuals(const Fit *F, const double *x, int count, double *r)
+{
+    for (int j = 0; j < count; j++) r[j] = F->opt->lambda * hk_cf_penalty_weight(F->opt, j % F->np) * x[j];
 }
 
 /* 1 when the fragment being fitted ends before the target does: a later piece joins it
@@ -129,14 +155,8 @@ static int residuals(const double *x, double *r, void *user)
     hk_CurveStart end;
     const hk_CurveStart s = start_pose(F, &F->base, x, F->rotating, F->i0 == 0);
     if (hk_cf_trace(F, x, &s, F->m, F->ws->trace, &end) != 0) return 1;
-    const double w = 1.0 / sqrt((double)F->m);
-    const hk_Vec3 *target = F->ws->target + F->i0, *model = F->ws->trace;
-    for (int i = 0; i < F->m; i++) {
-        r[3 * i] = w * (model[i].x - target[i].x);
-        r[3 * i + 1] = w * (model[i].y - target[i].y);
-        r[3 * i + 2] = w * (model[i].z - target[i].z);
-    }
-    for (int j = 0; j < F->np; j++) r[3 * F->m + j] = F->opt->lambda * hk_cf_penalty_weight(F->opt, j) * x[j];
+    hk_cf_distance_residuals(F->ws->trace, F->ws->target + F->i0, F->m, r);
+    hk_cf_penalty_residuals(F, x, F->np, r + 3 * F->m);
     if (has_join(F)) {
         const hk_Vec3 d = join_residual(F, &end);
         r[3 * F->m + F->np] = d.x;
@@ -148,7 +168,8 @@ static int residuals(const double *x, double *r, void *user)
 
 static int residual_count(const Fit *F) { return 3 * F->m + F->np + (has_join(F) ? 3 : 0); }
 
-/* The cost the method minimises, for choosing where it starts. */
+/* The cost the method minimises, for choosing where it starts; leaves the trace of x in
+ * ws->trace. */
 static double start_cost(const double *x, void *user)
 {
     Fit *F = user;
@@ -214,24 +235,28 @@ static void pick(Fit *F, double (*cand)[MAXP + ROT], int count, double *x)
     }
 }
 
-/* Minimises over the first nx entries from the candidates into x. Nelder-Mead (which
- * explores by itself, and costs hundreds of traces a run) starts from the best of them.
- * Levenberg-Marquardt is local and cheap: it runs from the candidates in the order of
- * their cost until one ends within the tolerance (at most MAX_STARTS), keeping the best end. On a target far
- * from any single piece (a tight lift-off bend with waviness on top) the candidates lead
- * to different minima, and the best start is not always the best end; on an easy one the
- * first run is the only one. */
 /* Levenberg-Marquardt runs per fit at most: the best starts in the order of their cost.
  * On 100 groomed strands one run left 8 above the tolerance (largest 0.76 mm), three 4
  * (0.31 mm); a planar lift-off fitted on 3 fixed pieces ends 3.9 mm off with two runs,
  * 0.29 mm with three (test_lift_off_layouts). Clean two-piece strands cost 2.5 times
  * more with three than with one (bisection probes that miss the tolerance run all). */
 #define MAX_STARTS 3
-static hk_Status descend(Fit *F, double (*cand)[MAXP + ROT], int count, int nx, double *x)
+
+/* Minimises over the first nx entries from the candidates into x; *error gets the
+ * normalised coupling at x. Nelder-Mead (which explores by itself, and costs hundreds of
+ * traces a run) starts from the best of them. Levenberg-Marquardt is local and cheap: it
+ * runs from the candidates in the order of their cost until one ends within the
+ * tolerance (at most MAX_STARTS), keeping the best end. On a target far from any single
+ * piece (a tight lift-off bend with waviness on top) the candidates lead to different
+ * minima, and the best start is not always the best end; on an easy one the first run
+ * is the only one. */
+static hk_Status descend(Fit *F, double (*cand)[MAXP + ROT], int count, int nx, double *x, double *error)
 {
     if (F->opt->method != HK_CURVEFIT_LEAST_SQUARES || nx == 0) {
         pick(F, cand, count, x);
-        return minimise(F, nx, x, F->scale);
+        const hk_Status st = minimise(F, nx, x, F->scale);
+        *error = coupling_error(x, F);
+        return st;
     }
     double cost[8];
     int order[8];
@@ -253,15 +278,18 @@ static hk_Status descend(Fit *F, double (*cand)[MAXP + ROT], int count, int nx, 
         runs++;
         if (minimise(F, nx, y, F->scale) != HK_OK) continue;
         const double f = start_cost(y, F);
-        if (result != HK_OK || f < best) {
-            memcpy(x, y, sizeof y);
-            best = f;
-            result = HK_OK;
-        }
-        if (objective(x, F) - F->opt->lambda * param_norm(F, x) <= F->opt->tolerance) break;
+        if (result == HK_OK && !(f < best)) continue; /* x, kept, was already above the tolerance */
+        memcpy(x, y, sizeof y);
+        best = f;
+        result = HK_OK;
+        *error = isfinite(f) ? traced_error(F) : INFINITY; /* start_cost left y's trace */
+        if (*error <= F->opt->tolerance) break;
     }
-    if (result != HK_OK) pick(F, cand, count, x); /* every start failed: hand back the least bad */
-    return result == HK_OK ? HK_OK : minimise(F, nx, x, F->scale);
+    if (result == HK_OK) return HK_OK;
+    pick(F, cand, count, x); /* every start failed: hand back the least bad */
+    const hk_Status st = minimise(F, nx, x, F->scale);
+    *error = coupling_error(x, F);
+    return st;
 }
 
 /* Fits samples i0..i1 from `start`. Nelder-Mead starts at the best of the user's seed
@@ -285,13 +313,13 @@ hk_Status hk_cf_fit_piece(Fit *F, int i0, int i1, const hk_CurveStart *start, in
     if (F->opt->fragment_seed && F->m >= 3) F->opt->fragment_seed(F->user, F->ws->target + i0, F->m, start, cand[count++]);
     for (int h = 0; h < 2; h++)
         if (hints[h]) memcpy(cand[count++], hints[h]->params, (size_t)F->np * sizeof(double));
-    double x[MAXP + ROT];
-    hk_Status st = descend(F, cand, count, F->np, x);
+    double x[MAXP + ROT], error;
+    hk_Status st = descend(F, cand, count, F->np, x, &error);
     /* Least squares refines the frame already at a tenth of the tolerance: it costs a few
      * dozen traces, and the root frame's error, small at the root, is what every later
      * piece inherits through the joins. */
     const double refine_above = F->opt->method == HK_CURVEFIT_LEAST_SQUARES ? 0.1 * F->opt->tolerance : F->opt->tolerance;
-    if (st == HK_OK && refine && objective(x, F) - F->opt->lambda * param_norm(F, x) > refine_above) {
+    if (st == HK_OK && refine && error > refine_above) {
         /* Free the frame: candidates are the fit so far, the hints with their own
          * rotations, and the seed rolled by quarter turns about the tangent, because the
          * normal estimated from noisy first points can be off by any roll (the first
@@ -311,7 +339,7 @@ hk_Status hk_cf_fit_piece(Fit *F, int i0, int i1, const hk_CurveStart *start, in
             memcpy(cand[count], F->seed, (size_t)F->np * sizeof(double));
             cand[count++][F->np] = q * (M_PI_VALUE / 2.0);
         }
-        st = descend(F, cand, count, F->np + ROT, x);
+        st = descend(F, cand, count, F->np + ROT, x, &error);
     }
     if (st != HK_OK)
         return hk_error_set(F->err, HK_ERR_NUMERIC,

@@ -246,7 +246,7 @@ hk_Status hk_curve_fit_piecewise_ws(hk_CurveFitWorkspace *ws, const hk_Vec3 *tar
     } else {
         st = hk_cf_fit_range(&F, 0, n - 1, &start, opt->max_pieces, NULL, NULL, &end);
     }
-    for (int pass = 0; pass < 2 && st == HK_OK; pass++) {
+    if (st == HK_OK) {
         out->start = F.starts[0];
         if (hk_cf_trace_chain(model, user, out, 0, out->piece_count, n - 1, F.h, &out->start, ws->chain, &F.evaluations) != 0) {
             st = hk_error_set(err, HK_ERR_NUMERIC, "curve fit: the model failed re-tracing its own pieces");
@@ -256,12 +256,10 @@ hk_Status hk_curve_fit_piecewise_ws(hk_CurveFitWorkspace *ws, const hk_Vec3 *tar
             out->error = c / (double)n;
             out->frechet = d;
         }
-        /* Polish only a chain that misses the tolerance: its pieces each met it. */
-        if (st != HK_OK || pass == 1 || opt->method != HK_CURVEFIT_LEAST_SQUARES || out->piece_count < 2 ||
-            out->error <= opt->tolerance)
-            break;
-        st = hk_cf_polish_chain(&F);
     }
+    /* Polish only a chain that misses the tolerance: its pieces each met it. */
+    if (st == HK_OK && opt->method == HK_CURVEFIT_LEAST_SQUARES && out->piece_count >= 2 && out->error > opt->tolerance)
+        st = hk_cf_polish_chain(&F);
     out->evaluations = F.evaluations;
     if (st != HK_OK) out->piece_count = 0;
     return st;

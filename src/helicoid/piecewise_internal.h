@@ -38,7 +38,6 @@ typedef struct Piece {
     double frechet;      /* Fréchet distance against its fragment (m) */
     double join_error;   /* least squares, a piece with a successor: how far its end
                             tangent's error turns the rest (m), see residuals() */
-    int params_valid_for_cut; /* a cut heuristic's fit: 1 when it is the first part's own */
 } Piece;
 
 typedef struct Fit {
@@ -71,6 +70,12 @@ int hk_cf_trace(Fit *F, const double *params, const hk_CurveStart *start, int m,
 /* The weight of parameter j in the regularisation (options.penalty_weight, 0 = 1). */
 double hk_cf_penalty_weight(const hk_CurveFitOptions *o, int j);
 
+/* Least-squares rows: the 3 m distances of model and target points, weighted 1/sqrt(m)
+ * (half the mean squared distance as cost), and the regularisation lambda w_j x_j of
+ * `count` parameters (weights cycling with the model's parameter count). */
+void hk_cf_distance_residuals(const hk_Vec3 *model, const hk_Vec3 *target, int m, double *r);
+void hk_cf_penalty_residuals(const Fit *F, const double *x, int count, double *r);
+
 /* The Levenberg-Marquardt settings of the fits for nx parameters. */
 hk_LeastSquaresOptions hk_cf_least_squares_options(const Fit *F, int nx);
 
@@ -97,7 +102,8 @@ hk_Status hk_cf_fit_range(Fit *F, int i0, int i1, const hk_CurveStart *start, in
 /* A fixed layout (§5.4): piece k spans samples bounds[k]..bounds[k + 1], k < pieces. */
 hk_Status hk_cf_fit_fixed(Fit *F, const int *bounds, int pieces, const hk_CurveStart *start);
 
-/* Refits all the output's pieces together when they miss the tolerance (least squares). */
+/* Refits all the output's pieces together (least squares); keeps the result, with the
+ * output's start and errors, only when its coupling is lower. */
 hk_Status hk_cf_polish_chain(Fit *F);
 
 #endif
