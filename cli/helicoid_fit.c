@@ -81,16 +81,16 @@ static hk_Status fit_strands(const hk_HairFile *hair, const long *idx, long n, c
     return HK_OK;
 }
 
-/* The fit's options from the command line; `pieces` is the fixed layout (0: split as
- * each strand needs). */
-static hk_CurveFitOptions fit_options(const hk_HelicoidArgs *a, long pieces)
+/* The fit's options from the command line (layout: --pieces, --piece-length, or split
+ * as each strand needs). */
+static hk_CurveFitOptions fit_options(const hk_HelicoidArgs *a)
 {
     hk_CurveFitOptions o = hk_helicoid_fit_options();
     o.method = a->method;
     o.tolerance = a->tolerance;
     o.lambda = a->lambda;
     o.max_pieces = (int)a->max_pieces;
-    o.fixed_pieces = a->piece_length > 0.0 ? 0 : (int)pieces;
+    o.fixed_pieces = a->piece_length > 0.0 ? 0 : (int)a->pieces;
     o.piece_length = a->piece_length;
     o.root_piece_length = a->root_piece;
     return o;
@@ -110,7 +110,7 @@ int hk_helicoid_cli_fit(const hk_HelicoidArgs *a)
         rep = hk_alloc_array(hair.strand_count ? hair.strand_count : 1, sizeof(FitReport), &err);
         if (!idx || !rep) st = HK_ERR_NOMEM;
     }
-    const hk_CurveFitOptions opt = fit_options(a, a->pieces);
+    const hk_CurveFitOptions opt = fit_options(a);
     const double t0 = hk_cli_now();
     if (st == HK_OK) {
         for (uint32_t s = 0; s < hair.strand_count; s++) idx[s] = s;
@@ -160,12 +160,11 @@ int hk_helicoid_cli_reconstruct(const hk_HelicoidArgs *a)
         roots = hk_alloc_array((size_t)n, sizeof(hk_Vec3), &err);
         if (!idx || !rep || !roots) st = HK_ERR_NOMEM;
     }
-    hk_HelicoidArgs layout = *a;
+    hk_CurveFitOptions opt = fit_options(a);
     if (!a->pieces_given && !(a->piece_length > 0.0)) {
-        layout.piece_length = RECONSTRUCT_PIECE_LENGTH;
-        layout.root_piece = RECONSTRUCT_ROOT_PIECE;
+        opt.piece_length = RECONSTRUCT_PIECE_LENGTH;
+        opt.root_piece_length = RECONSTRUCT_ROOT_PIECE;
     }
-    const hk_CurveFitOptions opt = fit_options(&layout, a->pieces);
     const double t0 = hk_cli_now();
     if (st == HK_OK) {
         for (long i = 0; i < k; i++) idx[i] = i * a->every;
