@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "hairkit/helicoid_fit.h"
+#include "helicoid_internal.h"
 
 /* Least |w| a fitted piece may reach (1 at its origin): it stays at least a tenth of its
  * origin's distance away from the singular axis, where it turns at most ten times faster
@@ -78,11 +79,11 @@ int hk_helicoid_piece_model(void *user, const double *params, const hk_CurveStar
      * exactly that many when the step divides the length. */
     const double step = length / (count - 1);
     /* The field may not turn faster than MAX_TURN_PER_SAMPLE between two samples at the
-     * piece's origin (piece_rk4.c's bound on its turning rate): a bend the samples cannot
-     * resolve is not something they can be fitted with, and its trace would need many
-     * substeps. */
-    const double rate = (hypot(params[0], params[1]) + fabs(params[2])) * (1.0 + fabs(params[3]));
-    if (!(rate * step <= MAX_TURN_PER_SAMPLE)) return 1;
+     * piece's origin (|w| = 1): a bend the samples cannot resolve is not something they
+     * can be fitted with, and its trace would need many substeps. */
+    double per_w, constant;
+    hk_helicoid_turn_bound(&h.k[0], &per_w, &constant);
+    if (!((per_w + constant) * step <= MAX_TURN_PER_SAMPLE)) return 1;
     if (hk_phelicoid_point_count(&h, step) != count) return 1;
     if (hk_phelicoid_trace(&h, step, NULL, NULL, out_points, f->frames, NULL) != HK_OK) return 1;
     /* A piece that comes close to its field's singular axis w = 0 turns there at |k_N + i

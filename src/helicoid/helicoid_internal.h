@@ -43,6 +43,17 @@ static inline void hk_helicoid_eval(const hk_Helicoid *k, double x, double y, do
     }
 }
 
+/* The bound on how fast the field's direction turns along a strand (rad per unit length)
+ * where |w| = W: per_w / W + constant, with per_w = |k_N + i k_T| (1 + |alpha|) and
+ * constant = |k_B| (1 + |alpha|) (the gradient of theta = arg w + k_B z, and phi = alpha
+ * theta). The tracer's substeps and the fitter's resolution rule both use it. */
+static inline void hk_helicoid_turn_bound(const hk_Helicoid *k, double *per_w, double *constant)
+{
+    const double a = 1.0 + fabs(k->alpha);
+    *per_w = hypot(k->kt, k->kn) * a;
+    *constant = fabs(k->kb) * a;
+}
+
 /* Eq. 2 from the sines and cosines: columns E_T, E_N, E_B. */
 static inline hk_Mat3 hk_helicoid_frame_of(const hk_HelicoidAngles *a)
 {

@@ -61,16 +61,15 @@ static inline Deriv field(const hk_Helicoid *k, double x, double y, double z, do
 #define MAX_SUBSTEPS 64
 
 /* Substeps for an output step h starting at local (x, y): the field's direction turns at
- * most at rate (|k_N + i k_T| / |w| + |k_B|) (1 + |alpha|) (the gradient of theta = arg w
- * + k_B z, and phi = alpha theta), |w| taken where the step starts. Without this a fit could
+ * most at hk_helicoid_turn_bound's rate, |w| taken where the step starts. Without this a fit could
  * use curvatures of a radian per sample, or pass next to the singular axis w = 0, and be
  * right only at the step it was fitted at: the parameters must describe the curve, not
  * one discretisation of it. */
 static int substeps(const hk_Helicoid *k, double x, double y, double a, double b)
 {
-    /* a = |k_N + i k_T| (1 + |alpha|) h / MAX_TURN_PER_STEP, b = |k_B| (1 + |alpha|) h /
-     * MAX_TURN_PER_STEP: the substeps are ceil(a / |w| + b); one when a <= (1 - b) |w|,
-     * checked without a square root (the common case). */
+    /* a, b: the bound's two terms times h / MAX_TURN_PER_STEP: the substeps are
+     * ceil(a / |w| + b); one when a <= (1 - b) |w|, checked without a square root (the
+     * common case). */
     const double wr = 1.0 + k->kn * x - k->kt * y, wi = k->kt * x + k->kn * y, r2 = wr * wr + wi * wi;
     if (b < 1.0 && a * a <= (1.0 - b) * (1.0 - b) * r2) return 1;
     const double n = ceil(a / fmax(sqrt(r2), 1e-12) + b);
@@ -81,8 +80,9 @@ void hk_helicoid_piece_rk4(const hk_HelicoidPiece *pc, hk_Vec3 *p, hk_HelicoidAn
 {
     const hk_Helicoid *k = pc->k;
     const double step = pc->length / pc->steps;
-    const double spin = (1.0 + fabs(k->alpha)) * step / MAX_TURN_PER_STEP;
-    const double sa = hypot(k->kt, k->kn) * spin, sb = fabs(k->kb) * spin;
+    double sa, sb;
+    hk_helicoid_turn_bound(k, &sa, &sb);
+    sa *= step / MAX_TURN_PER_STEP, sb *= step / MAX_TURN_PER_STEP;
     double x = p->x, y = p->y, z = p->z, psi = a->theta - k->kb * z;
     hk_HelicoidAngles a1, tmp;
     Deriv d1 = field(k, x, y, z, psi, &a1);
