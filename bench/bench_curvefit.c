@@ -16,26 +16,6 @@
 #define SAMPLES 30
 #define LENGTH 0.1
 
-static int helix_model(void *user, const double *k, const hk_CurveStart *start, double length, int count,
-                       hk_Vec3 *out, hk_CurveStart *end)
-{
-    (void)user;
-    const double h = length / (double)(count - 1);
-    const double ca = cos(k[0] * h), sa = sin(k[0] * h), cb = cos(k[1] * h), sb = sin(k[1] * h);
-    const hk_Mat3 m = {{{ca, -sa * cb, sa * sb}, {sa, ca * cb, -ca * sb}, {0.0, sb, cb}}}; /* Rz Rx */
-    hk_Mat3 r = start->frame;
-    hk_Vec3 p = start->pos;
-    out[0] = p;
-    for (int i = 1; i < count; i++) {
-        p = hk_v3_madd(p, hk_m3_col(&r, 0), h);
-        out[i] = p;
-        r = hk_m3_mul(&r, &m);
-    }
-    end->pos = p;
-    end->frame = r;
-    return 0;
-}
-
 /* Counter-based uniform numbers, so that the strands do not depend on the thread count. */
 static double uniform(uint64_t key, double lo, double hi)
 {
@@ -65,10 +45,10 @@ static void make_strand(int kind, int s, hk_Vec3 *pts)
     const double k1[2] = {uniform(key + 3, 20, 100), uniform(key + 4, -40, 40)};
     const double k2[2] = {uniform(key + 5, 20, 100), uniform(key + 6, -40, 40)};
     if (kind == 1) {
-        helix_model(NULL, k1, &start, 14 * h, 15, pts, &end);
-        helix_model(NULL, k2, &end, (SAMPLES - 15) * h, SAMPLES - 14, pts + 14, &end);
+        hk_curve_model_frenet_helix(NULL, k1, &start, 14 * h, 15, pts, &end);
+        hk_curve_model_frenet_helix(NULL, k2, &end, (SAMPLES - 15) * h, SAMPLES - 14, pts + 14, &end);
     } else {
-        helix_model(NULL, k1, &start, LENGTH, SAMPLES, pts, &end);
+        hk_curve_model_frenet_helix(NULL, k1, &start, LENGTH, SAMPLES, pts, &end);
     }
     if (kind == 2)
         for (int i = 1; i < SAMPLES; i++)
@@ -94,8 +74,8 @@ static Stats run_set(const hk_Vec3 (*strands)[SAMPLES], int count, int threads, 
 #pragma omp for schedule(dynamic, 4)
         for (int s = 0; s < count; s++) {
             hk_CurveFit fit;
-            if (!ws || hk_curve_fit_piecewise_ws(ws, strands[s], SAMPLES, helix_model, NULL, 2, seed, scale, o, &fit,
-                                                 NULL) != HK_OK) {
+            if (!ws || hk_curve_fit_piecewise_ws(ws, strands[s], SAMPLES, hk_curve_model_frenet_helix, NULL, 2, seed,
+                                                 scale, o, &fit, NULL) != HK_OK) {
                 failures++;
                 continue;
             }

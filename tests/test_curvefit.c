@@ -44,31 +44,13 @@ static hk_CurveStart random_start(void)
 
 /* ---- the test's curve models ---------------------------------------------------------- */
 
-/* A discrete Frenet helix traced like the paper traces helicoids (forward Euler along
- * the tangent, eq. 3): each step moves h along T, then turns the frame by kappa h about
- * B and twists it by tau h about the new T. Its vertices lie on a helix of curvature ~
- * kappa and torsion ~ tau; its first segment is the start tangent and its first bend
- * lies in the (T, N) plane, so hk_curve_estimate_start recovers the start frame exactly
- * (kappa > 0). params: (kappa, tau) 1/m. */
+/* The discrete Frenet helix of the library (hk_curve_model_frenet_helix), by its
+ * curvature and torsion. */
 static int helix_trace(double kappa, double tau, const hk_CurveStart *start, double length, int count,
                        hk_Vec3 *out, hk_CurveStart *end)
 {
-    if (count < 2) return 1;
-    const double h = length / (double)(count - 1);
-    const double ca = cos(kappa * h), sa = sin(kappa * h), cb = cos(tau * h), sb = sin(tau * h);
-    /* M = Rz(kappa h) Rx(tau h) */
-    const hk_Mat3 m = {{{ca, -sa * cb, sa * sb}, {sa, ca * cb, -ca * sb}, {0.0, sb, cb}}};
-    hk_Mat3 r = start->frame;
-    hk_Vec3 p = start->pos;
-    out[0] = p;
-    for (int i = 1; i < count; i++) {
-        p = hk_v3_madd(p, hk_m3_col(&r, 0), h);
-        out[i] = p;
-        r = hk_m3_mul(&r, &m);
-    }
-    end->pos = p;
-    end->frame = r;
-    return 0;
+    const double k[2] = {kappa, tau};
+    return hk_curve_model_frenet_helix(NULL, k, start, length, count, out, end);
 }
 
 static int helix_model(void *user, const double *k, const hk_CurveStart *start, double length, int count,

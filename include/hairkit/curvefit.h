@@ -160,6 +160,16 @@ typedef struct hk_CurveStart {
 typedef int (*hk_CurveModelFn)(void *user, const double *params, const hk_CurveStart *start,
                                double length, int count, hk_Vec3 *out_points, hk_CurveStart *end);
 
+/* A model: the discrete Frenet helix, params (kappa, tau) in 1/m, traced like the paper
+ * traces helicoids (forward Euler, eq. 3): each step moves length / (count - 1) along T,
+ * then turns the frame by kappa h about B and twists it by tau h about the new T. Its
+ * vertices lie on a helix of curvature ~ kappa and torsion ~ tau; its first segment is
+ * the start tangent and its first bend lies in the (T, N) plane, so
+ * hk_curve_estimate_start recovers the start frame exactly (kappa > 0). user is unused;
+ * non-zero only for count < 2. */
+int hk_curve_model_frenet_helix(void *user, const double *params, const hk_CurveStart *start, double length,
+                                int count, hk_Vec3 *out_points, hk_CurveStart *end);
+
 /* The pose a fit starts from, estimated from a polyline's first points (the paper's
  * "target hair h with estimated Frenet frame Q" [Ros03]): position = points[0]; tangent
  * = the first segment of non-zero length (exact for curves traced by forward Euler, as
