@@ -92,6 +92,15 @@ static void normal_equations(const Run *run, const double *jac, const double *r,
     }
 }
 
+/* A rejected step (or an unsolvable system): damp more, mu *= nu, nu *= 2 (Nielsen).
+ * 0 when the damping has grown past any use (no step would ever be taken). */
+static int more_damping(double *mu, double *nu)
+{
+    *mu *= *nu;
+    *nu *= 2.0;
+    return *mu < 1e300;
+}
+
 static hk_Status check_args(int n, int m, const double *x, const double *scale, hk_ResidualFn f, double *work,
                             const hk_LeastSquaresOptions *o, hk_Error *err)
 {
@@ -128,7 +137,7 @@ hk_Status hk_least_squares_minimize(int n, int m, double *x, const double *scale
         if (result) res.evaluations = run.evaluations, res.cost = INFINITY, *result = res;
         return hk_error_set(err, HK_ERR_NUMERIC, "least squares: the residuals are not defined at the start");
     }
-    double cost = half_norm2(r, m), mu = -1.0, nu = 2.0;
+    double cost = half_norm2(r, m), mu = 1e-3, nu = 2.0;
     int fresh = 0;  /* 1 when a, g hold the normal equations at x */
     int stalls = 0; /* accepted steps in a row that gained nearly nothing */
     while (run.evaluations + n + 1 <= run.max_evaluations) {
@@ -150,10 +159,8 @@ hk_Status hk_least_squares_minimize(int n, int m, double *x, const double *scale
         /* Marquardt's scaling, floored so that a parameter the residuals do not see
          * (a zero column) still gets a damped, finite step. */
         for (int j = 0; j < n; j++) d[j] = fmax(a[j * n + j], 1e-12 * amax);
-        if (mu < 0.0) mu = 1e-3;
         if (!hk_cholesky_factor(n, a, mu, d, l)) {
-            mu *= nu, nu *= 2.0;
-            if (!(mu < 1e300)) break; /* no damping makes it solvable: give up here */
+            if (!more_damping(&mu, &nu)) break;
             continue;
         }
         for (int j = 0; j < n; j++) h[j] = -g[j];
@@ -174,8 +181,7 @@ hk_Status hk_least_squares_minimize(int n, int m, double *x, const double *scale
         const double rho = predicted > 0.0 ? (cost - cost_new) / predicted : -1.0;
         res.iterations++;
         if (!(rho > 0.0)) {
-            mu *= nu, nu *= 2.0;
-            if (!(mu < 1e300)) break;
+            if (!more_damping(&mu, &nu)) break;
             continue;
         }
         const double gained = cost - cost_new;
