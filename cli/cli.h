@@ -118,7 +118,7 @@ hk_Status hk_cli_motion_create(const hk_CliMotion *m, struct hk_HeadMotion **out
 typedef struct hk_CliStrandSim {
     int enabled;
     double duration, dt;
-    int damping, dense, quiet;
+    int damping, dense, euler, quiet;
     const char *tip_csv;
     hk_CliMotion motion;
 } hk_CliStrandSim;

@@ -38,10 +38,14 @@ static void usage(FILE *out)
             "  --dt DT            time step in seconds (default 1/30, the paper's)\n"
             "  --damping on|off   internal friction and air drag (InternalFriction, AirDrag\n"
             "                     of the hairstyle file; default on)\n"
-            "  --dynamics-solver dense|linear\n"
-            "                     dense Cholesky with the full stiffness (default) or the\n"
-            "                     O(N) recursion with the elastic and Gauss-Newton contact\n"
-            "                     stiffness (gravity's stiffness explicit, as in the paper)\n"
+            "  --dynamics-solver linear|dense\n"
+            "                     matrix of Newton's iteration: the O(N) recursion with the\n"
+            "                     elastic and Gauss-Newton contact stiffness (default), or\n"
+            "                     dense Cholesky with the full stiffness\n"
+            "  --integrator trbdf2|euler\n"
+            "                     TR-BDF2, second order with every force implicit (default),\n"
+            "                     or the linearly implicit Euler step of paper 000 3.4\n"
+            "                     (cheaper, first order, unstable for long hair at 1/30 s)\n"
             "  --tip-csv FILE     write t,x,y,z of the tip at every step\n");
     hk_cli_motion_options_help(out);
     fprintf(out,
@@ -50,8 +54,9 @@ static void usage(FILE *out)
             "  # energy=<J> iterations=<n> evaluations=<n> solver=<name>\n"
             "  s,x,y,z            one row every VisualityStep from the root, the tip last\n"
             "with --simulate, energy is the total (kinetic + elastic + gravity) at time T,\n"
-            "iterations and evaluations count the steps, and the solver is dynamics-linear\n"
-            "or dynamics-dense.\n");
+            "iterations counts the steps of DT, evaluations the evaluations of the forces\n"
+            "(Newton iterations, with the splits of fast motion), and the solver is\n"
+            "dynamics-linear or dynamics-dense.\n");
 }
 
 typedef struct StrandArgs {
@@ -66,12 +71,13 @@ typedef struct StrandArgs {
 static int parse_args(int argc, char **argv, StrandArgs *a)
 {
     enum { OPT_COLLISION = 1000, OPT_ROOT, OPT_DIR, OPT_SOLVER, OPT_ENVELOPE, OPT_PLOT, OPT_QUIET,
-           OPT_SIMULATE, OPT_DT, OPT_DAMPING, OPT_DYN_SOLVER, OPT_TIP_CSV };
+           OPT_SIMULATE, OPT_DT, OPT_DAMPING, OPT_DYN_SOLVER, OPT_TIP_CSV, OPT_INTEGRATOR };
     static const struct option options[] = {
         {"simulate", required_argument, NULL, OPT_SIMULATE},
         {"dt", required_argument, NULL, OPT_DT},
         {"damping", required_argument, NULL, OPT_DAMPING},
         {"dynamics-solver", required_argument, NULL, OPT_DYN_SOLVER},
+        {"integrator", required_argument, NULL, OPT_INTEGRATOR},
         {"tip-csv", required_argument, NULL, OPT_TIP_CSV},
         HK_CLI_MOTION_LONG_OPTIONS,
         {"collision", required_argument, NULL, OPT_COLLISION},
@@ -118,6 +124,11 @@ static int parse_args(int argc, char **argv, StrandArgs *a)
             if (strcmp(optarg, "linear") != 0 && strcmp(optarg, "dense") != 0)
                 return hk_cli_usage_error(CMD, "--dynamics-solver must be linear or dense, got '%s'", optarg);
             a->sim.dense = strcmp(optarg, "dense") == 0;
+            break;
+        case OPT_INTEGRATOR:
+            if (strcmp(optarg, "trbdf2") != 0 && strcmp(optarg, "euler") != 0)
+                return hk_cli_usage_error(CMD, "--integrator must be trbdf2 or euler, got '%s'", optarg);
+            a->sim.euler = strcmp(optarg, "euler") == 0;
             dynamics_option = 1;
             break;
         case OPT_TIP_CSV:

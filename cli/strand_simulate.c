@@ -11,7 +11,7 @@
 
 hk_CliStrandSim hk_cli_default_strand_sim(void)
 {
-    hk_CliStrandSim s = {0, 0.0, 1.0 / 30.0, 1, 1, 0, NULL, hk_cli_default_motion()};
+    hk_CliStrandSim s = {0, 0.0, 1.0 / 30.0, 1, 0, 0, 0, NULL, hk_cli_default_motion()};
     return s;
 }
 
@@ -43,6 +43,7 @@ int hk_cli_strand_simulate(const char *cmd, const hk_CliStrandSim *sim, const hk
     if (!sim->damping) params.internal_friction = params.air_drag = 0.0;
     params.solver = sim->dense ? HK_DYNAMICS_DENSE : HK_DYNAMICS_LINEAR;
     params.stiffness = sim->dense ? HK_STIFFNESS_FULL : HK_STIFFNESS_GAUSS_NEWTON;
+    params.integrator = sim->euler ? HK_INTEGRATOR_LINEAR_EULER : HK_INTEGRATOR_TRBDF2;
     if (hk_cli_motion_create(&sim->motion, &motion, &err) != HK_OK ||
         hk_strand_dynamics_create(sh, &params, env, &dyn, &err) != HK_OK ||
         (sim->tip_csv && hk_outfile_open(&tip, sim->tip_csv, &err) != HK_OK)) {
@@ -108,7 +109,8 @@ int hk_cli_strand_simulate(const char *cmd, const hk_CliStrandSim *sim, const hk
             goto done;
         }
     }
-    printf("# energy=%.10e iterations=%ld evaluations=%ld solver=%s\n", kinetic + potential, steps, steps,
+    const hk_DynamicsStats stats = hk_strand_dynamics_stats(dyn);
+    printf("# energy=%.10e iterations=%ld evaluations=%ld solver=%s\n", kinetic + potential, steps, stats.iterations,
            sim->dense ? "dynamics-dense" : "dynamics-linear");
     printf("s,x,y,z\n");
     for (int j = 0; j < count; j++) printf("%.10g,%.10g,%.10g,%.10g\n", s[j], p[j].x, p[j].y, p[j].z);

@@ -169,7 +169,7 @@ static double energy_run(double dt, double seconds, int damped, int monotone, hk
     hk_SuperHelix *sh = wavy_strand(8, 0.2);
     hk_DynamicsParams p = damped ? hk_default_dynamics_params() : undamped();
     p.stiffness = stiffness;
-    if (stiffness == HK_STIFFNESS_GAUSS_NEWTON) p.solver = HK_DYNAMICS_LINEAR;
+    p.solver = stiffness == HK_STIFFNESS_FULL ? HK_DYNAMICS_DENSE : HK_DYNAMICS_LINEAR;
     hk_StrandDynamics *d = NULL;
     hk_Error err;
     assert_int_equal(hk_strand_dynamics_create(sh, &p, NULL, &d, &err), HK_OK);
@@ -179,7 +179,7 @@ static double energy_run(double dt, double seconds, int damped, int monotone, hk
     double prev = e0, excess = 0.0;
     const int steps = (int)(seconds / dt + 0.5);
     for (int i = 0; i < steps; i++) {
-        assert_int_equal(hk_strand_dynamics_step(d, NULL, NULL, 0, dt, &err), HK_OK);
+        assert_int_equal(hk_strand_dynamics_advance(d, NULL, NULL, i * dt, dt, NULL, 0, NULL, &err), HK_OK);
         double t, u;
         hk_strand_dynamics_energy(d, NULL, &t, &u);
         if (monotone && !(t + u <= prev + 1e-12 * scale))
@@ -192,14 +192,12 @@ static double energy_run(double dt, double seconds, int damped, int monotone, hk
     return excess;
 }
 
-/* With the paper's damping (gamma, nu in Appendix B's ranges) the energy never rises,
- * at the paper's dt = 1/30 s and at 1 ms, with either stiffness; undamped too at 1/30 s
- * with the full stiffness, whose shift to a positive semi-definite matrix adds the
- * numerical damping of implicit Euler. Undamped at small steps the step's explicit
- * parts (the velocity products, and with the Gauss-Newton stiffness gravity's, as in
- * paper 000 §3.4) leave an O(dt) error: the excess of energy over the start must
- * shrink in proportion to dt - which a non-conservative force term (an error in M, the
- * bias or the Jacobians) would not. */
+/* On a still head the energy never rises, with the paper's damping (gamma, nu in
+ * Appendix B's ranges) and without, at the paper's dt = 1/30 s and at 1 ms, with either
+ * stiffness: TR-BDF2 with the energy guard (docs/dynamics.md, "Time stepping"). The
+ * linearly implicit Euler it replaced gained energy undamped (61 % of the available
+ * energy at dt = 1/120 s, issue 12). tests/test_dynamics_stepping.c checks the undamped
+ * energy over 10 s at dt from 1/24 s to 1 ms against the available energy. */
 static void test_energy_never_rises(void **state)
 {
     (void)state;
@@ -207,13 +205,8 @@ static void test_energy_never_rises(void **state)
     for (int k = 0; k < 2; k++) {
         energy_run(1.0 / 30.0, 10.0, 1, 1, kinds[k]);
         energy_run(1e-3, 3.0, 1, 1, kinds[k]);
-        if (kinds[k] == HK_STIFFNESS_FULL) energy_run(1.0 / 30.0, 10.0, 0, 1, kinds[k]);
-        const double coarse = energy_run(1e-3, 2.0, 0, 0, kinds[k]);
-        const double fine = energy_run(3e-4, 2.0, 0, 0, kinds[k]);
-        print_message("%s stiffness, undamped: energy excess %.3g at dt 1 ms, %.3g at 0.3 ms\n",
-                      k == 0 ? "full" : "Gauss-Newton", coarse, fine);
-        assert_true(coarse < 0.05);
-        assert_true(fine <= coarse / 2.5); /* first order: 1/0.3 = 3.3 expected */
+        energy_run(1.0 / 30.0, 10.0, 0, 1, kinds[k]);
+        energy_run(1e-3, 2.0, 0, 1, kinds[k]);
     }
 }
 

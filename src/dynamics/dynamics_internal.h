@@ -108,4 +108,78 @@ int hk_body_contact_force(const hk_BodyContact *bc, const hk_RigidState *head, h
 int hk_body_contact_friction(const hk_BodyContact *bc, const hk_RigidState *head, hk_Vec3 pos,
                              hk_Vec3 vel, hk_Vec3 tangent, hk_Vec3 grad, hk_PointForce *out);
 
+/* The state of one strand's dynamics (hairkit/dynamics.h). The vectors are 3N values
+ * each, one block. */
+struct hk_StrandDynamics {
+    hk_SuperHelix *sh;
+    hk_DynamicsParams params;
+    hk_Vec3 root_head;   /* root in head space */
+    hk_Mat3 frame_head;  /* root frame in head space */
+    hk_Shape *shapes;    /* body shapes (head space), owned copy */
+    hk_BodyContact contact;
+    int contact_samples; /* collision samples along the strand (0: no body) */
+    int contact_count;   /* samples in contact during the last evaluation */
+    hk_StrandEnv potential_env; /* no shapes: elastic + gravity */
+    hk_StrandWorkspace *ws;
+    double *v;           /* generalized velocity q' */
+    double *delta;       /* Newton correction of the velocity */
+    double *rhs;         /* generalized force (evaluate), then the residual */
+    double *extra;       /* diagonal of the iteration matrix beyond M: ch gamma l + ch^2 K l */
+    double *grad;        /* gradient of the potential at q */
+    double *saved;       /* q and v before a step that may be undone, 2 x 3N */
+    double *start;       /* q and v at the start of hk_strand_dynamics_advance, 2 x 3N */
+    double *acc;         /* q'' at the end of the last step (TR-BDF2 "first same as last") */
+    double *acc_at;      /* q and v (2 x 3N) for which acc holds: a velocity set by the
+                            caller makes it stale */
+    int acc_valid;
+    double energy;       /* hk_dynamics_total_energy for the state of acc_at (energy_valid) */
+    int energy_valid;
+    double *q0, *v0;     /* the step's start */
+    double *aq, *av;     /* the known parts of a stage, q = aq + ch v, v = av + ch q'' */
+    double *x;           /* v - av */
+    double *vg, *qg;     /* the first stage's result */
+    double *work;
+    /* where the caller's point forces act at the start of the step (or of the
+     * interval of hk_strand_dynamics_advance): within it they follow their
+     * linearisation F0 - K (x - x0) - D (v - v0) */
+    hk_Vec3 *anchor_pos, *anchor_vel;
+    int anchor_capacity;
+    /* HK_STIFFNESS_FULL: the potential with the body's penalty; its Hessian, then G+
+     * (the positive part of the geometric stiffness, kept between refreshes); the
+     * Cholesky factor / eigenvectors; eigenvalues and work (2 x 3N) */
+    hk_StrandEnv body_env;
+    hk_StrandWorkspace *ws_body;
+    double *hess, *factor, *metric;
+    long evaluations;    /* evaluations of the forces, to refresh G+ every few */
+    hk_DynamicsStats stats;
+    hk_ElementTerms *terms;
+    hk_GaussTable gauss;
+};
+
+/* Evaluates the equations of motion at the strand's q (sh->q) and velocity d->v with
+ * the head in state head (its root placed there): d->terms hold the iteration matrix's
+ * mass part M + ch D_points + ch^2 K_points (and air drag), d->extra its diagonal
+ * (internal friction and elastic stiffness), d->rhs the generalized force f(q, v) minus
+ * M x / ch when x is given (the stage's inertia, so that ch rhs is the stage's
+ * residual). ch = 0 (x NULL): the plain mass matrix and f. */
+void hk_dynamics_evaluate(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces,
+                          int force_count, double ch, const double *x);
+
+/* Solves (iteration matrix) out = d->rhs after hk_dynamics_evaluate with the same ch;
+ * returns 0 if the system is not positive definite. */
+int hk_dynamics_solve(hk_StrandDynamics *d, double ch, double *out);
+
+/* The strand's nodes (N + 1) or tip for coordinates q, in head space (where the body's
+ * shapes are). */
+void hk_dynamics_head_space_nodes(hk_StrandDynamics *d, const double *q, hk_Vec3 *nodes);
+hk_Vec3 hk_dynamics_head_space_tip(hk_StrandDynamics *d, const double *q);
+
+/* Kinetic plus potential energy with the body's penalty (the energy that the motion
+ * conserves on a still head without friction); *kinetic (may be NULL) its kinetic part. */
+double hk_dynamics_total_energy(hk_StrandDynamics *d, const hk_RigidState *head, double *kinetic);
+
+/* Positions and velocities of the caller's point forces now (the anchors). */
+hk_Status hk_dynamics_anchor_forces(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces,
+                                    int force_count, hk_Error *err);
+
 #endif

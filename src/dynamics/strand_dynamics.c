@@ -14,37 +14,6 @@
 #include "hairkit/linalg.h"
 #include "rod/helix_local.h"
 
-#define HK_TRAVEL_NODES 64
-
-struct hk_StrandDynamics {
-    hk_SuperHelix *sh;
-    hk_DynamicsParams params;
-    hk_Vec3 root_head;   /* root in head space */
-    hk_Mat3 frame_head;  /* root frame in head space */
-    hk_Shape *shapes;    /* body shapes (head space), owned copy */
-    hk_BodyContact contact;
-    int contact_samples; /* collision samples along the strand (0: no body) */
-    int contact_count;   /* samples in contact during the last step */
-    hk_StrandEnv potential_env; /* no shapes: elastic + gravity */
-    hk_StrandWorkspace *ws;
-    double *v, *dv, *rhs, *extra, *grad, *work;
-    double *saved;       /* q and v before a step that may be undone, 2 x 3N */
-    /* hk_strand_dynamics_advance: where the caller's point forces act at the start of
-     * the interval, so that substeps follow the forces' linearisation */
-    hk_Vec3 *anchor_pos, *anchor_vel;
-    int anchor_capacity;
-    int anchored;
-    /* HK_STIFFNESS_FULL: the potential with the body's penalty; its Hessian, then G+
-     * (the positive part of the geometric stiffness, kept between refreshes); the
-     * Cholesky factor / eigenvectors; eigenvalues and work (2 x 3N); G+ v */
-    hk_StrandEnv body_env;
-    hk_StrandWorkspace *ws_body;
-    double *hess, *factor, *metric, *geo_v;
-    long steps;          /* steps taken (or tried), to refresh G+ every few */
-    hk_ElementTerms *terms;
-    hk_GaussTable gauss;
-};
-
 hk_DynamicsParams hk_default_dynamics_params(void)
 {
     const hk_HairstyleDef def = hk_default_hairstyle();
@@ -70,8 +39,13 @@ hk_DynamicsParams hk_dynamics_params_for(const hk_HairstyleDef *def)
     p.max_travel = 0.01;
     p.max_depth = 8;
     p.hessian_interval = 4;
-    p.solver = HK_DYNAMICS_DENSE;
-    p.stiffness = HK_STIFFNESS_FULL;
+    /* The O(N) solver by default: with every force implicit in the stage equations,
+     * the iteration matrix only steers Newton's iteration (docs/dynamics.md). */
+    p.solver = HK_DYNAMICS_LINEAR;
+    p.stiffness = HK_STIFFNESS_GAUSS_NEWTON;
+    p.newton_tolerance = 1e-5;
+    p.newton_iterations = 12;
+    p.integrator = HK_INTEGRATOR_TRBDF2;
     return p;
 }
 
@@ -98,7 +72,9 @@ static int params_valid(const hk_DynamicsParams *p)
            p->friction_velocity > 0.0 && isfinite(p->friction_velocity) && p->quadrature >= 0 &&
            p->quadrature <= HK_GAUSS_MAX && p->max_turn > 0.0 && p->max_travel > 0.0 &&
            p->max_depth >= 0 && p->max_depth <= 30 && p->hessian_interval >= 1 &&
-           p->hessian_interval <= 1000 &&
+           p->hessian_interval <= 1000 && p->newton_tolerance > 0.0 && isfinite(p->newton_tolerance) &&
+           p->newton_iterations >= 1 && p->newton_iterations <= 1000 &&
+           (p->integrator == HK_INTEGRATOR_TRBDF2 || p->integrator == HK_INTEGRATOR_LINEAR_EULER) &&
            (p->solver == HK_DYNAMICS_LINEAR || p->solver == HK_DYNAMICS_DENSE) &&
            (p->stiffness == HK_STIFFNESS_GAUSS_NEWTON ||
             (p->stiffness == HK_STIFFNESS_FULL && p->solver == HK_DYNAMICS_DENSE));
@@ -124,8 +100,8 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *
     d->frame_head = sh->root_frame;
     d->potential_env = hk_default_strand_env();
     hk_gauss_table_init(&d->gauss);
-    /* One block for the 3N vectors: v, dv, rhs, extra, grad, saved (2). */
-    d->v = hk_calloc_array(7 * dim, sizeof(double), err);
+    /* One block for the 3N vectors (struct hk_StrandDynamics). */
+    d->v = hk_calloc_array(21 * dim, sizeof(double), err);
     d->terms = hk_alloc_array((size_t)n, sizeof(hk_ElementTerms), err);
     const int dense = params->solver == HK_DYNAMICS_DENSE;
     d->work = hk_alloc_array(dense ? HK_DENSE_WORK(n) : HK_LINEAR_WORK(n), sizeof(double), err);
@@ -134,11 +110,13 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *
         hk_strand_dynamics_destroy(d);
         return err ? err->code : HK_ERR_NOMEM;
     }
-    d->dv = d->v + dim;
-    d->rhs = d->v + 2 * dim;
-    d->extra = d->v + 3 * dim;
-    d->grad = d->v + 4 * dim;
-    d->saved = d->v + 5 * dim;
+    double *next = d->v + dim;
+    double **vectors[] = {&d->delta, &d->rhs, &d->extra, &d->grad, &d->acc, &d->q0, &d->v0,
+                          &d->aq, &d->av, &d->x, &d->vg, &d->qg};
+    for (size_t i = 0; i < sizeof vectors / sizeof vectors[0]; i++, next += dim) *vectors[i] = next;
+    d->saved = next;        /* 2 x 3N */
+    d->acc_at = next + 2 * dim; /* 2 x 3N */
+    d->start = next + 4 * dim;  /* 2 x 3N */
     if (body && body->shape_count > 0 && body->collision_step > 0.0) {
         d->shapes = hk_alloc_array((size_t)body->shape_count, sizeof(hk_Shape), err);
         if (!d->shapes) {
@@ -163,15 +141,19 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *
         d->body_env = hk_default_strand_env();
     }
     if (params->stiffness == HK_STIFFNESS_FULL) {
-        /* hess and factor (3N)^2 each, metric (2 x 3N: eigenvalues and work) and G v */
-        d->hess = hk_alloc_array(2 * dim * dim + 3 * dim, sizeof(double), err);
+        /* hess and factor (3N)^2 each, metric (2 x 3N: eigenvalues and work) */
+        d->hess = hk_alloc_array(2 * dim * dim + 2 * dim, sizeof(double), err);
         if (!d->hess || hk_strand_workspace_create(sh, &d->body_env, &d->ws_body, err) != HK_OK) {
             hk_strand_dynamics_destroy(d);
             return err ? err->code : HK_ERR_NOMEM;
         }
         d->factor = d->hess + dim * dim;
         d->metric = d->factor + dim * dim;
-        d->geo_v = d->metric + 2 * dim;
+    } else if (d->contact_samples > 0 &&
+               hk_strand_workspace_create(sh, &d->body_env, &d->ws_body, err) != HK_OK) {
+        /* the body's penalty energy, for the energy guard of the integrator */
+        hk_strand_dynamics_destroy(d);
+        return err ? err->code : HK_ERR_NOMEM;
     }
     *out = d;
     return HK_OK;
@@ -180,6 +162,8 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *
 double *hk_strand_dynamics_velocity(hk_StrandDynamics *d) { return d->v; }
 
 int hk_strand_dynamics_contact_count(const hk_StrandDynamics *d) { return d->contact_count; }
+
+hk_DynamicsStats hk_strand_dynamics_stats(const hk_StrandDynamics *d) { return d->stats; }
 
 void hk_strand_dynamics_place(hk_StrandDynamics *d, const hk_RigidState *head)
 {
@@ -234,25 +218,28 @@ static hk_Mat3 rotary_inertia(const hk_RodMaterial *m, const hk_Mat3 *frame, dou
     return out;
 }
 
-/* A point force at a point of element p: its value minus dt K (J v) (the stiffness
- * acting on the velocity, implicit Euler), and dt^2 K + dt D as effective mass. */
-static void add_point_force(hk_ElementTerms *t, const hk_PointKinematics *pk,
-                            const hk_PointForce *pf, const hk_RigidState *head, double dt,
-                            const hk_Vec3 *anchor_pos, const hk_Vec3 *anchor_vel)
+/* A point force at a point of element p: its value where the point is now, following
+ * the force's linearisation from where it was given (the anchor, at the start of the
+ * step: F0 - K (x - x0) - D (v - v0)), and ch^2 K + ch D as the iteration matrix's
+ * effective mass. */
+static void add_point_force(hk_ElementTerms *t, const hk_PointKinematics *pk, const hk_PointForce *pf,
+                            double ch, const hk_Vec3 *anchor_pos, const hk_Vec3 *anchor_vel,
+                            const hk_RigidState *euler_head)
 {
-    const hk_Vec3 rigid = hk_v3_add(head->vel, hk_v3_cross(head->omega, hk_v3_sub(pk->k.pos, head->trans)));
-    const hk_Vec3 rel = hk_v3_sub(pk->k.vel, rigid); /* J q' */
     hk_Vec3 force = pf->force;
     if (anchor_pos) {
-        /* The force was given where the point was at the start of the interval: follow
-         * its linearisation, F0 - K (x - x0) - D (v - v0). */
         force = hk_v3_sub(force, hk_m3_mul_v3(&pf->stiffness, hk_v3_sub(pk->k.pos, *anchor_pos)));
         force = hk_v3_sub(force, hk_m3_mul_v3(&pf->damping, hk_v3_sub(pk->k.vel, *anchor_vel)));
     }
-    const hk_Vec3 f = hk_v3_sub(force, hk_v3_scale(hk_m3_mul_v3(&pf->stiffness, rel), dt));
-    const hk_Mat3 ks = hk_m3_scale(&pf->stiffness, dt * dt), ds = hk_m3_scale(&pf->damping, dt);
+    if (euler_head) { /* linearly implicit Euler: minus dt K (J q'), the stiffness acting
+                         on the velocity relative to the head */
+        const hk_Vec3 rigid = hk_v3_add(euler_head->vel,
+                                        hk_v3_cross(euler_head->omega, hk_v3_sub(pk->k.pos, euler_head->trans)));
+        force = hk_v3_sub(force, hk_v3_scale(hk_m3_mul_v3(&pf->stiffness, hk_v3_sub(pk->k.vel, rigid)), ch));
+    }
+    const hk_Mat3 ks = hk_m3_scale(&pf->stiffness, ch * ch), ds = hk_m3_scale(&pf->damping, ch);
     const hk_Mat3 a = hk_m3_add(&ks, &ds);
-    hk_element_terms_add(t, pk->k.pos, &a, NULL, &pk->jac, NULL, f, hk_v3_zero());
+    hk_element_terms_add(t, pk->k.pos, &a, NULL, &pk->jac, NULL, force, hk_v3_zero());
 }
 
 /* Body contact of collision sample `sample`, at offset u into the element that starts
@@ -281,12 +268,28 @@ static int body_contact(const hk_StrandDynamics *d, const hk_RigidState *head, c
     return hk_body_contact_force(&d->contact, head, pk->k.pos, pk->k.vel, hk_m3_col(&pk->k.frame, 0), pf);
 }
 
+/* Velocity of a point and of its frame when the coordinates move at rates x and the
+ * root is still: the same chain as the kinematics, with the Jacobians it computed. */
+typedef struct RateChain {
+    hk_Vec3 omega, vel;
+} RateChain;
+
+static RateChain rate_at(const RateChain *node, const hk_Vec3 node_pos, const hk_PointKinematics *pk, hk_Vec3 xp)
+{
+    RateChain out;
+    out.omega = hk_v3_add(node->omega, hk_m3_mul_v3(&pk->jac_rot, xp));
+    out.vel = hk_v3_add(hk_v3_add(node->vel, hk_v3_cross(node->omega, hk_v3_sub(pk->k.pos, node_pos))),
+                        hk_m3_mul_v3(&pk->jac, xp));
+    return out;
+}
+
 typedef enum SweepMode { SWEEP_STEP, SWEEP_MASS } SweepMode;
 
-/* One sweep from root to tip filling d->terms. STEP: effective masses of the step and
- * all loads; MASS: the plain mass matrix (dt = 0), no loads. */
+/* One sweep from root to tip filling d->terms. STEP: the iteration matrix's mass part
+ * for the coefficient ch and every load at (q, v), minus M x / ch when x is given;
+ * MASS: the plain mass matrix, no loads. */
 static void sweep(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces,
-                  int force_count, double dt, SweepMode mode)
+                  int force_count, double ch, const double *x, SweepMode mode)
 {
     const hk_SuperHelix *sh = d->sh;
     const hk_RodMaterial *mat = &sh->material;
@@ -294,13 +297,16 @@ static void sweep(hk_StrandDynamics *d, const hk_RigidState *head, const hk_Poin
     const double rho_s = mat->mass_per_length;
     const double nu = mode == SWEEP_STEP ? d->params.air_drag : 0.0;
     const double cw = d->contact.weight;
+    const double inv_ch = x && ch > 0.0 ? 1.0 / ch : 0.0;
+    const int euler = d->params.integrator == HK_INTEGRATOR_LINEAR_EULER;
     memset(d->terms, 0, (size_t)n * sizeof(hk_ElementTerms));
     hk_FrameKinematics node = root_kinematics(d, head);
+    RateChain rate = {hk_v3_zero(), hk_v3_zero()};
     int sample = 0, fi = 0;
     d->contact_count = 0;
     for (int p = 0; p < n; p++) {
         hk_ElementTerms *t = &d->terms[p];
-        const hk_Vec3 k = k_of(sh->q, p), kd = k_of(d->v, p);
+        const hk_Vec3 k = k_of(sh->q, p), kd = k_of(d->v, p), xp = x ? k_of(x, p) : hk_v3_zero();
         const double len = sh->length[p];
         const int g = gauss_count(d, p);
         for (int i = 0; i < g; i++) {
@@ -315,8 +321,13 @@ static void sweep(hk_StrandDynamics *d, const hk_RigidState *head, const hk_Poin
                 /* Euler's equations of the section: I w' + w x I w. */
                 const hk_Vec3 iw = hk_m3_mul_v3(&b, pk.k.omega);
                 tau = hk_v3_neg(hk_v3_add(hk_m3_mul_v3(&b, pk.k.alpha), hk_v3_cross(pk.k.omega, iw)));
+                if (x) { /* the stage's inertia, M x / ch, as loads of this point */
+                    const RateChain r = rate_at(&rate, node.pos, &pk, xp);
+                    f = hk_v3_madd(f, r.vel, -rho_s * w * inv_ch);
+                    tau = hk_v3_sub(tau, hk_v3_scale(hk_m3_mul_v3(&b, r.omega), inv_ch));
+                }
             }
-            hk_element_terms_add_quadrature(t, pk.k.pos, (rho_s + dt * nu) * w, &b, &pk.jac, &pk.jac_rot, f, tau);
+            hk_element_terms_add_quadrature(t, pk.k.pos, (rho_s + ch * nu) * w, &b, &pk.jac, &pk.jac_rot, f, tau);
         }
         const double s_end = sh->s_start[p + 1];
         const int last = p == n - 1;
@@ -328,7 +339,7 @@ static void sweep(hk_StrandDynamics *d, const hk_RigidState *head, const hk_Poin
             hk_PointForce pf;
             if (!body_contact(d, head, &node, k, kd, s - sh->s_start[p], sample, &pk, &pf)) continue;
             d->contact_count++;
-            add_point_force(t, &pk, &pf, head, dt, NULL, NULL);
+            add_point_force(t, &pk, &pf, ch, NULL, NULL, euler ? head : NULL);
         }
         /* The caller's point forces (sorted by s). */
         for (; mode == SWEEP_STEP && fi < force_count; fi++) {
@@ -339,29 +350,14 @@ static void sweep(hk_StrandDynamics *d, const hk_RigidState *head, const hk_Poin
             if (u > len) u = len;
             hk_PointKinematics pk;
             hk_point_kinematics(&node, k, kd, u, 1, &pk);
-            add_point_force(t, &pk, &forces[fi], head, dt, d->anchored ? &d->anchor_pos[fi] : NULL,
-                            d->anchored ? &d->anchor_vel[fi] : NULL);
+            add_point_force(t, &pk, &forces[fi], ch, &d->anchor_pos[fi], &d->anchor_vel[fi], euler ? head : NULL);
         }
         hk_PointKinematics end;
         hk_point_kinematics(&node, k, kd, len, mode == SWEEP_STEP ? 2 : 1, &end);
         hk_element_terms_set_screw(t, &end);
+        if (x) rate = rate_at(&rate, node.pos, &end, xp);
         node = end.k;
     }
-}
-
-static int all_finite(const double *x, int count)
-{
-    for (int i = 0; i < count; i++)
-        if (!isfinite(x[i])) return 0;
-    return 1;
-}
-
-static int solve(hk_StrandDynamics *d, double dt)
-{
-    const int n = d->sh->n;
-    if (d->params.solver == HK_DYNAMICS_DENSE)
-        return hk_terms_solve_dense(n, d->terms, d->extra, d->hess, dt * dt, d->rhs, d->dv, d->work);
-    return hk_terms_solve_linear(n, d->terms, d->extra, d->rhs, d->dv, d->work);
 }
 
 /* The strand's root pose moved to head space (where the body's shapes are) for a
@@ -385,6 +381,22 @@ static void restore_world_pose(hk_StrandDynamics *d, RootPose world)
     d->sh->root_frame = world.frame;
 }
 
+void hk_dynamics_head_space_nodes(hk_StrandDynamics *d, const double *q, hk_Vec3 *nodes)
+{
+    const RootPose world = use_head_space(d);
+    hk_superhelix_nodes(d->sh, q, nodes, NULL);
+    restore_world_pose(d, world);
+}
+
+hk_Vec3 hk_dynamics_head_space_tip(hk_StrandDynamics *d, const double *q)
+{
+    const RootPose world = use_head_space(d);
+    hk_Vec3 tip;
+    hk_superhelix_eval(d->sh, q, d->sh->total_length, &tip, NULL);
+    restore_world_pose(d, world);
+    return tip;
+}
+
 /* HK_STIFFNESS_FULL: gradient and Hessian of the whole potential with the body's
  * penalty, evaluated in head space (where the shapes are; the generalized Hessian does
  * not change under a rigid motion of the scene, gravity turned with it). */
@@ -399,17 +411,13 @@ static void full_potential(hk_StrandDynamics *d, const hk_RigidState *head, int 
     restore_world_pose(d, world);
 }
 
-/* Then the geometric stiffness G = Hess - K (the elastic diagonal K is in the system
+/* Then the geometric stiffness G = Hess - K (the elastic diagonal K is in the matrix
  * already), projected on its positive part: G+ = V max(L, 0) V^T from its
  * eigen-decomposition, skipped when a Cholesky factorisation shows G semi-definite
- * already. The positive part is implicit: hair pressed into the head's envelopes, whose
- * contact forces stiffen it, stays at rest at dt = 1/30 (explicit, it vibrated with a
- * growth rate near 450 / s). The negative part - gravity or a contact pulling hair over a
- * crest, hair held above its root, the twist-bend saddle of a horizontal rod - stays
- * explicit, as in paper 000 §3.4: implicit Euler would amplify those modes by
- * 1 / (1 - dt^2 w^2) (the energy of a strand released sideways rose by 70 % in one
- * step), and shifting the whole matrix until it is semi-definite instead slowed a
- * falling strand tenfold (docs/dynamics.md). */
+ * already. It only steers Newton's iteration (every force is implicit in the stage
+ * equations): its positive part, the stiffening of hair pressed into the envelopes,
+ * makes the iteration converge in fewer steps there; a negative part would make the
+ * matrix indefinite. */
 static void project_positive(hk_StrandDynamics *d)
 {
     const hk_SuperHelix *sh = d->sh;
@@ -426,53 +434,48 @@ static void project_positive(hk_StrandDynamics *d)
                     for (size_t k = 0; k < sd; k++) s += v[i * sd + k] * w[k] * v[j * sd + k];
                     d->hess[i * sd + j] = d->hess[j * sd + i] = s;
                 }
-        } else { /* no convergence (not seen): the Gauss-Newton step, G explicit */
+        } else { /* no convergence (not seen): the Gauss-Newton matrix */
             memset(d->hess, 0, sd * sd * sizeof(double));
         }
     }
 }
 
-static void geometric_times_velocity(hk_StrandDynamics *d)
+double hk_dynamics_total_energy(hk_StrandDynamics *d, const hk_RigidState *head, double *kinetic)
 {
-    const int dim = 3 * d->sh->n;
-    for (int i = 0; i < dim; i++) {
-        double s = 0.0;
-        for (int j = 0; j < dim; j++) s += d->hess[(size_t)i * (size_t)dim + (size_t)j] * d->v[j];
-        d->geo_v[i] = s;
+    double k = 0.0, u = 0.0;
+    hk_strand_dynamics_energy(d, head, &k, d->ws_body ? NULL : &u);
+    if (d->ws_body) { /* with the body's penalty: in head space, gravity turned with it */
+        hk_SuperHelix *sh = d->sh;
+        const hk_Vec3 gravity = sh->material.gravity;
+        const RootPose world = use_head_space(d);
+        sh->material.gravity = hk_m3_tmul_v3(&head->rot, gravity);
+        u = hk_strand_energy(sh, &d->body_env, sh->q, d->ws_body, NULL, NULL, NULL);
+        sh->material.gravity = gravity;
+        restore_world_pose(d, world);
     }
+    if (kinetic) *kinetic = k;
+    return k + u;
 }
 
-hk_Status hk_strand_dynamics_step(hk_StrandDynamics *d, const hk_RigidState *head,
-                                  const hk_PointForce *forces, int force_count, double dt,
-                                  hk_Error *err)
+void hk_dynamics_evaluate(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces,
+                          int force_count, double ch, const double *x)
 {
-    if (!(dt > 0.0) || !isfinite(dt))
-        return hk_error_set(err, HK_ERR_INVALID, "time step must be > 0, got %g", dt);
-    if (force_count < 0 || (force_count > 0 && !forces))
-        return hk_error_set(err, HK_ERR_INVALID, "bad point force list");
-    const hk_RigidState still = hk_rigid_identity();
-    if (!head) head = &still;
     hk_SuperHelix *sh = d->sh;
-    const int n = sh->n, dim = 3 * n;
+    const int n = sh->n;
     hk_strand_dynamics_place(d, head);
-
     /* Elastic energy and gravity (and with the full stiffness the body's penalty): the
-     * exact gradient of the statics energy. With the Gauss-Newton stiffness, gravity's
-     * (the second derivatives of the kinematics weighted by the weight) stays explicit,
-     * as in paper 000 §3.4; with the full stiffness its positive part is implicit
-     * (project_positive). */
+     * exact gradient of the statics energy. */
     const int full = d->params.stiffness == HK_STIFFNESS_FULL;
-    /* G+ is only the linearisation: any positive semi-definite matrix on both sides of
-     * the step keeps it consistent. Refreshing it every few steps, with the gradient
-     * exact every step, saves the Hessian and its eigen-decomposition in between. */
-    const int refresh = full && d->steps++ % d->params.hessian_interval == 0;
+    /* G+ only steers the iteration: refreshing it every few evaluations, with the
+     * gradient exact every time, saves the Hessian and its eigen-decomposition. */
+    const int refresh = full && d->evaluations % d->params.hessian_interval == 0;
+    d->evaluations++;
     if (full)
         full_potential(d, head, refresh);
     else
         hk_strand_energy(sh, &d->potential_env, sh->q, d->ws, d->grad, NULL, NULL);
-    sweep(d, head, forces, force_count, dt, SWEEP_STEP);
+    sweep(d, head, forces, force_count, ch, x, SWEEP_STEP);
     if (refresh) project_positive(d);
-    if (full) geometric_times_velocity(d);
     hk_terms_generalized_force(n, d->terms, d->rhs);
     /* Elastic stiffness and internal friction (eq. 5c-d) are diagonal: gamma and K_i
      * times the element length. */
@@ -481,111 +484,22 @@ hk_Status hk_strand_dynamics_step(hk_StrandDynamics *d, const hk_RigidState *hea
             const int j = 3 * p + i;
             const double kl = sh->material.stiffness[i] * sh->length[p];
             const double gl = d->params.internal_friction * sh->length[p];
-            d->rhs[j] = dt * (d->rhs[j] - d->grad[j] - gl * d->v[j] - dt * kl * d->v[j] -
-                              (full ? dt * d->geo_v[j] : 0.0));
-            d->extra[j] = dt * gl + dt * dt * kl;
+            d->rhs[j] -= d->grad[j] + gl * d->v[j];
+            d->extra[j] = ch * gl + ch * ch * kl;
         }
-    const int ok = solve(d, dt) && all_finite(d->dv, dim);
-    if (!ok)
-        return hk_error_set(err, HK_ERR_NUMERIC,
-                            "dynamics step failed: the system of the implicit step is singular "
-                            "or the state is not finite (time step %g s too large?)", dt);
-    for (int j = 0; j < dim; j++) {
-        const double v = d->v[j] + d->dv[j], q = sh->q[j] + dt * v;
-        if (!isfinite(q))
-            return hk_error_set(err, HK_ERR_NUMERIC, "dynamics step produced a non-finite state");
-        d->dv[j] = v;
-    }
-    for (int j = 0; j < dim; j++) {
-        d->v[j] = d->dv[j];
-        sh->q[j] += dt * d->v[j];
-    }
-    return HK_OK;
 }
 
-/* Largest turn of an element's end frame relative to its start over the step:
- * |Lambda(l) dk| ~ l |dk| for the change dk of the element's coordinates. */
-static double largest_turn(const hk_StrandDynamics *d)
+int hk_dynamics_solve(hk_StrandDynamics *d, double ch, double *out)
 {
-    const hk_SuperHelix *sh = d->sh;
-    double turn = 0.0;
-    for (int p = 0; p < sh->n; p++) {
-        const double *q0 = d->saved + 3 * p, *q1 = sh->q + 3 * p;
-        const double dq = sqrt((q1[0] - q0[0]) * (q1[0] - q0[0]) + (q1[1] - q0[1]) * (q1[1] - q0[1]) +
-                               (q1[2] - q0[2]) * (q1[2] - q0[2]));
-        turn = fmax(turn, sh->length[p] * dq);
-    }
-    return turn;
+    const int n = d->sh->n;
+    if (d->params.solver == HK_DYNAMICS_DENSE)
+        return hk_terms_solve_dense(n, d->terms, d->extra, d->hess, ch * ch, d->rhs, out, d->work);
+    return hk_terms_solve_linear(n, d->terms, d->extra, d->rhs, out, d->work);
 }
 
-/* Whether a head-space point lies within `margin` of a body shape's envelope. */
-static int near_body(const hk_StrandDynamics *d, hk_Vec3 x, double margin)
+hk_Status hk_dynamics_anchor_forces(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces,
+                                    int force_count, hk_Error *err)
 {
-    for (int k = 0; k < d->contact.shape_count; k++) {
-        const hk_Shape *sh = &d->contact.shapes[k];
-        if (hk_shape_dent(sh, x, NULL, NULL) + d->contact.envelope_alpha * sh->volume > -margin) return 1;
-    }
-    return 0;
-}
-
-/* Largest displacement over the step, relative to the head, of a node that ends near
- * the body (the strand's shape in head space before and after): contacts are found at
- * the start of a step, so a node that travels farther than the collision samples'
- * spacing in one step can pass into the body before the penalty sees it. Far from the
- * body a fast node needs no smaller step. */
-static double largest_travel(hk_StrandDynamics *d)
-{
-    if (d->contact.shape_count == 0) return 0.0;
-    hk_SuperHelix *sh = d->sh;
-    const RootPose world = use_head_space(d);
-    hk_Vec3 before[HK_TRAVEL_NODES + 1], after[HK_TRAVEL_NODES + 1];
-    int n = sh->n;
-    if (n <= HK_TRAVEL_NODES) {
-        hk_superhelix_nodes(sh, d->saved, before, NULL);
-        hk_superhelix_nodes(sh, sh->q, after, NULL);
-    } else { /* long strands: the tip alone */
-        n = 1;
-        hk_superhelix_eval(sh, d->saved, sh->total_length, &before[1], NULL);
-        hk_superhelix_eval(sh, sh->q, sh->total_length, &after[1], NULL);
-    }
-    restore_world_pose(d, world);
-    double travel = 0.0;
-    for (int i = 1; i <= n; i++) {
-        const double step = hk_v3_dist(before[i], after[i]);
-        if (step > travel && near_body(d, after[i], step)) travel = step;
-    }
-    return travel;
-}
-
-static hk_Status advance(hk_StrandDynamics *d, hk_HeadStateFn head, void *user, double t, double dt,
-                         const hk_PointForce *forces, int force_count, int depth, int *substeps,
-                         hk_Error *err)
-{
-    const int dim = 3 * d->sh->n;
-    hk_RigidState state = hk_rigid_identity();
-    if (head) head(user, t + dt, &state);
-    memcpy(d->saved, d->sh->q, (size_t)dim * sizeof(double));
-    memcpy(d->saved + dim, d->v, (size_t)dim * sizeof(double));
-    hk_Status st = hk_strand_dynamics_step(d, &state, forces, force_count, dt, err);
-    if (st == HK_OK && (depth >= d->params.max_depth ||
-                        (largest_turn(d) <= d->params.max_turn && largest_travel(d) <= d->params.max_travel))) {
-        (*substeps)++;
-        return HK_OK;
-    }
-    if (depth >= d->params.max_depth) return st;
-    /* Undo and take two half steps. */
-    memcpy(d->sh->q, d->saved, (size_t)dim * sizeof(double));
-    memcpy(d->v, d->saved + dim, (size_t)dim * sizeof(double));
-    st = advance(d, head, user, t, 0.5 * dt, forces, force_count, depth + 1, substeps, err);
-    if (st != HK_OK) return st;
-    return advance(d, head, user, t + 0.5 * dt, 0.5 * dt, forces, force_count, depth + 1, substeps, err);
-}
-
-hk_Status hk_strand_dynamics_advance(hk_StrandDynamics *d, hk_HeadStateFn head, void *user,
-                                     double t, double dt, const hk_PointForce *forces,
-                                     int force_count, int *substeps, hk_Error *err)
-{
-    int count = 0;
     if (force_count < 0 || (force_count > 0 && !forces))
         return hk_error_set(err, HK_ERR_INVALID, "bad point force list");
     if (force_count > d->anchor_capacity) {
@@ -597,20 +511,13 @@ hk_Status hk_strand_dynamics_advance(hk_StrandDynamics *d, hk_HeadStateFn head, 
         if (!d->anchor_pos || !d->anchor_vel) return HK_ERR_NOMEM;
         d->anchor_capacity = force_count;
     }
-    if (force_count > 0) {
-        hk_RigidState start = hk_rigid_identity();
-        if (head) head(user, t, &start);
-        double s_buf[64], *s = force_count <= 64 ? s_buf : hk_alloc_array((size_t)force_count, sizeof(double), err);
-        if (!s) return HK_ERR_NOMEM;
-        for (int i = 0; i < force_count; i++) s[i] = forces[i].s;
-        hk_strand_dynamics_points(d, &start, s, force_count, d->anchor_pos, d->anchor_vel);
-        if (s != s_buf) hk_free(s);
-    }
-    d->anchored = force_count > 0;
-    const hk_Status st = advance(d, head, user, t, dt, forces, force_count, 0, &count, err);
-    d->anchored = 0;
-    if (substeps) *substeps = count;
-    return st;
+    if (force_count == 0) return HK_OK;
+    double s_buf[64], *s = force_count <= 64 ? s_buf : hk_alloc_array((size_t)force_count, sizeof(double), err);
+    if (!s) return HK_ERR_NOMEM;
+    for (int i = 0; i < force_count; i++) s[i] = forces[i].s;
+    hk_strand_dynamics_points(d, head, s, force_count, d->anchor_pos, d->anchor_vel);
+    if (s != s_buf) hk_free(s);
+    return HK_OK;
 }
 
 void hk_strand_dynamics_energy(hk_StrandDynamics *d, const hk_RigidState *head, double *kinetic,
@@ -676,7 +583,7 @@ hk_Status hk_strand_dynamics_mass_matrix(hk_StrandDynamics *d, double *mass, hk_
     (void)err;
     const hk_RigidState still = hk_rigid_identity();
     hk_strand_dynamics_place(d, &still);
-    sweep(d, &still, NULL, 0, 0.0, SWEEP_MASS);
+    sweep(d, &still, NULL, 0, 0.0, NULL, SWEEP_MASS);
     hk_terms_assemble(d->sh->n, d->terms, mass);
     return HK_OK;
 }

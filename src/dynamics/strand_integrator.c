@@ -1,0 +1,409 @@
+/* Time stepping of one Super-Helix: TR-BDF2 with Newton's iteration on every stage,
+ * and the error control of hk_strand_dynamics_advance (docs/dynamics.md, "Time
+ * stepping").
+ *
+ * The equations of motion M(q) q'' = f(q, q', t) (paper 000 eq. 4-6) are stepped by
+ * TR-BDF2 (R. E. Bank, W. M. Coughran, W. Fichtner, E. H. Grosse, D. J. Rose, R. K.
+ * Smith, "Transient simulation of silicon devices and circuits", IEEE Trans. CAD 4(4),
+ * 1985; M. E. Hosea, L. F. Shampine, "Analysis and implementation of TR-BDF2", Applied
+ * Numerical Mathematics 20, 1996), with g = 2 - sqrt 2:
+ *
+ *   trapezoidal stage, t -> t + g h:
+ *     q_g = q_0 + (g h / 2)(v_0 + v_g),   M(q_g)(v_g - v_0 - (g h / 2) a_0) = (g h / 2) f_g
+ *   BDF2 stage through t, t + g h, t + h:
+ *     q_1 = w_g q_g + w_0 q_0 + c h v_1,  M(q_1)(v_1 - w_g v_g - w_0 v_0) = c h f_1
+ *   w_g = 1 / (g (2 - g)), w_0 = 1 - w_g, c = (1 - g) / (2 - g).
+ *
+ * Both stages have the form q = aq + ch v, M(q)(v - av) = ch f(q, v) with the same
+ * ch = (g / 2) h = c h = (1 - 1/sqrt 2) h. a_0 = q''(t) is the previous step's last
+ * stage, (v_1 - av) / ch ("first same as last"), computed afresh only when the state was
+ * changed from outside. The method is second order and L-stable: its amplification
+ * tends to 0 for stiff modes (the twist of a thin section, contacts), and at the
+ * paper's dt = 1/30 s a 4 Hz bounce (7.5 steps a period) keeps 98.8 % of its amplitude
+ * per period with a 2.7 % longer period (linearly implicit Euler: 14 % and 20 %).
+ *
+ * Each stage is solved by Newton's iteration with the matrix M + ch D + ch^2 K of
+ * strand_dynamics.c, where the residual holds every force at the iterate: the velocity
+ * products, the inertial forces of the head's motion, the change of M, gravity's and
+ * the contacts' geometric stiffness. Linearly implicit schemes leave these explicit;
+ * with thin hair's stiff twist they fed energy into long strands until the step failed
+ * (issue 12: a 1 m wavy strand at dt = 1/30 s). */
+#include <math.h>
+#include <string.h>
+
+#include "dynamics_internal.h"
+#include "hairkit/linalg.h"
+#include "motion_internal.h"
+
+#define HK_TRAVEL_NODES 64
+
+static const double TR_G = 0.58578643762690495119;  /* 2 - sqrt 2 */
+static const double TR_CH = 0.29289321881345247560; /* (1 - 1/sqrt 2): g / 2 = (1 - g) / (2 - g) */
+
+/* The head's state tau seconds before `state`, from its velocities and accelerations
+ * (second order, enough for the inner stage of a step given only its end state). */
+static hk_RigidState head_before(const hk_RigidState *state, double tau)
+{
+    hk_RigidState s = *state;
+    s.trans = hk_v3_add(hk_v3_madd(state->trans, state->vel, -tau), hk_v3_scale(state->acc, 0.5 * tau * tau));
+    s.vel = hk_v3_madd(state->vel, state->acc, -tau);
+    s.omega = hk_v3_madd(state->omega, state->alpha, -tau);
+    const hk_Vec3 turn = hk_v3_add(hk_v3_scale(state->omega, -tau), hk_v3_scale(state->alpha, 0.5 * tau * tau));
+    hk_Mat3 r;
+    hk_Vec3 omega, alpha; /* of a constant turn: zero */
+    hk_rotation_exp(turn, hk_v3_zero(), hk_v3_zero(), &r, &omega, &alpha);
+    s.rot = hk_m3_mul(&r, &state->rot);
+    return s;
+}
+
+static int all_finite(const double *x, int count)
+{
+    for (int i = 0; i < count; i++)
+        if (!isfinite(x[i])) return 0;
+    return 1;
+}
+
+/* Largest turn of an element's frame that the change dq of the coordinates makes:
+ * |Lambda(l) dq| <= l |dq|. */
+static double turn_of(const hk_SuperHelix *sh, const double *dq, double scale)
+{
+    double turn = 0.0;
+    for (int p = 0; p < sh->n; p++) {
+        const double *x = dq + 3 * p;
+        turn = fmax(turn, sh->length[p] * sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]));
+    }
+    return turn * fabs(scale);
+}
+
+/* Solves one stage, q = aq + ch v, M(q)(v - av) = ch f(q, v, head), from the guess in
+ * d->v. Returns 0 when the iteration does not converge. */
+static int solve_stage(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces,
+                       int force_count, double ch)
+{
+    hk_SuperHelix *sh = d->sh;
+    const int dim = 3 * sh->n;
+    double previous = INFINITY;
+    for (int it = 0; it < d->params.newton_iterations; it++) {
+        for (int j = 0; j < dim; j++) {
+            sh->q[j] = d->aq[j] + ch * d->v[j];
+            d->x[j] = d->v[j] - d->av[j];
+        }
+        hk_dynamics_evaluate(d, head, forces, force_count, ch, d->x);
+        for (int j = 0; j < dim; j++) d->rhs[j] *= ch;
+        d->stats.iterations++;
+        if (!hk_dynamics_solve(d, ch, d->delta) || !all_finite(d->delta, dim)) return 0;
+        for (int j = 0; j < dim; j++) d->v[j] += d->delta[j];
+        const double turn = turn_of(sh, d->delta, ch);
+        if (turn <= d->params.newton_tolerance) {
+            for (int j = 0; j < dim; j++) sh->q[j] = d->aq[j] + ch * d->v[j];
+            return all_finite(sh->q, dim);
+        }
+        /* A correction that grows after the first few is a divergence: give up early
+         * (the caller splits the step). */
+        if (it >= 2 && turn > previous) return 0;
+        previous = turn;
+    }
+    return 0;
+}
+
+static int state_is(const hk_StrandDynamics *d, const double *qv)
+{
+    const int dim = 3 * d->sh->n;
+    const size_t bytes = (size_t)dim * sizeof(double);
+    return memcmp(qv, d->sh->q, bytes) == 0 && memcmp(qv + dim, d->v, bytes) == 0;
+}
+
+/* q'' at the start of a step: the last stage's (first same as last) when the state is
+ * the one it was computed for, else from M a = f. */
+static int start_acceleration(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces,
+                              int force_count)
+{
+    const int dim = 3 * d->sh->n;
+    if (d->acc_valid && state_is(d, d->acc_at)) return 1;
+    hk_dynamics_evaluate(d, head, forces, force_count, 0.0, NULL);
+    d->stats.iterations++;
+    return hk_dynamics_solve(d, 0.0, d->acc) && all_finite(d->acc, dim);
+}
+
+/* Whether the head stands still through the step: the strand's energy can then only
+ * fall (internal friction, air drag, friction on the body) or stay. */
+static int head_still(const hk_RigidState heads[3])
+{
+    for (int i = 0; i < 3; i++) {
+        const hk_RigidState *h = &heads[i];
+        if (hk_v3_norm2(h->vel) + hk_v3_norm2(h->acc) + hk_v3_norm2(h->omega) + hk_v3_norm2(h->alpha) != 0.0 ||
+            memcmp(&h->rot, &heads[0].rot, sizeof h->rot) != 0 || memcmp(&h->trans, &heads[0].trans, sizeof h->trans) != 0)
+            return 0;
+    }
+    return 1;
+}
+
+/* The energy guard: on a still head without the caller's forces the total energy
+ * (kinetic, elastic, gravity, the body's penalty) cannot rise, yet no implicit
+ * Runge-Kutta method conserves or dissipates the energy of a nonlinear system exactly:
+ * an undamped whipping strand gained up to 4 % of its available energy over 10 s at
+ * dt = 1/30 s with TR-BDF2 alone. A step that ends with more energy than it started
+ * with gives the excess back from the kinetic energy, scaling the velocity (an energy
+ * projection on the velocity alone, in the spirit of D. Dinev, T. Liu, L. Kavan,
+ * "Stabilizing integrators for real-time physics", ACM TOG 37(1), 2018). The scaled
+ * velocity keeps its direction, so the motion's shape is unchanged. */
+static void energy_start(hk_StrandDynamics *d, const hk_RigidState *head)
+{
+    if (!(d->energy_valid && state_is(d, d->acc_at))) d->energy = hk_dynamics_total_energy(d, head, NULL);
+}
+
+static int energy_guard(hk_StrandDynamics *d, const hk_RigidState *head, double start)
+{
+    double kinetic;
+    const double end = hk_dynamics_total_energy(d, head, &kinetic);
+    d->energy = end;
+    d->energy_valid = 1;
+    if (!(end > start) || !(kinetic > 0.0)) return 0;
+    const double excess = end - start, scale = excess < kinetic ? sqrt((kinetic - excess) / kinetic) : 0.0;
+    const int dim = 3 * d->sh->n;
+    for (int j = 0; j < dim; j++) d->v[j] *= scale;
+    d->energy = end - kinetic * (1.0 - scale * scale);
+    d->stats.projections++;
+    return 1;
+}
+
+/* One TR-BDF2 step of h from the state in sh->q, d->v, with the head in the states
+ * heads[0..2] at t, t + g h and t + h. On failure the state is left changed (callers
+ * restore it). */
+static int tr_bdf2(hk_StrandDynamics *d, const hk_RigidState heads[3], const hk_PointForce *forces,
+                   int force_count, double h)
+{
+    hk_SuperHelix *sh = d->sh;
+    const int dim = 3 * sh->n;
+    const size_t bytes = (size_t)dim * sizeof(double);
+    const double ch = TR_CH * h, wg = 1.0 / (TR_G * (2.0 - TR_G)), w0 = 1.0 - wg;
+    const int guard = force_count == 0 && head_still(heads);
+    if (guard) energy_start(d, &heads[0]);
+    const double energy0 = d->energy;
+    d->energy_valid = 0;
+    if (!start_acceleration(d, &heads[0], forces, force_count)) return 0;
+    memcpy(d->q0, sh->q, bytes);
+    memcpy(d->v0, d->v, bytes);
+    /* Trapezoidal stage; the guess: explicit Euler. */
+    for (int j = 0; j < dim; j++) {
+        d->aq[j] = d->q0[j] + ch * d->v0[j];
+        d->av[j] = d->v0[j] + ch * d->acc[j];
+        d->v[j] = d->v0[j] + TR_G * h * d->acc[j];
+    }
+    if (!solve_stage(d, &heads[1], forces, force_count, ch)) return 0;
+    memcpy(d->qg, sh->q, bytes);
+    memcpy(d->vg, d->v, bytes);
+    /* BDF2 stage; the guess: the stage's acceleration continued to t + h. */
+    for (int j = 0; j < dim; j++) {
+        const double ag = (d->vg[j] - d->av[j]) / ch;
+        d->aq[j] = wg * d->qg[j] + w0 * d->q0[j];
+        d->av[j] = wg * d->vg[j] + w0 * d->v0[j];
+        d->v[j] = d->vg[j] + (1.0 - TR_G) * h * ag;
+    }
+    if (!solve_stage(d, &heads[2], forces, force_count, ch)) return 0;
+    for (int j = 0; j < dim; j++) d->acc[j] = (d->v[j] - d->av[j]) / ch;
+    /* a scaled velocity has another acceleration: computed afresh next step */
+    d->acc_valid = !(guard && energy_guard(d, &heads[2], energy0));
+    memcpy(d->acc_at, sh->q, bytes);
+    memcpy(d->acc_at + dim, d->v, bytes);
+    d->stats.steps++;
+    return 1;
+}
+
+/* The linearly implicit Euler step of issue 6 (paper 000 §3.4), kept for full heads
+ * where its cost matters more than its accuracy:
+ *     (M + h D + h^2 K) dv = h (f - h K v),   v += dv,   q += h v,
+ * every force at the start of the step, K the iteration matrix's stiffness (with the
+ * full stiffness its geometric part G+ too). First order; the velocity products and
+ * the negative geometric stiffness explicit. */
+static int linear_euler(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces,
+                        int force_count, double h)
+{
+    hk_SuperHelix *sh = d->sh;
+    const int n = sh->n, dim = 3 * n;
+    hk_dynamics_evaluate(d, head, forces, force_count, h, NULL);
+    const int full = d->params.stiffness == HK_STIFFNESS_FULL;
+    double *geo_v = d->x; /* G+ v */
+    for (int i = 0; i < dim; i++) {
+        double g = 0.0;
+        if (full)
+            for (int j = 0; j < dim; j++) g += d->hess[(size_t)i * (size_t)dim + (size_t)j] * d->v[j];
+        geo_v[i] = g;
+    }
+    for (int j = 0; j < dim; j++) {
+        const double kl = sh->material.stiffness[j % 3] * sh->length[j / 3];
+        d->rhs[j] = h * (d->rhs[j] - h * kl * d->v[j] - h * geo_v[j]);
+    }
+    d->stats.iterations++;
+    if (!hk_dynamics_solve(d, h, d->delta) || !all_finite(d->delta, dim)) return 0;
+    for (int j = 0; j < dim; j++) {
+        d->v[j] += d->delta[j];
+        sh->q[j] += h * d->v[j];
+    }
+    d->acc_valid = 0;
+    d->stats.steps++;
+    return all_finite(sh->q, dim);
+}
+
+/* One step of the chosen integrator. */
+static int integrate(hk_StrandDynamics *d, const hk_RigidState heads[3], const hk_PointForce *forces,
+                     int force_count, double h)
+{
+    if (d->params.integrator == HK_INTEGRATOR_LINEAR_EULER) return linear_euler(d, &heads[2], forces, force_count, h);
+    return tr_bdf2(d, heads, forces, force_count, h);
+}
+
+static void save_state(hk_StrandDynamics *d)
+{
+    const size_t bytes = (size_t)(3 * d->sh->n) * sizeof(double);
+    memcpy(d->saved, d->sh->q, bytes);
+    memcpy(d->saved + 3 * d->sh->n, d->v, bytes);
+}
+
+static void restore_state(hk_StrandDynamics *d)
+{
+    const size_t bytes = (size_t)(3 * d->sh->n) * sizeof(double);
+    memcpy(d->sh->q, d->saved, bytes);
+    memcpy(d->v, d->saved + 3 * d->sh->n, bytes);
+    d->acc_valid = 0;
+    d->energy_valid = 0;
+}
+
+hk_Status hk_strand_dynamics_step(hk_StrandDynamics *d, const hk_RigidState *head,
+                                  const hk_PointForce *forces, int force_count, double dt,
+                                  hk_Error *err)
+{
+    if (!(dt > 0.0) || !isfinite(dt))
+        return hk_error_set(err, HK_ERR_INVALID, "time step must be > 0, got %g", dt);
+    const hk_RigidState still = hk_rigid_identity();
+    if (!head) head = &still;
+    const hk_RigidState heads[3] = {head_before(head, dt), head_before(head, (1.0 - TR_G) * dt), *head};
+    hk_Status st = hk_dynamics_anchor_forces(d, &heads[0], forces, force_count, err);
+    if (st != HK_OK) return st;
+    save_state(d);
+    if (!integrate(d, heads, forces, force_count, dt)) {
+        restore_state(d);
+        d->stats.failures++;
+        hk_strand_dynamics_place(d, head);
+        return hk_error_set(err, HK_ERR_NUMERIC,
+                            "dynamics step failed: Newton's iteration did not converge or the state is "
+                            "not finite (time step %g s too large?)", dt);
+    }
+    hk_strand_dynamics_place(d, head);
+    return HK_OK;
+}
+
+/* Whether a head-space point lies within `margin` of a body shape's envelope. */
+static int near_body(const hk_StrandDynamics *d, hk_Vec3 x, double margin)
+{
+    for (int k = 0; k < d->contact.shape_count; k++) {
+        const hk_Shape *sh = &d->contact.shapes[k];
+        if (hk_shape_dent(sh, x, NULL, NULL) + d->contact.envelope_alpha * sh->volume > -margin) return 1;
+    }
+    return 0;
+}
+
+/* Largest displacement over the step, relative to the head, of a node that ends near
+ * the body (the strand's shape in head space before and after): contacts are sampled
+ * at the iterates of a step, so a node that travels farther than the collision
+ * samples' spacing in one step can pass into the body unseen. Far from the body a fast
+ * node needs no smaller step. */
+static double largest_travel(hk_StrandDynamics *d)
+{
+    if (d->contact.shape_count == 0) return 0.0;
+    hk_SuperHelix *sh = d->sh;
+    hk_Vec3 before[HK_TRAVEL_NODES + 1], after[HK_TRAVEL_NODES + 1];
+    int n = sh->n;
+    if (n <= HK_TRAVEL_NODES) {
+        hk_dynamics_head_space_nodes(d, d->saved, before);
+        hk_dynamics_head_space_nodes(d, sh->q, after);
+    } else { /* long strands: the tip alone */
+        n = 1;
+        before[1] = hk_dynamics_head_space_tip(d, d->saved);
+        after[1] = hk_dynamics_head_space_tip(d, sh->q);
+    }
+    double travel = 0.0;
+    for (int i = 1; i <= n; i++) {
+        const double step = hk_v3_dist(before[i], after[i]);
+        if (step > travel && near_body(d, after[i], step)) travel = step;
+    }
+    return travel;
+}
+
+/* Largest turn of an element's frame over the step (the saved state against now). */
+static double largest_turn(hk_StrandDynamics *d)
+{
+    const int dim = 3 * d->sh->n;
+    for (int j = 0; j < dim; j++) d->delta[j] = d->sh->q[j] - d->saved[j];
+    return turn_of(d->sh, d->delta, 1.0);
+}
+
+typedef struct Interval {
+    hk_HeadStateFn head;
+    void *user;
+    const hk_PointForce *forces;
+    int force_count;
+} Interval;
+
+static void head_at(const Interval *iv, double t, hk_RigidState *out)
+{
+    *out = hk_rigid_identity();
+    if (iv->head) iv->head(iv->user, t, out);
+}
+
+static int advance(hk_StrandDynamics *d, const Interval *iv, double t, double dt, int depth, int *substeps)
+{
+    hk_RigidState heads[3];
+    head_at(iv, t, &heads[0]);
+    head_at(iv, t + TR_G * dt, &heads[1]);
+    head_at(iv, t + dt, &heads[2]);
+    save_state(d);
+    const int ok = integrate(d, heads, iv->forces, iv->force_count, dt);
+    if (!ok) d->stats.failures++;
+    if (ok && (depth >= d->params.max_depth ||
+               (largest_turn(d) <= d->params.max_turn && largest_travel(d) <= d->params.max_travel))) {
+        (*substeps)++;
+        return 1;
+    }
+    restore_state(d);
+    if (depth >= d->params.max_depth) return 0;
+    /* Undo and take two half steps. */
+    d->stats.splits++;
+    return advance(d, iv, t, 0.5 * dt, depth + 1, substeps) &&
+           advance(d, iv, t + 0.5 * dt, 0.5 * dt, depth + 1, substeps);
+}
+
+hk_Status hk_strand_dynamics_advance(hk_StrandDynamics *d, hk_HeadStateFn head, void *user,
+                                     double t, double dt, const hk_PointForce *forces,
+                                     int force_count, int *substeps, hk_Error *err)
+{
+    int count = 0;
+    if (substeps) *substeps = 0;
+    if (!(dt > 0.0) || !isfinite(dt) || !isfinite(t))
+        return hk_error_set(err, HK_ERR_INVALID, "time step must be > 0, got %g", dt);
+    const Interval iv = {head, user, forces, force_count};
+    hk_RigidState start;
+    head_at(&iv, t, &start);
+    const hk_Status st = hk_dynamics_anchor_forces(d, &start, forces, force_count, err);
+    if (st != HK_OK) return st;
+    /* The state at the start, to give back untouched on failure. */
+    const size_t bytes = (size_t)(3 * d->sh->n) * sizeof(double);
+    memcpy(d->start, d->sh->q, bytes);
+    memcpy(d->start + 3 * d->sh->n, d->v, bytes);
+    const int ok = advance(d, &iv, t, dt, 0, &count);
+    if (!ok) {
+        memcpy(d->sh->q, d->start, bytes);
+        memcpy(d->v, d->start + 3 * d->sh->n, bytes);
+        d->acc_valid = 0;
+    }
+    if (substeps) *substeps = count;
+    hk_RigidState end;
+    head_at(&iv, t + dt, &end);
+    hk_strand_dynamics_place(d, &end);
+    if (!ok)
+        return hk_error_set(err, HK_ERR_NUMERIC,
+                            "dynamics step failed at t = %g s even split %d times (down to %g s): Newton's "
+                            "iteration did not converge or the state is not finite; state left at t",
+                            t, d->params.max_depth, dt / (double)(1L << d->params.max_depth));
+    return HK_OK;
+}
