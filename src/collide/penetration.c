@@ -198,16 +198,28 @@ double hk_collision_penalty(const hk_Shape *shapes, int count, double alpha, hk_
     return e;
 }
 
-double hk_collision_depth(const hk_Shape *shapes, int count, double alpha, hk_Vec3 p)
+int hk_collision_deepest(const hk_Shape *shapes, int count, double alpha, hk_Vec3 p, double *depth)
 {
-    double depth = 0.0;
+    int deepest = -1;
+    double best = 0.0;
     for (int i = 0; i < count; i++) {
         const double extra = alpha * shapes[i].volume;
         const hk_Vec3 d = hk_v3_sub(p, shapes[i].centre);
         const double q2 = hk_v3_norm2(d);
         if (out_of_reach(&shapes[i], extra, q2)) continue;
         const double phi = dent_at(&shapes[i], d, q2, NULL, NULL) + extra;
-        if (phi > depth) depth = phi;
+        if (phi > best) {
+            best = phi;
+            deepest = i;
+        }
     }
+    if (depth) *depth = best;
+    return deepest;
+}
+
+double hk_collision_depth(const hk_Shape *shapes, int count, double alpha, hk_Vec3 p)
+{
+    double depth;
+    hk_collision_deepest(shapes, count, alpha, p, &depth);
     return depth;
 }

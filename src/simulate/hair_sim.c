@@ -300,7 +300,7 @@ hk_Status hk_hair_sim_groom(const hk_HairSim *sim, const hk_Mesh *wick, const hk
     g->guides = hk_alloc_array((size_t)sim->guide_count * (size_t)sim->points, 3 * sizeof(double), err);
     if (!g->guides) return HK_ERR_NOMEM;
     hk_hair_sim_guides(sim, g->guides);
-    hk_Status st = hk_groom_interpolate_guides(&sim->style, wick, go, g, err);
+    hk_Status st = hk_groom_interpolate_guides(&sim->style, sim->shapes, sim->shape_count, wick, go, g, err);
     if (st != HK_OK) hk_groom_free(g);
     return st;
 }
