@@ -4,7 +4,11 @@
  * strands and the roots (which sit on the scalp, between the wick's vertices possibly a
  * little inside the true shape) are reported apart. Depth is the thesis's dent (§4.1.2.1) of the true shapes,
  * without their envelopes; styling shapes are not body.
- * Usage: hair_depth COLLISION.txt FILE.hair... */
+ * Frames of `hairkit simulate` are in world space: with --motion NAME --fps F (the
+ * simulation's scripted motion, default amplitude and frequency) frame_kkkk.hair is
+ * taken back into head space, x = R^T (p - T), with the head's pose at t = k / F.
+ * Usage: hair_depth COLLISION.txt [--motion NAME --fps F] FILE.hair... */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,6 +16,7 @@
 #include "hairkit/collide.h"
 #include "hairkit/hairfile.h"
 #include "hairkit/io.h"
+#include "hairkit/motion.h"
 
 typedef struct Tally {
     long points, over1, over2;
@@ -36,7 +41,7 @@ static void print(const char *what, const Tally *t)
 int main(int argc, char **argv)
 {
     if (argc < 3) {
-        fprintf(stderr, "usage: hair_depth COLLISION.txt FILE.hair...\n");
+        fprintf(stderr, "usage: hair_depth COLLISION.txt [--motion NAME --fps F] FILE.hair...\n");
         return 2;
     }
     hk_Error err;
@@ -48,8 +53,19 @@ int main(int argc, char **argv)
     }
     for (int i = 0; i < n; i++)
         if (!shapes[i].styling) shapes[body++] = shapes[i];
+    int first = 2;
+    hk_HeadMotion *motion = NULL;
+    double fps = 30.0;
+    if (argc > 6 && !strcmp(argv[2], "--motion") && !strcmp(argv[4], "--fps")) {
+        fps = strtod(argv[5], NULL);
+        if (!(fps > 0.0) || hk_head_motion_scripted(argv[3], 25.0, 1.0, hk_default_head_pivot(), &motion, &err) != HK_OK) {
+            fprintf(stderr, "hair_depth: bad --motion or --fps\n");
+            return 2;
+        }
+        first = 6;
+    }
     Tally all_guides = {0, 0, 0, 0.0}, all_strands = {0, 0, 0, 0.0}, all_roots = {0, 0, 0, 0.0};
-    for (int f = 2; f < argc; f++) {
+    for (int f = first; f < argc; f++) {
         hk_HairFile h;
         if (hk_hair_load(argv[f], &h, &err) != HK_OK) {
             fprintf(stderr, "hair_depth: %s\n", err.message);
@@ -60,11 +76,15 @@ int main(int argc, char **argv)
         info[HK_HAIR_INFO_SIZE] = '\0';
         const char *g = strstr(info, "guides=");
         const long guides = g ? strtol(g + 7, NULL, 10) : 0;
+        hk_RigidState head = hk_rigid_identity();
+        const char *k = strstr(argv[f], "frame_");
+        if (motion && k) hk_head_motion_eval(motion, strtol(k + 6, NULL, 10) / fps, &head);
         Tally tg = {0, 0, 0, 0.0}, ts = {0, 0, 0, 0.0}, tr = {0, 0, 0, 0.0};
         for (uint32_t s = 0; s < h.strand_count; s++)
             for (uint32_t p = h.first_point[s]; p < h.first_point[s + 1]; p++) {
                 const float *q = h.points + 3 * (size_t)p;
-                const double d = hk_collision_depth(shapes, body, 0.0, hk_v3(q[0], q[1], q[2]));
+                const hk_Vec3 x = hk_m3_tmul_v3(&head.rot, hk_v3_sub(hk_v3(q[0], q[1], q[2]), head.trans));
+                const double d = hk_collision_depth(shapes, body, 0.0, x);
                 if (p == h.first_point[s]) {
                     add(&tr, d);
                     add(&all_roots, d);
@@ -79,12 +99,13 @@ int main(int argc, char **argv)
         print("strands", &ts);
         hk_hair_free(&h);
     }
-    if (argc > 3) {
+    if (argc > first + 1) {
         printf("all files\n");
         print("roots", &all_roots);
         print("guides", &all_guides);
         print("strands", &all_strands);
     }
     hk_free(shapes);
+    hk_head_motion_destroy(motion);
     return 0;
 }
