@@ -156,6 +156,36 @@ static void expect_error(const char *text, hk_Status code, int line, const char 
     expect_error_in(hk_test_write_text("collision.txt", text), code, line, phrase);
 }
 
+/* The optional role after the numbers: Body (the default, also of the thesis's files)
+ * or Styling, any case; a misspelt role is named. */
+static void test_roles(void **state)
+{
+    (void)state;
+    hk_Shape *s = load_ok(thesis_collision, 2);
+    assert_int_equal(s[0].styling, 0);
+    assert_int_equal(s[1].styling, 0);
+    hk_free(s);
+    s = load_ok("Ellipsoid 0.01 10 0 0 0 1 1 1 1 0 0 0 1 0 0 0 1 Body\n"
+                "Sphere 0.05 0.01 0 0.04 0.15 0.095 Styling # before the face\n"
+                "cuboid 0 1 0 0 0 1 2 3 1 0 0 0 1 0 0 0 1 STYLING\n"
+                "sphere 0 1 0 0 0 1 body\n",
+                4);
+    assert_int_equal(s[0].styling, 0);
+    assert_int_equal(s[1].styling, 1);
+    hk_assert_near(s[1].half.x, 0.095, 0);
+    assert_int_equal(s[2].styling, 1);
+    assert_int_equal(s[2].kind, HK_SHAPE_CUBOID);
+    assert_int_equal(s[3].styling, 0);
+    hk_free(s);
+    expect_error("Sphere 0 1 0 0 0 1 Style\n", HK_ERR_PARSE, 1,
+                 "unknown role 'Style' after the Sphere's numbers (expected Body or Styling)");
+    /* A role does not stand in for a missing number. */
+    expect_error("Sphere 0 1 0 0 0 Styling\n", HK_ERR_PARSE, 1, "'Styling' is not a finite number (value 6 of 'Sphere')");
+    expect_error("Sphere 0 1 0 0 0 1 Styling Body\n", HK_ERR_PARSE, 1, "expected 6 numbers after 'Sphere', got 8");
+    expect_error("Cuboid 0 1 0 0 0 1 1 1 1 0 0 0 1 0 0 0 1 1e-3\n", HK_ERR_PARSE, 1,
+                 "expected 17 numbers after 'Cuboid', got 18");
+}
+
 static void test_count_and_number_errors(void **state)
 {
     (void)state;
@@ -312,7 +342,7 @@ int main(void)
         cmocka_unit_test(test_thesis_sample),  cmocka_unit_test(test_spellings_and_layout),
         cmocka_unit_test(test_count_and_number_errors), cmocka_unit_test(test_range_errors),
         cmocka_unit_test(test_shape_limit),    cmocka_unit_test(test_files),
-        cmocka_unit_test(test_fuzz),
+        cmocka_unit_test(test_fuzz), cmocka_unit_test(test_roles),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -34,6 +34,10 @@ typedef struct hk_Shape {
     hk_Vec3 axis[3]; /* orthonormal local axes U, V, W (identity for a sphere) */
     double bound;    /* |p - centre| > bound + sqrt(3) * |extra| implies
                         dent(p) + extra < 0 (no contact); set by hk_shape_finish() */
+    int styling;     /* 0 (the constructors' value): part of the body, which no strand may
+                        enter (docs/grooming.md); 1: a styling field such as the soft
+                        sphere before the face (thesis Appendix C, coupes 3-4) that only
+                        shapes the guides through its penalty */
 } hk_Shape;
 
 /* Shape constructors; axes are normalised. They fill `bound`. */
@@ -72,6 +76,11 @@ double hk_collision_penalty(const hk_Shape *shapes, int count, double alpha, hk_
 /* Largest dent + extra > 0 over shapes at p (0 when p touches none): how deep a
  * point sits inside the envelopes. Used by tests and reports. */
 double hk_collision_depth(const hk_Shape *shapes, int count, double alpha, hk_Vec3 p);
+
+/* The same, naming the shape: the index of the shape p is deepest inside (dent + extra
+ * > 0, the first of equals), or -1 when p touches none; *depth (if not NULL) receives
+ * hk_collision_depth's value. */
+int hk_collision_deepest(const hk_Shape *shapes, int count, double alpha, hk_Vec3 p, double *depth);
 
 #ifdef __cplusplus
 }

@@ -21,6 +21,9 @@ typedef struct hk_GroomOptions {
     int threads;            /* OpenMP threads; <= 0: the OpenMP default */
     hk_ProgressFn progress; /* may be NULL */
     void *progress_user;
+    int keep_outside;       /* 1 (default): interpolated strands that enter a body shape
+                               are moved out of it, keeping their length (docs/grooming.md);
+                               0: the plain blend of the guides */
 } hk_GroomOptions;
 
 hk_GroomOptions hk_default_groom_options(void);
@@ -69,9 +72,12 @@ void hk_groom_free(hk_Groom *g);
 /* Grows the interpolated strands of g again from its guides (g->guides,
  * g->guide_count, g->points_per_strand set, e.g. moved by the dynamics; follicles =
  * wick vertices): the same seed gives the same roots and clumps, so that strands
- * follow their guides from frame to frame. Replaces any strands g had. */
-hk_Status hk_groom_interpolate_guides(const hk_HairstyleDef *style, const hk_Mesh *wick,
-                                      const hk_GroomOptions *options, hk_Groom *g, hk_Error *err);
+ * follow their guides from frame to frame. The strands are kept out of the body
+ * shapes among shapes[0..shape_count) (may be NULL, 0), in the guides' space.
+ * Replaces any strands g had. */
+hk_Status hk_groom_interpolate_guides(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
+                                      const hk_Mesh *wick, const hk_GroomOptions *options, hk_Groom *g,
+                                      hk_Error *err);
 
 /* The groom as cyHair data: the guides first, then the interpolated strands; default
  * thickness is the hair's mean diameter. */

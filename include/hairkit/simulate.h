@@ -64,8 +64,9 @@ int hk_hair_sim_points_per_strand(const hk_HairSim *sim);
 void hk_hair_sim_guides(const hk_HairSim *sim, double *out);
 
 /* The groom of the current frame: the guides as above and the interpolated strands
- * regrown from them (same seed: same roots and clumps every frame). g is filled (free
- * with hk_groom_free). */
+ * regrown from them (same seed: same roots and clumps every frame), kept out of the
+ * body shapes where the head is at the end of the last step (docs/grooming.md). g is
+ * filled (free with hk_groom_free). */
 hk_Status hk_hair_sim_groom(const hk_HairSim *sim, const hk_Mesh *wick, const hk_GroomOptions *go,
                             hk_Groom *g, hk_Error *err);
 

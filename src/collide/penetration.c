@@ -198,16 +198,51 @@ double hk_collision_penalty(const hk_Shape *shapes, int count, double alpha, hk_
     return e;
 }
 
-double hk_collision_depth(const hk_Shape *shapes, int count, double alpha, hk_Vec3 p)
+/* Whether d (from the centre) is clearly outside the shape itself, dent < 0, without
+ * the dent's square roots and divisions: most points of a head of hair lie within a
+ * shape's bound yet outside it, and the hair is checked every frame. The ellipsoid's
+ * radial dent has the sign of 1 - ratio^2 (§4.1.2.1.1); the small slack leaves points
+ * within rounding of the surface to the dent itself, so the answers do not change. The
+ * cuboid's dent is as cheap as any test. */
+static int clearly_outside(const hk_Shape *s, hk_Vec3 d, double q2)
 {
-    double depth = 0.0;
+    switch (s->kind) {
+    case HK_SHAPE_SPHERE: return q2 > s->half.x * s->half.x * (1.0 + 1e-9);
+    case HK_SHAPE_ELLIPSOID: {
+        double r2 = 0.0;
+        for (int i = 0; i < 3; i++) {
+            const double u = hk_v3_dot(d, s->axis[i]) / hk_v3_get(s->half, i);
+            r2 += u * u;
+        }
+        return r2 > 1.0 + 1e-9;
+    }
+    case HK_SHAPE_CUBOID: break;
+    }
+    return 0;
+}
+
+int hk_collision_deepest(const hk_Shape *shapes, int count, double alpha, hk_Vec3 p, double *depth)
+{
+    int deepest = -1;
+    double best = 0.0;
     for (int i = 0; i < count; i++) {
         const double extra = alpha * shapes[i].volume;
         const hk_Vec3 d = hk_v3_sub(p, shapes[i].centre);
         const double q2 = hk_v3_norm2(d);
-        if (out_of_reach(&shapes[i], extra, q2)) continue;
+        if (out_of_reach(&shapes[i], extra, q2) || (extra <= 0.0 && clearly_outside(&shapes[i], d, q2))) continue;
         const double phi = dent_at(&shapes[i], d, q2, NULL, NULL) + extra;
-        if (phi > depth) depth = phi;
+        if (phi > best) {
+            best = phi;
+            deepest = i;
+        }
     }
+    if (depth) *depth = best;
+    return deepest;
+}
+
+double hk_collision_depth(const hk_Shape *shapes, int count, double alpha, hk_Vec3 p)
+{
+    double depth;
+    hk_collision_deepest(shapes, count, alpha, p, &depth);
     return depth;
 }

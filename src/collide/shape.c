@@ -10,6 +10,7 @@ static hk_Shape shape_base(hk_ShapeKind kind, hk_Vec3 centre, hk_Vec3 half, cons
     s.penalty = penalty;
     s.centre = centre;
     s.half = half;
+    s.styling = 0;
     for (int i = 0; i < 3; i++) s.axis[i] = axes ? hk_v3_normalize(axes[i]) : hk_v3_unit(i);
     hk_shape_finish(&s);
     return s;

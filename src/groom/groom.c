@@ -9,7 +9,7 @@
 
 hk_GroomOptions hk_default_groom_options(void)
 {
-    hk_GroomOptions o = {1, 0, NULL, NULL};
+    hk_GroomOptions o = {1, 0, NULL, NULL, 1};
     return o;
 }
 
@@ -50,7 +50,7 @@ hk_Status hk_groom_grow(const hk_HairstyleDef *style, const hk_Shape *shapes, in
         double t0 = seconds_now();
         st = hk_groom_solve_guides(style, shapes, shape_count, &f, &o, out, err);
         double t1 = seconds_now();
-        if (st == HK_OK) st = hk_groom_interpolate(style, wick, &o, out, err);
+        if (st == HK_OK) st = hk_groom_interpolate(style, shapes, shape_count, wick, &o, out, err);
         out->stats.seconds_guides = t1 - t0;
         out->stats.seconds_strands = seconds_now() - t1;
         hk_follicles_free(&f);
@@ -85,8 +85,9 @@ hk_Status hk_groom_to_hair(const hk_Groom *g, const hk_HairstyleDef *style, hk_H
     return HK_OK;
 }
 
-hk_Status hk_groom_interpolate_guides(const hk_HairstyleDef *style, const hk_Mesh *wick,
-                                      const hk_GroomOptions *options, hk_Groom *g, hk_Error *err)
+hk_Status hk_groom_interpolate_guides(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
+                                      const hk_Mesh *wick, const hk_GroomOptions *options, hk_Groom *g,
+                                      hk_Error *err)
 {
     if (g->guide_count != wick->vertex_count || !g->guides || g->points_per_strand < 2)
         return hk_error_set(err, HK_ERR_INVALID, "%d guides for a wick of %d vertices", g->guide_count,
@@ -102,7 +103,7 @@ hk_Status hk_groom_interpolate_guides(const hk_HairstyleDef *style, const hk_Mes
     const int saved_threads = omp_get_max_threads();
     if (o.threads > 0) omp_set_num_threads(o.threads);
     const double t0 = seconds_now();
-    hk_Status st = hk_groom_interpolate(style, wick, &o, g, err);
+    hk_Status st = hk_groom_interpolate(style, shapes, shape_count, wick, &o, g, err);
     g->stats.seconds_strands = seconds_now() - t0;
     if (o.threads > 0) omp_set_num_threads(saved_threads);
     return st;

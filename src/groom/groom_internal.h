@@ -11,9 +11,19 @@ void hk_groom_report(const hk_GroomOptions *o, const char *stage, long done, lon
 hk_Status hk_groom_solve_guides(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
                                 const hk_Follicles *f, const hk_GroomOptions *o, hk_Groom *g, hk_Error *err);
 
-/* Fills every wick triangle with interpolated strands from its three guides. */
-hk_Status hk_groom_interpolate(const hk_HairstyleDef *style, const hk_Mesh *wick, const hk_GroomOptions *o,
-                               hk_Groom *g, hk_Error *err);
+/* Fills every wick triangle with interpolated strands from its three guides, kept
+ * out of the body shapes among shapes[0..shape_count) when o->keep_outside is set. */
+hk_Status hk_groom_interpolate(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
+                               const hk_Mesh *wick, const hk_GroomOptions *o, hk_Groom *g, hk_Error *err);
+
+/* Keeping strands out of the body (body_projection.c). hk_groom_body_shapes copies the
+ * shapes that are body (not styling) into *body (NULL when there are none; hk_free
+ * it). hk_groom_keep_outside moves the points of one strand (point_count x 3 floats,
+ * root first) that lie inside a body shape out of it, root to tip, keeping every
+ * segment's length and leaving the root where it is; a strand that touches no body
+ * shape keeps its bytes. */
+hk_Status hk_groom_body_shapes(const hk_Shape *shapes, int count, hk_Shape **body, int *body_count, hk_Error *err);
+void hk_groom_keep_outside(const hk_Shape *body, int count, float *points, int point_count);
 
 /* Root and tip barycentric weights of one interpolated strand (interpolate.c),
  * exposed for the tests: uniform roots from two uniform numbers; the thesis's tip

@@ -102,8 +102,8 @@ static void make_strand(const hk_HairstyleDef *style, const double *const guide[
     }
 }
 
-hk_Status hk_groom_interpolate(const hk_HairstyleDef *style, const hk_Mesh *wick, const hk_GroomOptions *o,
-                               hk_Groom *g, hk_Error *err)
+hk_Status hk_groom_interpolate(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
+                               const hk_Mesh *wick, const hk_GroomOptions *o, hk_Groom *g, hk_Error *err)
 {
     const int nt = wick->triangle_count, points = g->points_per_strand;
     /* Strand counts per triangle, then their offsets: a serial prefix sum, so the
@@ -132,6 +132,12 @@ hk_Status hk_groom_interpolate(const hk_HairstyleDef *style, const hk_Mesh *wick
         hk_free(first);
         return HK_ERR_NOMEM;
     }
+    hk_Shape *body = NULL;
+    int body_count = 0;
+    if (o->keep_outside && hk_groom_body_shapes(shapes, shape_count, &body, &body_count, err) != HK_OK) {
+        hk_free(first);
+        return HK_ERR_NOMEM;
+    }
     long done = 0;
     #pragma omp parallel for schedule(dynamic, 8)
     for (int t = 0; t < nt; t++) {
@@ -151,7 +157,9 @@ hk_Status hk_groom_interpolate(const hk_HairstyleDef *style, const hk_Mesh *wick
                          hk_rng_uniform(o->seed, STREAM_STRAND + ((uint64_t)t << 8), key + 1), root);
             hk_groom_tip_weights(root, style->clump, hk_rng_uniform(o->seed, STREAM_STRAND + ((uint64_t)t << 8), key + 2),
                         hk_rng_uniform(o->seed, STREAM_STRAND + ((uint64_t)t << 8), key + 3), style->stray_hairs, tip);
-            make_strand(style, guide, points, root, tip, follow_nearest, g->strands + (size_t)s * (size_t)points * 3);
+            float *strand = g->strands + (size_t)s * (size_t)points * 3;
+            make_strand(style, guide, points, root, tip, follow_nearest, strand);
+            hk_groom_keep_outside(body, body_count, strand, points);
             g->strand_triangle[s] = t;
             for (int k = 0; k < 3; k++) g->strand_root_weights[3 * s + k] = (float)root[k];
         }
@@ -161,6 +169,7 @@ hk_Status hk_groom_interpolate(const hk_HairstyleDef *style, const hk_Mesh *wick
         if (omp_get_thread_num() == 0) hk_groom_report(o, "strands", d, total);
     }
     hk_groom_report(o, "strands", total, total);
+    hk_free(body);
     hk_free(first);
     return HK_OK;
 }

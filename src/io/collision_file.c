@@ -1,5 +1,6 @@
 /* Collision Info files (thesis 004 §4.2.1 and Appendix B): spheres, ellipsoids and
  * cuboids with their envelope Volume and Penalty stiffness (§4.1.2). */
+#include <ctype.h>
 #include <math.h>
 #include <string.h>
 
@@ -51,8 +52,27 @@ static hk_Status read_shape(const hk_KeyFile *kf, const hk_KeyLine *kl, hk_Shape
         return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err,
                                 "unknown shape '%s' (expected Sphere, Ellipsoid or Cuboid)",
                                 kl->key);
+    /* An optional last word says what the shape is: `Body` (the default, so the
+     * thesis's files keep their meaning) or `Styling`, a field that shapes the guides
+     * but that hair may enter (docs/file-formats.md). */
+    const int numbers = sphere ? 6 : 17;
+    hk_KeyLine nums = *kl;
+    int styling = 0;
+    if (kl->count == numbers + 1) {
+        const char *role = kl->values[numbers];
+        if (hk_key_equal(role, "Styling")) styling = 1;
+        else if (!hk_key_equal(role, "Body")) {
+            /* A word where a number cannot be is a misspelt role, not a count error. */
+            if (isalpha((unsigned char)role[0]) && !hk_key_equal(role, "nan") && !hk_key_equal(role, "inf"))
+                return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err,
+                                        "unknown role '%s' after the %s's numbers (expected Body or Styling)", role,
+                                        kl->key);
+            role = NULL;
+        }
+        if (role) nums.count = numbers;
+    }
     double v[17];
-    hk_Status st = hk_keyline_doubles(kf, kl, sphere ? 6 : 17, v, err);
+    hk_Status st = hk_keyline_doubles(kf, &nums, numbers, v, err);
     if (st != HK_OK) return st;
     /* v[0] is the Volume (envelope thickness, §4.1.2.2): any finite value, negative
      * shrinks the shape. */
@@ -65,6 +85,7 @@ static hk_Status read_shape(const hk_KeyFile *kf, const hk_KeyLine *kl, hk_Shape
             return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err,
                                     "sphere radius must be > 0, got %s", kl->values[5]);
         *shape = hk_shape_sphere(centre, v[5], v[0], v[1]);
+        shape->styling = styling;
         return HK_OK;
     }
     if (!(v[5] > 0.0) || !(v[6] > 0.0) || !(v[7] > 0.0))
@@ -77,6 +98,7 @@ static hk_Status read_shape(const hk_KeyFile *kf, const hk_KeyLine *kl, hk_Shape
     const hk_Vec3 dims = hk_v3(v[5], v[6], v[7]);
     *shape = ellipsoid ? hk_shape_ellipsoid(centre, dims, axes, v[0], v[1])
                        : hk_shape_cuboid(centre, dims, axes, v[0], v[1]);
+    shape->styling = styling;
     return HK_OK;
 }
 

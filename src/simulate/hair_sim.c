@@ -23,6 +23,8 @@ struct hk_HairSim {
     double *sample_s;            /* sample_count arc lengths, shared by all guides */
     hk_Vec3 *sample_pos, *sample_vel; /* guide_count x sample_count */
     hk_StrandSamples *samples;   /* guide_count views of the above */
+    hk_RigidState head;          /* the head's pose at the end of the last step: the
+                                    guides are in world space, the shapes in head space */
 };
 
 hk_HairSimOptions hk_default_hair_sim_options(const hk_HairstyleDef *style)
@@ -148,6 +150,7 @@ hk_Status hk_hair_sim_create(const hk_HairstyleDef *style, const hk_Shape *shape
     hk_HairSim *sim = hk_calloc_array(1, sizeof *sim, err);
     if (!sim) return HK_ERR_NOMEM;
     sim->options = options ? *options : hk_default_hair_sim_options(style);
+    sim->head = hk_rigid_identity();
     hk_Follicles f = {0, NULL, NULL, NULL};
     hk_Status st = hk_hairstyle_copy(style, &sim->style, err);
     if (st == HK_OK && shape_count > 0) {
@@ -274,6 +277,10 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
     if (sim->options.threads > 0) omp_set_num_threads(saved_threads);
     if (st == HK_OK && first.index >= 0)
         st = hk_error_set(err, first.error.code, "guide %ld at t = %.4g s: %s", first.index, t, first.error.message);
+    if (st == HK_OK) {
+        if (head_fn) head_fn(user, t + dt, &sim->head);
+        else sim->head = hk_rigid_identity();
+    }
     local.substeps = substeps;
     local.body_contacts = body;
     local.seconds = seconds_now() - t0;
@@ -307,7 +314,23 @@ hk_Status hk_hair_sim_groom(const hk_HairSim *sim, const hk_Mesh *wick, const hk
     g->guides = hk_alloc_array((size_t)sim->guide_count * (size_t)sim->points, 3 * sizeof(double), err);
     if (!g->guides) return HK_ERR_NOMEM;
     hk_hair_sim_guides(sim, g->guides);
-    hk_Status st = hk_groom_interpolate_guides(&sim->style, wick, go, g, err);
+    /* The strands are kept out of the body where it is now: the shapes go where the
+     * head took them (the guides, and so the strands, are in world space). */
+    hk_Shape *posed = NULL;
+    if (sim->shape_count > 0) {
+        posed = hk_alloc_array((size_t)sim->shape_count, sizeof *posed, err);
+        if (!posed) {
+            hk_groom_free(g);
+            return HK_ERR_NOMEM;
+        }
+    }
+    for (int i = 0; i < sim->shape_count; i++) {
+        posed[i] = sim->shapes[i];
+        hk_rigid_point(&sim->head, sim->shapes[i].centre, &posed[i].centre, NULL, NULL);
+        for (int k = 0; k < 3; k++) posed[i].axis[k] = hk_m3_mul_v3(&sim->head.rot, sim->shapes[i].axis[k]);
+    }
+    hk_Status st = hk_groom_interpolate_guides(&sim->style, posed, sim->shape_count, wick, go, g, err);
+    hk_free(posed);
     if (st != HK_OK) hk_groom_free(g);
     return st;
 }
