@@ -60,6 +60,10 @@ typedef struct hk_CliProgress {
     int last_percent;
 } hk_CliProgress;
 void hk_cli_progress(void *user, const char *stage, double fraction);
+/* The bar followed by a note, e.g. the time left; redrawn at every call. */
+void hk_cli_progress_note(hk_CliProgress *p, const char *stage, double fraction, const char *note);
+/* "12 s", "4 min 3 s", "1 h 5 min". */
+void hk_cli_format_duration(double seconds, char *buf, size_t size);
 /* Ends the bar's line (if one was drawn). */
 void hk_cli_progress_done(hk_CliProgress *p);
 

@@ -79,11 +79,16 @@ double hk_cli_now(void)
 
 void hk_cli_progress(void *user, const char *stage, double fraction)
 {
-    hk_CliProgress *p = user;
+    hk_cli_progress_note(user, stage, fraction, NULL);
+}
+
+void hk_cli_progress_note(hk_CliProgress *p, const char *stage, double fraction, const char *note)
+{
     if (!p->enabled) return;
     const int percent = (int)(100.0 * fraction + 0.5);
     const int new_stage = strncmp(p->stage, stage, sizeof p->stage - 1) != 0;
-    if (!new_stage && percent == p->last_percent) return;
+    /* A note (the time left) changes more often than the percentage: redraw for it. */
+    if (!new_stage && percent == p->last_percent && !note) return;
     if (new_stage && p->stage[0]) fputc('\n', stderr);
     snprintf(p->stage, sizeof p->stage, "%s", stage);
     p->last_percent = percent;
@@ -91,8 +96,17 @@ void hk_cli_progress(void *user, const char *stage, double fraction)
     const int filled = percent * 30 / 100;
     for (int i = 0; i < 30; i++) bar[i] = i < filled ? '#' : '.';
     bar[30] = '\0';
-    fprintf(stderr, "\r%-8s [%s] %3d%%", stage, bar, percent);
+    /* \033[K clears what a longer note left at the end of the line. */
+    fprintf(stderr, "\r%-8s [%s] %3d%%%s%s\033[K", stage, bar, percent, note ? "  " : "", note ? note : "");
     fflush(stderr);
+}
+
+void hk_cli_format_duration(double seconds, char *buf, size_t size)
+{
+    if (!(seconds >= 0.0)) seconds = 0.0;
+    if (seconds < 60.0) snprintf(buf, size, "%.0f s", seconds);
+    else if (seconds < 3600.0) snprintf(buf, size, "%.0f min %.0f s", floor(seconds / 60.0), fmod(seconds, 60.0));
+    else snprintf(buf, size, "%.0f h %.0f min", floor(seconds / 3600.0), floor(fmod(seconds, 3600.0) / 60.0));
 }
 
 void hk_cli_progress_done(hk_CliProgress *p)

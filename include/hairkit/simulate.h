@@ -10,6 +10,7 @@
 #include "hairkit/groom.h"
 #include "hairkit/hair_contacts.h"
 #include "hairkit/motion.h"
+#include "hairkit/render.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -69,6 +70,75 @@ void hk_hair_sim_guides(const hk_HairSim *sim, double *out);
  * filled (free with hk_groom_free). */
 hk_Status hk_hair_sim_groom(const hk_HairSim *sim, const hk_Mesh *wick, const hk_GroomOptions *go,
                             hk_Groom *g, hk_Error *err);
+
+
+/* ---- a simulation written to a folder (sim_run.c, sim_files.c, sim_rebuild.c) -------
+ * What `hairkit simulate` does (docs/dynamics.md, "The full head"): frame k is written
+ * as DIR/guides_kkkk.hair (the guides) and, unless guides_only, DIR/frame_kkkk.png; the
+ * interpolated hair is regrown from the guides as written (float), so that
+ * DIR/simulation.txt and the guides rebuild it byte for byte (hk_simulation_rebuild);
+ * full_hair also writes it, DIR/frame_kkkk.hair. */
+
+typedef struct hk_SimProgress {
+    long frame, frames;       /* frames written so far (0: the hair is at rest, none yet), in all */
+    int guides, elements;     /* per guide */
+    double seconds_setup;     /* loading, the guides' statics and the preroll */
+    double seconds;           /* since the first frame began */
+    /* totals so far, by stage: advancing the guides, regrowing the interpolated hair,
+     * rendering the picture, writing files (encoding the PNG included) */
+    double seconds_dynamics, seconds_regrow, seconds_render, seconds_write;
+    long long bytes;          /* written so far */
+    long substeps;            /* guide steps so far */
+    int removed;              /* files of an earlier run removed from the folder */
+    int video;                /* at the end: 1 DIR/hair.mp4 made, 0 no ffmpeg, -1 ffmpeg failed */
+} hk_SimProgress;
+
+/* Called with frame 0 once the hair is at rest, then after every frame. */
+typedef void (*hk_SimProgressFn)(void *user, const hk_SimProgress *p);
+
+typedef struct hk_SimRunOptions {
+    long frames;              /* 1 to 100000 */
+    double fps;               /* the time step is 1/fps */
+    double preroll;           /* seconds of settling on the still head before frame 0 */
+    int guides_only;          /* no interpolated hair, no pictures */
+    int full_hair;            /* also DIR/frame_kkkk.hair, every strand */
+    int hair_contacts;        /* guide-guide interactions (default 1) */
+    int damping;              /* internal friction and air drag (default 1) */
+    int video;                /* DIR/hair.mp4 with ffmpeg when installed (default 1) */
+    int threads;              /* <= 0: all cores; the files do not depend on it */
+    uint64_t seed;            /* of the interpolation */
+    const hk_HeadMotion *motion; /* NULL: still */
+    hk_RenderOptions render;  /* camera_distance <= 0: fixed at the first frame's fit */
+    hk_ProgressFn statics_progress; /* may be NULL: the guides' rest shapes */
+    void *statics_user;
+    hk_SimProgressFn progress;      /* may be NULL */
+    void *progress_user;
+} hk_SimRunOptions;
+
+hk_SimRunOptions hk_default_sim_run_options(void);
+
+/* Loads the setup, solves the guides at rest, settles them, and writes every frame to
+ * dir (made if missing; files of an earlier run removed first, see
+ * hk_simulation_clean_folder) with DIR/simulation.txt. p (may be NULL) gets the final
+ * figures. */
+hk_Status hk_simulation_run(const char *setup_path, const char *dir, const hk_SimRunOptions *options,
+                            hk_SimProgress *p, hk_Error *err);
+
+/* Removes from dir the files a simulation writes, and only them: frame_kkkk.png,
+ * frame_kkkk.hair, guides_kkkk.hair (k: 4 digits or more), hair.mp4, simulation.txt,
+ * and temporary files they left (NAME.tmp-XXXXXX). *removed counts them. A missing
+ * folder is nothing to clean. */
+hk_Status hk_simulation_clean_folder(const char *dir, int *removed, hk_Error *err);
+
+/* DIR/STEM_kkkk.EXT */
+hk_Status hk_simulation_frame_path(char *buf, size_t size, const char *dir, const char *stem, long frame,
+                                   const char *ext, hk_Error *err);
+
+/* The full hair of frame k of the simulation in dir (guides first, then the interpolated
+ * strands, as DIR/frame_kkkk.hair of a --full-hair run, byte for byte once saved), from
+ * DIR/simulation.txt, DIR/guides_kkkk.hair and the setup's hairstyle and wick (refused if
+ * either changed since). threads <= 0: all cores. out is filled (hk_hair_free). */
+hk_Status hk_simulation_rebuild(const char *dir, long frame, int threads, hk_HairFile *out, hk_Error *err);
 
 #ifdef __cplusplus
 }

@@ -29,3 +29,20 @@ void hk_depth_order(uint32_t n, const float *depth, uint32_t *order, uint32_t *w
         swap = ord, ord = tmp, tmp = swap;
     }
 }
+
+void hk_sort_by_high_bits(uint64_t *keys, uint32_t n, uint64_t *tmp)
+{
+    if (n < 2) return;
+    uint64_t *src = keys, *dst = tmp;
+    for (int shift = 32; shift < 64; shift += 8) {
+        uint32_t count[257] = {0};
+        for (uint32_t i = 0; i < n; i++) count[((src[i] >> shift) & 0xffu) + 1]++;
+        /* Every key in one bucket: this pass would copy them in place, skip it. */
+        if (count[((src[0] >> shift) & 0xffu) + 1] == n) continue;
+        for (int b = 0; b < 256; b++) count[b + 1] += count[b];
+        for (uint32_t i = 0; i < n; i++) dst[count[(src[i] >> shift) & 0xffu]++] = src[i];
+        uint64_t *swap = src;
+        src = dst, dst = swap;
+    }
+    if (src != keys) memcpy(keys, src, (size_t)n * sizeof *keys);
+}

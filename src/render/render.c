@@ -4,6 +4,7 @@
  * with 2 x 2 samples per pixel (tile_head.c), then the hair's fragments in front of
  * it sorted by depth per pixel and composited front to back (tile_hair.c). */
 #include <float.h>
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -79,12 +80,21 @@ static hk_Status scene_bounds(hk_Scene *sc, hk_Error *err)
 {
     sc->lo = hk_v3(DBL_MAX, DBL_MAX, DBL_MAX), sc->hi = hk_v3(-DBL_MAX, -DBL_MAX, -DBL_MAX);
     const hk_HairFile *h = sc->hair;
-    for (uint32_t i = 0; i < h->point_count; i++) {
-        hk_Vec3 p = hk_hair_point(h, i);
-        if (!hk_v3_isfinite(p)) return hk_error_set(err, HK_ERR_INVALID, "hair point %u is not finite", i);
-        sc->lo = hk_v3(fmin(sc->lo.x, p.x), fmin(sc->lo.y, p.y), fmin(sc->lo.z, p.z));
-        sc->hi = hk_v3(fmax(sc->hi.x, p.x), fmax(sc->hi.y, p.y), fmax(sc->hi.z, p.z));
+    /* In parallel (millions of points): min and max do not depend on the order. */
+    double lx = DBL_MAX, ly = DBL_MAX, lz = DBL_MAX, hx = -DBL_MAX, hy = -DBL_MAX, hz = -DBL_MAX;
+    long bad = LONG_MAX;
+#pragma omp parallel for schedule(static) reduction(min : lx, ly, lz, bad) reduction(max : hx, hy, hz)
+    for (long i = 0; i < (long)h->point_count; i++) {
+        hk_Vec3 p = hk_hair_point(h, (uint32_t)i);
+        if (!hk_v3_isfinite(p)) {
+            if (i < bad) bad = i;
+            continue;
+        }
+        lx = fmin(lx, p.x), ly = fmin(ly, p.y), lz = fmin(lz, p.z);
+        hx = fmax(hx, p.x), hy = fmax(hy, p.y), hz = fmax(hz, p.z);
     }
+    if (bad != LONG_MAX) return hk_error_set(err, HK_ERR_INVALID, "hair point %ld is not finite", bad);
+    sc->lo = hk_v3(lx, ly, lz), sc->hi = hk_v3(hx, hy, hz);
     for (int i = 0; sc->head && i < sc->head->vertex_count; i++) {
         hk_Vec3 p = sc->head->positions[i];
         if (!hk_v3_isfinite(p)) return hk_error_set(err, HK_ERR_INVALID, "head vertex %d is not finite", i + 1);

@@ -82,6 +82,12 @@ int hk_triangle_box(const hk_RasterPoint v[3], int image_w, int image_h, hk_Rect
  * work holds 3 n numbers. */
 void hk_depth_order(uint32_t n, const float *depth, uint32_t *order, uint32_t *work);
 
+/* Sorts keys[0..n) into increasing order, given that keys with the same upper 32 bits
+ * (a depth's bits) are already in increasing order of their lower bits (an index,
+ * filled in increasing order): a stable radix sort on the upper bits alone then gives
+ * the full order, the same as any sort of the whole keys. tmp holds n keys. */
+void hk_sort_by_high_bits(uint64_t *keys, uint32_t n, uint64_t *tmp);
+
 /* Items (segments, triangles) sorted into the tiles their box touches, in item order
  * within each tile (so that every tile sees them in the same order whatever the
  * thread count). */

@@ -56,7 +56,7 @@ struct hk_TileHair {
     size_t count, cap;
     int failed;
     uint32_t pixel_start[NPX + 1];
-    uint64_t *keys;
+    uint64_t *keys, *keys_tmp;
     size_t keys_cap;
     /* saturation */
     uint32_t pending[NPX];
@@ -67,6 +67,7 @@ struct hk_TileHair {
     int block_open[BLOCKS * BLOCKS]; /* pixels of each block not yet saturated */
     /* pixels behind the head: closed once the segments start behind it */
     uint64_t head_order[NPX]; /* cutoff depth bits above the pixel, increasing */
+    uint64_t head_tmp[NPX];
     int head_count, head_next;
 };
 
@@ -82,6 +83,7 @@ void hk_tile_hair_destroy(hk_TileHair *w)
     free(w->sort_work);
     free(w->frag);
     free(w->keys);
+    free(w->keys_tmp);
     free(w);
 }
 
@@ -134,14 +136,6 @@ static void hair_fragment(void *user, int x, int y, float t, float alpha)
     if (!w->touched[p]) w->touched[p] = 1, w->touched_list[w->touched_count++] = (uint16_t)p;
 }
 
-/* Fragments in front of `front` are final: fold them into their pixel's
- * transmittance and close the pixels that no longer let light through. */
-static int cmp_u64(const void *a, const void *b)
-{
-    const uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return (x > y) - (x < y);
-}
-
 static void close_pixel(hk_TileHair *w, int p)
 {
     if (w->saturated[p]) return;
@@ -149,6 +143,8 @@ static void close_pixel(hk_TileHair *w, int p)
     w->block_open[(p / HK_TILE / BLOCK) * BLOCKS + (p % HK_TILE) / BLOCK]--;
 }
 
+/* Fragments in front of `front` are final: fold them into their pixel's
+ * transmittance and close the pixels that no longer let light through. */
 static void settle(hk_TileHair *w, float front)
 {
     /* No later fragment can be in front of the head where the head is nearer than
@@ -214,11 +210,14 @@ static int composite(hk_TileHair *w, hk_Canvas *image)
     }
     if (w->count > w->keys_cap) {
         uint64_t *k = realloc(w->keys, w->count * sizeof *k);
-        if (!k) {
+        if (k) w->keys = k;
+        uint64_t *t = realloc(w->keys_tmp, w->count * sizeof *t);
+        if (t) w->keys_tmp = t;
+        if (!k || !t) {
             w->failed = 1;
             return most;
         }
-        w->keys = k, w->keys_cap = w->count;
+        w->keys_cap = w->count;
     }
     /* Counting sort by pixel; key = depth bits (positive floats order as integers)
      * above the fragment's index, so equal depths keep drawing order. */
@@ -242,7 +241,7 @@ static int composite(hk_TileHair *w, hk_Canvas *image)
                     k[j] = v;
                 }
             } else {
-                qsort(k, n, sizeof *k, cmp_u64);
+                hk_sort_by_high_bits(k, (uint32_t)n, w->keys_tmp); /* keys hold i in increasing order */
             }
             float cr = 0.0f, cg = 0.0f, cb = 0.0f, through = 1.0f;
             for (size_t i = 0; i < n && through > 1e-4f; i++) {
@@ -285,14 +284,18 @@ int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_Tile
             memcpy(&bits, &head->cutoff[p], sizeof bits);
             if (head->cutoff[p] < 3.0e38f) w->head_order[w->head_count++] = ((uint64_t)bits << 32) | (uint64_t)p;
         }
-    qsort(w->head_order, (size_t)w->head_count, sizeof *w->head_order, cmp_u64);
+    hk_sort_by_high_bits(w->head_order, (uint32_t)w->head_count, w->head_tmp); /* p was increasing */
     /* Gather the tile's segments (memory order: strands are contiguous), then sort
      * them by the depth of their nearer end. */
     const uint32_t total = bins->start[tile + 1] - bins->start[tile];
     if (!reserve_segments(w, total)) return 0;
     uint32_t n = 0;
+    const uint32_t *items = bins->items + bins->start[tile];
     for (uint32_t k = 0; k < total; k++) {
-        const uint32_t i = bins->items[bins->start[tile] + k];
+        const uint32_t i = items[k];
+        /* The tile's segments are scattered over the projected points: fetch ahead, the
+         * gathering otherwise waits on memory. */
+        if (k + 16 < total) __builtin_prefetch(&in->hair_proj[items[k + 16]]);
         Segment *s = &w->seg[n];
         s->a = in->hair_proj[i], s->b = in->hair_proj[i + 1];
         s->width = segment_width(sc, in->hair_proj, i);

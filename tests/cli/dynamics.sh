@@ -68,7 +68,8 @@ contains "$tmp/err" "InternalFriction"
 g200="$src/examples/guides200/setup.txt"
 expect 0 "$hk" simulate "$g200" --frames 3 --fps 30 --guides-only --motion shake --preroll 0.1 -o "$tmp/g1" \
     --threads 1 --quiet
-[ "$(ls "$tmp/g1" | wc -l)" -eq 3 ] || fail "wanted 3 guide files, got: $(ls "$tmp/g1")"
+[ "$(ls "$tmp/g1" | grep -c '^guides_....\.hair$')" -eq 3 ] || fail "wanted 3 guide files, got: $(ls "$tmp/g1")"
+[ "$(ls "$tmp/g1" | wc -l)" -eq 4 ] || fail "wanted 3 guide files and simulation.txt, got: $(ls "$tmp/g1")"
 expect 0 "$hk" info "$tmp/g1/guides_0002.hair"
 contains "$tmp/out" "201"
 # the same bytes with 2 threads
@@ -77,16 +78,85 @@ expect 0 "$hk" simulate "$g200" --frames 3 --fps 30 --guides-only --motion shake
 for f in guides_0000 guides_0001 guides_0002; do
     cmp -s "$tmp/g1/$f.hair" "$tmp/g2/$f.hair" || fail "$f differs between 1 and 2 threads"
 done
-# the full job on a light scene: interpolated hair and a picture per frame
+# the full job on a light scene: the guides and a picture per frame, the full hair
+# only with --full-hair; --rebuild grows any frame's full hair again, the same bytes
 light_scene "$tmp/light"
 sed -i "s|wick.obj|wick-200.obj|" "$tmp/light/setup.txt"
-expect 0 "$hk" simulate "$tmp/light/setup.txt" --frames 2 --fps 30 --motion nod --preroll 0 --width 96 --height 72 \
-    --shadow-map 64 -o "$tmp/full" --quiet
-for f in frame_0000.hair frame_0001.hair frame_0000.png frame_0001.png; do
+small=(--fps 30 --motion nod --preroll 0 --width 96 --height 72 --shadow-map 64)
+expect 0 "$hk" simulate "$tmp/light/setup.txt" --frames 2 "${small[@]}" -o "$tmp/full" --full-hair --threads 1 --quiet
+for f in frame_0000.hair frame_0001.hair frame_0000.png frame_0001.png guides_0000.hair guides_0001.hair \
+    simulation.txt; do
     [ -s "$tmp/full/$f" ] || fail "missing $f"
 done
 [ "$(head -c 4 "$tmp/full/frame_0001.png" | od -An -c | tr -d ' ')" = "211PNG" ] || fail "frame is not a PNG"
 ls "$tmp/full" | grep -q 'tmp' && fail "temporary file left behind"
+[ -s "$tmp/err" ] && fail "--quiet printed: $(cat "$tmp/err")"
+for k in 0000 0001; do
+    expect 0 "$hk" simulate --rebuild "$tmp/full" --frame "${k#000}" -o "$tmp/rebuilt_$k.hair" --quiet
+    cmp -s "$tmp/rebuilt_$k.hair" "$tmp/full/frame_$k.hair" || fail "rebuilt frame $k differs from --full-hair's"
+done
+# the same bytes with 2 threads, and without --full-hair the same guides and pictures
+expect 0 "$hk" simulate "$tmp/light/setup.txt" --frames 2 "${small[@]}" -o "$tmp/full2" --threads 2
+for f in frame_0000.png frame_0001.png guides_0000.hair guides_0001.hair; do
+    cmp -s "$tmp/full/$f" "$tmp/full2/$f" || fail "$f differs between 1 and 2 threads or with --full-hair"
+done
+ls "$tmp/full2" | grep -q 'frame_.*\.hair' && fail "full hair written without --full-hair"
+# stderr is no terminal here: a progress line per frame (the first and the last at
+# least), then the summary with the bytes written
+contains "$tmp/err" "frame 1/2, "
+contains "$tmp/err" "frame 2/2, .* s/frame, about .* left"
+contains "$tmp/err" "2 frames in $tmp/full2.* in all; per frame .* picture .* MB written"
+# the rebuilt frame from the run without --full-hair is the same too
+expect 0 "$hk" simulate --rebuild "$tmp/full2" --frame 1 -o "$tmp/rebuilt2.hair" --threads 2 --quiet
+cmp -s "$tmp/rebuilt2.hair" "$tmp/full/frame_0001.hair" || fail "rebuild of a default run differs"
+
+# the README's scene by default: guides and pictures, far below the full hair's 60 MB a
+# frame (sizes from the files written; no timing here, see hairkit bench)
+expect 0 "$hk" simulate "$g200" --frames 2 --fps 30 --motion shake --preroll 0 --width 160 --height 120 \
+    --shadow-map 64 -o "$tmp/g200" --quiet
+bytes=$(cat "$tmp/g200"/* | wc -c)
+[ "$bytes" -lt $((2 * 7000000)) ] || fail "guides200: $bytes bytes for 2 frames, wanted below 7 MB a frame"
+[ -s "$tmp/g200/frame_0001.png" ] || fail "guides200: no picture"
+
+# an earlier run's frames are removed first, and nothing else: a shorter run into the
+# same folder leaves no frame of the longer one behind (hair.mp4 would take them)
+mkdir -p "$tmp/stale"
+for f in frame_0005.png frame_0007.hair guides_0009.hair hair.mp4 frame_0003.png.tmp-AbC123; do
+    echo old > "$tmp/stale/$f"
+done
+for f in notes.txt frame_12.png frame_0001.jpg my_frame_0001.png; do echo mine > "$tmp/stale/$f"; done
+mkdir "$tmp/stale/frame_0008.png"
+expect 0 "$hk" simulate "$tmp/light/setup.txt" --frames 1 "${small[@]}" -o "$tmp/stale"
+contains "$tmp/err" "removed 5 files of an earlier run"
+for f in frame_0005.png frame_0007.hair guides_0009.hair hair.mp4 frame_0003.png.tmp-AbC123; do
+    [ -e "$tmp/stale/$f" ] && fail "stale $f left in the folder"
+done
+for f in notes.txt frame_12.png frame_0001.jpg my_frame_0001.png frame_0008.png; do
+    [ -e "$tmp/stale/$f" ] || fail "$f removed: not ours"
+done
+[ -s "$tmp/stale/frame_0000.png" ] || fail "no new frame"
+
+# rebuild errors name the file
+expect 2 "$hk" simulate --rebuild "$tmp/full" -o "$tmp/x.hair"
+contains "$tmp/err" "--frame K"
+expect 2 "$hk" simulate --frame 1 "$g200" --frames 2 --fps 30 -o "$tmp/x"
+expect 2 "$hk" simulate "$g200" --frames 2 --fps 30 -o "$tmp/x" --guides-only --full-hair
+expect 1 "$hk" simulate --rebuild "$tmp/full" --frame 2 -o "$tmp/x.hair"
+contains "$tmp/err" "frames 0 to 1"
+expect 1 "$hk" simulate --rebuild "$tmp/nothing" --frame 0 -o "$tmp/x.hair"
+contains "$tmp/err" "nothing/simulation.txt"
+sed 's/^Seed .*/Seed -3/' "$tmp/full/simulation.txt" > "$tmp/full/s.txt" && mv "$tmp/full/s.txt" "$tmp/full/simulation.txt"
+expect 1 "$hk" simulate --rebuild "$tmp/full" --frame 0 -o "$tmp/x.hair"
+contains "$tmp/err" "simulation.txt:.*Seed"
+cp "$tmp/full2/simulation.txt" "$tmp/full/simulation.txt"
+echo "# changed" >> "$tmp/light/hairstyle.txt"
+expect 1 "$hk" simulate --rebuild "$tmp/full" --frame 0 -o "$tmp/x.hair"
+contains "$tmp/err" "hairstyle.txt has changed"
+[ -e "$tmp/x.hair" ] && fail "output written despite an error"
+printf 'HAIR' > "$tmp/full2/guides_0001.hair"
+sed -i '$d' "$tmp/light/hairstyle.txt"
+expect 1 "$hk" simulate --rebuild "$tmp/full2" --frame 1 -o "$tmp/x.hair"
+contains "$tmp/err" "guides_0001.hair"
 
 expect 2 "$hk" simulate "$g200" --frames 3 -o "$tmp/x"
 contains "$tmp/err" "--fps"

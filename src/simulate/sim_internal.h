@@ -1,0 +1,26 @@
+/* Shared by the parts of a simulation written to a folder: the regrowth of the
+ * interpolated hair (the same code for a run and for a rebuild, so that both give the
+ * same bytes) and the video. */
+#ifndef HK_SIM_INTERNAL_H
+#define HK_SIM_INTERNAL_H
+
+#include "hairkit/simulate.h"
+
+/* The guides as a .hair stores them: every coordinate rounded to float (the file's
+ * precision), so that the hair grown from them can be grown again from the file. */
+void hk_sim_round_guides(double *guides, size_t values);
+
+/* The groom's cyHair data (guides, then interpolated strands unless guides_only) from
+ * the rounded guides in g (g->guides, guide_count, points_per_strand set); g's strands
+ * are replaced. */
+hk_Status hk_sim_grow_hair(const hk_HairstyleDef *style, const hk_Mesh *wick, uint64_t seed, int threads,
+                           int guides_only, hk_Groom *g, hk_HairFile *out, hk_Error *err);
+
+/* ffmpeg -framerate F -i DIR/frame_%04d.png ... DIR/hair.mp4 when ffmpeg is on the
+ * PATH: 1 made, 0 not installed, -1 ffmpeg failed. */
+int hk_sim_make_video(const char *dir, double fps);
+
+/* Size of a file in bytes, 0 when it cannot be read. */
+long long hk_sim_file_size(const char *path);
+
+#endif
