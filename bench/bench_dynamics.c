@@ -63,7 +63,7 @@ static double strand_steps_per_second(int n, hk_DynamicsIntegrator integrator, h
 }
 
 typedef struct HeadRun {
-    double seconds_per_frame, substeps, contacts, body;
+    double seconds_per_frame, substeps, iterations, contacts, body;
 } HeadRun;
 
 static int head_run(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count, const hk_Mesh *wick,
@@ -97,12 +97,14 @@ static int head_run(const hk_HairstyleDef *style, const hk_Shape *shapes, int sh
         }
         seconds += stats.seconds;
         out->substeps += stats.substeps;
+        out->iterations += (double)stats.iterations;
         out->contacts += stats.contacts;
         out->body += stats.body_contacts;
     }
     const int guides = hk_hair_sim_guide_count(sim);
     out->seconds_per_frame = seconds / frames;
     out->substeps /= (double)frames * guides;
+    out->iterations /= (double)frames * guides;
     out->contacts /= frames;
     out->body /= frames;
     rc = 0;
@@ -144,7 +146,7 @@ int hk_bench_dynamics(FILE *out, const hk_BenchOptions *options)
             "\ndynamics, full head: examples/guides200, %d guides of N = %d, head shaking 25 degrees at 1 Hz,\n"
             "body and guide-guide contacts, dt = 1/30 s, %d frames after 0.5 s of settling\n"
             "  (the paper: 0.3 to 3 s per frame for 100 to 200 guides)\n"
-            "  integrator     threads   ms/frame   frames/s   steps/guide/frame   guide contacts   body samples\n",
+            "  integrator     threads   ms/frame   frames/s   steps/guide/frame   evaluations/guide/frame   guide contacts   body samples\n",
             wick.vertex_count, style.element_count, frames);
     double fps[3] = {0, 0, 0};
     for (int run = 0; run < 3 && !rc; run++) {
@@ -156,8 +158,9 @@ int hk_bench_dynamics(FILE *out, const hk_BenchOptions *options)
             break;
         }
         if (!trbdf2) fps[threads] = 1.0 / r.seconds_per_frame;
-        fprintf(out, "  %-12s %9d %10.2f %10.1f %19.2f %16.0f %14.0f\n", trbdf2 ? "TR-BDF2" : "linear Euler", threads,
-                1e3 * r.seconds_per_frame, 1.0 / r.seconds_per_frame, r.substeps, r.contacts, r.body);
+        fprintf(out, "  %-12s %9d %10.2f %10.1f %19.2f %25.2f %16.0f %14.0f\n", trbdf2 ? "TR-BDF2" : "linear Euler",
+                threads, 1e3 * r.seconds_per_frame, 1.0 / r.seconds_per_frame, r.substeps, r.iterations, r.contacts,
+                r.body);
     }
     if (!rc)
         fprintf(out, "  speed-up with 2 threads: %.2fx; target: 60 frames/s or more on 2 cores\n\n", fps[2] / fps[1]);

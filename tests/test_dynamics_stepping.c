@@ -42,10 +42,11 @@ static hk_SuperHelix *example_strand(const char *name, double length, int n, hk_
 static void motion_state(void *user, double t, hk_RigidState *out) { hk_head_motion_eval(user, t, out); }
 
 /* Runs `seconds` of frames of dt with hk_strand_dynamics_advance; fails the test if a
- * frame fails or a point of the strand moves faster than 20 m/s (a blow-up reaches
- * astronomical speeds within a few steps). Returns the largest total energy seen. */
+ * frame fails or a point of the strand moves faster than `fastest` m/s (a blow-up
+ * reaches astronomical speeds within a few steps). Returns the largest total energy
+ * seen. */
 static double run_frames(hk_StrandDynamics *d, hk_SuperHelix *sh, hk_HeadMotion *motion, double dt, double seconds,
-                         const char *what)
+                         double fastest, const char *what)
 {
     hk_Error err;
     const int frames = (int)(seconds / dt + 0.5);
@@ -60,7 +61,7 @@ static double run_frames(hk_StrandDynamics *d, hk_SuperHelix *sh, hk_HeadMotion 
         hk_Vec3 pos[3], vel[3];
         hk_strand_dynamics_points(d, &head, s, 3, pos, vel);
         for (int i = 0; i < 3; i++)
-            if (!(hk_v3_norm(vel[i]) < 20.0)) fail_msg("%s: t = %g s: a point moves at %g m/s", what, f * dt, hk_v3_norm(vel[i]));
+            if (!(hk_v3_norm(vel[i]) < fastest)) fail_msg("%s: t = %g s: a point moves at %g m/s", what, f * dt, hk_v3_norm(vel[i]));
         double kinetic, potential;
         hk_strand_dynamics_energy(d, &head, &kinetic, &potential);
         highest = fmax(highest, kinetic + potential);
@@ -83,7 +84,7 @@ static void test_long_wavy_strand_at_paper_step(void **state)
         hk_Error err;
         assert_int_equal(hk_strand_dynamics_create(sh, &p, NULL, &d, &err), HK_OK);
         assert_int_equal(hk_head_motion_scripted(motions[m], 25.0, 1.0, hk_default_head_pivot(), &motion, &err), HK_OK);
-        run_frames(d, sh, motion, 1.0 / 30.0, 2.0, motions[m]);
+        run_frames(d, sh, motion, 1.0 / 30.0, 2.0, 20.0, motions[m]);
         const hk_DynamicsStats st = hk_strand_dynamics_stats(d);
         print_message("1 m wavy, %s: %ld steps, %ld Newton iterations, %ld splits in 60 frames\n", motions[m],
                       st.steps, st.iterations, st.splits);
@@ -122,7 +123,7 @@ static void test_undamped_energy_stays_bounded(void **state)
         hk_strand_dynamics_energy(d, NULL, &t0, &u0);
         const double e0 = t0 + u0, available = e0 - e_rest;
         assert_true(available > 0.0);
-        const double highest = run_frames(d, sh, NULL, steps[k], seconds[k], "undamped");
+        const double highest = run_frames(d, sh, NULL, steps[k], seconds[k], 20.0, "undamped");
         print_message("undamped, dt %.4g s: highest energy %.3g %% of the available above the start\n", steps[k],
                       100.0 * (highest - e0) / available);
         assert_true(highest - e0 <= 0.02 * available);
@@ -208,7 +209,9 @@ static void test_curly_bounce_at_paper_step(void **state)
 
 /* Violent head motions run to the end on the head's collision shapes: shake 90 degrees
  * at 3 Hz, jumps of 0.1 m at 5 Hz, sway 0.2 m at 4 Hz, a 25 cm wavy strand from its
- * statics rest shape at dt = 1/30 s. */
+ * statics rest shape at dt = 1/30 s. The head itself moves at up to 3-6 m/s, and the
+ * tip whips faster: 22 m/s in the jump at dt = 1 ms (the converged motion), so the
+ * blow-up bound is 60 m/s here. */
 static void test_violent_motion_completes(void **state)
 {
     (void)state;
@@ -237,7 +240,7 @@ static void test_violent_motion_completes(void **state)
         assert_int_equal(hk_head_motion_scripted(names[m], amplitude[m], frequency[m], hk_default_head_pivot(), &motion,
                                                  &err),
                          HK_OK);
-        run_frames(d, sh, motion, 1.0 / 30.0, 1.5, names[m]);
+        run_frames(d, sh, motion, 1.0 / 30.0, 1.5, 60.0, names[m]);
         hk_head_motion_destroy(motion);
         hk_strand_dynamics_destroy(d);
         hk_superhelix_destroy(sh);

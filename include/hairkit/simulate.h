@@ -42,6 +42,10 @@ void hk_hair_sim_destroy(hk_HairSim *sim);
 
 typedef struct hk_HairSimStats {
     int substeps;         /* steps of all guides (more than guides where motion was fast) */
+    long iterations;      /* evaluations of the forces (Newton iterations), all guides */
+    int recovered;        /* guides that could not be advanced even in the smallest
+                             substeps: held at rest relative to the head at t, then
+                             advanced again (never dropped, never aborting the head) */
     int contact_pairs;    /* guide-guide pairs tracked, and in contact */
     int contacts;
     int body_contacts;    /* collision samples touching the body, all guides */

@@ -149,7 +149,8 @@ struct hk_StrandDynamics {
      * Cholesky factor / eigenvectors; eigenvalues and work (2 x 3N) */
     hk_StrandEnv body_env;
     hk_StrandWorkspace *ws_body;
-    double *hess, *factor, *metric;
+    double *hess, *hess_pos, *factor, *metric;
+    int hess_pos_valid;
     long evaluations;    /* evaluations of the forces, to refresh G+ every few */
     hk_DynamicsStats stats;
     hk_ElementTerms *terms;
@@ -177,6 +178,10 @@ hk_Vec3 hk_dynamics_head_space_tip(hk_StrandDynamics *d, const double *q);
 /* Kinetic plus potential energy with the body's penalty (the energy that the motion
  * conserves on a still head without friction); *kinetic (may be NULL) its kinetic part. */
 double hk_dynamics_total_energy(hk_StrandDynamics *d, const hk_RigidState *head, double *kinetic);
+
+/* G+, the positive part of the geometric stiffness of the last refresh (full
+ * stiffness only). */
+const double *hk_dynamics_geometric_positive(hk_StrandDynamics *d);
 
 /* Positions and velocities of the caller's point forces now (the anchors). */
 hk_Status hk_dynamics_anchor_forces(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces,

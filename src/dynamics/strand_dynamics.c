@@ -141,13 +141,14 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *
         d->body_env = hk_default_strand_env();
     }
     if (params->stiffness == HK_STIFFNESS_FULL) {
-        /* hess and factor (3N)^2 each, metric (2 x 3N: eigenvalues and work) */
-        d->hess = hk_alloc_array(2 * dim * dim + 2 * dim, sizeof(double), err);
+        /* hess, hess_pos and factor (3N)^2 each, metric (2 x 3N: eigenvalues and work) */
+        d->hess = hk_alloc_array(3 * dim * dim + 2 * dim, sizeof(double), err);
         if (!d->hess || hk_strand_workspace_create(sh, &d->body_env, &d->ws_body, err) != HK_OK) {
             hk_strand_dynamics_destroy(d);
             return err ? err->code : HK_ERR_NOMEM;
         }
-        d->factor = d->hess + dim * dim;
+        d->hess_pos = d->hess + dim * dim;
+        d->factor = d->hess_pos + dim * dim;
         d->metric = d->factor + dim * dim;
     } else if (d->contact_samples > 0 &&
                hk_strand_workspace_create(sh, &d->body_env, &d->ws_body, err) != HK_OK) {
@@ -411,20 +412,34 @@ static void full_potential(hk_StrandDynamics *d, const hk_RigidState *head, int 
     restore_world_pose(d, world);
 }
 
-/* Then the geometric stiffness G = Hess - K (the elastic diagonal K is in the matrix
- * already), projected on its positive part: G+ = V max(L, 0) V^T from its
- * eigen-decomposition, skipped when a Cholesky factorisation shows G semi-definite
- * already. It only steers Newton's iteration (every force is implicit in the stage
- * equations): its positive part, the stiffening of hair pressed into the envelopes,
- * makes the iteration converge in fewer steps there; a negative part would make the
- * matrix indefinite. */
-static void project_positive(hk_StrandDynamics *d)
+/* The geometric stiffness G = Hess - K (the elastic diagonal K is in the matrix
+ * already): gravity's and the contacts' second derivatives. For Newton's iteration G
+ * is used as it is while M + ch D + ch^2 (K + G) is positive definite - as it is about
+ * any stable rest state, where the whole Hessian is. Left out, gravity's coupling of
+ * twist and bending in a curly strand (comparable to the twist's own stiffness, which
+ * is all the twist has against it: its inertia is the section's) slowed the iteration
+ * to a contraction of 0.7 per step. Where the matrix is indefinite - hair held above its
+ * root, gravity pulling hair over a crest - G+ = V max(L, 0) V^T from G's
+ * eigen-decomposition steers instead (positive_part). */
+static void geometric_stiffness(hk_StrandDynamics *d)
 {
     const hk_SuperHelix *sh = d->sh;
-    const int dim = 3 * sh->n;
+    const size_t sd = (size_t)(3 * sh->n);
+    for (size_t j = 0; j < sd; j++) d->hess[j * sd + j] -= sh->material.stiffness[j % 3] * sh->length[j / 3];
+    d->hess_pos_valid = 0;
+}
+
+/* G+ into hess_pos (once per refresh of G). The linearly implicit Euler step uses it
+ * alone: implicit Euler would amplify the modes of a negative part by
+ * 1 / (1 - dt^2 w^2) (the energy of a strand released sideways rose by 70 % in one
+ * step). */
+static const double *positive_part(hk_StrandDynamics *d)
+{
+    if (d->hess_pos_valid) return d->hess_pos;
+    const int dim = 3 * d->sh->n;
     const size_t sd = (size_t)dim;
-    for (int j = 0; j < dim; j++) d->hess[(size_t)j * sd + (size_t)j] -= sh->material.stiffness[j % 3] * sh->length[j / 3];
-    if (!hk_cholesky_factor(dim, d->hess, 0.0, NULL, d->factor)) {
+    memcpy(d->hess_pos, d->hess, sd * sd * sizeof(double));
+    if (!hk_cholesky_factor(dim, d->hess_pos, 0.0, NULL, d->factor)) {
         double *v = d->factor, *w = d->metric, *e = d->metric + dim;
         if (hk_symmetric_eigen(dim, d->hess, w, v, e)) {
             for (int k = 0; k < dim; k++) w[k] = fmax(w[k], 0.0);
@@ -432,13 +447,17 @@ static void project_positive(hk_StrandDynamics *d)
                 for (size_t j = 0; j <= i; j++) {
                     double s = 0.0;
                     for (size_t k = 0; k < sd; k++) s += v[i * sd + k] * w[k] * v[j * sd + k];
-                    d->hess[i * sd + j] = d->hess[j * sd + i] = s;
+                    d->hess_pos[i * sd + j] = d->hess_pos[j * sd + i] = s;
                 }
         } else { /* no convergence (not seen): the Gauss-Newton matrix */
-            memset(d->hess, 0, sd * sd * sizeof(double));
+            memset(d->hess_pos, 0, sd * sd * sizeof(double));
         }
     }
+    d->hess_pos_valid = 1;
+    return d->hess_pos;
 }
+
+const double *hk_dynamics_geometric_positive(hk_StrandDynamics *d) { return positive_part(d); }
 
 double hk_dynamics_total_energy(hk_StrandDynamics *d, const hk_RigidState *head, double *kinetic)
 {
@@ -475,7 +494,7 @@ void hk_dynamics_evaluate(hk_StrandDynamics *d, const hk_RigidState *head, const
     else
         hk_strand_energy(sh, &d->potential_env, sh->q, d->ws, d->grad, NULL, NULL);
     sweep(d, head, forces, force_count, ch, x, SWEEP_STEP);
-    if (refresh) project_positive(d);
+    if (refresh) geometric_stiffness(d);
     hk_terms_generalized_force(n, d->terms, d->rhs);
     /* Elastic stiffness and internal friction (eq. 5c-d) are diagonal: gamma and K_i
      * times the element length. */
@@ -492,8 +511,12 @@ void hk_dynamics_evaluate(hk_StrandDynamics *d, const hk_RigidState *head, const
 int hk_dynamics_solve(hk_StrandDynamics *d, double ch, double *out)
 {
     const int n = d->sh->n;
-    if (d->params.solver == HK_DYNAMICS_DENSE)
-        return hk_terms_solve_dense(n, d->terms, d->extra, d->hess, ch * ch, d->rhs, out, d->work);
+    if (d->params.solver == HK_DYNAMICS_DENSE) {
+        if (d->params.integrator == HK_INTEGRATOR_TRBDF2 &&
+            hk_terms_solve_dense(n, d->terms, d->extra, d->hess, ch * ch, d->rhs, out, d->work))
+            return 1;
+        return hk_terms_solve_dense(n, d->terms, d->extra, positive_part(d), ch * ch, d->rhs, out, d->work);
+    }
     return hk_terms_solve_linear(n, d->terms, d->extra, d->rhs, out, d->work);
 }
 

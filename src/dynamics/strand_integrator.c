@@ -184,21 +184,21 @@ static int tr_bdf2(hk_StrandDynamics *d, const hk_RigidState heads[3], const hk_
     if (!start_acceleration(d, &heads[0], forces, force_count)) return 0;
     memcpy(d->q0, sh->q, bytes);
     memcpy(d->v0, d->v, bytes);
-    /* Trapezoidal stage; the guess: explicit Euler. */
+    /* Trapezoidal stage; the guess: the velocity at the start (an explicit predictor,
+     * v0 + g h a0, is far off wherever stiff forces make a0 large - contacts just
+     * found, the twist of a thin section - and Newton's iteration then starts where
+     * the velocity products are huge). */
     for (int j = 0; j < dim; j++) {
         d->aq[j] = d->q0[j] + ch * d->v0[j];
         d->av[j] = d->v0[j] + ch * d->acc[j];
-        d->v[j] = d->v0[j] + TR_G * h * d->acc[j];
     }
     if (!solve_stage(d, &heads[1], forces, force_count, ch)) return 0;
     memcpy(d->qg, sh->q, bytes);
     memcpy(d->vg, d->v, bytes);
-    /* BDF2 stage; the guess: the stage's acceleration continued to t + h. */
+    /* BDF2 stage; the guess: the first stage's velocity. */
     for (int j = 0; j < dim; j++) {
-        const double ag = (d->vg[j] - d->av[j]) / ch;
         d->aq[j] = wg * d->qg[j] + w0 * d->q0[j];
         d->av[j] = wg * d->vg[j] + w0 * d->v0[j];
-        d->v[j] = d->vg[j] + (1.0 - TR_G) * h * ag;
     }
     if (!solve_stage(d, &heads[2], forces, force_count, ch)) return 0;
     for (int j = 0; j < dim; j++) d->acc[j] = (d->v[j] - d->av[j]) / ch;
@@ -224,10 +224,11 @@ static int linear_euler(hk_StrandDynamics *d, const hk_RigidState *head, const h
     hk_dynamics_evaluate(d, head, forces, force_count, h, NULL);
     const int full = d->params.stiffness == HK_STIFFNESS_FULL;
     double *geo_v = d->x; /* G+ v */
+    const double *geo = full ? hk_dynamics_geometric_positive(d) : NULL;
     for (int i = 0; i < dim; i++) {
         double g = 0.0;
         if (full)
-            for (int j = 0; j < dim; j++) g += d->hess[(size_t)i * (size_t)dim + (size_t)j] * d->v[j];
+            for (int j = 0; j < dim; j++) g += geo[(size_t)i * (size_t)dim + (size_t)j] * d->v[j];
         geo_v[i] = g;
     }
     for (int j = 0; j < dim; j++) {

@@ -245,11 +245,12 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
         local.contact_pairs = hk_hair_contacts_pair_count(sim->contacts);
         local.contacts = hk_hair_contacts_contact_count(sim->contacts);
     }
-    int substeps = 0, body = 0;
+    int substeps = 0, body = 0, recovered = 0;
+    long iterations = 0;
     hk_FirstError first;
     hk_first_error_init(&first);
     if (st == HK_OK) {
-        #pragma omp parallel for schedule(dynamic, 4) reduction(+ : substeps, body)
+        #pragma omp parallel for schedule(dynamic, 4) reduction(+ : substeps, body, recovered, iterations)
         for (int i = 0; i < sim->guide_count; i++) {
             int count = 0, taken = 0;
             const hk_PointForce *given = sim->contacts ? hk_hair_contacts_forces(sim->contacts, i, &count) : NULL;
@@ -266,8 +267,24 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
                 forces[k].stiffness = hk_m3_scale(&given[k].stiffness, 2.0);
                 forces[k].damping = hk_m3_scale(&given[k].damping, 2.0);
             }
-            if (gst == HK_OK)
+            const long before = hk_strand_dynamics_stats(sim->dyn[i]).iterations;
+            if (gst == HK_OK) {
                 gst = hk_strand_dynamics_advance(sim->dyn[i], head_fn, user, t, dt, forces, count, &taken, &e);
+                if (gst == HK_ERR_NUMERIC) {
+                    /* One guide that cannot be advanced, even split down to dt / 2^max_depth,
+                     * must not stop the head: it is left where it was at t, at rest
+                     * relative to the head, then advanced once more (counted in
+                     * stats->recovered; the next frames go on from there). */
+                    memset(hk_strand_dynamics_velocity(sim->dyn[i]), 0,
+                           sizeof(double) * 3 * (size_t)sim->strand[i]->n);
+                    recovered++;
+                    int again = 0;
+                    gst = hk_strand_dynamics_advance(sim->dyn[i], head_fn, user, t, dt, forces, count, &again, &e);
+                    if (gst == HK_ERR_NUMERIC) gst = HK_OK; /* held at rest relative to the head */
+                    taken += again;
+                }
+            }
+            iterations += hk_strand_dynamics_stats(sim->dyn[i]).iterations - before;
             if (forces != buffer) hk_free(forces);
             if (gst != HK_OK) hk_first_error_record(&first, i, &e);
             substeps += taken;
@@ -282,6 +299,8 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
         else sim->head = hk_rigid_identity();
     }
     local.substeps = substeps;
+    local.iterations = iterations;
+    local.recovered = recovered;
     local.body_contacts = body;
     local.seconds = seconds_now() - t0;
     if (stats) *stats = local;
