@@ -512,6 +512,8 @@ int hk_dynamics_solve(hk_StrandDynamics *d, double ch, double *out)
 {
     const int n = d->sh->n;
     if (d->params.solver == HK_DYNAMICS_DENSE) {
+        if (!d->hess) /* the Gauss-Newton stiffness */
+            return hk_terms_solve_dense(n, d->terms, d->extra, NULL, 0.0, d->rhs, out, d->work);
         if (d->params.integrator == HK_INTEGRATOR_TRBDF2 &&
             hk_terms_solve_dense(n, d->terms, d->extra, d->hess, ch * ch, d->rhs, out, d->work))
             return 1;
