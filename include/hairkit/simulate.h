@@ -26,8 +26,13 @@ typedef struct hk_HairSimOptions {
     void *progress_user;
 } hk_HairSimOptions;
 
-/* Dynamics from the hairstyle's InternalFriction, AirDrag and BodyFriction, contacts
- * with their defaults. */
+/* Guides this long or shorter (m) are stepped by the linearly implicit Euler step by
+ * default (cheaper), longer ones by TR-BDF2 (stable for long hair). */
+#define HK_EULER_LONGEST_GUIDE 0.4
+
+/* Dynamics from the hairstyle's InternalFriction, AirDrag and BodyFriction (the
+ * integrator chosen by the guides' length, HK_EULER_LONGEST_GUIDE), contacts with
+ * their defaults. */
 hk_HairSimOptions hk_default_hair_sim_options(const hk_HairstyleDef *style);
 
 typedef struct hk_HairSim hk_HairSim;

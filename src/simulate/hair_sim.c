@@ -33,13 +33,18 @@ hk_HairSimOptions hk_default_hair_sim_options(const hk_HairstyleDef *style)
     memset(&o, 0, sizeof o);
     o.threads = 0;
     o.dynamics = hk_dynamics_params_for(style);
-    /* Full heads keep the linearly implicit Euler step of issue 6 for now: TR-BDF2 with
-     * Newton's iteration costs 8-20 times as much per frame on examples/guides200 (3-9
-     * frames/s against 74), which the guide-guide contacts and the body's penalty make
-     * converge slowly (docs/dynamics.md, "Limitations"). */
-    o.dynamics.integrator = HK_INTEGRATOR_LINEAR_EULER;
-    o.dynamics.solver = HK_DYNAMICS_DENSE;
-    o.dynamics.stiffness = HK_STIFFNESS_FULL;
+    /* Guides up to 40 cm keep the linearly implicit Euler step of issue 6: TR-BDF2 with
+     * Newton's iteration costs 8-20 times as much per frame on examples/guides200
+     * (201 guides of 20 cm), where the guide-guide contacts and the head's motion make
+     * the iteration converge slowly; and Euler ran those lengths (Appendix B wavy hair on
+     * the head, shaking 25 degrees at 1 Hz, 10 s at dt = 1/30 s) where it failed from 50
+     * cm on. Longer guides get TR-BDF2 with the O(N) solver (docs/dynamics.md, "Time
+     * stepping"). */
+    if (hk_hairstyle_length(style) <= HK_EULER_LONGEST_GUIDE) {
+        o.dynamics.integrator = HK_INTEGRATOR_LINEAR_EULER;
+        o.dynamics.solver = HK_DYNAMICS_DENSE;
+        o.dynamics.stiffness = HK_STIFFNESS_FULL;
+    }
     o.hair_contacts = 1;
     o.contacts = hk_default_hair_contact_params();
     /* Contacts scaled to this hair (docs/dynamics.md): guides keep 2.5 mm apart, less
