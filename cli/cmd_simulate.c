@@ -50,8 +50,8 @@ static void usage(FILE *out)
     fprintf(out,
             "rebuilding a frame:\n"
             "  --rebuild DIR      the folder of an earlier run (it needs DIR/simulation.txt,\n"
-            "                     DIR/guides_kkkk.hair and the setup's unchanged hairstyle and\n"
-            "                     wick)\n"
+            "                     DIR/guides_kkkk.hair and the setup's unchanged hairstyle,\n"
+            "                     wick, collision and motion files)\n"
             "  --frame K          the frame to rebuild; -o names the .hair to write\n"
             "\n"
             "  --seed N           random seed of the interpolation (default 1)\n"

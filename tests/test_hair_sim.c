@@ -7,11 +7,13 @@
  *    is v sqrt(rho S / k) (kinetic energy into penalty energy), with v the fastest
  *    sample's speed relative to the head (the tips whip at a few m/s);
  *  - guides and interpolated hair are the same bytes with 1 and 2 threads, and the
- *    interpolated hair stays out of the body where the head moved to;
+ *    interpolated hair stays out of the body where the head moved to, also in every
+ *    frame a simulation writes to a folder and in its rebuild (the same bytes);
  *  - bad input is refused. */
 #include "hk_test.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -168,10 +170,34 @@ static void run_frames(const Scene *sc, int threads, double **guides, hk_Groom *
     hk_hair_sim_destroy(sim);
 }
 
-/* The strands of a frame are outside the body where the head is (they are regrown
- * from world-space guides; the shapes are in head space): back in head space no point
- * after a root is more than 2 mm inside a body shape, at most 0.05 % more than 1 mm
- * (docs/grooming.md). The head is where the nod took it after `frames` frames. */
+/* Strands of n points each (the root first) are outside the body where the head is
+ * (they are grown from world-space guides; the shapes are in head space): back in head
+ * space no point after a root is more than 2 mm inside a body shape, at most 0.05 % more
+ * than 1 mm (docs/grooming.md). */
+static void assert_points_outside(const Scene *sc, const hk_RigidState *head, const float *points, long strands,
+                                  int n)
+{
+    hk_Shape body[8];
+    int body_count = 0;
+    for (int k = 0; k < sc->shape_count && body_count < 8; k++)
+        if (!sc->shapes[k].styling) body[body_count++] = sc->shapes[k];
+    long over = 0;
+    double deepest = 0.0;
+    for (long s = 0; s < strands; s++)
+        for (int j = 1; j < n; j++) {
+            const float *p = points + ((size_t)s * n + j) * 3;
+            const hk_Vec3 x = hk_m3_tmul_v3(&head->rot, hk_v3_sub(hk_v3(p[0], p[1], p[2]), head->trans));
+            const double d = hk_collision_depth(body, body_count, 0.0, x);
+            over += d > 0.001;
+            deepest = fmax(deepest, d);
+        }
+    print_message("  %ld strands: deepest point %.2f mm inside the body, %ld points deeper than 1 mm\n", strands,
+                  1e3 * deepest, over);
+    assert_true(deepest <= 0.002);
+    assert_true(over <= 0.0005 * (double)strands * (n - 1));
+}
+
+/* The groom's strands where the nod took the head after `frames` frames. */
 static void assert_strands_outside(const Scene *sc, const hk_Groom *g, int frames)
 {
     hk_HeadMotion *nod = NULL;
@@ -180,23 +206,7 @@ static void assert_strands_outside(const Scene *sc, const hk_Groom *g, int frame
     hk_RigidState head;
     hk_head_motion_eval(nod, frames / 30.0, &head);
     hk_head_motion_destroy(nod);
-    hk_Shape body[8];
-    int body_count = 0;
-    for (int k = 0; k < sc->shape_count && body_count < 8; k++)
-        if (!sc->shapes[k].styling) body[body_count++] = sc->shapes[k];
-    const int n = g->points_per_strand;
-    long over = 0;
-    double deepest = 0.0;
-    for (int s = 0; s < g->strand_count; s++)
-        for (int j = 1; j < n; j++) {
-            const float *p = g->strands + ((size_t)s * n + j) * 3;
-            const hk_Vec3 x = hk_m3_tmul_v3(&head.rot, hk_v3_sub(hk_v3(p[0], p[1], p[2]), head.trans));
-            const double d = hk_collision_depth(body, body_count, 0.0, x);
-            over += d > 0.001;
-            deepest = fmax(deepest, d);
-        }
-    assert_true(deepest <= 0.002);
-    assert_true(over <= 0.0005 * (double)g->strand_count * (n - 1));
+    assert_points_outside(sc, &head, g->strands, g->strand_count, g->points_per_strand);
 }
 
 static void test_same_bytes_with_any_threads(void **state)
@@ -220,6 +230,103 @@ static void test_same_bytes_with_any_threads(void **state)
     free(g2);
     hk_groom_free(&a);
     hk_groom_free(&b);
+    free_scene(&sc);
+}
+
+static char *read_all(const char *path, size_t *size)
+{
+    FILE *fp = fopen(path, "rb");
+    assert_non_null(fp);
+    fseek(fp, 0, SEEK_END);
+    *size = (size_t)ftell(fp);
+    rewind(fp);
+    char *data = malloc(*size + 1);
+    assert_int_equal(fread(data, 1, *size, fp), *size);
+    fclose(fp);
+    data[*size] = '\0';
+    return data;
+}
+
+/* A light copy of the default scene (HairDensity 4: about 2,000 strands on the 201-guide
+ * wick) whose setup names its files by absolute path; returns the setup's path. */
+static const char *light_setup(void)
+{
+    size_t size;
+    char *style = read_all(HK_SOURCE_DIR "/examples/default/hairstyle.txt", &size);
+    char *line = strstr(style, "\nHairDensity");
+    assert_non_null(line);
+    char *end = strchr(line + 1, '\n');
+    assert_non_null(end);
+    char *text = malloc(size + 64);
+    snprintf(text, size + 64, "%.*s\nHairDensity 4%s", (int)(line - style), style, end);
+    const char *style_path = hk_test_write_text("hairstyle.txt", text);
+    char setup[4096];
+    snprintf(setup, sizeof setup,
+             "HairstyleInfo \"%s\"\nCollisionInfo \"%s/examples/default/collision.txt\"\n"
+             "VisualityInfo \"%s/examples/default/visuality.txt\"\nHeadModel \"%s/assets/head.obj\"\n"
+             "WickModel \"%s/assets/wick-200.obj\"\n",
+             style_path, HK_SOURCE_DIR, HK_SOURCE_DIR, HK_SOURCE_DIR, HK_SOURCE_DIR);
+    free(style);
+    free(text);
+    return hk_test_write_text("setup.txt", setup);
+}
+
+/* Every frame of a simulation written to a folder keeps its interpolated hair out of the
+ * body where the head is at that frame (a shake of 90 degrees at 2 Hz: the face turns by
+ * 58 degrees at frame 3), and --rebuild grows the same bytes from the guides and the
+ * manifest (which records the motion). */
+static void test_run_frames_outside_posed_body(void **state)
+{
+    (void)state;
+    Scene sc;
+    load_scene(&sc);
+    hk_Error err;
+    hk_HeadMotion *shake = NULL;
+    assert_int_equal(hk_head_motion_scripted("shake", 90.0, 2.0, hk_default_head_pivot(), &shake, &err), HK_OK);
+    hk_SimRunOptions o = hk_default_sim_run_options();
+    o.frames = 4;
+    o.fps = 20.0;
+    o.preroll = 0.0;
+    o.full_hair = 1;
+    o.video = 0;
+    o.threads = 2;
+    o.motion = shake;
+    o.render.width = 48;
+    o.render.height = 36;
+    o.render.shadow_map_size = 32;
+    char dir[4096], frame[4096], rebuilt[4096];
+    snprintf(dir, sizeof dir, "%s/shake", hk_test_tmpdir());
+    snprintf(rebuilt, sizeof rebuilt, "%s/rebuilt.hair", hk_test_tmpdir());
+    const hk_Status st = hk_simulation_run(light_setup(), dir, &o, NULL, &err);
+    if (st != HK_OK) print_error("%s\n", err.message);
+    assert_int_equal(st, HK_OK);
+    for (long k = 0; k < o.frames; k++) {
+        hk_RigidState head;
+        hk_head_motion_eval(shake, k / o.fps, &head);
+        const double turned = acos(fmin(1.0, 0.5 * (head.rot.m[0][0] + head.rot.m[1][1] + head.rot.m[2][2] - 1.0)));
+        print_message("frame %ld, the head turned by %.0f degrees:\n", k, turned * 180.0 / 3.14159265358979323846);
+        if (k == 3) assert_true(turned > 50.0 * 3.14159265358979323846 / 180.0);
+        hk_HairFile hair;
+        assert_int_equal(hk_simulation_frame_path(frame, sizeof frame, dir, "frame", k, "hair", &err), HK_OK);
+        assert_int_equal(hk_hair_load(frame, &hair, &err), HK_OK);
+        const uint32_t guides = 201, n = hair.first_point[1];
+        assert_true(hair.strand_count > 1500);
+        for (uint32_t i = 0; i <= hair.strand_count; i++) assert_int_equal(hair.first_point[i], i * n);
+        assert_points_outside(&sc, &head, hair.points + (size_t)guides * n * 3, (long)(hair.strand_count - guides),
+                              (int)n);
+        hk_hair_free(&hair);
+        /* the rebuild: the same bytes */
+        assert_int_equal(hk_simulation_rebuild(dir, k, 1, &hair, &err), HK_OK);
+        assert_int_equal(hk_hair_save(rebuilt, &hair, &err), HK_OK);
+        hk_hair_free(&hair);
+        size_t a_size, b_size;
+        char *a = read_all(frame, &a_size), *b = read_all(rebuilt, &b_size);
+        assert_int_equal(a_size, b_size);
+        assert_memory_equal(a, b, a_size);
+        free(a);
+        free(b);
+    }
+    hk_head_motion_destroy(shake);
     free_scene(&sc);
 }
 
@@ -251,6 +358,7 @@ int main(void)
         cmocka_unit_test(test_still_head_keeps_rest_shape),
         cmocka_unit_test(test_shaking_head_keeps_hair_out),
         cmocka_unit_test(test_same_bytes_with_any_threads),
+        cmocka_unit_test(test_run_frames_outside_posed_body),
         cmocka_unit_test(test_bad_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

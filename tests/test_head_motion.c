@@ -528,6 +528,36 @@ static void test_example_file(void **state)
     hk_head_motion_destroy(m);
 }
 
+/* What a motion was made from makes the same motion again (the simulation manifest
+ * records it): a scripted motion's name and arguments as given, a file's path. */
+static void test_source(void **state)
+{
+    (void)state;
+    hk_HeadMotion *a = NULL, *b = NULL, *f = NULL;
+    hk_Error err;
+    const hk_Vec3 pivot = hk_v3(0.01, -0.02, 0.003);
+    assert_int_equal(hk_head_motion_scripted("Shake", 33.3, 1.7, pivot, &a, &err), HK_OK);
+    const hk_HeadMotionSource s = hk_head_motion_source(a);
+    assert_string_equal(s.script, "shake");
+    assert_null(s.file);
+    assert_true(s.amplitude == 33.3 && s.frequency == 1.7);
+    assert_memory_equal(&s.pivot, &pivot, sizeof pivot);
+    assert_int_equal(hk_head_motion_scripted(s.script, s.amplitude, s.frequency, s.pivot, &b, &err), HK_OK);
+    for (double t = 0.0; t < 2.0; t += 0.37) {
+        hk_RigidState x, y;
+        hk_head_motion_eval(a, t, &x);
+        hk_head_motion_eval(b, t, &y);
+        assert_memory_equal(&x, &y, sizeof x);
+    }
+    const char *path = HK_SOURCE_DIR "/examples/motions/nod-and-shake.txt";
+    assert_int_equal(hk_head_motion_load(path, &f, &err), HK_OK);
+    assert_null(hk_head_motion_source(f).script);
+    assert_string_equal(hk_head_motion_source(f).file, path);
+    hk_head_motion_destroy(a);
+    hk_head_motion_destroy(b);
+    hk_head_motion_destroy(f);
+}
+
 /* Loads `text` expecting failure with `code` and exactly `message` (the temporary
  * folder prefix removed). */
 static void load_fails(const char *text, hk_Status code, const char *message)
@@ -695,7 +725,7 @@ int main(void)
         cmocka_unit_test(test_file_c2),         cmocka_unit_test(test_file_few_keys),
         cmocka_unit_test(test_file_turns),      cmocka_unit_test(test_example_file),
         cmocka_unit_test(test_file_errors),     cmocka_unit_test(test_file_key_limit),
-        cmocka_unit_test(test_fuzz),
+        cmocka_unit_test(test_fuzz),            cmocka_unit_test(test_source),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -12,6 +12,7 @@
 #define HAIRKIT_COLLIDE_H
 
 #include "hairkit/core.h"
+#include "hairkit/motion.h"
 #include "hairkit/vecmath.h"
 
 #ifdef __cplusplus
@@ -46,6 +47,12 @@ hk_Shape hk_shape_ellipsoid(hk_Vec3 centre, hk_Vec3 radii, const hk_Vec3 axes[3]
                             double penalty);
 hk_Shape hk_shape_cuboid(hk_Vec3 centre, hk_Vec3 half_dims, const hk_Vec3 axes[3], double volume,
                          double penalty);
+
+/* The shapes (head space) where the head's rigid state puts them: out[i] is shapes[i]
+ * with its centre at R c + T and its axes turned by R (the rest unchanged). Body shapes
+ * move with the head, world-space strands do not (docs/grooming.md). out[count] may not
+ * overlap shapes. */
+void hk_shapes_posed(const hk_Shape *shapes, int count, const hk_RigidState *head, hk_Shape *out);
 
 /* Recomputes derived fields (bound) after the public fields were edited by hand. */
 void hk_shape_finish(hk_Shape *shape);

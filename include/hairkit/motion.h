@@ -76,6 +76,20 @@ double hk_head_motion_duration(const hk_HeadMotion *m);
 /* The pivot the rotations turn about (head space). */
 hk_Vec3 hk_head_motion_pivot(const hk_HeadMotion *m);
 
+/* What a motion was made from, enough to make it again (the manifest of `hairkit
+ * simulate` records it): a scripted motion's name and its arguments as given to
+ * hk_head_motion_scripted, or the path of the motion file as given to
+ * hk_head_motion_load. The strings belong to the motion. */
+typedef struct hk_HeadMotionSource {
+    const char *script; /* "still", "nod", "shake", "tilt", "sway", "jump"; NULL for a file */
+    double amplitude;   /* degrees or metres, as given (scripted) */
+    double frequency;   /* Hz (scripted) */
+    hk_Vec3 pivot;
+    const char *file;   /* the motion file; NULL for a scripted motion */
+} hk_HeadMotionSource;
+
+hk_HeadMotionSource hk_head_motion_source(const hk_HeadMotion *m);
+
 /* Number of keyframes of a motion file; 0 for a scripted motion. */
 int hk_head_motion_key_count(const hk_HeadMotion *m);
 

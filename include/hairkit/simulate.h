@@ -84,8 +84,9 @@ hk_Status hk_hair_sim_groom(const hk_HairSim *sim, const hk_Mesh *wick, const hk
 /* ---- a simulation written to a folder (sim_run.c, sim_files.c, sim_rebuild.c) -------
  * What `hairkit simulate` does (docs/dynamics.md, "The full head"): frame k is written
  * as DIR/guides_kkkk.hair (the guides) and, unless guides_only, DIR/frame_kkkk.png; the
- * interpolated hair is regrown from the guides as written (float), so that
- * DIR/simulation.txt and the guides rebuild it byte for byte (hk_simulation_rebuild);
+ * interpolated hair is regrown from the guides as written (float), out of the body
+ * posed by the motion at t = k / fps, so that DIR/simulation.txt (which records the
+ * motion) and the guides rebuild it byte for byte (hk_simulation_rebuild);
  * full_hair also writes it, DIR/frame_kkkk.hair. */
 
 typedef struct hk_SimProgress {
@@ -144,9 +145,11 @@ hk_Status hk_simulation_frame_path(char *buf, size_t size, const char *dir, cons
                                    const char *ext, hk_Error *err);
 
 /* The full hair of frame k of the simulation in dir (guides first, then the interpolated
- * strands, as DIR/frame_kkkk.hair of a --full-hair run, byte for byte once saved), from
- * DIR/simulation.txt, DIR/guides_kkkk.hair and the setup's hairstyle and wick (refused if
- * either changed since). threads <= 0: all cores. out is filled (hk_hair_free). */
+ * strands, kept out of the body posed at the frame's time, as DIR/frame_kkkk.hair of a
+ * --full-hair run, byte for byte once saved), from DIR/simulation.txt (with the head's
+ * motion), DIR/guides_kkkk.hair and the setup's hairstyle, wick and collision file and
+ * the motion file if any (refused if any changed since). threads <= 0: all cores. out is
+ * filled (hk_hair_free). */
 hk_Status hk_simulation_rebuild(const char *dir, long frame, int threads, hk_HairFile *out, hk_Error *err);
 
 #ifdef __cplusplus

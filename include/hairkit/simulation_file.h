@@ -14,7 +14,10 @@ extern "C" {
 #endif
 
 #define HK_SIMULATION_FILE_NAME "simulation.txt"
-#define HK_SIMULATION_FILE_VERSION 1
+/* 2: the body shapes and the head's motion (the interpolated hair of every frame is
+ * kept out of the body posed at that frame). Format 1 is refused: its frames grew
+ * through the body. */
+#define HK_SIMULATION_FILE_VERSION 2
 
 typedef struct hk_SimulationManifest {
     int version;               /* HK_SIMULATION_FILE_VERSION */
@@ -28,6 +31,18 @@ typedef struct hk_SimulationManifest {
     /* HairstyleHash, WickHash: FNV-1a 64 of the bytes of the two files the regrowth
      * reads, so that a rebuild after either changed is refused, not silently different */
     uint64_t hairstyle_hash, wick_hash;
+    /* CollisionHash: the same of the setup's collision file (has_collision 0: the setup
+     * has none), whose body shapes the hair is kept out of */
+    int has_collision;
+    uint64_t collision_hash;
+    /* The head's motion, which poses the body at frame k (t = k / Fps): either
+     * `Motion NAME AMPLITUDE FREQUENCY PX PY PZ`, a scripted motion as given to
+     * hk_head_motion_scripted (motion_script set), or `MotionFile "PATH"` and
+     * `MotionHash HASH`, a motion file (absolute path) and its fingerprint */
+    char *motion_script;
+    double motion_amplitude, motion_frequency, motion_pivot[3];
+    char *motion_file;
+    uint64_t motion_hash;
 } hk_SimulationManifest;
 
 hk_Status hk_simulation_manifest_load(const char *path, hk_SimulationManifest *out, hk_Error *err);

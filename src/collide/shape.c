@@ -1,4 +1,5 @@
-/* Construction of collision shapes (thesis 004 §4.1.2.1): sphere, ellipsoid, cuboid. */
+/* Construction of collision shapes (thesis 004 §4.1.2.1): sphere, ellipsoid, cuboid;
+ * shapes posed by the head's rigid motion. */
 #include "hairkit/collide.h"
 
 static hk_Shape shape_base(hk_ShapeKind kind, hk_Vec3 centre, hk_Vec3 half, const hk_Vec3 axes[3],
@@ -44,4 +45,13 @@ hk_Shape hk_shape_cuboid(hk_Vec3 centre, hk_Vec3 half_dims, const hk_Vec3 axes[3
                          double penalty)
 {
     return shape_base(HK_SHAPE_CUBOID, centre, half_dims, axes, volume, penalty);
+}
+
+void hk_shapes_posed(const hk_Shape *shapes, int count, const hk_RigidState *head, hk_Shape *out)
+{
+    for (int i = 0; i < count; i++) {
+        out[i] = shapes[i];
+        hk_rigid_point(head, shapes[i].centre, &out[i].centre, NULL, NULL);
+        for (int k = 0; k < 3; k++) out[i].axis[k] = hk_m3_mul_v3(&head->rot, shapes[i].axis[k]);
+    }
 }

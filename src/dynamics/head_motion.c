@@ -92,6 +92,8 @@ hk_Status hk_head_motion_scripted(const char *name, double amplitude, double fre
     if (!m) return HK_ERR_NOMEM;
     m->kind = s->kind;
     m->pivot = pivot;
+    m->script = s->name;
+    m->amplitude_given = amplitude;
     m->axis = hk_v3_unit(s->axis);
     m->amplitude = s->kind == HK_MOTION_ROTATE ? amplitude * (HK_PI / 180.0) : amplitude;
     m->frequency = frequency;
@@ -155,6 +157,12 @@ double hk_head_motion_duration(const hk_HeadMotion *m)
 
 hk_Vec3 hk_head_motion_pivot(const hk_HeadMotion *m) { return m->pivot; }
 
+hk_HeadMotionSource hk_head_motion_source(const hk_HeadMotion *m)
+{
+    hk_HeadMotionSource s = {m->script, m->amplitude_given, m->frequency, m->pivot, m->path};
+    return s;
+}
+
 int hk_head_motion_key_count(const hk_HeadMotion *m)
 {
     return m->kind == HK_MOTION_KEYS ? m->key_count : 0;
@@ -165,5 +173,6 @@ void hk_head_motion_destroy(hk_HeadMotion *m)
     if (!m) return;
     hk_free(m->times);
     hk_free(m->knots);
+    hk_free(m->path);
     hk_free(m);
 }

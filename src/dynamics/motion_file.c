@@ -290,7 +290,9 @@ hk_Status hk_head_motion_load(const char *path, hk_HeadMotion **out, hk_Error *e
         m->kind = HK_MOTION_KEYS;
         m->pivot = hk_default_head_pivot();
         m->key_count = keys;
-        m->times = hk_alloc_array((size_t)keys, sizeof *m->times, err);
+        m->path = hk_alloc_array(strlen(path) + 1, 1, err);
+        if (m->path) memcpy(m->path, path, strlen(path) + 1);
+        m->times = m->path ? hk_alloc_array((size_t)keys, sizeof *m->times, err) : NULL;
         m->knots = m->times ? hk_calloc_array((size_t)keys * HK_MOTION_CHANNELS * 3,
                                               sizeof *m->knots, err)
                             : NULL;

@@ -19,6 +19,11 @@ typedef enum hk_MotionKind {
 struct hk_HeadMotion {
     hk_MotionKind kind;
     hk_Vec3 pivot;
+    /* What it was made from (hk_head_motion_source): the script's name and amplitude as
+     * given, or the motion file's path as given (own copy). */
+    const char *script;
+    double amplitude_given;
+    char *path;
     /* Scripted: g(t) = amplitude * ease * sin(2 pi frequency t). */
     hk_Vec3 axis;     /* unit */
     double amplitude; /* radians or metres */

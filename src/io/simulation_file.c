@@ -10,7 +10,7 @@
 #include "keyfile.h"
 
 enum { M_FORMAT, M_SETUP, M_SEED, M_FRAMES, M_FPS, M_GUIDES, M_POINTS, M_INTERPOLATED, M_FULL_HAIR,
-       M_HAIRSTYLE_HASH, M_WICK_HASH, M_COUNT };
+       M_HAIRSTYLE_HASH, M_WICK_HASH, M_COLLISION_HASH, M_MOTION, M_MOTION_FILE, M_MOTION_HASH, M_COUNT };
 
 static const hk_KeySpec specs[M_COUNT] = {
     [M_FORMAT] = {"HairkitSimulation", NULL, 1},
@@ -24,11 +24,18 @@ static const hk_KeySpec specs[M_COUNT] = {
     [M_FULL_HAIR] = {"FullHair", NULL, 1},
     [M_HAIRSTYLE_HASH] = {"HairstyleHash", NULL, 1},
     [M_WICK_HASH] = {"WickHash", NULL, 1},
+    /* not required by the key check: format 1 has none, and the motion is one of two */
+    [M_COLLISION_HASH] = {"CollisionHash", NULL, 0},
+    [M_MOTION] = {"Motion", NULL, 0},
+    [M_MOTION_FILE] = {"MotionFile", NULL, 0},
+    [M_MOTION_HASH] = {"MotionHash", NULL, 0},
 };
 
 void hk_simulation_manifest_free(hk_SimulationManifest *m)
 {
     hk_free(m->setup);
+    hk_free(m->motion_script);
+    hk_free(m->motion_file);
     memset(m, 0, sizeof *m);
 }
 
@@ -62,6 +69,41 @@ static hk_Status read_hash(const hk_KeyFile *kf, const hk_KeyLine *kl, uint64_t 
     return HK_OK;
 }
 
+/* Motion NAME AMPLITUDE FREQUENCY PX PY PZ */
+static hk_Status read_motion(const hk_KeyFile *kf, const hk_KeyLine *kl, hk_SimulationManifest *m, hk_Error *err)
+{
+    if (kl->count != 6)
+        return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err,
+                                "Motion expects NAME AMPLITUDE FREQUENCY PIVOT_X PIVOT_Y PIVOT_Z, got %d values",
+                                kl->count);
+    const hk_KeyLine numbers = {kl->line, kl->key, 5, kl->values + 1};
+    double v[5];
+    hk_Status st = hk_keyline_doubles(kf, &numbers, 5, v, err);
+    if (st != HK_OK) return st;
+    const size_t n = strlen(kl->values[0]) + 1;
+    m->motion_script = hk_alloc_array(n, 1, err);
+    if (!m->motion_script) return HK_ERR_NOMEM;
+    memcpy(m->motion_script, kl->values[0], n);
+    m->motion_amplitude = v[0];
+    m->motion_frequency = v[1];
+    for (int i = 0; i < 3; i++) m->motion_pivot[i] = v[2 + i];
+    return HK_OK;
+}
+
+/* The motion is given once, as a script or as a file with its fingerprint. */
+static hk_Status check_motion(const hk_KeyFile *kf, const int *line_of, hk_Error *err)
+{
+    if (line_of[M_MOTION] && line_of[M_MOTION_FILE])
+        return hk_keyfile_error(kf, line_of[M_MOTION_FILE], HK_ERR_PARSE, err,
+                                "MotionFile and Motion (line %d) exclude each other", line_of[M_MOTION]);
+    if (!line_of[M_MOTION] && !line_of[M_MOTION_FILE])
+        return hk_keyfile_error(kf, 0, HK_ERR_PARSE, err, "missing required key 'Motion' (or 'MotionFile')");
+    if (!line_of[M_MOTION_FILE] != !line_of[M_MOTION_HASH])
+        return hk_keyfile_error(kf, line_of[M_MOTION_FILE] ? line_of[M_MOTION_FILE] : line_of[M_MOTION_HASH],
+                                HK_ERR_PARSE, err, "MotionFile and MotionHash go together");
+    return HK_OK;
+}
+
 static hk_Status read_line(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, hk_SimulationManifest *m,
                            hk_Error *err)
 {
@@ -75,6 +117,11 @@ static hk_Status read_line(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, hk
             return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err,
                                     "a simulation of format %s: this hairkit reads format %d", kl->values[0],
                                     HK_SIMULATION_FILE_VERSION);
+        if (st == HK_OK && n < HK_SIMULATION_FILE_VERSION)
+            return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err,
+                                    "a simulation of format %ld, whose frames did not keep the hair out of the "
+                                    "moving body: this hairkit reads format %d, simulate again",
+                                    n, HK_SIMULATION_FILE_VERSION);
         return st;
     case M_SETUP:
         if ((st = hk_keyline_string(kf, kl, &s, err)) != HK_OK) return st;
@@ -105,6 +152,15 @@ static hk_Status read_line(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, hk
     case M_FULL_HAIR: return hk_keyline_bool(kf, kl, &m->full_hair, err);
     case M_HAIRSTYLE_HASH: return read_hash(kf, kl, &m->hairstyle_hash, err);
     case M_WICK_HASH: return read_hash(kf, kl, &m->wick_hash, err);
+    case M_COLLISION_HASH:
+        m->has_collision = 1;
+        return read_hash(kf, kl, &m->collision_hash, err);
+    case M_MOTION: return read_motion(kf, kl, m, err);
+    case M_MOTION_FILE:
+        if ((st = hk_keyline_string(kf, kl, &s, err)) != HK_OK) return st;
+        m->motion_file = hk_keyfile_resolve_path(kf, s, err);
+        return m->motion_file ? HK_OK : HK_ERR_NOMEM;
+    case M_MOTION_HASH: return read_hash(kf, kl, &m->motion_hash, err);
     default: return HK_OK;
     }
 }
@@ -121,6 +177,7 @@ hk_Status hk_simulation_manifest_load(const char *path, hk_SimulationManifest *o
         const hk_KeyLine *kl = &kf.lines[i];
         st = read_line(&kf, kl, hk_keyspec_find(specs, M_COUNT, kl->key), out, err);
     }
+    if (st == HK_OK) st = check_motion(&kf, line_of, err);
     hk_keyfile_free(&kf);
     if (st != HK_OK) hk_simulation_manifest_free(out);
     return st;
@@ -130,6 +187,13 @@ hk_Status hk_simulation_manifest_save(const char *path, const hk_SimulationManif
 {
     if (!m->setup || strchr(m->setup, '"') || strpbrk(m->setup, "\r\n"))
         return hk_error_set(err, HK_ERR_INVALID, "%s: the setup's path cannot be written in a manifest", path);
+    if (!m->motion_script == !m->motion_file)
+        return hk_error_set(err, HK_ERR_INVALID, "%s: a manifest needs a scripted motion or a motion file", path);
+    if (m->motion_file && (strchr(m->motion_file, '"') || strpbrk(m->motion_file, "\r\n")))
+        return hk_error_set(err, HK_ERR_INVALID, "%s: the motion file's path cannot be written in a manifest", path);
+    if (m->motion_script && (!*m->motion_script || strpbrk(m->motion_script, " \t\r\n\"#")))
+        return hk_error_set(err, HK_ERR_INVALID, "%s: motion '%s' cannot be written in a manifest", path,
+                            m->motion_script);
     hk_OutFile out;
     hk_Status st = hk_outfile_open(&out, path, err);
     if (st != HK_OK) return st;
@@ -150,5 +214,11 @@ hk_Status hk_simulation_manifest_save(const char *path, const hk_SimulationManif
             "WickHash         %016" PRIx64 "\n",
             HK_SIMULATION_FILE_VERSION, m->setup, m->seed, m->frames, m->fps, m->guides, m->points,
             m->interpolated ? "true" : "false", m->full_hair ? "true" : "false", m->hairstyle_hash, m->wick_hash);
+    if (m->has_collision) fprintf(out.fp, "CollisionHash    %016" PRIx64 "\n", m->collision_hash);
+    if (m->motion_script)
+        fprintf(out.fp, "Motion           %s %.17g %.17g %.17g %.17g %.17g\n", m->motion_script, m->motion_amplitude,
+                m->motion_frequency, m->motion_pivot[0], m->motion_pivot[1], m->motion_pivot[2]);
+    else
+        fprintf(out.fp, "MotionFile       \"%s\"\nMotionHash       %016" PRIx64 "\n", m->motion_file, m->motion_hash);
     return hk_outfile_commit(&out, err);
 }

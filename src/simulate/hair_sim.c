@@ -8,6 +8,7 @@
 
 #include "hairkit/simulate.h"
 #include "hairkit/statics.h"
+#include "sim_internal.h"
 
 struct hk_HairSim {
     hk_HairstyleDef style;       /* own copy */
@@ -340,21 +341,7 @@ hk_Status hk_hair_sim_groom(const hk_HairSim *sim, const hk_Mesh *wick, const hk
     hk_hair_sim_guides(sim, g->guides);
     /* The strands are kept out of the body where it is now: the shapes go where the
      * head took them (the guides, and so the strands, are in world space). */
-    hk_Shape *posed = NULL;
-    if (sim->shape_count > 0) {
-        posed = hk_alloc_array((size_t)sim->shape_count, sizeof *posed, err);
-        if (!posed) {
-            hk_groom_free(g);
-            return HK_ERR_NOMEM;
-        }
-    }
-    for (int i = 0; i < sim->shape_count; i++) {
-        posed[i] = sim->shapes[i];
-        hk_rigid_point(&sim->head, sim->shapes[i].centre, &posed[i].centre, NULL, NULL);
-        for (int k = 0; k < 3; k++) posed[i].axis[k] = hk_m3_mul_v3(&sim->head.rot, sim->shapes[i].axis[k]);
-    }
-    hk_Status st = hk_groom_interpolate_guides(&sim->style, posed, sim->shape_count, wick, go, g, err);
-    hk_free(posed);
+    hk_Status st = hk_sim_interpolate_posed(&sim->style, sim->shapes, sim->shape_count, &sim->head, wick, go, g, err);
     if (st != HK_OK) hk_groom_free(g);
     return st;
 }

@@ -1,16 +1,61 @@
 /* Any frame's full hair from what a simulation wrote: DIR/simulation.txt names the
- * setup and the seed, DIR/guides_kkkk.hair holds the guides; the interpolated strands are
- * grown from them exactly as the run did (sim_grow.c), so the bytes are those of the
- * run's DIR/frame_kkkk.hair. */
+ * setup, the seed and the head's motion, DIR/guides_kkkk.hair holds the guides; the
+ * interpolated strands are grown from them exactly as the run did, out of the body posed
+ * at the frame's time (sim_grow.c), so the bytes are those of the run's
+ * DIR/frame_kkkk.hair. */
 #include <stdio.h>
 #include <string.h>
 
 #include "hairkit/simulation_file.h"
 #include "sim_internal.h"
 
-/* The setup's hairstyle and wick, refused if either changed since the run. */
-static hk_Status load_inputs(const hk_SimulationManifest *m, const char *manifest_path, hk_HairstyleDef *style,
-                             hk_Mesh *wick, hk_Error *err)
+/* What the regrowth reads besides the guides: the setup's hairstyle, wick and body
+ * shapes, refused if any changed since the run (or the setup gained or lost its
+ * collision file), and the head's motion, made again as the run had it. */
+typedef struct Inputs {
+    hk_HairstyleDef style;
+    hk_Mesh wick;
+    hk_Shape *shapes;
+    int shape_count;
+    hk_HeadMotion *motion;
+} Inputs;
+
+static void inputs_free(Inputs *in)
+{
+    hk_hairstyle_free(&in->style);
+    hk_mesh_free(&in->wick);
+    hk_free(in->shapes);
+    hk_head_motion_destroy(in->motion);
+}
+
+/* 1 if the file's fingerprint differs from the manifest's (or it cannot be read). */
+static int changed_since(const char *path, uint64_t hash, hk_Status *st, hk_Error *err)
+{
+    uint64_t h = 0;
+    *st = hk_file_fingerprint(path, &h, err);
+    return *st == HK_OK && h != hash;
+}
+
+static hk_Status load_motion(const hk_SimulationManifest *m, const char *manifest_path, Inputs *in, hk_Error *err)
+{
+    hk_Status st;
+    if (m->motion_file) {
+        if (changed_since(m->motion_file, m->motion_hash, &st, err))
+            return hk_error_set(err, HK_ERR_INVALID,
+                                "%s has changed since the simulation (%s): its frames cannot be grown again exactly",
+                                m->motion_file, manifest_path);
+        return st == HK_OK ? hk_head_motion_load(m->motion_file, &in->motion, err) : st;
+    }
+    const hk_Vec3 pivot = hk_v3(m->motion_pivot[0], m->motion_pivot[1], m->motion_pivot[2]);
+    st = hk_head_motion_scripted(m->motion_script, m->motion_amplitude, m->motion_frequency, pivot, &in->motion, err);
+    if (st != HK_OK) {
+        hk_Error inner = *err;
+        st = hk_error_set(err, st, "%s: %s", manifest_path, inner.message);
+    }
+    return st;
+}
+
+static hk_Status load_inputs(const hk_SimulationManifest *m, const char *manifest_path, Inputs *in, hk_Error *err)
 {
     hk_SetupDef setup;
     hk_Status st = hk_setup_load(m->setup, &setup, err);
@@ -18,18 +63,21 @@ static hk_Status load_inputs(const hk_SimulationManifest *m, const char *manifes
     if (!setup.hairstyle || !setup.wick_model)
         st = hk_error_set(err, HK_ERR_PARSE, "%s: no HairstyleInfo or WickModel", m->setup);
     const char *changed = NULL;
-    uint64_t h;
-    if (st == HK_OK && (st = hk_file_fingerprint(setup.hairstyle, &h, err)) == HK_OK && h != m->hairstyle_hash)
-        changed = setup.hairstyle;
-    if (st == HK_OK && !changed && (st = hk_file_fingerprint(setup.wick_model, &h, err)) == HK_OK &&
-        h != m->wick_hash)
+    if (st == HK_OK && changed_since(setup.hairstyle, m->hairstyle_hash, &st, err)) changed = setup.hairstyle;
+    if (st == HK_OK && !changed && changed_since(setup.wick_model, m->wick_hash, &st, err))
         changed = setup.wick_model;
+    if (st == HK_OK && !changed && !setup.collision != !m->has_collision)
+        changed = setup.collision ? setup.collision : m->setup;
+    if (st == HK_OK && !changed && setup.collision && changed_since(setup.collision, m->collision_hash, &st, err))
+        changed = setup.collision;
     if (changed)
         st = hk_error_set(err, HK_ERR_INVALID,
                           "%s has changed since the simulation (%s): its frames cannot be grown again exactly",
                           changed, manifest_path);
-    if (st == HK_OK) st = hk_hairstyle_load(setup.hairstyle, style, err);
-    if (st == HK_OK) st = hk_obj_load(setup.wick_model, wick, err);
+    if (st == HK_OK) st = hk_hairstyle_load(setup.hairstyle, &in->style, err);
+    if (st == HK_OK) st = hk_obj_load(setup.wick_model, &in->wick, err);
+    if (st == HK_OK && setup.collision) st = hk_collision_load(setup.collision, &in->shapes, &in->shape_count, err);
+    if (st == HK_OK) st = load_motion(m, manifest_path, in, err);
     hk_setup_free(&setup);
     return st;
 }
@@ -74,18 +122,19 @@ hk_Status hk_simulation_rebuild(const char *dir, long frame, int threads, hk_Hai
         st = hk_error_set(err, HK_ERR_INVALID, "frame %ld: the simulation in %s has frames 0 to %ld", frame, dir,
                           m.frames - 1);
     if (st == HK_OK) st = hk_simulation_frame_path(guides_path, sizeof guides_path, dir, "guides", frame, "hair", err);
-    hk_HairstyleDef style;
-    memset(&style, 0, sizeof style);
-    hk_Mesh wick;
-    memset(&wick, 0, sizeof wick);
+    Inputs in;
+    memset(&in, 0, sizeof in);
     hk_Groom g;
     memset(&g, 0, sizeof g);
-    if (st == HK_OK) st = load_inputs(&m, manifest_path, &style, &wick, err);
-    if (st == HK_OK) st = load_guides(guides_path, &m, &wick, &g, err);
-    if (st == HK_OK) st = hk_sim_grow_hair(&style, &wick, m.seed, threads, 0, &g, out, err);
+    if (st == HK_OK) st = load_inputs(&m, manifest_path, &in, err);
+    if (st == HK_OK) st = load_guides(guides_path, &m, &in.wick, &g, err);
+    if (st == HK_OK) {
+        /* the body where the head was at this frame, as the run posed it */
+        const hk_RigidState head = hk_sim_head_pose(in.motion, hk_sim_frame_time(frame, m.fps));
+        st = hk_sim_grow_hair(&in.style, in.shapes, in.shape_count, &head, &in.wick, m.seed, threads, 0, &g, out, err);
+    }
     hk_groom_free(&g);
-    hk_mesh_free(&wick);
-    hk_hairstyle_free(&style);
+    inputs_free(&in);
     hk_simulation_manifest_free(&m);
     return st;
 }

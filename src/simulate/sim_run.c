@@ -108,21 +108,32 @@ static hk_Status write_manifest(Run *r, const char *setup_path, hk_Error *err)
     m.full_hair = r->o->full_hair;
     hk_Status st = hk_file_fingerprint(r->setup.hairstyle, &m.hairstyle_hash, err);
     if (st == HK_OK) st = hk_file_fingerprint(r->setup.wick_model, &m.wick_hash, err);
+    m.has_collision = r->setup.collision != NULL;
+    if (st == HK_OK && m.has_collision) st = hk_file_fingerprint(r->setup.collision, &m.collision_hash, err);
+    /* The motion poses the body of every frame: made again by the rebuild. */
+    const hk_HeadMotionSource src = r->o->motion ? hk_head_motion_source(r->o->motion)
+                                                 : (hk_HeadMotionSource){"still", 0.0, 1.0, hk_default_head_pivot(), NULL};
+    char script[32] = "";
+    if (src.script) snprintf(script, sizeof script, "%s", src.script);
+    m.motion_script = src.script ? script : NULL;
+    m.motion_amplitude = src.amplitude;
+    m.motion_frequency = src.frequency;
+    m.motion_pivot[0] = src.pivot.x;
+    m.motion_pivot[1] = src.pivot.y;
+    m.motion_pivot[2] = src.pivot.z;
+    if (st == HK_OK && src.file) {
+        m.motion_file = realpath(src.file, NULL);
+        if (!m.motion_file) st = hk_error_set(err, HK_ERR_IO, "%s: %s", src.file, strerror(errno));
+        else st = hk_file_fingerprint(src.file, &m.motion_hash, err);
+    }
     char path[4096];
     if (st == HK_OK && snprintf(path, sizeof path, "%s/%s", r->dir, HK_SIMULATION_FILE_NAME) >= (int)sizeof path)
         st = hk_error_set(err, HK_ERR_INVALID, "%s: output folder name too long", r->dir);
     if (st == HK_OK) st = hk_simulation_manifest_save(path, &m, err);
     if (st == HK_OK) r->p.bytes += hk_sim_file_size(path);
     free(m.setup);
+    free(m.motion_file);
     return st;
-}
-
-/* The head at time t (still: at rest). */
-static hk_RigidState head_pose(const Run *r, double t)
-{
-    hk_RigidState pose = hk_rigid_identity();
-    if (r->o->motion) hk_head_motion_eval(r->o->motion, t, &pose);
-    return pose;
 }
 
 static hk_Status create_sim(Run *r, hk_Error *err)
@@ -136,7 +147,7 @@ static hk_Status create_sim(Run *r, hk_Error *err)
     so.progress_user = o->statics_user;
     hk_Status st = hk_hair_sim_create(&r->style, r->shapes, r->shape_count, &r->wick, &so, &r->sim, err);
     if (st == HK_OK && o->preroll > 0.0) {
-        const hk_RigidState pose = head_pose(r, 0.0);
+        const hk_RigidState pose = hk_sim_head_pose(o->motion, 0.0);
         st = hk_hair_sim_settle(r->sim, &pose, o->preroll, 1.0 / o->fps, err);
     }
     if (st != HK_OK) return st;
@@ -160,7 +171,7 @@ static hk_Status save_hair(Run *r, const hk_HairFile *hair, const char *stem, lo
 static const hk_Mesh *moved_head(Run *r, double t)
 {
     if (r->head.vertex_count == 0) return NULL;
-    const hk_RigidState st = head_pose(r, t);
+    const hk_RigidState st = hk_sim_head_pose(r->o->motion, t);
     for (int i = 0; i < r->head.vertex_count; i++) {
         hk_rigid_point(&st, r->head.positions[i], &r->moved.positions[i], NULL, NULL);
         r->moved.normals[i] = hk_m3_mul_v3(&st.rot, r->head.normals[i]);
@@ -192,8 +203,8 @@ static hk_Status render_frame(Run *r, const hk_HairFile *hair, long k, double t,
     return st;
 }
 
-/* Frame k: the guides, then (unless guides only) the interpolated hair grown from them
- * as written, and its picture. */
+/* Frame k at time t: the guides, then (unless guides only) the interpolated hair grown
+ * from them as written, out of the body where the head is at t, and its picture. */
 static hk_Status write_frame(Run *r, long k, double t, hk_Error *err)
 {
     const hk_SimRunOptions *o = r->o;
@@ -213,7 +224,9 @@ static hk_Status write_frame(Run *r, long k, double t, hk_Error *err)
     double t2 = omp_get_wtime();
     r->p.seconds_write += t2 - t1;
     if (st != HK_OK || o->guides_only) return st;
-    st = hk_sim_grow_hair(&r->style, &r->wick, o->seed, o->threads, 0, g, &hair, err);
+    const hk_RigidState head = hk_sim_head_pose(o->motion, t);
+    st = hk_sim_grow_hair(&r->style, r->shapes, r->shape_count, &head, &r->wick, o->seed, o->threads, 0, g, &hair,
+                          err);
     r->p.seconds_regrow += omp_get_wtime() - t2;
     if (st == HK_OK && o->full_hair) {
         t2 = omp_get_wtime();
@@ -261,7 +274,7 @@ hk_Status hk_simulation_run(const char *setup_path, const char *dir, const hk_Si
     }
     const double t_frames = omp_get_wtime(), dt = 1.0 / options->fps;
     for (long k = 0; st == HK_OK && k < options->frames; k++) {
-        const double t = k * dt;
+        const double t = hk_sim_frame_time(k, options->fps); /* k * dt, as the rebuild poses the body */
         if (k > 0) {
             hk_HairSimStats stats;
             st = hk_hair_sim_advance(r.sim, options->motion, t - dt, dt, &stats, err);
