@@ -43,7 +43,12 @@ static void usage(FILE *out)
             "  --preroll S        let the hair settle S seconds on the still head before\n"
             "                     frame 0 (default 1; the groomed shape ignores the\n"
             "                     guide-guide contacts)\n"
-            "  --damping on|off   internal friction and air drag (default on)\n");
+            "  --damping on|off   internal friction and air drag (default on)\n"
+            "  --integrator auto|trbdf2|euler\n"
+            "                     time stepping of the guides: TR-BDF2 (second order, every\n"
+            "                     force implicit; stable for long hair) or the linearly\n"
+            "                     implicit Euler step (cheaper; unstable from 50 cm on);\n"
+            "                     auto (default): euler for guides up to 40 cm, else trbdf2\n");
     hk_cli_motion_options_help(out);
     fprintf(out, "pictures:\n");
     hk_cli_render_options_help(out);
@@ -73,7 +78,7 @@ typedef struct SimArgs {
 
 static int parse_args(int argc, char **argv, SimArgs *a)
 {
-    enum { OPT_FRAMES = 2000, OPT_FPS, OPT_GUIDES_ONLY, OPT_NO_CONTACTS, OPT_DAMPING, OPT_PREROLL, OPT_FULL_HAIR,
+    enum { OPT_FRAMES = 2000, OPT_FPS, OPT_GUIDES_ONLY, OPT_NO_CONTACTS, OPT_DAMPING, OPT_INTEGRATOR, OPT_PREROLL, OPT_FULL_HAIR,
            OPT_REBUILD, OPT_FRAME };
     static const struct option options[] = {
         {"frames", required_argument, NULL, OPT_FRAMES},
@@ -85,6 +90,7 @@ static int parse_args(int argc, char **argv, SimArgs *a)
         {"frame", required_argument, NULL, OPT_FRAME},
         {"no-contacts", no_argument, NULL, OPT_NO_CONTACTS},
         {"damping", required_argument, NULL, OPT_DAMPING},
+        {"integrator", required_argument, NULL, OPT_INTEGRATOR},
         {"preroll", required_argument, NULL, OPT_PREROLL},
         {"seed", required_argument, NULL, 's'},
         {"threads", required_argument, NULL, 't'},
@@ -136,6 +142,12 @@ static int parse_args(int argc, char **argv, SimArgs *a)
             if (strcmp(optarg, "on") != 0 && strcmp(optarg, "off") != 0)
                 return hk_cli_usage_error(CMD, "--damping must be on or off, got '%s'", optarg);
             a->run.damping = strcmp(optarg, "on") == 0;
+            break;
+        case OPT_INTEGRATOR:
+            if (strcmp(optarg, "auto") == 0) a->run.integrator = -1;
+            else if (strcmp(optarg, "trbdf2") == 0) a->run.integrator = HK_INTEGRATOR_TRBDF2;
+            else if (strcmp(optarg, "euler") == 0) a->run.integrator = HK_INTEGRATOR_LINEAR_EULER;
+            else return hk_cli_usage_error(CMD, "--integrator must be auto, trbdf2 or euler, got '%s'", optarg);
             break;
         case 's':
             if ((rc = hk_cli_seed_option(CMD, optarg, &a->run.seed))) return rc;

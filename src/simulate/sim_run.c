@@ -23,6 +23,7 @@ hk_SimRunOptions hk_default_sim_run_options(void)
     o.preroll = 1.0;
     o.hair_contacts = 1;
     o.damping = 1;
+    o.integrator = -1;
     o.video = 1;
     o.seed = 1;
     o.render = hk_default_render_options();
@@ -143,6 +144,16 @@ static hk_Status create_sim(Run *r, hk_Error *err)
     so.threads = o->threads;
     so.hair_contacts = o->hair_contacts;
     if (!o->damping) so.dynamics.internal_friction = so.dynamics.air_drag = 0.0;
+    if (o->integrator == HK_INTEGRATOR_TRBDF2) {
+        const hk_DynamicsParams strand = hk_default_dynamics_params();
+        so.dynamics.integrator = HK_INTEGRATOR_TRBDF2;
+        so.dynamics.solver = strand.solver;
+        so.dynamics.stiffness = strand.stiffness;
+    } else if (o->integrator == HK_INTEGRATOR_LINEAR_EULER) {
+        so.dynamics.integrator = HK_INTEGRATOR_LINEAR_EULER;
+        so.dynamics.solver = HK_DYNAMICS_DENSE;
+        so.dynamics.stiffness = HK_STIFFNESS_FULL;
+    }
     so.progress = o->statics_progress;
     so.progress_user = o->statics_user;
     hk_Status st = hk_hair_sim_create(&r->style, r->shapes, r->shape_count, &r->wick, &so, &r->sim, err);

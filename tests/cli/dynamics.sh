@@ -78,6 +78,18 @@ expect 0 "$hk" simulate "$g200" --frames 3 --fps 30 --guides-only --motion shake
 for f in guides_0000 guides_0001 guides_0002; do
     cmp -s "$tmp/g1/$f.hair" "$tmp/g2/$f.hair" || fail "$f differs between 1 and 2 threads"
 done
+# TR-BDF2 on the full head (the default for guides over 40 cm), the same bytes with 1
+# and 2 threads too
+for th in 1 2; do
+    expect 0 "$hk" simulate "$g200" --frames 2 --fps 30 --guides-only --motion shake --preroll 0 \
+        --integrator trbdf2 -o "$tmp/t$th" --threads $th --quiet
+done
+cmp -s "$tmp/t1/guides_0001.hair" "$tmp/t2/guides_0001.hair" || fail "TR-BDF2 frames differ between 1 and 2 threads"
+expect 0 "$hk" simulate "$g200" --frames 2 --fps 30 --guides-only --motion shake --preroll 0 \
+    --integrator euler -o "$tmp/e1" --threads 2 --quiet
+cmp -s "$tmp/t1/guides_0001.hair" "$tmp/e1/guides_0001.hair" && fail "--integrator trbdf2 made no difference"
+expect 2 "$hk" simulate "$g200" --frames 2 --fps 30 --guides-only --integrator rk4 -o "$tmp/t3"
+contains "$tmp/err" "--integrator must be auto, trbdf2 or euler"
 # the full job on a light scene: the guides and a picture per frame, the full hair
 # only with --full-hair; --rebuild grows any frame's full hair again, the same bytes
 light_scene "$tmp/light"
