@@ -20,7 +20,7 @@
  * changed from outside. The method is second order and L-stable: its amplification
  * tends to 0 for stiff modes (the twist of a thin section, contacts), and at the
  * paper's dt = 1/30 s a 4 Hz bounce (7.5 steps a period) keeps 98.8 % of its amplitude
- * per period with a 2.7 % longer period (linearly implicit Euler: 14 % and 20 %).
+ * per period with a 2.8 % longer period (linearly implicit Euler: 14 % and 20 %).
  *
  * Each stage is solved by Newton's iteration with the matrix M + ch D + ch^2 K of
  * strand_dynamics.c, where the residual holds every force at the iterate: the velocity
