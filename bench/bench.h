@@ -39,6 +39,10 @@ int hk_bench_render(FILE *out, const hk_BenchOptions *options);
  * and frames per second of 201 guides on a shaking head, 1 and 2 threads. */
 int hk_bench_dynamics(FILE *out, const hk_BenchOptions *options);
 
+/* Stability matrix of single strands (bench_stability.c): hair types and lengths 5 cm to
+ * 1.5 m, still and moving heads, dt = 1/24 and 1/30 s, TR-BDF2 and linear Euler. */
+int hk_bench_stability(FILE *out, const hk_BenchOptions *options);
+
 /* Curve fitting (helicoid paper §5): fits per second of 30-sample strands, 1 and 2
  * threads, clean single and two-piece strands and noisy ones. */
 int hk_bench_curvefit(FILE *out, const hk_BenchOptions *options);

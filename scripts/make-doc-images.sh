@@ -35,6 +35,9 @@ done
 "$hk" simulate examples/guides200/setup.txt --frames 13 --fps 30 --motion shake --amplitude 40 --frequency 1.5 \
     --width 400 --height 300 -o "$tmp/shake" --quiet
 for k in 0000 0004 0008 0012; do cp "$tmp/shake/frame_$k.png" "docs/images/dynamics-shake-$k.png"; done
+# The accuracy figure: the curly strand's tip at dt = 1/30 s against 1 ms, and the linear
+# Euler step. Needs gnuplot (apt-get install gnuplot-nox), which only this script uses.
+scripts/plot-dynamics-bounce.sh "$hk" docs/images/dynamics-bounce.png
 # Follicles sampled on the wick (docs/follicle-sampling.md).
 build/plot_follicles assets/head.obj assets/wick.obj 0.006 docs/images/follicles-wick.png
 # Generalized helicoids (docs/helicoids.md).

@@ -64,5 +64,8 @@ expect 0 "$hk" bench statics --quick
 contains "$tmp/out" "newton"
 expect 0 "$hk" bench dynamics --quick --root "$src"
 contains "$tmp/out" "frames/s"
+expect 0 "$hk" bench stability --quick --root "$src"
+contains "$tmp/out" "still, undamped"
+contains "$tmp/out" "linear Euler"
 
 finish "strand CLI"
