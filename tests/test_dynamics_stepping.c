@@ -9,6 +9,7 @@
  *   against 4.0 Hz converged;
  * - violent head motion stopped the run. */
 #include "hk_test.h"
+#include "hk_test_strand.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -223,16 +224,8 @@ static void test_violent_motion_completes(void **state)
     assert_int_equal(hk_collision_load(HK_SOURCE_DIR "/examples/strand/head.txt", &shapes, &shape_count, &err), HK_OK);
     for (int m = 0; m < 3; m++) {
         hk_HairstyleDef def;
-        char path[512];
-        snprintf(path, sizeof path, "%s/examples/strand/wavy.txt", HK_SOURCE_DIR);
-        assert_int_equal(hk_hairstyle_load(path, &def, &err), HK_OK);
-        hk_SuperHelix *sh = NULL;
-        assert_int_equal(hk_superhelix_from_hairstyle(&def, hk_v3(0.0, 0.148, 0.01), hk_v3(0.3, 1.0, -0.5), &sh, &err),
-                         HK_OK);
-        hk_StrandEnv body = {shapes, shape_count, 0.5, def.collision_step};
-        hk_StaticsOptions so = hk_default_statics_options();
-        hk_MinimizeResult res;
-        assert_int_equal(hk_statics_solve(sh, &body, &so, &res, &err), HK_OK);
+        hk_StrandEnv body;
+        hk_SuperHelix *sh = hk_test_strand_on_head("wavy", shapes, shape_count, &def, &body);
         hk_DynamicsParams p = hk_dynamics_params_for(&def);
         hk_StrandDynamics *d = NULL;
         hk_HeadMotion *motion = NULL;

@@ -12,6 +12,7 @@
  *  - the four hair types of paper 000 Appendix B stay stable at dt = 1/30 s on a
  *    shaking head. */
 #include "hk_test.h"
+#include "hk_test_strand.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -437,18 +438,10 @@ static void test_appendix_b_hair_stable_on_a_shaking_head(void **state)
     hk_HeadMotion *shake = NULL;
     assert_int_equal(hk_head_motion_scripted("shake", 40.0, 1.5, hk_default_head_pivot(), &shake, &err), HK_OK);
     for (int k = 0; k < 4; k++) {
-        char path[512];
-        snprintf(path, sizeof path, "%s/examples/strand/%s.txt", HK_SOURCE_DIR, types[k]);
-        hk_HairstyleDef def;
-        assert_int_equal(hk_hairstyle_load(path, &def, &err), HK_OK);
-        hk_SuperHelix *sh = NULL;
-        assert_int_equal(hk_superhelix_from_hairstyle(&def, hk_v3(0.0, 0.148, 0.01), hk_v3(0.3, 1.0, -0.5), &sh, &err),
-                         HK_OK);
-        hk_StrandEnv body = {shapes, shape_count, 0.5, def.collision_step};
         /* from the statics rest shape, as a groomed head starts */
-        hk_StaticsOptions so = hk_default_statics_options();
-        hk_MinimizeResult res;
-        assert_int_equal(hk_statics_solve(sh, &body, &so, &res, &err), HK_OK);
+        hk_HairstyleDef def;
+        hk_StrandEnv body;
+        hk_SuperHelix *sh = hk_test_strand_on_head(types[k], shapes, shape_count, &def, &body);
         hk_DynamicsParams p = hk_dynamics_params_for(&def);
         hk_StrandDynamics *d = NULL;
         assert_int_equal(hk_strand_dynamics_create(sh, &p, &body, &d, &err), HK_OK);
