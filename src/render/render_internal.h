@@ -88,13 +88,20 @@ void hk_depth_order(uint32_t n, const float *depth, uint32_t *order, uint32_t *w
  * the full order, the same as any sort of the whole keys. tmp holds n keys. */
 void hk_sort_by_high_bits(uint64_t *keys, uint32_t n, uint64_t *tmp);
 
+/* An item's pixel box [x0, x1) x [y0, y1) (sides are at most 16384 pixels); empty
+ * when x1 <= x0. */
+typedef struct hk_TileBox {
+    uint16_t x0, y0, x1, y1;
+} hk_TileBox;
+
 /* Items (segments, triangles) sorted into the tiles their box touches, in item order
  * within each tile (so that every tile sees them in the same order whatever the
- * thread count). */
+ * thread count) (tile_bins.c). */
 typedef struct hk_TileBins {
     int tiles_x, tiles_y;
     uint32_t *start; /* tiles_x * tiles_y + 1 offsets into items */
     uint32_t *items;
+    hk_TileBox *boxes; /* every item's box, as box_of gave it */
 } hk_TileBins;
 
 typedef int (*hk_BoxFn)(void *user, uint32_t item, hk_Rect *box);
