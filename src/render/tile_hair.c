@@ -306,7 +306,10 @@ int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_Tile
         const uint32_t i = items[k];
         /* The tile's segments are scattered over the projected points: fetch ahead, the
          * gathering otherwise waits on memory. */
-        if (k + 16 < total) __builtin_prefetch(&in->hair_proj[items[k + 16]]);
+        if (k + 16 < total) {
+            __builtin_prefetch(&in->hair_proj[items[k + 16]]);
+            __builtin_prefetch(&bins->boxes[items[k + 16]]);
+        }
         Segment *s = &w->seg[n];
         s->a = in->hair_proj[i], s->b = in->hair_proj[i + 1];
         s->first = i;
@@ -316,6 +319,11 @@ int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_Tile
     hk_depth_order(n, w->near, w->order, w->sort_work);
     for (uint32_t k = 0; k < n && !w->failed; k++) {
         const uint32_t j = w->order[k];
+        /* Depth order scatters the reads over the gathered segments: fetch ahead. */
+        if (k + 8 < n) {
+            __builtin_prefetch(&w->blocks[w->order[k + 8]]);
+            __builtin_prefetch(&w->seg[w->order[k + 8]]);
+        }
         if (k % SETTLE_BATCH == 0) {
             settle(w, w->near[j]);
             int open = 0;
