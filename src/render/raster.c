@@ -1,25 +1,7 @@
 /* Anti-aliased segments for hair (camera and light views) and filled triangles (the
  * head), with the pixel boxes the tile bins (tile_bins.c) sort them by. */
 #include "render_internal.h"
-
-static inline float clampf(float v, float lo, float hi) { return v < lo ? lo : (v > hi ? hi : v); }
-/* min and max without libm calls (fminf and fmaxf are not inlined: they must handle
- * NaN, and the renderer has refused non-finite points before drawing). */
-static inline float minf(float a, float b) { return a < b ? a : b; }
-static inline float maxf(float a, float b) { return a > b ? a : b; }
-
-/* floor and ceil to int for |v| < 2^31 without a libm call (x86-64's baseline has no
- * rounding instruction; these run per pixel). */
-static inline int ifloor(float v)
-{
-    const int i = (int)v;
-    return i - (v < (float)i);
-}
-static inline int iceil(float v)
-{
-    const int i = (int)v;
-    return i + (v > (float)i);
-}
+#include "raster_inline.h"
 
 int hk_segment_box(hk_RasterPoint a, hk_RasterPoint b, float width, int image_w, int image_h, hk_Rect *box)
 {
@@ -33,48 +15,6 @@ int hk_segment_box(hk_RasterPoint a, hk_RasterPoint b, float width, int image_w,
     box->y0 = ifloor(clampf(ya, 0.0f, (float)image_h));
     box->y1 = iceil(clampf(yb + 1.0f, 0.0f, (float)image_h));
     return box->x0 < box->x1 && box->y0 < box->y1;
-}
-
-void hk_raster_segment(hk_RasterPoint a, hk_RasterPoint b, float width, hk_Rect clip, hk_FragmentFn emit,
-                       void *user)
-{
-    const float drawn = width > 1.0f ? width : 1.0f;
-    const float thin = width < 1.0f ? width : 1.0f; /* sub-pixel hair: coverage becomes opacity */
-    const float reach = 0.5f * drawn + 0.5f;       /* beyond this distance a pixel is not covered */
-    const float dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
-    if (!(len2 > 1e-12f) || !(thin > 0.0f)) return;
-    const float inv_len2 = 1.0f / len2, inv_len = sqrtf(inv_len2);
-    /* Walk the major axis; across it, the pixels within reach of the line. */
-    const int x_major = fabsf(dx) >= fabsf(dy);
-    const float major_a = x_major ? a.x : a.y, major_b = x_major ? b.x : b.y;
-    const float d_major = x_major ? dx : dy, d_minor = x_major ? dy : dx;
-    const float minor_a = x_major ? a.y : a.x;
-    const float across = reach * sqrtf(len2) / fabsf(d_major); /* reach measured across */
-    const int lo_major = x_major ? clip.x0 : clip.y0, hi_major = x_major ? clip.x1 : clip.y1;
-    const int lo_minor = x_major ? clip.y0 : clip.x0, hi_minor = x_major ? clip.y1 : clip.x1;
-    /* Clamp in floats first: a segment far off screen must not overflow an int. */
-    const int m0 = ifloor(clampf(minf(major_a, major_b) - reach, (float)lo_major, (float)hi_major));
-    const int m1 = iceil(clampf(maxf(major_a, major_b) + reach, (float)lo_major - 1.0f, (float)hi_major - 1.0f));
-    const float slope = d_minor / d_major;
-    for (int m = m0; m <= m1; m++) {
-        const float cm = (float)m + 0.5f;
-        const float centre = minor_a + (cm - major_a) * slope;
-        const float lo = clampf(centre - across, (float)lo_minor, (float)hi_minor);
-        const float hi = clampf(centre + across, (float)lo_minor - 1.0f, (float)hi_minor - 1.0f);
-        int n0 = ifloor(lo), n1 = ifloor(hi);
-        if (n0 < lo_minor) n0 = lo_minor;
-        if (n1 > hi_minor - 1) n1 = hi_minor - 1;
-        for (int n = n0; n <= n1; n++) {
-            const float cx = x_major ? cm : (float)n + 0.5f, cy = x_major ? (float)n + 0.5f : cm;
-            const float px = cx - a.x, py = cy - a.y;
-            const float t = (px * dx + py * dy) * inv_len2;
-            if (!(t >= 0.0f && t < 1.0f)) continue;
-            const float dist = fabsf(px * dy - py * dx) * inv_len;
-            const float cover = reach - dist;
-            if (cover <= 0.0f) continue;
-            emit(user, x_major ? m : n, x_major ? n : m, t, (cover < 1.0f ? cover : 1.0f) * thin);
-        }
-    }
 }
 
 void hk_raster_triangle(const hk_RasterPoint v[3], hk_Rect clip, int supersample, hk_SampleFn emit, void *user)

@@ -53,13 +53,7 @@ typedef struct hk_Rect {
  * segment, and opacity (coverage times the sub-pixel width). */
 typedef void (*hk_FragmentFn)(void *user, int x, int y, float t, float alpha);
 
-/* Draws the segment a-b of width `width` pixels (the hair's projected diameter; at
- * least one pixel is drawn, thinner hair becomes more transparent) into `clip`. A
- * pixel belongs to the segment when its centre projects onto [0, 1) of it, so that
- * consecutive segments of a strand do not cover the same pixel twice. Coverage is a
- * box filter of the pixel against the line's width. */
-void hk_raster_segment(hk_RasterPoint a, hk_RasterPoint b, float width, hk_Rect clip, hk_FragmentFn emit,
-                       void *user);
+/* hk_raster_segment, the hair's anti-aliased segments: raster_inline.h. */
 
 /* One pixel per step along the major axis (the pixel the centre line crosses), with
  * the opacity of the strip of the given width within that column (clamped to 1): the
