@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "raster_inline.h"
 #include "render_internal.h"
 
 /* One fragment of the hair in the light's view, kept per tile until the tile's z0 is
@@ -45,18 +46,23 @@ static int hair_box(void *user, uint32_t i, hk_Rect *box)
                           lp->maps->size, box);
 }
 
-static void hair_fragment(void *user, int x, int y, float t, float alpha)
+/* Out of the fragment's path, so that the compiler inlines that into the rasteriser. */
+static __attribute__((noinline)) int grow_fragments(LightPass *lp)
+{
+    size_t cap = lp->cap ? 2 * lp->cap : 4096;
+    LightFragment *f = realloc(lp->frag, cap * sizeof *f);
+    if (!f) {
+        lp->failed = 1;
+        return 0;
+    }
+    lp->frag = f, lp->cap = cap;
+    return 1;
+}
+
+static inline __attribute__((always_inline)) void hair_fragment(void *user, int x, int y, float t, float alpha)
 {
     LightPass *lp = user;
-    if (lp->count == lp->cap) {
-        size_t cap = lp->cap ? 2 * lp->cap : 4096;
-        LightFragment *f = realloc(lp->frag, cap * sizeof *f);
-        if (!f) {
-            lp->failed = 1;
-            return;
-        }
-        lp->frag = f, lp->cap = cap;
-    }
+    if (lp->count == lp->cap && !grow_fragments(lp)) return;
     LightFragment *f = &lp->frag[lp->count++];
     f->z = lp->a.z + t * (lp->b.z - lp->a.z); /* orthographic: depth is linear */
     f->alpha = alpha;

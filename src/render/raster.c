@@ -49,29 +49,3 @@ int hk_triangle_box(const hk_RasterPoint v[3], int image_w, int image_h, hk_Rect
     b.x = maxf(v[0].x, maxf(v[1].x, v[2].x)), b.y = maxf(v[0].y, maxf(v[1].y, v[2].y));
     return hk_segment_box(a, b, 0.0f, image_w, image_h, box);
 }
-
-void hk_raster_segment_thin(hk_RasterPoint a, hk_RasterPoint b, float width, hk_Rect clip, hk_FragmentFn emit,
-                            void *user)
-{
-    const float dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
-    if (!(len2 > 1e-12f) || !(width > 0.0f)) return;
-    const int x_major = fabsf(dx) >= fabsf(dy);
-    const float major_a = x_major ? a.x : a.y, d_major = x_major ? dx : dy;
-    const float minor_a = x_major ? a.y : a.x, d_minor = x_major ? dy : dx;
-    /* The strip of width w crosses each column over a length sqrt(len2) / |d_major|. */
-    float alpha = width * sqrtf(len2) / fabsf(d_major);
-    if (alpha > 1.0f) alpha = 1.0f;
-    const int lo_major = x_major ? clip.x0 : clip.y0, hi_major = x_major ? clip.x1 : clip.y1;
-    const int lo_minor = x_major ? clip.y0 : clip.x0, hi_minor = x_major ? clip.y1 : clip.x1;
-    const int m0 = ifloor(clampf(minf(major_a, major_a + d_major) - 0.5f, (float)lo_major, (float)hi_major));
-    const int m1 = iceil(clampf(maxf(major_a, major_a + d_major), (float)lo_major - 1.0f, (float)hi_major - 1.0f));
-    for (int m = m0; m <= m1; m++) {
-        const float t = ((float)m + 0.5f - major_a) / d_major;
-        if (!(t >= 0.0f && t < 1.0f)) continue;
-        const float minor = minor_a + t * d_minor;
-        if (!(minor >= (float)lo_minor && minor < (float)hi_minor)) continue;
-        const int n = ifloor(minor);
-        if (n < lo_minor || n >= hi_minor) continue;
-        emit(user, x_major ? m : n, x_major ? n : m, t, alpha);
-    }
-}

@@ -1,7 +1,7 @@
-/* The hair segment rasteriser, inline: it runs per candidate pixel and calls back per
- * fragment, and where the callback is a known static function (tile_hair.c) the
- * compiler folds it into the loop; through raster.c's pointer call it cost a
- * function call per fragment. The helpers are shared with raster.c. */
+/* The hair segment rasterisers, inline: they run per candidate pixel and call back per
+ * fragment, and where the callback is a known static function (tile_hair.c,
+ * light_maps.c) the compiler folds it into the loop; through raster.c's pointer call
+ * it cost a function call per fragment. The helpers are shared with raster.c. */
 #ifndef HK_RASTER_INLINE_H
 #define HK_RASTER_INLINE_H
 
@@ -31,8 +31,8 @@ static inline int iceil(float v)
  * pixel belongs to the segment when its centre projects onto [0, 1) of it, so that
  * consecutive segments of a strand do not cover the same pixel twice. Coverage is a
  * box filter of the pixel against the line's width. */
-static inline void hk_raster_segment(hk_RasterPoint a, hk_RasterPoint b, float width, hk_Rect clip, hk_FragmentFn emit,
-                       void *user)
+static inline void hk_raster_segment(hk_RasterPoint a, hk_RasterPoint b, float width, hk_Rect clip,
+                                     hk_FragmentFn emit, void *user)
 {
     const float drawn = width > 1.0f ? width : 1.0f;
     const float thin = width < 1.0f ? width : 1.0f; /* sub-pixel hair: coverage becomes opacity */
@@ -70,6 +70,36 @@ static inline void hk_raster_segment(hk_RasterPoint a, hk_RasterPoint b, float w
             if (cover <= 0.0f) continue;
             emit(user, x_major ? m : n, x_major ? n : m, t, (cover < 1.0f ? cover : 1.0f) * thin);
         }
+    }
+}
+
+
+/* One pixel per step along the major axis (the pixel the centre line crosses), with
+ * the opacity of the strip of the given width within that column (clamped to 1): the
+ * segment's total opacity at half the fragments, for the light's opacity map. */
+static inline void hk_raster_segment_thin(hk_RasterPoint a, hk_RasterPoint b, float width, hk_Rect clip,
+                                          hk_FragmentFn emit, void *user)
+{
+    const float dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
+    if (!(len2 > 1e-12f) || !(width > 0.0f)) return;
+    const int x_major = fabsf(dx) >= fabsf(dy);
+    const float major_a = x_major ? a.x : a.y, d_major = x_major ? dx : dy;
+    const float minor_a = x_major ? a.y : a.x, d_minor = x_major ? dy : dx;
+    /* The strip of width w crosses each column over a length sqrt(len2) / |d_major|. */
+    float alpha = width * sqrtf(len2) / fabsf(d_major);
+    if (alpha > 1.0f) alpha = 1.0f;
+    const int lo_major = x_major ? clip.x0 : clip.y0, hi_major = x_major ? clip.x1 : clip.y1;
+    const int lo_minor = x_major ? clip.y0 : clip.x0, hi_minor = x_major ? clip.y1 : clip.x1;
+    const int m0 = ifloor(clampf(minf(major_a, major_a + d_major) - 0.5f, (float)lo_major, (float)hi_major));
+    const int m1 = iceil(clampf(maxf(major_a, major_a + d_major), (float)lo_major - 1.0f, (float)hi_major - 1.0f));
+    for (int m = m0; m <= m1; m++) {
+        const float t = ((float)m + 0.5f - major_a) / d_major;
+        if (!(t >= 0.0f && t < 1.0f)) continue;
+        const float minor = minor_a + t * d_minor;
+        if (!(minor >= (float)lo_minor && minor < (float)hi_minor)) continue;
+        const int n = ifloor(minor);
+        if (n < lo_minor || n >= hi_minor) continue;
+        emit(user, x_major ? m : n, x_major ? n : m, t, alpha);
     }
 }
 

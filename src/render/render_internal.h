@@ -53,13 +53,8 @@ typedef struct hk_Rect {
  * segment, and opacity (coverage times the sub-pixel width). */
 typedef void (*hk_FragmentFn)(void *user, int x, int y, float t, float alpha);
 
-/* hk_raster_segment, the hair's anti-aliased segments: raster_inline.h. */
+/* hk_raster_segment and hk_raster_segment_thin, the hair's segments: raster_inline.h. */
 
-/* One pixel per step along the major axis (the pixel the centre line crosses), with
- * the opacity of the strip of the given width within that column (clamped to 1): the
- * segment's total opacity at half the fragments, for the light's opacity map. */
-void hk_raster_segment_thin(hk_RasterPoint a, hk_RasterPoint b, float width, hk_Rect clip, hk_FragmentFn emit,
-                            void *user);
 
 /* Pixel bounding box of a segment drawn by hk_raster_segment, clipped to the image;
  * 0 when it is empty. */
