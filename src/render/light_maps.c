@@ -46,23 +46,17 @@ static int hair_box(void *user, uint32_t i, hk_Rect *box)
                           lp->maps->size, box);
 }
 
-/* Out of the fragment's path, so that the compiler inlines that into the rasteriser. */
-static __attribute__((noinline)) int grow_fragments(LightPass *lp)
-{
-    size_t cap = lp->cap ? 2 * lp->cap : 4096;
-    LightFragment *f = realloc(lp->frag, cap * sizeof *f);
-    if (!f) {
-        lp->failed = 1;
-        return 0;
-    }
-    lp->frag = f, lp->cap = cap;
-    return 1;
-}
-
 static inline __attribute__((always_inline)) void hair_fragment(void *user, int x, int y, float t, float alpha)
 {
     LightPass *lp = user;
-    if (lp->count == lp->cap && !grow_fragments(lp)) return;
+    if (lp->count == lp->cap) {
+        LightFragment *grown = hk_grow_fragments(lp->frag, &lp->cap, sizeof *grown);
+        if (!grown) {
+            lp->failed = 1;
+            return;
+        }
+        lp->frag = grown;
+    }
     LightFragment *f = &lp->frag[lp->count++];
     f->z = lp->a.z + t * (lp->b.z - lp->a.z); /* orthographic: depth is linear */
     f->alpha = alpha;

@@ -1,6 +1,8 @@
 /* Anti-aliased segments for hair (camera and light views) and filled triangles (the
- * head), with the pixel boxes the tile bins (tile_bins.c) sort them by. */
-#include "render_internal.h"
+ * head), with the pixel boxes the tile bins (tile_bins.c) sort them by, and the
+ * growth of the fragment buffers the segments are drawn into. */
+#include <stdlib.h>
+
 #include "raster_inline.h"
 
 int hk_segment_box(hk_RasterPoint a, hk_RasterPoint b, float width, int image_w, int image_h, hk_Rect *box)
@@ -48,4 +50,12 @@ int hk_triangle_box(const hk_RasterPoint v[3], int image_w, int image_h, hk_Rect
     a.x = minf(v[0].x, minf(v[1].x, v[2].x)), a.y = minf(v[0].y, minf(v[1].y, v[2].y));
     b.x = maxf(v[0].x, maxf(v[1].x, v[2].x)), b.y = maxf(v[0].y, maxf(v[1].y, v[2].y));
     return hk_segment_box(a, b, 0.0f, image_w, image_h, box);
+}
+
+__attribute__((noinline)) void *hk_grow_fragments(void *array, size_t *cap, size_t size)
+{
+    const size_t n = *cap ? 2 * *cap : 4096;
+    void *grown = realloc(array, n * size);
+    if (grown) *cap = n;
+    return grown;
 }

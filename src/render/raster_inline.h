@@ -7,6 +7,11 @@
 
 #include "render_internal.h"
 
+/* A fragment buffer of *cap items of `size` bytes reallocated to twice as many (at
+ * least 4096); NULL when out of memory (the buffer is kept). Out of line, so that the
+ * fragment callbacks that call it stay small enough to fold into the rasterisers. */
+void *hk_grow_fragments(void *array, size_t *cap, size_t size);
+
 static inline float clampf(float v, float lo, float hi) { return v < lo ? lo : (v > hi ? hi : v); }
 /* min and max without libm calls (fminf and fmaxf are not inlined: they must handle
  * NaN, and the renderer has refused non-finite points before drawing). */

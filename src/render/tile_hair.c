@@ -107,19 +107,6 @@ static int reserve_segments(hk_TileHair *w, size_t n)
     return 1;
 }
 
-/* Out of the fragment's path, so that the compiler inlines that into the rasteriser. */
-static __attribute__((noinline)) int grow_fragments(hk_TileHair *w)
-{
-    size_t cap = w->cap ? 2 * w->cap : 4096;
-    Fragment *f = realloc(w->frag, cap * sizeof *f);
-    if (!f) {
-        w->failed = 1;
-        return 0;
-    }
-    w->frag = f, w->cap = cap;
-    return 1;
-}
-
 static inline __attribute__((always_inline)) void hair_fragment(void *user, int x, int y, float t, float alpha)
 {
     hk_TileHair *w = user;
@@ -128,7 +115,14 @@ static inline __attribute__((always_inline)) void hair_fragment(void *user, int 
     const Segment *s = w->current;
     const float z = 1.0f / ((1.0f - t) / s->a.z + t / s->b.z); /* perspective-correct */
     if (z >= w->head->cutoff[p]) return;
-    if (w->count == w->cap && !grow_fragments(w)) return;
+    if (w->count == w->cap) {
+        Fragment *grown = hk_grow_fragments(w->frag, &w->cap, sizeof *grown);
+        if (!grown) {
+            w->failed = 1;
+            return;
+        }
+        w->frag = grown;
+    }
     const hk_HairFile *h = w->hair;
     if (h->transparency)
         alpha *= 1.0f - ((1.0f - t) * h->transparency[s->first] + t * h->transparency[s->first + 1]);
