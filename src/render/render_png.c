@@ -58,7 +58,9 @@ hk_Status hk_render_write_png(const hk_Canvas *image, const char *path, hk_Error
     if (!bytes) return HK_ERR_NOMEM;
     float at[256];
     byte_thresholds(at);
-    for (size_t i = 0; i < n; i++) bytes[i] = srgb_byte_from(at, image->rgb[i]);
+    /* In parallel: each byte depends on its value alone. */
+#pragma omp parallel for schedule(static)
+    for (long i = 0; i < (long)n; i++) bytes[i] = srgb_byte_from(at, image->rgb[i]);
     hk_Status st = hk_png_write_rgb8(path, image->width, image->height, bytes, err);
     hk_free(bytes);
     return st;
