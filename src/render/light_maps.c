@@ -70,8 +70,11 @@ static void opacity_tile(LightPass *lp, const hk_TileBins *bins, int tile)
     hk_LightMaps *m = lp->maps;
     const hk_Rect r = hk_tile_rect(bins, tile, m->size, m->size);
     lp->count = 0;
-    for (uint32_t k = bins->start[tile]; k < bins->start[tile + 1]; k++) {
+    const uint32_t end = bins->start[tile + 1];
+    for (uint32_t k = bins->start[tile]; k < end; k++) {
         const uint32_t i = bins->items[k];
+        /* The tile's segments are scattered over the projected points: fetch ahead. */
+        if (k + 16 < end) __builtin_prefetch(&lp->proj[bins->items[k + 16]]);
         lp->a = lp->proj[i], lp->b = lp->proj[i + 1];
         hk_raster_segment_thin(lp->a, lp->b, segment_width(lp->scene, lp->proj, i), r, hair_fragment, lp);
     }
