@@ -10,6 +10,7 @@
 #include "hk_test.h"
 #include "hairkit/image.h"
 #include "hairkit/render.h"
+#include "render/raster_inline.h"
 #include "render/render_internal.h"
 
 static const double PI = 3.14159265358979323846;

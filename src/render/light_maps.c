@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "raster_inline.h"
 #include "render_internal.h"
 
 /* One fragment of the hair in the light's view, kept per tile until the tile's z0 is
@@ -45,17 +46,16 @@ static int hair_box(void *user, uint32_t i, hk_Rect *box)
                           lp->maps->size, box);
 }
 
-static void hair_fragment(void *user, int x, int y, float t, float alpha)
+static inline __attribute__((always_inline)) void hair_fragment(void *user, int x, int y, float t, float alpha)
 {
     LightPass *lp = user;
     if (lp->count == lp->cap) {
-        size_t cap = lp->cap ? 2 * lp->cap : 4096;
-        LightFragment *f = realloc(lp->frag, cap * sizeof *f);
-        if (!f) {
+        LightFragment *grown = hk_grow_fragments(lp->frag, &lp->cap, sizeof *grown);
+        if (!grown) {
             lp->failed = 1;
             return;
         }
-        lp->frag = f, lp->cap = cap;
+        lp->frag = grown;
     }
     LightFragment *f = &lp->frag[lp->count++];
     f->z = lp->a.z + t * (lp->b.z - lp->a.z); /* orthographic: depth is linear */
@@ -70,8 +70,11 @@ static void opacity_tile(LightPass *lp, const hk_TileBins *bins, int tile)
     hk_LightMaps *m = lp->maps;
     const hk_Rect r = hk_tile_rect(bins, tile, m->size, m->size);
     lp->count = 0;
-    for (uint32_t k = bins->start[tile]; k < bins->start[tile + 1]; k++) {
+    const uint32_t end = bins->start[tile + 1];
+    for (uint32_t k = bins->start[tile]; k < end; k++) {
         const uint32_t i = bins->items[k];
+        /* The tile's segments are scattered over the projected points: fetch ahead. */
+        if (k + 16 < end) __builtin_prefetch(&lp->proj[bins->items[k + 16]]);
         lp->a = lp->proj[i], lp->b = lp->proj[i + 1];
         hk_raster_segment_thin(lp->a, lp->b, segment_width(lp->scene, lp->proj, i), r, hair_fragment, lp);
     }

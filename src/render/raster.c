@@ -1,29 +1,9 @@
-/* Anti-aliased segments for hair (camera and light views), and the tile bins that
- * let the renderer work on 32 x 32 pixel tiles in parallel. */
-#include <string.h>
+/* Anti-aliased segments for hair (camera and light views) and filled triangles (the
+ * head), with the pixel boxes the tile bins (tile_bins.c) sort them by, and the
+ * growth of the fragment buffers the segments are drawn into. */
+#include <stdlib.h>
 
-#include <omp.h>
-
-#include "render_internal.h"
-
-static inline float clampf(float v, float lo, float hi) { return v < lo ? lo : (v > hi ? hi : v); }
-/* min and max without libm calls (fminf and fmaxf are not inlined: they must handle
- * NaN, and the renderer has refused non-finite points before drawing). */
-static inline float minf(float a, float b) { return a < b ? a : b; }
-static inline float maxf(float a, float b) { return a > b ? a : b; }
-
-/* floor and ceil to int for |v| < 2^31 without a libm call (x86-64's baseline has no
- * rounding instruction; these run per pixel). */
-static inline int ifloor(float v)
-{
-    const int i = (int)v;
-    return i - (v < (float)i);
-}
-static inline int iceil(float v)
-{
-    const int i = (int)v;
-    return i + (v > (float)i);
-}
+#include "raster_inline.h"
 
 int hk_segment_box(hk_RasterPoint a, hk_RasterPoint b, float width, int image_w, int image_h, hk_Rect *box)
 {
@@ -37,128 +17,6 @@ int hk_segment_box(hk_RasterPoint a, hk_RasterPoint b, float width, int image_w,
     box->y0 = ifloor(clampf(ya, 0.0f, (float)image_h));
     box->y1 = iceil(clampf(yb + 1.0f, 0.0f, (float)image_h));
     return box->x0 < box->x1 && box->y0 < box->y1;
-}
-
-void hk_raster_segment(hk_RasterPoint a, hk_RasterPoint b, float width, hk_Rect clip, hk_FragmentFn emit,
-                       void *user)
-{
-    const float drawn = width > 1.0f ? width : 1.0f;
-    const float thin = width < 1.0f ? width : 1.0f; /* sub-pixel hair: coverage becomes opacity */
-    const float reach = 0.5f * drawn + 0.5f;       /* beyond this distance a pixel is not covered */
-    const float dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
-    if (!(len2 > 1e-12f) || !(thin > 0.0f)) return;
-    const float inv_len2 = 1.0f / len2, inv_len = sqrtf(inv_len2);
-    /* Walk the major axis; across it, the pixels within reach of the line. */
-    const int x_major = fabsf(dx) >= fabsf(dy);
-    const float major_a = x_major ? a.x : a.y, major_b = x_major ? b.x : b.y;
-    const float d_major = x_major ? dx : dy, d_minor = x_major ? dy : dx;
-    const float minor_a = x_major ? a.y : a.x;
-    const float across = reach * sqrtf(len2) / fabsf(d_major); /* reach measured across */
-    const int lo_major = x_major ? clip.x0 : clip.y0, hi_major = x_major ? clip.x1 : clip.y1;
-    const int lo_minor = x_major ? clip.y0 : clip.x0, hi_minor = x_major ? clip.y1 : clip.x1;
-    /* Clamp in floats first: a segment far off screen must not overflow an int. */
-    const int m0 = ifloor(clampf(minf(major_a, major_b) - reach, (float)lo_major, (float)hi_major));
-    const int m1 = iceil(clampf(maxf(major_a, major_b) + reach, (float)lo_major - 1.0f, (float)hi_major - 1.0f));
-    const float slope = d_minor / d_major;
-    for (int m = m0; m <= m1; m++) {
-        const float cm = (float)m + 0.5f;
-        const float centre = minor_a + (cm - major_a) * slope;
-        const float lo = clampf(centre - across, (float)lo_minor, (float)hi_minor);
-        const float hi = clampf(centre + across, (float)lo_minor - 1.0f, (float)hi_minor - 1.0f);
-        int n0 = ifloor(lo), n1 = ifloor(hi);
-        if (n0 < lo_minor) n0 = lo_minor;
-        if (n1 > hi_minor - 1) n1 = hi_minor - 1;
-        for (int n = n0; n <= n1; n++) {
-            const float cx = x_major ? cm : (float)n + 0.5f, cy = x_major ? (float)n + 0.5f : cm;
-            const float px = cx - a.x, py = cy - a.y;
-            const float t = (px * dx + py * dy) * inv_len2;
-            if (!(t >= 0.0f && t < 1.0f)) continue;
-            const float dist = fabsf(px * dy - py * dx) * inv_len;
-            const float cover = reach - dist;
-            if (cover <= 0.0f) continue;
-            emit(user, x_major ? m : n, x_major ? n : m, t, (cover < 1.0f ? cover : 1.0f) * thin);
-        }
-    }
-}
-
-/* One pass over the items, one contiguous range per thread: count (fill 0) each
- * range's entries per tile into at[range][tile], or (fill 1) write them from the
- * offsets in at[range][tile]. */
-static void bin_ranges(uint32_t item_count, hk_BoxFn box_of, void *user, hk_TileBins *bins, int ranges, uint64_t *at,
-                       int fill)
-{
-    const size_t tiles = (size_t)bins->tiles_x * (size_t)bins->tiles_y;
-#pragma omp parallel for schedule(static, 1) num_threads(ranges)
-    for (int g = 0; g < ranges; g++) {
-        const uint32_t lo = (uint32_t)((uint64_t)item_count * g / ranges);
-        const uint32_t hi = (uint32_t)((uint64_t)item_count * (g + 1) / ranges);
-        uint64_t *c = at + (size_t)g * tiles;
-        for (uint32_t i = lo; i < hi; i++) {
-            hk_Rect r;
-            if (!box_of(user, i, &r)) continue;
-            for (int ty = r.y0 / HK_TILE; ty <= (r.y1 - 1) / HK_TILE; ty++)
-                for (int tx = r.x0 / HK_TILE; tx <= (r.x1 - 1) / HK_TILE; tx++) {
-                    uint64_t *slot = &c[(size_t)ty * bins->tiles_x + tx];
-                    if (fill) bins->items[(*slot)++] = i;
-                    else (*slot)++;
-                }
-        }
-    }
-}
-
-hk_Status hk_tile_bins_build(uint32_t item_count, hk_BoxFn box_of, void *user, int width, int height,
-                             hk_TileBins *bins, hk_Error *err)
-{
-    memset(bins, 0, sizeof *bins);
-    bins->tiles_x = (width + HK_TILE - 1) / HK_TILE;
-    bins->tiles_y = (height + HK_TILE - 1) / HK_TILE;
-    const size_t tiles = (size_t)bins->tiles_x * (size_t)bins->tiles_y;
-    /* The items are cut into one contiguous range per thread. Each range is counted
-     * per tile, the counts are laid out tile by tile and range by range, and each
-     * range fills its own places: the bins hold the items in item order whatever the
-     * number of threads. */
-    const int ranges = omp_get_max_threads();
-    bins->start = hk_calloc_array(tiles + 1, sizeof(uint32_t), err);
-    uint64_t *count = hk_calloc_array((size_t)ranges * tiles, sizeof(uint64_t), err);
-    if (!bins->start || !count) {
-        hk_free(count);
-        hk_tile_bins_free(bins);
-        return HK_ERR_NOMEM;
-    }
-    bin_ranges(item_count, box_of, user, bins, ranges, count, 0);
-    /* Offsets: count[g][t] becomes where range g starts writing in tile t. */
-    uint64_t total = 0;
-    for (size_t t = 0; t < tiles; t++) {
-        bins->start[t] = (uint32_t)(total < UINT32_MAX ? total : UINT32_MAX);
-        for (int g = 0; g < ranges; g++) {
-            const uint64_t n = count[(size_t)g * tiles + t];
-            count[(size_t)g * tiles + t] = total;
-            total += n;
-        }
-    }
-    if (total > UINT32_MAX - 1) {
-        hk_free(count);
-        hk_tile_bins_free(bins);
-        return hk_error_set(err, HK_ERR_NOMEM, "too many segments for one picture (%llu tile entries)",
-                            (unsigned long long)total);
-    }
-    bins->start[tiles] = (uint32_t)total;
-    bins->items = hk_alloc_array(total ? (size_t)total : 1, sizeof(uint32_t), err);
-    if (!bins->items) {
-        hk_free(count);
-        hk_tile_bins_free(bins);
-        return HK_ERR_NOMEM;
-    }
-    bin_ranges(item_count, box_of, user, bins, ranges, count, 1);
-    hk_free(count);
-    return HK_OK;
-}
-
-void hk_tile_bins_free(hk_TileBins *bins)
-{
-    hk_free(bins->start);
-    hk_free(bins->items);
-    memset(bins, 0, sizeof *bins);
 }
 
 void hk_raster_triangle(const hk_RasterPoint v[3], hk_Rect clip, int supersample, hk_SampleFn emit, void *user)
@@ -194,28 +52,10 @@ int hk_triangle_box(const hk_RasterPoint v[3], int image_w, int image_h, hk_Rect
     return hk_segment_box(a, b, 0.0f, image_w, image_h, box);
 }
 
-void hk_raster_segment_thin(hk_RasterPoint a, hk_RasterPoint b, float width, hk_Rect clip, hk_FragmentFn emit,
-                            void *user)
+__attribute__((noinline)) void *hk_grow_fragments(void *array, size_t *cap, size_t size)
 {
-    const float dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
-    if (!(len2 > 1e-12f) || !(width > 0.0f)) return;
-    const int x_major = fabsf(dx) >= fabsf(dy);
-    const float major_a = x_major ? a.x : a.y, d_major = x_major ? dx : dy;
-    const float minor_a = x_major ? a.y : a.x, d_minor = x_major ? dy : dx;
-    /* The strip of width w crosses each column over a length sqrt(len2) / |d_major|. */
-    float alpha = width * sqrtf(len2) / fabsf(d_major);
-    if (alpha > 1.0f) alpha = 1.0f;
-    const int lo_major = x_major ? clip.x0 : clip.y0, hi_major = x_major ? clip.x1 : clip.y1;
-    const int lo_minor = x_major ? clip.y0 : clip.x0, hi_minor = x_major ? clip.y1 : clip.x1;
-    const int m0 = ifloor(clampf(minf(major_a, major_a + d_major) - 0.5f, (float)lo_major, (float)hi_major));
-    const int m1 = iceil(clampf(maxf(major_a, major_a + d_major), (float)lo_major - 1.0f, (float)hi_major - 1.0f));
-    for (int m = m0; m <= m1; m++) {
-        const float t = ((float)m + 0.5f - major_a) / d_major;
-        if (!(t >= 0.0f && t < 1.0f)) continue;
-        const float minor = minor_a + t * d_minor;
-        if (!(minor >= (float)lo_minor && minor < (float)hi_minor)) continue;
-        const int n = ifloor(minor);
-        if (n < lo_minor || n >= hi_minor) continue;
-        emit(user, x_major ? m : n, x_major ? n : m, t, alpha);
-    }
+    const size_t n = *cap ? 2 * *cap : 4096;
+    void *grown = realloc(array, n * size);
+    if (grown) *cap = n;
+    return grown;
 }

@@ -53,19 +53,8 @@ typedef struct hk_Rect {
  * segment, and opacity (coverage times the sub-pixel width). */
 typedef void (*hk_FragmentFn)(void *user, int x, int y, float t, float alpha);
 
-/* Draws the segment a-b of width `width` pixels (the hair's projected diameter; at
- * least one pixel is drawn, thinner hair becomes more transparent) into `clip`. A
- * pixel belongs to the segment when its centre projects onto [0, 1) of it, so that
- * consecutive segments of a strand do not cover the same pixel twice. Coverage is a
- * box filter of the pixel against the line's width. */
-void hk_raster_segment(hk_RasterPoint a, hk_RasterPoint b, float width, hk_Rect clip, hk_FragmentFn emit,
-                       void *user);
+/* hk_raster_segment and hk_raster_segment_thin, the hair's segments: raster_inline.h. */
 
-/* One pixel per step along the major axis (the pixel the centre line crosses), with
- * the opacity of the strip of the given width within that column (clamped to 1): the
- * segment's total opacity at half the fragments, for the light's opacity map. */
-void hk_raster_segment_thin(hk_RasterPoint a, hk_RasterPoint b, float width, hk_Rect clip, hk_FragmentFn emit,
-                            void *user);
 
 /* Pixel bounding box of a segment drawn by hk_raster_segment, clipped to the image;
  * 0 when it is empty. */
@@ -88,13 +77,20 @@ void hk_depth_order(uint32_t n, const float *depth, uint32_t *order, uint32_t *w
  * the full order, the same as any sort of the whole keys. tmp holds n keys. */
 void hk_sort_by_high_bits(uint64_t *keys, uint32_t n, uint64_t *tmp);
 
+/* An item's pixel box [x0, x1) x [y0, y1) (sides are at most 16384 pixels); empty
+ * when x1 <= x0. */
+typedef struct hk_TileBox {
+    uint16_t x0, y0, x1, y1;
+} hk_TileBox;
+
 /* Items (segments, triangles) sorted into the tiles their box touches, in item order
  * within each tile (so that every tile sees them in the same order whatever the
- * thread count). */
+ * thread count) (tile_bins.c). */
 typedef struct hk_TileBins {
     int tiles_x, tiles_y;
     uint32_t *start; /* tiles_x * tiles_y + 1 offsets into items */
     uint32_t *items;
+    hk_TileBox *boxes; /* every item's box, as box_of gave it */
 } hk_TileBins;
 
 typedef int (*hk_BoxFn)(void *user, uint32_t item, hk_Rect *box);

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "raster_inline.h"
 #include "render_internal.h"
 
 #define NPX (HK_TILE * HK_TILE)
@@ -29,7 +30,6 @@ typedef struct Fragment {
 /* A segment of the tile, gathered so that drawing it touches only this record. */
 typedef struct Segment {
     hk_RasterPoint a, b;
-    float width;
     uint32_t first; /* index of its first point */
     float ca[3], cb[3]; /* colours, fetched only when the segment is drawn */
 } Segment;
@@ -60,6 +60,7 @@ struct hk_TileHair {
     size_t keys_cap;
     /* saturation */
     uint32_t pending[NPX];
+    float pending_near[NPX]; /* nearest pending fragment of each pixel (+inf: none) */
     float through[NPX];
     uint8_t saturated[NPX], touched[NPX];
     uint16_t touched_list[NPX];
@@ -106,7 +107,7 @@ static int reserve_segments(hk_TileHair *w, size_t n)
     return 1;
 }
 
-static void hair_fragment(void *user, int x, int y, float t, float alpha)
+static inline __attribute__((always_inline)) void hair_fragment(void *user, int x, int y, float t, float alpha)
 {
     hk_TileHair *w = user;
     const uint32_t p = (uint32_t)((y - w->r.y0) * HK_TILE + (x - w->r.x0));
@@ -115,13 +116,12 @@ static void hair_fragment(void *user, int x, int y, float t, float alpha)
     const float z = 1.0f / ((1.0f - t) / s->a.z + t / s->b.z); /* perspective-correct */
     if (z >= w->head->cutoff[p]) return;
     if (w->count == w->cap) {
-        size_t cap = w->cap ? 2 * w->cap : 4096;
-        Fragment *f = realloc(w->frag, cap * sizeof *f);
-        if (!f) {
+        Fragment *grown = hk_grow_fragments(w->frag, &w->cap, sizeof *grown);
+        if (!grown) {
             w->failed = 1;
             return;
         }
-        w->frag = f, w->cap = cap;
+        w->frag = grown;
     }
     const hk_HairFile *h = w->hair;
     if (h->transparency)
@@ -133,6 +133,7 @@ static void hair_fragment(void *user, int x, int y, float t, float alpha)
     f->b = s->ca[2] + t * (s->cb[2] - s->ca[2]);
     f->next = w->pending[p];
     w->pending[p] = (uint32_t)w->count++;
+    if (z < w->pending_near[p]) w->pending_near[p] = z;
     if (!w->touched[p]) w->touched[p] = 1, w->touched_list[w->touched_count++] = (uint16_t)p;
 }
 
@@ -160,31 +161,38 @@ static void settle(hk_TileHair *w, float front)
     }
     for (int k = 0; k < w->touched_count; k++) {
         const int p = w->touched_list[k];
+        w->touched[p] = 0;
+        /* Nothing to fold: walking the list (scattered over the fragments, so it waits
+         * on memory) would change nothing. */
+        if (w->pending_near[p] > front) continue;
         uint32_t *link = &w->pending[p];
+        float nearest = HUGE_VALF;
         while (*link != NONE) {
             Fragment *f = &w->frag[*link];
             if (f->z <= front) {
                 w->through[p] *= 1.0f - f->a;
                 *link = f->next;
             } else {
+                if (f->z < nearest) nearest = f->z;
                 link = &f->next;
             }
         }
+        w->pending_near[p] = nearest;
         if (w->through[p] < SATURATED) close_pixel(w, p);
-        w->touched[p] = 0;
     }
     w->touched_count = 0;
 }
 
-/* The blocks of the tile under the segment's box; 0 when it misses the tile. */
-static int segment_blocks(const hk_TileHair *w, const Segment *s, Blocks *out)
+/* The blocks of the tile under a segment's box (the bins' box, which touches the
+ * tile). */
+static Blocks segment_blocks(const hk_TileHair *w, hk_TileBox b)
 {
-    hk_Rect b;
-    if (!hk_segment_box(s->a, s->b, s->width, w->r.x1, w->r.y1, &b) || b.x1 <= w->r.x0 || b.y1 <= w->r.y0) return 0;
-    out->x0 = (uint8_t)((b.x0 > w->r.x0 ? b.x0 - w->r.x0 : 0) / BLOCK);
-    out->y0 = (uint8_t)((b.y0 > w->r.y0 ? b.y0 - w->r.y0 : 0) / BLOCK);
-    out->x1 = (uint8_t)((b.x1 - 1 - w->r.x0) / BLOCK), out->y1 = (uint8_t)((b.y1 - 1 - w->r.y0) / BLOCK);
-    return 1;
+    const int x1 = b.x1 < w->r.x1 ? b.x1 : w->r.x1, y1 = b.y1 < w->r.y1 ? b.y1 : w->r.y1;
+    Blocks out;
+    out.x0 = (uint8_t)((b.x0 > w->r.x0 ? b.x0 - w->r.x0 : 0) / BLOCK);
+    out.y0 = (uint8_t)((b.y0 > w->r.y0 ? b.y0 - w->r.y0 : 0) / BLOCK);
+    out.x1 = (uint8_t)((x1 - 1 - w->r.x0) / BLOCK), out.y1 = (uint8_t)((y1 - 1 - w->r.y0) / BLOCK);
+    return out;
 }
 
 /* Whether every block under the segment is saturated. */
@@ -257,10 +265,10 @@ static int composite(hk_TileHair *w, hk_Canvas *image)
     return most;
 }
 
-static float segment_width(const hk_Scene *sc, const hk_RasterPoint *proj, uint32_t i)
+static float segment_width(const hk_Scene *sc, const Segment *s)
 {
-    return (float)(0.5 * (hk_hair_thickness_at(sc, i) * proj[i].px_per_unit +
-                          hk_hair_thickness_at(sc, i + 1) * proj[i + 1].px_per_unit));
+    return (float)(0.5 * (hk_hair_thickness_at(sc, s->first) * s->a.px_per_unit +
+                          hk_hair_thickness_at(sc, s->first + 1) * s->b.px_per_unit));
 }
 
 int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_TileHead *head, hk_Canvas *image,
@@ -271,7 +279,10 @@ int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_Tile
     w->r = hk_tile_rect(bins, tile, sc->opt->width, sc->opt->height);
     w->head = head, w->hair = sc->hair;
     w->count = 0, w->failed = 0, w->touched_count = 0;
-    for (int p = 0; p < NPX; p++) w->pending[p] = NONE, w->through[p] = 1.0f, w->saturated[p] = 0, w->touched[p] = 0;
+    for (int p = 0; p < NPX; p++) {
+        w->pending[p] = NONE, w->pending_near[p] = HUGE_VALF;
+        w->through[p] = 1.0f, w->saturated[p] = 0, w->touched[p] = 0;
+    }
     for (int b = 0; b < BLOCKS * BLOCKS; b++) w->block_open[b] = 0;
     for (int y = w->r.y0; y < w->r.y1; y++)
         for (int x = w->r.x0; x < w->r.x1; x++)
@@ -295,17 +306,24 @@ int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_Tile
         const uint32_t i = items[k];
         /* The tile's segments are scattered over the projected points: fetch ahead, the
          * gathering otherwise waits on memory. */
-        if (k + 16 < total) __builtin_prefetch(&in->hair_proj[items[k + 16]]);
+        if (k + 16 < total) {
+            __builtin_prefetch(&in->hair_proj[items[k + 16]]);
+            __builtin_prefetch(&bins->boxes[items[k + 16]]);
+        }
         Segment *s = &w->seg[n];
         s->a = in->hair_proj[i], s->b = in->hair_proj[i + 1];
-        s->width = segment_width(sc, in->hair_proj, i);
-        if (!segment_blocks(w, s, &w->blocks[n])) continue;
         s->first = i;
+        w->blocks[n] = segment_blocks(w, bins->boxes[i]);
         w->near[n++] = fminf(s->a.z, s->b.z);
     }
     hk_depth_order(n, w->near, w->order, w->sort_work);
     for (uint32_t k = 0; k < n && !w->failed; k++) {
         const uint32_t j = w->order[k];
+        /* Depth order scatters the reads over the gathered segments: fetch ahead. */
+        if (k + 8 < n) {
+            __builtin_prefetch(&w->blocks[w->order[k + 8]]);
+            __builtin_prefetch(&w->seg[w->order[k + 8]]);
+        }
         if (k % SETTLE_BATCH == 0) {
             settle(w, w->near[j]);
             int open = 0;
@@ -317,7 +335,7 @@ int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_Tile
         hk_hair_shader_get(in->shader, s->first, s->ca);
         hk_hair_shader_get(in->shader, s->first + 1, s->cb);
         w->current = s;
-        hk_raster_segment(s->a, s->b, s->width, w->r, hair_fragment, w);
+        hk_raster_segment(s->a, s->b, segment_width(sc, s), w->r, hair_fragment, w);
     }
     if (w->failed) return 0;
     *fragments += (long long)w->count;

@@ -1,0 +1,111 @@
+/* The hair segment rasterisers, inline: they run per candidate pixel and call back per
+ * fragment, and where the callback is a known static function (tile_hair.c,
+ * light_maps.c) the compiler folds it into the loop; through raster.c's pointer call
+ * it cost a function call per fragment. The helpers are shared with raster.c. */
+#ifndef HK_RASTER_INLINE_H
+#define HK_RASTER_INLINE_H
+
+#include "render_internal.h"
+
+/* A fragment buffer of *cap items of `size` bytes reallocated to twice as many (at
+ * least 4096); NULL when out of memory (the buffer is kept). Out of line, so that the
+ * fragment callbacks that call it stay small enough to fold into the rasterisers. */
+void *hk_grow_fragments(void *array, size_t *cap, size_t size);
+
+static inline float clampf(float v, float lo, float hi) { return v < lo ? lo : (v > hi ? hi : v); }
+/* min and max without libm calls (fminf and fmaxf are not inlined: they must handle
+ * NaN, and the renderer has refused non-finite points before drawing). */
+static inline float minf(float a, float b) { return a < b ? a : b; }
+static inline float maxf(float a, float b) { return a > b ? a : b; }
+
+/* floor and ceil to int for |v| < 2^31 without a libm call (x86-64's baseline has no
+ * rounding instruction; these run per pixel). */
+static inline int ifloor(float v)
+{
+    const int i = (int)v;
+    return i - (v < (float)i);
+}
+static inline int iceil(float v)
+{
+    const int i = (int)v;
+    return i + (v > (float)i);
+}
+
+/* Draws the segment a-b of width `width` pixels (the hair's projected diameter; at
+ * least one pixel is drawn, thinner hair becomes more transparent) into `clip`. A
+ * pixel belongs to the segment when its centre projects onto [0, 1) of it, so that
+ * consecutive segments of a strand do not cover the same pixel twice. Coverage is a
+ * box filter of the pixel against the line's width. */
+static inline void hk_raster_segment(hk_RasterPoint a, hk_RasterPoint b, float width, hk_Rect clip,
+                                     hk_FragmentFn emit, void *user)
+{
+    const float drawn = width > 1.0f ? width : 1.0f;
+    const float thin = width < 1.0f ? width : 1.0f; /* sub-pixel hair: coverage becomes opacity */
+    const float reach = 0.5f * drawn + 0.5f;       /* beyond this distance a pixel is not covered */
+    const float dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
+    if (!(len2 > 1e-12f) || !(thin > 0.0f)) return;
+    const float inv_len2 = 1.0f / len2, inv_len = sqrtf(inv_len2);
+    /* Walk the major axis; across it, the pixels within reach of the line. */
+    const int x_major = fabsf(dx) >= fabsf(dy);
+    const float major_a = x_major ? a.x : a.y, major_b = x_major ? b.x : b.y;
+    const float d_major = x_major ? dx : dy, d_minor = x_major ? dy : dx;
+    const float minor_a = x_major ? a.y : a.x;
+    const float across = reach * sqrtf(len2) / fabsf(d_major); /* reach measured across */
+    const int lo_major = x_major ? clip.x0 : clip.y0, hi_major = x_major ? clip.x1 : clip.y1;
+    const int lo_minor = x_major ? clip.y0 : clip.x0, hi_minor = x_major ? clip.y1 : clip.x1;
+    /* Clamp in floats first: a segment far off screen must not overflow an int. */
+    const int m0 = ifloor(clampf(minf(major_a, major_b) - reach, (float)lo_major, (float)hi_major));
+    const int m1 = iceil(clampf(maxf(major_a, major_b) + reach, (float)lo_major - 1.0f, (float)hi_major - 1.0f));
+    const float slope = d_minor / d_major;
+    for (int m = m0; m <= m1; m++) {
+        const float cm = (float)m + 0.5f;
+        const float centre = minor_a + (cm - major_a) * slope;
+        const float lo = clampf(centre - across, (float)lo_minor, (float)hi_minor);
+        const float hi = clampf(centre + across, (float)lo_minor - 1.0f, (float)hi_minor - 1.0f);
+        int n0 = ifloor(lo), n1 = ifloor(hi);
+        if (n0 < lo_minor) n0 = lo_minor;
+        if (n1 > hi_minor - 1) n1 = hi_minor - 1;
+        for (int n = n0; n <= n1; n++) {
+            const float cx = x_major ? cm : (float)n + 0.5f, cy = x_major ? (float)n + 0.5f : cm;
+            const float px = cx - a.x, py = cy - a.y;
+            const float t = (px * dx + py * dy) * inv_len2;
+            if (!(t >= 0.0f && t < 1.0f)) continue;
+            const float dist = fabsf(px * dy - py * dx) * inv_len;
+            const float cover = reach - dist;
+            if (cover <= 0.0f) continue;
+            emit(user, x_major ? m : n, x_major ? n : m, t, (cover < 1.0f ? cover : 1.0f) * thin);
+        }
+    }
+}
+
+
+/* One pixel per step along the major axis (the pixel the centre line crosses), with
+ * the opacity of the strip of the given width within that column (clamped to 1): the
+ * segment's total opacity at half the fragments, for the light's opacity map. */
+static inline void hk_raster_segment_thin(hk_RasterPoint a, hk_RasterPoint b, float width, hk_Rect clip,
+                                          hk_FragmentFn emit, void *user)
+{
+    const float dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
+    if (!(len2 > 1e-12f) || !(width > 0.0f)) return;
+    const int x_major = fabsf(dx) >= fabsf(dy);
+    const float major_a = x_major ? a.x : a.y, d_major = x_major ? dx : dy;
+    const float minor_a = x_major ? a.y : a.x, d_minor = x_major ? dy : dx;
+    /* The strip of width w crosses each column over a length sqrt(len2) / |d_major|. */
+    float alpha = width * sqrtf(len2) / fabsf(d_major);
+    if (alpha > 1.0f) alpha = 1.0f;
+    const int lo_major = x_major ? clip.x0 : clip.y0, hi_major = x_major ? clip.x1 : clip.y1;
+    const int lo_minor = x_major ? clip.y0 : clip.x0, hi_minor = x_major ? clip.y1 : clip.x1;
+    const int m0 = ifloor(clampf(minf(major_a, major_a + d_major) - 0.5f, (float)lo_major, (float)hi_major));
+    const int m1 = iceil(clampf(maxf(major_a, major_a + d_major), (float)lo_major - 1.0f, (float)hi_major - 1.0f));
+    for (int m = m0; m <= m1; m++) {
+        const float t = ((float)m + 0.5f - major_a) / d_major;
+        if (!(t >= 0.0f && t < 1.0f)) continue;
+        const float minor = minor_a + t * d_minor;
+        if (!(minor >= (float)lo_minor && minor < (float)hi_minor)) continue;
+        const int n = ifloor(minor);
+        if (n < lo_minor || n >= hi_minor) continue;
+        emit(user, x_major ? m : n, x_major ? n : m, t, alpha);
+    }
+}
+
+#endif
