@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "hairkit/motion.h"
 #include "hairkit/outfile.h"
 #include "hairkit/simulation_file.h"
 #include "keyfile.h"
@@ -80,6 +81,12 @@ static hk_Status read_motion(const hk_KeyFile *kf, const hk_KeyLine *kl, hk_Simu
     double v[5];
     hk_Status st = hk_keyline_doubles(kf, &numbers, 5, v, err);
     if (st != HK_OK) return st;
+    /* A motion the rebuild could not make again is refused here, at its line. */
+    hk_HeadMotion *probe = NULL;
+    hk_Error why;
+    if (hk_head_motion_scripted(kl->values[0], v[0], v[1], hk_v3(v[2], v[3], v[4]), &probe, &why) != HK_OK)
+        return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err, "%s", why.message);
+    hk_head_motion_destroy(probe);
     const size_t n = strlen(kl->values[0]) + 1;
     m->motion_script = hk_alloc_array(n, 1, err);
     if (!m->motion_script) return HK_ERR_NOMEM;
