@@ -5,8 +5,9 @@
  * little inside the true shape) are reported apart. Depth is the thesis's dent (§4.1.2.1) of the true shapes,
  * without their envelopes; styling shapes are not body.
  * Frames of `hairkit simulate` are in world space: with --motion NAME --fps F (the
- * simulation's scripted motion, default amplitude and frequency) frame_kkkk.hair is
- * taken back into head space, x = R^T (p - T), with the head's pose at t = k / F.
+ * simulation's scripted motion, default amplitude and frequency) frame_kkkk.hair and
+ * guides_kkkk.hair are taken back into head space, x = R^T (p - T), with the head's
+ * pose at t = k / F.
  * Usage: hair_depth COLLISION.txt [--motion NAME --fps F] FILE.hair... */
 #include <math.h>
 #include <stdio.h>
@@ -77,8 +78,10 @@ int main(int argc, char **argv)
         const char *g = strstr(info, "guides=");
         const long guides = g ? strtol(g + 7, NULL, 10) : 0;
         hk_RigidState head = hk_rigid_identity();
-        const char *k = strstr(argv[f], "frame_");
-        if (motion && k) hk_head_motion_eval(motion, strtol(k + 6, NULL, 10) / fps, &head);
+        /* frame_kkkk.hair or guides_kkkk.hair: frame k, at t = k / fps */
+        const char *base = strrchr(argv[f], '/') ? strrchr(argv[f], '/') + 1 : argv[f];
+        const char *k = !strncmp(base, "frame_", 6) || !strncmp(base, "guides_", 7) ? strchr(base, '_') : NULL;
+        if (motion && k) hk_head_motion_eval(motion, strtol(k + 1, NULL, 10) / fps, &head);
         Tally tg = {0, 0, 0, 0.0}, ts = {0, 0, 0, 0.0}, tr = {0, 0, 0, 0.0};
         for (uint32_t s = 0; s < h.strand_count; s++)
             for (uint32_t p = h.first_point[s]; p < h.first_point[s + 1]; p++) {
