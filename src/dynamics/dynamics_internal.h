@@ -138,6 +138,10 @@ struct hk_StrandDynamics {
     double *aq, *av;     /* the known parts of a stage, q = aq + ch v, v = av + ch q'' */
     double *x;           /* v - av */
     double *vg, *qg;     /* the first stage's result */
+    double *prev_v0, *prev_vg; /* the last step's start and first-stage velocities, and its
+                            step prev_h: Newton's first guesses are extrapolated from them */
+    double prev_h;
+    int prev_at_end;     /* the step starts where the last one ended */
     double *work;
     /* where the caller's point forces act at the start of the step (or of the
      * interval of hk_strand_dynamics_advance): within it they follow their

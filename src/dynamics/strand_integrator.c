@@ -174,6 +174,14 @@ static int energy_guard(hk_StrandDynamics *d, const hk_RigidState *head, double 
     return 1;
 }
 
+/* The value at x of the quadratic through (xa, a), (xb, b), (xc, c): Lagrange's form.
+ * Times in steps from the start of the present step. */
+static double quadratic_nodes(double a, double b, double c, double xa, double xb, double xc, double x)
+{
+    return a * (x - xb) * (x - xc) / ((xa - xb) * (xa - xc)) + b * (x - xa) * (x - xc) / ((xb - xa) * (xb - xc)) +
+           c * (x - xa) * (x - xb) / ((xc - xa) * (xc - xb));
+}
+
 /* One TR-BDF2 step of h from the state in sh->q, d->v, with the head in the states
  * heads[0..2] at t, t + g h and t + h. On failure the state is left changed (callers
  * restore it). */
@@ -185,30 +193,41 @@ static int tr_bdf2(hk_StrandDynamics *d, const hk_RigidState heads[3], const hk_
     const size_t bytes = (size_t)dim * sizeof(double);
     const double ch = TR_CH * h, wg = 1.0 / (TR_G * (2.0 - TR_G)), w0 = 1.0 - wg;
     const int guard = force_count == 0 && head_still(heads);
+    d->prev_at_end = state_is(d, d->acc_at); /* the state is where the last step ended */
     if (guard) energy_start(d, &heads[0]);
     const double energy0 = d->energy;
     d->energy_valid = 0;
     if (!start_acceleration(d, &heads[0], forces, force_count)) return 0;
     memcpy(d->q0, sh->q, bytes);
     memcpy(d->v0, d->v, bytes);
-    /* Trapezoidal stage; the guess: the velocity at the start (an explicit predictor,
-     * v0 + g h a0, is far off wherever stiff forces make a0 large - contacts just
-     * found, the twist of a thin section - and Newton's iteration then starts where
-     * the velocity products are huge). */
+    /* Trapezoidal stage. The guess: with the last step of the same size just before,
+     * the velocity's quadratic through that step's start, its first stage and now,
+     * continued (the stages are implicit, so the stiff modes cannot spoil it);
+     * otherwise the velocity at the start. An explicit predictor, v0 + g h a0, is far
+     * off wherever stiff forces make a0 large - contacts just found, the twist of a
+     * thin section - and Newton's iteration then starts where the velocity products
+     * are huge. */
+    const int extrapolate = d->prev_h == h && d->prev_at_end;
     for (int j = 0; j < dim; j++) {
         d->aq[j] = d->q0[j] + ch * d->v0[j];
         d->av[j] = d->v0[j] + ch * d->acc[j];
+        if (extrapolate) d->v[j] = quadratic_nodes(d->prev_v0[j], d->prev_vg[j], d->v0[j], -1.0, TR_G - 1.0, 0.0, TR_G);
     }
     if (!solve_stage(d, &heads[1], forces, force_count, ch)) return 0;
     memcpy(d->qg, sh->q, bytes);
     memcpy(d->vg, d->v, bytes);
-    /* BDF2 stage; the guess: the first stage's velocity. */
+    /* BDF2 stage; the guess: the quadratic through the last step's first stage, the
+     * start and the first stage, or the first stage's velocity. */
     for (int j = 0; j < dim; j++) {
         d->aq[j] = wg * d->qg[j] + w0 * d->q0[j];
         d->av[j] = wg * d->vg[j] + w0 * d->v0[j];
+        if (extrapolate) d->v[j] = quadratic_nodes(d->prev_vg[j], d->v0[j], d->vg[j], TR_G - 1.0, 0.0, TR_G, 1.0);
     }
     if (!solve_stage(d, &heads[2], forces, force_count, ch)) return 0;
     for (int j = 0; j < dim; j++) d->acc[j] = (d->v[j] - d->av[j]) / ch;
+    memcpy(d->prev_v0, d->v0, bytes);
+    memcpy(d->prev_vg, d->vg, bytes);
+    d->prev_h = h;
     /* a scaled velocity has another acceleration: computed afresh next step */
     d->acc_valid = !(guard && energy_guard(d, &heads[2], energy0));
     memcpy(d->acc_at, sh->q, bytes);
@@ -275,6 +294,7 @@ static void restore_state(hk_StrandDynamics *d)
     memcpy(d->v, d->saved + 3 * d->sh->n, bytes);
     d->acc_valid = 0;
     d->energy_valid = 0;
+    d->prev_h = 0.0;
 }
 
 hk_Status hk_strand_dynamics_step(hk_StrandDynamics *d, const hk_RigidState *head,
