@@ -98,6 +98,8 @@ typedef struct hk_DynamicsStats {
     long iterations;  /* Newton iterations (force evaluations and solves) */
     long splits;      /* steps split in two by hk_strand_dynamics_advance */
     long failures;    /* steps that did not converge (then split) */
+    long dense_stages; /* stages the O(N) solver's matrix did not converge, solved again
+                          with the dense matrix and the potential's Hessian */
     long projections; /* steps on a still head whose energy excess was taken from the
                          kinetic energy (the energy guard, docs/dynamics.md) */
 } hk_DynamicsStats;

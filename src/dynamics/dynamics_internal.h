@@ -141,6 +141,7 @@ struct hk_StrandDynamics {
     double *prev_v0, *prev_vg; /* the last step's start and first-stage velocities, and its
                             step prev_h: Newton's first guesses are extrapolated from them */
     double prev_h;
+    double *start_guess; /* a stage's first guess, for its dense fallback */
     int prev_at_end;     /* the step starts where the last one ended */
     double *work;
     /* where the caller's point forces act at the start of the step (or of the
@@ -155,6 +156,11 @@ struct hk_StrandDynamics {
     hk_StrandWorkspace *ws_body;
     double *hess, *hess_pos, *factor, *metric;
     int hess_pos_valid;
+    /* The O(N) solver's stage that does not converge is solved again with the dense
+     * matrix and the potential's Hessian (dense_fallback set for it); dense_work, hess
+     * and its companions are then allocated on first use. */
+    int dense_fallback;
+    double *dense_work;
     long evaluations;    /* evaluations of the forces, to refresh G+ every few */
     hk_DynamicsStats stats;
     hk_ElementTerms *terms;
@@ -182,6 +188,9 @@ hk_Vec3 hk_dynamics_head_space_tip(hk_StrandDynamics *d, const double *q);
 /* Kinetic plus potential energy with the body's penalty (the energy that the motion
  * conserves on a still head without friction); *kinetic (may be NULL) its kinetic part. */
 double hk_dynamics_total_energy(hk_StrandDynamics *d, const hk_RigidState *head, double *kinetic);
+
+/* Allocates what the dense fallback of the O(N) solver needs; 0 when out of memory. */
+int hk_dynamics_dense_ready(hk_StrandDynamics *d);
 
 /* G+, the positive part of the geometric stiffness of the last refresh (full
  * stiffness only). */

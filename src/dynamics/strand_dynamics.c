@@ -61,6 +61,7 @@ void hk_strand_dynamics_destroy(hk_StrandDynamics *d)
     hk_free(d->anchor_vel);
     hk_strand_workspace_destroy(d->ws_body);
     hk_free(d->hess);
+    hk_free(d->dense_work);
     hk_free(d);
 }
 
@@ -119,6 +120,7 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *
     d->start = next + 4 * dim;  /* 2 x 3N */
     d->prev_v0 = next + 6 * dim;
     d->prev_vg = next + 7 * dim;
+    d->start_guess = next + 8 * dim;
     if (body && body->shape_count > 0 && body->collision_step > 0.0) {
         d->shapes = hk_alloc_array((size_t)body->shape_count, sizeof(hk_Shape), err);
         if (!d->shapes) {
@@ -488,13 +490,15 @@ void hk_dynamics_evaluate(hk_StrandDynamics *d, const hk_RigidState *head, const
      * exact gradient of the statics energy. */
     const int full = d->params.stiffness == HK_STIFFNESS_FULL;
     /* G+ only steers the iteration: refreshing it every few evaluations, with the
-     * gradient exact every time, saves the Hessian and its eigen-decomposition. */
-    const int refresh = full && d->evaluations % d->params.hessian_interval == 0;
+     * gradient exact every time, saves the Hessian and its eigen-decomposition. The
+     * dense fallback of the O(N) solver takes the Hessian of elastic energy and gravity
+     * every time (the contacts' Gauss-Newton part is in the terms). */
+    const int refresh = d->dense_fallback || (full && d->evaluations % d->params.hessian_interval == 0);
     d->evaluations++;
     if (full)
         full_potential(d, head, refresh);
     else
-        hk_strand_energy(sh, &d->potential_env, sh->q, d->ws, d->grad, NULL, NULL);
+        hk_strand_energy(sh, &d->potential_env, sh->q, d->ws, d->grad, d->dense_fallback ? d->hess : NULL, NULL);
     sweep(d, head, forces, force_count, ch, x, SWEEP_STEP);
     if (refresh) geometric_stiffness(d);
     hk_terms_generalized_force(n, d->terms, d->rhs);
@@ -513,6 +517,10 @@ void hk_dynamics_evaluate(hk_StrandDynamics *d, const hk_RigidState *head, const
 int hk_dynamics_solve(hk_StrandDynamics *d, double ch, double *out)
 {
     const int n = d->sh->n;
+    if (d->dense_fallback) {
+        if (hk_terms_solve_dense(n, d->terms, d->extra, d->hess, ch * ch, d->rhs, out, d->dense_work)) return 1;
+        return hk_terms_solve_dense(n, d->terms, d->extra, positive_part(d), ch * ch, d->rhs, out, d->dense_work);
+    }
     if (d->params.solver == HK_DYNAMICS_DENSE) {
         if (!d->hess) /* the Gauss-Newton stiffness */
             return hk_terms_solve_dense(n, d->terms, d->extra, NULL, 0.0, d->rhs, out, d->work);
@@ -522,6 +530,21 @@ int hk_dynamics_solve(hk_StrandDynamics *d, double ch, double *out)
         return hk_terms_solve_dense(n, d->terms, d->extra, positive_part(d), ch * ch, d->rhs, out, d->work);
     }
     return hk_terms_solve_linear(n, d->terms, d->extra, d->rhs, out, d->work);
+}
+
+int hk_dynamics_dense_ready(hk_StrandDynamics *d)
+{
+    const size_t dim = (size_t)(3 * d->sh->n);
+    if (!d->dense_work) d->dense_work = hk_alloc_array(HK_DENSE_WORK(d->sh->n), sizeof(double), NULL);
+    if (!d->hess) {
+        d->hess = hk_alloc_array(3 * dim * dim + 2 * dim, sizeof(double), NULL);
+        if (d->hess) {
+            d->hess_pos = d->hess + dim * dim;
+            d->factor = d->hess_pos + dim * dim;
+            d->metric = d->factor + dim * dim;
+        }
+    }
+    return d->dense_work && d->hess;
 }
 
 hk_Status hk_dynamics_anchor_forces(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces,

@@ -75,10 +75,10 @@ static double turn_of(const hk_SuperHelix *sh, const double *dq, double scale)
     return turn * fabs(scale);
 }
 
-/* Solves one stage, q = aq + ch v, M(q)(v - av) = ch f(q, v, head), from the guess in
- * d->v. Returns 0 when the iteration does not converge. */
-static int solve_stage(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces,
-                       int force_count, double ch)
+/* Newton's iteration for one stage, q = aq + ch v, M(q)(v - av) = ch f(q, v, head),
+ * from the guess in d->v. Returns 0 when it does not converge. */
+static int newton(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces, int force_count,
+                  double ch)
 {
     hk_SuperHelix *sh = d->sh;
     const int dim = 3 * sh->n;
@@ -103,12 +103,31 @@ static int solve_stage(hk_StrandDynamics *d, const hk_RigidState *head, const hk
             for (int j = 0; j < dim; j++) sh->q[j] = d->aq[j] + ch * d->v[j];
             return all_finite(sh->q, dim);
         }
-        /* A correction that grows after the first few is a divergence: give up early
-         * (the caller splits the step). */
+        /* A correction that grows after the first few is a divergence: give up early. */
         if (it >= 2 && turn > previous) return 0;
         previous = turn;
     }
     return 0;
+}
+
+/* One stage. With the O(N) solver a stage that does not converge is solved again, from
+ * the same guess, with the dense matrix and the Hessian of elastic energy and gravity:
+ * hair lying on the scalp or held above its root has a negative geometric stiffness
+ * that the O(N) matrix lacks, and there Newton's corrections grew three to seven times
+ * per iteration. Only then: the dense solve is O(N^3). */
+static int solve_stage(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces,
+                       int force_count, double ch)
+{
+    const size_t bytes = (size_t)(3 * d->sh->n) * sizeof(double);
+    memcpy(d->start_guess, d->v, bytes);
+    if (newton(d, head, forces, force_count, ch)) return 1;
+    if (d->params.solver != HK_DYNAMICS_LINEAR || !hk_dynamics_dense_ready(d)) return 0;
+    memcpy(d->v, d->start_guess, bytes);
+    d->dense_fallback = 1;
+    d->stats.dense_stages++;
+    const int ok = newton(d, head, forces, force_count, ch);
+    d->dense_fallback = 0;
+    return ok;
 }
 
 static int state_is(const hk_StrandDynamics *d, const double *qv)
