@@ -46,7 +46,7 @@ static int hair_box(void *user, uint32_t i, hk_Rect *box)
                           lp->maps->size, box);
 }
 
-static inline __attribute__((always_inline)) void hair_fragment(void *user, int x, int y, float t, float alpha)
+HK_FRAGMENT_INLINE void hair_fragment(void *user, int x, int y, float t, float alpha)
 {
     LightPass *lp = user;
     if (lp->count == lp->cap) {

@@ -5,6 +5,15 @@
 #ifndef HK_RASTER_INLINE_H
 #define HK_RASTER_INLINE_H
 
+/* The fragment callbacks are forced inline into the rasterisers in optimised builds
+ * (a call per fragment was a measurable part of a picture). The sanitizer builds
+ * (-O1) cannot inline a callback through its pointer there, so they only ask. */
+#if defined(__SANITIZE_ADDRESS__)
+#define HK_FRAGMENT_INLINE static inline
+#else
+#define HK_FRAGMENT_INLINE static inline __attribute__((always_inline))
+#endif
+
 #include "render_internal.h"
 
 /* A fragment buffer of *cap items of `size` bytes reallocated to twice as many (at

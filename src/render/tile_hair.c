@@ -107,7 +107,7 @@ static int reserve_segments(hk_TileHair *w, size_t n)
     return 1;
 }
 
-static inline __attribute__((always_inline)) void hair_fragment(void *user, int x, int y, float t, float alpha)
+HK_FRAGMENT_INLINE void hair_fragment(void *user, int x, int y, float t, float alpha)
 {
     hk_TileHair *w = user;
     const uint32_t p = (uint32_t)((y - w->r.y0) * HK_TILE + (x - w->r.x0));
