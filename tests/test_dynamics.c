@@ -304,6 +304,40 @@ static void test_linear_solve_residual(void **state)
 
 }
 
+/* Gauss-Newton stiffness of a point inside two overlapping shapes, a stiff sphere and a
+ * soft one with a wide envelope (the head and the styling sphere before the face): it
+ * is the sum over the shapes, w sum_i k_i n_i n_i^T with n_i the spheres' unit normals
+ * (dent = r - |p - c|, so grad(dent) = -n), not w g g^T / (2 e) of the summed energy
+ * and gradient, which was 3.5 times too soft there and made Newton's iteration of
+ * TR-BDF2 diverge on the guides before the face. */
+static void test_body_stiffness_of_overlapping_shapes(void **state)
+{
+    (void)state;
+    const hk_Shape shapes[2] = {hk_shape_sphere(hk_v3(0.0, 0.0, 0.0), 0.1, 0.0, 10.0),
+                                hk_shape_sphere(hk_v3(0.0, 0.05, 0.15), 0.095, 0.05, 0.01)};
+    const double alpha = 0.9, weight = 0.005;
+    hk_BodyContact bc = {shapes, 2, alpha, weight, 0.2, 0.4, 0.05};
+    const hk_RigidState head = hk_rigid_identity();
+    const hk_Vec3 p = hk_v3(0.01, 0.03, 0.0935); /* 0.8 mm into the stiff sphere */
+    hk_PointForce pf;
+    assert_int_equal(hk_body_contact_force(&bc, &head, p, hk_v3_zero(), hk_v3(1, 0, 0), &pf), 1);
+    hk_Mat3 want = hk_m3_zero();
+    int touching = 0;
+    for (int i = 0; i < 2; i++) {
+        const hk_Vec3 d = hk_v3_sub(p, shapes[i].centre);
+        const double dent = shapes[i].half.x - hk_v3_norm(d) + alpha * shapes[i].volume;
+        if (!(dent > 0.0)) continue;
+        touching++;
+        const hk_Vec3 n = hk_v3_normalize(d);
+        const hk_Mat3 nn = hk_m3_outer(n, n);
+        const hk_Mat3 ki = hk_m3_scale(&nn, weight * shapes[i].penalty);
+        want = hk_m3_add(&want, &ki);
+    }
+    assert_int_equal(touching, 2);
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) hk_assert_near(pf.stiffness.m[r][c], want.m[r][c], 1e-12 + 1e-9 * fabs(want.m[r][c]));
+}
+
 static void test_body_friction_blend(void **state)
 {
     (void)state;
@@ -368,6 +402,7 @@ int main(void)
         cmocka_unit_test(test_linear_solve_residual),
         cmocka_unit_test(test_linear_and_dense_agree),
         cmocka_unit_test(test_body_friction_blend),
+        cmocka_unit_test(test_body_stiffness_of_overlapping_shapes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -37,22 +37,37 @@ static hk_Vec3 friction(const hk_BodyContact *bc, const hk_RigidState *head, hk_
 int hk_body_contact_force(const hk_BodyContact *bc, const hk_RigidState *head, hk_Vec3 pos,
                           hk_Vec3 vel, hk_Vec3 tangent, hk_PointForce *out)
 {
-    /* The shapes live in head space: x = R^T (p - T). */
+    /* The shapes live in head space: x = R^T (p - T). Per shape i in contact,
+     * e_i = k_i dent_i^2 / 2 and g_i = k_i dent_i grad(dent_i), so the Gauss-Newton
+     * stiffness is sum_i w g_i g_i^T / (2 e_i) = sum_i w k_i grad(dent_i) grad(dent_i)^T,
+     * positive semi-definite (the curvature terms of the exact Hessian left out). Taken
+     * shape by shape: g g^T / (2 e) of the sums understated it where a stiff shape meets
+     * a soft one with a wide envelope (the head and the styling sphere before the face,
+     * 3.5 times too soft), and Newton's iteration of a TR-BDF2 stage diverged there. */
     const hk_Vec3 x = hk_m3_tmul_v3(&head->rot, hk_v3_sub(pos, head->trans));
-    hk_Vec3 g_head;
-    const double e = hk_collision_penalty(bc->shapes, bc->shape_count, bc->envelope_alpha, x,
-                                          &g_head, NULL);
+    hk_Vec3 g_head = hk_v3_zero();
+    hk_Mat3 k_head = hk_m3_zero();
+    double e = 0.0;
+    for (int i = 0; i < bc->shape_count; i++) {
+        hk_Vec3 gi = hk_v3_zero(); /* hk_shape_penalty adds to it */
+        const double ei = hk_shape_penalty(&bc->shapes[i], bc->envelope_alpha, x, &gi, NULL);
+        if (!(ei > 0.0)) continue;
+        e += ei;
+        g_head = hk_v3_add(g_head, gi);
+        const hk_Mat3 gg = hk_m3_outer(gi, gi);
+        const hk_Mat3 ki = hk_m3_scale(&gg, bc->weight / (2.0 * ei));
+        k_head = hk_m3_add(&k_head, &ki);
+    }
     if (!(e > 0.0)) return 0;
     const hk_Vec3 g = hk_m3_mul_v3(&head->rot, g_head); /* d e / d p, world */
     const double gn = hk_v3_norm(g);
     if (!(gn > 0.0)) return 0;
     const hk_Vec3 normal = hk_v3_scale(g, -1.0 / gn); /* out of the body */
     const double fn = bc->weight * gn;
-    /* Gauss-Newton stiffness: for one shape e = k dent^2 / 2, g = k dent grad(dent), so
-     * w g g^T / (2 e) = w k grad(dent) grad(dent)^T, positive semi-definite (the
-     * curvature term of the exact Hessian is left explicit). */
-    const hk_Mat3 gg = hk_m3_outer(g, g);
-    out->stiffness = hk_m3_scale(&gg, bc->weight / (2.0 * e));
+    /* to world axes: R K R^T */
+    const hk_Mat3 rk = hk_m3_mul(&head->rot, &k_head);
+    const hk_Mat3 rt = hk_m3_transpose(&head->rot);
+    out->stiffness = hk_m3_mul(&rk, &rt);
     const hk_Vec3 f = friction(bc, head, pos, vel, tangent, normal, fn, out);
     out->force = hk_v3_add(hk_v3_scale(normal, fn), f);
     return 1;
