@@ -59,7 +59,7 @@ typedef enum hk_DynamicsIntegrator {
      * paper's step (default) */
     HK_INTEGRATOR_TRBDF2 = 0,
     /* Linearly implicit Euler (paper 000 §3.4): one linear solve per step, the
-     * velocity products and the negative geometric stiffness explicit. 8-20 times
+     * velocity products and the negative geometric stiffness explicit. About 7 times
      * cheaper on a full head, first order, numerically damped, and not stable for long
      * strands at dt = 1/30 s (docs/dynamics.md) */
     HK_INTEGRATOR_LINEAR_EULER = 1

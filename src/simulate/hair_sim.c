@@ -35,7 +35,7 @@ hk_HairSimOptions hk_default_hair_sim_options(const hk_HairstyleDef *style)
     o.threads = 0;
     o.dynamics = hk_dynamics_params_for(style);
     /* Guides up to 40 cm keep the linearly implicit Euler step of issue 6: TR-BDF2 with
-     * Newton's iteration costs 8-20 times as much per frame on examples/guides200
+     * Newton's iteration costs about 7 times as much per frame on examples/guides200
      * (201 guides of 20 cm), where the guide-guide contacts and the head's motion make
      * the iteration converge slowly; and Euler ran those lengths (Appendix B wavy hair on
      * the head, shaking 25 degrees at 1 Hz, 10 s at dt = 1/30 s) where it failed from 50
