@@ -449,6 +449,63 @@ static void test_parallel_strands_one_pair(void **state)
     }
 }
 
+
+/* along = 1: a pair per segment a of strand i and strand j > i, at the closest of j's
+ * segments (the first among equals) when within 2 d0: brute force over all segment
+ * pairs, written out independently of the broad phase. Parallel strands 3 mm apart get
+ * a pair per segment instead of one. */
+static void test_pairs_along_strands(void **state)
+{
+    (void)state;
+    hk_HairContactParams p = test_params();
+    p.along = 1;
+    const int sizes[][2] = {{40, 30}, {8, 200}};
+    const double curl[2] = {0.4, 1.5};
+    for (int t = 0; t < 2; t++) {
+        Strands st = random_strands_curl(sizes[t][0], sizes[t][1], 0.004, 0.04, curl[t]);
+        hk_HairContacts *c = make_contacts(st.g, &p);
+        for (int update = 0; update < 2; update++) { /* along rescans at every update */
+            update_ok(c, &st);
+            hk_HcStrand *views = calloc((size_t)st.g, sizeof *views);
+            views_of(&st, p.root_exclusion, views);
+            QuadList reference = {0}, pairs = {0};
+            for (int i = 0; i < st.g; i++)
+                for (int a = views[i].first; a <= views[i].count - 2; a++)
+                    for (int j = i + 1; j < st.g; j++) {
+                        double best = 4.0 * p.distance * p.distance;
+                        int best_b = -1;
+                        for (int b = views[j].first; b <= views[j].count - 2; b++) {
+                            double u, v;
+                            const double d2 = hk_hc_pair_distance2(&views[i], a, &views[j], b, p.root_exclusion, &u, &v);
+                            if (d2 < best) best = d2, best_b = b;
+                        }
+                        if (best_b >= 0) quad_push(&reference, i, a, j, best_b);
+                    }
+            tracked_pairs(c, HUGE_VAL, &pairs);
+            assert_true(reference.count > 100);
+            assert_same_quads(&pairs, &reference);
+            free(views), free(reference.q), free(pairs.q);
+            small_motion(&st, 0.0005);
+        }
+        hk_hair_contacts_destroy(c);
+        strands_free(&st);
+    }
+    /* Two parallel strands 3 mm apart: one pair per segment of the first. */
+    p.root_exclusion = 0.0;
+    Strands st = strands_alloc(2, 30);
+    for (int k = 0; k < 30; k++) {
+        st.s[k] = st.s[30 + k] = 0.005 * k;
+        *P(&st, 0, k) = hk_v3(0.0, -0.005 * k, 0.0);
+        *P(&st, 1, k) = hk_v3(0.003, -0.005 * k, 0.0);
+    }
+    hk_HairContacts *c = make_contacts(2, &p);
+    update_ok(c, &st);
+    assert_int_equal(hk_hair_contacts_pair_count(c), 29);
+    for (int k = 0; k < 29; k++) hk_assert_near(c->contacts[k].distance, 0.003, 1e-12);
+    hk_hair_contacts_destroy(c);
+    strands_free(&st);
+}
+
 static void test_root_exclusion_and_self(void **state)
 {
     (void)state;
@@ -1061,6 +1118,7 @@ int main(void)
         cmocka_unit_test(test_linearisations_finite_differences),
         cmocka_unit_test(test_dissipation),
         cmocka_unit_test(test_implicit_step_with_defaults),
+        cmocka_unit_test(test_pairs_along_strands),
         cmocka_unit_test(test_determinism),
         cmocka_unit_test(test_linear_cost),
         cmocka_unit_test(test_bad_input),

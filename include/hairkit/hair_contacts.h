@@ -49,16 +49,28 @@ typedef struct hk_HairContactParams {
     double stiffness;      /* normal penalty stiffness k (N/m) >= 0 on the overlap (d0 - d) */
     double damping;        /* normal dissipation c_n (N s/m) >= 0 on the normal relative speed */
     double friction;       /* tangential viscous friction c_t (N s/m) >= 0 on the sliding velocity */
+    double friction_coefficient; /* Coulomb's mu >= 0 of the full head's coupled solve
+                              (hk_hair_sim, docs/dynamics.md "Static friction"): touching
+                              guides stick while the tangential impulse stays within mu
+                              times the normal one; 0 gives the viscous friction above.
+                              hk_hair_contacts_forces does not use it */
     double root_exclusion; /* no contacts on a strand closer than this arc length to its
                               root (m) >= 0: neighbouring roots sit close on the scalp */
     int rescan_interval;   /* >= 1: full broad-phase search every this many updates; pairs are
                               only tracked in between */
+    int along;             /* 0: a pair per local minimum of the distance (a crossing, or
+                              the closest point of strands side by side); 1: a pair per
+                              segment of the lower-numbered strand and neighbouring strand,
+                              at their closest points, so that strands side by side are held
+                              along their length instead of at one point that jumps along
+                              them from update to update; every update then rescans */
 } hk_HairContactParams;
 
 /* Defaults for the guides of a human head (20 cm guides with one hair's mass per
  * length, about 6.5e-6 kg/m, dt = 1/30 s, forces treated implicitly; see
  * docs/dynamics.md, "Hair–hair contacts" for the reasoning):
  *   distance 5 mm, stiffness 0.5 N/m, damping 1e-3 N s/m, friction 1e-5 N s/m,
+ *   friction_coefficient 0.3,
  *   root_exclusion 2 cm, rescan_interval 2.
  * The dynamics depends on k / m, c_n / m and c_t / m: if a guide carries the mass of a
  * whole clump, scale the three coefficients by the same mass ratio. */

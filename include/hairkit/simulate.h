@@ -51,8 +51,10 @@ typedef struct hk_HairSimStats {
     int recovered;        /* guides that could not be advanced even in the smallest
                              substeps: held at rest relative to the head at t, then
                              advanced again (never dropped, never aborting the head) */
-    int contact_pairs;    /* guide-guide pairs tracked, and in contact */
+    int contact_pairs;    /* guide-guide pairs tracked, and pushing (a normal impulse) */
     int contacts;
+    int sticking;         /* pushing pairs held by static friction */
+    int contact_sweeps;   /* Gauss-Seidel sweeps of the contacts' solve over all guides */
     int body_contacts;    /* collision samples touching the body, all guides */
     double seconds;       /* wall time of the advance */
 } hk_HairSimStats;

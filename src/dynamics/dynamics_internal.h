@@ -200,4 +200,31 @@ const double *hk_dynamics_geometric_positive(hk_StrandDynamics *d);
 hk_Status hk_dynamics_anchor_forces(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces,
                                     int force_count, hk_Error *err);
 
+/* The linearly implicit Euler step's velocity change (paper 000 §3.4; strand_integrator.c)
+ *     (M + h D + h^2 K) dv = h (f - h K v)
+ * into d->delta, the state unchanged; d->terms and d->extra keep the matrix for
+ * hk_dynamics_resolve. Returns 0 if the matrix is not positive definite or dv not
+ * finite. */
+int hk_dynamics_euler_delta(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces,
+                            int force_count, double h);
+
+/* Ends a linearly implicit Euler step of h with the new velocity v (3N): q += h v, the
+ * root placed with the head's state at the step's end. Returns 0, the state unchanged,
+ * when the step would not be accepted by hk_strand_dynamics_advance (a frame turning
+ * more than max_turn, a node near the body travelling more than max_travel, or not
+ * finite): the caller then advances with error control. */
+int hk_dynamics_euler_commit(hk_StrandDynamics *d, const double *v, double h, const hk_RigidState *head_end);
+
+/* Solves the matrix of the last hk_dynamics_euler_delta for rhs into out (both 3N; may
+ * alias), reusing the dense solver's Cholesky factor. Returns 0 if it cannot. */
+int hk_dynamics_resolve(hk_StrandDynamics *d, const double *rhs, double *out);
+
+/* Jacobians of `count` points at the sorted arc lengths s for the current q: jac holds
+ * count blocks of 3 x 3N (row-major: d pos / d q'), pos and vel (may be NULL) the world
+ * positions and the velocities with the generalized velocities `rates` and the head's
+ * state head (the root's motion). screws: 18 N doubles of work. */
+void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head, const double *rates,
+                                 const double *s, int count, double *screws, double *jac, hk_Vec3 *pos,
+                                 hk_Vec3 *vel);
+
 #endif

@@ -338,6 +338,23 @@ hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
      * up among the candidates (sorted, so the pairs come out sorted too). */
     hk_Status st = hk_hc_sort(c, c->candidates, c->candidate_count, err);
     if (st != HK_OK) return st;
+    if (c->p.along) {
+        /* Per segment a of strand i and strand j, the closest of its candidates (the
+         * smallest b among equals): runs of (i, a, j) are consecutive in sorted order. */
+        for (int k = 0; k < c->candidate_count;) {
+            const hk_HcPair *first = &c->candidates[k];
+            int best = k, end = k + 1;
+            while (end < c->candidate_count && c->candidates[end].i == first->i &&
+                   c->candidates[end].a == first->a && c->candidates[end].j == first->j) {
+                if (c->candidates[end].d2 < c->candidates[best].d2) best = end;
+                end++;
+            }
+            if (!hk_hc_push_pair(&c->pairs, &c->pair_count, &c->pair_cap, &c->candidates[best], err))
+                return HK_ERR_NOMEM;
+            k = end;
+        }
+        return HK_OK;
+    }
     if (c->candidate_count > g->flag_cap) {
         hk_free(g->is_min);
         g->is_min = hk_alloc_array((size_t)c->candidate_count, 1, err);

@@ -53,11 +53,12 @@ static void pair_contact(const hk_HairContacts *c, const hk_HcPair *p, hk_HcCont
     hk_Vec3 n = hk_v3_sub(out->point[0], out->point[1]);
     const double d = hk_v3_norm(n);
     out->distance = d;
-    if (!(d < pr->distance)) return;
-    out->active = 1;
     n = d > 1e-9 * pr->distance
             ? hk_v3_scale(n, 1.0 / d)
             : fallback_normal(hk_v3_sub(si->pos[p->a + 1], si->pos[p->a]), hk_v3_sub(sj->pos[p->b + 1], sj->pos[p->b]));
+    out->normal = n;
+    if (!(d < pr->distance)) return;
+    out->active = 1;
     const hk_Vec3 w = hk_v3_sub(velocity_at(si, p->a, p->u), velocity_at(sj, p->b, p->v));
     const double wn = hk_v3_dot(w, n);
     const double fn = pr->stiffness * (pr->distance - d) - pr->damping * wn;

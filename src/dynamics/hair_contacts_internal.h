@@ -77,6 +77,7 @@ typedef struct hk_HcContact {
     int force_index[2]; /* position in each strand's sorted force list, -1 if inactive */
     double s[2];
     hk_Vec3 point[2];
+    hk_Vec3 normal;     /* unit, from point[1] to point[0] (any pair, active or not) */
     hk_Vec3 force;      /* on point[0]; point[1] gets its opposite */
     hk_Mat3 stiffness, damping;
 } hk_HcContact;

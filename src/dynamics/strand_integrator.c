@@ -261,8 +261,8 @@ static int tr_bdf2(hk_StrandDynamics *d, const hk_RigidState heads[3], const hk_
  * every force at the start of the step, K the iteration matrix's stiffness (with the
  * full stiffness its geometric part G+ too). First order; the velocity products and
  * the negative geometric stiffness explicit. */
-static int linear_euler(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces,
-                        int force_count, double h)
+int hk_dynamics_euler_delta(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces,
+                            int force_count, double h)
 {
     hk_SuperHelix *sh = d->sh;
     const int n = sh->n, dim = 3 * n;
@@ -281,7 +281,15 @@ static int linear_euler(hk_StrandDynamics *d, const hk_RigidState *head, const h
         d->rhs[j] = h * (d->rhs[j] - h * kl * d->v[j] - h * geo_v[j]);
     }
     d->stats.iterations++;
-    if (!hk_dynamics_solve(d, h, d->delta) || !all_finite(d->delta, dim)) return 0;
+    return hk_dynamics_solve(d, h, d->delta) && all_finite(d->delta, dim);
+}
+
+static int linear_euler(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces,
+                        int force_count, double h)
+{
+    hk_SuperHelix *sh = d->sh;
+    const int dim = 3 * sh->n;
+    if (!hk_dynamics_euler_delta(d, head, forces, force_count, h)) return 0;
     for (int j = 0; j < dim; j++) {
         d->v[j] += d->delta[j];
         sh->q[j] += h * d->v[j];
@@ -418,6 +426,29 @@ static int advance(hk_StrandDynamics *d, const Interval *iv, double t, double dt
     d->stats.splits++;
     return advance(d, iv, t, 0.5 * dt, depth + 1, substeps) &&
            advance(d, iv, t + 0.5 * dt, 0.5 * dt, depth + 1, substeps);
+}
+
+int hk_dynamics_euler_commit(hk_StrandDynamics *d, const double *v, double h, const hk_RigidState *head_end)
+{
+    hk_SuperHelix *sh = d->sh;
+    const int dim = 3 * sh->n;
+    save_state(d);
+    for (int j = 0; j < dim; j++) {
+        d->v[j] = v[j];
+        sh->q[j] += h * v[j];
+    }
+    d->acc_valid = 0;
+    d->energy_valid = 0;
+    d->prev_h = 0.0;
+    if (!all_finite(sh->q, dim) || !all_finite(d->v, dim) || largest_turn(d) > d->params.max_turn ||
+        largest_travel(d) > d->params.max_travel) {
+        restore_state(d);
+        hk_strand_dynamics_place(d, head_end);
+        return 0;
+    }
+    d->stats.steps++;
+    hk_strand_dynamics_place(d, head_end);
+    return 1;
 }
 
 hk_Status hk_strand_dynamics_advance(hk_StrandDynamics *d, hk_HeadStateFn head, void *user,

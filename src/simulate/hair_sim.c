@@ -8,6 +8,7 @@
 
 #include "hairkit/simulate.h"
 #include "hairkit/statics.h"
+#include "dynamics/hair_contact_solve.h"
 #include "sim_internal.h"
 
 struct hk_HairSim {
@@ -20,6 +21,7 @@ struct hk_HairSim {
     hk_StrandDynamics **dyn;
     /* guide-guide contacts: samples every CollisionStep along each guide */
     hk_HairContacts *contacts;
+    hk_ContactSolve *contact_solve; /* the contacts' impulses, solved over all guides */
     int sample_count;
     double *sample_s;            /* sample_count arc lengths, shared by all guides */
     hk_Vec3 *sample_pos, *sample_vel; /* guide_count x sample_count */
@@ -45,6 +47,11 @@ hk_HairSimOptions hk_default_hair_sim_options(const hk_HairstyleDef *style)
         o.dynamics.integrator = HK_INTEGRATOR_LINEAR_EULER;
         o.dynamics.solver = HK_DYNAMICS_DENSE;
         o.dynamics.stiffness = HK_STIFFNESS_FULL;
+        /* The guide-guide contacts are solved outside each guide's matrix (below), so the
+         * guide's own step must be stable by itself: with G+ four steps old, guides pushed
+         * by the contacts gained speed from step to step until they flew off (all 201
+         * guides of examples/guides200 within a second); refreshed every step, none. */
+        o.dynamics.hessian_interval = 1;
     }
     o.hair_contacts = 1;
     o.contacts = hk_default_hair_contact_params();
@@ -60,6 +67,11 @@ hk_HairSimOptions hk_default_hair_sim_options(const hk_HairstyleDef *style)
     o.contacts.stiffness = 1.0 * mass * (style->gravity > 0.0 ? style->gravity : 9.81) / o.contacts.distance;
     o.contacts.damping = 2.0 * sqrt(o.contacts.stiffness * 0.25 * mass);
     o.contacts.friction = 0.2 * o.contacts.damping;
+    /* Guides side by side are held along their length: with one pair at their closest
+     * point, that point jumped along them from step to step and neighbouring guides at
+     * rest jittered by up to 4 mm a frame (docs/dynamics.md, "Contacts solved
+     * together"). */
+    o.contacts.along = 1;
     /* The contacts module's default rescan_interval 2 stays: rescanning every step cost
      * 15 % of the step for no visible change once the linearisation is doubled (see
      * advance()). */
@@ -81,6 +93,7 @@ void hk_hair_sim_destroy(hk_HairSim *sim)
     hk_free(sim->dyn);
     hk_free(sim->strand);
     hk_hair_contacts_destroy(sim->contacts);
+    hk_contact_solve_destroy(sim->contact_solve);
     hk_free(sim->sample_s);
     hk_free(sim->sample_pos);
     hk_free(sim->sample_vel);
@@ -145,7 +158,9 @@ static hk_Status make_contacts(hk_HairSim *sim, hk_Error *err)
         const size_t o = (size_t)i * (size_t)sim->sample_count;
         sim->samples[i] = (hk_StrandSamples){sim->sample_count, sim->sample_s, sim->sample_pos + o, sim->sample_vel + o};
     }
-    return hk_hair_contacts_create(sim->guide_count, &sim->options.contacts, &sim->contacts, err);
+    hk_Status st = hk_hair_contacts_create(sim->guide_count, &sim->options.contacts, &sim->contacts, err);
+    if (st == HK_OK) st = hk_contact_solve_create(sim->guide_count, &sim->contact_solve, err);
+    return st;
 }
 
 hk_Status hk_hair_sim_create(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
@@ -237,9 +252,13 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
     if (head_fn) head_fn(user, t, &head);
     const int saved_threads = omp_get_max_threads();
     if (sim->options.threads > 0) omp_set_num_threads(sim->options.threads);
-    /* Guide-guide interactions from the state at t (paper 000 §4.1), held over the
-     * step and treated implicitly through their linearisation. */
+    /* Guide-guide interactions (paper 000 §4.1): the pairs from the state at t, their
+     * impulses solved over all guides together with static friction
+     * (dynamics/hair_contact_solve.h), then held over the step as point forces. */
     hk_Status st = HK_OK;
+    long predicted = 0; /* evaluations of the contacts' solve */
+    hk_RigidState head_end = hk_rigid_identity();
+    if (head_fn) head_fn(user, t + dt, &head_end);
     if (sim->contacts) {
         #pragma omp parallel for schedule(static)
         for (int i = 0; i < sim->guide_count; i++) {
@@ -249,7 +268,16 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
         }
         st = hk_hair_contacts_update(sim->contacts, sim->samples, sim->guide_count, err);
         local.contact_pairs = hk_hair_contacts_pair_count(sim->contacts);
-        local.contacts = hk_hair_contacts_contact_count(sim->contacts);
+        for (int i = 0; i < sim->guide_count; i++) predicted -= hk_strand_dynamics_stats(sim->dyn[i]).iterations;
+        if (st == HK_OK) {
+            hk_ContactSolveStats cstats;
+            st = hk_contact_solve(sim->contact_solve, sim->contacts, sim->dyn, sim->guide_count, &head_end, dt,
+                                  &cstats, err);
+            local.contacts = cstats.pushing;
+            local.sticking = cstats.sticking;
+            local.contact_sweeps = cstats.sweeps;
+        }
+        for (int i = 0; i < sim->guide_count; i++) predicted += hk_strand_dynamics_stats(sim->dyn[i]).iterations;
     }
     int substeps = 0, body = 0, recovered = 0;
     long iterations = 0;
@@ -259,39 +287,29 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
         #pragma omp parallel for schedule(dynamic, 4) reduction(+ : substeps, body, recovered, iterations)
         for (int i = 0; i < sim->guide_count; i++) {
             int count = 0, taken = 0;
-            const hk_PointForce *given = sim->contacts ? hk_hair_contacts_forces(sim->contacts, i, &count) : NULL;
+            const hk_PointForce *forces = sim->contacts ? hk_contact_solve_forces(sim->contact_solve, i, &count) : NULL;
             hk_Error e;
-            /* Each guide is solved with its partners held where they are, yet both sides of
-             * a contact move: the relative stiffness and damping are twice the one-sided
-             * ones. Doubling the linearisation (not the force) makes this block-Jacobi
-             * splitting damped; with the one-sided values guides in contact jittered by
-             * over a millimetre per frame at rest, with twice them by a third of that. */
-            hk_PointForce buffer[64], *forces = count <= 64 ? buffer : hk_alloc_array((size_t)count, sizeof *forces, &e);
-            hk_Status gst = forces ? HK_OK : HK_ERR_NOMEM;
-            for (int k = 0; forces && k < count; k++) {
-                forces[k] = given[k];
-                forces[k].stiffness = hk_m3_scale(&given[k].stiffness, 2.0);
-                forces[k].damping = hk_m3_scale(&given[k].damping, 2.0);
-            }
             const long before = hk_strand_dynamics_stats(sim->dyn[i]).iterations;
-            if (gst == HK_OK) {
+            hk_Status gst = HK_OK;
+            if (sim->contacts && hk_contact_solve_commit(sim->contact_solve, sim->dyn[i], i, &head_end, dt))
+                taken = 1; /* the solve's step, as advance would have taken it */
+            else
                 gst = hk_strand_dynamics_advance(sim->dyn[i], head_fn, user, t, dt, forces, count, &taken, &e);
-                if (gst == HK_ERR_NUMERIC) {
-                    /* One guide that cannot be advanced, even split down to dt / 2^max_depth,
-                     * must not stop the head: it is left where it was at t, at rest
-                     * relative to the head, then advanced once more (counted in
-                     * stats->recovered; the next frames go on from there). */
-                    memset(hk_strand_dynamics_velocity(sim->dyn[i]), 0,
-                           sizeof(double) * 3 * (size_t)sim->strand[i]->n);
-                    recovered++;
-                    int again = 0;
-                    gst = hk_strand_dynamics_advance(sim->dyn[i], head_fn, user, t, dt, forces, count, &again, &e);
-                    if (gst == HK_ERR_NUMERIC) gst = HK_OK; /* held at rest relative to the head */
-                    taken += again;
-                }
+            if (gst == HK_ERR_NUMERIC) {
+                /* One guide that cannot be advanced, even split down to dt / 2^max_depth,
+                 * must not stop the head: it is left where it was at t, at rest
+                 * relative to the head, then advanced once more (counted in
+                 * stats->recovered; the next frames go on from there). */
+                memset(hk_strand_dynamics_velocity(sim->dyn[i]), 0,
+                       sizeof(double) * 3 * (size_t)sim->strand[i]->n);
+                recovered++;
+                int again = 0;
+                gst = hk_strand_dynamics_advance(sim->dyn[i], head_fn, user, t, dt, forces, count, &again, &e);
+                if (gst == HK_ERR_NUMERIC) gst = HK_OK; /* held at rest relative to the head */
+                taken += again;
             }
+
             iterations += hk_strand_dynamics_stats(sim->dyn[i]).iterations - before;
-            if (forces != buffer) hk_free(forces);
             if (gst != HK_OK) hk_first_error_record(&first, i, &e);
             substeps += taken;
             body += hk_strand_dynamics_contact_count(sim->dyn[i]);
@@ -305,7 +323,7 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
         else sim->head = hk_rigid_identity();
     }
     local.substeps = substeps;
-    local.iterations = iterations;
+    local.iterations = iterations + predicted;
     local.recovered = recovered;
     local.body_contacts = body;
     local.seconds = seconds_now() - t0;

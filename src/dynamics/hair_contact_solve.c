@@ -1,0 +1,544 @@
+/* Guide-guide contacts solved together over all guides, with Coulomb friction
+ * (hair_contact_solve.h; docs/dynamics.md, "Contacts solved together").
+ *
+ * Notation for pair c between strand i (its point a, side 0) and strand j (point b,
+ * side 1): lambda_c is the impulse on a over the step (b gets -lambda_c), u_c = x'_a -
+ * x'_b the relative velocity at the step's end. With J the points' Jacobians, A_i the
+ * matrix of strand i's linearly implicit step and v_i^free its velocity without the
+ * contacts,
+ *     v_i = v_i^free + A_i^-1 sum_c (+-) J_ic^T lambda_c,
+ * so u_c = u_c^free + J_a dv_i - J_b dv_j, with dv the strands' velocity changes kept
+ * up to date as the impulses change (Y = A^-1 J^T is computed once per point: three
+ * solves with the step's factored matrix). Projected Gauss-Seidel visits the pairs in
+ * their fixed order and solves each one's law given the others' impulses; the sweeps
+ * stop when no impulse changed by more than HK_PGS_TOLERANCE of the largest. The same
+ * pairs in the same order give the same bits whatever the number of threads: only the
+ * per-strand parts (the Jacobians, the solves) run in parallel. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "dynamics_internal.h"
+#include "hair_contact_solve.h"
+#include "hair_contacts_internal.h"
+
+#define HK_PGS_SWEEPS 20
+#define HK_PGS_TOLERANCE 1e-4
+
+typedef struct Slot {
+    double s;
+    int record; /* 2 pair + side */
+} Slot;
+
+typedef struct PairState {
+    int slot[2];    /* slots of point a (strand i) and point b (strand j) */
+    hk_Vec3 basis[3]; /* n (from b to a), t1, t2 */
+    double w[3][3]; /* Delassus block in the basis: B^T (J_a Y_a + J_b Y_b) B */
+    double beta, gamma; /* normal law lambda_n = max(0, beta - gamma u_n) */
+    hk_Vec3 lambda; /* world impulse on a */
+    int key[4];     /* (i, a, j, b): warm start from the last step's same pair */
+} PairState;
+
+/* A growable array: its items and how many it has room for. */
+typedef struct Buffer {
+    void *items;
+    size_t cap;
+} Buffer;
+
+/* Makes room for count items of size bytes (contents not kept); 0 when out of memory. */
+static int reserve(Buffer *b, size_t count, size_t size, hk_Error *err)
+{
+    if (count <= b->cap) return 1;
+    void *grown = hk_alloc_array(count, size, err);
+    if (!grown) return 0;
+    hk_free(b->items);
+    b->items = grown;
+    b->cap = count;
+    return 1;
+}
+
+struct hk_ContactSolve {
+    int strand_count;
+    int *slot_start;      /* strand_count + 1: the strands' points, slots [start, next) */
+    size_t *dim_start;    /* strand_count + 1: offsets of the strands' 3N vectors */
+    size_t *jac_start;    /* strand_count + 1: offsets of the strands' first 3 x 3N block */
+    int *movable;         /* per strand: its step's matrix answered */
+    Buffer slots;         /* Slot per point */
+    Buffer at;            /* double per point: its s, as the Jacobians take them */
+    Buffer vel;           /* hk_Vec3 per point: its velocity with v^free */
+    Buffer forces;        /* hk_PointForce per point */
+    Buffer jac, yt;       /* double, 3 x 3N per point: rows of J and of Y^T = (A^-1 J^T)^T */
+    Buffer dv;            /* double, 3N per strand: the velocity change of the impulses */
+    Buffer vfree;         /* double, 3N per strand: its velocity after a step without them */
+    Buffer screws;        /* double, 18N per strand: work of the Jacobians */
+    Buffer pairs, old_pairs; /* PairState per pair, this step's and the last one's */
+    int old_count;
+};
+
+hk_Status hk_contact_solve_create(int strand_count, hk_ContactSolve **out, hk_Error *err)
+{
+    *out = NULL;
+    if (strand_count < 1) return hk_error_set(err, HK_ERR_INVALID, "contact solve: %d strands", strand_count);
+    hk_ContactSolve *cs = hk_calloc_array(1, sizeof *cs, err);
+    if (!cs) return HK_ERR_NOMEM;
+    cs->strand_count = strand_count;
+    cs->slot_start = hk_calloc_array((size_t)strand_count + 1, sizeof(int), err);
+    cs->dim_start = hk_calloc_array((size_t)strand_count + 1, sizeof(size_t), err);
+    cs->jac_start = hk_calloc_array((size_t)strand_count + 1, sizeof(size_t), err);
+    cs->movable = hk_calloc_array((size_t)strand_count, sizeof(int), err);
+    if (!cs->slot_start || !cs->dim_start || !cs->jac_start || !cs->movable) {
+        hk_contact_solve_destroy(cs);
+        return HK_ERR_NOMEM;
+    }
+    *out = cs;
+    return HK_OK;
+}
+
+void hk_contact_solve_destroy(hk_ContactSolve *cs)
+{
+    if (!cs) return;
+    hk_free(cs->slot_start);
+    hk_free(cs->dim_start);
+    hk_free(cs->jac_start);
+    hk_free(cs->movable);
+    Buffer *all[] = {&cs->slots, &cs->at, &cs->vfree, &cs->vel, &cs->forces, &cs->jac, &cs->yt, &cs->dv, &cs->screws, &cs->pairs, &cs->old_pairs};
+    for (size_t k = 0; k < sizeof all / sizeof *all; k++) hk_free(all[k]->items);
+    hk_free(cs);
+}
+
+static int slot_cmp(const void *x, const void *y)
+{
+    const Slot *a = x, *b = y;
+    if (a->s != b->s) return a->s < b->s ? -1 : 1;
+    return (a->record > b->record) - (a->record < b->record);
+}
+
+/* Sizes the arrays and deals the pairs' points to the strands, each strand's sorted by
+ * s (the order its Jacobians are walked in and its forces listed in). */
+static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_StrandDynamics **dyn, hk_Error *err)
+{
+    const int g = cs->strand_count, n = c->pair_count;
+    memset(cs->slot_start, 0, (size_t)(g + 1) * sizeof(int));
+    for (int k = 0; k < n; k++) {
+        cs->slot_start[c->pairs[k].i + 1]++;
+        cs->slot_start[c->pairs[k].j + 1]++;
+    }
+    cs->dim_start[0] = cs->jac_start[0] = 0;
+    for (int s = 0; s < g; s++) {
+        const size_t dim = (size_t)(3 * dyn[s]->sh->n);
+        cs->dim_start[s + 1] = cs->dim_start[s] + dim;
+        cs->jac_start[s + 1] = cs->jac_start[s] + (size_t)cs->slot_start[s + 1] * 3 * dim;
+        cs->slot_start[s + 1] += cs->slot_start[s];
+    }
+    const size_t slots = (size_t)cs->slot_start[g], dims = cs->dim_start[g], jacs = cs->jac_start[g];
+    if (!reserve(&cs->slots, slots, sizeof(Slot), err) || !reserve(&cs->at, slots, sizeof(double), err) || !reserve(&cs->vel, slots, sizeof(hk_Vec3), err) ||
+        !reserve(&cs->forces, slots, sizeof(hk_PointForce), err) || !reserve(&cs->jac, jacs, sizeof(double), err) ||
+        !reserve(&cs->yt, jacs, sizeof(double), err) || !reserve(&cs->dv, dims, sizeof(double), err) || !reserve(&cs->vfree, dims, sizeof(double), err) ||
+        !reserve(&cs->screws, 6 * dims, sizeof(double), err) || !reserve(&cs->pairs, (size_t)n, sizeof(PairState), err))
+        return HK_ERR_NOMEM;
+    Slot *slot = cs->slots.items;
+    PairState *pairs = cs->pairs.items;
+    int *fill = cs->movable; /* borrowed for the fill positions */
+    memcpy(fill, cs->slot_start, (size_t)g * sizeof(int));
+    for (int k = 0; k < n; k++) {
+        const int strand[2] = {c->pairs[k].i, c->pairs[k].j};
+        for (int side = 0; side < 2; side++) {
+            Slot *sl = &slot[fill[strand[side]]++];
+            sl->s = c->contacts[k].s[side];
+            sl->record = 2 * k + side;
+        }
+    }
+    for (int s = 0; s < g; s++) {
+        const int begin = cs->slot_start[s], count = cs->slot_start[s + 1] - begin;
+        if (count > 1) qsort(slot + begin, (size_t)count, sizeof(Slot), slot_cmp);
+        for (int x = begin; x < begin + count; x++) {
+            pairs[slot[x].record / 2].slot[slot[x].record % 2] = x;
+            ((double *)cs->at.items)[x] = slot[x].s;
+        }
+    }
+    return HK_OK;
+}
+
+/* Unit vectors t1, t2 completing n = basis[0] to a right-handed orthonormal basis,
+ * always the same for the same n. */
+static void complete_basis(hk_Vec3 basis[3])
+{
+    const hk_Vec3 n = basis[0];
+    const hk_Vec3 axis = fabs(n.x) <= fabs(n.y) && fabs(n.x) <= fabs(n.z) ? hk_v3_unit(0)
+                         : fabs(n.y) <= fabs(n.z)                         ? hk_v3_unit(1)
+                                                                          : hk_v3_unit(2);
+    basis[1] = hk_v3_normalize(hk_v3_cross(n, axis));
+    basis[2] = hk_v3_cross(n, basis[1]);
+}
+
+static double dot_n(const double *a, const double *b, size_t n)
+{
+    double s = 0.0;
+    for (size_t i = 0; i < n; i++) s += a[i] * b[i];
+    return s;
+}
+
+static size_t dim_of(const hk_ContactSolve *cs, int strand) { return cs->dim_start[strand + 1] - cs->dim_start[strand]; }
+
+/* The 3 x 3N block of point x of strand `strand` in jac and yt. */
+static size_t block_of(const hk_ContactSolve *cs, int strand, int x)
+{
+    return cs->jac_start[strand] + (size_t)(x - cs->slot_start[strand]) * 3 * dim_of(cs, strand);
+}
+
+/* Strand s's linearly implicit step without the guide-guide contacts, and how it
+ * answers an impulse at each of its points: the Jacobians J (at the step's start),
+ * Y^T = (A^-1 J^T)^T and the points' velocities with v^free. A strand whose matrix
+ * does not answer (not positive definite) is held immovable for the contacts (Y = 0,
+ * its velocity as it is); its own step then decides. */
+static void predict(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const hk_RigidState *head_end, double h)
+{
+    const int begin = cs->slot_start[s], count = cs->slot_start[s + 1] - begin;
+    if (count == 0) return;
+    const size_t dim = dim_of(cs, s);
+    double *vfree = (double *)cs->vfree.items + cs->dim_start[s];
+    double *jac = (double *)cs->jac.items + cs->jac_start[s], *yt = (double *)cs->yt.items + cs->jac_start[s];
+    const double *v = hk_strand_dynamics_velocity(d);
+    cs->movable[s] = hk_dynamics_euler_delta(d, head_end, NULL, 0, h);
+    for (size_t k = 0; k < dim; k++) vfree[k] = v[k] + (cs->movable[s] ? d->delta[k] : 0.0);
+    hk_dynamics_point_jacobians(d, head_end, vfree, (const double *)cs->at.items + begin, count,
+                                (double *)cs->screws.items + 6 * cs->dim_start[s], jac, NULL,
+                                (hk_Vec3 *)cs->vel.items + begin);
+    for (size_t r = 0; r < 3 * (size_t)count; r++) {
+        if (!cs->movable[s] || !hk_dynamics_resolve(d, jac + r * dim, yt + r * dim))
+            memset(yt + r * dim, 0, dim * sizeof(double));
+    }
+    memset((double *)cs->dv.items + cs->dim_start[s], 0, dim * sizeof(double));
+}
+
+/* Solves the 3 x 3 system a x = b by Gaussian elimination with partial pivoting;
+ * 0 when singular. */
+static int solve3(double a[3][3], double b[3], double x[3])
+{
+    for (int c = 0; c < 3; c++) {
+        int piv = c;
+        for (int r = c + 1; r < 3; r++)
+            if (fabs(a[r][c]) > fabs(a[piv][c])) piv = r;
+        if (!(fabs(a[piv][c]) > 0.0)) return 0;
+        if (piv != c) {
+            for (int k = 0; k < 3; k++) {
+                const double t = a[c][k];
+                a[c][k] = a[piv][k], a[piv][k] = t;
+            }
+            const double t = b[c];
+            b[c] = b[piv], b[piv] = t;
+        }
+        for (int r = c + 1; r < 3; r++) {
+            const double f = a[r][c] / a[c][c];
+            for (int k = c; k < 3; k++) a[r][k] -= f * a[c][k];
+            b[r] -= f * b[c];
+        }
+    }
+    for (int r = 2; r >= 0; r--) {
+        double v = b[r];
+        for (int k = r + 1; k < 3; k++) v -= a[r][k] * x[k];
+        x[r] = v / a[r][r];
+    }
+    return isfinite(x[0]) && isfinite(x[1]) && isfinite(x[2]);
+}
+
+/* min over |y| <= s of 1/2 y^T a y + g . y for a symmetric positive definite 2 x 2 a:
+ * the unconstrained minimiser when it lies in the disc, else the boundary point where
+ * (a + nu I) y = -g with nu > 0 (the trust-region problem, Moré and Sorensen 1983),
+ * nu found by Newton's iteration on 1/|y(nu)| - 1/s, which is concave and increasing
+ * in nu, so that the iteration from nu = 0 climbs to the root without overshooting. */
+static void disc_qp(const double a[2][2], const double g[2], double s, double y[2])
+{
+    y[0] = y[1] = 0.0;
+    if (!(s > 0.0)) return;
+    /* Eigen-decomposition of a: a = sum e_i v_i v_i^T. */
+    const double m = 0.5 * (a[0][0] + a[1][1]), dd = 0.5 * (a[0][0] - a[1][1]);
+    const double rad = sqrt(dd * dd + a[0][1] * a[0][1]);
+    const double e[2] = {m + rad, m - rad};
+    if (!(e[1] > 0.0)) return;
+    double v0[2];
+    if (rad > 0.0) {
+        const double c = dd / rad, sn = a[0][1] / rad; /* cos 2t, sin 2t */
+        const double ct = sqrt(0.5 * (1.0 + c)), st = sqrt(0.5 * (1.0 - c));
+        v0[0] = ct, v0[1] = sn >= 0.0 ? st : -st;
+    } else {
+        v0[0] = 1.0, v0[1] = 0.0;
+    }
+    const double v1[2] = {-v0[1], v0[0]};
+    const double b[2] = {-(v0[0] * g[0] + v0[1] * g[1]), -(v1[0] * g[0] + v1[1] * g[1])};
+    double nu = 0.0;
+    for (int it = 0; it < 30; it++) {
+        const double c0 = b[0] / (e[0] + nu), c1 = b[1] / (e[1] + nu);
+        const double norm = sqrt(c0 * c0 + c1 * c1);
+        if (norm <= s * (1.0 + 1e-12)) break;
+        /* d|y|/dnu = -(c0^2 / (e0 + nu) + c1^2 / (e1 + nu)) / |y| */
+        const double slope = (c0 * c0 / (e[0] + nu) + c1 * c1 / (e[1] + nu)) / norm;
+        const double phi = 1.0 / norm - 1.0 / s, dphi = slope / (norm * norm);
+        if (!(dphi > 0.0)) break;
+        nu -= phi / dphi;
+        if (!(nu >= 0.0)) nu = 0.0;
+        if (fabs(phi) * s < 1e-12) break;
+    }
+    const double c0 = b[0] / (e[0] + nu), c1 = b[1] / (e[1] + nu);
+    y[0] = c0 * v0[0] + c1 * v1[0];
+    y[1] = c0 * v0[1] + c1 * v1[1];
+    const double norm = sqrt(y[0] * y[0] + y[1] * y[1]);
+    if (norm > s) y[0] *= s / norm, y[1] *= s / norm; /* rounding */
+}
+
+/* The contact law of one pair in its basis (0: normal, 1 and 2: tangents): the impulse
+ * lam given u0, the relative velocity at the step's end without this pair's impulse,
+ * and w, the pair's Delassus block (u = u0 + w lam). Normal law: lam_0 = max(0, beta -
+ * gamma u_0), i.e. lam minimises 1/2 lam^T (w + diag(1/gamma, 0, 0)) lam + (u0 -
+ * beta/gamma e_0) . lam over lam_0 >= 0. Tangentially, mu > 0: Coulomb with the bound
+ * s = mu lam_0 of the pair's last iterate (a Tresca problem per sweep, convex, whose
+ * bound follows the normal impulse from sweep to sweep): the contact sticks (u_1 = u_2
+ * = 0) when that needs at most s, else the friction is on the disc's edge, both found
+ * exactly (alternating between the normal and the tangential block, each solved
+ * exactly: descent on a convex problem). mu = 0: the viscous lam_t = -viscous u_t.
+ * Returns 2 when it sticks, 1 when it pushes otherwise, 0 when it does not push. */
+static int contact_law(double w[3][3], const double u0[3], double beta, double gamma, double mu,
+                       double viscous, double bound, double lam[3])
+{
+    const double free_push = beta - gamma * u0[0];
+    if (mu > 0.0 || viscous > 0.0) {
+        /* Sticking (mu > 0) or viscous, with the normal law, as one linear system. */
+        const double e = mu > 0.0 ? 0.0 : 1.0, f = mu > 0.0 ? 1.0 : viscous;
+        double a[3][3] = {{1.0 + gamma * w[0][0], gamma * w[0][1], gamma * w[0][2]},
+                          {f * w[1][0], e + f * w[1][1], f * w[1][2]},
+                          {f * w[2][0], f * w[2][1], e + f * w[2][2]}};
+        double b[3] = {free_push, -f * u0[1], -f * u0[2]}, x[3];
+        if (solve3(a, b, x) && x[0] > 0.0 &&
+            (mu == 0.0 || x[1] * x[1] + x[2] * x[2] <= mu * mu * x[0] * x[0])) {
+            memcpy(lam, x, sizeof x);
+            return mu > 0.0 ? 2 : 1;
+        }
+    }
+    if (!(mu > 0.0) || !(bound > 0.0)) {
+        lam[0] = free_push / (1.0 + gamma * w[0][0]);
+        lam[1] = lam[2] = 0.0;
+        if (!(lam[0] > 0.0)) return lam[0] = 0.0, 0;
+        return 1;
+    }
+    /* Friction on the disc's edge (or no push): block coordinate descent. */
+    const double at[2][2] = {{w[1][1], w[1][2]}, {w[2][1], w[2][2]}};
+    double n = lam[0] > 0.0 ? lam[0] : 0.0, t[2] = {lam[1], lam[2]};
+    for (int it = 0; it < 20; it++) {
+        const double n_old = n, t_old[2] = {t[0], t[1]};
+        n = (free_push - gamma * (w[0][1] * t[0] + w[0][2] * t[1])) / (1.0 + gamma * w[0][0]);
+        if (!(n > 0.0)) n = 0.0;
+        const double g[2] = {u0[1] + w[1][0] * n, u0[2] + w[2][0] * n};
+        disc_qp(at, g, bound, t);
+        const double change = fabs(n - n_old) + fabs(t[0] - t_old[0]) + fabs(t[1] - t_old[1]);
+        if (change <= 1e-9 * (n + bound)) break;
+    }
+    lam[0] = n, lam[1] = t[0], lam[2] = t[1];
+    return n > 0.0;
+}
+
+static hk_Vec3 in_basis(const hk_Vec3 basis[3], hk_Vec3 x)
+{
+    return hk_v3(hk_v3_dot(basis[0], x), hk_v3_dot(basis[1], x), hk_v3_dot(basis[2], x));
+}
+
+static hk_Vec3 from_basis(const hk_Vec3 basis[3], hk_Vec3 x)
+{
+    return hk_v3_madd(hk_v3_madd(hk_v3_scale(basis[0], x.x), basis[1], x.y), basis[2], x.z);
+}
+
+/* v += sign * Y lam for the point whose Y^T rows are yt (3 x dim). */
+static void add_response(double *v, const double *yt, size_t dim, hk_Vec3 lam, double sign)
+{
+    const double l0 = sign * lam.x, l1 = sign * lam.y, l2 = sign * lam.z;
+    for (size_t k = 0; k < dim; k++) v[k] += yt[k] * l0 + yt[dim + k] * l1 + yt[2 * dim + k] * l2;
+}
+
+/* J dv for the point whose J rows are jac (3 x dim). */
+static hk_Vec3 point_change(const double *jac, size_t dim, const double *dv)
+{
+    return hk_v3(dot_n(jac, dv, dim), dot_n(jac + dim, dv, dim), dot_n(jac + 2 * dim, dv, dim));
+}
+
+static int key_cmp(const int a[4], const int b[4])
+{
+    for (int k = 0; k < 4; k++)
+        if (a[k] != b[k]) return a[k] < b[k] ? -1 : 1;
+    return 0;
+}
+
+/* Each pair's basis, Delassus block and normal law, and its impulse of the last step
+ * when the same segment pair was tracked then (pairs and old pairs are both sorted by
+ * (i, a, j, b)): resting contacts start where they ended. */
+static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double h)
+{
+    PairState *pairs = cs->pairs.items;
+    const PairState *old = cs->old_pairs.items;
+    const hk_HairContactParams *p = &c->p;
+    int o = 0;
+    for (int k = 0; k < c->pair_count; k++) {
+        PairState *ps = &pairs[k];
+        const hk_HcPair *hp = &c->pairs[k];
+        const hk_HcContact *ct = &c->contacts[k];
+        const int key[4] = {hp->i, hp->a, hp->j, hp->b};
+        memcpy(ps->key, key, sizeof key);
+        ps->basis[0] = ct->normal;
+        complete_basis(ps->basis);
+        const int strand[2] = {hp->i, hp->j};
+        double w[3][3] = {{0}};
+        for (int side = 0; side < 2; side++) {
+            const size_t dim = dim_of(cs, strand[side]), at = block_of(cs, strand[side], ps->slot[side]);
+            const double *jac = (const double *)cs->jac.items + at, *yt = (const double *)cs->yt.items + at;
+            for (int r = 0; r < 3; r++)
+                for (int q = 0; q < 3; q++) w[r][q] += dot_n(jac + r * dim, yt + q * dim, dim);
+        }
+        for (int r = 0; r < 3; r++)
+            for (int q = 0; q < 3; q++) {
+                double v = 0.0;
+                for (int x = 0; x < 3; x++) {
+                    const hk_Vec3 wx = hk_v3(w[0][x], w[1][x], w[2][x]);
+                    v += hk_v3_dot(ps->basis[r], wx) * hk_v3_dot(ps->basis[q], hk_v3_unit(x));
+                }
+                ps->w[r][q] = v;
+            }
+        ps->beta = h * p->stiffness * (p->distance - ct->distance);
+        ps->gamma = h * h * p->stiffness + h * p->damping;
+        ps->lambda = hk_v3_zero();
+        while (o < cs->old_count && key_cmp(old[o].key, key) < 0) o++;
+        if (o < cs->old_count && key_cmp(old[o].key, key) == 0) ps->lambda = old[o].lambda;
+    }
+}
+
+/* Relative velocity at the step's end of pair ps with the impulses so far. */
+static hk_Vec3 relative_velocity(const hk_ContactSolve *cs, const PairState *ps, const int strand[2])
+{
+    const hk_Vec3 *vel = cs->vel.items;
+    hk_Vec3 u = hk_v3_sub(vel[ps->slot[0]], vel[ps->slot[1]]);
+    for (int side = 0; side < 2; side++) {
+        const size_t dim = dim_of(cs, strand[side]);
+        const hk_Vec3 du = point_change((const double *)cs->jac.items + block_of(cs, strand[side], ps->slot[side]), dim,
+                                        (const double *)cs->dv.items + cs->dim_start[strand[side]]);
+        u = side == 0 ? hk_v3_add(u, du) : hk_v3_sub(u, du);
+    }
+    return u;
+}
+
+/* Changes pair ps's impulse by delta (world), updating both strands' dv. */
+static void apply_change(hk_ContactSolve *cs, const PairState *ps, const int strand[2], hk_Vec3 delta)
+{
+    for (int side = 0; side < 2; side++) {
+        const size_t dim = dim_of(cs, strand[side]);
+        add_response((double *)cs->dv.items + cs->dim_start[strand[side]],
+                     (const double *)cs->yt.items + block_of(cs, strand[side], ps->slot[side]), dim, delta,
+                     side == 0 ? 1.0 : -1.0);
+    }
+}
+
+hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts, hk_StrandDynamics **dyn,
+                           int strand_count, const hk_RigidState *head_end, double dt,
+                           hk_ContactSolveStats *stats, hk_Error *err)
+{
+    hk_ContactSolveStats local = {0, 0, 0, 0.0};
+    if (strand_count != cs->strand_count || contacts->strand_count != strand_count)
+        return hk_error_set(err, HK_ERR_INVALID, "contact solve: %d strands, expected %d", strand_count,
+                            cs->strand_count);
+    if (!(dt > 0.0) || !isfinite(dt)) return hk_error_set(err, HK_ERR_INVALID, "contact solve: step %g s", dt);
+    hk_Status st = layout(cs, contacts, dyn, err);
+    if (st != HK_OK) {
+        memset(cs->slot_start, 0, (size_t)(strand_count + 1) * sizeof(int));
+        cs->old_count = 0;
+        return st;
+    }
+    #pragma omp parallel for schedule(dynamic, 2)
+    for (int s = 0; s < strand_count; s++) predict(cs, dyn[s], s, head_end, dt);
+    prepare_pairs(cs, contacts, dt);
+    PairState *pairs = cs->pairs.items;
+    const int n = contacts->pair_count;
+    const double mu = contacts->p.friction_coefficient, viscous = dt * contacts->p.friction;
+    for (int k = 0; k < n; k++) {
+        const int strand[2] = {contacts->pairs[k].i, contacts->pairs[k].j};
+        apply_change(cs, &pairs[k], strand, pairs[k].lambda); /* the warm start's share */
+    }
+    for (int sweep = 0; sweep < HK_PGS_SWEEPS; sweep++) {
+        double change = 0.0, largest = 0.0;
+        local.pushing = local.sticking = 0;
+        for (int k = 0; k < n; k++) {
+            PairState *ps = &pairs[k];
+            const int strand[2] = {contacts->pairs[k].i, contacts->pairs[k].j};
+            const hk_Vec3 u = in_basis(ps->basis, relative_velocity(cs, ps, strand));
+            const hk_Vec3 lb = in_basis(ps->basis, ps->lambda);
+            const double lo[3] = {lb.x, lb.y, lb.z};
+            double u0[3] = {u.x, u.y, u.z}, lam[3];
+            for (int r = 0; r < 3; r++) u0[r] -= ps->w[r][0] * lo[0] + ps->w[r][1] * lo[1] + ps->w[r][2] * lo[2];
+            lam[0] = lo[0], lam[1] = lo[1], lam[2] = lo[2];
+            const int law = contact_law(ps->w, u0, ps->beta, ps->gamma, mu, viscous, mu * (lo[0] > 0.0 ? lo[0] : 0.0), lam);
+            local.pushing += law > 0;
+            local.sticking += law == 2;
+            const hk_Vec3 next = from_basis(ps->basis, hk_v3(lam[0], lam[1], lam[2]));
+            const hk_Vec3 delta = hk_v3_sub(next, ps->lambda);
+            ps->lambda = next;
+            apply_change(cs, ps, strand, delta);
+            const double dl = hk_v3_norm(delta), l = hk_v3_norm(next);
+            if (dl > change) change = dl;
+            if (l > largest) largest = l;
+        }
+        local.sweeps = sweep + 1;
+        local.residual = largest > 0.0 ? change / largest : 0.0;
+        if (change <= HK_PGS_TOLERANCE * largest) break;
+    }
+    /* The bound of the last sweep's Tresca problems lags the normal impulses by a
+     * sweep: what exceeds Coulomb's cone is taken back (and from dv, which the commit
+     * uses). */
+    for (int k = 0; mu > 0.0 && k < n; k++) {
+        PairState *ps = &pairs[k];
+        const hk_Vec3 l = in_basis(ps->basis, ps->lambda);
+        const double t = sqrt(l.y * l.y + l.z * l.z), limit = mu * (l.x > 0.0 ? l.x : 0.0);
+        if (!(t > limit)) continue;
+        const double f = t > 0.0 ? limit / t : 0.0;
+        const hk_Vec3 next = from_basis(ps->basis, hk_v3(l.x, f * l.y, f * l.z));
+        const int strand[2] = {contacts->pairs[k].i, contacts->pairs[k].j};
+        apply_change(cs, ps, strand, hk_v3_sub(next, ps->lambda));
+        ps->lambda = next;
+    }
+    /* The impulses as forces held over the step. */
+    hk_PointForce *forces = cs->forces.items;
+    const Slot *slot = cs->slots.items;
+    for (int x = 0; x < cs->slot_start[strand_count]; x++) {
+        const PairState *ps = &pairs[slot[x].record / 2];
+        const double sign = slot[x].record % 2 == 0 ? 1.0 : -1.0;
+        forces[x].s = slot[x].s;
+        forces[x].force = hk_v3_scale(ps->lambda, sign / dt);
+        forces[x].stiffness = forces[x].damping = hk_m3_zero();
+    }
+    /* Kept for the warm start of the next step. */
+    Buffer swap = cs->old_pairs;
+    cs->old_pairs = cs->pairs;
+    cs->pairs = swap;
+    cs->old_count = n;
+    if (stats) *stats = local;
+    return HK_OK;
+}
+
+const hk_PointForce *hk_contact_solve_forces(const hk_ContactSolve *cs, int strand, int *count)
+{
+    int n = 0;
+    const hk_PointForce *f = NULL;
+    if (cs && strand >= 0 && strand < cs->strand_count) {
+        n = cs->slot_start[strand + 1] - cs->slot_start[strand];
+        if (n > 0) f = (const hk_PointForce *)cs->forces.items + cs->slot_start[strand];
+    }
+    if (count) *count = n;
+    return f;
+}
+
+int hk_contact_solve_commit(hk_ContactSolve *cs, hk_StrandDynamics *d, int strand, const hk_RigidState *head_end,
+                            double dt)
+{
+    if (strand < 0 || strand >= cs->strand_count || cs->slot_start[strand + 1] == cs->slot_start[strand] ||
+        cs->movable[strand] != 1 || d->params.integrator != HK_INTEGRATOR_LINEAR_EULER)
+        return 0;
+    const size_t dim = dim_of(cs, strand);
+    double *v = (double *)cs->vfree.items + cs->dim_start[strand];
+    const double *dv = (const double *)cs->dv.items + cs->dim_start[strand];
+    for (size_t k = 0; k < dim; k++) v[k] += dv[k];
+    return hk_dynamics_euler_commit(d, v, dt, head_end);
+}

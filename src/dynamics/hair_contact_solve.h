@@ -1,0 +1,60 @@
+/* The guide-guide contacts of one step solved together over all guides, with
+ * Coulomb's static friction (docs/dynamics.md, "Contacts solved together").
+ *
+ * Per-strand solves with the partners held still (block Jacobi) let touching guides
+ * jitter and, with a viscous friction only, slide under their weight: still hair crept
+ * by up to 8 mm in 4 s (issue 12). Here every guide's linearly implicit step is opened
+ * up (hk_dynamics_euler_delta): its free velocity and its answer to impulses at its
+ * contact points (the inverse of the step's matrix seen through the points'
+ * Jacobians, the Delassus operator of Moreau and Jean) give the relative velocities at
+ * the end of the step as an affine function of the contact impulses. The impulses are
+ * found by projected Gauss-Seidel over the contacts (Jean and Moreau 1992; as
+ * Daviet, Bertails-Descoubes and Boissieux, "A hybrid iterative solver for robustly
+ * capturing Coulomb friction in hair dynamics", SIGGRAPH Asia 2011, do for
+ * Super-Helices), with the penalty of hk_hair_contacts as the normal law, implicit over
+ * the step:
+ *     lambda_n = max(0, h k (d0 - d) - (h^2 k + h c_n) u_n),
+ * and Coulomb's law tangentially: the contact sticks (u_t = 0) while |lambda_t| <=
+ * mu lambda_n, else slides with |lambda_t| = mu lambda_n (mu = 0: the viscous friction
+ * lambda_t = -h c_t u_t of paper 000 §4.1). The impulses then act on every guide as
+ * point forces lambda / h held over the step (hk_strand_dynamics_advance), so that a
+ * guide whose step is split or that takes TR-BDF2 still gets them. */
+#ifndef HK_HAIR_CONTACT_SOLVE_H
+#define HK_HAIR_CONTACT_SOLVE_H
+
+#include "hairkit/dynamics.h"
+#include "hairkit/hair_contacts.h"
+
+typedef struct hk_ContactSolve hk_ContactSolve;
+
+typedef struct hk_ContactSolveStats {
+    int sweeps;     /* Gauss-Seidel sweeps of the last solve */
+    int pushing;    /* pairs with a normal impulse */
+    int sticking;   /* ... of which stick (within the friction cone's interior) */
+    double residual; /* largest impulse change of the last sweep relative to the largest impulse */
+} hk_ContactSolveStats;
+
+hk_Status hk_contact_solve_create(int strand_count, hk_ContactSolve **out, hk_Error *err);
+void hk_contact_solve_destroy(hk_ContactSolve *cs);
+
+/* The impulses of the pairs found by the last hk_hair_contacts_update (params as given
+ * to it) for a step of dt of the strands dyn[0..strand_count) (their state at the
+ * step's start; unchanged), the head being in state head_end at the step's end (NULL:
+ * still). */
+hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts, hk_StrandDynamics **dyn,
+                           int strand_count, const hk_RigidState *head_end, double dt,
+                           hk_ContactSolveStats *stats, hk_Error *err);
+
+/* The result as point forces on strand `strand`, sorted by s (impulse / dt; no
+ * linearisation), until the next solve. */
+const hk_PointForce *hk_contact_solve_forces(const hk_ContactSolve *cs, int strand, int *count);
+
+/* For a strand with the linearly implicit Euler step that took part in the last solve:
+ * ends its step with the velocity the solve found (free velocity plus the impulses'
+ * answer, what hk_strand_dynamics_advance would compute with the forces at one step)
+ * without evaluating again. Returns 0, the strand unchanged, when it cannot (no
+ * contacts, TR-BDF2, or the step needs splitting): then advance it with the forces.
+ * Call at most once per strand and solve. */
+int hk_contact_solve_commit(hk_ContactSolve *cs, hk_StrandDynamics *d, int strand, const hk_RigidState *head_end,
+                            double dt);
+#endif

@@ -1,0 +1,82 @@
+/* How a strand's linearly implicit step answers point impulses: the Jacobians of
+ * points along the strand and solves with the step's matrix, for the solve of the
+ * guide-guide contacts coupled over all guides (hair_contact_solve.c).
+ *
+ * A point at arc length s of element p moves with the generalized velocities as
+ *     x' = (root motion) + sum over P < p, b of (w_Pb x x + t_Pb) q'_Pb + J_p q'_p,
+ * where (w_Pb; t_Pb) is the screw that coordinate b of element P gives everything
+ * beyond the element's end (strand_kinematics.c, hk_element_terms_set_screw) and J_p
+ * the point's own element's Jacobian (hk_point_kinematics): the rows of d x / d q'. */
+#include <string.h>
+
+#include "dynamics_internal.h"
+#include "hairkit/linalg.h"
+
+static hk_Vec3 k_at(const double *q, int p) { return hk_v3(q[3 * p], q[3 * p + 1], q[3 * p + 2]); }
+
+void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head, const double *rates,
+                                 const double *s, int count, double *screws, double *jac, hk_Vec3 *pos,
+                                 hk_Vec3 *vel)
+{
+    const hk_RigidState still = hk_rigid_identity();
+    if (!head) head = &still;
+    hk_SuperHelix *sh = d->sh;
+    const int n = sh->n, dim = 3 * n;
+    hk_strand_dynamics_place(d, head);
+    /* The root as hk_strand_dynamics_points starts it: a point of the head. */
+    hk_FrameKinematics node;
+    const hk_Vec3 rel = hk_v3_sub(sh->root, head->trans);
+    node.frame = sh->root_frame;
+    node.pos = sh->root;
+    node.omega = head->omega;
+    node.vel = hk_v3_add(head->vel, hk_v3_cross(head->omega, rel));
+    node.alpha = node.acc = hk_v3_zero();
+    int p = 0;
+    for (int i = 0; i < count; i++) {
+        while (p < n - 1 && s[i] >= sh->s_start[p + 1]) {
+            hk_PointKinematics end;
+            hk_point_kinematics(&node, k_at(sh->q, p), k_at(rates, p), sh->length[p], 1, &end);
+            for (int b = 0; b < 3; b++) { /* as hk_element_terms_set_screw */
+                const hk_Vec3 w = hk_m3_col(&end.jac_rot, b);
+                const hk_Vec3 t = hk_v3_add(hk_m3_col(&end.jac, b), hk_v3_cross(end.k.pos, w));
+                double *x = screws + 18 * p + 6 * b;
+                x[0] = w.x, x[1] = w.y, x[2] = w.z, x[3] = t.x, x[4] = t.y, x[5] = t.z;
+            }
+            node = end.k;
+            p++;
+        }
+        double u = s[i] - sh->s_start[p];
+        if (!(u >= 0.0)) u = 0.0;
+        if (u > sh->length[p]) u = sh->length[p];
+        hk_PointKinematics pk;
+        hk_point_kinematics(&node, k_at(sh->q, p), k_at(rates, p), u, 1, &pk);
+        if (pos) pos[i] = pk.k.pos;
+        if (vel) vel[i] = pk.k.vel;
+        double *row[3] = {jac + (size_t)(3 * i) * (size_t)dim, jac + (size_t)(3 * i + 1) * (size_t)dim,
+                          jac + (size_t)(3 * i + 2) * (size_t)dim};
+        for (int r = 0; r < 3; r++) memset(row[r], 0, (size_t)dim * sizeof(double));
+        const hk_Vec3 x = pk.k.pos;
+        for (int c = 0; c < 3 * p; c++) {
+            const double *z = screws + 6 * c;
+            const hk_Vec3 col = hk_v3_add(hk_v3_cross(hk_v3(z[0], z[1], z[2]), x), hk_v3(z[3], z[4], z[5]));
+            row[0][c] = col.x, row[1][c] = col.y, row[2][c] = col.z;
+        }
+        for (int b = 0; b < 3; b++) {
+            const hk_Vec3 col = hk_m3_col(&pk.jac, b);
+            row[0][3 * p + b] = col.x, row[1][3 * p + b] = col.y, row[2][3 * p + b] = col.z;
+        }
+    }
+}
+
+int hk_dynamics_resolve(hk_StrandDynamics *d, const double *rhs, double *out)
+{
+    const int n = d->sh->n, dim = 3 * n;
+    if (out != rhs) memcpy(out, rhs, (size_t)dim * sizeof(double));
+    if (d->dense_fallback || d->params.solver == HK_DYNAMICS_DENSE) {
+        /* hk_terms_solve_dense left its Cholesky factor after the assembled matrix. */
+        const double *factor = (d->dense_fallback ? d->dense_work : d->work) + (size_t)dim * (size_t)dim;
+        hk_cholesky_solve(dim, factor, out);
+        return 1;
+    }
+    return hk_terms_solve_linear(n, d->terms, d->extra, out, out, d->work);
+}

@@ -1,0 +1,215 @@
+/* The guide-guide contacts solved together (src/dynamics/hair_contact_solve.c):
+ *  - the solve predicts each strand's step from its free step and its answer to
+ *    impulses (Y = A^-1 J^T); ending the step with that prediction
+ *    (hk_contact_solve_commit) must give the state a second method gives: the strand's
+ *    own linearly implicit step with the solved impulses as point forces
+ *    (hk_strand_dynamics_advance), which evaluates everything afresh;
+ *  - the point Jacobians agree with finite differences of the points' positions;
+ *  - the forces are equal and opposite, and the friction stays in Coulomb's cone. */
+#include "hk_test.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "dynamics/dynamics_internal.h"
+#include "dynamics/hair_contact_solve.h"
+#include "hairkit/statics.h"
+
+#define STRANDS 3
+#define SAMPLES 41
+
+typedef struct World {
+    hk_SuperHelix *sh[STRANDS];
+    hk_StrandDynamics *d[STRANDS];
+    hk_HairContacts *contacts;
+    hk_ContactSolve *solve;
+    double s[SAMPLES];
+    hk_Vec3 pos[STRANDS][SAMPLES], vel[STRANDS][SAMPLES];
+} World;
+
+/* Three 20 cm strands of examples/guides200's hair rooted close together and
+ * crossing as they fall, with the linearly implicit Euler step of full heads. */
+static void world_make(World *w, const hk_HairContactParams *cp)
+{
+    hk_Error err;
+    hk_HairstyleDef style = hk_default_hairstyle();
+    assert_int_equal(hk_hairstyle_load(HK_SOURCE_DIR "/examples/guides200/hairstyle.txt", &style, &err), HK_OK);
+    hk_DynamicsParams p = hk_dynamics_params_for(&style);
+    p.integrator = HK_INTEGRATOR_LINEAR_EULER;
+    p.solver = HK_DYNAMICS_DENSE;
+    p.stiffness = HK_STIFFNESS_FULL;
+    p.hessian_interval = 1;
+    p.max_turn = p.max_travel = 1e9; /* one step each, as the commit takes it */
+    const hk_Vec3 roots[STRANDS] = {hk_v3(0, 0, 0), hk_v3(0.004, 0.0, 0.05), hk_v3(-0.03, 0.003, 0.02)};
+    const hk_Vec3 dirs[STRANDS] = {hk_v3(0, 0, 1), hk_v3(0, 0.01, -1), hk_v3(1, 0.02, 0.1)};
+    const hk_StrandEnv env = hk_default_strand_env();
+    for (int i = 0; i < STRANDS; i++) {
+        assert_int_equal(hk_superhelix_from_hairstyle(&style, roots[i], hk_v3_normalize(dirs[i]), &w->sh[i], &err), HK_OK);
+        assert_int_equal(hk_strand_dynamics_create(w->sh[i], &p, &env, &w->d[i], &err), HK_OK);
+    }
+    const double len = hk_hairstyle_length(&style);
+    for (int j = 0; j < SAMPLES; j++) w->s[j] = len * j / (SAMPLES - 1);
+    assert_int_equal(hk_hair_contacts_create(STRANDS, cp, &w->contacts, &err), HK_OK);
+    assert_int_equal(hk_contact_solve_create(STRANDS, &w->solve, &err), HK_OK);
+    hk_hairstyle_free(&style);
+}
+
+static void world_free(World *w)
+{
+    for (int i = 0; i < STRANDS; i++) hk_strand_dynamics_destroy(w->d[i]), hk_superhelix_destroy(w->sh[i]);
+    hk_hair_contacts_destroy(w->contacts);
+    hk_contact_solve_destroy(w->solve);
+}
+
+static void world_solve(World *w, double h, hk_ContactSolveStats *stats)
+{
+    hk_Error err;
+    hk_StrandSamples ss[STRANDS];
+    for (int i = 0; i < STRANDS; i++) {
+        hk_strand_dynamics_points(w->d[i], NULL, w->s, SAMPLES, w->pos[i], w->vel[i]);
+        ss[i] = (hk_StrandSamples){SAMPLES, w->s, w->pos[i], w->vel[i]};
+    }
+    assert_int_equal(hk_hair_contacts_update(w->contacts, ss, STRANDS, &err), HK_OK);
+    const hk_RigidState still = hk_rigid_identity();
+    assert_int_equal(hk_contact_solve(w->solve, w->contacts, w->d, STRANDS, &still, h, stats, &err), HK_OK);
+}
+
+static hk_HairContactParams params(void)
+{
+    hk_HairContactParams cp = hk_default_hair_contact_params();
+    cp.distance = 0.005, cp.stiffness = 0.005, cp.damping = 8e-5, cp.root_exclusion = 0.0, cp.along = 1;
+    return cp;
+}
+
+static void test_commit_matches_the_step_with_forces(void **state)
+{
+    (void)state;
+    const hk_HairContactParams cp = params();
+    World a, b;
+    world_make(&a, &cp);
+    world_make(&b, &cp);
+    const double h = 1.0 / 30.0;
+    int pushing = 0;
+    hk_Error err;
+    for (int step = 0; step < 40; step++) {
+        hk_ContactSolveStats sa, sb;
+        world_solve(&a, h, &sa);
+        world_solve(&b, h, &sb);
+        pushing += sa.pushing;
+        const hk_RigidState still = hk_rigid_identity();
+        double worst = 0.0, scale = 0.0;
+        for (int i = 0; i < STRANDS; i++) {
+            int count = 0;
+            const hk_PointForce *f = hk_contact_solve_forces(b.solve, i, &count);
+            if (!hk_contact_solve_commit(a.solve, a.d[i], i, &still, h))
+                assert_int_equal(hk_strand_dynamics_advance(a.d[i], NULL, NULL, 0.0, h, hk_contact_solve_forces(a.solve, i, &count), count, NULL, &err), HK_OK);
+            assert_int_equal(hk_strand_dynamics_advance(b.d[i], NULL, NULL, 0.0, h, f, count, NULL, &err), HK_OK);
+            const double *va = hk_strand_dynamics_velocity(a.d[i]), *vb = hk_strand_dynamics_velocity(b.d[i]);
+            for (int k = 0; k < 3 * a.sh[i]->n; k++) {
+                worst = fmax(worst, fabs(va[k] - vb[k]));
+                scale = fmax(scale, fabs(vb[k]));
+                /* the same state for the next step (rounding apart) */
+                a.sh[i]->q[k] = b.sh[i]->q[k];
+                hk_strand_dynamics_velocity(a.d[i])[k] = vb[k];
+            }
+        }
+        assert_true(worst <= 1e-9 * scale + 1e-12);
+    }
+    print_message("%d pairs pushed over 40 steps\n", pushing);
+    assert_true(pushing > 20);
+    world_free(&a);
+    world_free(&b);
+}
+
+static void test_point_jacobians_match_finite_differences(void **state)
+{
+    (void)state;
+    const hk_HairContactParams cp = params();
+    World w;
+    world_make(&w, &cp);
+    hk_StrandDynamics *d = w.d[1];
+    hk_SuperHelix *sh = w.sh[1];
+    assert_true(sh->n > 0 && sh->n < 100);
+    const int dim = 3 * sh->n;
+    const size_t udim = (size_t)dim;
+    for (int k = 0; k < dim; k++) sh->q[k] += 0.5 * sin(3.0 * k); /* a bent, twisted strand */
+    const double s[3] = {0.013, 0.1, 0.2};
+    double *jac = malloc(sizeof(double) * 9 * udim), *screws = malloc(sizeof(double) * 6 * udim);
+    double *rates = calloc(udim, sizeof(double));
+    hk_Vec3 pos[3];
+    hk_dynamics_point_jacobians(d, NULL, rates, s, 3, screws, jac, pos, NULL);
+    const double e = 1e-7;
+    double worst = 0.0;
+    for (int c = 0; c < dim; c++) {
+        hk_Vec3 plus[3], minus[3];
+        sh->q[c] += e;
+        hk_strand_dynamics_points(d, NULL, s, 3, plus, NULL);
+        sh->q[c] -= 2 * e;
+        hk_strand_dynamics_points(d, NULL, s, 3, minus, NULL);
+        sh->q[c] += e;
+        for (int i = 0; i < 3; i++) {
+            const hk_Vec3 fd = hk_v3_scale(hk_v3_sub(plus[i], minus[i]), 0.5 / e);
+            const double x[3] = {fd.x, fd.y, fd.z};
+            for (int r = 0; r < 3; r++) worst = fmax(worst, fabs(x[r] - jac[(size_t)(3 * i + r) * (size_t)dim + (size_t)c]));
+        }
+    }
+    print_message("point Jacobians against central differences: %.2g\n", worst);
+    assert_true(worst < 1e-7);
+    free(jac), free(screws), free(rates);
+    world_free(&w);
+}
+
+static void test_forces_opposite_and_in_the_cone(void **state)
+{
+    (void)state;
+    const hk_HairContactParams cp = params();
+    World w;
+    world_make(&w, &cp);
+    const double h = 1.0 / 30.0;
+    hk_Error err;
+    int checked = 0;
+    for (int step = 0; step < 40; step++) {
+        hk_ContactSolveStats st;
+        world_solve(&w, h, &st);
+        /* Every pair's force on its two points, found by their arc lengths (each
+         * strand's list is sorted by s; the pairs' points here are distinct). */
+        for (int k = 0; k < hk_hair_contacts_pair_count(w.contacts); k++) {
+            hk_HairContactPair pr;
+            assert_true(hk_hair_contacts_pair(w.contacts, k, &pr));
+            hk_Vec3 f[2] = {hk_v3_zero(), hk_v3_zero()};
+            int found[2] = {0, 0};
+            for (int side = 0; side < 2; side++) {
+                int count = 0;
+                const hk_PointForce *list = hk_contact_solve_forces(w.solve, pr.strand[side], &count);
+                for (int x = 0; x < count; x++)
+                    if (list[x].s == pr.s[side]) f[side] = hk_v3_add(f[side], list[x].force), found[side]++;
+            }
+            if (found[0] != 1 || found[1] != 1 || !(pr.distance > 1e-6)) continue;
+            hk_assert_near(hk_v3_norm(hk_v3_add(f[0], f[1])), 0.0, 1e-12 * (1.0 + hk_v3_norm(f[0])));
+            const hk_Vec3 n = hk_v3_scale(hk_v3_sub(pr.point[0], pr.point[1]), 1.0 / pr.distance);
+            const double fn = hk_v3_dot(f[0], n), ft = hk_v3_norm(hk_v3_madd(f[0], n, -fn));
+            assert_true(fn >= 0.0);
+            assert_true(ft <= cp.friction_coefficient * fn * (1.0 + 1e-9) + 1e-15);
+            checked += fn > 0.0;
+        }
+        for (int i = 0; i < STRANDS; i++) {
+            int count = 0;
+            const hk_PointForce *f = hk_contact_solve_forces(w.solve, i, &count);
+            assert_int_equal(hk_strand_dynamics_advance(w.d[i], NULL, NULL, 0.0, h, f, count, NULL, &err), HK_OK);
+        }
+    }
+    print_message("%d pushing pairs checked\n", checked);
+    assert_true(checked > 20);
+    world_free(&w);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_point_jacobians_match_finite_differences),
+        cmocka_unit_test(test_commit_matches_the_step_with_forces),
+        cmocka_unit_test(test_forces_opposite_and_in_the_cone),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
