@@ -117,6 +117,9 @@ struct hk_StrandDynamics {
     hk_Mat3 frame_head;  /* root frame in head space */
     hk_Shape *shapes;    /* body shapes (head space), owned copy */
     hk_BodyContact contact;
+    hk_BodyContact tip;  /* the tip's penalty: the body shapes alone (tip_shapes), no
+                            envelope, weight CollisionStep / 2 (tip_contact.c) */
+    hk_Shape *tip_shapes;
     int contact_samples; /* collision samples along the strand (0: no body) */
     int contact_count;   /* samples in contact during the last evaluation */
     hk_StrandEnv potential_env; /* no shapes: elastic + gravity */
@@ -161,6 +164,10 @@ struct hk_StrandDynamics {
      * and its companions are then allocated on first use. */
     int dense_fallback;
     double *dense_work;
+    /* points of the strand every half collision sample (the samples at the odd
+     * ones), in head space, before and after a step: entry_count each */
+    hk_Vec3 *entry_pos;
+    int entry_count;
     long evaluations;    /* evaluations of the forces, to refresh G+ every few */
     hk_DynamicsStats stats;
     hk_ElementTerms *terms;
@@ -184,6 +191,26 @@ int hk_dynamics_solve(hk_StrandDynamics *d, double ch, double *out);
  * shapes are). */
 void hk_dynamics_head_space_nodes(hk_StrandDynamics *d, const double *q, hk_Vec3 *nodes);
 hk_Vec3 hk_dynamics_head_space_tip(hk_StrandDynamics *d, const double *q);
+
+/* The strand's points every half collision sample, s = 0, w/2, w, ..., and the tip
+ * (hk_superhelix_sample, d->entry_count of them) for coordinates q, in head space:
+ * the collision samples, at s = (i + 1/2) w, are the odd ones. */
+void hk_dynamics_head_space_half_samples(hk_StrandDynamics *d, const double *q, hk_Vec3 *points);
+
+/* The tip's body contact (tip_contact.c), the tip's kinematics given: fills pf and
+ * returns 1 when the tip is inside a body shape. */
+int hk_dynamics_tip_contact(const hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointKinematics *tip,
+                            hk_PointForce *pf);
+
+/* The tip penalty's energy at coordinates q (head space). */
+double hk_dynamics_tip_energy(hk_StrandDynamics *d, const double *q);
+
+/* Deepest that a collision sample or the tip ends inside a body shape (not a styling
+ * one) over a step from the coordinates `before` to `after`, among the shapes whose
+ * penalty (the sample's with the strand's envelope, the tip's without) it did not feel
+ * before: what the linearly implicit Euler step, which sees the contacts of its start,
+ * lets in unopposed (contact_entry.c). 0 when none. */
+double hk_dynamics_largest_entry(hk_StrandDynamics *d, const double *before, const double *after);
 
 /* Kinetic plus potential energy with the body's penalty (the energy that the motion
  * conserves on a still head without friction); *kinetic (may be NULL) its kinetic part. */
