@@ -164,10 +164,13 @@ struct hk_StrandDynamics {
      * and its companions are then allocated on first use. */
     int dense_fallback;
     double *dense_work;
-    /* points of the strand every half collision sample (the samples at the odd
-     * ones), in head space, before and after a step: entry_count each */
-    hk_Vec3 *entry_pos;
-    int entry_count;
+    /* contact_entry.c: the collision samples' arc lengths and the tip's (entry_count),
+     * and their head-space positions for the coordinates of two recent states (a
+     * step's end is the next one's start): slot k holds entry_q[k] (3N) and
+     * entry_pos[k] (entry_count), valid when entry_valid[k] */
+    double *entry_s, *entry_q[2];
+    hk_Vec3 *entry_pos[2];
+    int entry_count, entry_valid[2], entry_next;
     long evaluations;    /* evaluations of the forces, to refresh G+ every few */
     hk_DynamicsStats stats;
     hk_ElementTerms *terms;
@@ -192,10 +195,10 @@ int hk_dynamics_solve(hk_StrandDynamics *d, double ch, double *out);
 void hk_dynamics_head_space_nodes(hk_StrandDynamics *d, const double *q, hk_Vec3 *nodes);
 hk_Vec3 hk_dynamics_head_space_tip(hk_StrandDynamics *d, const double *q);
 
-/* The strand's points every half collision sample, s = 0, w/2, w, ..., and the tip
- * (hk_superhelix_sample, d->entry_count of them) for coordinates q, in head space:
- * the collision samples, at s = (i + 1/2) w, are the odd ones. */
-void hk_dynamics_head_space_half_samples(hk_StrandDynamics *d, const double *q, hk_Vec3 *points);
+/* The strand's points at the arc lengths s[0..count) (ascending) for coordinates q, in
+ * head space. */
+void hk_dynamics_head_space_points(hk_StrandDynamics *d, const double *q, const double *s, int count,
+                                   hk_Vec3 *points);
 
 /* The tip's body contact (tip_contact.c), the tip's kinematics given: fills pf and
  * returns 1 when the tip is inside a body shape. */

@@ -68,7 +68,8 @@ void hk_strand_dynamics_destroy(hk_StrandDynamics *d)
     hk_strand_workspace_destroy(d->ws_body);
     hk_free(d->hess);
     hk_free(d->dense_work);
-    hk_free(d->entry_pos);
+    hk_free(d->entry_s);
+    hk_free(d->entry_pos[0]);
     hk_free(d->tip_shapes);
     hk_free(d);
 }
@@ -150,15 +151,22 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *
         d->contact.friction_velocity = params->friction_velocity;
         d->body_env = *body;
         d->body_env.shapes = d->shapes;
-        /* points every half sample, before and after a step (contact_entry.c) */
-        d->entry_count = hk_superhelix_sample_count(sh, 0.5 * d->contact.weight);
-        d->entry_pos = hk_alloc_array(2 * (size_t)d->entry_count, sizeof(hk_Vec3), err);
+        /* the samples and the tip, before and after a step (contact_entry.c) */
+        d->entry_count = d->contact_samples + 1;
+        const size_t ec = (size_t)d->entry_count;
+        d->entry_s = hk_alloc_array(ec + 2 * dim, sizeof(double), err);
+        d->entry_pos[0] = hk_alloc_array(2 * ec, sizeof(hk_Vec3), err);
         /* the tip's penalty: the body shapes only (tip_contact.c) */
         d->tip_shapes = hk_alloc_array((size_t)body->shape_count, sizeof(hk_Shape), err);
-        if (!d->entry_pos || !d->tip_shapes) {
+        if (!d->entry_s || !d->entry_pos[0] || !d->tip_shapes) {
             hk_strand_dynamics_destroy(d);
             return HK_ERR_NOMEM;
         }
+        for (int i = 0; i < d->contact_samples; i++) d->entry_s[i] = (i + 0.5) * d->contact.weight;
+        d->entry_s[d->contact_samples] = sh->total_length;
+        d->entry_q[0] = d->entry_s + ec;
+        d->entry_q[1] = d->entry_q[0] + dim;
+        d->entry_pos[1] = d->entry_pos[0] + ec;
         d->tip = d->contact;
         d->tip.shapes = d->tip_shapes;
         d->tip.shape_count = 0;
@@ -423,10 +431,11 @@ void hk_dynamics_head_space_nodes(hk_StrandDynamics *d, const double *q, hk_Vec3
     restore_world_pose(d, world);
 }
 
-void hk_dynamics_head_space_half_samples(hk_StrandDynamics *d, const double *q, hk_Vec3 *points)
+void hk_dynamics_head_space_points(hk_StrandDynamics *d, const double *q, const double *s, int count,
+                                   hk_Vec3 *points)
 {
     const RootPose world = use_head_space(d);
-    hk_superhelix_sample(d->sh, q, 0.5 * d->contact.weight, NULL, points, NULL);
+    hk_superhelix_points(d->sh, q, s, count, points);
     restore_world_pose(d, world);
 }
 
