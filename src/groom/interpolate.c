@@ -95,10 +95,12 @@ static void make_strand(const hk_HairstyleDef *style, const double *const guide[
             for (int g = 0; g < 3; g++) w[g] = kept > 0.0 ? w[g] * fade[g] * (sum / kept) : (fade[g] == 1.0 ? sum : 0.0);
         }
         for (int k = 0; k < 3; k++) p[k] = w[0] * guide[0][3 * j + k] + w[1] * guide[1][3 * j + k] + w[2] * guide[2][3 * j + k];
-        if (faded && j == 0) /* the root where the triangle puts it */
-            for (int k = 0; k < 3; k++) offset[k] = root[0] * guide[0][k] + root[1] * guide[1][k] + root[2] * guide[2][k] - p[k];
-        if (faded) /* (adding a zero offset would turn -0 into +0) */
+        if (faded) { /* only then: adding a zero offset would turn -0 into +0 */
+            if (j == 0) /* the root where the triangle puts it */
+                for (int k = 0; k < 3; k++)
+                    offset[k] = root[0] * guide[0][k] + root[1] * guide[1][k] + root[2] * guide[2][k] - p[k];
             for (int k = 0; k < 3; k++) p[k] += offset[k];
+        }
         if (j == 0) {
             memcpy(placed, p, sizeof placed);
         } else {
