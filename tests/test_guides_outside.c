@@ -104,6 +104,7 @@ static double deepest_in_motion(const char *motion, int frames)
     assert_int_equal(o.dynamics.integrator, HK_INTEGRATOR_LINEAR_EULER);
     double deepest = 0.0;
     int deepest_guide = -1, deepest_frame = -1, over = 0;
+    long steps = 0;
     for (int i = 0; i < h->f.count; i++) {
         hk_SuperHelix *sh = h->guide[i];
         memcpy(sh->q, h->rest[i], 3 * (size_t)sh->n * sizeof(double));
@@ -121,8 +122,10 @@ static double deepest_in_motion(const char *motion, int frames)
         assert_true(points <= 128);
         double worst = 0.0;
         for (int k = 0; k < frames; k++) {
-            assert_int_equal(hk_strand_dynamics_advance(d, head_state, m, k / 30.0, 1.0 / 30.0, NULL, 0, NULL, &err),
+            int taken = 0;
+            assert_int_equal(hk_strand_dynamics_advance(d, head_state, m, k / 30.0, 1.0 / 30.0, NULL, 0, &taken, &err),
                              HK_OK);
+            steps += taken;
             hk_RigidState pose;
             hk_head_motion_eval(m, (k + 1) / 30.0, &pose);
             hk_superhelix_sample(sh, NULL, 0.0025, NULL, pos, NULL); /* world: the root is placed */
@@ -136,8 +139,9 @@ static double deepest_in_motion(const char *motion, int frames)
         over += worst > 0.002;
         hk_strand_dynamics_destroy(d);
     }
-    print_message("%s: deepest %.2f mm inside the body (guide %d, frame %d); %d guides deeper than 2 mm\n", motion,
-                  1e3 * deepest, deepest_guide, deepest_frame, over);
+    print_message("%s: deepest %.2f mm inside the body (guide %d, frame %d); %d guides deeper than 2 mm; %.3f steps "
+                  "per guide and frame\n",
+                  motion, 1e3 * deepest, deepest_guide, deepest_frame, over, (double)steps / (h->f.count * frames));
     hk_head_motion_destroy(m);
     return deepest;
 }
