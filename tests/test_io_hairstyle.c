@@ -147,7 +147,7 @@ static void test_defaults(void **state)
     hk_assert_near(def.clump, 0.25, 0);
     hk_assert_near(def.clump_profile, 1.0, 0);
     assert_int_equal(def.stray_hairs, 0);
-    hk_assert_near(def.max_tip_distance, 0, 0);
+    hk_assert_near(def.max_tip_distance, 0.08, 0); /* docs/file-formats.md */
     assert_null(def.element_lengths);
     assert_int_equal(def.element_count, 0);
     hk_assert_near(hk_hairstyle_length(&def), 0, 0);
@@ -195,6 +195,7 @@ static void test_groom_keys(void **state)
     hk_assert_near(d.clump, 0.0, 0);
     hk_assert_near(d.clump_profile, 1e-3, 0);
     assert_int_equal(d.stray_hairs, 0);
+    hk_assert_near(d.max_tip_distance, 0, 0); /* off: the plain blend */
     hk_hairstyle_free(&d);
 }
 

@@ -79,6 +79,10 @@ typedef struct hk_DynamicsParams {
                                   frame in one step (rad) before the step is split */
     double max_travel;         /* ... or moves a node by more than this (m) relative to
                                   the head: contacts are found at the start of a step */
+    double max_entry;          /* ... or, with the linearly implicit Euler step (whose
+                                  contacts are those of the step's start), lets a
+                                  collision sample that felt no body shape at the start
+                                  end more than this (m) inside one */
     int max_depth;             /* ... splits at most this deep (dt / 2^max_depth) */
     hk_DynamicsSolver solver;
     hk_DynamicsStiffness stiffness; /* HK_STIFFNESS_FULL needs HK_DYNAMICS_DENSE */
@@ -155,7 +159,8 @@ typedef void (*hk_HeadStateFn)(void *user, double t, hk_RigidState *out);
 /* Advances from time t to t + dt with error control: a step that turns some element's
  * frame by more than max_turn radians (the linearisation of the step no longer holds:
  * a whipping tip, a fast shake), moves a node by more than max_travel relative to the
- * head, or fails is undone and done again as two half steps,
+ * head, lets a collision sample enter the body by more than max_entry unfelt (linearly
+ * implicit Euler), or fails is undone and done again as two half steps,
  * recursively, down to dt / 2^max_depth. head (NULL: at rest) gives the head's state at
  * any time; the point forces are held over the whole interval. *substeps (may be NULL)
  * receives the number of steps taken. */

@@ -47,8 +47,10 @@ typedef struct hk_HairstyleDef {
                               (1 = the thesis's linear blend; > 1 interpolates further
                               down before clumping, for straight hair) */
     int stray_hairs;       /* StrayHairs: the thesis's stray-hair behaviour (§4.1.4.4) */
-    double max_tip_distance; /* MaxTipDistance (m): guides whose tips are farther apart are
-                              not interpolated between (paper 000 Fig. 4d); 0 = off */
+    double max_tip_distance; /* MaxTipDistance (m): an interpolated strand does not blend
+                              guides whose tips are this far or farther from its nearest
+                              guide's tip, and fades them out from half of it (paper 000
+                              Fig. 4d; docs/grooming.md); default 0.08, 0 = off */
     /* Dynamics (paper 000 eq. 5 and §4.2; docs/dynamics.md): */
     double internal_friction; /* InternalFriction gamma (kg m^3/s): visco-elastic dissipation
                                  of the curvatures, paper: 5e-11 .. 5e-10 */

@@ -91,6 +91,10 @@ int hk_superhelix_sample_count(const hk_SuperHelix *sh, double step);
 void hk_superhelix_sample(const hk_SuperHelix *sh, const double *q, double step, double *s,
                           hk_Vec3 *pos, hk_Vec3 *tangent);
 
+/* Positions at the arc lengths s[0..count), ascending (clamped to [0, L]), in one sweep
+ * from the root: O(N + count). */
+void hk_superhelix_points(const hk_SuperHelix *sh, const double *q, const double *s, int count, hk_Vec3 *pos);
+
 /* ---- energy ---------------------------------------------------------------------- */
 
 /* Environment of a strand for the statics energy. */

@@ -117,6 +117,9 @@ struct hk_StrandDynamics {
     hk_Mat3 frame_head;  /* root frame in head space */
     hk_Shape *shapes;    /* body shapes (head space), owned copy */
     hk_BodyContact contact;
+    hk_BodyContact tip;  /* the tip's penalty: the body shapes alone (tip_shapes), no
+                            envelope, weight CollisionStep / 2 (tip_contact.c) */
+    hk_Shape *tip_shapes;
     int contact_samples; /* collision samples along the strand (0: no body) */
     int contact_count;   /* samples in contact during the last evaluation */
     hk_StrandEnv potential_env; /* no shapes: elastic + gravity */
@@ -161,6 +164,13 @@ struct hk_StrandDynamics {
      * and its companions are then allocated on first use. */
     int dense_fallback;
     double *dense_work;
+    /* contact_entry.c: the collision samples' arc lengths and the tip's (entry_count),
+     * and their head-space positions for the coordinates of two recent states (a
+     * step's end is the next one's start): slot k holds entry_q[k] (3N) and
+     * entry_pos[k] (entry_count), valid when entry_valid[k] */
+    double *entry_s, *entry_q[2];
+    hk_Vec3 *entry_pos[2];
+    int entry_count, entry_valid[2], entry_next;
     long evaluations;    /* evaluations of the forces, to refresh G+ every few */
     hk_DynamicsStats stats;
     hk_ElementTerms *terms;
@@ -184,6 +194,26 @@ int hk_dynamics_solve(hk_StrandDynamics *d, double ch, double *out);
  * shapes are). */
 void hk_dynamics_head_space_nodes(hk_StrandDynamics *d, const double *q, hk_Vec3 *nodes);
 hk_Vec3 hk_dynamics_head_space_tip(hk_StrandDynamics *d, const double *q);
+
+/* The strand's points at the arc lengths s[0..count) (ascending) for coordinates q, in
+ * head space. */
+void hk_dynamics_head_space_points(hk_StrandDynamics *d, const double *q, const double *s, int count,
+                                   hk_Vec3 *points);
+
+/* The tip's body contact (tip_contact.c), the tip's kinematics given: fills pf and
+ * returns 1 when the tip is inside a body shape. */
+int hk_dynamics_tip_contact(const hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointKinematics *tip,
+                            hk_PointForce *pf);
+
+/* The tip penalty's energy at coordinates q (head space). */
+double hk_dynamics_tip_energy(hk_StrandDynamics *d, const double *q);
+
+/* Deepest that a collision sample or the tip ends inside a body shape (not a styling
+ * one) over a step from the coordinates `before` to `after`, among the shapes whose
+ * penalty (the sample's with the strand's envelope, the tip's without) it did not feel
+ * before: what the linearly implicit Euler step, which sees the contacts of its start,
+ * lets in unopposed (contact_entry.c). 0 when none. */
+double hk_dynamics_largest_entry(hk_StrandDynamics *d, const double *before, const double *after);
 
 /* Kinetic plus potential energy with the body's penalty (the energy that the motion
  * conserves on a still head without friction); *kinetic (may be NULL) its kinetic part. */

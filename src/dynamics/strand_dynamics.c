@@ -37,6 +37,12 @@ hk_DynamicsParams hk_dynamics_params_for(const hk_HairstyleDef *def)
      * guide and frame instead of 1.26, for no measurable change in how deep tips enter
      * the head (the penalty's own reach dominates, tests/test_hair_sim.c) */
     p.max_travel = 0.01;
+    /* The linearly implicit Euler step sees the contacts of its start: a sample that
+     * meets the body during the step goes in unopposed by its whole travel (under nod,
+     * guides of examples/guides200 reached 4.5 mm into the neck at 0.16 m/s, where
+     * the penalty's own reach v sqrt(rho S / k) is 0.1 mm). 1 mm leaves room below the
+     * 2 mm that guides may enter (docs/dynamics.md, "Limitations"). */
+    p.max_entry = 0.001;
     p.max_depth = 8;
     p.hessian_interval = 4;
     /* The O(N) solver by default: with every force implicit in the stage equations,
@@ -62,6 +68,9 @@ void hk_strand_dynamics_destroy(hk_StrandDynamics *d)
     hk_strand_workspace_destroy(d->ws_body);
     hk_free(d->hess);
     hk_free(d->dense_work);
+    hk_free(d->entry_s);
+    hk_free(d->entry_pos[0]);
+    hk_free(d->tip_shapes);
     hk_free(d);
 }
 
@@ -72,6 +81,7 @@ static int params_valid(const hk_DynamicsParams *p)
            p->friction_against >= 0.0 && isfinite(p->friction_against) &&
            p->friction_velocity > 0.0 && isfinite(p->friction_velocity) && p->quadrature >= 0 &&
            p->quadrature <= HK_GAUSS_MAX && p->max_turn > 0.0 && p->max_travel > 0.0 &&
+           p->max_entry > 0.0 &&
            p->max_depth >= 0 && p->max_depth <= 30 && p->hessian_interval >= 1 &&
            p->hessian_interval <= 1000 && p->newton_tolerance > 0.0 && isfinite(p->newton_tolerance) &&
            p->newton_iterations >= 1 && p->newton_iterations <= 1000 &&
@@ -141,6 +151,29 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *
         d->contact.friction_velocity = params->friction_velocity;
         d->body_env = *body;
         d->body_env.shapes = d->shapes;
+        /* the samples and the tip, before and after a step (contact_entry.c) */
+        d->entry_count = d->contact_samples + 1;
+        const size_t ec = (size_t)d->entry_count;
+        d->entry_s = hk_alloc_array(ec + 2 * dim, sizeof(double), err);
+        d->entry_pos[0] = hk_alloc_array(2 * ec, sizeof(hk_Vec3), err);
+        /* the tip's penalty: the body shapes only (tip_contact.c) */
+        d->tip_shapes = hk_alloc_array((size_t)body->shape_count, sizeof(hk_Shape), err);
+        if (!d->entry_s || !d->entry_pos[0] || !d->tip_shapes) {
+            hk_strand_dynamics_destroy(d);
+            return HK_ERR_NOMEM;
+        }
+        for (int i = 0; i < d->contact_samples; i++) d->entry_s[i] = (i + 0.5) * d->contact.weight;
+        d->entry_s[d->contact_samples] = sh->total_length;
+        d->entry_q[0] = d->entry_s + ec;
+        d->entry_q[1] = d->entry_q[0] + dim;
+        d->entry_pos[1] = d->entry_pos[0] + ec;
+        d->tip = d->contact;
+        d->tip.shapes = d->tip_shapes;
+        d->tip.shape_count = 0;
+        d->tip.envelope_alpha = 0.0;
+        d->tip.weight = 0.5 * d->contact.weight;
+        for (int i = 0; i < body->shape_count; i++)
+            if (!body->shapes[i].styling) d->tip_shapes[d->tip.shape_count++] = body->shapes[i];
     } else {
         d->body_env = hk_default_strand_env();
     }
@@ -359,6 +392,11 @@ static void sweep(hk_StrandDynamics *d, const hk_RigidState *head, const hk_Poin
         }
         hk_PointKinematics end;
         hk_point_kinematics(&node, k, kd, len, mode == SWEEP_STEP ? 2 : 1, &end);
+        hk_PointForce tip;
+        if (last && mode == SWEEP_STEP && hk_dynamics_tip_contact(d, head, &end, &tip)) {
+            d->contact_count++;
+            add_point_force(t, &end, &tip, ch, NULL, NULL, euler ? head : NULL);
+        }
         hk_element_terms_set_screw(t, &end);
         if (x) rate = rate_at(&rate, node.pos, &end, xp);
         node = end.k;
@@ -390,6 +428,14 @@ void hk_dynamics_head_space_nodes(hk_StrandDynamics *d, const double *q, hk_Vec3
 {
     const RootPose world = use_head_space(d);
     hk_superhelix_nodes(d->sh, q, nodes, NULL);
+    restore_world_pose(d, world);
+}
+
+void hk_dynamics_head_space_points(hk_StrandDynamics *d, const double *q, const double *s, int count,
+                                   hk_Vec3 *points)
+{
+    const RootPose world = use_head_space(d);
+    hk_superhelix_points(d->sh, q, s, count, points);
     restore_world_pose(d, world);
 }
 
@@ -475,6 +521,7 @@ double hk_dynamics_total_energy(hk_StrandDynamics *d, const hk_RigidState *head,
         u = hk_strand_energy(sh, &d->body_env, sh->q, d->ws_body, NULL, NULL, NULL);
         sh->material.gravity = gravity;
         restore_world_pose(d, world);
+        u += hk_dynamics_tip_energy(d, sh->q);
     }
     if (kinetic) *kinetic = k;
     return k + u;

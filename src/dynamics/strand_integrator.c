@@ -416,7 +416,9 @@ static int advance(hk_StrandDynamics *d, const Interval *iv, double t, double dt
     const int ok = integrate(d, heads, iv->forces, iv->force_count, dt);
     if (!ok) d->stats.failures++;
     if (ok && (depth >= d->params.max_depth ||
-               (largest_turn(d) <= d->params.max_turn && largest_travel(d) <= d->params.max_travel))) {
+               (largest_turn(d) <= d->params.max_turn && largest_travel(d) <= d->params.max_travel &&
+                (d->params.integrator != HK_INTEGRATOR_LINEAR_EULER ||
+                 hk_dynamics_largest_entry(d, d->saved, d->sh->q) <= d->params.max_entry)))) {
         (*substeps)++;
         return 1;
     }

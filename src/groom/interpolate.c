@@ -57,31 +57,49 @@ static double dist3(const double *p, const double *q)
     return sqrt(dx * dx + dy * dy + dz * dz);
 }
 
+/* How much a guide whose tip is `d` from the tip of the strand's nearest guide takes
+ * part in the strand's blend, for MaxTipDistance `far`: fully up to far / 2, not at all
+ * from far on, and a smoothstep between. Guides that fell to different sides of the
+ * head (a parting, an ear, the hairline before the styling sphere) blend into a strand
+ * that cuts through the head, which the body projection then slides round the scalp:
+ * the stray strands across the forehead of issue 12. Paper 000 (Fig. 4d) switches such
+ * triangles to following the nearest guide; a fade over a range of distances does the
+ * same without a jump when a simulated guide's tip crosses the distance. */
+static double tip_fade(double d, double far)
+{
+    if (!(far > 0.0) || d <= 0.5 * far) return 1.0;
+    if (d >= far) return 0.0;
+    const double x = (far - d) / (0.5 * far);
+    return x * x * (3.0 - 2.0 * x);
+}
+
 /* One strand: blended points, then segment lengths restored to the blended lengths
  * of the guides' segments, so that interpolation never shortens a strand
- * (inextensibility). */
+ * (inextensibility). fade[g] (tip_fade) scales guide g's weight, the sum of the
+ * weights kept; with a fade below 1 the strand is carried by its root offset, as the
+ * nearest guide's copy of the semi-interpolation is: fade 0 for both other guides is
+ * that copy. */
 static void make_strand(const hk_HairstyleDef *style, const double *const guide[3], int points,
-                        const double root[3], const double tip[3], int follow_nearest, float *out)
+                        const double root[3], const double tip[3], const double fade[3], float *out)
 {
-    double prev[3] = {0, 0, 0}, placed[3] = {0, 0, 0}, last_dir[3] = {0, 0, 1};
-    const int near = (root[0] >= root[1] && root[0] >= root[2]) ? 0 : (root[1] >= root[2] ? 1 : 2);
+    double prev[3] = {0, 0, 0}, placed[3] = {0, 0, 0}, last_dir[3] = {0, 0, 1}, offset[3] = {0, 0, 0};
+    const int faded = fade[0] < 1.0 || fade[1] < 1.0 || fade[2] < 1.0;
     for (int j = 0; j < points; j++) {
         double p[3];
         double w[3];
-        if (follow_nearest) {
-            /* Semi-interpolation across diverging guides (paper 000 Fig. 4d): the strand
-             * takes the shape of its nearest guide, carried by its own root offset. */
-            for (int k = 0; k < 3; k++) {
-                double r = root[0] * guide[0][k] + root[1] * guide[1][k] + root[2] * guide[2][k];
-                p[k] = guide[near][3 * j + k] + (r - guide[near][k]);
-            }
-            w[0] = w[1] = w[2] = 0.0;
-            w[near] = 1.0;
-        } else {
-            const double t = points > 1 ? (double)j / (points - 1) : 0.0;
-            const double s = style->clump_profile == 1.0 ? t : pow(t, style->clump_profile);
-            for (int g = 0; g < 3; g++) w[g] = root[g] + (tip[g] - root[g]) * s;
-            for (int k = 0; k < 3; k++) p[k] = w[0] * guide[0][3 * j + k] + w[1] * guide[1][3 * j + k] + w[2] * guide[2][3 * j + k];
+        const double t = points > 1 ? (double)j / (points - 1) : 0.0;
+        const double s = style->clump_profile == 1.0 ? t : pow(t, style->clump_profile);
+        for (int g = 0; g < 3; g++) w[g] = root[g] + (tip[g] - root[g]) * s;
+        if (faded) {
+            const double sum = w[0] + w[1] + w[2], kept = w[0] * fade[0] + w[1] * fade[1] + w[2] * fade[2];
+            for (int g = 0; g < 3; g++) w[g] = kept > 0.0 ? w[g] * fade[g] * (sum / kept) : (fade[g] == 1.0 ? sum : 0.0);
+        }
+        for (int k = 0; k < 3; k++) p[k] = w[0] * guide[0][3 * j + k] + w[1] * guide[1][3 * j + k] + w[2] * guide[2][3 * j + k];
+        if (faded) { /* only then: adding a zero offset would turn -0 into +0 */
+            if (j == 0) /* the root where the triangle puts it */
+                for (int k = 0; k < 3; k++)
+                    offset[k] = root[0] * guide[0][k] + root[1] * guide[1][k] + root[2] * guide[2][k] - p[k];
+            for (int k = 0; k < 3; k++) p[k] += offset[k];
         }
         if (j == 0) {
             memcpy(placed, p, sizeof placed);
@@ -144,12 +162,13 @@ hk_Status hk_groom_interpolate(const hk_HairstyleDef *style, const hk_Shape *sha
         const int *tri = wick->triangles + 3 * t;
         const double *guide[3];
         for (int k = 0; k < 3; k++) guide[k] = g->guides + (size_t)tri[k] * (size_t)points * 3;
-        int follow_nearest = 0;
-        if (style->max_tip_distance > 0.0) {
-            const size_t tipo = (size_t)(points - 1) * 3;
-            for (int a = 0; a < 3; a++)
-                if (dist3(guide[a] + tipo, guide[(a + 1) % 3] + tipo) > style->max_tip_distance) follow_nearest = 1;
-        }
+        /* fades[near][g]: guide g's part in the blend of the strands nearest to guide
+         * `near` (tip_fade of their tips' distance) */
+        double fades[3][3];
+        const size_t tipo = (size_t)(points - 1) * 3;
+        for (int a = 0; a < 3; a++)
+            for (int b = 0; b < 3; b++)
+                fades[a][b] = a == b ? 1.0 : tip_fade(dist3(guide[a] + tipo, guide[b] + tipo), style->max_tip_distance);
         for (long s = first[t]; s < first[t + 1]; s++) {
             const uint64_t key = (uint64_t)(s - first[t]) * 4;
             double root[3], tip[3];
@@ -158,7 +177,8 @@ hk_Status hk_groom_interpolate(const hk_HairstyleDef *style, const hk_Shape *sha
             hk_groom_tip_weights(root, style->clump, hk_rng_uniform(o->seed, STREAM_STRAND + ((uint64_t)t << 8), key + 2),
                         hk_rng_uniform(o->seed, STREAM_STRAND + ((uint64_t)t << 8), key + 3), style->stray_hairs, tip);
             float *strand = g->strands + (size_t)s * (size_t)points * 3;
-            make_strand(style, guide, points, root, tip, follow_nearest, strand);
+            const int near = (root[0] >= root[1] && root[0] >= root[2]) ? 0 : (root[1] >= root[2] ? 1 : 2);
+            make_strand(style, guide, points, root, tip, fades[near], strand);
             hk_groom_keep_outside(body, body_count, strand, points);
             g->strand_triangle[s] = t;
             for (int k = 0; k < 3; k++) g->strand_root_weights[3 * s + k] = (float)root[k];

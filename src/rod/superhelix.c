@@ -177,6 +177,19 @@ void hk_superhelix_eval(const hk_SuperHelix *sh, const double *q, double s, hk_V
     element_pose(q, i, s - sh->s_start[i], &r, p, pos, frame);
 }
 
+void hk_superhelix_points(const hk_SuperHelix *sh, const double *q, const double *s, int count, hk_Vec3 *pos)
+{
+    if (!q) q = sh->q;
+    hk_Mat3 r = sh->root_frame;
+    hk_Vec3 p = sh->root;
+    int elem = 0;
+    for (int j = 0; j < count; j++) {
+        const double sj = s[j] > 0.0 ? (s[j] < sh->total_length ? s[j] : sh->total_length) : 0.0;
+        while (elem < sh->n - 1 && sj >= sh->s_start[elem + 1]) advance_element(sh, q, elem++, &r, &p);
+        element_pose(q, elem, sj - sh->s_start[elem], &r, p, &pos[j], NULL);
+    }
+}
+
 int hk_superhelix_sample_count(const hk_SuperHelix *sh, double step)
 {
     const double len = sh->total_length;

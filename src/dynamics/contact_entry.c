@@ -1,0 +1,60 @@
+/* How deep a collision sample enters the body unfelt over one step.
+ *
+ * The body contacts are penalty forces at the collision samples (paper 000 §4.2, the
+ * statics penalty of thesis §4.1.2). The linearly implicit Euler step (paper 000 §3.4)
+ * evaluates them, with their stiffness, at the start of the step only: a sample that
+ * is out of a shape's reach then moves through the step as if the shape were not
+ * there, and ends inside it by up to the step's travel. That, not the penalty's
+ * stiffness, is what let guides of examples/guides200 4.5 mm into the neck under a
+ * nod at 0.16 m/s (docs/dynamics.md, "Limitations"). hk_strand_dynamics_advance splits
+ * such a step: halving it halves the travel, and once the sample is inside, the next
+ * step feels the penalty implicitly. The tip, which has a contact of its own on the
+ * body shapes themselves (tip_contact.c), is watched the same way. Only points that
+ * felt nothing at the start count: a point already inside is pushed by its penalty,
+ * and splitting would not bring it out sooner. */
+#include <string.h>
+
+#include "dynamics_internal.h"
+
+/* Head-space positions of the samples and the tip for coordinates q: a step's end is
+ * the next step's start, and a split step starts where it did, so the two last states
+ * are kept (half the cost of the check). */
+static const hk_Vec3 *points_at(hk_StrandDynamics *d, const double *q)
+{
+    const size_t bytes = (size_t)(3 * d->sh->n) * sizeof(double);
+    for (int k = 0; k < 2; k++)
+        if (d->entry_valid[k] && memcmp(d->entry_q[k], q, bytes) == 0) {
+            d->entry_next = 1 - k; /* keep this one */
+            return d->entry_pos[k];
+        }
+    const int k = d->entry_next;
+    memcpy(d->entry_q[k], q, bytes);
+    hk_dynamics_head_space_points(d, q, d->entry_s, d->entry_count, d->entry_pos[k]);
+    d->entry_valid[k] = 1;
+    d->entry_next = 1 - k;
+    return d->entry_pos[k];
+}
+
+double hk_dynamics_largest_entry(hk_StrandDynamics *d, const double *before, const double *after)
+{
+    if (d->contact_samples == 0) return 0.0;
+    const hk_Vec3 *from = points_at(d, before), *to = points_at(d, after);
+    double entry = 0.0;
+    /* the collision samples, with the strand's envelope, and the tip (tip_contact.c),
+     * with none */
+    for (int j = 0; j < d->entry_count; j++) {
+        const int tip = j == d->entry_count - 1;
+        for (int k = 0; k < d->tip.shape_count; k++) {
+            const hk_Shape *sh = &d->tip.shapes[k];
+            /* beyond the shape's bound (with extra = 0) the point is outside it */
+            if (!(sh->penalty > 0.0) || hk_v3_dist(to[j], sh->centre) > sh->bound) continue;
+            const double dent = hk_shape_dent(sh, to[j], NULL, NULL);
+            if (!(dent > entry)) continue;
+            /* felt at the start: the penalty was on */
+            const double extra = tip ? 0.0 : d->contact.envelope_alpha * sh->volume;
+            if (hk_shape_dent(sh, from[j], NULL, NULL) + extra > 0.0) continue;
+            entry = dent;
+        }
+    }
+    return entry;
+}
