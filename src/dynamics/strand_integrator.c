@@ -393,6 +393,18 @@ static double largest_turn(hk_StrandDynamics *d)
     return turn_of(d->sh, d->delta, 1.0);
 }
 
+/* Whether the step from the saved state to now keeps within the error control's
+ * limits (hk_strand_dynamics_advance): no frame turning more than max_turn, no node
+ * near the body travelling more than max_travel and, for the linearly implicit Euler
+ * step (which sees only the contacts of its start), no point entering the body unfelt
+ * by more than max_entry. */
+static int step_accepted(hk_StrandDynamics *d)
+{
+    return largest_turn(d) <= d->params.max_turn && largest_travel(d) <= d->params.max_travel &&
+           (d->params.integrator != HK_INTEGRATOR_LINEAR_EULER ||
+            hk_dynamics_largest_entry(d, d->saved, d->sh->q) <= d->params.max_entry);
+}
+
 typedef struct Interval {
     hk_HeadStateFn head;
     void *user;
@@ -415,10 +427,7 @@ static int advance(hk_StrandDynamics *d, const Interval *iv, double t, double dt
     save_state(d);
     const int ok = integrate(d, heads, iv->forces, iv->force_count, dt);
     if (!ok) d->stats.failures++;
-    if (ok && (depth >= d->params.max_depth ||
-               (largest_turn(d) <= d->params.max_turn && largest_travel(d) <= d->params.max_travel &&
-                (d->params.integrator != HK_INTEGRATOR_LINEAR_EULER ||
-                 hk_dynamics_largest_entry(d, d->saved, d->sh->q) <= d->params.max_entry)))) {
+    if (ok && (depth >= d->params.max_depth || step_accepted(d))) {
         (*substeps)++;
         return 1;
     }
@@ -442,8 +451,7 @@ int hk_dynamics_euler_commit(hk_StrandDynamics *d, const double *v, double h, co
     d->acc_valid = 0;
     d->energy_valid = 0;
     d->prev_h = 0.0;
-    if (!all_finite(sh->q, dim) || !all_finite(d->v, dim) || largest_turn(d) > d->params.max_turn ||
-        largest_travel(d) > d->params.max_travel) {
+    if (!all_finite(sh->q, dim) || !all_finite(d->v, dim) || !step_accepted(d)) {
         restore_state(d);
         hk_strand_dynamics_place(d, head_end);
         return 0;
