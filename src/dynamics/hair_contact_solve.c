@@ -23,6 +23,7 @@
 #include "hair_contacts_internal.h"
 
 #define HK_PGS_SWEEPS 20
+#define HK_PGS_FULL_EVERY 4
 #define HK_PGS_TOLERANCE 1e-4
 
 typedef struct Slot {
@@ -72,6 +73,7 @@ struct hk_ContactSolve {
     Buffer vfree;         /* double, 3N per strand: its velocity after a step without them */
     Buffer screws;        /* double, 18N per strand: work of the Jacobians */
     Buffer pairs, old_pairs; /* PairState per pair, this step's and the last one's */
+    Buffer active;        /* int per pair: the pushing pairs of the last full sweep */
     int old_count;
 };
 
@@ -101,7 +103,7 @@ void hk_contact_solve_destroy(hk_ContactSolve *cs)
     hk_free(cs->dim_start);
     hk_free(cs->jac_start);
     hk_free(cs->movable);
-    Buffer *all[] = {&cs->slots, &cs->at, &cs->vfree, &cs->vel, &cs->forces, &cs->jac, &cs->yt, &cs->dv, &cs->screws, &cs->pairs, &cs->old_pairs};
+    Buffer *all[] = {&cs->slots, &cs->at, &cs->vfree, &cs->vel, &cs->forces, &cs->jac, &cs->yt, &cs->dv, &cs->screws, &cs->pairs, &cs->old_pairs, &cs->active};
     for (size_t k = 0; k < sizeof all / sizeof *all; k++) hk_free(all[k]->items);
     hk_free(cs);
 }
@@ -134,7 +136,7 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Strand
     if (!reserve(&cs->slots, slots, sizeof(Slot), err) || !reserve(&cs->at, slots, sizeof(double), err) || !reserve(&cs->vel, slots, sizeof(hk_Vec3), err) ||
         !reserve(&cs->forces, slots, sizeof(hk_PointForce), err) || !reserve(&cs->jac, jacs, sizeof(double), err) ||
         !reserve(&cs->yt, jacs, sizeof(double), err) || !reserve(&cs->dv, dims, sizeof(double), err) || !reserve(&cs->vfree, dims, sizeof(double), err) ||
-        !reserve(&cs->screws, 6 * dims, sizeof(double), err) || !reserve(&cs->pairs, (size_t)n, sizeof(PairState), err))
+        !reserve(&cs->screws, 6 * dims, sizeof(double), err) || !reserve(&cs->pairs, (size_t)n, sizeof(PairState), err) || !reserve(&cs->active, (size_t)n, sizeof(int), err))
         return HK_ERR_NOMEM;
     Slot *slot = cs->slots.items;
     PairState *pairs = cs->pairs.items;
@@ -332,8 +334,12 @@ static int contact_law(double w[3][3], const double u0[3], double beta, double g
         const double change = fabs(n - n_old) + fabs(t[0] - t_old[0]) + fabs(t[1] - t_old[1]);
         if (change <= 1e-9 * (n + bound)) break;
     }
+    if (!(n > 0.0)) { /* no push, no friction */
+        lam[0] = lam[1] = lam[2] = 0.0;
+        return 0;
+    }
     lam[0] = n, lam[1] = t[0], lam[2] = t[1];
-    return n > 0.0;
+    return 1;
 }
 
 static hk_Vec3 in_basis(const hk_Vec3 basis[3], hk_Vec3 x)
@@ -433,6 +439,30 @@ static void apply_change(hk_ContactSolve *cs, const PairState *ps, const int str
     }
 }
 
+/* One Gauss-Seidel visit of pair k: its law given the other impulses, the strands'
+ * dv updated. *change is raised to the size of the impulse's change, *size receives the
+ * new impulse's size; returns the law's verdict (contact_law). */
+static int visit(hk_ContactSolve *cs, const hk_HairContacts *contacts, int k, double mu, double viscous,
+                 double *change, double *size)
+{
+    PairState *ps = (PairState *)cs->pairs.items + k;
+    const int strand[2] = {contacts->pairs[k].i, contacts->pairs[k].j};
+    const hk_Vec3 u = in_basis(ps->basis, relative_velocity(cs, ps, strand));
+    const hk_Vec3 lb = in_basis(ps->basis, ps->lambda);
+    const double lo[3] = {lb.x, lb.y, lb.z};
+    double u0[3] = {u.x, u.y, u.z}, lam[3] = {lo[0], lo[1], lo[2]};
+    for (int r = 0; r < 3; r++) u0[r] -= ps->w[r][0] * lo[0] + ps->w[r][1] * lo[1] + ps->w[r][2] * lo[2];
+    const int law = contact_law(ps->w, u0, ps->beta, ps->gamma, mu, viscous, mu * (lo[0] > 0.0 ? lo[0] : 0.0), lam);
+    const hk_Vec3 next = from_basis(ps->basis, hk_v3(lam[0], lam[1], lam[2]));
+    const hk_Vec3 delta = hk_v3_sub(next, ps->lambda);
+    ps->lambda = next;
+    const double dl = hk_v3_norm(delta);
+    if (dl > 0.0) apply_change(cs, ps, strand, delta);
+    if (dl > *change) *change = dl;
+    *size = hk_v3_norm(next);
+    return law;
+}
+
 hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts, hk_StrandDynamics **dyn,
                            int strand_count, const hk_RigidState *head_end, double dt,
                            hk_ContactSolveStats *stats, hk_Error *err)
@@ -458,32 +488,25 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
         const int strand[2] = {contacts->pairs[k].i, contacts->pairs[k].j};
         apply_change(cs, &pairs[k], strand, pairs[k].lambda); /* the warm start's share */
     }
+    /* Pairs that do not push (most of those between d0 and 2 d0) are visited on every
+     * HK_PGS_FULL_EVERY-th sweep and the last one only; the others on every sweep. */
+    int *active = cs->active.items, active_count = 0;
     for (int sweep = 0; sweep < HK_PGS_SWEEPS; sweep++) {
+        const int full = sweep % HK_PGS_FULL_EVERY == 0 || sweep == HK_PGS_SWEEPS - 1;
+        const int count = full ? n : active_count;
         double change = 0.0, largest = 0.0;
-        local.pushing = local.sticking = 0;
-        for (int k = 0; k < n; k++) {
-            PairState *ps = &pairs[k];
-            const int strand[2] = {contacts->pairs[k].i, contacts->pairs[k].j};
-            const hk_Vec3 u = in_basis(ps->basis, relative_velocity(cs, ps, strand));
-            const hk_Vec3 lb = in_basis(ps->basis, ps->lambda);
-            const double lo[3] = {lb.x, lb.y, lb.z};
-            double u0[3] = {u.x, u.y, u.z}, lam[3];
-            for (int r = 0; r < 3; r++) u0[r] -= ps->w[r][0] * lo[0] + ps->w[r][1] * lo[1] + ps->w[r][2] * lo[2];
-            lam[0] = lo[0], lam[1] = lo[1], lam[2] = lo[2];
-            const int law = contact_law(ps->w, u0, ps->beta, ps->gamma, mu, viscous, mu * (lo[0] > 0.0 ? lo[0] : 0.0), lam);
-            local.pushing += law > 0;
-            local.sticking += law == 2;
-            const hk_Vec3 next = from_basis(ps->basis, hk_v3(lam[0], lam[1], lam[2]));
-            const hk_Vec3 delta = hk_v3_sub(next, ps->lambda);
-            ps->lambda = next;
-            apply_change(cs, ps, strand, delta);
-            const double dl = hk_v3_norm(delta), l = hk_v3_norm(next);
-            if (dl > change) change = dl;
+        if (full) local.pushing = local.sticking = 0, active_count = 0;
+        for (int x = 0; x < count; x++) {
+            const int k = full ? x : active[x];
+            double l;
+            const int law = visit(cs, contacts, k, mu, viscous, &change, &l);
             if (l > largest) largest = l;
+            if (full && law > 0) active[active_count++] = k;
+            if (full) local.pushing += law > 0, local.sticking += law == 2;
         }
         local.sweeps = sweep + 1;
         local.residual = largest > 0.0 ? change / largest : 0.0;
-        if (change <= HK_PGS_TOLERANCE * largest) break;
+        if (full && change <= HK_PGS_TOLERANCE * largest) break;
     }
     /* The bound of the last sweep's Tresca problems lags the normal impulses by a
      * sweep: what exceeds Coulomb's cone is taken back (and from dv, which the commit
