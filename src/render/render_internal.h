@@ -77,6 +77,11 @@ void hk_depth_order(uint32_t n, const float *depth, uint32_t *order, uint32_t *w
  * the full order, the same as any sort of the whole keys. tmp holds n keys. */
 void hk_sort_by_high_bits(uint64_t *keys, uint32_t n, uint64_t *tmp);
 
+/* Insertion sort of keys[0..n), for keys that are nearly in order: 1 when sorted, 0
+ * when it gave up after `budget` moves (keys[0..i) sorted, the rest as it was, so
+ * that the precondition of hk_sort_by_high_bits still holds). */
+int hk_sort_nearly_sorted(uint64_t *keys, size_t n, size_t budget);
+
 /* An item's pixel box [x0, x1) x [y0, y1) (sides are at most 16384 pixels); empty
  * when x1 <= x0. */
 typedef struct hk_TileBox {

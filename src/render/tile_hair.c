@@ -241,16 +241,10 @@ static int composite(hk_TileHair *w, hk_Canvas *image)
             const int p = (y - w->r.y0) * HK_TILE + (x - w->r.x0);
             uint64_t *k = w->keys + w->pixel_start[p];
             const size_t n = w->pixel_start[p + 1] - w->pixel_start[p];
-            if (n <= 64) { /* insertion sort: after saturation pixels hold few fragments */
-                for (size_t i = 1; i < n; i++) {
-                    uint64_t v = k[i];
-                    size_t j = i;
-                    for (; j > 0 && k[j - 1] > v; j--) k[j] = k[j - 1];
-                    k[j] = v;
-                }
-            } else {
+            /* The segments were drawn nearest first, so a pixel's fragments come nearly
+             * in depth order: insertion sort, unless it moves them too often. */
+            if (!hk_sort_nearly_sorted(k, n, n <= 64 ? SIZE_MAX : 8 * n))
                 hk_sort_by_high_bits(k, (uint32_t)n, w->keys_tmp); /* keys hold i in increasing order */
-            }
             float cr = 0.0f, cg = 0.0f, cb = 0.0f, through = 1.0f;
             for (size_t i = 0; i < n && through > 1e-4f; i++) {
                 const Fragment *f = &w->frag[k[i] & 0xffffffffu];
