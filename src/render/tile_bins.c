@@ -50,7 +50,6 @@ static void bin_ranges(uint32_t item_count, const hk_TileBox *boxes, hk_TileBins
 hk_Status hk_tile_bins_build(uint32_t item_count, hk_BoxFn box_of, void *user, int width, int height,
                              hk_TileBins *bins, hk_Error *err)
 {
-    memset(bins, 0, sizeof *bins);
     bins->tiles_x = (width + HK_TILE - 1) / HK_TILE;
     bins->tiles_y = (height + HK_TILE - 1) / HK_TILE;
     const size_t tiles = (size_t)bins->tiles_x * (size_t)bins->tiles_y;
@@ -59,14 +58,14 @@ hk_Status hk_tile_bins_build(uint32_t item_count, hk_BoxFn box_of, void *user, i
      * range fills its own places: the bins hold the items in item order whatever the
      * number of threads. */
     const int ranges = omp_get_max_threads();
-    bins->start = hk_calloc_array(tiles + 1, sizeof(uint32_t), err);
-    bins->boxes = hk_alloc_array(item_count ? item_count : 1, sizeof(hk_TileBox), err);
-    uint64_t *count = hk_calloc_array((size_t)ranges * tiles, sizeof(uint64_t), err);
-    if (!bins->start || !bins->boxes || !count) {
-        hk_free(count);
+    if (!HK_RESERVE(bins->start, bins->start_cap, tiles + 1, err) ||
+        !HK_RESERVE(bins->boxes, bins->boxes_cap, item_count, err) ||
+        !HK_RESERVE(bins->count, bins->count_cap, (size_t)ranges * tiles, err)) {
         hk_tile_bins_free(bins);
         return HK_ERR_NOMEM;
     }
+    memset(bins->count, 0, (size_t)ranges * tiles * sizeof *bins->count);
+    uint64_t *count = bins->count;
     item_boxes(item_count, box_of, user, bins->boxes);
     bin_ranges(item_count, bins->boxes, bins, ranges, count, 0);
     /* Offsets: count[g][t] becomes where range g starts writing in tile t. */
@@ -80,20 +79,16 @@ hk_Status hk_tile_bins_build(uint32_t item_count, hk_BoxFn box_of, void *user, i
         }
     }
     if (total > UINT32_MAX - 1) {
-        hk_free(count);
         hk_tile_bins_free(bins);
         return hk_error_set(err, HK_ERR_NOMEM, "too many segments for one picture (%llu tile entries)",
                             (unsigned long long)total);
     }
     bins->start[tiles] = (uint32_t)total;
-    bins->items = hk_alloc_array(total ? (size_t)total : 1, sizeof(uint32_t), err);
-    if (!bins->items) {
-        hk_free(count);
+    if (!HK_RESERVE(bins->items, bins->items_cap, (size_t)total, err)) {
         hk_tile_bins_free(bins);
         return HK_ERR_NOMEM;
     }
     bin_ranges(item_count, bins->boxes, bins, ranges, count, 1);
-    hk_free(count);
     return HK_OK;
 }
 
@@ -102,5 +97,6 @@ void hk_tile_bins_free(hk_TileBins *bins)
     hk_free(bins->start);
     hk_free(bins->items);
     hk_free(bins->boxes);
+    hk_free(bins->count);
     memset(bins, 0, sizeof *bins);
 }
