@@ -89,8 +89,14 @@ hk_Status hk_scene_bounds(hk_Scene *sc, hk_Error *err)
             if (i < bad) bad = i;
             continue;
         }
-        lx = fmin(lx, p.x), ly = fmin(ly, p.y), lz = fmin(lz, p.z);
-        hx = fmax(hx, p.x), hy = fmax(hy, p.y), hz = fmax(hz, p.z);
+        /* Comparisons, not fmin and fmax: those are calls into libm (they must handle
+         * NaN, refused above), a few per cent of a frame's picture. */
+        if (p.x < lx) lx = p.x;
+        if (p.y < ly) ly = p.y;
+        if (p.z < lz) lz = p.z;
+        if (p.x > hx) hx = p.x;
+        if (p.y > hy) hy = p.y;
+        if (p.z > hz) hz = p.z;
     }
     if (bad != LONG_MAX) return hk_error_set(err, HK_ERR_INVALID, "hair point %ld is not finite", bad);
     sc->lo = hk_v3(lx, ly, lz), sc->hi = hk_v3(hx, hy, hz);
