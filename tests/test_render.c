@@ -223,7 +223,7 @@ static void test_subpixel_coverage(void **state)
             hk_RasterPoint a = {50.3f, 60.7f, 1.0f, 1.0f}, b = a;
             b.x = (float)(a.x + 80.0 * cos(ang)), b.y = (float)(a.y + 80.0 * sin(ang));
             coverage_sum = 0.0f;
-            hk_raster_segment(a, b, (float)widths[k], clip, sum_alpha, NULL);
+            hk_raster_segment(a, b, (float)widths[k], clip, NULL, sum_alpha, NULL);
             /* Exact for the tent footprint, up to the half-open ends (one column). */
             hk_assert_near(coverage_sum, widths[k] * 80.0, widths[k] * 1.5);
             /* The thin version clamps a column's opacity at 1 (w / cos(angle) > 1). */

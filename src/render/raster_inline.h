@@ -44,9 +44,12 @@ static inline int iceil(float v)
  * least one pixel is drawn, thinner hair becomes more transparent) into `clip`. A
  * pixel belongs to the segment when its centre projects onto [0, 1) of it, so that
  * consecutive segments of a strand do not cover the same pixel twice. Coverage is a
- * box filter of the pixel against the line's width. */
+ * box filter of the pixel against the line's width. Pixels where closed (NULL: none;
+ * rows of HK_TILE from the clip's corner) is non-zero are passed over before any
+ * arithmetic: in a full head's tiles half the fragments fell on pixels already
+ * opaque. */
 static inline void hk_raster_segment(hk_RasterPoint a, hk_RasterPoint b, float width, hk_Rect clip,
-                                     hk_FragmentFn emit, void *user)
+                                     const uint8_t *closed, hk_FragmentFn emit, void *user)
 {
     const float drawn = width > 1.0f ? width : 1.0f;
     const float thin = width < 1.0f ? width : 1.0f; /* sub-pixel hair: coverage becomes opacity */
@@ -75,6 +78,9 @@ static inline void hk_raster_segment(hk_RasterPoint a, hk_RasterPoint b, float w
         if (n0 < lo_minor) n0 = lo_minor;
         if (n1 > hi_minor - 1) n1 = hi_minor - 1;
         for (int n = n0; n <= n1; n++) {
+            if (closed && closed[x_major ? (n - clip.y0) * HK_TILE + (m - clip.x0)
+                                         : (m - clip.y0) * HK_TILE + (n - clip.x0)])
+                continue;
             const float cx = x_major ? cm : (float)n + 0.5f, cy = x_major ? (float)n + 0.5f : cm;
             const float px = cx - a.x, py = cy - a.y;
             const float t = (px * dx + py * dy) * inv_len2;

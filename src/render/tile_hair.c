@@ -329,7 +329,7 @@ int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_Tile
         hk_hair_shader_get(in->shader, s->first, s->ca);
         hk_hair_shader_get(in->shader, s->first + 1, s->cb);
         w->current = s;
-        hk_raster_segment(s->a, s->b, segment_width(sc, s), w->r, hair_fragment, w);
+        hk_raster_segment(s->a, s->b, segment_width(sc, s), w->r, w->saturated, hair_fragment, w);
     }
     if (w->failed) return 0;
     *fragments += (long long)w->count;
