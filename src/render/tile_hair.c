@@ -21,10 +21,16 @@
 #define BLOCK 8         /* saturation is also tracked per block of 8 x 8 pixels */
 #define BLOCKS (HK_TILE / BLOCK)
 
+/* A fragment in two records: what settling walks, from pixel to pixel's list (12
+ * bytes, so that the walk, which waits on memory, reads fewer cache lines), and its
+ * colour and pixel, read once when compositing. */
+typedef struct Pending {
+    float z, a;
+    uint32_t next; /* next pending fragment of the same pixel */
+} Pending;
 typedef struct Fragment {
-    float z, a, r, g, b;
+    float r, g, b;
     uint32_t pixel; /* index within the tile */
-    uint32_t next;  /* next pending fragment of the same pixel */
 } Fragment;
 
 /* A segment of the tile, gathered so that drawing it touches only this record. */
@@ -52,6 +58,7 @@ struct hk_TileHair {
     size_t seg_cap;
     const Segment *current;
     /* fragments */
+    Pending *pend;
     Fragment *frag;
     size_t count, cap;
     int failed;
@@ -83,6 +90,7 @@ void hk_tile_hair_destroy(hk_TileHair *w)
     free(w->order);
     free(w->sort_work);
     free(w->frag);
+    free(w->pend);
     free(w->keys);
     free(w->keys_tmp);
     free(w);
@@ -107,6 +115,20 @@ static int reserve_segments(hk_TileHair *w, size_t n)
     return 1;
 }
 
+/* Both fragment arrays twice as long; 0 when out of memory. */
+static __attribute__((noinline)) int grow_fragments(hk_TileHair *w)
+{
+    size_t cap_frag = w->cap, cap_pend = w->cap;
+    Fragment *f = hk_grow_fragments(w->frag, &cap_frag, sizeof *f);
+    if (!f) return 0;
+    w->frag = f;
+    Pending *p = hk_grow_fragments(w->pend, &cap_pend, sizeof *p);
+    if (!p) return 0;
+    w->pend = p;
+    w->cap = cap_pend;
+    return 1;
+}
+
 HK_FRAGMENT_INLINE void hair_fragment(void *user, int x, int y, float t, float alpha)
 {
     hk_TileHair *w = user;
@@ -115,23 +137,20 @@ HK_FRAGMENT_INLINE void hair_fragment(void *user, int x, int y, float t, float a
     const Segment *s = w->current;
     const float z = 1.0f / ((1.0f - t) / s->a.z + t / s->b.z); /* perspective-correct */
     if (z >= w->head->cutoff[p]) return;
-    if (w->count == w->cap) {
-        Fragment *grown = hk_grow_fragments(w->frag, &w->cap, sizeof *grown);
-        if (!grown) {
-            w->failed = 1;
-            return;
-        }
-        w->frag = grown;
+    if (w->count == w->cap && !grow_fragments(w)) {
+        w->failed = 1;
+        return;
     }
     const hk_HairFile *h = w->hair;
     if (h->transparency)
         alpha *= 1.0f - ((1.0f - t) * h->transparency[s->first] + t * h->transparency[s->first + 1]);
     Fragment *f = &w->frag[w->count];
-    f->z = z, f->a = alpha > 1.0f ? 1.0f : alpha, f->pixel = p;
+    Pending *q = &w->pend[w->count];
+    q->z = z, q->a = alpha > 1.0f ? 1.0f : alpha, f->pixel = p;
     f->r = s->ca[0] + t * (s->cb[0] - s->ca[0]);
     f->g = s->ca[1] + t * (s->cb[1] - s->ca[1]);
     f->b = s->ca[2] + t * (s->cb[2] - s->ca[2]);
-    f->next = w->pending[p];
+    q->next = w->pending[p];
     w->pending[p] = (uint32_t)w->count++;
     if (z < w->pending_near[p]) w->pending_near[p] = z;
     if (!w->touched[p]) w->touched[p] = 1, w->touched_list[w->touched_count++] = (uint16_t)p;
@@ -168,7 +187,7 @@ static void settle(hk_TileHair *w, float front)
         uint32_t *link = &w->pending[p];
         float nearest = HUGE_VALF;
         while (*link != NONE) {
-            Fragment *f = &w->frag[*link];
+            Pending *f = &w->pend[*link];
             if (f->z <= front) {
                 w->through[p] *= 1.0f - f->a;
                 *link = f->next;
@@ -233,7 +252,7 @@ static int composite(hk_TileHair *w, hk_Canvas *image)
     memcpy(fill, w->pixel_start, sizeof fill);
     for (size_t i = 0; i < w->count; i++) {
         uint32_t bits;
-        memcpy(&bits, &w->frag[i].z, sizeof bits);
+        memcpy(&bits, &w->pend[i].z, sizeof bits);
         w->keys[fill[w->frag[i].pixel]++] = ((uint64_t)bits << 32) | (uint64_t)i;
     }
     for (int y = w->r.y0; y < w->r.y1; y++)
@@ -247,9 +266,11 @@ static int composite(hk_TileHair *w, hk_Canvas *image)
                 hk_sort_by_high_bits(k, (uint32_t)n, w->keys_tmp); /* keys hold i in increasing order */
             float cr = 0.0f, cg = 0.0f, cb = 0.0f, through = 1.0f;
             for (size_t i = 0; i < n && through > 1e-4f; i++) {
-                const Fragment *f = &w->frag[k[i] & 0xffffffffu];
-                cr += through * f->a * f->r, cg += through * f->a * f->g, cb += through * f->a * f->b;
-                through *= 1.0f - f->a;
+                const uint32_t j = (uint32_t)(k[i] & 0xffffffffu);
+                const Fragment *f = &w->frag[j];
+                const float a = w->pend[j].a;
+                cr += through * a * f->r, cg += through * a * f->g, cb += through * a * f->b;
+                through *= 1.0f - a;
             }
             float *o = image->rgb + 3 * ((size_t)y * (size_t)image->width + (size_t)x);
             o[0] = cr + through * w->head->base[p][0];
