@@ -307,6 +307,49 @@ static void test_scene_deterministic_finite_png(void **state)
     hk_hair_free(&h);
 }
 
+/* A renderer kept over pictures of different scenes, sizes and thread counts (its
+ * buffers grow and are reused; a failed draw in between) draws each the same bytes
+ * as hk_render. */
+static void same_as_render(hk_Renderer *r, const hk_HairFile *h, const hk_Mesh *head, const hk_RenderOptions *o)
+{
+    hk_VisualityDef v = hk_default_visuality();
+    hk_Canvas fresh;
+    assert_int_equal(hk_render(h, head, &v, o, &fresh, NULL, NULL), HK_OK);
+    assert_int_equal(hk_renderer_draw(r, h, head, NULL, o, NULL, NULL), HK_OK);
+    const hk_Canvas *kept = hk_renderer_picture(r);
+    assert_int_equal(kept->width, o->width);
+    assert_int_equal(kept->height, o->height);
+    assert_memory_equal(kept->rgb, fresh.rgb, 3 * (size_t)o->width * (size_t)o->height * sizeof(float));
+    hk_canvas_destroy(&fresh);
+}
+
+static void test_renderer_reuse(void **state)
+{
+    (void)state;
+    hk_HairFile big, small;
+    hk_Mesh ball;
+    make_scene(&big, &ball);
+    make_strands(&small, 3, 9, 0.1, 0.01, 0.0);
+    hk_Renderer *r;
+    assert_int_equal(hk_renderer_create(&r, NULL), HK_OK);
+    hk_RenderOptions o = hk_default_render_options();
+    o.width = 160, o.height = 120, o.threads = 2, o.shadow_map_size = 128;
+    same_as_render(r, &big, &ball, &o);
+    hk_RenderOptions p = plain_options(64);
+    p.threads = 1;
+    same_as_render(r, &small, NULL, &p);
+    hk_RenderOptions bad = o;
+    bad.width = 0;
+    assert_int_equal(hk_renderer_draw(r, &big, &ball, NULL, &bad, NULL, NULL), HK_ERR_INVALID);
+    assert_int_equal(hk_renderer_picture(r)->width, 0);
+    o.width = 200, o.height = 100, o.threads = 1, o.shadow_map_size = 256;
+    same_as_render(r, &big, &ball, &o);
+    hk_renderer_destroy(r);
+    hk_mesh_free(&ball);
+    hk_hair_free(&big);
+    hk_hair_free(&small);
+}
+
 static void test_bad_options(void **state)
 {
     (void)state;
@@ -335,7 +378,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_kajiya_kay_pixel),   cmocka_unit_test(test_shadow_from_occluder),
         cmocka_unit_test(test_subpixel_coverage),  cmocka_unit_test(test_scene_deterministic_finite_png),
-        cmocka_unit_test(test_bad_options),
+        cmocka_unit_test(test_renderer_reuse),     cmocka_unit_test(test_bad_options),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
