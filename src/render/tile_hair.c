@@ -37,7 +37,7 @@ typedef struct Fragment {
 typedef struct Segment {
     hk_RasterPoint a, b;
     uint32_t first; /* index of its first point */
-    float ca[3], cb[3]; /* colours, fetched only when the segment is drawn */
+    float ca[3], cb[3]; /* colours, fetched at its first fragment kept */
 } Segment;
 
 /* The blocks of the tile a segment's box covers, packed in 4 bytes so that the
@@ -56,7 +56,9 @@ struct hk_TileHair {
     float *near;
     uint32_t *order, *sort_work;
     size_t seg_cap;
-    const Segment *current;
+    Segment *current;
+    int coloured; /* whether current's colours are fetched */
+    hk_HairShader *shader;
     /* fragments */
     Pending *pend;
     Fragment *frag;
@@ -129,6 +131,16 @@ static __attribute__((noinline)) int grow_fragments(hk_TileHair *w)
     return 1;
 }
 
+/* The colours of the segment being drawn, at its first fragment kept: half the segments
+ * drawn in a full head's tiles keep none (they fall on opaque pixels or behind the
+ * head), and shading their ends was a tenth of a picture. */
+static __attribute__((noinline)) void fetch_colours(hk_TileHair *w)
+{
+    hk_hair_shader_get(w->shader, w->current->first, w->current->ca);
+    hk_hair_shader_get(w->shader, w->current->first + 1, w->current->cb);
+    w->coloured = 1;
+}
+
 HK_FRAGMENT_INLINE void hair_fragment(void *user, int x, int y, float t, float alpha)
 {
     hk_TileHair *w = user;
@@ -141,6 +153,7 @@ HK_FRAGMENT_INLINE void hair_fragment(void *user, int x, int y, float t, float a
         w->failed = 1;
         return;
     }
+    if (!w->coloured) fetch_colours(w);
     const hk_HairFile *h = w->hair;
     if (h->transparency)
         alpha *= 1.0f - ((1.0f - t) * h->transparency[s->first] + t * h->transparency[s->first + 1]);
@@ -292,7 +305,7 @@ int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_Tile
     const hk_Scene *sc = in->scene;
     const hk_TileBins *bins = in->hair_bins;
     w->r = hk_tile_rect(bins, tile, sc->opt->width, sc->opt->height);
-    w->head = head, w->hair = sc->hair;
+    w->head = head, w->hair = sc->hair, w->shader = in->shader;
     w->count = 0, w->failed = 0, w->touched_count = 0;
     for (int p = 0; p < NPX; p++) {
         w->pending[p] = NONE, w->pending_near[p] = HUGE_VALF;
@@ -347,9 +360,7 @@ int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_Tile
         }
         if (hidden(w, w->blocks[j])) continue;
         Segment *s = &w->seg[j];
-        hk_hair_shader_get(in->shader, s->first, s->ca);
-        hk_hair_shader_get(in->shader, s->first + 1, s->cb);
-        w->current = s;
+        w->current = s, w->coloured = 0;
         hk_raster_segment(s->a, s->b, segment_width(sc, s), w->r, w->saturated, hair_fragment, w);
     }
     if (w->failed) return 0;
