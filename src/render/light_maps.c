@@ -84,8 +84,11 @@ static void opacity_tile(LightPass *lp, const hk_TileBins *bins, int tile)
         if (lp->frag[f].z < m->hair_z0[lp->frag[f].texel]) m->hair_z0[lp->frag[f].texel] = lp->frag[f].z;
     for (size_t f = 0; f < lp->count; f++) {
         const float d = lp->frag[f].z - m->hair_z0[lp->frag[f].texel];
+        /* The layer: how many of the increasing layer ends lie at or before d (the
+         * last layer takes everything beyond), counted without branches, which the
+         * fragments' scattered depths mispredicted. */
         int k = 0;
-        while (k < m->layers - 1 && d >= m->layer_end[k]) k++;
+        for (int j = 0; j < m->layers - 1; j++) k += d >= m->layer_end[j];
         m->opacity[(size_t)lp->frag[f].texel * (size_t)m->layers + (size_t)k] += lp->frag[f].alpha;
     }
     for (int y = r.y0; y < r.y1; y++)
