@@ -134,11 +134,12 @@ static hk_Status head_depth_map(const hk_Scene *scene, hk_LightMaps *m, hk_Error
     hk_Status st = hk_tile_bins_build((uint32_t)head->triangle_count, head_box, &hp, m->size, m->size, bins, err);
     if (st != HK_OK) return st;
     const int tiles = bins->tiles_x * bins->tiles_y;
-#pragma omp parallel for schedule(dynamic, 4) firstprivate(hp)
-    for (int tile = 0; tile < tiles; tile++) {
+#pragma omp parallel for schedule(dynamic, 1) firstprivate(hp)
+    for (int k = 0; k < tiles; k++) {
+        const int tile = (int)bins->heavy[k];
         const hk_Rect r = hk_tile_rect(bins, tile, m->size, m->size);
-        for (uint32_t k = bins->start[tile]; k < bins->start[tile + 1]; k++) {
-            const uint32_t t = bins->items[k];
+        for (uint32_t at = bins->start[tile]; at < bins->start[tile + 1]; at++) {
+            const uint32_t t = bins->items[at];
             hk_RasterPoint v[3];
             for (int c = 0; c < 3; c++) v[c] = proj[head->triangles[3 * (size_t)t + c]];
             hp.v = v;
@@ -178,10 +179,10 @@ static hk_Status hair_opacity_map(const hk_Scene *scene, const uint8_t *segment_
     {
         hk_ThreadBuffer *mine = &m->frag[omp_get_thread_num()];
         lp.frag = mine->data, lp.cap = mine->cap;
-#pragma omp for schedule(dynamic, 4)
-        for (int tile = 0; tile < tiles; tile++) {
+#pragma omp for schedule(dynamic, 1)
+        for (int k = 0; k < tiles; k++) {
             if (lp.failed) continue;
-            opacity_tile(&lp, bins, tile);
+            opacity_tile(&lp, bins, (int)bins->heavy[k]);
             total += (long long)lp.count;
         }
         failed |= lp.failed;

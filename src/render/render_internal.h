@@ -108,8 +108,9 @@ typedef struct hk_TileBins {
     uint32_t *start; /* tiles_x * tiles_y + 1 offsets into items */
     uint32_t *items;
     hk_TileBox *boxes; /* every item's box, as box_of gave it */
+    uint32_t *heavy;   /* the tiles, most items first: the order to hand them to threads */
     uint64_t *count;   /* work space of the build */
-    size_t start_cap, items_cap, boxes_cap, count_cap;
+    size_t start_cap, items_cap, boxes_cap, heavy_cap, count_cap;
 } hk_TileBins;
 
 typedef int (*hk_BoxFn)(void *user, uint32_t item, hk_Rect *box);

@@ -120,7 +120,8 @@ static hk_Status draw_tiles(hk_Renderer *r, const hk_TileInput *in, hk_RenderSta
         hk_TileHead *head = r->tile_head[omp_get_thread_num()];
         hk_TileHair *hair = r->tile_hair[omp_get_thread_num()];
 #pragma omp for schedule(dynamic, 1)
-        for (int tile = 0; tile < tiles; tile++) {
+        for (int k = 0; k < tiles; k++) {
+            const int tile = (int)in->hair_bins->heavy[k];
             if (failed) continue;
             hk_tile_head(in, tile, head);
             if (!hk_tile_hair(hair, in, tile, head, &r->picture, &fragments, &most)) failed = 1;
