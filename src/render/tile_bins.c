@@ -7,40 +7,37 @@
 
 #include "render_internal.h"
 
-/* Every item's box, computed once (in parallel) and read by both passes below and by
- * the tiles: computing it is most of the binning's work, and the tiles need it again
- * to find which of their blocks a segment covers. */
-static void item_boxes(uint32_t item_count, hk_BoxFn box_of, void *user, hk_TileBox *boxes)
-{
-#pragma omp parallel for schedule(static)
-    for (long i = 0; i < (long)item_count; i++) {
-        hk_Rect r;
-        hk_TileBox *b = &boxes[i];
-        if (box_of(user, (uint32_t)i, &r))
-            b->x0 = (uint16_t)r.x0, b->y0 = (uint16_t)r.y0, b->x1 = (uint16_t)r.x1, b->y1 = (uint16_t)r.y1;
-        else
-            b->x0 = b->y0 = b->x1 = b->y1 = 0; /* empty: x1 <= x0 */
-    }
-}
-
-/* One pass over the items, one contiguous range per thread: count (fill 0) each
- * range's entries per tile into at[range][tile], or (fill 1) write them from the
- * offsets in at[range][tile]. */
-static void bin_ranges(uint32_t item_count, const hk_TileBox *boxes, hk_TileBins *bins, int ranges, uint64_t *at,
-                       int fill)
+/* One pass over the items, one contiguous range per thread: (fill 0) find every
+ * item's box with box_of, keep it in bins->boxes and count each range's entries per
+ * tile into at[range][tile], or (fill 1) write the entries from the offsets in
+ * at[range][tile], reading the kept boxes. A box is computed once: that is most of
+ * the binning's work, and the tiles read the boxes again to find which of their blocks
+ * a segment covers. */
+static void bin_ranges(uint32_t item_count, hk_BoxFn box_of, void *user, hk_TileBins *bins, int ranges,
+                       uint64_t *at, int fill)
 {
     const size_t tiles = (size_t)bins->tiles_x * (size_t)bins->tiles_y;
+    const int tiles_x = bins->tiles_x;
 #pragma omp parallel for schedule(static, 1) num_threads(ranges)
     for (int g = 0; g < ranges; g++) {
         const uint32_t lo = (uint32_t)((uint64_t)item_count * g / ranges);
         const uint32_t hi = (uint32_t)((uint64_t)item_count * (g + 1) / ranges);
         uint64_t *c = at + (size_t)g * tiles;
         for (uint32_t i = lo; i < hi; i++) {
-            const hk_TileBox r = boxes[i];
+            hk_TileBox *b = &bins->boxes[i];
+            if (!fill) {
+                hk_Rect box;
+                if (box_of(user, i, &box))
+                    b->x0 = (uint16_t)box.x0, b->y0 = (uint16_t)box.y0, b->x1 = (uint16_t)box.x1,
+                    b->y1 = (uint16_t)box.y1;
+                else
+                    b->x0 = b->y0 = b->x1 = b->y1 = 0; /* empty: x1 <= x0 */
+            }
+            const hk_TileBox r = *b;
             if (r.x1 <= r.x0) continue;
             for (int ty = r.y0 / HK_TILE; ty <= (r.y1 - 1) / HK_TILE; ty++)
                 for (int tx = r.x0 / HK_TILE; tx <= (r.x1 - 1) / HK_TILE; tx++) {
-                    uint64_t *slot = &c[(size_t)ty * bins->tiles_x + tx];
+                    uint64_t *slot = &c[(size_t)ty * tiles_x + tx];
                     if (fill) bins->items[(*slot)++] = i;
                     else (*slot)++;
                 }
@@ -86,8 +83,7 @@ hk_Status hk_tile_bins_build(uint32_t item_count, hk_BoxFn box_of, void *user, i
     }
     memset(bins->count, 0, (size_t)ranges * tiles * sizeof *bins->count);
     uint64_t *count = bins->count;
-    item_boxes(item_count, box_of, user, bins->boxes);
-    bin_ranges(item_count, bins->boxes, bins, ranges, count, 0);
+    bin_ranges(item_count, box_of, user, bins, ranges, count, 0);
     /* Offsets: count[g][t] becomes where range g starts writing in tile t. */
     uint64_t total = 0;
     for (size_t t = 0; t < tiles; t++) {
@@ -108,7 +104,7 @@ hk_Status hk_tile_bins_build(uint32_t item_count, hk_BoxFn box_of, void *user, i
         hk_tile_bins_free(bins);
         return HK_ERR_NOMEM;
     }
-    bin_ranges(item_count, bins->boxes, bins, ranges, count, 1);
+    bin_ranges(item_count, box_of, user, bins, ranges, count, 1);
     order_heavy_first(bins, tiles, count); /* the counts are spent */
     return HK_OK;
 }
