@@ -229,6 +229,7 @@ typedef struct hk_TileInput {
     const hk_View *camera;
     const hk_LightMaps *maps;        /* NULL: no shadows */
     const hk_RasterPoint *hair_proj; /* hair points on the picture */
+    const float *hair_near;          /* segment i's nearer depth there (i a segment start) */
     hk_HairShader *shader;           /* their colours */
     const hk_TileBins *hair_bins;    /* segments (by first point) per tile */
     const hk_RasterPoint *head_proj; /* head vertices on the picture, or NULL */

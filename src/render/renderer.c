@@ -18,7 +18,8 @@ struct hk_Renderer {
     uint8_t *seg;               /* segment starts */
     hk_RasterPoint *proj;       /* hair points on the picture */
     hk_RasterPoint *head_proj;  /* head vertices on the picture */
-    size_t seg_cap, proj_cap, head_proj_cap;
+    float *near;                /* each segment's nearer depth on the picture */
+    size_t seg_cap, proj_cap, head_proj_cap, near_cap;
     hk_HairShader shader;
     hk_LightMaps maps;
     hk_TileBins hair_bins, head_bins;
@@ -42,6 +43,7 @@ void hk_renderer_destroy(hk_Renderer *r)
     hk_free(r->seg);
     hk_free(r->proj);
     hk_free(r->head_proj);
+    hk_free(r->near);
     hk_hair_shader_free(&r->shader);
     hk_light_maps_free(&r->maps);
     hk_tile_bins_free(&r->hair_bins);
@@ -165,11 +167,19 @@ static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *he
     const double t1 = omp_get_wtime();
     const hk_View cam = hk_camera_frame(&sc);
     if (!HK_RESERVE(r->proj, r->proj_cap, hair->point_count, err) ||
+        !HK_RESERVE(r->near, r->near_cap, hair->point_count, err) ||
         (sc.head && !HK_RESERVE(r->head_proj, r->head_proj_cap, (size_t)sc.head->vertex_count, err)))
         return HK_ERR_NOMEM;
     hk_RasterPoint *proj = r->proj, *head_proj = r->head_proj;
 #pragma omp parallel for schedule(static)
     for (long i = 0; i < (long)hair->point_count; i++) proj[i] = hk_view_project(&cam, hk_hair_point(hair, (uint32_t)i));
+    /* What the tiles sort their segments by: read here in order rather than from two
+     * scattered points in every tile. */
+    float *near = r->near;
+    const uint8_t *seg = r->seg;
+#pragma omp parallel for schedule(static)
+    for (long i = 0; i < (long)hair->point_count; i++)
+        near[i] = seg[i] ? fminf(proj[i].z, proj[i + 1].z) : 0.0f;
     for (int i = 0; sc.head && i < sc.head->vertex_count; i++) head_proj[i] = hk_view_project(&cam, sc.head->positions[i]);
     if ((st = hk_hair_shader_init(&r->shader, &sc, r->seg, opt->shadows ? &r->maps : NULL, &cam, err)) != HK_OK)
         return st;
@@ -188,7 +198,7 @@ static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *he
     if (!HK_RESERVE(r->picture.rgb, r->picture_cap, 3 * (size_t)opt->width * (size_t)opt->height, err))
         return HK_ERR_NOMEM;
     r->picture.width = opt->width, r->picture.height = opt->height;
-    const hk_TileInput in = {&sc, &cam, opt->shadows ? &r->maps : NULL, proj, &r->shader, &r->hair_bins,
+    const hk_TileInput in = {&sc, &cam, opt->shadows ? &r->maps : NULL, proj, near, &r->shader, &r->hair_bins,
                              head_proj, sc.head ? &r->head_bins : NULL};
     if ((st = draw_tiles(r, &in, stats, err)) != HK_OK) return st;
     stats->seconds_light = t1 - t0;

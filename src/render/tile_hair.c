@@ -33,15 +33,14 @@ typedef struct Fragment {
     uint32_t pixel; /* index within the tile */
 } Fragment;
 
-/* A segment of the tile, gathered so that drawing it touches only this record. */
+/* The segment being drawn. */
 typedef struct Segment {
     hk_RasterPoint a, b;
     uint32_t first; /* index of its first point */
     float ca[3], cb[3]; /* colours, fetched at its first fragment kept */
 } Segment;
 
-/* The blocks of the tile a segment's box covers, packed in 4 bytes so that the
- * visibility test of a segment touches nothing else. */
+/* The blocks of the tile a segment's box covers. */
 typedef struct Blocks {
     uint8_t x0, y0, x1, y1;
 } Blocks;
@@ -50,12 +49,15 @@ struct hk_TileHair {
     hk_Rect r;
     const hk_TileHead *head;
     const hk_HairFile *hair;
-    /* gathered segments, depth order */
-    Segment *seg;
-    Blocks *blocks;
+    /* The tile's segments: first points and nearer depths, then their depth order.
+     * Only these are gathered: on a full head two thirds of a tile's segments lie
+     * behind pixels that are all opaque by the time their turn comes, and the rest is
+     * read when a segment is drawn. */
+    uint32_t *item;
     float *near;
     uint32_t *order, *sort_work;
     size_t seg_cap;
+    Segment segment;
     Segment *current;
     int coloured; /* whether current's colours are fetched */
     hk_HairShader *shader;
@@ -86,8 +88,7 @@ hk_TileHair *hk_tile_hair_create(void) { return calloc(1, sizeof(hk_TileHair)); 
 void hk_tile_hair_destroy(hk_TileHair *w)
 {
     if (!w) return;
-    free(w->seg);
-    free(w->blocks);
+    free(w->item);
     free(w->near);
     free(w->order);
     free(w->sort_work);
@@ -102,17 +103,15 @@ static int reserve_segments(hk_TileHair *w, size_t n)
 {
     if (n <= w->seg_cap) return 1;
     size_t cap = n + n / 2 + 64;
-    Segment *s = realloc(w->seg, cap * sizeof *s);
-    if (s) w->seg = s;
-    Blocks *b = realloc(w->blocks, cap * sizeof *b);
-    if (b) w->blocks = b;
+    uint32_t *it = realloc(w->item, cap * sizeof *it);
+    if (it) w->item = it;
     float *nr = realloc(w->near, cap * sizeof *nr);
     if (nr) w->near = nr;
     uint32_t *o = realloc(w->order, cap * sizeof *o);
     if (o) w->order = o;
     uint32_t *sw = realloc(w->sort_work, 3 * cap * sizeof *sw);
     if (sw) w->sort_work = sw;
-    if (!s || !b || !nr || !o || !sw) return 0;
+    if (!it || !nr || !o || !sw) return 0;
     w->seg_cap = cap;
     return 1;
 }
@@ -324,33 +323,30 @@ int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_Tile
             if (head->cutoff[p] < 3.0e38f) w->head_order[w->head_count++] = ((uint64_t)bits << 32) | (uint64_t)p;
         }
     hk_sort_by_high_bits(w->head_order, (uint32_t)w->head_count, w->head_tmp); /* p was increasing */
-    /* Gather the tile's segments (memory order: strands are contiguous), then sort
-     * them by the depth of their nearer end. */
+    /* Gather the tile's segments' nearer depths (memory order: strands are
+     * contiguous), then sort them. */
     const uint32_t total = bins->start[tile + 1] - bins->start[tile];
     if (!reserve_segments(w, total)) return 0;
-    uint32_t n = 0;
+    const uint32_t n = total;
     const uint32_t *items = bins->items + bins->start[tile];
-    for (uint32_t k = 0; k < total; k++) {
+    for (uint32_t k = 0; k < n; k++) {
         const uint32_t i = items[k];
-        /* The tile's segments are scattered over the projected points: fetch ahead, the
-         * gathering otherwise waits on memory. */
-        if (k + 16 < total) {
-            __builtin_prefetch(&in->hair_proj[items[k + 16]]);
-            __builtin_prefetch(&bins->boxes[items[k + 16]]);
-        }
-        Segment *s = &w->seg[n];
-        s->a = in->hair_proj[i], s->b = in->hair_proj[i + 1];
-        s->first = i;
-        w->blocks[n] = segment_blocks(w, bins->boxes[i]);
-        w->near[n++] = fminf(s->a.z, s->b.z);
+        /* Scattered over the hair's segments: fetch ahead, the gathering otherwise
+         * waits on memory. */
+        if (k + 16 < n) __builtin_prefetch(&in->hair_near[items[k + 16]]);
+        w->item[k] = i;
+        w->near[k] = in->hair_near[i];
     }
     hk_depth_order(n, w->near, w->order, w->sort_work);
+    Segment *s = &w->segment;
     for (uint32_t k = 0; k < n && !w->failed; k++) {
         const uint32_t j = w->order[k];
-        /* Depth order scatters the reads over the gathered segments: fetch ahead. */
+        /* Depth order scatters the reads over the segments: fetch ahead. */
         if (k + 8 < n) {
-            __builtin_prefetch(&w->blocks[w->order[k + 8]]);
-            __builtin_prefetch(&w->seg[w->order[k + 8]]);
+            const uint32_t ahead = w->item[w->order[k + 8]];
+            __builtin_prefetch(&in->hair_proj[ahead]);
+            __builtin_prefetch(&in->hair_proj[ahead + 1]);
+            __builtin_prefetch(&bins->boxes[ahead]);
         }
         if (k % SETTLE_BATCH == 0) {
             settle(w, w->near[j]);
@@ -358,8 +354,10 @@ int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_Tile
             for (int b = 0; b < BLOCKS * BLOCKS; b++) open += w->block_open[b];
             if (open == 0) break; /* every pixel of the tile is saturated */
         }
-        if (hidden(w, w->blocks[j])) continue;
-        Segment *s = &w->seg[j];
+        const uint32_t i = w->item[j];
+        if (hidden(w, segment_blocks(w, bins->boxes[i]))) continue;
+        s->a = in->hair_proj[i], s->b = in->hair_proj[i + 1];
+        s->first = i;
         w->current = s, w->coloured = 0;
         hk_raster_segment(s->a, s->b, segment_width(sc, s), w->r, w->saturated, hair_fragment, w);
     }
