@@ -67,9 +67,17 @@ typedef void (*hk_SampleFn)(void *user, int x, int y, int sample, float l0, floa
 void hk_raster_triangle(const hk_RasterPoint v[3], hk_Rect clip, int supersample, hk_SampleFn emit, void *user);
 int hk_triangle_box(const hk_RasterPoint v[3], int image_w, int image_h, hk_Rect *box);
 
-/* order[0..n) = the items sorted by increasing depth (stable: ties keep item order);
- * work holds 3 n numbers. */
-void hk_depth_order(uint32_t n, const float *depth, uint32_t *order, uint32_t *work);
+/* The items 0 .. n-1 sorted by increasing depth (stable: ties keep item order), made
+ * as they are read (depth_order.c): after hk_depth_order_begin (order holds n numbers,
+ * work 3 n), order[0 .. k) is final once hk_depth_order_ready(d, k) returned. */
+typedef struct hk_DepthOrder {
+    uint32_t n, sorted, bucket;
+    int shift;                /* the byte of the keys the buckets are by */
+    uint32_t start[257];      /* bucket b is order[start[b] .. start[b + 1]) */
+    uint32_t *order, *keys, *key_tmp, *order_tmp;
+} hk_DepthOrder;
+void hk_depth_order_begin(hk_DepthOrder *d, uint32_t n, const float *depth, uint32_t *order, uint32_t *work);
+void hk_depth_order_ready(hk_DepthOrder *d, uint32_t upto);
 
 /* Sorts keys[0..n) into increasing order, given that keys with the same upper 32 bits
  * (a depth's bits) are already in increasing order of their lower bits (an index,

@@ -337,9 +337,11 @@ int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_Tile
         w->item[k] = i;
         w->near[k] = in->hair_near[i];
     }
-    hk_depth_order(n, w->near, w->order, w->sort_work);
+    hk_DepthOrder depth;
+    hk_depth_order_begin(&depth, n, w->near, w->order, w->sort_work);
     Segment *s = &w->segment;
     for (uint32_t k = 0; k < n && !w->failed; k++) {
+        if (k + 9 > depth.sorted) hk_depth_order_ready(&depth, k + 9); /* this one and the one fetched ahead */
         const uint32_t j = w->order[k];
         /* Depth order scatters the reads over the segments: fetch ahead. */
         if (k + 8 < n) {
