@@ -10,6 +10,7 @@
 #include "hk_test.h"
 #include "hairkit/image.h"
 #include "hairkit/render.h"
+#include "hairkit/rng.h"
 #include "render/raster_inline.h"
 #include "render/render_internal.h"
 
@@ -307,6 +308,48 @@ static void test_scene_deterministic_finite_png(void **state)
     hk_hair_free(&h);
 }
 
+/* The depth order made as it is read (read in steps, as the tiles do) equals a plain
+ * stable sort by depth: spreads narrow and wide, many ties, zero, negatives and NaN
+ * (which sort as zero), sizes around the small-bucket threshold. */
+static int key_before(float a, float b)
+{
+    const float x = a > 0.0f ? a : 0.0f, y = b > 0.0f ? b : 0.0f;
+    return x < y;
+}
+
+static void test_depth_order(void **state)
+{
+    (void)state;
+    const uint32_t sizes[] = {0, 1, 2, 31, 33, 200, 5000};
+    const double spreads[] = {0.0, 1e-6, 0.02, 3.0};
+    for (size_t a = 0; a < sizeof sizes / sizeof *sizes; a++)
+        for (size_t b = 0; b < sizeof spreads / sizeof *spreads; b++) {
+            const uint32_t n = sizes[a];
+            float *depth = hk_alloc_array(n + 1, sizeof *depth, NULL);
+            uint32_t *order = hk_alloc_array(n + 1, sizeof *order, NULL);
+            uint32_t *work = hk_alloc_array(3 * (size_t)n + 1, sizeof *work, NULL);
+            uint32_t *expect = hk_alloc_array(n + 1, sizeof *expect, NULL);
+            for (uint32_t i = 0; i < n; i++) {
+                const double u = hk_rng_uniform(7, a * 10 + b, i);
+                depth[i] = (float)(1.0 + spreads[b] * floor(u * 50.0) / 50.0); /* ties */
+                if (i % 97 == 5) depth[i] = -1.0f;
+                if (i % 89 == 7) depth[i] = NAN;
+                if (i % 83 == 3) depth[i] = 0.0f;
+            }
+            for (uint32_t i = 0; i < n; i++) { /* insertion sort: stable */
+                uint32_t j = i;
+                for (; j > 0 && key_before(depth[i], depth[expect[j - 1]]); j--) expect[j] = expect[j - 1];
+                expect[j] = i;
+            }
+            hk_DepthOrder d;
+            hk_depth_order_begin(&d, n, depth, order, work);
+            for (uint32_t k = 0; k < n; k += 7) hk_depth_order_ready(&d, k + 9);
+            hk_depth_order_ready(&d, n);
+            if (n) assert_memory_equal(order, expect, n * sizeof *order);
+            hk_free(depth), hk_free(order), hk_free(work), hk_free(expect);
+        }
+}
+
 /* A renderer kept over pictures of different scenes, sizes and thread counts (its
  * buffers grow and are reused; a failed draw in between) draws each the same bytes
  * as hk_render. */
@@ -378,7 +421,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_kajiya_kay_pixel),   cmocka_unit_test(test_shadow_from_occluder),
         cmocka_unit_test(test_subpixel_coverage),  cmocka_unit_test(test_scene_deterministic_finite_png),
-        cmocka_unit_test(test_renderer_reuse),     cmocka_unit_test(test_bad_options),
+        cmocka_unit_test(test_depth_order),        cmocka_unit_test(test_renderer_reuse),     cmocka_unit_test(test_bad_options),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
