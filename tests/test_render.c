@@ -5,6 +5,7 @@
  * libpng reads back. */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "hk_test.h"
@@ -350,6 +351,35 @@ static void test_depth_order(void **state)
         }
 }
 
+/* A pixel's fragment keys (depth bits above the fragment's index, indices increasing
+ * as drawn): insertion sort within its budget, else the radix sort on what the
+ * insertion sort left, give the keys in order whatever the budget. */
+static int u64_less(const void *a, const void *b)
+{
+    const uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return x < y ? -1 : (x > y);
+}
+
+static void test_fragment_key_sort(void **state)
+{
+    (void)state;
+    enum { N = 300 };
+    uint64_t keys[N], expect[N], tmp[N];
+    const size_t budgets[] = {0, 10, 500, 100000};
+    for (size_t b = 0; b < sizeof budgets / sizeof *budgets; b++) {
+        for (int i = 0; i < N; i++) {
+            const float z = (float)(1.0 + floor(hk_rng_uniform(3, b, (uint64_t)i) * 40.0) / 40.0);
+            uint32_t bits;
+            memcpy(&bits, &z, sizeof bits);
+            keys[i] = ((uint64_t)bits << 32) | (uint64_t)i;
+        }
+        memcpy(expect, keys, sizeof keys);
+        qsort(expect, N, sizeof *expect, u64_less);
+        if (!hk_sort_nearly_sorted(keys, N, budgets[b])) hk_sort_by_high_bits(keys, N, tmp);
+        assert_memory_equal(keys, expect, sizeof keys);
+    }
+}
+
 /* A renderer kept over pictures of different scenes, sizes and thread counts (its
  * buffers grow and are reused; a failed draw in between) draws each the same bytes
  * as hk_render. */
@@ -421,7 +451,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_kajiya_kay_pixel),   cmocka_unit_test(test_shadow_from_occluder),
         cmocka_unit_test(test_subpixel_coverage),  cmocka_unit_test(test_scene_deterministic_finite_png),
-        cmocka_unit_test(test_depth_order),        cmocka_unit_test(test_renderer_reuse),     cmocka_unit_test(test_bad_options),
+        cmocka_unit_test(test_depth_order),        cmocka_unit_test(test_fragment_key_sort),        cmocka_unit_test(test_renderer_reuse),     cmocka_unit_test(test_bad_options),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
