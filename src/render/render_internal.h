@@ -116,15 +116,18 @@ typedef struct hk_TileBins {
     uint32_t *start; /* tiles_x * tiles_y + 1 offsets into items */
     uint32_t *items;
     hk_TileBox *boxes; /* every item's box, as box_of gave it */
+    float *keys;       /* with items: each entry's item's key, when the build had keys */
     uint32_t *heavy;   /* the tiles, most items first: the order to hand them to threads */
     uint64_t *count;   /* work space of the build */
-    size_t start_cap, items_cap, boxes_cap, heavy_cap, count_cap;
+    size_t start_cap, items_cap, boxes_cap, keys_cap, heavy_cap, count_cap;
 } hk_TileBins;
 
 typedef int (*hk_BoxFn)(void *user, uint32_t item, hk_Rect *box);
-/* bins: zeroed before its first build; a build reuses the arrays of the one before. */
-hk_Status hk_tile_bins_build(uint32_t item_count, hk_BoxFn box_of, void *user, int width, int height,
-                             hk_TileBins *bins, hk_Error *err);
+/* bins: zeroed before its first build; a build reuses the arrays of the one before.
+ * key (NULL: none): a number per item, copied next to its entries (bins->keys), so
+ * that a tile reads its items' keys in order instead of scattered. */
+hk_Status hk_tile_bins_build(uint32_t item_count, hk_BoxFn box_of, void *user, const float *key, int width,
+                             int height, hk_TileBins *bins, hk_Error *err);
 void hk_tile_bins_free(hk_TileBins *bins);
 static inline hk_Rect hk_tile_rect(const hk_TileBins *b, int tile, int width, int height)
 {
@@ -237,9 +240,9 @@ typedef struct hk_TileInput {
     const hk_View *camera;
     const hk_LightMaps *maps;        /* NULL: no shadows */
     const hk_RasterPoint *hair_proj; /* hair points on the picture */
-    const float *hair_near;          /* segment i's nearer depth there (i a segment start) */
     hk_HairShader *shader;           /* their colours */
-    const hk_TileBins *hair_bins;    /* segments (by first point) per tile */
+    const hk_TileBins *hair_bins;    /* segments (by first point) per tile, keyed by their
+                                        nearer depth */
     const hk_RasterPoint *head_proj; /* head vertices on the picture, or NULL */
     const hk_TileBins *head_bins;    /* front-facing head triangles per tile, or NULL */
 } hk_TileInput;

@@ -171,11 +171,12 @@ static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *he
         (sc.head && !HK_RESERVE(r->head_proj, r->head_proj_cap, (size_t)sc.head->vertex_count, err)))
         return HK_ERR_NOMEM;
     hk_RasterPoint *proj = r->proj, *head_proj = r->head_proj;
+    float *near = r->near;
 #pragma omp parallel for schedule(static)
     for (long i = 0; i < (long)hair->point_count; i++) proj[i] = hk_view_project(&cam, hk_hair_point(hair, (uint32_t)i));
-    /* What the tiles sort their segments by: read here in order rather than from two
-     * scattered points in every tile. */
-    float *near = r->near;
+    /* What the tiles sort their segments by, copied into the bins next to the
+     * segments (read there in order, rather than from scattered points by every
+     * tile). */
     const uint8_t *seg = r->seg;
 #pragma omp parallel for schedule(static)
     for (long i = 0; i < (long)hair->point_count; i++)
@@ -185,12 +186,12 @@ static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *he
         return st;
     const double t2 = omp_get_wtime();
     BoxCtx box = {&sc, proj, r->seg, NULL, opt->width, opt->height};
-    if ((st = hk_tile_bins_build(hair->point_count, segment_box, &box, opt->width, opt->height, &r->hair_bins,
-                                 err)) != HK_OK)
+    if ((st = hk_tile_bins_build(hair->point_count, segment_box, &box, near, opt->width, opt->height,
+                                 &r->hair_bins, err)) != HK_OK)
         return st;
     if (sc.head) {
         BoxCtx hb = {&sc, head_proj, NULL, sc.head->triangles, opt->width, opt->height};
-        if ((st = hk_tile_bins_build((uint32_t)sc.head->triangle_count, front_triangle_box, &hb, opt->width,
+        if ((st = hk_tile_bins_build((uint32_t)sc.head->triangle_count, front_triangle_box, &hb, NULL, opt->width,
                                      opt->height, &r->head_bins, err)) != HK_OK)
             return st;
     }
@@ -198,7 +199,7 @@ static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *he
     if (!HK_RESERVE(r->picture.rgb, r->picture_cap, 3 * (size_t)opt->width * (size_t)opt->height, err))
         return HK_ERR_NOMEM;
     r->picture.width = opt->width, r->picture.height = opt->height;
-    const hk_TileInput in = {&sc, &cam, opt->shadows ? &r->maps : NULL, proj, near, &r->shader, &r->hair_bins,
+    const hk_TileInput in = {&sc, &cam, opt->shadows ? &r->maps : NULL, proj, &r->shader, &r->hair_bins,
                              head_proj, sc.head ? &r->head_bins : NULL};
     if ((st = draw_tiles(r, &in, stats, err)) != HK_OK) return st;
     stats->seconds_light = t1 - t0;

@@ -13,8 +13,8 @@
  * at[range][tile], reading the kept boxes. A box is computed once: that is most of
  * the binning's work, and the tiles read the boxes again to find which of their blocks
  * a segment covers. */
-static void bin_ranges(uint32_t item_count, hk_BoxFn box_of, void *user, hk_TileBins *bins, int ranges,
-                       uint64_t *at, int fill)
+static void bin_ranges(uint32_t item_count, hk_BoxFn box_of, void *user, const float *key, hk_TileBins *bins,
+                       int ranges, uint64_t *at, int fill)
 {
     const size_t tiles = (size_t)bins->tiles_x * (size_t)bins->tiles_y;
     const int tiles_x = bins->tiles_x;
@@ -38,8 +38,12 @@ static void bin_ranges(uint32_t item_count, hk_BoxFn box_of, void *user, hk_Tile
             for (int ty = r.y0 / HK_TILE; ty <= (r.y1 - 1) / HK_TILE; ty++)
                 for (int tx = r.x0 / HK_TILE; tx <= (r.x1 - 1) / HK_TILE; tx++) {
                     uint64_t *slot = &c[(size_t)ty * tiles_x + tx];
-                    if (fill) bins->items[(*slot)++] = i;
-                    else (*slot)++;
+                    if (fill) {
+                        if (key) bins->keys[*slot] = key[i];
+                        bins->items[(*slot)++] = i;
+                    } else {
+                        (*slot)++;
+                    }
                 }
         }
     }
@@ -63,8 +67,8 @@ static void order_heavy_first(hk_TileBins *bins, size_t tiles, uint64_t *work)
     for (size_t t = 0; t < tiles; t++) bins->heavy[t] = (uint32_t)(work[t] & UINT32_MAX);
 }
 
-hk_Status hk_tile_bins_build(uint32_t item_count, hk_BoxFn box_of, void *user, int width, int height,
-                             hk_TileBins *bins, hk_Error *err)
+hk_Status hk_tile_bins_build(uint32_t item_count, hk_BoxFn box_of, void *user, const float *key, int width,
+                             int height, hk_TileBins *bins, hk_Error *err)
 {
     bins->tiles_x = (width + HK_TILE - 1) / HK_TILE;
     bins->tiles_y = (height + HK_TILE - 1) / HK_TILE;
@@ -83,7 +87,7 @@ hk_Status hk_tile_bins_build(uint32_t item_count, hk_BoxFn box_of, void *user, i
     }
     memset(bins->count, 0, (size_t)ranges * tiles * sizeof *bins->count);
     uint64_t *count = bins->count;
-    bin_ranges(item_count, box_of, user, bins, ranges, count, 0);
+    bin_ranges(item_count, box_of, user, key, bins, ranges, count, 0);
     /* Offsets: count[g][t] becomes where range g starts writing in tile t. */
     uint64_t total = 0;
     for (size_t t = 0; t < tiles; t++) {
@@ -100,11 +104,12 @@ hk_Status hk_tile_bins_build(uint32_t item_count, hk_BoxFn box_of, void *user, i
                             (unsigned long long)total);
     }
     bins->start[tiles] = (uint32_t)total;
-    if (!HK_RESERVE(bins->items, bins->items_cap, (size_t)total, err)) {
+    if (!HK_RESERVE(bins->items, bins->items_cap, (size_t)total, err) ||
+        (key && !HK_RESERVE(bins->keys, bins->keys_cap, (size_t)total, err))) {
         hk_tile_bins_free(bins);
         return HK_ERR_NOMEM;
     }
-    bin_ranges(item_count, box_of, user, bins, ranges, count, 1);
+    bin_ranges(item_count, box_of, user, key, bins, ranges, count, 1);
     order_heavy_first(bins, tiles, count); /* the counts are spent */
     return HK_OK;
 }
@@ -116,5 +121,6 @@ void hk_tile_bins_free(hk_TileBins *bins)
     hk_free(bins->boxes);
     hk_free(bins->count);
     hk_free(bins->heavy);
+    hk_free(bins->keys);
     memset(bins, 0, sizeof *bins);
 }

@@ -49,12 +49,10 @@ struct hk_TileHair {
     hk_Rect r;
     const hk_TileHead *head;
     const hk_HairFile *hair;
-    /* The tile's segments: first points and nearer depths, then their depth order.
-     * Only these are gathered: on a full head two thirds of a tile's segments lie
-     * behind pixels that are all opaque by the time their turn comes, and the rest is
-     * read when a segment is drawn. */
-    uint32_t *item;
-    float *near;
+    /* The tile's segments in depth order. Only their first points and nearer depths
+     * (in the bins) are read to sort them: on a full head two thirds of a tile's
+     * segments lie behind pixels that are all opaque by the time their turn comes, and
+     * the rest is read when a segment is drawn. */
     uint32_t *order, *sort_work;
     size_t seg_cap;
     Segment segment;
@@ -88,8 +86,6 @@ hk_TileHair *hk_tile_hair_create(void) { return calloc(1, sizeof(hk_TileHair)); 
 void hk_tile_hair_destroy(hk_TileHair *w)
 {
     if (!w) return;
-    free(w->item);
-    free(w->near);
     free(w->order);
     free(w->sort_work);
     free(w->frag);
@@ -103,15 +99,11 @@ static int reserve_segments(hk_TileHair *w, size_t n)
 {
     if (n <= w->seg_cap) return 1;
     size_t cap = n + n / 2 + 64;
-    uint32_t *it = realloc(w->item, cap * sizeof *it);
-    if (it) w->item = it;
-    float *nr = realloc(w->near, cap * sizeof *nr);
-    if (nr) w->near = nr;
     uint32_t *o = realloc(w->order, cap * sizeof *o);
     if (o) w->order = o;
     uint32_t *sw = realloc(w->sort_work, 3 * cap * sizeof *sw);
     if (sw) w->sort_work = sw;
-    if (!it || !nr || !o || !sw) return 0;
+    if (!o || !sw) return 0;
     w->seg_cap = cap;
     return 1;
 }
@@ -323,40 +315,31 @@ int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_Tile
             if (head->cutoff[p] < 3.0e38f) w->head_order[w->head_count++] = ((uint64_t)bits << 32) | (uint64_t)p;
         }
     hk_sort_by_high_bits(w->head_order, (uint32_t)w->head_count, w->head_tmp); /* p was increasing */
-    /* Gather the tile's segments' nearer depths (memory order: strands are
-     * contiguous), then sort them. */
-    const uint32_t total = bins->start[tile + 1] - bins->start[tile];
-    if (!reserve_segments(w, total)) return 0;
-    const uint32_t n = total;
-    const uint32_t *items = bins->items + bins->start[tile];
-    for (uint32_t k = 0; k < n; k++) {
-        const uint32_t i = items[k];
-        /* Scattered over the hair's segments: fetch ahead, the gathering otherwise
-         * waits on memory. */
-        if (k + 16 < n) __builtin_prefetch(&in->hair_near[items[k + 16]]);
-        w->item[k] = i;
-        w->near[k] = in->hair_near[i];
-    }
+    /* The tile's segments sorted by their nearer depths. */
+    const uint32_t n = bins->start[tile + 1] - bins->start[tile];
+    if (!reserve_segments(w, n)) return 0;
+    const uint32_t *item = bins->items + bins->start[tile];
+    const float *near = bins->keys + bins->start[tile];
     hk_DepthOrder depth;
-    hk_depth_order_begin(&depth, n, w->near, w->order, w->sort_work);
+    hk_depth_order_begin(&depth, n, near, w->order, w->sort_work);
     Segment *s = &w->segment;
     for (uint32_t k = 0; k < n && !w->failed; k++) {
         if (k + 9 > depth.sorted) hk_depth_order_ready(&depth, k + 9); /* this one and the one fetched ahead */
         const uint32_t j = w->order[k];
         /* Depth order scatters the reads over the segments: fetch ahead. */
         if (k + 8 < n) {
-            const uint32_t ahead = w->item[w->order[k + 8]];
+            const uint32_t ahead = item[w->order[k + 8]];
             __builtin_prefetch(&in->hair_proj[ahead]);
             __builtin_prefetch(&in->hair_proj[ahead + 1]);
             __builtin_prefetch(&bins->boxes[ahead]);
         }
         if (k % SETTLE_BATCH == 0) {
-            settle(w, w->near[j]);
+            settle(w, near[j]);
             int open = 0;
             for (int b = 0; b < BLOCKS * BLOCKS; b++) open += w->block_open[b];
             if (open == 0) break; /* every pixel of the tile is saturated */
         }
-        const uint32_t i = w->item[j];
+        const uint32_t i = item[j];
         if (hidden(w, segment_blocks(w, bins->boxes[i]))) continue;
         s->a = in->hair_proj[i], s->b = in->hair_proj[i + 1];
         s->first = i;
