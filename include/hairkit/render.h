@@ -76,7 +76,8 @@ hk_Status hk_render(const hk_HairFile *hair, const hk_Mesh *head, const hk_Visua
 /* A renderer that keeps its working memory from one picture to the next: the
  * projected points, the tile bins, the light's maps, the vertex colours and the
  * fragment buffers (several hundred MB on a full head), for the frames of an
- * animation. hk_render is create, draw, destroy. */
+ * animation. hk_render is create, draw, destroy. A renderer draws one picture at a
+ * time (its draws may not overlap; each draw runs in parallel itself). */
 typedef struct hk_Renderer hk_Renderer;
 
 hk_Status hk_renderer_create(hk_Renderer **out, hk_Error *err);
