@@ -5,11 +5,13 @@
  * libpng reads back. */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "hk_test.h"
 #include "hairkit/image.h"
 #include "hairkit/render.h"
+#include "hairkit/rng.h"
 #include "render/raster_inline.h"
 #include "render/render_internal.h"
 
@@ -223,7 +225,7 @@ static void test_subpixel_coverage(void **state)
             hk_RasterPoint a = {50.3f, 60.7f, 1.0f, 1.0f}, b = a;
             b.x = (float)(a.x + 80.0 * cos(ang)), b.y = (float)(a.y + 80.0 * sin(ang));
             coverage_sum = 0.0f;
-            hk_raster_segment(a, b, (float)widths[k], clip, sum_alpha, NULL);
+            hk_raster_segment(a, b, (float)widths[k], clip, NULL, sum_alpha, NULL);
             /* Exact for the tent footprint, up to the half-open ends (one column). */
             hk_assert_near(coverage_sum, widths[k] * 80.0, widths[k] * 1.5);
             /* The thin version clamps a column's opacity at 1 (w / cos(angle) > 1). */
@@ -307,6 +309,120 @@ static void test_scene_deterministic_finite_png(void **state)
     hk_hair_free(&h);
 }
 
+/* The depth order made as it is read (read in steps, as the tiles do) equals a plain
+ * stable sort by depth: spreads narrow and wide, many ties, zero, negatives and NaN
+ * (which sort as zero), sizes around the small-bucket threshold. */
+static int key_before(float a, float b)
+{
+    const float x = a > 0.0f ? a : 0.0f, y = b > 0.0f ? b : 0.0f;
+    return x < y;
+}
+
+static void test_depth_order(void **state)
+{
+    (void)state;
+    const uint32_t sizes[] = {0, 1, 2, 31, 33, 200, 5000};
+    const double spreads[] = {0.0, 1e-6, 0.02, 3.0};
+    for (size_t a = 0; a < sizeof sizes / sizeof *sizes; a++)
+        for (size_t b = 0; b < sizeof spreads / sizeof *spreads; b++) {
+            const uint32_t n = sizes[a];
+            float *depth = hk_alloc_array(n + 1, sizeof *depth, NULL);
+            uint32_t *order = hk_alloc_array(n + 1, sizeof *order, NULL);
+            uint32_t *work = hk_alloc_array(3 * (size_t)n + 1, sizeof *work, NULL);
+            uint32_t *expect = hk_alloc_array(n + 1, sizeof *expect, NULL);
+            for (uint32_t i = 0; i < n; i++) {
+                const double u = hk_rng_uniform(7, a * 10 + b, i);
+                depth[i] = (float)(1.0 + spreads[b] * floor(u * 50.0) / 50.0); /* ties */
+                if (i % 97 == 5) depth[i] = -1.0f;
+                if (i % 89 == 7) depth[i] = NAN;
+                if (i % 83 == 3) depth[i] = 0.0f;
+            }
+            for (uint32_t i = 0; i < n; i++) { /* insertion sort: stable */
+                uint32_t j = i;
+                for (; j > 0 && key_before(depth[i], depth[expect[j - 1]]); j--) expect[j] = expect[j - 1];
+                expect[j] = i;
+            }
+            hk_DepthOrder d;
+            hk_depth_order_begin(&d, n, depth, order, work);
+            for (uint32_t k = 0; k < n; k += 7) hk_depth_order_ready(&d, k + 9);
+            hk_depth_order_ready(&d, n);
+            if (n) assert_memory_equal(order, expect, n * sizeof *order);
+            hk_free(depth), hk_free(order), hk_free(work), hk_free(expect);
+        }
+}
+
+/* A pixel's fragment keys (depth bits above the fragment's index, indices increasing
+ * as drawn): insertion sort within its budget, else the radix sort on what the
+ * insertion sort left, give the keys in order whatever the budget. */
+static int u64_less(const void *a, const void *b)
+{
+    const uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return x < y ? -1 : (x > y);
+}
+
+static void test_fragment_key_sort(void **state)
+{
+    (void)state;
+    enum { N = 300 };
+    uint64_t keys[N], expect[N], tmp[N];
+    const size_t budgets[] = {0, 10, 500, 100000};
+    for (size_t b = 0; b < sizeof budgets / sizeof *budgets; b++) {
+        for (int i = 0; i < N; i++) {
+            const float z = (float)(1.0 + floor(hk_rng_uniform(3, b, (uint64_t)i) * 40.0) / 40.0);
+            uint32_t bits;
+            memcpy(&bits, &z, sizeof bits);
+            keys[i] = ((uint64_t)bits << 32) | (uint64_t)i;
+        }
+        memcpy(expect, keys, sizeof keys);
+        qsort(expect, N, sizeof *expect, u64_less);
+        if (!hk_sort_nearly_sorted(keys, N, budgets[b])) hk_sort_by_high_bits(keys, N, tmp);
+        assert_memory_equal(keys, expect, sizeof keys);
+    }
+}
+
+/* A renderer kept over pictures of different scenes, sizes and thread counts (its
+ * buffers grow and are reused; a failed draw in between) draws each the same bytes
+ * as hk_render. */
+static void same_as_render(hk_Renderer *r, const hk_HairFile *h, const hk_Mesh *head, const hk_RenderOptions *o)
+{
+    hk_VisualityDef v = hk_default_visuality();
+    hk_Canvas fresh;
+    assert_int_equal(hk_render(h, head, &v, o, &fresh, NULL, NULL), HK_OK);
+    assert_int_equal(hk_renderer_draw(r, h, head, NULL, o, NULL, NULL), HK_OK);
+    const hk_Canvas *kept = hk_renderer_picture(r);
+    assert_int_equal(kept->width, o->width);
+    assert_int_equal(kept->height, o->height);
+    assert_memory_equal(kept->rgb, fresh.rgb, 3 * (size_t)o->width * (size_t)o->height * sizeof(float));
+    hk_canvas_destroy(&fresh);
+}
+
+static void test_renderer_reuse(void **state)
+{
+    (void)state;
+    hk_HairFile big, small;
+    hk_Mesh ball;
+    make_scene(&big, &ball);
+    make_strands(&small, 3, 9, 0.1, 0.01, 0.0);
+    hk_Renderer *r;
+    assert_int_equal(hk_renderer_create(&r, NULL), HK_OK);
+    hk_RenderOptions o = hk_default_render_options();
+    o.width = 160, o.height = 120, o.threads = 2, o.shadow_map_size = 128;
+    same_as_render(r, &big, &ball, &o);
+    hk_RenderOptions p = plain_options(64);
+    p.threads = 1;
+    same_as_render(r, &small, NULL, &p);
+    hk_RenderOptions bad = o;
+    bad.width = 0;
+    assert_int_equal(hk_renderer_draw(r, &big, &ball, NULL, &bad, NULL, NULL), HK_ERR_INVALID);
+    assert_int_equal(hk_renderer_picture(r)->width, 0);
+    o.width = 200, o.height = 100, o.threads = 1, o.shadow_map_size = 256;
+    same_as_render(r, &big, &ball, &o);
+    hk_renderer_destroy(r);
+    hk_mesh_free(&ball);
+    hk_hair_free(&big);
+    hk_hair_free(&small);
+}
+
 static void test_bad_options(void **state)
 {
     (void)state;
@@ -335,7 +451,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_kajiya_kay_pixel),   cmocka_unit_test(test_shadow_from_occluder),
         cmocka_unit_test(test_subpixel_coverage),  cmocka_unit_test(test_scene_deterministic_finite_png),
-        cmocka_unit_test(test_bad_options),
+        cmocka_unit_test(test_depth_order),        cmocka_unit_test(test_fragment_key_sort),        cmocka_unit_test(test_renderer_reuse),     cmocka_unit_test(test_bad_options),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -73,6 +73,26 @@ hk_Status hk_render(const hk_HairFile *hair, const hk_Mesh *head, const hk_Visua
                     const hk_RenderOptions *options, hk_Canvas *out, hk_RenderStats *stats,
                     hk_Error *err);
 
+/* A renderer that keeps its working memory from one picture to the next: the
+ * projected points, the tile bins, the light's maps, the vertex colours and the
+ * fragment buffers (several hundred MB on a full head), for the frames of an
+ * animation. hk_render is create, draw, destroy. A renderer draws one picture at a
+ * time (its draws may not overlap; each draw runs in parallel itself). */
+typedef struct hk_Renderer hk_Renderer;
+
+hk_Status hk_renderer_create(hk_Renderer **out, hk_Error *err);
+void hk_renderer_destroy(hk_Renderer *renderer);
+
+/* Renders as hk_render does, the same bytes, into the renderer's picture (options
+ * NULL: hk_default_render_options(); visuality NULL: hk_default_visuality()). */
+hk_Status hk_renderer_draw(hk_Renderer *renderer, const hk_HairFile *hair, const hk_Mesh *head,
+                           const hk_VisualityDef *visuality, const hk_RenderOptions *options,
+                           hk_RenderStats *stats, hk_Error *err);
+
+/* The last picture drawn (linear RGB): valid until the next draw or destroy, empty
+ * (0 x 0) after a failed draw. */
+const hk_Canvas *hk_renderer_picture(const hk_Renderer *renderer);
+
 /* The camera hk_render would fit to this hair and head with these options: its target
  * and distance (for a fixed camera over the frames of an animation). */
 hk_Status hk_render_fit_camera(const hk_HairFile *hair, const hk_Mesh *head,

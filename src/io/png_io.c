@@ -51,6 +51,12 @@ hk_Status hk_png_write_rgb8(const char *path, int width, int height, const uint8
     png_init_io(png, out.fp);
     png_set_IHDR(png, info, (png_uint_32)width, (png_uint_32)height, 8, PNG_COLOR_TYPE_RGB,
                  PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    /* Speed over size: one filter (up) for every row and zlib's fast level 2 instead
+     * of libpng's five filters tried on each row and level 6. A 1200 x 900 frame of
+     * hair: about 4 times as fast (60-70 ms against 250-290 ms), 15 % larger; the
+     * pixels are the same. */
+    png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_UP);
+    png_set_compression_level(png, 2);
     png_write_info(png, info);
     for (int y = 0; y < height; y++) png_write_row(png, rgb + (size_t)y * (size_t)width * 3);
     png_write_end(png, NULL);

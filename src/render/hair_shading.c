@@ -19,16 +19,17 @@ hk_Status hk_hair_shader_init(hk_HairShader *s, const hk_Scene *sc, const uint8_
     s->marschner = hk_marschner_params_from_color(sc->vis->diffuse);
     s->ambient = hk_v3_scale(sc->vis->ambient, sc->opt->ambient_intensity);
     const size_t n = sc->hair->point_count ? sc->hair->point_count : 1;
-    s->rgb = hk_alloc_array(n, 3 * sizeof(float), err);
-    s->state = hk_alloc_array(n, sizeof(atomic_uchar), err);
-    s->strand_of = hk_alloc_array(n, sizeof(uint32_t), err);
-    if (!s->rgb || !s->state || !s->strand_of) {
+    if (!hk_reserve((void **)&s->rgb, &s->rgb_cap, n, 3 * sizeof(float), err) ||
+        !hk_reserve((void **)&s->state, &s->state_cap, n, sizeof(atomic_uchar), err) ||
+        !HK_RESERVE(s->strand_of, s->strand_of_cap, n, err)) {
         hk_hair_shader_free(s);
         return HK_ERR_NOMEM;
     }
-    for (size_t i = 0; i < n; i++) atomic_init(&s->state[i], 0);
-    for (uint32_t k = 0; k < sc->hair->strand_count; k++)
-        for (uint32_t i = sc->hair->first_point[k]; i < sc->hair->first_point[k + 1]; i++) s->strand_of[i] = k;
+#pragma omp parallel for schedule(static)
+    for (long i = 0; i < (long)n; i++) atomic_init(&s->state[i], 0);
+#pragma omp parallel for schedule(static)
+    for (long k = 0; k < (long)sc->hair->strand_count; k++)
+        for (uint32_t i = sc->hair->first_point[k]; i < sc->hair->first_point[k + 1]; i++) s->strand_of[i] = (uint32_t)k;
     return HK_OK;
 }
 
@@ -38,6 +39,7 @@ void hk_hair_shader_free(hk_HairShader *s)
     hk_free((void *)s->state);
     hk_free(s->strand_of);
     s->rgb = NULL, s->state = NULL, s->strand_of = NULL;
+    s->rgb_cap = s->state_cap = s->strand_of_cap = 0;
 }
 
 /* A number in [-1, 1) from a strand's index (splitmix64 finaliser). */

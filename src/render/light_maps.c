@@ -12,6 +12,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <omp.h>
+
 #include "raster_inline.h"
 #include "render_internal.h"
 
@@ -82,8 +84,11 @@ static void opacity_tile(LightPass *lp, const hk_TileBins *bins, int tile)
         if (lp->frag[f].z < m->hair_z0[lp->frag[f].texel]) m->hair_z0[lp->frag[f].texel] = lp->frag[f].z;
     for (size_t f = 0; f < lp->count; f++) {
         const float d = lp->frag[f].z - m->hair_z0[lp->frag[f].texel];
+        /* The layer: how many of the increasing layer ends lie at or before d (the
+         * last layer takes everything beyond), counted without branches, which the
+         * fragments' scattered depths mispredicted. */
         int k = 0;
-        while (k < m->layers - 1 && d >= m->layer_end[k]) k++;
+        for (int j = 0; j < m->layers - 1; j++) k += d >= m->layer_end[j];
         m->opacity[(size_t)lp->frag[f].texel * (size_t)m->layers + (size_t)k] += lp->frag[f].alpha;
     }
     for (int y = r.y0; y < r.y1; y++)
@@ -121,29 +126,27 @@ static hk_Status head_depth_map(const hk_Scene *scene, hk_LightMaps *m, hk_Error
 {
     const hk_Mesh *head = scene->head;
     if (!head || head->triangle_count == 0) return HK_OK;
-    hk_RasterPoint *proj = hk_alloc_array((size_t)head->vertex_count, sizeof *proj, err);
-    if (!proj) return HK_ERR_NOMEM;
+    if (!HK_RESERVE(m->proj, m->proj_cap, (size_t)head->vertex_count, err)) return HK_ERR_NOMEM;
+    hk_RasterPoint *proj = m->proj;
     for (int i = 0; i < head->vertex_count; i++) proj[i] = hk_view_project(&m->view, head->positions[i]);
     HeadPass hp = {m, proj, head->triangles, NULL};
-    hk_TileBins bins;
-    hk_Status st = hk_tile_bins_build((uint32_t)head->triangle_count, head_box, &hp, m->size, m->size, &bins, err);
-    if (st == HK_OK) {
-        const int tiles = bins.tiles_x * bins.tiles_y;
-#pragma omp parallel for schedule(dynamic, 4) firstprivate(hp)
-        for (int tile = 0; tile < tiles; tile++) {
-            const hk_Rect r = hk_tile_rect(&bins, tile, m->size, m->size);
-            for (uint32_t k = bins.start[tile]; k < bins.start[tile + 1]; k++) {
-                const uint32_t t = bins.items[k];
-                hk_RasterPoint v[3];
-                for (int c = 0; c < 3; c++) v[c] = proj[head->triangles[3 * (size_t)t + c]];
-                hp.v = v;
-                hk_raster_triangle(v, r, 1, head_sample, &hp);
-            }
+    hk_TileBins *bins = &m->bins;
+    hk_Status st = hk_tile_bins_build((uint32_t)head->triangle_count, head_box, &hp, NULL, m->size, m->size, bins, err);
+    if (st != HK_OK) return st;
+    const int tiles = bins->tiles_x * bins->tiles_y;
+#pragma omp parallel for schedule(dynamic, 1) firstprivate(hp)
+    for (int k = 0; k < tiles; k++) {
+        const int tile = (int)bins->heavy[k];
+        const hk_Rect r = hk_tile_rect(bins, tile, m->size, m->size);
+        for (uint32_t at = bins->start[tile]; at < bins->start[tile + 1]; at++) {
+            const uint32_t t = bins->items[at];
+            hk_RasterPoint v[3];
+            for (int c = 0; c < 3; c++) v[c] = proj[head->triangles[3 * (size_t)t + c]];
+            hp.v = v;
+            hk_raster_triangle(v, r, 1, head_sample, &hp);
         }
-        hk_tile_bins_free(&bins);
     }
-    hk_free(proj);
-    return st;
+    return HK_OK;
 }
 
 static hk_Status hair_opacity_map(const hk_Scene *scene, const uint8_t *segment_start, hk_LightMaps *m,
@@ -151,50 +154,58 @@ static hk_Status hair_opacity_map(const hk_Scene *scene, const uint8_t *segment_
 {
     const hk_HairFile *hair = scene->hair;
     if (hair->point_count == 0) return HK_OK;
-    hk_RasterPoint *proj = hk_alloc_array(hair->point_count, sizeof *proj, err);
-    if (!proj) return HK_ERR_NOMEM;
+    if (!HK_RESERVE(m->proj, m->proj_cap, hair->point_count, err)) return HK_ERR_NOMEM;
+    hk_RasterPoint *proj = m->proj;
 #pragma omp parallel for schedule(static)
     for (long i = 0; i < (long)hair->point_count; i++) proj[i] = hk_view_project(&m->view, hk_hair_point(hair, (uint32_t)i));
+    /* Each thread's fragment buffer, kept for the next picture. */
+    const int threads = omp_get_max_threads();
+    if (threads > m->frag_threads) {
+        hk_ThreadBuffer *f = realloc(m->frag, (size_t)threads * sizeof *f);
+        if (!f) return hk_error_set(err, HK_ERR_NOMEM, "out of memory in the deep opacity map");
+        for (int t = m->frag_threads; t < threads; t++) f[t].data = NULL, f[t].cap = 0;
+        m->frag = f, m->frag_threads = threads;
+    }
     LightPass lp;
     memset(&lp, 0, sizeof lp);
     lp.scene = scene, lp.maps = m, lp.proj = proj, lp.segment_start = segment_start;
-    hk_TileBins bins;
-    hk_Status st = hk_tile_bins_build(hair->point_count, hair_box, &lp, m->size, m->size, &bins, err);
+    const hk_TileBins *bins = &m->bins;
+    hk_Status st = hk_tile_bins_build(hair->point_count, hair_box, &lp, NULL, m->size, m->size, &m->bins, err);
+    if (st != HK_OK) return st;
     long long total = 0;
     int failed = 0;
-    if (st == HK_OK) {
-        const int tiles = bins.tiles_x * bins.tiles_y;
+    const int tiles = bins->tiles_x * bins->tiles_y;
 #pragma omp parallel firstprivate(lp) reduction(+ : total) reduction(| : failed)
-        {
-#pragma omp for schedule(dynamic, 4)
-            for (int tile = 0; tile < tiles; tile++) {
-                if (lp.failed) continue;
-                opacity_tile(&lp, &bins, tile);
-                total += (long long)lp.count;
-            }
-            failed |= lp.failed;
-            free(lp.frag);
+    {
+        hk_ThreadBuffer *mine = &m->frag[omp_get_thread_num()];
+        lp.frag = mine->data, lp.cap = mine->cap;
+#pragma omp for schedule(dynamic, 1)
+        for (int k = 0; k < tiles; k++) {
+            if (lp.failed) continue;
+            opacity_tile(&lp, bins, (int)bins->heavy[k]);
+            total += (long long)lp.count;
         }
-        hk_tile_bins_free(&bins);
+        failed |= lp.failed;
+        mine->data = lp.frag, mine->cap = lp.cap;
     }
     *fragments = total;
-    hk_free(proj);
-    if (st == HK_OK && failed) st = hk_error_set(err, HK_ERR_NOMEM, "out of memory in the deep opacity map");
-    return st;
+    if (failed) return hk_error_set(err, HK_ERR_NOMEM, "out of memory in the deep opacity map");
+    return HK_OK;
 }
 
 hk_Status hk_light_maps_build(const hk_Scene *scene, const uint8_t *segment_start, hk_LightMaps *m,
                               hk_RenderStats *stats, hk_Error *err)
 {
-    memset(m, 0, sizeof *m);
     const hk_RenderOptions *o = scene->opt;
     m->size = o->shadow_map_size;
     m->layers = o->opacity_layers;
     const double first = o->layer_size > 0.0 ? o->layer_size : 0.002;
     double end = 0.0;
+    memset(m->layer_end, 0, sizeof m->layer_end);
     for (int k = 0; k < m->layers; k++) m->layer_end[k] = (float)(end += first * ldexp(1.0, k));
     /* Orthographic along the light, covering the scene's bounding sphere. */
     hk_View *v = &m->view;
+    memset(v, 0, sizeof *v);
     v->perspective = 0;
     v->width = v->height = m->size;
     v->forward = hk_v3_neg(scene->light_dir);
@@ -208,13 +219,13 @@ hk_Status hk_light_maps_build(const hk_Scene *scene, const uint8_t *segment_star
     v->depth_offset = radius;
     m->texel = 1.0 / v->focal;
     const size_t texels = (size_t)m->size * (size_t)m->size;
-    m->head_depth = hk_alloc_array(texels, sizeof(float), err);
-    m->hair_z0 = hk_alloc_array(texels, sizeof(float), err);
-    m->opacity = hk_calloc_array(texels * (size_t)m->layers, sizeof(float), err);
-    if (!m->head_depth || !m->hair_z0 || !m->opacity) {
+    if (!HK_RESERVE(m->head_depth, m->head_depth_cap, texels, err) ||
+        !HK_RESERVE(m->hair_z0, m->hair_z0_cap, texels, err) ||
+        !HK_RESERVE(m->opacity, m->opacity_cap, texels * (size_t)m->layers, err)) {
         hk_light_maps_free(m);
         return HK_ERR_NOMEM;
     }
+    memset(m->opacity, 0, texels * (size_t)m->layers * sizeof *m->opacity);
     for (size_t i = 0; i < texels; i++) m->head_depth[i] = m->hair_z0[i] = FLT_MAX;
     long long fragments = 0;
     hk_Status st = head_depth_map(scene, m, err);
@@ -232,6 +243,10 @@ void hk_light_maps_free(hk_LightMaps *m)
     hk_free(m->head_depth);
     hk_free(m->hair_z0);
     hk_free(m->opacity);
+    hk_free(m->proj);
+    hk_tile_bins_free(&m->bins);
+    for (int t = 0; t < m->frag_threads; t++) free(m->frag[t].data);
+    free(m->frag);
     memset(m, 0, sizeof *m);
 }
 

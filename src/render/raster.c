@@ -12,9 +12,11 @@ int hk_segment_box(hk_RasterPoint a, hk_RasterPoint b, float width, int image_w,
     float xa = minf(a.x, b.x) - r, xb = maxf(a.x, b.x) + r;
     float ya = minf(a.y, b.y) - r, yb = maxf(a.y, b.y) + r;
     if (!(xb >= 0.0f && ya < (float)image_h && yb >= 0.0f && xa < (float)image_w)) return 0;
-    box->x0 = ifloor(clampf(xa, 0.0f, (float)image_w));
+    /* Clamped to the image, so non-negative: floor is truncation (cheaper, and this
+     * runs for every segment in both views). */
+    box->x0 = (int)clampf(xa, 0.0f, (float)image_w);
     box->x1 = iceil(clampf(xb + 1.0f, 0.0f, (float)image_w));
-    box->y0 = ifloor(clampf(ya, 0.0f, (float)image_h));
+    box->y0 = (int)clampf(ya, 0.0f, (float)image_h);
     box->y1 = iceil(clampf(yb + 1.0f, 0.0f, (float)image_h));
     return box->x0 < box->x1 && box->y0 < box->y1;
 }

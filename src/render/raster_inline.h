@@ -40,13 +40,19 @@ static inline int iceil(float v)
     return i + (v > (float)i);
 }
 
+/* Both rasterisers take a clip inside the image (x0, y0 >= 0): within it, truncation
+ * to int is floor. */
+
 /* Draws the segment a-b of width `width` pixels (the hair's projected diameter; at
  * least one pixel is drawn, thinner hair becomes more transparent) into `clip`. A
  * pixel belongs to the segment when its centre projects onto [0, 1) of it, so that
  * consecutive segments of a strand do not cover the same pixel twice. Coverage is a
- * box filter of the pixel against the line's width. */
+ * box filter of the pixel against the line's width. Pixels where closed (NULL: none;
+ * rows of HK_TILE from the clip's corner) is non-zero are passed over before any
+ * arithmetic: in a full head's tiles half the fragments fell on pixels already
+ * opaque. */
 static inline void hk_raster_segment(hk_RasterPoint a, hk_RasterPoint b, float width, hk_Rect clip,
-                                     hk_FragmentFn emit, void *user)
+                                     const uint8_t *closed, hk_FragmentFn emit, void *user)
 {
     const float drawn = width > 1.0f ? width : 1.0f;
     const float thin = width < 1.0f ? width : 1.0f; /* sub-pixel hair: coverage becomes opacity */
@@ -71,10 +77,14 @@ static inline void hk_raster_segment(hk_RasterPoint a, hk_RasterPoint b, float w
         const float centre = minor_a + (cm - major_a) * slope;
         const float lo = clampf(centre - across, (float)lo_minor, (float)hi_minor);
         const float hi = clampf(centre + across, (float)lo_minor - 1.0f, (float)hi_minor - 1.0f);
-        int n0 = ifloor(lo), n1 = ifloor(hi);
+        /* Truncation is floor for lo >= lo_minor >= 0; hi >= lo_minor - 1 >= -1. */
+        int n0 = (int)lo, n1 = hi >= 0.0f ? (int)hi : -1;
         if (n0 < lo_minor) n0 = lo_minor;
         if (n1 > hi_minor - 1) n1 = hi_minor - 1;
         for (int n = n0; n <= n1; n++) {
+            if (closed && closed[x_major ? (n - clip.y0) * HK_TILE + (m - clip.x0)
+                                         : (m - clip.y0) * HK_TILE + (n - clip.x0)])
+                continue;
             const float cx = x_major ? cm : (float)n + 0.5f, cy = x_major ? (float)n + 0.5f : cm;
             const float px = cx - a.x, py = cy - a.y;
             const float t = (px * dx + py * dy) * inv_len2;
@@ -111,7 +121,7 @@ static inline void hk_raster_segment_thin(hk_RasterPoint a, hk_RasterPoint b, fl
         if (!(t >= 0.0f && t < 1.0f)) continue;
         const float minor = minor_a + t * d_minor;
         if (!(minor >= (float)lo_minor && minor < (float)hi_minor)) continue;
-        const int n = ifloor(minor);
+        const int n = (int)minor; /* floor: minor >= lo_minor >= 0 */
         if (n < lo_minor || n >= hi_minor) continue;
         emit(user, x_major ? m : n, x_major ? n : m, t, alpha);
     }

@@ -67,15 +67,40 @@ typedef void (*hk_SampleFn)(void *user, int x, int y, int sample, float l0, floa
 void hk_raster_triangle(const hk_RasterPoint v[3], hk_Rect clip, int supersample, hk_SampleFn emit, void *user);
 int hk_triangle_box(const hk_RasterPoint v[3], int image_w, int image_h, hk_Rect *box);
 
-/* order[0..n) = the items sorted by increasing depth (stable: ties keep item order);
- * work holds 3 n numbers. */
-void hk_depth_order(uint32_t n, const float *depth, uint32_t *order, uint32_t *work);
+/* The items 0 .. n-1 sorted by increasing depth (stable: ties keep item order), made
+ * as they are read (depth_order.c): after hk_depth_order_begin (order holds n numbers,
+ * work 3 n), order[0 .. k) is final once hk_depth_order_ready(d, k) returned. */
+typedef struct hk_DepthOrder {
+    uint32_t n, sorted, bucket;
+    int shift;                /* the byte of the keys the buckets are by */
+    uint32_t start[257];      /* bucket b is order[start[b] .. start[b + 1]) */
+    uint32_t *order, *keys, *key_tmp, *order_tmp;
+} hk_DepthOrder;
+void hk_depth_order_begin(hk_DepthOrder *d, uint32_t n, const float *depth, uint32_t *order, uint32_t *work);
+void hk_depth_order_ready(hk_DepthOrder *d, uint32_t upto);
 
 /* Sorts keys[0..n) into increasing order, given that keys with the same upper 32 bits
  * (a depth's bits) are already in increasing order of their lower bits (an index,
  * filled in increasing order): a stable radix sort on the upper bits alone then gives
  * the full order, the same as any sort of the whole keys. tmp holds n keys. */
 void hk_sort_by_high_bits(uint64_t *keys, uint32_t n, uint64_t *tmp);
+
+/* Insertion sort of keys[0..n), for keys that are nearly in order: 1 when sorted, 0
+ * when it gave up after `budget` moves (keys[0..i) sorted, the rest as it was, so
+ * that the precondition of hk_sort_by_high_bits still holds). */
+int hk_sort_nearly_sorted(uint64_t *keys, size_t n, size_t budget);
+
+/* Makes *buffer hold at least count items of `size` bytes, reusing it when it is large
+ * enough (its contents are then kept) and otherwise replacing it (contents lost);
+ * 0 when out of memory (*buffer NULL, err set). *cap counts items (reuse.c). */
+int hk_reserve(void **buffer, size_t *cap, size_t count, size_t size, hk_Error *err);
+#define HK_RESERVE(ptr, cap, count, err) hk_reserve((void **)&(ptr), &(cap), (count), sizeof *(ptr), (err))
+
+/* A buffer of one thread's, kept from picture to picture. */
+typedef struct hk_ThreadBuffer {
+    void *data;
+    size_t cap;
+} hk_ThreadBuffer;
 
 /* An item's pixel box [x0, x1) x [y0, y1) (sides are at most 16384 pixels); empty
  * when x1 <= x0. */
@@ -91,11 +116,18 @@ typedef struct hk_TileBins {
     uint32_t *start; /* tiles_x * tiles_y + 1 offsets into items */
     uint32_t *items;
     hk_TileBox *boxes; /* every item's box, as box_of gave it */
+    float *keys;       /* with items: each entry's item's key, when the build had keys */
+    uint32_t *heavy;   /* the tiles, most items first: the order to hand them to threads */
+    uint64_t *count;   /* work space of the build */
+    size_t start_cap, items_cap, boxes_cap, keys_cap, heavy_cap, count_cap;
 } hk_TileBins;
 
 typedef int (*hk_BoxFn)(void *user, uint32_t item, hk_Rect *box);
-hk_Status hk_tile_bins_build(uint32_t item_count, hk_BoxFn box_of, void *user, int width, int height,
-                             hk_TileBins *bins, hk_Error *err);
+/* bins: zeroed before its first build; a build reuses the arrays of the one before.
+ * key (NULL: none): a number per item, copied next to its entries (bins->keys), so
+ * that a tile reads its items' keys in order instead of scattered. */
+hk_Status hk_tile_bins_build(uint32_t item_count, hk_BoxFn box_of, void *user, const float *key, int width,
+                             int height, hk_TileBins *bins, hk_Error *err);
 void hk_tile_bins_free(hk_TileBins *bins);
 static inline hk_Rect hk_tile_rect(const hk_TileBins *b, int tile, int width, int height)
 {
@@ -118,6 +150,14 @@ typedef struct hk_LightMaps {
     float *hair_z0;                       /* size^2; depth where the hair begins, +inf: none */
     float *opacity;                       /* size^2 * layers: opacity accumulated up to the
                                              end of each layer */
+    /* Kept from one build to the next: the maps' capacities, and the work space (the
+     * points in the light's view and their bins, head then hair; each thread's
+     * fragments). */
+    size_t head_depth_cap, hair_z0_cap, opacity_cap, proj_cap;
+    hk_RasterPoint *proj;
+    hk_TileBins bins;
+    hk_ThreadBuffer *frag;
+    int frag_threads;
 } hk_LightMaps;
 
 /* The scene as the passes see it. */
@@ -144,9 +184,16 @@ static inline hk_Vec3 hk_hair_point(const hk_HairFile *h, uint32_t i)
     return hk_v3(p[0], p[1], p[2]);
 }
 
-/* Segment i starts at point i; valid unless i is the last point of its strand. */
-uint8_t *hk_segment_starts(const hk_HairFile *hair, uint32_t *count, hk_Error *err);
+/* Segment i starts at point i; valid unless i is the last point of its strand:
+ * s[0 .. point_count) set to 1 where a segment starts, 0 elsewhere; returns their
+ * number. */
+uint32_t hk_segment_starts(const hk_HairFile *hair, uint8_t *s);
 
+/* hk_render's checks of its options, and the scene's bounding box (render.c). */
+hk_Status hk_render_check_options(const hk_RenderOptions *o, hk_Error *err);
+hk_Status hk_scene_bounds(hk_Scene *sc, hk_Error *err);
+
+/* maps: zeroed before its first build; a build reuses the memory of the one before. */
 hk_Status hk_light_maps_build(const hk_Scene *scene, const uint8_t *segment_start, hk_LightMaps *maps,
                               hk_RenderStats *stats, hk_Error *err);
 void hk_light_maps_free(hk_LightMaps *maps);
@@ -161,7 +208,8 @@ hk_View hk_camera_frame(const hk_Scene *scene);
 
 /* Colours of the hair vertices, computed when first asked for (hair_shading.c):
  * ambient plus the shading model times the light that reaches the vertex (maps NULL:
- * no shadows). */
+ * no shadows). The shader is zeroed before its first init; an init reuses the arrays
+ * of the one before. */
 typedef struct hk_HairShader {
     const hk_Scene *scene;
     const uint8_t *segment_start;
@@ -172,6 +220,7 @@ typedef struct hk_HairShader {
     float *rgb;
     atomic_uchar *state;
     uint32_t *strand_of; /* the strand of each vertex */
+    size_t rgb_cap, state_cap, strand_of_cap; /* kept from picture to picture */
 } hk_HairShader;
 hk_Status hk_hair_shader_init(hk_HairShader *s, const hk_Scene *scene, const uint8_t *segment_start,
                               const hk_LightMaps *maps, const hk_View *camera, hk_Error *err);
@@ -192,7 +241,8 @@ typedef struct hk_TileInput {
     const hk_LightMaps *maps;        /* NULL: no shadows */
     const hk_RasterPoint *hair_proj; /* hair points on the picture */
     hk_HairShader *shader;           /* their colours */
-    const hk_TileBins *hair_bins;    /* segments (by first point) per tile */
+    const hk_TileBins *hair_bins;    /* segments (by first point) per tile, keyed by their
+                                        nearer depth */
     const hk_RasterPoint *head_proj; /* head vertices on the picture, or NULL */
     const hk_TileBins *head_bins;    /* front-facing head triangles per tile, or NULL */
 } hk_TileInput;

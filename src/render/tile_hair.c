@@ -21,21 +21,26 @@
 #define BLOCK 8         /* saturation is also tracked per block of 8 x 8 pixels */
 #define BLOCKS (HK_TILE / BLOCK)
 
+/* A fragment in two records: what settling walks, from pixel to pixel's list (12
+ * bytes, so that the walk, which waits on memory, reads fewer cache lines), and its
+ * colour and pixel, read once when compositing. */
+typedef struct Pending {
+    float z, a;
+    uint32_t next; /* next pending fragment of the same pixel */
+} Pending;
 typedef struct Fragment {
-    float z, a, r, g, b;
+    float r, g, b;
     uint32_t pixel; /* index within the tile */
-    uint32_t next;  /* next pending fragment of the same pixel */
 } Fragment;
 
-/* A segment of the tile, gathered so that drawing it touches only this record. */
+/* The segment being drawn. */
 typedef struct Segment {
     hk_RasterPoint a, b;
     uint32_t first; /* index of its first point */
-    float ca[3], cb[3]; /* colours, fetched only when the segment is drawn */
+    float ca[3], cb[3]; /* colours, fetched at its first fragment kept */
 } Segment;
 
-/* The blocks of the tile a segment's box covers, packed in 4 bytes so that the
- * visibility test of a segment touches nothing else. */
+/* The blocks of the tile a segment's box covers. */
 typedef struct Blocks {
     uint8_t x0, y0, x1, y1;
 } Blocks;
@@ -44,14 +49,18 @@ struct hk_TileHair {
     hk_Rect r;
     const hk_TileHead *head;
     const hk_HairFile *hair;
-    /* gathered segments, depth order */
-    Segment *seg;
-    Blocks *blocks;
-    float *near;
+    /* The tile's segments in depth order. Only their first points and nearer depths
+     * (in the bins) are read to sort them: on a full head two thirds of a tile's
+     * segments lie behind pixels that are all opaque by the time their turn comes, and
+     * the rest is read when a segment is drawn. */
     uint32_t *order, *sort_work;
     size_t seg_cap;
-    const Segment *current;
+    Segment segment;
+    Segment *current;
+    int coloured; /* whether current's colours are fetched */
+    hk_HairShader *shader;
     /* fragments */
+    Pending *pend;
     Fragment *frag;
     size_t count, cap;
     int failed;
@@ -77,12 +86,10 @@ hk_TileHair *hk_tile_hair_create(void) { return calloc(1, sizeof(hk_TileHair)); 
 void hk_tile_hair_destroy(hk_TileHair *w)
 {
     if (!w) return;
-    free(w->seg);
-    free(w->blocks);
-    free(w->near);
     free(w->order);
     free(w->sort_work);
     free(w->frag);
+    free(w->pend);
     free(w->keys);
     free(w->keys_tmp);
     free(w);
@@ -92,19 +99,37 @@ static int reserve_segments(hk_TileHair *w, size_t n)
 {
     if (n <= w->seg_cap) return 1;
     size_t cap = n + n / 2 + 64;
-    Segment *s = realloc(w->seg, cap * sizeof *s);
-    if (s) w->seg = s;
-    Blocks *b = realloc(w->blocks, cap * sizeof *b);
-    if (b) w->blocks = b;
-    float *nr = realloc(w->near, cap * sizeof *nr);
-    if (nr) w->near = nr;
     uint32_t *o = realloc(w->order, cap * sizeof *o);
     if (o) w->order = o;
     uint32_t *sw = realloc(w->sort_work, 3 * cap * sizeof *sw);
     if (sw) w->sort_work = sw;
-    if (!s || !b || !nr || !o || !sw) return 0;
+    if (!o || !sw) return 0;
     w->seg_cap = cap;
     return 1;
+}
+
+/* Both fragment arrays twice as long; 0 when out of memory. */
+static __attribute__((noinline)) int grow_fragments(hk_TileHair *w)
+{
+    size_t cap_frag = w->cap, cap_pend = w->cap;
+    Fragment *f = hk_grow_fragments(w->frag, &cap_frag, sizeof *f);
+    if (!f) return 0;
+    w->frag = f;
+    Pending *p = hk_grow_fragments(w->pend, &cap_pend, sizeof *p);
+    if (!p) return 0;
+    w->pend = p;
+    w->cap = cap_pend;
+    return 1;
+}
+
+/* The colours of the segment being drawn, at its first fragment kept: half the segments
+ * drawn in a full head's tiles keep none (they fall on opaque pixels or behind the
+ * head), and shading their ends was a tenth of a picture. */
+static __attribute__((noinline)) void fetch_colours(hk_TileHair *w)
+{
+    hk_hair_shader_get(w->shader, w->current->first, w->current->ca);
+    hk_hair_shader_get(w->shader, w->current->first + 1, w->current->cb);
+    w->coloured = 1;
 }
 
 HK_FRAGMENT_INLINE void hair_fragment(void *user, int x, int y, float t, float alpha)
@@ -115,23 +140,21 @@ HK_FRAGMENT_INLINE void hair_fragment(void *user, int x, int y, float t, float a
     const Segment *s = w->current;
     const float z = 1.0f / ((1.0f - t) / s->a.z + t / s->b.z); /* perspective-correct */
     if (z >= w->head->cutoff[p]) return;
-    if (w->count == w->cap) {
-        Fragment *grown = hk_grow_fragments(w->frag, &w->cap, sizeof *grown);
-        if (!grown) {
-            w->failed = 1;
-            return;
-        }
-        w->frag = grown;
+    if (w->count == w->cap && !grow_fragments(w)) {
+        w->failed = 1;
+        return;
     }
+    if (!w->coloured) fetch_colours(w);
     const hk_HairFile *h = w->hair;
     if (h->transparency)
         alpha *= 1.0f - ((1.0f - t) * h->transparency[s->first] + t * h->transparency[s->first + 1]);
     Fragment *f = &w->frag[w->count];
-    f->z = z, f->a = alpha > 1.0f ? 1.0f : alpha, f->pixel = p;
+    Pending *q = &w->pend[w->count];
+    q->z = z, q->a = alpha > 1.0f ? 1.0f : alpha, f->pixel = p;
     f->r = s->ca[0] + t * (s->cb[0] - s->ca[0]);
     f->g = s->ca[1] + t * (s->cb[1] - s->ca[1]);
     f->b = s->ca[2] + t * (s->cb[2] - s->ca[2]);
-    f->next = w->pending[p];
+    q->next = w->pending[p];
     w->pending[p] = (uint32_t)w->count++;
     if (z < w->pending_near[p]) w->pending_near[p] = z;
     if (!w->touched[p]) w->touched[p] = 1, w->touched_list[w->touched_count++] = (uint16_t)p;
@@ -168,7 +191,7 @@ static void settle(hk_TileHair *w, float front)
         uint32_t *link = &w->pending[p];
         float nearest = HUGE_VALF;
         while (*link != NONE) {
-            Fragment *f = &w->frag[*link];
+            Pending *f = &w->pend[*link];
             if (f->z <= front) {
                 w->through[p] *= 1.0f - f->a;
                 *link = f->next;
@@ -233,7 +256,7 @@ static int composite(hk_TileHair *w, hk_Canvas *image)
     memcpy(fill, w->pixel_start, sizeof fill);
     for (size_t i = 0; i < w->count; i++) {
         uint32_t bits;
-        memcpy(&bits, &w->frag[i].z, sizeof bits);
+        memcpy(&bits, &w->pend[i].z, sizeof bits);
         w->keys[fill[w->frag[i].pixel]++] = ((uint64_t)bits << 32) | (uint64_t)i;
     }
     for (int y = w->r.y0; y < w->r.y1; y++)
@@ -241,21 +264,17 @@ static int composite(hk_TileHair *w, hk_Canvas *image)
             const int p = (y - w->r.y0) * HK_TILE + (x - w->r.x0);
             uint64_t *k = w->keys + w->pixel_start[p];
             const size_t n = w->pixel_start[p + 1] - w->pixel_start[p];
-            if (n <= 64) { /* insertion sort: after saturation pixels hold few fragments */
-                for (size_t i = 1; i < n; i++) {
-                    uint64_t v = k[i];
-                    size_t j = i;
-                    for (; j > 0 && k[j - 1] > v; j--) k[j] = k[j - 1];
-                    k[j] = v;
-                }
-            } else {
+            /* The segments were drawn nearest first, so a pixel's fragments come nearly
+             * in depth order: insertion sort, unless it moves them too often. */
+            if (!hk_sort_nearly_sorted(k, n, n <= 64 ? SIZE_MAX : 8 * n))
                 hk_sort_by_high_bits(k, (uint32_t)n, w->keys_tmp); /* keys hold i in increasing order */
-            }
             float cr = 0.0f, cg = 0.0f, cb = 0.0f, through = 1.0f;
             for (size_t i = 0; i < n && through > 1e-4f; i++) {
-                const Fragment *f = &w->frag[k[i] & 0xffffffffu];
-                cr += through * f->a * f->r, cg += through * f->a * f->g, cb += through * f->a * f->b;
-                through *= 1.0f - f->a;
+                const uint32_t j = (uint32_t)(k[i] & 0xffffffffu);
+                const Fragment *f = &w->frag[j];
+                const float a = w->pend[j].a;
+                cr += through * a * f->r, cg += through * a * f->g, cb += through * a * f->b;
+                through *= 1.0f - a;
             }
             float *o = image->rgb + 3 * ((size_t)y * (size_t)image->width + (size_t)x);
             o[0] = cr + through * w->head->base[p][0];
@@ -277,7 +296,7 @@ int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_Tile
     const hk_Scene *sc = in->scene;
     const hk_TileBins *bins = in->hair_bins;
     w->r = hk_tile_rect(bins, tile, sc->opt->width, sc->opt->height);
-    w->head = head, w->hair = sc->hair;
+    w->head = head, w->hair = sc->hair, w->shader = in->shader;
     w->count = 0, w->failed = 0, w->touched_count = 0;
     for (int p = 0; p < NPX; p++) {
         w->pending[p] = NONE, w->pending_near[p] = HUGE_VALF;
@@ -296,46 +315,36 @@ int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_Tile
             if (head->cutoff[p] < 3.0e38f) w->head_order[w->head_count++] = ((uint64_t)bits << 32) | (uint64_t)p;
         }
     hk_sort_by_high_bits(w->head_order, (uint32_t)w->head_count, w->head_tmp); /* p was increasing */
-    /* Gather the tile's segments (memory order: strands are contiguous), then sort
-     * them by the depth of their nearer end. */
-    const uint32_t total = bins->start[tile + 1] - bins->start[tile];
-    if (!reserve_segments(w, total)) return 0;
-    uint32_t n = 0;
-    const uint32_t *items = bins->items + bins->start[tile];
-    for (uint32_t k = 0; k < total; k++) {
-        const uint32_t i = items[k];
-        /* The tile's segments are scattered over the projected points: fetch ahead, the
-         * gathering otherwise waits on memory. */
-        if (k + 16 < total) {
-            __builtin_prefetch(&in->hair_proj[items[k + 16]]);
-            __builtin_prefetch(&bins->boxes[items[k + 16]]);
-        }
-        Segment *s = &w->seg[n];
-        s->a = in->hair_proj[i], s->b = in->hair_proj[i + 1];
-        s->first = i;
-        w->blocks[n] = segment_blocks(w, bins->boxes[i]);
-        w->near[n++] = fminf(s->a.z, s->b.z);
-    }
-    hk_depth_order(n, w->near, w->order, w->sort_work);
+    /* The tile's segments sorted by their nearer depths. */
+    const uint32_t n = bins->start[tile + 1] - bins->start[tile];
+    if (!reserve_segments(w, n)) return 0;
+    const uint32_t *item = bins->items + bins->start[tile];
+    const float *near = bins->keys + bins->start[tile];
+    hk_DepthOrder depth;
+    hk_depth_order_begin(&depth, n, near, w->order, w->sort_work);
+    Segment *s = &w->segment;
     for (uint32_t k = 0; k < n && !w->failed; k++) {
+        if (k + 9 > depth.sorted) hk_depth_order_ready(&depth, k + 9); /* this one and the one fetched ahead */
         const uint32_t j = w->order[k];
-        /* Depth order scatters the reads over the gathered segments: fetch ahead. */
+        /* Depth order scatters the reads over the segments: fetch ahead. */
         if (k + 8 < n) {
-            __builtin_prefetch(&w->blocks[w->order[k + 8]]);
-            __builtin_prefetch(&w->seg[w->order[k + 8]]);
+            const uint32_t ahead = item[w->order[k + 8]];
+            __builtin_prefetch(&in->hair_proj[ahead]);
+            __builtin_prefetch(&in->hair_proj[ahead + 1]);
+            __builtin_prefetch(&bins->boxes[ahead]);
         }
         if (k % SETTLE_BATCH == 0) {
-            settle(w, w->near[j]);
+            settle(w, near[j]);
             int open = 0;
             for (int b = 0; b < BLOCKS * BLOCKS; b++) open += w->block_open[b];
             if (open == 0) break; /* every pixel of the tile is saturated */
         }
-        if (hidden(w, w->blocks[j])) continue;
-        Segment *s = &w->seg[j];
-        hk_hair_shader_get(in->shader, s->first, s->ca);
-        hk_hair_shader_get(in->shader, s->first + 1, s->cb);
-        w->current = s;
-        hk_raster_segment(s->a, s->b, segment_width(sc, s), w->r, hair_fragment, w);
+        const uint32_t i = item[j];
+        if (hidden(w, segment_blocks(w, bins->boxes[i]))) continue;
+        s->a = in->hair_proj[i], s->b = in->hair_proj[i + 1];
+        s->first = i;
+        w->current = s, w->coloured = 0;
+        hk_raster_segment(s->a, s->b, segment_width(sc, s), w->r, w->saturated, hair_fragment, w);
     }
     if (w->failed) return 0;
     *fragments += (long long)w->count;

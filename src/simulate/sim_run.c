@@ -41,6 +41,7 @@ typedef struct Run {
     hk_VisualityDef vis;
     hk_HairSim *sim;
     hk_RenderOptions ro;  /* the camera fixed at frame 0 */
+    hk_Renderer *renderer; /* its memory kept from frame to frame */
     hk_Groom groom;       /* the frame's guides and strands, arrays reused */
     hk_SimProgress p;
 } Run;
@@ -48,6 +49,7 @@ typedef struct Run {
 static void run_free(Run *r)
 {
     hk_hair_sim_destroy(r->sim);
+    hk_renderer_destroy(r->renderer);
     hk_groom_free(&r->groom);
     hk_mesh_free(&r->head);
     hk_free(r->moved.positions);
@@ -201,15 +203,14 @@ static hk_Status render_frame(Run *r, const hk_HairFile *hair, long k, double t,
         st = hk_render_fit_camera(hair, head, &r->ro, &r->ro.camera_target, &r->ro.camera_distance, err);
         r->ro.camera_distance *= 1.15;
     }
-    hk_Canvas image = {0, 0, NULL};
-    if (st == HK_OK) st = hk_render(hair, head, &r->vis, &r->ro, &image, NULL, err);
+    if (st == HK_OK && !r->renderer) st = hk_renderer_create(&r->renderer, err);
+    if (st == HK_OK) st = hk_renderer_draw(r->renderer, hair, head, &r->vis, &r->ro, NULL, err);
     const double t1 = omp_get_wtime();
     r->p.seconds_render += t1 - t0;
     char path[4096];
     if (st == HK_OK) st = hk_simulation_frame_path(path, sizeof path, r->dir, "frame", k, "png", err);
-    if (st == HK_OK) st = hk_render_write_png(&image, path, err);
+    if (st == HK_OK) st = hk_render_write_png(hk_renderer_picture(r->renderer), path, err);
     if (st == HK_OK) r->p.bytes += hk_sim_file_size(path);
-    hk_canvas_destroy(&image);
     r->p.seconds_write += omp_get_wtime() - t1;
     return st;
 }

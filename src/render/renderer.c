@@ -1,0 +1,244 @@
+/* A picture's passes in order. (1) The light's maps: the head's depth and the hair's
+ * deep opacity map (light_maps.c). (2) Every hair vertex shaded once (hair_shading.c).
+ * (3) Per tile of the picture, in parallel: the head rasterised with 2 x 2 samples per
+ * pixel (tile_head.c), then the hair's fragments in front of it sorted by depth per
+ * pixel and composited front to back (tile_hair.c).
+ *
+ * The renderer keeps every buffer of these passes for the next picture: a full head
+ * needs several hundred MB a picture, and allocating and faulting them in anew for
+ * each frame of an animation kept the kernel busy for about 7 % of the run. */
+#include <stdlib.h>
+#include <string.h>
+
+#include <omp.h>
+
+#include "render_internal.h"
+
+struct hk_Renderer {
+    uint8_t *seg;               /* segment starts */
+    hk_RasterPoint *proj;       /* hair points on the picture */
+    hk_RasterPoint *head_proj;  /* head vertices on the picture */
+    float *near;                /* each segment's nearer depth on the picture */
+    size_t seg_cap, proj_cap, head_proj_cap, near_cap;
+    hk_HairShader shader;
+    hk_LightMaps maps;
+    hk_TileBins hair_bins, head_bins;
+    hk_Canvas picture;
+    size_t picture_cap;         /* pixels */
+    /* each thread's work space for the tiles */
+    hk_TileHead **tile_head;
+    hk_TileHair **tile_hair;
+    int threads;
+};
+
+hk_Status hk_renderer_create(hk_Renderer **out, hk_Error *err)
+{
+    *out = hk_calloc_array(1, sizeof **out, err);
+    return *out ? HK_OK : HK_ERR_NOMEM;
+}
+
+void hk_renderer_destroy(hk_Renderer *r)
+{
+    if (!r) return;
+    hk_free(r->seg);
+    hk_free(r->proj);
+    hk_free(r->head_proj);
+    hk_free(r->near);
+    hk_hair_shader_free(&r->shader);
+    hk_light_maps_free(&r->maps);
+    hk_tile_bins_free(&r->hair_bins);
+    hk_tile_bins_free(&r->head_bins);
+    hk_free(r->picture.rgb);
+    for (int t = 0; t < r->threads; t++) {
+        free(r->tile_head[t]);
+        hk_tile_hair_destroy(r->tile_hair[t]);
+    }
+    free(r->tile_head);
+    free(r->tile_hair);
+    hk_free(r);
+}
+
+const hk_Canvas *hk_renderer_picture(const hk_Renderer *r) { return &r->picture; }
+
+/* The tiles' work spaces of `threads` threads. */
+static hk_Status reserve_tile_work(hk_Renderer *r, int threads, hk_Error *err)
+{
+    if (threads <= r->threads) return HK_OK;
+    hk_TileHead **heads = realloc(r->tile_head, (size_t)threads * sizeof *heads);
+    if (heads) r->tile_head = heads;
+    hk_TileHair **hairs = realloc(r->tile_hair, (size_t)threads * sizeof *hairs);
+    if (hairs) r->tile_hair = hairs;
+    if (!heads || !hairs) return hk_error_set(err, HK_ERR_NOMEM, "out of memory for the tiles");
+    for (; r->threads < threads; r->threads++) {
+        heads[r->threads] = malloc(sizeof **heads);
+        hairs[r->threads] = hk_tile_hair_create();
+        if (!heads[r->threads] || !hairs[r->threads]) {
+            free(heads[r->threads]);
+            hk_tile_hair_destroy(hairs[r->threads]);
+            return hk_error_set(err, HK_ERR_NOMEM, "out of memory for the tiles");
+        }
+    }
+    return HK_OK;
+}
+
+typedef struct BoxCtx {
+    const hk_Scene *sc;
+    const hk_RasterPoint *proj;
+    const uint8_t *seg;
+    const int *tri;
+    int width, height;
+} BoxCtx;
+
+static int segment_box(void *user, uint32_t i, hk_Rect *box)
+{
+    const BoxCtx *c = user;
+    if (!c->seg[i]) return 0;
+    const hk_Scene *sc = c->sc;
+    const float width = (float)(0.5 * (hk_hair_thickness_at(sc, i) * c->proj[i].px_per_unit +
+                                       hk_hair_thickness_at(sc, i + 1) * c->proj[i + 1].px_per_unit));
+    return hk_segment_box(c->proj[i], c->proj[i + 1], width, c->width, c->height, box);
+}
+
+static int front_triangle_box(void *user, uint32_t t, hk_Rect *box)
+{
+    const BoxCtx *c = user;
+    hk_RasterPoint v[3];
+    for (int k = 0; k < 3; k++) v[k] = c->proj[c->tri[3 * (size_t)t + k]];
+    /* Counter-clockwise from outside; y points down on screen, so front faces have a
+     * negative signed area there. */
+    const float area = (v[1].x - v[0].x) * (v[2].y - v[0].y) - (v[2].x - v[0].x) * (v[1].y - v[0].y);
+    if (!(area < 0.0f)) return 0;
+    return hk_triangle_box(v, c->width, c->height, box);
+}
+
+/* (3) Every tile in parallel: head, then hair over it. */
+static hk_Status draw_tiles(hk_Renderer *r, const hk_TileInput *in, hk_RenderStats *stats, hk_Error *err)
+{
+    const int tiles = in->hair_bins->tiles_x * in->hair_bins->tiles_y;
+    long long fragments = 0;
+    int most = 0, failed = 0;
+#pragma omp parallel reduction(+ : fragments) reduction(max : most) reduction(| : failed)
+    {
+        hk_TileHead *head = r->tile_head[omp_get_thread_num()];
+        hk_TileHair *hair = r->tile_hair[omp_get_thread_num()];
+#pragma omp for schedule(dynamic, 1)
+        for (int k = 0; k < tiles; k++) {
+            const int tile = (int)in->hair_bins->heavy[k];
+            if (failed) continue;
+            hk_tile_head(in, tile, head);
+            if (!hk_tile_hair(hair, in, tile, head, &r->picture, &fragments, &most)) failed = 1;
+        }
+    }
+    if (failed) return hk_error_set(err, HK_ERR_NOMEM, "out of memory while drawing the hair");
+    stats->hair_fragments = fragments;
+    stats->max_depth_complexity = most;
+    return HK_OK;
+}
+
+static hk_Vec3 direction(double azimuth_deg, double elevation_deg)
+{
+    const double d = 3.14159265358979323846 / 180.0;
+    return hk_v3(sin(azimuth_deg * d) * cos(elevation_deg * d), sin(elevation_deg * d),
+                 cos(azimuth_deg * d) * cos(elevation_deg * d));
+}
+
+static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *head, const hk_VisualityDef *vis,
+                      const hk_RenderOptions *opt, hk_RenderStats *stats, hk_Error *err)
+{
+    /* The visuality file's colours are display (sRGB) values, as in the thesis's
+     * shaders, which wrote them to the screen unconverted; shading works in linear. */
+    const hk_VisualityDef vis_default = hk_default_visuality();
+    if (!vis) vis = &vis_default;
+    hk_VisualityDef vis_linear = *vis;
+    vis_linear.ambient = hk_srgb_to_linear(vis->ambient);
+    vis_linear.diffuse = hk_srgb_to_linear(vis->diffuse);
+    vis_linear.specular = hk_srgb_to_linear(vis->specular);
+    hk_Scene sc = {hair, head && head->triangle_count > 0 ? head : NULL, &vis_linear, opt, hk_v3_zero(), hk_v3_zero(),
+                   hk_v3_zero(), 0.0, 0};
+    sc.light_dir = hk_v3_normalize(direction(opt->light_azimuth_deg, opt->light_elevation_deg));
+    hk_Status st = hk_scene_bounds(&sc, err);
+    if (st != HK_OK) return st;
+    sc.thickness = hair->default_thickness > 0.0f ? hair->default_thickness : 1e-3 * hk_v3_dist(sc.lo, sc.hi);
+    if ((st = reserve_tile_work(r, omp_get_max_threads(), err)) != HK_OK) return st;
+    if (!HK_RESERVE(r->seg, r->seg_cap, hair->point_count, err)) return HK_ERR_NOMEM;
+    sc.segment_count = hk_segment_starts(hair, r->seg);
+    const double t0 = omp_get_wtime();
+    if (opt->shadows && (st = hk_light_maps_build(&sc, r->seg, &r->maps, stats, err)) != HK_OK) return st;
+    const double t1 = omp_get_wtime();
+    const hk_View cam = hk_camera_frame(&sc);
+    if (!HK_RESERVE(r->proj, r->proj_cap, hair->point_count, err) ||
+        !HK_RESERVE(r->near, r->near_cap, hair->point_count, err) ||
+        (sc.head && !HK_RESERVE(r->head_proj, r->head_proj_cap, (size_t)sc.head->vertex_count, err)))
+        return HK_ERR_NOMEM;
+    hk_RasterPoint *proj = r->proj, *head_proj = r->head_proj;
+    float *near = r->near;
+#pragma omp parallel for schedule(static)
+    for (long i = 0; i < (long)hair->point_count; i++) proj[i] = hk_view_project(&cam, hk_hair_point(hair, (uint32_t)i));
+    /* What the tiles sort their segments by, copied into the bins next to the
+     * segments (read there in order, rather than from scattered points by every
+     * tile). */
+    const uint8_t *seg = r->seg;
+#pragma omp parallel for schedule(static)
+    for (long i = 0; i < (long)hair->point_count; i++)
+        near[i] = seg[i] ? fminf(proj[i].z, proj[i + 1].z) : 0.0f;
+    for (int i = 0; sc.head && i < sc.head->vertex_count; i++) head_proj[i] = hk_view_project(&cam, sc.head->positions[i]);
+    if ((st = hk_hair_shader_init(&r->shader, &sc, r->seg, opt->shadows ? &r->maps : NULL, &cam, err)) != HK_OK)
+        return st;
+    const double t2 = omp_get_wtime();
+    BoxCtx box = {&sc, proj, r->seg, NULL, opt->width, opt->height};
+    if ((st = hk_tile_bins_build(hair->point_count, segment_box, &box, near, opt->width, opt->height,
+                                 &r->hair_bins, err)) != HK_OK)
+        return st;
+    if (sc.head) {
+        BoxCtx hb = {&sc, head_proj, NULL, sc.head->triangles, opt->width, opt->height};
+        if ((st = hk_tile_bins_build((uint32_t)sc.head->triangle_count, front_triangle_box, &hb, NULL, opt->width,
+                                     opt->height, &r->head_bins, err)) != HK_OK)
+            return st;
+    }
+    /* Every pixel is written by its tile. */
+    if (!HK_RESERVE(r->picture.rgb, r->picture_cap, 3 * (size_t)opt->width * (size_t)opt->height, err))
+        return HK_ERR_NOMEM;
+    r->picture.width = opt->width, r->picture.height = opt->height;
+    const hk_TileInput in = {&sc, &cam, opt->shadows ? &r->maps : NULL, proj, &r->shader, &r->hair_bins,
+                             head_proj, sc.head ? &r->head_bins : NULL};
+    if ((st = draw_tiles(r, &in, stats, err)) != HK_OK) return st;
+    stats->seconds_light = t1 - t0;
+    stats->seconds_camera = t2 - t1;
+    stats->seconds_hair = omp_get_wtime() - t2;
+    return HK_OK;
+}
+
+hk_Status hk_renderer_draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *head, const hk_VisualityDef *vis,
+                           const hk_RenderOptions *options, hk_RenderStats *stats, hk_Error *err)
+{
+    r->picture.width = r->picture.height = 0;
+    hk_RenderStats st_local;
+    if (!stats) stats = &st_local;
+    memset(stats, 0, sizeof *stats);
+    const hk_RenderOptions defaults = hk_default_render_options();
+    const hk_RenderOptions *opt = options ? options : &defaults;
+    hk_Status st = hk_render_check_options(opt, err);
+    if (st != HK_OK) return st;
+    const int saved_threads = omp_get_max_threads();
+    if (opt->threads > 0) omp_set_num_threads(opt->threads);
+    st = draw(r, hair, head, vis, opt, stats, err);
+    if (st != HK_OK) r->picture.width = r->picture.height = 0;
+    if (opt->threads > 0) omp_set_num_threads(saved_threads);
+    return st;
+}
+
+hk_Status hk_render(const hk_HairFile *hair, const hk_Mesh *head, const hk_VisualityDef *vis,
+                    const hk_RenderOptions *opt, hk_Canvas *out, hk_RenderStats *stats, hk_Error *err)
+{
+    out->rgb = NULL, out->width = out->height = 0;
+    hk_Renderer *r;
+    hk_Status st = hk_renderer_create(&r, err);
+    if (st != HK_OK) return st;
+    st = hk_renderer_draw(r, hair, head, vis, opt, stats, err);
+    if (st == HK_OK) {
+        *out = r->picture; /* handed over */
+        r->picture.rgb = NULL;
+    }
+    hk_renderer_destroy(r);
+    return st;
+}
