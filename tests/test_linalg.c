@@ -1,6 +1,7 @@
 /* Symmetric eigen-decomposition against its definition: A v_j = w_j v_j and V^T V = I,
  * on random matrices of every size up to 40, diagonal and rank-deficient ones, and a
- * matrix with known eigenvalues (Q diag(d) Q^T with Q from a random orthogonalisation). */
+ * matrix with known eigenvalues (Q diag(d) Q^T with Q from a random orthogonalisation).
+ * Cholesky solves of many right-hand sides at once against the residual A x - b. */
 #include "hk_test.h"
 
 #include <math.h>
@@ -98,10 +99,42 @@ static void test_diagonal_and_zero(void **state)
     for (int i = 0; i < 4; i++) assert_true(wz[i] == 0.0);
 }
 
+
+static void test_cholesky_columns(void **state)
+{
+    (void)state;
+    srand(7);
+    for (int n = 1; n <= 40; n += 3) {
+        const int count = 1 + n % 7 * 5;
+        double *a = malloc(sizeof(double) * (size_t)(n * n)), *l = calloc((size_t)(n * n), sizeof(double));
+        double *b = malloc(sizeof(double) * (size_t)(n * count)), *x = malloc(sizeof(double) * (size_t)(n * count));
+        /* A = B B^T + n I: symmetric positive definite */
+        double *m = malloc(sizeof(double) * (size_t)(n * n));
+        for (int i = 0; i < n * n; i++) m[i] = rand() / (double)RAND_MAX - 0.5;
+        for (int i = 0; i < n; i++)
+            for (int j = 0; j < n; j++) {
+                double v = i == j ? n : 0.0;
+                for (int k = 0; k < n; k++) v += m[i * n + k] * m[j * n + k];
+                a[i * n + j] = v;
+            }
+        assert_true(hk_cholesky_factor(n, a, 0.0, NULL, l));
+        for (int i = 0; i < n * count; i++) b[i] = x[i] = rand() / (double)RAND_MAX - 0.5;
+        hk_cholesky_solve_columns(n, l, x, count);
+        for (int r = 0; r < count; r++)
+            for (int i = 0; i < n; i++) {
+                double ax = 0.0;
+                for (int k = 0; k < n; k++) ax += a[i * n + k] * x[k * count + r];
+                hk_assert_near(ax, b[i * count + r], 1e-12 * n * n);
+            }
+        free(a), free(l), free(b), free(x), free(m);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_random_symmetric),
+        cmocka_unit_test(test_cholesky_columns),
         cmocka_unit_test(test_known_spectrum),
         cmocka_unit_test(test_diagonal_and_zero),
     };

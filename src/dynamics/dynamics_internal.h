@@ -249,6 +249,11 @@ int hk_dynamics_euler_commit(hk_StrandDynamics *d, const double *v, double h, co
  * alias), reusing the dense solver's Cholesky factor. Returns 0 if it cannot. */
 int hk_dynamics_resolve(hk_StrandDynamics *d, const double *rhs, double *out);
 
+/* hk_dynamics_resolve for `count` right-hand sides, the rows of rhs (count x 3N), into
+ * the rows of out; the dense factor is used for all of them at once. Returns 0 if it
+ * cannot. */
+int hk_dynamics_resolve_rows(hk_StrandDynamics *d, const double *rhs, int count, double *out);
+
 /* Jacobians of `count` points at the sorted arc lengths s for the current q: jac holds
  * count blocks of 3 x 3N (row-major: d pos / d q'), pos and vel (may be NULL) the world
  * positions and the velocities with the generalized velocities `rates` and the head's

@@ -150,6 +150,9 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Strand
             sl->record = 2 * k + side;
         }
     }
+    /* Each strand's points alone: a pair's slot[0] and slot[1] are set by the loops of
+     * its two strands. */
+    #pragma omp parallel for schedule(dynamic, 8)
     for (int s = 0; s < g; s++) {
         const int begin = cs->slot_start[s], count = cs->slot_start[s + 1] - begin;
         if (count > 1) qsort(slot + begin, (size_t)count, sizeof(Slot), slot_cmp);
@@ -206,10 +209,8 @@ static void predict(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const hk_R
     hk_dynamics_point_jacobians(d, head_end, vfree, (const double *)cs->at.items + begin, count,
                                 (double *)cs->screws.items + 6 * cs->dim_start[s], jac, NULL,
                                 (hk_Vec3 *)cs->vel.items + begin);
-    for (size_t r = 0; r < 3 * (size_t)count; r++) {
-        if (!cs->movable[s] || !hk_dynamics_resolve(d, jac + r * dim, yt + r * dim))
-            memset(yt + r * dim, 0, dim * sizeof(double));
-    }
+    if (!cs->movable[s] || !hk_dynamics_resolve_rows(d, jac, 3 * count, yt))
+        memset(yt, 0, 3 * (size_t)count * dim * sizeof(double));
     memset((double *)cs->dv.items + cs->dim_start[s], 0, dim * sizeof(double));
 }
 
@@ -359,10 +360,17 @@ static void add_response(double *v, const double *yt, size_t dim, hk_Vec3 lam, d
     for (size_t k = 0; k < dim; k++) v[k] += yt[k] * l0 + yt[dim + k] * l1 + yt[2 * dim + k] * l2;
 }
 
-/* J dv for the point whose J rows are jac (3 x dim). */
+/* J dv for the point whose J rows are jac (3 x dim); the three sums interleaved. */
 static hk_Vec3 point_change(const double *jac, size_t dim, const double *dv)
 {
-    return hk_v3(dot_n(jac, dv, dim), dot_n(jac + dim, dv, dim), dot_n(jac + 2 * dim, dv, dim));
+    const double *j1 = jac + dim, *j2 = jac + 2 * dim;
+    double a0 = 0.0, a1 = 0.0, a2 = 0.0;
+    for (size_t k = 0; k < dim; k++) {
+        a0 += jac[k] * dv[k];
+        a1 += j1[k] * dv[k];
+        a2 += j2[k] * dv[k];
+    }
+    return hk_v3(a0, a1, a2);
 }
 
 static int key_cmp(const int a[4], const int b[4])
@@ -380,13 +388,12 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
     PairState *pairs = cs->pairs.items;
     const PairState *old = cs->old_pairs.items;
     const hk_HairContactParams *p = &c->p;
-    int o = 0;
+    #pragma omp parallel for schedule(static)
     for (int k = 0; k < c->pair_count; k++) {
         PairState *ps = &pairs[k];
         const hk_HcPair *hp = &c->pairs[k];
         const hk_HcContact *ct = &c->contacts[k];
-        const int key[4] = {hp->i, hp->a, hp->j, hp->b};
-        memcpy(ps->key, key, sizeof key);
+        ps->key[0] = hp->i, ps->key[1] = hp->a, ps->key[2] = hp->j, ps->key[3] = hp->b;
         ps->basis[0] = ct->normal;
         complete_basis(ps->basis);
         const int strand[2] = {hp->i, hp->j};
@@ -409,8 +416,12 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
         ps->beta = h * p->stiffness * (p->distance - ct->distance);
         ps->gamma = h * h * p->stiffness + h * p->damping;
         ps->lambda = hk_v3_zero();
-        while (o < cs->old_count && key_cmp(old[o].key, key) < 0) o++;
-        if (o < cs->old_count && key_cmp(old[o].key, key) == 0) ps->lambda = old[o].lambda;
+    }
+    int o = 0;
+    for (int k = 0; k < c->pair_count; k++) {
+        PairState *ps = &pairs[k];
+        while (o < cs->old_count && key_cmp(old[o].key, ps->key) < 0) o++;
+        if (o < cs->old_count && key_cmp(old[o].key, ps->key) == 0) ps->lambda = old[o].lambda;
     }
 }
 

@@ -80,3 +80,27 @@ int hk_dynamics_resolve(hk_StrandDynamics *d, const double *rhs, double *out)
     }
     return hk_terms_solve_linear(n, d->terms, d->extra, out, out, d->work);
 }
+
+int hk_dynamics_resolve_rows(hk_StrandDynamics *d, const double *rhs, int count, double *out)
+{
+    const int n = d->sh->n, dim = 3 * n;
+    const size_t sd = (size_t)dim, sc = (size_t)count;
+    if (!(d->dense_fallback || d->params.solver == HK_DYNAMICS_DENSE) || count < 2) {
+        for (int r = 0; r < count; r++)
+            if (!hk_dynamics_resolve(d, rhs + (size_t)r * sd, out + (size_t)r * sd)) return 0;
+        return 1;
+    }
+    double *columns = hk_alloc_array(sd * sc, sizeof(double), NULL);
+    if (!columns) { /* one by one */
+        for (int r = 0; r < count; r++) hk_dynamics_resolve(d, rhs + (size_t)r * sd, out + (size_t)r * sd);
+        return 1;
+    }
+    for (size_t r = 0; r < sc; r++)
+        for (size_t k = 0; k < sd; k++) columns[k * sc + r] = rhs[r * sd + k];
+    const double *factor = (d->dense_fallback ? d->dense_work : d->work) + sd * sd;
+    hk_cholesky_solve_columns(dim, factor, columns, count);
+    for (size_t r = 0; r < sc; r++)
+        for (size_t k = 0; k < sd; k++) out[r * sd + k] = columns[k * sc + r];
+    hk_free(columns);
+    return 1;
+}

@@ -70,11 +70,9 @@ hk_HairSimOptions hk_default_hair_sim_options(const hk_HairstyleDef *style)
     /* Guides side by side are held along their length: with one pair at their closest
      * point, that point jumped along them from step to step and neighbouring guides at
      * rest jittered by up to 4 mm a frame (docs/dynamics.md, "Contacts solved
-     * together"). */
+     * together"). The pairs are then found afresh at every step (rescan_interval does
+     * not apply). */
     o.contacts.along = 1;
-    /* The contacts module's default rescan_interval 2 stays: rescanning every step cost
-     * 15 % of the step for no visible change once the linearisation is doubled (see
-     * advance()). */
     return o;
 }
 
