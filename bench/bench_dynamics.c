@@ -13,13 +13,6 @@
 #include "bench.h"
 #include "hairkit/simulate.h"
 
-static double now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
 /* Steps per second of a 20 cm wavy strand released sideways, restarted from rest
  * every 3 s of simulated time so that it keeps moving. */
 static double strand_steps_per_second(int n, hk_DynamicsIntegrator integrator, hk_DynamicsSolver solver,
@@ -45,7 +38,7 @@ static double strand_steps_per_second(int n, hk_DynamicsIntegrator integrator, h
         return 0.0;
     }
     long steps = 0;
-    const double t0 = now();
+    const double t0 = hk_seconds_now();
     double elapsed = 0.0;
     do {
         memcpy(sh->q, sh->q_rest, sizeof(double) * 3 * (size_t)n);
@@ -55,7 +48,7 @@ static double strand_steps_per_second(int n, hk_DynamicsIntegrator integrator, h
                 fprintf(stderr, "bench dynamics: N = %d: %s\n", n, err.message);
                 break;
             }
-        elapsed = now() - t0;
+        elapsed = hk_seconds_now() - t0;
     } while (!quick && elapsed < min_seconds);
     hk_strand_dynamics_destroy(d);
     hk_superhelix_destroy(sh);

@@ -4,17 +4,9 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <time.h>
 
 #include "bench.h"
 #include "hairkit/follicle_sampling.h"
-
-static double now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 /* n points with normals on an ellipsoid the size of a head (Fibonacci spiral). */
 static void head_like(int n, hk_Vec3 *p, hk_Vec3 *nrm)
@@ -50,13 +42,13 @@ int hk_bench_follicles(FILE *out, const hk_BenchOptions *options)
                 hk_ImplicitFitDef def = hk_default_implicit_fit_def();
                 def.threads = threads;
                 hk_ImplicitSurface *s;
-                const double t0 = now();
+                const double t0 = hk_seconds_now();
                 if (hk_implicit_surface_fit(p, nrm, n, &def, &s, &err) != HK_OK) {
                     fprintf(stderr, "bench follicles: %s\n", err.message);
                     rc = 1;
                     break;
                 }
-                best[threads] = fmin(best[threads], now() - t0);
+                best[threads] = fmin(best[threads], hk_seconds_now() - t0);
                 hk_implicit_surface_destroy(s);
             }
         if (!rc) fprintf(out, "  %6d %12d %14.3f %14.3f\n", n, 2 * n, best[1], best[2]);
@@ -89,13 +81,13 @@ int hk_bench_follicles(FILE *out, const hk_BenchOptions *options)
                 def.spacing = spacings[k];
                 def.threads = threads;
                 hk_FollicleSamples f;
-                const double t0 = now();
+                const double t0 = hk_seconds_now();
                 if (hk_wick_follicles(&head, &wick, &def, &f, &err) != HK_OK) {
                     fprintf(stderr, "bench follicles: %s\n", err.message);
                     rc = 1;
                     break;
                 }
-                best[threads] = fmin(best[threads], now() - t0);
+                best[threads] = fmin(best[threads], hk_seconds_now() - t0);
                 count = f.count, iterations = f.iterations;
                 hk_follicle_samples_free(&f);
             }

@@ -3,19 +3,11 @@
 #include <omp.h>
 #include <stdio.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 #include <stdlib.h>
 
 #include "bench.h"
 #include "hairkit/groom.h"
-
-static double now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 int hk_bench_groom(FILE *out, const hk_BenchOptions *options)
 {
@@ -39,13 +31,13 @@ int hk_bench_groom(FILE *out, const hk_BenchOptions *options)
         int strands = 0;
         for (int r = 0; r < reps; r++) {
             hk_Groom g;
-            const double t0 = now();
+            const double t0 = hk_seconds_now();
             if (hk_groom_grow(&style, shapes, shape_count, &wick, &o, &g, &err) != HK_OK) {
                 fprintf(stderr, "bench groom: %s\n", err.message);
                 rc = 1;
                 break;
             }
-            const double t1 = now();
+            const double t1 = hk_seconds_now();
             hk_HairFile hair;
             double t2 = t1;
             if (hk_groom_to_hair(&g, &style, &hair, &err) == HK_OK) {
@@ -54,7 +46,7 @@ int hk_bench_groom(FILE *out, const hk_BenchOptions *options)
                 if (fd >= 0) {
                     close(fd);
                     hk_hair_save(path, &hair, &err);
-                    t2 = now();
+                    t2 = hk_seconds_now();
                     remove(path);
                 }
                 hk_hair_free(&hair);

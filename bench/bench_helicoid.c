@@ -6,18 +6,10 @@
 #include <omp.h>
 #include <stdio.h>
 #include <string.h>
-#include <time.h>
 
 #include "bench.h"
 #include "hairkit/helicoid_fit.h"
 #include "hairkit/rng.h"
-
-static double now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 static double uniform(uint64_t stream, uint64_t i, double lo, double hi)
 {
@@ -48,7 +40,7 @@ static double interpolate_run(const hk_PHelicoid *guides, long n, int threads, i
 {
     const int saved = omp_get_max_threads();
     omp_set_num_threads(threads);
-    const double t0 = now();
+    const double t0 = hk_seconds_now();
     int failures = 0;
 #pragma omp parallel reduction(+ : failures)
     {
@@ -61,7 +53,7 @@ static double interpolate_run(const hk_PHelicoid *guides, long n, int threads, i
                 failures++;
         }
     }
-    const double t = now() - t0;
+    const double t = hk_seconds_now() - t0;
     omp_set_num_threads(saved);
     return failures ? -1.0 : t;
 }
@@ -73,7 +65,7 @@ static double fit_run(long n, int threads, int method, double *mean_error, doubl
     const int saved = omp_get_max_threads();
     omp_set_num_threads(threads);
     double err_sum = 0.0, piece_sum = 0.0;
-    const double t0 = now();
+    const double t0 = hk_seconds_now();
 #pragma omp parallel reduction(+ : err_sum, piece_sum)
     {
         hk_HelicoidFitter *f = hk_helicoid_fitter_create(64, NULL);
@@ -98,7 +90,7 @@ static double fit_run(long n, int threads, int method, double *mean_error, doubl
         }
         hk_helicoid_fitter_destroy(f);
     }
-    const double t = now() - t0;
+    const double t = hk_seconds_now() - t0;
     omp_set_num_threads(saved);
     *mean_error = err_sum / n;
     *pieces = piece_sum / n;
@@ -114,7 +106,7 @@ static void reconstruct_run(const hk_PHelicoid *guides, long n, int fixed_pieces
     enum { P = 41 };
     static hk_Vec3 original[1000][P];
     static hk_PHelicoid fitted[100];
-    const double t0 = now();
+    const double t0 = hk_seconds_now();
     hk_HelicoidFitter *f = hk_helicoid_fitter_create(64, NULL);
     long k = 0;
     for (long i = 0; i < n; i++) {
@@ -144,7 +136,7 @@ static void reconstruct_run(const hk_PHelicoid *guides, long n, int fixed_pieces
     }
     *mean = sum / n;
     *worst = big;
-    *seconds = now() - t0;
+    *seconds = hk_seconds_now() - t0;
 }
 
 int hk_bench_helicoid(FILE *out, const hk_BenchOptions *options)

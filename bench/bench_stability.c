@@ -63,13 +63,6 @@ typedef struct Cell {
     char error[160];
 } Cell;
 
-static double now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
 static double thread_cpu(void)
 {
     struct timespec t;
@@ -158,7 +151,7 @@ static void run_cell(const hk_BenchOptions *options, const StrandRef *ref, doubl
     double worst = 0.0; /* still: largest E(t) - E(0), t >= 0; moving: largest kinetic */
     const double dt = dts[c->dt];
     const long frames = (long)ceil(duration / dt - 1e-9);
-    const double t0 = now(), cpu0 = thread_cpu();
+    const double t0 = hk_seconds_now(), cpu0 = thread_cpu();
     double t = 0.0;
     long done_frames = 0;
     for (long i = 0; i < frames; i++) {
@@ -175,7 +168,7 @@ static void run_cell(const hk_BenchOptions *options, const StrandRef *ref, doubl
         const double e = still ? kinetic + potential - start : kinetic;
         worst = isfinite(e) && isfinite(worst) ? fmax(worst, e) : INFINITY;
     }
-    const double seconds = now() - t0;
+    const double seconds = hk_seconds_now() - t0;
     c->cpu = thread_cpu() - cpu0;
     const hk_DynamicsStats stats = hk_strand_dynamics_stats(dyn);
     c->ran = done_frames == frames;
@@ -218,7 +211,7 @@ int hk_bench_stability(FILE *out, const hk_BenchOptions *options)
     const int motion_count = quick ? (int)(sizeof quick_motions / sizeof *quick_motions) : MOTION_COUNT;
     const int dt_count = quick ? 1 : 2;
     const int dt_first = quick ? 1 : 0;
-    const double t_start = now();
+    const double t_start = hk_seconds_now();
 
     StrandRef refs[STRAND_COUNT];
     int failed_refs = 0;
@@ -308,7 +301,7 @@ int hk_bench_stability(FILE *out, const hk_BenchOptions *options)
     fprintf(out,
             "\n  %d of %d cells did not run to the end; %.0f s wall in all with %d threads, the cells' stepping %.0f s\n"
             "  of CPU (ms/s is wall: on a loaded machine it exceeds the CPU time)\n",
-            failures, count, now() - t_start, omp_get_max_threads(), cpu);
+            failures, count, hk_seconds_now() - t_start, omp_get_max_threads(), cpu);
     for (int i = 0; i < count; i++)
         if (errors && !cells[i].ran && isnan(cells[i].evaluations))
             fprintf(stderr, "bench stability: %s\n", cells[i].error);

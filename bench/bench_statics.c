@@ -8,13 +8,6 @@
 #include "bench.h"
 #include "hairkit/statics.h"
 
-static double now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
 typedef struct Run {
     double seconds;  /* per solve */
     double energy;
@@ -29,7 +22,7 @@ static Run measure(hk_SuperHelix *sh, const hk_StrandEnv *env, const hk_StaticsO
     Run run = {0, 0, {0, 0, 0, 0}, 0};
     const int dim = 3 * sh->n;
     int reps = 0;
-    const double t0 = now();
+    const double t0 = hk_seconds_now();
     double elapsed = 0.0;
     do {
         memcpy(sh->q, sh->q_rest, (size_t)dim * sizeof(double));
@@ -39,7 +32,7 @@ static Run measure(hk_SuperHelix *sh, const hk_StrandEnv *env, const hk_StaticsO
             return run;
         }
         reps++;
-        elapsed = now() - t0;
+        elapsed = hk_seconds_now() - t0;
     } while (elapsed < min_seconds && reps < max_reps);
     run.seconds = elapsed / reps;
     hk_StrandWorkspace *ws;

@@ -135,7 +135,4 @@ int hk_cli_strand_simulate(const char *cmd, const hk_CliStrandSim *sim, const hk
                            struct hk_SuperHelix *sh, const struct hk_StrandEnv *env, const char *plot,
                            const hk_Shape *shapes, int shape_count);
 
-/* Monotonic wall clock in seconds. */
-double hk_cli_now(void);
-
 #endif

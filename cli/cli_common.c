@@ -70,13 +70,6 @@ int hk_cli_usage_error(const char *cmd, const char *fmt, ...)
 
 int hk_cli_stderr_is_tty(void) { return isatty(STDERR_FILENO); }
 
-double hk_cli_now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
 void hk_cli_progress(void *user, const char *stage, double fraction)
 {
     hk_cli_progress_note(user, stage, fraction, NULL);

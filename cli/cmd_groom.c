@@ -82,14 +82,14 @@ int hk_cmd_groom(int argc, char **argv)
     int status = HK_EXIT_FAIL;
     hk_HairFile hair;
     hk_SetupHairReport report;
-    const double t0 = hk_cli_now();
+    const double t0 = hk_seconds_now();
     hk_Status st = hk_cli_setup_hair(&setup, &go, &hair, &report, &err);
     hk_cli_progress_done(&progress);
     if (st == HK_OK && output) st = hk_hair_save(output, &hair, &err);
     if (st == HK_OK) {
         if (!quiet) {
             hk_cli_report_setup_hair(CMD, &setup, &hair, &report);
-            fprintf(stderr, "hairkit %s: %.2f s in all\n", CMD, hk_cli_now() - t0);
+            fprintf(stderr, "hairkit %s: %.2f s in all\n", CMD, hk_seconds_now() - t0);
         }
         status = HK_EXIT_OK;
     } else {

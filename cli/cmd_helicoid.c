@@ -324,12 +324,12 @@ static int do_trace(const hk_HelicoidArgs *a)
     hk_HairFile hair;
     memset(&hair, 0, sizeof hair);
     const double step = a->step > 0.0 ? a->step : set.step;
-    const double t0 = hk_cli_now();
+    const double t0 = hk_seconds_now();
     hk_Status st = hk_helicoid_cli_trace_set(&set, step, a->seed, a->threads, &hair, &err);
     if (st == HK_OK) st = hk_hair_save(a->output, &hair, &err);
     if (st == HK_OK && !a->quiet)
         fprintf(stderr, "hairkit %s trace: %d helicoid strands, %u hair strands (with wisps), %u points in %.3f s\n",
-                CMD, set.count, hair.strand_count, hair.point_count, hk_cli_now() - t0);
+                CMD, set.count, hair.strand_count, hair.point_count, hk_seconds_now() - t0);
     hk_hair_free(&hair);
     hk_helicoid_set_free(&set);
     return st == HK_OK ? HK_EXIT_OK : hk_cli_fail(CMD, &err);

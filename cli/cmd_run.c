@@ -82,7 +82,7 @@ int hk_cmd_run(int argc, char **argv)
     hk_CliProgress progress = {!quiet && hk_cli_stderr_is_tty(), "", -1};
     go.progress = hk_cli_progress;
     go.progress_user = &progress;
-    const double t0 = hk_cli_now();
+    const double t0 = hk_seconds_now();
     hk_HairFile hair;
     hk_SetupHairReport report;
     hk_Mesh head = {0, 0, NULL, NULL, NULL};
@@ -104,7 +104,7 @@ int hk_cmd_run(int argc, char **argv)
     if (st == HK_OK) {
         if (!quiet) {
             hk_cli_report_render(CMD, output, &ro, &stats);
-            fprintf(stderr, "hairkit %s: %.2f s in all\n", CMD, hk_cli_now() - t0);
+            fprintf(stderr, "hairkit %s: %.2f s in all\n", CMD, hk_seconds_now() - t0);
         }
         status = HK_EXIT_OK;
     } else {

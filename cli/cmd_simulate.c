@@ -201,7 +201,7 @@ static void on_progress(void *user, const hk_SimProgress *p)
         if (p->removed) fprintf(stderr, "hairkit %s: removed %d files of an earlier run from %s\n", CMD, p->removed, pr->dir);
         fprintf(stderr, "hairkit %s: %d guides of %d elements at rest after %.2f s; %ld frames\n", CMD, p->guides,
                 p->elements, p->seconds_setup, p->frames);
-        pr->last_line = hk_cli_now();
+        pr->last_line = hk_seconds_now();
         return;
     }
     const double per_frame = p->seconds / (double)p->frame;
@@ -210,9 +210,9 @@ static void on_progress(void *user, const hk_SimProgress *p)
     snprintf(note, sizeof note, "%.2f s/frame, about %s left", per_frame, left);
     if (pr->bar.enabled) {
         hk_cli_progress_note(&pr->bar, "frames", (double)p->frame / (double)p->frames, note);
-    } else if (pr->lines && (p->frame == 1 || p->frame == p->frames || hk_cli_now() - pr->last_line >= LINE_INTERVAL)) {
+    } else if (pr->lines && (p->frame == 1 || p->frame == p->frames || hk_seconds_now() - pr->last_line >= LINE_INTERVAL)) {
         fprintf(stderr, "hairkit %s: frame %ld/%ld, %s\n", CMD, p->frame, p->frames, note);
-        pr->last_line = hk_cli_now();
+        pr->last_line = hk_seconds_now();
     }
 }
 

@@ -223,12 +223,12 @@ int hk_cmd_strand(int argc, char **argv)
     opt.solver = a.solver;
     opt.rosenbrock = hk_rosenbrock_options_for(&def);
     hk_MinimizeResult res;
-    const double t0 = hk_cli_now();
+    const double t0 = hk_seconds_now();
     if (hk_statics_solve(sh, &env, &opt, &res, &err) != HK_OK) {
         hk_cli_fail(CMD, &err);
         goto done;
     }
-    const double seconds = hk_cli_now() - t0;
+    const double seconds = hk_seconds_now() - t0;
     if (hk_strand_workspace_create(sh, &env, &ws, &err) != HK_OK) {
         hk_cli_fail(CMD, &err);
         goto done;

@@ -111,12 +111,12 @@ int hk_helicoid_cli_fit(const hk_HelicoidArgs *a)
         if (!idx || !rep) st = HK_ERR_NOMEM;
     }
     const hk_CurveFitOptions opt = fit_options(a);
-    const double t0 = hk_cli_now();
+    const double t0 = hk_seconds_now();
     if (st == HK_OK) {
         for (uint32_t s = 0; s < hair.strand_count; s++) idx[s] = s;
         st = fit_strands(&hair, idx, hair.strand_count, &opt, a, set.strands, rep, &err);
     }
-    const double seconds = hk_cli_now() - t0;
+    const double seconds = hk_seconds_now() - t0;
     if (st == HK_OK) st = hk_helicoid_file_save(a->output, &set, "fitted by hairkit helicoid fit", &err);
     if (st == HK_OK) {
         double sum = 0.0, worst = 0.0, fr = 0.0;
@@ -165,12 +165,12 @@ int hk_helicoid_cli_reconstruct(const hk_HelicoidArgs *a)
         opt.piece_length = RECONSTRUCT_PIECE_LENGTH;
         opt.root_piece_length = RECONSTRUCT_ROOT_PIECE;
     }
-    const double t0 = hk_cli_now();
+    const double t0 = hk_seconds_now();
     if (st == HK_OK) {
         for (long i = 0; i < k; i++) idx[i] = i * a->every;
         st = fit_strands(&hair, idx, k, &opt, a, guides.strands, rep, &err);
     }
-    const double t1 = hk_cli_now();
+    const double t1 = hk_seconds_now();
     if (st == HK_OK) {
         for (long s = 0; s < n; s++) {
             const float *q = hair.points + 3 * (size_t)hair.first_point[s];
@@ -185,7 +185,7 @@ int hk_helicoid_cli_reconstruct(const hk_HelicoidArgs *a)
     const double step = a->step > 0.0 ? a->step : 0.002;
     all.step = step;
     if (st == HK_OK) st = hk_helicoid_cli_trace_set(&all, step, a->seed, a->threads, &out, &err);
-    const double t2 = hk_cli_now();
+    const double t2 = hk_seconds_now();
     if (st == HK_OK) st = hk_hair_save(a->output, &out, &err);
     if (st == HK_OK) {
         /* Error of the reconstruction: each strand against the original, by the mean

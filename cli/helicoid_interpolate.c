@@ -115,7 +115,7 @@ static hk_Status follicle_roots(const hk_HelicoidArgs *a, const hk_Mesh *wick, l
     def.progress_user = &bar;
     hk_FollicleSamples f;
     hk_Error e;
-    const double t0 = hk_cli_now();
+    const double t0 = hk_seconds_now();
     hk_Status st = hk_wick_follicles(a->head ? &head : NULL, wick, &def, &f, &e);
     hk_cli_progress_done(&bar);
     hk_mesh_free(&head);
@@ -126,7 +126,7 @@ static hk_Status follicle_roots(const hk_HelicoidArgs *a, const hk_Mesh *wick, l
     if (!a->quiet)
         fprintf(stderr, "hairkit %s interpolate: %d follicles %g mm apart on %s (%.4g cm^2), %d iterations, %.3f s\n",
                 CMD, f.count, 1e3 * a->follicles, a->surface, 1e4 * hk_mesh_area(wick), f.iterations,
-                hk_cli_now() - t0);
+                hk_seconds_now() - t0);
     *count = f.count, *roots = f.points, *normals = f.normals;
     f.points = f.normals = NULL; /* handed over */
     hk_follicle_samples_free(&f);
@@ -175,17 +175,17 @@ int hk_helicoid_cli_interpolate(const hk_HelicoidArgs *a)
     if (st == HK_OK)
         st = a->follicles > 0.0 ? follicle_roots(a, &mesh, &count, &roots, &normals, &err)
                                 : random_roots(a, &mesh, &count, &roots, &normals, &err);
-    const double t0 = hk_cli_now();
+    const double t0 = hk_seconds_now();
     if (st == HK_OK) st = hk_helicoid_set_alloc(&made, (int)count, &err);
     if (st == HK_OK)
         st = hk_helicoid_cli_interpolate_at(guides.strands, gnormals, guides.count, roots, normals, count, a->power,
                                             made.strands, &err);
-    const double t1 = hk_cli_now();
+    const double t1 = hk_seconds_now();
     made.step = a->step > 0.0 ? a->step : guides.step;
     made.waviness = guides.waviness;
     made.wave_jitter = guides.wave_jitter;
     if (st == HK_OK) st = hk_helicoid_cli_trace_set(&made, made.step, a->seed, a->threads, &hair, &err);
-    const double t2 = hk_cli_now();
+    const double t2 = hk_seconds_now();
     if (a->threads > 0) omp_set_num_threads(saved);
     if (st == HK_OK) st = hk_hair_save(a->output, &hair, &err);
     if (st == HK_OK && a->params) st = hk_helicoid_file_save(a->params, &made, "interpolated by hairkit", &err);

@@ -69,7 +69,7 @@ int hk_cli_strand_simulate(const char *cmd, const hk_CliStrandSim *sim, const hk
     /* Fixed steps of dt; the last one is shortened so that the run ends at T. */
     const long steps = (long)ceil(sim->duration / sim->dt - 1e-9);
     hk_CliProgress progress = {!sim->quiet && hk_cli_stderr_is_tty(), "simulate", -1};
-    const double t0 = hk_cli_now();
+    const double t0 = hk_seconds_now();
     double t = 0.0;
     long substeps = 0;
     for (long i = 0; i < steps; i++) {
@@ -86,7 +86,7 @@ int hk_cli_strand_simulate(const char *cmd, const hk_CliStrandSim *sim, const hk
         if (progress.enabled && (i & 63) == 0) hk_cli_progress(&progress, "simulate", (double)i / steps);
     }
     hk_cli_progress_done(&progress);
-    const double seconds = hk_cli_now() - t0;
+    const double seconds = hk_seconds_now() - t0;
     if (tip.fp && hk_outfile_commit(&tip, &err) != HK_OK) {
         hk_cli_fail(cmd, &err);
         goto done;

@@ -96,6 +96,10 @@ void *hk_alloc_array(size_t count, size_t size, hk_Error *err);
 void *hk_calloc_array(size_t count, size_t size, hk_Error *err);
 void hk_free(void *ptr);
 
+/* Seconds on a monotonic clock (CLOCK_MONOTONIC) from an arbitrary origin: for timings
+ * and progress reports, never for results. */
+double hk_seconds_now(void);
+
 #ifdef __cplusplus
 }
 #endif

@@ -3,7 +3,6 @@
 #include <omp.h>
 #include <stdio.h>
 #include <string.h>
-#include <time.h>
 
 #include "groom_internal.h"
 
@@ -19,13 +18,6 @@ void hk_groom_report(const hk_GroomOptions *o, const char *stage, long done, lon
     /* Only at whole steps of 1/200, so that reporting costs nothing. */
     const long step = total / 200 + 1;
     if (done == total || done % step == 0) o->progress(o->progress_user, stage, (double)done / (double)total);
-}
-
-static double seconds_now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
 void hk_groom_free(hk_Groom *g)
@@ -47,12 +39,12 @@ hk_Status hk_groom_grow(const hk_HairstyleDef *style, const hk_Shape *shapes, in
     hk_Follicles f;
     hk_Status st = hk_follicles_from_wick(wick, &f, err);
     if (st == HK_OK) {
-        double t0 = seconds_now();
+        double t0 = hk_seconds_now();
         st = hk_groom_solve_guides(style, shapes, shape_count, &f, &o, out, err);
-        double t1 = seconds_now();
+        double t1 = hk_seconds_now();
         if (st == HK_OK) st = hk_groom_interpolate(style, shapes, shape_count, wick, &o, out, err);
         out->stats.seconds_guides = t1 - t0;
-        out->stats.seconds_strands = seconds_now() - t1;
+        out->stats.seconds_strands = hk_seconds_now() - t1;
         hk_follicles_free(&f);
     }
     if (o.threads > 0) omp_set_num_threads(saved_threads);
@@ -102,9 +94,9 @@ hk_Status hk_groom_interpolate_guides(const hk_HairstyleDef *style, const hk_Sha
     g->strand_count = 0;
     const int saved_threads = omp_get_max_threads();
     if (o.threads > 0) omp_set_num_threads(o.threads);
-    const double t0 = seconds_now();
+    const double t0 = hk_seconds_now();
     hk_Status st = hk_groom_interpolate(style, shapes, shape_count, wick, &o, g, err);
-    g->stats.seconds_strands = seconds_now() - t0;
+    g->stats.seconds_strands = hk_seconds_now() - t0;
     if (o.threads > 0) omp_set_num_threads(saved_threads);
     return st;
 }

@@ -280,13 +280,6 @@ static hk_Status check_def(const hk_FollicleSamplingDef *d, const hk_Vec3 *seeds
     return HK_OK;
 }
 
-static double seconds_now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
 /* An iteration costs a few evaluations of f per particle, from well under a
  * microsecond (an analytic sphere) to tens (a fitted surface of thousands of
  * centres). Waking threads for less than ~0.2 ms of work loses more than it gains
@@ -297,9 +290,9 @@ static int parallel_threshold(hk_ImplicitFunction fn, hk_Vec3 x)
 {
     hk_Vec3 g;
     double sink = 0.0;
-    const double t0 = seconds_now();
+    const double t0 = hk_seconds_now();
     for (int k = 0; k < 16; k++) sink += fn.eval(fn.user, hk_v3_add(x, hk_v3(1e-9 * k, 0, 0)), &g);
-    const double per_eval = (seconds_now() - t0) / 16.0;
+    const double per_eval = (hk_seconds_now() - t0) / 16.0;
     if (!isfinite(sink) || !(per_eval > 0.0)) return 64;
     const double n = 2e-4 / (3.0 * per_eval);
     return n < 16.0 ? 16 : (n > 1e6 ? 1000000 : (int)n);

@@ -4,7 +4,6 @@
 #include <math.h>
 #include <omp.h>
 #include <string.h>
-#include <time.h>
 
 #include "hairkit/simulate.h"
 #include "hairkit/statics.h"
@@ -74,13 +73,6 @@ hk_HairSimOptions hk_default_hair_sim_options(const hk_HairstyleDef *style)
      * not apply). */
     o.contacts.along = 1;
     return o;
-}
-
-static double seconds_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 void hk_hair_sim_destroy(hk_HairSim *sim)
@@ -243,7 +235,7 @@ hk_Status hk_hair_sim_settle(hk_HairSim *sim, const hk_RigidState *head, double 
 static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, double t, double dt,
                          hk_HairSimStats *stats, hk_Error *err)
 {
-    const double t0 = seconds_now();
+    const double t0 = hk_seconds_now();
     hk_HairSimStats local;
     memset(&local, 0, sizeof local);
     hk_RigidState head = hk_rigid_identity();
@@ -324,7 +316,7 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
     local.iterations = iterations + predicted;
     local.recovered = recovered;
     local.body_contacts = body;
-    local.seconds = seconds_now() - t0;
+    local.seconds = hk_seconds_now() - t0;
     if (stats) *stats = local;
     return st;
 }

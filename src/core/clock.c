@@ -1,0 +1,11 @@
+/* The monotonic clock of timings and progress reports (hairkit/core.h). */
+#include <time.h>
+
+#include "hairkit/core.h"
+
+double hk_seconds_now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
