@@ -249,6 +249,10 @@ int hk_dynamics_euler_commit(hk_StrandDynamics *d, const double *v, double h, co
  * alias), reusing the dense solver's Cholesky factor. Returns 0 if it cannot. */
 int hk_dynamics_resolve(hk_StrandDynamics *d, const double *rhs, double *out);
 
+/* The root's kinematics with the head in state head: a point of the head, its frame
+ * turning with it (the strand's root must be placed with that state). */
+hk_FrameKinematics hk_dynamics_root_kinematics(const hk_StrandDynamics *d, const hk_RigidState *head);
+
 /* hk_dynamics_resolve for `count` right-hand sides, the rows of rhs (count x 3N), into
  * the rows of out; the dense factor is used for all of them at once. Returns 0 if it
  * cannot. */

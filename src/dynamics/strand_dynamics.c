@@ -212,7 +212,7 @@ void hk_strand_dynamics_place(hk_StrandDynamics *d, const hk_RigidState *head)
 }
 
 /* Root state: the root is a point of the head, its frame turns with the head. */
-static hk_FrameKinematics root_kinematics(const hk_StrandDynamics *d, const hk_RigidState *head)
+hk_FrameKinematics hk_dynamics_root_kinematics(const hk_StrandDynamics *d, const hk_RigidState *head)
 {
     hk_FrameKinematics k;
     const hk_Vec3 rel = hk_v3_sub(d->sh->root, head->trans);
@@ -338,7 +338,7 @@ static void sweep(hk_StrandDynamics *d, const hk_RigidState *head, const hk_Poin
     const double inv_ch = x && ch > 0.0 ? 1.0 / ch : 0.0;
     const int euler = d->params.integrator == HK_INTEGRATOR_LINEAR_EULER;
     memset(d->terms, 0, (size_t)n * sizeof(hk_ElementTerms));
-    hk_FrameKinematics node = root_kinematics(d, head);
+    hk_FrameKinematics node = hk_dynamics_root_kinematics(d, head);
     RateChain rate = {hk_v3_zero(), hk_v3_zero()};
     int sample = 0, fi = 0;
     d->contact_count = 0;
@@ -628,7 +628,7 @@ void hk_strand_dynamics_energy(hk_StrandDynamics *d, const hk_RigidState *head, 
     if (!kinetic) return;
     /* T = 1/2 int (rho S |r'|^2 + w . I w) ds (eq. 5b plus the section's rotation). */
     double t = 0.0;
-    hk_FrameKinematics node = root_kinematics(d, head);
+    hk_FrameKinematics node = hk_dynamics_root_kinematics(d, head);
     for (int p = 0; p < sh->n; p++) {
         const hk_Vec3 k = k_of(sh->q, p), kd = k_of(d->v, p);
         const int g = gauss_count(d, p);
@@ -655,7 +655,7 @@ void hk_strand_dynamics_points(hk_StrandDynamics *d, const hk_RigidState *head, 
     if (!head) head = &still;
     hk_SuperHelix *sh = d->sh;
     hk_strand_dynamics_place(d, head);
-    hk_FrameKinematics node = root_kinematics(d, head);
+    hk_FrameKinematics node = hk_dynamics_root_kinematics(d, head);
     int p = 0;
     for (int i = 0; i < count; i++) {
         double si = s[i];

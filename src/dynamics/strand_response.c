@@ -23,14 +23,7 @@ void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head
     hk_SuperHelix *sh = d->sh;
     const int n = sh->n, dim = 3 * n;
     hk_strand_dynamics_place(d, head);
-    /* The root as hk_strand_dynamics_points starts it: a point of the head. */
-    hk_FrameKinematics node;
-    const hk_Vec3 rel = hk_v3_sub(sh->root, head->trans);
-    node.frame = sh->root_frame;
-    node.pos = sh->root;
-    node.omega = head->omega;
-    node.vel = hk_v3_add(head->vel, hk_v3_cross(head->omega, rel));
-    node.alpha = node.acc = hk_v3_zero();
+    hk_FrameKinematics node = hk_dynamics_root_kinematics(d, head);
     int p = 0;
     for (int i = 0; i < count; i++) {
         while (p < n - 1 && s[i] >= sh->s_start[p + 1]) {
@@ -68,13 +61,21 @@ void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head
     }
 }
 
+/* The Cholesky factor the last dense solve left after its assembled matrix
+ * (hk_terms_solve_dense), or NULL when the matrix is the O(N) solver's. */
+static const double *dense_factor(const hk_StrandDynamics *d)
+{
+    const size_t sd = (size_t)(3 * d->sh->n);
+    if (d->dense_fallback) return d->dense_work + sd * sd;
+    return d->params.solver == HK_DYNAMICS_DENSE ? d->work + sd * sd : NULL;
+}
+
 int hk_dynamics_resolve(hk_StrandDynamics *d, const double *rhs, double *out)
 {
     const int n = d->sh->n, dim = 3 * n;
     if (out != rhs) memcpy(out, rhs, (size_t)dim * sizeof(double));
-    if (d->dense_fallback || d->params.solver == HK_DYNAMICS_DENSE) {
-        /* hk_terms_solve_dense left its Cholesky factor after the assembled matrix. */
-        const double *factor = (d->dense_fallback ? d->dense_work : d->work) + (size_t)dim * (size_t)dim;
+    const double *factor = dense_factor(d);
+    if (factor) {
         hk_cholesky_solve(dim, factor, out);
         return 1;
     }
@@ -85,19 +86,15 @@ int hk_dynamics_resolve_rows(hk_StrandDynamics *d, const double *rhs, int count,
 {
     const int n = d->sh->n, dim = 3 * n;
     const size_t sd = (size_t)dim, sc = (size_t)count;
-    if (!(d->dense_fallback || d->params.solver == HK_DYNAMICS_DENSE) || count < 2) {
+    const double *factor = dense_factor(d);
+    double *columns = factor && count >= 2 ? hk_alloc_array(sd * sc, sizeof(double), NULL) : NULL;
+    if (!columns) { /* one by one: the O(N) solver, one row, or out of memory */
         for (int r = 0; r < count; r++)
             if (!hk_dynamics_resolve(d, rhs + (size_t)r * sd, out + (size_t)r * sd)) return 0;
         return 1;
     }
-    double *columns = hk_alloc_array(sd * sc, sizeof(double), NULL);
-    if (!columns) { /* one by one */
-        for (int r = 0; r < count; r++) hk_dynamics_resolve(d, rhs + (size_t)r * sd, out + (size_t)r * sd);
-        return 1;
-    }
     for (size_t r = 0; r < sc; r++)
         for (size_t k = 0; k < sd; k++) columns[k * sc + r] = rhs[r * sd + k];
-    const double *factor = (d->dense_fallback ? d->dense_work : d->work) + sd * sd;
     hk_cholesky_solve_columns(dim, factor, columns, count);
     for (size_t r = 0; r < sc; r++)
         for (size_t k = 0; k < sd; k++) out[r * sd + k] = columns[k * sc + r];
