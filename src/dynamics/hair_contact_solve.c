@@ -133,10 +133,12 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Strand
         cs->slot_start[s + 1] += cs->slot_start[s];
     }
     const size_t slots = (size_t)cs->slot_start[g], dims = cs->dim_start[g], jacs = cs->jac_start[g];
-    if (!reserve(&cs->slots, slots, sizeof(Slot), err) || !reserve(&cs->at, slots, sizeof(double), err) || !reserve(&cs->vel, slots, sizeof(hk_Vec3), err) ||
-        !reserve(&cs->forces, slots, sizeof(hk_PointForce), err) || !reserve(&cs->jac, jacs, sizeof(double), err) ||
-        !reserve(&cs->yt, jacs, sizeof(double), err) || !reserve(&cs->dv, dims, sizeof(double), err) || !reserve(&cs->vfree, dims, sizeof(double), err) ||
-        !reserve(&cs->screws, 6 * dims, sizeof(double), err) || !reserve(&cs->pairs, (size_t)n, sizeof(PairState), err) || !reserve(&cs->active, (size_t)n, sizeof(int), err))
+    if (!reserve(&cs->slots, slots, sizeof(Slot), err) || !reserve(&cs->at, slots, sizeof(double), err) ||
+        !reserve(&cs->vel, slots, sizeof(hk_Vec3), err) || !reserve(&cs->forces, slots, sizeof(hk_PointForce), err) ||
+        !reserve(&cs->jac, jacs, sizeof(double), err) || !reserve(&cs->yt, jacs, sizeof(double), err) ||
+        !reserve(&cs->dv, dims, sizeof(double), err) || !reserve(&cs->vfree, dims, sizeof(double), err) ||
+        !reserve(&cs->screws, 6 * dims, sizeof(double), err) ||
+        !reserve(&cs->pairs, (size_t)n, sizeof(PairState), err) || !reserve(&cs->active, (size_t)n, sizeof(int), err))
         return HK_ERR_NOMEM;
     Slot *slot = cs->slots.items;
     PairState *pairs = cs->pairs.items;
@@ -199,6 +201,7 @@ static size_t block_of(const hk_ContactSolve *cs, int strand, int x)
 static void predict(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const hk_RigidState *head_end, double h)
 {
     const int begin = cs->slot_start[s], count = cs->slot_start[s + 1] - begin;
+    cs->movable[s] = 0; /* (layout borrowed the array) */
     if (count == 0) return;
     const size_t dim = dim_of(cs, s);
     double *vfree = (double *)cs->vfree.items + cs->dim_start[s];
