@@ -9,11 +9,18 @@
  *     v_i = v_i^free + A_i^-1 sum_c (+-) J_ic^T lambda_c,
  * so u_c = u_c^free + J_a dv_i - J_b dv_j, with dv the strands' velocity changes kept
  * up to date as the impulses change (Y = A^-1 J^T is computed once per point: three
- * solves with the step's factored matrix). Projected Gauss-Seidel visits the pairs in
- * their fixed order and solves each one's law given the others' impulses; the sweeps
- * stop when no impulse changed by more than HK_PGS_TOLERANCE of the largest. The same
- * pairs in the same order give the same bits whatever the number of threads: only the
- * per-strand parts (the Jacobians, the solves) run in parallel. */
+ * solves with the step's factored matrix, and only for the points of pairs that push).
+ * A point belongs to one pair: its rows of J are turned into the pair's basis (normal,
+ * tangents) before anything else, so that u_c, Y, the Delassus block and the impulses
+ * are all in that basis and a pair that does not push is told by one row. Projected
+ * Gauss-Seidel visits the pairs in their fixed order and solves each one's law given
+ * the others' impulses; the sweeps stop when no impulse changed by more than
+ * HK_PGS_TOLERANCE of the largest. The same pairs in the same order give the same bits
+ * whatever the number of threads: only the per-strand and per-pair parts (the
+ * Jacobians, the solves, the blocks) run in parallel. Sweeping groups of pairs that
+ * share no strand in parallel (nested dissection of the guides) was tried: 30 % less
+ * time in the sweeps, but another order settles the pile differently, and the still
+ * head's test then saw up to 10 guides creep past 0.5 mm (docs/dynamics.md). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -26,6 +33,8 @@
 #define HK_PGS_FULL_EVERY 4
 #define HK_PGS_TOLERANCE 1e-4
 
+enum { UNANSWERED = 0, WANTED = 1, ANSWERED = 2 }; /* a point's Y^T */
+
 typedef struct Slot {
     double s;
     int record; /* 2 pair + side */
@@ -36,8 +45,10 @@ typedef struct PairState {
     hk_Vec3 basis[3]; /* n (from b to a), t1, t2 */
     double w[3][3]; /* Delassus block in the basis: B^T (J_a Y_a + J_b Y_b) B */
     double beta, gamma; /* normal law lambda_n = max(0, beta - gamma u_n) */
-    hk_Vec3 lambda; /* world impulse on a */
+    hk_Vec3 free;   /* relative velocity in the basis at the strands' free velocities */
+    hk_Vec3 lambda; /* impulse on a in the basis during the solve, in world space after */
     int key[4];     /* (i, a, j, b): warm start from the last step's same pair */
+    int ready;      /* w is set (both points' responses are) */
 } PairState;
 
 /* A growable array: its items and how many it has room for. */
@@ -69,12 +80,14 @@ struct hk_ContactSolve {
     Buffer vel;           /* hk_Vec3 per point: its velocity with v^free */
     Buffer forces;        /* hk_PointForce per point */
     Buffer jac, yt;       /* double, 3 x 3N per point: rows of J and of Y^T = (A^-1 J^T)^T */
+    Buffer answered;      /* char per point: its rows of Y^T are set */
     Buffer dv;            /* double, 3N per strand: the velocity change of the impulses */
     Buffer vfree;         /* double, 3N per strand: its velocity after a step without them */
     Buffer screws;        /* double, 18N per strand: work of the Jacobians */
     Buffer pairs, old_pairs; /* PairState per pair, this step's and the last one's */
     Buffer active;        /* int per pair: the pushing pairs of the last full sweep */
     int old_count;
+    hk_StrandDynamics **dyn; /* the strands of the solve under way */
 };
 
 hk_Status hk_contact_solve_create(int strand_count, hk_ContactSolve **out, hk_Error *err)
@@ -103,7 +116,7 @@ void hk_contact_solve_destroy(hk_ContactSolve *cs)
     hk_free(cs->dim_start);
     hk_free(cs->jac_start);
     hk_free(cs->movable);
-    Buffer *all[] = {&cs->slots, &cs->at, &cs->vfree, &cs->vel, &cs->forces, &cs->jac, &cs->yt, &cs->dv, &cs->screws, &cs->pairs, &cs->old_pairs, &cs->active};
+    Buffer *all[] = {&cs->slots, &cs->at, &cs->vfree, &cs->vel, &cs->forces, &cs->jac, &cs->yt, &cs->answered, &cs->dv, &cs->screws, &cs->pairs, &cs->old_pairs, &cs->active};
     for (size_t k = 0; k < sizeof all / sizeof *all; k++) hk_free(all[k]->items);
     hk_free(cs);
 }
@@ -136,6 +149,7 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Strand
     if (!reserve(&cs->slots, slots, sizeof(Slot), err) || !reserve(&cs->at, slots, sizeof(double), err) ||
         !reserve(&cs->vel, slots, sizeof(hk_Vec3), err) || !reserve(&cs->forces, slots, sizeof(hk_PointForce), err) ||
         !reserve(&cs->jac, jacs, sizeof(double), err) || !reserve(&cs->yt, jacs, sizeof(double), err) ||
+        !reserve(&cs->answered, slots, sizeof(char), err) ||
         !reserve(&cs->dv, dims, sizeof(double), err) || !reserve(&cs->vfree, dims, sizeof(double), err) ||
         !reserve(&cs->screws, 6 * dims, sizeof(double), err) ||
         !reserve(&cs->pairs, (size_t)n, sizeof(PairState), err) || !reserve(&cs->active, (size_t)n, sizeof(int), err))
@@ -181,6 +195,7 @@ static void complete_basis(hk_Vec3 basis[3])
 static double dot_n(const double *a, const double *b, size_t n)
 {
     double s = 0.0;
+    #pragma omp simd reduction(+ : s)
     for (size_t i = 0; i < n; i++) s += a[i] * b[i];
     return s;
 }
@@ -193,11 +208,13 @@ static size_t block_of(const hk_ContactSolve *cs, int strand, int x)
     return cs->jac_start[strand] + (size_t)(x - cs->slot_start[strand]) * 3 * dim_of(cs, strand);
 }
 
-/* Strand s's linearly implicit step without the guide-guide contacts, and how it
- * answers an impulse at each of its points: the Jacobians J (at the step's start),
- * Y^T = (A^-1 J^T)^T and the points' velocities with v^free. A strand whose matrix
- * does not answer (not positive definite) is held immovable for the contacts (Y = 0,
- * its velocity as it is); its own step then decides. */
+/* Strand s's linearly implicit step without the guide-guide contacts: its free
+ * velocity, the Jacobians J of its points (at the step's start) and their velocities
+ * with v^free. How the strand answers an impulse at a point, Y^T = (A^-1 J^T)^T, is
+ * found later and only for the points of pairs that may push (answer_points,
+ * answer_lazily). A strand whose matrix does not answer (not positive definite) is
+ * held immovable for the contacts (Y = 0, its velocity as it is); its own step then
+ * decides. */
 static void predict(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const hk_RigidState *head_end, double h)
 {
     const int begin = cs->slot_start[s], count = cs->slot_start[s + 1] - begin;
@@ -205,16 +222,56 @@ static void predict(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const hk_R
     if (count == 0) return;
     const size_t dim = dim_of(cs, s);
     double *vfree = (double *)cs->vfree.items + cs->dim_start[s];
-    double *jac = (double *)cs->jac.items + cs->jac_start[s], *yt = (double *)cs->yt.items + cs->jac_start[s];
+    double *jac = (double *)cs->jac.items + cs->jac_start[s];
     const double *v = hk_strand_dynamics_velocity(d);
     cs->movable[s] = hk_dynamics_euler_delta(d, head_end, NULL, 0, h);
     for (size_t k = 0; k < dim; k++) vfree[k] = v[k] + (cs->movable[s] ? d->delta[k] : 0.0);
     hk_dynamics_point_jacobians(d, head_end, vfree, (const double *)cs->at.items + begin, count,
                                 (double *)cs->screws.items + 6 * cs->dim_start[s], jac, NULL,
                                 (hk_Vec3 *)cs->vel.items + begin);
-    if (!cs->movable[s] || !hk_dynamics_resolve_rows(d, jac, 3 * count, yt))
-        memset(yt, 0, 3 * (size_t)count * dim * sizeof(double));
+    memset((char *)cs->answered.items + begin, 0, (size_t)count);
     memset((double *)cs->dv.items + cs->dim_start[s], 0, dim * sizeof(double));
+}
+
+/* Y^T of strand s's points marked wanted (answered == WANTED), a run of consecutive
+ * points solved at once. A strand whose matrix does not answer becomes immovable:
+ * all its points answer zero (nothing has used them yet). */
+static void answer_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s)
+{
+    const int begin = cs->slot_start[s], end = cs->slot_start[s + 1];
+    char *answered = cs->answered.items;
+    int ok = cs->movable[s];
+    for (int x = begin; ok && x < end;) {
+        if (answered[x] != WANTED) {
+            x++;
+            continue;
+        }
+        int run = x;
+        while (run < end && answered[run] == WANTED) answered[run++] = ANSWERED;
+        const size_t at = block_of(cs, s, x);
+        ok = hk_dynamics_resolve_rows(d, (const double *)cs->jac.items + at, 3 * (run - x),
+                                      (double *)cs->yt.items + at);
+        x = run;
+    }
+    if (!ok && end > begin) {
+        cs->movable[s] = 0;
+        memset((double *)cs->yt.items + cs->jac_start[s], 0, (cs->jac_start[s + 1] - cs->jac_start[s]) * sizeof(double));
+        memset(answered + begin, ANSWERED, (size_t)(end - begin));
+    }
+}
+
+/* Y^T of one point found during the sweeps, for a pair that came to push only then.
+ * Should the solve fail there (the O(N) solver's matrix found not positive definite,
+ * which answer_points would have seen first), the point answers zero: held still. */
+static void answer_lazily(hk_ContactSolve *cs, int s, int x)
+{
+    char *answered = cs->answered.items;
+    if (answered[x] == ANSWERED) return;
+    answered[x] = ANSWERED;
+    const size_t at = block_of(cs, s, x);
+    double *yt = (double *)cs->yt.items + at;
+    if (!cs->movable[s] || !hk_dynamics_resolve_rows(cs->dyn[s], (const double *)cs->jac.items + at, 3, yt))
+        memset(yt, 0, 3 * dim_of(cs, s) * sizeof(double));
 }
 
 /* Solves the 3 x 3 system a x = b by Gaussian elimination with partial pivoting;
@@ -300,8 +357,8 @@ static void disc_qp(const double a[2][2], const double g[2], double s, double y[
  * s = mu lam_0 of the pair's last iterate (a Tresca problem per sweep, convex, whose
  * bound follows the normal impulse from sweep to sweep): the contact sticks (u_1 = u_2
  * = 0) when that needs at most s, else the friction is on the disc's edge, both found
- * exactly (alternating between the normal and the tangential block, each solved
- * exactly: descent on a convex problem). mu = 0: the viscous lam_t = -viscous u_t.
+ * exactly (the edge by one trust-region problem on the normal block's Schur
+ * complement). mu = 0: the viscous lam_t = -viscous u_t.
  * Returns 2 when it sticks, 1 when it pushes otherwise, 0 when it does not push. */
 static int contact_law(double w[3][3], const double u0[3], double beta, double gamma, double mu,
                        double viscous, double bound, double lam[3])
@@ -326,19 +383,20 @@ static int contact_law(double w[3][3], const double u0[3], double beta, double g
         if (!(lam[0] > 0.0)) return lam[0] = 0.0, 0;
         return 1;
     }
-    /* Friction on the disc's edge (or no push): block coordinate descent. */
-    const double at[2][2] = {{w[1][1], w[1][2]}, {w[2][1], w[2][2]}};
-    double n = lam[0] > 0.0 ? lam[0] : 0.0, t[2] = {lam[1], lam[2]};
-    for (int it = 0; it < 20; it++) {
-        const double n_old = n, t_old[2] = {t[0], t[1]};
-        n = (free_push - gamma * (w[0][1] * t[0] + w[0][2] * t[1])) / (1.0 + gamma * w[0][0]);
-        if (!(n > 0.0)) n = 0.0;
-        const double g[2] = {u0[1] + w[1][0] * n, u0[2] + w[2][0] * n};
-        disc_qp(at, g, bound, t);
-        const double change = fabs(n - n_old) + fabs(t[0] - t_old[0]) + fabs(t[1] - t_old[1]);
-        if (change <= 1e-9 * (n + bound)) break;
-    }
-    if (!(n > 0.0)) { /* no push, no friction */
+    /* Friction on the disc's edge (or no push). With n eliminated through its own
+     * equation, n = n0 - r . t, the tangential impulse minimises the Schur complement's
+     * quadratic over the disc; when that n is positive the pair is the minimiser of the
+     * whole convex problem (it is over n of any sign), else the minimiser has n = 0:
+     * no push, no friction. */
+    const double den = 1.0 + gamma * w[0][0], n0 = free_push / den;
+    const double r[2] = {gamma * w[0][1] / den, gamma * w[0][2] / den};
+    const double schur[2][2] = {{w[1][1] - w[1][0] * r[0], w[1][2] - w[1][0] * r[1]},
+                                {w[2][1] - w[2][0] * r[0], w[2][2] - w[2][0] * r[1]}};
+    const double g[2] = {u0[1] + w[1][0] * n0, u0[2] + w[2][0] * n0};
+    double t[2];
+    disc_qp(schur, g, bound, t);
+    const double n = n0 - r[0] * t[0] - r[1] * t[1];
+    if (!(n > 0.0)) {
         lam[0] = lam[1] = lam[2] = 0.0;
         return 0;
     }
@@ -360,14 +418,18 @@ static hk_Vec3 from_basis(const hk_Vec3 basis[3], hk_Vec3 x)
 static void add_response(double *v, const double *yt, size_t dim, hk_Vec3 lam, double sign)
 {
     const double l0 = sign * lam.x, l1 = sign * lam.y, l2 = sign * lam.z;
-    for (size_t k = 0; k < dim; k++) v[k] += yt[k] * l0 + yt[dim + k] * l1 + yt[2 * dim + k] * l2;
+    const double *y1 = yt + dim, *y2 = yt + 2 * dim;
+    #pragma omp simd
+    for (size_t k = 0; k < dim; k++) v[k] += yt[k] * l0 + y1[k] * l1 + y2[k] * l2;
 }
 
-/* J dv for the point whose J rows are jac (3 x dim); the three sums interleaved. */
+/* J dv for the point whose J rows are jac (3 x dim); the three sums interleaved. (The
+ * order of the sums is the vectoriser's, the same on every run of the same build.) */
 static hk_Vec3 point_change(const double *jac, size_t dim, const double *dv)
 {
     const double *j1 = jac + dim, *j2 = jac + 2 * dim;
     double a0 = 0.0, a1 = 0.0, a2 = 0.0;
+    #pragma omp simd reduction(+ : a0, a1, a2)
     for (size_t k = 0; k < dim; k++) {
         a0 += jac[k] * dv[k];
         a1 += j1[k] * dv[k];
@@ -383,14 +445,41 @@ static int key_cmp(const int a[4], const int b[4])
     return 0;
 }
 
-/* Each pair's basis, Delassus block and normal law, and its impulse of the last step
- * when the same segment pair was tracked then (pairs and old pairs are both sorted by
- * (i, a, j, b)): resting contacts start where they ended. */
+/* Pair ps's Delassus block in its basis, J_a Y_a + J_b Y_b with both points' rows of J
+ * (and so their answers) in that basis. */
+static void pair_block(hk_ContactSolve *cs, PairState *ps, const int strand[2])
+{
+    memset(ps->w, 0, sizeof ps->w);
+    for (int side = 0; side < 2; side++) {
+        const size_t dim = dim_of(cs, strand[side]), at = block_of(cs, strand[side], ps->slot[side]);
+        const double *jac = (const double *)cs->jac.items + at, *yt = (const double *)cs->yt.items + at;
+        for (int r = 0; r < 3; r++)
+            for (int q = 0; q < 3; q++) ps->w[r][q] += dot_n(jac + r * dim, yt + q * dim, dim);
+    }
+    ps->ready = 1;
+}
+
+/* Rows of a point's J (3 x dim) turned into the basis: row r becomes basis[r] . J. */
+static void rows_in_basis(double *jac, size_t dim, const hk_Vec3 basis[3])
+{
+    double *j1 = jac + dim, *j2 = jac + 2 * dim;
+    for (size_t k = 0; k < dim; k++) {
+        const hk_Vec3 c = hk_v3(jac[k], j1[k], j2[k]);
+        jac[k] = hk_v3_dot(basis[0], c), j1[k] = hk_v3_dot(basis[1], c), j2[k] = hk_v3_dot(basis[2], c);
+    }
+}
+
+/* Each pair's basis and normal law, and its impulse of the last step when the same
+ * segment pair was tracked then (pairs and old pairs are both sorted by (i, a, j, b)):
+ * resting contacts start where they ended. The points of the pairs that may push, those
+ * with an impulse or whose normal law pushes at the free velocities, are marked
+ * wanted: their answers are solved for in parallel before the sweeps. */
 static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double h)
 {
     PairState *pairs = cs->pairs.items;
     const PairState *old = cs->old_pairs.items;
     const hk_HairContactParams *p = &c->p;
+    const hk_Vec3 *vel = cs->vel.items;
     #pragma omp parallel for schedule(static)
     for (int k = 0; k < c->pair_count; k++) {
         PairState *ps = &pairs[k];
@@ -399,40 +488,31 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
         ps->key[0] = hp->i, ps->key[1] = hp->a, ps->key[2] = hp->j, ps->key[3] = hp->b;
         ps->basis[0] = ct->normal;
         complete_basis(ps->basis);
-        const int strand[2] = {hp->i, hp->j};
-        double w[3][3] = {{0}};
-        for (int side = 0; side < 2; side++) {
-            const size_t dim = dim_of(cs, strand[side]), at = block_of(cs, strand[side], ps->slot[side]);
-            const double *jac = (const double *)cs->jac.items + at, *yt = (const double *)cs->yt.items + at;
-            for (int r = 0; r < 3; r++)
-                for (int q = 0; q < 3; q++) w[r][q] += dot_n(jac + r * dim, yt + q * dim, dim);
-        }
-        for (int r = 0; r < 3; r++)
-            for (int q = 0; q < 3; q++) {
-                double v = 0.0;
-                for (int x = 0; x < 3; x++) {
-                    const hk_Vec3 wx = hk_v3(w[0][x], w[1][x], w[2][x]);
-                    v += hk_v3_dot(ps->basis[r], wx) * hk_v3_dot(ps->basis[q], hk_v3_unit(x));
-                }
-                ps->w[r][q] = v;
-            }
         ps->beta = h * p->stiffness * (p->distance - ct->distance);
         ps->gamma = h * h * p->stiffness + h * p->damping;
         ps->lambda = hk_v3_zero();
+        ps->ready = 0;
+        ps->free = in_basis(ps->basis, hk_v3_sub(vel[ps->slot[0]], vel[ps->slot[1]]));
+        const int strand[2] = {hp->i, hp->j};
+        for (int side = 0; side < 2; side++)
+            rows_in_basis((double *)cs->jac.items + block_of(cs, strand[side], ps->slot[side]),
+                          dim_of(cs, strand[side]), ps->basis);
     }
     int o = 0;
+    char *answered = cs->answered.items;
     for (int k = 0; k < c->pair_count; k++) {
         PairState *ps = &pairs[k];
         while (o < cs->old_count && key_cmp(old[o].key, ps->key) < 0) o++;
-        if (o < cs->old_count && key_cmp(old[o].key, ps->key) == 0) ps->lambda = old[o].lambda;
+        if (o < cs->old_count && key_cmp(old[o].key, ps->key) == 0) ps->lambda = in_basis(ps->basis, old[o].lambda);
+        if (ps->beta - ps->gamma * ps->free.x > 0.0 || hk_v3_norm2(ps->lambda) > 0.0)
+            answered[ps->slot[0]] = answered[ps->slot[1]] = WANTED;
     }
 }
 
-/* Relative velocity at the step's end of pair ps with the impulses so far. */
+/* Relative velocity in the basis at the step's end of pair ps with the impulses so far. */
 static hk_Vec3 relative_velocity(const hk_ContactSolve *cs, const PairState *ps, const int strand[2])
 {
-    const hk_Vec3 *vel = cs->vel.items;
-    hk_Vec3 u = hk_v3_sub(vel[ps->slot[0]], vel[ps->slot[1]]);
+    hk_Vec3 u = ps->free;
     for (int side = 0; side < 2; side++) {
         const size_t dim = dim_of(cs, strand[side]);
         const hk_Vec3 du = point_change((const double *)cs->jac.items + block_of(cs, strand[side], ps->slot[side]), dim,
@@ -442,7 +522,20 @@ static hk_Vec3 relative_velocity(const hk_ContactSolve *cs, const PairState *ps,
     return u;
 }
 
-/* Changes pair ps's impulse by delta (world), updating both strands' dv. */
+/* Its normal part alone. */
+static double normal_velocity(const hk_ContactSolve *cs, const PairState *ps, const int strand[2])
+{
+    double u = ps->free.x;
+    for (int side = 0; side < 2; side++) {
+        const size_t dim = dim_of(cs, strand[side]);
+        const double du = dot_n((const double *)cs->jac.items + block_of(cs, strand[side], ps->slot[side]),
+                                (const double *)cs->dv.items + cs->dim_start[strand[side]], dim);
+        u += side == 0 ? du : -du;
+    }
+    return u;
+}
+
+/* Changes pair ps's impulse by delta (in its basis), updating both strands' dv. */
 static void apply_change(hk_ContactSolve *cs, const PairState *ps, const int strand[2], hk_Vec3 delta)
 {
     for (int side = 0; side < 2; side++) {
@@ -461,13 +554,23 @@ static int visit(hk_ContactSolve *cs, const hk_HairContacts *contacts, int k, do
 {
     PairState *ps = (PairState *)cs->pairs.items + k;
     const int strand[2] = {contacts->pairs[k].i, contacts->pairs[k].j};
-    const hk_Vec3 u = in_basis(ps->basis, relative_velocity(cs, ps, strand));
-    const hk_Vec3 lb = in_basis(ps->basis, ps->lambda);
-    const double lo[3] = {lb.x, lb.y, lb.z};
+    const int idle = ps->lambda.x == 0.0 && ps->lambda.y == 0.0 && ps->lambda.z == 0.0;
+    /* No impulse and a normal law that does not push: zero stays the pair's answer
+     * (with no push there is no friction either), whatever w. */
+    if (idle && !(ps->beta - ps->gamma * normal_velocity(cs, ps, strand) > 0.0)) {
+        *size = 0.0;
+        return 0;
+    }
+    if (!ps->ready) {
+        for (int side = 0; side < 2; side++) answer_lazily(cs, strand[side], ps->slot[side]);
+        pair_block(cs, ps, strand);
+    }
+    const hk_Vec3 u = relative_velocity(cs, ps, strand);
+    const double lo[3] = {ps->lambda.x, ps->lambda.y, ps->lambda.z};
     double u0[3] = {u.x, u.y, u.z}, lam[3] = {lo[0], lo[1], lo[2]};
     for (int r = 0; r < 3; r++) u0[r] -= ps->w[r][0] * lo[0] + ps->w[r][1] * lo[1] + ps->w[r][2] * lo[2];
     const int law = contact_law(ps->w, u0, ps->beta, ps->gamma, mu, viscous, mu * (lo[0] > 0.0 ? lo[0] : 0.0), lam);
-    const hk_Vec3 next = from_basis(ps->basis, hk_v3(lam[0], lam[1], lam[2]));
+    const hk_Vec3 next = hk_v3(lam[0], lam[1], lam[2]);
     const hk_Vec3 delta = hk_v3_sub(next, ps->lambda);
     ps->lambda = next;
     const double dl = hk_v3_norm(delta);
@@ -492,15 +595,25 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
         cs->old_count = 0;
         return st;
     }
+    cs->dyn = dyn;
     #pragma omp parallel for schedule(dynamic, 2)
     for (int s = 0; s < strand_count; s++) predict(cs, dyn[s], s, head_end, dt);
     prepare_pairs(cs, contacts, dt);
+    #pragma omp parallel for schedule(dynamic, 2)
+    for (int s = 0; s < strand_count; s++) answer_points(cs, dyn[s], s);
     PairState *pairs = cs->pairs.items;
     const int n = contacts->pair_count;
-    const double mu = contacts->p.friction_coefficient, viscous = dt * contacts->p.friction;
+    const char *answered = cs->answered.items;
+    #pragma omp parallel for schedule(static)
     for (int k = 0; k < n; k++) {
         const int strand[2] = {contacts->pairs[k].i, contacts->pairs[k].j};
-        apply_change(cs, &pairs[k], strand, pairs[k].lambda); /* the warm start's share */
+        if (answered[pairs[k].slot[0]] == ANSWERED && answered[pairs[k].slot[1]] == ANSWERED)
+            pair_block(cs, &pairs[k], strand);
+    }
+    const double mu = contacts->p.friction_coefficient, viscous = dt * contacts->p.friction;
+    for (int k = 0; k < n; k++) { /* the warm start's share */
+        const int strand[2] = {contacts->pairs[k].i, contacts->pairs[k].j};
+        if (hk_v3_norm2(pairs[k].lambda) > 0.0) apply_change(cs, &pairs[k], strand, pairs[k].lambda);
     }
     /* Pairs that do not push (most of those between d0 and 2 d0) are visited on every
      * HK_PGS_FULL_EVERY-th sweep and the last one only; the others on every sweep. */
@@ -527,16 +640,18 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
      * uses). */
     for (int k = 0; mu > 0.0 && k < n; k++) {
         PairState *ps = &pairs[k];
-        const hk_Vec3 l = in_basis(ps->basis, ps->lambda);
+        const hk_Vec3 l = ps->lambda;
         const double t = sqrt(l.y * l.y + l.z * l.z), limit = mu * (l.x > 0.0 ? l.x : 0.0);
         if (!(t > limit)) continue;
         const double f = t > 0.0 ? limit / t : 0.0;
-        const hk_Vec3 next = from_basis(ps->basis, hk_v3(l.x, f * l.y, f * l.z));
+        const hk_Vec3 next = hk_v3(l.x, f * l.y, f * l.z);
         const int strand[2] = {contacts->pairs[k].i, contacts->pairs[k].j};
         apply_change(cs, ps, strand, hk_v3_sub(next, ps->lambda));
         ps->lambda = next;
     }
-    /* The impulses as forces held over the step. */
+    /* The impulses in world space, as forces held over the step. */
+    #pragma omp parallel for schedule(static)
+    for (int k = 0; k < n; k++) pairs[k].lambda = from_basis(pairs[k].basis, pairs[k].lambda);
     hk_PointForce *forces = cs->forces.items;
     const Slot *slot = cs->slots.items;
     for (int x = 0; x < cs->slot_start[strand_count]; x++) {
