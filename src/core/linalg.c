@@ -87,6 +87,16 @@ void hk_cholesky_solve_columns(int n, const double *l, double *x, int count)
  * matrices here hold physical values far from overflow. */
 static double hypot2(double a, double b) { return sqrt(a * a + b * b); }
 
+static void transpose_square(double *m, size_t n)
+{
+    for (size_t i = 0; i < n; i++)
+        for (size_t j = i + 1; j < n; j++) {
+            const double t = m[i * n + j];
+            m[i * n + j] = m[j * n + i];
+            m[j * n + i] = t;
+        }
+}
+
 int hk_symmetric_eigen(int n, const double *a, double *w, double *v, double *e)
 {
     const size_t sn = (size_t)n;
@@ -134,9 +144,26 @@ int hk_symmetric_eigen(int n, const double *a, double *w, double *v, double *e)
     }
     w[0] = 0.0;
     e[0] = 0.0;
+    double gbuf[256];
     for (int i = 0; i < n; i++) {
         const int l = i - 1;
-        if (w[i] != 0.0) {
+        if (w[i] != 0.0 && n <= 256) {
+            /* As below, row by row: no g depends on another column's update (row i is
+             * not updated), and each g sums in the same order, so the bits are the
+             * same; the rows vectorise. */
+            for (int j = 0; j <= l; j++) gbuf[j] = 0.0;
+            for (int k = 0; k <= l; k++) {
+                const double x = V(i, k), *row = v + (size_t)k * sn;
+                #pragma omp simd
+                for (int j = 0; j <= l; j++) gbuf[j] += x * row[j];
+            }
+            for (int k = 0; k <= l; k++) {
+                const double y = V(k, i);
+                double *row = v + (size_t)k * sn;
+                #pragma omp simd
+                for (int j = 0; j <= l; j++) row[j] -= gbuf[j] * y;
+            }
+        } else if (w[i] != 0.0) {
             for (int j = 0; j <= l; j++) {
                 double g = 0.0;
                 for (int k = 0; k <= l; k++) g += V(i, k) * V(k, j);
@@ -147,8 +174,11 @@ int hk_symmetric_eigen(int n, const double *a, double *w, double *v, double *e)
         V(i, i) = 1.0;
         for (int j = 0; j <= l; j++) V(j, i) = V(i, j) = 0.0;
     }
-    /* tql2 (QL with implicit shifts) on the tridiagonal matrix; rows of V are
-     * rotated, so that in the end column j of V is the eigenvector of w[j]. */
+    /* tql2 (QL with implicit shifts) on the tridiagonal matrix; columns of V are
+     * rotated, so that in the end column j of V is the eigenvector of w[j]. V is held
+     * transposed meanwhile: a rotation then runs along two rows in memory, which
+     * vectorises (each element computed as before: the same bits). */
+    transpose_square(v, sn);
     for (int i = 1; i < n; i++) e[i - 1] = e[i];
     if (n > 0) e[n - 1] = 0.0;
     for (int l = 0; l < n; l++) {
@@ -159,7 +189,10 @@ int hk_symmetric_eigen(int n, const double *a, double *w, double *v, double *e)
                 if (fabs(e[m]) <= 1e-15 * dd) break;
             }
             if (m != l) {
-                if (iter++ == 60) return 0; /* no convergence */
+                if (iter++ == 60) { /* no convergence */
+                    transpose_square(v, sn);
+                    return 0;
+                }
                 double g = (w[l + 1] - w[l]) / (2.0 * e[l]);
                 double r = hypot2(g, 1.0);
                 g = w[m] - w[l] + e[l] / (g + (g >= 0.0 ? fabs(r) : -fabs(r)));
@@ -180,10 +213,12 @@ int hk_symmetric_eigen(int n, const double *a, double *w, double *v, double *e)
                     r = (w[i] - g) * s + 2.0 * c * b;
                     w[i + 1] = g + (p = s * r);
                     g = c * r - b;
+                    double *vi = v + (size_t)i * sn, *vn = vi + sn; /* columns i, i + 1 */
+                    #pragma omp simd
                     for (int k = 0; k < n; k++) {
-                        f = V(k, i + 1);
-                        V(k, i + 1) = s * V(k, i) + c * f;
-                        V(k, i) = c * V(k, i) - s * f;
+                        const double x = vi[k], y = vn[k];
+                        vn[k] = s * x + c * y;
+                        vi[k] = c * x - s * y;
                     }
                 }
                 if (r == 0.0 && i >= l) continue;
@@ -193,6 +228,7 @@ int hk_symmetric_eigen(int n, const double *a, double *w, double *v, double *e)
             }
         } while (m != l);
     }
+    transpose_square(v, sn);
 #undef V
     return 1;
 }
