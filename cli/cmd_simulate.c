@@ -40,9 +40,11 @@ static void usage(FILE *out)
             "  --full-hair        also write every strand of every frame, DIR/frame_kkkk.hair\n"
             "                     (guides first, then the interpolated strands)\n"
             "  --no-contacts      no guide-guide interactions\n"
-            "  --preroll S        let the hair settle S seconds on the still head before\n"
-            "                     frame 0 (default 1; the groomed shape ignores the\n"
-            "                     guide-guide contacts)\n"
+            "  --preroll auto|S   let the hair settle on the still head before frame 0 (the\n"
+            "                     groomed shape ignores the guide-guide contacts): S seconds,\n"
+            "                     or (auto, the default) 1 s and then on until every guide's\n"
+            "                     tip is at rest (slower than 0.1 mm/s for 5 frames), 5 s at\n"
+            "                     most\n"
             "  --damping on|off   internal friction and air drag (default on)\n"
             "  --integrator auto|trbdf2|euler\n"
             "                     time stepping of the guides: TR-BDF2 (second order, every\n"
@@ -135,8 +137,14 @@ static int parse_args(int argc, char **argv, SimArgs *a)
             break;
         case OPT_NO_CONTACTS: a->run.hair_contacts = 0; break;
         case OPT_PREROLL:
+            if (strcmp(optarg, "auto") == 0) {
+                const hk_SimRunOptions def = hk_default_sim_run_options();
+                a->run.preroll = def.preroll, a->run.preroll_max = def.preroll_max;
+                break;
+            }
             if (!hk_cli_parse_double(optarg, &a->run.preroll) || !(a->run.preroll >= 0.0 && a->run.preroll <= 100.0))
-                return hk_cli_usage_error(CMD, "--preroll expects seconds in [0, 100], got '%s'", optarg);
+                return hk_cli_usage_error(CMD, "--preroll expects auto or seconds in [0, 100], got '%s'", optarg);
+            a->run.preroll_max = a->run.preroll; /* exactly */
             break;
         case OPT_DAMPING:
             if (strcmp(optarg, "on") != 0 && strcmp(optarg, "off") != 0)
@@ -199,8 +207,14 @@ static void on_progress(void *user, const hk_SimProgress *p)
         hk_cli_progress_done(&pr->bar);
         if (!pr->lines && !pr->bar.enabled) return;
         if (p->removed) fprintf(stderr, "hairkit %s: removed %d files of an earlier run from %s\n", CMD, p->removed, pr->dir);
-        fprintf(stderr, "hairkit %s: %d guides of %d elements at rest after %.2f s; %ld frames\n", CMD, p->guides,
-                p->elements, p->seconds_setup, p->frames);
+        if (p->preroll_at_rest || p->preroll == 0.0)
+            fprintf(stderr, "hairkit %s: %d guides of %d elements at rest after %.2f s of settling (set up in %.2f s); %ld frames\n",
+                    CMD, p->guides, p->elements, p->preroll, p->seconds_setup, p->frames);
+        else
+            fprintf(stderr,
+                    "hairkit %s: %d guides of %d elements still moving after %.2f s of settling (set up in %.2f s); "
+                    "%ld frames\n",
+                    CMD, p->guides, p->elements, p->preroll, p->seconds_setup, p->frames);
         pr->last_line = hk_seconds_now();
         return;
     }

@@ -69,6 +69,30 @@ hk_Status hk_hair_sim_advance(hk_HairSim *sim, const hk_HeadMotion *motion, doub
 hk_Status hk_hair_sim_settle(hk_HairSim *sim, const hk_RigidState *head, double seconds, double dt,
                              hk_Error *err);
 
+/* Settling until the hair is at rest: at least `seconds`, then on until no guide's tip
+ * has moved faster than rest_speed over rest_steps steps in a row, or max_seconds in
+ * all. A pile of hair held by friction can take a few seconds to come to rest: on
+ * examples/guides200 one guide still slid 0.4 mm/s after the first second and stopped
+ * at about 2.3 s (docs/dynamics.md, "Contacts solved together"). */
+typedef struct hk_SettleOptions {
+    double seconds;     /* at least (default 1) */
+    double max_seconds; /* at most, in all (default 5; = seconds for a fixed settling) */
+    double rest_speed;  /* m/s: the fastest tip at rest (default 1e-4, 0.1 mm/s) */
+    int rest_steps;     /* steps in a row (default 5) */
+} hk_SettleOptions;
+
+hk_SettleOptions hk_default_settle_options(void);
+
+typedef struct hk_SettleReport {
+    double seconds;     /* settled in all */
+    int at_rest;        /* 1: the tips came to rest; 0: max_seconds was reached first */
+    double tip_speed;   /* m/s: the fastest tip over the last step */
+} hk_SettleReport;
+
+/* o NULL: the defaults; report may be NULL. */
+hk_Status hk_hair_sim_settle_until_still(hk_HairSim *sim, const hk_RigidState *head, double dt,
+                                         const hk_SettleOptions *o, hk_SettleReport *report, hk_Error *err);
+
 int hk_hair_sim_guide_count(const hk_HairSim *sim);
 int hk_hair_sim_points_per_strand(const hk_HairSim *sim);
 
@@ -95,6 +119,8 @@ typedef struct hk_SimProgress {
     long frame, frames;       /* frames written so far (0: the hair is at rest, none yet), in all */
     int guides, elements;     /* per guide */
     double seconds_setup;     /* loading, the guides' statics and the preroll */
+    double preroll;           /* seconds of hair time settled before frame 0 */
+    int preroll_at_rest;      /* 1: the guides came to rest within preroll_max */
     double seconds;           /* since the first frame began */
     /* totals so far, by stage: advancing the guides, regrowing the interpolated hair,
      * rendering the picture, writing files (encoding the PNG included) */
@@ -111,7 +137,11 @@ typedef void (*hk_SimProgressFn)(void *user, const hk_SimProgress *p);
 typedef struct hk_SimRunOptions {
     long frames;              /* 1 to 100000 */
     double fps;               /* the time step is 1/fps */
-    double preroll;           /* seconds of settling on the still head before frame 0 */
+    double preroll;           /* seconds of settling on the still head before frame 0, at
+                                 least; then on until the guides' tips rest (slower than
+                                 0.1 mm/s for 5 frames; hk_hair_sim_settle_until_still) */
+    double preroll_max;       /* seconds of settling at most (default 5; <= preroll: exactly
+                                 preroll) */
     int guides_only;          /* no interpolated hair, no pictures */
     int full_hair;            /* also DIR/frame_kkkk.hair, every strand */
     int hair_contacts;        /* guide-guide interactions (default 1) */

@@ -232,6 +232,69 @@ hk_Status hk_hair_sim_settle(hk_HairSim *sim, const hk_RigidState *head, double 
     return HK_OK;
 }
 
+hk_SettleOptions hk_default_settle_options(void)
+{
+    hk_SettleOptions o;
+    o.seconds = 1.0;
+    o.max_seconds = 5.0;
+    o.rest_speed = 1e-4;
+    o.rest_steps = 5;
+    return o;
+}
+
+/* The guides' tips, world space. */
+static void guide_tips(hk_HairSim *sim, hk_Vec3 *tip)
+{
+    #pragma omp parallel for schedule(static)
+    for (int i = 0; i < sim->guide_count; i++) {
+        const hk_SuperHelix *sh = sim->strand[i];
+        const double end = sh->s_start[sh->n - 1] + sh->length[sh->n - 1];
+        hk_strand_dynamics_points(sim->dyn[i], &sim->head, &end, 1, &tip[i], NULL);
+    }
+}
+
+hk_Status hk_hair_sim_settle_until_still(hk_HairSim *sim, const hk_RigidState *head, double dt,
+                                         const hk_SettleOptions *o, hk_SettleReport *report, hk_Error *err)
+{
+    const hk_SettleOptions def = hk_default_settle_options();
+    if (!o) o = &def;
+    if (report) memset(report, 0, sizeof *report);
+    if (!(dt > 0.0) || !isfinite(dt) || !(o->seconds >= 0.0) || !(o->max_seconds >= o->seconds) ||
+        o->max_seconds / dt > 1e7 || !(o->rest_speed >= 0.0) || o->rest_steps < 1)
+        return hk_error_set(err, HK_ERR_INVALID,
+                            "settling %g to %g s in steps of %g s until tips move slower than %g m/s for %d steps",
+                            o->seconds, o->max_seconds, dt, o->rest_speed, o->rest_steps);
+    hk_RigidState pose = head ? *head : hk_rigid_identity();
+    const long least = (long)ceil(o->seconds / dt - 1e-9), most = (long)ceil(o->max_seconds / dt - 1e-9);
+    hk_Vec3 *tips = hk_alloc_array(2 * (size_t)sim->guide_count, sizeof(hk_Vec3), err);
+    if (!tips) return HK_ERR_NOMEM;
+    const int threads = omp_get_max_threads();
+    if (sim->options.threads > 0) omp_set_num_threads(sim->options.threads);
+    hk_Vec3 *before = tips, *after = tips + sim->guide_count;
+    long steps = 0;
+    int resting = 0;
+    double fastest = 0.0;
+    hk_Status st = HK_OK;
+    while (st == HK_OK && steps < most && (steps < least || resting < o->rest_steps)) {
+        guide_tips(sim, before);
+        st = advance(sim, held_state, &pose, 0.0, dt, NULL, err);
+        if (st != HK_OK) break;
+        steps++;
+        guide_tips(sim, after);
+        fastest = 0.0;
+        for (int i = 0; i < sim->guide_count; i++) fastest = fmax(fastest, hk_v3_norm(hk_v3_sub(after[i], before[i])) / dt);
+        resting = fastest <= o->rest_speed ? resting + 1 : 0;
+    }
+    if (sim->options.threads > 0) omp_set_num_threads(threads);
+    hk_free(tips);
+    if (report) {
+        report->seconds = (double)steps * dt;
+        report->at_rest = resting >= o->rest_steps;
+        report->tip_speed = fastest;
+    }
+    return st;
+}
+
 static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, double t, double dt,
                          hk_HairSimStats *stats, hk_Error *err)
 {

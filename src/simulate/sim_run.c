@@ -5,6 +5,7 @@
  * frame on the default head, rebuilt exactly from the guides by sim_rebuild.c). */
 #define _XOPEN_SOURCE 700 /* realpath */
 #include <errno.h>
+#include <math.h>
 #include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -21,6 +22,7 @@ hk_SimRunOptions hk_default_sim_run_options(void)
     o.frames = 1;
     o.fps = 30.0;
     o.preroll = 1.0;
+    o.preroll_max = 5.0;
     o.hair_contacts = 1;
     o.damping = 1;
     o.integrator = -1;
@@ -159,9 +161,15 @@ static hk_Status create_sim(Run *r, hk_Error *err)
     so.progress = o->statics_progress;
     so.progress_user = o->statics_user;
     hk_Status st = hk_hair_sim_create(&r->style, r->shapes, r->shape_count, &r->wick, &so, &r->sim, err);
-    if (st == HK_OK && o->preroll > 0.0) {
+    if (st == HK_OK && (o->preroll > 0.0 || o->preroll_max > 0.0)) {
         const hk_RigidState pose = hk_sim_head_pose(o->motion, 0.0);
-        st = hk_hair_sim_settle(r->sim, &pose, o->preroll, 1.0 / o->fps, err);
+        hk_SettleOptions settle = hk_default_settle_options();
+        settle.seconds = o->preroll;
+        settle.max_seconds = fmax(o->preroll, o->preroll_max);
+        hk_SettleReport report;
+        st = hk_hair_sim_settle_until_still(r->sim, &pose, 1.0 / o->fps, &settle, &report, err);
+        r->p.preroll = report.seconds;
+        r->p.preroll_at_rest = report.at_rest;
     }
     if (st != HK_OK) return st;
     r->groom.points_per_strand = hk_hair_sim_points_per_strand(r->sim);
@@ -258,6 +266,8 @@ static hk_Status check_options(const hk_SimRunOptions *o, hk_Error *err)
         return hk_error_set(err, HK_ERR_INVALID, "%g frames per second: must be 1 to 100000", o->fps);
     if (!(o->preroll >= 0.0 && o->preroll <= 100.0))
         return hk_error_set(err, HK_ERR_INVALID, "preroll %g s: must be 0 to 100", o->preroll);
+    if (!(o->preroll_max >= 0.0 && o->preroll_max <= 100.0))
+        return hk_error_set(err, HK_ERR_INVALID, "longest preroll %g s: must be 0 to 100", o->preroll_max);
     return HK_OK;
 }
 
