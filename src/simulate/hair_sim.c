@@ -232,6 +232,25 @@ hk_Status hk_hair_sim_settle(hk_HairSim *sim, const hk_RigidState *head, double 
     return HK_OK;
 }
 
+/* Guide i's penalty contact forces for a step of its own with its partners held where
+ * they are (block Jacobi), in buffer when they fit in cap, else in *own (to free; NULL
+ * with *count > 0 when out of memory). Both sides of a contact move, so the relative
+ * stiffness and damping are twice the one-sided ones: doubling the linearisation (not
+ * the force) makes the splitting damped; with the one-sided values guides in contact
+ * jittered by over a millimetre a frame at rest, with twice them by a third of that. */
+static const hk_PointForce *penalty_forces(const hk_HairContacts *c, int i, hk_PointForce *buffer, int cap,
+                                           hk_PointForce **own, int *count)
+{
+    const hk_PointForce *given = hk_hair_contacts_forces(c, i, count);
+    hk_PointForce *forces = *count <= cap ? buffer : (*own = hk_alloc_array((size_t)*count, sizeof *forces, NULL));
+    for (int k = 0; forces && k < *count; k++) {
+        forces[k] = given[k];
+        forces[k].stiffness = hk_m3_scale(&given[k].stiffness, 2.0);
+        forces[k].damping = hk_m3_scale(&given[k].damping, 2.0);
+    }
+    return forces;
+}
+
 hk_SettleOptions hk_default_settle_options(void)
 {
     hk_SettleOptions o;
@@ -305,9 +324,17 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
     if (head_fn) head_fn(user, t, &head);
     const int saved_threads = omp_get_max_threads();
     if (sim->options.threads > 0) omp_set_num_threads(sim->options.threads);
-    /* Guide-guide interactions (paper 000 §4.1): the pairs from the state at t, their
-     * impulses solved over all guides together with static friction
-     * (dynamics/hair_contact_solve.h), then held over the step as point forces. */
+    /* Guide-guide interactions (paper 000 §4.1): the pairs from the state at t. With the
+     * linearly implicit Euler step their impulses are solved over all guides together
+     * with static friction (dynamics/hair_contact_solve.h), then held over the step as
+     * point forces. The solve predicts with each guide's Euler step, which is not stable
+     * for long guides: TR-BDF2 guides take the penalty forces instead, implicit through
+     * their linearisation in each guide's own step (block Jacobi, penalty_forces). With
+     * the solve's impulses held constant, a full head of 1 m guides shaken from its groom
+     * flew apart (pairs 54,000 to 1,800 in 8 frames, 103 guides recovered, 730
+     * evaluations per guide and frame); so, it holds together (74 evaluations, none
+     * recovered; tests/test_long_guides.c). */
+    const int coupled = sim->options.dynamics.integrator == HK_INTEGRATOR_LINEAR_EULER;
     hk_Status st = HK_OK;
     long predicted = 0; /* evaluations of the contacts' solve */
     hk_RigidState head_end = hk_rigid_identity();
@@ -322,7 +349,8 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
         st = hk_hair_contacts_update(sim->contacts, sim->samples, sim->guide_count, err);
         local.contact_pairs = hk_hair_contacts_pair_count(sim->contacts);
         for (int i = 0; i < sim->guide_count; i++) predicted -= hk_strand_dynamics_stats(sim->dyn[i]).iterations;
-        if (st == HK_OK) {
+        if (st == HK_OK && !coupled) local.contacts = hk_hair_contacts_contact_count(sim->contacts);
+        if (st == HK_OK && coupled) {
             hk_ContactSolveStats cstats;
             st = hk_contact_solve(sim->contact_solve, sim->contacts, sim->dyn, sim->guide_count, &head_end, dt,
                                   &cstats, err);
@@ -340,11 +368,19 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
         #pragma omp parallel for schedule(dynamic, 4) reduction(+ : substeps, body, recovered, iterations)
         for (int i = 0; i < sim->guide_count; i++) {
             int count = 0, taken = 0;
-            const hk_PointForce *forces = sim->contacts ? hk_contact_solve_forces(sim->contact_solve, i, &count) : NULL;
             hk_Error e;
+            hk_PointForce buffer[64], *own = NULL;
+            const hk_PointForce *forces = NULL;
+            if (sim->contacts && coupled)
+                forces = hk_contact_solve_forces(sim->contact_solve, i, &count);
+            else if (sim->contacts)
+                forces = penalty_forces(sim->contacts, i, buffer, 64, &own, &count);
             const long before = hk_strand_dynamics_stats(sim->dyn[i]).iterations;
             hk_Status gst = HK_OK;
-            if (sim->contacts && hk_contact_solve_commit(sim->contact_solve, sim->dyn[i], i, &head_end, dt))
+            if (count > 0 && !forces)
+                gst = hk_error_set(&e, HK_ERR_NOMEM, "out of memory for %d contact forces", count);
+            else if (sim->contacts && coupled &&
+                     hk_contact_solve_commit(sim->contact_solve, sim->dyn[i], i, &head_end, dt))
                 taken = 1; /* the solve's step, as advance would have taken it */
             else
                 gst = hk_strand_dynamics_advance(sim->dyn[i], head_fn, user, t, dt, forces, count, &taken, &e);
@@ -366,6 +402,7 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
             if (gst != HK_OK) hk_first_error_record(&first, i, &e);
             substeps += taken;
             body += hk_strand_dynamics_contact_count(sim->dyn[i]);
+            hk_free(own);
         }
     }
     if (sim->options.threads > 0) omp_set_num_threads(saved_threads);
