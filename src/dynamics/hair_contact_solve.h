@@ -18,7 +18,9 @@
  * mu lambda_n, else slides with |lambda_t| = mu lambda_n (mu = 0: the viscous friction
  * lambda_t = -h c_t u_t of paper 000 §4.1). The impulses then act on every guide as
  * point forces lambda / h held over the step (hk_strand_dynamics_advance), so that a
- * guide whose step is split or that takes TR-BDF2 still gets them. */
+ * guide whose step is split still gets them. The prediction is each guide's linearly
+ * implicit Euler step: hair_sim.c solves TR-BDF2 guides' contacts otherwise (held
+ * constant, the impulses of an Euler prediction sent a head of 1 m guides flying). */
 #ifndef HK_HAIR_CONTACT_SOLVE_H
 #define HK_HAIR_CONTACT_SOLVE_H
 
