@@ -141,14 +141,25 @@ hk_Status hk_groom_interpolate(const hk_HairstyleDef *style, const hk_Shape *sha
         return hk_error_set(err, HK_ERR_NOMEM, "%ld strands of %d points (%.3g GB) is too much hair", total, points,
                             bytes / 1e9);
     }
-    g->strand_count = (int)total;
-    g->strands = hk_alloc_array((size_t)total * (size_t)points, 3 * sizeof(float), err);
-    g->strand_triangle = hk_alloc_array((size_t)total, sizeof(int), err);
-    g->strand_root_weights = hk_alloc_array((size_t)total, 3 * sizeof(float), err);
-    if (!g->strands || !g->strand_triangle || !g->strand_root_weights) {
-        hk_free(first);
-        return HK_ERR_NOMEM;
+    /* The arrays of the strands g had are kept when they hold as many: a simulation
+     * regrows the same strands every frame, and fresh arrays were 60 MB of new pages a
+     * frame on the default head, faulted in and zeroed by the kernel, and unmapped
+     * again (each unmapping interrupts the other cores to flush their TLBs). Every
+     * value is written below. */
+    if (!(g->strands && g->strand_triangle && g->strand_root_weights && (long)g->strand_count == total)) {
+        hk_free(g->strands);
+        hk_free(g->strand_triangle);
+        hk_free(g->strand_root_weights);
+        g->strand_count = 0;
+        g->strands = hk_alloc_array((size_t)total * (size_t)points, 3 * sizeof(float), err);
+        g->strand_triangle = hk_alloc_array((size_t)total, sizeof(int), err);
+        g->strand_root_weights = hk_alloc_array((size_t)total, 3 * sizeof(float), err);
+        if (!g->strands || !g->strand_triangle || !g->strand_root_weights) {
+            hk_free(first);
+            return HK_ERR_NOMEM;
+        }
     }
+    g->strand_count = (int)total;
     hk_Shape *body = NULL;
     int body_count = 0;
     if (o->keep_outside && hk_groom_body_shapes(shapes, shape_count, &body, &body_count, err) != HK_OK) {

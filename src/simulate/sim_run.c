@@ -48,6 +48,7 @@ typedef struct FrameJob {
     struct Run *run;
     hk_Renderer *renderer; /* its memory kept from frame to frame */
     hk_Groom groom;        /* the frame's guides (a copy) and strands, arrays reused */
+    hk_HairFile hair;      /* the frame's hair, arrays reused */
     hk_Mesh moved;         /* the head where it is at the frame */
     long k;
     double t;
@@ -85,6 +86,7 @@ static void run_free(Run *r)
     for (int j = 0; j < MAX_AT_ONCE; j++) {
         hk_renderer_destroy(r->jobs[j].renderer);
         hk_groom_free(&r->jobs[j].groom);
+        hk_hair_free(&r->jobs[j].hair);
         hk_free(r->jobs[j].moved.positions);
         hk_free(r->jobs[j].moved.normals);
     }
@@ -272,18 +274,15 @@ static void *frame_job(void *arg)
     omp_set_num_threads(j->threads);
     double t0 = omp_get_wtime();
     const hk_RigidState head = hk_sim_head_pose(o->motion, j->t);
-    hk_HairFile hair;
-    memset(&hair, 0, sizeof hair);
-    j->st = hk_sim_grow_hair(&r->style, r->shapes, r->shape_count, &head, &r->wick, o->seed, j->threads, 0,
-                             &j->groom, &hair, &j->err);
+    j->st = hk_sim_grow_hair(&r->style, r->shapes, r->shape_count, &head, &r->wick, o->seed, j->threads, 0, 1,
+                             &j->groom, &j->hair, &j->err);
     j->seconds_regrow += omp_get_wtime() - t0;
     if (j->st == HK_OK && o->full_hair) {
         t0 = omp_get_wtime();
-        j->st = save_hair(r, &hair, "frame", j->k, &j->bytes, &j->err);
+        j->st = save_hair(r, &j->hair, "frame", j->k, &j->bytes, &j->err);
         j->seconds_write += omp_get_wtime() - t0;
     }
-    if (j->st == HK_OK) j->st = render_frame(j, &hair);
-    hk_hair_free(&hair);
+    if (j->st == HK_OK) j->st = render_frame(j, &j->hair);
     omp_set_num_threads(saved_threads);
     return NULL;
 }
