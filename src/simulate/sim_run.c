@@ -35,8 +35,8 @@ hk_SimRunOptions hk_default_sim_run_options(void)
  * cores): a frame's regrowth, picture and files depend only on its guides, so frame k
  * can be drawn while frame k + 1 is, and the guides of k + 2 are stepped. Two pictures
  * with one thread each keep both cores busy, where one picture with two threads left
- * them waiting on each other at the ends of its parallel loops (about an eighth of the
- * run's CPU time, spinning in libgomp) and in its serial parts (compressing the PNG,
+ * them waiting on each other at the ends of its parallel loops (libgomp's spinning was
+ * 6 to 9 % of the run's samples) and in its serial parts (compressing the PNG,
  * the bins' offsets, the light's maps cleared). Every file is the same bytes: nothing a
  * frame writes depends on the threads (docs/dynamics.md). */
 #define MAX_AT_ONCE 2
