@@ -237,9 +237,10 @@ static void print_summary(const SimArgs *a, const hk_SimProgress *p)
     hk_cli_format_duration(p->seconds_setup + p->seconds, total, sizeof total);
     fprintf(stderr,
             "hairkit %s: %ld frames in %s%s, %s in all; per frame %.2f s: dynamics %.3f s, interpolated hair %.3f s, "
-            "picture %.3f s, writing %.3f s; %.1f MB written (%.2f MB per frame)\n",
+            "picture %.3f s, writing %.3f s%s; %.1f MB written (%.2f MB per frame)\n",
             CMD, p->frame, a->dir, p->video > 0 ? " (and hair.mp4)" : "", total, p->seconds / n,
             p->seconds_dynamics / n, p->seconds_regrow / n, p->seconds_render / n, p->seconds_write / n,
+            p->frames_at_once > 1 ? " (two frames drawn at once: the stages overlap)" : "",
             (double)p->bytes / 1e6, (double)p->bytes / 1e6 / n);
     if (p->video < 0) fprintf(stderr, "hairkit %s: ffmpeg failed, no video\n", CMD);
 }

@@ -74,7 +74,7 @@ void hk_groom_free(hk_Groom *g);
  * wick vertices): the same seed gives the same roots and clumps, so that strands
  * follow their guides from frame to frame. The strands are kept out of the body
  * shapes among shapes[0..shape_count) (may be NULL, 0), in the guides' space.
- * Replaces any strands g had. */
+ * Replaces any strands g had (their arrays are reused when they hold as many). */
 hk_Status hk_groom_interpolate_guides(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
                                       const hk_Mesh *wick, const hk_GroomOptions *options, hk_Groom *g,
                                       hk_Error *err);
@@ -83,6 +83,12 @@ hk_Status hk_groom_interpolate_guides(const hk_HairstyleDef *style, const hk_Sha
  * thickness is the hair's mean diameter. */
 hk_Status hk_groom_to_hair(const hk_Groom *g, const hk_HairstyleDef *style, hk_HairFile *out,
                            hk_Error *err);
+
+/* hk_groom_to_hair into out, the hair of an earlier hk_groom_to_hair (or zeroed): its
+ * arrays are reused when it has as many strands of as many points (a simulation's
+ * frames: 60 MB of fresh pages a frame otherwise), else it is freed and made anew. */
+hk_Status hk_groom_to_hair_again(const hk_Groom *g, const hk_HairstyleDef *style, hk_HairFile *out,
+                                 hk_Error *err);
 
 #ifdef __cplusplus
 }

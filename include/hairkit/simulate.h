@@ -125,6 +125,9 @@ typedef struct hk_SimProgress {
     /* totals so far, by stage: advancing the guides, regrowing the interpolated hair,
      * rendering the picture, writing files (encoding the PNG included) */
     double seconds_dynamics, seconds_regrow, seconds_render, seconds_write;
+    int frames_at_once;       /* frames regrown and drawn at the same time, each on its own
+                                 thread: the stages' totals are summed over them and may
+                                 exceed `seconds` */
     long long bytes;          /* written so far */
     long substeps;            /* guide steps so far */
     int removed;              /* files of an earlier run removed from the folder */

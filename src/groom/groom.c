@@ -52,6 +52,22 @@ hk_Status hk_groom_grow(const hk_HairstyleDef *style, const hk_Shape *shapes, in
     return st;
 }
 
+/* out's points (the guides rounded to float, then the strands), thickness and info. */
+static void fill_hair(const hk_Groom *g, const hk_HairstyleDef *style, hk_HairFile *out)
+{
+    const int points = g->points_per_strand;
+    const size_t guide_values = (size_t)g->guide_count * (size_t)points * 3;
+    for (size_t i = 0; i < guide_values; i++) out->points[i] = (float)g->guides[i];
+    if (g->strand_count > 0) /* a groom of guides alone has no strands array */
+        memcpy(out->points + guide_values, g->strands, (size_t)g->strand_count * (size_t)points * 3 * sizeof(float));
+    /* cyHair thickness is a diameter in the file's units (metres here). */
+    out->default_thickness = (float)(style->radius1 + style->radius2);
+    char info[HK_HAIR_INFO_SIZE + 1];
+    snprintf(info, sizeof info, "hairkit %s guides=%d strands=%d", HK_VERSION_STRING, g->guide_count,
+             g->strand_count);
+    hk_hair_set_info(out, info);
+}
+
 hk_Status hk_groom_to_hair(const hk_Groom *g, const hk_HairstyleDef *style, hk_HairFile *out, hk_Error *err)
 {
     const uint32_t n = (uint32_t)g->guide_count + (uint32_t)g->strand_count;
@@ -64,17 +80,22 @@ hk_Status hk_groom_to_hair(const hk_Groom *g, const hk_HairstyleDef *style, hk_H
     hk_Status st = hk_hair_alloc(out, n, counts, err);
     hk_free(counts);
     if (st != HK_OK) return st;
-    const size_t guide_values = (size_t)g->guide_count * (size_t)points * 3;
-    for (size_t i = 0; i < guide_values; i++) out->points[i] = (float)g->guides[i];
-    if (g->strand_count > 0) /* a groom of guides alone has no strands array */
-        memcpy(out->points + guide_values, g->strands, (size_t)g->strand_count * (size_t)points * 3 * sizeof(float));
-    /* cyHair thickness is a diameter in the file's units (metres here). */
-    out->default_thickness = (float)(style->radius1 + style->radius2);
-    char info[HK_HAIR_INFO_SIZE + 1];
-    snprintf(info, sizeof info, "hairkit %s guides=%d strands=%d", HK_VERSION_STRING, g->guide_count,
-             g->strand_count);
-    hk_hair_set_info(out, info);
+    fill_hair(g, style, out);
     return HK_OK;
+}
+
+hk_Status hk_groom_to_hair_again(const hk_Groom *g, const hk_HairstyleDef *style, hk_HairFile *out, hk_Error *err)
+{
+    const uint32_t n = (uint32_t)g->guide_count + (uint32_t)g->strand_count;
+    /* What hk_groom_to_hair made for as many strands of as many points: everything
+     * but the points and the info is the same. */
+    if (out->points && out->strand_count == n && out->point_count == (uint64_t)n * (uint64_t)g->points_per_strand &&
+        !out->thickness && !out->transparency && !out->colors) {
+        fill_hair(g, style, out);
+        return HK_OK;
+    }
+    hk_hair_free(out);
+    return hk_groom_to_hair(g, style, out, err);
 }
 
 hk_Status hk_groom_interpolate_guides(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
@@ -85,13 +106,6 @@ hk_Status hk_groom_interpolate_guides(const hk_HairstyleDef *style, const hk_Sha
         return hk_error_set(err, HK_ERR_INVALID, "%d guides for a wick of %d vertices", g->guide_count,
                             wick->vertex_count);
     hk_GroomOptions o = options ? *options : hk_default_groom_options();
-    hk_free(g->strands);
-    hk_free(g->strand_triangle);
-    hk_free(g->strand_root_weights);
-    g->strands = NULL;
-    g->strand_triangle = NULL;
-    g->strand_root_weights = NULL;
-    g->strand_count = 0;
     const int saved_threads = omp_get_max_threads();
     if (o.threads > 0) omp_set_num_threads(o.threads);
     const double t0 = hk_seconds_now();

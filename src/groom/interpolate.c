@@ -79,16 +79,15 @@ static double tip_fade(double d, double far)
  * weights kept; with a fade below 1 the strand is carried by its root offset, as the
  * nearest guide's copy of the semi-interpolation is: fade 0 for both other guides is
  * that copy. */
-static void make_strand(const hk_HairstyleDef *style, const double *const guide[3], int points,
-                        const double root[3], const double tip[3], const double fade[3], float *out)
+static void make_strand(const double *const guide[3], const double *const seg_len[3], const double *profile,
+                        int points, const double root[3], const double tip[3], const double fade[3], float *out)
 {
     double prev[3] = {0, 0, 0}, placed[3] = {0, 0, 0}, last_dir[3] = {0, 0, 1}, offset[3] = {0, 0, 0};
     const int faded = fade[0] < 1.0 || fade[1] < 1.0 || fade[2] < 1.0;
     for (int j = 0; j < points; j++) {
         double p[3];
         double w[3];
-        const double t = points > 1 ? (double)j / (points - 1) : 0.0;
-        const double s = style->clump_profile == 1.0 ? t : pow(t, style->clump_profile);
+        const double s = profile[j];
         for (int g = 0; g < 3; g++) w[g] = root[g] + (tip[g] - root[g]) * s;
         if (faded) {
             const double sum = w[0] + w[1] + w[2], kept = w[0] * fade[0] + w[1] * fade[1] + w[2] * fade[2];
@@ -107,7 +106,7 @@ static void make_strand(const hk_HairstyleDef *style, const double *const guide[
             /* Target length: the guides' segment lengths blended with normalised weights. */
             const double ws = w[0] + w[1] + w[2];
             double len = 0.0;
-            for (int g = 0; g < 3; g++) len += w[g] / ws * dist3(guide[g] + 3 * j, guide[g] + 3 * (j - 1));
+            for (int g = 0; g < 3; g++) len += w[g] / ws * seg_len[g][j];
             double d[3] = {p[0] - prev[0], p[1] - prev[1], p[2] - prev[2]};
             double n = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
             if (n > 1e-300) {
@@ -142,26 +141,65 @@ hk_Status hk_groom_interpolate(const hk_HairstyleDef *style, const hk_Shape *sha
         return hk_error_set(err, HK_ERR_NOMEM, "%ld strands of %d points (%.3g GB) is too much hair", total, points,
                             bytes / 1e9);
     }
-    g->strand_count = (int)total;
-    g->strands = hk_alloc_array((size_t)total * (size_t)points, 3 * sizeof(float), err);
-    g->strand_triangle = hk_alloc_array((size_t)total, sizeof(int), err);
-    g->strand_root_weights = hk_alloc_array((size_t)total, 3 * sizeof(float), err);
-    if (!g->strands || !g->strand_triangle || !g->strand_root_weights) {
-        hk_free(first);
-        return HK_ERR_NOMEM;
+    /* The arrays of the strands g had are kept when they hold as many: a simulation
+     * regrows the same strands every frame, and fresh arrays were 60 MB of new pages a
+     * frame on the default head, faulted in and zeroed by the kernel, and unmapped
+     * again. Every value is written below. */
+    if (!(g->strands && g->strand_triangle && g->strand_root_weights && (long)g->strand_count == total)) {
+        hk_free(g->strands);
+        hk_free(g->strand_triangle);
+        hk_free(g->strand_root_weights);
+        g->strand_count = 0;
+        g->strands = hk_alloc_array((size_t)total * (size_t)points, 3 * sizeof(float), err);
+        g->strand_triangle = hk_alloc_array((size_t)total, sizeof(int), err);
+        g->strand_root_weights = hk_alloc_array((size_t)total, 3 * sizeof(float), err);
+        if (!g->strands || !g->strand_triangle || !g->strand_root_weights) {
+            hk_free(first);
+            return HK_ERR_NOMEM;
+        }
     }
+    g->strand_count = (int)total;
     hk_Shape *body = NULL;
     int body_count = 0;
     if (o->keep_outside && hk_groom_body_shapes(shapes, shape_count, &body, &body_count, err) != HK_OK) {
         hk_free(first);
         return HK_ERR_NOMEM;
     }
+    /* What every strand would otherwise compute again at every point (a pow and three
+     * square roots; the pow alone was about a fifth of a simulated frame's regrowth in
+     * perf): the clump profile along the strand and the guides' segment lengths, the
+     * same values computed once.
+     * seg_len[g * points + j]: guide g's segment ending at point j. */
+    double *profile = hk_alloc_array((size_t)points, sizeof(double), err);
+    double *seg_len = hk_alloc_array((size_t)g->guide_count * (size_t)points, sizeof(double), err);
+    if (!profile || !seg_len) {
+        hk_free(profile);
+        hk_free(seg_len);
+        hk_free(body);
+        hk_free(first);
+        return HK_ERR_NOMEM;
+    }
+    for (int j = 0; j < points; j++) {
+        const double t = points > 1 ? (double)j / (points - 1) : 0.0;
+        profile[j] = style->clump_profile == 1.0 ? t : pow(t, style->clump_profile);
+    }
+    #pragma omp parallel for schedule(static)
+    for (int k = 0; k < g->guide_count; k++) {
+        const double *guide = g->guides + (size_t)k * (size_t)points * 3;
+        double *len = seg_len + (size_t)k * (size_t)points;
+        len[0] = 0.0;
+        for (int j = 1; j < points; j++) len[j] = dist3(guide + 3 * j, guide + 3 * (j - 1));
+    }
     long done = 0;
     #pragma omp parallel for schedule(dynamic, 8)
     for (int t = 0; t < nt; t++) {
         const int *tri = wick->triangles + 3 * t;
         const double *guide[3];
-        for (int k = 0; k < 3; k++) guide[k] = g->guides + (size_t)tri[k] * (size_t)points * 3;
+        const double *len[3];
+        for (int k = 0; k < 3; k++) {
+            guide[k] = g->guides + (size_t)tri[k] * (size_t)points * 3;
+            len[k] = seg_len + (size_t)tri[k] * (size_t)points;
+        }
         /* fades[near][g]: guide g's part in the blend of the strands nearest to guide
          * `near` (tip_fade of their tips' distance) */
         double fades[3][3];
@@ -178,7 +216,7 @@ hk_Status hk_groom_interpolate(const hk_HairstyleDef *style, const hk_Shape *sha
                         hk_rng_uniform(o->seed, STREAM_STRAND + ((uint64_t)t << 8), key + 3), style->stray_hairs, tip);
             float *strand = g->strands + (size_t)s * (size_t)points * 3;
             const int near = (root[0] >= root[1] && root[0] >= root[2]) ? 0 : (root[1] >= root[2] ? 1 : 2);
-            make_strand(style, guide, points, root, tip, fades[near], strand);
+            make_strand(guide, len, profile, points, root, tip, fades[near], strand);
             hk_groom_keep_outside(body, body_count, strand, points);
             g->strand_triangle[s] = t;
             for (int k = 0; k < 3; k++) g->strand_root_weights[3 * s + k] = (float)root[k];
@@ -189,6 +227,8 @@ hk_Status hk_groom_interpolate(const hk_HairstyleDef *style, const hk_Shape *sha
         if (omp_get_thread_num() == 0) hk_groom_report(o, "strands", d, total);
     }
     hk_groom_report(o, "strands", total, total);
+    hk_free(profile);
+    hk_free(seg_len);
     hk_free(body);
     hk_free(first);
     return HK_OK;

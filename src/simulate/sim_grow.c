@@ -37,7 +37,7 @@ hk_Status hk_sim_interpolate_posed(const hk_HairstyleDef *style, const hk_Shape 
 
 hk_Status hk_sim_grow_hair(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
                            const hk_RigidState *head, const hk_Mesh *wick, uint64_t seed, int threads,
-                           int guides_only, hk_Groom *g, hk_HairFile *out, hk_Error *err)
+                           int guides_only, int reuse, hk_Groom *g, hk_HairFile *out, hk_Error *err)
 {
     hk_Status st = HK_OK;
     if (!guides_only) {
@@ -46,5 +46,6 @@ hk_Status hk_sim_grow_hair(const hk_HairstyleDef *style, const hk_Shape *shapes,
         go.threads = threads;
         st = hk_sim_interpolate_posed(style, shapes, shape_count, head, wick, &go, g, err);
     }
-    return st == HK_OK ? hk_groom_to_hair(g, style, out, err) : st;
+    if (st != HK_OK) return st;
+    return reuse ? hk_groom_to_hair_again(g, style, out, err) : hk_groom_to_hair(g, style, out, err);
 }

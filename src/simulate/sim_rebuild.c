@@ -131,7 +131,7 @@ hk_Status hk_simulation_rebuild(const char *dir, long frame, int threads, hk_Hai
     if (st == HK_OK) {
         /* the body where the head was at this frame, as the run posed it */
         const hk_RigidState head = hk_sim_head_pose(in.motion, hk_sim_frame_time(frame, m.fps));
-        st = hk_sim_grow_hair(&in.style, in.shapes, in.shape_count, &head, &in.wick, m.seed, threads, 0, &g, out, err);
+        st = hk_sim_grow_hair(&in.style, in.shapes, in.shape_count, &head, &in.wick, m.seed, threads, 0, 0, &g, out, err);
     }
     hk_groom_free(&g);
     inputs_free(&in);

@@ -7,6 +7,7 @@
 #include <errno.h>
 #include <math.h>
 #include <omp.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -32,6 +33,37 @@ hk_SimRunOptions hk_default_sim_run_options(void)
     return o;
 }
 
+/* Frames drawn at once, each on a thread of its own (one OpenMP thread each on two
+ * cores): a frame's regrowth, picture and files depend only on its guides, so frame k
+ * can be drawn while frame k + 1 is, and the guides of k + 2 are stepped. Two pictures
+ * with one thread each keep both cores busy, where one picture with two threads left
+ * them waiting on each other at the ends of its parallel loops (libgomp's spinning was
+ * 6 to 9 % of the run's samples) and in its serial parts (compressing the PNG,
+ * the bins' offsets, the light's maps cleared). Every file is the same bytes: nothing a
+ * frame writes depends on the threads (docs/dynamics.md). */
+#define MAX_AT_ONCE 2
+
+struct Run;
+
+/* One frame's regrowth, picture and files; its buffers kept for its next frame. */
+typedef struct FrameJob {
+    struct Run *run;
+    hk_Renderer *renderer; /* its memory kept from frame to frame */
+    hk_Groom groom;        /* the frame's guides (a copy) and strands, arrays reused */
+    hk_HairFile hair;      /* the frame's hair, arrays reused */
+    hk_Mesh moved;         /* the head where it is at the frame */
+    long k;
+    double t;
+    int threads;           /* OpenMP threads of the job */
+    int busy;              /* started and not yet collected */
+    int threaded;          /* on a thread of its own */
+    pthread_t thread;
+    hk_Status st;
+    hk_Error err;
+    double seconds_regrow, seconds_render, seconds_write;
+    long long bytes;
+} FrameJob;
+
 typedef struct Run {
     const char *dir;
     const hk_SimRunOptions *o;
@@ -39,23 +71,29 @@ typedef struct Run {
     hk_HairstyleDef style;
     hk_Shape *shapes;
     int shape_count;
-    hk_Mesh head, moved, wick;
+    hk_Mesh head, wick;
     hk_VisualityDef vis;
     hk_HairSim *sim;
     hk_RenderOptions ro;  /* the camera fixed at frame 0 */
-    hk_Renderer *renderer; /* its memory kept from frame to frame */
-    hk_Groom groom;       /* the frame's guides and strands, arrays reused */
+    hk_Groom groom;       /* the guides being stepped (guides array only) */
+    FrameJob jobs[MAX_AT_ONCE];
+    int at_once;          /* jobs in use */
+    double t_frames;      /* when the first frame began */
     hk_SimProgress p;
 } Run;
 
 static void run_free(Run *r)
 {
     hk_hair_sim_destroy(r->sim);
-    hk_renderer_destroy(r->renderer);
+    for (int j = 0; j < MAX_AT_ONCE; j++) {
+        hk_renderer_destroy(r->jobs[j].renderer);
+        hk_groom_free(&r->jobs[j].groom);
+        hk_hair_free(&r->jobs[j].hair);
+        hk_free(r->jobs[j].moved.positions);
+        hk_free(r->jobs[j].moved.normals);
+    }
     hk_groom_free(&r->groom);
     hk_mesh_free(&r->head);
-    hk_free(r->moved.positions);
-    hk_free(r->moved.normals);
     hk_mesh_free(&r->wick);
     hk_free(r->shapes);
     hk_hairstyle_free(&r->style);
@@ -75,10 +113,13 @@ static hk_Status load_scene(Run *r, const char *setup_path, hk_Error *err)
     if ((st = hk_obj_load(r->setup.wick_model, &r->wick, err)) != HK_OK) return st;
     if (r->setup.head_model) {
         if ((st = hk_obj_load(r->setup.head_model, &r->head, err)) != HK_OK) return st;
-        r->moved = r->head;
-        r->moved.positions = hk_alloc_array((size_t)r->head.vertex_count, sizeof(hk_Vec3), err);
-        r->moved.normals = hk_alloc_array((size_t)r->head.vertex_count, sizeof(hk_Vec3), err);
-        if (!r->moved.positions || !r->moved.normals) return HK_ERR_NOMEM;
+        for (int j = 0; j < MAX_AT_ONCE; j++) {
+            hk_Mesh *m = &r->jobs[j].moved;
+            *m = r->head;
+            m->positions = hk_alloc_array((size_t)r->head.vertex_count, sizeof(hk_Vec3), err);
+            m->normals = hk_alloc_array((size_t)r->head.vertex_count, sizeof(hk_Vec3), err);
+            if (!m->positions || !m->normals) return HK_ERR_NOMEM;
+        }
     }
     if (r->setup.visuality && (st = hk_visuality_load(r->setup.visuality, &r->vis, err)) != HK_OK) return st;
     return HK_OK;
@@ -145,7 +186,7 @@ static hk_Status create_sim(Run *r, hk_Error *err)
 {
     const hk_SimRunOptions *o = r->o;
     hk_HairSimOptions so = hk_default_hair_sim_options(&r->style);
-    so.threads = o->threads;
+    so.threads = 0; /* the calling thread's: hk_simulation_run sets them, fewer while frames are drawn */
     so.hair_contacts = o->hair_contacts;
     if (!o->damping) so.dynamics.internal_friction = so.dynamics.air_drag = 0.0;
     if (o->integrator == HK_INTEGRATOR_TRBDF2) {
@@ -179,53 +220,110 @@ static hk_Status create_sim(Run *r, hk_Error *err)
     return r->groom.guides ? HK_OK : HK_ERR_NOMEM;
 }
 
-static hk_Status save_hair(Run *r, const hk_HairFile *hair, const char *stem, long k, hk_Error *err)
+static hk_Status save_hair(Run *r, const hk_HairFile *hair, const char *stem, long k, long long *bytes,
+                           hk_Error *err)
 {
     char path[4096];
     hk_Status st = hk_simulation_frame_path(path, sizeof path, r->dir, stem, k, "hair", err);
     if (st == HK_OK) st = hk_hair_save(path, hair, err);
-    if (st == HK_OK) r->p.bytes += hk_sim_file_size(path);
+    if (st == HK_OK) *bytes += hk_sim_file_size(path);
     return st;
 }
 
 /* The head mesh moved by the head's rigid state at t (positions and normals). */
-static const hk_Mesh *moved_head(Run *r, double t)
+static const hk_Mesh *moved_head(Run *r, hk_Mesh *moved, double t)
 {
     if (r->head.vertex_count == 0) return NULL;
     const hk_RigidState st = hk_sim_head_pose(r->o->motion, t);
     for (int i = 0; i < r->head.vertex_count; i++) {
-        hk_rigid_point(&st, r->head.positions[i], &r->moved.positions[i], NULL, NULL);
-        r->moved.normals[i] = hk_m3_mul_v3(&st.rot, r->head.normals[i]);
+        hk_rigid_point(&st, r->head.positions[i], &moved->positions[i], NULL, NULL);
+        moved->normals[i] = hk_m3_mul_v3(&st.rot, r->head.normals[i]);
     }
-    return &r->moved;
+    return moved;
 }
 
-/* The picture of frame k. The camera is fixed at the first frame's fit, backed off by
- * 15 % to leave room for the hair's motion. */
-static hk_Status render_frame(Run *r, const hk_HairFile *hair, long k, double t, hk_Error *err)
+/* The picture of the job's frame. The camera is fixed at the first frame's fit, backed
+ * off by 15 % to leave room for the hair's motion (frame 0 is drawn alone: the others
+ * wait for its camera). */
+static hk_Status render_frame(FrameJob *j, const hk_HairFile *hair)
 {
+    Run *r = j->run;
+    hk_Error *err = &j->err;
     double t0 = omp_get_wtime();
-    const hk_Mesh *head = moved_head(r, t);
+    const hk_Mesh *head = moved_head(r, &j->moved, j->t);
     hk_Status st = HK_OK;
     if (!(r->ro.camera_distance > 0.0)) {
         st = hk_render_fit_camera(hair, head, &r->ro, &r->ro.camera_target, &r->ro.camera_distance, err);
         r->ro.camera_distance *= 1.15;
     }
-    if (st == HK_OK && !r->renderer) st = hk_renderer_create(&r->renderer, err);
-    if (st == HK_OK) st = hk_renderer_draw(r->renderer, hair, head, &r->vis, &r->ro, NULL, err);
+    hk_RenderOptions ro = r->ro;
+    ro.threads = j->threads;
+    if (st == HK_OK && !j->renderer) st = hk_renderer_create(&j->renderer, err);
+    if (st == HK_OK) st = hk_renderer_draw(j->renderer, hair, head, &r->vis, &ro, NULL, err);
     const double t1 = omp_get_wtime();
-    r->p.seconds_render += t1 - t0;
+    j->seconds_render += t1 - t0;
     char path[4096];
-    if (st == HK_OK) st = hk_simulation_frame_path(path, sizeof path, r->dir, "frame", k, "png", err);
-    if (st == HK_OK) st = hk_render_write_png(hk_renderer_picture(r->renderer), path, err);
-    if (st == HK_OK) r->p.bytes += hk_sim_file_size(path);
-    r->p.seconds_write += omp_get_wtime() - t1;
+    if (st == HK_OK) st = hk_simulation_frame_path(path, sizeof path, r->dir, "frame", j->k, "png", err);
+    if (st == HK_OK) st = hk_render_write_png(hk_renderer_picture(j->renderer), path, err);
+    if (st == HK_OK) j->bytes += hk_sim_file_size(path);
+    j->seconds_write += omp_get_wtime() - t1;
     return st;
 }
 
-/* Frame k at time t: the guides, then (unless guides only) the interpolated hair grown
- * from them as written, out of the body where the head is at t, and its picture. */
-static hk_Status write_frame(Run *r, long k, double t, hk_Error *err)
+/* The job's frame: the interpolated hair grown from its guides as written, out of the
+ * body where the head is at t, and its picture (on the job's thread). */
+static void *frame_job(void *arg)
+{
+    FrameJob *j = arg;
+    Run *r = j->run;
+    const hk_SimRunOptions *o = r->o;
+    /* A setting of the calling thread's own (libgomp keeps one per thread). */
+    const int saved_threads = omp_get_max_threads();
+    omp_set_num_threads(j->threads);
+    double t0 = omp_get_wtime();
+    const hk_RigidState head = hk_sim_head_pose(o->motion, j->t);
+    j->st = hk_sim_grow_hair(&r->style, r->shapes, r->shape_count, &head, &r->wick, o->seed, j->threads, 0, 1,
+                             &j->groom, &j->hair, &j->err);
+    j->seconds_regrow += omp_get_wtime() - t0;
+    if (j->st == HK_OK && o->full_hair) {
+        t0 = omp_get_wtime();
+        j->st = save_hair(r, &j->hair, "frame", j->k, &j->bytes, &j->err);
+        j->seconds_write += omp_get_wtime() - t0;
+    }
+    if (j->st == HK_OK) j->st = render_frame(j, &j->hair);
+    omp_set_num_threads(saved_threads);
+    return NULL;
+}
+
+/* Frame k is written, and every frame before it. */
+static void report_frame(Run *r, long k)
+{
+    r->p.frame = k + 1;
+    r->p.seconds = omp_get_wtime() - r->t_frames;
+    if (r->o->progress) r->o->progress(r->o->progress_user, &r->p);
+}
+
+/* Waits for a job's frame and adds its figures (reported when `report`); its status,
+ * with its error in err. */
+static hk_Status collect(Run *r, FrameJob *j, int report, hk_Error *err)
+{
+    if (!j->busy) return HK_OK;
+    if (j->threaded) pthread_join(j->thread, NULL);
+    j->busy = j->threaded = 0;
+    r->p.seconds_regrow += j->seconds_regrow, r->p.seconds_render += j->seconds_render;
+    r->p.seconds_write += j->seconds_write, r->p.bytes += j->bytes;
+    j->seconds_regrow = j->seconds_render = j->seconds_write = 0.0, j->bytes = 0;
+    if (j->st != HK_OK) {
+        if (err) *err = j->err;
+        return j->st;
+    }
+    if (report) report_frame(r, j->k);
+    return HK_OK;
+}
+
+/* Frame k at time t: the guides written (here, in frame order), then the rest handed to
+ * a job: on a thread of its own when frames are drawn at once, else here. */
+static hk_Status write_frame(Run *r, long k, double t, int job_threads, hk_Error *err)
 {
     const hk_SimRunOptions *o = r->o;
     hk_Groom *g = &r->groom;
@@ -239,22 +337,50 @@ static hk_Status write_frame(Run *r, long k, double t, hk_Error *err)
     hk_Status st = hk_groom_to_hair(&guides_view, &r->style, &hair, err);
     double t1 = omp_get_wtime();
     r->p.seconds_regrow += t1 - t0;
-    if (st == HK_OK) st = save_hair(r, &hair, "guides", k, err);
+    if (st == HK_OK) st = save_hair(r, &hair, "guides", k, &r->p.bytes, err);
     hk_hair_free(&hair);
-    double t2 = omp_get_wtime();
-    r->p.seconds_write += t2 - t1;
-    if (st != HK_OK || o->guides_only) return st;
-    const hk_RigidState head = hk_sim_head_pose(o->motion, t);
-    st = hk_sim_grow_hair(&r->style, r->shapes, r->shape_count, &head, &r->wick, o->seed, o->threads, 0, g, &hair,
-                          err);
-    r->p.seconds_regrow += omp_get_wtime() - t2;
-    if (st == HK_OK && o->full_hair) {
-        t2 = omp_get_wtime();
-        st = save_hair(r, &hair, "frame", k, err);
-        r->p.seconds_write += omp_get_wtime() - t2;
+    r->p.seconds_write += omp_get_wtime() - t1;
+    if (st != HK_OK) return st;
+    if (o->guides_only) {
+        report_frame(r, k);
+        return HK_OK;
     }
-    if (st == HK_OK) st = render_frame(r, &hair, k, t, err);
-    hk_hair_free(&hair);
+    FrameJob *j = &r->jobs[k % r->at_once];
+    if ((st = collect(r, j, 1, err)) != HK_OK) return st; /* frame k - at_once */
+    const size_t values = (size_t)g->guide_count * (size_t)g->points_per_strand * 3;
+    if (!j->groom.guides) {
+        j->groom.guide_count = g->guide_count, j->groom.points_per_strand = g->points_per_strand;
+        j->groom.guides = hk_alloc_array(values, sizeof(double), err);
+        if (!j->groom.guides) return HK_ERR_NOMEM;
+    }
+    memcpy(j->groom.guides, g->guides, values * sizeof(double));
+    j->run = r, j->k = k, j->t = t, j->threads = job_threads, j->busy = 1;
+    /* Frame 0 is drawn alone, with every thread: it fixes the camera of the others. */
+    if (r->at_once == 1 || k == 0) {
+        frame_job(j);
+        return collect(r, j, 1, err);
+    }
+    if (pthread_create(&j->thread, NULL, frame_job, j) != 0) {
+        j->busy = 0;
+        return hk_error_set(err, HK_ERR_NOMEM, "cannot start a thread for frame %ld", k);
+    }
+    j->threaded = 1;
+    return HK_OK;
+}
+
+/* Every job's frame waited for, in frame order; the first failure kept, and no frame
+ * reported after it. */
+static hk_Status collect_all(Run *r, long next, hk_Status st, hk_Error *err)
+{
+    for (long k = next - r->at_once; k < next; k++) {
+        if (k < 0) continue;
+        hk_Error e;
+        const hk_Status s = collect(r, &r->jobs[k % r->at_once], st == HK_OK, &e);
+        if (st == HK_OK && s != HK_OK) {
+            st = s;
+            if (err) *err = e;
+        }
+    }
     return st;
 }
 
@@ -280,8 +406,17 @@ hk_Status hk_simulation_run(const char *setup_path, const char *dir, const hk_Si
     r.o = options;
     r.vis = hk_default_visuality();
     r.ro = options->render;
-    r.ro.threads = options->threads;
     r.p.frames = options->frames;
+    /* The threads of this thread's OpenMP loops (the statics, the preroll, the steps),
+     * set here and given back at the end. */
+    const int saved_threads = omp_get_max_threads();
+    const int threads = options->threads > 0 ? options->threads : saved_threads;
+    omp_set_num_threads(threads);
+    r.at_once = threads >= MAX_AT_ONCE ? MAX_AT_ONCE : 1;
+    const int job_threads = threads / r.at_once;
+    /* While frames are drawn, the steps take the threads the jobs leave (at least one). */
+    const int step_threads = r.at_once > 1 ? (threads > r.at_once * job_threads ? threads - r.at_once * job_threads : 1)
+                                           : threads;
     const double t_start = omp_get_wtime();
     hk_Status st = check_options(options, err);
     if (st == HK_OK) st = load_scene(&r, setup_path, err);
@@ -292,10 +427,13 @@ hk_Status hk_simulation_run(const char *setup_path, const char *dir, const hk_Si
         r.p.guides = hk_hair_sim_guide_count(r.sim);
         r.p.elements = r.style.element_count;
         r.p.seconds_setup = omp_get_wtime() - t_start;
+        r.p.frames_at_once = options->guides_only ? 1 : r.at_once;
         if (options->progress) options->progress(options->progress_user, &r.p);
     }
-    const double t_frames = omp_get_wtime(), dt = 1.0 / options->fps;
-    for (long k = 0; st == HK_OK && k < options->frames; k++) {
+    const double dt = 1.0 / options->fps;
+    r.t_frames = omp_get_wtime();
+    long k = 0;
+    for (; st == HK_OK && k < options->frames; k++) {
         const double t = hk_sim_frame_time(k, options->fps); /* k * dt, as the rebuild poses the body */
         if (k > 0) {
             hk_HairSimStats stats;
@@ -303,18 +441,18 @@ hk_Status hk_simulation_run(const char *setup_path, const char *dir, const hk_Si
             r.p.seconds_dynamics += stats.seconds;
             r.p.substeps += stats.substeps;
         }
-        if (st == HK_OK) st = write_frame(&r, k, t, err);
-        if (st != HK_OK) break;
-        r.p.frame = k + 1;
-        r.p.seconds = omp_get_wtime() - t_frames;
-        if (options->progress) options->progress(options->progress_user, &r.p);
+        if (st == HK_OK) st = write_frame(&r, k, t, k == 0 ? threads : job_threads, err);
+        if (k == 0) omp_set_num_threads(step_threads);
     }
+    st = collect_all(&r, k, st, err);
+    omp_set_num_threads(saved_threads);
+    r.p.seconds = omp_get_wtime() - r.t_frames;
     if (st == HK_OK && options->video && !options->guides_only) {
         char video[4096];
         r.p.video = hk_sim_make_video(dir, options->fps);
         if (r.p.video > 0 && snprintf(video, sizeof video, "%s/hair.mp4", dir) < (int)sizeof video)
             r.p.bytes += hk_sim_file_size(video);
-        r.p.seconds = omp_get_wtime() - t_frames;
+        r.p.seconds = omp_get_wtime() - r.t_frames;
     }
     if (progress) *progress = r.p;
     run_free(&r);
