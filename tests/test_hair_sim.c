@@ -237,44 +237,6 @@ static void test_same_bytes_with_any_threads(void **state)
     free_scene(&sc);
 }
 
-static char *read_all(const char *path, size_t *size)
-{
-    FILE *fp = fopen(path, "rb");
-    assert_non_null(fp);
-    fseek(fp, 0, SEEK_END);
-    *size = (size_t)ftell(fp);
-    rewind(fp);
-    char *data = malloc(*size + 1);
-    assert_int_equal(fread(data, 1, *size, fp), *size);
-    fclose(fp);
-    data[*size] = '\0';
-    return data;
-}
-
-/* A light copy of the default scene (HairDensity 4: about 2,000 strands on the 201-guide
- * wick) whose setup names its files by absolute path; returns the setup's path. */
-static const char *light_setup(void)
-{
-    size_t size;
-    char *style = read_all(HK_SOURCE_DIR "/examples/default/hairstyle.txt", &size);
-    char *line = strstr(style, "\nHairDensity");
-    assert_non_null(line);
-    char *end = strchr(line + 1, '\n');
-    assert_non_null(end);
-    char *text = malloc(size + 64);
-    snprintf(text, size + 64, "%.*s\nHairDensity 4%s", (int)(line - style), style, end);
-    const char *style_path = hk_test_write_text("hairstyle.txt", text);
-    char setup[4096];
-    snprintf(setup, sizeof setup,
-             "HairstyleInfo \"%s\"\nCollisionInfo \"%s/examples/default/collision.txt\"\n"
-             "VisualityInfo \"%s/examples/default/visuality.txt\"\nHeadModel \"%s/assets/head.obj\"\n"
-             "WickModel \"%s/assets/wick-200.obj\"\n",
-             style_path, HK_SOURCE_DIR, HK_SOURCE_DIR, HK_SOURCE_DIR, HK_SOURCE_DIR);
-    free(style);
-    free(text);
-    return hk_test_write_text("setup.txt", setup);
-}
-
 /* Every frame of a simulation written to a folder keeps its interpolated hair out of the
  * body where the head is at that frame (a shake of 90 degrees at 2 Hz: the face turns by
  * 58 degrees at frame 3), and --rebuild grows the same bytes from the guides and the
@@ -301,7 +263,7 @@ static void test_run_frames_outside_posed_body(void **state)
     char dir[4096], frame[4096], rebuilt[4096];
     snprintf(dir, sizeof dir, "%s/shake", hk_test_tmpdir());
     snprintf(rebuilt, sizeof rebuilt, "%s/rebuilt.hair", hk_test_tmpdir());
-    const hk_Status st = hk_simulation_run(light_setup(), dir, &o, NULL, &err);
+    const hk_Status st = hk_simulation_run(hk_test_light_setup(), dir, &o, NULL, &err);
     if (st != HK_OK) print_error("%s\n", err.message);
     assert_int_equal(st, HK_OK);
     for (long k = 0; k < o.frames; k++) {
@@ -324,7 +286,7 @@ static void test_run_frames_outside_posed_body(void **state)
         assert_int_equal(hk_hair_save(rebuilt, &hair, &err), HK_OK);
         hk_hair_free(&hair);
         size_t a_size, b_size;
-        char *a = read_all(frame, &a_size), *b = read_all(rebuilt, &b_size);
+        char *a = hk_test_read_file(frame, &a_size), *b = hk_test_read_file(rebuilt, &b_size);
         assert_int_equal(a_size, b_size);
         assert_memory_equal(a, b, a_size);
         free(a);

@@ -9,46 +9,6 @@
 
 #include "hairkit/simulate.h"
 
-static char *read_all(const char *path, size_t *size)
-{
-    FILE *fp = fopen(path, "rb");
-    assert_non_null(fp);
-    fseek(fp, 0, SEEK_END);
-    *size = (size_t)ftell(fp);
-    rewind(fp);
-    char *data = malloc(*size + 1);
-    assert_non_null(data);
-    assert_int_equal(fread(data, 1, *size, fp), *size);
-    fclose(fp);
-    data[*size] = '\0';
-    return data;
-}
-
-/* The default scene with HairDensity 4 (about 2,000 strands on the 201-guide wick),
- * its files named by absolute path; returns the setup's path. */
-static const char *light_setup(void)
-{
-    size_t size;
-    char *style = read_all(HK_SOURCE_DIR "/examples/default/hairstyle.txt", &size);
-    char *line = strstr(style, "\nHairDensity");
-    assert_non_null(line);
-    char *end = strchr(line + 1, '\n');
-    assert_non_null(end);
-    char *text = malloc(size + 64);
-    assert_non_null(text);
-    snprintf(text, size + 64, "%.*s\nHairDensity 4%s", (int)(line - style), style, end);
-    const char *style_path = hk_test_write_text("hairstyle.txt", text);
-    char setup[4096];
-    snprintf(setup, sizeof setup,
-             "HairstyleInfo \"%s\"\nCollisionInfo \"%s/examples/default/collision.txt\"\n"
-             "VisualityInfo \"%s/examples/default/visuality.txt\"\nHeadModel \"%s/assets/head.obj\"\n"
-             "WickModel \"%s/assets/wick-200.obj\"\n",
-             style_path, HK_SOURCE_DIR, HK_SOURCE_DIR, HK_SOURCE_DIR, HK_SOURCE_DIR);
-    free(style);
-    free(text);
-    return hk_test_write_text("setup.txt", setup);
-}
-
 typedef struct Seen {
     long frames[16];
     int count, at_once;
@@ -96,7 +56,7 @@ static void assert_same_file(const char *name, const char *a_dir, const char *b_
     snprintf(a_path, sizeof a_path, "%s/%s/%s", hk_test_tmpdir(), a_dir, name);
     snprintf(b_path, sizeof b_path, "%s/%s/%s", hk_test_tmpdir(), b_dir, name);
     size_t a_size, b_size;
-    char *a = read_all(a_path, &a_size), *b = read_all(b_path, &b_size);
+    char *a = hk_test_read_file(a_path, &a_size), *b = hk_test_read_file(b_path, &b_size);
     print_message("%s: %zu and %zu bytes\n", name, a_size, b_size);
     assert_int_equal(a_size, b_size);
     assert_memory_equal(a, b, a_size);
@@ -110,7 +70,7 @@ static void assert_same_file(const char *name, const char *a_dir, const char *b_
 static void test_frames_at_once_same_bytes(void **state)
 {
     (void)state;
-    const char *setup = light_setup();
+    const char *setup = hk_test_light_setup();
     const int threads[3] = {1, 2, 3};
     const char *names[3] = {"one", "two", "three"};
     for (int r = 0; r < 3; r++) {

@@ -20,6 +20,14 @@ const char *hk_test_write_text(const char *name, const char *text);
 /* Private temporary folder of this test process (created on first use). */
 const char *hk_test_tmpdir(void);
 
+/* The whole file at path (NUL-terminated, to free); its size in *size. */
+char *hk_test_read_file(const char *path, size_t *size);
+
+/* A light copy of the default scene (HairDensity 4: about 2,000 strands on the
+ * 201-guide wick) whose setup names its files by absolute path; returns the setup's
+ * path. */
+const char *hk_test_light_setup(void);
+
 /* |a - b| <= tol; prints both values and the tolerance when it fails. */
 #define hk_assert_near(a, b, tol) hk_assert_near_impl((a), (b), (tol), #a, #b, __FILE__, __LINE__)
 void hk_assert_near_impl(double a, double b, double tol, const char *as, const char *bs,
