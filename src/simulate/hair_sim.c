@@ -294,8 +294,8 @@ hk_Status hk_hair_sim_settle_until_still(hk_HairSim *sim, const hk_RigidState *h
     int resting = 0;
     double fastest = 0.0;
     hk_Status st = HK_OK;
+    guide_tips(sim, before);
     while (st == HK_OK && steps < most && (steps < least || resting < o->rest_steps)) {
-        guide_tips(sim, before);
         st = advance(sim, held_state, &pose, 0.0, dt, NULL, err);
         if (st != HK_OK) break;
         steps++;
@@ -303,6 +303,8 @@ hk_Status hk_hair_sim_settle_until_still(hk_HairSim *sim, const hk_RigidState *h
         fastest = 0.0;
         for (int i = 0; i < sim->guide_count; i++) fastest = fmax(fastest, hk_v3_norm(hk_v3_sub(after[i], before[i])) / dt);
         resting = fastest <= o->rest_speed ? resting + 1 : 0;
+        hk_Vec3 *swap = before; /* this step's end is the next one's start */
+        before = after, after = swap;
     }
     if (sim->options.threads > 0) omp_set_num_threads(threads);
     hk_free(tips);
