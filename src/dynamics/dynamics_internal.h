@@ -5,6 +5,7 @@
 #include "hairkit/dynamics.h"
 
 #define HK_GAUSS_MAX 16 /* most Gauss points per element */
+#define HK_ANDERSON_DEPTH 4 /* past corrections Newton's iteration mixes (strand_integrator.c) */
 
 /* Gauss-Legendre rules on [0, 1] with 1..HK_GAUSS_MAX points: rule n has its nodes at
  * node[n - 1][0..n) and weights at weight[n - 1][0..n). */
@@ -145,6 +146,9 @@ struct hk_StrandDynamics {
                             step prev_h: Newton's first guesses are extrapolated from them */
     double prev_h;
     double *start_guess; /* a stage's first guess, for its dense fallback */
+    double *mixing;      /* Anderson's history in Newton's iteration (strand_integrator.c):
+                            2 x HK_ANDERSON_DEPTH differences and the last iterate and
+                            correction, 3N each */
     int prev_at_end;     /* the step starts where the last one ended */
     double *work;
     /* where the caller's point forces act at the start of the step (or of the

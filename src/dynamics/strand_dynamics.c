@@ -112,7 +112,7 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *
     d->potential_env = hk_default_strand_env();
     hk_gauss_table_init(&d->gauss);
     /* One block for the 3N vectors (struct hk_StrandDynamics). */
-    d->v = hk_calloc_array(22 * dim, sizeof(double), err);
+    d->v = hk_calloc_array((22 + 2 * HK_ANDERSON_DEPTH + 2) * dim, sizeof(double), err);
     d->terms = hk_alloc_array((size_t)n, sizeof(hk_ElementTerms), err);
     const int dense = params->solver == HK_DYNAMICS_DENSE;
     d->work = hk_alloc_array(dense ? HK_DENSE_WORK(n) : HK_LINEAR_WORK(n), sizeof(double), err);
@@ -131,6 +131,7 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *
     d->prev_v0 = next + 6 * dim;
     d->prev_vg = next + 7 * dim;
     d->start_guess = next + 8 * dim;
+    d->mixing = next + 9 * dim; /* (2 HK_ANDERSON_DEPTH + 2) x 3N */
     if (body && body->shape_count > 0 && body->collision_step > 0.0) {
         d->shapes = hk_alloc_array((size_t)body->shape_count, sizeof(hk_Shape), err);
         if (!d->shapes) {
