@@ -29,6 +29,9 @@ struct hk_HairSim {
                                     guides are in world space, the shapes in head space */
 };
 
+/* Length of hair whose weight a guide-guide contact pushes with at full overlap. */
+#define HK_CONTACT_HAIR_LENGTH 0.2
+
 hk_HairSimOptions hk_default_hair_sim_options(const hk_HairstyleDef *style)
 {
     hk_HairSimOptions o;
@@ -57,11 +60,16 @@ hk_HairSimOptions hk_default_hair_sim_options(const hk_HairstyleDef *style)
     /* Contacts scaled to this hair (docs/dynamics.md): guides keep 2.5 mm apart, less
      * than the spacing of neighbouring follicles near the crown (about 3 mm on the
      * generated wick), so the groomed rest state is nearly free of contacts; a full
-     * overlap pushes with the strand's weight (several contacts add up: five times as
-     * much flung crown guides over the head in our tests); the normal damping is critical
-     * for a quarter of the strand's mass on that spring, the friction a fifth of it. */
+     * overlap pushes with the weight of the strand, or of 20 cm of it when it is longer
+     * (several contacts add up: five times as much flung crown guides over the head in
+     * our tests); the normal damping is critical for a quarter of that mass on that
+     * spring, the friction a fifth of it. A contact's stiffness is a property of the hair
+     * where it touches, not of the strand's length, while the contacts along a strand grow
+     * with its length: with the whole strand's weight, a 1 m guide on a full head was
+     * pushed by up to 1,400 contacts each as strong as its weight, and Newton's iteration
+     * failed in 29 % of its stages (docs/dynamics.md, "Limitations"). */
     const double mass = style->density * 3.14159265358979323846 * style->radius1 * style->radius2 *
-                        hk_hairstyle_length(style);
+                        fmin(hk_hairstyle_length(style), HK_CONTACT_HAIR_LENGTH);
     o.contacts.distance = 0.0025;
     o.contacts.stiffness = 1.0 * mass * (style->gravity > 0.0 ? style->gravity : 9.81) / o.contacts.distance;
     o.contacts.damping = 2.0 * sqrt(o.contacts.stiffness * 0.25 * mass);
