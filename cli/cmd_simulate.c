@@ -196,6 +196,7 @@ typedef struct Printer {
     int lines;
     double last_line;
     const char *dir;
+    long recovered; /* guides recovered, as last reported */
 } Printer;
 
 #define LINE_INTERVAL 5.0 /* seconds between two progress lines in a log */
@@ -217,6 +218,13 @@ static void on_progress(void *user, const hk_SimProgress *p)
                     CMD, p->guides, p->elements, p->preroll, p->seconds_setup, p->frames);
         pr->last_line = hk_seconds_now();
         return;
+    }
+    if (p->recovered > pr->recovered) { /* always said, even without progress lines */
+        hk_cli_progress_done(&pr->bar);
+        fprintf(stderr, "hairkit %s: by frame %ld, %ld guide(s) could not be advanced through a frame and were held "
+                        "at rest relative to the head for it (%ld so far)\n",
+                CMD, p->frame, p->recovered - pr->recovered, p->recovered);
+        pr->recovered = p->recovered;
     }
     const double per_frame = p->seconds / (double)p->frame;
     char left[32], note[96];
@@ -243,6 +251,9 @@ static void print_summary(const SimArgs *a, const hk_SimProgress *p)
             p->frames_at_once > 1 ? " (two frames drawn at once: the stages overlap)" : "",
             (double)p->bytes / 1e6, (double)p->bytes / 1e6 / n);
     if (p->video < 0) fprintf(stderr, "hairkit %s: ffmpeg failed, no video\n", CMD);
+    if (p->recovered > 0)
+        fprintf(stderr, "hairkit %s: %ld time(s) a guide could not be advanced through a frame and was held at rest "
+                        "relative to the head for it\n", CMD, p->recovered);
 }
 
 static int rebuild(const SimArgs *a)
@@ -267,7 +278,7 @@ int hk_cmd_simulate(int argc, char **argv)
     hk_Error err;
     hk_HeadMotion *motion = NULL;
     hk_Status st = hk_cli_motion_create(&a.motion, &motion, &err);
-    Printer pr = {{!a.quiet && hk_cli_stderr_is_tty(), "", -1}, !a.quiet, 0.0, a.dir};
+    Printer pr = {{!a.quiet && hk_cli_stderr_is_tty(), "", -1}, !a.quiet, 0.0, a.dir, 0};
     a.run.motion = motion;
     a.run.statics_progress = hk_cli_progress;
     a.run.statics_user = &pr.bar;

@@ -130,6 +130,10 @@ typedef struct hk_SimProgress {
                                  exceed `seconds` */
     long long bytes;          /* written so far */
     long substeps;            /* guide steps so far */
+    long recovered;           /* guides that could not be advanced through a frame even in
+                                 the smallest substeps, so far (each held at rest relative
+                                 to the head for that frame, then advanced on;
+                                 hk_HairSimStats.recovered) */
     int removed;              /* files of an earlier run removed from the folder */
     int video;                /* at the end: 1 DIR/hair.mp4 made, 0 no ffmpeg, -1 ffmpeg failed */
 } hk_SimProgress;

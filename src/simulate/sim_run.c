@@ -440,6 +440,7 @@ hk_Status hk_simulation_run(const char *setup_path, const char *dir, const hk_Si
             st = hk_hair_sim_advance(r.sim, options->motion, t - dt, dt, &stats, err);
             r.p.seconds_dynamics += stats.seconds;
             r.p.substeps += stats.substeps;
+            r.p.recovered += stats.recovered;
         }
         if (st == HK_OK) st = write_frame(&r, k, t, k == 0 ? threads : job_threads, err);
         if (k == 0) omp_set_num_threads(step_threads);
