@@ -131,7 +131,7 @@ static hk_Status head_depth_map(const hk_Scene *scene, hk_LightMaps *m, hk_Error
     for (int i = 0; i < head->vertex_count; i++) proj[i] = hk_view_project(&m->view, head->positions[i]);
     HeadPass hp = {m, proj, head->triangles, NULL};
     hk_TileBins *bins = &m->bins;
-    hk_Status st = hk_tile_bins_build((uint32_t)head->triangle_count, head_box, &hp, NULL, m->size, m->size, bins, err);
+    hk_Status st = hk_tile_bins_build((uint32_t)head->triangle_count, head_box, &hp, NULL, NULL, m->size, m->size, bins, err);
     if (st != HK_OK) return st;
     const int tiles = bins->tiles_x * bins->tiles_y;
 #pragma omp parallel for schedule(dynamic, 1) firstprivate(hp)
@@ -170,7 +170,7 @@ static hk_Status hair_opacity_map(const hk_Scene *scene, const uint8_t *segment_
     memset(&lp, 0, sizeof lp);
     lp.scene = scene, lp.maps = m, lp.proj = proj, lp.segment_start = segment_start;
     const hk_TileBins *bins = &m->bins;
-    hk_Status st = hk_tile_bins_build(hair->point_count, hair_box, &lp, NULL, m->size, m->size, &m->bins, err);
+    hk_Status st = hk_tile_bins_build(hair->point_count, hair_box, &lp, NULL, NULL, m->size, m->size, &m->bins, err);
     if (st != HK_OK) return st;
     long long total = 0;
     int failed = 0;

@@ -125,9 +125,11 @@ typedef struct hk_TileBins {
 typedef int (*hk_BoxFn)(void *user, uint32_t item, hk_Rect *box);
 /* bins: zeroed before its first build; a build reuses the arrays of the one before.
  * key (NULL: none): a number per item, copied next to its entries (bins->keys), so
- * that a tile reads its items' keys in order instead of scattered. */
-hk_Status hk_tile_bins_build(uint32_t item_count, hk_BoxFn box_of, void *user, const float *key, int width,
-                             int height, hk_TileBins *bins, hk_Error *err);
+ * that a tile reads its items' keys in order instead of scattered. cull (NULL: none;
+ * only with keys): a number per tile; an item whose key is at or beyond it is left
+ * out of that tile. */
+hk_Status hk_tile_bins_build(uint32_t item_count, hk_BoxFn box_of, void *user, const float *key, const float *cull,
+                             int width, int height, hk_TileBins *bins, hk_Error *err);
 void hk_tile_bins_free(hk_TileBins *bins);
 static inline hk_Rect hk_tile_rect(const hk_TileBins *b, int tile, int width, int height)
 {
@@ -245,21 +247,27 @@ typedef struct hk_TileInput {
                                         nearer depth */
     const hk_RasterPoint *head_proj; /* head vertices on the picture, or NULL */
     const hk_TileBins *head_bins;    /* front-facing head triangles per tile, or NULL */
+    const hk_TileBins *tiles;        /* the tiles' layout (tiles_x, tiles_y) */
 } hk_TileInput;
 
 /* The head in one tile: 2 x 2 samples per pixel, Lambert-shaded and shadowed, averaged
  * over the background; base[] gets the colour behind the hair and cutoff[] the depth
  * beyond which hair is hidden (the farthest head sample; +inf where a sample misses). */
+typedef struct hk_TileBase {
+    float base[HK_TILE * HK_TILE][3], cutoff[HK_TILE * HK_TILE];
+} hk_TileBase;
+/* The work space of hk_tile_head: the samples. */
 typedef struct hk_TileHead {
     float sample_z[HK_TILE * HK_TILE * 4], sample_l[HK_TILE * HK_TILE * 4][2];
     int sample_tri[HK_TILE * HK_TILE * 4];
-    float base[HK_TILE * HK_TILE][3], cutoff[HK_TILE * HK_TILE];
     /* the triangle being drawn */
     int tri;
     const hk_RasterPoint *tv;
     hk_Rect r;
 } hk_TileHead;
-void hk_tile_head(const hk_TileInput *in, int tile, hk_TileHead *out);
+/* Fills out; returns the tile's farthest cutoff (+inf when a sample of the tile misses
+ * the head): hair behind it is hidden in every pixel of the tile. */
+float hk_tile_head(const hk_TileInput *in, int tile, hk_TileHead *work, hk_TileBase *out);
 
 /* Hair of one tile composited over the head: a workspace reused from tile to tile. */
 typedef struct hk_TileHair hk_TileHair;
@@ -267,7 +275,7 @@ hk_TileHair *hk_tile_hair_create(void);
 void hk_tile_hair_destroy(hk_TileHair *w);
 /* Draws the tile into image; 0 when out of memory. Counts fragments kept and the
  * most in one pixel. */
-int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_TileHead *head, hk_Canvas *image,
+int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_TileBase *head, hk_Canvas *image,
                  long long *fragments, int *most);
 
 #endif

@@ -13,8 +13,8 @@
  * at[range][tile], reading the kept boxes. A box is computed once: that is most of
  * the binning's work, and the tiles read the boxes again to find which of their blocks
  * a segment covers. */
-static void bin_ranges(uint32_t item_count, hk_BoxFn box_of, void *user, const float *key, hk_TileBins *bins,
-                       int ranges, uint64_t *at, int fill)
+static void bin_ranges(uint32_t item_count, hk_BoxFn box_of, void *user, const float *key, const float *cull,
+                       hk_TileBins *bins, int ranges, uint64_t *at, int fill)
 {
     const size_t tiles = (size_t)bins->tiles_x * (size_t)bins->tiles_y;
     const int tiles_x = bins->tiles_x;
@@ -35,11 +35,14 @@ static void bin_ranges(uint32_t item_count, hk_BoxFn box_of, void *user, const f
             }
             const hk_TileBox r = *b;
             if (r.x1 <= r.x0) continue;
+            const float k = key ? key[i] : 0.0f;
             for (int ty = r.y0 / HK_TILE; ty <= (r.y1 - 1) / HK_TILE; ty++)
                 for (int tx = r.x0 / HK_TILE; tx <= (r.x1 - 1) / HK_TILE; tx++) {
-                    uint64_t *slot = &c[(size_t)ty * tiles_x + tx];
+                    const size_t t = (size_t)ty * tiles_x + tx;
+                    if (cull && k >= cull[t]) continue;
+                    uint64_t *slot = &c[t];
                     if (fill) {
-                        if (key) bins->keys[*slot] = key[i];
+                        if (key) bins->keys[*slot] = k;
                         bins->items[(*slot)++] = i;
                     } else {
                         (*slot)++;
@@ -67,8 +70,8 @@ static void order_heavy_first(hk_TileBins *bins, size_t tiles, uint64_t *work)
     for (size_t t = 0; t < tiles; t++) bins->heavy[t] = (uint32_t)(work[t] & UINT32_MAX);
 }
 
-hk_Status hk_tile_bins_build(uint32_t item_count, hk_BoxFn box_of, void *user, const float *key, int width,
-                             int height, hk_TileBins *bins, hk_Error *err)
+hk_Status hk_tile_bins_build(uint32_t item_count, hk_BoxFn box_of, void *user, const float *key, const float *cull,
+                             int width, int height, hk_TileBins *bins, hk_Error *err)
 {
     bins->tiles_x = (width + HK_TILE - 1) / HK_TILE;
     bins->tiles_y = (height + HK_TILE - 1) / HK_TILE;
@@ -87,7 +90,7 @@ hk_Status hk_tile_bins_build(uint32_t item_count, hk_BoxFn box_of, void *user, c
     }
     memset(bins->count, 0, (size_t)ranges * tiles * sizeof *bins->count);
     uint64_t *count = bins->count;
-    bin_ranges(item_count, box_of, user, key, bins, ranges, count, 0);
+    bin_ranges(item_count, box_of, user, key, cull, bins, ranges, count, 0);
     /* Offsets: count[g][t] becomes where range g starts writing in tile t. */
     uint64_t total = 0;
     for (size_t t = 0; t < tiles; t++) {
@@ -109,7 +112,7 @@ hk_Status hk_tile_bins_build(uint32_t item_count, hk_BoxFn box_of, void *user, c
         hk_tile_bins_free(bins);
         return HK_ERR_NOMEM;
     }
-    bin_ranges(item_count, box_of, user, key, bins, ranges, count, 1);
+    bin_ranges(item_count, box_of, user, key, cull, bins, ranges, count, 1);
     order_heavy_first(bins, tiles, count); /* the counts are spent */
     return HK_OK;
 }

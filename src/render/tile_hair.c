@@ -47,7 +47,7 @@ typedef struct Blocks {
 
 struct hk_TileHair {
     hk_Rect r;
-    const hk_TileHead *head;
+    const hk_TileBase *head;
     const hk_HairFile *hair;
     /* The tile's segments in depth order. Only their first points and nearer depths
      * (in the bins) are read to sort them: on a full head two thirds of a tile's
@@ -290,7 +290,7 @@ static float segment_width(const hk_Scene *sc, const Segment *s)
                           hk_hair_thickness_at(sc, s->first + 1) * s->b.px_per_unit));
 }
 
-int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_TileHead *head, hk_Canvas *image,
+int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_TileBase *head, hk_Canvas *image,
                  long long *fragments, int *most)
 {
     const hk_Scene *sc = in->scene;
