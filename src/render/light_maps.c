@@ -16,6 +16,7 @@
 
 #include "raster_inline.h"
 #include "render_internal.h"
+#include "tile_bins_inline.h"
 
 /* One fragment of the hair in the light's view, kept per tile until the tile's z0 is
  * known. */
@@ -44,9 +45,11 @@ static int hair_box(void *user, uint32_t i, hk_Rect *box)
 {
     const LightPass *lp = user;
     if (!lp->segment_start[i]) return 0;
-    return hk_segment_box(lp->proj[i], lp->proj[i + 1], segment_width(lp->scene, lp->proj, i), lp->maps->size,
+    return hk_segment_box_inline(lp->proj[i], lp->proj[i + 1], segment_width(lp->scene, lp->proj, i), lp->maps->size,
                           lp->maps->size, box);
 }
+
+HK_TILE_BINS_BUILD(bin_hair, hair_box)
 
 HK_FRAGMENT_INLINE void hair_fragment(void *user, int x, int y, float t, float alpha)
 {
@@ -113,6 +116,8 @@ static int head_box(void *user, uint32_t t, hk_Rect *box)
     return hk_triangle_box(v, hp->maps->size, hp->maps->size, box);
 }
 
+HK_TILE_BINS_BUILD(bin_head, head_box)
+
 static void head_sample(void *user, int x, int y, int sample, float l0, float l1, float l2)
 {
     (void)sample;
@@ -131,7 +136,7 @@ static hk_Status head_depth_map(const hk_Scene *scene, hk_LightMaps *m, hk_Error
     for (int i = 0; i < head->vertex_count; i++) proj[i] = hk_view_project(&m->view, head->positions[i]);
     HeadPass hp = {m, proj, head->triangles, NULL};
     hk_TileBins *bins = &m->bins;
-    hk_Status st = hk_tile_bins_build((uint32_t)head->triangle_count, head_box, &hp, NULL, NULL, m->size, m->size, bins, err);
+    hk_Status st = bin_head((uint32_t)head->triangle_count, &hp, NULL, NULL, m->size, m->size, bins, err);
     if (st != HK_OK) return st;
     const int tiles = bins->tiles_x * bins->tiles_y;
 #pragma omp parallel for schedule(dynamic, 1) firstprivate(hp)
@@ -170,7 +175,7 @@ static hk_Status hair_opacity_map(const hk_Scene *scene, const uint8_t *segment_
     memset(&lp, 0, sizeof lp);
     lp.scene = scene, lp.maps = m, lp.proj = proj, lp.segment_start = segment_start;
     const hk_TileBins *bins = &m->bins;
-    hk_Status st = hk_tile_bins_build(hair->point_count, hair_box, &lp, NULL, NULL, m->size, m->size, &m->bins, err);
+    hk_Status st = bin_hair(hair->point_count, &lp, NULL, NULL, m->size, m->size, &m->bins, err);
     if (st != HK_OK) return st;
     long long total = 0;
     int failed = 0;

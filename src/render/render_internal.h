@@ -57,7 +57,7 @@ typedef void (*hk_FragmentFn)(void *user, int x, int y, float t, float alpha);
 
 
 /* Pixel bounding box of a segment drawn by hk_raster_segment, clipped to the image;
- * 0 when it is empty. */
+ * 0 when it is empty (hk_segment_box_inline in raster_inline.h: the same). */
 int hk_segment_box(hk_RasterPoint a, hk_RasterPoint b, float width, int image_w, int image_h, hk_Rect *box);
 
 /* Fills a triangle: emit(x, y, sample, l0, l1, l2) for every sample inside it, with
@@ -122,14 +122,14 @@ typedef struct hk_TileBins {
     size_t start_cap, items_cap, boxes_cap, keys_cap, heavy_cap, count_cap;
 } hk_TileBins;
 
-typedef int (*hk_BoxFn)(void *user, uint32_t item, hk_Rect *box);
-/* bins: zeroed before its first build; a build reuses the arrays of the one before.
- * key (NULL: none): a number per item, copied next to its entries (bins->keys), so
- * that a tile reads its items' keys in order instead of scattered. cull (NULL: none;
- * only with keys): a number per tile; an item whose key is at or beyond it is left
- * out of that tile. */
-hk_Status hk_tile_bins_build(uint32_t item_count, hk_BoxFn box_of, void *user, const float *key, const float *cull,
-                             int width, int height, hk_TileBins *bins, hk_Error *err);
+/* The tile bins are built by HK_TILE_BINS_BUILD (tile_bins_inline.h). Its
+ * steps (tile_bins.c): the arrays for item_count items and `ranges` ranges (counts
+ * zeroed); the offsets from the counts, and the entries' arrays (with keys when
+ * `keys`); the tiles ordered busiest first. On failure the bins are freed. */
+hk_Status hk_tile_bins_begin(uint32_t item_count, int width, int height, hk_TileBins *bins, int ranges,
+                             hk_Error *err);
+hk_Status hk_tile_bins_offsets(hk_TileBins *bins, int ranges, int keys, hk_Error *err);
+void hk_tile_bins_end(hk_TileBins *bins);
 void hk_tile_bins_free(hk_TileBins *bins);
 static inline hk_Rect hk_tile_rect(const hk_TileBins *b, int tile, int width, int height)
 {

@@ -13,6 +13,7 @@
 #include <omp.h>
 
 #include "render_internal.h"
+#include "tile_bins_inline.h"
 
 struct hk_Renderer {
     uint8_t *seg;               /* segment starts */
@@ -101,7 +102,7 @@ static int segment_box(void *user, uint32_t i, hk_Rect *box)
     const hk_Scene *sc = c->sc;
     const float width = (float)(0.5 * (hk_hair_thickness_at(sc, i) * c->proj[i].px_per_unit +
                                        hk_hair_thickness_at(sc, i + 1) * c->proj[i + 1].px_per_unit));
-    return hk_segment_box(c->proj[i], c->proj[i + 1], width, c->width, c->height, box);
+    return hk_segment_box_inline(c->proj[i], c->proj[i + 1], width, c->width, c->height, box);
 }
 
 static int front_triangle_box(void *user, uint32_t t, hk_Rect *box)
@@ -115,6 +116,9 @@ static int front_triangle_box(void *user, uint32_t t, hk_Rect *box)
     if (!(area < 0.0f)) return 0;
     return hk_triangle_box(v, c->width, c->height, box);
 }
+
+HK_TILE_BINS_BUILD(bin_segments, segment_box)
+HK_TILE_BINS_BUILD(bin_triangles, front_triangle_box)
 
 /* (3a) The head under every tile, and each tile's depth beyond which the hair is
  * hidden by the head in all its pixels (+inf where a sample misses the head), widened
@@ -209,7 +213,7 @@ static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *he
     const double t2 = omp_get_wtime();
     if (sc.head) {
         BoxCtx hb = {&sc, head_proj, NULL, sc.head->triangles, opt->width, opt->height};
-        if ((st = hk_tile_bins_build((uint32_t)sc.head->triangle_count, front_triangle_box, &hb, NULL, NULL,
+        if ((st = bin_triangles((uint32_t)sc.head->triangle_count, &hb, NULL, NULL,
                                      opt->width, opt->height, &r->head_bins, err)) != HK_OK)
             return st;
     }
@@ -230,7 +234,7 @@ static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *he
      * leaving them out of the bins leaves the picture as it was (the bytes), and on a
      * full head the hair behind the head is a large part of the tiles' entries. */
     BoxCtx box = {&sc, proj, r->seg, NULL, opt->width, opt->height};
-    if ((st = hk_tile_bins_build(hair->point_count, segment_box, &box, near, r->cull, opt->width, opt->height,
+    if ((st = bin_segments(hair->point_count, &box, near, r->cull, opt->width, opt->height,
                                  &r->hair_bins, err)) != HK_OK)
         return st;
     if ((st = draw_tiles(r, &in, stats, err)) != HK_OK) return st;
