@@ -36,7 +36,8 @@ typedef struct LightPass {
     int failed;
 } LightPass;
 
-static float segment_width(const hk_Scene *s, const hk_RasterPoint *proj, uint32_t i)
+static inline __attribute__((always_inline)) float segment_width(const hk_Scene *s, const hk_RasterPoint *proj,
+                                                                 uint32_t i)
 {
     return (float)(0.5 * (hk_hair_thickness_at(s, i) + hk_hair_thickness_at(s, i + 1))) * proj[i].px_per_unit;
 }

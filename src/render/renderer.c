@@ -204,9 +204,11 @@ static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *he
      * segments (read there in order, rather than from scattered points by every
      * tile). */
     const uint8_t *seg = r->seg;
+    /* The smaller by a comparison (fminf is a call into libm); the points are finite
+     * (hk_scene_bounds), so there is no NaN for fminf to pass over. */
 #pragma omp parallel for schedule(static)
     for (long i = 0; i < (long)hair->point_count; i++)
-        near[i] = seg[i] ? fminf(proj[i].z, proj[i + 1].z) : 0.0f;
+        near[i] = seg[i] ? (proj[i].z < proj[i + 1].z ? proj[i].z : proj[i + 1].z) : 0.0f;
     for (int i = 0; sc.head && i < sc.head->vertex_count; i++) head_proj[i] = hk_view_project(&cam, sc.head->positions[i]);
     if ((st = hk_hair_shader_init(&r->shader, &sc, r->seg, opt->shadows ? &r->maps : NULL, &cam, err)) != HK_OK)
         return st;
