@@ -84,24 +84,22 @@ hk_Status hk_scene_bounds(hk_Scene *sc, hk_Error *err)
      * (exactly), at a fraction of the work (every frame of an animation pays for it). */
     const float *pts = h->points;
     float lx = HUGE_VALF, ly = HUGE_VALF, lz = HUGE_VALF, hx = -HUGE_VALF, hy = -HUGE_VALF, hz = -HUGE_VALF;
-    long bad = LONG_MAX;
-#pragma omp parallel for schedule(static) reduction(min : lx, ly, lz, bad) reduction(max : hx, hy, hz)
+    int nonfinite = 0;
+    /* Without branches: a point that is not finite makes the box meaningless, but the
+     * picture is refused then, and the point is looked for below. */
+#pragma omp parallel for schedule(static) reduction(min : lx, ly, lz) reduction(max : hx, hy, hz) \
+    reduction(| : nonfinite)
     for (long i = 0; i < (long)h->point_count; i++) {
         const float x = pts[3 * i], y = pts[3 * i + 1], z = pts[3 * i + 2];
-        if (!(fabsf(x) <= FLT_MAX && fabsf(y) <= FLT_MAX && fabsf(z) <= FLT_MAX)) { /* NaN or infinite */
-            if (i < bad) bad = i;
-            continue;
-        }
+        nonfinite |= !(x - x == 0.0f) | !(y - y == 0.0f) | !(z - z == 0.0f); /* NaN for NaN and infinities */
         /* Comparisons, not fmin and fmax: those are calls into libm (they must handle
-         * NaN, refused above), a few per cent of a frame's picture. */
-        if (x < lx) lx = x;
-        if (y < ly) ly = y;
-        if (z < lz) lz = z;
-        if (x > hx) hx = x;
-        if (y > hy) hy = y;
-        if (z > hz) hz = z;
+         * NaN, refused here), a few per cent of a frame's picture. */
+        lx = x < lx ? x : lx, ly = y < ly ? y : ly, lz = z < lz ? z : lz;
+        hx = x > hx ? x : hx, hy = y > hy ? y : hy, hz = z > hz ? z : hz;
     }
-    if (bad != LONG_MAX) return hk_error_set(err, HK_ERR_INVALID, "hair point %ld is not finite", bad);
+    for (long i = 0; nonfinite && i < (long)h->point_count; i++)
+        if (!hk_v3_isfinite(hk_hair_point(h, (uint32_t)i)))
+            return hk_error_set(err, HK_ERR_INVALID, "hair point %ld is not finite", i);
     if (lx < HUGE_VALF) /* else no hair point: the empty box above */
         sc->lo = hk_v3(lx, ly, lz), sc->hi = hk_v3(hx, hy, hz);
     for (int i = 0; sc->head && i < sc->head->vertex_count; i++) {
