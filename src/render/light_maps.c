@@ -30,7 +30,6 @@ typedef struct LightPass {
     hk_LightMaps *maps;
     const hk_RasterPoint *proj; /* hair points in the light's view */
     const uint8_t *segment_start;
-    hk_RasterPoint a, b;        /* the segment being drawn */
     LightFragment *frag;
     size_t count, cap;
     int failed;
@@ -52,21 +51,52 @@ static int hair_box(void *user, uint32_t i, hk_Rect *box)
 
 HK_TILE_BINS_BUILD(bin_hair, hair_box)
 
+/* Where a tile's segments put their fragments: a local of opacity_tile's, so that the
+ * compiler keeps it in registers (through the LightPass, the stores of the fragments'
+ * floats might have changed the segment's depths, which were loaded again for each). */
+typedef struct LightSink {
+    LightFragment *frag;
+    size_t count, cap;
+    float az, dz; /* the segment's depth at its start, and its change to the end */
+    uint32_t size;
+    int failed;
+} LightSink;
+
 HK_FRAGMENT_INLINE void hair_fragment(void *user, int x, int y, float t, float alpha)
 {
-    LightPass *lp = user;
-    if (lp->count == lp->cap) {
-        LightFragment *grown = hk_grow_fragments(lp->frag, &lp->cap, sizeof *grown);
+    LightSink *k = user;
+    if (k->count == k->cap) {
+        LightFragment *grown = hk_grow_fragments(k->frag, &k->cap, sizeof *grown);
         if (!grown) {
-            lp->failed = 1;
+            k->failed = 1;
             return;
         }
-        lp->frag = grown;
+        k->frag = grown;
     }
-    LightFragment *f = &lp->frag[lp->count++];
-    f->z = lp->a.z + t * (lp->b.z - lp->a.z); /* orthographic: depth is linear */
+    LightFragment *f = &k->frag[k->count++];
+    f->z = k->az + t * k->dz; /* orthographic: depth is linear */
     f->alpha = alpha;
-    f->texel = (uint32_t)y * (uint32_t)lp->maps->size + (uint32_t)x;
+    f->texel = (uint32_t)y * k->size + (uint32_t)x;
+}
+
+/* Each fragment's opacity added to its layer (layers: m->layers). */
+static inline __attribute__((always_inline)) void add_to_layers(LightPass *lp, const int layers)
+{
+    hk_LightMaps *m = lp->maps;
+    const LightFragment *frag = lp->frag;
+    const float *z0 = m->hair_z0;
+    float *opacity = m->opacity;
+    float end[HK_MAX_OPACITY_LAYERS]; /* a copy, which the sums cannot change: kept in registers */
+    memcpy(end, m->layer_end, sizeof end);
+    for (size_t f = 0; f < lp->count; f++) {
+        const float d = frag[f].z - z0[frag[f].texel];
+        /* The layer: how many of the increasing layer ends lie at or before d (the
+         * last layer takes everything beyond), counted without branches, which the
+         * fragments' scattered depths mispredicted. */
+        int k = 0;
+        for (int j = 0; j < layers - 1; j++) k += d >= end[j];
+        opacity[(size_t)frag[f].texel * (size_t)layers + (size_t)k] += frag[f].alpha;
+    }
 }
 
 /* One tile of the map: draw its segments, find z0, add each fragment to its layer,
@@ -75,26 +105,29 @@ static void opacity_tile(LightPass *lp, const hk_TileBins *bins, int tile)
 {
     hk_LightMaps *m = lp->maps;
     const hk_Rect r = hk_tile_rect(bins, tile, m->size, m->size);
-    lp->count = 0;
+    LightSink sink = {lp->frag, 0, lp->cap, 0.0f, 0.0f, (uint32_t)m->size, 0};
+    const hk_RasterPoint *proj = lp->proj;
+    const hk_Scene *scene = lp->scene;
     const uint32_t end = bins->start[tile + 1];
-    for (uint32_t k = bins->start[tile]; k < end; k++) {
+    for (uint32_t k = bins->start[tile]; k < end && !sink.failed; k++) {
         const uint32_t i = bins->items[k];
         /* The tile's segments are scattered over the projected points: fetch ahead. */
-        if (k + 16 < end) __builtin_prefetch(&lp->proj[bins->items[k + 16]]);
-        lp->a = lp->proj[i], lp->b = lp->proj[i + 1];
-        hk_raster_segment_thin(lp->a, lp->b, segment_width(lp->scene, lp->proj, i), r, hair_fragment, lp);
+        if (k + 16 < end) __builtin_prefetch(&proj[bins->items[k + 16]]);
+        const hk_RasterPoint a = proj[i], b = proj[i + 1];
+        sink.az = a.z, sink.dz = b.z - a.z;
+        hk_raster_segment_thin(a, b, segment_width(scene, proj, i), r, hair_fragment, &sink);
+    }
+    lp->frag = sink.frag, lp->cap = sink.cap, lp->count = sink.count;
+    if (sink.failed) {
+        lp->failed = 1;
+        return;
     }
     for (size_t f = 0; f < lp->count; f++)
         if (lp->frag[f].z < m->hair_z0[lp->frag[f].texel]) m->hair_z0[lp->frag[f].texel] = lp->frag[f].z;
-    for (size_t f = 0; f < lp->count; f++) {
-        const float d = lp->frag[f].z - m->hair_z0[lp->frag[f].texel];
-        /* The layer: how many of the increasing layer ends lie at or before d (the
-         * last layer takes everything beyond), counted without branches, which the
-         * fragments' scattered depths mispredicted. */
-        int k = 0;
-        for (int j = 0; j < m->layers - 1; j++) k += d >= m->layer_end[j];
-        m->opacity[(size_t)lp->frag[f].texel * (size_t)m->layers + (size_t)k] += lp->frag[f].alpha;
-    }
+    if (m->layers == 4) /* the default: the count of layers known, its loop unrolled */
+        add_to_layers(lp, 4);
+    else
+        add_to_layers(lp, m->layers);
     for (int y = r.y0; y < r.y1; y++)
         for (int x = r.x0; x < r.x1; x++) {
             float *o = m->opacity + ((size_t)y * (size_t)m->size + (size_t)x) * (size_t)m->layers;
