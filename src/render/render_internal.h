@@ -221,7 +221,8 @@ typedef struct hk_HairShader {
     hk_Vec3 ambient;
     float *rgb;
     atomic_uchar *state;
-    uint32_t *strand_of; /* the strand of each vertex */
+    uint32_t *strand_of; /* the strand of each vertex, unless strand_length */
+    uint32_t strand_length; /* points of every strand when they all have as many, else 0 */
     size_t rgb_cap, state_cap, strand_of_cap; /* kept from picture to picture */
 } hk_HairShader;
 hk_Status hk_hair_shader_init(hk_HairShader *s, const hk_Scene *scene, const uint8_t *segment_start,
