@@ -94,8 +94,10 @@ static void shade(const hk_HairShader *s, uint32_t i, float out[3])
     hk_Vec3 c = hk_v3_madd(s->ambient, lit, o->light_intensity * visible);
     /* Real hairs differ slightly in colour; a fixed brightness per strand (from a hash
      * of its index, so the same on every run) keeps a full head from looking painted. */
-    if (o->strand_variation > 0.0) c = hk_v3_scale(c, 1.0 + o->strand_variation * strand_jitter(s->strand_length ? i / s->strand_length
-                                                                                       : s->strand_of[i]));
+    if (o->strand_variation > 0.0) {
+        const uint32_t strand = s->strand_length ? i / s->strand_length : s->strand_of[i];
+        c = hk_v3_scale(c, 1.0 + o->strand_variation * strand_jitter(strand));
+    }
     out[0] = (float)c.x, out[1] = (float)c.y, out[2] = (float)c.z;
 }
 
