@@ -69,14 +69,17 @@ int hk_triangle_box(const hk_RasterPoint v[3], int image_w, int image_h, hk_Rect
 
 /* The items 0 .. n-1 sorted by increasing depth (stable: ties keep item order), made
  * as they are read (depth_order.c): after hk_depth_order_begin (order holds n numbers,
- * work 3 n), order[0 .. k) is final once hk_depth_order_ready(d, k) returned. */
+ * work 3 n), order[0 .. k) is final once hk_depth_order_ready(d, k) returned. order
+ * holds value[item] (value NULL: the item), and keys[k] the bits of order[k]'s depth
+ * (clamped to 0 and above: the bits of a positive float order as integers). */
 typedef struct hk_DepthOrder {
     uint32_t n, sorted, bucket;
     int shift;                /* the byte of the keys the buckets are by */
     uint32_t start[257];      /* bucket b is order[start[b] .. start[b + 1]) */
     uint32_t *order, *keys, *key_tmp, *order_tmp;
 } hk_DepthOrder;
-void hk_depth_order_begin(hk_DepthOrder *d, uint32_t n, const float *depth, uint32_t *order, uint32_t *work);
+void hk_depth_order_begin(hk_DepthOrder *d, uint32_t n, const float *depth, const uint32_t *value, uint32_t *order,
+                          uint32_t *work);
 void hk_depth_order_ready(hk_DepthOrder *d, uint32_t upto);
 
 /* Sorts keys[0..n) into increasing order, given that keys with the same upper 32 bits
