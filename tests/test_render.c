@@ -343,7 +343,7 @@ static void test_depth_order(void **state)
                 expect[j] = i;
             }
             hk_DepthOrder d;
-            hk_depth_order_begin(&d, n, depth, order, work);
+            hk_depth_order_begin(&d, n, depth, NULL, order, work);
             for (uint32_t k = 0; k < n; k += 7) hk_depth_order_ready(&d, k + 9);
             hk_depth_order_ready(&d, n);
             if (n) assert_memory_equal(order, expect, n * sizeof *order);

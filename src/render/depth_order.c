@@ -9,7 +9,8 @@
 
 #include "render_internal.h"
 
-void hk_depth_order_begin(hk_DepthOrder *d, uint32_t n, const float *depth, uint32_t *order, uint32_t *work)
+void hk_depth_order_begin(hk_DepthOrder *d, uint32_t n, const float *depth, const uint32_t *value, uint32_t *order,
+                          uint32_t *work)
 {
     d->n = n, d->order = order, d->keys = work, d->key_tmp = work + n, d->order_tmp = work + 2 * (size_t)n;
     d->sorted = 0, d->bucket = 0;
@@ -38,7 +39,7 @@ void hk_depth_order_begin(hk_DepthOrder *d, uint32_t n, const float *depth, uint
     for (uint32_t i = 0; i < n; i++) {
         const uint32_t slot = fill[(keys[i] >> d->shift) & 0xffu]++;
         d->keys[slot] = keys[i];
-        order[slot] = i;
+        order[slot] = value ? value[i] : i;
     }
 }
 

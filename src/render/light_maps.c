@@ -16,6 +16,7 @@
 
 #include "raster_inline.h"
 #include "render_internal.h"
+#include "tile_bins_inline.h"
 
 /* One fragment of the hair in the light's view, kept per tile until the tile's z0 is
  * known. */
@@ -29,13 +30,13 @@ typedef struct LightPass {
     hk_LightMaps *maps;
     const hk_RasterPoint *proj; /* hair points in the light's view */
     const uint8_t *segment_start;
-    hk_RasterPoint a, b;        /* the segment being drawn */
     LightFragment *frag;
     size_t count, cap;
     int failed;
 } LightPass;
 
-static float segment_width(const hk_Scene *s, const hk_RasterPoint *proj, uint32_t i)
+static inline __attribute__((always_inline)) float segment_width(const hk_Scene *s, const hk_RasterPoint *proj,
+                                                                 uint32_t i)
 {
     return (float)(0.5 * (hk_hair_thickness_at(s, i) + hk_hair_thickness_at(s, i + 1))) * proj[i].px_per_unit;
 }
@@ -44,25 +45,58 @@ static int hair_box(void *user, uint32_t i, hk_Rect *box)
 {
     const LightPass *lp = user;
     if (!lp->segment_start[i]) return 0;
-    return hk_segment_box(lp->proj[i], lp->proj[i + 1], segment_width(lp->scene, lp->proj, i), lp->maps->size,
+    return hk_segment_box_inline(lp->proj[i], lp->proj[i + 1], segment_width(lp->scene, lp->proj, i), lp->maps->size,
                           lp->maps->size, box);
 }
 
+HK_TILE_BINS_BUILD(bin_hair, hair_box)
+
+/* Where a tile's segments put their fragments: a local of opacity_tile's, so that the
+ * compiler keeps it in registers (through the LightPass, the stores of the fragments'
+ * floats might have changed the segment's depths, which were loaded again for each). */
+typedef struct LightSink {
+    LightFragment *frag;
+    size_t count, cap;
+    float az, dz; /* the segment's depth at its start, and its change to the end */
+    uint32_t size;
+    int failed;
+} LightSink;
+
 HK_FRAGMENT_INLINE void hair_fragment(void *user, int x, int y, float t, float alpha)
 {
-    LightPass *lp = user;
-    if (lp->count == lp->cap) {
-        LightFragment *grown = hk_grow_fragments(lp->frag, &lp->cap, sizeof *grown);
+    LightSink *k = user;
+    if (k->count == k->cap) {
+        LightFragment *grown = hk_grow_fragments(k->frag, &k->cap, sizeof *grown);
         if (!grown) {
-            lp->failed = 1;
+            k->failed = 1;
             return;
         }
-        lp->frag = grown;
+        k->frag = grown;
     }
-    LightFragment *f = &lp->frag[lp->count++];
-    f->z = lp->a.z + t * (lp->b.z - lp->a.z); /* orthographic: depth is linear */
+    LightFragment *f = &k->frag[k->count++];
+    f->z = k->az + t * k->dz; /* orthographic: depth is linear */
     f->alpha = alpha;
-    f->texel = (uint32_t)y * (uint32_t)lp->maps->size + (uint32_t)x;
+    f->texel = (uint32_t)y * k->size + (uint32_t)x;
+}
+
+/* Each fragment's opacity added to its layer (layers: m->layers). */
+static inline __attribute__((always_inline)) void add_to_layers(LightPass *lp, const int layers)
+{
+    hk_LightMaps *m = lp->maps;
+    const LightFragment *frag = lp->frag;
+    const float *z0 = m->hair_z0;
+    float *opacity = m->opacity;
+    float end[HK_MAX_OPACITY_LAYERS]; /* a copy, which the sums cannot change: kept in registers */
+    memcpy(end, m->layer_end, sizeof end);
+    for (size_t f = 0; f < lp->count; f++) {
+        const float d = frag[f].z - z0[frag[f].texel];
+        /* The layer: how many of the increasing layer ends lie at or before d (the
+         * last layer takes everything beyond), counted without branches, which the
+         * fragments' scattered depths mispredicted. */
+        int k = 0;
+        for (int j = 0; j < layers - 1; j++) k += d >= end[j];
+        opacity[(size_t)frag[f].texel * (size_t)layers + (size_t)k] += frag[f].alpha;
+    }
 }
 
 /* One tile of the map: draw its segments, find z0, add each fragment to its layer,
@@ -71,26 +105,29 @@ static void opacity_tile(LightPass *lp, const hk_TileBins *bins, int tile)
 {
     hk_LightMaps *m = lp->maps;
     const hk_Rect r = hk_tile_rect(bins, tile, m->size, m->size);
-    lp->count = 0;
+    LightSink sink = {lp->frag, 0, lp->cap, 0.0f, 0.0f, (uint32_t)m->size, 0};
+    const hk_RasterPoint *proj = lp->proj;
+    const hk_Scene *scene = lp->scene;
     const uint32_t end = bins->start[tile + 1];
-    for (uint32_t k = bins->start[tile]; k < end; k++) {
+    for (uint32_t k = bins->start[tile]; k < end && !sink.failed; k++) {
         const uint32_t i = bins->items[k];
         /* The tile's segments are scattered over the projected points: fetch ahead. */
-        if (k + 16 < end) __builtin_prefetch(&lp->proj[bins->items[k + 16]]);
-        lp->a = lp->proj[i], lp->b = lp->proj[i + 1];
-        hk_raster_segment_thin(lp->a, lp->b, segment_width(lp->scene, lp->proj, i), r, hair_fragment, lp);
+        if (k + 16 < end) __builtin_prefetch(&proj[bins->items[k + 16]]);
+        const hk_RasterPoint a = proj[i], b = proj[i + 1];
+        sink.az = a.z, sink.dz = b.z - a.z;
+        hk_raster_segment_thin(a, b, segment_width(scene, proj, i), r, hair_fragment, &sink);
+    }
+    lp->frag = sink.frag, lp->cap = sink.cap, lp->count = sink.count;
+    if (sink.failed) {
+        lp->failed = 1;
+        return;
     }
     for (size_t f = 0; f < lp->count; f++)
         if (lp->frag[f].z < m->hair_z0[lp->frag[f].texel]) m->hair_z0[lp->frag[f].texel] = lp->frag[f].z;
-    for (size_t f = 0; f < lp->count; f++) {
-        const float d = lp->frag[f].z - m->hair_z0[lp->frag[f].texel];
-        /* The layer: how many of the increasing layer ends lie at or before d (the
-         * last layer takes everything beyond), counted without branches, which the
-         * fragments' scattered depths mispredicted. */
-        int k = 0;
-        for (int j = 0; j < m->layers - 1; j++) k += d >= m->layer_end[j];
-        m->opacity[(size_t)lp->frag[f].texel * (size_t)m->layers + (size_t)k] += lp->frag[f].alpha;
-    }
+    if (m->layers == 4) /* the default: the count of layers known, its loop unrolled */
+        add_to_layers(lp, 4);
+    else
+        add_to_layers(lp, m->layers);
     for (int y = r.y0; y < r.y1; y++)
         for (int x = r.x0; x < r.x1; x++) {
             float *o = m->opacity + ((size_t)y * (size_t)m->size + (size_t)x) * (size_t)m->layers;
@@ -113,6 +150,8 @@ static int head_box(void *user, uint32_t t, hk_Rect *box)
     return hk_triangle_box(v, hp->maps->size, hp->maps->size, box);
 }
 
+HK_TILE_BINS_BUILD(bin_head, head_box)
+
 static void head_sample(void *user, int x, int y, int sample, float l0, float l1, float l2)
 {
     (void)sample;
@@ -131,7 +170,7 @@ static hk_Status head_depth_map(const hk_Scene *scene, hk_LightMaps *m, hk_Error
     for (int i = 0; i < head->vertex_count; i++) proj[i] = hk_view_project(&m->view, head->positions[i]);
     HeadPass hp = {m, proj, head->triangles, NULL};
     hk_TileBins *bins = &m->bins;
-    hk_Status st = hk_tile_bins_build((uint32_t)head->triangle_count, head_box, &hp, NULL, m->size, m->size, bins, err);
+    hk_Status st = bin_head((uint32_t)head->triangle_count, &hp, NULL, NULL, m->size, m->size, bins, err);
     if (st != HK_OK) return st;
     const int tiles = bins->tiles_x * bins->tiles_y;
 #pragma omp parallel for schedule(dynamic, 1) firstprivate(hp)
@@ -170,7 +209,7 @@ static hk_Status hair_opacity_map(const hk_Scene *scene, const uint8_t *segment_
     memset(&lp, 0, sizeof lp);
     lp.scene = scene, lp.maps = m, lp.proj = proj, lp.segment_start = segment_start;
     const hk_TileBins *bins = &m->bins;
-    hk_Status st = hk_tile_bins_build(hair->point_count, hair_box, &lp, NULL, m->size, m->size, &m->bins, err);
+    hk_Status st = bin_hair(hair->point_count, &lp, NULL, NULL, m->size, m->size, &m->bins, err);
     if (st != HK_OK) return st;
     long long total = 0;
     int failed = 0;

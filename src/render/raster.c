@@ -7,18 +7,7 @@
 
 int hk_segment_box(hk_RasterPoint a, hk_RasterPoint b, float width, int image_w, int image_h, hk_Rect *box)
 {
-    const float r = 0.5f * (width > 1.0f ? width : 1.0f) + 1.0f;
-    if (!(a.z > 0.0f && b.z > 0.0f)) return 0; /* behind the camera, or NaN */
-    float xa = minf(a.x, b.x) - r, xb = maxf(a.x, b.x) + r;
-    float ya = minf(a.y, b.y) - r, yb = maxf(a.y, b.y) + r;
-    if (!(xb >= 0.0f && ya < (float)image_h && yb >= 0.0f && xa < (float)image_w)) return 0;
-    /* Clamped to the image, so non-negative: floor is truncation (cheaper, and this
-     * runs for every segment in both views). */
-    box->x0 = (int)clampf(xa, 0.0f, (float)image_w);
-    box->x1 = iceil(clampf(xb + 1.0f, 0.0f, (float)image_w));
-    box->y0 = (int)clampf(ya, 0.0f, (float)image_h);
-    box->y1 = iceil(clampf(yb + 1.0f, 0.0f, (float)image_h));
-    return box->x0 < box->x1 && box->y0 < box->y1;
+    return hk_segment_box_inline(a, b, width, image_w, image_h, box);
 }
 
 void hk_raster_triangle(const hk_RasterPoint v[3], hk_Rect clip, int supersample, hk_SampleFn emit, void *user)

@@ -40,6 +40,24 @@ static inline int iceil(float v)
     return i + (v > (float)i);
 }
 
+/* hk_segment_box (raster.c), inline. */
+static inline int hk_segment_box_inline(hk_RasterPoint a, hk_RasterPoint b, float width, int image_w, int image_h,
+                                        hk_Rect *box)
+{
+    const float r = 0.5f * (width > 1.0f ? width : 1.0f) + 1.0f;
+    if (!(a.z > 0.0f && b.z > 0.0f)) return 0; /* behind the camera, or NaN */
+    float xa = minf(a.x, b.x) - r, xb = maxf(a.x, b.x) + r;
+    float ya = minf(a.y, b.y) - r, yb = maxf(a.y, b.y) + r;
+    if (!(xb >= 0.0f && ya < (float)image_h && yb >= 0.0f && xa < (float)image_w)) return 0;
+    /* Clamped to the image, so non-negative: floor is truncation (cheaper, and this
+     * runs for every segment in both views). */
+    box->x0 = (int)clampf(xa, 0.0f, (float)image_w);
+    box->x1 = iceil(clampf(xb + 1.0f, 0.0f, (float)image_w));
+    box->y0 = (int)clampf(ya, 0.0f, (float)image_h);
+    box->y1 = iceil(clampf(yb + 1.0f, 0.0f, (float)image_h));
+    return box->x0 < box->x1 && box->y0 < box->y1;
+}
+
 /* Both rasterisers take a clip inside the image (x0, y0 >= 0): within it, truncation
  * to int is floor. */
 

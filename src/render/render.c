@@ -79,27 +79,29 @@ hk_Status hk_scene_bounds(hk_Scene *sc, hk_Error *err)
 {
     sc->lo = hk_v3(DBL_MAX, DBL_MAX, DBL_MAX), sc->hi = hk_v3(-DBL_MAX, -DBL_MAX, -DBL_MAX);
     const hk_HairFile *h = sc->hair;
-    /* In parallel (millions of points): min and max do not depend on the order. */
-    double lx = DBL_MAX, ly = DBL_MAX, lz = DBL_MAX, hx = -DBL_MAX, hy = -DBL_MAX, hz = -DBL_MAX;
-    long bad = LONG_MAX;
-#pragma omp parallel for schedule(static) reduction(min : lx, ly, lz, bad) reduction(max : hx, hy, hz)
+    /* In parallel (millions of points): min and max do not depend on the order. In the
+     * file's floats: their min and max are those of the doubles they convert to
+     * (exactly), at a fraction of the work (every frame of an animation pays for it). */
+    const float *pts = h->points;
+    float lx = HUGE_VALF, ly = HUGE_VALF, lz = HUGE_VALF, hx = -HUGE_VALF, hy = -HUGE_VALF, hz = -HUGE_VALF;
+    int nonfinite = 0;
+    /* Without branches: a point that is not finite makes the box meaningless, but the
+     * picture is refused then, and the point is looked for below. */
+#pragma omp parallel for schedule(static) reduction(min : lx, ly, lz) reduction(max : hx, hy, hz) \
+    reduction(| : nonfinite)
     for (long i = 0; i < (long)h->point_count; i++) {
-        hk_Vec3 p = hk_hair_point(h, (uint32_t)i);
-        if (!hk_v3_isfinite(p)) {
-            if (i < bad) bad = i;
-            continue;
-        }
+        const float x = pts[3 * i], y = pts[3 * i + 1], z = pts[3 * i + 2];
+        nonfinite |= !(x - x == 0.0f) | !(y - y == 0.0f) | !(z - z == 0.0f); /* NaN for NaN and infinities */
         /* Comparisons, not fmin and fmax: those are calls into libm (they must handle
-         * NaN, refused above), a few per cent of a frame's picture. */
-        if (p.x < lx) lx = p.x;
-        if (p.y < ly) ly = p.y;
-        if (p.z < lz) lz = p.z;
-        if (p.x > hx) hx = p.x;
-        if (p.y > hy) hy = p.y;
-        if (p.z > hz) hz = p.z;
+         * NaN, refused here), a few per cent of a frame's picture. */
+        lx = x < lx ? x : lx, ly = y < ly ? y : ly, lz = z < lz ? z : lz;
+        hx = x > hx ? x : hx, hy = y > hy ? y : hy, hz = z > hz ? z : hz;
     }
-    if (bad != LONG_MAX) return hk_error_set(err, HK_ERR_INVALID, "hair point %ld is not finite", bad);
-    sc->lo = hk_v3(lx, ly, lz), sc->hi = hk_v3(hx, hy, hz);
+    for (long i = 0; nonfinite && i < (long)h->point_count; i++)
+        if (!hk_v3_isfinite(hk_hair_point(h, (uint32_t)i)))
+            return hk_error_set(err, HK_ERR_INVALID, "hair point %ld is not finite", i);
+    if (lx < HUGE_VALF) /* else no hair point: the empty box above */
+        sc->lo = hk_v3(lx, ly, lz), sc->hi = hk_v3(hx, hy, hz);
     for (int i = 0; sc->head && i < sc->head->vertex_count; i++) {
         hk_Vec3 p = sc->head->positions[i];
         if (!hk_v3_isfinite(p)) return hk_error_set(err, HK_ERR_INVALID, "head vertex %d is not finite", i + 1);

@@ -57,7 +57,7 @@ typedef void (*hk_FragmentFn)(void *user, int x, int y, float t, float alpha);
 
 
 /* Pixel bounding box of a segment drawn by hk_raster_segment, clipped to the image;
- * 0 when it is empty. */
+ * 0 when it is empty (hk_segment_box_inline in raster_inline.h: the same). */
 int hk_segment_box(hk_RasterPoint a, hk_RasterPoint b, float width, int image_w, int image_h, hk_Rect *box);
 
 /* Fills a triangle: emit(x, y, sample, l0, l1, l2) for every sample inside it, with
@@ -69,14 +69,17 @@ int hk_triangle_box(const hk_RasterPoint v[3], int image_w, int image_h, hk_Rect
 
 /* The items 0 .. n-1 sorted by increasing depth (stable: ties keep item order), made
  * as they are read (depth_order.c): after hk_depth_order_begin (order holds n numbers,
- * work 3 n), order[0 .. k) is final once hk_depth_order_ready(d, k) returned. */
+ * work 3 n), order[0 .. k) is final once hk_depth_order_ready(d, k) returned. order
+ * holds value[item] (value NULL: the item), and keys[k] the bits of order[k]'s depth
+ * (clamped to 0 and above: the bits of a positive float order as integers). */
 typedef struct hk_DepthOrder {
     uint32_t n, sorted, bucket;
     int shift;                /* the byte of the keys the buckets are by */
     uint32_t start[257];      /* bucket b is order[start[b] .. start[b + 1]) */
     uint32_t *order, *keys, *key_tmp, *order_tmp;
 } hk_DepthOrder;
-void hk_depth_order_begin(hk_DepthOrder *d, uint32_t n, const float *depth, uint32_t *order, uint32_t *work);
+void hk_depth_order_begin(hk_DepthOrder *d, uint32_t n, const float *depth, const uint32_t *value, uint32_t *order,
+                          uint32_t *work);
 void hk_depth_order_ready(hk_DepthOrder *d, uint32_t upto);
 
 /* Sorts keys[0..n) into increasing order, given that keys with the same upper 32 bits
@@ -122,12 +125,14 @@ typedef struct hk_TileBins {
     size_t start_cap, items_cap, boxes_cap, keys_cap, heavy_cap, count_cap;
 } hk_TileBins;
 
-typedef int (*hk_BoxFn)(void *user, uint32_t item, hk_Rect *box);
-/* bins: zeroed before its first build; a build reuses the arrays of the one before.
- * key (NULL: none): a number per item, copied next to its entries (bins->keys), so
- * that a tile reads its items' keys in order instead of scattered. */
-hk_Status hk_tile_bins_build(uint32_t item_count, hk_BoxFn box_of, void *user, const float *key, int width,
-                             int height, hk_TileBins *bins, hk_Error *err);
+/* The tile bins are built by HK_TILE_BINS_BUILD (tile_bins_inline.h). Its
+ * steps (tile_bins.c): the arrays for item_count items and `ranges` ranges (counts
+ * zeroed); the offsets from the counts, and the entries' arrays (with keys when
+ * `keys`); the tiles ordered busiest first. On failure the bins are freed. */
+hk_Status hk_tile_bins_begin(uint32_t item_count, int width, int height, hk_TileBins *bins, int ranges,
+                             hk_Error *err);
+hk_Status hk_tile_bins_offsets(hk_TileBins *bins, int ranges, int keys, hk_Error *err);
+void hk_tile_bins_end(hk_TileBins *bins);
 void hk_tile_bins_free(hk_TileBins *bins);
 static inline hk_Rect hk_tile_rect(const hk_TileBins *b, int tile, int width, int height)
 {
@@ -219,7 +224,8 @@ typedef struct hk_HairShader {
     hk_Vec3 ambient;
     float *rgb;
     atomic_uchar *state;
-    uint32_t *strand_of; /* the strand of each vertex */
+    uint32_t *strand_of; /* the strand of each vertex, unless strand_length */
+    uint32_t strand_length; /* points of every strand when they all have as many, else 0 */
     size_t rgb_cap, state_cap, strand_of_cap; /* kept from picture to picture */
 } hk_HairShader;
 hk_Status hk_hair_shader_init(hk_HairShader *s, const hk_Scene *scene, const uint8_t *segment_start,
@@ -245,21 +251,27 @@ typedef struct hk_TileInput {
                                         nearer depth */
     const hk_RasterPoint *head_proj; /* head vertices on the picture, or NULL */
     const hk_TileBins *head_bins;    /* front-facing head triangles per tile, or NULL */
+    const hk_TileBins *tiles;        /* the tiles' layout (tiles_x, tiles_y) */
 } hk_TileInput;
 
 /* The head in one tile: 2 x 2 samples per pixel, Lambert-shaded and shadowed, averaged
  * over the background; base[] gets the colour behind the hair and cutoff[] the depth
  * beyond which hair is hidden (the farthest head sample; +inf where a sample misses). */
+typedef struct hk_TileBase {
+    float base[HK_TILE * HK_TILE][3], cutoff[HK_TILE * HK_TILE];
+} hk_TileBase;
+/* The work space of hk_tile_head: the samples. */
 typedef struct hk_TileHead {
     float sample_z[HK_TILE * HK_TILE * 4], sample_l[HK_TILE * HK_TILE * 4][2];
     int sample_tri[HK_TILE * HK_TILE * 4];
-    float base[HK_TILE * HK_TILE][3], cutoff[HK_TILE * HK_TILE];
     /* the triangle being drawn */
     int tri;
     const hk_RasterPoint *tv;
     hk_Rect r;
 } hk_TileHead;
-void hk_tile_head(const hk_TileInput *in, int tile, hk_TileHead *out);
+/* Fills out; returns the tile's farthest cutoff (+inf when a sample of the tile misses
+ * the head): hair behind it is hidden in every pixel of the tile. */
+float hk_tile_head(const hk_TileInput *in, int tile, hk_TileHead *work, hk_TileBase *out);
 
 /* Hair of one tile composited over the head: a workspace reused from tile to tile. */
 typedef struct hk_TileHair hk_TileHair;
@@ -267,7 +279,7 @@ hk_TileHair *hk_tile_hair_create(void);
 void hk_tile_hair_destroy(hk_TileHair *w);
 /* Draws the tile into image; 0 when out of memory. Counts fragments kept and the
  * most in one pixel. */
-int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_TileHead *head, hk_Canvas *image,
+int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_TileBase *head, hk_Canvas *image,
                  long long *fragments, int *most);
 
 #endif

@@ -13,6 +13,7 @@
 #include <omp.h>
 
 #include "render_internal.h"
+#include "tile_bins_inline.h"
 
 struct hk_Renderer {
     uint8_t *seg;               /* segment starts */
@@ -25,6 +26,9 @@ struct hk_Renderer {
     hk_TileBins hair_bins, head_bins;
     hk_Canvas picture;
     size_t picture_cap;         /* pixels */
+    hk_TileBase *bases;         /* the head under each tile */
+    float *cull;                /* each tile's depth beyond which the head hides all hair */
+    size_t bases_cap, cull_cap;
     /* each thread's work space for the tiles */
     hk_TileHead **tile_head;
     hk_TileHair **tile_hair;
@@ -49,6 +53,8 @@ void hk_renderer_destroy(hk_Renderer *r)
     hk_tile_bins_free(&r->hair_bins);
     hk_tile_bins_free(&r->head_bins);
     hk_free(r->picture.rgb);
+    hk_free(r->bases);
+    hk_free(r->cull);
     for (int t = 0; t < r->threads; t++) {
         free(r->tile_head[t]);
         hk_tile_hair_destroy(r->tile_hair[t]);
@@ -96,7 +102,7 @@ static int segment_box(void *user, uint32_t i, hk_Rect *box)
     const hk_Scene *sc = c->sc;
     const float width = (float)(0.5 * (hk_hair_thickness_at(sc, i) * c->proj[i].px_per_unit +
                                        hk_hair_thickness_at(sc, i + 1) * c->proj[i + 1].px_per_unit));
-    return hk_segment_box(c->proj[i], c->proj[i + 1], width, c->width, c->height, box);
+    return hk_segment_box_inline(c->proj[i], c->proj[i + 1], width, c->width, c->height, box);
 }
 
 static int front_triangle_box(void *user, uint32_t t, hk_Rect *box)
@@ -111,7 +117,29 @@ static int front_triangle_box(void *user, uint32_t t, hk_Rect *box)
     return hk_triangle_box(v, c->width, c->height, box);
 }
 
-/* (3) Every tile in parallel: head, then hair over it. */
+HK_TILE_BINS_BUILD(bin_segments, segment_box)
+HK_TILE_BINS_BUILD(bin_triangles, front_triangle_box)
+
+/* (3a) The head under every tile, and each tile's depth beyond which the hair is
+ * hidden by the head in all its pixels (+inf where a sample misses the head), widened
+ * by 2^-16 so that no fragment of a segment beyond it passes the per-pixel test (the
+ * perspective-correct depth of a fragment is its segment's nearer depth within a few
+ * rounding errors). */
+static void draw_head(hk_Renderer *r, const hk_TileInput *in)
+{
+    const int tiles = in->tiles->tiles_x * in->tiles->tiles_y;
+#pragma omp parallel
+    {
+        hk_TileHead *work = r->tile_head[omp_get_thread_num()];
+#pragma omp for schedule(dynamic, 4)
+        for (int tile = 0; tile < tiles; tile++) {
+            const float far = hk_tile_head(in, tile, work, &r->bases[tile]);
+            r->cull[tile] = far < HUGE_VALF ? far * (1.0f + 1.0f / 65536.0f) : HUGE_VALF;
+        }
+    }
+}
+
+/* (3b) Every tile's hair in parallel, over its head. */
 static hk_Status draw_tiles(hk_Renderer *r, const hk_TileInput *in, hk_RenderStats *stats, hk_Error *err)
 {
     const int tiles = in->hair_bins->tiles_x * in->hair_bins->tiles_y;
@@ -119,14 +147,12 @@ static hk_Status draw_tiles(hk_Renderer *r, const hk_TileInput *in, hk_RenderSta
     int most = 0, failed = 0;
 #pragma omp parallel reduction(+ : fragments) reduction(max : most) reduction(| : failed)
     {
-        hk_TileHead *head = r->tile_head[omp_get_thread_num()];
         hk_TileHair *hair = r->tile_hair[omp_get_thread_num()];
 #pragma omp for schedule(dynamic, 1)
         for (int k = 0; k < tiles; k++) {
             const int tile = (int)in->hair_bins->heavy[k];
             if (failed) continue;
-            hk_tile_head(in, tile, head);
-            if (!hk_tile_hair(hair, in, tile, head, &r->picture, &fragments, &most)) failed = 1;
+            if (!hk_tile_hair(hair, in, tile, &r->bases[tile], &r->picture, &fragments, &most)) failed = 1;
         }
     }
     if (failed) return hk_error_set(err, HK_ERR_NOMEM, "out of memory while drawing the hair");
@@ -178,29 +204,41 @@ static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *he
      * segments (read there in order, rather than from scattered points by every
      * tile). */
     const uint8_t *seg = r->seg;
+    /* The smaller by a comparison (fminf is a call into libm); the points are finite
+     * (hk_scene_bounds), so there is no NaN for fminf to pass over. */
 #pragma omp parallel for schedule(static)
     for (long i = 0; i < (long)hair->point_count; i++)
-        near[i] = seg[i] ? fminf(proj[i].z, proj[i + 1].z) : 0.0f;
+        near[i] = seg[i] ? (proj[i].z < proj[i + 1].z ? proj[i].z : proj[i + 1].z) : 0.0f;
     for (int i = 0; sc.head && i < sc.head->vertex_count; i++) head_proj[i] = hk_view_project(&cam, sc.head->positions[i]);
     if ((st = hk_hair_shader_init(&r->shader, &sc, r->seg, opt->shadows ? &r->maps : NULL, &cam, err)) != HK_OK)
         return st;
     const double t2 = omp_get_wtime();
-    BoxCtx box = {&sc, proj, r->seg, NULL, opt->width, opt->height};
-    if ((st = hk_tile_bins_build(hair->point_count, segment_box, &box, near, opt->width, opt->height,
-                                 &r->hair_bins, err)) != HK_OK)
-        return st;
     if (sc.head) {
         BoxCtx hb = {&sc, head_proj, NULL, sc.head->triangles, opt->width, opt->height};
-        if ((st = hk_tile_bins_build((uint32_t)sc.head->triangle_count, front_triangle_box, &hb, NULL, opt->width,
-                                     opt->height, &r->head_bins, err)) != HK_OK)
+        if ((st = bin_triangles((uint32_t)sc.head->triangle_count, &hb, NULL, NULL,
+                                     opt->width, opt->height, &r->head_bins, err)) != HK_OK)
             return st;
     }
+    hk_TileBins layout;
+    memset(&layout, 0, sizeof layout);
+    layout.tiles_x = (opt->width + HK_TILE - 1) / HK_TILE, layout.tiles_y = (opt->height + HK_TILE - 1) / HK_TILE;
+    const size_t tiles = (size_t)layout.tiles_x * (size_t)layout.tiles_y;
     /* Every pixel is written by its tile. */
-    if (!HK_RESERVE(r->picture.rgb, r->picture_cap, 3 * (size_t)opt->width * (size_t)opt->height, err))
+    if (!HK_RESERVE(r->picture.rgb, r->picture_cap, 3 * (size_t)opt->width * (size_t)opt->height, err) ||
+        !HK_RESERVE(r->bases, r->bases_cap, tiles, err) || !HK_RESERVE(r->cull, r->cull_cap, tiles, err))
         return HK_ERR_NOMEM;
     r->picture.width = opt->width, r->picture.height = opt->height;
     const hk_TileInput in = {&sc, &cam, opt->shadows ? &r->maps : NULL, proj, &r->shader, &r->hair_bins,
-                             head_proj, sc.head ? &r->head_bins : NULL};
+                             head_proj, sc.head ? &r->head_bins : NULL, &layout};
+    draw_head(r, &in);
+    /* A tile's segments are drawn nearest first (by their nearer depth), so those at or
+     * beyond the tile's cull depth come last, after every segment that can be seen:
+     * leaving them out of the bins leaves the picture as it was (the bytes), and on a
+     * full head the hair behind the head is a large part of the tiles' entries. */
+    BoxCtx box = {&sc, proj, r->seg, NULL, opt->width, opt->height};
+    if ((st = bin_segments(hair->point_count, &box, near, r->cull, opt->width, opt->height,
+                                 &r->hair_bins, err)) != HK_OK)
+        return st;
     if ((st = draw_tiles(r, &in, stats, err)) != HK_OK) return st;
     stats->seconds_light = t1 - t0;
     stats->seconds_camera = t2 - t1;

@@ -47,7 +47,7 @@ typedef struct Blocks {
 
 struct hk_TileHair {
     hk_Rect r;
-    const hk_TileHead *head;
+    const hk_TileBase *head;
     const hk_HairFile *hair;
     /* The tile's segments in depth order. Only their first points and nearer depths
      * (in the bins) are read to sort them: on a full head two thirds of a tile's
@@ -290,7 +290,7 @@ static float segment_width(const hk_Scene *sc, const Segment *s)
                           hk_hair_thickness_at(sc, s->first + 1) * s->b.px_per_unit));
 }
 
-int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_TileHead *head, hk_Canvas *image,
+int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_TileBase *head, hk_Canvas *image,
                  long long *fragments, int *most)
 {
     const hk_Scene *sc = in->scene;
@@ -318,28 +318,32 @@ int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_Tile
     /* The tile's segments sorted by their nearer depths. */
     const uint32_t n = bins->start[tile + 1] - bins->start[tile];
     if (!reserve_segments(w, n)) return 0;
-    const uint32_t *item = bins->items + bins->start[tile];
-    const float *near = bins->keys + bins->start[tile];
+    /* The order holds the segments themselves, and the keys their depths: no lookup
+     * of a tile's entry through its place in the order (a cache miss a segment). The
+     * keys are the nearer depths' bits (positive: hk_segment_box draws no segment with
+     * an end at or behind the eye). */
     hk_DepthOrder depth;
-    hk_depth_order_begin(&depth, n, near, w->order, w->sort_work);
+    hk_depth_order_begin(&depth, n, bins->keys + bins->start[tile], bins->items + bins->start[tile], w->order,
+                         w->sort_work);
     Segment *s = &w->segment;
     for (uint32_t k = 0; k < n && !w->failed; k++) {
         if (k + 9 > depth.sorted) hk_depth_order_ready(&depth, k + 9); /* this one and the one fetched ahead */
-        const uint32_t j = w->order[k];
+        const uint32_t i = w->order[k];
         /* Depth order scatters the reads over the segments: fetch ahead. */
         if (k + 8 < n) {
-            const uint32_t ahead = item[w->order[k + 8]];
+            const uint32_t ahead = w->order[k + 8];
             __builtin_prefetch(&in->hair_proj[ahead]);
             __builtin_prefetch(&in->hair_proj[ahead + 1]);
             __builtin_prefetch(&bins->boxes[ahead]);
         }
         if (k % SETTLE_BATCH == 0) {
-            settle(w, near[j]);
+            float front;
+            memcpy(&front, &depth.keys[k], sizeof front);
+            settle(w, front);
             int open = 0;
             for (int b = 0; b < BLOCKS * BLOCKS; b++) open += w->block_open[b];
             if (open == 0) break; /* every pixel of the tile is saturated */
         }
-        const uint32_t i = item[j];
         if (hidden(w, segment_blocks(w, bins->boxes[i]))) continue;
         s->a = in->hair_proj[i], s->b = in->hair_proj[i + 1];
         s->first = i;

@@ -4,6 +4,7 @@
  * the hair's deep opacity map. */
 #include <float.h>
 
+#include "raster_inline.h"
 #include "render_internal.h"
 
 static void head_sample(void *user, int x, int y, int s, float l0, float l1, float l2)
@@ -50,13 +51,13 @@ static hk_Vec3 shade_skin(const hk_TileInput *in, int tri, float b0, float b1)
                      hk_v3_scale(hk_v3(1, 1, 1), o->light_intensity * visible * sheen));
 }
 
-void hk_tile_head(const hk_TileInput *in, int tile, hk_TileHead *w)
+float hk_tile_head(const hk_TileInput *in, int tile, hk_TileHead *w, hk_TileBase *out)
 {
     const int npx = HK_TILE * HK_TILE;
     for (int k = 0; k < npx * 4; k++) w->sample_z[k] = FLT_MAX;
     const hk_Mesh *m = in->scene->head;
     const hk_TileBins *bins = in->head_bins;
-    w->r = hk_tile_rect(in->hair_bins, tile, in->scene->opt->width, in->scene->opt->height);
+    w->r = hk_tile_rect(in->tiles, tile, in->scene->opt->width, in->scene->opt->height);
     if (m && bins)
         for (uint32_t k = bins->start[tile]; k < bins->start[tile + 1]; k++) {
             const uint32_t t = bins->items[k];
@@ -66,6 +67,7 @@ void hk_tile_head(const hk_TileInput *in, int tile, hk_TileHead *w)
             hk_raster_triangle(v, w->r, 2, head_sample, w);
         }
     const hk_RenderOptions *o = in->scene->opt;
+    float farthest = 0.0f;
     for (int y = w->r.y0; y < w->r.y1; y++) {
         const double f = o->height > 1 ? (double)y / (o->height - 1) : 0.0;
         const hk_Vec3 bg = hk_v3_add(hk_v3_scale(o->background_top, 1.0 - f), hk_v3_scale(o->background_bottom, f));
@@ -82,10 +84,12 @@ void hk_tile_head(const hk_TileInput *in, int tile, hk_TileHead *w)
                 sum = hk_v3_add(sum, shade_skin(in, w->sample_tri[k], w->sample_l[k][0], w->sample_l[k][1]));
                 far = fmaxf(far, w->sample_z[k]);
             }
-            w->base[p][0] = (float)(0.25 * sum.x), w->base[p][1] = (float)(0.25 * sum.y);
-            w->base[p][2] = (float)(0.25 * sum.z);
-            w->cutoff[p] = far; /* hair behind every sample of the head is hidden */
+            out->base[p][0] = (float)(0.25 * sum.x), out->base[p][1] = (float)(0.25 * sum.y);
+            out->base[p][2] = (float)(0.25 * sum.z);
+            out->cutoff[p] = far; /* hair behind every sample of the head is hidden */
+            farthest = maxf(farthest, far);
         }
     }
+    return farthest < FLT_MAX ? farthest : HUGE_VALF;
 }
 
