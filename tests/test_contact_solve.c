@@ -114,6 +114,7 @@ static void test_commit_matches_the_step_with_forces(void **state)
                 hk_strand_dynamics_velocity(a.d[i])[k] = vb[k];
             }
         }
+        if (worst > 1e-9 * scale + 1e-12) print_message("step %d worst %g scale %g\n", step, worst, scale);
         assert_true(worst <= 1e-9 * scale + 1e-12);
     }
     print_message("%d pairs pushed over 40 steps\n", pushing);

@@ -262,6 +262,14 @@ hk_FrameKinematics hk_dynamics_root_kinematics(const hk_StrandDynamics *d, const
  * cannot. */
 int hk_dynamics_resolve_rows(hk_StrandDynamics *d, const double *rhs, int count, double *out);
 
+/* The matrix A of the last hk_dynamics_euler_delta as A = U U^T with U upper triangular
+ * (3N x 3N, row-major; its strict lower part left as it was): Cholesky's factorisation
+ * with the unknowns in reverse order. A point's rows of J are zero beyond its own
+ * element, and so are its rows of U^-1 J^T, which is what the contacts' solve uses
+ * (hair_contact_solve.c). Returns 0 without a dense matrix (the O(N) solver) or when A
+ * is not positive definite. */
+int hk_dynamics_reverse_factor(const hk_StrandDynamics *d, double *u);
+
 /* Jacobians of `count` points at the sorted arc lengths s for the current q: jac holds
  * count blocks of 3 x 3N (row-major: d pos / d q'), pos and vel (may be NULL) the world
  * positions and the velocities with the generalized velocities `rates` and the head's

@@ -10,6 +10,13 @@
  * so u_c = u_c^free + J_a dv_i - J_b dv_j, with dv the strands' velocity changes kept
  * up to date as the impulses change (Y = A^-1 J^T is computed once per point: three
  * solves with the step's factored matrix, and only for the points of pairs that push).
+ * With the dense solver the strand's matrix is factored as A = U U^T, U upper
+ * triangular (Cholesky with the unknowns reversed), and the solve works with
+ * Z = U^-1 J^T instead: J A^-1 J^T = Z^T Z, and keeping w = U^T dv, a point's velocity
+ * change is J dv = Z^T w and an impulse adds Z lambda to w; dv = U^-T w once at the
+ * end. A point's rows of J are zero beyond its own element, and so are its rows of Z,
+ * so that each costs one triangular solve over its first 3(p + 1) unknowns instead of
+ * two over all of them, and its products stop there too.
  * A point belongs to one pair: its rows of J are turned into the pair's basis (normal,
  * tangents) before anything else, so that u_c, Y, the Delassus block and the impulses
  * are all in that basis and a pair that does not push is told by one row. Projected
@@ -75,11 +82,16 @@ struct hk_ContactSolve {
     size_t *dim_start;    /* strand_count + 1: offsets of the strands' 3N vectors */
     size_t *jac_start;    /* strand_count + 1: offsets of the strands' first 3 x 3N block */
     int *movable;         /* per strand: its step's matrix answered */
+    int *reversed;        /* per strand: A = U U^T in ul; its points' rows of Z in yt, w in dv */
+    size_t *ul_start;     /* strand_count + 1: offsets of the strands' U (3N x 3N) */
     Buffer slots;         /* Slot per point */
     Buffer at;            /* double per point: its s, as the Jacobians take them */
     Buffer vel;           /* hk_Vec3 per point: its velocity with v^free */
     Buffer forces;        /* hk_PointForce per point */
-    Buffer jac, yt;       /* double, 3 x 3N per point: rows of J and of Y^T = (A^-1 J^T)^T */
+    Buffer jac, yt;       /* double, 3 x 3N per point: rows of J and of Y^T = (A^-1 J^T)^T,
+                             or of Z^T = (U^-1 J^T)^T for a reversed strand */
+    Buffer support;       /* int per point: its rows of J are zero from this column on */
+    Buffer ul;            /* double: the reversed strands' U */
     Buffer answered;      /* char per point: its rows of Y^T are set */
     Buffer dv;            /* double, 3N per strand: the velocity change of the impulses */
     Buffer vfree;         /* double, 3N per strand: its velocity after a step without them */
@@ -101,7 +113,9 @@ hk_Status hk_contact_solve_create(int strand_count, hk_ContactSolve **out, hk_Er
     cs->dim_start = hk_calloc_array((size_t)strand_count + 1, sizeof(size_t), err);
     cs->jac_start = hk_calloc_array((size_t)strand_count + 1, sizeof(size_t), err);
     cs->movable = hk_calloc_array((size_t)strand_count, sizeof(int), err);
-    if (!cs->slot_start || !cs->dim_start || !cs->jac_start || !cs->movable) {
+    cs->reversed = hk_calloc_array((size_t)strand_count, sizeof(int), err);
+    cs->ul_start = hk_calloc_array((size_t)strand_count + 1, sizeof(size_t), err);
+    if (!cs->slot_start || !cs->dim_start || !cs->jac_start || !cs->movable || !cs->reversed || !cs->ul_start) {
         hk_contact_solve_destroy(cs);
         return HK_ERR_NOMEM;
     }
@@ -116,7 +130,10 @@ void hk_contact_solve_destroy(hk_ContactSolve *cs)
     hk_free(cs->dim_start);
     hk_free(cs->jac_start);
     hk_free(cs->movable);
-    Buffer *all[] = {&cs->slots, &cs->at, &cs->vfree, &cs->vel, &cs->forces, &cs->jac, &cs->yt, &cs->answered, &cs->dv, &cs->screws, &cs->pairs, &cs->old_pairs, &cs->active};
+    hk_free(cs->reversed);
+    hk_free(cs->ul_start);
+    Buffer *all[] = {&cs->slots, &cs->at, &cs->vfree, &cs->vel, &cs->forces, &cs->jac, &cs->yt, &cs->support, &cs->ul,
+                     &cs->answered, &cs->dv, &cs->screws, &cs->pairs, &cs->old_pairs, &cs->active};
     for (size_t k = 0; k < sizeof all / sizeof *all; k++) hk_free(all[k]->items);
     hk_free(cs);
 }
@@ -138,10 +155,11 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Strand
         cs->slot_start[c->pairs[k].i + 1]++;
         cs->slot_start[c->pairs[k].j + 1]++;
     }
-    cs->dim_start[0] = cs->jac_start[0] = 0;
+    cs->dim_start[0] = cs->jac_start[0] = cs->ul_start[0] = 0;
     for (int s = 0; s < g; s++) {
         const size_t dim = (size_t)(3 * dyn[s]->sh->n);
         cs->dim_start[s + 1] = cs->dim_start[s] + dim;
+        cs->ul_start[s + 1] = cs->ul_start[s] + (cs->slot_start[s + 1] > 0 ? dim * dim : 0);
         cs->jac_start[s + 1] = cs->jac_start[s] + (size_t)cs->slot_start[s + 1] * 3 * dim;
         cs->slot_start[s + 1] += cs->slot_start[s];
     }
@@ -149,6 +167,7 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Strand
     if (!reserve(&cs->slots, slots, sizeof(Slot), err) || !reserve(&cs->at, slots, sizeof(double), err) ||
         !reserve(&cs->vel, slots, sizeof(hk_Vec3), err) || !reserve(&cs->forces, slots, sizeof(hk_PointForce), err) ||
         !reserve(&cs->jac, jacs, sizeof(double), err) || !reserve(&cs->yt, jacs, sizeof(double), err) ||
+        !reserve(&cs->support, slots, sizeof(int), err) || !reserve(&cs->ul, cs->ul_start[g], sizeof(double), err) ||
         !reserve(&cs->answered, slots, sizeof(char), err) ||
         !reserve(&cs->dv, dims, sizeof(double), err) || !reserve(&cs->vfree, dims, sizeof(double), err) ||
         !reserve(&cs->screws, 6 * dims, sizeof(double), err) ||
@@ -218,14 +237,23 @@ static size_t block_of(const hk_ContactSolve *cs, int strand, int x)
 static void predict(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const hk_RigidState *head_end, double h)
 {
     const int begin = cs->slot_start[s], count = cs->slot_start[s + 1] - begin;
-    cs->movable[s] = 0; /* (layout borrowed the array) */
+    cs->movable[s] = cs->reversed[s] = 0; /* (layout borrowed movable) */
     if (count == 0) return;
     const size_t dim = dim_of(cs, s);
     double *vfree = (double *)cs->vfree.items + cs->dim_start[s];
     double *jac = (double *)cs->jac.items + cs->jac_start[s];
     const double *v = hk_strand_dynamics_velocity(d);
     cs->movable[s] = hk_dynamics_euler_delta(d, head_end, NULL, 0, h);
+    cs->reversed[s] = cs->movable[s] && hk_dynamics_reverse_factor(d, (double *)cs->ul.items + cs->ul_start[s]);
     for (size_t k = 0; k < dim; k++) vfree[k] = v[k] + (cs->movable[s] ? d->delta[k] : 0.0);
+    /* Each point's support: the columns of the elements up to its own. */
+    const double *at = (const double *)cs->at.items + begin;
+    int *support = (int *)cs->support.items + begin;
+    const hk_SuperHelix *sh = d->sh;
+    for (int x = 0, p = 0; x < count; x++) {
+        while (p < sh->n - 1 && at[x] >= sh->s_start[p + 1]) p++;
+        support[x] = cs->reversed[s] ? 3 * (p + 1) : (int)dim;
+    }
     hk_dynamics_point_jacobians(d, head_end, vfree, (const double *)cs->at.items + begin, count,
                                 (double *)cs->screws.items + 6 * cs->dim_start[s], jac, NULL,
                                 (hk_Vec3 *)cs->vel.items + begin);
@@ -233,14 +261,43 @@ static void predict(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const hk_R
     memset((double *)cs->dv.items + cs->dim_start[s], 0, dim * sizeof(double));
 }
 
+/* Rows of Z^T = (U^-1 J^T)^T of point x of reversed strand s: U z = j by back
+ * substitution from the point's support down (z is zero beyond it, as j is). */
+static void reversed_rows(hk_ContactSolve *cs, int s, int x)
+{
+    const size_t dim = dim_of(cs, s), at = block_of(cs, s, x);
+    const int m = ((const int *)cs->support.items)[x];
+    const double *u = (const double *)cs->ul.items + cs->ul_start[s];
+    for (int r = 0; r < 3; r++) {
+        const double *j = (const double *)cs->jac.items + at + (size_t)r * dim;
+        double *z = (double *)cs->yt.items + at + (size_t)r * dim;
+        for (int i = m - 1; i >= 0; i--) {
+            const double *ui = u + (size_t)i * dim;
+            double v = j[i];
+            for (int k = i + 1; k < m; k++) v -= ui[k] * z[k];
+            z[i] = v / ui[i];
+        }
+    }
+}
+
 /* Y^T of strand s's points marked wanted (answered == WANTED), a run of consecutive
- * points solved at once. A strand whose matrix does not answer becomes immovable:
- * all its points answer zero (nothing has used them yet). */
+ * points solved at once; Z^T of every point of a reversed strand (a triangular solve
+ * over the point's support, cheap, and what even a pair that does not push needs to
+ * read its velocity: J dv = Z^T w). A strand whose
+ * matrix does not answer becomes immovable: all its points answer zero (nothing has
+ * used them yet). */
 static void answer_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s)
 {
     const int begin = cs->slot_start[s], end = cs->slot_start[s + 1];
     char *answered = cs->answered.items;
     int ok = cs->movable[s];
+    if (cs->reversed[s]) { /* every point: its rows of Z^T also read its velocity change */
+        for (int x = begin; x < end; x++) {
+            reversed_rows(cs, s, x);
+            answered[x] = ANSWERED;
+        }
+        return;
+    }
     for (int x = begin; ok && x < end;) {
         if (answered[x] != WANTED) {
             x++;
@@ -268,6 +325,10 @@ static void answer_lazily(hk_ContactSolve *cs, int s, int x)
     char *answered = cs->answered.items;
     if (answered[x] == ANSWERED) return;
     answered[x] = ANSWERED;
+    if (cs->reversed[s]) {
+        reversed_rows(cs, s, x);
+        return;
+    }
     const size_t at = block_of(cs, s, x);
     double *yt = (double *)cs->yt.items + at;
     if (!cs->movable[s] || !hk_dynamics_resolve_rows(cs->dyn[s], (const double *)cs->jac.items + at, 3, yt))
@@ -414,23 +475,25 @@ static hk_Vec3 from_basis(const hk_Vec3 basis[3], hk_Vec3 x)
     return hk_v3_madd(hk_v3_madd(hk_v3_scale(basis[0], x.x), basis[1], x.y), basis[2], x.z);
 }
 
-/* v += sign * Y lam for the point whose Y^T rows are yt (3 x dim). */
-static void add_response(double *v, const double *yt, size_t dim, hk_Vec3 lam, double sign)
+/* v += sign * Y lam for the point whose Y^T rows are yt (3 rows of stride dim, zero
+ * from column m on). */
+static void add_response(double *v, const double *yt, size_t dim, size_t m, hk_Vec3 lam, double sign)
 {
     const double l0 = sign * lam.x, l1 = sign * lam.y, l2 = sign * lam.z;
     const double *y1 = yt + dim, *y2 = yt + 2 * dim;
     #pragma omp simd
-    for (size_t k = 0; k < dim; k++) v[k] += yt[k] * l0 + y1[k] * l1 + y2[k] * l2;
+    for (size_t k = 0; k < m; k++) v[k] += yt[k] * l0 + y1[k] * l1 + y2[k] * l2;
 }
 
-/* J dv for the point whose J rows are jac (3 x dim); the three sums interleaved. (The
- * order of the sums is the vectoriser's, the same on every run of the same build.) */
-static hk_Vec3 point_change(const double *jac, size_t dim, const double *dv)
+/* J dv for the point whose J rows are jac (3 rows of stride dim, zero from column m
+ * on); the three sums interleaved. (The order of the sums is the vectoriser's, the
+ * same on every run of the same build.) */
+static hk_Vec3 point_change(const double *jac, size_t dim, size_t m, const double *dv)
 {
     const double *j1 = jac + dim, *j2 = jac + 2 * dim;
     double a0 = 0.0, a1 = 0.0, a2 = 0.0;
     #pragma omp simd reduction(+ : a0, a1, a2)
-    for (size_t k = 0; k < dim; k++) {
+    for (size_t k = 0; k < m; k++) {
         a0 += jac[k] * dv[k];
         a1 += j1[k] * dv[k];
         a2 += j2[k] * dv[k];
@@ -445,16 +508,27 @@ static int key_cmp(const int a[4], const int b[4])
     return 0;
 }
 
-/* Pair ps's Delassus block in its basis, J_a Y_a + J_b Y_b with both points' rows of J
- * (and so their answers) in that basis. */
+/* The rows a point's velocity change is read with from its strand's dv: J, or Z^T for a
+ * reversed strand (whose dv then holds w = U^T dv). */
+static const double *read_rows(const hk_ContactSolve *cs, int strand, int x)
+{
+    return (const double *)(cs->reversed[strand] ? cs->yt.items : cs->jac.items) + block_of(cs, strand, x);
+}
+
+static size_t support_of(const hk_ContactSolve *cs, int x) { return (size_t)((const int *)cs->support.items)[x]; }
+
+/* Pair ps's Delassus block in its basis, J_a Y_a + J_b Y_b (or Z_a^T Z_a + Z_b^T Z_b)
+ * with both points' rows of J (and so their answers) in that basis. */
 static void pair_block(hk_ContactSolve *cs, PairState *ps, const int strand[2])
 {
     memset(ps->w, 0, sizeof ps->w);
     for (int side = 0; side < 2; side++) {
-        const size_t dim = dim_of(cs, strand[side]), at = block_of(cs, strand[side], ps->slot[side]);
-        const double *jac = (const double *)cs->jac.items + at, *yt = (const double *)cs->yt.items + at;
+        const int x = ps->slot[side];
+        const size_t dim = dim_of(cs, strand[side]), m = support_of(cs, x);
+        const double *rows = read_rows(cs, strand[side], x);
+        const double *yt = (const double *)cs->yt.items + block_of(cs, strand[side], x);
         for (int r = 0; r < 3; r++)
-            for (int q = 0; q < 3; q++) ps->w[r][q] += dot_n(jac + r * dim, yt + q * dim, dim);
+            for (int q = 0; q < 3; q++) ps->w[r][q] += dot_n(rows + r * dim, yt + q * dim, m);
     }
     ps->ready = 1;
 }
@@ -514,8 +588,8 @@ static hk_Vec3 relative_velocity(const hk_ContactSolve *cs, const PairState *ps,
 {
     hk_Vec3 u = ps->free;
     for (int side = 0; side < 2; side++) {
-        const size_t dim = dim_of(cs, strand[side]);
-        const hk_Vec3 du = point_change((const double *)cs->jac.items + block_of(cs, strand[side], ps->slot[side]), dim,
+        const int x = ps->slot[side];
+        const hk_Vec3 du = point_change(read_rows(cs, strand[side], x), dim_of(cs, strand[side]), support_of(cs, x),
                                         (const double *)cs->dv.items + cs->dim_start[strand[side]]);
         u = side == 0 ? hk_v3_add(u, du) : hk_v3_sub(u, du);
     }
@@ -527,9 +601,9 @@ static double normal_velocity(const hk_ContactSolve *cs, const PairState *ps, co
 {
     double u = ps->free.x;
     for (int side = 0; side < 2; side++) {
-        const size_t dim = dim_of(cs, strand[side]);
-        const double du = dot_n((const double *)cs->jac.items + block_of(cs, strand[side], ps->slot[side]),
-                                (const double *)cs->dv.items + cs->dim_start[strand[side]], dim);
+        const int x = ps->slot[side];
+        const double du = dot_n(read_rows(cs, strand[side], x), (const double *)cs->dv.items + cs->dim_start[strand[side]],
+                                support_of(cs, x));
         u += side == 0 ? du : -du;
     }
     return u;
@@ -539,10 +613,10 @@ static double normal_velocity(const hk_ContactSolve *cs, const PairState *ps, co
 static void apply_change(hk_ContactSolve *cs, const PairState *ps, const int strand[2], hk_Vec3 delta)
 {
     for (int side = 0; side < 2; side++) {
-        const size_t dim = dim_of(cs, strand[side]);
+        const int x = ps->slot[side];
         add_response((double *)cs->dv.items + cs->dim_start[strand[side]],
-                     (const double *)cs->yt.items + block_of(cs, strand[side], ps->slot[side]), dim, delta,
-                     side == 0 ? 1.0 : -1.0);
+                     (const double *)cs->yt.items + block_of(cs, strand[side], x), dim_of(cs, strand[side]),
+                     support_of(cs, x), delta, side == 0 ? 1.0 : -1.0);
     }
 }
 
@@ -648,6 +722,19 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
         const int strand[2] = {contacts->pairs[k].i, contacts->pairs[k].j};
         apply_change(cs, ps, strand, hk_v3_sub(next, ps->lambda));
         ps->lambda = next;
+    }
+    /* The reversed strands' velocity changes from w = U^T dv: U^T dv = w, forward. */
+    #pragma omp parallel for schedule(static)
+    for (int g = 0; g < strand_count; g++) {
+        if (!cs->reversed[g]) continue;
+        const size_t dim = dim_of(cs, g);
+        const double *u = (const double *)cs->ul.items + cs->ul_start[g];
+        double *v = (double *)cs->dv.items + cs->dim_start[g];
+        for (size_t i = 0; i < dim; i++) {
+            double x = v[i];
+            for (size_t k = 0; k < i; k++) x -= u[k * dim + i] * v[k];
+            v[i] = x / u[i * dim + i];
+        }
     }
     /* The impulses in world space, as forces held over the step. */
     #pragma omp parallel for schedule(static)

@@ -7,6 +7,7 @@
  * where (w_Pb; t_Pb) is the screw that coordinate b of element P gives everything
  * beyond the element's end (strand_kinematics.c, hk_element_terms_set_screw) and J_p
  * the point's own element's Jacobian (hk_point_kinematics): the rows of d x / d q'. */
+#include <math.h>
 #include <string.h>
 
 #include "dynamics_internal.h"
@@ -68,6 +69,31 @@ static const double *dense_factor(const hk_StrandDynamics *d)
     const size_t sd = (size_t)(3 * d->sh->n);
     if (d->dense_fallback) return d->dense_work + sd * sd;
     return d->params.solver == HK_DYNAMICS_DENSE ? d->work + sd * sd : NULL;
+}
+
+int hk_dynamics_reverse_factor(const hk_StrandDynamics *d, double *u)
+{
+    if (d->dense_fallback || d->params.solver != HK_DYNAMICS_DENSE) return 0;
+    const int dim = 3 * d->sh->n;
+    const size_t sd = (size_t)dim;
+    const double *a = d->work; /* as assembled by hk_terms_solve_dense, without the diagonal extra */
+    for (int j = dim - 1; j >= 0; j--) {
+        const double *uj = u + (size_t)j * sd;
+        const double ajj = a[(size_t)j * sd + (size_t)j] + d->extra[j];
+        double diag = ajj;
+        for (int k = j + 1; k < dim; k++) diag -= uj[k] * uj[k];
+        /* as hk_cholesky_factor: a pivot this small is indefinite to working precision */
+        if (!(diag > 1e-13 * fabs(ajj)) || !isfinite(diag)) return 0;
+        const double ujj = sqrt(diag);
+        u[(size_t)j * sd + (size_t)j] = ujj;
+        for (int i = 0; i < j; i++) {
+            double *ui = u + (size_t)i * sd;
+            double v = a[(size_t)i * sd + (size_t)j];
+            for (int k = j + 1; k < dim; k++) v -= ui[k] * uj[k];
+            ui[j] = v / ujj;
+        }
+    }
+    return 1;
 }
 
 int hk_dynamics_resolve(hk_StrandDynamics *d, const double *rhs, double *out)
