@@ -46,9 +46,12 @@ static const char *const motions[] = {"still", "still", "shake", "nod", "tilt", 
 enum { MOTION_COUNT = sizeof motions / sizeof motions[0], UNDAMPED_ROW = 1 };
 static const char *const MOTION_FILE = "examples/motions/nod-and-shake.txt";
 
-/* Seconds of CPU a cell may take (checked between frames). The dearest damped cells
- * (1.5 m, N = 80) take about 100 s for 10 s; the budget is well above, so only cells
- * that crawl through splits and dense stages reach it. */
+/* Seconds of CPU a cell may take (checked between frames, so a cell can pass it by one
+ * frame). At dt = 1/24 s every cell up to 1 m, undamped ones included, took less than
+ * 70 s (2 December 2026); damped wavy 1.5 m strands under nod and tilt did not: they gave up
+ * at t = 5.2 and 7.6 s at dt = 1/24 s (docs/dynamics.md, "Stability matrix"). CPU time,
+ * not evaluations, because a dense stage at N = 80 costs a hundred O(N) evaluations; it
+ * depends on the machine and its load, so where a cell gives up does too. */
 static const double CELL_CPU_BUDGET = 240.0;
 
 static const double dts[2] = {1.0 / 24.0, 1.0 / 30.0};
