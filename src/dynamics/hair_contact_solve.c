@@ -324,11 +324,7 @@ static void answer_lazily(hk_ContactSolve *cs, int s, int x)
 {
     char *answered = cs->answered.items;
     if (answered[x] == ANSWERED) return;
-    answered[x] = ANSWERED;
-    if (cs->reversed[s]) {
-        reversed_rows(cs, s, x);
-        return;
-    }
+    answered[x] = ANSWERED; /* (a reversed strand's points all are, by answer_points) */
     const size_t at = block_of(cs, s, x);
     double *yt = (double *)cs->yt.items + at;
     if (!cs->movable[s] || !hk_dynamics_resolve_rows(cs->dyn[s], (const double *)cs->jac.items + at, 3, yt))
