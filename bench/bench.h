@@ -43,6 +43,10 @@ int hk_bench_dynamics(FILE *out, const hk_BenchOptions *options);
  * 1.5 m, still and moving heads, dt = 1/24 and 1/30 s, TR-BDF2 and linear Euler. */
 int hk_bench_stability(FILE *out, const hk_BenchOptions *options);
 
+/* Long guides on a full head (bench_long_heads.c): 201 guides of 1 m under every motion,
+ * 10 s at 24 and 30 frames/s: ran or failed, recovered guides, the farthest tip move. */
+int hk_bench_long_heads(FILE *out, const hk_BenchOptions *options);
+
 /* Curve fitting (helicoid paper §5): fits per second of 30-sample strands, 1 and 2
  * threads, clean single and two-piece strands and noisy ones. */
 int hk_bench_curvefit(FILE *out, const hk_BenchOptions *options);

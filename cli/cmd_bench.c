@@ -18,6 +18,7 @@ static const Bench benches[] = {
     {"render", hk_bench_render, "rendering examples/default at 1920x1080 with shadows, 1 and 2 threads"},
     {"dynamics", hk_bench_dynamics, "one strand's steps/s (dense and O(N)); 201 guides' frames/s, 1 and 2 threads"},
     {"stability", hk_bench_stability, "single strands 5 cm..1.5 m, 7 head motions, dt 1/24 and 1/30 s: ran or failed, energy"},
+    {"long-heads", hk_bench_long_heads, "201 guides of 1 m, 7 head motions, 10 s at 24 and 30 frames/s: ran, recovered, tip moves"},
     {"curvefit", hk_bench_curvefit, "helicoid fitting machinery: fits/s of 30-sample strands, 1 and 2 threads"},
     {"helicoid", hk_bench_helicoid, "helicoids: 90,000 hairs interpolated, fits/s of 30-vertex strands, reconstruction"},
     {"follicles", hk_bench_follicles, "thin-plate fit of 500..2000 points; follicles sampled on the wick, 1 and 2 threads"},

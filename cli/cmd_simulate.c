@@ -47,10 +47,11 @@ static void usage(FILE *out)
             "                     most\n"
             "  --damping on|off   internal friction and air drag (default on)\n"
             "  --integrator auto|trbdf2|euler\n"
-            "                     time stepping of the guides: TR-BDF2 (second order, every\n"
-            "                     force implicit; stable for long hair) or the linearly\n"
-            "                     implicit Euler step (cheaper; unstable from 50 cm on);\n"
-            "                     auto (default): euler for guides up to 40 cm, else trbdf2\n");
+            "                     time stepping of the guides: the linearly implicit Euler\n"
+            "                     step with the guide-guide contacts solved together, guides\n"
+            "                     over 50 cm in several steps a frame (auto, the default;\n"
+            "                     euler), or TR-BDF2 (second order, the contacts as penalty\n"
+            "                     forces per guide; long guides whip)\n");
     hk_cli_motion_options_help(out);
     fprintf(out, "pictures:\n");
     hk_cli_render_options_help(out);

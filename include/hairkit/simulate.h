@@ -26,13 +26,9 @@ typedef struct hk_HairSimOptions {
     void *progress_user;
 } hk_HairSimOptions;
 
-/* Guides this long or shorter (m) are stepped by the linearly implicit Euler step by
- * default (cheaper), longer ones by TR-BDF2 (stable for long hair). */
-#define HK_EULER_LONGEST_GUIDE 0.4
-
-/* Dynamics from the hairstyle's InternalFriction, AirDrag and BodyFriction (the
- * integrator chosen by the guides' length, HK_EULER_LONGEST_GUIDE), contacts with
- * their defaults. */
+/* Dynamics from the hairstyle's InternalFriction, AirDrag and BodyFriction, every guide
+ * stepped by the linearly implicit Euler step with the guide-guide contacts solved
+ * together (docs/dynamics.md, "Long guides on a head"), contacts with their defaults. */
 hk_HairSimOptions hk_default_hair_sim_options(const hk_HairstyleDef *style);
 
 typedef struct hk_HairSim hk_HairSim;
@@ -46,11 +42,13 @@ hk_Status hk_hair_sim_create(const hk_HairstyleDef *style, const hk_Shape *shape
 void hk_hair_sim_destroy(hk_HairSim *sim);
 
 typedef struct hk_HairSimStats {
-    int substeps;         /* steps of all guides (more than guides where motion was fast) */
+    int substeps;         /* steps of all guides (more than guides where motion was fast,
+                             or where long guides take several steps a frame) */
     long iterations;      /* evaluations of the forces (Newton iterations), all guides */
     int recovered;        /* guides that could not be advanced even in the smallest
                              substeps: held at rest relative to the head at t, then
-                             advanced again (never dropped, never aborting the head) */
+                             advanced again (never dropped, never aborting the head);
+                             counted in each step of a frame where a frame takes several */
     int contact_pairs;    /* guide-guide pairs tracked, and pushing (a normal impulse) */
     int contacts;
     int sticking;         /* pushing pairs held by static friction */
@@ -153,9 +151,9 @@ typedef struct hk_SimRunOptions {
     int full_hair;            /* also DIR/frame_kkkk.hair, every strand */
     int hair_contacts;        /* guide-guide interactions (default 1) */
     int damping;              /* internal friction and air drag (default 1) */
-    int integrator;           /* -1 (default): by the guides' length (HK_EULER_LONGEST_GUIDE);
-                                 else an hk_DynamicsIntegrator, TR-BDF2 with the O(N)
-                                 solver or the linear Euler step with the dense one */
+    int integrator;           /* -1 (default): hk_default_hair_sim_options' (the linear
+                                 Euler step); else an hk_DynamicsIntegrator, TR-BDF2 with
+                                 the O(N) solver or the linear Euler step with the dense one */
     int video;                /* DIR/hair.mp4 with ffmpeg when installed (default 1) */
     int threads;              /* <= 0: all cores; the files do not depend on it */
     uint64_t seed;            /* of the interpolation */

@@ -38,23 +38,23 @@ hk_HairSimOptions hk_default_hair_sim_options(const hk_HairstyleDef *style)
     memset(&o, 0, sizeof o);
     o.threads = 0;
     o.dynamics = hk_dynamics_params_for(style);
-    /* Guides up to 40 cm keep the linearly implicit Euler step of issue 6: TR-BDF2 with
-     * Newton's iteration costs about 7 times as much per frame on examples/guides200
-     * (201 guides of 20 cm), where the guide-guide contacts and the head's motion make
-     * the iteration converge slowly; and Euler ran those lengths (Appendix B wavy hair on
-     * the head, shaking 25 degrees at 1 Hz, 10 s at dt = 1/30 s) where it failed from 50
-     * cm on. Longer guides get TR-BDF2 with the O(N) solver (docs/dynamics.md, "Time
-     * stepping"). */
-    if (hk_hairstyle_length(style) <= HK_EULER_LONGEST_GUIDE) {
-        o.dynamics.integrator = HK_INTEGRATOR_LINEAR_EULER;
-        o.dynamics.solver = HK_DYNAMICS_DENSE;
-        o.dynamics.stiffness = HK_STIFFNESS_FULL;
-        /* The guide-guide contacts are solved outside each guide's matrix (below), so the
-         * guide's own step must be stable by itself: with G+ four steps old, guides pushed
-         * by the contacts gained speed from step to step until they flew off (all 201
-         * guides of examples/guides200 within a second); refreshed every step, none. */
-        o.dynamics.hessian_interval = 1;
-    }
+    /* Every guide takes the linearly implicit Euler step, whatever its length, with the
+     * guide-guide contacts solved together over all guides (advance, below), long
+     * guides in several steps a frame (euler_steps). TR-BDF2 is the better integrator
+     * for a strand alone (docs/dynamics.md, "Time stepping"), but its guides can only
+     * take the contacts as penalty forces, each in its own step with its partners held
+     * still (block Jacobi), and a full head of 1 m guides then whipped: under a 25
+     * degree shake at 1 Hz tips jumped up to 1.4 m in a frame after 0.8 s, and Newton's
+     * iteration needed 240 evaluations per guide and frame. The contacts' solve holds
+     * the pile together instead (tests/test_long_guides.c, docs/dynamics.md "Long
+     * guides on a head"). The guide's own step must be stable by itself: with G+ four
+     * steps old, guides pushed by the contacts gained speed from step to step until
+     * they flew off (all 201 guides of examples/guides200 within a second); refreshed
+     * every step, none. */
+    o.dynamics.integrator = HK_INTEGRATOR_LINEAR_EULER;
+    o.dynamics.solver = HK_DYNAMICS_DENSE;
+    o.dynamics.stiffness = HK_STIFFNESS_FULL;
+    o.dynamics.hessian_interval = 1;
     o.hair_contacts = 1;
     o.contacts = hk_default_hair_contact_params();
     /* Contacts scaled to this hair (docs/dynamics.md): guides keep 2.5 mm apart, less
@@ -218,12 +218,55 @@ static void held_state(void *user, double t, hk_RigidState *out)
 static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, double t, double dt,
                          hk_HairSimStats *stats, hk_Error *err);
 
+/* Longest linearly implicit Euler step for guides of `length` metres: 1/24 s up to
+ * HK_EULER_FULL_STEP_LENGTH, shorter in proportion beyond. The Euler step treats the
+ * velocity products and the negative geometric stiffness explicitly, and a long guide
+ * swinging fast gains energy from them: a head of 201 guides of 1 m (examples/guides200
+ * with 5 cm elements) nodding 25 degrees at 1 Hz blew up after 1.8 s at one step a
+ * frame of 1/24 s and after 3.4 s at 1/30 s (guides recovered by the hundred), and ran
+ * 10 s at two steps a frame (docs/dynamics.md, "Long guides on a head"). */
+#define HK_EULER_FULL_STEP_LENGTH 0.5
+
+static int euler_steps(const hk_HairSim *sim, double dt)
+{
+    if (sim->options.dynamics.integrator != HK_INTEGRATOR_LINEAR_EULER) return 1; /* TR-BDF2 splits by itself */
+    const double longest = (1.0 / 24.0) * fmin(1.0, HK_EULER_FULL_STEP_LENGTH / hk_hairstyle_length(&sim->style));
+    const double n = ceil(dt / longest - 1e-9);
+    return n < 1.0 ? 1 : n > 64.0 ? 64 : (int)n;
+}
+
+/* Steps from t to t + dt in euler_steps equal steps; stats sums the steps' work and
+ * gives the last one's contacts. */
+static hk_Status advance_frame(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, double t, double dt,
+                               hk_HairSimStats *stats, hk_Error *err)
+{
+    const int n = euler_steps(sim, dt);
+    hk_HairSimStats sum, one;
+    memset(&sum, 0, sizeof sum);
+    hk_Status st = HK_OK;
+    for (int k = 0; k < n && st == HK_OK; k++) {
+        const double from = t + dt * k / n, to = k == n - 1 ? t + dt : t + dt * (k + 1) / n;
+        st = advance(sim, head_fn, user, from, to - from, &one, err);
+        if (st != HK_OK) break;
+        const double seconds = sum.seconds;
+        const int substeps = sum.substeps, recovered = sum.recovered;
+        const long iterations = sum.iterations;
+        sum = one; /* the last step's contacts */
+        sum.seconds += seconds;
+        sum.substeps += substeps;
+        sum.recovered += recovered;
+        sum.iterations += iterations;
+    }
+    if (stats) *stats = sum;
+    return st;
+}
+
 hk_Status hk_hair_sim_advance(hk_HairSim *sim, const hk_HeadMotion *motion, double t, double dt,
                               hk_HairSimStats *stats, hk_Error *err)
 {
     if (!(dt > 0.0) || !isfinite(dt) || !isfinite(t))
         return hk_error_set(err, HK_ERR_INVALID, "advancing from t = %g by %g s", t, dt);
-    return advance(sim, motion ? head_state : NULL, (void *)motion, t, dt, stats, err);
+    return advance_frame(sim, motion ? head_state : NULL, (void *)motion, t, dt, stats, err);
 }
 
 hk_Status hk_hair_sim_settle(hk_HairSim *sim, const hk_RigidState *head, double seconds, double dt,
@@ -234,7 +277,7 @@ hk_Status hk_hair_sim_settle(hk_HairSim *sim, const hk_RigidState *head, double 
     hk_RigidState pose = head ? *head : hk_rigid_identity();
     const long steps = (long)ceil(seconds / dt - 1e-9);
     for (long i = 0; i < steps; i++) {
-        hk_Status st = advance(sim, held_state, &pose, 0.0, dt, NULL, err);
+        hk_Status st = advance_frame(sim, held_state, &pose, 0.0, dt, NULL, err);
         if (st != HK_OK) return st;
     }
     return HK_OK;
@@ -304,7 +347,7 @@ hk_Status hk_hair_sim_settle_until_still(hk_HairSim *sim, const hk_RigidState *h
     hk_Status st = HK_OK;
     guide_tips(sim, before);
     while (st == HK_OK && steps < most && (steps < least || resting < o->rest_steps)) {
-        st = advance(sim, held_state, &pose, 0.0, dt, NULL, err);
+        st = advance_frame(sim, held_state, &pose, 0.0, dt, NULL, err);
         if (st != HK_OK) break;
         steps++;
         guide_tips(sim, after);
@@ -335,15 +378,16 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
     const int saved_threads = omp_get_max_threads();
     if (sim->options.threads > 0) omp_set_num_threads(sim->options.threads);
     /* Guide-guide interactions (paper 000 §4.1): the pairs from the state at t. With the
-     * linearly implicit Euler step their impulses are solved over all guides together
-     * with static friction (dynamics/hair_contact_solve.h), then held over the step as
-     * point forces. The solve predicts with each guide's Euler step, which is not stable
-     * for long guides: TR-BDF2 guides take the penalty forces instead, implicit through
-     * their linearisation in each guide's own step (block Jacobi, penalty_forces). With
-     * the solve's impulses held constant, a full head of 1 m guides shaken from its groom
-     * flew apart (pairs 54,000 to 1,800 in 8 frames, 103 guides recovered, 730
-     * evaluations per guide and frame); so, it holds together (74 evaluations, none
-     * recovered; tests/test_long_guides.c). */
+     * linearly implicit Euler step (the default) their impulses are solved over all
+     * guides together with static friction (dynamics/hair_contact_solve.h), then held
+     * over the step as point forces. The solve predicts with each guide's Euler step;
+     * guides given TR-BDF2 take the penalty forces instead, implicit through their
+     * linearisation in each guide's own step (block Jacobi, penalty_forces): with the
+     * solve's impulses held constant in TR-BDF2 steps, a full head of 1 m guides flew
+     * apart (pairs 54,000 to 1,800 in 8 frames, 103 guides recovered), and correcting
+     * the TR-BDF2 steps afterwards with the impulses (a splitting) threw 20 cm guides
+     * 10 cm a frame; block Jacobi holds them together but long guides whip
+     * (hk_default_hair_sim_options). */
     const int coupled = sim->options.dynamics.integrator == HK_INTEGRATOR_LINEAR_EULER;
     hk_Status st = HK_OK;
     long predicted = 0; /* evaluations of the contacts' solve */

@@ -78,7 +78,7 @@ expect 0 "$hk" simulate "$g200" --frames 3 --fps 30 --guides-only --motion shake
 for f in guides_0000 guides_0001 guides_0002; do
     cmp -s "$tmp/g1/$f.hair" "$tmp/g2/$f.hair" || fail "$f differs between 1 and 2 threads"
 done
-# TR-BDF2 on the full head (the default for guides over 40 cm), the same bytes with 1
+# TR-BDF2 on the full head (--integrator trbdf2), the same bytes with 1
 # and 2 threads too
 for th in 1 2; do
     expect 0 "$hk" simulate "$g200" --frames 2 --fps 30 --guides-only --motion shake --preroll 0 \
@@ -93,15 +93,17 @@ contains "$tmp/err" "--integrator must be auto, trbdf2 or euler"
 expect 2 "$hk" simulate "$g200" --frames 2 --fps 30 --guides-only --preroll soon -o "$tmp/t3"
 contains "$tmp/err" "--preroll expects auto or seconds"
 # A guide that cannot be advanced through a frame is held at rest relative to the head
-# and said, even with --quiet: 1 m guides with the linear Euler step (unstable for
-# them), undamped, shaken 90 degrees at 3 Hz; the first guides give up at frame 4.
+# and said, even with --quiet: 1 m guides with the linear Euler step (two steps a
+# frame), alone (no guide-guide contacts, whose solve holds them together) and
+# undamped, shaken 90 degrees at 5 Hz; the first guide gives up at frame 2 (at 3 Hz,
+# which took them at one step a frame, none does).
 mkdir -p "$tmp/long"
 sed 's|^HairstyleInfo.*|HairstyleInfo '"$tmp"'/long/hairstyle.txt|; s|\.\./|'"$src"'/examples/guides200/../|' "$g200" \
     > "$tmp/long/setup.txt"
 sed 's|^HairLengths.*|HairLengths 0.05 0.05 0.05 0.05 0.05 0.05 0.05 0.05 0.05 0.05 0.05 0.05 0.05 0.05 0.05 0.05 0.05 0.05 0.05 0.05|' \
     "$src/examples/guides200/hairstyle.txt" > "$tmp/long/hairstyle.txt"
 expect 0 "$hk" simulate "$tmp/long/setup.txt" --frames 5 --fps 30 --guides-only --no-contacts --preroll 0 \
-    --integrator euler --damping off --motion shake --amplitude 90 --frequency 3 -o "$tmp/rec" --quiet
+    --integrator euler --damping off --motion shake --amplitude 90 --frequency 5 -o "$tmp/rec" --quiet
 contains "$tmp/err" "could not be advanced through a frame and were held at rest relative to the head"
 # the default preroll settles until the guides rest and says so (2.5 s of settling)
 expect 0 "$hk" simulate "$g200" --frames 1 --fps 30 --guides-only --preroll auto -o "$tmp/rest" --threads 2

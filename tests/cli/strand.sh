@@ -67,5 +67,7 @@ contains "$tmp/out" "frames/s"
 expect 0 "$hk" bench stability --quick --root "$src"
 contains "$tmp/out" "still, undamped"
 contains "$tmp/out" "linear Euler"
+expect 0 "$hk" bench long-heads --quick --root "$src"
+contains "$tmp/out" "30  shake      ran "
 
 finish "strand CLI"
