@@ -211,6 +211,15 @@ void hk_light_lookup(const hk_LightMaps *maps, hk_Vec3 p, double *head_visible, 
 /* Perspective camera of the options framing the points of hair and head. */
 hk_View hk_camera_frame(const hk_Scene *scene);
 
+/* A hair vertex's colour and whether it is shaded in this picture, side by side: the
+ * vertices are reached in depth order, and with the state in an array of its own each
+ * one cost two cache misses instead of one. state: the shader's busy or done for this
+ * picture, anything else for a vertex not shaded yet. */
+typedef struct hk_VertexColour {
+    float rgb[3];
+    atomic_uint state;
+} hk_VertexColour;
+
 /* Colours of the hair vertices, computed when first asked for (hair_shading.c):
  * ambient plus the shading model times the light that reaches the vertex (maps NULL:
  * no shadows). The shader is zeroed before its first init; an init reuses the arrays
@@ -222,11 +231,13 @@ typedef struct hk_HairShader {
     const hk_View *camera;
     hk_MarschnerParams marschner;
     hk_Vec3 ambient;
-    float *rgb;
-    atomic_uchar *state;
+    hk_VertexColour *colour;
+    /* The states of this picture's vertices: a new picture takes two new values, so
+     * that the states need no clearing (the earlier pictures' values mean new). */
+    uint32_t busy, done;
     uint32_t *strand_of; /* the strand of each vertex, unless strand_length */
     uint32_t strand_length; /* points of every strand when they all have as many, else 0 */
-    size_t rgb_cap, state_cap, strand_of_cap; /* kept from picture to picture */
+    size_t colour_cap, strand_of_cap; /* kept from picture to picture */
 } hk_HairShader;
 hk_Status hk_hair_shader_init(hk_HairShader *s, const hk_Scene *scene, const uint8_t *segment_start,
                               const hk_LightMaps *maps, const hk_View *camera, hk_Error *err);
