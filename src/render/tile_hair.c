@@ -154,6 +154,7 @@ HK_FRAGMENT_INLINE void hair_fragment(void *user, int x, int y, float t, float a
     f->b = s->ca[2] + t * (s->cb[2] - s->ca[2]);
     q->next = w->pending[p];
     w->pending[p] = (uint32_t)w->count++;
+    w->pixel_start[p + 1]++; /* the pixel's fragments, counted for composite */
     if (z < w->pending_near[p]) w->pending_near[p] = z;
     if (!w->touched[p]) w->touched[p] = 1, w->touched_list[w->touched_count++] = (uint16_t)p;
 }
@@ -222,8 +223,7 @@ static int hidden(const hk_TileHair *w, hk_TileBox b)
  * front to back over the head or background. */
 static int composite(hk_TileHair *w, hk_Canvas *image)
 {
-    memset(w->pixel_start, 0, sizeof w->pixel_start);
-    for (size_t i = 0; i < w->count; i++) w->pixel_start[w->frag[i].pixel + 1]++;
+    /* pixel_start[p + 1] holds pixel p's count (hair_fragment): the offsets. */
     int most = 0;
     for (int p = 0; p < NPX; p++) {
         if ((int)w->pixel_start[p + 1] > most) most = (int)w->pixel_start[p + 1];
@@ -288,6 +288,7 @@ int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_Tile
     w->r = hk_tile_rect(bins, tile, sc->opt->width, sc->opt->height);
     w->head = head, w->hair = sc->hair, w->shader = in->shader;
     w->count = 0, w->failed = 0, w->touched_count = 0;
+    memset(w->pixel_start, 0, sizeof w->pixel_start);
     for (int p = 0; p < NPX; p++) {
         w->pending[p] = NONE, w->pending_near[p] = HUGE_VALF;
         w->through[p] = 1.0f, w->saturated[p] = 0, w->touched[p] = 0;
