@@ -175,12 +175,24 @@ typedef struct hk_Scene {
     hk_Vec3 lo, hi;      /* bounding box of hair and head */
     double thickness;    /* strand diameter (scene units) when the file has no array */
     uint32_t segment_count;
+    /* Where a point's diameter comes from, chosen once (hk_scene_thickness): the
+     * file's array, or else one value (the options' or the file's). Read for every
+     * segment in both views' bins and rasterisers: through opt and hair it was a chain
+     * of three dependent loads a segment. */
+    const float *thickness_point;
+    double thickness_fixed;
 } hk_Scene;
+
+static inline void hk_scene_thickness(hk_Scene *s)
+{
+    const int forced = s->opt->hair_thickness > 0.0;
+    s->thickness_point = forced ? NULL : s->hair->thickness;
+    s->thickness_fixed = forced ? s->opt->hair_thickness : s->thickness;
+}
 
 static inline double hk_hair_thickness_at(const hk_Scene *s, uint32_t point)
 {
-    if (s->opt->hair_thickness > 0.0) return s->opt->hair_thickness;
-    return s->hair->thickness ? s->hair->thickness[point] : s->thickness;
+    return s->thickness_point ? s->thickness_point[point] : s->thickness_fixed;
 }
 
 static inline hk_Vec3 hk_hair_point(const hk_HairFile *h, uint32_t i)
