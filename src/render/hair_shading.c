@@ -4,9 +4,9 @@
  *
  * Vertices are shaded lazily, when a segment is first drawn: most segments of a full
  * head lie behind saturated pixels and are never drawn. Each vertex has a state
- * (0 new, 1 being shaded, 2 done); the thread that moves it from 0 to 1 shades and
- * publishes it, a thread that finds it at 1 shades its own copy. The value does not
- * depend on who computes it, so the picture does not depend on the threads. */
+ * (new, being shaded, done); the thread that moves it from new to being shaded shades
+ * and publishes it, a thread that finds it being shaded shades its own copy. The value
+ * does not depend on who computes it, so the picture does not depend on the threads. */
 #include <stdlib.h>
 
 #include "render_internal.h"
@@ -19,14 +19,20 @@ hk_Status hk_hair_shader_init(hk_HairShader *s, const hk_Scene *sc, const uint8_
     s->marschner = hk_marschner_params_from_color(sc->vis->diffuse);
     s->ambient = hk_v3_scale(sc->vis->ambient, sc->opt->ambient_intensity);
     const size_t n = sc->hair->point_count ? sc->hair->point_count : 1;
-    if (!hk_reserve((void **)&s->rgb, &s->rgb_cap, n, 3 * sizeof(float), err) ||
-        !hk_reserve((void **)&s->state, &s->state_cap, n, sizeof(atomic_uchar), err) ||
-        !HK_RESERVE(s->strand_of, s->strand_of_cap, n, err)) {
+    const size_t kept = s->colour_cap;
+    if (!HK_RESERVE(s->colour, s->colour_cap, n, err) || !HK_RESERVE(s->strand_of, s->strand_of_cap, n, err)) {
         hk_hair_shader_free(s);
         return HK_ERR_NOMEM;
     }
+    /* Two new state values (4 bytes of every vertex's 16 written only for new memory or
+     * after 2^31 pictures, rather than every picture). */
+    if (s->colour_cap != kept || s->done > UINT32_MAX - 2) {
+        hk_VertexColour *c = s->colour;
 #pragma omp parallel for schedule(static)
-    for (long i = 0; i < (long)n; i++) atomic_init(&s->state[i], 0);
+        for (long i = 0; i < (long)s->colour_cap; i++) atomic_init(&c[i].state, 0);
+        s->done = 0;
+    }
+    s->busy = s->done + 1, s->done += 2;
     /* Strands of one length (a groom's, a simulated frame's): a vertex's strand is its
      * index divided by the length, with no table to fill and to read (a cache miss per
      * vertex shaded, the vertices being reached in depth order). */
@@ -45,11 +51,11 @@ hk_Status hk_hair_shader_init(hk_HairShader *s, const hk_Scene *sc, const uint8_
 
 void hk_hair_shader_free(hk_HairShader *s)
 {
-    hk_free(s->rgb);
-    hk_free((void *)s->state);
+    hk_free(s->colour);
     hk_free(s->strand_of);
-    s->rgb = NULL, s->state = NULL, s->strand_of = NULL;
-    s->rgb_cap = s->state_cap = s->strand_of_cap = 0;
+    s->colour = NULL, s->strand_of = NULL;
+    s->colour_cap = s->strand_of_cap = 0;
+    s->busy = s->done = 0;
 }
 
 /* A number in [-1, 1) from a strand's index (splitmix64 finaliser). */
@@ -103,17 +109,18 @@ static void shade(const hk_HairShader *s, uint32_t i, float out[3])
 
 void hk_hair_shader_get(hk_HairShader *s, uint32_t i, float out[3])
 {
-    unsigned char state = atomic_load_explicit(&s->state[i], memory_order_acquire);
-    if (state == 2) {
-        out[0] = s->rgb[3 * (size_t)i], out[1] = s->rgb[3 * (size_t)i + 1], out[2] = s->rgb[3 * (size_t)i + 2];
+    hk_VertexColour *c = &s->colour[i];
+    unsigned state = atomic_load_explicit(&c->state, memory_order_acquire);
+    if (state == s->done) {
+        out[0] = c->rgb[0], out[1] = c->rgb[1], out[2] = c->rgb[2];
         return;
     }
     shade(s, i, out);
-    unsigned char expected = 0;
-    if (state == 0 && atomic_compare_exchange_strong_explicit(&s->state[i], &expected, 1, memory_order_acq_rel,
-                                                              memory_order_acquire)) {
-        s->rgb[3 * (size_t)i] = out[0], s->rgb[3 * (size_t)i + 1] = out[1], s->rgb[3 * (size_t)i + 2] = out[2];
-        atomic_store_explicit(&s->state[i], 2, memory_order_release);
+    unsigned expected = state;
+    if (state != s->busy && atomic_compare_exchange_strong_explicit(&c->state, &expected, s->busy,
+                                                                    memory_order_acq_rel, memory_order_acquire)) {
+        c->rgb[0] = out[0], c->rgb[1] = out[1], c->rgb[2] = out[2];
+        atomic_store_explicit(&c->state, s->done, memory_order_release);
     }
 }
 

@@ -53,13 +53,16 @@ HK_TILE_BINS_BUILD(bin_hair, hair_box)
 
 /* Where a tile's segments put their fragments: a local of opacity_tile's, so that the
  * compiler keeps it in registers (through the LightPass, the stores of the fragments'
- * floats might have changed the segment's depths, which were loaded again for each). */
+ * floats might have changed the segment's depths, which were loaded again for each).
+ * z0 is the map's: each fragment lowers its texel's z0 as it is made (the tile owns its
+ * texels), rather than in a pass over the tile's fragments afterwards. */
 typedef struct LightSink {
     LightFragment *frag;
     size_t count, cap;
     float az, dz; /* the segment's depth at its start, and its change to the end */
     uint32_t size;
     int failed;
+    float *z0;
 } LightSink;
 
 HK_FRAGMENT_INLINE void hair_fragment(void *user, int x, int y, float t, float alpha)
@@ -74,9 +77,12 @@ HK_FRAGMENT_INLINE void hair_fragment(void *user, int x, int y, float t, float a
         k->frag = grown;
     }
     LightFragment *f = &k->frag[k->count++];
-    f->z = k->az + t * k->dz; /* orthographic: depth is linear */
+    const float z = k->az + t * k->dz; /* orthographic: depth is linear */
+    const uint32_t texel = (uint32_t)y * k->size + (uint32_t)x;
+    f->z = z;
     f->alpha = alpha;
-    f->texel = (uint32_t)y * k->size + (uint32_t)x;
+    f->texel = texel;
+    if (z < k->z0[texel]) k->z0[texel] = z;
 }
 
 /* Each fragment's opacity added to its layer (layers: m->layers). */
@@ -99,13 +105,13 @@ static inline __attribute__((always_inline)) void add_to_layers(LightPass *lp, c
     }
 }
 
-/* One tile of the map: draw its segments, find z0, add each fragment to its layer,
- * and turn the layers into running sums. */
+/* One tile of the map: draw its segments (finding z0), add each fragment to its
+ * layer, and turn the layers into running sums. */
 static void opacity_tile(LightPass *lp, const hk_TileBins *bins, int tile)
 {
     hk_LightMaps *m = lp->maps;
     const hk_Rect r = hk_tile_rect(bins, tile, m->size, m->size);
-    LightSink sink = {lp->frag, 0, lp->cap, 0.0f, 0.0f, (uint32_t)m->size, 0};
+    LightSink sink = {lp->frag, 0, lp->cap, 0.0f, 0.0f, (uint32_t)m->size, 0, m->hair_z0};
     const hk_RasterPoint *proj = lp->proj;
     const hk_Scene *scene = lp->scene;
     const uint32_t end = bins->start[tile + 1];
@@ -122,8 +128,6 @@ static void opacity_tile(LightPass *lp, const hk_TileBins *bins, int tile)
         lp->failed = 1;
         return;
     }
-    for (size_t f = 0; f < lp->count; f++)
-        if (lp->frag[f].z < m->hair_z0[lp->frag[f].texel]) m->hair_z0[lp->frag[f].texel] = lp->frag[f].z;
     if (m->layers == 4) /* the default: the count of layers known, its loop unrolled */
         add_to_layers(lp, 4);
     else

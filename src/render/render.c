@@ -121,7 +121,7 @@ hk_Status hk_render_fit_camera(const hk_HairFile *hair, const hk_Mesh *head,
     hk_RenderOptions fit = *opt;
     fit.camera_distance = 0.0;
     hk_Scene sc = {hair, head && head->triangle_count > 0 ? head : NULL, NULL, &fit, hk_v3_zero(), hk_v3_zero(),
-                   hk_v3_zero(), 0.0, 0};
+                   hk_v3_zero(), 0.0, 0, NULL, 0.0};
     if ((st = hk_scene_bounds(&sc, err)) != HK_OK) return st;
     const hk_View cam = hk_camera_frame(&sc);
     *target = cam.target;

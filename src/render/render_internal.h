@@ -175,12 +175,24 @@ typedef struct hk_Scene {
     hk_Vec3 lo, hi;      /* bounding box of hair and head */
     double thickness;    /* strand diameter (scene units) when the file has no array */
     uint32_t segment_count;
+    /* Where a point's diameter comes from, chosen once (hk_scene_thickness): the
+     * file's array, or else one value (the options' or the file's). Read for every
+     * segment in both views' bins and rasterisers: through opt and hair it was a chain
+     * of three dependent loads a segment. */
+    const float *thickness_point;
+    double thickness_fixed;
 } hk_Scene;
+
+static inline void hk_scene_thickness(hk_Scene *s)
+{
+    const int forced = s->opt->hair_thickness > 0.0;
+    s->thickness_point = forced ? NULL : s->hair->thickness;
+    s->thickness_fixed = forced ? s->opt->hair_thickness : s->thickness;
+}
 
 static inline double hk_hair_thickness_at(const hk_Scene *s, uint32_t point)
 {
-    if (s->opt->hair_thickness > 0.0) return s->opt->hair_thickness;
-    return s->hair->thickness ? s->hair->thickness[point] : s->thickness;
+    return s->thickness_point ? s->thickness_point[point] : s->thickness_fixed;
 }
 
 static inline hk_Vec3 hk_hair_point(const hk_HairFile *h, uint32_t i)
@@ -211,6 +223,15 @@ void hk_light_lookup(const hk_LightMaps *maps, hk_Vec3 p, double *head_visible, 
 /* Perspective camera of the options framing the points of hair and head. */
 hk_View hk_camera_frame(const hk_Scene *scene);
 
+/* A hair vertex's colour and whether it is shaded in this picture, side by side: the
+ * vertices are reached in depth order, and with the state in an array of its own each
+ * one cost two cache misses instead of one. state: the shader's busy or done for this
+ * picture, anything else for a vertex not shaded yet. */
+typedef struct hk_VertexColour {
+    float rgb[3];
+    atomic_uint state;
+} hk_VertexColour;
+
 /* Colours of the hair vertices, computed when first asked for (hair_shading.c):
  * ambient plus the shading model times the light that reaches the vertex (maps NULL:
  * no shadows). The shader is zeroed before its first init; an init reuses the arrays
@@ -222,11 +243,13 @@ typedef struct hk_HairShader {
     const hk_View *camera;
     hk_MarschnerParams marschner;
     hk_Vec3 ambient;
-    float *rgb;
-    atomic_uchar *state;
+    hk_VertexColour *colour;
+    /* The states of this picture's vertices: a new picture takes two new values, so
+     * that the states need no clearing (the earlier pictures' values mean new). */
+    uint32_t busy, done;
     uint32_t *strand_of; /* the strand of each vertex, unless strand_length */
     uint32_t strand_length; /* points of every strand when they all have as many, else 0 */
-    size_t rgb_cap, state_cap, strand_of_cap; /* kept from picture to picture */
+    size_t colour_cap, strand_of_cap; /* kept from picture to picture */
 } hk_HairShader;
 hk_Status hk_hair_shader_init(hk_HairShader *s, const hk_Scene *scene, const uint8_t *segment_start,
                               const hk_LightMaps *maps, const hk_View *camera, hk_Error *err);

@@ -180,11 +180,12 @@ static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *he
     vis_linear.diffuse = hk_srgb_to_linear(vis->diffuse);
     vis_linear.specular = hk_srgb_to_linear(vis->specular);
     hk_Scene sc = {hair, head && head->triangle_count > 0 ? head : NULL, &vis_linear, opt, hk_v3_zero(), hk_v3_zero(),
-                   hk_v3_zero(), 0.0, 0};
+                   hk_v3_zero(), 0.0, 0, NULL, 0.0};
     sc.light_dir = hk_v3_normalize(direction(opt->light_azimuth_deg, opt->light_elevation_deg));
     hk_Status st = hk_scene_bounds(&sc, err);
     if (st != HK_OK) return st;
     sc.thickness = hair->default_thickness > 0.0f ? hair->default_thickness : 1e-3 * hk_v3_dist(sc.lo, sc.hi);
+    hk_scene_thickness(&sc);
     if ((st = reserve_tile_work(r, omp_get_max_threads(), err)) != HK_OK) return st;
     if (!HK_RESERVE(r->seg, r->seg_cap, hair->point_count, err)) return HK_ERR_NOMEM;
     sc.segment_count = hk_segment_starts(hair, r->seg);

@@ -18,8 +18,6 @@
 #define SATURATED (1.0f / 1024.0f)
 #define NONE UINT32_MAX
 #define SETTLE_BATCH 64 /* segments between two saturation checks */
-#define BLOCK 8         /* saturation is also tracked per block of 8 x 8 pixels */
-#define BLOCKS (HK_TILE / BLOCK)
 
 /* A fragment in two records: what settling walks, from pixel to pixel's list (12
  * bytes, so that the walk, which waits on memory, reads fewer cache lines), and its
@@ -39,11 +37,6 @@ typedef struct Segment {
     uint32_t first; /* index of its first point */
     float ca[3], cb[3]; /* colours, fetched at its first fragment kept */
 } Segment;
-
-/* The blocks of the tile a segment's box covers. */
-typedef struct Blocks {
-    uint8_t x0, y0, x1, y1;
-} Blocks;
 
 struct hk_TileHair {
     hk_Rect r;
@@ -74,7 +67,12 @@ struct hk_TileHair {
     uint8_t saturated[NPX], touched[NPX];
     uint16_t touched_list[NPX];
     int touched_count;
-    int block_open[BLOCKS * BLOCKS]; /* pixels of each block not yet saturated */
+    /* Saturation per row too: bit x of open_row[y] is set while pixel (x, y) of the
+     * tile takes fragments. A segment whose box covers no open pixel is not drawn (on
+     * a full head half the segments drawn kept no fragment when this was tracked per
+     * block of 8 x 8 pixels); open counts the open pixels. */
+    uint32_t open_row[HK_TILE];
+    int open;
     /* pixels behind the head: closed once the segments start behind it */
     uint64_t head_order[NPX]; /* cutoff depth bits above the pixel, increasing */
     uint64_t head_tmp[NPX];
@@ -156,6 +154,7 @@ HK_FRAGMENT_INLINE void hair_fragment(void *user, int x, int y, float t, float a
     f->b = s->ca[2] + t * (s->cb[2] - s->ca[2]);
     q->next = w->pending[p];
     w->pending[p] = (uint32_t)w->count++;
+    w->pixel_start[p + 1]++; /* the pixel's fragments, counted for composite */
     if (z < w->pending_near[p]) w->pending_near[p] = z;
     if (!w->touched[p]) w->touched[p] = 1, w->touched_list[w->touched_count++] = (uint16_t)p;
 }
@@ -164,7 +163,8 @@ static void close_pixel(hk_TileHair *w, int p)
 {
     if (w->saturated[p]) return;
     w->saturated[p] = 1;
-    w->block_open[(p / HK_TILE / BLOCK) * BLOCKS + (p % HK_TILE) / BLOCK]--;
+    w->open_row[p / HK_TILE] &= ~(1u << (p % HK_TILE));
+    w->open--;
 }
 
 /* Fragments in front of `front` are final: fold them into their pixel's
@@ -206,34 +206,24 @@ static void settle(hk_TileHair *w, float front)
     w->touched_count = 0;
 }
 
-/* The blocks of the tile under a segment's box (the bins' box, which touches the
- * tile). */
-static Blocks segment_blocks(const hk_TileHair *w, hk_TileBox b)
+/* Whether every pixel of the tile under a segment's box (the bins' box, which touches
+ * the tile) is saturated: then the rasteriser would pass over all of them. */
+static int hidden(const hk_TileHair *w, hk_TileBox b)
 {
-    const int x1 = b.x1 < w->r.x1 ? b.x1 : w->r.x1, y1 = b.y1 < w->r.y1 ? b.y1 : w->r.y1;
-    Blocks out;
-    out.x0 = (uint8_t)((b.x0 > w->r.x0 ? b.x0 - w->r.x0 : 0) / BLOCK);
-    out.y0 = (uint8_t)((b.y0 > w->r.y0 ? b.y0 - w->r.y0 : 0) / BLOCK);
-    out.x1 = (uint8_t)((x1 - 1 - w->r.x0) / BLOCK), out.y1 = (uint8_t)((y1 - 1 - w->r.y0) / BLOCK);
-    return out;
-}
-
-/* Whether every block under the segment is saturated. */
-static int hidden(const hk_TileHair *w, Blocks b)
-{
-    for (int by = b.y0; by <= b.y1; by++)
-        for (int bx = b.x0; bx <= b.x1; bx++)
-            if (w->block_open[by * BLOCKS + bx] > 0) return 0;
+    const int x0 = b.x0 > w->r.x0 ? b.x0 - w->r.x0 : 0, y0 = b.y0 > w->r.y0 ? b.y0 - w->r.y0 : 0;
+    const int x1 = (b.x1 < w->r.x1 ? b.x1 : w->r.x1) - w->r.x0, y1 = (b.y1 < w->r.y1 ? b.y1 : w->r.y1) - w->r.y0;
+    /* bits x0 .. x1 - 1 (x1 - x0 is 1 to 32) */
+    const uint32_t columns = (UINT32_MAX >> (HK_TILE - (x1 - x0))) << x0;
+    for (int y = y0; y < y1; y++)
+        if (w->open_row[y] & columns) return 0;
     return 1;
 }
-
 
 /* Sorts each pixel's fragments by depth (ties by drawing order) and composites them
  * front to back over the head or background. */
 static int composite(hk_TileHair *w, hk_Canvas *image)
 {
-    memset(w->pixel_start, 0, sizeof w->pixel_start);
-    for (size_t i = 0; i < w->count; i++) w->pixel_start[w->frag[i].pixel + 1]++;
+    /* pixel_start[p + 1] holds pixel p's count (hair_fragment): the offsets. */
     int most = 0;
     for (int p = 0; p < NPX; p++) {
         if ((int)w->pixel_start[p + 1] > most) most = (int)w->pixel_start[p + 1];
@@ -298,14 +288,14 @@ int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_Tile
     w->r = hk_tile_rect(bins, tile, sc->opt->width, sc->opt->height);
     w->head = head, w->hair = sc->hair, w->shader = in->shader;
     w->count = 0, w->failed = 0, w->touched_count = 0;
+    memset(w->pixel_start, 0, sizeof w->pixel_start);
     for (int p = 0; p < NPX; p++) {
         w->pending[p] = NONE, w->pending_near[p] = HUGE_VALF;
         w->through[p] = 1.0f, w->saturated[p] = 0, w->touched[p] = 0;
     }
-    for (int b = 0; b < BLOCKS * BLOCKS; b++) w->block_open[b] = 0;
-    for (int y = w->r.y0; y < w->r.y1; y++)
-        for (int x = w->r.x0; x < w->r.x1; x++)
-            w->block_open[((y - w->r.y0) / BLOCK) * BLOCKS + (x - w->r.x0) / BLOCK]++;
+    for (int y = 0; y < HK_TILE; y++)
+        w->open_row[y] = y < w->r.y1 - w->r.y0 ? UINT32_MAX >> (HK_TILE - (w->r.x1 - w->r.x0)) : 0;
+    w->open = (w->r.x1 - w->r.x0) * (w->r.y1 - w->r.y0);
     w->head_count = w->head_next = 0;
     for (int y = w->r.y0; y < w->r.y1; y++)
         for (int x = w->r.x0; x < w->r.x1; x++) {
@@ -340,11 +330,9 @@ int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_Tile
             float front;
             memcpy(&front, &depth.keys[k], sizeof front);
             settle(w, front);
-            int open = 0;
-            for (int b = 0; b < BLOCKS * BLOCKS; b++) open += w->block_open[b];
-            if (open == 0) break; /* every pixel of the tile is saturated */
+            if (w->open == 0) break; /* every pixel of the tile is saturated */
         }
-        if (hidden(w, segment_blocks(w, bins->boxes[i]))) continue;
+        if (hidden(w, bins->boxes[i])) continue;
         s->a = in->hair_proj[i], s->b = in->hair_proj[i + 1];
         s->first = i;
         w->current = s, w->coloured = 0;
