@@ -118,6 +118,13 @@ static void test_cholesky_columns(void **state)
                 a[i * n + j] = v;
             }
         assert_true(hk_cholesky_factor(n, a, 0.0, NULL, l));
+        /* in place (the contacts' solve factors so): the same lower triangle, bit for bit */
+        double *in_place = malloc(sizeof(double) * (size_t)(n * n));
+        memcpy(in_place, a, sizeof(double) * (size_t)(n * n));
+        assert_true(hk_cholesky_factor(n, in_place, 0.0, NULL, in_place));
+        for (int i = 0; i < n; i++)
+            for (int j = 0; j <= i; j++) assert_memory_equal(&in_place[i * n + j], &l[i * n + j], sizeof(double));
+        free(in_place);
         for (int i = 0; i < n * count; i++) b[i] = x[i] = rand() / (double)RAND_MAX - 0.5;
         hk_cholesky_solve_columns(n, l, x, count);
         for (int r = 0; r < count; r++)

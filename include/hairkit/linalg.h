@@ -11,7 +11,9 @@ extern "C" {
 double hk_dot(const double *a, const double *b, int n);
 
 /* Cholesky factor of the symmetric matrix a + shift * diag(d) (d may be NULL: identity)
- * into the lower triangle of l (n x n; the strict upper triangle is left alone).
+ * into the lower triangle of l (n x n; the strict upper triangle is left alone). Only
+ * the lower triangle of a is read, each entry before l's is written there: l may be a
+ * (factored in place).
  * Returns 1 on success, 0 if the matrix is not numerically positive definite. */
 int hk_cholesky_factor(int n, const double *a, double shift, const double *d, double *l);
 

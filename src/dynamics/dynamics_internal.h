@@ -263,7 +263,7 @@ hk_FrameKinematics hk_dynamics_root_kinematics(const hk_StrandDynamics *d, const
 int hk_dynamics_resolve_rows(hk_StrandDynamics *d, const double *rhs, int count, double *out);
 
 /* The matrix A of the last hk_dynamics_euler_delta as A = U U^T with U upper triangular
- * (3N x 3N, row-major; its strict lower part left as it was): Cholesky's factorisation
+ * (3N x 3N, row-major; its strict lower part overwritten): Cholesky's factorisation
  * with the unknowns in reverse order. A point's rows of J are zero beyond its own
  * element, and so are its rows of U^-1 J^T, which is what the contacts' solve uses
  * (hair_contact_solve.c). Returns 0 without a dense matrix (the O(N) solver) or when A

@@ -71,28 +71,29 @@ static const double *dense_factor(const hk_StrandDynamics *d)
     return d->params.solver == HK_DYNAMICS_DENSE ? d->work + sd * sd : NULL;
 }
 
+/* Reversing the unknowns' order of an n x n matrix turns entry (i, k) into
+ * (n - 1 - i, n - 1 - k): in row-major storage, the array read backwards. The factor
+ * A = U U^T is then L L^T of the reversed matrix, read backwards. */
+static void reverse_array(double *x, size_t count)
+{
+    for (size_t i = 0, j = count - 1; i < j; i++, j--) {
+        const double t = x[i];
+        x[i] = x[j];
+        x[j] = t;
+    }
+}
+
 int hk_dynamics_reverse_factor(const hk_StrandDynamics *d, double *u)
 {
     if (d->dense_fallback || d->params.solver != HK_DYNAMICS_DENSE) return 0;
     const int dim = 3 * d->sh->n;
     const size_t sd = (size_t)dim;
     const double *a = d->work; /* as assembled by hk_terms_solve_dense, without the diagonal extra */
-    for (int j = dim - 1; j >= 0; j--) {
-        const double *uj = u + (size_t)j * sd;
-        const double ajj = a[(size_t)j * sd + (size_t)j] + d->extra[j];
-        double diag = ajj;
-        for (int k = j + 1; k < dim; k++) diag -= uj[k] * uj[k];
-        /* as hk_cholesky_factor: a pivot this small is indefinite to working precision */
-        if (!(diag > 1e-13 * fabs(ajj)) || !isfinite(diag)) return 0;
-        const double ujj = sqrt(diag);
-        u[(size_t)j * sd + (size_t)j] = ujj;
-        for (int i = 0; i < j; i++) {
-            double *ui = u + (size_t)i * sd;
-            double v = a[(size_t)i * sd + (size_t)j];
-            for (int k = j + 1; k < dim; k++) v -= ui[k] * uj[k];
-            ui[j] = v / ujj;
-        }
-    }
+    double extra[3 * HK_MAX_ELEMENTS];
+    for (size_t k = 0; k < sd * sd; k++) u[k] = a[sd * sd - 1 - k];
+    for (int j = 0; j < dim; j++) extra[j] = d->extra[dim - 1 - j];
+    if (!hk_cholesky_factor(dim, u, 1.0, extra, u)) return 0;
+    reverse_array(u, sd * sd);
     return 1;
 }
 
