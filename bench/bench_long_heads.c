@@ -8,8 +8,8 @@
  * relative to the head for a step because they could not be advanced), the farthest a
  * tip moved in one frame (a whipping guide moves metres), steps and force evaluations
  * per guide and frame, and CPU seconds per frame. The rows run one after the other, each
- * with every thread, and are printed as they are done (the full table takes about an
- * hour on 2 cores). */
+ * with every thread, and are printed as they are done (the full table takes about
+ * two hours on 2 cores). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>

@@ -49,7 +49,7 @@ static void usage(FILE *out)
             "  --integrator auto|trbdf2|euler\n"
             "                     time stepping of the guides: the linearly implicit Euler\n"
             "                     step with the guide-guide contacts solved together, guides\n"
-            "                     over 50 cm in several steps a frame (auto, the default;\n"
+            "                     over 25 cm in several steps a frame (auto, the default;\n"
             "                     euler), or TR-BDF2 (second order, the contacts as penalty\n"
             "                     forces per guide; long guides whip)\n");
     hk_cli_motion_options_help(out);

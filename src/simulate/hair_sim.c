@@ -219,13 +219,15 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
                          hk_HairSimStats *stats, hk_Error *err);
 
 /* Longest linearly implicit Euler step for guides of `length` metres: 1/24 s up to
- * HK_EULER_FULL_STEP_LENGTH, shorter in proportion beyond. The Euler step treats the
- * velocity products and the negative geometric stiffness explicitly, and a long guide
- * swinging fast gains energy from them: a head of 201 guides of 1 m (examples/guides200
- * with 5 cm elements) nodding 25 degrees at 1 Hz blew up after 1.8 s at one step a
- * frame of 1/24 s and after 3.4 s at 1/30 s (guides recovered by the hundred), and ran
- * 10 s at two steps a frame (docs/dynamics.md, "Long guides on a head"). */
-#define HK_EULER_FULL_STEP_LENGTH 0.5
+ * HK_EULER_FULL_STEP_LENGTH, shorter in proportion beyond (two steps a frame for 50 cm,
+ * four for 1 m, at 24 or 30 frames/s). The Euler step treats the velocity products and
+ * the negative geometric stiffness explicitly, and a long guide swinging fast gains
+ * energy from them. Measured on the default head nodding 25 degrees at 1 Hz
+ * (docs/dynamics.md, "Long guides on a head"): at one step a frame, 201 guides of 1 m
+ * (examples/guides200's loose wave) blew up after 1.8 s at 24 frames/s and 3.4 s at 30
+ * (guides recovered by the hundred), Appendix B's wavy hair of 50 cm after 0.6 s at 24;
+ * at two steps a frame both ran 10 s. Four for 1 m leave a margin for curlier hair. */
+#define HK_EULER_FULL_STEP_LENGTH 0.25
 
 static int euler_steps(const hk_HairSim *sim, double dt)
 {

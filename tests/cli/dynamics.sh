@@ -93,10 +93,10 @@ contains "$tmp/err" "--integrator must be auto, trbdf2 or euler"
 expect 2 "$hk" simulate "$g200" --frames 2 --fps 30 --guides-only --preroll soon -o "$tmp/t3"
 contains "$tmp/err" "--preroll expects auto or seconds"
 # A guide that cannot be advanced through a frame is held at rest relative to the head
-# and said, even with --quiet: 1 m guides with the linear Euler step (two steps a
+# and said, even with --quiet: 1 m guides with the linear Euler step (four steps a
 # frame), alone (no guide-guide contacts, whose solve holds them together) and
-# undamped, shaken 90 degrees at 5 Hz; the first guide gives up at frame 2 (at 3 Hz,
-# which took them at one step a frame, none does).
+# undamped, shaken 90 degrees at 5 Hz; the first guide gives up at frame 2 (3 Hz was
+# enough at one step a frame; at two, no guide gave up).
 mkdir -p "$tmp/long"
 sed 's|^HairstyleInfo.*|HairstyleInfo '"$tmp"'/long/hairstyle.txt|; s|\.\./|'"$src"'/examples/guides200/../|' "$g200" \
     > "$tmp/long/setup.txt"
