@@ -139,7 +139,7 @@ static void test_point_jacobians_match_finite_differences(void **state)
     double *jac = malloc(sizeof(double) * 9 * udim), *screws = malloc(sizeof(double) * 6 * udim);
     double *rates = calloc(udim, sizeof(double));
     hk_Vec3 pos[3];
-    hk_dynamics_point_jacobians(d, NULL, rates, s, 3, screws, jac, pos, NULL);
+    hk_dynamics_point_jacobians(d, NULL, rates, s, 3, screws, jac, pos, NULL, NULL);
     const double e = 1e-7;
     double worst = 0.0;
     for (int c = 0; c < dim; c++) {

@@ -273,9 +273,10 @@ int hk_dynamics_reverse_factor(const hk_StrandDynamics *d, double *u);
 /* Jacobians of `count` points at the sorted arc lengths s for the current q: jac holds
  * count blocks of 3 x 3N (row-major: d pos / d q'), pos and vel (may be NULL) the world
  * positions and the velocities with the generalized velocities `rates` and the head's
- * state head (the root's motion). screws: 18 N doubles of work. */
+ * state head (the root's motion), element (may be NULL) the element each lies on.
+ * screws: 18 N doubles of work. */
 void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head, const double *rates,
                                  const double *s, int count, double *screws, double *jac, hk_Vec3 *pos,
-                                 hk_Vec3 *vel);
+                                 hk_Vec3 *vel, int *element);
 
 #endif

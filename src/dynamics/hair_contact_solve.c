@@ -246,17 +246,12 @@ static void predict(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const hk_R
     cs->movable[s] = hk_dynamics_euler_delta(d, head_end, NULL, 0, h);
     cs->reversed[s] = cs->movable[s] && hk_dynamics_reverse_factor(d, (double *)cs->ul.items + cs->ul_start[s]);
     for (size_t k = 0; k < dim; k++) vfree[k] = v[k] + (cs->movable[s] ? d->delta[k] : 0.0);
-    /* Each point's support: the columns of the elements up to its own. */
-    const double *at = (const double *)cs->at.items + begin;
     int *support = (int *)cs->support.items + begin;
-    const hk_SuperHelix *sh = d->sh;
-    for (int x = 0, p = 0; x < count; x++) {
-        while (p < sh->n - 1 && at[x] >= sh->s_start[p + 1]) p++;
-        support[x] = cs->reversed[s] ? 3 * (p + 1) : (int)dim;
-    }
     hk_dynamics_point_jacobians(d, head_end, vfree, (const double *)cs->at.items + begin, count,
                                 (double *)cs->screws.items + 6 * cs->dim_start[s], jac, NULL,
-                                (hk_Vec3 *)cs->vel.items + begin);
+                                (hk_Vec3 *)cs->vel.items + begin, support);
+    /* Each point's support: the columns of the elements up to its own. */
+    for (int x = 0; x < count; x++) support[x] = cs->reversed[s] ? 3 * (support[x] + 1) : (int)dim;
     memset((char *)cs->answered.items + begin, 0, (size_t)count);
     memset((double *)cs->dv.items + cs->dim_start[s], 0, dim * sizeof(double));
 }

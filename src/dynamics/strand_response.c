@@ -17,7 +17,7 @@ static hk_Vec3 k_at(const double *q, int p) { return hk_v3(q[3 * p], q[3 * p + 1
 
 void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head, const double *rates,
                                  const double *s, int count, double *screws, double *jac, hk_Vec3 *pos,
-                                 hk_Vec3 *vel)
+                                 hk_Vec3 *vel, int *element)
 {
     const hk_RigidState still = hk_rigid_identity();
     if (!head) head = &still;
@@ -46,6 +46,7 @@ void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head
         hk_point_kinematics(&node, k_at(sh->q, p), k_at(rates, p), u, 1, &pk);
         if (pos) pos[i] = pk.k.pos;
         if (vel) vel[i] = pk.k.vel;
+        if (element) element[i] = p;
         double *row[3] = {jac + (size_t)(3 * i) * (size_t)dim, jac + (size_t)(3 * i + 1) * (size_t)dim,
                           jac + (size_t)(3 * i + 2) * (size_t)dim};
         for (int r = 0; r < 3; r++) memset(row[r], 0, (size_t)dim * sizeof(double));
