@@ -249,15 +249,11 @@ static hk_Status advance_frame(hk_HairSim *sim, hk_HeadStateFn head_fn, void *us
     for (int k = 0; k < n && st == HK_OK; k++) {
         const double from = t + dt * k / n, to = k == n - 1 ? t + dt : t + dt * (k + 1) / n;
         st = advance(sim, head_fn, user, from, to - from, &one, err);
-        if (st != HK_OK) break;
-        const double seconds = sum.seconds;
-        const int substeps = sum.substeps, recovered = sum.recovered;
-        const long iterations = sum.iterations;
-        sum = one; /* the last step's contacts */
-        sum.seconds += seconds;
-        sum.substeps += substeps;
-        sum.recovered += recovered;
-        sum.iterations += iterations;
+        one.seconds += sum.seconds; /* the work summed, the last step's contacts */
+        one.substeps += sum.substeps;
+        one.recovered += sum.recovered;
+        one.iterations += sum.iterations;
+        sum = one;
     }
     if (stats) *stats = sum;
     return st;
