@@ -263,15 +263,19 @@ static void reversed_rows(hk_ContactSolve *cs, int s, int x)
     const size_t dim = dim_of(cs, s), at = block_of(cs, s, x);
     const int m = ((const int *)cs->support.items)[x];
     const double *u = (const double *)cs->ul.items + cs->ul_start[s];
-    for (int r = 0; r < 3; r++) {
-        const double *j = (const double *)cs->jac.items + at + (size_t)r * dim;
-        double *z = (double *)cs->yt.items + at + (size_t)r * dim;
-        for (int i = m - 1; i >= 0; i--) {
-            const double *ui = u + (size_t)i * dim;
-            double v = j[i];
-            for (int k = i + 1; k < m; k++) v -= ui[k] * z[k];
-            z[i] = v / ui[i];
+    const double *j0 = (const double *)cs->jac.items + at, *j1 = j0 + dim, *j2 = j1 + dim;
+    double *z0 = (double *)cs->yt.items + at, *z1 = z0 + dim, *z2 = z1 + dim;
+    /* The three rows together: each sums in its own order as alone, while the three
+     * chains of additions overlap and share the loads of U. */
+    for (int i = m - 1; i >= 0; i--) {
+        const double *ui = u + (size_t)i * dim;
+        double v0 = j0[i], v1 = j1[i], v2 = j2[i];
+        for (int k = i + 1; k < m; k++) {
+            v0 -= ui[k] * z0[k];
+            v1 -= ui[k] * z1[k];
+            v2 -= ui[k] * z2[k];
         }
+        z0[i] = v0 / ui[i], z1[i] = v1 / ui[i], z2[i] = v2 / ui[i];
     }
 }
 
@@ -524,11 +528,12 @@ static void pair_block(hk_ContactSolve *cs, PairState *ps, const int strand[2])
     ps->ready = 1;
 }
 
-/* Rows of a point's J (3 x dim) turned into the basis: row r becomes basis[r] . J. */
-static void rows_in_basis(double *jac, size_t dim, const hk_Vec3 basis[3])
+/* Rows of a point's J (3 x dim, zero from column m on) turned into the basis: row r
+ * becomes basis[r] . J. */
+static void rows_in_basis(double *jac, size_t dim, size_t m, const hk_Vec3 basis[3])
 {
     double *j1 = jac + dim, *j2 = jac + 2 * dim;
-    for (size_t k = 0; k < dim; k++) {
+    for (size_t k = 0; k < m; k++) {
         const hk_Vec3 c = hk_v3(jac[k], j1[k], j2[k]);
         jac[k] = hk_v3_dot(basis[0], c), j1[k] = hk_v3_dot(basis[1], c), j2[k] = hk_v3_dot(basis[2], c);
     }
@@ -559,9 +564,9 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
         ps->ready = 0;
         ps->free = in_basis(ps->basis, hk_v3_sub(vel[ps->slot[0]], vel[ps->slot[1]]));
         const int strand[2] = {hp->i, hp->j};
-        for (int side = 0; side < 2; side++)
+        for (int side = 0; side < 2; side++) /* (beyond the support J stays zero) */
             rows_in_basis((double *)cs->jac.items + block_of(cs, strand[side], ps->slot[side]),
-                          dim_of(cs, strand[side]), ps->basis);
+                          dim_of(cs, strand[side]), support_of(cs, ps->slot[side]), ps->basis);
     }
     int o = 0;
     char *answered = cs->answered.items;

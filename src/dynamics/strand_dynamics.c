@@ -493,13 +493,20 @@ static const double *positive_part(hk_StrandDynamics *d)
     if (!hk_cholesky_factor(dim, d->hess_pos, 0.0, NULL, d->factor)) {
         double *v = d->factor, *w = d->metric, *e = d->metric + dim;
         if (hk_symmetric_eigen(dim, d->hess, w, v, e)) {
-            for (int k = 0; k < dim; k++) w[k] = fmax(w[k], 0.0);
-            for (size_t i = 0; i < sd; i++)
-                for (size_t j = 0; j <= i; j++) {
-                    double s = 0.0;
-                    for (size_t k = 0; k < sd; k++) s += v[i * sd + k] * w[k] * v[j * sd + k];
-                    d->hess_pos[i * sd + j] = d->hess_pos[j * sd + i] = s;
+            /* hess_pos[i][j] = sum over k of (v_ik max(w_k, 0)) v_jk, k increasing; the
+             * clamped modes add nothing and are skipped, and the sums of one row run
+             * side by side (each in its own order, so that the bits are those of one
+             * sum at a time). */
+            for (size_t i = 0; i < sd; i++) {
+                double *row = d->hess_pos + i * sd;
+                for (size_t j = 0; j <= i; j++) row[j] = 0.0;
+                for (size_t k = 0; k < sd; k++) {
+                    if (!(w[k] > 0.0)) continue;
+                    const double p = v[i * sd + k] * w[k];
+                    for (size_t j = 0; j <= i; j++) row[j] += p * v[j * sd + k];
                 }
+                for (size_t j = 0; j < i; j++) d->hess_pos[j * sd + i] = row[j];
+            }
         } else { /* no convergence (not seen): the Gauss-Newton matrix */
             memset(d->hess_pos, 0, sd * sd * sizeof(double));
         }
