@@ -7,6 +7,7 @@
 
 #include "hairkit/io.h"
 #include "hairkit/mesh.h"
+#include "hairkit/scene.h"
 
 typedef struct hk_BenchOptions {
     int quick;          /* a smoke run with tiny repetition counts (used by the tests) */
@@ -14,17 +15,11 @@ typedef struct hk_BenchOptions {
     const char *root;   /* the repository (for examples/ and assets/), default "." */
 } hk_BenchOptions;
 
-/* An example's scene (bench_scene.c): examples/NAME/setup.txt and what it names. */
-typedef struct hk_BenchScene {
-    hk_SetupDef setup;
-    hk_HairstyleDef style;
-    hk_Shape *shapes;
-    int shape_count;
-    hk_Mesh wick;
-} hk_BenchScene;
-/* 0 on success; else prints "bench BENCH: ..." and returns 1. */
-int hk_bench_scene_load(const hk_BenchOptions *options, const char *example, const char *bench, hk_BenchScene *s);
-void hk_bench_scene_free(hk_BenchScene *s);
+/* An example's scene (bench_scene.c). */
+/* Loads examples/EXAMPLE/setup.txt with the parts asked for (hk_scene_load): 0 on
+ * success; else prints "bench BENCH: ..." and returns 1. Free with hk_scene_free. */
+int hk_bench_scene_load(const hk_BenchOptions *options, const char *example, const char *bench, unsigned parts,
+                        hk_Scene *s);
 
 /* Super-Helix statics: Newton against the thesis's Rosenbrock on the same strands. */
 int hk_bench_statics(FILE *out, const hk_BenchOptions *options);

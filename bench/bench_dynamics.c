@@ -129,8 +129,8 @@ int hk_bench_dynamics(FILE *out, const hk_BenchOptions *options)
         fprintf(out, "  %5d %20.0f %13.0f %13.0f %20.0f\n", ns[k], tr_linear, tr_dense, eu_dense, eu_linear);
     }
 
-    hk_BenchScene sc;
-    if (hk_bench_scene_load(options, "guides200", "dynamics", &sc)) return 1;
+    hk_Scene sc;
+    if (hk_bench_scene_load(options, "guides200", "dynamics", HK_SCENE_GROOMING, &sc)) return 1;
     const hk_HairstyleDef style = sc.style;
     const hk_Mesh wick = sc.wick;
     int rc = 0;
@@ -157,6 +157,6 @@ int hk_bench_dynamics(FILE *out, const hk_BenchOptions *options)
     }
     if (!rc)
         fprintf(out, "  speed-up with 2 threads: %.2fx; target: 60 frames/s or more on 2 cores\n\n", fps[2] / fps[1]);
-    hk_bench_scene_free(&sc);
+    hk_scene_free(&sc);
     return rc;
 }

@@ -11,8 +11,8 @@
 
 int hk_bench_groom(FILE *out, const hk_BenchOptions *options)
 {
-    hk_BenchScene sc;
-    if (hk_bench_scene_load(options, "default", "groom", &sc)) return 1;
+    hk_Scene sc;
+    if (hk_bench_scene_load(options, "default", "groom", HK_SCENE_GROOMING, &sc)) return 1;
     const hk_HairstyleDef style = sc.style;
     const hk_Shape *shapes = sc.shapes;
     const int shape_count = sc.shape_count;
@@ -68,6 +68,6 @@ int hk_bench_groom(FILE *out, const hk_BenchOptions *options)
     if (!rc)
         fprintf(out, "  speed-up with 2 threads: %.2fx; target: the default head groomed in under 1 s on 2 cores\n\n",
                 total[1] / total[2]);
-    hk_bench_scene_free(&sc);
+    hk_scene_free(&sc);
     return rc;
 }

@@ -70,7 +70,7 @@ static double largest_tip_move(const double *a, const double *b, int guides, int
     return largest;
 }
 
-static void run_row(const hk_BenchOptions *options, const hk_BenchScene *sc, const hk_HairstyleDef *style,
+static void run_row(const hk_BenchOptions *options, const hk_Scene *sc, const hk_HairstyleDef *style,
                     const char *motion_name, double frame_rate, double settle, double seconds, Row *r)
 {
     hk_Error err;
@@ -128,13 +128,13 @@ done:
 
 int hk_bench_long_heads(FILE *out, const hk_BenchOptions *options)
 {
-    hk_BenchScene sc;
-    if (hk_bench_scene_load(options, "guides200", "long-heads", &sc)) return 1;
+    hk_Scene sc;
+    if (hk_bench_scene_load(options, "guides200", "long-heads", HK_SCENE_GROOMING, &sc)) return 1;
     hk_Error err;
     double *lengths = hk_alloc_array(ELEMENTS, sizeof(double), &err);
     if (!lengths) {
         fprintf(stderr, "bench long-heads: %s\n", err.message);
-        hk_bench_scene_free(&sc);
+        hk_scene_free(&sc);
         return 1;
     }
     for (int k = 0; k < ELEMENTS; k++) lengths[k] = ELEMENT_LENGTH;
@@ -180,6 +180,6 @@ int hk_bench_long_heads(FILE *out, const hk_BenchOptions *options)
                     hk_seconds_now() - t0);
         }
     fprintf(out, "\n  %d row(s) did not run to the end; %.0f s in all\n", failed, hk_seconds_now() - t0);
-    hk_bench_scene_free(&sc);
+    hk_scene_free(&sc);
     return errors ? 1 : 0;
 }

@@ -6,36 +6,16 @@
 #include <string.h>
 
 #include "bench.h"
-#include "hairkit/groom.h"
-#include "hairkit/render.h"
 
 int hk_bench_render(FILE *out, const hk_BenchOptions *options)
 {
-    char setup_path[4096];
-    snprintf(setup_path, sizeof setup_path, "%s/examples/default/setup.txt", options->root);
     hk_Error err;
-    hk_SetupDef setup;
-    hk_HairstyleDef style = hk_default_hairstyle();
-    hk_Shape *shapes = NULL;
-    int shape_count = 0;
-    hk_Mesh wick = {0, 0, NULL, NULL, NULL}, head = {0, 0, NULL, NULL, NULL};
-    hk_VisualityDef vis = hk_default_visuality();
-    hk_Groom g;
-    memset(&g, 0, sizeof g);
+    hk_Scene sc;
     hk_HairFile hair;
     memset(&hair, 0, sizeof hair);
-    hk_GroomOptions go = hk_default_groom_options();
     int rc = 1;
-    if (hk_setup_load(setup_path, &setup, &err) != HK_OK) {
-        fprintf(stderr, "bench render: %s (run from the source folder or give --root)\n", err.message);
-        return 1;
-    }
-    if (hk_hairstyle_load(setup.hairstyle, &style, &err) != HK_OK ||
-        (setup.collision && hk_collision_load(setup.collision, &shapes, &shape_count, &err) != HK_OK) ||
-        hk_obj_load(setup.wick_model, &wick, &err) != HK_OK || hk_obj_load(setup.head_model, &head, &err) != HK_OK ||
-        (setup.visuality && hk_visuality_load(setup.visuality, &vis, &err) != HK_OK) ||
-        hk_groom_grow(&style, shapes, shape_count, &wick, &go, &g, &err) != HK_OK ||
-        hk_groom_to_hair(&g, &style, &hair, &err) != HK_OK) {
+    if (hk_bench_scene_load(options, "default", "render", HK_SCENE_ALL, &sc)) return 1;
+    if (hk_scene_hair(&sc, NULL, &hair, NULL, &err) != HK_OK) {
         fprintf(stderr, "bench render: %s\n", err.message);
         goto done;
     }
@@ -55,7 +35,7 @@ int hk_bench_render(FILE *out, const hk_BenchOptions *options)
             hk_Canvas img;
             hk_RenderStats st;
             const double t0 = omp_get_wtime();
-            if (hk_render(&hair, &head, &vis, &ro, &img, &st, &err) != HK_OK) {
+            if (hk_scene_render(&sc, &hair, &ro, &img, &st, &err) != HK_OK) {
                 fprintf(stderr, "bench render: %s\n", err.message);
                 goto done;
             }
@@ -72,11 +52,6 @@ int hk_bench_render(FILE *out, const hk_BenchOptions *options)
     rc = 0;
 done:
     hk_hair_free(&hair);
-    hk_groom_free(&g);
-    hk_mesh_free(&wick);
-    hk_mesh_free(&head);
-    hk_free(shapes);
-    hk_hairstyle_free(&style);
-    hk_setup_free(&setup);
+    hk_scene_free(&sc);
     return rc;
 }

@@ -11,6 +11,7 @@
 #include "hairkit/hairfile.h"
 #include "hairkit/io.h"
 #include "hairkit/render.h"
+#include "hairkit/scene.h"
 #include "hairkit/vecmath.h"
 
 /* Exit codes: 0 success, 1 failure (bad input file, I/O, numerics), 2 usage error. */
@@ -67,18 +68,10 @@ void hk_cli_format_duration(double seconds, char *buf, size_t size);
 /* Ends the bar's line (if one was drawn). */
 void hk_cli_progress_done(hk_CliProgress *p);
 
-/* ---- the hair of a setup file (setup_hair.c) ---- */
-typedef struct hk_SetupHairReport {
-    int grown; /* 0: loaded from LoadFile */
-    int guides, strands, points_per_strand;
-    hk_GroomStats stats;
-} hk_SetupHairReport;
-/* Loads (Load true) or grows the setup's hair, and saves it when Save is true. */
-hk_Status hk_cli_setup_hair(const hk_SetupDef *setup, const hk_GroomOptions *go, hk_HairFile *hair,
-                            hk_SetupHairReport *report, hk_Error *err);
-/* One line on stderr: what was loaded or grown. */
-void hk_cli_report_setup_hair(const char *cmd, const hk_SetupDef *setup, const hk_HairFile *hair,
-                              const hk_SetupHairReport *report);
+/* ---- the hair of a setup file (report_hair.c) ---- */
+/* One line on stderr: what hk_scene_hair loaded or grew. */
+void hk_cli_report_scene_hair(const char *cmd, const hk_SetupDef *setup, const hk_HairFile *hair,
+                              const hk_SceneHairReport *report);
 
 /* ---- render options (render_options.c) ---- */
 /* getopt_long codes of the render options; add HK_CLI_RENDER_LONG_OPTIONS to the

@@ -69,10 +69,10 @@ int hk_cmd_groom(int argc, char **argv)
     const char *setup_path = argv[optind];
 
     hk_Error err;
-    hk_SetupDef setup;
-    if (hk_setup_load(setup_path, &setup, &err) != HK_OK) return hk_cli_fail(CMD, &err);
-    if (!output && !setup.save) {
-        hk_setup_free(&setup);
+    hk_Scene scene;
+    if (hk_scene_load(setup_path, 0, &scene, &err) != HK_OK) return hk_cli_fail(CMD, &err);
+    if (!output && !scene.setup.save) {
+        hk_scene_free(&scene);
         return hk_cli_usage_error(CMD, "no output: give -o OUT.hair (or 'Save true' in the setup)");
     }
     hk_CliProgress progress = {!quiet && hk_cli_stderr_is_tty(), "", -1};
@@ -81,14 +81,16 @@ int hk_cmd_groom(int argc, char **argv)
 
     int status = HK_EXIT_FAIL;
     hk_HairFile hair;
-    hk_SetupHairReport report;
+    memset(&hair, 0, sizeof hair);
+    hk_SceneHairReport report;
     const double t0 = hk_seconds_now();
-    hk_Status st = hk_cli_setup_hair(&setup, &go, &hair, &report, &err);
+    hk_Status st = hk_scene_load_parts(&scene, HK_SCENE_HAIR, &err);
+    if (st == HK_OK) st = hk_scene_hair(&scene, &go, &hair, &report, &err);
     hk_cli_progress_done(&progress);
     if (st == HK_OK && output) st = hk_hair_save(output, &hair, &err);
     if (st == HK_OK) {
         if (!quiet) {
-            hk_cli_report_setup_hair(CMD, &setup, &hair, &report);
+            hk_cli_report_scene_hair(CMD, &scene.setup, &hair, &report);
             fprintf(stderr, "hairkit %s: %.2f s in all\n", CMD, hk_seconds_now() - t0);
         }
         status = HK_EXIT_OK;
@@ -96,6 +98,6 @@ int hk_cmd_groom(int argc, char **argv)
         hk_cli_fail(CMD, &err);
     }
     hk_hair_free(&hair);
-    hk_setup_free(&setup);
+    hk_scene_free(&scene);
     return status;
 }

@@ -77,29 +77,26 @@ int hk_cmd_run(int argc, char **argv)
     if (!output) return hk_cli_usage_error(CMD, "no output: give -o OUT.png");
 
     hk_Error err;
-    hk_SetupDef setup;
-    if (hk_setup_load(argv[optind], &setup, &err) != HK_OK) return hk_cli_fail(CMD, &err);
+    hk_Scene scene;
     hk_CliProgress progress = {!quiet && hk_cli_stderr_is_tty(), "", -1};
     go.progress = hk_cli_progress;
     go.progress_user = &progress;
     const double t0 = hk_seconds_now();
     hk_HairFile hair;
-    hk_SetupHairReport report;
-    hk_Mesh head = {0, 0, NULL, NULL, NULL};
-    hk_VisualityDef vis = hk_default_visuality();
+    memset(&hair, 0, sizeof hair);
+    hk_SceneHairReport report;
     hk_Canvas image = {0, 0, NULL};
     hk_RenderStats stats;
     int status = HK_EXIT_FAIL;
-    /* Read the small files first, so that their errors come before the long work. */
-    hk_Status st = HK_OK;
-    if (setup.head_model) st = hk_obj_load(setup.head_model, &head, &err);
-    if (st == HK_OK && setup.visuality) st = hk_visuality_load(setup.visuality, &vis, &err);
-    if (st == HK_OK) st = hk_cli_setup_hair(&setup, &go, &hair, &report, &err);
-    else memset(&hair, 0, sizeof hair);
+    /* hk_scene_load reads the small files first, so that their errors come before the
+     * long work. */
+    hk_Status st = hk_scene_load(argv[optind], HK_SCENE_RENDERING | HK_SCENE_HAIR, &scene, &err);
+    if (st != HK_OK) return hk_cli_fail(CMD, &err);
+    st = hk_scene_hair(&scene, &go, &hair, &report, &err);
     hk_cli_progress_done(&progress);
     if (st == HK_OK && hair_out) st = hk_hair_save(hair_out, &hair, &err);
-    if (st == HK_OK && !quiet) hk_cli_report_setup_hair(CMD, &setup, &hair, &report);
-    if (st == HK_OK) st = hk_render(&hair, setup.head_model ? &head : NULL, &vis, &ro, &image, &stats, &err);
+    if (st == HK_OK && !quiet) hk_cli_report_scene_hair(CMD, &scene.setup, &hair, &report);
+    if (st == HK_OK) st = hk_scene_render(&scene, &hair, &ro, &image, &stats, &err);
     if (st == HK_OK) st = hk_render_write_png(&image, output, &err);
     if (st == HK_OK) {
         if (!quiet) {
@@ -111,8 +108,7 @@ int hk_cmd_run(int argc, char **argv)
         hk_cli_fail(CMD, &err);
     }
     hk_canvas_destroy(&image);
-    hk_mesh_free(&head);
     hk_hair_free(&hair);
-    hk_setup_free(&setup);
+    hk_scene_free(&scene);
     return status;
 }

@@ -95,6 +95,8 @@ typedef void (*hk_ProgressFn)(void *user, const char *stage, double fraction);
 void *hk_alloc_array(size_t count, size_t size, hk_Error *err);
 void *hk_calloc_array(size_t count, size_t size, hk_Error *err);
 void hk_free(void *ptr);
+/* A copy of the string s (free with hk_free); NULL and err filled when out of memory. */
+char *hk_strdup(const char *s, hk_Error *err);
 
 /* Seconds on a monotonic clock (CLOCK_MONOTONIC) from an arbitrary origin: for timings
  * and progress reports, never for results. */

@@ -5,6 +5,7 @@
 
 #include <stdint.h>
 #include <stdlib.h>
+#include <string.h>
 
 static int size_ok(size_t count, size_t size, size_t *bytes, hk_Error *err)
 {
@@ -41,3 +42,11 @@ void *hk_calloc_array(size_t count, size_t size, hk_Error *err)
 }
 
 void hk_free(void *ptr) { free(ptr); }
+
+char *hk_strdup(const char *s, hk_Error *err)
+{
+    const size_t n = strlen(s) + 1;
+    char *d = hk_alloc_array(n, 1, err);
+    if (d) memcpy(d, s, n);
+    return d;
+}

@@ -87,10 +87,8 @@ static hk_Status read_motion(const hk_KeyFile *kf, const hk_KeyLine *kl, hk_Simu
     if (hk_head_motion_scripted(kl->values[0], v[0], v[1], hk_v3(v[2], v[3], v[4]), &probe, &why) != HK_OK)
         return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err, "%s", why.message);
     hk_head_motion_destroy(probe);
-    const size_t n = strlen(kl->values[0]) + 1;
-    m->motion_script = hk_alloc_array(n, 1, err);
+    m->motion_script = hk_strdup(kl->values[0], err);
     if (!m->motion_script) return HK_ERR_NOMEM;
-    memcpy(m->motion_script, kl->values[0], n);
     m->motion_amplitude = v[0];
     m->motion_frequency = v[1];
     for (int i = 0; i < 3; i++) m->motion_pivot[i] = v[2 + i];

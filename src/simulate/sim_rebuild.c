@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "hairkit/scene.h"
 #include "hairkit/simulation_file.h"
 #include "sim_internal.h"
 
@@ -13,18 +14,13 @@
  * shapes, refused if any changed since the run (or the setup gained or lost its
  * collision file), and the head's motion, made again as the run had it. */
 typedef struct Inputs {
-    hk_HairstyleDef style;
-    hk_Mesh wick;
-    hk_Shape *shapes;
-    int shape_count;
+    hk_Scene scene; /* the setup with its grooming parts */
     hk_HeadMotion *motion;
 } Inputs;
 
 static void inputs_free(Inputs *in)
 {
-    hk_hairstyle_free(&in->style);
-    hk_mesh_free(&in->wick);
-    hk_free(in->shapes);
+    hk_scene_free(&in->scene);
     hk_head_motion_destroy(in->motion);
 }
 
@@ -57,28 +53,25 @@ static hk_Status load_motion(const hk_SimulationManifest *m, const char *manifes
 
 static hk_Status load_inputs(const hk_SimulationManifest *m, const char *manifest_path, Inputs *in, hk_Error *err)
 {
-    hk_SetupDef setup;
-    hk_Status st = hk_setup_load(m->setup, &setup, err);
+    hk_Status st = hk_scene_load(m->setup, 0, &in->scene, err);
     if (st != HK_OK) return st;
-    if (!setup.hairstyle || !setup.wick_model)
+    const hk_SetupDef *setup = &in->scene.setup;
+    if (!setup->hairstyle || !setup->wick_model)
         st = hk_error_set(err, HK_ERR_PARSE, "%s: no HairstyleInfo or WickModel", m->setup);
     const char *changed = NULL;
-    if (st == HK_OK && changed_since(setup.hairstyle, m->hairstyle_hash, &st, err)) changed = setup.hairstyle;
-    if (st == HK_OK && !changed && changed_since(setup.wick_model, m->wick_hash, &st, err))
-        changed = setup.wick_model;
-    if (st == HK_OK && !changed && !setup.collision != !m->has_collision)
-        changed = setup.collision ? setup.collision : m->setup;
-    if (st == HK_OK && !changed && setup.collision && changed_since(setup.collision, m->collision_hash, &st, err))
-        changed = setup.collision;
+    if (st == HK_OK && changed_since(setup->hairstyle, m->hairstyle_hash, &st, err)) changed = setup->hairstyle;
+    if (st == HK_OK && !changed && changed_since(setup->wick_model, m->wick_hash, &st, err))
+        changed = setup->wick_model;
+    if (st == HK_OK && !changed && !setup->collision != !m->has_collision)
+        changed = setup->collision ? setup->collision : m->setup;
+    if (st == HK_OK && !changed && setup->collision && changed_since(setup->collision, m->collision_hash, &st, err))
+        changed = setup->collision;
     if (changed)
         st = hk_error_set(err, HK_ERR_INVALID,
                           "%s has changed since the simulation (%s): its frames cannot be grown again exactly",
                           changed, manifest_path);
-    if (st == HK_OK) st = hk_hairstyle_load(setup.hairstyle, &in->style, err);
-    if (st == HK_OK) st = hk_obj_load(setup.wick_model, &in->wick, err);
-    if (st == HK_OK && setup.collision) st = hk_collision_load(setup.collision, &in->shapes, &in->shape_count, err);
+    if (st == HK_OK) st = hk_scene_load_parts(&in->scene, HK_SCENE_GROOMING, err);
     if (st == HK_OK) st = load_motion(m, manifest_path, in, err);
-    hk_setup_free(&setup);
     return st;
 }
 
@@ -127,11 +120,11 @@ hk_Status hk_simulation_rebuild(const char *dir, long frame, int threads, hk_Hai
     hk_Groom g;
     memset(&g, 0, sizeof g);
     if (st == HK_OK) st = load_inputs(&m, manifest_path, &in, err);
-    if (st == HK_OK) st = load_guides(guides_path, &m, &in.wick, &g, err);
+    if (st == HK_OK) st = load_guides(guides_path, &m, &in.scene.wick, &g, err);
     if (st == HK_OK) {
         /* the body where the head was at this frame, as the run posed it */
         const hk_RigidState head = hk_sim_head_pose(in.motion, hk_sim_frame_time(frame, m.fps));
-        st = hk_sim_grow_hair(&in.style, in.shapes, in.shape_count, &head, &in.wick, m.seed, threads, 0, 0, &g, out, err);
+        st = hk_sim_grow_hair(&in.scene.style, in.scene.shapes, in.scene.shape_count, &head, &in.scene.wick, m.seed, threads, 0, 0, &g, out, err);
     }
     hk_groom_free(&g);
     inputs_free(&in);

@@ -13,6 +13,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "hairkit/scene.h"
 #include "hairkit/simulation_file.h"
 #include "sim_internal.h"
 
@@ -67,12 +68,7 @@ typedef struct FrameJob {
 typedef struct Run {
     const char *dir;
     const hk_SimRunOptions *o;
-    hk_SetupDef setup;
-    hk_HairstyleDef style;
-    hk_Shape *shapes;
-    int shape_count;
-    hk_Mesh head, wick;
-    hk_VisualityDef vis;
+    hk_Scene scene;       /* the setup and every part of it */
     hk_HairSim *sim;
     hk_RenderOptions ro;  /* the camera fixed at frame 0 */
     hk_Groom groom;       /* the guides being stepped (guides array only) */
@@ -93,35 +89,24 @@ static void run_free(Run *r)
         hk_free(r->jobs[j].moved.normals);
     }
     hk_groom_free(&r->groom);
-    hk_mesh_free(&r->head);
-    hk_mesh_free(&r->wick);
-    hk_free(r->shapes);
-    hk_hairstyle_free(&r->style);
-    hk_setup_free(&r->setup);
+    hk_scene_free(&r->scene);
 }
 
 static hk_Status load_scene(Run *r, const char *setup_path, hk_Error *err)
 {
-    hk_Status st = hk_setup_load(setup_path, &r->setup, err);
+    hk_Status st = hk_scene_load(setup_path, 0, &r->scene, err);
     if (st != HK_OK) return st;
-    if (!r->setup.hairstyle || !r->setup.wick_model)
+    if (!r->scene.setup.hairstyle || !r->scene.setup.wick_model)
         return hk_error_set(err, HK_ERR_PARSE, "%s: simulating needs HairstyleInfo and WickModel", setup_path);
-    if ((st = hk_hairstyle_load(r->setup.hairstyle, &r->style, err)) != HK_OK) return st;
-    if (r->setup.collision &&
-        (st = hk_collision_load(r->setup.collision, &r->shapes, &r->shape_count, err)) != HK_OK)
-        return st;
-    if ((st = hk_obj_load(r->setup.wick_model, &r->wick, err)) != HK_OK) return st;
-    if (r->setup.head_model) {
-        if ((st = hk_obj_load(r->setup.head_model, &r->head, err)) != HK_OK) return st;
-        for (int j = 0; j < MAX_AT_ONCE; j++) {
-            hk_Mesh *m = &r->jobs[j].moved;
-            *m = r->head;
-            m->positions = hk_alloc_array((size_t)r->head.vertex_count, sizeof(hk_Vec3), err);
-            m->normals = hk_alloc_array((size_t)r->head.vertex_count, sizeof(hk_Vec3), err);
-            if (!m->positions || !m->normals) return HK_ERR_NOMEM;
-        }
+    if ((st = hk_scene_load_parts(&r->scene, HK_SCENE_ALL, err)) != HK_OK) return st;
+    const hk_Mesh *head = &r->scene.head;
+    for (int j = 0; head->vertex_count > 0 && j < MAX_AT_ONCE; j++) {
+        hk_Mesh *m = &r->jobs[j].moved;
+        *m = *head;
+        m->positions = hk_alloc_array((size_t)head->vertex_count, sizeof(hk_Vec3), err);
+        m->normals = hk_alloc_array((size_t)head->vertex_count, sizeof(hk_Vec3), err);
+        if (!m->positions || !m->normals) return HK_ERR_NOMEM;
     }
-    if (r->setup.visuality && (st = hk_visuality_load(r->setup.visuality, &r->vis, err)) != HK_OK) return st;
     return HK_OK;
 }
 
@@ -152,10 +137,10 @@ static hk_Status write_manifest(Run *r, const char *setup_path, hk_Error *err)
     m.points = hk_hair_sim_points_per_strand(r->sim);
     m.interpolated = !r->o->guides_only;
     m.full_hair = r->o->full_hair;
-    hk_Status st = hk_file_fingerprint(r->setup.hairstyle, &m.hairstyle_hash, err);
-    if (st == HK_OK) st = hk_file_fingerprint(r->setup.wick_model, &m.wick_hash, err);
-    m.has_collision = r->setup.collision != NULL;
-    if (st == HK_OK && m.has_collision) st = hk_file_fingerprint(r->setup.collision, &m.collision_hash, err);
+    hk_Status st = hk_file_fingerprint(r->scene.setup.hairstyle, &m.hairstyle_hash, err);
+    if (st == HK_OK) st = hk_file_fingerprint(r->scene.setup.wick_model, &m.wick_hash, err);
+    m.has_collision = r->scene.setup.collision != NULL;
+    if (st == HK_OK && m.has_collision) st = hk_file_fingerprint(r->scene.setup.collision, &m.collision_hash, err);
     /* The motion poses the body of every frame: made again by the rebuild. */
     const hk_HeadMotionSource src = r->o->motion ? hk_head_motion_source(r->o->motion)
                                                  : (hk_HeadMotionSource){"still", 0.0, 1.0, hk_default_head_pivot(), NULL};
@@ -185,7 +170,7 @@ static hk_Status write_manifest(Run *r, const char *setup_path, hk_Error *err)
 static hk_Status create_sim(Run *r, hk_Error *err)
 {
     const hk_SimRunOptions *o = r->o;
-    hk_HairSimOptions so = hk_default_hair_sim_options(&r->style);
+    hk_HairSimOptions so = hk_default_hair_sim_options(&r->scene.style);
     so.threads = 0; /* the calling thread's: hk_simulation_run sets them, fewer while frames are drawn */
     so.hair_contacts = o->hair_contacts;
     if (!o->damping) so.dynamics.internal_friction = so.dynamics.air_drag = 0.0;
@@ -201,7 +186,7 @@ static hk_Status create_sim(Run *r, hk_Error *err)
     }
     so.progress = o->statics_progress;
     so.progress_user = o->statics_user;
-    hk_Status st = hk_hair_sim_create(&r->style, r->shapes, r->shape_count, &r->wick, &so, &r->sim, err);
+    hk_Status st = hk_hair_sim_create(&r->scene.style, r->scene.shapes, r->scene.shape_count, &r->scene.wick, &so, &r->sim, err);
     if (st == HK_OK && (o->preroll > 0.0 || o->preroll_max > 0.0)) {
         const hk_RigidState pose = hk_sim_head_pose(o->motion, 0.0);
         hk_SettleOptions settle = hk_default_settle_options();
@@ -233,11 +218,11 @@ static hk_Status save_hair(Run *r, const hk_HairFile *hair, const char *stem, lo
 /* The head mesh moved by the head's rigid state at t (positions and normals). */
 static const hk_Mesh *moved_head(Run *r, hk_Mesh *moved, double t)
 {
-    if (r->head.vertex_count == 0) return NULL;
+    if (r->scene.head.vertex_count == 0) return NULL;
     const hk_RigidState st = hk_sim_head_pose(r->o->motion, t);
-    for (int i = 0; i < r->head.vertex_count; i++) {
-        hk_rigid_point(&st, r->head.positions[i], &moved->positions[i], NULL, NULL);
-        moved->normals[i] = hk_m3_mul_v3(&st.rot, r->head.normals[i]);
+    for (int i = 0; i < r->scene.head.vertex_count; i++) {
+        hk_rigid_point(&st, r->scene.head.positions[i], &moved->positions[i], NULL, NULL);
+        moved->normals[i] = hk_m3_mul_v3(&st.rot, r->scene.head.normals[i]);
     }
     return moved;
 }
@@ -259,7 +244,7 @@ static hk_Status render_frame(FrameJob *j, const hk_HairFile *hair)
     hk_RenderOptions ro = r->ro;
     ro.threads = j->threads;
     if (st == HK_OK && !j->renderer) st = hk_renderer_create(&j->renderer, err);
-    if (st == HK_OK) st = hk_renderer_draw(j->renderer, hair, head, &r->vis, &ro, NULL, err);
+    if (st == HK_OK) st = hk_renderer_draw(j->renderer, hair, head, &r->scene.visuality, &ro, NULL, err);
     const double t1 = omp_get_wtime();
     j->seconds_render += t1 - t0;
     char path[4096];
@@ -282,7 +267,7 @@ static void *frame_job(void *arg)
     omp_set_num_threads(j->threads);
     double t0 = omp_get_wtime();
     const hk_RigidState head = hk_sim_head_pose(o->motion, j->t);
-    j->st = hk_sim_grow_hair(&r->style, r->shapes, r->shape_count, &head, &r->wick, o->seed, j->threads, 0, 1,
+    j->st = hk_sim_grow_hair(&r->scene.style, r->scene.shapes, r->scene.shape_count, &head, &r->scene.wick, o->seed, j->threads, 0, 1,
                              &j->groom, &j->hair, &j->err);
     j->seconds_regrow += omp_get_wtime() - t0;
     if (j->st == HK_OK && o->full_hair) {
@@ -334,7 +319,7 @@ static hk_Status write_frame(Run *r, long k, double t, int job_threads, hk_Error
     guides_view.strand_count = 0;
     hk_HairFile hair;
     memset(&hair, 0, sizeof hair);
-    hk_Status st = hk_groom_to_hair(&guides_view, &r->style, &hair, err);
+    hk_Status st = hk_groom_to_hair(&guides_view, &r->scene.style, &hair, err);
     double t1 = omp_get_wtime();
     r->p.seconds_regrow += t1 - t0;
     if (st == HK_OK) st = save_hair(r, &hair, "guides", k, &r->p.bytes, err);
@@ -404,7 +389,6 @@ hk_Status hk_simulation_run(const char *setup_path, const char *dir, const hk_Si
     memset(&r, 0, sizeof r);
     r.dir = dir;
     r.o = options;
-    r.vis = hk_default_visuality();
     r.ro = options->render;
     r.p.frames = options->frames;
     /* The threads of this thread's OpenMP loops (the statics, the preroll, the steps),
@@ -425,7 +409,7 @@ hk_Status hk_simulation_run(const char *setup_path, const char *dir, const hk_Si
     if (st == HK_OK) st = write_manifest(&r, setup_path, err);
     if (st == HK_OK) {
         r.p.guides = hk_hair_sim_guide_count(r.sim);
-        r.p.elements = r.style.element_count;
+        r.p.elements = r.scene.style.element_count;
         r.p.seconds_setup = omp_get_wtime() - t_start;
         r.p.frames_at_once = options->guides_only ? 1 : r.at_once;
         if (options->progress) options->progress(options->progress_user, &r.p);
