@@ -6,6 +6,7 @@
 #include "cli.h"
 #include "hairkit/hairfile.h"
 #include "hairkit/helicoid_file.h"
+#include "hairkit/helicoid_hair.h"
 
 #define HK_HELICOID_CMD "helicoid"
 
@@ -19,18 +20,6 @@ typedef struct hk_HelicoidArgs {
     uint64_t seed;
     int threads, quiet;
 } hk_HelicoidArgs;
-
-/* Traces the set's strands, each followed by its wisp strands, into a .hair file; `seed` draws
- * the strands' wave phases when the set's waviness has a jitter. */
-hk_Status hk_helicoid_cli_trace_set(const hk_HelicoidSet *set, double step, uint64_t seed, int threads,
-                                    hk_HairFile *hair, hk_Error *err);
-
-/* Interpolates the guides at the roots into out. With guide_normals (then normals too) on the
- * surface (§4.3: frames relative to the normals); else plain IDW, normals (may be NULL) only
- * keeping E_T out of the surface. */
-hk_Status hk_helicoid_cli_interpolate_at(const hk_PHelicoid *guides, const hk_Vec3 *guide_normals, int guide_count,
-                                         const hk_Vec3 *roots, const hk_Vec3 *normals, long count, double power,
-                                         hk_PHelicoid *out, hk_Error *err);
 
 int hk_helicoid_cli_interpolate(const hk_HelicoidArgs *a);
 int hk_helicoid_cli_fit(const hk_HelicoidArgs *a);

@@ -2,96 +2,27 @@
  * a helicoid file's guides (paper 003 §4.1-4.3), rooted at random area-uniform points or at
  * follicles spread by the particle sampler (docs/helicoids.md). */
 #include <math.h>
-#include <omp.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "helicoid_cli.h"
 #include "hairkit/follicle_sampling.h"
-#include "hairkit/rng.h"
 
 static const char *const CMD = HK_HELICOID_CMD;
-
-/* Interpolated strands leave the surface at least this steeply (radians; §4.3, see
- * hk_phelicoid_interpolate_on_surface): a floor for averages of guides that lean different
- * ways, not a style (the guides set the angle). */
-static const double MIN_ELEVATION = 0.17453292519943295; /* 10 degrees */
-
-/* count roots uniform by area on the mesh (a triangle by its area, then uniform in it),
- * each from the counter-based RNG keyed by its index: the same roots whatever the threads. */
-static void mesh_roots(const hk_Mesh *m, long count, uint64_t seed, const double *cumulative, hk_Vec3 *pos,
-                       hk_Vec3 *normal)
-{
-#pragma omp parallel for schedule(static)
-    for (long i = 0; i < count; i++) {
-        const double u = hk_rng_uniform(seed, 101, (uint64_t)i) * cumulative[m->triangle_count];
-        int lo = 0, hi = m->triangle_count - 1;
-        while (lo < hi) {
-            const int mid = (lo + hi) / 2;
-            if (cumulative[mid + 1] <= u) lo = mid + 1;
-            else hi = mid;
-        }
-        double r1 = hk_rng_uniform(seed, 102, (uint64_t)i), r2 = hk_rng_uniform(seed, 103, (uint64_t)i);
-        if (r1 + r2 > 1.0) r1 = 1.0 - r1, r2 = 1.0 - r2;
-        const int *t = m->triangles + 3 * lo;
-        const double b[3] = {1.0 - r1 - r2, r1, r2};
-        hk_Vec3 p = hk_v3_zero(), n = hk_v3_zero();
-        for (int k = 0; k < 3; k++) {
-            p = hk_v3_madd(p, m->positions[t[k]], b[k]);
-            n = hk_v3_madd(n, m->normals[t[k]], b[k]);
-        }
-        pos[i] = p;
-        normal[i] = hk_v3_normalize(n);
-    }
-}
-
-hk_Status hk_helicoid_cli_interpolate_at(const hk_PHelicoid *guides, const hk_Vec3 *guide_normals, int guide_count,
-                                         const hk_Vec3 *roots, const hk_Vec3 *normals, long count, double power,
-                                         hk_PHelicoid *out, hk_Error *err)
-{
-    hk_FirstError failed;
-    hk_first_error_init(&failed);
-#pragma omp parallel for schedule(static)
-    for (long i = 0; i < count; i++) {
-        hk_Error e;
-        const hk_Vec3 x = roots[i];
-        const hk_Status st =
-            guide_normals
-                ? hk_phelicoid_interpolate_on_surface(guides, guide_normals, guide_count, x, normals[i], power,
-                                                      MIN_ELEVATION, &out[i], &e)
-                : hk_phelicoid_interpolate(guides, guide_count, x, normals ? &normals[i] : NULL, power, &out[i], &e);
-        if (st != HK_OK) hk_first_error_record(&failed, i, &e);
-    }
-    if (failed.index >= 0)
-        return hk_error_set(err, failed.error.code, "interpolated strand %ld: %s", failed.index + 1,
-                            failed.error.message);
-    return HK_OK;
-}
 
 /* Roots drawn area-uniformly on the mesh: --count N, or --density per cm^2 of its area. */
 static hk_Status random_roots(const hk_HelicoidArgs *a, const hk_Mesh *mesh, long *count, hk_Vec3 **roots,
                               hk_Vec3 **normals, hk_Error *err)
 {
-    double *cumulative = hk_alloc_array((size_t)mesh->triangle_count + 1, sizeof(double), err);
-    if (!cumulative) return HK_ERR_NOMEM;
-    cumulative[0] = 0.0;
-    for (int t = 0; t < mesh->triangle_count; t++) cumulative[t + 1] = cumulative[t] + hk_mesh_triangle_area(mesh, t);
-    const double area = cumulative[mesh->triangle_count];
+    const double area = hk_mesh_area(mesh);
     long n = a->count ? a->count : (long)llround(area * 1e4 * a->density);
-    hk_Status st = HK_OK;
-    if (n < 1 || !(area > 0.0))
-        st = hk_error_set(err, HK_ERR_INVALID, "%s: no area to grow %ld strands on", a->surface, n);
-    else if (n > 10000000) st = hk_error_set(err, HK_ERR_INVALID, "%ld strands: at most 10,000,000", n);
-    if (st == HK_OK) {
-        *roots = hk_alloc_array((size_t)n, sizeof(hk_Vec3), err);
-        *normals = hk_alloc_array((size_t)n, sizeof(hk_Vec3), err);
-        if (!*roots || !*normals) st = HK_ERR_NOMEM;
-    }
-    if (st == HK_OK) {
-        mesh_roots(mesh, n, a->seed, cumulative, *roots, *normals);
-        *count = n;
-    }
-    hk_free(cumulative);
+    if (n < 1 || !(area > 0.0)) return hk_error_set(err, HK_ERR_INVALID, "%s: no area to grow %ld strands on", a->surface, n);
+    if (n > 10000000) return hk_error_set(err, HK_ERR_INVALID, "%ld strands: at most 10,000,000", n);
+    *roots = hk_alloc_array((size_t)n, sizeof(hk_Vec3), err);
+    *normals = hk_alloc_array((size_t)n, sizeof(hk_Vec3), err);
+    if (!*roots || !*normals) return HK_ERR_NOMEM;
+    const hk_Status st = hk_mesh_sample_uniform(mesh, n, a->seed, a->threads, *roots, *normals, err);
+    if (st == HK_OK) *count = n;
     return st;
 }
 
@@ -165,8 +96,6 @@ int hk_helicoid_cli_interpolate(const hk_HelicoidArgs *a)
     hk_Vec3 *roots = NULL, *normals = NULL, *gnormals = NULL;
     hk_HairFile hair;
     memset(&hair, 0, sizeof hair);
-    const int saved = omp_get_max_threads();
-    if (a->threads > 0) omp_set_num_threads(a->threads);
     long count = 0;
     if (st == HK_OK) {
         gnormals = hk_alloc_array((size_t)guides.count, sizeof(hk_Vec3), &err);
@@ -178,15 +107,14 @@ int hk_helicoid_cli_interpolate(const hk_HelicoidArgs *a)
     const double t0 = hk_seconds_now();
     if (st == HK_OK) st = hk_helicoid_set_alloc(&made, (int)count, &err);
     if (st == HK_OK)
-        st = hk_helicoid_cli_interpolate_at(guides.strands, gnormals, guides.count, roots, normals, count, a->power,
-                                            made.strands, &err);
+        st = hk_helicoid_interpolate_at(guides.strands, gnormals, guides.count, roots, normals, count, a->power,
+                                        a->threads, made.strands, &err);
     const double t1 = hk_seconds_now();
     made.step = a->step > 0.0 ? a->step : guides.step;
     made.waviness = guides.waviness;
     made.wave_jitter = guides.wave_jitter;
-    if (st == HK_OK) st = hk_helicoid_cli_trace_set(&made, made.step, a->seed, a->threads, &hair, &err);
+    if (st == HK_OK) st = hk_helicoid_set_trace(&made, made.step, a->seed, a->threads, &hair, &err);
     const double t2 = hk_seconds_now();
-    if (a->threads > 0) omp_set_num_threads(saved);
     if (st == HK_OK) st = hk_hair_save(a->output, &hair, &err);
     if (st == HK_OK && a->params) st = hk_helicoid_file_save(a->params, &made, "interpolated by hairkit", &err);
     if (st == HK_OK && !a->quiet)

@@ -2,6 +2,8 @@
 #ifndef HAIRKIT_MESH_H
 #define HAIRKIT_MESH_H
 
+#include <stdint.h>
+
 #include "hairkit/core.h"
 #include "hairkit/vecmath.h"
 
@@ -42,6 +44,13 @@ double hk_mesh_area(const hk_Mesh *mesh);
  * the triangles. Returns the distance, or -1 when the mesh has no triangles or x is not
  * finite (point and normal then untouched). point or normal may be NULL. */
 double hk_mesh_closest_point(const hk_Mesh *mesh, hk_Vec3 x, hk_Vec3 *point, hk_Vec3 *normal);
+
+/* count points uniform by area on the mesh (a triangle drawn by its area, then a point
+ * uniform in it) and the vertex normals blended there (unit length), each from the
+ * counter-based RNG (rng.h) keyed by (seed, its index): the same points whatever the
+ * threads (<= 0: OpenMP's default). normal may be NULL. HK_ERR_INVALID when the mesh has no area. */
+hk_Status hk_mesh_sample_uniform(const hk_Mesh *mesh, long count, uint64_t seed, int threads, hk_Vec3 *point,
+                                 hk_Vec3 *normal, hk_Error *err);
 
 /* Allocates an empty mesh of the given sizes (all zero). */
 hk_Status hk_mesh_alloc(hk_Mesh *mesh, int vertex_count, int triangle_count, hk_Error *err);
