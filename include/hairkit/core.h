@@ -8,11 +8,12 @@
 
 #include <stddef.h>
 
+#include "hairkit/version.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-#define HK_VERSION_STRING "0.1.0"
 
 typedef enum hk_Status {
     HK_OK = 0,
@@ -42,6 +43,10 @@ void hk_error_clear(hk_Error *err);
 
 /* Short name of a status code ("io", "parse", ...). */
 const char *hk_status_name(hk_Status status);
+
+/* The version of the library linked, "MAJOR.MINOR.PATCH" (what `hairkit --version`
+ * prints); HK_VERSION_STRING is the version of the headers compiled against. */
+const char *hk_version(void);
 
 /* The error of the lowest failing index of a parallel loop, so that the error reported
  * is the same whatever the thread count and the schedule (DESIGN.md: results do not
