@@ -8,6 +8,7 @@
 
 #include <stddef.h>
 
+#include "hairkit/export.h"
 #include "hairkit/version.h"
 
 #ifdef __cplusplus
@@ -36,17 +37,17 @@ typedef struct hk_Error {
 #if defined(__GNUC__)
 __attribute__((format(printf, 3, 4)))
 #endif
-hk_Status hk_error_set(hk_Error *err, hk_Status code, const char *fmt, ...);
+HK_API hk_Status hk_error_set(hk_Error *err, hk_Status code, const char *fmt, ...);
 
 /* Clears err to HK_OK with an empty message. */
-void hk_error_clear(hk_Error *err);
+HK_API void hk_error_clear(hk_Error *err);
 
 /* Short name of a status code ("io", "parse", ...). */
-const char *hk_status_name(hk_Status status);
+HK_API const char *hk_status_name(hk_Status status);
 
 /* The version of the library linked, "MAJOR.MINOR.PATCH" (what `hairkit --version`
  * prints); HK_VERSION_STRING is the version of the headers compiled against. */
-const char *hk_version(void);
+HK_API const char *hk_version(void);
 
 /* The error of the lowest failing index of a parallel loop, so that the error reported
  * is the same whatever the thread count and the schedule (DESIGN.md: results do not
@@ -65,7 +66,8 @@ const char *hk_version(void);
  *                                            fe.error.message);
  *
  * (or `return hk_first_error_status(&fe, err);` to pass the error on as it is). Read
- * the fields after the loop only. */
+ * the fields after the loop only. Internal to hairkit: the hk_first_error_* functions are
+ * not exported from the shared library (no HK_API). */
 typedef struct hk_FirstError {
     long index;     /* lowest failing index recorded, -1 while none */
     hk_Error error; /* the error recorded with it */
@@ -97,12 +99,13 @@ typedef void (*hk_ProgressFn)(void *user, const char *stage, double fraction);
 
 /* malloc/calloc of count*size bytes with overflow and HK_MAX_ALLOCATION checks.
  * On failure returns NULL and fills err. A zero count returns a valid minimal block. */
-void *hk_alloc_array(size_t count, size_t size, hk_Error *err);
-void *hk_calloc_array(size_t count, size_t size, hk_Error *err);
-void hk_free(void *ptr);
+HK_API void *hk_alloc_array(size_t count, size_t size, hk_Error *err);
+HK_API void *hk_calloc_array(size_t count, size_t size, hk_Error *err);
+HK_API void hk_free(void *ptr);
 
 /* Seconds on a monotonic clock (CLOCK_MONOTONIC) from an arbitrary origin: for timings
- * and progress reports, never for results. */
+ * and progress reports, never for results. Internal: not exported from the shared library
+ * (no HK_API). */
 double hk_seconds_now(void);
 
 #ifdef __cplusplus
