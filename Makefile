@@ -1,9 +1,11 @@
 # hairkit top-level commands. Everything real lives in CMake; this file only gives
-# the short commands the README promises: make demo, make test, make bench, make asan.
+# the short commands the README promises: make demo, make test, make bench, make asan,
+# make install PREFIX=DIR (DESTDIR=... is honoured, as cmake --install does).
 
 BUILD      ?= build
 ASAN_BUILD ?= build-asan
 JOBS       ?= $(shell nproc 2>/dev/null || echo 2)
+PREFIX     ?= /usr/local
 CMAKE_FLAGS ?=
 
 ifeq ($(HK_WERROR),1)
@@ -12,7 +14,7 @@ endif
 
 HAIRKIT := ./$(BUILD)/hairkit
 
-.PHONY: all deps build demo test bench asan clean
+.PHONY: all deps build demo test bench asan install clean
 
 all: build
 
@@ -33,6 +35,9 @@ test: build
 
 bench: build
 	$(HAIRKIT) bench
+
+install: build
+	cmake --install $(BUILD) --prefix "$(PREFIX)"
 
 asan: deps
 	@cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DHK_SANITIZE=ON $(CMAKE_FLAGS) \

@@ -31,7 +31,7 @@ static void print_help(FILE *out)
             "       hairkit COMMAND --help\n"
             "\n"
             "commands:\n",
-            HK_VERSION_STRING);
+            hk_version());
     for (size_t i = 0; i < sizeof commands / sizeof *commands; i++)
         fprintf(out, "  %-10s %s\n", commands[i].name, commands[i].summary);
     fprintf(out,
@@ -58,7 +58,7 @@ int main(int argc, char **argv)
         return HK_EXIT_OK;
     }
     if (!strcmp(argv[1], "--version")) {
-        printf("hairkit %s\n", HK_VERSION_STRING);
+        printf("hairkit %s\n", hk_version());
         return HK_EXIT_OK;
     }
     for (size_t i = 0; i < sizeof commands / sizeof *commands; i++)

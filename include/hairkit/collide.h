@@ -12,6 +12,7 @@
 #define HAIRKIT_COLLIDE_H
 
 #include "hairkit/core.h"
+#include "hairkit/export.h"
 #include "hairkit/motion.h"
 #include "hairkit/vecmath.h"
 
@@ -42,20 +43,21 @@ typedef struct hk_Shape {
 } hk_Shape;
 
 /* Shape constructors; axes are normalised. They fill `bound`. */
-hk_Shape hk_shape_sphere(hk_Vec3 centre, double radius, double volume, double penalty);
-hk_Shape hk_shape_ellipsoid(hk_Vec3 centre, hk_Vec3 radii, const hk_Vec3 axes[3], double volume,
-                            double penalty);
-hk_Shape hk_shape_cuboid(hk_Vec3 centre, hk_Vec3 half_dims, const hk_Vec3 axes[3], double volume,
-                         double penalty);
+HK_API hk_Shape hk_shape_sphere(hk_Vec3 centre, double radius, double volume, double penalty);
+HK_API hk_Shape hk_shape_ellipsoid(hk_Vec3 centre, hk_Vec3 radii, const hk_Vec3 axes[3],
+                                   double volume, double penalty);
+HK_API hk_Shape hk_shape_cuboid(hk_Vec3 centre, hk_Vec3 half_dims, const hk_Vec3 axes[3],
+                                double volume, double penalty);
 
 /* The shapes (head space) where the head's rigid state puts them: out[i] is shapes[i]
  * with its centre at R c + T and its axes turned by R (the rest unchanged). Body shapes
  * move with the head, world-space strands do not (docs/grooming.md). out[count] may not
  * overlap shapes. */
-void hk_shapes_posed(const hk_Shape *shapes, int count, const hk_RigidState *head, hk_Shape *out);
+HK_API void hk_shapes_posed(const hk_Shape *shapes, int count, const hk_RigidState *head,
+                            hk_Shape *out);
 
 /* Recomputes derived fields (bound) after the public fields were edited by hand. */
-void hk_shape_finish(hk_Shape *shape);
+HK_API void hk_shape_finish(hk_Shape *shape);
 
 /* Penetration depth of p as defined by the thesis:
  *   sphere:    dent = r - |p - c|
@@ -66,28 +68,29 @@ void hk_shape_finish(hk_Shape *shape);
  * derivative (zero for the cuboid, which is piecewise linear). At the centre of an
  * ellipsoid, where the radial measure is undefined, dent is the smallest radius and
  * the derivatives are zero. */
-double hk_shape_dent(const hk_Shape *shape, hk_Vec3 p, hk_Vec3 *grad, hk_Mat3 *hess);
+HK_API double hk_shape_dent(const hk_Shape *shape, hk_Vec3 p, hk_Vec3 *grad, hk_Mat3 *hess);
 
 /* Penalty energy density e(p) of one shape (see top of file) with envelope level
  * alpha; adds its gradient to *grad and its Hessian to *hess when they are not NULL
  * (callers zero them first). Returns the energy density. Cheap when p is far outside
  * (see `bound`). */
-double hk_shape_penalty(const hk_Shape *shape, double alpha, hk_Vec3 p, hk_Vec3 *grad,
-                        hk_Mat3 *hess);
+HK_API double hk_shape_penalty(const hk_Shape *shape, double alpha, hk_Vec3 p, hk_Vec3 *grad,
+                               hk_Mat3 *hess);
 
 /* Sum of hk_shape_penalty over shapes[0..count). grad and hess are overwritten (set
  * to the sum) when not NULL. Returns the summed energy density. */
-double hk_collision_penalty(const hk_Shape *shapes, int count, double alpha, hk_Vec3 p,
-                            hk_Vec3 *grad, hk_Mat3 *hess);
+HK_API double hk_collision_penalty(const hk_Shape *shapes, int count, double alpha, hk_Vec3 p,
+                                   hk_Vec3 *grad, hk_Mat3 *hess);
 
 /* Largest dent + extra > 0 over shapes at p (0 when p touches none): how deep a
  * point sits inside the envelopes. Used by tests and reports. */
-double hk_collision_depth(const hk_Shape *shapes, int count, double alpha, hk_Vec3 p);
+HK_API double hk_collision_depth(const hk_Shape *shapes, int count, double alpha, hk_Vec3 p);
 
 /* The same, naming the shape: the index of the shape p is deepest inside (dent + extra
  * > 0, the first of equals), or -1 when p touches none; *depth (if not NULL) receives
  * hk_collision_depth's value. */
-int hk_collision_deepest(const hk_Shape *shapes, int count, double alpha, hk_Vec3 p, double *depth);
+HK_API int hk_collision_deepest(const hk_Shape *shapes, int count, double alpha, hk_Vec3 p,
+                                double *depth);
 
 #ifdef __cplusplus
 }

@@ -8,11 +8,13 @@
 
 #include <stddef.h>
 
+#include "hairkit/export.h"
+#include "hairkit/version.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-#define HK_VERSION_STRING "0.1.0"
 
 typedef enum hk_Status {
     HK_OK = 0,
@@ -35,13 +37,17 @@ typedef struct hk_Error {
 #if defined(__GNUC__)
 __attribute__((format(printf, 3, 4)))
 #endif
-hk_Status hk_error_set(hk_Error *err, hk_Status code, const char *fmt, ...);
+HK_API hk_Status hk_error_set(hk_Error *err, hk_Status code, const char *fmt, ...);
 
 /* Clears err to HK_OK with an empty message. */
-void hk_error_clear(hk_Error *err);
+HK_API void hk_error_clear(hk_Error *err);
 
 /* Short name of a status code ("io", "parse", ...). */
-const char *hk_status_name(hk_Status status);
+HK_API const char *hk_status_name(hk_Status status);
+
+/* The version of the library linked, "MAJOR.MINOR.PATCH" (what `hairkit --version`
+ * prints); HK_VERSION_STRING is the version of the headers compiled against. */
+HK_API const char *hk_version(void);
 
 /* The error of the lowest failing index of a parallel loop, so that the error reported
  * is the same whatever the thread count and the schedule (DESIGN.md: results do not
@@ -60,7 +66,8 @@ const char *hk_status_name(hk_Status status);
  *                                            fe.error.message);
  *
  * (or `return hk_first_error_status(&fe, err);` to pass the error on as it is). Read
- * the fields after the loop only. */
+ * the fields after the loop only. Internal to hairkit: the hk_first_error_* functions are
+ * not exported from the shared library (no HK_API). */
 typedef struct hk_FirstError {
     long index;     /* lowest failing index recorded, -1 while none */
     hk_Error error; /* the error recorded with it */
@@ -92,14 +99,15 @@ typedef void (*hk_ProgressFn)(void *user, const char *stage, double fraction);
 
 /* malloc/calloc of count*size bytes with overflow and HK_MAX_ALLOCATION checks.
  * On failure returns NULL and fills err. A zero count returns a valid minimal block. */
-void *hk_alloc_array(size_t count, size_t size, hk_Error *err);
-void *hk_calloc_array(size_t count, size_t size, hk_Error *err);
-void hk_free(void *ptr);
+HK_API void *hk_alloc_array(size_t count, size_t size, hk_Error *err);
+HK_API void *hk_calloc_array(size_t count, size_t size, hk_Error *err);
+HK_API void hk_free(void *ptr);
 /* A copy of the string s (free with hk_free); NULL and err filled when out of memory. */
-char *hk_strdup(const char *s, hk_Error *err);
+HK_API char *hk_strdup(const char *s, hk_Error *err);
 
 /* Seconds on a monotonic clock (CLOCK_MONOTONIC) from an arbitrary origin: for timings
- * and progress reports, never for results. */
+ * and progress reports, never for results. Internal: not exported from the shared library
+ * (no HK_API). */
 double hk_seconds_now(void);
 
 #ifdef __cplusplus

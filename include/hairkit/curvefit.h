@@ -19,6 +19,7 @@
 #define HAIRKIT_CURVEFIT_H
 
 #include "hairkit/core.h"
+#include "hairkit/export.h"
 #include "hairkit/vecmath.h"
 
 #ifdef __cplusplus
@@ -40,16 +41,17 @@ extern "C" {
 
 /* Minimum over couplings of the SUM of leash lengths (the paper's "Fréchet coupling",
  * C in eq. 5). Metres times pairs. */
-double hk_frechet_coupling(const hk_Vec3 *a, int p, const hk_Vec3 *b, int q, double *work);
+HK_API double hk_frechet_coupling(const hk_Vec3 *a, int p, const hk_Vec3 *b, int q, double *work);
 
 /* The coupling divided by max(p, q), the fewest pairs any coupling has: a length in
  * metres, comparable across point counts (d for a curve against a copy of itself moved
  * by d perpendicular to its plane). Minimising it is minimising the coupling. */
-double hk_frechet_coupling_normalized(const hk_Vec3 *a, int p, const hk_Vec3 *b, int q, double *work);
+HK_API double hk_frechet_coupling_normalized(const hk_Vec3 *a, int p, const hk_Vec3 *b, int q,
+                                             double *work);
 
 /* Minimum over couplings of the LONGEST leash: the discrete Fréchet distance of Eiter &
  * Mannila (1994). Metres. */
-double hk_frechet_distance(const hk_Vec3 *a, int p, const hk_Vec3 *b, int q, double *work);
+HK_API double hk_frechet_distance(const hk_Vec3 *a, int p, const hk_Vec3 *b, int q, double *work);
 
 typedef struct hk_FrechetMeasures {
     double coupling;   /* sum of leashes of the best coupling (m) */
@@ -59,8 +61,8 @@ typedef struct hk_FrechetMeasures {
 
 /* All three measures with checked input (counts >= 1, finite points) and its own work
  * memory: for occasional use; inner loops use the functions above with a workspace. */
-hk_Status hk_frechet_measures(const hk_Vec3 *a, int p, const hk_Vec3 *b, int q,
-                              hk_FrechetMeasures *out, hk_Error *err);
+HK_API hk_Status hk_frechet_measures(const hk_Vec3 *a, int p, const hk_Vec3 *b, int q,
+                                     hk_FrechetMeasures *out, hk_Error *err);
 
 /* ---- Nelder-Mead (Nelder & Mead 1965) -------------------------------------------- */
 
@@ -78,7 +80,7 @@ typedef struct hk_NelderMeadOptions {
 } hk_NelderMeadOptions;
 
 /* 2000 evaluations, x_tolerance 1e-8, f_tolerance 1e-12. */
-hk_NelderMeadOptions hk_default_nelder_mead_options(void);
+HK_API hk_NelderMeadOptions hk_default_nelder_mead_options(void);
 
 typedef struct hk_NelderMeadResult {
     double f;         /* objective at the returned x */
@@ -94,9 +96,9 @@ typedef struct hk_NelderMeadResult {
  * vertex. Deterministic (ties keep the older vertex first). Returns HK_ERR_INVALID for
  * bad arguments and HK_ERR_NUMERIC when f was NaN or +inf everywhere it was tried (x
  * is then left at the start). Never allocates. */
-hk_Status hk_nelder_mead_minimize(int n, double *x, const double *scale, hk_CostFn f, void *user,
-                                  const hk_NelderMeadOptions *options, hk_NelderMeadResult *result,
-                                  hk_Error *err);
+HK_API hk_Status hk_nelder_mead_minimize(int n, double *x, const double *scale, hk_CostFn f,
+                                         void *user, const hk_NelderMeadOptions *options,
+                                         hk_NelderMeadResult *result, hk_Error *err);
 
 /* ---- Levenberg-Marquardt (src/helicoid/least_squares.c) ------------------------------ */
 
@@ -116,7 +118,7 @@ typedef struct hk_LeastSquaresOptions {
 } hk_LeastSquaresOptions;
 
 /* 400 evaluations, x_tolerance 1e-10, f_tolerance 1e-12, g_tolerance 1e-14. */
-hk_LeastSquaresOptions hk_default_least_squares_options(void);
+HK_API hk_LeastSquaresOptions hk_default_least_squares_options(void);
 
 typedef struct hk_LeastSquaresResult {
     double cost;      /* sum r_i^2 / 2 at the returned x */
@@ -134,9 +136,10 @@ typedef struct hk_LeastSquaresResult {
  * x is updated in place with the best point found (never worse than the start).
  * `work` holds HK_LEAST_SQUARES_WORK(n, m) doubles. Deterministic; never allocates.
  * HK_ERR_INVALID for bad arguments, HK_ERR_NUMERIC when r is undefined at the start. */
-hk_Status hk_least_squares_minimize(int n, int m, double *x, const double *scale, hk_ResidualFn f, void *user,
-                                    const hk_LeastSquaresOptions *options, double *work,
-                                    hk_LeastSquaresResult *result, hk_Error *err);
+HK_API hk_Status hk_least_squares_minimize(int n, int m, double *x, const double *scale,
+                                           hk_ResidualFn f, void *user,
+                                           const hk_LeastSquaresOptions *options, double *work,
+                                           hk_LeastSquaresResult *result, hk_Error *err);
 
 /* ---- curve models ------------------------------------------------------------------- */
 
@@ -167,8 +170,9 @@ typedef int (*hk_CurveModelFn)(void *user, const double *params, const hk_CurveS
  * the start tangent and its first bend lies in the (T, N) plane, so
  * hk_curve_estimate_start recovers the start frame exactly (kappa > 0). user is unused;
  * non-zero only for count < 2. */
-int hk_curve_model_frenet_helix(void *user, const double *params, const hk_CurveStart *start, double length,
-                                int count, hk_Vec3 *out_points, hk_CurveStart *end);
+HK_API int hk_curve_model_frenet_helix(void *user, const double *params, const hk_CurveStart *start,
+                                       double length, int count, hk_Vec3 *out_points,
+                                       hk_CurveStart *end);
 
 /* The pose a fit starts from, estimated from a polyline's first points (the paper's
  * "target hair h with estimated Frenet frame Q" [Ros03]): position = points[0]; tangent
@@ -179,13 +183,14 @@ int hk_curve_model_frenet_helix(void *user, const double *params, const hk_Curve
  * When every point lies on the first segment's line (straight hair) the normal is the
  * world axis least aligned with the tangent, made orthogonal to it. HK_ERR_INVALID when
  * count < 2, a point is not finite or every point is the same. */
-hk_Status hk_curve_estimate_start(const hk_Vec3 *points, int count, hk_CurveStart *out, hk_Error *err);
+HK_API hk_Status hk_curve_estimate_start(const hk_Vec3 *points, int count, hk_CurveStart *out,
+                                         hk_Error *err);
 
 /* Resamples a polyline to `samples` (>= 2) points spaced uniformly by arc length along
  * it (first and last points kept exactly); *length (may be NULL) gets its length.
  * HK_ERR_INVALID for count < 2, non-finite points or zero length. */
-hk_Status hk_curve_resample(const hk_Vec3 *points, int count, int samples, hk_Vec3 *out,
-                            double *length, hk_Error *err);
+HK_API hk_Status hk_curve_resample(const hk_Vec3 *points, int count, int samples, hk_Vec3 *out,
+                                   double *length, hk_Error *err);
 
 /* The same, uniformly by the arc length of the smooth curve the points sample: each
  * chord lengthened to the arc of the circle turning by the polyline's turning angles
@@ -194,8 +199,8 @@ hk_Status hk_curve_resample(const hk_Vec3 *points, int count, int samples, hk_Ve
  * traced at spacing s to chord-length samples leaves that much error per segment
  * (30 microns over a 10 cm curl of 3 cm radius at 3.4 mm spacing). *length gets the
  * estimated arc length. */
-hk_Status hk_curve_resample_arc(const hk_Vec3 *points, int count, int samples, hk_Vec3 *out,
-                                double *length, hk_Error *err);
+HK_API hk_Status hk_curve_resample_arc(const hk_Vec3 *points, int count, int samples, hk_Vec3 *out,
+                                       double *length, hk_Error *err);
 
 /* ---- fitting (§5.2, §5.3) ------------------------------------------------------------ */
 
@@ -274,7 +279,7 @@ typedef struct hk_CurveFitOptions {
 /* lambda 1e-7 m, tolerance 0.2 mm, split_threshold 0.6, min_fragment_length 5 mm,
  * max_pieces 16, max_evaluations 1000, samples 0, restarts 1, param_tolerance 1e-5,
  * cost_tolerance 1e-8 m, use_start 0, refine_start 1. */
-hk_CurveFitOptions hk_default_curve_fit_options(void);
+HK_API hk_CurveFitOptions hk_default_curve_fit_options(void);
 
 typedef struct hk_CurveFit {
     int piece_count;
@@ -298,8 +303,8 @@ typedef struct hk_CurveFit {
 /* Work memory of the fits for targets of up to `max_samples` resampled points: create one
  * per thread and reuse it, so that fitting never allocates. */
 typedef struct hk_CurveFitWorkspace hk_CurveFitWorkspace;
-hk_CurveFitWorkspace *hk_curve_fit_workspace_create(int max_samples, hk_Error *err);
-void hk_curve_fit_workspace_destroy(hk_CurveFitWorkspace *ws);
+HK_API hk_CurveFitWorkspace *hk_curve_fit_workspace_create(int max_samples, hk_Error *err);
+HK_API void hk_curve_fit_workspace_destroy(hk_CurveFitWorkspace *ws);
 
 /* Fits a chain of model pieces to the target polyline (count points):
  *  1. the target is resampled uniformly by arc length (opt->samples points, default
@@ -316,20 +321,22 @@ void hk_curve_fit_workspace_destroy(hk_CurveFitWorkspace *ws);
  * `seed` and `scale` have param_count (0..HK_CURVEFIT_MAX_PARAMS) entries; scale gives
  * the initial simplex steps (finite, non-zero); opt NULL means the defaults. Errors: HK_ERR_INVALID for bad input,
  * HK_ERR_NUMERIC when the model fails for every parameter vector tried. */
-hk_Status hk_curve_fit_piecewise_ws(hk_CurveFitWorkspace *ws, const hk_Vec3 *target, int count,
-                                    hk_CurveModelFn model, void *user, int param_count,
-                                    const double *seed, const double *scale,
-                                    const hk_CurveFitOptions *opt, hk_CurveFit *out, hk_Error *err);
+HK_API hk_Status hk_curve_fit_piecewise_ws(hk_CurveFitWorkspace *ws, const hk_Vec3 *target,
+                                           int count, hk_CurveModelFn model, void *user,
+                                           int param_count, const double *seed, const double *scale,
+                                           const hk_CurveFitOptions *opt, hk_CurveFit *out,
+                                           hk_Error *err);
 
 /* The same with a workspace of its own (one allocation per call). */
-hk_Status hk_curve_fit_piecewise(const hk_Vec3 *target, int count, hk_CurveModelFn model, void *user,
-                                 int param_count, const double *seed, const double *scale,
-                                 const hk_CurveFitOptions *opt, hk_CurveFit *out, hk_Error *err);
+HK_API hk_Status hk_curve_fit_piecewise(const hk_Vec3 *target, int count, hk_CurveModelFn model,
+                                        void *user, int param_count, const double *seed,
+                                        const double *scale, const hk_CurveFitOptions *opt,
+                                        hk_CurveFit *out, hk_Error *err);
 
 /* Traces a fit's chained pieces at its sample spacing into out (fit->sample_count
  * points). HK_ERR_INVALID for a malformed fit, HK_ERR_NUMERIC when the model fails. */
-hk_Status hk_curve_fit_trace(const hk_CurveFit *fit, hk_CurveModelFn model, void *user,
-                             hk_Vec3 *out, hk_Error *err);
+HK_API hk_Status hk_curve_fit_trace(const hk_CurveFit *fit, hk_CurveModelFn model, void *user,
+                                    hk_Vec3 *out, hk_Error *err);
 
 #ifdef __cplusplus
 }

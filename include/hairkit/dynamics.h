@@ -28,6 +28,7 @@
 #define HAIRKIT_DYNAMICS_H
 
 #include "hairkit/core.h"
+#include "hairkit/export.h"
 #include "hairkit/io.h"
 #include "hairkit/motion.h"
 #include "hairkit/rod.h"
@@ -110,10 +111,10 @@ typedef struct hk_DynamicsStats {
 
 /* Paper-range defaults: gamma 1e-10, nu 1e-5, friction 0.2 / 0.4, 5 cm/s, auto
  * quadrature, O(N) solver with the Gauss-Newton stiffness. */
-hk_DynamicsParams hk_default_dynamics_params(void);
+HK_API hk_DynamicsParams hk_default_dynamics_params(void);
 
 /* The same from a hairstyle's InternalFriction, AirDrag and BodyFriction. */
-hk_DynamicsParams hk_dynamics_params_for(const hk_HairstyleDef *def);
+HK_API hk_DynamicsParams hk_dynamics_params_for(const hk_HairstyleDef *def);
 
 /* A point force on a strand at arc length s, with its linearisation for the implicit
  * step (both matrices symmetric positive semi-definite). */
@@ -131,17 +132,17 @@ typedef struct hk_StrandDynamics hk_StrandDynamics;
  * creation are taken as head-space: every step places them with the head's motion.
  * body (may be NULL) holds the collision shapes, also in head space; it is copied. The
  * velocity starts at zero. */
-hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *params,
-                                    const hk_StrandEnv *body, hk_StrandDynamics **out,
-                                    hk_Error *err);
-void hk_strand_dynamics_destroy(hk_StrandDynamics *d);
+HK_API hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *params,
+                                           const hk_StrandEnv *body, hk_StrandDynamics **out,
+                                           hk_Error *err);
+HK_API void hk_strand_dynamics_destroy(hk_StrandDynamics *d);
 
 /* Generalized velocities q' (3N values), readable and writable. */
-double *hk_strand_dynamics_velocity(hk_StrandDynamics *d);
+HK_API double *hk_strand_dynamics_velocity(hk_StrandDynamics *d);
 
 /* Places the root with the head state (NULL: at rest) without stepping: sh->root and
  * sh->root_frame become R x + T and R F of their head-space values. */
-void hk_strand_dynamics_place(hk_StrandDynamics *d, const hk_RigidState *head);
+HK_API void hk_strand_dynamics_place(hk_StrandDynamics *d, const hk_RigidState *head);
 
 /* One step of dt seconds. head (NULL: at rest) is the head's state at the end of the
  * step (the inner stage's state is extrapolated from it, second order; advance
@@ -149,9 +150,9 @@ void hk_strand_dynamics_place(hk_StrandDynamics *d, const hk_RigidState *head);
  * s, e.g. hair-hair contacts, following their linearisation through the step. Fails
  * (HK_ERR_NUMERIC, state unchanged) if Newton's iteration does not converge or the new
  * state is not finite. */
-hk_Status hk_strand_dynamics_step(hk_StrandDynamics *d, const hk_RigidState *head,
-                                  const hk_PointForce *forces, int force_count, double dt,
-                                  hk_Error *err);
+HK_API hk_Status hk_strand_dynamics_step(hk_StrandDynamics *d, const hk_RigidState *head,
+                                         const hk_PointForce *forces, int force_count, double dt,
+                                         hk_Error *err);
 
 /* The head's state at time t, for hk_strand_dynamics_advance (user: caller data). */
 typedef void (*hk_HeadStateFn)(void *user, double t, hk_RigidState *out);
@@ -164,30 +165,30 @@ typedef void (*hk_HeadStateFn)(void *user, double t, hk_RigidState *out);
  * recursively, down to dt / 2^max_depth. head (NULL: at rest) gives the head's state at
  * any time; the point forces are held over the whole interval. *substeps (may be NULL)
  * receives the number of steps taken. */
-hk_Status hk_strand_dynamics_advance(hk_StrandDynamics *d, hk_HeadStateFn head, void *user,
-                                     double t, double dt, const hk_PointForce *forces,
-                                     int force_count, int *substeps, hk_Error *err);
+HK_API hk_Status hk_strand_dynamics_advance(hk_StrandDynamics *d, hk_HeadStateFn head, void *user,
+                                            double t, double dt, const hk_PointForce *forces,
+                                            int force_count, int *substeps, hk_Error *err);
 
 /* Energies at the current state with the head state head (NULL: at rest): kinetic
  * (centreline and rotary, absolute velocities) and potential (elastic + gravity, the
  * statics energy without contacts). Either pointer may be NULL. */
-void hk_strand_dynamics_energy(hk_StrandDynamics *d, const hk_RigidState *head, double *kinetic,
-                               double *potential);
+HK_API void hk_strand_dynamics_energy(hk_StrandDynamics *d, const hk_RigidState *head,
+                                      double *kinetic, double *potential);
 
 /* Positions and world velocities at the arc lengths s[0..count) (sorted), for contact
  * detection and output. vel may be NULL. head as above. */
-void hk_strand_dynamics_points(hk_StrandDynamics *d, const hk_RigidState *head, const double *s,
-                               int count, hk_Vec3 *pos, hk_Vec3 *vel);
+HK_API void hk_strand_dynamics_points(hk_StrandDynamics *d, const hk_RigidState *head,
+                                      const double *s, int count, hk_Vec3 *pos, hk_Vec3 *vel);
 
 /* The generalized mass matrix M(q) (3N x 3N, row-major), assembled densely, for tests
  * and diagnostics. */
-hk_Status hk_strand_dynamics_mass_matrix(hk_StrandDynamics *d, double *mass, hk_Error *err);
+HK_API hk_Status hk_strand_dynamics_mass_matrix(hk_StrandDynamics *d, double *mass, hk_Error *err);
 
 /* Number of body contact samples that touched a shape during the last step. */
-int hk_strand_dynamics_contact_count(const hk_StrandDynamics *d);
+HK_API int hk_strand_dynamics_contact_count(const hk_StrandDynamics *d);
 
 /* Work done so far (steps, Newton iterations, splits, failures). */
-hk_DynamicsStats hk_strand_dynamics_stats(const hk_StrandDynamics *d);
+HK_API hk_DynamicsStats hk_strand_dynamics_stats(const hk_StrandDynamics *d);
 
 #ifdef __cplusplus
 }

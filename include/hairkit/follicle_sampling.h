@@ -8,6 +8,7 @@
 #include <stdint.h>
 
 #include "hairkit/core.h"
+#include "hairkit/export.h"
 #include "hairkit/mesh.h"
 #include "hairkit/vecmath.h"
 
@@ -32,23 +33,24 @@ typedef struct hk_ImplicitFitDef {
     int threads;          /* OpenMP threads for the solve; <= 0: the OpenMP default */
 } hk_ImplicitFitDef;
 
-hk_ImplicitFitDef hk_default_implicit_fit_def(void);
+HK_API hk_ImplicitFitDef hk_default_implicit_fit_def(void);
 
 typedef struct hk_ImplicitSurface hk_ImplicitSurface;
 
 /* Fits the surface through `count` points with outward `normals` (unit or not, but
  * not zero). Errors: no or too many points, NaN/Inf, a zero normal, coincident
  * constraints, all constraints in one plane, a singular system. def may be NULL. */
-hk_Status hk_implicit_surface_fit(const hk_Vec3 *points, const hk_Vec3 *normals, int count,
-                                  const hk_ImplicitFitDef *def, hk_ImplicitSurface **out, hk_Error *err);
-void hk_implicit_surface_destroy(hk_ImplicitSurface *s);
+HK_API hk_Status hk_implicit_surface_fit(const hk_Vec3 *points, const hk_Vec3 *normals, int count,
+                                         const hk_ImplicitFitDef *def, hk_ImplicitSurface **out,
+                                         hk_Error *err);
+HK_API void hk_implicit_surface_destroy(hk_ImplicitSurface *s);
 
 /* f(x); when grad is not NULL also the analytic gradient. Thread-safe. */
-double hk_implicit_surface_eval(const hk_ImplicitSurface *s, hk_Vec3 x, hk_Vec3 *grad);
+HK_API double hk_implicit_surface_eval(const hk_ImplicitSurface *s, hk_Vec3 x, hk_Vec3 *grad);
 
 /* The offset actually used (normal_offset or its default), and the constraint count. */
-double hk_implicit_surface_offset(const hk_ImplicitSurface *s);
-int hk_implicit_surface_constraint_count(const hk_ImplicitSurface *s);
+HK_API double hk_implicit_surface_offset(const hk_ImplicitSurface *s);
+HK_API int hk_implicit_surface_constraint_count(const hk_ImplicitSurface *s);
 
 /* ---- sampling -------------------------------------------------------------------- */
 
@@ -62,14 +64,14 @@ typedef struct hk_ImplicitFunction {
 } hk_ImplicitFunction;
 
 /* The fitted surface as an hk_ImplicitFunction (s must outlive its use). */
-hk_ImplicitFunction hk_implicit_surface_function(const hk_ImplicitSurface *s);
+HK_API hk_ImplicitFunction hk_implicit_surface_function(const hk_ImplicitSurface *s);
 
 /* Newton projection x <- x - f grad f / |grad f|^2 until |f| / |grad f| <= tol (at most
  * 50 steps, each shortened to `max_step` when that is > 0). Writes the point and the
  * unit normal grad f / |grad f| there. Returns 1 on success, 0 when grad f vanishes,
  * a value is not finite or the iteration does not converge. */
-int hk_implicit_project(hk_ImplicitFunction fn, hk_Vec3 x, double tol, double max_step, hk_Vec3 *out_point,
-                        hk_Vec3 *out_normal);
+HK_API int hk_implicit_project(hk_ImplicitFunction fn, hk_Vec3 x, double tol, double max_step,
+                               hk_Vec3 *out_point, hk_Vec3 *out_normal);
 
 /* Hard limit on the particles of one sampling (free + fixed). */
 #define HK_SAMPLING_MAX_PARTICLES 1000000
@@ -95,7 +97,7 @@ typedef struct hk_FollicleSamplingDef {
 
 /* spacing 0 (must be set), max_particles 100000, max_iterations 600, relax_iterations
  * 80, seed 1, no fixed particles, no mask, default threads. */
-hk_FollicleSamplingDef hk_default_follicle_sampling_def(void);
+HK_API hk_FollicleSamplingDef hk_default_follicle_sampling_def(void);
 
 typedef struct hk_FollicleSamples {
     int count;
@@ -108,9 +110,10 @@ typedef struct hk_FollicleSamples {
 /* Spreads particles over the zero set of fn from the `seeds` (projected onto it; those
  * outside the mask are dropped, at least one must remain). Errors: no seeds, NaN,
  * spacing <= 0, counts out of range, a seed that cannot be projected. */
-hk_Status hk_sample_follicles(hk_ImplicitFunction fn, const hk_Vec3 *seeds, int seed_count,
-                              const hk_FollicleSamplingDef *def, hk_FollicleSamples *out, hk_Error *err);
-void hk_follicle_samples_free(hk_FollicleSamples *s);
+HK_API hk_Status hk_sample_follicles(hk_ImplicitFunction fn, const hk_Vec3 *seeds, int seed_count,
+                                     const hk_FollicleSamplingDef *def, hk_FollicleSamples *out,
+                                     hk_Error *err);
+HK_API void hk_follicle_samples_free(hk_FollicleSamples *s);
 
 /* ---- on a head: the wick region ---------------------------------------------------
  * Fits the implicit surface to the wick's vertices and the head's vertices within
@@ -133,11 +136,12 @@ typedef struct hk_WickSamplingDef {
     void *progress_user;
 } hk_WickSamplingDef;
 
-hk_WickSamplingDef hk_default_wick_sampling_def(void);
+HK_API hk_WickSamplingDef hk_default_wick_sampling_def(void);
 
 /* head may be NULL (then only the wick's vertices are fitted). */
-hk_Status hk_wick_follicles(const hk_Mesh *head, const hk_Mesh *wick, const hk_WickSamplingDef *def,
-                            hk_FollicleSamples *out, hk_Error *err);
+HK_API hk_Status hk_wick_follicles(const hk_Mesh *head, const hk_Mesh *wick,
+                                   const hk_WickSamplingDef *def, hk_FollicleSamples *out,
+                                   hk_Error *err);
 
 #ifdef __cplusplus
 }

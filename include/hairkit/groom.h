@@ -8,6 +8,7 @@
 
 #include "hairkit/collide.h"
 #include "hairkit/core.h"
+#include "hairkit/export.h"
 #include "hairkit/hairfile.h"
 #include "hairkit/io.h"
 #include "hairkit/mesh.h"
@@ -26,7 +27,7 @@ typedef struct hk_GroomOptions {
                                0: the plain blend of the guides */
 } hk_GroomOptions;
 
-hk_GroomOptions hk_default_groom_options(void);
+HK_API hk_GroomOptions hk_default_groom_options(void);
 
 /* Follicles of a wick (thesis §4.1.4.1): one per vertex, growing along the vertex
  * normal, with the envelope level alpha = (y - y_min) / (y_max - y_min) of
@@ -38,8 +39,8 @@ typedef struct hk_Follicles {
     double *alpha;
 } hk_Follicles;
 
-hk_Status hk_follicles_from_wick(const hk_Mesh *wick, hk_Follicles *out, hk_Error *err);
-void hk_follicles_free(hk_Follicles *f);
+HK_API hk_Status hk_follicles_from_wick(const hk_Mesh *wick, hk_Follicles *out, hk_Error *err);
+HK_API void hk_follicles_free(hk_Follicles *f);
 
 typedef struct hk_GroomStats {
     long guide_iterations;      /* Newton steps over all guides */
@@ -63,11 +64,11 @@ typedef struct hk_Groom {
  * statics and the collision shapes' layered envelopes, then fills every wick triangle
  * with round(area x HairDensity) interpolated strands (stochastic rounding, so the
  * expected count is exact) at uniformly random roots. */
-hk_Status hk_groom_grow(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
-                        const hk_Mesh *wick, const hk_GroomOptions *options, hk_Groom *out,
-                        hk_Error *err);
+HK_API hk_Status hk_groom_grow(const hk_HairstyleDef *style, const hk_Shape *shapes,
+                               int shape_count, const hk_Mesh *wick, const hk_GroomOptions *options,
+                               hk_Groom *out, hk_Error *err);
 
-void hk_groom_free(hk_Groom *g);
+HK_API void hk_groom_free(hk_Groom *g);
 
 /* Grows the interpolated strands of g again from its guides (g->guides,
  * g->guide_count, g->points_per_strand set, e.g. moved by the dynamics; follicles =
@@ -75,20 +76,21 @@ void hk_groom_free(hk_Groom *g);
  * follow their guides from frame to frame. The strands are kept out of the body
  * shapes among shapes[0..shape_count) (may be NULL, 0), in the guides' space.
  * Replaces any strands g had (their arrays are reused when they hold as many). */
-hk_Status hk_groom_interpolate_guides(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
-                                      const hk_Mesh *wick, const hk_GroomOptions *options, hk_Groom *g,
-                                      hk_Error *err);
+HK_API hk_Status hk_groom_interpolate_guides(const hk_HairstyleDef *style, const hk_Shape *shapes,
+                                             int shape_count, const hk_Mesh *wick,
+                                             const hk_GroomOptions *options, hk_Groom *g,
+                                             hk_Error *err);
 
 /* The groom as cyHair data: the guides first, then the interpolated strands; default
  * thickness is the hair's mean diameter. */
-hk_Status hk_groom_to_hair(const hk_Groom *g, const hk_HairstyleDef *style, hk_HairFile *out,
-                           hk_Error *err);
+HK_API hk_Status hk_groom_to_hair(const hk_Groom *g, const hk_HairstyleDef *style, hk_HairFile *out,
+                                  hk_Error *err);
 
 /* hk_groom_to_hair into out, the hair of an earlier hk_groom_to_hair (or zeroed): its
  * arrays are reused when it has as many strands of as many points (a simulation's
  * frames: 60 MB of fresh pages a frame otherwise), else it is freed and made anew. */
-hk_Status hk_groom_to_hair_again(const hk_Groom *g, const hk_HairstyleDef *style, hk_HairFile *out,
-                                 hk_Error *err);
+HK_API hk_Status hk_groom_to_hair_again(const hk_Groom *g, const hk_HairstyleDef *style,
+                                        hk_HairFile *out, hk_Error *err);
 
 #ifdef __cplusplus
 }

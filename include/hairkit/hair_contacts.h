@@ -26,6 +26,7 @@
 
 #include "hairkit/core.h"
 #include "hairkit/dynamics.h" /* hk_PointForce: a force at one point of a strand */
+#include "hairkit/export.h"
 #include "hairkit/vecmath.h"
 
 #ifdef __cplusplus
@@ -74,7 +75,7 @@ typedef struct hk_HairContactParams {
  *   root_exclusion 2 cm, rescan_interval 2.
  * The dynamics depends on k / m, c_n / m and c_t / m: if a guide carries the mass of a
  * whole clump, scale the three coefficients by the same mass ratio. */
-hk_HairContactParams hk_default_hair_contact_params(void);
+HK_API hk_HairContactParams hk_default_hair_contact_params(void);
 
 /* One tracked pair, for reports, pictures and tests. */
 typedef struct hk_HairContactPair {
@@ -90,9 +91,9 @@ typedef struct hk_HairContactPair {
 typedef struct hk_HairContacts hk_HairContacts;
 
 /* Contacts between strand_count >= 1 guides. Fails on out-of-range parameters. */
-hk_Status hk_hair_contacts_create(int strand_count, const hk_HairContactParams *p,
-                                  hk_HairContacts **out, hk_Error *err);
-void hk_hair_contacts_destroy(hk_HairContacts *c);
+HK_API hk_Status hk_hair_contacts_create(int strand_count, const hk_HairContactParams *p,
+                                         hk_HairContacts **out, hk_Error *err);
+HK_API void hk_hair_contacts_destroy(hk_HairContacts *c);
 
 /* Detection then forces for the strands at the current time (strand_count must be the
  * one given at creation).
@@ -111,22 +112,23 @@ void hk_hair_contacts_destroy(hk_HairContacts *c);
  * On an error (bad counts, NaN, ...) there are no forces until the next successful
  * update (pairs report force = -1) and the tracked pairs are kept. Results are the
  * same bytes whatever the number of OpenMP threads. */
-hk_Status hk_hair_contacts_update(hk_HairContacts *c, const hk_StrandSamples *strands,
-                                  int strand_count, hk_Error *err);
+HK_API hk_Status hk_hair_contacts_update(hk_HairContacts *c, const hk_StrandSamples *strands,
+                                         int strand_count, hk_Error *err);
 
 /* Makes the next update run the broad phase (after a jump of the head, a reset, ...). */
-void hk_hair_contacts_request_rescan(hk_HairContacts *c);
+HK_API void hk_hair_contacts_request_rescan(hk_HairContacts *c);
 
 /* Tracked pairs after the last update, in the order (strand[0], segment[0],
  * strand[1], segment[1]); contacts are the pairs closer than d0. */
-int hk_hair_contacts_pair_count(const hk_HairContacts *c);
-int hk_hair_contacts_contact_count(const hk_HairContacts *c);
+HK_API int hk_hair_contacts_pair_count(const hk_HairContacts *c);
+HK_API int hk_hair_contacts_contact_count(const hk_HairContacts *c);
 /* Fills *out with pair `index`; returns 0 (and leaves *out alone) when out of range. */
-int hk_hair_contacts_pair(const hk_HairContacts *c, int index, hk_HairContactPair *out);
+HK_API int hk_hair_contacts_pair(const hk_HairContacts *c, int index, hk_HairContactPair *out);
 
 /* Forces on strand `strand` (sorted by s, ties in pair order), valid until the next
  * update; NULL with *count = 0 when there are none or the strand is out of range. */
-const hk_PointForce *hk_hair_contacts_forces(const hk_HairContacts *c, int strand, int *count);
+HK_API const hk_PointForce *hk_hair_contacts_forces(const hk_HairContacts *c, int strand,
+                                                    int *count);
 
 #ifdef __cplusplus
 }

@@ -13,6 +13,7 @@
 #include <stdint.h>
 
 #include "hairkit/core.h"
+#include "hairkit/export.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -45,18 +46,18 @@ typedef struct hk_HairFile {
 /* Reads a .hair file; sizes are checked against the file's length before anything is
  * allocated, and truncated or inconsistent files are refused with a clear message. A
  * file without the points array is refused (there is no hair to read). */
-hk_Status hk_hair_load(const char *path, hk_HairFile *hair, hk_Error *err);
+HK_API hk_Status hk_hair_load(const char *path, hk_HairFile *hair, hk_Error *err);
 
 /* Writes atomically. Every array whose flag is set must be present. */
-hk_Status hk_hair_save(const char *path, const hk_HairFile *hair, hk_Error *err);
+HK_API hk_Status hk_hair_save(const char *path, const hk_HairFile *hair, hk_Error *err);
 
 /* Allocates a file for strands of the given point counts (flags: segments and
  * points; other arrays absent). */
-hk_Status hk_hair_alloc(hk_HairFile *hair, uint32_t strand_count, const uint32_t *points_per_strand,
-                        hk_Error *err);
+HK_API hk_Status hk_hair_alloc(hk_HairFile *hair, uint32_t strand_count,
+                               const uint32_t *points_per_strand, hk_Error *err);
 
 /* Fills first_point from segments / default_segments; checks the total. */
-hk_Status hk_hair_index(hk_HairFile *hair, hk_Error *err);
+HK_API hk_Status hk_hair_index(hk_HairFile *hair, hk_Error *err);
 
 /* Points of strand i. */
 static inline uint32_t hk_hair_strand_points(const hk_HairFile *hair, uint32_t i)
@@ -65,9 +66,9 @@ static inline uint32_t hk_hair_strand_points(const hk_HairFile *hair, uint32_t i
 }
 
 /* Sets the 88-byte information field from a string (truncated, NUL-padded). */
-void hk_hair_set_info(hk_HairFile *hair, const char *text);
+HK_API void hk_hair_set_info(hk_HairFile *hair, const char *text);
 
-void hk_hair_free(hk_HairFile *hair);
+HK_API void hk_hair_free(hk_HairFile *hair);
 
 #ifdef __cplusplus
 }

@@ -16,6 +16,7 @@
 #include <stdint.h>
 
 #include "hairkit/core.h"
+#include "hairkit/export.h"
 #include "hairkit/vecmath.h"
 
 #ifdef __cplusplus
@@ -64,23 +65,24 @@ typedef struct hk_Waviness {
  * theta_prev among the 2 pi-spaced ones, so that calling it along a path with theta_prev the
  * previous value (0 at a strand's root) counts the cycles (§3) and keeps phi = alpha theta
  * continuous. theta or phi may be NULL. A NULL k gives NaN. */
-void hk_helicoid_angles(const hk_Helicoid *k, hk_Vec3 x, double theta_prev, double *theta, double *phi);
+HK_API void hk_helicoid_angles(const hk_Helicoid *k, hk_Vec3 x, double theta_prev, double *theta,
+                               double *phi);
 
 /* The frame of eq. 2 for the angles theta, phi, as the columns of a rotation:
  *     E_T = (cos phi cos theta, cos phi sin theta, sin phi),  E_N = (-sin theta, cos theta, 0),
  *     E_B = E_T x E_N = (-sin phi cos theta, -sin phi sin theta, cos phi). */
-hk_Mat3 hk_helicoid_frame(double theta, double phi);
+HK_API hk_Mat3 hk_helicoid_frame(double theta, double phi);
 
 /* HK_OK when h is a valid p-helicoid (piece count in range, finite root, parameters and
  * lengths, positive lengths, a rotation as frame); else HK_ERR_INVALID naming the culprit. */
-hk_Status hk_phelicoid_check(const hk_PHelicoid *h, hk_Error *err);
+HK_API hk_Status hk_phelicoid_check(const hk_PHelicoid *h, hk_Error *err);
 
 /* Number of points of a trace with step h: the root, then each piece of length L_i split into
  * n_i = ceil(L_i / h) equal steps of L_i / n_i <= h (a ratio within 1e-12 of an integer counts
  * as that integer), one point per step; the last point of a piece lands exactly at its end and
  * the tip is the last point: 1 + sum n_i. -1 when h or step is invalid or the count would
  * exceed HK_HELICOID_MAX_POINTS. */
-int hk_phelicoid_point_count(const hk_PHelicoid *h, double step);
+HK_API int hk_phelicoid_point_count(const hk_PHelicoid *h, double step);
 
 /* Traces the strand: points (hk_phelicoid_point_count entries) in world coordinates; frames
  * (same count; NULL = not wanted) are the helicoid frames Q_i F(theta, phi) of eq. 2 at the
@@ -95,11 +97,12 @@ int hk_phelicoid_point_count(const hk_PHelicoid *h, double step);
  * field (w = 0, a sink of k_N < 0) ends there in the closed form; RK4 gives finite but
  * meaningless points near it. HK_ERR_INVALID for bad input, HK_ERR_NUMERIC if the result is
  * not finite (absurdly large parameters). */
-hk_Status hk_phelicoid_trace(const hk_PHelicoid *h, double step, const hk_Waviness *waviness,
-                             const hk_Vec3 *root_offset, hk_Vec3 *points, hk_Mat3 *frames, hk_Error *err);
+HK_API hk_Status hk_phelicoid_trace(const hk_PHelicoid *h, double step, const hk_Waviness *waviness,
+                                    const hk_Vec3 *root_offset, hk_Vec3 *points, hk_Mat3 *frames,
+                                    hk_Error *err);
 
 /* Total length (sum of the piece lengths); 0 for NULL or a piece count out of range. */
-double hk_phelicoid_length(const hk_PHelicoid *h);
+HK_API double hk_phelicoid_length(const hk_PHelicoid *h);
 
 /* The pi-rotation rule of §4.1, as derived (docs/helicoids.md): turning the root frame by pi
  * about E_T (Q -> Q diag(1, -1, -1)) and negating k_T of every piece leaves the traced curve
@@ -108,7 +111,7 @@ double hk_phelicoid_length(const hk_PHelicoid *h);
  * strand's initial direction. When the first piece has k_T < 0 this applies it, so the first
  * piece ends with k_T >= 0; the later pieces' k_T signs all flip with it (their frames are
  * forced by continuity), so only the first piece's sign can be chosen. NULL: nothing. */
-void hk_phelicoid_canonical(hk_PHelicoid *h);
+HK_API void hk_phelicoid_canonical(hk_PHelicoid *h);
 
 /* Inverse-distance (Shepard) interpolation of §4.1-4.2 at the root x: weights
  * w_i ~ |x - x_i|^-power over all guides (power 3 in the paper). The guides are taken in their
@@ -125,8 +128,9 @@ void hk_phelicoid_canonical(hk_PHelicoid *h);
  * scalp can otherwise produce. At x equal to a guide's root the guide itself is returned, in
  * canonical form (the same strand; normal then ignored). out may be one of the guides. No
  * allocation; O(guide_count). */
-hk_Status hk_phelicoid_interpolate(const hk_PHelicoid *guides, int guide_count, hk_Vec3 x, const hk_Vec3 *normal,
-                                   double power, hk_PHelicoid *out, hk_Error *err);
+HK_API hk_Status hk_phelicoid_interpolate(const hk_PHelicoid *guides, int guide_count, hk_Vec3 x,
+                                          const hk_Vec3 *normal, double power, hk_PHelicoid *out,
+                                          hk_Error *err);
 
 /* Interpolation on a surface (§4.3): as hk_phelicoid_interpolate (the same weights, pieces,
  * lengths and parameters), but the root frames are averaged relative to the surface, the
@@ -141,9 +145,11 @@ hk_Status hk_phelicoid_interpolate(const hk_PHelicoid *guides, int guide_count, 
  * elevation (keeping its azimuth), so that every interpolated strand leaves the surface
  * (min_elevation in [0, pi/2) radians). At x equal to a guide's root the guide itself is
  * returned in canonical form, as it is. No allocation; O(guide_count). */
-hk_Status hk_phelicoid_interpolate_on_surface(const hk_PHelicoid *guides, const hk_Vec3 *guide_normals,
-                                              int guide_count, hk_Vec3 x, hk_Vec3 normal, double power,
-                                              double min_elevation, hk_PHelicoid *out, hk_Error *err);
+HK_API hk_Status hk_phelicoid_interpolate_on_surface(const hk_PHelicoid *guides,
+                                                     const hk_Vec3 *guide_normals, int guide_count,
+                                                     hk_Vec3 x, hk_Vec3 normal, double power,
+                                                     double min_elevation, hk_PHelicoid *out,
+                                                     hk_Error *err);
 
 /* Wisp (§3.3): count strands around a guide. Strand j's root offset is uniform in the disc of
  * radius `radius` in the guide's E_N-E_B plane at the root, drawn from the counter-based RNG
@@ -153,8 +159,9 @@ hk_Status hk_phelicoid_interpolate_on_surface(const hk_PHelicoid *guides, const 
  * angle uniform in [0, spread] about a random axis of the E_N-E_B plane (the "random
  * orientation perturbation" that fans the wisp out). w may be NULL. points holds count x
  * hk_phelicoid_point_count(guide, step) points, strand after strand. */
-hk_Status hk_phelicoid_wisp(const hk_PHelicoid *guide, int count, double radius, double spread, uint64_t seed,
-                            double step, const hk_Waviness *w, hk_Vec3 *points, hk_Error *err);
+HK_API hk_Status hk_phelicoid_wisp(const hk_PHelicoid *guide, int count, double radius,
+                                   double spread, uint64_t seed, double step, const hk_Waviness *w,
+                                   hk_Vec3 *points, hk_Error *err);
 
 #ifdef __cplusplus
 }

@@ -3,6 +3,7 @@
 #ifndef HAIRKIT_HELICOID_FILE_H
 #define HAIRKIT_HELICOID_FILE_H
 
+#include "hairkit/export.h"
 #include "hairkit/helicoid.h"
 
 #ifdef __cplusplus
@@ -22,15 +23,15 @@ typedef struct hk_HelicoidSet {
     double *wisp_radius, *wisp_spread;
 } hk_HelicoidSet;
 
-hk_Status hk_helicoid_file_load(const char *path, hk_HelicoidSet *out, hk_Error *err);
+HK_API hk_Status hk_helicoid_file_load(const char *path, hk_HelicoidSet *out, hk_Error *err);
 
 /* Writes the set (17 significant digits: a load gives back the same numbers). */
-hk_Status hk_helicoid_file_save(const char *path, const hk_HelicoidSet *set, const char *comment,
-                                hk_Error *err);
+HK_API hk_Status hk_helicoid_file_save(const char *path, const hk_HelicoidSet *set,
+                                       const char *comment, hk_Error *err);
 
 /* An empty set with `count` strands allocated (zeroed, one piece each unset). */
-hk_Status hk_helicoid_set_alloc(hk_HelicoidSet *set, int count, hk_Error *err);
-void hk_helicoid_set_free(hk_HelicoidSet *set);
+HK_API hk_Status hk_helicoid_set_alloc(hk_HelicoidSet *set, int count, hk_Error *err);
+HK_API void hk_helicoid_set_free(hk_HelicoidSet *set);
 
 #ifdef __cplusplus
 }

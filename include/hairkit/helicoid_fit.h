@@ -5,6 +5,7 @@
 #define HAIRKIT_HELICOID_FIT_H
 
 #include "hairkit/curvefit.h"
+#include "hairkit/export.h"
 #include "hairkit/helicoid.h"
 
 #ifdef __cplusplus
@@ -15,13 +16,13 @@ extern "C" {
  * arc_length = 1 (pieces are traced at arc-length spacing); and the seed and initial steps
  * of the helicoid parameters (k_T, k_N, k_B, alpha) for a strand of the given length:
  * straight to start, steps of a quarter turn over the strand's length. */
-hk_CurveFitOptions hk_helicoid_fit_options(void);
-void hk_helicoid_fit_seed(double length, double seed[4], double scale[4]);
+HK_API hk_CurveFitOptions hk_helicoid_fit_options(void);
+HK_API void hk_helicoid_fit_seed(double length, double seed[4], double scale[4]);
 
 /* Work memory of one fitting thread (no allocation per fit). */
 typedef struct hk_HelicoidFitter hk_HelicoidFitter;
-hk_HelicoidFitter *hk_helicoid_fitter_create(int max_samples, hk_Error *err);
-void hk_helicoid_fitter_destroy(hk_HelicoidFitter *f);
+HK_API hk_HelicoidFitter *hk_helicoid_fitter_create(int max_samples, hk_Error *err);
+HK_API void hk_helicoid_fitter_destroy(hk_HelicoidFitter *f);
 
 /* Fits a p-helicoid to the polyline points[0..count): out gets root, frame and pieces;
  * fit (may be NULL) the fitter's report (errors in metres, evaluations). On top of the
@@ -31,14 +32,15 @@ void hk_helicoid_fitter_destroy(hk_HelicoidFitter *f);
  * curvature of a radian per sample (penalty_weight[3], unless the caller set it). The
  * model refuses pieces that turn more than a radian per sample or come within a tenth of
  * their singular axis (they describe no definite curve). */
-hk_Status hk_helicoid_fit(hk_HelicoidFitter *f, const hk_Vec3 *points, int count,
-                          const hk_CurveFitOptions *options, hk_PHelicoid *out, hk_CurveFit *fit,
-                          hk_Error *err);
+HK_API hk_Status hk_helicoid_fit(hk_HelicoidFitter *f, const hk_Vec3 *points, int count,
+                                 const hk_CurveFitOptions *options, hk_PHelicoid *out,
+                                 hk_CurveFit *fit, hk_Error *err);
 
 /* The curve model of one helicoid piece (params k_T, k_N, k_B, alpha), for curvefit.h;
  * user is the fitter. Non-zero for the refused parameters above. */
-int hk_helicoid_piece_model(void *user, const double *params, const hk_CurveStart *start, double length,
-                            int count, hk_Vec3 *out_points, hk_CurveStart *end);
+HK_API int hk_helicoid_piece_model(void *user, const double *params, const hk_CurveStart *start,
+                                   double length, int count, hk_Vec3 *out_points,
+                                   hk_CurveStart *end);
 
 #ifdef __cplusplus
 }

@@ -27,8 +27,8 @@ extern "C" {
  * (filled here; free with hk_hair_free). `seed` draws the strands' wave phases when the
  * set's waviness has a jitter, from the strand's index: the same bytes whatever the
  * threads (<= 0: OpenMP's default). */
-hk_Status hk_helicoid_set_trace(const hk_HelicoidSet *set, double step, uint64_t seed, int threads,
-                                hk_HairFile *hair, hk_Error *err);
+HK_API hk_Status hk_helicoid_set_trace(const hk_HelicoidSet *set, double step, uint64_t seed,
+                                       int threads, hk_HairFile *hair, hk_Error *err);
 
 /* Strands out[0..count) interpolated from the guides at the roots. With guide_normals
  * (then normals too): on the surface whose outward normals they are (§4.3: frames
@@ -36,9 +36,11 @@ hk_Status hk_helicoid_set_trace(const hk_HelicoidSet *set, double step, uint64_t
  * weighting of power `power` (§4.1), normals (may be NULL) only keeping each strand's
  * E_T out of the surface. In parallel (threads <= 0: OpenMP's default); the first strand
  * that fails (by index) gives the error. */
-hk_Status hk_helicoid_interpolate_at(const hk_PHelicoid *guides, const hk_Vec3 *guide_normals, int guide_count,
-                                     const hk_Vec3 *roots, const hk_Vec3 *normals, long count, double power,
-                                     int threads, hk_PHelicoid *out, hk_Error *err);
+HK_API hk_Status hk_helicoid_interpolate_at(const hk_PHelicoid *guides,
+                                            const hk_Vec3 *guide_normals, int guide_count,
+                                            const hk_Vec3 *roots, const hk_Vec3 *normals,
+                                            long count, double power, int threads,
+                                            hk_PHelicoid *out, hk_Error *err);
 
 /* A fit's figures (hk_CurveFit's, without its per-piece arrays). */
 typedef struct hk_HelicoidFitReport {
@@ -55,10 +57,11 @@ typedef struct hk_HelicoidFitReport {
  * one thread. A strand of fewer than 2 or more than HK_CURVEFIT_MAX_SAMPLES points is
  * refused before any fitting; the first strand that fails (by position) gives the
  * error. */
-hk_Status hk_helicoid_fit_strands(const hk_HairFile *hair, const long *index, long count,
-                                  const hk_CurveFitOptions *options, int threads, hk_ProgressFn progress,
-                                  void *progress_user, hk_PHelicoid *out, hk_HelicoidFitReport *reports,
-                                  hk_Error *err);
+HK_API hk_Status hk_helicoid_fit_strands(const hk_HairFile *hair, const long *index, long count,
+                                         const hk_CurveFitOptions *options, int threads,
+                                         hk_ProgressFn progress, void *progress_user,
+                                         hk_PHelicoid *out, hk_HelicoidFitReport *reports,
+                                         hk_Error *err);
 
 /* The layout of a reconstruction's fits (§5.4: the fits are blended piece by piece, so
  * piece j must cover the same stretch of hair on every fit): by length from the root, a
@@ -82,10 +85,12 @@ typedef struct hk_HelicoidReconstruction {
  * of the hair then interpolated at its own root from those fits (power) and traced at
  * `step` into `out` (its wave phases from `seed`), and each compared with its original.
  * report may be NULL. */
-hk_Status hk_helicoid_reconstruct(const hk_HairFile *hair, long every, const hk_CurveFitOptions *options,
-                                  double power, double step, uint64_t seed, int threads, hk_ProgressFn progress,
-                                  void *progress_user, hk_HairFile *out, hk_HelicoidReconstruction *report,
-                                  hk_Error *err);
+HK_API hk_Status hk_helicoid_reconstruct(const hk_HairFile *hair, long every,
+                                         const hk_CurveFitOptions *options, double power,
+                                         double step, uint64_t seed, int threads,
+                                         hk_ProgressFn progress, void *progress_user,
+                                         hk_HairFile *out, hk_HelicoidReconstruction *report,
+                                         hk_Error *err);
 
 #ifdef __cplusplus
 }

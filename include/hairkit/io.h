@@ -10,6 +10,7 @@
 
 #include "hairkit/collide.h"
 #include "hairkit/core.h"
+#include "hairkit/export.h"
 #include "hairkit/vecmath.h"
 
 #ifdef __cplusplus
@@ -64,21 +65,21 @@ typedef struct hk_HairstyleDef {
 
 /* Defaults for every optional key (Density 1300, Gravity 9.81, Poisson 0.48, ...);
  * element_lengths is NULL and element_count 0. */
-hk_HairstyleDef hk_default_hairstyle(void);
+HK_API hk_HairstyleDef hk_default_hairstyle(void);
 
 /* Reads a hairstyle file. Required keys: HairLengths (alias HairLength), HairRadius1,
  * HairRadius2, HelixRadius, HelixStep, Young. The others are optional. On error `out`
  * is left empty (nothing to free) and err says file:line and what is wrong. */
-hk_Status hk_hairstyle_load(const char *path, hk_HairstyleDef *out, hk_Error *err);
+HK_API hk_Status hk_hairstyle_load(const char *path, hk_HairstyleDef *out, hk_Error *err);
 
 /* Sum of the element lengths. */
-double hk_hairstyle_length(const hk_HairstyleDef *def);
+HK_API double hk_hairstyle_length(const hk_HairstyleDef *def);
 
 /* Frees element_lengths and resets def to defaults. Safe on a default def. */
-void hk_hairstyle_free(hk_HairstyleDef *def);
+HK_API void hk_hairstyle_free(hk_HairstyleDef *def);
 
 /* Deep copy (element_lengths duplicated). */
-hk_Status hk_hairstyle_copy(const hk_HairstyleDef *src, hk_HairstyleDef *dst, hk_Error *err);
+HK_API hk_Status hk_hairstyle_copy(const hk_HairstyleDef *src, hk_HairstyleDef *dst, hk_Error *err);
 
 /* Collision Info (thesis Appendix B): zero or more lines
  *   Sphere    Volume Penalty Cx Cy Cz Radius
@@ -87,7 +88,7 @@ hk_Status hk_hairstyle_copy(const hk_HairstyleDef *src, hk_HairstyleDef *dst, hk
  * Axes are normalised; they must be mutually orthogonal within 1e-3. On success
  * *shapes is an array of *count shapes to be released with hk_free (NULL when the
  * file lists none). */
-hk_Status hk_collision_load(const char *path, hk_Shape **shapes, int *count, hk_Error *err);
+HK_API hk_Status hk_collision_load(const char *path, hk_Shape **shapes, int *count, hk_Error *err);
 
 /* Visuality Info (thesis Appendix B): colours of the Kajiya-Kay hair shader. */
 typedef struct hk_VisualityDef {
@@ -98,8 +99,8 @@ typedef struct hk_VisualityDef {
 } hk_VisualityDef;
 
 /* Brown hair of the thesis's sample file. */
-hk_VisualityDef hk_default_visuality(void);
-hk_Status hk_visuality_load(const char *path, hk_VisualityDef *out, hk_Error *err);
+HK_API hk_VisualityDef hk_default_visuality(void);
+HK_API hk_Status hk_visuality_load(const char *path, hk_VisualityDef *out, hk_Error *err);
 
 /* Setup (thesis Appendix B): which files make up a scene. Paths are resolved against
  * the setup file's folder; keys that are absent give NULL. HeadVert, HeadFrag,
@@ -120,8 +121,8 @@ typedef struct hk_SetupDef {
 /* Reads a setup file. Growing hair (Load false) needs HairstyleInfo and WickModel;
  * Load true needs LoadFile, Save true SaveFile. Every file the setup names for reading
  * must exist (checked here, so that the message can name the setup file's line). */
-hk_Status hk_setup_load(const char *path, hk_SetupDef *out, hk_Error *err);
-void hk_setup_free(hk_SetupDef *def);
+HK_API hk_Status hk_setup_load(const char *path, hk_SetupDef *out, hk_Error *err);
+HK_API void hk_setup_free(hk_SetupDef *def);
 
 #ifdef __cplusplus
 }

@@ -1,4 +1,5 @@
-/* Small dense linear algebra for the solvers (row-major n x n matrices). */
+/* Small dense linear algebra for the solvers (row-major n x n matrices). Internal to
+ * hairkit: these functions are not exported from the shared library (no HK_API). */
 #ifndef HAIRKIT_LINALG_H
 #define HAIRKIT_LINALG_H
 

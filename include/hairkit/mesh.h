@@ -5,6 +5,7 @@
 #include <stdint.h>
 
 #include "hairkit/core.h"
+#include "hairkit/export.h"
 #include "hairkit/vecmath.h"
 
 #ifdef __cplusplus
@@ -27,34 +28,37 @@ typedef struct hk_Mesh {
  * fans); other statements (vt, o, g, s, usemtl, mtllib) are ignored. A vertex's
  * normal is the average of the `vn` its face corners name, or, when the file has
  * none, the area-weighted average of its faces' normals. Errors give file:line. */
-hk_Status hk_obj_load(const char *path, hk_Mesh *mesh, hk_Error *err);
+HK_API hk_Status hk_obj_load(const char *path, hk_Mesh *mesh, hk_Error *err);
 
 /* Writes v, vn and f v//vn lines atomically; `comment` (may be NULL) goes in a
  * leading # line. */
-hk_Status hk_obj_save(const char *path, const hk_Mesh *mesh, const char *comment, hk_Error *err);
+HK_API hk_Status hk_obj_save(const char *path, const hk_Mesh *mesh, const char *comment,
+                             hk_Error *err);
 
 /* Area-weighted vertex normals from the faces (overwrites mesh->normals). */
-void hk_mesh_compute_normals(hk_Mesh *mesh);
+HK_API void hk_mesh_compute_normals(hk_Mesh *mesh);
 
-double hk_mesh_triangle_area(const hk_Mesh *mesh, int triangle);
-double hk_mesh_area(const hk_Mesh *mesh);
+HK_API double hk_mesh_triangle_area(const hk_Mesh *mesh, int triangle);
+HK_API double hk_mesh_area(const hk_Mesh *mesh);
 
 /* The point of the mesh closest to x and the normal there, the vertex normals blended by the
  * point's barycentric weights (made unit; the face normal where they cancel). Brute force over
  * the triangles. Returns the distance, or -1 when the mesh has no triangles or x is not
  * finite (point and normal then untouched). point or normal may be NULL. */
-double hk_mesh_closest_point(const hk_Mesh *mesh, hk_Vec3 x, hk_Vec3 *point, hk_Vec3 *normal);
+HK_API double hk_mesh_closest_point(const hk_Mesh *mesh, hk_Vec3 x, hk_Vec3 *point,
+                                    hk_Vec3 *normal);
 
 /* count points uniform by area on the mesh (a triangle drawn by its area, then a point
  * uniform in it) and the vertex normals blended there (unit length), each from the
  * counter-based RNG (rng.h) keyed by (seed, its index): the same points whatever the
- * threads (<= 0: OpenMP's default). normal may be NULL. HK_ERR_INVALID when the mesh has no area. */
-hk_Status hk_mesh_sample_uniform(const hk_Mesh *mesh, long count, uint64_t seed, int threads, hk_Vec3 *point,
-                                 hk_Vec3 *normal, hk_Error *err);
+ * threads (<= 0: OpenMP's default). normal may be NULL. HK_ERR_INVALID when the mesh
+ * has no area. */
+HK_API hk_Status hk_mesh_sample_uniform(const hk_Mesh *mesh, long count, uint64_t seed, int threads,
+                                        hk_Vec3 *point, hk_Vec3 *normal, hk_Error *err);
 
 /* Allocates an empty mesh of the given sizes (all zero). */
-hk_Status hk_mesh_alloc(hk_Mesh *mesh, int vertex_count, int triangle_count, hk_Error *err);
-void hk_mesh_free(hk_Mesh *mesh);
+HK_API hk_Status hk_mesh_alloc(hk_Mesh *mesh, int vertex_count, int triangle_count, hk_Error *err);
+HK_API void hk_mesh_free(hk_Mesh *mesh);
 
 #ifdef __cplusplus
 }

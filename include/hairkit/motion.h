@@ -11,6 +11,7 @@
 #define HAIRKIT_MOTION_H
 
 #include "hairkit/core.h"
+#include "hairkit/export.h"
 #include "hairkit/vecmath.h"
 
 #ifdef __cplusplus
@@ -28,18 +29,19 @@ typedef struct hk_RigidState {
 } hk_RigidState;
 
 /* The state of a head at rest at the origin: R = I, everything else zero. */
-hk_RigidState hk_rigid_identity(void);
+HK_API hk_RigidState hk_rigid_identity(void);
 
 /* World position, velocity and acceleration of the head-space point x:
  *   pos = R x + T,  vel = dT/dt + omega x (R x),
  *   acc = d2T/dt2 + alpha x (R x) + omega x (omega x (R x)).
  * Any of pos, vel, acc may be NULL. */
-void hk_rigid_point(const hk_RigidState *st, hk_Vec3 x, hk_Vec3 *pos, hk_Vec3 *vel, hk_Vec3 *acc);
+HK_API void hk_rigid_point(const hk_RigidState *st, hk_Vec3 x, hk_Vec3 *pos, hk_Vec3 *vel,
+                           hk_Vec3 *acc);
 
 /* Default pivot of the head's rotations (m, head space): (0, -0.010, -0.015), the top
  * of the neck of assets/head.obj, where the skull sits on the spine (see
  * docs/dynamics.md). */
-hk_Vec3 hk_default_head_pivot(void);
+HK_API hk_Vec3 hk_default_head_pivot(void);
 
 typedef struct hk_HeadMotion hk_HeadMotion;
 
@@ -56,25 +58,25 @@ typedef struct hk_HeadMotion hk_HeadMotion;
  * Amplitude: degrees for rotations, |amplitude| <= 180; metres for translations,
  * |amplitude| <= 10. Frequency in (0, 1000] Hz. HK_ERR_INVALID, with a message, for an
  * unknown name or values out of range. */
-hk_Status hk_head_motion_scripted(const char *name, double amplitude, double frequency,
-                                  hk_Vec3 pivot, hk_HeadMotion **out, hk_Error *err);
+HK_API hk_Status hk_head_motion_scripted(const char *name, double amplitude, double frequency,
+                                         hk_Vec3 pivot, hk_HeadMotion **out, hk_Error *err);
 
 /* Reads a head motion file (docs/file-formats.md, "Head motion file"): an optional
  * `Pivot x y z` line, then keyframes `t tx ty tz ax ay az angle_deg`. Errors name the
  * file and the line. On error *out is NULL. */
-hk_Status hk_head_motion_load(const char *path, hk_HeadMotion **out, hk_Error *err);
+HK_API hk_Status hk_head_motion_load(const char *path, hk_HeadMotion **out, hk_Error *err);
 
 /* The rigid state at time t (finite). Before the start (t <= 0 for a scripted motion,
  * the first keyframe for a file) and after the last keyframe the head holds its pose
  * with zero velocity and acceleration. */
-void hk_head_motion_eval(const hk_HeadMotion *m, double t, hk_RigidState *out);
+HK_API void hk_head_motion_eval(const hk_HeadMotion *m, double t, hk_RigidState *out);
 
 /* How long the motion lasts: INFINITY for a scripted motion (it never stops), the time
  * of the last keyframe (at least 0) for a motion file. */
-double hk_head_motion_duration(const hk_HeadMotion *m);
+HK_API double hk_head_motion_duration(const hk_HeadMotion *m);
 
 /* The pivot the rotations turn about (head space). */
-hk_Vec3 hk_head_motion_pivot(const hk_HeadMotion *m);
+HK_API hk_Vec3 hk_head_motion_pivot(const hk_HeadMotion *m);
 
 /* What a motion was made from, enough to make it again (the manifest of `hairkit
  * simulate` records it): a scripted motion's name and its arguments as given to
@@ -88,13 +90,13 @@ typedef struct hk_HeadMotionSource {
     const char *file;   /* the motion file; NULL for a scripted motion */
 } hk_HeadMotionSource;
 
-hk_HeadMotionSource hk_head_motion_source(const hk_HeadMotion *m);
+HK_API hk_HeadMotionSource hk_head_motion_source(const hk_HeadMotion *m);
 
 /* Number of keyframes of a motion file; 0 for a scripted motion. */
-int hk_head_motion_key_count(const hk_HeadMotion *m);
+HK_API int hk_head_motion_key_count(const hk_HeadMotion *m);
 
 /* Releases a motion; safe on NULL. */
-void hk_head_motion_destroy(hk_HeadMotion *m);
+HK_API void hk_head_motion_destroy(hk_HeadMotion *m);
 
 /* Most keyframes a motion file may hold (a 16 MiB file has room for about a million). */
 #define HK_MAX_MOTION_KEYS 1000000

@@ -1,6 +1,7 @@
 /* Atomic output files: written under a temporary name in the destination folder and
  * renamed over the destination only when complete, so that a crash or an error never
- * leaves a half-written or truncated output (and never destroys an older good one). */
+ * leaves a half-written or truncated output (and never destroys an older good one).
+ * Internal to hairkit: these functions are not exported from the shared library (no HK_API). */
 #ifndef HAIRKIT_OUTFILE_H
 #define HAIRKIT_OUTFILE_H
 

@@ -10,6 +10,7 @@
 #define HAIRKIT_RENDER_H
 
 #include "hairkit/canvas.h"
+#include "hairkit/export.h"
 #include "hairkit/hairfile.h"
 #include "hairkit/io.h"
 #include "hairkit/mesh.h"
@@ -55,7 +56,7 @@ typedef struct hk_RenderOptions {
     hk_Vec3 skin;             /* diffuse colour of the head, linear RGB */
 } hk_RenderOptions;
 
-hk_RenderOptions hk_default_render_options(void);
+HK_API hk_RenderOptions hk_default_render_options(void);
 
 typedef struct hk_RenderStats {
     long long hair_fragments;  /* camera fragments kept (in front of the head) */
@@ -69,9 +70,9 @@ typedef struct hk_RenderStats {
 /* Renders `hair` (the strands of a cyHair file; may have no strands) over `head` (may
  * be NULL) with the colours of `visuality` into `out` (linear RGB, created here; free
  * with hk_canvas_destroy). stats may be NULL. */
-hk_Status hk_render(const hk_HairFile *hair, const hk_Mesh *head, const hk_VisualityDef *visuality,
-                    const hk_RenderOptions *options, hk_Canvas *out, hk_RenderStats *stats,
-                    hk_Error *err);
+HK_API hk_Status hk_render(const hk_HairFile *hair, const hk_Mesh *head,
+                           const hk_VisualityDef *visuality, const hk_RenderOptions *options,
+                           hk_Canvas *out, hk_RenderStats *stats, hk_Error *err);
 
 /* A renderer that keeps its working memory from one picture to the next: the
  * projected points, the tile bins, the light's maps, the vertex colours and the
@@ -80,27 +81,28 @@ hk_Status hk_render(const hk_HairFile *hair, const hk_Mesh *head, const hk_Visua
  * time (its draws may not overlap; each draw runs in parallel itself). */
 typedef struct hk_Renderer hk_Renderer;
 
-hk_Status hk_renderer_create(hk_Renderer **out, hk_Error *err);
-void hk_renderer_destroy(hk_Renderer *renderer);
+HK_API hk_Status hk_renderer_create(hk_Renderer **out, hk_Error *err);
+HK_API void hk_renderer_destroy(hk_Renderer *renderer);
 
 /* Renders as hk_render does, the same bytes, into the renderer's picture (options
  * NULL: hk_default_render_options(); visuality NULL: hk_default_visuality()). */
-hk_Status hk_renderer_draw(hk_Renderer *renderer, const hk_HairFile *hair, const hk_Mesh *head,
-                           const hk_VisualityDef *visuality, const hk_RenderOptions *options,
-                           hk_RenderStats *stats, hk_Error *err);
+HK_API hk_Status hk_renderer_draw(hk_Renderer *renderer, const hk_HairFile *hair,
+                                  const hk_Mesh *head, const hk_VisualityDef *visuality,
+                                  const hk_RenderOptions *options, hk_RenderStats *stats,
+                                  hk_Error *err);
 
 /* The last picture drawn (linear RGB): valid until the next draw or destroy, empty
  * (0 x 0) after a failed draw. */
-const hk_Canvas *hk_renderer_picture(const hk_Renderer *renderer);
+HK_API const hk_Canvas *hk_renderer_picture(const hk_Renderer *renderer);
 
 /* The camera hk_render would fit to this hair and head with these options: its target
  * and distance (for a fixed camera over the frames of an animation). */
-hk_Status hk_render_fit_camera(const hk_HairFile *hair, const hk_Mesh *head,
-                               const hk_RenderOptions *options, hk_Vec3 *target, double *distance,
-                               hk_Error *err);
+HK_API hk_Status hk_render_fit_camera(const hk_HairFile *hair, const hk_Mesh *head,
+                                      const hk_RenderOptions *options, hk_Vec3 *target,
+                                      double *distance, hk_Error *err);
 
 /* Writes a linear-RGB picture as an 8-bit sRGB PNG (atomically). */
-hk_Status hk_render_write_png(const hk_Canvas *image, const char *path, hk_Error *err);
+HK_API hk_Status hk_render_write_png(const hk_Canvas *image, const char *path, hk_Error *err);
 
 #ifdef __cplusplus
 }

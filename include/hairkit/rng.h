@@ -5,15 +5,17 @@
 
 #include <stdint.h>
 
+#include "hairkit/export.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
 
 /* 64 well-mixed bits for the key (seed, a, b) (splitmix64 finaliser over the key). */
-uint64_t hk_rng_bits(uint64_t seed, uint64_t a, uint64_t b);
+HK_API uint64_t hk_rng_bits(uint64_t seed, uint64_t a, uint64_t b);
 
 /* Uniform double in [0, 1) for the key (seed, a, b), 53 random bits. */
-double hk_rng_uniform(uint64_t seed, uint64_t a, uint64_t b);
+HK_API double hk_rng_uniform(uint64_t seed, uint64_t a, uint64_t b);
 
 #ifdef __cplusplus
 }

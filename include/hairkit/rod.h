@@ -16,6 +16,7 @@
 
 #include "hairkit/collide.h"
 #include "hairkit/core.h"
+#include "hairkit/export.h"
 #include "hairkit/io.h"
 #include "hairkit/vecmath.h"
 
@@ -35,19 +36,19 @@ typedef struct hk_RodMaterial {
 /* Stiffnesses of an elliptic section with semi-axes a (along n1) and b (along n2):
  * I1 = pi a b^3 / 4, I2 = pi b a^3 / 4, J = pi a b (a^2 + b^2) / 4, mu = E / (2 (1 + sigma)).
  * The section's polar moment I1 + I2 equals J for the ellipse. */
-hk_RodMaterial hk_rod_material(double radius1, double radius2, double young, double poisson,
-                               double density, hk_Vec3 gravity);
+HK_API hk_RodMaterial hk_rod_material(double radius1, double radius2, double young, double poisson,
+                                      double density, hk_Vec3 gravity);
 
 /* Natural twist and curvature of the exact helix of radius r_h and step Delta_h:
  * with c = Delta_h / (2 pi), kappa1 = r_h / (r_h^2 + c^2), tau = c / (r_h^2 + c^2),
  * kappa2 = 0. r_h == 0 gives a straight strand (tau = kappa1 = 0). */
-void hk_helix_natural_curvature(double helix_radius, double helix_step, double *tau,
-                                double *kappa1);
+HK_API void hk_helix_natural_curvature(double helix_radius, double helix_step, double *tau,
+                                       double *kappa1);
 
 /* Root material frame for a follicle direction (thesis §4.1.4.1): n0 = dir / |dir|,
  * n1 = n0 x y / |n0 x y| with y = (0, 1, 0), or (0, 0, 1) when n0 is vertical,
  * n2 = n0 x n1. Returned as the columns of a rotation matrix. */
-hk_Mat3 hk_root_frame(hk_Vec3 dir);
+HK_API hk_Mat3 hk_root_frame(hk_Vec3 dir);
 
 typedef struct hk_SuperHelix {
     int n;                    /* number of elements N >= 1 */
@@ -63,37 +64,41 @@ typedef struct hk_SuperHelix {
 
 /* A strand of n elements with the given lengths (all > 0), straight at rest, root at
  * the origin along +x. */
-hk_Status hk_superhelix_create(int n, const double *lengths, hk_SuperHelix **out, hk_Error *err);
+HK_API hk_Status hk_superhelix_create(int n, const double *lengths, hk_SuperHelix **out,
+                                      hk_Error *err);
 
 /* A strand as described by a hairstyle file: element lengths, material, natural helix
  * (uniform along the strand), root at `root` leaving along `dir`; q starts at q_rest. */
-hk_Status hk_superhelix_from_hairstyle(const hk_HairstyleDef *def, hk_Vec3 root, hk_Vec3 dir,
-                                       hk_SuperHelix **out, hk_Error *err);
+HK_API hk_Status hk_superhelix_from_hairstyle(const hk_HairstyleDef *def, hk_Vec3 root, hk_Vec3 dir,
+                                              hk_SuperHelix **out, hk_Error *err);
 
-void hk_superhelix_destroy(hk_SuperHelix *sh);
+HK_API void hk_superhelix_destroy(hk_SuperHelix *sh);
 
 /* Sets the same natural twist and curvatures on every element and q = q_rest. */
-void hk_superhelix_set_uniform_rest(hk_SuperHelix *sh, double tau, double kappa1, double kappa2);
+HK_API void hk_superhelix_set_uniform_rest(hk_SuperHelix *sh, double tau, double kappa1,
+                                           double kappa2);
 
 /* Reconstruction (paper 000 Appendix A) for coordinates q (sh->q when q is NULL):
  * node poses at s_start[0..N]: pos[N+1] and frame[N+1] (either may be NULL). */
-void hk_superhelix_nodes(const hk_SuperHelix *sh, const double *q, hk_Vec3 *pos, hk_Mat3 *frame);
+HK_API void hk_superhelix_nodes(const hk_SuperHelix *sh, const double *q, hk_Vec3 *pos,
+                                hk_Mat3 *frame);
 
 /* Position and frame at arc length s in [0, L] (clamped to it). */
-void hk_superhelix_eval(const hk_SuperHelix *sh, const double *q, double s, hk_Vec3 *pos,
-                        hk_Mat3 *frame);
+HK_API void hk_superhelix_eval(const hk_SuperHelix *sh, const double *q, double s, hk_Vec3 *pos,
+                               hk_Mat3 *frame);
 
 /* Number of samples of hk_superhelix_sample: s = 0, step, 2 step, ... and always the
  * tip s = L last (a sample closer than 1e-9 L to the tip is replaced by the tip). */
-int hk_superhelix_sample_count(const hk_SuperHelix *sh, double step);
+HK_API int hk_superhelix_sample_count(const hk_SuperHelix *sh, double step);
 
 /* Samples the centreline: s (may be NULL), positions, tangents n0 (may be NULL). */
-void hk_superhelix_sample(const hk_SuperHelix *sh, const double *q, double step, double *s,
-                          hk_Vec3 *pos, hk_Vec3 *tangent);
+HK_API void hk_superhelix_sample(const hk_SuperHelix *sh, const double *q, double step, double *s,
+                                 hk_Vec3 *pos, hk_Vec3 *tangent);
 
 /* Positions at the arc lengths s[0..count), ascending (clamped to [0, L]), in one sweep
  * from the root: O(N + count). */
-void hk_superhelix_points(const hk_SuperHelix *sh, const double *q, const double *s, int count, hk_Vec3 *pos);
+HK_API void hk_superhelix_points(const hk_SuperHelix *sh, const double *q, const double *s,
+                                 int count, hk_Vec3 *pos);
 
 /* ---- energy ---------------------------------------------------------------------- */
 
@@ -106,12 +111,12 @@ typedef struct hk_StrandEnv {
                                 pieces sampled at their midpoints (<= 0: no collisions) */
 } hk_StrandEnv;
 
-hk_StrandEnv hk_default_strand_env(void);
+HK_API hk_StrandEnv hk_default_strand_env(void);
 
 /* Collision samples of the strand in env: ceil(L / collision_step) pieces (at least 1,
  * at most HK_MAX_SAMPLES_PER_STRAND) whose midpoints are sampled; 0 without shapes or
  * step. The statics energy and the dynamics' body contacts use the same samples. */
-int hk_strand_collision_sample_count(const hk_SuperHelix *sh, const hk_StrandEnv *env);
+HK_API int hk_strand_collision_sample_count(const hk_SuperHelix *sh, const hk_StrandEnv *env);
 
 typedef struct hk_StrandEnergy {
     double total, elastic, gravity, collision;
@@ -120,9 +125,9 @@ typedef struct hk_StrandEnergy {
 /* Scratch memory for hk_strand_energy, sized for one strand and one environment. */
 typedef struct hk_StrandWorkspace hk_StrandWorkspace;
 
-hk_Status hk_strand_workspace_create(const hk_SuperHelix *sh, const hk_StrandEnv *env,
-                                     hk_StrandWorkspace **out, hk_Error *err);
-void hk_strand_workspace_destroy(hk_StrandWorkspace *ws);
+HK_API hk_Status hk_strand_workspace_create(const hk_SuperHelix *sh, const hk_StrandEnv *env,
+                                            hk_StrandWorkspace **out, hk_Error *err);
+HK_API void hk_strand_workspace_destroy(hk_StrandWorkspace *ws);
 
 /* Potential energy of the strand at coordinates q (thesis §4.1.1.3 and §4.1.2):
  *   elastic   sum_Q l_Q sum_i K_i / 2 (q_iQ - q_rest_iQ)^2
@@ -132,8 +137,9 @@ void hk_strand_workspace_destroy(hk_StrandWorkspace *ws);
  * gradient is exact; the Hessian is exact as well (second derivatives of the
  * kinematics through every element, plus the shapes' own Hessians). O(N + samples)
  * for the gradient, O(N^2 + samples) for the Hessian. parts may be NULL. */
-double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnv *env, const double *q,
-                        hk_StrandWorkspace *ws, double *grad, double *hess, hk_StrandEnergy *parts);
+HK_API double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnv *env, const double *q,
+                               hk_StrandWorkspace *ws, double *grad, double *hess,
+                               hk_StrandEnergy *parts);
 
 /* Collision sample i (0 <= i < hk_strand_collision_sample_count) as the last
  * hk_strand_energy call with this workspace and a gradient (grad or hess not NULL) found
@@ -141,13 +147,14 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnv *env, const 
  * energy (w * dE/dp, with w the arc length the sample stands for) at its position, in
  * the coordinates of that call; 0 otherwise (and for every sample after a call without
  * a gradient, or hk_strand_max_penetration). The dynamics' body friction reads its
- * normal force here instead of evaluating the shapes again. */
+ * normal force here instead of evaluating the shapes again. Internal: not exported from
+ * the shared library (no HK_API). */
 int hk_strand_workspace_contact(const hk_StrandWorkspace *ws, int i, hk_Vec3 *grad);
 
 /* Greatest depth of a collision sample inside the envelopes at coordinates q (0 when
  * no sample touches a shape), evaluated at the same samples as the energy. */
-double hk_strand_max_penetration(const hk_SuperHelix *sh, const hk_StrandEnv *env,
-                                 const double *q, hk_StrandWorkspace *ws);
+HK_API double hk_strand_max_penetration(const hk_SuperHelix *sh, const hk_StrandEnv *env,
+                                        const double *q, hk_StrandWorkspace *ws);
 
 #ifdef __cplusplus
 }

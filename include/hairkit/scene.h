@@ -7,6 +7,7 @@
 
 #include "hairkit/collide.h"
 #include "hairkit/core.h"
+#include "hairkit/export.h"
 #include "hairkit/groom.h"
 #include "hairkit/hairfile.h"
 #include "hairkit/io.h"
@@ -52,11 +53,12 @@ typedef struct hk_Scene {
  * alone), the small files first so that their errors come before any long work.
  * HairstyleInfo and WickModel must be named when asked for (the message names the
  * setup file); the others are optional. On error *out is empty (safe to free). */
-hk_Status hk_scene_load(const char *setup_path, unsigned parts, hk_Scene *out, hk_Error *err);
+HK_API hk_Status hk_scene_load(const char *setup_path, unsigned parts, hk_Scene *out,
+                               hk_Error *err);
 /* Reads more parts of a loaded scene (those already read are kept). On error the
  * scene keeps what it had. */
-hk_Status hk_scene_load_parts(hk_Scene *s, unsigned parts, hk_Error *err);
-void hk_scene_free(hk_Scene *s);
+HK_API hk_Status hk_scene_load_parts(hk_Scene *s, unsigned parts, hk_Error *err);
+HK_API void hk_scene_free(hk_Scene *s);
 
 /* What hk_scene_hair did. */
 typedef struct hk_SceneHairReport {
@@ -70,13 +72,14 @@ typedef struct hk_SceneHairReport {
  * hk_default_groom_options); then written to SaveFile when the setup says Save true
  * (Lansink 2010, §4.2.2). `hair` is filled (free with hk_hair_free; empty on error);
  * report may be NULL. */
-hk_Status hk_scene_hair(const hk_Scene *s, const hk_GroomOptions *options, hk_HairFile *hair,
-                        hk_SceneHairReport *report, hk_Error *err);
+HK_API hk_Status hk_scene_hair(const hk_Scene *s, const hk_GroomOptions *options, hk_HairFile *hair,
+                               hk_SceneHairReport *report, hk_Error *err);
 
 /* Renders `hair` over the scene's head with its visuality's colours (hk_render; the
  * scene loaded with HK_SCENE_RENDERING). options NULL: hk_default_render_options. */
-hk_Status hk_scene_render(const hk_Scene *s, const hk_HairFile *hair, const hk_RenderOptions *options,
-                          hk_Canvas *out, hk_RenderStats *stats, hk_Error *err);
+HK_API hk_Status hk_scene_render(const hk_Scene *s, const hk_HairFile *hair,
+                                 const hk_RenderOptions *options, hk_Canvas *out,
+                                 hk_RenderStats *stats, hk_Error *err);
 
 #ifdef __cplusplus
 }

@@ -7,6 +7,7 @@
 
 #include "hairkit/core.h"
 #include "hairkit/dynamics.h"
+#include "hairkit/export.h"
 #include "hairkit/groom.h"
 #include "hairkit/hair_contacts.h"
 #include "hairkit/motion.h"
@@ -29,17 +30,18 @@ typedef struct hk_HairSimOptions {
 /* Dynamics from the hairstyle's InternalFriction, AirDrag and BodyFriction, every guide
  * stepped by the linearly implicit Euler step with the guide-guide contacts solved
  * together (docs/dynamics.md, "Long guides on a head"), contacts with their defaults. */
-hk_HairSimOptions hk_default_hair_sim_options(const hk_HairstyleDef *style);
+HK_API hk_HairSimOptions hk_default_hair_sim_options(const hk_HairstyleDef *style);
 
 typedef struct hk_HairSim hk_HairSim;
 
 /* Solves every guide's rest shape (the groom's statics, with the layered envelopes)
  * on the still head and sets up its dynamics. The hairstyle, shapes and wick are
  * copied or only read here. */
-hk_Status hk_hair_sim_create(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
-                             const hk_Mesh *wick, const hk_HairSimOptions *options, hk_HairSim **out,
-                             hk_Error *err);
-void hk_hair_sim_destroy(hk_HairSim *sim);
+HK_API hk_Status hk_hair_sim_create(const hk_HairstyleDef *style, const hk_Shape *shapes,
+                                    int shape_count, const hk_Mesh *wick,
+                                    const hk_HairSimOptions *options, hk_HairSim **out,
+                                    hk_Error *err);
+HK_API void hk_hair_sim_destroy(hk_HairSim *sim);
 
 typedef struct hk_HairSimStats {
     int substeps;         /* steps of all guides (more than guides where motion was fast,
@@ -58,14 +60,14 @@ typedef struct hk_HairSimStats {
 } hk_HairSimStats;
 
 /* Advances every guide from time t to t + dt with the head motion (NULL: still). */
-hk_Status hk_hair_sim_advance(hk_HairSim *sim, const hk_HeadMotion *motion, double t, double dt,
-                              hk_HairSimStats *stats, hk_Error *err);
+HK_API hk_Status hk_hair_sim_advance(hk_HairSim *sim, const hk_HeadMotion *motion, double t,
+                                     double dt, hk_HairSimStats *stats, hk_Error *err);
 
 /* Lets the hair settle for `seconds` (steps of dt) with the head held in the pose
  * `head` (NULL: at rest): the groomed rest shape ignores guide-guide contacts, which
  * then push neighbouring guides apart at first (a pre-roll, as animators do). */
-hk_Status hk_hair_sim_settle(hk_HairSim *sim, const hk_RigidState *head, double seconds, double dt,
-                             hk_Error *err);
+HK_API hk_Status hk_hair_sim_settle(hk_HairSim *sim, const hk_RigidState *head, double seconds,
+                                    double dt, hk_Error *err);
 
 /* Settling until the hair is at rest: at least `seconds`, then on until no guide's tip
  * has moved faster than rest_speed over rest_steps steps in a row, or max_seconds in
@@ -79,7 +81,7 @@ typedef struct hk_SettleOptions {
     int rest_steps;     /* steps in a row (default 5) */
 } hk_SettleOptions;
 
-hk_SettleOptions hk_default_settle_options(void);
+HK_API hk_SettleOptions hk_default_settle_options(void);
 
 typedef struct hk_SettleReport {
     double seconds;     /* settled in all */
@@ -88,21 +90,22 @@ typedef struct hk_SettleReport {
 } hk_SettleReport;
 
 /* o NULL: the defaults; report may be NULL. */
-hk_Status hk_hair_sim_settle_until_still(hk_HairSim *sim, const hk_RigidState *head, double dt,
-                                         const hk_SettleOptions *o, hk_SettleReport *report, hk_Error *err);
+HK_API hk_Status hk_hair_sim_settle_until_still(hk_HairSim *sim, const hk_RigidState *head,
+                                                double dt, const hk_SettleOptions *o,
+                                                hk_SettleReport *report, hk_Error *err);
 
-int hk_hair_sim_guide_count(const hk_HairSim *sim);
-int hk_hair_sim_points_per_strand(const hk_HairSim *sim);
+HK_API int hk_hair_sim_guide_count(const hk_HairSim *sim);
+HK_API int hk_hair_sim_points_per_strand(const hk_HairSim *sim);
 
 /* The guides now, sampled every VisualityStep (guide_count x points x 3, world). */
-void hk_hair_sim_guides(const hk_HairSim *sim, double *out);
+HK_API void hk_hair_sim_guides(const hk_HairSim *sim, double *out);
 
 /* The groom of the current frame: the guides as above and the interpolated strands
  * regrown from them (same seed: same roots and clumps every frame), kept out of the
  * body shapes where the head is at the end of the last step (docs/grooming.md). g is
  * filled (free with hk_groom_free). */
-hk_Status hk_hair_sim_groom(const hk_HairSim *sim, const hk_Mesh *wick, const hk_GroomOptions *go,
-                            hk_Groom *g, hk_Error *err);
+HK_API hk_Status hk_hair_sim_groom(const hk_HairSim *sim, const hk_Mesh *wick,
+                                   const hk_GroomOptions *go, hk_Groom *g, hk_Error *err);
 
 
 /* ---- a simulation written to a folder (sim_run.c, sim_files.c, sim_rebuild.c) -------
@@ -165,24 +168,25 @@ typedef struct hk_SimRunOptions {
     void *progress_user;
 } hk_SimRunOptions;
 
-hk_SimRunOptions hk_default_sim_run_options(void);
+HK_API hk_SimRunOptions hk_default_sim_run_options(void);
 
 /* Loads the setup, solves the guides at rest, settles them, and writes every frame to
  * dir (made if missing; files of an earlier run removed first, see
  * hk_simulation_clean_folder) with DIR/simulation.txt. p (may be NULL) gets the final
  * figures. */
-hk_Status hk_simulation_run(const char *setup_path, const char *dir, const hk_SimRunOptions *options,
-                            hk_SimProgress *p, hk_Error *err);
+HK_API hk_Status hk_simulation_run(const char *setup_path, const char *dir,
+                                   const hk_SimRunOptions *options, hk_SimProgress *p,
+                                   hk_Error *err);
 
 /* Removes from dir the files a simulation writes, and only them: frame_kkkk.png,
  * frame_kkkk.hair, guides_kkkk.hair (k: 4 digits or more), hair.mp4, simulation.txt,
  * and temporary files they left (NAME.tmp-XXXXXX). *removed counts them. A missing
  * folder is nothing to clean. */
-hk_Status hk_simulation_clean_folder(const char *dir, int *removed, hk_Error *err);
+HK_API hk_Status hk_simulation_clean_folder(const char *dir, int *removed, hk_Error *err);
 
 /* DIR/STEM_kkkk.EXT */
-hk_Status hk_simulation_frame_path(char *buf, size_t size, const char *dir, const char *stem, long frame,
-                                   const char *ext, hk_Error *err);
+HK_API hk_Status hk_simulation_frame_path(char *buf, size_t size, const char *dir, const char *stem,
+                                          long frame, const char *ext, hk_Error *err);
 
 /* The full hair of frame k of the simulation in dir (guides first, then the interpolated
  * strands, kept out of the body posed at the frame's time, as DIR/frame_kkkk.hair of a
@@ -190,7 +194,8 @@ hk_Status hk_simulation_frame_path(char *buf, size_t size, const char *dir, cons
  * motion), DIR/guides_kkkk.hair and the setup's hairstyle, wick and collision file and
  * the motion file if any (refused if any changed since). threads <= 0: all cores. out is
  * filled (hk_hair_free). */
-hk_Status hk_simulation_rebuild(const char *dir, long frame, int threads, hk_HairFile *out, hk_Error *err);
+HK_API hk_Status hk_simulation_rebuild(const char *dir, long frame, int threads, hk_HairFile *out,
+                                       hk_Error *err);
 
 #ifdef __cplusplus
 }

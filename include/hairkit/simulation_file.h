@@ -8,6 +8,7 @@
 #include <stdint.h>
 
 #include "hairkit/core.h"
+#include "hairkit/export.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -45,11 +46,14 @@ typedef struct hk_SimulationManifest {
     uint64_t motion_hash;
 } hk_SimulationManifest;
 
-hk_Status hk_simulation_manifest_load(const char *path, hk_SimulationManifest *out, hk_Error *err);
-hk_Status hk_simulation_manifest_save(const char *path, const hk_SimulationManifest *m, hk_Error *err);
-void hk_simulation_manifest_free(hk_SimulationManifest *m);
+HK_API hk_Status hk_simulation_manifest_load(const char *path, hk_SimulationManifest *out,
+                                             hk_Error *err);
+HK_API hk_Status hk_simulation_manifest_save(const char *path, const hk_SimulationManifest *m,
+                                             hk_Error *err);
+HK_API void hk_simulation_manifest_free(hk_SimulationManifest *m);
 
-/* FNV-1a 64 of a file's bytes ("path: cannot read" when it cannot be read). */
+/* FNV-1a 64 of a file's bytes ("path: cannot read" when it cannot be read). Internal:
+ * not exported from the shared library (no HK_API). */
 hk_Status hk_file_fingerprint(const char *path, uint64_t *out, hk_Error *err);
 
 #ifdef __cplusplus

@@ -9,6 +9,7 @@
 #define HAIRKIT_STATICS_H
 
 #include "hairkit/core.h"
+#include "hairkit/export.h"
 #include "hairkit/rod.h"
 
 #ifdef __cplusplus
@@ -36,20 +37,21 @@ typedef struct hk_RosenbrockOptions {
     long max_evaluations;  /* safety limit on objective evaluations (<= 0: none) */
 } hk_RosenbrockOptions;
 
-hk_RosenbrockOptions hk_default_rosenbrock_options(void);
+HK_API hk_RosenbrockOptions hk_default_rosenbrock_options(void);
 
 /* Rosenbrock's rotating-coordinates direct search (Rosenbrock 1960) with Palmer's
  * (1969) orthonormalisation of the new directions, as described in thesis §4.1.3.2-3.
  * A trial succeeds when f(x + step * xi_i) <= f(x); a stage ends once every direction
  * has had a success followed by a failure; then the directions are rotated so that
  * xi_1 points along the stage's total advance. x (size n) is updated in place. */
-hk_Status hk_rosenbrock_minimize(int n, double *x, hk_ObjectiveFn f, void *user,
-                                 const hk_RosenbrockOptions *options, hk_MinimizeResult *result,
-                                 hk_Error *err);
+HK_API hk_Status hk_rosenbrock_minimize(int n, double *x, hk_ObjectiveFn f, void *user,
+                                        const hk_RosenbrockOptions *options,
+                                        hk_MinimizeResult *result, hk_Error *err);
 
-/* Palmer's orthonormalisation step on its own (exposed for tests): given the n
- * orthonormal directions xi (row-major n x n, row i = direction i) and the stage
- * advances d[0..n), writes the new orthonormal directions into xi_new. */
+/* Palmer's orthonormalisation step on its own, for tests (internal: not exported from
+ * the shared library, no HK_API): given the n orthonormal directions xi (row-major
+ * n x n, row i = direction i) and the stage advances d[0..n), writes the new orthonormal
+ * directions into xi_new. */
 void hk_rosenbrock_palmer_directions(int n, const double *xi, const double *d, double *xi_new);
 
 /* Objective with derivatives: returns f(x); fills grad (n) and hess (n x n, row-major)
@@ -64,16 +66,16 @@ typedef struct hk_NewtonOptions {
     const double *step_unit; /* the unit of each variable for max_step (NULL: 1) */
 } hk_NewtonOptions;
 
-hk_NewtonOptions hk_default_newton_options(void);
+HK_API hk_NewtonOptions hk_default_newton_options(void);
 
 /* Newton's method: steps (H + mu D) p = -g with D a positive diagonal metric (NULL:
  * the identity) and mu the smallest damping that makes H + mu D positive definite,
  * then a backtracking (Armijo) line search on f: robust on the indefinite Hessians of
  * strands far from rest, quadratically convergent near the minimum. x (size n) is
  * updated in place. */
-hk_Status hk_newton_minimize(int n, double *x, hk_DerivFn f, void *user, const double *metric,
-                             const hk_NewtonOptions *options, hk_MinimizeResult *result,
-                             hk_Error *err);
+HK_API hk_Status hk_newton_minimize(int n, double *x, hk_DerivFn f, void *user,
+                                    const double *metric, const hk_NewtonOptions *options,
+                                    hk_MinimizeResult *result, hk_Error *err);
 
 /* ---- strand statics --------------------------------------------------------------- */
 
@@ -87,21 +89,21 @@ typedef struct hk_StaticsOptions {
 
 /* Newton by default; Rosenbrock settings from the thesis defaults (MaxIter 20,
  * Epsilon 1e-4). */
-hk_StaticsOptions hk_default_statics_options(void);
+HK_API hk_StaticsOptions hk_default_statics_options(void);
 
 /* Rosenbrock settings of a hairstyle file (MaxIter, Epsilon) and its initial step. */
-hk_RosenbrockOptions hk_rosenbrock_options_for(const hk_HairstyleDef *def);
+HK_API hk_RosenbrockOptions hk_rosenbrock_options_for(const hk_HairstyleDef *def);
 
 /* Name of a solver for messages ("newton", "rosenbrock"); parse back with
  * hk_solver_from_name (returns -1 for an unknown name). */
-const char *hk_solver_name(hk_SolverKind kind);
-int hk_solver_from_name(const char *name);
+HK_API const char *hk_solver_name(hk_SolverKind kind);
+HK_API int hk_solver_from_name(const char *name);
 
 /* Finds the rest shape of the strand: minimises hk_strand_energy over sh->q starting
  * from the current sh->q. On success sh->q holds the minimiser. */
-hk_Status hk_statics_solve(hk_SuperHelix *sh, const hk_StrandEnv *env,
-                           const hk_StaticsOptions *options, hk_MinimizeResult *result,
-                           hk_Error *err);
+HK_API hk_Status hk_statics_solve(hk_SuperHelix *sh, const hk_StrandEnv *env,
+                                  const hk_StaticsOptions *options, hk_MinimizeResult *result,
+                                  hk_Error *err);
 
 #ifdef __cplusplus
 }
