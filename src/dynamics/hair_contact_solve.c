@@ -523,7 +523,7 @@ static void pair_block(hk_ContactSolve *cs, PairState *ps, const int strand[2])
         const double *rows = read_rows(cs, strand[side], x);
         const double *yt = (const double *)cs->yt.items + block_of(cs, strand[side], x);
         for (int r = 0; r < 3; r++)
-            for (int q = 0; q < 3; q++) ps->w[r][q] += dot_n(rows + r * dim, yt + q * dim, m);
+            for (int q = 0; q < 3; q++) ps->w[r][q] += dot_n(rows + (size_t)r * dim, yt + (size_t)q * dim, m);
     }
     ps->ready = 1;
 }

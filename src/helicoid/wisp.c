@@ -47,7 +47,7 @@ hk_Status hk_phelicoid_wisp(const hk_PHelicoid *guide, int count, double radius,
     const hk_Mat3 *q = &guide->frame;
     for (int j = 0; j < count; j++) {
         double u[4];
-        for (int c = 0; c < 4; c++) u[c] = hk_rng_uniform(seed, (uint64_t)j, STREAM + c);
+        for (int c = 0; c < 4; c++) u[c] = hk_rng_uniform(seed, (uint64_t)j, (uint64_t)(STREAM + c));
         /* Uniform in the disc: the radius goes as the square root of a uniform number. */
         const double rho = radius * sqrt(u[0]), t = HK_HELICOID_TWO_PI * u[1];
         const hk_Vec3 offset = hk_v3(0.0, rho * cos(t), rho * sin(t));

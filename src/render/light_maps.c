@@ -150,7 +150,7 @@ static int head_box(void *user, uint32_t t, hk_Rect *box)
 {
     const HeadPass *hp = user;
     hk_RasterPoint v[3];
-    for (int k = 0; k < 3; k++) v[k] = hp->proj[hp->tri[3 * (size_t)t + k]];
+    for (int k = 0; k < 3; k++) v[k] = hp->proj[hp->tri[3 * (size_t)t + (size_t)k]];
     return hk_triangle_box(v, hp->maps->size, hp->maps->size, box);
 }
 
@@ -184,7 +184,7 @@ static hk_Status head_depth_map(const hk_Scene *scene, hk_LightMaps *m, hk_Error
         for (uint32_t at = bins->start[tile]; at < bins->start[tile + 1]; at++) {
             const uint32_t t = bins->items[at];
             hk_RasterPoint v[3];
-            for (int c = 0; c < 3; c++) v[c] = proj[head->triangles[3 * (size_t)t + c]];
+            for (int c = 0; c < 3; c++) v[c] = proj[head->triangles[3 * (size_t)t + (size_t)c]];
             hp.v = v;
             hk_raster_triangle(v, r, 1, head_sample, &hp);
         }
@@ -330,7 +330,7 @@ void hk_light_lookup(const hk_LightMaps *m, hk_Vec3 p, double *head_visible, dou
                 lit += w;
                 continue;
             }
-            const size_t texel = (size_t)y * n + x;
+            const size_t texel = (size_t)y * (size_t)n + (size_t)x;
             if (q.z <= m->head_depth[texel] + bias) lit += w;
             sum += w * texel_opacity(m, texel, q.z);
         }

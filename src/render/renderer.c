@@ -109,7 +109,7 @@ static int front_triangle_box(void *user, uint32_t t, hk_Rect *box)
 {
     const BoxCtx *c = user;
     hk_RasterPoint v[3];
-    for (int k = 0; k < 3; k++) v[k] = c->proj[c->tri[3 * (size_t)t + k]];
+    for (int k = 0; k < 3; k++) v[k] = c->proj[c->tri[3 * (size_t)t + (size_t)k]];
     /* Counter-clockwise from outside; y points down on screen, so front faces have a
      * negative signed area there. */
     const float area = (v[1].x - v[0].x) * (v[2].y - v[0].y) - (v[2].x - v[0].x) * (v[1].y - v[0].y);

@@ -79,8 +79,8 @@
         float *keys = bins->keys;                                                                             \
         _Pragma("omp parallel for schedule(static, 1) num_threads(ranges)")                                  \
         for (int g = 0; g < ranges; g++) {                                                                    \
-            const uint32_t lo = (uint32_t)((uint64_t)item_count * g / ranges);                                \
-            const uint32_t hi = (uint32_t)((uint64_t)item_count * (g + 1) / ranges);                          \
+            const uint32_t lo = (uint32_t)((uint64_t)item_count * (uint64_t)g / (uint64_t)ranges);                                \
+            const uint32_t hi = (uint32_t)((uint64_t)item_count * (uint64_t)(g + 1) / (uint64_t)ranges);                          \
             uint64_t *c = at + (size_t)g * tiles;                                                             \
             if (fill)                                                                                         \
                 name##_range(lo, hi, user, key, cull, boxes, items, keys, tiles_x, c, 1);                     \

@@ -62,7 +62,7 @@ float hk_tile_head(const hk_TileInput *in, int tile, hk_TileHead *w, hk_TileBase
         for (uint32_t k = bins->start[tile]; k < bins->start[tile + 1]; k++) {
             const uint32_t t = bins->items[k];
             hk_RasterPoint v[3];
-            for (int c = 0; c < 3; c++) v[c] = in->head_proj[m->triangles[3 * (size_t)t + c]];
+            for (int c = 0; c < 3; c++) v[c] = in->head_proj[m->triangles[3 * (size_t)t + (size_t)c]];
             w->tri = (int)t, w->tv = v;
             hk_raster_triangle(v, w->r, 2, head_sample, w);
         }
