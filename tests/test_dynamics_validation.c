@@ -9,6 +9,10 @@
  *  - a natural helix at zero gravity stays at rest;
  *  - a head translating at constant velocity carries the strand rigidly, and a head
  *    falling freely with gravity leaves the strand weightless (equivalence principle);
+ *  - air drag: a strand falling with its head as a body of the strand's mass and drag
+ *    falls (approaching the terminal velocity v_t = rho S g / nu) is weightless all the
+ *    way, and a head going down steadily at V leaves the strand in the statics shape
+ *    under gravity g (1 - V / v_t);
  *  - the four hair types of paper 000 Appendix B stay stable at dt = 1/30 s on a
  *    shaking head. */
 #include "hk_test.h"
@@ -417,6 +421,125 @@ static void test_translating_head_moves_strand_rigidly(void **state)
     }
 }
 
+/* Air drag against its terminal velocity (issue 13, item 5). The drag law is paper 000
+ * eq. 5a as docs/dynamics.md writes the generalized force: -int J^T nu r' ds, a force
+ * -nu r' per unit length on the absolute velocity r' (still air; AirDrag in
+ * include/hairkit/io.h). A length of strand of mass rho S falling in it obeys
+ * rho S v' = -rho S g - nu v (v upward), so from rest
+ *     v(t) = -v_t (1 - exp(-t / tau)),   v_t = rho S g / nu,   tau = rho S / nu,
+ * with the terminal velocity v_t. The root of a strand is clamped to the head, so the
+ * strand cannot fall on its own; its head is made to fall so instead. In the head's frame
+ * each length of strand then feels its weight -rho S g, the inertial force -rho S a_head
+ * = +rho S g exp(-t / tau) and the drag -nu v_head = +rho S g (1 - exp(-t / tau)): zero
+ * in sum at every instant, so the strand keeps its zero-gravity rest shape (straight)
+ * to rounding while its speed approaches v_t. A head going down steadily at V leaves the
+ * weight rho S g - nu V = rho S g (1 - V / v_t) per length: the strand settles on the
+ * statics shape (Newton's minimum, a second method) under the gravity g (1 - V / v_t):
+ * half the sag at V = v_t / 2, none at v_t, the sag mirrored upwards at 2 v_t. With
+ * nu = 1e-4 kg/(m s) (ten times the default; tau = 0.1 s, v_t = 1 m/s for this strand)
+ * the runs are short: 1 s of fall (10 tau), 1.5 s of descent. */
+typedef struct DragFall {
+    double vt, tau, g;
+} DragFall;
+
+static void drag_fall_state(void *user, double t, hk_RigidState *out)
+{
+    const DragFall *f = user;
+    *out = hk_rigid_identity();
+    if (t < 0.0) return; /* released at t = 0: its acceleration is -g from then on */
+    const double e = exp(-t / f->tau);
+    out->trans = hk_v3(0.0, -f->vt * (t - f->tau * (1.0 - e)), 0.0);
+    out->vel = hk_v3(0.0, -f->vt * (1.0 - e), 0.0);
+    out->acc = hk_v3(0.0, -f->g * e, 0.0);
+}
+
+static void steady_descent_state(void *user, double t, hk_RigidState *out)
+{
+    const double v = *(const double *)user;
+    *out = hk_rigid_identity();
+    if (t <= 0.0) return;
+    out->trans = hk_v3(0.0, -v * t, 0.0);
+    out->vel = hk_v3(0.0, -v, 0.0);
+}
+
+/* Tip of sh (world) relative to the head's translation. */
+static hk_Vec3 tip_in_head(const hk_SuperHelix *sh, const hk_RigidState *head)
+{
+    return hk_v3_sub(tip_of(sh), head->trans);
+}
+
+static void test_air_drag_terminal_velocity(void **state)
+{
+    (void)state;
+    const double length = 0.02, g = 9.81, nu = 1e-4, dt = 0.01;
+    /* The rest shapes at rest: straight without gravity, sagging with it. */
+    hk_SuperHelix *ref = strand(4, length, g);
+    const double rho_s = ref->material.mass_per_length;
+    const DragFall fall = {rho_s * g / nu, rho_s / nu, g};
+    const hk_Vec3 straight = tip_of(ref);
+    hk_StrandEnv env = hk_default_strand_env();
+    hk_StaticsOptions so = hk_default_statics_options();
+    hk_MinimizeResult res;
+    hk_Error err;
+    assert_int_equal(hk_statics_solve(ref, &env, &so, &res, &err), HK_OK);
+    const double sag = straight.y - tip_of(ref).y;
+    print_message("rho S = %.4g kg/m, nu = %g kg/(m s): terminal velocity %.4f m/s, tau %.4f s; the %g cm strand "
+                  "sags %.3f mm at rest\n",
+                  rho_s, nu, fall.vt, fall.tau, 100 * length, 1e3 * sag);
+    assert_true(sag > 1e-4);
+    hk_superhelix_destroy(ref);
+    hk_DynamicsParams p = hk_default_dynamics_params();
+    p.air_drag = nu;
+
+    /* Falling with its head, from rest, straight: weightless all the way. */
+    hk_SuperHelix *sh = strand(4, length, g);
+    hk_StrandDynamics *d = NULL;
+    assert_int_equal(hk_strand_dynamics_create(sh, &p, NULL, &d, &err), HK_OK);
+    double worst = 0.0;
+    hk_RigidState head = hk_rigid_identity();
+    for (int i = 0; i < 100; i++) {
+        assert_int_equal(hk_strand_dynamics_advance(d, drag_fall_state, (void *)&fall, i * dt, dt, NULL, 0, NULL, &err),
+                         HK_OK);
+        drag_fall_state((void *)&fall, (i + 1) * dt, &head);
+        worst = fmax(worst, hk_v3_dist(tip_in_head(sh, &head), straight));
+    }
+    double s = length;
+    hk_Vec3 pos, vel;
+    hk_strand_dynamics_points(d, &head, &s, 1, &pos, &vel);
+    print_message("falling 1 s (10 tau) with drag: tip at %.4f m/s (v_t %.4f), at most %.2g m from the straight "
+                  "shape (the sag at rest %.2g m)\n",
+                  -vel.y, fall.vt, worst, sag);
+    hk_assert_rel(-vel.y, fall.vt, 1e-4, 0.0); /* 1 - exp(-10) */
+    assert_true(worst < 1e-6 * sag);
+    hk_strand_dynamics_destroy(d);
+    hk_superhelix_destroy(sh);
+
+    /* Going down steadily at V from the sagging rest shape: the statics under
+     * g (1 - V / v_t). */
+    const double speeds[3] = {0.5, 1.0, 2.0};
+    for (int k = 0; k < 3; k++) {
+        const double v = speeds[k] * fall.vt;
+        hk_SuperHelix *expect = strand(4, length, g * (1.0 - speeds[k]));
+        assert_int_equal(hk_statics_solve(expect, &env, &so, &res, &err), HK_OK);
+        sh = strand(4, length, g);
+        assert_int_equal(hk_statics_solve(sh, &env, &so, &res, &err), HK_OK);
+        assert_int_equal(hk_strand_dynamics_create(sh, &p, NULL, &d, &err), HK_OK);
+        for (int i = 0; i < 150; i++)
+            assert_int_equal(
+                hk_strand_dynamics_advance(d, steady_descent_state, (void *)&v, i * dt, dt, NULL, 0, NULL, &err), HK_OK);
+        steady_descent_state((void *)&v, 150 * dt, &head);
+        const hk_Vec3 tip = tip_in_head(sh, &head), want = tip_of(expect);
+        print_message("going down at %.2f v_t: tip %+.4f mm from straight (statics under %+.3f g: %+.4f mm; %.2g m "
+                      "apart)\n",
+                      speeds[k], 1e3 * (tip.y - straight.y), 1.0 - speeds[k], 1e3 * (want.y - straight.y),
+                      hk_v3_dist(tip, want));
+        assert_true(hk_v3_dist(tip, want) < 1e-3 * sag);
+        hk_strand_dynamics_destroy(d);
+        hk_superhelix_destroy(sh);
+        hk_superhelix_destroy(expect);
+    }
+}
+
 /* The four hair types of paper 000 Appendix B (examples/strand/), 20 cm strands (10 cm
  * for the fuzzy one) growing from the top of the head ellipsoid inside its 2 cm
  * envelope (level 0.5 of examples/strand/head.txt), from their statics rest shape as a
@@ -481,6 +604,7 @@ int main(void)
         cmocka_unit_test(test_gyroscopic_couple_bends_a_spinning_rod),
         cmocka_unit_test(test_helix_at_zero_gravity_stays),
         cmocka_unit_test(test_translating_head_moves_strand_rigidly),
+        cmocka_unit_test(test_air_drag_terminal_velocity),
         cmocka_unit_test(test_appendix_b_hair_stable_on_a_shaking_head),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
