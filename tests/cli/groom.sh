@@ -72,4 +72,17 @@ cp "$tmp/one.hair" "$tmp/keep.hair"
 expect 1 "$hk" groom "$scene/cut.txt" -o "$tmp/keep.hair"
 cmp -s "$tmp/one.hair" "$tmp/keep.hair" || fail "a failed groom damaged the existing output"
 
+# Bad bytes (issue 13). A wick vertex at 1e39 made area x HairDensity overflow a long
+# and the groom crash (SIGSEGV): now refused at its line.
+awk '/^v / && !done { print "v 1e39 0.146 0.031"; done = 1; next } { print }' "$src/assets/wick.obj" > "$scene/huge.obj"
+sed 's|^WickModel .*|WickModel huge.obj|' "$scene/setup.txt" > "$scene/huge.txt"
+expect 1 "$hk" groom "$scene/huge.txt" -o "$tmp/x.hair"
+contains "$tmp/err" "huge.obj:2: '1e39' is out of range (value 1 of 'v')"
+printf 'v 0 0 0\nv 0x10 0 0\nv 0 1 0\nf 1 2 3\n' > "$scene/hex.obj"
+sed 's|^WickModel .*|WickModel hex.obj|' "$scene/setup.txt" > "$scene/hex.txt"
+expect 1 "$hk" groom "$scene/hex.txt" -o "$tmp/x.hair"
+contains "$tmp/err" "hex.obj:2: '0x10' is not a decimal number"
+
+[ -e "$tmp/x.hair" ] && fail "output written despite an error"
+
 finish "groom CLI"
