@@ -24,6 +24,12 @@ hk_Status hk_cli_setup_hair(const hk_SetupDef *setup, const hk_GroomOptions *go,
         if (st == HK_OK) st = hk_hairstyle_load(setup->hairstyle, &style, err);
         if (st == HK_OK && setup->collision) st = hk_collision_load(setup->collision, &shapes, &shape_count, err);
         if (st == HK_OK) st = hk_obj_load(setup->wick_model, &wick, err);
+        if (st == HK_OK) {
+            /* hk_groom_grow checks the same; here the message can name the files. */
+            hk_Error sub;
+            st = hk_groom_check_size(&style, &wick, go, NULL, &sub);
+            if (st != HK_OK) hk_error_set(err, st, "%s, %s: %s", setup->hairstyle, setup->wick_model, sub.message);
+        }
         if (st == HK_OK) st = hk_groom_grow(&style, shapes, shape_count, &wick, go, &groom, err);
         if (st == HK_OK) st = hk_groom_to_hair(&groom, &style, hair, err);
         report->grown = st == HK_OK;

@@ -83,6 +83,17 @@ sed 's|^WickModel .*|WickModel hex.obj|' "$scene/setup.txt" > "$scene/hex.txt"
 expect 1 "$hk" groom "$scene/hex.txt" -o "$tmp/x.hair"
 contains "$tmp/err" "hex.obj:2: '0x10' is not a decimal number"
 
+# The memory budget: HairDensity 17,000 on the default head (8.4 million strands, about
+# 8.5 GB with their .hair) is refused before anything is grown, with the numbers; the
+# limit moves with HAIRKIT_MEMORY_LIMIT (here down, to refuse the light scene).
+sed 's/^HairDensity .*/HairDensity 17000/' "$scene/hairstyle.txt" > "$scene/dense.txt"
+sed 's|^HairstyleInfo .*|HairstyleInfo dense.txt|; /^Save /d' "$scene/setup.txt" > "$scene/dense-setup.txt"
+expect 1 "$hk" groom "$scene/dense-setup.txt" -o "$tmp/x.hair"
+contains "$tmp/err" "dense.txt, $src/assets/wick.obj: HairDensity 17000 over the wick's 493.2 cm^2: 83[0-9]* strands of 41 points"
+contains "$tmp/err" "would take about 8.4[0-9] GB of memory, over the limit of 8 GB (HAIRKIT_MEMORY_LIMIT raises it"
+expect 1 env HAIRKIT_MEMORY_LIMIT=1M "$hk" groom "$scene/setup.txt" -o "$tmp/x.hair"
+contains "$tmp/err" "over the limit of 0.001 GB"
+
 [ -e "$tmp/x.hair" ] && fail "output written despite an error"
 
 finish "groom CLI"
