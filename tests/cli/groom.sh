@@ -83,6 +83,28 @@ sed 's|^WickModel .*|WickModel hex.obj|' "$scene/setup.txt" > "$scene/hex.txt"
 expect 1 "$hk" groom "$scene/hex.txt" -o "$tmp/x.hair"
 contains "$tmp/err" "hex.obj:2: '0x10' is not a decimal number"
 
+# A 128-byte .hair whose header says 2,147,483,646 strands, 0 points and no segments
+# array: refused from the header at once (it was 8.4 GB allocated and filled for 24 s)
+# by every command that reads .hair files, naming the field that is wrong.
+{ printf 'HAIR\376\377\377\177\0\0\0\0\2\0\0\0'; head -c 112 /dev/zero; } > "$tmp/lie.hair"
+[ "$(wc -c < "$tmp/lie.hair")" -eq 128 ] || fail "lie.hair is not 128 bytes"
+lie="strand count 2147483646 in the header needs at least 25769803880 bytes but the file has 128"
+expect 1 "$hk" info "$tmp/lie.hair"
+contains "$tmp/err" "lie.hair: $lie"
+expect 1 "$hk" render "$tmp/lie.hair" --head "$src/assets/head.obj" --visuality "$scene/visuality.txt" -o "$tmp/x.png"
+contains "$tmp/err" "$lie"
+printf 'Load true\nLoadFile %s\n' "$tmp/lie.hair" > "$scene/lie.txt"
+expect 1 "$hk" groom "$scene/lie.txt" -o "$tmp/x.hair"
+contains "$tmp/err" "$lie"
+expect 1 "$hk" helicoid fit "$tmp/lie.hair" -o "$tmp/x.txt"
+contains "$tmp/err" "$lie"
+expect 1 "$hk" helicoid reconstruct "$tmp/lie.hair" -o "$tmp/x.hair"
+contains "$tmp/err" "$lie"
+{ printf 'HAIR\377\377\377\377\0\0\0\0\2\0\0\0'; head -c 112 /dev/zero; } > "$tmp/lie2.hair"
+expect 1 "$hk" info "$tmp/lie2.hair"
+contains "$tmp/err" "strand count 4294967295 in the header needs at least"
+grep -q "refusing to allocate" "$tmp/err" && fail "a lying header reported as an allocation: $(cat "$tmp/err")"
+
 # The memory budget: HairDensity 17,000 on the default head (8.4 million strands, about
 # 8.5 GB with their .hair) is refused before anything is grown, with the numbers; the
 # limit moves with HAIRKIT_MEMORY_LIMIT (here down, to refuse the light scene).
@@ -93,7 +115,11 @@ contains "$tmp/err" "dense.txt, $src/assets/wick.obj: HairDensity 17000 over the
 contains "$tmp/err" "would take about 8.4[0-9] GB of memory, over the limit of 8 GB (HAIRKIT_MEMORY_LIMIT raises it"
 expect 1 env HAIRKIT_MEMORY_LIMIT=1M "$hk" groom "$scene/setup.txt" -o "$tmp/x.hair"
 contains "$tmp/err" "over the limit of 0.001 GB"
-
+expect 1 env HAIRKIT_MEMORY_LIMIT=1M "$hk" info "$tmp/one.hair"
+contains "$tmp/err" "one.hair ($strands strands, .* points) would take about"
+expect 1 env HAIRKIT_MEMORY_LIMIT=lots "$hk" info "$tmp/one.hair"
+contains "$tmp/err" "HAIRKIT_MEMORY_LIMIT='lots' is not a size"
+expect 0 env HAIRKIT_MEMORY_LIMIT=16G "$hk" info "$tmp/one.hair"
 [ -e "$tmp/x.hair" ] && fail "output written despite an error"
 
 finish "groom CLI"
