@@ -14,7 +14,12 @@ endif
 
 HAIRKIT := ./$(BUILD)/hairkit
 
-.PHONY: all deps build demo test bench asan install clean
+# make fuzz: every libFuzzer harness of tests/fuzz for FUZZ_SECONDS each (clang).
+FUZZ_BUILD   ?= build-fuzz
+FUZZ_SECONDS ?= 60
+FUZZERS      := obj hair hairstyle collision visuality setup motion helicoid simulation
+
+.PHONY: all deps build demo test bench asan install fuzz clean
 
 all: build
 
@@ -46,5 +51,23 @@ asan: deps
 	@cd $(ASAN_BUILD) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
 		UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ctest --output-on-failure -j $(JOBS)
 
+# New inputs that find new code go to $(FUZZ_BUILD)/corpus/NAME (tests/fuzz/corpus/NAME
+# holds the seeds); a crash stops with its input saved as $(FUZZ_BUILD)/crash-... Not
+# with HK_WERROR: clang warns where it cannot vectorise an OpenMP simd loop (-Wpass-failed).
+fuzz:
+	@bash scripts/install-deps.sh --fuzz
+	@CC=clang cmake -S . -B $(FUZZ_BUILD) -DCMAKE_BUILD_TYPE=Debug -DHK_FUZZ=ON -DHK_TESTS=OFF -DHK_WERROR=OFF \
+		> $(FUZZ_BUILD).configure.log 2>&1 || { cat $(FUZZ_BUILD).configure.log; exit 1; }
+	@cmake --build $(FUZZ_BUILD) -j $(JOBS) --target fuzzers
+	@for f in $(FUZZERS); do \
+		mkdir -p $(FUZZ_BUILD)/corpus/$$f; \
+		echo "fuzz_$$f: $(FUZZ_SECONDS) s"; \
+		UBSAN_OPTIONS=print_stacktrace=1 ./$(FUZZ_BUILD)/fuzz_$$f -max_total_time=$(FUZZ_SECONDS) \
+			-artifact_prefix=$(FUZZ_BUILD)/ $(FUZZ_BUILD)/corpus/$$f tests/fuzz/corpus/$$f \
+			> $(FUZZ_BUILD)/fuzz_$$f.log 2>&1 || { tail -n 60 $(FUZZ_BUILD)/fuzz_$$f.log; exit 1; }; \
+		grep -h '^#[0-9]*.*DONE' $(FUZZ_BUILD)/fuzz_$$f.log | tail -n 1; \
+	done
+
 clean:
-	rm -rf $(BUILD) $(ASAN_BUILD) $(BUILD).configure.log $(ASAN_BUILD).configure.log
+	rm -rf $(BUILD) $(ASAN_BUILD) $(FUZZ_BUILD) $(BUILD).configure.log $(ASAN_BUILD).configure.log \
+		$(FUZZ_BUILD).configure.log

@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "hairkit/outfile.h"
 
 typedef struct Command {
     const char *name;
@@ -42,6 +43,8 @@ static void print_help(FILE *out)
 
 int main(int argc, char **argv)
 {
+    /* Ctrl-C or a kill while an output is written leaves no OUT.tmp-XXXXXX behind. */
+    hk_outfile_cleanup_on_signals();
     if (argc < 2) {
         print_help(stderr);
         return HK_EXIT_USAGE;

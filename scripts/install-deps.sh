@@ -1,9 +1,14 @@
 #!/usr/bin/env bash
 # Installs the Debian packages hairkit needs to build and test, and does nothing
-# when they are all present. Called first by `make demo`, `make test`, `make bench`.
+# when they are all present. Called first by `make demo`, `make test`, `make bench`;
+# with --fuzz (`make fuzz`) also clang and its runtimes.
 set -euo pipefail
 
 packages=(gcc make cmake pkg-config libpng-dev zlib1g-dev libcmocka-dev)
+# `make fuzz` (install-deps.sh --fuzz): clang and its runtimes (libFuzzer, ASan, UBSan).
+if [ "${1:-}" = "--fuzz" ]; then
+    packages+=(clang libclang-rt-dev)
+fi
 
 if ! command -v dpkg-query >/dev/null 2>&1; then
     echo "install-deps: this is not a Debian-like system; make sure these are installed:" >&2

@@ -298,6 +298,90 @@ static void test_bad_wick(void **state)
     hk_mesh_free(&wick);
 }
 
+/* A wick of two triangles of area 5e39 m^2 (the issue's vertex at 1e39, made in memory:
+ * the OBJ reader refuses it now): area x HairDensity used to go through (long)floor,
+ * overflow, and the running total wrap past the size checks, strands written at
+ * negative indices. Now an error naming the count, before anything is allocated. */
+static void test_huge_wick_refused(void **state)
+{
+    (void)state;
+    hk_Mesh wick;
+    hk_Error err;
+    assert_int_equal(hk_mesh_alloc(&wick, 4, 2, &err), HK_OK);
+    wick.positions[0] = hk_v3(0, 0, 0), wick.positions[1] = hk_v3(1e20, 0, 0);
+    wick.positions[2] = hk_v3(0, 0, 1e20), wick.positions[3] = hk_v3(1e20, 0, 1e20);
+    const int tris[6] = {0, 2, 1, 1, 2, 3};
+    memcpy(wick.triangles, tris, sizeof tris);
+    hk_mesh_compute_normals(&wick);
+    hk_HairstyleDef style = make_style(9.81, 0.0);
+    hk_Groom g;
+    memset(&g, 0, sizeof g);
+    g.guide_count = 4, g.points_per_strand = 2;
+    g.guides = calloc(4 * 2 * 3, sizeof(double));
+    assert_non_null(g.guides);
+    hk_GroomOptions o = hk_default_groom_options();
+    assert_int_equal(hk_groom_interpolate_guides(&style, NULL, 0, &wick, &o, &g, &err), HK_ERR_INVALID);
+    hk_assert_contains(err.message, "HairDensity 300");
+    hk_assert_contains(err.message, "more than 100000000 strands");
+    assert_int_equal(g.strand_count, 0);
+    assert_int_equal(hk_groom_check_size(&style, &wick, &o, NULL, &err), HK_ERR_INVALID);
+    /* A triangle whose area is not finite. */
+    wick.positions[1] = hk_v3(1e200, 0, 0), wick.positions[2] = hk_v3(0, 0, 1e200);
+    assert_int_equal(hk_groom_check_size(&style, &wick, &o, NULL, &err), HK_ERR_INVALID);
+    hk_assert_contains(err.message, "wick triangle 1 has an area of inf");
+    free(g.guides);
+    hk_mesh_free(&wick);
+}
+
+/* The memory budget (core.h): a groom is refused from its counts, before the guides
+ * are solved, with the need and the limit in the message; HAIRKIT_MEMORY_LIMIT moves
+ * the limit. */
+static void test_memory_budget(void **state)
+{
+    (void)state;
+    hk_Mesh wick;
+    make_wick(&wick);
+    hk_HairstyleDef style = make_style(9.81, 0.0);
+    hk_Error err;
+    long strands = 0;
+    unsetenv(HK_MEMORY_LIMIT_ENV);
+    assert_int_equal(hk_groom_check_size(&style, &wick, NULL, &strands, &err), HK_OK);
+    assert_true(strands > 4000 && strands < 6000); /* 300 per cm^2 on about 16 cm^2 */
+    /* 21 points a strand: (24 x 21 + 26) bytes each and the 16 guides' (36 x 21 + 10). */
+    const double bytes = (double)strands * 530.0 + 16.0 * 766.0;
+    char limit[64];
+    snprintf(limit, sizeof limit, "%.0f", bytes - 1.0);
+    setenv(HK_MEMORY_LIMIT_ENV, limit, 1);
+    assert_int_equal(hk_groom_check_size(&style, &wick, NULL, NULL, &err), HK_ERR_NOMEM);
+    hk_assert_contains(err.message, "strands of 21 points with their .hair would take about");
+    hk_assert_contains(err.message, "over the limit of");
+    hk_assert_contains(err.message, "HAIRKIT_MEMORY_LIMIT raises it");
+    /* hk_groom_grow refuses it too, before solving anything. */
+    hk_Groom g;
+    const double t0 = hk_seconds_now();
+    assert_int_equal(hk_groom_grow(&style, NULL, 0, &wick, NULL, &g, &err), HK_ERR_NOMEM);
+    assert_true(hk_seconds_now() - t0 < 0.05);
+    assert_null(g.guides);
+    snprintf(limit, sizeof limit, "%.0f", bytes);
+    setenv(HK_MEMORY_LIMIT_ENV, limit, 1);
+    assert_int_equal(hk_groom_check_size(&style, &wick, NULL, NULL, &err), HK_OK);
+    setenv(HK_MEMORY_LIMIT_ENV, "1.5Gi", 1);
+    double b = 0.0;
+    assert_int_equal(hk_memory_limit(&b, &err), HK_OK);
+    hk_assert_near(b, 1.5 * 1024.0 * 1024.0 * 1024.0, 0);
+    setenv(HK_MEMORY_LIMIT_ENV, "16GB", 1);
+    assert_int_equal(hk_memory_limit(&b, &err), HK_OK);
+    hk_assert_near(b, 16e9, 0);
+    setenv(HK_MEMORY_LIMIT_ENV, "0x10", 1);
+    assert_int_equal(hk_groom_check_size(&style, &wick, NULL, NULL, &err), HK_ERR_INVALID);
+    hk_assert_contains(err.message, "HAIRKIT_MEMORY_LIMIT='0x10' is not a size");
+    unsetenv(HK_MEMORY_LIMIT_ENV);
+    /* The default: 8 GB, the machine's memory when smaller. */
+    assert_int_equal(hk_memory_limit(&b, &err), HK_OK);
+    assert_true(b > 0.0 && b <= 8e9);
+    hk_mesh_free(&wick);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -309,6 +393,8 @@ int main(void)
         cmocka_unit_test(test_uniform_roots),
         cmocka_unit_test(test_semi_interpolation),
         cmocka_unit_test(test_bad_wick),
+        cmocka_unit_test(test_huge_wick_refused),
+        cmocka_unit_test(test_memory_budget),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -171,6 +171,59 @@ static void test_corrupt_files(void **state)
     assert_int_equal(hk_hair_load(hk_test_tmpdir(), &h, &err), HK_ERR_IO);
 }
 
+/* A header that lies about its counts is refused from the header and the file's size
+ * alone, at once, with the field that is wrong: 2,147,483,646 strands and 0 points
+ * without a segments array made the loader allocate and fill 8.4 GB for 24 s before
+ * failing; 0xFFFFFFFF strands said "refusing to allocate 17179869184 bytes". */
+static void test_lying_header(void **state)
+{
+    (void)state;
+    Bytes b;
+    hk_HairFile h;
+    hk_Error err;
+    header(&b, 2147483646u, 0, 0x2, 0, "");
+    assert_int_equal(b.n, 128);
+    double t0 = hk_seconds_now();
+    expect_error(&b, b.n, "strand count 2147483646 in the header needs at least 25769803880 bytes but the file has 128");
+    assert_true(hk_seconds_now() - t0 < 0.05);
+    header(&b, 0xFFFFFFFFu, 0, 0x2, 0, "");
+    expect_error(&b, b.n, "strand count 4294967295 in the header needs at least");
+    header(&b, 0xFFFFFFFFu, 0, 0x3, 0, "");
+    expect_error(&b, b.n, "strand count 4294967295 in the header needs at least 60129542258 bytes");
+    /* Counts that fit the size but not each other. */
+    header(&b, 2, 7, 0x2, 2, ""); /* 2 strands of 3 points are 6 points, not 7 */
+    for (int i = 0; i < 21; i++) putf(&b, 0.0f);
+    expect_error(&b, b.n, "2 strands of default segment count 2 in the header make 6 points, its point count says 7");
+    header(&b, 9, 2, 0x3, 0, "");
+    for (int i = 0; i < 9; i++) put16(&b, 0);
+    for (int i = 0; i < 40; i++) putf(&b, 0.0f);
+    expect_error(&b, b.n, "strand count 9 in the header is more than its point count 2");
+    header(&b, 1, 0xFFFFFFFFu, 0x3, 0, "");
+    put16(&b, 0);
+    for (int i = 0; i < 3; i++) putf(&b, 0.0f);
+    expect_error(&b, b.n, "point count 4294967295 in the header needs 51539607670 bytes");
+    /* A good file over the memory budget (HAIRKIT_MEMORY_LIMIT): refused before the
+     * arrays are allocated, with the need and the limit. */
+    header(&b, 2, 6, 0x2, 2, "");
+    for (int i = 0; i < 18; i++) putf(&b, 0.5f);
+    const char *path = hk_test_write_file("budget.hair", b.data, b.n);
+    setenv(HK_MEMORY_LIMIT_ENV, "80", 1);
+    assert_int_equal(hk_hair_load(path, &h, &err), HK_ERR_NOMEM);
+    hk_assert_contains(err.message, "budget.hair (2 strands, 6 points) would take about 8.4e-08 GB of memory, over "
+                                    "the limit of 8e-08 GB");
+    assert_null(h.points);
+    setenv(HK_MEMORY_LIMIT_ENV, "84", 1); /* 72 bytes of points and 3 offsets of 4 */
+    assert_int_equal(hk_hair_load(path, &h, &err), HK_OK);
+    hk_hair_free(&h);
+    unsetenv(HK_MEMORY_LIMIT_ENV);
+    /* hk_hair_index refuses impossible counts before allocating its offsets too. */
+    memset(&h, 0, sizeof h);
+    h.strand_count = 2147483646u, h.point_count = 0, h.flags = HK_HAIR_POINTS;
+    assert_int_equal(hk_hair_index(&h, &err), HK_ERR_PARSE);
+    hk_assert_contains(err.message, "2147483646 strands of default segment count 0 make 2147483646 points");
+    assert_null(h.first_point);
+}
+
 static void test_alloc_and_info(void **state)
 {
     (void)state;
@@ -196,6 +249,7 @@ int main(void)
         cmocka_unit_test(test_other_tools_file_without_segments),
         cmocka_unit_test(test_all_arrays_round_trip),
         cmocka_unit_test(test_corrupt_files),
+        cmocka_unit_test(test_lying_header),
         cmocka_unit_test(test_alloc_and_info),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -77,6 +77,32 @@ static void test_obj_errors(void **state)
     expect_obj_error("", "bad.obj: no vertices");
     hk_Mesh m;
     hk_Error err;
+    /* Numbers are decimal, as in the key files: hex floats read as 16 by strtod. */
+    expect_obj_error("v 0 0 0\nv 0x10 0 0\nv 0 1 0\nf 1 2 3\n",
+                     "bad.obj:2: '0x10' is not a decimal number (value 1 of 'v')");
+    expect_obj_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 0x1p0\nf 1//1 2//1 3//1\n",
+                     "bad.obj:4: '0x1p0' is not a decimal number (value 3 of 'vn')");
+    expect_obj_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 inf\n", "bad.obj:4: 'inf' is not a decimal number");
+    /* Out of any sane range: the wick vertex at 1e39 that overflowed the strand count. */
+    expect_obj_error("v 0 0 0\nv 1e39 0.146 0.031\nv 0 1 0\nf 1 2 3\n",
+                     "bad.obj:2: '1e39' is out of range (value 1 of 'v')");
+    expect_obj_error("v 0 0 0\nv 0 -1e400 0\n", "bad.obj:2: '-1e400' is out of range");
+    expect_obj_error("v 0 0 0\nv 0 0 1000001\n", "bad.obj:2: '1000001' is out of range");
+    const char *big = "v 0 0 0\nv 1e6 0 0\nv 0 -1e6 0\nf 1 2 3\n"; /* the bound itself is fine */
+    assert_int_equal(hk_obj_load(hk_test_write_text("big.obj", big), &m, &err), HK_OK);
+    hk_mesh_free(&m);
+    /* A normal index of 0 or -(count+1) is as wrong as a vertex index of 0 (they were
+     * dropped silently), and so is a texture index of 0. */
+    expect_obj_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//0 2//1 3//1\n",
+                     "bad.obj:5: index out of range in face corner '1//0'");
+    expect_obj_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//-2 3//1\n",
+                     "bad.obj:5: index out of range in face corner '2//-2'");
+    expect_obj_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1/1/1 2/0/1 3/1/1\n",
+                     "bad.obj:5: index out of range in face corner '2/0/1'");
+    expect_obj_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "bad.obj:4: index out of range in face corner '0'");
+    const char *neg = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//-1 2//1 3//-1\n";
+    assert_int_equal(hk_obj_load(hk_test_write_text("neg.obj", neg), &m, &err), HK_OK);
+    hk_mesh_free(&m);
     const char bin[] = "v 0 0 0\nf\0\1\2";
     assert_int_equal(hk_obj_load(hk_test_write_file("bin.obj", bin, sizeof bin), &m, &err), HK_ERR_PARSE);
     hk_assert_contains(err.message, "bin.obj:2: not a text file");

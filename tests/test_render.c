@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "hk_test.h"
+#include "hairkit/canvas.h"
 #include "hairkit/image.h"
 #include "hairkit/render.h"
 #include "hairkit/rng.h"
@@ -351,6 +352,53 @@ static void test_depth_order(void **state)
         }
 }
 
+/* An empty tile: no segments and no work arrays allocated yet (NULL). clang's UBSan
+ * saw NULL + 0 here on every render with an empty tile ("applying zero offset to null
+ * pointer"); gcc's does not check it, so this fails under `CC=clang make asan`. */
+static void test_depth_order_empty(void **state)
+{
+    (void)state;
+    hk_DepthOrder d;
+    hk_depth_order_begin(&d, 0, NULL, NULL, NULL, NULL);
+    hk_depth_order_ready(&d, 0);
+    assert_int_equal(d.n, 0);
+}
+
+/* Lines with ends that are not finite, or so far apart that their difference
+ * overflows, draw nothing and leave every pixel finite (a NaN end blended NaN into the
+ * pixels near the other end; 1e308 went through (int), undefined). And the strand plot
+ * of an ellipsoid of semi-axis 1e308 (`hairkit strand --plot`). */
+static void test_canvas_non_finite(void **state)
+{
+    (void)state;
+    hk_Canvas c;
+    hk_Error err;
+    assert_int_equal(hk_canvas_create(20, 20, hk_v3(1, 1, 1), &c, &err), HK_OK);
+    const hk_Vec3 black = hk_v3(0, 0, 0);
+    hk_canvas_line(&c, NAN, 5.0, 5.0, 5.0, 2.0, black, 1.0);
+    hk_canvas_line(&c, 5.0, 5.0, 5.0, NAN, 2.0, black, 1.0);
+    hk_canvas_line(&c, -1e308, 5.0, 1e308, 5.0, 2.0, black, 1.0);
+    hk_canvas_line(&c, 5.0, -1e308, 5.0, 1e308, 2.0, black, 1.0);
+    hk_canvas_line(&c, 1e308, 1e308, INFINITY, 1e308, 2.0, black, 1.0);
+    hk_canvas_line(&c, 5.0, 5.0, 6.0, 6.0, NAN, black, 1.0);
+    hk_canvas_disc(&c, -1e300, -1e300, 1e300, black, 1.0);
+    for (int i = 0; i < 3 * 20 * 20; i++) assert_true(isfinite(c.rgb[i]));
+    /* An ordinary line still draws. */
+    hk_canvas_line(&c, 2.0, 10.0, 18.0, 10.0, 2.0, black, 1.0);
+    assert_true(c.rgb[3 * (10 * 20 + 10)] < 0.5f);
+    hk_canvas_destroy(&c);
+
+    const hk_Vec3 axes[3] = {hk_v3(1, 0, 0), hk_v3(0, 1, 0), hk_v3(0, 0, 1)};
+    const hk_Shape big[2] = {hk_shape_ellipsoid(hk_v3(0, 0, 0), hk_v3(1e308, 0.1, 0.1), axes, 0.0, 1000.0),
+                             hk_shape_cuboid(hk_v3(0, 0, 0), hk_v3(1e308, 1e308, 1e308), axes, 0.0, 1000.0)};
+    const hk_Vec3 pts[2] = {hk_v3(0, 0, 0), hk_v3(0.1, -0.1, 0)};
+    const hk_PlotStrand strand = {pts, 2, black};
+    char path[600];
+    snprintf(path, sizeof path, "%s/plot.png", hk_test_tmpdir());
+    for (int k = 1; k <= 2; k++)
+        assert_int_equal(hk_plot_strands_png(path, 200, 100, &strand, 1, big, k, 1.0, &err), HK_OK);
+}
+
 /* A pixel's fragment keys (depth bits above the fragment's index, indices increasing
  * as drawn): insertion sort within its budget, else the radix sort on what the
  * insertion sort left, give the keys in order whatever the budget. */
@@ -451,7 +499,9 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_kajiya_kay_pixel),   cmocka_unit_test(test_shadow_from_occluder),
         cmocka_unit_test(test_subpixel_coverage),  cmocka_unit_test(test_scene_deterministic_finite_png),
-        cmocka_unit_test(test_depth_order),        cmocka_unit_test(test_fragment_key_sort),        cmocka_unit_test(test_renderer_reuse),     cmocka_unit_test(test_bad_options),
+        cmocka_unit_test(test_depth_order),        cmocka_unit_test(test_fragment_key_sort),
+        cmocka_unit_test(test_renderer_reuse),     cmocka_unit_test(test_bad_options),
+        cmocka_unit_test(test_depth_order_empty),  cmocka_unit_test(test_canvas_non_finite),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -97,7 +97,28 @@ typedef void (*hk_ProgressFn)(void *user, const char *stage, double fraction);
  * from absurd input sizes and are refused with HK_ERR_NOMEM instead of trying. */
 #define HK_MAX_ALLOCATION ((size_t)8 << 30)
 
-/* malloc/calloc of count*size bytes with overflow and HK_MAX_ALLOCATION checks.
+/* The memory budget of one job: what growing a groom (with the .hair made from it) or
+ * loading a .hair file may take in all, estimated from the counts before anything is
+ * allocated (docs/file-formats.md, "Limits"). By default HK_DEFAULT_MEMORY_LIMIT
+ * (8 GB), or the machine's physical memory when it has less; the environment variable
+ * HAIRKIT_MEMORY_LIMIT sets another: a number of bytes with an optional suffix k, M, G,
+ * T (powers of 1000) or Ki, Mi, Gi, Ti (powers of 1024) and an optional B, e.g.
+ * HAIRKIT_MEMORY_LIMIT=16G. A budget over HK_MAX_ALLOCATION also raises the limit of
+ * a single allocation to it. */
+#define HK_DEFAULT_MEMORY_LIMIT 8e9
+#define HK_MEMORY_LIMIT_ENV "HAIRKIT_MEMORY_LIMIT"
+
+/* The budget in bytes into *bytes; HK_ERR_INVALID (and *bytes the default) when
+ * HAIRKIT_MEMORY_LIMIT is set to something that is not a size. */
+HK_API hk_Status hk_memory_limit(double *bytes, hk_Error *err);
+
+/* HK_OK when `bytes` fit the budget; else HK_ERR_NOMEM and a message "WHAT would take
+ * about N GB of memory, over the limit of M GB (HAIRKIT_MEMORY_LIMIT raises it, e.g.
+ * ...)"; `what` is a phrase such as "8385000 strands of 41 points". */
+HK_API hk_Status hk_memory_check(double bytes, const char *what, hk_Error *err);
+
+/* malloc/calloc of count*size bytes with overflow and HK_MAX_ALLOCATION checks (or the
+ * memory budget when it is larger).
  * On failure returns NULL and fills err. A zero count returns a valid minimal block. */
 HK_API void *hk_alloc_array(size_t count, size_t size, hk_Error *err);
 HK_API void *hk_calloc_array(size_t count, size_t size, hk_Error *err);

@@ -70,6 +70,19 @@ HK_API hk_Status hk_groom_grow(const hk_HairstyleDef *style, const hk_Shape *sha
 
 HK_API void hk_groom_free(hk_Groom *g);
 
+/* Most interpolated strands a groom may have. */
+#define HK_MAX_GROOM_STRANDS 100000000L
+
+/* Checks, before anything is grown, what hk_groom_grow would make of this hairstyle
+ * and wick: the interpolated strand count (exact: the same stochastic rounding) must be
+ * finite and at most HK_MAX_GROOM_STRANDS (HK_ERR_INVALID), and the groom with the
+ * .hair made from it must fit the memory budget (hk_memory_check, HK_ERR_NOMEM: about
+ * 1 kB a strand of 41 points). The count goes to *strands (may be NULL). hk_groom_grow
+ * and hk_groom_interpolate_guides check the same; a caller that knows the files may call
+ * it first to name them in the message. */
+HK_API hk_Status hk_groom_check_size(const hk_HairstyleDef *style, const hk_Mesh *wick,
+                                     const hk_GroomOptions *options, long *strands, hk_Error *err);
+
 /* Grows the interpolated strands of g again from its guides (g->guides,
  * g->guide_count, g->points_per_strand set, e.g. moved by the dynamics; follicles =
  * wick vertices): the same seed gives the same roots and clumps, so that strands

@@ -14,6 +14,9 @@ extern "C" {
 
 #define HK_MAX_MESH_VERTICES 10000000
 #define HK_MAX_MESH_TRIANGLES 20000000
+/* Largest |coordinate| of an OBJ vertex or normal: a head in metres, millimetres or
+ * micrometres fits; 1e39 (or nan, inf) is refused at its line. */
+#define HK_MAX_MESH_COORDINATE 1e6
 
 typedef struct hk_Mesh {
     int vertex_count;
@@ -27,7 +30,10 @@ typedef struct hk_Mesh {
  * v/vt/vn forms, negative indices counted from the end, polygons triangulated as
  * fans); other statements (vt, o, g, s, usemtl, mtllib) are ignored. A vertex's
  * normal is the average of the `vn` its face corners name, or, when the file has
- * none, the area-weighted average of its faces' normals. Errors give file:line. */
+ * none, the area-weighted average of its faces' normals. Numbers are decimal, as in
+ * the key files (no hex floats, nan or inf), within +-HK_MAX_MESH_COORDINATE; an index
+ * of 0 or out of range (vertex, normal, or a texture index of 0) is an error. Errors
+ * give file:line. */
 HK_API hk_Status hk_obj_load(const char *path, hk_Mesh *mesh, hk_Error *err);
 
 /* Writes v, vn and f v//vn lines atomically; `comment` (may be NULL) goes in a

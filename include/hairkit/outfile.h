@@ -1,6 +1,13 @@
 /* Atomic output files: written under a temporary name in the destination folder and
  * renamed over the destination only when complete, so that a crash or an error never
  * leaves a half-written or truncated output (and never destroys an older good one).
+ *
+ * A destination that is a symbolic link is followed: the file it names (made if the
+ * link dangles) is replaced, the link stays. An existing destination that is not a
+ * regular file is never replaced: a FIFO or a character device (/dev/null,
+ * /dev/stdout) is written in place, without a temporary (so without the atomicity);
+ * a folder, a block device or a socket is refused with a message.
+ *
  * Internal to hairkit: these functions are not exported from the shared library (no HK_API). */
 #ifndef HAIRKIT_OUTFILE_H
 #define HAIRKIT_OUTFILE_H
@@ -15,8 +22,8 @@ extern "C" {
 
 typedef struct hk_OutFile {
     FILE *fp;          /* write here */
-    char *path;        /* final destination */
-    char *tmp_path;    /* temporary file next to it */
+    char *path;        /* final destination (the links followed) */
+    char *tmp_path;    /* temporary file next to it; NULL when written in place */
 } hk_OutFile;
 
 /* Creates the temporary file for `path` (binary mode). */
@@ -28,6 +35,13 @@ hk_Status hk_outfile_commit(hk_OutFile *out, hk_Error *err);
 
 /* Closes and removes the temporary file (after an error). Safe to call twice. */
 void hk_outfile_abort(hk_OutFile *out);
+
+/* Installs handlers of SIGINT, SIGTERM, SIGHUP and SIGPIPE that remove the temporary
+ * files open at that moment (up to 16 at once), then end the process by the same
+ * signal, as it would have ended without them. Signals the program ignores or handles
+ * already are left alone. For programs (the hairkit command calls it first); a
+ * library never installs it by itself. */
+void hk_outfile_cleanup_on_signals(void);
 
 #ifdef __cplusplus
 }

@@ -37,7 +37,10 @@ hk_Status hk_groom_grow(const hk_HairstyleDef *style, const hk_Shape *shapes, in
     const int saved_threads = omp_get_max_threads();
     if (o.threads > 0) omp_set_num_threads(o.threads);
     hk_Follicles f;
-    hk_Status st = hk_follicles_from_wick(wick, &f, err);
+    /* The strand count and the memory it takes are known from the wick and the
+     * hairstyle alone: refused here, before the guides are solved. */
+    hk_Status st = hk_groom_check_size(style, wick, &o, NULL, err);
+    if (st == HK_OK) st = hk_follicles_from_wick(wick, &f, err);
     if (st == HK_OK) {
         double t0 = hk_seconds_now();
         st = hk_groom_solve_guides(style, shapes, shape_count, &f, &o, out, err);

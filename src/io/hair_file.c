@@ -31,6 +31,18 @@ void hk_hair_set_info(hk_HairFile *h, const char *text)
 
 hk_Status hk_hair_index(hk_HairFile *h, hk_Error *err)
 {
+    /* Without a segments array the total is known from the counts alone: checked before
+     * the offsets are allocated (a header of 2^31 strands and 0 points was 8 GB). */
+    if (!(h->flags & HK_HAIR_SEGMENTS) &&
+        (uint64_t)h->strand_count * ((uint64_t)h->default_segments + 1) != h->point_count)
+        return hk_error_set(err, HK_ERR_PARSE,
+                            "%u strands of default segment count %u make %llu points, the header says %u",
+                            h->strand_count, h->default_segments,
+                            (unsigned long long)h->strand_count * ((unsigned long long)h->default_segments + 1),
+                            h->point_count);
+    if (h->strand_count > h->point_count)
+        return hk_error_set(err, HK_ERR_PARSE, "%u strands need at least as many points, the header says %u",
+                            h->strand_count, h->point_count);
     hk_free(h->first_point);
     h->first_point = hk_alloc_array((size_t)h->strand_count + 1, sizeof(uint32_t), err);
     if (!h->first_point) return HK_ERR_NOMEM;
@@ -154,24 +166,52 @@ hk_Status hk_hair_load(const char *path, hk_HairFile *h, hk_Error *err)
     memcpy(h->info, head + 40, HK_HAIR_INFO_SIZE);
 
     hk_Status st = HK_OK;
-    /* Check the declared sizes against the file before allocating anything. */
-    const uint64_t ns = h->strand_count, np = h->point_count;
-    uint64_t need = HEADER_SIZE;
-    if (h->flags & HK_HAIR_SEGMENTS) need += 2 * ns;
-    if (h->flags & HK_HAIR_POINTS) need += 12 * np;
-    if (h->flags & HK_HAIR_THICKNESS) need += 4 * np;
-    if (h->flags & HK_HAIR_TRANSPARENCY) need += 4 * np;
-    if (h->flags & HK_HAIR_COLORS) need += 12 * np;
+    /* Every count of the header is checked against the file's size, and against the
+     * others, before anything is allocated: a lying header is refused at once, with the
+     * field that is wrong. Each strand has at least one point (12 bytes) and, with the
+     * segments array, its 2-byte count. */
+    const uint64_t ns = h->strand_count, np = h->point_count, size = (uint64_t)sb.st_size;
+    const int seg = (h->flags & HK_HAIR_SEGMENTS) != 0;
+    uint64_t per_point = 12;
+    if (h->flags & HK_HAIR_THICKNESS) per_point += 4;
+    if (h->flags & HK_HAIR_TRANSPARENCY) per_point += 4;
+    if (h->flags & HK_HAIR_COLORS) per_point += 12;
+    const uint64_t need_strands = HEADER_SIZE + ns * (seg ? 2 + per_point : per_point);
+    const uint64_t need = HEADER_SIZE + (seg ? 2 * ns : 0) + per_point * np;
     if (!(h->flags & HK_HAIR_POINTS))
         st = hk_error_set(err, HK_ERR_PARSE, "%s: the file has no points array (flags 0x%x)", path, h->flags);
     else if (h->flags & ~0x1Fu)
         st = hk_error_set(err, HK_ERR_PARSE, "%s: unknown flags 0x%x in the header", path, h->flags);
-    else if (need > (uint64_t)sb.st_size)
+    else if (need_strands > size)
         st = hk_error_set(err, HK_ERR_PARSE,
-                          "%s: truncated: the header announces %u strands and %u points (%llu bytes), the file has %lld",
-                          path, h->strand_count, h->point_count, (unsigned long long)need, (long long)sb.st_size);
-    else if (!(h->flags & HK_HAIR_SEGMENTS) && (uint64_t)h->default_segments + 1 > 65536)
+                          "%s: strand count %u in the header needs at least %llu bytes but the file has %lld "
+                          "(a wrong header, or a truncated file)",
+                          path, h->strand_count, (unsigned long long)need_strands, (long long)sb.st_size);
+    else if (need > size)
+        st = hk_error_set(err, HK_ERR_PARSE,
+                          "%s: point count %u in the header needs %llu bytes (with %u strands, flags 0x%x) but the "
+                          "file has %lld (a wrong header, or a truncated file)",
+                          path, h->point_count, (unsigned long long)need, h->strand_count, h->flags,
+                          (long long)sb.st_size);
+    else if (!seg && (uint64_t)h->default_segments + 1 > 65536)
         st = hk_error_set(err, HK_ERR_PARSE, "%s: default segment count %u is absurd", path, h->default_segments);
+    else if (!seg && ns * ((uint64_t)h->default_segments + 1) != np)
+        st = hk_error_set(err, HK_ERR_PARSE,
+                          "%s: %u strands of default segment count %u in the header make %llu points, its point count "
+                          "says %u",
+                          path, h->strand_count, h->default_segments,
+                          (unsigned long long)(ns * ((uint64_t)h->default_segments + 1)), h->point_count);
+    else if (ns > np)
+        st = hk_error_set(err, HK_ERR_PARSE,
+                          "%s: strand count %u in the header is more than its point count %u (a strand has at least "
+                          "one point)",
+                          path, h->strand_count, h->point_count);
+    else {
+        /* The arrays, the offsets hk_hair_index adds, within the memory budget. */
+        char what[160];
+        snprintf(what, sizeof what, "%s (%u strands, %u points)", path, h->strand_count, h->point_count);
+        st = hk_memory_check((double)(need - HEADER_SIZE) + 4.0 * ((double)ns + 1.0), what, err);
+    }
     if (st == HK_OK) {
         if (h->flags & HK_HAIR_SEGMENTS) {
             h->segments = hk_alloc_array((size_t)ns, sizeof(uint16_t), err);

@@ -296,12 +296,10 @@ hk_Status hk_keyfile_check_keys(const hk_KeyFile *kf, const hk_KeySpec *specs, i
 
 static int is_digit(char c) { return c >= '0' && c <= '9'; }
 
-enum { NUM_OK, NUM_SYNTAX, NUM_RANGE };
-
-/* Decimal numbers only: strtod alone would also take "nan", "inf", hex floats and
- * leading blanks, and would read "0.5" as 0 under a locale with a decimal comma, which
- * a program embedding hairkit may have set. */
-static int parse_double(const char *s, double *out)
+/* Decimal numbers only (keyfile.h; the OBJ reader uses it too): strtod alone would
+ * also take "nan", "inf", hex floats and leading blanks, and would read "0.5" as 0
+ * under a locale with a decimal comma, which a program embedding hairkit may have set. */
+int hk_parse_decimal(const char *s, double *out)
 {
     const char *p = s;
     int digits = 0;
@@ -311,21 +309,21 @@ static int parse_double(const char *s, double *out)
         p++;
         for (; is_digit(*p); p++) digits++;
     }
-    if (digits == 0) return NUM_SYNTAX;
+    if (digits == 0) return HK_NUM_SYNTAX;
     if (*p == 'e' || *p == 'E') {
         p++;
         if (*p == '+' || *p == '-') p++;
-        if (!is_digit(*p)) return NUM_SYNTAX;
+        if (!is_digit(*p)) return HK_NUM_SYNTAX;
         while (is_digit(*p)) p++;
     }
-    if (*p != '\0') return NUM_SYNTAX;
+    if (*p != '\0') return HK_NUM_SYNTAX;
 
     char local[256];
     const char *text = s;
     const char *point = localeconv()->decimal_point;
     if (point && point[0] && strcmp(point, ".") != 0 && strchr(s, '.')) {
         size_t at = (size_t)(strchr(s, '.') - s), pl = strlen(point), n = strlen(s);
-        if (n + pl >= sizeof local) return NUM_RANGE;
+        if (n + pl >= sizeof local) return HK_NUM_RANGE;
         memcpy(local, s, at);
         memcpy(local + at, point, pl);
         memcpy(local + at + pl, s + at + 1, n - at); /* with the NUL */
@@ -334,18 +332,18 @@ static int parse_double(const char *s, double *out)
     char *end;
     errno = 0;
     double v = strtod(text, &end);
-    if (*end != '\0') return NUM_SYNTAX;
-    if (errno == ERANGE || !isfinite(v)) return NUM_RANGE; /* overflow, or underflow to a denormal */
+    if (*end != '\0') return HK_NUM_SYNTAX;
+    if (errno == ERANGE || !isfinite(v)) return HK_NUM_RANGE; /* overflow, or underflow to a denormal */
     *out = v;
-    return NUM_OK;
+    return HK_NUM_OK;
 }
 
 static hk_Status number_at(const hk_KeyFile *kf, const hk_KeyLine *kl, int i, double *out,
                            hk_Error *err)
 {
-    switch (parse_double(kl->values[i], out)) {
-    case NUM_OK: return HK_OK;
-    case NUM_RANGE:
+    switch (hk_parse_decimal(kl->values[i], out)) {
+    case HK_NUM_OK: return HK_OK;
+    case HK_NUM_RANGE:
         return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err,
                                 "'%s' is out of the range of double precision (value %d of '%s')",
                                 kl->values[i], i + 1, kl->key);

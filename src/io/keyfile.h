@@ -72,6 +72,15 @@ hk_Status hk_keyline_doubles(const hk_KeyFile *kf, const hk_KeyLine *kl, int cou
 hk_Status hk_keyline_double_list(const hk_KeyFile *kf, const hk_KeyLine *kl, int max, double *out,
                                  int *got, hk_Error *err);
 
+/* What hk_parse_decimal found. */
+enum { HK_NUM_OK, HK_NUM_SYNTAX, HK_NUM_RANGE };
+
+/* One decimal number, the whole of s: [+-]digits[.digits][e[+-]digits], whatever the C
+ * locale. nan, inf, hex floats ("0x10"), blanks and trailing text are HK_NUM_SYNTAX; an
+ * overflow, or an underflow to a denormal, HK_NUM_RANGE. The key files' numbers and
+ * the OBJ reader's (obj.c). */
+int hk_parse_decimal(const char *s, double *out);
+
 /* One whole number in [lo, hi] (outside: HK_ERR_INVALID). */
 hk_Status hk_keyline_int(const hk_KeyFile *kf, const hk_KeyLine *kl, long lo, long hi, long *out,
                          hk_Error *err);

@@ -8,6 +8,7 @@
 
 #include "hairkit/mesh.h"
 #include "hairkit/outfile.h"
+#include "keyfile.h"
 
 hk_Status hk_mesh_alloc(hk_Mesh *mesh, int vertex_count, int triangle_count, hk_Error *err)
 {
@@ -89,17 +90,21 @@ typedef struct Corner {
     int v, vn; /* 0-based; vn = -1 when absent */
 } Corner;
 
-/* Parses one face corner "v", "v/vt", "v//vn" or "v/vt/vn" into 0-based indices. */
+/* Parses one face corner "v", "v/vt", "v//vn" or "v/vt/vn" into 0-based indices:
+ * 1 when well formed and in range, 0 when malformed, -1 when an index is out of range
+ * (0 is never an OBJ index: a normal index of 0, or -(count+1), is as wrong as a vertex
+ * index of 0). */
 static int parse_corner(const char *tok, long nv, long nn, Corner *c)
 {
     char *end;
     long v = strtol(tok, &end, 10);
     if (end == tok) return 0;
-    long vn = 0;
+    long vn = 0, vt = 1;
+    int has_vn = 0;
     if (*end == '/') {
         const char *p = end + 1;
-        if (*p != '/') { /* texture index: parsed and ignored */
-            strtol(p, &end, 10);
+        if (*p != '/') { /* texture index: parsed, checked for 0 and ignored */
+            vt = strtol(p, &end, 10);
             if (end == p) return 0;
             p = end;
         }
@@ -107,6 +112,7 @@ static int parse_corner(const char *tok, long nv, long nn, Corner *c)
             p++;
             vn = strtol(p, &end, 10);
             if (end == p) return 0;
+            has_vn = 1;
         } else {
             end = (char *)p;
         }
@@ -115,9 +121,9 @@ static int parse_corner(const char *tok, long nv, long nn, Corner *c)
     /* Negative indices count back from the last element read so far. */
     if (v < 0) v += nv + 1;
     if (vn < 0) vn += nn + 1;
-    if (v < 1 || v > nv || vn < 0 || vn > nn) return -1;
+    if (v < 1 || v > nv || vt == 0 || (has_vn && (vn < 1 || vn > nn))) return -1;
     c->v = (int)(v - 1);
-    c->vn = vn ? (int)(vn - 1) : -1;
+    c->vn = has_vn ? (int)(vn - 1) : -1;
     return 1;
 }
 
@@ -144,19 +150,26 @@ hk_Status hk_obj_load(const char *path, hk_Mesh *mesh, hk_Error *err)
         if (!key || key[0] == '#') continue;
         if (!strcmp(key, "v") || !strcmp(key, "vn")) {
             double xyz[3];
-            int ok = 1;
-            for (int i = 0; i < 3 && ok; i++) {
-                char *tok = strtok_r(NULL, " \t\r\n", &save), *end;
-                ok = tok != NULL;
-                if (ok) {
-                    xyz[i] = strtod(tok, &end);
-                    ok = *end == '\0' && isfinite(xyz[i]);
+            for (int i = 0; i < 3 && st == HK_OK; i++) {
+                char *tok = strtok_r(NULL, " \t\r\n", &save);
+                if (!tok) {
+                    st = hk_error_set(err, HK_ERR_PARSE, "%s:%ld: '%s' needs three finite numbers", path, line_no, key);
+                    break;
                 }
+                /* Decimal only, as in the key files (no hex, nan or inf), and within a
+                 * bound past any head in any unit: a wick vertex at 1e39 made areas, and
+                 * the strand counts from them, overflow. */
+                const int r = hk_parse_decimal(tok, &xyz[i]);
+                if (r == HK_NUM_SYNTAX)
+                    st = hk_error_set(err, HK_ERR_PARSE, "%s:%ld: '%s' is not a decimal number (value %d of '%s')", path,
+                                      line_no, tok, i + 1, key);
+                else if (r != HK_NUM_OK || !(fabs(xyz[i]) <= HK_MAX_MESH_COORDINATE))
+                    st = hk_error_set(err, HK_ERR_PARSE,
+                                      "%s:%ld: '%s' is out of range (value %d of '%s'): coordinates are within "
+                                      "+-%g",
+                                      path, line_no, tok, i + 1, key, HK_MAX_MESH_COORDINATE);
             }
-            if (!ok) {
-                st = hk_error_set(err, HK_ERR_PARSE, "%s:%ld: '%s' needs three finite numbers", path, line_no, key);
-                break;
-            }
+            if (st != HK_OK) break;
             hk_Vec3 v = hk_v3(xyz[0], xyz[1], xyz[2]);
             if (!array_push(key[1] ? &nrm : &pos, &v, HK_MAX_MESH_VERTICES, err)) {
                 st = hk_error_set(err, HK_ERR_NOMEM, "%s:%ld: more than %d vertices or normals", path, line_no,

@@ -42,13 +42,15 @@ static void blend(hk_Canvas *c, int x, int y, hk_Vec3 color, double a)
 void hk_canvas_line(hk_Canvas *c, double x0, double y0, double x1, double y1, double width,
                     hk_Vec3 color, double opacity)
 {
+    /* A point that is not finite draws nothing; the box is clipped to the canvas
+     * before it becomes ints (a plot of a 1e308 ellipsoid gave NaN and 1e308 here). */
+    if (!(isfinite(x0) && isfinite(y0) && isfinite(x1) && isfinite(y1) && isfinite(width) && width >= 0.0)) return;
     const double r = 0.5 * width + 1.0;
-    int xa = (int)floor(fmin(x0, x1) - r), xb = (int)ceil(fmax(x0, x1) + r);
-    int ya = (int)floor(fmin(y0, y1) - r), yb = (int)ceil(fmax(y0, y1) + r);
-    if (xa < 0) xa = 0;
-    if (ya < 0) ya = 0;
-    if (xb > c->width - 1) xb = c->width - 1;
-    if (yb > c->height - 1) yb = c->height - 1;
+    const double fxa = floor(fmin(x0, x1) - r), fxb = ceil(fmax(x0, x1) + r);
+    const double fya = floor(fmin(y0, y1) - r), fyb = ceil(fmax(y0, y1) + r);
+    if (fxb < 0.0 || fyb < 0.0 || fxa > c->width - 1 || fya > c->height - 1) return;
+    const int xa = fxa < 0.0 ? 0 : (int)fxa, xb = fxb > c->width - 1 ? c->width - 1 : (int)fxb;
+    const int ya = fya < 0.0 ? 0 : (int)fya, yb = fyb > c->height - 1 ? c->height - 1 : (int)fyb;
     const double dx = x1 - x0, dy = y1 - y0, len2 = dx * dx + dy * dy;
     for (int y = ya; y <= yb; y++)
         for (int x = xa; x <= xb; x++) {
@@ -58,7 +60,7 @@ void hk_canvas_line(hk_Canvas *c, double x0, double y0, double x1, double y1, do
             t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
             double ex = px - t * dx, ey = py - t * dy;
             double cover = 0.5 * width + 0.5 - sqrt(ex * ex + ey * ey);
-            if (cover <= 0.0) continue;
+            if (!(cover > 0.0)) continue; /* NaN too: ends 1e308 apart overflow dx */
             if (cover > 1.0) cover = 1.0;
             if (width < 1.0) cover *= width; /* thin lines fade rather than vanish */
             blend(c, x, y, color, cover * opacity);

@@ -12,7 +12,9 @@
 void hk_depth_order_begin(hk_DepthOrder *d, uint32_t n, const float *depth, const uint32_t *value, uint32_t *order,
                           uint32_t *work)
 {
-    d->n = n, d->order = order, d->keys = work, d->key_tmp = work + n, d->order_tmp = work + 2 * (size_t)n;
+    /* An empty tile may have no work array yet (NULL): no offset is applied to it. */
+    d->n = n, d->order = order, d->keys = work;
+    d->key_tmp = n ? work + n : work, d->order_tmp = n ? work + 2 * (size_t)n : work;
     d->sorted = 0, d->bucket = 0;
     uint32_t *keys = d->order_tmp; /* unsorted keys; the buckets go to d->keys */
     uint32_t differ = 0;

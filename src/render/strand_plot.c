@@ -52,6 +52,14 @@ static hk_Vec3 shape_extent(const hk_Shape *s, double extra)
     return e;
 }
 
+/* (int)v clamped to [lo, hi] before the conversion (NaN gives lo): a shape of semi-axis
+ * 1e308 puts its silhouette's bounds far outside an int. */
+static int pixel(double v, int lo, int hi)
+{
+    if (!(v > lo)) return lo;
+    return v < hi ? (int)v : hi;
+}
+
 /* Silhouette of an ellipsoid x^T A x <= 1 seen along world axis `drop`: the Schur
  * complement B = A_pp - A_pk A_kp / A_kk is the projected ellipse's matrix. */
 static void ellipsoid_silhouette(hk_Canvas *c, const Frame *f, const View *v, const hk_Shape *s,
@@ -74,8 +82,8 @@ static void ellipsoid_silhouette(hk_Canvas *c, const Frame *f, const View *v, co
     if (fill_alpha > 0.0) {
         const double rx = sqrt(b11 / (b00 * b11 - b01 * b01)) * f->scale + 2;
         const double ry = sqrt(b00 / (b00 * b11 - b01 * b01)) * f->scale + 2;
-        for (int y = (int)fmax(0, cy - ry); y <= (int)fmin(c->height - 1, cy + ry); y++)
-            for (int x = (int)fmax(0, cx - rx); x <= (int)fmin(c->width - 1, cx + rx); x++) {
+        for (int y = pixel(cy - ry, 0, c->height); y <= pixel(cy + ry, -1, c->height - 1); y++)
+            for (int x = pixel(cx - rx, 0, c->width); x <= pixel(cx + rx, -1, c->width - 1); x++) {
                 double dx = (x + 0.5 - cx) / f->scale, dy = -(y + 0.5 - cy) / f->scale;
                 if (b00 * dx * dx + 2 * b01 * dx * dy + b11 * dy * dy <= 1.0) {
                     hk_canvas_line(c, x + 0.5, y + 0.5, x + 0.5, y + 0.5, 1.0, fill, fill_alpha);

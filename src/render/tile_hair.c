@@ -252,8 +252,9 @@ static int composite(hk_TileHair *w, hk_Canvas *image)
     for (int y = w->r.y0; y < w->r.y1; y++)
         for (int x = w->r.x0; x < w->r.x1; x++) {
             const int p = (y - w->r.y0) * HK_TILE + (x - w->r.x0);
-            uint64_t *k = w->keys + w->pixel_start[p];
             const size_t n = w->pixel_start[p + 1] - w->pixel_start[p];
+            /* No fragment in the tile: w->keys may be NULL, and NULL + 0 is undefined. */
+            uint64_t *k = n ? w->keys + w->pixel_start[p] : w->keys;
             /* The segments were drawn nearest first, so a pixel's fragments come nearly
              * in depth order: insertion sort, unless it moves them too often. */
             if (!hk_sort_nearly_sorted(k, n, n <= 64 ? SIZE_MAX : 8 * n))

@@ -122,6 +122,11 @@ hk_Status hk_scene_hair(const hk_Scene *s, const hk_GroomOptions *options, hk_Ha
                                                      "HK_SCENE_GROOMING");
         hk_Groom groom;
         memset(&groom, 0, sizeof groom);
+        /* hk_groom_grow checks the same; here the message can name the files. */
+        hk_Error sub;
+        st = hk_groom_check_size(&s->style, &s->wick, options, NULL, &sub);
+        if (st != HK_OK)
+            return hk_error_set(err, st, "%s, %s: %s", s->setup.hairstyle, s->setup.wick_model, sub.message);
         st = hk_groom_grow(&s->style, s->shapes, s->shape_count, &s->wick, options, &groom, err);
         if (st == HK_OK) st = hk_groom_to_hair(&groom, &s->style, hair, err);
         report->grown = st == HK_OK;

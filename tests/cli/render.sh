@@ -21,12 +21,6 @@ expect 2 "$hk" run "$src/examples/default/setup.txt" -o "$tmp/x.png" --light 0,1
 # A light copy of the default scene (about 2,000 strands), small pictures.
 scene="$tmp/scene"
 light_scene "$scene"
-HairstyleInfo hairstyle.txt
-CollisionInfo collision.txt
-VisualityInfo visuality.txt
-HeadModel $src/assets/head.obj
-WickModel $src/assets/wick.obj
-SETUP
 
 expect 0 "$hk" run "$scene/setup.txt" -o "$tmp/one.png" --width 200 --height 150 --threads 1 --hair "$tmp/h.hair"
 png "$tmp/one.png"
