@@ -1,25 +1,50 @@
-/* hairkit info: what a .hair file holds (strands, points, lengths, bounding box). */
+/* hairkit info: what a hair file holds (strands, points, lengths, bounding box), in any
+ * format hairkit reads, with a hint at the units. */
 #include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "cli.h"
+#include "hairkit/hair_formats.h"
 #include "hairkit/hairfile.h"
 
 int hk_cmd_info(int argc, char **argv)
 {
     if (argc == 2 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h"))) {
-        printf("usage: hairkit info FILE.hair\n\n"
+        printf("usage: hairkit info FILE [--from F]\n\n"
                "Prints the number of strands and points, the strand lengths (min, mean, max),\n"
-               "the bounding box, the arrays present and the information field of a cyHair\n"
-               ".hair file (hairkit's own or another tool's).\n");
+               "the bounding box, the arrays present and the information field of a hair file\n"
+               "in any format hairkit reads (.hair, .tfx, .data, .ply, .obj, .usda; --from names\n"
+               "the format when the extension does not), and a hint at its units: hairkit works\n"
+               "in metres, and an extent of hundreds suggests millimetres (hairkit convert\n"
+               "--scale 0.001).\n");
         return HK_EXIT_OK;
     }
-    if (argc != 2) return hk_cli_usage_error("info", "expected exactly one FILE.hair");
+    hk_HairFormat format = HK_HAIR_FORMAT_AUTO;
+    const char *path = NULL;
+    for (int i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "--from")) {
+            if (i + 1 >= argc) return hk_cli_usage_error("info", "option '--from' needs a value");
+            const int f = hk_hair_format_from_name(argv[++i]);
+            if (f < 0) return hk_cli_usage_error("info", "--from expects hair, tfx, usc, ply, obj or usda, got '%s'", argv[i]);
+            format = (hk_HairFormat)f;
+        } else if (!strncmp(argv[i], "--from=", 7)) {
+            const int f = hk_hair_format_from_name(argv[i] + 7);
+            if (f < 0) return hk_cli_usage_error("info", "--from expects hair, tfx, usc, ply, obj or usda, got '%s'", argv[i] + 7);
+            format = (hk_HairFormat)f;
+        } else if (argv[i][0] == '-' && argv[i][1]) {
+            return hk_cli_usage_error("info", "unknown option '%s'", argv[i]);
+        } else if (path) {
+            return hk_cli_usage_error("info", "expected exactly one FILE");
+        } else {
+            path = argv[i];
+        }
+    }
+    if (!path) return hk_cli_usage_error("info", "expected exactly one FILE");
     hk_HairFile h;
     hk_Error err;
-    if (hk_hair_load(argv[1], &h, &err) != HK_OK) return hk_cli_fail("info", &err);
+    if (hk_hair_read(path, format, &h, &err) != HK_OK) return hk_cli_fail("info", &err);
     double lmin = DBL_MAX, lmax = 0.0, lsum = 0.0, lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
     uint32_t pmin = UINT32_MAX, pmax = 0;
     for (uint32_t s = 0; s < h.strand_count; s++) {
@@ -37,7 +62,9 @@ int hk_cmd_info(int argc, char **argv)
     char info[HK_HAIR_INFO_SIZE + 1];
     memcpy(info, h.info, HK_HAIR_INFO_SIZE);
     info[HK_HAIR_INFO_SIZE] = '\0';
-    printf("file:          %s\n", argv[1]);
+    if (format == HK_HAIR_FORMAT_AUTO) format = hk_hair_format_from_path(path);
+    printf("file:          %s\n", path);
+    if (format != HK_HAIR_FORMAT_AUTO) printf("format:        %s\n", hk_hair_format_name(format));
     printf("strands:       %u\n", h.strand_count);
     printf("points:        %u (per strand: min %u, mean %.1f, max %u)\n", h.point_count, h.strand_count ? pmin : 0,
            h.strand_count ? (double)h.point_count / h.strand_count : 0.0, pmax);
@@ -45,6 +72,17 @@ int hk_cmd_info(int argc, char **argv)
         printf("length:        min %.6g, mean %.6g, max %.6g (file units)\n", lmin, lsum / h.strand_count, lmax);
     if (h.point_count)
         printf("bounding box:  (%.6g, %.6g, %.6g) to (%.6g, %.6g, %.6g)\n", lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+    if (h.point_count) {
+        /* hairkit works in metres: a head of hair spans tens of centimetres. */
+        double extent = 0.0;
+        for (int k = 0; k < 3; k++) extent = fmax(extent, hi[k] - lo[k]);
+        if (extent >= 200.0 && extent < 20000.0)
+            printf("units:         extent %.3g: millimetres? --scale 0.001\n", extent);
+        else if (extent >= 5.0 && extent < 200.0)
+            printf("units:         extent %.3g: centimetres? --scale 0.01\n", extent);
+        else
+            printf("units:         extent %.3g\n", extent);
+    }
     printf("arrays:        %s%s%s%s%s\n", h.flags & HK_HAIR_SEGMENTS ? "segments " : "", "points ",
            h.flags & HK_HAIR_THICKNESS ? "thickness " : "", h.flags & HK_HAIR_TRANSPARENCY ? "transparency " : "",
            h.flags & HK_HAIR_COLORS ? "colours" : "");

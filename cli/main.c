@@ -16,7 +16,8 @@ static const Command commands[] = {
     {"run", hk_cmd_run, "the main job: a setup file in, a picture of the groomed head out"},
     {"strand", hk_cmd_strand, "rest shape (or motion, --simulate) of one Super-Helix strand"},
     {"groom", hk_cmd_groom, "grow a full head of hair from a setup file into a .hair file"},
-    {"info", hk_cmd_info, "strands, points, lengths and bounding box of a .hair file"},
+    {"info", hk_cmd_info, "strands, points, lengths, bounding box and units of a hair file"},
+    {"convert", hk_cmd_convert, "hair files between formats: .hair .tfx .data .ply .obj .usda"},
     {"render", hk_cmd_render, "render a .hair file over a head into a PNG"},
     {"simulate", hk_cmd_simulate, "a full head of hair in motion: frames of .hair and PNG"},
     {"helicoid", hk_cmd_helicoid, "generalized helicoids: trace, interpolate, fit, reconstruct"},
@@ -38,7 +39,9 @@ static void print_help(FILE *out)
     fprintf(out,
             "\n"
             "Units are SI (metres, pascals, kg/m^3); y is up and gravity points along -y.\n"
-            "Input files are the thesis's text files (docs/file-formats.md).\n");
+            "Input files are the thesis's text files; hair is read and written as cyHair .hair,\n"
+            "TressFX .tfx, USC-HairSalon .data, PLY, OBJ polylines and USD ascii\n"
+            "(docs/file-formats.md).\n");
 }
 
 int main(int argc, char **argv)

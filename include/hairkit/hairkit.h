@@ -13,6 +13,7 @@
 #include "hairkit/follicle_sampling.h"
 #include "hairkit/groom.h"
 #include "hairkit/hair_contacts.h"
+#include "hairkit/hair_formats.h"
 #include "hairkit/hairfile.h"
 #include "hairkit/helicoid.h"
 #include "hairkit/helicoid_file.h"
