@@ -96,6 +96,14 @@ static hk_Status load_scene(Run *r, const char *setup_path, hk_Error *err)
 {
     hk_Status st = hk_scene_load(setup_path, 0, &r->scene, err);
     if (st != HK_OK) return st;
+    /* The guides are grown from the hairstyle and the wick: hair read from LoadFile
+     * cannot be simulated yet (its strands are no Super-Helices; issue 15), and growing
+     * other hair in its place would ignore the setup's key silently. */
+    if (r->scene.setup.load)
+        return hk_error_set(err, HK_ERR_INVALID,
+                            "%s: Load true: simulate grows its guides from HairstyleInfo and WickModel and cannot "
+                            "simulate the hair of LoadFile (%s); set Load false",
+                            setup_path, r->scene.setup.load_file);
     if (!r->scene.setup.hairstyle || !r->scene.setup.wick_model)
         return hk_error_set(err, HK_ERR_PARSE, "%s: simulating needs HairstyleInfo and WickModel", setup_path);
     if ((st = hk_scene_load_parts(&r->scene, HK_SCENE_ALL, err)) != HK_OK) return st;

@@ -105,6 +105,12 @@ sed 's|^HairLengths.*|HairLengths 0.05 0.05 0.05 0.05 0.05 0.05 0.05 0.05 0.05 0
 expect 0 "$hk" simulate "$tmp/long/setup.txt" --frames 2 --fps 30 --guides-only --no-contacts --preroll 0 \
     --integrator euler --damping off --motion shake --amplitude 90 --frequency 5 -o "$tmp/rec" --quiet
 contains "$tmp/err" "could not be advanced through a frame and were held at rest relative to the head"
+# Load true is refused, naming the key and the file, never replaced by grown hair
+expect 0 "$hk" helicoid trace "$src/examples/helicoid/straight.txt" -o "$tmp/some.hair" --quiet
+sed 's|^Load .*|Load true\nLoadFile '"$tmp"'/some.hair|' "$tmp/long/setup.txt" > "$tmp/long/load.txt"
+expect 1 "$hk" simulate "$tmp/long/load.txt" --frames 1 --fps 30 --guides-only -o "$tmp/loaded"
+contains "$tmp/err" "Load true: simulate grows its guides"
+contains "$tmp/err" "some.hair"
 # the default preroll settles until the guides rest and says so (2.5 s of settling)
 expect 0 "$hk" simulate "$g200" --frames 1 --fps 30 --guides-only --preroll auto -o "$tmp/rest" --threads 2
 contains "$tmp/err" "201 guides of 10 elements at rest after"
