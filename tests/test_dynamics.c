@@ -19,6 +19,17 @@
 
 static double rnd(double lo, double hi) { return lo + (hi - lo) * hk_test_uniform(); }
 
+/* A vector of three draws in [lo, hi) made in a fixed order. The order in which a
+ * function's arguments are evaluated is unspecified in C (gcc goes right to left, clang
+ * left to right), so hk_v3(rnd(), rnd(), rnd()) gave each compiler another scenario:
+ * z first, as gcc drew them, so that the scenarios stay those the tests were written
+ * on. */
+static hk_Vec3 rnd3(double lo, double hi)
+{
+    const double z = rnd(lo, hi), y = rnd(lo, hi), x = rnd(lo, hi);
+    return hk_v3(x, y, z);
+}
+
 static void test_gauss_rules_exact(void **state)
 {
     (void)state;
@@ -78,15 +89,15 @@ static void test_point_kinematics_match_finite_differences(void **state)
 {
     (void)state;
     for (int trial = 0; trial < 20; trial++) {
-        Motion m = {rnd(-3, 3), rnd(-20, 20), rnd(-3, 3), rnd(-20, 20),
-                    hk_v3(rnd(-1, 1), rnd(-1, 1), rnd(-1, 1)),
-                    hk_v3(rnd(-1, 1), rnd(-1, 1), rnd(-1, 1)),
-                    hk_v3(rnd(-5, 5), rnd(-5, 5), rnd(-5, 5)), hk_m3_identity()};
-        m.f0 = axis_rotation(hk_v3_normalize(hk_v3(rnd(-1, 1), rnd(-1, 1), 1)), rnd(0, 3));
+        Motion m; /* drawn one by one: see rnd3 */
+        m.a1 = rnd(-3, 3), m.a2 = rnd(-20, 20), m.b1 = rnd(-3, 3), m.b2 = rnd(-20, 20);
+        m.p0 = rnd3(-1, 1), m.v0 = rnd3(-1, 1), m.acc0 = rnd3(-5, 5);
+        const double angle = rnd(0, 3), ay = rnd(-1, 1), ax = rnd(-1, 1);
+        m.f0 = axis_rotation(hk_v3_normalize(hk_v3(ax, ay, 1)), angle);
         /* Curvatures from straight (series branch) to curly; rates of 1..100 / (m s). */
         const double scale = trial < 4 ? 1e-7 : 300.0;
-        const hk_Vec3 k0 = hk_v3(rnd(-1, 1) * scale, rnd(-1, 1) * scale, rnd(-1, 1) * scale);
-        const hk_Vec3 kd = hk_v3(rnd(-100, 100), rnd(-100, 100), rnd(-100, 100));
+        const hk_Vec3 k0 = hk_v3_scale(rnd3(-1, 1), scale);
+        const hk_Vec3 kd = rnd3(-100, 100);
         const double u = rnd(0.001, 0.03), h = 1e-4;
         hk_PointKinematics at[3];
         for (int j = 0; j < 3; j++) {
@@ -220,8 +231,8 @@ static void test_linear_and_dense_agree(void **state)
     hk_PointForce pf[3];
     for (int i = 0; i < 3; i++) {
         pf[i].s = a->total_length * (0.2 + 0.3 * i);
-        pf[i].force = hk_v3(rnd(-1, 1) * 1e-4, rnd(-1, 1) * 1e-4, rnd(-1, 1) * 1e-4);
-        const hk_Vec3 nrm = hk_v3_normalize(hk_v3(rnd(-1, 1), rnd(-1, 1), rnd(-1, 1)));
+        pf[i].force = hk_v3_scale(rnd3(-1, 1), 1e-4);
+        const hk_Vec3 nrm = hk_v3_normalize(rnd3(-1, 1));
         const hk_Mat3 o = hk_m3_outer(nrm, nrm);
         pf[i].stiffness = hk_m3_scale(&o, 0.5);
         pf[i].damping = hk_m3_scale(&o, 1e-3);
@@ -261,7 +272,7 @@ static void test_linear_solve_residual(void **state)
         for (int i = 0; i < 4; i++) {
             hk_Mat3 a = hk_m3_zero(), b = hk_m3_zero(), jac, jrot;
             for (int r = 0; r < 3; r++) {
-                const hk_Vec3 v = hk_v3(rnd(-1, 1), rnd(-1, 1), rnd(-1, 1)), w = hk_v3(rnd(-1, 1), rnd(-1, 1), rnd(-1, 1));
+                const hk_Vec3 v = rnd3(-1, 1), w = rnd3(-1, 1);
                 const hk_Mat3 vv = hk_m3_outer(v, v), ww = hk_m3_outer(w, w);
                 a = hk_m3_add(&a, &vv);
                 b = hk_m3_add(&b, &ww);
@@ -270,7 +281,7 @@ static void test_linear_solve_residual(void **state)
                     jrot.m[r][c] = rnd(-1, 1);
                 }
             }
-            hk_element_terms_add(&terms[p], hk_v3(rnd(-1, 1), rnd(-1, 1), rnd(-1, 1)), &a, &b, &jac,
+            hk_element_terms_add(&terms[p], rnd3(-1, 1), &a, &b, &jac,
                                  &jrot, hk_v3_zero(), hk_v3_zero());
         }
         for (int b = 0; b < 3; b++)
