@@ -11,6 +11,7 @@
 #include <time.h>
 
 #include "bench.h"
+#include "core/core_internal.h"
 #include "hairkit/simulate.h"
 
 /* Steps per second of a 20 cm wavy strand released sideways, restarted from rest

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 
 #include "bench.h"
+#include "core/core_internal.h"
 #include "hairkit/groom.h"
 
 int hk_bench_groom(FILE *out, const hk_BenchOptions *options)

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "bench.h"
+#include "core/core_internal.h"
 #include "hairkit/helicoid_fit.h"
 #include "hairkit/rng.h"
 

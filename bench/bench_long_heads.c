@@ -17,6 +17,7 @@
 #include <time.h>
 
 #include "bench.h"
+#include "core/core_internal.h"
 #include "hairkit/motion.h"
 #include "hairkit/simulate.h"
 

@@ -23,6 +23,7 @@
 #include <time.h>
 
 #include "bench.h"
+#include "core/core_internal.h"
 #include "hairkit/dynamics.h"
 #include "hairkit/motion.h"
 #include "hairkit/statics.h"

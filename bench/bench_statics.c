@@ -6,6 +6,7 @@
 #include <time.h>
 
 #include "bench.h"
+#include "core/core_internal.h"
 #include "hairkit/statics.h"
 
 typedef struct Run {

@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/core_internal.h"
 #include "helicoid_cli.h"
 #include "hairkit/helicoid_fit.h"
 #include "hairkit/rng.h"

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "core/core_internal.h"
 #include "hairkit/simulate.h"
 
 static const char *const CMD = "simulate";

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "core/core_internal.h"
 #include "hairkit/canvas.h"
 #include "hairkit/io.h"
 #include "hairkit/statics.h"

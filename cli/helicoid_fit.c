@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/core_internal.h"
 #include "helicoid_cli.h"
 #include "hairkit/helicoid_fit.h"
 

@@ -4,10 +4,11 @@
 #include <stdio.h>
 
 #include "cli.h"
+#include "core/core_internal.h"
 #include "hairkit/canvas.h"
 #include "hairkit/dynamics.h"
 #include "hairkit/motion.h"
-#include "hairkit/outfile.h"
+#include "io/outfile.h"
 
 hk_CliStrandSim hk_cli_default_strand_sim(void)
 {

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/core_internal.h"
 #include "groom/groom_internal.h"
 #include "hairkit/groom.h"
 #include "hairkit/rod.h"

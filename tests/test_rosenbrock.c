@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "hairkit/statics.h"
+#include "statics/statics_internal.h"
 
 #define NMAX 10
 

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "hairkit/rod.h"
+#include "rod/rod_internal.h"
 
 typedef struct Scene {
     hk_SuperHelix *sh;

@@ -180,10 +180,6 @@ HK_API void hk_strand_dynamics_energy(hk_StrandDynamics *d, const hk_RigidState 
 HK_API void hk_strand_dynamics_points(hk_StrandDynamics *d, const hk_RigidState *head,
                                       const double *s, int count, hk_Vec3 *pos, hk_Vec3 *vel);
 
-/* The generalized mass matrix M(q) (3N x 3N, row-major), assembled densely, for tests
- * and diagnostics. */
-HK_API hk_Status hk_strand_dynamics_mass_matrix(hk_StrandDynamics *d, double *mass, hk_Error *err);
-
 /* Number of body contact samples that touched a shape during the last step. */
 HK_API int hk_strand_dynamics_contact_count(const hk_StrandDynamics *d);
 

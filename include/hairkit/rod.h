@@ -141,16 +141,6 @@ HK_API double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnv *env,
                                hk_StrandWorkspace *ws, double *grad, double *hess,
                                hk_StrandEnergy *parts);
 
-/* Collision sample i (0 <= i < hk_strand_collision_sample_count) as the last
- * hk_strand_energy call with this workspace and a gradient (grad or hess not NULL) found
- * it: returns 1 if it touched a shape, and then *grad is the gradient of its penalty
- * energy (w * dE/dp, with w the arc length the sample stands for) at its position, in
- * the coordinates of that call; 0 otherwise (and for every sample after a call without
- * a gradient, or hk_strand_max_penetration). The dynamics' body friction reads its
- * normal force here instead of evaluating the shapes again. Internal: not exported from
- * the shared library (no HK_API). */
-int hk_strand_workspace_contact(const hk_StrandWorkspace *ws, int i, hk_Vec3 *grad);
-
 /* Greatest depth of a collision sample inside the envelopes at coordinates q (0 when
  * no sample touches a shape), evaluated at the same samples as the energy. */
 HK_API double hk_strand_max_penetration(const hk_SuperHelix *sh, const hk_StrandEnv *env,

@@ -48,12 +48,6 @@ HK_API hk_Status hk_rosenbrock_minimize(int n, double *x, hk_ObjectiveFn f, void
                                         const hk_RosenbrockOptions *options,
                                         hk_MinimizeResult *result, hk_Error *err);
 
-/* Palmer's orthonormalisation step on its own, for tests (internal: not exported from
- * the shared library, no HK_API): given the n orthonormal directions xi (row-major
- * n x n, row i = direction i) and the stage advances d[0..n), writes the new orthonormal
- * directions into xi_new. */
-void hk_rosenbrock_palmer_directions(int n, const double *xi, const double *d, double *xi_new);
-
 /* Objective with derivatives: returns f(x); fills grad (n) and hess (n x n, row-major)
  * when they are not NULL. */
 typedef double (*hk_DerivFn)(const double *x, double *grad, double *hess, void *user);

@@ -279,4 +279,8 @@ void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head
                                  const double *s, int count, double *screws, double *jac, hk_Vec3 *pos,
                                  hk_Vec3 *vel, int *element);
 
+/* The generalized mass matrix M(q) (3N x 3N, row-major), assembled densely, for tests
+ * and diagnostics. */
+hk_Status hk_strand_dynamics_mass_matrix(hk_StrandDynamics *d, double *mass, hk_Error *err);
+
 #endif

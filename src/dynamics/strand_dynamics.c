@@ -11,8 +11,9 @@
 #include <string.h>
 
 #include "dynamics_internal.h"
-#include "hairkit/linalg.h"
+#include "core/linalg.h"
 #include "rod/helix_local.h"
+#include "rod/rod_internal.h"
 
 hk_DynamicsParams hk_default_dynamics_params(void)
 {

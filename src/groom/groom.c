@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/core_internal.h"
 #include "groom_internal.h"
 
 hk_GroomOptions hk_default_groom_options(void)

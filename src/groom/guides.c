@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/core_internal.h"
 #include "groom_internal.h"
 #include "hairkit/statics.h"
 

@@ -5,7 +5,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "hairkit/linalg.h"
+#include "core/linalg.h"
 #include "helicoid/piecewise_internal.h"
 
 #define M_PI_VALUE 3.14159265358979323846

@@ -5,6 +5,7 @@
 #include <omp.h>
 #include <string.h>
 
+#include "core/core_internal.h"
 #include "hairkit/helicoid_fit.h"
 #include "hairkit/helicoid_hair.h"
 

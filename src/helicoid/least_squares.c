@@ -20,7 +20,7 @@
 #include <string.h>
 
 #include "hairkit/curvefit.h"
-#include "hairkit/linalg.h"
+#include "core/linalg.h"
 
 #define NMAX HK_LEAST_SQUARES_MAX_PARAMS
 

@@ -31,6 +31,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "core/core_internal.h"
 #include "follicle_internal.h"
 #include "hairkit/follicle_sampling.h"
 #include "hairkit/rng.h"

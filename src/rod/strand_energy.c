@@ -10,11 +10,13 @@
  * Second derivatives add the second moment S0 = sum p f^T (rotations of lever arms),
  * the 6x6 contact stiffness C = sum B^T A B, and per element the second derivatives
  * of the element's closed form. Derivation: docs/physics.md. */
+#include "collide/collide_internal.h"
 #include "hairkit/rod.h"
 
 #include <string.h>
 
 #include "helix_local.h"
+#include "rod/rod_internal.h"
 
 struct hk_StrandWorkspace {
     int n;                   /* elements of the strand this workspace was made for */
@@ -138,7 +140,7 @@ static int near_shapes(const hk_StrandEnv *env, hk_Vec3 centre, double radius)
 {
     for (int j = 0; j < env->shape_count; j++) {
         const hk_Shape *sh = &env->shapes[j];
-        const double reach = sh->bound + 1.7320508075688772 * fabs(env->envelope_alpha * sh->volume) + radius;
+        const double reach = hk_shape_bound(sh) + 1.7320508075688772 * fabs(env->envelope_alpha * sh->volume) + radius;
         if (hk_v3_norm2(hk_v3_sub(centre, sh->centre)) <= reach * reach) return 1;
     }
     return 0;

@@ -5,6 +5,7 @@
 #include <omp.h>
 #include <string.h>
 
+#include "core/core_internal.h"
 #include "hairkit/simulate.h"
 #include "hairkit/statics.h"
 #include "dynamics/hair_contact_solve.h"

@@ -8,6 +8,7 @@
 
 #include "hairkit/scene.h"
 #include "hairkit/simulation_file.h"
+#include "io/io_internal.h"
 #include "sim_internal.h"
 
 /* What the regrowth reads besides the guides: the setup's hairstyle, wick and body

@@ -15,6 +15,7 @@
 
 #include "hairkit/scene.h"
 #include "hairkit/simulation_file.h"
+#include "io/io_internal.h"
 #include "sim_internal.h"
 
 hk_SimRunOptions hk_default_sim_run_options(void)

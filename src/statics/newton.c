@@ -1,7 +1,7 @@
 /* Newton's method with Levenberg-Marquardt regularisation and a backtracking line
  * search: the fast default minimiser of the statics (it uses the exact gradient and Hessian of
  * the strand energy, where the thesis's Rosenbrock search uses energies alone). */
-#include "hairkit/linalg.h"
+#include "core/linalg.h"
 #include "hairkit/statics.h"
 
 #include <float.h>
