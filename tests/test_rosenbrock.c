@@ -772,7 +772,7 @@ static void test_invalid_arguments(void **state)
     expect_invalid(-3, x, probe_eval, &d, "dimension");
     expect_invalid(2, NULL, probe_eval, &d, "x");
     expect_invalid(2, x, NULL, &d, "objective");
-    expect_invalid(2, x, probe_eval, NULL, "options");
+    /* NULL options mean the defaults (test_null_defaults.c) */
     hk_RosenbrockOptions o = d;
     o.max_stages = 0;
     expect_invalid(2, x, probe_eval, &o, "max_stages");

@@ -2,7 +2,11 @@
  *
  * Every library function that can fail returns an hk_Status (HK_OK == 0) and, when
  * given a non-NULL hk_Error, fills it with a one-line message. Messages about input
- * files start with "path:line: " so that editors can jump to the spot. */
+ * files start with "path:line: " so that editors can jump to the spot.
+ *
+ * Every function that takes a pointer to a parameter struct (a configuration with a
+ * default function) accepts NULL for it and then uses the defaults; docs/library.md
+ * lists the conventions of the API. */
 #ifndef HAIRKIT_CORE_H
 #define HAIRKIT_CORE_H
 

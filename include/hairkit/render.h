@@ -69,7 +69,8 @@ typedef struct hk_RenderStats {
 
 /* Renders `hair` (the strands of a cyHair file; may have no strands) over `head` (may
  * be NULL) with the colours of `visuality` into `out` (linear RGB, created here; free
- * with hk_canvas_destroy). stats may be NULL. */
+ * with hk_canvas_destroy). options NULL: hk_default_render_options(); visuality NULL:
+ * hk_default_visuality(); stats may be NULL. */
 HK_API hk_Status hk_render(const hk_HairFile *hair, const hk_Mesh *head,
                            const hk_VisualityDef *visuality, const hk_RenderOptions *options,
                            hk_Canvas *out, hk_RenderStats *stats, hk_Error *err);

@@ -97,6 +97,8 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *
                                     hk_Error *err)
 {
     *out = NULL;
+    const hk_DynamicsParams defaults = hk_default_dynamics_params();
+    if (!params) params = &defaults;
     if (!params_valid(params))
         return hk_error_set(err, HK_ERR_INVALID,
                             "dynamics parameters out of range (friction and drag must be >= 0, "

@@ -102,6 +102,8 @@ hk_Status hk_nelder_mead_minimize(int n, double *x, const double *scale, hk_Cost
                                   const hk_NelderMeadOptions *options, hk_NelderMeadResult *result,
                                   hk_Error *err)
 {
+    const hk_NelderMeadOptions defaults = hk_default_nelder_mead_options();
+    if (!options) options = &defaults;
     const hk_Status st = check_args(n, x, scale, f, options, err);
     if (st != HK_OK) return st;
     Run run = {n, f, user, 0, options->max_evaluations};

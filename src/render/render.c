@@ -116,6 +116,8 @@ hk_Status hk_render_fit_camera(const hk_HairFile *hair, const hk_Mesh *head,
                                const hk_RenderOptions *opt, hk_Vec3 *target, double *distance,
                                hk_Error *err)
 {
+    const hk_RenderOptions defaults = hk_default_render_options();
+    if (!opt) opt = &defaults;
     hk_Status st = hk_render_check_options(opt, err);
     if (st != HK_OK) return st;
     hk_RenderOptions fit = *opt;

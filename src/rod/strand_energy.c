@@ -38,14 +38,17 @@ struct hk_StrandWorkspace {
     double *xi, *y;          /* Hessian: 6-vectors per coordinate */
 };
 
+/* The default environment: no shapes, no collisions (what a NULL env means). */
+static const hk_StrandEnv no_env = {NULL, 0, 0.0, 0.0};
+
 hk_StrandEnv hk_default_strand_env(void)
 {
-    hk_StrandEnv env = {NULL, 0, 0.0, 0.0};
-    return env;
+    return no_env;
 }
 
 int hk_strand_collision_sample_count(const hk_SuperHelix *sh, const hk_StrandEnv *env)
 {
+    if (!env) env = &no_env;
     if (env->shape_count <= 0 || !(env->collision_step > 0.0)) return 0;
     double m = ceil(sh->total_length / env->collision_step - 1e-9);
     if (m < 1.0) m = 1.0;
@@ -57,6 +60,7 @@ hk_Status hk_strand_workspace_create(const hk_SuperHelix *sh, const hk_StrandEnv
                                      hk_StrandWorkspace **out, hk_Error *err)
 {
     *out = NULL;
+    if (!env) env = &no_env;
     hk_StrandWorkspace *ws = hk_calloc_array(1, sizeof *ws, err);
     if (!ws) return HK_ERR_NOMEM;
     const int n = sh->n, ns = hk_strand_collision_sample_count(sh, env);
@@ -244,6 +248,7 @@ static hk_Vec3 moment_op(const hk_Mat3 *s, double trace, hk_Vec3 w)
 double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnv *env, const double *q,
                         hk_StrandWorkspace *ws, double *grad, double *hess, hk_StrandEnergy *parts)
 {
+    if (!env) env = &no_env;
     const int n = sh->n, dim = 3 * n;
     const int order = hess ? 2 : (grad ? 1 : 0);
     forward(sh, q, order, ws);
@@ -408,6 +413,7 @@ double hk_strand_max_penetration(const hk_SuperHelix *sh, const hk_StrandEnv *en
                                  const double *q, hk_StrandWorkspace *ws)
 {
     if (ws->sample_count == 0) return 0.0;
+    if (!env) env = &no_env;
     forward(sh, q, 0, ws);
     double depth = 0.0;
     collisions(sh, env, q, 0, ws, &depth);

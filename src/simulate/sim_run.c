@@ -394,6 +394,8 @@ static hk_Status check_options(const hk_SimRunOptions *o, hk_Error *err)
 hk_Status hk_simulation_run(const char *setup_path, const char *dir, const hk_SimRunOptions *options,
                             hk_SimProgress *progress, hk_Error *err)
 {
+    const hk_SimRunOptions defaults = hk_default_sim_run_options();
+    if (!options) options = &defaults;
     Run r;
     memset(&r, 0, sizeof r);
     r.dir = dir;

@@ -25,7 +25,9 @@ hk_Status hk_newton_minimize(int n, double *x, hk_DerivFn f, void *user, const d
 {
     hk_MinimizeResult res = {0.0, 0, 0, 0};
     if (result) *result = res;
-    if (n < 1 || !x || !f || !options || options->max_iterations < 0 || !(options->tolerance >= 0.0))
+    const hk_NewtonOptions defaults = hk_default_newton_options();
+    if (!options) options = &defaults;
+    if (n < 1 || !x || !f || options->max_iterations < 0 || !(options->tolerance >= 0.0))
         return hk_error_set(err, HK_ERR_INVALID, "newton: invalid arguments (n = %d)", n);
     const size_t sn = (size_t)n;
     /* g, trial g, p, trial x: 4n; H, trial H, L: 3 n^2. One block per solve. */

@@ -157,9 +157,8 @@ static hk_Status check_options(int n, const double *x, hk_ObjectiveFn f,
 {
     if (n < 1)
         return hk_error_set(err, HK_ERR_INVALID, "rosenbrock: dimension must be >= 1, got %d", n);
-    if (!x || !f || !o)
-        return hk_error_set(err, HK_ERR_INVALID, "rosenbrock: %s is NULL",
-                            !x ? "x" : !f ? "the objective" : "options");
+    if (!x || !f)
+        return hk_error_set(err, HK_ERR_INVALID, "rosenbrock: %s is NULL", !x ? "x" : "the objective");
     if (o->max_stages < 1)
         return hk_error_set(err, HK_ERR_INVALID, "rosenbrock: max_stages must be >= 1, got %d",
                             o->max_stages);
@@ -186,6 +185,8 @@ hk_Status hk_rosenbrock_minimize(int n, double *x, hk_ObjectiveFn f, void *user,
 {
     hk_MinimizeResult res = {0.0, 0, 0, 0};
     if (result) *result = res;
+    const hk_RosenbrockOptions defaults = hk_default_rosenbrock_options();
+    if (!options) options = &defaults;
     hk_Status status = check_options(n, x, f, options, err);
     if (status != HK_OK) return status;
     const hk_RosenbrockOptions *o = options;

@@ -76,6 +76,10 @@ hk_Status hk_statics_solve(hk_SuperHelix *sh, const hk_StrandEnv *env,
                            const hk_StaticsOptions *options, hk_MinimizeResult *result,
                            hk_Error *err)
 {
+    const hk_StrandEnv no_env = hk_default_strand_env();
+    const hk_StaticsOptions defaults = hk_default_statics_options();
+    if (!env) env = &no_env;
+    if (!options) options = &defaults;
     const int dim = 3 * sh->n;
     StrandProblem pb = {sh, env, NULL};
     hk_Status st = hk_strand_workspace_create(sh, env, &pb.ws, err);
