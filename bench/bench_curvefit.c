@@ -112,7 +112,8 @@ int hk_bench_curvefit(FILE *out, const hk_BenchOptions *options)
         for (int s = 0; s < count; s++) make_strand(kind, s, strands[s]);
         for (int run = 0; run < 4; run++) {
             /* the paper's Nelder-Mead, then our Levenberg-Marquardt, 1 and 2 threads each */
-            const int method = run < 2 ? HK_CURVEFIT_NELDER_MEAD : HK_CURVEFIT_LEAST_SQUARES, threads = 1 + run % 2;
+            const hk_CurveFitMethod method = run < 2 ? HK_CURVEFIT_NELDER_MEAD : HK_CURVEFIT_LEAST_SQUARES;
+            const int threads = 1 + run % 2;
             hk_CurveFitOptions o = hk_default_curve_fit_options();
             o.method = method;
             Stats st = {0, 0, 0, 0, 0, 0};

@@ -154,7 +154,7 @@ static int parse_args(int argc, char **argv, SimArgs *a)
             a->run.damping = strcmp(optarg, "on") == 0;
             break;
         case OPT_INTEGRATOR:
-            if (strcmp(optarg, "auto") == 0) a->run.integrator = -1;
+            if (strcmp(optarg, "auto") == 0) a->run.integrator = HK_INTEGRATOR_AUTO;
             else if (strcmp(optarg, "trbdf2") == 0) a->run.integrator = HK_INTEGRATOR_TRBDF2;
             else if (strcmp(optarg, "euler") == 0) a->run.integrator = HK_INTEGRATOR_LINEAR_EULER;
             else return hk_cli_usage_error(CMD, "--integrator must be auto, trbdf2 or euler, got '%s'", optarg);

@@ -231,7 +231,7 @@ typedef struct Probe {
     long calls;
 } Probe;
 
-static double rosenbrock2(const double *x, void *user)
+static double rosenbrock2(void *user, const double *x)
 {
     ((Probe *)user)->calls++;
     const double a = 1.0 - x[0], b = x[1] - x[0] * x[0];
@@ -248,7 +248,7 @@ static void test_nm_rosenbrock(void **state)
     o.f_tolerance = 1e-20;
     o.max_evaluations = 5000;
     Probe p = {0};
-    hk_NelderMeadResult r;
+    hk_MinimizeResult r;
     assert_int_equal(hk_nelder_mead_minimize(2, x, scale, rosenbrock2, &p, &o, &r, NULL), HK_OK);
     assert_true(r.converged);
     assert_int_equal(r.evaluations, p.calls);
@@ -259,7 +259,7 @@ static void test_nm_rosenbrock(void **state)
                   r.iterations);
 }
 
-static double quadratic4(const double *x, void *user)
+static double quadratic4(void *user, const double *x)
 {
     (void)user;
     /* A rotated, badly scaled bowl: minimum 3 at (1, -2, 0.5, 4). */
@@ -280,7 +280,7 @@ static void test_nm_quadratic_4d(void **state)
     o.x_tolerance = 1e-10;
     o.f_tolerance = 1e-20;
     o.max_evaluations = 20000;
-    hk_NelderMeadResult r;
+    hk_MinimizeResult r;
     assert_int_equal(hk_nelder_mead_minimize(4, x, scale, quadratic4, NULL, &o, &r, NULL), HK_OK);
     assert_true(r.converged);
     const double c[4] = {1.0, -2.0, 0.5, 4.0};
@@ -290,7 +290,7 @@ static void test_nm_quadratic_4d(void **state)
 
 /* Undefined (NaN) left of x0 = 0.5 and infinite below x1 = -1: a bowl centred at the
  * corner of the defined region's edge. */
-static double walled(const double *x, void *user)
+static double walled(void *user, const double *x)
 {
     ((Probe *)user)->calls++;
     if (x[0] < 0.5) return NAN;
@@ -306,7 +306,7 @@ static void test_nm_nan_regions(void **state)
     hk_NelderMeadOptions o = hk_default_nelder_mead_options();
     o.max_evaluations = 3000;
     Probe p = {0};
-    hk_NelderMeadResult r;
+    hk_MinimizeResult r;
     assert_int_equal(hk_nelder_mead_minimize(2, x, scale, walled, &p, &o, &r, NULL), HK_OK);
     assert_true(p.calls <= 3000);
     /* The constrained minimum is the corner (0.5, -1). */
@@ -329,13 +329,13 @@ static void test_nm_nan_regions(void **state)
     hk_assert_near(z[0], 0.5, 1e-6);
 }
 
-static double overflowing(const double *x, void *user)
+static double overflowing(void *user, const double *x)
 {
     (void)user;
     return -x[0] * 1e300; /* decreases for ever: expansions overflow x */
 }
 
-static double constant(const double *x, void *user)
+static double constant(void *user, const double *x)
 {
     (void)x;
     ((Probe *)user)->calls++;
@@ -350,13 +350,13 @@ static void test_nm_limits_and_determinism(void **state)
     o.max_evaluations = 57;
     double x[2] = {-1.2, 1.0};
     Probe p = {0};
-    hk_NelderMeadResult r;
+    hk_MinimizeResult r;
     assert_int_equal(hk_nelder_mead_minimize(2, x, scale, rosenbrock2, &p, &o, &r, NULL), HK_OK);
     assert_int_equal(p.calls, 57);
     assert_int_equal(r.evaluations, 57);
     assert_false(r.converged);
     double y[2] = {-1.2, 1.0};
-    hk_NelderMeadResult r2;
+    hk_MinimizeResult r2;
     assert_int_equal(hk_nelder_mead_minimize(2, y, scale, rosenbrock2, &p, &o, &r2, NULL), HK_OK);
     assert_memory_equal(x, y, sizeof x);
     assert_true(r.f == r2.f);

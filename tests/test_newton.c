@@ -8,7 +8,7 @@
 #include "hairkit/statics.h"
 
 /* f = 1/2 (x - c)^T A (x - c) with A = [[4, 1, 0], [1, 3, 1], [0, 1, 2]]. */
-static double quadratic(const double *x, double *g, double *h, void *user)
+static double quadratic(void *user, const double *x, double *g, double *h)
 {
     (void)user;
     static const double a[3][3] = {{4, 1, 0}, {1, 3, 1}, {0, 1, 2}}, c[3] = {1, -2, 3};
@@ -39,7 +39,7 @@ static void test_quadratic_in_one_step(void **state)
     hk_assert_near(x[2], 3, 1e-12);
 }
 
-static double banana(const double *x, double *g, double *h, void *user)
+static double banana(void *user, const double *x, double *g, double *h)
 {
     (void)user;
     double a = 1 - x[0], b = x[1] - x[0] * x[0];
@@ -74,7 +74,7 @@ static void test_banana(void **state)
     }
 }
 
-static double not_finite(const double *x, double *g, double *h, void *user)
+static double not_finite(void *user, const double *x, double *g, double *h)
 {
     (void)x, (void)g, (void)h, (void)user;
     return NAN;

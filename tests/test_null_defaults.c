@@ -62,20 +62,20 @@ static void test_render(void **state)
 
 /* ---- minimisers ------------------------------------------------------------------ */
 
-static double bowl(const double *x, void *user)
+static double bowl(void *user, const double *x)
 {
     (void)user;
     return (x[0] - 1.0) * (x[0] - 1.0) + 2.0 * (x[1] + 0.5) * (x[1] + 0.5);
 }
 
-static double bowl_derivs(const double *x, double *grad, double *hess, void *user)
+static double bowl_derivs(void *user, const double *x, double *grad, double *hess)
 {
     if (grad) grad[0] = 2.0 * (x[0] - 1.0), grad[1] = 4.0 * (x[1] + 0.5);
     if (hess) hess[0] = 2.0, hess[1] = hess[2] = 0.0, hess[3] = 4.0;
-    return bowl(x, user);
+    return bowl(user, x);
 }
 
-static int bowl_residuals(const double *x, double *r, void *user)
+static int bowl_residuals(void *user, const double *x, double *r)
 {
     (void)user;
     r[0] = x[0] - 1.0, r[1] = sqrt(2.0) * (x[1] + 0.5);
@@ -103,7 +103,7 @@ static void test_minimizers(void **state)
     hk_assert_near(x[0], 1.0, 1e-6);
 
     const hk_NelderMeadOptions nm = hk_default_nelder_mead_options();
-    hk_NelderMeadResult n1, n2;
+    hk_MinimizeResult n1, n2;
     x[0] = x[1] = y[0] = y[1] = 0.0;
     assert_int_equal(hk_nelder_mead_minimize(2, x, scale, bowl, NULL, NULL, &n1, &err), HK_OK);
     assert_int_equal(hk_nelder_mead_minimize(2, y, scale, bowl, NULL, &nm, &n2, &err), HK_OK);
@@ -111,7 +111,7 @@ static void test_minimizers(void **state)
 
     const hk_LeastSquaresOptions lo = hk_default_least_squares_options();
     double work[HK_LEAST_SQUARES_WORK(2, 2)];
-    hk_LeastSquaresResult l1, l2;
+    hk_MinimizeResult l1, l2;
     x[0] = x[1] = y[0] = y[1] = 0.0;
     assert_int_equal(hk_least_squares_minimize(2, 2, x, scale, bowl_residuals, NULL, NULL, work, &l1, &err), HK_OK);
     assert_int_equal(hk_least_squares_minimize(2, 2, y, scale, bowl_residuals, NULL, &lo, work, &l2, &err), HK_OK);

@@ -117,7 +117,7 @@ static void probe_init(Probe *p, int n, double (*fn)(const double *, int), long 
     p->call_limit = call_limit;
 }
 
-static double probe_eval(const double *x, void *user)
+static double probe_eval(void *user, const double *x)
 {
     Probe *p = user;
     if (p->calls >= p->call_limit) fail_msg("objective called more than %ld times", p->call_limit);

@@ -55,6 +55,9 @@ typedef enum hk_DynamicsStiffness {
 } hk_DynamicsStiffness;
 
 typedef enum hk_DynamicsIntegrator {
+    /* In hk_SimRunOptions only: the integrator the hair simulation chooses
+     * (hk_default_hair_sim_options'); hk_DynamicsParams refuses it */
+    HK_INTEGRATOR_AUTO = -1,
     /* TR-BDF2 with Newton's iteration on every stage: second order, L-stable, every
      * force implicit, the energy guard on a still head; stable for long hair at the
      * paper's step (default) */

@@ -23,6 +23,7 @@
 #include "hairkit/io.h"
 #include "hairkit/mesh.h"
 #include "hairkit/motion.h"
+#include "hairkit/optimize.h"
 #include "hairkit/render.h"
 #include "hairkit/rng.h"
 #include "hairkit/rod.h"

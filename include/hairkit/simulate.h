@@ -154,9 +154,10 @@ typedef struct hk_SimRunOptions {
     int full_hair;            /* also DIR/frame_kkkk.hair, every strand */
     int hair_contacts;        /* guide-guide interactions (default 1) */
     int damping;              /* internal friction and air drag (default 1) */
-    int integrator;           /* -1 (default): hk_default_hair_sim_options' (the linear
-                                 Euler step); else an hk_DynamicsIntegrator, TR-BDF2 with
-                                 the O(N) solver or the linear Euler step with the dense one */
+    hk_DynamicsIntegrator integrator; /* HK_INTEGRATOR_AUTO (default): the hair
+                                 simulation's default (the linear Euler step); else TR-BDF2
+                                 with the O(N) solver or the linear Euler step with the
+                                 dense one */
     int video;                /* DIR/hair.mp4 with ffmpeg when installed (default 1) */
     int threads;              /* <= 0: all cores; the files do not depend on it */
     uint64_t seed;            /* of the interpolation */

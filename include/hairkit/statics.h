@@ -10,6 +10,7 @@
 
 #include "hairkit/core.h"
 #include "hairkit/export.h"
+#include "hairkit/optimize.h"
 #include "hairkit/rod.h"
 
 #ifdef __cplusplus
@@ -18,15 +19,7 @@ extern "C" {
 
 /* ---- generic minimisers ------------------------------------------------------- */
 
-/* Objective without derivatives: returns f(x) for x of the size given to the solver. */
-typedef double (*hk_ObjectiveFn)(const double *x, void *user);
-
-typedef struct hk_MinimizeResult {
-    double f;          /* objective at the returned x */
-    int iterations;    /* Rosenbrock: stages; Newton: Newton steps */
-    long evaluations;  /* objective evaluations (Newton: with derivatives or not) */
-    int converged;     /* 1 if the stopping test was met, 0 if a limit stopped it */
-} hk_MinimizeResult;
+/* hk_ObjectiveFn and hk_MinimizeResult: hairkit/optimize.h. */
 
 typedef struct hk_RosenbrockOptions {
     int max_stages;        /* MaxIter of the hairstyle file */
@@ -50,7 +43,7 @@ HK_API hk_Status hk_rosenbrock_minimize(int n, double *x, hk_ObjectiveFn f, void
 
 /* Objective with derivatives: returns f(x); fills grad (n) and hess (n x n, row-major)
  * when they are not NULL. */
-typedef double (*hk_DerivFn)(const double *x, double *grad, double *hess, void *user);
+typedef double (*hk_DerivFn)(void *user, const double *x, double *grad, double *hess);
 
 typedef struct hk_NewtonOptions {
     int max_iterations;   /* Newton steps (accepted or not) */

@@ -94,7 +94,7 @@ static double coupling_error(const double *x, Fit *F)
 
 /* Eq. (5): normalised coupling + lambda |k| (the root rotation is not penalised).
  * Model failure: +inf, which Nelder-Mead never accepts. */
-static double objective(const double *x, void *user)
+static double objective(void *user, const double *x)
 {
     Fit *F = user;
     return coupling_error(x, F) + F->opt->lambda * param_norm(F, x);
@@ -149,7 +149,7 @@ static hk_Vec3 join_residual(const Fit *F, const hk_CurveStart *end)
  * mean squared distance, and lambda k_j for the regularisation (the root rotation is not
  * penalised). The model is traced at the samples' spacing, so point i of both is at arc
  * length i h: on clean data the minimum is 0 at the true parameters, as the coupling's. */
-static int residuals(const double *x, double *r, void *user)
+static int residuals(void *user, const double *x, double *r)
 {
     Fit *F = user;
     hk_CurveStart end;
@@ -173,8 +173,8 @@ static int residual_count(const Fit *F) { return 3 * F->m + F->np + (has_join(F)
 static double start_cost(const double *x, void *user)
 {
     Fit *F = user;
-    if (F->opt->method == HK_CURVEFIT_NELDER_MEAD) return objective(x, F);
-    return residuals(x, F->ws->lsq, F) != 0 ? INFINITY : 0.5 * hk_dot(F->ws->lsq, F->ws->lsq, residual_count(F));
+    if (F->opt->method == HK_CURVEFIT_NELDER_MEAD) return objective(F, x);
+    return residuals(F, x, F->ws->lsq) != 0 ? INFINITY : 0.5 * hk_dot(F->ws->lsq, F->ws->lsq, residual_count(F));
 }
 
 /* The Levenberg-Marquardt settings of the fits for nx parameters: the fit's evaluation
@@ -195,7 +195,7 @@ hk_LeastSquaresOptions hk_cf_least_squares_options(const Fit *F, int nx)
 static hk_Status minimise_least_squares(Fit *F, int nx, double *x, const double *scale)
 {
     const hk_LeastSquaresOptions lo = hk_cf_least_squares_options(F, nx);
-    hk_LeastSquaresResult r;
+    hk_MinimizeResult r;
     return hk_least_squares_minimize(nx, residual_count(F), x, scale, residuals, F, &lo, F->ws->lsq, &r, NULL);
 }
 
@@ -210,7 +210,7 @@ static hk_Status minimise(Fit *F, int nx, double *x, const double *scale)
     nm.max_evaluations = F->opt->max_evaluations;
     nm.x_tolerance = F->opt->param_tolerance;
     nm.f_tolerance = F->opt->cost_tolerance;
-    hk_NelderMeadResult r;
+    hk_MinimizeResult r;
     hk_Status st = hk_nelder_mead_minimize(nx, x, scale, objective, F, &nm, &r, NULL);
     for (int k = 0; st == HK_OK && r.converged && k < F->opt->restarts &&
                     r.f - F->opt->lambda * param_norm(F, x) > F->opt->tolerance;

@@ -40,7 +40,7 @@ hk_NelderMeadOptions hk_default_nelder_mead_options(void)
 
 typedef struct Run {
     int n;
-    hk_CostFn f;
+    hk_ObjectiveFn f;
     void *user;
     long evaluations;
     long max_evaluations;
@@ -53,7 +53,7 @@ static double evaluate(Run *r, const double *x)
     r->evaluations++;
     for (int j = 0; j < r->n; j++)
         if (!isfinite(x[j])) return INFINITY;
-    const double v = r->f(x, r->user);
+    const double v = r->f(r->user, x);
     return isnan(v) ? INFINITY : v;
 }
 
@@ -77,7 +77,7 @@ static void sort_order(int m, const double *fv, int *order)
     }
 }
 
-static hk_Status check_args(int n, const double *x, const double *scale, hk_CostFn f,
+static hk_Status check_args(int n, const double *x, const double *scale, hk_ObjectiveFn f,
                             const hk_NelderMeadOptions *o, hk_Error *err)
 {
     if (n < 0 || n > NMAX)
@@ -98,8 +98,8 @@ static hk_Status check_args(int n, const double *x, const double *scale, hk_Cost
     return HK_OK;
 }
 
-hk_Status hk_nelder_mead_minimize(int n, double *x, const double *scale, hk_CostFn f, void *user,
-                                  const hk_NelderMeadOptions *options, hk_NelderMeadResult *result,
+hk_Status hk_nelder_mead_minimize(int n, double *x, const double *scale, hk_ObjectiveFn f, void *user,
+                                  const hk_NelderMeadOptions *options, hk_MinimizeResult *result,
                                   hk_Error *err)
 {
     const hk_NelderMeadOptions defaults = hk_default_nelder_mead_options();

@@ -117,7 +117,7 @@ static hk_Status check_options(const hk_CurveFitOptions *o, int np, hk_Error *er
     if (o->max_pieces < 1 || o->max_pieces > HK_CURVEFIT_MAX_PIECES)
         return BAD("max_pieces must be in 1..%d, got %d", HK_CURVEFIT_MAX_PIECES, o->max_pieces);
     if (o->method != HK_CURVEFIT_LEAST_SQUARES && o->method != HK_CURVEFIT_NELDER_MEAD)
-        return BAD("method must be HK_CURVEFIT_LEAST_SQUARES or HK_CURVEFIT_NELDER_MEAD, got %d", o->method);
+        return BAD("method must be HK_CURVEFIT_LEAST_SQUARES or HK_CURVEFIT_NELDER_MEAD, got %d", (int)o->method);
     if (o->max_evaluations < np + 1)
         return BAD("max_evaluations must be >= param_count + 1 = %d, got %d", np + 1, o->max_evaluations);
     if (o->samples != 0 && (o->samples < 2 || o->samples > HK_CURVEFIT_MAX_SAMPLES))

@@ -28,7 +28,7 @@ hk_SimRunOptions hk_default_sim_run_options(void)
     o.preroll_max = 5.0;
     o.hair_contacts = 1;
     o.damping = 1;
-    o.integrator = -1;
+    o.integrator = HK_INTEGRATOR_AUTO;
     o.video = 1;
     o.seed = 1;
     o.render = hk_default_render_options();

@@ -36,7 +36,7 @@ hk_Status hk_newton_minimize(int n, double *x, hk_DerivFn f, void *user, const d
     double *g = block, *gt = g + sn, *p = gt + sn, *xt = p + sn;
     double *h = xt + sn, *ht = h + sn * sn, *l = ht + sn * sn;
 
-    double fx = f(x, g, h, user);
+    double fx = f(user, x, g, h);
     res.evaluations = 1;
     hk_Status status = HK_OK;
     if (!isfinite(fx)) {
@@ -85,7 +85,7 @@ hk_Status hk_newton_minimize(int n, double *x, hk_DerivFn f, void *user, const d
             /* Once full steps are being accepted they usually go on being accepted:
              * then evaluate their derivatives right away. */
             const int eager = ls == 0 && last_full;
-            ft = f(xt, eager ? gt : NULL, eager ? ht : NULL, user);
+            ft = f(user, xt, eager ? gt : NULL, eager ? ht : NULL);
             res.evaluations++;
             if (isfinite(ft) && ft <= fx + 1e-4 * alpha * gp) {
                 accepted = 1;
@@ -113,7 +113,7 @@ hk_Status hk_newton_minimize(int n, double *x, hk_DerivFn f, void *user, const d
             swap = h;
             h = ht, ht = swap;
         } else {
-            fx = f(x, g, h, user);
+            fx = f(user, x, g, h);
             res.evaluations++;
         }
         res.iterations++;

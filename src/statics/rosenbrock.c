@@ -205,7 +205,7 @@ hk_Status hk_rosenbrock_minimize(int n, double *x, hk_ObjectiveFn f, void *user,
     memset(xi, 0, sn * sn * sizeof(double));
     for (size_t i = 0; i < sn; i++) xi[i * sn + i] = 1.0; /* first stage: the coordinate axes */
 
-    double fx = f(x, user);
+    double fx = f(user, x);
     res.evaluations = 1;
     if (!isfinite(fx)) {
         status = hk_error_set(err, HK_ERR_NUMERIC,
@@ -239,7 +239,7 @@ hk_Status hk_rosenbrock_minimize(int n, double *x, hk_ObjectiveFn f, void *user,
                     out_of_budget = 1;
                     break;
                 }
-                ft = f(xt, user);
+                ft = f(user, xt);
                 res.evaluations++;
             }
             if (isfinite(ft) && ft <= fx) {

@@ -12,13 +12,13 @@ typedef struct StrandProblem {
     hk_StrandWorkspace *ws;
 } StrandProblem;
 
-static double strand_value(const double *q, void *user)
+static double strand_value(void *user, const double *q)
 {
     const StrandProblem *pb = user;
     return hk_strand_energy(pb->sh, pb->env, q, pb->ws, NULL, NULL, NULL);
 }
 
-static double strand_derivs(const double *q, double *grad, double *hess, void *user)
+static double strand_derivs(void *user, const double *q, double *grad, double *hess)
 {
     const StrandProblem *pb = user;
     return hk_strand_energy(pb->sh, pb->env, q, pb->ws, grad, hess, NULL);
