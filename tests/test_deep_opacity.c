@@ -64,10 +64,11 @@ static void build_maps(const hk_HairFile *h, const hk_RenderOptions *o, hk_Light
     sc.light_dir = hk_v3(0, 1, 0);
     sc.lo = hk_v3(-0.05, -0.02, -0.05), sc.hi = hk_v3(0.05, 0.0, 0.05);
     sc.thickness = h->default_thickness;
+    sc.threads = hk_render_threads(o);
     hk_scene_thickness(&sc);
     uint8_t *seg = malloc(h->point_count);
     assert_non_null(seg);
-    sc.segment_count = hk_segment_starts(h, seg);
+    sc.segment_count = hk_segment_starts(h, seg, sc.threads);
     memset(m, 0, sizeof *m);
     hk_Error err;
     assert_int_equal(hk_light_maps_build(&sc, seg, m, NULL, &err), HK_OK);

@@ -6,7 +6,6 @@
 #include "hk_test.h"
 
 #include <math.h>
-#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -907,8 +906,7 @@ static unsigned char *run_bytes(int threads, size_t *size)
     hk_HairContactParams p = test_params();
     p.rescan_interval = 3;
     Strands st = random_strands(120, 40, 0.004, 0.06);
-    const int saved = omp_get_max_threads();
-    omp_set_num_threads(threads);
+    p.threads = threads;
     hk_HairContacts *c = make_contacts(st.g, &p);
     unsigned char *bytes = NULL;
     size_t used = 0;
@@ -926,7 +924,6 @@ static unsigned char *run_bytes(int threads, size_t *size)
         }
         small_motion(&st, 0.001);
     }
-    omp_set_num_threads(saved);
     hk_hair_contacts_destroy(c);
     strands_free(&st);
     *size = used;

@@ -54,6 +54,7 @@ static size_t origin_pixel(const hk_HairFile *h, const hk_Mesh *head, const hk_R
     hk_Scene sc;
     memset(&sc, 0, sizeof sc);
     sc.hair = h, sc.head = head, sc.vis = &v, sc.opt = o;
+    sc.threads = hk_render_threads(o);
     sc.lo = hk_v3(1e9, 1e9, 1e9), sc.hi = hk_v3(-1e9, -1e9, -1e9);
     for (uint32_t i = 0; i < h->point_count; i++) {
         hk_Vec3 q = hk_hair_point(h, i);

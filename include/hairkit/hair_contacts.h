@@ -65,6 +65,8 @@ typedef struct hk_HairContactParams {
                               at their closest points, so that strands side by side are held
                               along their length instead of at one point that jumps along
                               them from update to update; every update then rescans */
+    int threads;           /* OpenMP threads of the updates and forces; <= 0: the OpenMP
+                              default (the results do not depend on it) */
 } hk_HairContactParams;
 
 /* Defaults for the guides of a human head (20 cm guides with one hair's mass per
@@ -72,7 +74,7 @@ typedef struct hk_HairContactParams {
  * docs/dynamics.md, "Hair–hair contacts" for the reasoning):
  *   distance 5 mm, stiffness 0.5 N/m, damping 1e-3 N s/m, friction 1e-5 N s/m,
  *   friction_coefficient 0.3,
- *   root_exclusion 2 cm, rescan_interval 2.
+ *   root_exclusion 2 cm, rescan_interval 2, along 0, the default threads.
  * The dynamics depends on k / m, c_n / m and c_t / m: if a guide carries the mass of a
  * whole clump, scale the three coefficients by the same mass ratio. */
 HK_API hk_HairContactParams hk_default_hair_contact_params(void);

@@ -94,6 +94,10 @@ HK_API hk_Status hk_hair_sim_settle_until_still(hk_HairSim *sim, const hk_RigidS
                                                 double dt, const hk_SettleOptions *o,
                                                 hk_SettleReport *report, hk_Error *err);
 
+/* The threads of the next calls (options.threads; <= 0: the OpenMP default), and of the
+ * guide-guide contacts unless their own were set. The results do not depend on it. */
+HK_API void hk_hair_sim_set_threads(hk_HairSim *sim, int threads);
+
 HK_API int hk_hair_sim_guide_count(const hk_HairSim *sim);
 HK_API int hk_hair_sim_points_per_strand(const hk_HairSim *sim);
 
@@ -103,7 +107,8 @@ HK_API void hk_hair_sim_guides(const hk_HairSim *sim, double *out);
 /* The groom of the current frame: the guides as above and the interpolated strands
  * regrown from them (same seed: same roots and clumps every frame), kept out of the
  * body shapes where the head is at the end of the last step (docs/grooming.md). g is
- * filled (free with hk_groom_free). */
+ * filled (free with hk_groom_free). go NULL: the defaults; go->threads <= 0: the
+ * simulation's threads. */
 HK_API hk_Status hk_hair_sim_groom(const hk_HairSim *sim, const hk_Mesh *wick,
                                    const hk_GroomOptions *go, hk_Groom *g, hk_Error *err);
 

@@ -2,6 +2,7 @@
  * interactions"): the public API, its input checks and the schedule of the broad
  * phase (every rescan_interval updates) against the tracking of pairs in between
  * (temporal coherence, after Raghupathi et al. 2003). */
+#include <omp.h>
 #include <string.h>
 
 #include "hair_contacts_internal.h"
@@ -14,6 +15,7 @@
 hk_HairContactParams hk_default_hair_contact_params(void)
 {
     hk_HairContactParams p;
+    memset(&p, 0, sizeof p); /* along 0, the default threads */
     /* A guide stands for a clump of a few hundred hairs (paper 000 §4.2): 300 fibres
      * of 40 um radius loosely packed make a lock about 5 mm across. */
     p.distance = 0.005;
@@ -71,6 +73,13 @@ static hk_Status check_params(const hk_HairContactParams *p, hk_Error *err)
                             p->rescan_interval);
     return HK_OK;
 }
+
+int hk_hc_threads(const hk_HairContacts *c)
+{
+    return c->p.threads > 0 ? c->p.threads : omp_get_max_threads();
+}
+
+void hk_hc_set_threads(hk_HairContacts *c, int threads) { c->p.threads = threads; }
 
 hk_Status hk_hair_contacts_create(int strand_count, const hk_HairContactParams *p, hk_HairContacts **out,
                                   hk_Error *err)

@@ -120,6 +120,12 @@ struct hk_HairContacts {
     int last_update_rescanned;
 };
 
+/* The threads of the contacts' parallel loops: p.threads, or OpenMP's default. */
+int hk_hc_threads(const hk_HairContacts *c);
+
+/* Changes the threads of the next updates (the hair simulation's own change). */
+void hk_hc_set_threads(hk_HairContacts *c, int threads);
+
 /* Appends a pair (growing the array); 0 and err filled when out of memory. */
 int hk_hc_push_pair(hk_HcPair **array, int *count, int *cap, const hk_HcPair *p, hk_Error *err);
 

@@ -222,7 +222,7 @@ hk_Status hk_hc_track(hk_HairContacts *c, hk_Error *err)
     const int n = c->pair_count;
     /* Each walk reads the strands and writes its own pair: the result does not depend
      * on which thread does it. */
-#pragma omp parallel for schedule(static) reduction(+ : evaluations)
+#pragma omp parallel for schedule(static) reduction(+ : evaluations) num_threads(hk_hc_threads(c))
     for (int k = 0; k < n; k++) {
         hk_HcPair *p = &c->pairs[k];
         const hk_HcStrand *si = &c->views[p->i], *sj = &c->views[p->j];

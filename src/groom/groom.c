@@ -13,6 +13,11 @@ hk_GroomOptions hk_default_groom_options(void)
     return o;
 }
 
+int hk_groom_threads(const hk_GroomOptions *o)
+{
+    return o->threads > 0 ? o->threads : omp_get_max_threads();
+}
+
 void hk_groom_report(const hk_GroomOptions *o, const char *stage, long done, long total)
 {
     if (!o->progress || total <= 0) return;
@@ -35,8 +40,6 @@ hk_Status hk_groom_grow(const hk_HairstyleDef *style, const hk_Shape *shapes, in
 {
     memset(out, 0, sizeof *out);
     hk_GroomOptions o = options ? *options : hk_default_groom_options();
-    const int saved_threads = omp_get_max_threads();
-    if (o.threads > 0) omp_set_num_threads(o.threads);
     hk_Follicles f;
     /* The strand count and the memory it takes are known from the wick and the
      * hairstyle alone: refused here, before the guides are solved. */
@@ -51,7 +54,6 @@ hk_Status hk_groom_grow(const hk_HairstyleDef *style, const hk_Shape *shapes, in
         out->stats.seconds_strands = hk_seconds_now() - t1;
         hk_follicles_free(&f);
     }
-    if (o.threads > 0) omp_set_num_threads(saved_threads);
     if (st != HK_OK) hk_groom_free(out);
     return st;
 }
@@ -110,11 +112,8 @@ hk_Status hk_groom_interpolate_guides(const hk_HairstyleDef *style, const hk_Sha
         return hk_error_set(err, HK_ERR_INVALID, "%d guides for a wick of %d vertices", g->guide_count,
                             wick->vertex_count);
     hk_GroomOptions o = options ? *options : hk_default_groom_options();
-    const int saved_threads = omp_get_max_threads();
-    if (o.threads > 0) omp_set_num_threads(o.threads);
     const double t0 = hk_seconds_now();
     hk_Status st = hk_groom_interpolate(style, shapes, shape_count, wick, &o, g, err);
     g->stats.seconds_strands = hk_seconds_now() - t0;
-    if (o.threads > 0) omp_set_num_threads(saved_threads);
     return st;
 }

@@ -7,6 +7,9 @@
 /* Reports progress from thread 0 only (OpenMP), at most every 1/200 of the work. */
 void hk_groom_report(const hk_GroomOptions *o, const char *stage, long done, long total);
 
+/* The threads of the grooming's parallel loops: o->threads, or OpenMP's default. */
+int hk_groom_threads(const hk_GroomOptions *o);
+
 /* Solves one guide per follicle; fills g->guides, g->points_per_strand, stats. */
 hk_Status hk_groom_solve_guides(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
                                 const hk_Follicles *f, const hk_GroomOptions *o, hk_Groom *g, hk_Error *err);

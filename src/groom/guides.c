@@ -72,7 +72,8 @@ hk_Status hk_groom_solve_guides(const hk_HairstyleDef *style, const hk_Shape *sh
     double deepest = 0.0;
     hk_FirstError first;
     hk_first_error_init(&first);
-    #pragma omp parallel for schedule(dynamic, 4) reduction(+ : iterations, not_converged) reduction(max : deepest)
+    #pragma omp parallel for schedule(dynamic, 4) reduction(+ : iterations, not_converged) reduction(max : deepest) \
+        num_threads(hk_groom_threads(o))
     for (int i = 0; i < f->count; i++) {
         if (hk_first_error_skip(&first, i)) continue;
         long it = 0;

@@ -244,7 +244,7 @@ hk_Status hk_groom_interpolate(const hk_HairstyleDef *style, const hk_Shape *sha
         const double t = points > 1 ? (double)j / (points - 1) : 0.0;
         profile[j] = style->clump_profile == 1.0 ? t : pow(t, style->clump_profile);
     }
-    #pragma omp parallel for schedule(static)
+    #pragma omp parallel for schedule(static) num_threads(hk_groom_threads(o))
     for (int k = 0; k < g->guide_count; k++) {
         const double *guide = g->guides + (size_t)k * (size_t)points * 3;
         double *len = seg_len + (size_t)k * (size_t)points;
@@ -252,7 +252,7 @@ hk_Status hk_groom_interpolate(const hk_HairstyleDef *style, const hk_Shape *sha
         for (int j = 1; j < points; j++) len[j] = dist3(guide + 3 * j, guide + 3 * (j - 1));
     }
     long done = 0;
-    #pragma omp parallel for schedule(dynamic, 8)
+    #pragma omp parallel for schedule(dynamic, 8) num_threads(hk_groom_threads(o))
     for (int t = 0; t < nt; t++) {
         const int *tri = wick->triangles + 3 * t;
         const double *guide[3];

@@ -28,7 +28,7 @@ hk_Status hk_hair_shader_init(hk_HairShader *s, const hk_Scene *sc, const uint8_
      * after 2^31 pictures, rather than every picture). */
     if (s->colour_cap != kept || s->done > UINT32_MAX - 2) {
         hk_VertexColour *c = s->colour;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(sc->threads)
         for (long i = 0; i < (long)s->colour_cap; i++) atomic_init(&c[i].state, 0);
         s->done = 0;
     }
@@ -43,7 +43,7 @@ hk_Status hk_hair_shader_init(hk_HairShader *s, const hk_Scene *sc, const uint8_
         uniform = (uint64_t)h->first_point[k] == (uint64_t)k * len;
     s->strand_length = uniform ? len : 0;
     if (uniform) return HK_OK;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(sc->threads)
     for (long k = 0; k < (long)h->strand_count; k++)
         for (uint32_t i = h->first_point[k]; i < h->first_point[k + 1]; i++) s->strand_of[i] = (uint32_t)k;
     return HK_OK;

@@ -181,7 +181,12 @@ typedef struct hk_Scene {
      * of three dependent loads a segment. */
     const float *thickness_point;
     double thickness_fixed;
+    int threads; /* OpenMP threads of every parallel loop: opt->threads, or OpenMP's
+                    default when that is <= 0 (hk_render_threads) */
 } hk_Scene;
+
+/* The threads a picture is drawn with: options->threads, or OpenMP's default. */
+int hk_render_threads(const hk_RenderOptions *options);
 
 static inline void hk_scene_thickness(hk_Scene *s)
 {
@@ -204,7 +209,7 @@ static inline hk_Vec3 hk_hair_point(const hk_HairFile *h, uint32_t i)
 /* Segment i starts at point i; valid unless i is the last point of its strand:
  * s[0 .. point_count) set to 1 where a segment starts, 0 elsewhere; returns their
  * number. */
-uint32_t hk_segment_starts(const hk_HairFile *hair, uint8_t *s);
+uint32_t hk_segment_starts(const hk_HairFile *hair, uint8_t *s, int threads);
 
 /* hk_render's checks of its options, and the scene's bounding box (render.c). */
 hk_Status hk_render_check_options(const hk_RenderOptions *o, hk_Error *err);

@@ -9,6 +9,7 @@
 #include "hairkit/simulate.h"
 #include "hairkit/statics.h"
 #include "dynamics/hair_contact_solve.h"
+#include "dynamics/hair_contacts_internal.h"
 #include "sim_internal.h"
 
 struct hk_HairSim {
@@ -120,12 +121,18 @@ static hk_Status make_guide(hk_HairSim *sim, const hk_Follicles *f, int i, hk_Er
     return st;
 }
 
+/* The threads of the simulation's parallel loops: options.threads, or OpenMP's default. */
+static int sim_threads(const hk_HairSim *sim)
+{
+    return sim->options.threads > 0 ? sim->options.threads : omp_get_max_threads();
+}
+
 static hk_Status make_guides(hk_HairSim *sim, const hk_Follicles *f, hk_Error *err)
 {
     hk_FirstError first;
     hk_first_error_init(&first);
     long done = 0;
-    #pragma omp parallel for schedule(dynamic, 2)
+    #pragma omp parallel for schedule(dynamic, 2) num_threads(sim_threads(sim))
     for (int i = 0; i < f->count; i++) {
         if (hk_first_error_skip(&first, i)) continue;
         hk_Error e;
@@ -157,7 +164,10 @@ static hk_Status make_contacts(hk_HairSim *sim, hk_Error *err)
         const size_t o = (size_t)i * (size_t)sim->sample_count;
         sim->samples[i] = (hk_StrandSamples){sim->sample_count, sim->sample_s, sim->sample_pos + o, sim->sample_vel + o};
     }
-    hk_Status st = hk_hair_contacts_create(sim->guide_count, &sim->options.contacts, &sim->contacts, err);
+    /* The contacts' threads follow the simulation's unless they are set. */
+    hk_HairContactParams params = sim->options.contacts;
+    if (params.threads <= 0) params.threads = sim->options.threads;
+    hk_Status st = hk_hair_contacts_create(sim->guide_count, &params, &sim->contacts, err);
     if (st == HK_OK) st = hk_contact_solve_create(sim->guide_count, &sim->contact_solve, err);
     return st;
 }
@@ -186,10 +196,7 @@ hk_Status hk_hair_sim_create(const hk_HairstyleDef *style, const hk_Shape *shape
         sim->dyn = hk_calloc_array((size_t)f.count, sizeof(hk_StrandDynamics *), err);
         if (!sim->strand || !sim->dyn) st = HK_ERR_NOMEM;
     }
-    const int saved_threads = omp_get_max_threads();
-    if (sim->options.threads > 0) omp_set_num_threads(sim->options.threads);
     if (st == HK_OK) st = make_guides(sim, &f, err);
-    if (sim->options.threads > 0) omp_set_num_threads(saved_threads);
     if (st == HK_OK) {
         sim->points = hk_superhelix_sample_count(sim->strand[0], sim->style.visuality_step);
         if (sim->options.hair_contacts) st = make_contacts(sim, err);
@@ -201,6 +208,12 @@ hk_Status hk_hair_sim_create(const hk_HairstyleDef *style, const hk_Shape *shape
     }
     *out = sim;
     return HK_OK;
+}
+
+void hk_hair_sim_set_threads(hk_HairSim *sim, int threads)
+{
+    sim->options.threads = threads;
+    if (sim->contacts && sim->options.contacts.threads <= 0) hk_hc_set_threads(sim->contacts, threads);
 }
 
 int hk_hair_sim_guide_count(const hk_HairSim *sim) { return sim->guide_count; }
@@ -314,7 +327,7 @@ hk_SettleOptions hk_default_settle_options(void)
 /* The guides' tips, world space. */
 static void guide_tips(hk_HairSim *sim, hk_Vec3 *tip)
 {
-    #pragma omp parallel for schedule(static)
+    #pragma omp parallel for schedule(static) num_threads(sim_threads(sim))
     for (int i = 0; i < sim->guide_count; i++) {
         const hk_SuperHelix *sh = sim->strand[i];
         const double end = sh->s_start[sh->n - 1] + sh->length[sh->n - 1];
@@ -337,8 +350,6 @@ hk_Status hk_hair_sim_settle_until_still(hk_HairSim *sim, const hk_RigidState *h
     const long least = (long)ceil(o->seconds / dt - 1e-9), most = (long)ceil(o->max_seconds / dt - 1e-9);
     hk_Vec3 *tips = hk_alloc_array(2 * (size_t)sim->guide_count, sizeof(hk_Vec3), err);
     if (!tips) return HK_ERR_NOMEM;
-    const int threads = omp_get_max_threads();
-    if (sim->options.threads > 0) omp_set_num_threads(sim->options.threads);
     hk_Vec3 *before = tips, *after = tips + sim->guide_count;
     long steps = 0;
     int resting = 0;
@@ -356,7 +367,6 @@ hk_Status hk_hair_sim_settle_until_still(hk_HairSim *sim, const hk_RigidState *h
         hk_Vec3 *swap = before; /* this step's end is the next one's start */
         before = after, after = swap;
     }
-    if (sim->options.threads > 0) omp_set_num_threads(threads);
     hk_free(tips);
     if (report) {
         report->seconds = (double)steps * dt;
@@ -374,8 +384,7 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
     memset(&local, 0, sizeof local);
     hk_RigidState head = hk_rigid_identity();
     if (head_fn) head_fn(user, t, &head);
-    const int saved_threads = omp_get_max_threads();
-    if (sim->options.threads > 0) omp_set_num_threads(sim->options.threads);
+    const int threads = sim_threads(sim);
     /* Guide-guide interactions (paper 000 §4.1): the pairs from the state at t. With the
      * linearly implicit Euler step (the default) their impulses are solved over all
      * guides together with static friction (dynamics/hair_contact_solve.h), then held
@@ -393,7 +402,7 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
     hk_RigidState head_end = hk_rigid_identity();
     if (head_fn) head_fn(user, t + dt, &head_end);
     if (sim->contacts) {
-        #pragma omp parallel for schedule(static)
+        #pragma omp parallel for schedule(static) num_threads(threads)
         for (int i = 0; i < sim->guide_count; i++) {
             const size_t o = (size_t)i * (size_t)sim->sample_count;
             hk_strand_dynamics_points(sim->dyn[i], &head, sim->sample_s, sim->sample_count, sim->sample_pos + o,
@@ -418,7 +427,8 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
     hk_FirstError first;
     hk_first_error_init(&first);
     if (st == HK_OK) {
-        #pragma omp parallel for schedule(dynamic, 4) reduction(+ : substeps, body, recovered, iterations)
+        #pragma omp parallel for schedule(dynamic, 4) reduction(+ : substeps, body, recovered, iterations) \
+            num_threads(threads)
         for (int i = 0; i < sim->guide_count; i++) {
             int count = 0, taken = 0;
             hk_Error e;
@@ -458,7 +468,6 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
             hk_free(own);
         }
     }
-    if (sim->options.threads > 0) omp_set_num_threads(saved_threads);
     if (st == HK_OK && first.index >= 0)
         st = hk_error_set(err, first.error.code, "guide %ld at t = %.4g s: %s", first.index, t, first.error.message);
     if (st == HK_OK) {
@@ -476,7 +485,7 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
 
 void hk_hair_sim_guides(const hk_HairSim *sim, double *out)
 {
-    #pragma omp parallel for schedule(static)
+    #pragma omp parallel for schedule(static) num_threads(sim_threads(sim))
     for (int i = 0; i < sim->guide_count; i++) {
         hk_Vec3 buf[512], *p = sim->points <= 512 ? buf : hk_alloc_array((size_t)sim->points, sizeof(hk_Vec3), NULL);
         if (!p) continue;
@@ -502,7 +511,9 @@ hk_Status hk_hair_sim_groom(const hk_HairSim *sim, const hk_Mesh *wick, const hk
     hk_hair_sim_guides(sim, g->guides);
     /* The strands are kept out of the body where it is now: the shapes go where the
      * head took them (the guides, and so the strands, are in world space). */
-    hk_Status st = hk_sim_interpolate_posed(&sim->style, sim->shapes, sim->shape_count, &sim->head, wick, go, g, err);
+    hk_GroomOptions o = go ? *go : hk_default_groom_options();
+    if (o.threads <= 0) o.threads = sim->options.threads;
+    hk_Status st = hk_sim_interpolate_posed(&sim->style, sim->shapes, sim->shape_count, &sim->head, wick, &o, g, err);
     if (st != HK_OK) hk_groom_free(g);
     return st;
 }

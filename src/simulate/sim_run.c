@@ -74,6 +74,7 @@ typedef struct Run {
     hk_RenderOptions ro;  /* the camera fixed at frame 0 */
     hk_Groom groom;       /* the guides being stepped (guides array only) */
     FrameJob jobs[MAX_AT_ONCE];
+    int threads;          /* the run's threads (options, or OpenMP's default) */
     int at_once;          /* jobs in use */
     double t_frames;      /* when the first frame began */
     hk_SimProgress p;
@@ -180,7 +181,7 @@ static hk_Status create_sim(Run *r, hk_Error *err)
 {
     const hk_SimRunOptions *o = r->o;
     hk_HairSimOptions so = hk_default_hair_sim_options(&r->scene.style);
-    so.threads = 0; /* the calling thread's: hk_simulation_run sets them, fewer while frames are drawn */
+    so.threads = r->threads; /* all of them until frame 0 is drawn, then fewer (hk_hair_sim_set_threads) */
     so.hair_contacts = o->hair_contacts;
     if (!o->damping) so.dynamics.internal_friction = so.dynamics.air_drag = 0.0;
     if (o->integrator == HK_INTEGRATOR_TRBDF2) {
@@ -271,9 +272,6 @@ static void *frame_job(void *arg)
     FrameJob *j = arg;
     Run *r = j->run;
     const hk_SimRunOptions *o = r->o;
-    /* A setting of the calling thread's own (libgomp keeps one per thread). */
-    const int saved_threads = omp_get_max_threads();
-    omp_set_num_threads(j->threads);
     double t0 = omp_get_wtime();
     const hk_RigidState head = hk_sim_head_pose(o->motion, j->t);
     j->st = hk_sim_grow_hair(&r->scene.style, r->scene.shapes, r->scene.shape_count, &head, &r->scene.wick, o->seed, j->threads, 0, 1,
@@ -285,7 +283,6 @@ static void *frame_job(void *arg)
         j->seconds_write += omp_get_wtime() - t0;
     }
     if (j->st == HK_OK) j->st = render_frame(j, &j->hair);
-    omp_set_num_threads(saved_threads);
     return NULL;
 }
 
@@ -402,11 +399,10 @@ hk_Status hk_simulation_run(const char *setup_path, const char *dir, const hk_Si
     r.o = options;
     r.ro = options->render;
     r.p.frames = options->frames;
-    /* The threads of this thread's OpenMP loops (the statics, the preroll, the steps),
-     * set here and given back at the end. */
-    const int saved_threads = omp_get_max_threads();
-    const int threads = options->threads > 0 ? options->threads : saved_threads;
-    omp_set_num_threads(threads);
+    /* The threads of the statics, the preroll and the steps (every loop is given its
+     * threads: nothing is set for the calling thread). */
+    const int threads = options->threads > 0 ? options->threads : omp_get_max_threads();
+    r.threads = threads;
     r.at_once = threads >= MAX_AT_ONCE ? MAX_AT_ONCE : 1;
     const int job_threads = threads / r.at_once;
     /* While frames are drawn, the steps take the threads the jobs leave (at least one). */
@@ -438,10 +434,9 @@ hk_Status hk_simulation_run(const char *setup_path, const char *dir, const hk_Si
             r.p.recovered += stats.recovered;
         }
         if (st == HK_OK) st = write_frame(&r, k, t, k == 0 ? threads : job_threads, err);
-        if (k == 0) omp_set_num_threads(step_threads);
+        if (k == 0 && r.sim) hk_hair_sim_set_threads(r.sim, step_threads);
     }
     st = collect_all(&r, k, st, err);
-    omp_set_num_threads(saved_threads);
     r.p.seconds = omp_get_wtime() - r.t_frames;
     if (st == HK_OK && options->video && !options->guides_only) {
         char video[4096];
