@@ -14,7 +14,7 @@ int hk_bench_groom(FILE *out, const hk_BenchOptions *options)
 {
     hk_Scene sc;
     if (hk_bench_scene_load(options, "default", "groom", HK_SCENE_GROOMING, &sc)) return 1;
-    const hk_HairstyleDef style = sc.style;
+    const hk_Hairstyle style = sc.style;
     const hk_Shape *shapes = sc.shapes;
     const int shape_count = sc.shape_count;
     const hk_Mesh wick = sc.wick;
@@ -25,7 +25,7 @@ int hk_bench_groom(FILE *out, const hk_BenchOptions *options)
     int rc = 0;
     double total[3] = {0, 0, 0};
     for (int threads = 1; threads <= 2; threads++) {
-        hk_GroomOptions o = hk_default_groom_options();
+        hk_GroomDef o = hk_default_groom_def();
         o.threads = threads;
         const int reps = options->quick ? 1 : 3;
         double best = 1e30, best_g = 0, best_s = 0, best_save = 0;

@@ -76,7 +76,7 @@ static double fit_run(long n, int threads, int method, double *mean_error, doubl
             h.length[0] = 0.1;
             hk_Vec3 pts[30];
             hk_CurveFit report;
-            hk_CurveFitOptions opt = hk_helicoid_fit_options();
+            hk_CurveFitDef opt = hk_default_helicoid_fit_def();
             opt.method = (hk_CurveFitMethod)method;
             if (f && hk_phelicoid_trace(&h, 0.1 / 29.0, NULL, NULL, pts, NULL, NULL) == HK_OK &&
                 hk_helicoid_fit(f, pts, 30, &opt, &fit, &report, NULL) == HK_OK) {
@@ -108,7 +108,7 @@ static void reconstruct_run(const hk_PHelicoid *guides, long n, int fixed_pieces
         hk_PHelicoid h;
         hk_phelicoid_interpolate(guides, 9, patch_root(i), NULL, 3.0, &h, NULL);
         hk_phelicoid_trace(&h, hk_phelicoid_length(&h) / (P - 1), NULL, NULL, original[i], NULL, NULL);
-        hk_CurveFitOptions opt = hk_helicoid_fit_options();
+        hk_CurveFitDef opt = hk_default_helicoid_fit_def();
         opt.fixed_pieces = fixed_pieces;
         opt.piece_length = piece_length;
         opt.root_piece_length = root_piece;

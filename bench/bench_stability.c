@@ -63,7 +63,7 @@ static const int quick_strands[] = {2, 7};
 static const int quick_motions[] = {0, 1, 2, 7};
 
 typedef struct StrandRef {
-    hk_HairstyleDef def; /* the type's file with its HairLengths replaced */
+    hk_Hairstyle def; /* the type's file with its HairLengths replaced */
     double rest;         /* the statics minimum of the potential (no body) */
     int ok;
 } StrandRef;
@@ -112,8 +112,8 @@ static int strand_ref(const hk_BenchOptions *options, const Strand *st, StrandRe
     hk_free(ref->def.element_lengths);
     ref->def.element_lengths = lengths;
     ref->def.element_count = st->n;
-    const hk_StrandEnv env = hk_default_strand_env();
-    const hk_StaticsOptions opt = hk_default_statics_options();
+    const hk_StrandEnvDef env = hk_default_strand_env_def();
+    const hk_StaticsDef opt = hk_default_statics_def();
     hk_MinimizeResult res;
     if (hk_superhelix_from_hairstyle(&ref->def, hk_v3(0, 0, 0), hk_v3(1, 0, 0), &sh, &err) != HK_OK ||
         hk_statics_solve(sh, &env, &opt, &res, &err) != HK_OK || hk_strand_workspace_create(sh, &env, &ws, &err) != HK_OK)
@@ -142,7 +142,7 @@ static void run_cell(const hk_BenchOptions *options, const StrandRef *ref, doubl
     c->failed_at = c->gave_up_at = 0.0;
     c->energy = c->evaluations = c->wall = NAN;
     c->error[0] = '\0';
-    hk_DynamicsParams params = hk_dynamics_params_for(&ref->def);
+    hk_DynamicsDef params = hk_dynamics_def_for(&ref->def);
     if (c->motion == UNDAMPED_ROW) params.internal_friction = params.air_drag = 0.0;
     params.solver = HK_DYNAMICS_LINEAR;
     params.stiffness = HK_STIFFNESS_GAUSS_NEWTON;

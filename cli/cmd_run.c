@@ -42,8 +42,8 @@ int hk_cmd_run(int argc, char **argv)
         HK_CLI_RENDER_LONG_OPTIONS,               {NULL, 0, NULL, 0},
     };
     const char *output = NULL, *hair_out = NULL;
-    hk_RenderOptions ro = hk_default_render_options();
-    hk_GroomOptions go = hk_default_groom_options();
+    hk_RenderDef ro = hk_default_render_def();
+    hk_GroomDef go = hk_default_groom_def();
     int quiet = 0, c;
     optind = 1;
     opterr = 0;

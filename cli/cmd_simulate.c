@@ -76,7 +76,7 @@ typedef struct SimArgs {
     long frames, frame;
     double fps;
     int quiet;
-    hk_SimRunOptions run;
+    hk_SimRunDef run;
     hk_CliMotion motion;
 } SimArgs;
 
@@ -106,7 +106,7 @@ static int parse_args(int argc, char **argv, SimArgs *a)
     };
     memset(a, 0, sizeof *a);
     a->frame = -1;
-    a->run = hk_default_sim_run_options();
+    a->run = hk_default_sim_run_def();
     a->motion = hk_cli_default_motion();
     optind = 1;
     opterr = 0;
@@ -140,7 +140,7 @@ static int parse_args(int argc, char **argv, SimArgs *a)
         case OPT_NO_CONTACTS: a->run.hair_contacts = 0; break;
         case OPT_PREROLL:
             if (strcmp(optarg, "auto") == 0) {
-                const hk_SimRunOptions def = hk_default_sim_run_options();
+                const hk_SimRunDef def = hk_default_sim_run_def();
                 a->run.preroll = def.preroll, a->run.preroll_max = def.preroll_max;
                 break;
             }

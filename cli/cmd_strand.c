@@ -190,7 +190,7 @@ int hk_cmd_strand(int argc, char **argv)
     if (rc) return rc < 0 ? HK_EXIT_OK : rc;
 
     hk_Error err;
-    hk_HairstyleDef def;
+    hk_Hairstyle def;
     hk_Shape *shapes = NULL;
     int shape_count = 0;
     hk_SuperHelix *sh = NULL;
@@ -208,7 +208,7 @@ int hk_cmd_strand(int argc, char **argv)
         hk_cli_fail(CMD, &err);
         goto done;
     }
-    hk_StrandEnv env = hk_default_strand_env();
+    hk_StrandEnvDef env = hk_default_strand_env_def();
     env.shapes = shapes;
     env.shape_count = shape_count;
     env.envelope_alpha = a.envelope;
@@ -220,9 +220,9 @@ int hk_cmd_strand(int argc, char **argv)
         goto done;
     }
 
-    hk_StaticsOptions opt = hk_default_statics_options();
+    hk_StaticsDef opt = hk_default_statics_def();
     opt.solver = a.solver;
-    opt.rosenbrock = hk_rosenbrock_options_for(&def);
+    opt.rosenbrock = hk_rosenbrock_def_for(&def);
     hk_MinimizeResult res;
     const double t0 = hk_seconds_now();
     if (hk_statics_solve(sh, &env, &opt, &res, &err) != HK_OK) {

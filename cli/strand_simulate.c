@@ -28,8 +28,8 @@ static int write_tip(FILE *fp, double t, const hk_SuperHelix *sh)
     return fprintf(fp, "%.10g,%.10g,%.10g,%.10g\n", t, tip.x, tip.y, tip.z) > 0;
 }
 
-int hk_cli_strand_simulate(const char *cmd, const hk_CliStrandSim *sim, const hk_HairstyleDef *def,
-                           hk_SuperHelix *sh, const hk_StrandEnv *env, const char *plot,
+int hk_cli_strand_simulate(const char *cmd, const hk_CliStrandSim *sim, const hk_Hairstyle *def,
+                           hk_SuperHelix *sh, const hk_StrandEnvDef *env, const char *plot,
                            const hk_Shape *shapes, int shape_count)
 {
     hk_Error err;
@@ -40,7 +40,7 @@ int hk_cli_strand_simulate(const char *cmd, const hk_CliStrandSim *sim, const hk
     hk_Vec3 *p = NULL;
     int status = HK_EXIT_FAIL;
 
-    hk_DynamicsParams params = hk_dynamics_params_for(def);
+    hk_DynamicsDef params = hk_dynamics_def_for(def);
     if (!sim->damping) params.internal_friction = params.air_drag = 0.0;
     params.solver = sim->dense ? HK_DYNAMICS_DENSE : HK_DYNAMICS_LINEAR;
     params.stiffness = sim->dense ? HK_STIFFNESS_FULL : HK_STIFFNESS_GAUSS_NEWTON;

@@ -38,9 +38,9 @@ static void make_wick(hk_Mesh *m)
     hk_mesh_compute_normals(m);
 }
 
-static hk_HairstyleDef make_style(double gravity, double helix_radius)
+static hk_Hairstyle make_style(double gravity, double helix_radius)
 {
-    hk_HairstyleDef s = hk_default_hairstyle();
+    hk_Hairstyle s = hk_default_hairstyle();
     static double lengths[4] = {0.02, 0.02, 0.02, 0.02};
     s.element_count = 4;
     s.element_lengths = lengths; /* not freed: static */
@@ -70,8 +70,8 @@ static void test_straight_guides_follow_normals(void **state)
     /* No gravity, no curl: every guide is the straight line along its follicle normal. */
     hk_Mesh wick;
     make_wick(&wick);
-    hk_HairstyleDef style = make_style(0.0, 0.0);
-    hk_GroomOptions o = hk_default_groom_options();
+    hk_Hairstyle style = make_style(0.0, 0.0);
+    hk_GroomDef o = hk_default_groom_def();
     hk_Groom g;
     hk_Error err;
     assert_int_equal(hk_groom_grow(&style, NULL, 0, &wick, &o, &g, &err), HK_OK);
@@ -92,8 +92,8 @@ static void test_roots_counts_lengths(void **state)
     (void)state;
     hk_Mesh wick;
     make_wick(&wick);
-    hk_HairstyleDef style = make_style(9.81, 0.01);
-    hk_GroomOptions o = hk_default_groom_options();
+    hk_Hairstyle style = make_style(9.81, 0.01);
+    hk_GroomDef o = hk_default_groom_def();
     hk_Groom g;
     hk_Error err;
     assert_int_equal(hk_groom_grow(&style, NULL, 0, &wick, &o, &g, &err), HK_OK);
@@ -155,10 +155,10 @@ static void test_deterministic_across_threads(void **state)
     (void)state;
     hk_Mesh wick;
     make_wick(&wick);
-    hk_HairstyleDef style = make_style(9.81, 0.01);
+    hk_Hairstyle style = make_style(9.81, 0.01);
     hk_Groom a, b, c;
     hk_Error err;
-    hk_GroomOptions o = hk_default_groom_options();
+    hk_GroomDef o = hk_default_groom_def();
     o.seed = 42;
     o.threads = 1;
     assert_int_equal(hk_groom_grow(&style, NULL, 0, &wick, &o, &a, &err), HK_OK);
@@ -193,8 +193,8 @@ static void test_first_failing_guide_reported(void **state)
     const int bad[3] = {41, 17, 30};
     for (int k = 0; k < 3; k++) normal[bad[k]] = hk_v3_zero();
     const hk_Follicles f = {COUNT, position, normal, alpha};
-    hk_HairstyleDef style = make_style(9.81, 0.01);
-    hk_GroomOptions o = hk_default_groom_options();
+    hk_Hairstyle style = make_style(9.81, 0.01);
+    hk_GroomDef o = hk_default_groom_def();
     char expected[128];
     snprintf(expected, sizeof expected, "guide 18 (follicle at %.4g, %.4g, %.4g): root direction must be a non-zero",
              position[17].x, position[17].y, position[17].z);
@@ -264,9 +264,9 @@ static void test_semi_interpolation(void **state)
      * nearest guide, translated to its own root. */
     hk_Mesh wick;
     make_wick(&wick);
-    hk_HairstyleDef style = make_style(9.81, 0.01);
+    hk_Hairstyle style = make_style(9.81, 0.01);
     style.max_tip_distance = 1e-9;
-    hk_GroomOptions o = hk_default_groom_options();
+    hk_GroomDef o = hk_default_groom_def();
     hk_Groom g;
     hk_Error err;
     assert_int_equal(hk_groom_grow(&style, NULL, 0, &wick, &o, &g, &err), HK_OK);
@@ -311,13 +311,13 @@ static void test_huge_wick_refused(void **state)
     const int tris[6] = {0, 2, 1, 1, 2, 3};
     memcpy(wick.triangles, tris, sizeof tris);
     hk_mesh_compute_normals(&wick);
-    hk_HairstyleDef style = make_style(9.81, 0.0);
+    hk_Hairstyle style = make_style(9.81, 0.0);
     hk_Groom g;
     memset(&g, 0, sizeof g);
     g.guide_count = 4, g.points_per_strand = 2;
     g.guides = calloc(4 * 2 * 3, sizeof(double));
     assert_non_null(g.guides);
-    hk_GroomOptions o = hk_default_groom_options();
+    hk_GroomDef o = hk_default_groom_def();
     assert_int_equal(hk_groom_interpolate_guides(&style, NULL, 0, &wick, &o, &g, &err), HK_ERR_INVALID);
     hk_assert_contains(err.message, "HairDensity 300");
     hk_assert_contains(err.message, "more than 100000000 strands");
@@ -339,7 +339,7 @@ static void test_memory_budget(void **state)
     (void)state;
     hk_Mesh wick;
     make_wick(&wick);
-    hk_HairstyleDef style = make_style(9.81, 0.0);
+    hk_Hairstyle style = make_style(9.81, 0.0);
     hk_Error err;
     long strands = 0;
     unsetenv(HK_MEMORY_LIMIT_ENV);

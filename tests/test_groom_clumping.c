@@ -52,7 +52,7 @@
 enum { MAX_POINTS = 64 };
 
 typedef struct Head {
-    hk_HairstyleDef style;
+    hk_Hairstyle style;
     hk_Mesh wick;
     hk_Groom g;
     double profile[MAX_POINTS]; /* t^ClumpProfile at every sample */
@@ -73,7 +73,7 @@ static Head *grow_head(void)
     h->style.max_tip_distance = 0.0; /* the plain blend */
     /* The documented values this test's references use. */
     assert_true(h->style.clump == 0.25 && h->style.clump_profile == 1.5 && !h->style.stray_hairs);
-    hk_GroomOptions o = hk_default_groom_options();
+    hk_GroomDef o = hk_default_groom_def();
     o.keep_outside = 0;
     assert_int_equal(hk_groom_grow(&h->style, shapes, shape_count, &h->wick, &o, &h->g, &err), HK_OK);
     assert_true(h->g.strand_count > 20000 && h->g.points_per_strand == 41);

@@ -19,7 +19,7 @@
 #include "hairkit/groom.h"
 
 typedef struct Head {
-    hk_HairstyleDef style;
+    hk_Hairstyle style;
     hk_Shape *shapes, *body;
     int shape_count, body_count;
     hk_Mesh wick;
@@ -43,7 +43,7 @@ static int load_head(void **state)
     assert_int_equal(hk_groom_body_shapes(h->shapes, h->shape_count, &h->body, &h->body_count, &err), HK_OK);
     /* The head, the face and the neck; the sphere before the face is styling. */
     assert_int_equal(h->body_count, 3);
-    hk_GroomOptions o = hk_default_groom_options();
+    hk_GroomDef o = hk_default_groom_def();
     o.threads = 1;
     assert_int_equal(hk_groom_grow(&h->style, h->shapes, h->shape_count, &h->wick, &o, &h->groom, &err), HK_OK);
     assert_true(h->groom.strand_count > 20000);
@@ -75,7 +75,7 @@ static void regrow(const Head *h, int keep_outside, int threads, double sag, hk_
     assert_non_null(g->guides);
     memcpy(g->guides, h->groom.guides, values * sizeof(double));
     for (size_t v = 1; v < values; v += 3) g->guides[v] -= sag * (double)((v / 3) % n) / (n - 1);
-    hk_GroomOptions o = hk_default_groom_options();
+    hk_GroomDef o = hk_default_groom_def();
     o.keep_outside = keep_outside;
     o.threads = threads;
     hk_Error err;

@@ -28,7 +28,7 @@ static double tip_distance(const double *guide_tip, const float *tip)
 static void test_tips_near_their_guides(void **state)
 {
     (void)state;
-    hk_HairstyleDef style;
+    hk_Hairstyle style;
     hk_Shape *shapes = NULL;
     int shape_count = 0;
     hk_Mesh wick;
@@ -38,7 +38,7 @@ static void test_tips_near_their_guides(void **state)
                      HK_OK);
     assert_int_equal(hk_obj_load(HK_SOURCE_DIR "/assets/wick.obj", &wick, &err), HK_OK);
     style.hair_density = 50.0; /* about 25,000 strands */
-    hk_GroomOptions o = hk_default_groom_options();
+    hk_GroomDef o = hk_default_groom_def();
     hk_Groom g;
     assert_int_equal(hk_groom_grow(&style, shapes, shape_count, &wick, &o, &g, &err), HK_OK);
     assert_true(g.strand_count > 20000);

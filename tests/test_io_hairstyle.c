@@ -64,7 +64,7 @@ static const char *const full_hairstyle = "VisualityStep 0.0025\n"              
                                           "GravityDirection 0 -1 0\n";                 /* 15 */
 
 /* Everything a successful load promises. */
-static void assert_sane(const hk_HairstyleDef *d)
+static void assert_sane(const hk_Hairstyle *d)
 {
     assert_true(d->element_count >= 1 && d->element_count <= HK_MAX_ELEMENTS);
     assert_non_null(d->element_lengths);
@@ -93,7 +93,7 @@ static void assert_sane(const hk_HairstyleDef *d)
 }
 
 /* Loads `text`; fails the test unless it succeeds. */
-static void load_ok(const char *text, hk_HairstyleDef *d)
+static void load_ok(const char *text, hk_Hairstyle *d)
 {
     hk_Error err;
     hk_Status st = hk_hairstyle_load(hk_test_write_text("hairstyle.txt", text), d, &err);
@@ -105,7 +105,7 @@ static void load_ok(const char *text, hk_HairstyleDef *d)
 static void test_thesis_sample(void **state)
 {
     (void)state;
-    hk_HairstyleDef d;
+    hk_Hairstyle d;
     load_ok(thesis_hairstyle, &d);
     hk_assert_near(d.visuality_step, 0.0025, 0);
     hk_assert_near(d.collision_step, 0.005, 0);
@@ -134,7 +134,7 @@ static void test_thesis_sample(void **state)
 static void test_defaults(void **state)
 {
     (void)state;
-    hk_HairstyleDef def = hk_default_hairstyle();
+    hk_Hairstyle def = hk_default_hairstyle();
     hk_assert_near(def.visuality_step, 0.0025, 0);
     hk_assert_near(def.collision_step, 0.005, 0);
     assert_int_equal(def.max_iter, 20);
@@ -154,7 +154,7 @@ static void test_defaults(void **state)
     hk_hairstyle_free(&def); /* safe on a default */
 
     /* Only the required keys: every optional one takes its default. */
-    hk_HairstyleDef d;
+    hk_Hairstyle d;
     load_ok("HairLengths 0.1\nHairRadius1 5e-5\nHairRadius2 4e-5\nHelixRadius 0\nHelixStep 0\nYoung 1e9\n", &d);
     hk_assert_near(d.visuality_step, def.visuality_step, 0);
     hk_assert_near(d.collision_step, def.collision_step, 0);
@@ -180,7 +180,7 @@ static void test_groom_keys(void **state)
     static const char *const required =
         "HairLengths 0.1\nHairRadius1 5e-5\nHairRadius2 4e-5\nHelixRadius 0\nHelixStep 0\nYoung 1e9\n";
     char text[512];
-    hk_HairstyleDef d;
+    hk_Hairstyle d;
     snprintf(text, sizeof text, "%sclumpfactor 0.1\nClumpProfile 1.5\nSTRAYHAIRS yes\nMaxTipDistance 0.05\n",
              required);
     load_ok(text, &d);
@@ -209,7 +209,7 @@ static void test_spellings_and_layout(void **state)
                        "helixradius 0.01\r\nHeLiXsTeP -0.005\r\nYOUNG +1.5e9\r\n"
                        "maxiter 7\r\nPOISSON -0.25\r\ngravitydirection 0 0 -2\r\n"
                        "gravity 0\r\nDENSITY 1000";
-    hk_HairstyleDef d;
+    hk_Hairstyle d;
     load_ok(text, &d);
     assert_int_equal(d.element_count, 2);
     hk_assert_near(d.element_lengths[1], 0.2, 0);
@@ -263,7 +263,7 @@ static void test_spellings_and_layout(void **state)
 static void test_copy(void **state)
 {
     (void)state;
-    hk_HairstyleDef d, c;
+    hk_Hairstyle d, c;
     hk_Error err;
     load_ok(full_hairstyle, &d);
     memset(&c, 0x5A, sizeof c);
@@ -312,7 +312,7 @@ static const char *hairstyle_with(const char *key, const char *line)
  * ":line: " (or ": " for line 0), and contains `phrase`; `out` holds nothing to free. */
 static void expect_error_in(const char *path, hk_Status code, int line, const char *phrase)
 {
-    hk_HairstyleDef d;
+    hk_Hairstyle d;
     hk_Error err;
     memset(&d, 0x5A, sizeof d);
     err.message[0] = '\0';
@@ -358,7 +358,7 @@ static void test_key_errors(void **state)
                                            "HairDensity", "Poisson", "Density", "Gravity",
                                            "GravityDirection"};
     for (int i = 0; i < 9; i++) {
-        hk_HairstyleDef d;
+        hk_Hairstyle d;
         hk_Error err;
         assert_int_equal(hk_hairstyle_load(hairstyle_with(optional[i], NULL), &d, &err), HK_OK);
         hk_hairstyle_free(&d);
@@ -462,7 +462,7 @@ static void test_sample_limits(void **state)
     expect_error("CollisionStep", "CollisionStep 9e-8", HK_ERR_INVALID, 2,
                  "CollisionStep 9e-08 gives 1.11e+06 samples over the 0.1 m strand (at most 1000000)");
     /* Just under the limit is fine. */
-    hk_HairstyleDef d;
+    hk_Hairstyle d;
     hk_Error err;
     assert_int_equal(hk_hairstyle_load(hairstyle_with("VisualityStep", "VisualityStep 1.01e-7"), &d, &err), HK_OK);
     hk_hairstyle_free(&d);
@@ -497,7 +497,7 @@ static void test_sample_limits(void **state)
 static void test_files(void **state)
 {
     (void)state;
-    hk_HairstyleDef d;
+    hk_Hairstyle d;
     hk_Error err;
     memset(&d, 0x5A, sizeof d);
     assert_int_equal(hk_hairstyle_load("/nonexistent/dir/hairstyle.txt", &d, &err), HK_ERR_IO);
@@ -554,7 +554,7 @@ static void test_fuzz(void **state)
         for (int e = 0; e < edits; e++)
             len = hk_test_mutate(buf, len, sizeof buf, " \t\n#\"-.e0123456789", junk, 12, &x);
         const char *path = hk_test_write_file("fuzz_hairstyle.txt", buf, len);
-        hk_HairstyleDef d;
+        hk_Hairstyle d;
         hk_Error err;
         memset(&d, 0x5A, sizeof d);
         err.message[0] = '\0';

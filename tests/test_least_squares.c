@@ -142,7 +142,7 @@ static void test_limits_and_determinism(void **state)
     (void)state;
     const double scale[2] = {1.0, 1.0};
     double work[HK_LEAST_SQUARES_WORK(2, 2)];
-    hk_LeastSquaresOptions o = hk_default_least_squares_options();
+    hk_LeastSquaresDef o = hk_default_least_squares_def();
     o.max_evaluations = 9;
     double x[2] = {-1.2, 1.0}, y[2] = {-1.2, 1.0};
     Probe p = {0};
@@ -183,10 +183,10 @@ static void test_bad_arguments(void **state)
     assert_int_equal(hk_least_squares_minimize(2, 2, x, scale, rosenbrock, NULL, NULL, work, NULL, &err),
                      HK_ERR_INVALID);
     x[0] = 0.0;
-    hk_LeastSquaresOptions o = hk_default_least_squares_options();
+    hk_LeastSquaresDef o = hk_default_least_squares_def();
     o.max_evaluations = 3;
     assert_int_equal(hk_least_squares_minimize(2, 2, x, scale, rosenbrock, NULL, &o, work, NULL, &err), HK_ERR_INVALID);
-    o = hk_default_least_squares_options();
+    o = hk_default_least_squares_def();
     o.x_tolerance = NAN;
     assert_int_equal(hk_least_squares_minimize(2, 2, x, scale, rosenbrock, NULL, &o, work, NULL, &err), HK_ERR_INVALID);
 }

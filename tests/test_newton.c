@@ -28,7 +28,7 @@ static void test_quadratic_in_one_step(void **state)
 {
     (void)state;
     double x[3] = {10, 10, 10};
-    hk_NewtonOptions o = hk_default_newton_options();
+    hk_NewtonDef o = hk_default_newton_def();
     hk_MinimizeResult r;
     hk_Error err;
     assert_int_equal(hk_newton_minimize(3, x, quadratic, NULL, NULL, &o, &r, &err), HK_OK);
@@ -62,7 +62,7 @@ static void test_banana(void **state)
     const double starts[2][2] = {{-1.2, 1.0}, {0.0, 0.5}};
     for (int s = 0; s < 2; s++) {
         double x[2] = {starts[s][0], starts[s][1]};
-        hk_NewtonOptions o = hk_default_newton_options();
+        hk_NewtonDef o = hk_default_newton_def();
         o.energy_scale = 1.0;
         hk_MinimizeResult r;
         hk_Error err;
@@ -84,7 +84,7 @@ static void test_errors(void **state)
 {
     (void)state;
     double x[2] = {0, 0};
-    hk_NewtonOptions o = hk_default_newton_options();
+    hk_NewtonDef o = hk_default_newton_def();
     hk_MinimizeResult r;
     hk_Error err;
     assert_int_equal(hk_newton_minimize(2, x, not_finite, NULL, NULL, &o, &r, &err), HK_ERR_NUMERIC);

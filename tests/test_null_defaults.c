@@ -32,8 +32,8 @@ static void test_render(void **state)
     (void)state;
     hk_HairFile hair = {0};
     small_hair(&hair);
-    const hk_RenderOptions defaults = hk_default_render_options();
-    const hk_VisualityDef colours = hk_default_visuality();
+    const hk_RenderDef defaults = hk_default_render_def();
+    const hk_Visuality colours = hk_default_visuality();
     hk_Error err;
     hk_Canvas a = {0}, b = {0};
     /* hk_render with NULL options: the defaults (it crashed) */
@@ -90,26 +90,26 @@ static void test_minimizers(void **state)
 
     double x[2] = {0, 0}, y[2] = {0, 0};
     hk_MinimizeResult r1, r2;
-    const hk_RosenbrockOptions ro = hk_default_rosenbrock_options();
+    const hk_RosenbrockDef ro = hk_default_rosenbrock_def();
     assert_int_equal(hk_rosenbrock_minimize(2, x, bowl, NULL, NULL, &r1, &err), HK_OK);
     assert_int_equal(hk_rosenbrock_minimize(2, y, bowl, NULL, &ro, &r2, &err), HK_OK);
     assert_memory_equal(x, y, sizeof x);
 
-    const hk_NewtonOptions no = hk_default_newton_options();
+    const hk_NewtonDef no = hk_default_newton_def();
     x[0] = x[1] = y[0] = y[1] = 0.0;
     assert_int_equal(hk_newton_minimize(2, x, bowl_derivs, NULL, NULL, NULL, &r1, &err), HK_OK);
     assert_int_equal(hk_newton_minimize(2, y, bowl_derivs, NULL, NULL, &no, &r2, &err), HK_OK);
     assert_memory_equal(x, y, sizeof x);
     hk_assert_near(x[0], 1.0, 1e-6);
 
-    const hk_NelderMeadOptions nm = hk_default_nelder_mead_options();
+    const hk_NelderMeadDef nm = hk_default_nelder_mead_def();
     hk_MinimizeResult n1, n2;
     x[0] = x[1] = y[0] = y[1] = 0.0;
     assert_int_equal(hk_nelder_mead_minimize(2, x, scale, bowl, NULL, NULL, &n1, &err), HK_OK);
     assert_int_equal(hk_nelder_mead_minimize(2, y, scale, bowl, NULL, &nm, &n2, &err), HK_OK);
     assert_memory_equal(x, y, sizeof x);
 
-    const hk_LeastSquaresOptions lo = hk_default_least_squares_options();
+    const hk_LeastSquaresDef lo = hk_default_least_squares_def();
     double work[HK_LEAST_SQUARES_WORK(2, 2)];
     hk_MinimizeResult l1, l2;
     x[0] = x[1] = y[0] = y[1] = 0.0;
@@ -135,7 +135,7 @@ static void test_strand(void **state)
     (void)state;
     hk_Error err;
     hk_SuperHelix *sh = strand();
-    const hk_StrandEnv env = hk_default_strand_env();
+    const hk_StrandEnvDef env = hk_default_strand_env_def();
     assert_int_equal(hk_strand_collision_sample_count(sh, NULL), 0);
     hk_StrandWorkspace *ws;
     assert_int_equal(hk_strand_workspace_create(sh, NULL, &ws, &err), HK_OK);
@@ -149,14 +149,14 @@ static void test_strand(void **state)
 
     /* statics: NULL environment and options, against the defaults */
     hk_SuperHelix *other = strand();
-    const hk_StaticsOptions so = hk_default_statics_options();
+    const hk_StaticsDef so = hk_default_statics_def();
     hk_MinimizeResult r1, r2;
     assert_int_equal(hk_statics_solve(sh, NULL, NULL, &r1, &err), HK_OK);
     assert_int_equal(hk_statics_solve(other, &env, &so, &r2, &err), HK_OK);
     assert_memory_equal(sh->q, other->q, 9 * sizeof(double));
 
     /* dynamics: NULL parameters and body, one step each */
-    const hk_DynamicsParams dp = hk_default_dynamics_params();
+    const hk_DynamicsDef dp = hk_default_dynamics_def();
     hk_StrandDynamics *d1, *d2;
     assert_int_equal(hk_strand_dynamics_create(sh, NULL, NULL, &d1, &err), HK_OK);
     assert_int_equal(hk_strand_dynamics_create(other, &dp, &env, &d2, &err), HK_OK);
@@ -196,7 +196,7 @@ static void test_fitting(void **state)
     }
     hk_HelicoidFitter *f = hk_helicoid_fitter_create(64, &err);
     assert_non_null(f);
-    const hk_CurveFitOptions hf = hk_helicoid_fit_options();
+    const hk_CurveFitDef hf = hk_default_helicoid_fit_def();
     hk_PHelicoid h1, h2;
     hk_CurveFit c1, c2;
     memset(&h1, 0, sizeof h1), memset(&h2, 0, sizeof h2);
@@ -246,13 +246,20 @@ static void test_head(void **state)
     hk_Scene scene;
     assert_int_equal(hk_scene_load(hk_test_light_setup(), HK_SCENE_GROOMING, &scene, &err), HK_OK);
     hk_HairFile a = {0}, b = {0};
-    const hk_GroomOptions go = hk_default_groom_options();
+    const hk_GroomDef go = hk_default_groom_def();
     assert_int_equal(hk_scene_hair(&scene, NULL, &a, NULL, &err), HK_OK);
     assert_int_equal(hk_scene_hair(&scene, &go, &b, NULL, &err), HK_OK);
     assert_int_equal(a.point_count, b.point_count);
     assert_memory_equal(a.points, b.points, 3 * (size_t)a.point_count * sizeof(float));
     hk_hair_free(&a);
     hk_hair_free(&b);
+
+    /* the simulation's plain defaults: contacts of a 20 cm hair of 40 um radius; for
+     * this hairstyle, scaled to its hair */
+    const hk_HairSimDef plain = hk_default_hair_sim_def(), mine = hk_hair_sim_def_for(&scene.style);
+    assert_true(plain.contacts.stiffness > 0.0 && plain.contacts.damping > 0.0);
+    assert_true(mine.contacts.stiffness > 0.0);
+    assert_int_equal(plain.dynamics.integrator, mine.dynamics.integrator);
 
     hk_Groom g = {0};
     assert_int_equal(hk_groom_grow(&scene.style, scene.shapes, scene.shape_count, &scene.wick, NULL, &g, &err),

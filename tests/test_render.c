@@ -34,9 +34,9 @@ static void make_strands(hk_HairFile *h, int strands, int points, double half_le
         }
 }
 
-static hk_RenderOptions plain_options(int size)
+static hk_RenderDef plain_options(int size)
 {
-    hk_RenderOptions o = hk_default_render_options();
+    hk_RenderDef o = hk_default_render_def();
     o.width = o.height = size;
     o.shadows = 0;
     o.azimuth_deg = 0.0, o.elevation_deg = 0.0; /* camera on +z looking along -z */
@@ -48,9 +48,9 @@ static hk_RenderOptions plain_options(int size)
 
 /* The pixel where the renderer's camera sees the origin (the middle of the strand). */
 static hk_Vec3 last_eye; /* the camera's position, from the last call */
-static size_t origin_pixel(const hk_HairFile *h, const hk_Mesh *head, const hk_RenderOptions *o)
+static size_t origin_pixel(const hk_HairFile *h, const hk_Mesh *head, const hk_RenderDef *o)
 {
-    hk_VisualityDef v = hk_default_visuality();
+    hk_Visuality v = hk_default_visuality();
     hk_Scene sc;
     memset(&sc, 0, sizeof sc);
     sc.hair = h, sc.head = head, sc.vis = &v, sc.opt = o;
@@ -83,10 +83,10 @@ static void lit_strand(double cam_azimuth, double light_az, double light_el, hk_
     hk_HairFile h;
     make_strands(&h, 1, 401, 0.1, 0.0, 0.0);
     h.default_thickness = 0.01f; /* four pixels wide: the pixels near its axis are covered */
-    hk_RenderOptions o = plain_options(96);
+    hk_RenderDef o = plain_options(96);
     o.azimuth_deg = cam_azimuth;
     o.light_azimuth_deg = light_az, o.light_elevation_deg = light_el;
-    hk_VisualityDef v = hk_default_visuality();
+    hk_Visuality v = hk_default_visuality();
     v.diffuse = kd, v.specular = ks, v.glossiness = p;
     hk_Canvas img;
     assert_int_equal(hk_render(&h, NULL, &v, &o, &img, NULL, NULL), HK_OK);
@@ -139,10 +139,10 @@ static void test_kajiya_kay_pixel(void **state)
  * between the light and the strand darkens it, but not to black (the scatter floor). */
 static double strand_brightness(const hk_HairFile *h, const hk_Mesh *occluder, int shadows)
 {
-    hk_RenderOptions o = plain_options(96);
+    hk_RenderDef o = plain_options(96);
     o.shadows = shadows;
     o.light_azimuth_deg = 0.0, o.light_elevation_deg = 90.0;
-    hk_VisualityDef v = hk_default_visuality();
+    hk_Visuality v = hk_default_visuality();
     hk_Canvas img;
     assert_int_equal(hk_render(h, occluder, &v, &o, &img, NULL, NULL), HK_OK);
     const float *px = img.rgb + 3 * origin_pixel(h, occluder, &o);
@@ -279,10 +279,10 @@ static void test_scene_deterministic_finite_png(void **state)
     hk_HairFile h;
     hk_Mesh ball;
     make_scene(&h, &ball);
-    hk_VisualityDef v = hk_default_visuality();
+    hk_Visuality v = hk_default_visuality();
     hk_Canvas img[2];
     for (int k = 0; k < 2; k++) {
-        hk_RenderOptions o = hk_default_render_options();
+        hk_RenderDef o = hk_default_render_def();
         o.width = 160, o.height = 120, o.threads = k + 1, o.shadow_map_size = 128;
         hk_RenderStats stats;
         assert_int_equal(hk_render(&h, &ball, &v, &o, &img[k], &stats, NULL), HK_OK);
@@ -432,9 +432,9 @@ static void test_fragment_key_sort(void **state)
 /* A renderer kept over pictures of different scenes, sizes and thread counts (its
  * buffers grow and are reused; a failed draw in between) draws each the same bytes
  * as hk_render. */
-static void same_as_render(hk_Renderer *r, const hk_HairFile *h, const hk_Mesh *head, const hk_RenderOptions *o)
+static void same_as_render(hk_Renderer *r, const hk_HairFile *h, const hk_Mesh *head, const hk_RenderDef *o)
 {
-    hk_VisualityDef v = hk_default_visuality();
+    hk_Visuality v = hk_default_visuality();
     hk_Canvas fresh;
     assert_int_equal(hk_render(h, head, &v, o, &fresh, NULL, NULL), HK_OK);
     assert_int_equal(hk_renderer_draw(r, h, head, NULL, o, NULL, NULL), HK_OK);
@@ -454,13 +454,13 @@ static void test_renderer_reuse(void **state)
     make_strands(&small, 3, 9, 0.1, 0.01, 0.0);
     hk_Renderer *r;
     assert_int_equal(hk_renderer_create(&r, NULL), HK_OK);
-    hk_RenderOptions o = hk_default_render_options();
+    hk_RenderDef o = hk_default_render_def();
     o.width = 160, o.height = 120, o.threads = 2, o.shadow_map_size = 128;
     same_as_render(r, &big, &ball, &o);
-    hk_RenderOptions p = plain_options(64);
+    hk_RenderDef p = plain_options(64);
     p.threads = 1;
     same_as_render(r, &small, NULL, &p);
-    hk_RenderOptions bad = o;
+    hk_RenderDef bad = o;
     bad.width = 0;
     assert_int_equal(hk_renderer_draw(r, &big, &ball, NULL, &bad, NULL, NULL), HK_ERR_INVALID);
     assert_int_equal(hk_renderer_picture(r)->width, 0);
@@ -477,18 +477,18 @@ static void test_bad_options(void **state)
     (void)state;
     hk_HairFile h;
     make_strands(&h, 1, 5, 0.1, 0.0, 0.0);
-    hk_VisualityDef v = hk_default_visuality();
-    hk_RenderOptions o = hk_default_render_options();
+    hk_Visuality v = hk_default_visuality();
+    hk_RenderDef o = hk_default_render_def();
     hk_Canvas img;
     hk_Error err;
     o.width = 0;
     assert_int_equal(hk_render(&h, NULL, &v, &o, &img, NULL, &err), HK_ERR_INVALID);
     hk_assert_contains(err.message, "picture size");
-    o = hk_default_render_options();
+    o = hk_default_render_def();
     o.opacity_layers = 99;
     assert_int_equal(hk_render(&h, NULL, &v, &o, &img, NULL, &err), HK_ERR_INVALID);
     h.points[4] = NAN;
-    o = hk_default_render_options();
+    o = hk_default_render_def();
     assert_int_equal(hk_render(&h, NULL, &v, &o, &img, NULL, &err), HK_ERR_INVALID);
     hk_assert_contains(err.message, "not finite");
     assert_null(img.rgb);

@@ -82,7 +82,7 @@ static void test_same_as_pieces(void **state)
     hk_Error err;
     hk_Scene s;
     assert_int_equal(hk_scene_load(hk_test_light_setup(), HK_SCENE_ALL, &s, &err), HK_OK);
-    hk_GroomOptions go = hk_default_groom_options();
+    hk_GroomDef go = hk_default_groom_def();
     go.threads = 2;
     hk_HairFile a, b;
     hk_SceneHairReport report;
@@ -96,7 +96,7 @@ static void test_same_as_pieces(void **state)
     assert_int_equal(a.point_count, b.point_count);
     assert_memory_equal(a.points, b.points, sizeof(float) * 3 * a.point_count);
     hk_groom_free(&g);
-    hk_RenderOptions ro = hk_default_render_options();
+    hk_RenderDef ro = hk_default_render_def();
     ro.width = 64, ro.height = 48;
     hk_Canvas pa, pb;
     assert_int_equal(hk_scene_render(&s, &a, &ro, &pa, NULL, &err), HK_OK);

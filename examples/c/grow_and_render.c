@@ -20,13 +20,13 @@ int main(int argc, char **argv)
 
     /* Every call that can fail returns an hk_Status (HK_OK is 0) and fills err. */
     hk_Error err;
-    hk_SetupDef setup;
+    hk_Setup setup;
     if (hk_setup_load(argv[1], &setup, &err) != HK_OK) {
         fprintf(stderr, "%s\n", err.message);
         return 1;
     }
-    hk_HairstyleDef style = hk_default_hairstyle();
-    hk_VisualityDef colours = hk_default_visuality();
+    hk_Hairstyle style = hk_default_hairstyle();
+    hk_Visuality colours = hk_default_visuality();
     hk_Shape *shapes = NULL; /* the collision shapes (body envelopes) */
     int shape_count = 0;
     hk_Mesh wick = {0}, head = {0};
@@ -49,12 +49,12 @@ int main(int argc, char **argv)
     /* Grow: one guide strand per wick vertex, solved as a Super-Helix at rest under
      * gravity and the collision shapes (in parallel), then HairDensity strands per cm^2
      * interpolated between the guides; then the whole groom as cyHair data. */
-    hk_GroomOptions grow = hk_default_groom_options();
+    hk_GroomDef grow = hk_default_groom_def();
     if (st == HK_OK) st = hk_groom_grow(&style, shapes, shape_count, &wick, &grow, &groom, &err);
     if (st == HK_OK) st = hk_groom_to_hair(&groom, &style, &hair, &err);
 
     /* Render over the head (Kajiya-Kay shading, deep opacity shadows) and save. */
-    hk_RenderOptions view = hk_default_render_options();
+    hk_RenderDef view = hk_default_render_def();
     view.width = 800;
     view.height = 600;
     if (st == HK_OK)

@@ -55,8 +55,8 @@ typedef enum hk_DynamicsStiffness {
 } hk_DynamicsStiffness;
 
 typedef enum hk_DynamicsIntegrator {
-    /* In hk_SimRunOptions only: the integrator the hair simulation chooses
-     * (hk_default_hair_sim_options'); hk_DynamicsParams refuses it */
+    /* In hk_SimRunDef only: the integrator the hair simulation chooses
+     * (hk_hair_sim_def_for'); hk_DynamicsDef refuses it */
     HK_INTEGRATOR_AUTO = -1,
     /* TR-BDF2 with Newton's iteration on every stage: second order, L-stable, every
      * force implicit, the energy guard on a still head; stable for long hair at the
@@ -69,7 +69,7 @@ typedef enum hk_DynamicsIntegrator {
     HK_INTEGRATOR_LINEAR_EULER = 1
 } hk_DynamicsIntegrator;
 
-typedef struct hk_DynamicsParams {
+typedef struct hk_DynamicsDef {
     double internal_friction;  /* gamma (kg m^3/s), paper 000 eq. 5d */
     double air_drag;           /* nu (kg/(m s)), paper 000 eq. 5a */
     double friction_with;      /* body friction coefficient for the hair sliding with its
@@ -98,7 +98,7 @@ typedef struct hk_DynamicsParams {
     int newton_iterations;     /* most Newton iterations of a stage before the step
                                   counts as failed (and is split by advance) */
     hk_DynamicsIntegrator integrator;
-} hk_DynamicsParams;
+} hk_DynamicsDef;
 
 /* What the steps of a strand have cost since its creation. */
 typedef struct hk_DynamicsStats {
@@ -114,10 +114,10 @@ typedef struct hk_DynamicsStats {
 
 /* Paper-range defaults: gamma 1e-10, nu 1e-5, friction 0.2 / 0.4, 5 cm/s, auto
  * quadrature, O(N) solver with the Gauss-Newton stiffness. */
-HK_API hk_DynamicsParams hk_default_dynamics_params(void);
+HK_API hk_DynamicsDef hk_default_dynamics_def(void);
 
 /* The same from a hairstyle's InternalFriction, AirDrag and BodyFriction. */
-HK_API hk_DynamicsParams hk_dynamics_params_for(const hk_HairstyleDef *def);
+HK_API hk_DynamicsDef hk_dynamics_def_for(const hk_Hairstyle *def);
 
 /* A point force on a strand at arc length s, with its linearisation for the implicit
  * step (both matrices symmetric positive semi-definite). */
@@ -135,8 +135,8 @@ typedef struct hk_StrandDynamics hk_StrandDynamics;
  * creation are taken as head-space: every step places them with the head's motion.
  * body (may be NULL) holds the collision shapes, also in head space; it is copied. The
  * velocity starts at zero. */
-HK_API hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *params,
-                                           const hk_StrandEnv *body, hk_StrandDynamics **out,
+HK_API hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsDef *params,
+                                           const hk_StrandEnvDef *body, hk_StrandDynamics **out,
                                            hk_Error *err);
 HK_API void hk_strand_dynamics_destroy(hk_StrandDynamics *d);
 

@@ -17,7 +17,7 @@
 extern "C" {
 #endif
 
-typedef struct hk_GroomOptions {
+typedef struct hk_GroomDef {
     uint64_t seed;          /* the same seed gives the same hair, byte for byte */
     int threads;            /* OpenMP threads; <= 0: the OpenMP default */
     hk_ProgressFn progress; /* may be NULL */
@@ -25,9 +25,9 @@ typedef struct hk_GroomOptions {
     int keep_outside;       /* 1 (default): interpolated strands that enter a body shape
                                are moved out of it, keeping their length (docs/grooming.md);
                                0: the plain blend of the guides */
-} hk_GroomOptions;
+} hk_GroomDef;
 
-HK_API hk_GroomOptions hk_default_groom_options(void);
+HK_API hk_GroomDef hk_default_groom_def(void);
 
 /* Follicles of a wick (thesis §4.1.4.1): one per vertex, growing along the vertex
  * normal, with the envelope level alpha = (y - y_min) / (y_max - y_min) of
@@ -64,8 +64,8 @@ typedef struct hk_Groom {
  * statics and the collision shapes' layered envelopes, then fills every wick triangle
  * with round(area x HairDensity) interpolated strands (stochastic rounding, so the
  * expected count is exact) at uniformly random roots. */
-HK_API hk_Status hk_groom_grow(const hk_HairstyleDef *style, const hk_Shape *shapes,
-                               int shape_count, const hk_Mesh *wick, const hk_GroomOptions *options,
+HK_API hk_Status hk_groom_grow(const hk_Hairstyle *style, const hk_Shape *shapes,
+                               int shape_count, const hk_Mesh *wick, const hk_GroomDef *options,
                                hk_Groom *out, hk_Error *err);
 
 HK_API void hk_groom_free(hk_Groom *g);
@@ -80,8 +80,8 @@ HK_API void hk_groom_free(hk_Groom *g);
  * 1 kB a strand of 41 points). The count goes to *strands (may be NULL). hk_groom_grow
  * and hk_groom_interpolate_guides check the same; a caller that knows the files may call
  * it first to name them in the message. */
-HK_API hk_Status hk_groom_check_size(const hk_HairstyleDef *style, const hk_Mesh *wick,
-                                     const hk_GroomOptions *options, long *strands, hk_Error *err);
+HK_API hk_Status hk_groom_check_size(const hk_Hairstyle *style, const hk_Mesh *wick,
+                                     const hk_GroomDef *options, long *strands, hk_Error *err);
 
 /* Grows the interpolated strands of g again from its guides (g->guides,
  * g->guide_count, g->points_per_strand set, e.g. moved by the dynamics; follicles =
@@ -89,20 +89,20 @@ HK_API hk_Status hk_groom_check_size(const hk_HairstyleDef *style, const hk_Mesh
  * follow their guides from frame to frame. The strands are kept out of the body
  * shapes among shapes[0..shape_count) (may be NULL, 0), in the guides' space.
  * Replaces any strands g had (their arrays are reused when they hold as many). */
-HK_API hk_Status hk_groom_interpolate_guides(const hk_HairstyleDef *style, const hk_Shape *shapes,
+HK_API hk_Status hk_groom_interpolate_guides(const hk_Hairstyle *style, const hk_Shape *shapes,
                                              int shape_count, const hk_Mesh *wick,
-                                             const hk_GroomOptions *options, hk_Groom *g,
+                                             const hk_GroomDef *options, hk_Groom *g,
                                              hk_Error *err);
 
 /* The groom as cyHair data: the guides first, then the interpolated strands; default
  * thickness is the hair's mean diameter. */
-HK_API hk_Status hk_groom_to_hair(const hk_Groom *g, const hk_HairstyleDef *style, hk_HairFile *out,
+HK_API hk_Status hk_groom_to_hair(const hk_Groom *g, const hk_Hairstyle *style, hk_HairFile *out,
                                   hk_Error *err);
 
 /* hk_groom_to_hair into out, the hair of an earlier hk_groom_to_hair (or zeroed): its
  * arrays are reused when it has as many strands of as many points (a simulation's
  * frames: 60 MB of fresh pages a frame otherwise), else it is freed and made anew. */
-HK_API hk_Status hk_groom_to_hair_again(const hk_Groom *g, const hk_HairstyleDef *style,
+HK_API hk_Status hk_groom_to_hair_again(const hk_Groom *g, const hk_Hairstyle *style,
                                         hk_HairFile *out, hk_Error *err);
 
 #ifdef __cplusplus

@@ -24,7 +24,7 @@ extern "C" {
 #define HK_MAX_SHAPES 10000                      /* collision shapes in one file */
 
 /* Hairstyle Info (thesis Appendix B, "Hairstyle Info"). */
-typedef struct hk_HairstyleDef {
+typedef struct hk_Hairstyle {
     double visuality_step; /* VisualityStep: spacing of output vertices along s (m) */
     double collision_step; /* CollisionStep: spacing of collision samples along s (m) */
     int max_iter;          /* MaxIter: Rosenbrock stages */
@@ -61,25 +61,25 @@ typedef struct hk_HairstyleDef {
                               hair sliding with its scales (root first, as when the body
                               sweeps from root to tip) and against them (tip first),
                               paper 000 §4.2 */
-} hk_HairstyleDef;
+} hk_Hairstyle;
 
 /* Defaults for every optional key (Density 1300, Gravity 9.81, Poisson 0.48, ...);
  * element_lengths is NULL and element_count 0. */
-HK_API hk_HairstyleDef hk_default_hairstyle(void);
+HK_API hk_Hairstyle hk_default_hairstyle(void);
 
 /* Reads a hairstyle file. Required keys: HairLengths (alias HairLength), HairRadius1,
  * HairRadius2, HelixRadius, HelixStep, Young. The others are optional. On error `out`
  * is left empty (nothing to free) and err says file:line and what is wrong. */
-HK_API hk_Status hk_hairstyle_load(const char *path, hk_HairstyleDef *out, hk_Error *err);
+HK_API hk_Status hk_hairstyle_load(const char *path, hk_Hairstyle *out, hk_Error *err);
 
 /* Sum of the element lengths. */
-HK_API double hk_hairstyle_length(const hk_HairstyleDef *def);
+HK_API double hk_hairstyle_length(const hk_Hairstyle *def);
 
 /* Frees element_lengths and resets def to defaults. Safe on a default def. */
-HK_API void hk_hairstyle_free(hk_HairstyleDef *def);
+HK_API void hk_hairstyle_free(hk_Hairstyle *def);
 
 /* Deep copy (element_lengths duplicated). */
-HK_API hk_Status hk_hairstyle_copy(const hk_HairstyleDef *src, hk_HairstyleDef *dst, hk_Error *err);
+HK_API hk_Status hk_hairstyle_copy(const hk_Hairstyle *src, hk_Hairstyle *dst, hk_Error *err);
 
 /* Collision Info (thesis Appendix B): zero or more lines
  *   Sphere    Volume Penalty Cx Cy Cz Radius
@@ -91,22 +91,22 @@ HK_API hk_Status hk_hairstyle_copy(const hk_HairstyleDef *src, hk_HairstyleDef *
 HK_API hk_Status hk_collision_load(const char *path, hk_Shape **shapes, int *count, hk_Error *err);
 
 /* Visuality Info (thesis Appendix B): colours of the Kajiya-Kay hair shader. */
-typedef struct hk_VisualityDef {
+typedef struct hk_Visuality {
     hk_Vec3 ambient;    /* AmbientColor: RGB in [0, 1] (values above 1 allowed: brighter) */
     hk_Vec3 diffuse;    /* DiffuseColor */
     hk_Vec3 specular;   /* SpecularColor */
     double glossiness;  /* Glossiness: Kajiya-Kay specular exponent p > 0 */
-} hk_VisualityDef;
+} hk_Visuality;
 
 /* Brown hair of the thesis's sample file. */
-HK_API hk_VisualityDef hk_default_visuality(void);
-HK_API hk_Status hk_visuality_load(const char *path, hk_VisualityDef *out, hk_Error *err);
+HK_API hk_Visuality hk_default_visuality(void);
+HK_API hk_Status hk_visuality_load(const char *path, hk_Visuality *out, hk_Error *err);
 
 /* Setup (thesis Appendix B): which files make up a scene. Paths are resolved against
  * the setup file's folder; keys that are absent give NULL. HeadVert, HeadFrag,
  * HairVert and HairFrag (the thesis's GLSL shaders) are accepted and ignored: hairkit
  * renders on the CPU. */
-typedef struct hk_SetupDef {
+typedef struct hk_Setup {
     int load;          /* Load: read the hair from load_file instead of growing it */
     int save;          /* Save: write the grown hair to save_file */
     char *load_file;   /* LoadFile (alias LoadPath) */
@@ -116,13 +116,13 @@ typedef struct hk_SetupDef {
     char *visuality;   /* VisualityInfo */
     char *head_model;  /* HeadModel: OBJ of the head */
     char *wick_model;  /* WickModel (alias HairModel): OBJ of the scalp the hair grows from */
-} hk_SetupDef;
+} hk_Setup;
 
 /* Reads a setup file. Growing hair (Load false) needs HairstyleInfo and WickModel;
  * Load true needs LoadFile, Save true SaveFile. Every file the setup names for reading
  * must exist (checked here, so that the message can name the setup file's line). */
-HK_API hk_Status hk_setup_load(const char *path, hk_SetupDef *out, hk_Error *err);
-HK_API void hk_setup_free(hk_SetupDef *def);
+HK_API hk_Status hk_setup_load(const char *path, hk_Setup *out, hk_Error *err);
+HK_API void hk_setup_free(hk_Setup *def);
 
 #ifdef __cplusplus
 }

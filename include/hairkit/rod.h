@@ -69,7 +69,7 @@ HK_API hk_Status hk_superhelix_create(int n, const double *lengths, hk_SuperHeli
 
 /* A strand as described by a hairstyle file: element lengths, material, natural helix
  * (uniform along the strand), root at `root` leaving along `dir`; q starts at q_rest. */
-HK_API hk_Status hk_superhelix_from_hairstyle(const hk_HairstyleDef *def, hk_Vec3 root, hk_Vec3 dir,
+HK_API hk_Status hk_superhelix_from_hairstyle(const hk_Hairstyle *def, hk_Vec3 root, hk_Vec3 dir,
                                               hk_SuperHelix **out, hk_Error *err);
 
 HK_API void hk_superhelix_destroy(hk_SuperHelix *sh);
@@ -103,20 +103,20 @@ HK_API void hk_superhelix_points(const hk_SuperHelix *sh, const double *q, const
 /* ---- energy ---------------------------------------------------------------------- */
 
 /* Environment of a strand for the statics energy. */
-typedef struct hk_StrandEnv {
+typedef struct hk_StrandEnvDef {
     const hk_Shape *shapes;  /* collision shapes (may be NULL when shape_count == 0) */
     int shape_count;
     double envelope_alpha;   /* envelope level in [0, 1] of this strand (thesis §4.1.2.2) */
     double collision_step;   /* CollisionStep; the strand is cut into ceil(L / step) equal
                                 pieces sampled at their midpoints (<= 0: no collisions) */
-} hk_StrandEnv;
+} hk_StrandEnvDef;
 
-HK_API hk_StrandEnv hk_default_strand_env(void);
+HK_API hk_StrandEnvDef hk_default_strand_env_def(void);
 
 /* Collision samples of the strand in env: ceil(L / collision_step) pieces (at least 1,
  * at most HK_MAX_SAMPLES_PER_STRAND) whose midpoints are sampled; 0 without shapes or
  * step. The statics energy and the dynamics' body contacts use the same samples. */
-HK_API int hk_strand_collision_sample_count(const hk_SuperHelix *sh, const hk_StrandEnv *env);
+HK_API int hk_strand_collision_sample_count(const hk_SuperHelix *sh, const hk_StrandEnvDef *env);
 
 typedef struct hk_StrandEnergy {
     double total, elastic, gravity, collision;
@@ -125,7 +125,7 @@ typedef struct hk_StrandEnergy {
 /* Scratch memory for hk_strand_energy, sized for one strand and one environment. */
 typedef struct hk_StrandWorkspace hk_StrandWorkspace;
 
-HK_API hk_Status hk_strand_workspace_create(const hk_SuperHelix *sh, const hk_StrandEnv *env,
+HK_API hk_Status hk_strand_workspace_create(const hk_SuperHelix *sh, const hk_StrandEnvDef *env,
                                             hk_StrandWorkspace **out, hk_Error *err);
 HK_API void hk_strand_workspace_destroy(hk_StrandWorkspace *ws);
 
@@ -137,13 +137,13 @@ HK_API void hk_strand_workspace_destroy(hk_StrandWorkspace *ws);
  * gradient is exact; the Hessian is exact as well (second derivatives of the
  * kinematics through every element, plus the shapes' own Hessians). O(N + samples)
  * for the gradient, O(N^2 + samples) for the Hessian. parts may be NULL. */
-HK_API double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnv *env, const double *q,
+HK_API double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, const double *q,
                                hk_StrandWorkspace *ws, double *grad, double *hess,
                                hk_StrandEnergy *parts);
 
 /* Greatest depth of a collision sample inside the envelopes at coordinates q (0 when
  * no sample touches a shape), evaluated at the same samples as the energy. */
-HK_API double hk_strand_max_penetration(const hk_SuperHelix *sh, const hk_StrandEnv *env,
+HK_API double hk_strand_max_penetration(const hk_SuperHelix *sh, const hk_StrandEnvDef *env,
                                         const double *q, hk_StrandWorkspace *ws);
 
 #ifdef __cplusplus

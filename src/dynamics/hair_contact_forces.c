@@ -41,7 +41,7 @@ static hk_Vec3 fallback_normal(hk_Vec3 d1, hk_Vec3 d2)
 static void pair_contact(const hk_HairContacts *c, const hk_HcPair *p, hk_HcContact *out)
 {
     const hk_HcStrand *si = &c->views[p->i], *sj = &c->views[p->j];
-    const hk_HairContactParams *pr = &c->p;
+    const hk_HairContactDef *pr = &c->p;
     memset(out, 0, sizeof *out);
     out->force_index[0] = out->force_index[1] = -1;
     out->point[0] = lerp(si->pos[p->a], si->pos[p->a + 1], p->u);

@@ -548,7 +548,7 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
 {
     PairState *pairs = cs->pairs.items;
     const PairState *old = cs->old_pairs.items;
-    const hk_HairContactParams *p = &c->p;
+    const hk_HairContactDef *p = &c->p;
     const hk_Vec3 *vel = cs->vel.items;
     #pragma omp parallel for schedule(static) num_threads(hk_hc_threads(c))
     for (int k = 0; k < c->pair_count; k++) {

@@ -48,7 +48,7 @@ typedef struct hk_HcMetric {
     double quantum;
 } hk_HcMetric;
 
-hk_HcMetric hk_hc_metric(const hk_HairContactParams *p);
+hk_HcMetric hk_hc_metric(const hk_HairContactDef *p);
 
 /* Rank of a squared distance: floor(d2 / quantum), saturated for far pairs. */
 long long hk_hc_rank(double d2, double quantum);
@@ -84,7 +84,7 @@ typedef struct hk_HcContact {
 
 struct hk_HairContacts {
     int strand_count;
-    hk_HairContactParams p;
+    hk_HairContactDef p;
     long updates;          /* successful updates so far */
     int rescan_requested;
     int *counts;           /* sample counts seen by the last successful update */

@@ -51,7 +51,7 @@ double hk_hc_pair_distance2(const hk_HcStrand *si, int a, const hk_HcStrand *sj,
     return d2;
 }
 
-hk_HcMetric hk_hc_metric(const hk_HairContactParams *p)
+hk_HcMetric hk_hc_metric(const hk_HairContactDef *p)
 {
     hk_HcMetric m = {p->root_exclusion, ldexp(p->distance * p->distance, -40)};
     return m;

@@ -15,15 +15,15 @@
 #include "rod/helix_local.h"
 #include "rod/rod_internal.h"
 
-hk_DynamicsParams hk_default_dynamics_params(void)
+hk_DynamicsDef hk_default_dynamics_def(void)
 {
-    const hk_HairstyleDef def = hk_default_hairstyle();
-    return hk_dynamics_params_for(&def);
+    const hk_Hairstyle def = hk_default_hairstyle();
+    return hk_dynamics_def_for(&def);
 }
 
-hk_DynamicsParams hk_dynamics_params_for(const hk_HairstyleDef *def)
+hk_DynamicsDef hk_dynamics_def_for(const hk_Hairstyle *def)
 {
-    hk_DynamicsParams p;
+    hk_DynamicsDef p;
     p.internal_friction = def->internal_friction;
     p.air_drag = def->air_drag;
     p.friction_with = def->body_friction[0];
@@ -75,7 +75,7 @@ void hk_strand_dynamics_destroy(hk_StrandDynamics *d)
     hk_free(d);
 }
 
-static int params_valid(const hk_DynamicsParams *p)
+static int params_valid(const hk_DynamicsDef *p)
 {
     return p->internal_friction >= 0.0 && isfinite(p->internal_friction) && p->air_drag >= 0.0 &&
            isfinite(p->air_drag) && p->friction_with >= 0.0 && isfinite(p->friction_with) &&
@@ -92,12 +92,12 @@ static int params_valid(const hk_DynamicsParams *p)
             (p->stiffness == HK_STIFFNESS_FULL && p->solver == HK_DYNAMICS_DENSE));
 }
 
-hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *params,
-                                    const hk_StrandEnv *body, hk_StrandDynamics **out,
+hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsDef *params,
+                                    const hk_StrandEnvDef *body, hk_StrandDynamics **out,
                                     hk_Error *err)
 {
     *out = NULL;
-    const hk_DynamicsParams defaults = hk_default_dynamics_params();
+    const hk_DynamicsDef defaults = hk_default_dynamics_def();
     if (!params) params = &defaults;
     if (!params_valid(params))
         return hk_error_set(err, HK_ERR_INVALID,
@@ -112,7 +112,7 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *
     d->params = *params;
     d->root_head = sh->root;
     d->frame_head = sh->root_frame;
-    d->potential_env = hk_default_strand_env();
+    d->potential_env = hk_default_strand_env_def();
     hk_gauss_table_init(&d->gauss);
     /* One block for the 3N vectors (struct hk_StrandDynamics). */
     d->v = hk_calloc_array((22 + 2 * HK_ANDERSON_DEPTH + 2) * dim, sizeof(double), err);
@@ -179,7 +179,7 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *
         for (int i = 0; i < body->shape_count; i++)
             if (!body->shapes[i].styling) d->tip_shapes[d->tip.shape_count++] = body->shapes[i];
     } else {
-        d->body_env = hk_default_strand_env();
+        d->body_env = hk_default_strand_env_def();
     }
     if (params->stiffness == HK_STIFFNESS_FULL) {
         /* hess, hess_pos and factor (3N)^2 each, metric (2 x 3N: eigenvalues and work) */

@@ -7,18 +7,18 @@
 #include "core/core_internal.h"
 #include "groom_internal.h"
 
-hk_GroomOptions hk_default_groom_options(void)
+hk_GroomDef hk_default_groom_def(void)
 {
-    hk_GroomOptions o = {1, 0, NULL, NULL, 1};
+    hk_GroomDef o = {1, 0, NULL, NULL, 1};
     return o;
 }
 
-int hk_groom_threads(const hk_GroomOptions *o)
+int hk_groom_threads(const hk_GroomDef *o)
 {
     return o->threads > 0 ? o->threads : omp_get_max_threads();
 }
 
-void hk_groom_report(const hk_GroomOptions *o, const char *stage, long done, long total)
+void hk_groom_report(const hk_GroomDef *o, const char *stage, long done, long total)
 {
     if (!o->progress || total <= 0) return;
     /* Only at whole steps of 1/200, so that reporting costs nothing. */
@@ -35,11 +35,11 @@ void hk_groom_free(hk_Groom *g)
     memset(g, 0, sizeof *g);
 }
 
-hk_Status hk_groom_grow(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count, const hk_Mesh *wick,
-                        const hk_GroomOptions *options, hk_Groom *out, hk_Error *err)
+hk_Status hk_groom_grow(const hk_Hairstyle *style, const hk_Shape *shapes, int shape_count, const hk_Mesh *wick,
+                        const hk_GroomDef *options, hk_Groom *out, hk_Error *err)
 {
     memset(out, 0, sizeof *out);
-    hk_GroomOptions o = options ? *options : hk_default_groom_options();
+    hk_GroomDef o = options ? *options : hk_default_groom_def();
     hk_Follicles f;
     /* The strand count and the memory it takes are known from the wick and the
      * hairstyle alone: refused here, before the guides are solved. */
@@ -59,7 +59,7 @@ hk_Status hk_groom_grow(const hk_HairstyleDef *style, const hk_Shape *shapes, in
 }
 
 /* out's points (the guides rounded to float, then the strands), thickness and info. */
-static void fill_hair(const hk_Groom *g, const hk_HairstyleDef *style, hk_HairFile *out)
+static void fill_hair(const hk_Groom *g, const hk_Hairstyle *style, hk_HairFile *out)
 {
     const int points = g->points_per_strand;
     const size_t guide_values = (size_t)g->guide_count * (size_t)points * 3;
@@ -74,7 +74,7 @@ static void fill_hair(const hk_Groom *g, const hk_HairstyleDef *style, hk_HairFi
     hk_hair_set_info(out, info);
 }
 
-hk_Status hk_groom_to_hair(const hk_Groom *g, const hk_HairstyleDef *style, hk_HairFile *out, hk_Error *err)
+hk_Status hk_groom_to_hair(const hk_Groom *g, const hk_Hairstyle *style, hk_HairFile *out, hk_Error *err)
 {
     const uint32_t n = (uint32_t)g->guide_count + (uint32_t)g->strand_count;
     const int points = g->points_per_strand;
@@ -90,7 +90,7 @@ hk_Status hk_groom_to_hair(const hk_Groom *g, const hk_HairstyleDef *style, hk_H
     return HK_OK;
 }
 
-hk_Status hk_groom_to_hair_again(const hk_Groom *g, const hk_HairstyleDef *style, hk_HairFile *out, hk_Error *err)
+hk_Status hk_groom_to_hair_again(const hk_Groom *g, const hk_Hairstyle *style, hk_HairFile *out, hk_Error *err)
 {
     const uint32_t n = (uint32_t)g->guide_count + (uint32_t)g->strand_count;
     /* What hk_groom_to_hair made for as many strands of as many points: everything
@@ -104,14 +104,14 @@ hk_Status hk_groom_to_hair_again(const hk_Groom *g, const hk_HairstyleDef *style
     return hk_groom_to_hair(g, style, out, err);
 }
 
-hk_Status hk_groom_interpolate_guides(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
-                                      const hk_Mesh *wick, const hk_GroomOptions *options, hk_Groom *g,
+hk_Status hk_groom_interpolate_guides(const hk_Hairstyle *style, const hk_Shape *shapes, int shape_count,
+                                      const hk_Mesh *wick, const hk_GroomDef *options, hk_Groom *g,
                                       hk_Error *err)
 {
     if (g->guide_count != wick->vertex_count || !g->guides || g->points_per_strand < 2)
         return hk_error_set(err, HK_ERR_INVALID, "%d guides for a wick of %d vertices", g->guide_count,
                             wick->vertex_count);
-    hk_GroomOptions o = options ? *options : hk_default_groom_options();
+    hk_GroomDef o = options ? *options : hk_default_groom_def();
     const double t0 = hk_seconds_now();
     hk_Status st = hk_groom_interpolate(style, shapes, shape_count, wick, &o, g, err);
     g->stats.seconds_strands = hk_seconds_now() - t0;

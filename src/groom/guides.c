@@ -10,19 +10,19 @@
 #include "hairkit/statics.h"
 
 /* Solves guide i and writes its samples; returns the status. */
-static hk_Status solve_one(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
+static hk_Status solve_one(const hk_Hairstyle *style, const hk_Shape *shapes, int shape_count,
                            const hk_Follicles *f, int i, int points, double *out, long *iterations,
                            int *converged, double *penetration, hk_Error *err)
 {
     hk_SuperHelix *sh;
     hk_Status st = hk_superhelix_from_hairstyle(style, f->position[i], f->normal[i], &sh, err);
     if (st != HK_OK) return st;
-    hk_StrandEnv env = hk_default_strand_env();
+    hk_StrandEnvDef env = hk_default_strand_env_def();
     env.shapes = shapes;
     env.shape_count = shape_count;
     env.envelope_alpha = f->alpha[i];
     env.collision_step = style->collision_step;
-    hk_StaticsOptions opt = hk_default_statics_options();
+    hk_StaticsDef opt = hk_default_statics_def();
     hk_MinimizeResult res;
     st = hk_statics_solve(sh, &env, &opt, &res, err);
     if (st == HK_OK) {
@@ -53,8 +53,8 @@ static hk_Status solve_one(const hk_HairstyleDef *style, const hk_Shape *shapes,
     return st;
 }
 
-hk_Status hk_groom_solve_guides(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
-                                const hk_Follicles *f, const hk_GroomOptions *o, hk_Groom *g, hk_Error *err)
+hk_Status hk_groom_solve_guides(const hk_Hairstyle *style, const hk_Shape *shapes, int shape_count,
+                                const hk_Follicles *f, const hk_GroomDef *o, hk_Groom *g, hk_Error *err)
 {
     /* Every guide has the same sample count: it depends on the length and step only. */
     hk_SuperHelix *probe;

@@ -136,7 +136,7 @@ static double groom_bytes(double strands, double guides, double points)
  * draws as ever), as offsets into first[0..nt] when first is not NULL, and their total.
  * The counts are summed in double and checked before any conversion to an integer, so
  * that a huge or non-finite area (a wick vertex at 1e39) is an error, not an overflow. */
-static hk_Status strand_counts(const hk_HairstyleDef *style, const hk_Mesh *wick, uint64_t seed, long *first,
+static hk_Status strand_counts(const hk_Hairstyle *style, const hk_Mesh *wick, uint64_t seed, long *first,
                                long *total_out, hk_Error *err)
 {
     const int nt = wick->triangle_count;
@@ -161,7 +161,7 @@ static hk_Status strand_counts(const hk_HairstyleDef *style, const hk_Mesh *wick
     return HK_OK;
 }
 
-static hk_Status check_bytes(const hk_HairstyleDef *style, const hk_Mesh *wick, long strands, int guides, int points,
+static hk_Status check_bytes(const hk_Hairstyle *style, const hk_Mesh *wick, long strands, int guides, int points,
                              hk_Error *err)
 {
     char what[256];
@@ -170,10 +170,10 @@ static hk_Status check_bytes(const hk_HairstyleDef *style, const hk_Mesh *wick, 
     return hk_memory_check(groom_bytes((double)strands, (double)guides, (double)points), what, err);
 }
 
-hk_Status hk_groom_check_size(const hk_HairstyleDef *style, const hk_Mesh *wick, const hk_GroomOptions *options,
+hk_Status hk_groom_check_size(const hk_Hairstyle *style, const hk_Mesh *wick, const hk_GroomDef *options,
                               long *strands, hk_Error *err)
 {
-    const hk_GroomOptions o = options ? *options : hk_default_groom_options();
+    const hk_GroomDef o = options ? *options : hk_default_groom_def();
     long total = 0;
     hk_Status st = strand_counts(style, wick, o.seed, NULL, &total, err);
     if (st != HK_OK) return st;
@@ -187,8 +187,8 @@ hk_Status hk_groom_check_size(const hk_HairstyleDef *style, const hk_Mesh *wick,
     return st;
 }
 
-hk_Status hk_groom_interpolate(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
-                               const hk_Mesh *wick, const hk_GroomOptions *o, hk_Groom *g, hk_Error *err)
+hk_Status hk_groom_interpolate(const hk_Hairstyle *style, const hk_Shape *shapes, int shape_count,
+                               const hk_Mesh *wick, const hk_GroomDef *o, hk_Groom *g, hk_Error *err)
 {
     const int nt = wick->triangle_count, points = g->points_per_strand;
     /* Strand counts per triangle, then their offsets: a serial prefix sum, so the

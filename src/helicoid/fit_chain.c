@@ -77,7 +77,7 @@ hk_Status hk_cf_polish_chain(Fit *F)
             x[k * F->np + j] = o->params[k][j];
             scale[k * F->np + j] = F->scale[j];
         }
-    const hk_LeastSquaresOptions lo = hk_cf_least_squares_options(F, n);
+    const hk_LeastSquaresDef lo = hk_cf_least_squares_options(F, n);
     const int m = (int)(3 * F->n) + n;
     hk_MinimizeResult r;
     if (hk_least_squares_minimize(n, m, x, scale, chain_residuals, F, &lo, F->ws->lsq, &r, NULL) != HK_OK) return HK_OK;

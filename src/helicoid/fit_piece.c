@@ -60,7 +60,7 @@ int hk_cf_trace(Fit *F, const double *params, const hk_CurveStart *start, int m,
 }
 
 /* The weight of parameter j in the regularisation (options.penalty_weight, 0 = 1). */
-double hk_cf_penalty_weight(const hk_CurveFitOptions *o, int j)
+double hk_cf_penalty_weight(const hk_CurveFitDef *o, int j)
 {
     return o->penalty_weight[j] > 0.0 ? o->penalty_weight[j] : 1.0;
 }
@@ -182,9 +182,9 @@ static double start_cost(const double *x, void *user)
  * (quadratic convergence gets there in a step or two), and a stop once the cost levels
  * off to 1e-6 of itself (on a target the model cannot follow exactly, sloppy directions
  * would otherwise be crawled along for hundreds of evaluations for no visible gain). */
-hk_LeastSquaresOptions hk_cf_least_squares_options(const Fit *F, int nx)
+hk_LeastSquaresDef hk_cf_least_squares_options(const Fit *F, int nx)
 {
-    hk_LeastSquaresOptions lo = hk_default_least_squares_options();
+    hk_LeastSquaresDef lo = hk_default_least_squares_def();
     lo.max_evaluations = F->opt->max_evaluations > nx + 2 ? F->opt->max_evaluations : nx + 2;
     lo.x_tolerance = 1e-3 * F->opt->param_tolerance;
     lo.f_tolerance = 1e-6;
@@ -194,7 +194,7 @@ hk_LeastSquaresOptions hk_cf_least_squares_options(const Fit *F, int nx)
 /* Levenberg-Marquardt over the first nx entries of x. */
 static hk_Status minimise_least_squares(Fit *F, int nx, double *x, const double *scale)
 {
-    const hk_LeastSquaresOptions lo = hk_cf_least_squares_options(F, nx);
+    const hk_LeastSquaresDef lo = hk_cf_least_squares_options(F, nx);
     hk_MinimizeResult r;
     return hk_least_squares_minimize(nx, residual_count(F), x, scale, residuals, F, &lo, F->ws->lsq, &r, NULL);
 }
@@ -206,7 +206,7 @@ static hk_Status minimise(Fit *F, int nx, double *x, const double *scale)
 {
     if (nx == 0) return HK_OK; /* nothing to choose: the model has one shape */
     if (F->opt->method == HK_CURVEFIT_LEAST_SQUARES) return minimise_least_squares(F, nx, x, scale);
-    hk_NelderMeadOptions nm;
+    hk_NelderMeadDef nm;
     nm.max_evaluations = F->opt->max_evaluations;
     nm.x_tolerance = F->opt->param_tolerance;
     nm.f_tolerance = F->opt->cost_tolerance;

@@ -24,9 +24,9 @@
 
 #define NMAX HK_LEAST_SQUARES_MAX_PARAMS
 
-hk_LeastSquaresOptions hk_default_least_squares_options(void)
+hk_LeastSquaresDef hk_default_least_squares_def(void)
 {
-    hk_LeastSquaresOptions o;
+    hk_LeastSquaresDef o;
     o.max_evaluations = 400;
     o.x_tolerance = 1e-10;
     o.f_tolerance = 1e-12;
@@ -102,7 +102,7 @@ static int more_damping(double *mu, double *nu)
 }
 
 static hk_Status check_args(int n, int m, const double *x, const double *scale, hk_ResidualFn f, double *work,
-                            const hk_LeastSquaresOptions *o, hk_Error *err)
+                            const hk_LeastSquaresDef *o, hk_Error *err)
 {
     if (n < 1 || n > NMAX) return hk_error_set(err, HK_ERR_INVALID, "least squares: %d parameters, expected 1..%d", n, NMAX);
     if (m < n || m > HK_LEAST_SQUARES_MAX_RESIDUALS)
@@ -122,10 +122,10 @@ static hk_Status check_args(int n, int m, const double *x, const double *scale, 
 }
 
 hk_Status hk_least_squares_minimize(int n, int m, double *x, const double *scale, hk_ResidualFn f, void *user,
-                                    const hk_LeastSquaresOptions *options, double *work,
+                                    const hk_LeastSquaresDef *options, double *work,
                                     hk_MinimizeResult *result, hk_Error *err)
 {
-    const hk_LeastSquaresOptions o = options ? *options : hk_default_least_squares_options();
+    const hk_LeastSquaresDef o = options ? *options : hk_default_least_squares_def();
     hk_Status st = check_args(n, m, x, scale, f, work, options, err);
     if (st != HK_OK) return st;
     Run run = {n, m, f, user, 0, o.max_evaluations};

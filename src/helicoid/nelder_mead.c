@@ -29,9 +29,9 @@
 
 #define NMAX HK_NELDER_MEAD_MAX_PARAMS
 
-hk_NelderMeadOptions hk_default_nelder_mead_options(void)
+hk_NelderMeadDef hk_default_nelder_mead_def(void)
 {
-    hk_NelderMeadOptions o;
+    hk_NelderMeadDef o;
     o.max_evaluations = 2000;
     o.x_tolerance = 1e-8;
     o.f_tolerance = 1e-12;
@@ -78,7 +78,7 @@ static void sort_order(int m, const double *fv, int *order)
 }
 
 static hk_Status check_args(int n, const double *x, const double *scale, hk_ObjectiveFn f,
-                            const hk_NelderMeadOptions *o, hk_Error *err)
+                            const hk_NelderMeadDef *o, hk_Error *err)
 {
     if (n < 0 || n > NMAX)
         return hk_error_set(err, HK_ERR_INVALID, "nelder-mead: %d parameters, expected 0..%d", n, NMAX);
@@ -99,10 +99,10 @@ static hk_Status check_args(int n, const double *x, const double *scale, hk_Obje
 }
 
 hk_Status hk_nelder_mead_minimize(int n, double *x, const double *scale, hk_ObjectiveFn f, void *user,
-                                  const hk_NelderMeadOptions *options, hk_MinimizeResult *result,
+                                  const hk_NelderMeadDef *options, hk_MinimizeResult *result,
                                   hk_Error *err)
 {
-    const hk_NelderMeadOptions defaults = hk_default_nelder_mead_options();
+    const hk_NelderMeadDef defaults = hk_default_nelder_mead_def();
     if (!options) options = &defaults;
     const hk_Status st = check_args(n, x, scale, f, options, err);
     if (st != HK_OK) return st;

@@ -60,9 +60,9 @@ static const Range poisson = {-1.0, 0.5, 1, 1, "in (-1, 0.5)"};
 static const Range hair_density = {0.0, 100000.0, 0, 0, "in [0, 100000] hairs/cm^2"};
 static const Range clump = {0.0, 1.0, 0, 1, "in [0, 1)"};
 
-hk_HairstyleDef hk_default_hairstyle(void)
+hk_Hairstyle hk_default_hairstyle(void)
 {
-    hk_HairstyleDef d;
+    hk_Hairstyle d;
     memset(&d, 0, sizeof d);
     d.visuality_step = 0.0025;
     d.collision_step = 0.005;
@@ -92,23 +92,23 @@ hk_HairstyleDef hk_default_hairstyle(void)
     return d;
 }
 
-double hk_hairstyle_length(const hk_HairstyleDef *def)
+double hk_hairstyle_length(const hk_Hairstyle *def)
 {
     double s = 0.0;
     for (int i = 0; i < def->element_count; i++) s += def->element_lengths[i];
     return s;
 }
 
-void hk_hairstyle_free(hk_HairstyleDef *def)
+void hk_hairstyle_free(hk_Hairstyle *def)
 {
     if (!def) return;
     hk_free(def->element_lengths);
     *def = hk_default_hairstyle();
 }
 
-hk_Status hk_hairstyle_copy(const hk_HairstyleDef *src, hk_HairstyleDef *dst, hk_Error *err)
+hk_Status hk_hairstyle_copy(const hk_Hairstyle *src, hk_Hairstyle *dst, hk_Error *err)
 {
-    hk_HairstyleDef d = *src;
+    hk_Hairstyle d = *src;
     d.element_lengths = NULL;
     if (src->element_count > 0) {
         d.element_lengths = hk_alloc_array((size_t)src->element_count, sizeof(double), err);
@@ -137,7 +137,7 @@ static hk_Status scalar(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, Range
     return HK_OK;
 }
 
-static hk_Status read_lengths(const hk_KeyFile *kf, const hk_KeyLine *kl, hk_HairstyleDef *d,
+static hk_Status read_lengths(const hk_KeyFile *kf, const hk_KeyLine *kl, hk_Hairstyle *d,
                               hk_Error *err)
 {
     /* Count first, then an array of exactly that size: never more than
@@ -164,7 +164,7 @@ static hk_Status read_lengths(const hk_KeyFile *kf, const hk_KeyLine *kl, hk_Hai
     return HK_OK;
 }
 
-static hk_Status read_value(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, hk_HairstyleDef *d,
+static hk_Status read_value(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, hk_Hairstyle *d,
                             hk_Error *err)
 {
     switch ((enum Key)k) {
@@ -227,7 +227,7 @@ static hk_Status read_value(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, h
 
 /* The sample counts L / step size the arrays of every strand (§4.1.4): refuse absurd
  * ones here, at the step's line (or at HairLengths' when the step is the default). */
-static hk_Status check_samples(const hk_KeyFile *kf, const hk_HairstyleDef *d, const int *line_of,
+static hk_Status check_samples(const hk_KeyFile *kf, const hk_Hairstyle *d, const int *line_of,
                                int k, double step, hk_Error *err)
 {
     const double len = hk_hairstyle_length(d), samples = len / step;
@@ -239,13 +239,13 @@ static hk_Status check_samples(const hk_KeyFile *kf, const hk_HairstyleDef *d, c
                             HK_MAX_SAMPLES_PER_STRAND);
 }
 
-hk_Status hk_hairstyle_load(const char *path, hk_HairstyleDef *out, hk_Error *err)
+hk_Status hk_hairstyle_load(const char *path, hk_Hairstyle *out, hk_Error *err)
 {
     *out = hk_default_hairstyle();
     hk_KeyFile kf;
     hk_Status st = hk_keyfile_read(path, &kf, err);
     if (st != HK_OK) return st;
-    hk_HairstyleDef d = hk_default_hairstyle();
+    hk_Hairstyle d = hk_default_hairstyle();
     int line_of[K_COUNT];
     st = hk_keyfile_check_keys(&kf, specs, K_COUNT, "hairstyle", line_of, err);
     for (int i = 0; i < kf.line_count && st == HK_OK; i++)

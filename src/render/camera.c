@@ -13,7 +13,7 @@ static hk_Vec3 direction(double azimuth_deg, double elevation_deg)
 
 hk_View hk_camera_frame(const hk_Scene *scene)
 {
-    const hk_RenderOptions *o = scene->opt;
+    const hk_RenderDef *o = scene->opt;
     hk_View v;
     v.perspective = 1;
     v.width = o->width;

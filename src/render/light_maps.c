@@ -239,7 +239,7 @@ static hk_Status hair_opacity_map(const hk_Scene *scene, const uint8_t *segment_
 hk_Status hk_light_maps_build(const hk_Scene *scene, const uint8_t *segment_start, hk_LightMaps *m,
                               hk_RenderStats *stats, hk_Error *err)
 {
-    const hk_RenderOptions *o = scene->opt;
+    const hk_RenderDef *o = scene->opt;
     m->size = o->shadow_map_size;
     m->layers = o->opacity_layers;
     const double first = o->layer_size > 0.0 ? o->layer_size : 0.002;

@@ -9,9 +9,9 @@
 
 #include "render_internal.h"
 
-hk_RenderOptions hk_default_render_options(void)
+hk_RenderDef hk_default_render_def(void)
 {
-    hk_RenderOptions o;
+    hk_RenderDef o;
     memset(&o, 0, sizeof o);
     o.width = 1200;
     o.height = 900;
@@ -39,7 +39,7 @@ hk_RenderOptions hk_default_render_options(void)
     return o;
 }
 
-hk_Status hk_render_check_options(const hk_RenderOptions *o, hk_Error *err)
+hk_Status hk_render_check_options(const hk_RenderDef *o, hk_Error *err)
 {
     if (o->width < 8 || o->height < 8 || o->width > 16384 || o->height > 16384)
         return hk_error_set(err, HK_ERR_INVALID, "picture size %dx%d: each side must be 8 to 16384 pixels",
@@ -61,7 +61,7 @@ hk_Status hk_render_check_options(const hk_RenderOptions *o, hk_Error *err)
     return HK_OK;
 }
 
-int hk_render_threads(const hk_RenderOptions *options)
+int hk_render_threads(const hk_RenderDef *options)
 {
     return options->threads > 0 ? options->threads : omp_get_max_threads();
 }
@@ -118,14 +118,14 @@ hk_Status hk_scene_bounds(hk_Scene *sc, hk_Error *err)
 }
 
 hk_Status hk_render_fit_camera(const hk_HairFile *hair, const hk_Mesh *head,
-                               const hk_RenderOptions *opt, hk_Vec3 *target, double *distance,
+                               const hk_RenderDef *opt, hk_Vec3 *target, double *distance,
                                hk_Error *err)
 {
-    const hk_RenderOptions defaults = hk_default_render_options();
+    const hk_RenderDef defaults = hk_default_render_def();
     if (!opt) opt = &defaults;
     hk_Status st = hk_render_check_options(opt, err);
     if (st != HK_OK) return st;
-    hk_RenderOptions fit = *opt;
+    hk_RenderDef fit = *opt;
     fit.camera_distance = 0.0;
     hk_Scene sc = {hair, head && head->triangle_count > 0 ? head : NULL, NULL, &fit, hk_v3_zero(), hk_v3_zero(),
                    hk_v3_zero(), 0.0, 0, NULL, 0.0, hk_render_threads(opt)};

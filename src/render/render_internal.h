@@ -169,8 +169,8 @@ typedef struct hk_LightMaps {
 typedef struct hk_Scene {
     const hk_HairFile *hair;
     const hk_Mesh *head;
-    const hk_VisualityDef *vis;
-    const hk_RenderOptions *opt;
+    const hk_Visuality *vis;
+    const hk_RenderDef *opt;
     hk_Vec3 light_dir;   /* unit, towards the light */
     hk_Vec3 lo, hi;      /* bounding box of hair and head */
     double thickness;    /* strand diameter (scene units) when the file has no array */
@@ -186,7 +186,7 @@ typedef struct hk_Scene {
 } hk_Scene;
 
 /* The threads a picture is drawn with: options->threads, or OpenMP's default. */
-int hk_render_threads(const hk_RenderOptions *options);
+int hk_render_threads(const hk_RenderDef *options);
 
 static inline void hk_scene_thickness(hk_Scene *s)
 {
@@ -212,7 +212,7 @@ static inline hk_Vec3 hk_hair_point(const hk_HairFile *h, uint32_t i)
 uint32_t hk_segment_starts(const hk_HairFile *hair, uint8_t *s, int threads);
 
 /* hk_render's checks of its options, and the scene's bounding box (render.c). */
-hk_Status hk_render_check_options(const hk_RenderOptions *o, hk_Error *err);
+hk_Status hk_render_check_options(const hk_RenderDef *o, hk_Error *err);
 hk_Status hk_scene_bounds(hk_Scene *sc, hk_Error *err);
 
 /* maps: zeroed before its first build; a build reuses the memory of the one before. */

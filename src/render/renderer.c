@@ -169,14 +169,14 @@ static hk_Vec3 direction(double azimuth_deg, double elevation_deg)
                  cos(azimuth_deg * d) * cos(elevation_deg * d));
 }
 
-static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *head, const hk_VisualityDef *vis,
-                      const hk_RenderOptions *opt, hk_RenderStats *stats, hk_Error *err)
+static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *head, const hk_Visuality *vis,
+                      const hk_RenderDef *opt, hk_RenderStats *stats, hk_Error *err)
 {
     /* The visuality file's colours are display (sRGB) values, as in the thesis's
      * shaders, which wrote them to the screen unconverted; shading works in linear. */
-    const hk_VisualityDef vis_default = hk_default_visuality();
+    const hk_Visuality vis_default = hk_default_visuality();
     if (!vis) vis = &vis_default;
-    hk_VisualityDef vis_linear = *vis;
+    hk_Visuality vis_linear = *vis;
     vis_linear.ambient = hk_srgb_to_linear(vis->ambient);
     vis_linear.diffuse = hk_srgb_to_linear(vis->diffuse);
     vis_linear.specular = hk_srgb_to_linear(vis->specular);
@@ -248,15 +248,15 @@ static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *he
     return HK_OK;
 }
 
-hk_Status hk_renderer_draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *head, const hk_VisualityDef *vis,
-                           const hk_RenderOptions *options, hk_RenderStats *stats, hk_Error *err)
+hk_Status hk_renderer_draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *head, const hk_Visuality *vis,
+                           const hk_RenderDef *options, hk_RenderStats *stats, hk_Error *err)
 {
     r->picture.width = r->picture.height = 0;
     hk_RenderStats st_local;
     if (!stats) stats = &st_local;
     memset(stats, 0, sizeof *stats);
-    const hk_RenderOptions defaults = hk_default_render_options();
-    const hk_RenderOptions *opt = options ? options : &defaults;
+    const hk_RenderDef defaults = hk_default_render_def();
+    const hk_RenderDef *opt = options ? options : &defaults;
     hk_Status st = hk_render_check_options(opt, err);
     if (st != HK_OK) return st;
     st = draw(r, hair, head, vis, opt, stats, err);
@@ -264,8 +264,8 @@ hk_Status hk_renderer_draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mes
     return st;
 }
 
-hk_Status hk_render(const hk_HairFile *hair, const hk_Mesh *head, const hk_VisualityDef *vis,
-                    const hk_RenderOptions *opt, hk_Canvas *out, hk_RenderStats *stats, hk_Error *err)
+hk_Status hk_render(const hk_HairFile *hair, const hk_Mesh *head, const hk_Visuality *vis,
+                    const hk_RenderDef *opt, hk_Canvas *out, hk_RenderStats *stats, hk_Error *err)
 {
     out->rgb = NULL, out->width = out->height = 0;
     hk_Renderer *r;

@@ -39,14 +39,14 @@ struct hk_StrandWorkspace {
 };
 
 /* The default environment: no shapes, no collisions (what a NULL env means). */
-static const hk_StrandEnv no_env = {NULL, 0, 0.0, 0.0};
+static const hk_StrandEnvDef no_env = {NULL, 0, 0.0, 0.0};
 
-hk_StrandEnv hk_default_strand_env(void)
+hk_StrandEnvDef hk_default_strand_env_def(void)
 {
     return no_env;
 }
 
-int hk_strand_collision_sample_count(const hk_SuperHelix *sh, const hk_StrandEnv *env)
+int hk_strand_collision_sample_count(const hk_SuperHelix *sh, const hk_StrandEnvDef *env)
 {
     if (!env) env = &no_env;
     if (env->shape_count <= 0 || !(env->collision_step > 0.0)) return 0;
@@ -56,7 +56,7 @@ int hk_strand_collision_sample_count(const hk_SuperHelix *sh, const hk_StrandEnv
     return (int)m;
 }
 
-hk_Status hk_strand_workspace_create(const hk_SuperHelix *sh, const hk_StrandEnv *env,
+hk_Status hk_strand_workspace_create(const hk_SuperHelix *sh, const hk_StrandEnvDef *env,
                                      hk_StrandWorkspace **out, hk_Error *err)
 {
     *out = NULL;
@@ -140,7 +140,7 @@ static void forward(const hk_SuperHelix *sh, const double *q, int order, hk_Stra
 
 /* Collision samples: energy, and for active samples the data the derivatives need. */
 /* Whether any point within `radius` of `centre` can touch a shape's envelope. */
-static int near_shapes(const hk_StrandEnv *env, hk_Vec3 centre, double radius)
+static int near_shapes(const hk_StrandEnvDef *env, hk_Vec3 centre, double radius)
 {
     for (int j = 0; j < env->shape_count; j++) {
         const hk_Shape *sh = &env->shapes[j];
@@ -150,7 +150,7 @@ static int near_shapes(const hk_StrandEnv *env, hk_Vec3 centre, double radius)
     return 0;
 }
 
-static double collisions(const hk_SuperHelix *sh, const hk_StrandEnv *env, const double *q,
+static double collisions(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, const double *q,
                          int order, hk_StrandWorkspace *ws, double *max_depth)
 {
     double energy = 0.0;
@@ -245,7 +245,7 @@ static hk_Vec3 moment_op(const hk_Mat3 *s, double trace, hk_Vec3 w)
     return hk_v3_madd(hk_m3_mul_v3(s, w), w, -trace);
 }
 
-double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnv *env, const double *q,
+double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, const double *q,
                         hk_StrandWorkspace *ws, double *grad, double *hess, hk_StrandEnergy *parts)
 {
     if (!env) env = &no_env;
@@ -409,7 +409,7 @@ int hk_strand_workspace_contact(const hk_StrandWorkspace *ws, int i, hk_Vec3 *gr
     return 1;
 }
 
-double hk_strand_max_penetration(const hk_SuperHelix *sh, const hk_StrandEnv *env,
+double hk_strand_max_penetration(const hk_SuperHelix *sh, const hk_StrandEnvDef *env,
                                  const double *q, hk_StrandWorkspace *ws)
 {
     if (ws->sample_count == 0) return 0.0;

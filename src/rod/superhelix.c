@@ -95,7 +95,7 @@ hk_Status hk_superhelix_create(int n, const double *lengths, hk_SuperHelix **out
     return HK_OK;
 }
 
-hk_Status hk_superhelix_from_hairstyle(const hk_HairstyleDef *def, hk_Vec3 root, hk_Vec3 dir,
+hk_Status hk_superhelix_from_hairstyle(const hk_Hairstyle *def, hk_Vec3 root, hk_Vec3 dir,
                                        hk_SuperHelix **out, hk_Error *err)
 {
     if (!(hk_v3_norm(dir) > 0.0) || !hk_v3_isfinite(dir))

@@ -28,7 +28,7 @@ void hk_scene_free(hk_Scene *s)
 /* The part of the scene bit `part` names: its file in the setup, and where it goes. */
 static hk_Status load_part(hk_Scene *s, unsigned part, const char *setup_path, hk_Error *err)
 {
-    const hk_SetupDef *setup = &s->setup;
+    const hk_Setup *setup = &s->setup;
     switch (part) {
     case HK_SCENE_HAIRSTYLE:
         if (!setup->hairstyle) return hk_error_set(err, HK_ERR_PARSE, "%s: no HairstyleInfo", setup_path);
@@ -104,14 +104,14 @@ hk_Status hk_scene_load(const char *setup_path, unsigned parts, hk_Scene *out, h
     return st;
 }
 
-hk_Status hk_scene_hair(const hk_Scene *s, const hk_GroomOptions *options, hk_HairFile *hair,
+hk_Status hk_scene_hair(const hk_Scene *s, const hk_GroomDef *options, hk_HairFile *hair,
                         hk_SceneHairReport *report, hk_Error *err)
 {
     hk_SceneHairReport local;
     if (!report) report = &local;
     memset(hair, 0, sizeof *hair);
     memset(report, 0, sizeof *report);
-    const hk_GroomOptions defaults = hk_default_groom_options();
+    const hk_GroomDef defaults = hk_default_groom_def();
     if (!options) options = &defaults;
     hk_Status st = HK_OK;
     if (s->setup.load) {
@@ -141,10 +141,10 @@ hk_Status hk_scene_hair(const hk_Scene *s, const hk_GroomOptions *options, hk_Ha
     return st;
 }
 
-hk_Status hk_scene_render(const hk_Scene *s, const hk_HairFile *hair, const hk_RenderOptions *options,
+hk_Status hk_scene_render(const hk_Scene *s, const hk_HairFile *hair, const hk_RenderDef *options,
                           hk_Canvas *out, hk_RenderStats *stats, hk_Error *err)
 {
-    const hk_RenderOptions defaults = hk_default_render_options();
+    const hk_RenderDef defaults = hk_default_render_def();
     return hk_render(hair, s->head.vertex_count > 0 ? &s->head : NULL, &s->visuality, options ? options : &defaults,
                      out, stats, err);
 }

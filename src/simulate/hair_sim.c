@@ -13,8 +13,8 @@
 #include "sim_internal.h"
 
 struct hk_HairSim {
-    hk_HairstyleDef style;       /* own copy */
-    hk_HairSimOptions options;
+    hk_Hairstyle style;       /* own copy */
+    hk_HairSimDef options;
     hk_Shape *shapes;            /* own copy (head space) */
     int shape_count;
     int guide_count, points;
@@ -34,12 +34,13 @@ struct hk_HairSim {
 /* Length of hair whose weight a guide-guide contact pushes with at full overlap. */
 #define HK_CONTACT_HAIR_LENGTH 0.2
 
-hk_HairSimOptions hk_default_hair_sim_options(const hk_HairstyleDef *style)
+/* The defaults for hair of this section and material, contacts scaled to `length` of it. */
+static hk_HairSimDef sim_def(const hk_Hairstyle *style, double length)
 {
-    hk_HairSimOptions o;
+    hk_HairSimDef o;
     memset(&o, 0, sizeof o);
     o.threads = 0;
-    o.dynamics = hk_dynamics_params_for(style);
+    o.dynamics = hk_dynamics_def_for(style);
     /* Every guide takes the linearly implicit Euler step, whatever its length, with the
      * guide-guide contacts solved together over all guides (advance, below), long
      * guides in several steps a frame (euler_steps). TR-BDF2 is the better integrator
@@ -58,7 +59,7 @@ hk_HairSimOptions hk_default_hair_sim_options(const hk_HairstyleDef *style)
     o.dynamics.stiffness = HK_STIFFNESS_FULL;
     o.dynamics.hessian_interval = 1;
     o.hair_contacts = 1;
-    o.contacts = hk_default_hair_contact_params();
+    o.contacts = hk_default_hair_contact_def();
     /* Contacts scaled to this hair (docs/dynamics.md): guides keep 2.5 mm apart, less
      * than the spacing of neighbouring follicles near the crown (about 3 mm on the
      * generated wick), so the groomed rest state is nearly free of contacts; a full
@@ -71,7 +72,7 @@ hk_HairSimOptions hk_default_hair_sim_options(const hk_HairstyleDef *style)
      * pushed by up to 1,400 contacts each as strong as its weight, and Newton's iteration
      * failed in 29 % of its stages (docs/dynamics.md, "Limitations"). */
     const double mass = style->density * 3.14159265358979323846 * style->radius1 * style->radius2 *
-                        fmin(hk_hairstyle_length(style), HK_CONTACT_HAIR_LENGTH);
+                        fmin(length, HK_CONTACT_HAIR_LENGTH);
     o.contacts.distance = 0.0025;
     o.contacts.stiffness = 1.0 * mass * (style->gravity > 0.0 ? style->gravity : 9.81) / o.contacts.distance;
     o.contacts.damping = 2.0 * sqrt(o.contacts.stiffness * 0.25 * mass);
@@ -83,6 +84,16 @@ hk_HairSimOptions hk_default_hair_sim_options(const hk_HairstyleDef *style)
      * not apply). */
     o.contacts.along = 1;
     return o;
+}
+
+hk_HairSimDef hk_hair_sim_def_for(const hk_Hairstyle *style) { return sim_def(style, hk_hairstyle_length(style)); }
+
+hk_HairSimDef hk_default_hair_sim_def(void)
+{
+    /* The hairstyle's defaults with a hair of 40 um radius (examples/default), 20 cm long */
+    hk_Hairstyle style = hk_default_hairstyle();
+    style.radius1 = style.radius2 = 4e-5;
+    return sim_def(&style, HK_CONTACT_HAIR_LENGTH);
 }
 
 void hk_hair_sim_destroy(hk_HairSim *sim)
@@ -109,12 +120,12 @@ static hk_Status make_guide(hk_HairSim *sim, const hk_Follicles *f, int i, hk_Er
 {
     hk_Status st = hk_superhelix_from_hairstyle(&sim->style, f->position[i], f->normal[i], &sim->strand[i], err);
     if (st != HK_OK) return st;
-    hk_StrandEnv env = hk_default_strand_env();
+    hk_StrandEnvDef env = hk_default_strand_env_def();
     env.shapes = sim->shapes;
     env.shape_count = sim->shape_count;
     env.envelope_alpha = f->alpha[i];
     env.collision_step = sim->style.collision_step;
-    hk_StaticsOptions opt = hk_default_statics_options();
+    hk_StaticsDef opt = hk_default_statics_def();
     hk_MinimizeResult res;
     st = hk_statics_solve(sim->strand[i], &env, &opt, &res, err);
     if (st == HK_OK) st = hk_strand_dynamics_create(sim->strand[i], &sim->options.dynamics, &env, &sim->dyn[i], err);
@@ -165,21 +176,21 @@ static hk_Status make_contacts(hk_HairSim *sim, hk_Error *err)
         sim->samples[i] = (hk_StrandSamples){sim->sample_count, sim->sample_s, sim->sample_pos + o, sim->sample_vel + o};
     }
     /* The contacts' threads follow the simulation's unless they are set. */
-    hk_HairContactParams params = sim->options.contacts;
+    hk_HairContactDef params = sim->options.contacts;
     if (params.threads <= 0) params.threads = sim->options.threads;
     hk_Status st = hk_hair_contacts_create(sim->guide_count, &params, &sim->contacts, err);
     if (st == HK_OK) st = hk_contact_solve_create(sim->guide_count, &sim->contact_solve, err);
     return st;
 }
 
-hk_Status hk_hair_sim_create(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
-                             const hk_Mesh *wick, const hk_HairSimOptions *options, hk_HairSim **out,
+hk_Status hk_hair_sim_create(const hk_Hairstyle *style, const hk_Shape *shapes, int shape_count,
+                             const hk_Mesh *wick, const hk_HairSimDef *options, hk_HairSim **out,
                              hk_Error *err)
 {
     *out = NULL;
     hk_HairSim *sim = hk_calloc_array(1, sizeof *sim, err);
     if (!sim) return HK_ERR_NOMEM;
-    sim->options = options ? *options : hk_default_hair_sim_options(style);
+    sim->options = options ? *options : hk_hair_sim_def_for(style);
     sim->head = hk_rigid_identity();
     hk_Follicles f = {0, NULL, NULL, NULL};
     hk_Status st = hk_hairstyle_copy(style, &sim->style, err);
@@ -314,9 +325,9 @@ static const hk_PointForce *penalty_forces(const hk_HairContacts *c, int i, hk_P
     return forces;
 }
 
-hk_SettleOptions hk_default_settle_options(void)
+hk_SettleDef hk_default_settle_def(void)
 {
-    hk_SettleOptions o;
+    hk_SettleDef o;
     o.seconds = 1.0;
     o.max_seconds = 5.0;
     o.rest_speed = 1e-4;
@@ -336,9 +347,9 @@ static void guide_tips(hk_HairSim *sim, hk_Vec3 *tip)
 }
 
 hk_Status hk_hair_sim_settle_until_still(hk_HairSim *sim, const hk_RigidState *head, double dt,
-                                         const hk_SettleOptions *o, hk_SettleReport *report, hk_Error *err)
+                                         const hk_SettleDef *o, hk_SettleReport *report, hk_Error *err)
 {
-    const hk_SettleOptions def = hk_default_settle_options();
+    const hk_SettleDef def = hk_default_settle_def();
     if (!o) o = &def;
     if (report) memset(report, 0, sizeof *report);
     if (!(dt > 0.0) || !isfinite(dt) || !(o->seconds >= 0.0) || !(o->max_seconds >= o->seconds) ||
@@ -395,7 +406,7 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
      * apart (pairs 54,000 to 1,800 in 8 frames, 103 guides recovered), and correcting
      * the TR-BDF2 steps afterwards with the impulses (a splitting) threw 20 cm guides
      * 10 cm a frame; block Jacobi holds them together but long guides whip
-     * (hk_default_hair_sim_options). */
+     * (hk_hair_sim_def_for). */
     const int coupled = sim->options.dynamics.integrator == HK_INTEGRATOR_LINEAR_EULER;
     hk_Status st = HK_OK;
     long predicted = 0; /* evaluations of the contacts' solve */
@@ -500,7 +511,7 @@ void hk_hair_sim_guides(const hk_HairSim *sim, double *out)
     }
 }
 
-hk_Status hk_hair_sim_groom(const hk_HairSim *sim, const hk_Mesh *wick, const hk_GroomOptions *go,
+hk_Status hk_hair_sim_groom(const hk_HairSim *sim, const hk_Mesh *wick, const hk_GroomDef *go,
                             hk_Groom *g, hk_Error *err)
 {
     memset(g, 0, sizeof *g);
@@ -511,7 +522,7 @@ hk_Status hk_hair_sim_groom(const hk_HairSim *sim, const hk_Mesh *wick, const hk
     hk_hair_sim_guides(sim, g->guides);
     /* The strands are kept out of the body where it is now: the shapes go where the
      * head took them (the guides, and so the strands, are in world space). */
-    hk_GroomOptions o = go ? *go : hk_default_groom_options();
+    hk_GroomDef o = go ? *go : hk_default_groom_def();
     if (o.threads <= 0) o.threads = sim->options.threads;
     hk_Status st = hk_sim_interpolate_posed(&sim->style, sim->shapes, sim->shape_count, &sim->head, wick, &o, g, err);
     if (st != HK_OK) hk_groom_free(g);

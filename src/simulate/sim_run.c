@@ -18,9 +18,9 @@
 #include "io/io_internal.h"
 #include "sim_internal.h"
 
-hk_SimRunOptions hk_default_sim_run_options(void)
+hk_SimRunDef hk_default_sim_run_def(void)
 {
-    hk_SimRunOptions o;
+    hk_SimRunDef o;
     memset(&o, 0, sizeof o);
     o.frames = 1;
     o.fps = 30.0;
@@ -31,7 +31,7 @@ hk_SimRunOptions hk_default_sim_run_options(void)
     o.integrator = HK_INTEGRATOR_AUTO;
     o.video = 1;
     o.seed = 1;
-    o.render = hk_default_render_options();
+    o.render = hk_default_render_def();
     return o;
 }
 
@@ -68,10 +68,10 @@ typedef struct FrameJob {
 
 typedef struct Run {
     const char *dir;
-    const hk_SimRunOptions *o;
+    const hk_SimRunDef *o;
     hk_Scene scene;       /* the setup and every part of it */
     hk_HairSim *sim;
-    hk_RenderOptions ro;  /* the camera fixed at frame 0 */
+    hk_RenderDef ro;  /* the camera fixed at frame 0 */
     hk_Groom groom;       /* the guides being stepped (guides array only) */
     FrameJob jobs[MAX_AT_ONCE];
     int threads;          /* the run's threads (options, or OpenMP's default) */
@@ -179,13 +179,13 @@ static hk_Status write_manifest(Run *r, const char *setup_path, hk_Error *err)
 
 static hk_Status create_sim(Run *r, hk_Error *err)
 {
-    const hk_SimRunOptions *o = r->o;
-    hk_HairSimOptions so = hk_default_hair_sim_options(&r->scene.style);
+    const hk_SimRunDef *o = r->o;
+    hk_HairSimDef so = hk_hair_sim_def_for(&r->scene.style);
     so.threads = r->threads; /* all of them until frame 0 is drawn, then fewer (hk_hair_sim_set_threads) */
     so.hair_contacts = o->hair_contacts;
     if (!o->damping) so.dynamics.internal_friction = so.dynamics.air_drag = 0.0;
     if (o->integrator == HK_INTEGRATOR_TRBDF2) {
-        const hk_DynamicsParams strand = hk_default_dynamics_params();
+        const hk_DynamicsDef strand = hk_default_dynamics_def();
         so.dynamics.integrator = HK_INTEGRATOR_TRBDF2;
         so.dynamics.solver = strand.solver;
         so.dynamics.stiffness = strand.stiffness;
@@ -199,7 +199,7 @@ static hk_Status create_sim(Run *r, hk_Error *err)
     hk_Status st = hk_hair_sim_create(&r->scene.style, r->scene.shapes, r->scene.shape_count, &r->scene.wick, &so, &r->sim, err);
     if (st == HK_OK && (o->preroll > 0.0 || o->preroll_max > 0.0)) {
         const hk_RigidState pose = hk_sim_head_pose(o->motion, 0.0);
-        hk_SettleOptions settle = hk_default_settle_options();
+        hk_SettleDef settle = hk_default_settle_def();
         settle.seconds = o->preroll;
         settle.max_seconds = fmax(o->preroll, o->preroll_max);
         hk_SettleReport report;
@@ -251,7 +251,7 @@ static hk_Status render_frame(FrameJob *j, const hk_HairFile *hair)
         st = hk_render_fit_camera(hair, head, &r->ro, &r->ro.camera_target, &r->ro.camera_distance, err);
         r->ro.camera_distance *= 1.15;
     }
-    hk_RenderOptions ro = r->ro;
+    hk_RenderDef ro = r->ro;
     ro.threads = j->threads;
     if (st == HK_OK && !j->renderer) st = hk_renderer_create(&j->renderer, err);
     if (st == HK_OK) st = hk_renderer_draw(j->renderer, hair, head, &r->scene.visuality, &ro, NULL, err);
@@ -271,7 +271,7 @@ static void *frame_job(void *arg)
 {
     FrameJob *j = arg;
     Run *r = j->run;
-    const hk_SimRunOptions *o = r->o;
+    const hk_SimRunDef *o = r->o;
     double t0 = omp_get_wtime();
     const hk_RigidState head = hk_sim_head_pose(o->motion, j->t);
     j->st = hk_sim_grow_hair(&r->scene.style, r->scene.shapes, r->scene.shape_count, &head, &r->scene.wick, o->seed, j->threads, 0, 1,
@@ -316,7 +316,7 @@ static hk_Status collect(Run *r, FrameJob *j, int report, hk_Error *err)
  * a job: on a thread of its own when frames are drawn at once, else here. */
 static hk_Status write_frame(Run *r, long k, double t, int job_threads, hk_Error *err)
 {
-    const hk_SimRunOptions *o = r->o;
+    const hk_SimRunDef *o = r->o;
     hk_Groom *g = &r->groom;
     double t0 = omp_get_wtime();
     hk_hair_sim_guides(r->sim, g->guides);
@@ -375,7 +375,7 @@ static hk_Status collect_all(Run *r, long next, hk_Status st, hk_Error *err)
     return st;
 }
 
-static hk_Status check_options(const hk_SimRunOptions *o, hk_Error *err)
+static hk_Status check_options(const hk_SimRunDef *o, hk_Error *err)
 {
     if (o->frames < 1 || o->frames > 100000)
         return hk_error_set(err, HK_ERR_INVALID, "%ld frames: must be 1 to 100000", o->frames);
@@ -388,10 +388,10 @@ static hk_Status check_options(const hk_SimRunOptions *o, hk_Error *err)
     return HK_OK;
 }
 
-hk_Status hk_simulation_run(const char *setup_path, const char *dir, const hk_SimRunOptions *options,
+hk_Status hk_simulation_run(const char *setup_path, const char *dir, const hk_SimRunDef *options,
                             hk_SimProgress *progress, hk_Error *err)
 {
-    const hk_SimRunOptions defaults = hk_default_sim_run_options();
+    const hk_SimRunDef defaults = hk_default_sim_run_def();
     if (!options) options = &defaults;
     Run r;
     memset(&r, 0, sizeof r);

@@ -8,9 +8,9 @@
 #include <math.h>
 #include <string.h>
 
-hk_NewtonOptions hk_default_newton_options(void)
+hk_NewtonDef hk_default_newton_def(void)
 {
-    hk_NewtonOptions o = {500, 1e-16, 0.0, 0.0, NULL};
+    hk_NewtonDef o = {500, 1e-16, 0.0, 0.0, NULL};
     return o;
 }
 
@@ -20,12 +20,12 @@ hk_NewtonOptions hk_default_newton_options(void)
 #define MU_LIMIT 1e30
 
 hk_Status hk_newton_minimize(int n, double *x, hk_DerivFn f, void *user, const double *metric,
-                             const hk_NewtonOptions *options, hk_MinimizeResult *result,
+                             const hk_NewtonDef *options, hk_MinimizeResult *result,
                              hk_Error *err)
 {
     hk_MinimizeResult res = {0.0, 0, 0, 0};
     if (result) *result = res;
-    const hk_NewtonOptions defaults = hk_default_newton_options();
+    const hk_NewtonDef defaults = hk_default_newton_def();
     if (!options) options = &defaults;
     if (n < 1 || !x || !f || options->max_iterations < 0 || !(options->tolerance >= 0.0))
         return hk_error_set(err, HK_ERR_INVALID, "newton: invalid arguments (n = %d)", n);

@@ -49,9 +49,9 @@
  * 0.5) are far from it; nearer to 1 a direction could need millions of trials. */
 #define STEP_CHANGE_MIN 1e-3
 
-hk_RosenbrockOptions hk_default_rosenbrock_options(void)
+hk_RosenbrockDef hk_default_rosenbrock_def(void)
 {
-    hk_RosenbrockOptions o;
+    hk_RosenbrockDef o;
     o.max_stages = 20;   /* the thesis's MaxIter */
     o.epsilon = 1e-4;    /* the thesis's Epsilon */
     o.initial_step = 0.1;
@@ -153,7 +153,7 @@ enum {
 };
 
 static hk_Status check_options(int n, const double *x, hk_ObjectiveFn f,
-                               const hk_RosenbrockOptions *o, hk_Error *err)
+                               const hk_RosenbrockDef *o, hk_Error *err)
 {
     if (n < 1)
         return hk_error_set(err, HK_ERR_INVALID, "rosenbrock: dimension must be >= 1, got %d", n);
@@ -180,16 +180,16 @@ static hk_Status check_options(int n, const double *x, hk_ObjectiveFn f,
 }
 
 hk_Status hk_rosenbrock_minimize(int n, double *x, hk_ObjectiveFn f, void *user,
-                                 const hk_RosenbrockOptions *options, hk_MinimizeResult *result,
+                                 const hk_RosenbrockDef *options, hk_MinimizeResult *result,
                                  hk_Error *err)
 {
     hk_MinimizeResult res = {0.0, 0, 0, 0};
     if (result) *result = res;
-    const hk_RosenbrockOptions defaults = hk_default_rosenbrock_options();
+    const hk_RosenbrockDef defaults = hk_default_rosenbrock_def();
     if (!options) options = &defaults;
     hk_Status status = check_options(n, x, f, options, err);
     if (status != HK_OK) return status;
-    const hk_RosenbrockOptions *o = options;
+    const hk_RosenbrockDef *o = options;
     const size_t sn = (size_t)n;
 
     /* Directions and their successors (n x n each), trial point, steps, advances. */

@@ -11,7 +11,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     hk_Mesh mesh;
     hk_Error err;
     if (!path || hk_obj_load(path, &mesh, &err) != HK_OK) return 0;
-    hk_HairstyleDef style = hk_default_hairstyle();
+    hk_Hairstyle style = hk_default_hairstyle();
     double lengths[1] = {0.2};
     style.element_count = 1, style.element_lengths = lengths;
     long strands;

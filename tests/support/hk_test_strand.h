@@ -9,7 +9,7 @@
  * head of examples/strand/head.txt (shapes, count: loaded by the caller) and solves
  * its statics rest shape in the envelope alpha = 0.5, as a groomed head starts; *body
  * receives that environment. Fails the test on any error. */
-hk_SuperHelix *hk_test_strand_on_head(const char *type, const hk_Shape *shapes, int count, hk_HairstyleDef *def,
-                                      hk_StrandEnv *body);
+hk_SuperHelix *hk_test_strand_on_head(const char *type, const hk_Shape *shapes, int count, hk_Hairstyle *def,
+                                      hk_StrandEnvDef *body);
 
 #endif
