@@ -66,7 +66,7 @@ static int head_run(const hk_Hairstyle *style, const hk_Shape *shapes, int shape
     hk_HairSimDef o = hk_hair_sim_def_for(style);
     o.threads = threads;
     if (trbdf2) { /* the single strands' default: O(N) solver, every force implicit */
-        const hk_DynamicsDef strand = hk_dynamics_def_for(style);
+        const hk_DynamicsDef strand = style->dynamics;
         o.dynamics.integrator = strand.integrator;
         o.dynamics.solver = strand.solver;
         o.dynamics.stiffness = strand.stiffness;
@@ -141,7 +141,7 @@ int hk_bench_dynamics(FILE *out, const hk_BenchOptions *options)
             "body and guide-guide contacts, dt = 1/30 s, %d frames after 0.5 s of settling\n"
             "  (the paper: 0.3 to 3 s per frame for 100 to 200 guides)\n"
             "  integrator     threads   ms/frame   frames/s   steps/guide/frame   evaluations/guide/frame   guide contacts   body samples\n",
-            wick.vertex_count, style.element_count, frames);
+            wick.vertex_count, style.strand.element_count, frames);
     double fps[3] = {0, 0, 0};
     for (int run = 0; run < 3 && !rc; run++) {
         /* the simulate default (linear Euler) on 1 and 2 threads, then TR-BDF2 on 2 */

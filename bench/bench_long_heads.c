@@ -139,9 +139,9 @@ int hk_bench_long_heads(FILE *out, const hk_BenchOptions *options)
         return 1;
     }
     for (int k = 0; k < ELEMENTS; k++) lengths[k] = ELEMENT_LENGTH;
-    hk_free(sc.style.element_lengths);
-    sc.style.element_lengths = lengths;
-    sc.style.element_count = ELEMENTS;
+    hk_free(sc.style.strand.element_lengths);
+    sc.style.strand.element_lengths = lengths;
+    sc.style.strand.element_count = ELEMENTS;
     /* --quick: 0.2 s of shaking at 1/30 s after 0.1 s of settling */
     const double settle = options->quick ? 0.1 : 1.0, seconds = options->quick ? 0.2 : 10.0;
     const int rates = options->quick ? 1 : 2, motion_count = options->quick ? 1 : MOTION_COUNT;

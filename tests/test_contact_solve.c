@@ -14,6 +14,7 @@
 
 #include "dynamics/dynamics_internal.h"
 #include "dynamics/hair_contact_solve.h"
+#include "hairkit/io.h"
 #include "hairkit/statics.h"
 
 #define STRANDS 3
@@ -35,7 +36,7 @@ static void world_make(World *w, const hk_HairContactDef *cp)
     hk_Error err;
     hk_Hairstyle style = hk_default_hairstyle();
     assert_int_equal(hk_hairstyle_load(HK_SOURCE_DIR "/examples/guides200/hairstyle.txt", &style, &err), HK_OK);
-    hk_DynamicsDef p = hk_dynamics_def_for(&style);
+    hk_DynamicsDef p = style.dynamics;
     p.integrator = HK_INTEGRATOR_LINEAR_EULER;
     p.solver = HK_DYNAMICS_DENSE;
     p.stiffness = HK_STIFFNESS_FULL;
@@ -45,10 +46,10 @@ static void world_make(World *w, const hk_HairContactDef *cp)
     const hk_Vec3 dirs[STRANDS] = {hk_v3(0, 0, 1), hk_v3(0, 0.01, -1), hk_v3(1, 0.02, 0.1)};
     const hk_StrandEnvDef env = hk_default_strand_env_def();
     for (int i = 0; i < STRANDS; i++) {
-        assert_int_equal(hk_superhelix_from_hairstyle(&style, roots[i], hk_v3_normalize(dirs[i]), &w->sh[i], &err), HK_OK);
+        assert_int_equal(hk_superhelix_from_def(&style.strand, roots[i], hk_v3_normalize(dirs[i]), &w->sh[i], &err), HK_OK);
         assert_int_equal(hk_strand_dynamics_create(w->sh[i], &p, &env, &w->d[i], &err), HK_OK);
     }
-    const double len = hk_hairstyle_length(&style);
+    const double len = hk_strand_def_length(&style.strand);
     for (int j = 0; j < SAMPLES; j++) w->s[j] = len * j / (SAMPLES - 1);
     assert_int_equal(hk_hair_contacts_create(STRANDS, cp, &w->contacts, &err), HK_OK);
     assert_int_equal(hk_contact_solve_create(STRANDS, &w->solve, &err), HK_OK);

@@ -17,6 +17,7 @@
 #include <string.h>
 
 #include "hairkit/dynamics.h"
+#include "hairkit/io.h"
 #include "hairkit/statics.h"
 
 /* A strand of an example hairstyle, its elements replaced by n equal ones of a total
@@ -31,12 +32,12 @@ static hk_SuperHelix *example_strand(const char *name, double length, int n, hk_
         double *lengths = hk_alloc_array((size_t)n, sizeof(double), &err);
         assert_non_null(lengths);
         for (int i = 0; i < n; i++) lengths[i] = length / n;
-        hk_free(def->element_lengths);
-        def->element_lengths = lengths;
-        def->element_count = n;
+        hk_free(def->strand.element_lengths);
+        def->strand.element_lengths = lengths;
+        def->strand.element_count = n;
     }
     hk_SuperHelix *sh = NULL;
-    assert_int_equal(hk_superhelix_from_hairstyle(def, hk_v3(0, 0, 0), hk_v3(1, 0, 0), &sh, &err), HK_OK);
+    assert_int_equal(hk_superhelix_from_def(&def->strand, hk_v3(0, 0, 0), hk_v3(1, 0, 0), &sh, &err), HK_OK);
     return sh;
 }
 
@@ -79,7 +80,7 @@ static void test_long_wavy_strand_at_paper_step(void **state)
     for (int m = 0; m < 2; m++) {
         hk_Hairstyle def;
         hk_SuperHelix *sh = example_strand("wavy", 1.0, 40, &def);
-        hk_DynamicsDef p = hk_dynamics_def_for(&def);
+        hk_DynamicsDef p = def.dynamics;
         hk_StrandDynamics *d = NULL;
         hk_HeadMotion *motion = NULL;
         hk_Error err;
@@ -116,7 +117,7 @@ static void test_undamped_energy_stays_bounded(void **state)
     for (int k = 0; k < 4; k++) {
         hk_Hairstyle def_k;
         hk_SuperHelix *sh = example_strand("straight", 0.0, 0, &def_k);
-        hk_DynamicsDef p = hk_dynamics_def_for(&def_k);
+        hk_DynamicsDef p = def_k.dynamics;
         p.internal_friction = p.air_drag = 0.0;
         hk_StrandDynamics *d = NULL;
         assert_int_equal(hk_strand_dynamics_create(sh, &p, NULL, &d, &err), HK_OK);
@@ -143,7 +144,7 @@ static double *curly_bounce(double dt, double seconds, int damped, int *count)
 {
     hk_Hairstyle def;
     hk_SuperHelix *sh = example_strand("curly", 0.0, 0, &def);
-    hk_DynamicsDef p = hk_dynamics_def_for(&def);
+    hk_DynamicsDef p = def.dynamics;
     if (!damped) p.internal_friction = p.air_drag = 0.0;
     hk_StrandDynamics *d = NULL;
     hk_Error err;
@@ -240,7 +241,7 @@ static void test_violent_motion_completes(void **state)
         hk_Hairstyle def;
         hk_StrandEnvDef body;
         hk_SuperHelix *sh = hk_test_strand_on_head("wavy", shapes, shape_count, &def, &body);
-        hk_DynamicsDef p = hk_dynamics_def_for(&def);
+        hk_DynamicsDef p = def.dynamics;
         hk_StrandDynamics *d = NULL;
         hk_HeadMotion *motion = NULL;
         assert_int_equal(hk_strand_dynamics_create(sh, &p, &body, &d, &err), HK_OK);

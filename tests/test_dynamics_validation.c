@@ -24,6 +24,7 @@
 #include <string.h>
 
 #include "hairkit/dynamics.h"
+#include "hairkit/io.h"
 #include "hairkit/statics.h"
 
 /* Horizontal straight strand along +x, N equal elements, gravity g along -y. */
@@ -565,7 +566,7 @@ static void test_appendix_b_hair_stable_on_a_shaking_head(void **state)
         hk_Hairstyle def;
         hk_StrandEnvDef body;
         hk_SuperHelix *sh = hk_test_strand_on_head(types[k], shapes, shape_count, &def, &body);
-        hk_DynamicsDef p = hk_dynamics_def_for(&def);
+        hk_DynamicsDef p = def.dynamics;
         hk_StrandDynamics *d = NULL;
         assert_int_equal(hk_strand_dynamics_create(sh, &p, &body, &d, &err), HK_OK);
         const int n = sh->n;

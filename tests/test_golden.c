@@ -73,11 +73,11 @@ static int setup(void **state)
     assert_int_equal(hk_visuality_load(HK_SOURCE_DIR "/examples/default/visuality.txt", &sc->vis, &err), HK_OK);
     assert_int_equal(hk_obj_load(HK_SOURCE_DIR "/assets/wick-200.obj", &wick, &err), HK_OK);
     assert_int_equal(hk_obj_load(HK_SOURCE_DIR "/assets/head.obj", &sc->head, &err), HK_OK);
-    style.hair_density = 30.0;
+    style.interpolation.hair_density = 30.0;
     hk_GroomDef o = hk_default_groom_def();
     hk_Groom g;
-    assert_int_equal(hk_groom_grow(&style, shapes, shape_count, &wick, &o, &g, &err), HK_OK);
-    assert_int_equal(hk_groom_to_hair(&g, &style, &sc->hair, &err), HK_OK);
+    assert_int_equal(hk_groom_grow(&style.strand, &style.interpolation, shapes, shape_count, &wick, &o, &g, &err), HK_OK);
+    assert_int_equal(hk_groom_to_hair(&g, &style.strand, &sc->hair, &err), HK_OK);
     hk_groom_free(&g);
     hk_mesh_free(&wick);
     hk_free(shapes);

@@ -58,13 +58,13 @@ static int setup(void **state)
     assert_int_equal(h->body_count, 3); /* cranium, face and jaw, neck */
     for (int i = 0; i < h->f.count; i++) {
         /* as hair_sim.c's make_guide: the statics rest shape with its follicle's envelope */
-        assert_int_equal(hk_superhelix_from_hairstyle(&h->style, h->f.position[i], h->f.normal[i], &h->guide[i], &err),
+        assert_int_equal(hk_superhelix_from_def(&h->style.strand, h->f.position[i], h->f.normal[i], &h->guide[i], &err),
                          HK_OK);
         hk_StrandEnvDef env = hk_default_strand_env_def();
         env.shapes = h->shapes;
         env.shape_count = h->shape_count;
         env.envelope_alpha = h->f.alpha[i];
-        env.collision_step = h->style.collision_step;
+        env.collision_step = h->style.strand.collision_step;
         hk_StaticsDef so = hk_default_statics_def();
         hk_MinimizeResult res;
         assert_int_equal(hk_statics_solve(h->guide[i], &env, &so, &res, &err), HK_OK);
@@ -114,7 +114,7 @@ static double deepest_in_motion(const char *motion, int frames)
         env.shapes = h->shapes;
         env.shape_count = h->shape_count;
         env.envelope_alpha = h->f.alpha[i];
-        env.collision_step = h->style.collision_step;
+        env.collision_step = h->style.strand.collision_step;
         hk_StrandDynamics *d = NULL;
         assert_int_equal(hk_strand_dynamics_create(sh, &o.dynamics, &env, &d, &err), HK_OK);
         const int points = hk_superhelix_sample_count(sh, 0.0025);

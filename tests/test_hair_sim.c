@@ -127,8 +127,8 @@ static double shaking_depth(int substeps, double *reach_out)
      * up to a factor two for a tip reversing within a frame */
     double k = 0.0;
     for (int i = 0; i < hard_count; i++) k = fmax(k, hard[i].penalty);
-    const double reach = 2.0 * fastest * sqrt(sc.style.density * 3.14159265358979323846 * sc.style.radius1 *
-                                               sc.style.radius2 / k);
+    const double reach = 2.0 * fastest * sqrt(sc.style.strand.density * 3.14159265358979323846 * sc.style.strand.radius1 *
+                                               sc.style.strand.radius2 / k);
     print_message("shaking head, %d steps per frame: deepest guide sample %.3g m inside the head, penalty reach "
                   "%.3g m at %.2f m/s; %d guide-guide contacts\n", substeps, deepest, reach, fastest, contacts);
     assert_true(contacts > 0);

@@ -73,9 +73,9 @@ static void long_head_load(LongHead *h)
     double *lengths = hk_alloc_array(20, sizeof(double), NULL);
     assert_non_null(lengths);
     for (int k = 0; k < 20; k++) lengths[k] = 0.05;
-    hk_free(h->style.element_lengths);
-    h->style.element_lengths = lengths;
-    h->style.element_count = 20;
+    hk_free(h->style.strand.element_lengths);
+    h->style.strand.element_lengths = lengths;
+    h->style.strand.element_count = 20;
 }
 
 static void long_head_free(LongHead *h)

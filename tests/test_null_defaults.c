@@ -262,9 +262,9 @@ static void test_head(void **state)
     assert_int_equal(plain.dynamics.integrator, mine.dynamics.integrator);
 
     hk_Groom g = {0};
-    assert_int_equal(hk_groom_grow(&scene.style, scene.shapes, scene.shape_count, &scene.wick, NULL, &g, &err),
+    assert_int_equal(hk_groom_grow(&scene.style.strand, &scene.style.interpolation, scene.shapes, scene.shape_count, &scene.wick, NULL, &g, &err),
                      HK_OK);
-    assert_int_equal(hk_groom_interpolate_guides(&scene.style, scene.shapes, scene.shape_count, &scene.wick, NULL,
+    assert_int_equal(hk_groom_interpolate_guides(&scene.style.interpolation, scene.shapes, scene.shape_count, &scene.wick, NULL,
                                                  &g, &err),
                      HK_OK);
     hk_groom_free(&g);

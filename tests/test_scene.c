@@ -29,7 +29,7 @@ static void test_parts(void **state)
     assert_int_equal(s.parts, (unsigned)HK_SCENE_ALL);
     assert_int_equal(s.wick.vertex_count, 201); /* assets/wick-200.obj */
     assert_true(s.shape_count > 0);
-    hk_assert_near(s.style.hair_density, 4.0, 0.0); /* hk_test_light_setup's hairstyle */
+    hk_assert_near(s.style.interpolation.hair_density, 4.0, 0.0); /* hk_test_light_setup's hairstyle */
     hk_scene_free(&s);
     hk_scene_free(&s); /* freeing twice is harmless: the scene is empty after the first */
 }
@@ -64,7 +64,7 @@ static void test_errors(void **state)
     assert_true(hk_scene_load_parts(&s, HK_SCENE_ALL, &err) != HK_OK);
     hk_assert_contains(err.message, "badhead.obj:2");
     assert_int_equal(s.parts, 0u);
-    assert_int_equal(s.style.element_count, hk_default_hairstyle().element_count);
+    assert_int_equal(s.style.strand.element_count, hk_default_hairstyle().strand.element_count);
     hk_scene_free(&s);
     /* Growing needs the grooming parts. */
     assert_int_equal(hk_scene_load(hk_test_light_setup(), HK_SCENE_RENDERING, &s, &err), HK_OK);
@@ -91,8 +91,8 @@ static void test_same_as_pieces(void **state)
     assert_int_equal(report.guides, 201);
     assert_int_equal((uint32_t)(report.guides + report.strands), a.strand_count);
     hk_Groom g;
-    assert_int_equal(hk_groom_grow(&s.style, s.shapes, s.shape_count, &s.wick, &go, &g, &err), HK_OK);
-    assert_int_equal(hk_groom_to_hair(&g, &s.style, &b, &err), HK_OK);
+    assert_int_equal(hk_groom_grow(&s.style.strand, &s.style.interpolation, s.shapes, s.shape_count, &s.wick, &go, &g, &err), HK_OK);
+    assert_int_equal(hk_groom_to_hair(&g, &s.style.strand, &b, &err), HK_OK);
     assert_int_equal(a.point_count, b.point_count);
     assert_memory_equal(a.points, b.points, sizeof(float) * 3 * a.point_count);
     hk_groom_free(&g);

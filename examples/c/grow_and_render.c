@@ -38,8 +38,9 @@ int main(int argc, char **argv)
      * hair grows from) and the head. Optional ones are NULL when the setup has none. */
     hk_Status st = hk_hairstyle_load(setup.hairstyle, &style, &err);
     if (st == HK_OK && argc == 4) {
-        style.hair_density = strtod(argv[3], NULL);
-        if (!(style.hair_density > 0)) st = hk_error_set(&err, HK_ERR_INVALID, "bad density '%s'", argv[3]);
+        style.interpolation.hair_density = strtod(argv[3], NULL);
+        if (!(style.interpolation.hair_density > 0))
+            st = hk_error_set(&err, HK_ERR_INVALID, "bad density '%s'", argv[3]);
     }
     if (st == HK_OK && setup.collision) st = hk_collision_load(setup.collision, &shapes, &shape_count, &err);
     if (st == HK_OK && setup.visuality) st = hk_visuality_load(setup.visuality, &colours, &err);
@@ -50,8 +51,9 @@ int main(int argc, char **argv)
      * gravity and the collision shapes (in parallel), then HairDensity strands per cm^2
      * interpolated between the guides; then the whole groom as cyHair data. */
     hk_GroomDef grow = hk_default_groom_def();
-    if (st == HK_OK) st = hk_groom_grow(&style, shapes, shape_count, &wick, &grow, &groom, &err);
-    if (st == HK_OK) st = hk_groom_to_hair(&groom, &style, &hair, &err);
+    if (st == HK_OK)
+        st = hk_groom_grow(&style.strand, &style.interpolation, shapes, shape_count, &wick, &grow, &groom, &err);
+    if (st == HK_OK) st = hk_groom_to_hair(&groom, &style.strand, &hair, &err);
 
     /* Render over the head (Kajiya-Kay shading, deep opacity shadows) and save. */
     hk_RenderDef view = hk_default_render_def();

@@ -29,7 +29,6 @@
 
 #include "hairkit/core.h"
 #include "hairkit/export.h"
-#include "hairkit/io.h"
 #include "hairkit/motion.h"
 #include "hairkit/rod.h"
 
@@ -70,8 +69,10 @@ typedef enum hk_DynamicsIntegrator {
 } hk_DynamicsIntegrator;
 
 typedef struct hk_DynamicsDef {
-    double internal_friction;  /* gamma (kg m^3/s), paper 000 eq. 5d */
-    double air_drag;           /* nu (kg/(m s)), paper 000 eq. 5a */
+    double internal_friction;  /* gamma (kg m^3/s), paper 000 eq. 5d: visco-elastic
+                                  dissipation of the curvatures, paper: 5e-11 .. 5e-10 */
+    double air_drag;           /* nu (kg/(m s)), paper 000 eq. 5a: viscous drag of the air
+                                  at rest, paper: 5e-6 (disciplined) .. 5e-5 (fuzzy hair) */
     double friction_with;      /* body friction coefficient for the hair sliding with its
                                   scales (root first relative to the body) */
     double friction_against;   /* ... against them (tip first); paper 000 §4.2 blends the
@@ -113,11 +114,9 @@ typedef struct hk_DynamicsStats {
 } hk_DynamicsStats;
 
 /* Paper-range defaults: gamma 1e-10, nu 1e-5, friction 0.2 / 0.4, 5 cm/s, auto
- * quadrature, O(N) solver with the Gauss-Newton stiffness. */
+ * quadrature, O(N) solver with the Gauss-Newton stiffness. A hairstyle file's are these
+ * with its InternalFriction, AirDrag and BodyFriction (hk_Hairstyle.dynamics). */
 HK_API hk_DynamicsDef hk_default_dynamics_def(void);
-
-/* The same from a hairstyle's InternalFriction, AirDrag and BodyFriction. */
-HK_API hk_DynamicsDef hk_dynamics_def_for(const hk_Hairstyle *def);
 
 /* A point force on a strand at arc length s, with its linearisation for the implicit
  * step (both matrices symmetric positive semi-definite). */

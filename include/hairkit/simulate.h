@@ -10,6 +10,7 @@
 #include "hairkit/export.h"
 #include "hairkit/groom.h"
 #include "hairkit/hair_contacts.h"
+#include "hairkit/io.h"
 #include "hairkit/motion.h"
 #include "hairkit/render.h"
 

@@ -78,8 +78,8 @@ typedef struct hk_StaticsDef {
  * Epsilon 1e-4). */
 HK_API hk_StaticsDef hk_default_statics_def(void);
 
-/* Rosenbrock settings of a hairstyle file (MaxIter, Epsilon) and its initial step. */
-HK_API hk_RosenbrockDef hk_rosenbrock_def_for(const hk_Hairstyle *def);
+/* Rosenbrock settings of a strand (MaxIter, Epsilon) and its initial step. */
+HK_API hk_RosenbrockDef hk_rosenbrock_def_for(const hk_StrandDef *def);
 
 /* Name of a solver for messages ("newton", "rosenbrock"); parse back with
  * hk_solver_from_name (returns -1 for an unknown name). */

@@ -11,12 +11,12 @@ void hk_groom_report(const hk_GroomDef *o, const char *stage, long done, long to
 int hk_groom_threads(const hk_GroomDef *o);
 
 /* Solves one guide per follicle; fills g->guides, g->points_per_strand, stats. */
-hk_Status hk_groom_solve_guides(const hk_Hairstyle *style, const hk_Shape *shapes, int shape_count,
+hk_Status hk_groom_solve_guides(const hk_StrandDef *strand, const hk_Shape *shapes, int shape_count,
                                 const hk_Follicles *f, const hk_GroomDef *o, hk_Groom *g, hk_Error *err);
 
 /* Fills every wick triangle with interpolated strands from its three guides, kept
  * out of the body shapes among shapes[0..shape_count) when o->keep_outside is set. */
-hk_Status hk_groom_interpolate(const hk_Hairstyle *style, const hk_Shape *shapes, int shape_count,
+hk_Status hk_groom_interpolate(const hk_InterpolationDef *interp, const hk_Shape *shapes, int shape_count,
                                const hk_Mesh *wick, const hk_GroomDef *o, hk_Groom *g, hk_Error *err);
 
 /* Keeping strands out of the body (body_projection.c). hk_groom_body_shapes copies the

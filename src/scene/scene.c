@@ -124,11 +124,12 @@ hk_Status hk_scene_hair(const hk_Scene *s, const hk_GroomDef *options, hk_HairFi
         memset(&groom, 0, sizeof groom);
         /* hk_groom_grow checks the same; here the message can name the files. */
         hk_Error sub;
-        st = hk_groom_check_size(&s->style, &s->wick, options, NULL, &sub);
+        st = hk_groom_check_size(&s->style.strand, &s->style.interpolation, &s->wick, options, NULL, &sub);
         if (st != HK_OK)
             return hk_error_set(err, st, "%s, %s: %s", s->setup.hairstyle, s->setup.wick_model, sub.message);
-        st = hk_groom_grow(&s->style, s->shapes, s->shape_count, &s->wick, options, &groom, err);
-        if (st == HK_OK) st = hk_groom_to_hair(&groom, &s->style, hair, err);
+        st = hk_groom_grow(&s->style.strand, &s->style.interpolation, s->shapes, s->shape_count, &s->wick, options,
+                           &groom, err);
+        if (st == HK_OK) st = hk_groom_to_hair(&groom, &s->style.strand, hair, err);
         report->grown = st == HK_OK;
         report->guides = groom.guide_count;
         report->strands = groom.strand_count;

@@ -40,7 +40,7 @@ static hk_HairSimDef sim_def(const hk_Hairstyle *style, double length)
     hk_HairSimDef o;
     memset(&o, 0, sizeof o);
     o.threads = 0;
-    o.dynamics = hk_dynamics_def_for(style);
+    o.dynamics = style->dynamics;
     /* Every guide takes the linearly implicit Euler step, whatever its length, with the
      * guide-guide contacts solved together over all guides (advance, below), long
      * guides in several steps a frame (euler_steps). TR-BDF2 is the better integrator
@@ -71,10 +71,10 @@ static hk_HairSimDef sim_def(const hk_Hairstyle *style, double length)
      * with its length: with the whole strand's weight, a 1 m guide on a full head was
      * pushed by up to 1,400 contacts each as strong as its weight, and Newton's iteration
      * failed in 29 % of its stages (docs/dynamics.md, "Limitations"). */
-    const double mass = style->density * 3.14159265358979323846 * style->radius1 * style->radius2 *
+    const double mass = style->strand.density * 3.14159265358979323846 * style->strand.radius1 * style->strand.radius2 *
                         fmin(length, HK_CONTACT_HAIR_LENGTH);
     o.contacts.distance = 0.0025;
-    o.contacts.stiffness = 1.0 * mass * (style->gravity > 0.0 ? style->gravity : 9.81) / o.contacts.distance;
+    o.contacts.stiffness = 1.0 * mass * (style->strand.gravity > 0.0 ? style->strand.gravity : 9.81) / o.contacts.distance;
     o.contacts.damping = 2.0 * sqrt(o.contacts.stiffness * 0.25 * mass);
     o.contacts.friction = 0.2 * o.contacts.damping;
     /* Guides side by side are held along their length: with one pair at their closest
@@ -86,13 +86,13 @@ static hk_HairSimDef sim_def(const hk_Hairstyle *style, double length)
     return o;
 }
 
-hk_HairSimDef hk_hair_sim_def_for(const hk_Hairstyle *style) { return sim_def(style, hk_hairstyle_length(style)); }
+hk_HairSimDef hk_hair_sim_def_for(const hk_Hairstyle *style) { return sim_def(style, hk_strand_def_length(&style->strand)); }
 
 hk_HairSimDef hk_default_hair_sim_def(void)
 {
     /* The hairstyle's defaults with a hair of 40 um radius (examples/default), 20 cm long */
     hk_Hairstyle style = hk_default_hairstyle();
-    style.radius1 = style.radius2 = 4e-5;
+    style.strand.radius1 = style.strand.radius2 = 4e-5;
     return sim_def(&style, HK_CONTACT_HAIR_LENGTH);
 }
 
@@ -118,13 +118,13 @@ void hk_hair_sim_destroy(hk_HairSim *sim)
  * follicle's level, then its dynamics. */
 static hk_Status make_guide(hk_HairSim *sim, const hk_Follicles *f, int i, hk_Error *err)
 {
-    hk_Status st = hk_superhelix_from_hairstyle(&sim->style, f->position[i], f->normal[i], &sim->strand[i], err);
+    hk_Status st = hk_superhelix_from_def(&sim->style.strand, f->position[i], f->normal[i], &sim->strand[i], err);
     if (st != HK_OK) return st;
     hk_StrandEnvDef env = hk_default_strand_env_def();
     env.shapes = sim->shapes;
     env.shape_count = sim->shape_count;
     env.envelope_alpha = f->alpha[i];
-    env.collision_step = sim->style.collision_step;
+    env.collision_step = sim->style.strand.collision_step;
     hk_StaticsDef opt = hk_default_statics_def();
     hk_MinimizeResult res;
     st = hk_statics_solve(sim->strand[i], &env, &opt, &res, err);
@@ -159,8 +159,8 @@ static hk_Status make_guides(hk_HairSim *sim, const hk_Follicles *f, hk_Error *e
 
 static hk_Status make_contacts(hk_HairSim *sim, hk_Error *err)
 {
-    const double len = hk_hairstyle_length(&sim->style);
-    double m = ceil(len / sim->style.collision_step - 1e-9);
+    const double len = hk_strand_def_length(&sim->style.strand);
+    double m = ceil(len / sim->style.strand.collision_step - 1e-9);
     if (m < 1.0) m = 1.0;
     if (m > 10000.0) m = 10000.0;
     sim->sample_count = (int)m + 1;
@@ -209,7 +209,7 @@ hk_Status hk_hair_sim_create(const hk_Hairstyle *style, const hk_Shape *shapes, 
     }
     if (st == HK_OK) st = make_guides(sim, &f, err);
     if (st == HK_OK) {
-        sim->points = hk_superhelix_sample_count(sim->strand[0], sim->style.visuality_step);
+        sim->points = hk_superhelix_sample_count(sim->strand[0], sim->style.strand.visuality_step);
         if (sim->options.hair_contacts) st = make_contacts(sim, err);
     }
     hk_follicles_free(&f);
@@ -257,7 +257,7 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
 static int euler_steps(const hk_HairSim *sim, double dt)
 {
     if (sim->options.dynamics.integrator != HK_INTEGRATOR_LINEAR_EULER) return 1; /* TR-BDF2 splits by itself */
-    const double longest = (1.0 / 24.0) * fmin(1.0, HK_EULER_FULL_STEP_LENGTH / hk_hairstyle_length(&sim->style));
+    const double longest = (1.0 / 24.0) * fmin(1.0, HK_EULER_FULL_STEP_LENGTH / hk_strand_def_length(&sim->style.strand));
     const double n = ceil(dt / longest - 1e-9);
     return n < 1.0 ? 1 : n > 64.0 ? 64 : (int)n;
 }
@@ -500,7 +500,7 @@ void hk_hair_sim_guides(const hk_HairSim *sim, double *out)
     for (int i = 0; i < sim->guide_count; i++) {
         hk_Vec3 buf[512], *p = sim->points <= 512 ? buf : hk_alloc_array((size_t)sim->points, sizeof(hk_Vec3), NULL);
         if (!p) continue;
-        hk_superhelix_sample(sim->strand[i], NULL, sim->style.visuality_step, NULL, p, NULL);
+        hk_superhelix_sample(sim->strand[i], NULL, sim->style.strand.visuality_step, NULL, p, NULL);
         double *o = out + (size_t)i * (size_t)sim->points * 3;
         for (int j = 0; j < sim->points; j++) {
             o[3 * j] = p[j].x;

@@ -30,7 +30,7 @@ hk_Status hk_sim_interpolate_posed(const hk_Hairstyle *style, const hk_Shape *sh
         if (!posed) return HK_ERR_NOMEM;
         hk_shapes_posed(shapes, shape_count, head, posed);
     }
-    hk_Status st = hk_groom_interpolate_guides(style, posed, shape_count, wick, go, g, err);
+    hk_Status st = hk_groom_interpolate_guides(&style->interpolation, posed, shape_count, wick, go, g, err);
     hk_free(posed);
     return st;
 }
@@ -47,5 +47,5 @@ hk_Status hk_sim_grow_hair(const hk_Hairstyle *style, const hk_Shape *shapes, in
         st = hk_sim_interpolate_posed(style, shapes, shape_count, head, wick, &go, g, err);
     }
     if (st != HK_OK) return st;
-    return reuse ? hk_groom_to_hair_again(g, style, out, err) : hk_groom_to_hair(g, style, out, err);
+    return reuse ? hk_groom_to_hair_again(g, &style->strand, out, err) : hk_groom_to_hair(g, &style->strand, out, err);
 }

@@ -325,7 +325,7 @@ static hk_Status write_frame(Run *r, long k, double t, int job_threads, hk_Error
     guides_view.strand_count = 0;
     hk_HairFile hair;
     memset(&hair, 0, sizeof hair);
-    hk_Status st = hk_groom_to_hair(&guides_view, &r->scene.style, &hair, err);
+    hk_Status st = hk_groom_to_hair(&guides_view, &r->scene.style.strand, &hair, err);
     double t1 = omp_get_wtime();
     r->p.seconds_regrow += t1 - t0;
     if (st == HK_OK) st = save_hair(r, &hair, "guides", k, &r->p.bytes, err);
@@ -416,7 +416,7 @@ hk_Status hk_simulation_run(const char *setup_path, const char *dir, const hk_Si
     if (st == HK_OK) st = write_manifest(&r, setup_path, err);
     if (st == HK_OK) {
         r.p.guides = hk_hair_sim_guide_count(r.sim);
-        r.p.elements = r.scene.style.element_count;
+        r.p.elements = r.scene.style.strand.element_count;
         r.p.seconds_setup = omp_get_wtime() - t_start;
         r.p.frames_at_once = options->guides_only ? 1 : r.at_once;
         if (options->progress) options->progress(options->progress_user, &r.p);

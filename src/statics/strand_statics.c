@@ -36,14 +36,14 @@ hk_StaticsDef hk_default_statics_def(void)
     return o;
 }
 
-hk_RosenbrockDef hk_rosenbrock_def_for(const hk_Hairstyle *def)
+hk_RosenbrockDef hk_rosenbrock_def_for(const hk_StrandDef *def)
 {
     hk_RosenbrockDef o = hk_default_rosenbrock_def();
     o.max_stages = def->max_iter;
     o.epsilon = def->epsilon;
     /* The thesis gives no initial step. One radian of bending over the strand length
      * is the natural unit of curvature; the search grows or shrinks it from there. */
-    const double length = hk_hairstyle_length(def);
+    const double length = hk_strand_def_length(def);
     if (length > 0.0) o.initial_step = 1.0 / length;
     return o;
 }

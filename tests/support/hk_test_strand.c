@@ -14,9 +14,9 @@ hk_SuperHelix *hk_test_strand_on_head(const char *type, const hk_Shape *shapes, 
     hk_Error err;
     assert_int_equal(hk_hairstyle_load(path, def, &err), HK_OK);
     hk_SuperHelix *sh = NULL;
-    assert_int_equal(hk_superhelix_from_hairstyle(def, hk_v3(0.0, 0.148, 0.01), hk_v3(0.3, 1.0, -0.5), &sh, &err),
+    assert_int_equal(hk_superhelix_from_def(&def->strand, hk_v3(0.0, 0.148, 0.01), hk_v3(0.3, 1.0, -0.5), &sh, &err),
                      HK_OK);
-    const hk_StrandEnvDef env = {shapes, count, 0.5, def->collision_step};
+    const hk_StrandEnvDef env = {shapes, count, 0.5, def->strand.collision_step};
     *body = env;
     hk_StaticsDef so = hk_default_statics_def();
     hk_MinimizeResult res;

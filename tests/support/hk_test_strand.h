@@ -3,6 +3,7 @@
 #ifndef HK_TEST_STRAND_H
 #define HK_TEST_STRAND_H
 
+#include "hairkit/io.h"
 #include "hairkit/rod.h"
 
 /* Loads examples/strand/TYPE.txt into *def, grows its strand from the crown of the
