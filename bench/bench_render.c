@@ -40,7 +40,7 @@ int hk_bench_render(FILE *out, const hk_BenchOptions *options)
                 goto done;
             }
             const double t = omp_get_wtime() - t0;
-            hk_canvas_destroy(&img);
+            hk_canvas_free(&img);
             if (t < best_total) best_total = t, best = st;
         }
         total[threads] = best_total;

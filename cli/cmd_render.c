@@ -86,7 +86,7 @@ int hk_cmd_render(int argc, char **argv)
     } else {
         hk_cli_fail(CMD, &err);
     }
-    hk_canvas_destroy(&image);
+    hk_canvas_free(&image);
     hk_mesh_free(&head);
     hk_hair_free(&hair);
     return status;

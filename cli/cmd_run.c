@@ -108,7 +108,7 @@ int hk_cmd_run(int argc, char **argv)
     } else {
         hk_cli_fail(CMD, &err);
     }
-    hk_canvas_destroy(&image);
+    hk_canvas_free(&image);
     hk_hair_free(&hair);
     hk_scene_free(&scene);
     return status;

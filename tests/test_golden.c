@@ -133,7 +133,7 @@ static uint8_t *render(const Scene *sc, const hk_RenderDef *o)
     char path[4096];
     snprintf(path, sizeof path, "%s/picture.png", hk_test_tmpdir());
     assert_int_equal(hk_render_write_png(&img, path, &err), HK_OK);
-    hk_canvas_destroy(&img);
+    hk_canvas_free(&img);
     int w, h;
     uint8_t *rgb = read_png(path, &w, &h);
     assert_non_null(rgb);

@@ -43,8 +43,8 @@ static void test_render(void **state)
     assert_int_equal(a.height, defaults.height);
     assert_int_equal(a.width, b.width);
     assert_memory_equal(a.rgb, b.rgb, (size_t)a.width * (size_t)a.height * 3 * sizeof *a.rgb);
-    hk_canvas_destroy(&a);
-    hk_canvas_destroy(&b);
+    hk_canvas_free(&a);
+    hk_canvas_free(&b);
 
     hk_Renderer *r;
     assert_int_equal(hk_renderer_create(&r, &err), HK_OK);

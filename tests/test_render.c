@@ -91,7 +91,7 @@ static void lit_strand(double cam_azimuth, double light_az, double light_el, hk_
     hk_Canvas img;
     assert_int_equal(hk_render(&h, NULL, &v, &o, &img, NULL, NULL), HK_OK);
     memcpy(out, img.rgb + 3 * origin_pixel(&h, NULL, &o), 3 * sizeof(float));
-    hk_canvas_destroy(&img);
+    hk_canvas_free(&img);
     hk_hair_free(&h);
 }
 
@@ -147,7 +147,7 @@ static double strand_brightness(const hk_HairFile *h, const hk_Mesh *occluder, i
     assert_int_equal(hk_render(h, occluder, &v, &o, &img, NULL, NULL), HK_OK);
     const float *px = img.rgb + 3 * origin_pixel(h, occluder, &o);
     const double b = px[0] + px[1] + px[2];
-    hk_canvas_destroy(&img);
+    hk_canvas_free(&img);
     return b;
 }
 
@@ -305,8 +305,8 @@ static void test_scene_deterministic_finite_png(void **state)
     assert_int_equal(w, 160);
     assert_int_equal(hgt, 120);
     hk_free(rgb);
-    hk_canvas_destroy(&img[0]);
-    hk_canvas_destroy(&img[1]);
+    hk_canvas_free(&img[0]);
+    hk_canvas_free(&img[1]);
     hk_mesh_free(&ball);
     hk_hair_free(&h);
 }
@@ -374,7 +374,7 @@ static void test_canvas_non_finite(void **state)
     (void)state;
     hk_Canvas c;
     hk_Error err;
-    assert_int_equal(hk_canvas_create(20, 20, hk_v3(1, 1, 1), &c, &err), HK_OK);
+    assert_int_equal(hk_canvas_alloc(20, 20, hk_v3(1, 1, 1), &c, &err), HK_OK);
     const hk_Vec3 black = hk_v3(0, 0, 0);
     hk_canvas_line(&c, NAN, 5.0, 5.0, 5.0, 2.0, black, 1.0);
     hk_canvas_line(&c, 5.0, 5.0, 5.0, NAN, 2.0, black, 1.0);
@@ -387,7 +387,7 @@ static void test_canvas_non_finite(void **state)
     /* An ordinary line still draws. */
     hk_canvas_line(&c, 2.0, 10.0, 18.0, 10.0, 2.0, black, 1.0);
     assert_true(c.rgb[3 * (10 * 20 + 10)] < 0.5f);
-    hk_canvas_destroy(&c);
+    hk_canvas_free(&c);
 
     const hk_Vec3 axes[3] = {hk_v3(1, 0, 0), hk_v3(0, 1, 0), hk_v3(0, 0, 1)};
     const hk_Shape big[2] = {hk_shape_ellipsoid(hk_v3(0, 0, 0), hk_v3(1e308, 0.1, 0.1), axes, 0.0, 1000.0),
@@ -442,7 +442,7 @@ static void same_as_render(hk_Renderer *r, const hk_HairFile *h, const hk_Mesh *
     assert_int_equal(kept->width, o->width);
     assert_int_equal(kept->height, o->height);
     assert_memory_equal(kept->rgb, fresh.rgb, 3 * (size_t)o->width * (size_t)o->height * sizeof(float));
-    hk_canvas_destroy(&fresh);
+    hk_canvas_free(&fresh);
 }
 
 static void test_renderer_reuse(void **state)

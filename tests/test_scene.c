@@ -102,8 +102,8 @@ static void test_same_as_pieces(void **state)
     assert_int_equal(hk_scene_render(&s, &a, &ro, &pa, NULL, &err), HK_OK);
     assert_int_equal(hk_render(&a, &s.head, &s.visuality, &ro, &pb, NULL, &err), HK_OK);
     assert_memory_equal(pa.rgb, pb.rgb, sizeof(float) * 3 * 64 * 48);
-    hk_canvas_destroy(&pa);
-    hk_canvas_destroy(&pb);
+    hk_canvas_free(&pa);
+    hk_canvas_free(&pb);
     hk_hair_free(&b);
     hk_scene_free(&s);
 

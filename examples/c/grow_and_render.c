@@ -68,7 +68,7 @@ int main(int argc, char **argv)
                groom.points_per_strand, argv[2]);
     else
         fprintf(stderr, "%s\n", err.message);
-    hk_canvas_destroy(&picture);
+    hk_canvas_free(&picture);
     hk_hair_free(&hair);
     hk_groom_free(&groom);
     hk_mesh_free(&head);

@@ -69,7 +69,7 @@ typedef struct hk_RenderStats {
 
 /* Renders `hair` (the strands of a cyHair file; may have no strands) over `head` (may
  * be NULL) with the colours of `visuality` into `out` (linear RGB, created here; free
- * with hk_canvas_destroy). options NULL: hk_default_render_def(); visuality NULL:
+ * with hk_canvas_free). options NULL: hk_default_render_def(); visuality NULL:
  * hk_default_visuality(); stats may be NULL. */
 HK_API hk_Status hk_render(const hk_HairFile *hair, const hk_Mesh *head,
                            const hk_Visuality *visuality, const hk_RenderDef *options,
