@@ -61,7 +61,7 @@ typedef struct Stats {
     int failures;
 } Stats;
 
-static Stats run_set(const hk_Vec3 (*strands)[SAMPLES], int count, int threads, const hk_CurveFitOptions *o)
+static Stats run_set(const hk_Vec3 (*strands)[SAMPLES], int count, int threads, const hk_CurveFitDef *o)
 {
     Stats st = {0, 0, 0, 0, 0, 0};
     double evals = 0.0, pieces = 0.0, error = 0.0, worst = 0.0;
@@ -106,14 +106,15 @@ int hk_bench_curvefit(FILE *out, const hk_BenchOptions *options)
             "curvefit: piecewise fits of %d-sample strands, L = %.2f m (helix model, 2 parameters),\n"
             "default options (tolerance %.1f mm, root frame refined when needed); %d strands per set\n"
             "  set                   method  threads   fits/s   evals/fit  us/eval  pieces  mean err (mm)  worst (mm)  over tol\n",
-            SAMPLES, LENGTH, 1e3 * hk_default_curve_fit_options().tolerance, count);
+            SAMPLES, LENGTH, 1e3 * hk_default_curve_fit_def().tolerance, count);
     int rc = 0;
     for (int kind = 0; kind < 3; kind++) {
         for (int s = 0; s < count; s++) make_strand(kind, s, strands[s]);
         for (int run = 0; run < 4; run++) {
             /* the paper's Nelder-Mead, then our Levenberg-Marquardt, 1 and 2 threads each */
-            const int method = run < 2 ? HK_CURVEFIT_NELDER_MEAD : HK_CURVEFIT_LEAST_SQUARES, threads = 1 + run % 2;
-            hk_CurveFitOptions o = hk_default_curve_fit_options();
+            const hk_CurveFitMethod method = run < 2 ? HK_CURVEFIT_NELDER_MEAD : HK_CURVEFIT_LEAST_SQUARES;
+            const int threads = 1 + run % 2;
+            hk_CurveFitDef o = hk_default_curve_fit_def();
             o.method = method;
             Stats st = {0, 0, 0, 0, 0, 0};
             double total = 0.0;

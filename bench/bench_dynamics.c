@@ -11,6 +11,7 @@
 #include <time.h>
 
 #include "bench.h"
+#include "core/core_internal.h"
 #include "hairkit/simulate.h"
 
 /* Steps per second of a 20 cm wavy strand released sideways, restarted from rest
@@ -29,7 +30,7 @@ static double strand_steps_per_second(int n, hk_DynamicsIntegrator integrator, h
     hk_helix_natural_curvature(0.012, 0.12, &tau, &kappa);
     hk_superhelix_set_uniform_rest(sh, tau, kappa, 0.0);
     sh->root_frame = hk_root_frame(hk_v3(1, 0.2, 0.1));
-    hk_DynamicsParams p = hk_default_dynamics_params();
+    hk_DynamicsDef p = hk_default_dynamics_def();
     p.integrator = integrator;
     p.solver = solver;
     p.stiffness = stiffness;
@@ -59,13 +60,13 @@ typedef struct HeadRun {
     double seconds_per_frame, substeps, iterations, contacts, body;
 } HeadRun;
 
-static int head_run(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count, const hk_Mesh *wick,
+static int head_run(const hk_Hairstyle *style, const hk_Shape *shapes, int shape_count, const hk_Mesh *wick,
                     int threads, int frames, int trbdf2, HeadRun *out)
 {
-    hk_HairSimOptions o = hk_default_hair_sim_options(style);
+    hk_HairSimDef o = hk_hair_sim_def_for(style);
     o.threads = threads;
     if (trbdf2) { /* the single strands' default: O(N) solver, every force implicit */
-        const hk_DynamicsParams strand = hk_dynamics_params_for(style);
+        const hk_DynamicsDef strand = style->dynamics;
         o.dynamics.integrator = strand.integrator;
         o.dynamics.solver = strand.solver;
         o.dynamics.stiffness = strand.stiffness;
@@ -131,7 +132,7 @@ int hk_bench_dynamics(FILE *out, const hk_BenchOptions *options)
 
     hk_Scene sc;
     if (hk_bench_scene_load(options, "guides200", "dynamics", HK_SCENE_GROOMING, &sc)) return 1;
-    const hk_HairstyleDef style = sc.style;
+    const hk_Hairstyle style = sc.style;
     const hk_Mesh wick = sc.wick;
     int rc = 0;
     const int frames = options->quick ? 3 : 90;
@@ -140,7 +141,7 @@ int hk_bench_dynamics(FILE *out, const hk_BenchOptions *options)
             "body and guide-guide contacts, dt = 1/30 s, %d frames after 0.5 s of settling\n"
             "  (the paper: 0.3 to 3 s per frame for 100 to 200 guides)\n"
             "  integrator     threads   ms/frame   frames/s   steps/guide/frame   evaluations/guide/frame   guide contacts   body samples\n",
-            wick.vertex_count, style.element_count, frames);
+            wick.vertex_count, style.strand.element_count, frames);
     double fps[3] = {0, 0, 0};
     for (int run = 0; run < 3 && !rc; run++) {
         /* the simulate default (linear Euler) on 1 and 2 threads, then TR-BDF2 on 2 */

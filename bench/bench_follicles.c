@@ -6,6 +6,7 @@
 #include <stdlib.h>
 
 #include "bench.h"
+#include "core/core_internal.h"
 #include "hairkit/follicle_sampling.h"
 
 /* n points with normals on an ellipsoid the size of a head (Fibonacci spiral). */

@@ -7,24 +7,25 @@
 #include <stdlib.h>
 
 #include "bench.h"
+#include "core/core_internal.h"
 #include "hairkit/groom.h"
 
 int hk_bench_groom(FILE *out, const hk_BenchOptions *options)
 {
     hk_Scene sc;
     if (hk_bench_scene_load(options, "default", "groom", HK_SCENE_GROOMING, &sc)) return 1;
-    const hk_HairstyleDef style = sc.style;
+    const hk_Hairstyle style = sc.style;
     const hk_Shape *shapes = sc.shapes;
     const int shape_count = sc.shape_count;
     const hk_Mesh wick = sc.wick;
     hk_Error err;
     fprintf(out, "groom: examples/default (%d guides, %.0f hairs/cm^2 on %.0f cm^2 of scalp)\n", wick.vertex_count,
-            style.hair_density, 1e4 * hk_mesh_area(&wick));
+            style.interpolation.hair_density, 1e4 * hk_mesh_area(&wick));
     fprintf(out, "  threads   guides (s)  guides/s   strands (s)  strands/s   total (s)  strands   to .hair (s)\n");
     int rc = 0;
     double total[3] = {0, 0, 0};
     for (int threads = 1; threads <= 2; threads++) {
-        hk_GroomOptions o = hk_default_groom_options();
+        hk_GroomDef o = hk_default_groom_def();
         o.threads = threads;
         const int reps = options->quick ? 1 : 3;
         double best = 1e30, best_g = 0, best_s = 0, best_save = 0;
@@ -32,7 +33,7 @@ int hk_bench_groom(FILE *out, const hk_BenchOptions *options)
         for (int r = 0; r < reps; r++) {
             hk_Groom g;
             const double t0 = hk_seconds_now();
-            if (hk_groom_grow(&style, shapes, shape_count, &wick, &o, &g, &err) != HK_OK) {
+            if (hk_groom_grow(&style.strand, &style.interpolation, shapes, shape_count, &wick, &o, &g, &err) != HK_OK) {
                 fprintf(stderr, "bench groom: %s\n", err.message);
                 rc = 1;
                 break;
@@ -40,7 +41,7 @@ int hk_bench_groom(FILE *out, const hk_BenchOptions *options)
             const double t1 = hk_seconds_now();
             hk_HairFile hair;
             double t2 = t1;
-            if (hk_groom_to_hair(&g, &style, &hair, &err) == HK_OK) {
+            if (hk_groom_to_hair(&g, &style.strand, &hair, &err) == HK_OK) {
                 char path[] = "/tmp/hairkit-bench-XXXXXX";
                 int fd = mkstemp(path);
                 if (fd >= 0) {

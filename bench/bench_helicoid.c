@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "bench.h"
+#include "core/core_internal.h"
 #include "hairkit/helicoid_fit.h"
 #include "hairkit/rng.h"
 
@@ -38,11 +39,9 @@ static hk_Vec3 patch_root(long i) { return hk_v3(uniform(5, (uint64_t)i, -0.025,
 /* Seconds to interpolate n strands (and trace them at 41 points when `trace`). */
 static double interpolate_run(const hk_PHelicoid *guides, long n, int threads, int trace)
 {
-    const int saved = omp_get_max_threads();
-    omp_set_num_threads(threads);
     const double t0 = hk_seconds_now();
     int failures = 0;
-#pragma omp parallel reduction(+ : failures)
+#pragma omp parallel reduction(+ : failures) num_threads(threads)
     {
         hk_Vec3 pts[64];
 #pragma omp for schedule(static)
@@ -54,7 +53,6 @@ static double interpolate_run(const hk_PHelicoid *guides, long n, int threads, i
         }
     }
     const double t = hk_seconds_now() - t0;
-    omp_set_num_threads(saved);
     return failures ? -1.0 : t;
 }
 
@@ -62,11 +60,9 @@ static double interpolate_run(const hk_PHelicoid *guides, long n, int threads, i
  * seconds and the mean error. */
 static double fit_run(long n, int threads, int method, double *mean_error, double *pieces)
 {
-    const int saved = omp_get_max_threads();
-    omp_set_num_threads(threads);
     double err_sum = 0.0, piece_sum = 0.0;
     const double t0 = hk_seconds_now();
-#pragma omp parallel reduction(+ : err_sum, piece_sum)
+#pragma omp parallel reduction(+ : err_sum, piece_sum) num_threads(threads)
     {
         hk_HelicoidFitter *f = hk_helicoid_fitter_create(64, NULL);
 #pragma omp for schedule(dynamic, 4)
@@ -80,8 +76,8 @@ static double fit_run(long n, int threads, int method, double *mean_error, doubl
             h.length[0] = 0.1;
             hk_Vec3 pts[30];
             hk_CurveFit report;
-            hk_CurveFitOptions opt = hk_helicoid_fit_options();
-            opt.method = method;
+            hk_CurveFitDef opt = hk_default_helicoid_fit_def();
+            opt.method = (hk_CurveFitMethod)method;
             if (f && hk_phelicoid_trace(&h, 0.1 / 29.0, NULL, NULL, pts, NULL, NULL) == HK_OK &&
                 hk_helicoid_fit(f, pts, 30, &opt, &fit, &report, NULL) == HK_OK) {
                 err_sum += report.error;
@@ -91,7 +87,6 @@ static double fit_run(long n, int threads, int method, double *mean_error, doubl
         hk_helicoid_fitter_destroy(f);
     }
     const double t = hk_seconds_now() - t0;
-    omp_set_num_threads(saved);
     *mean_error = err_sum / n;
     *pieces = piece_sum / n;
     return t;
@@ -113,7 +108,7 @@ static void reconstruct_run(const hk_PHelicoid *guides, long n, int fixed_pieces
         hk_PHelicoid h;
         hk_phelicoid_interpolate(guides, 9, patch_root(i), NULL, 3.0, &h, NULL);
         hk_phelicoid_trace(&h, hk_phelicoid_length(&h) / (P - 1), NULL, NULL, original[i], NULL, NULL);
-        hk_CurveFitOptions opt = hk_helicoid_fit_options();
+        hk_CurveFitDef opt = hk_default_helicoid_fit_def();
         opt.fixed_pieces = fixed_pieces;
         opt.piece_length = piece_length;
         opt.root_piece_length = root_piece;

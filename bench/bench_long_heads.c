@@ -2,7 +2,7 @@
  * 1/24 and 1/30 under still, shake, nod, tilt, sway, jump and the motion file, with no
  * failure"; docs/dynamics.md, "Long guides on a head"). The 201 guides of
  * examples/guides200 grown 1 m in 20 elements of 5 cm, stepped as `hairkit simulate`
- * steps them (hk_default_hair_sim_options), with body and guide-guide contacts, settle
+ * steps them (hk_hair_sim_def_for), with body and guide-guide contacts, settle
  * 1 s on the still head and then follow each motion for 10 s in frames of dt. Each row:
  * whether every frame advanced, the guide steps that had to be recovered (held at rest
  * relative to the head for a step because they could not be advanced), the farthest a
@@ -17,6 +17,7 @@
 #include <time.h>
 
 #include "bench.h"
+#include "core/core_internal.h"
 #include "hairkit/motion.h"
 #include "hairkit/simulate.h"
 
@@ -70,7 +71,7 @@ static double largest_tip_move(const double *a, const double *b, int guides, int
     return largest;
 }
 
-static void run_row(const hk_BenchOptions *options, const hk_Scene *sc, const hk_HairstyleDef *style,
+static void run_row(const hk_BenchOptions *options, const hk_Scene *sc, const hk_Hairstyle *style,
                     const char *motion_name, double frame_rate, double settle, double seconds, Row *r)
 {
     hk_Error err;
@@ -79,7 +80,7 @@ static void run_row(const hk_BenchOptions *options, const hk_Scene *sc, const hk
     double *before = NULL, *after = NULL;
     memset(r, 0, sizeof *r);
     const double dt = 1.0 / frame_rate;
-    const hk_HairSimOptions o = hk_default_hair_sim_options(style);
+    const hk_HairSimDef o = hk_hair_sim_def_for(style);
     if (make_motion(options, motion_name, &motion, &err) != HK_OK ||
         hk_hair_sim_create(style, sc->shapes, sc->shape_count, &sc->wick, &o, &sim, &err) != HK_OK ||
         hk_hair_sim_settle(sim, NULL, settle, dt, &err) != HK_OK) {
@@ -138,9 +139,9 @@ int hk_bench_long_heads(FILE *out, const hk_BenchOptions *options)
         return 1;
     }
     for (int k = 0; k < ELEMENTS; k++) lengths[k] = ELEMENT_LENGTH;
-    hk_free(sc.style.element_lengths);
-    sc.style.element_lengths = lengths;
-    sc.style.element_count = ELEMENTS;
+    hk_free(sc.style.strand.element_lengths);
+    sc.style.strand.element_lengths = lengths;
+    sc.style.strand.element_count = ELEMENTS;
     /* --quick: 0.2 s of shaking at 1/30 s after 0.1 s of settling */
     const double settle = options->quick ? 0.1 : 1.0, seconds = options->quick ? 0.2 : 10.0;
     const int rates = options->quick ? 1 : 2, motion_count = options->quick ? 1 : MOTION_COUNT;

@@ -25,7 +25,7 @@ int hk_bench_render(FILE *out, const hk_BenchOptions *options)
     fprintf(out, "  threads  light maps (s)  camera (s)  head+hair (s)   total (s)  hair fragments\n");
     double total[3] = {0, 0, 0};
     for (int threads = 1; threads <= 2; threads++) {
-        hk_RenderOptions ro = hk_default_render_options();
+        hk_RenderDef ro = hk_default_render_def();
         ro.width = width, ro.height = height, ro.threads = threads;
         const int reps = options->quick ? 1 : 3;
         hk_RenderStats best;
@@ -40,7 +40,7 @@ int hk_bench_render(FILE *out, const hk_BenchOptions *options)
                 goto done;
             }
             const double t = omp_get_wtime() - t0;
-            hk_canvas_destroy(&img);
+            hk_canvas_free(&img);
             if (t < best_total) best_total = t, best = st;
         }
         total[threads] = best_total;

@@ -23,6 +23,7 @@
 #include <time.h>
 
 #include "bench.h"
+#include "core/core_internal.h"
 #include "hairkit/dynamics.h"
 #include "hairkit/motion.h"
 #include "hairkit/statics.h"
@@ -62,7 +63,7 @@ static const int quick_strands[] = {2, 7};
 static const int quick_motions[] = {0, 1, 2, 7};
 
 typedef struct StrandRef {
-    hk_HairstyleDef def; /* the type's file with its HairLengths replaced */
+    hk_Hairstyle def; /* the type's file with its HairLengths replaced */
     double rest;         /* the statics minimum of the potential (no body) */
     int ok;
 } StrandRef;
@@ -108,13 +109,13 @@ static int strand_ref(const hk_BenchOptions *options, const Strand *st, StrandRe
     double *lengths = hk_alloc_array((size_t)st->n, sizeof *lengths, &err);
     if (!lengths) goto fail;
     for (int i = 0; i < st->n; i++) lengths[i] = st->length / st->n;
-    hk_free(ref->def.element_lengths);
-    ref->def.element_lengths = lengths;
-    ref->def.element_count = st->n;
-    const hk_StrandEnv env = hk_default_strand_env();
-    const hk_StaticsOptions opt = hk_default_statics_options();
+    hk_free(ref->def.strand.element_lengths);
+    ref->def.strand.element_lengths = lengths;
+    ref->def.strand.element_count = st->n;
+    const hk_StrandEnvDef env = hk_default_strand_env_def();
+    const hk_StaticsDef opt = hk_default_statics_def();
     hk_MinimizeResult res;
-    if (hk_superhelix_from_hairstyle(&ref->def, hk_v3(0, 0, 0), hk_v3(1, 0, 0), &sh, &err) != HK_OK ||
+    if (hk_superhelix_from_def(&ref->def.strand, hk_v3(0, 0, 0), hk_v3(1, 0, 0), &sh, &err) != HK_OK ||
         hk_statics_solve(sh, &env, &opt, &res, &err) != HK_OK || hk_strand_workspace_create(sh, &env, &ws, &err) != HK_OK)
         goto fail;
     ref->rest = hk_strand_energy(sh, &env, sh->q, ws, NULL, NULL, NULL);
@@ -141,7 +142,7 @@ static void run_cell(const hk_BenchOptions *options, const StrandRef *ref, doubl
     c->failed_at = c->gave_up_at = 0.0;
     c->energy = c->evaluations = c->wall = NAN;
     c->error[0] = '\0';
-    hk_DynamicsParams params = hk_dynamics_params_for(&ref->def);
+    hk_DynamicsDef params = ref->def.dynamics;
     if (c->motion == UNDAMPED_ROW) params.internal_friction = params.air_drag = 0.0;
     params.solver = HK_DYNAMICS_LINEAR;
     params.stiffness = HK_STIFFNESS_GAUSS_NEWTON;
@@ -156,7 +157,7 @@ static void run_cell(const hk_BenchOptions *options, const StrandRef *ref, doubl
         st = hk_head_motion_scripted(motions[c->motion], translation ? 0.03 : 25.0, 1.0, hk_default_head_pivot(),
                                      &motion, &err);
     }
-    if (st != HK_OK || hk_superhelix_from_hairstyle(&ref->def, hk_v3(0, 0, 0), hk_v3(1, 0, 0), &sh, &err) != HK_OK ||
+    if (st != HK_OK || hk_superhelix_from_def(&ref->def.strand, hk_v3(0, 0, 0), hk_v3(1, 0, 0), &sh, &err) != HK_OK ||
         hk_strand_dynamics_create(sh, &params, NULL, &dyn, &err) != HK_OK) {
         snprintf(c->error, sizeof c->error, "%.150s", err.message);
         goto done;

@@ -6,6 +6,7 @@
 #include <time.h>
 
 #include "bench.h"
+#include "core/core_internal.h"
 #include "hairkit/statics.h"
 
 typedef struct Run {
@@ -16,7 +17,7 @@ typedef struct Run {
 } Run;
 
 /* Solves repeatedly from the natural shape until min_seconds have passed. */
-static Run measure(hk_SuperHelix *sh, const hk_StrandEnv *env, const hk_StaticsOptions *opt,
+static Run measure(hk_SuperHelix *sh, const hk_StrandEnvDef *env, const hk_StaticsDef *opt,
                    double min_seconds, int max_reps)
 {
     Run run = {0, 0, {0, 0, 0, 0}, 0};
@@ -58,7 +59,7 @@ int hk_bench_statics(FILE *out, const hk_BenchOptions *options)
     const double length = 0.2, a = 50e-6 * 2.0 * 1.1 / 2.1, b = 50e-6 * 2.0 / 2.1;
     const hk_Vec3 axes[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
     const hk_Shape head = hk_shape_ellipsoid(hk_v3(0, 0, 0), hk_v3(0.08, 0.11, 0.09), axes, 0.005, 10.0);
-    hk_StrandEnv env = hk_default_strand_env();
+    hk_StrandEnvDef env = hk_default_strand_env_def();
     env.shapes = &head;
     env.shape_count = 1;
     env.envelope_alpha = 1.0;
@@ -85,13 +86,13 @@ int hk_bench_statics(FILE *out, const hk_BenchOptions *options)
         sh->root_frame = hk_root_frame(hk_v3(0.0, 0.2, 1.0));
         hk_superhelix_set_uniform_rest(sh, tau, kappa, 0.0);
 
-        hk_StaticsOptions newton = hk_default_statics_options();
-        hk_StaticsOptions thesis = hk_default_statics_options();
+        hk_StaticsDef newton = hk_default_statics_def();
+        hk_StaticsDef thesis = hk_default_statics_def();
         thesis.solver = HK_SOLVER_ROSENBROCK;
         thesis.rosenbrock.max_stages = 20; /* the thesis's MaxIter and Epsilon (Appendix C) */
         thesis.rosenbrock.epsilon = 1e-4;
         thesis.rosenbrock.initial_step = 1.0 / length;
-        hk_StaticsOptions converged = thesis;
+        hk_StaticsDef converged = thesis;
         converged.rosenbrock.max_stages = 1000000;
         converged.rosenbrock.epsilon = 1e-12;
         converged.rosenbrock.max_evaluations = options->quick ? 20000 : 4000000;

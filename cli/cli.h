@@ -71,7 +71,7 @@ void hk_cli_progress_done(hk_CliProgress *p);
 
 /* ---- the hair of a setup file (report_hair.c) ---- */
 /* One line on stderr: what hk_scene_hair loaded or grew. */
-void hk_cli_report_scene_hair(const char *cmd, const hk_SetupDef *setup, const hk_HairFile *hair,
+void hk_cli_report_scene_hair(const char *cmd, const hk_Setup *setup, const hk_HairFile *hair,
                               const hk_SceneHairReport *report);
 
 /* ---- render options (render_options.c) ---- */
@@ -88,9 +88,9 @@ enum { HK_OPT_WIDTH = 1000, HK_OPT_HEIGHT, HK_OPT_NO_SHADOWS, HK_OPT_SHADING, HK
     {"thickness", required_argument, NULL, HK_OPT_THICKNESS}
 #define HK_CLI_IS_RENDER_OPTION(c) ((c) >= HK_OPT_WIDTH && (c) <= HK_OPT_THICKNESS)
 /* Applies one render option; 0 on success, else the usage error's exit code. */
-int hk_cli_render_option(const char *cmd, int option, const char *value, hk_RenderOptions *o);
+int hk_cli_render_option(const char *cmd, int option, const char *value, hk_RenderDef *o);
 void hk_cli_render_options_help(FILE *out);
-void hk_cli_report_render(const char *cmd, const char *path, const hk_RenderOptions *o, const hk_RenderStats *s);
+void hk_cli_report_render(const char *cmd, const char *path, const hk_RenderDef *o, const hk_RenderStats *s);
 
 /* ---- head motion options (motion_options.c) ---- */
 enum { HK_OPT_MOTION = 1100, HK_OPT_AMPLITUDE, HK_OPT_FREQUENCY };
@@ -122,11 +122,11 @@ typedef struct hk_CliStrandSim {
 } hk_CliStrandSim;
 hk_CliStrandSim hk_cli_default_strand_sim(void);
 struct hk_SuperHelix;
-struct hk_StrandEnv;
+struct hk_StrandEnvDef;
 /* Simulates the strand from rest and prints its shape at the end (the strand command's
  * contract); returns the exit code. */
-int hk_cli_strand_simulate(const char *cmd, const hk_CliStrandSim *sim, const hk_HairstyleDef *def,
-                           struct hk_SuperHelix *sh, const struct hk_StrandEnv *env, const char *plot,
+int hk_cli_strand_simulate(const char *cmd, const hk_CliStrandSim *sim, const hk_Hairstyle *def,
+                           struct hk_SuperHelix *sh, const struct hk_StrandEnvDef *env, const char *plot,
                            const hk_Shape *shapes, int shape_count);
 
 #endif

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "core/core_internal.h"
 #include "hairkit/hair_formats.h"
 
 static const char *const CMD = "convert";

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "core/core_internal.h"
 #include "hairkit/groom.h"
 #include "hairkit/io.h"
 
@@ -40,7 +41,7 @@ int hk_cmd_groom(int argc, char **argv)
         {"help", no_argument, NULL, 'h'},         {NULL, 0, NULL, 0},
     };
     const char *output = NULL;
-    hk_GroomOptions go = hk_default_groom_options();
+    hk_GroomDef go = hk_default_groom_def();
     int quiet = 0;
     optind = 1;
     opterr = 0;

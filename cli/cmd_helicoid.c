@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/core_internal.h"
 #include "helicoid_cli.h"
 #include "hairkit/helicoid_fit.h"
 #include "hairkit/rng.h"
@@ -126,9 +127,9 @@ static int parse_args(int argc, char **argv, hk_HelicoidArgs *a)
     memset(a, 0, sizeof *a);
     a->density = 100.0;
     a->power = 3.0;
-    a->tolerance = hk_helicoid_fit_options().tolerance;
-    a->lambda = hk_helicoid_fit_options().lambda;
-    a->max_pieces = hk_helicoid_fit_options().max_pieces;
+    a->tolerance = hk_default_helicoid_fit_def().tolerance;
+    a->lambda = hk_default_helicoid_fit_def().lambda;
+    a->max_pieces = hk_default_helicoid_fit_def().max_pieces;
     a->every = 10;
     a->seed = 1;
     a->method = HK_CURVEFIT_LEAST_SQUARES;

@@ -39,7 +39,7 @@ int hk_cmd_render(int argc, char **argv)
         HK_CLI_RENDER_LONG_OPTIONS, {NULL, 0, NULL, 0},
     };
     const char *output = NULL, *head_path = NULL, *vis_path = NULL;
-    hk_RenderOptions ro = hk_default_render_options();
+    hk_RenderDef ro = hk_default_render_def();
     int quiet = 0, c;
     optind = 1;
     opterr = 0;
@@ -70,7 +70,7 @@ int hk_cmd_render(int argc, char **argv)
     hk_Error err;
     hk_HairFile hair;
     hk_Mesh head = {0, 0, NULL, NULL, NULL};
-    hk_VisualityDef vis = hk_default_visuality();
+    hk_Visuality vis = hk_default_visuality();
     hk_Canvas image = {0, 0, NULL};
     hk_RenderStats stats;
     int status = HK_EXIT_FAIL;
@@ -86,7 +86,7 @@ int hk_cmd_render(int argc, char **argv)
     } else {
         hk_cli_fail(CMD, &err);
     }
-    hk_canvas_destroy(&image);
+    hk_canvas_free(&image);
     hk_mesh_free(&head);
     hk_hair_free(&hair);
     return status;

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "core/core_internal.h"
 
 static const char *const CMD = "run";
 
@@ -41,8 +42,8 @@ int hk_cmd_run(int argc, char **argv)
         HK_CLI_RENDER_LONG_OPTIONS,               {NULL, 0, NULL, 0},
     };
     const char *output = NULL, *hair_out = NULL;
-    hk_RenderOptions ro = hk_default_render_options();
-    hk_GroomOptions go = hk_default_groom_options();
+    hk_RenderDef ro = hk_default_render_def();
+    hk_GroomDef go = hk_default_groom_def();
     int quiet = 0, c;
     optind = 1;
     opterr = 0;
@@ -107,7 +108,7 @@ int hk_cmd_run(int argc, char **argv)
     } else {
         hk_cli_fail(CMD, &err);
     }
-    hk_canvas_destroy(&image);
+    hk_canvas_free(&image);
     hk_hair_free(&hair);
     hk_scene_free(&scene);
     return status;

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "core/core_internal.h"
 #include "hairkit/simulate.h"
 
 static const char *const CMD = "simulate";
@@ -75,7 +76,7 @@ typedef struct SimArgs {
     long frames, frame;
     double fps;
     int quiet;
-    hk_SimRunOptions run;
+    hk_SimRunDef run;
     hk_CliMotion motion;
 } SimArgs;
 
@@ -105,7 +106,7 @@ static int parse_args(int argc, char **argv, SimArgs *a)
     };
     memset(a, 0, sizeof *a);
     a->frame = -1;
-    a->run = hk_default_sim_run_options();
+    a->run = hk_default_sim_run_def();
     a->motion = hk_cli_default_motion();
     optind = 1;
     opterr = 0;
@@ -139,7 +140,7 @@ static int parse_args(int argc, char **argv, SimArgs *a)
         case OPT_NO_CONTACTS: a->run.hair_contacts = 0; break;
         case OPT_PREROLL:
             if (strcmp(optarg, "auto") == 0) {
-                const hk_SimRunOptions def = hk_default_sim_run_options();
+                const hk_SimRunDef def = hk_default_sim_run_def();
                 a->run.preroll = def.preroll, a->run.preroll_max = def.preroll_max;
                 break;
             }
@@ -153,7 +154,7 @@ static int parse_args(int argc, char **argv, SimArgs *a)
             a->run.damping = strcmp(optarg, "on") == 0;
             break;
         case OPT_INTEGRATOR:
-            if (strcmp(optarg, "auto") == 0) a->run.integrator = -1;
+            if (strcmp(optarg, "auto") == 0) a->run.integrator = HK_INTEGRATOR_AUTO;
             else if (strcmp(optarg, "trbdf2") == 0) a->run.integrator = HK_INTEGRATOR_TRBDF2;
             else if (strcmp(optarg, "euler") == 0) a->run.integrator = HK_INTEGRATOR_LINEAR_EULER;
             else return hk_cli_usage_error(CMD, "--integrator must be auto, trbdf2 or euler, got '%s'", optarg);

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "core/core_internal.h"
 #include "hairkit/canvas.h"
 #include "hairkit/io.h"
 #include "hairkit/statics.h"
@@ -189,7 +190,7 @@ int hk_cmd_strand(int argc, char **argv)
     if (rc) return rc < 0 ? HK_EXIT_OK : rc;
 
     hk_Error err;
-    hk_HairstyleDef def;
+    hk_Hairstyle def;
     hk_Shape *shapes = NULL;
     int shape_count = 0;
     hk_SuperHelix *sh = NULL;
@@ -203,15 +204,15 @@ int hk_cmd_strand(int argc, char **argv)
         hk_cli_fail(CMD, &err);
         goto done;
     }
-    if (hk_superhelix_from_hairstyle(&def, a.root, a.dir, &sh, &err) != HK_OK) {
+    if (hk_superhelix_from_def(&def.strand, a.root, a.dir, &sh, &err) != HK_OK) {
         hk_cli_fail(CMD, &err);
         goto done;
     }
-    hk_StrandEnv env = hk_default_strand_env();
+    hk_StrandEnvDef env = hk_default_strand_env_def();
     env.shapes = shapes;
     env.shape_count = shape_count;
     env.envelope_alpha = a.envelope;
-    env.collision_step = def.collision_step;
+    env.collision_step = def.strand.collision_step;
 
     if (a.sim.enabled) {
         a.sim.quiet = a.quiet;
@@ -219,9 +220,9 @@ int hk_cmd_strand(int argc, char **argv)
         goto done;
     }
 
-    hk_StaticsOptions opt = hk_default_statics_options();
+    hk_StaticsDef opt = hk_default_statics_def();
     opt.solver = a.solver;
-    opt.rosenbrock = hk_rosenbrock_options_for(&def);
+    opt.rosenbrock = hk_rosenbrock_def_for(&def.strand);
     hk_MinimizeResult res;
     const double t0 = hk_seconds_now();
     if (hk_statics_solve(sh, &env, &opt, &res, &err) != HK_OK) {
@@ -235,14 +236,14 @@ int hk_cmd_strand(int argc, char **argv)
     }
     const double energy = hk_strand_energy(sh, &env, sh->q, ws, NULL, NULL, NULL);
 
-    const int count = hk_superhelix_sample_count(sh, def.visuality_step);
+    const int count = hk_superhelix_sample_count(sh, def.strand.visuality_step);
     s = hk_alloc_array((size_t)count, sizeof *s, &err);
     p = hk_alloc_array((size_t)count, sizeof *p, &err);
     if (!s || !p) {
         hk_cli_fail(CMD, &err);
         goto done;
     }
-    hk_superhelix_sample(sh, NULL, def.visuality_step, s, p, NULL);
+    hk_superhelix_sample(sh, NULL, def.strand.visuality_step, s, p, NULL);
     if (a.plot) {
         hk_PlotStrand ps = {p, count, {0.45, 0.22, 0.05}};
         if (hk_plot_strands_png(a.plot, 1200, 600, &ps, 1, shapes, shape_count, a.envelope, &err) != HK_OK) {

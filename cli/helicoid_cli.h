@@ -16,7 +16,8 @@ typedef struct hk_HelicoidArgs {
     double piece_length, root_piece;                           /* layout by length (m), 0 = none */
     int density_given;
     long count, max_pieces, every, pieces;      /* pieces: fixed layout, 0 = split as needed */
-    int pieces_given, max_pieces_given, method; /* method: hk_CurveFitMethod */
+    int pieces_given, max_pieces_given;
+    hk_CurveFitMethod method;
     uint64_t seed;
     int threads, quiet;
 } hk_HelicoidArgs;

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/core_internal.h"
 #include "helicoid_cli.h"
 #include "hairkit/helicoid_fit.h"
 
@@ -13,7 +14,7 @@ static const char *const CMD = HK_HELICOID_CMD;
 
 /* Fits strands idx[0..n) (hk_helicoid_fit_strands) with a progress bar on a terminal;
  * errors name the input file. */
-static hk_Status fit_strands(const hk_HairFile *hair, const long *idx, long n, const hk_CurveFitOptions *opt,
+static hk_Status fit_strands(const hk_HairFile *hair, const long *idx, long n, const hk_CurveFitDef *opt,
                              const hk_HelicoidArgs *args, hk_PHelicoid *out, hk_HelicoidFitReport *report, hk_Error *err)
 {
     hk_CliProgress bar = {hk_cli_stderr_is_tty() && !args->quiet, "", -1};
@@ -28,9 +29,9 @@ static hk_Status fit_strands(const hk_HairFile *hair, const long *idx, long n, c
 
 /* The fit's options from the command line (layout: --pieces, --piece-length, or split
  * as each strand needs). */
-static hk_CurveFitOptions fit_options(const hk_HelicoidArgs *a)
+static hk_CurveFitDef fit_options(const hk_HelicoidArgs *a)
 {
-    hk_CurveFitOptions o = hk_helicoid_fit_options();
+    hk_CurveFitDef o = hk_default_helicoid_fit_def();
     o.method = a->method;
     o.tolerance = a->tolerance;
     o.lambda = a->lambda;
@@ -55,7 +56,7 @@ int hk_helicoid_cli_fit(const hk_HelicoidArgs *a)
         rep = hk_alloc_array(hair.strand_count ? hair.strand_count : 1, sizeof(hk_HelicoidFitReport), &err);
         if (!idx || !rep) st = HK_ERR_NOMEM;
     }
-    const hk_CurveFitOptions opt = fit_options(a);
+    const hk_CurveFitDef opt = fit_options(a);
     const double t0 = hk_seconds_now();
     if (st == HK_OK) {
         for (uint32_t s = 0; s < hair.strand_count; s++) idx[s] = s;
@@ -90,7 +91,7 @@ int hk_helicoid_cli_reconstruct(const hk_HelicoidArgs *a)
     hk_HairFile hair, out;
     memset(&out, 0, sizeof out);
     if (hk_hair_load(a->input, &hair, &err) != HK_OK) return hk_cli_fail(CMD, &err);
-    hk_CurveFitOptions opt = fit_options(a);
+    hk_CurveFitDef opt = fit_options(a);
     if (!a->pieces_given && !(a->piece_length > 0.0)) { /* the library's layout for reconstructions */
         opt.piece_length = HK_RECONSTRUCT_PIECE_LENGTH;
         opt.root_piece_length = HK_RECONSTRUCT_ROOT_PIECE;

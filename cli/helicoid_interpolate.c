@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/core_internal.h"
 #include "helicoid_cli.h"
 #include "hairkit/follicle_sampling.h"
 

@@ -4,7 +4,7 @@
 #include <string.h>
 
 #include "cli.h"
-#include "hairkit/outfile.h"
+#include "io/outfile.h"
 
 typedef struct Command {
     const char *name;

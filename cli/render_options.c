@@ -29,7 +29,7 @@ static int parse_pair(const char *text, double *a, double *b)
     return hk_cli_parse_double(first, a) && hk_cli_parse_double(comma + 1, b);
 }
 
-int hk_cli_render_option(const char *cmd, int option, const char *value, hk_RenderOptions *o)
+int hk_cli_render_option(const char *cmd, int option, const char *value, hk_RenderDef *o)
 {
     long n;
     double a, b;
@@ -69,7 +69,7 @@ int hk_cli_render_option(const char *cmd, int option, const char *value, hk_Rend
     }
 }
 
-void hk_cli_report_render(const char *cmd, const char *path, const hk_RenderOptions *o, const hk_RenderStats *s)
+void hk_cli_report_render(const char *cmd, const char *path, const hk_RenderDef *o, const hk_RenderStats *s)
 {
     fprintf(stderr,
             "hairkit %s: %s %dx%d; light maps %.2f s (%lld fragments), camera %.2f s, "

@@ -5,7 +5,7 @@
 
 #include "cli.h"
 
-void hk_cli_report_scene_hair(const char *cmd, const hk_SetupDef *setup, const hk_HairFile *hair,
+void hk_cli_report_scene_hair(const char *cmd, const hk_Setup *setup, const hk_HairFile *hair,
                               const hk_SceneHairReport *r)
 {
     if (!r->grown) {

@@ -4,10 +4,11 @@
 #include <stdio.h>
 
 #include "cli.h"
+#include "core/core_internal.h"
 #include "hairkit/canvas.h"
 #include "hairkit/dynamics.h"
 #include "hairkit/motion.h"
-#include "hairkit/outfile.h"
+#include "io/outfile.h"
 
 hk_CliStrandSim hk_cli_default_strand_sim(void)
 {
@@ -27,8 +28,8 @@ static int write_tip(FILE *fp, double t, const hk_SuperHelix *sh)
     return fprintf(fp, "%.10g,%.10g,%.10g,%.10g\n", t, tip.x, tip.y, tip.z) > 0;
 }
 
-int hk_cli_strand_simulate(const char *cmd, const hk_CliStrandSim *sim, const hk_HairstyleDef *def,
-                           hk_SuperHelix *sh, const hk_StrandEnv *env, const char *plot,
+int hk_cli_strand_simulate(const char *cmd, const hk_CliStrandSim *sim, const hk_Hairstyle *def,
+                           hk_SuperHelix *sh, const hk_StrandEnvDef *env, const char *plot,
                            const hk_Shape *shapes, int shape_count)
 {
     hk_Error err;
@@ -39,7 +40,7 @@ int hk_cli_strand_simulate(const char *cmd, const hk_CliStrandSim *sim, const hk
     hk_Vec3 *p = NULL;
     int status = HK_EXIT_FAIL;
 
-    hk_DynamicsParams params = hk_dynamics_params_for(def);
+    hk_DynamicsDef params = def->dynamics;
     if (!sim->damping) params.internal_friction = params.air_drag = 0.0;
     params.solver = sim->dense ? HK_DYNAMICS_DENSE : HK_DYNAMICS_LINEAR;
     params.stiffness = sim->dense ? HK_STIFFNESS_FULL : HK_STIFFNESS_GAUSS_NEWTON;
@@ -94,14 +95,14 @@ int hk_cli_strand_simulate(const char *cmd, const hk_CliStrandSim *sim, const hk
 
     double kinetic, potential;
     hk_strand_dynamics_energy(dyn, &head, &kinetic, &potential);
-    const int count = hk_superhelix_sample_count(sh, def->visuality_step);
+    const int count = hk_superhelix_sample_count(sh, def->strand.visuality_step);
     s = hk_alloc_array((size_t)count, sizeof *s, &err);
     p = hk_alloc_array((size_t)count, sizeof *p, &err);
     if (!s || !p) {
         hk_cli_fail(cmd, &err);
         goto done;
     }
-    hk_superhelix_sample(sh, NULL, def->visuality_step, s, p, NULL);
+    hk_superhelix_sample(sh, NULL, def->strand.visuality_step, s, p, NULL);
     if (plot) {
         hk_PlotStrand ps = {p, count, {0.45, 0.22, 0.05}};
         if (hk_plot_strands_png(plot, 1200, 600, &ps, 1, shapes, shape_count, env->envelope_alpha, &err) != HK_OK) {

@@ -5,6 +5,7 @@
 
 #include <math.h>
 
+#include "collide/collide_internal.h"
 #include "hairkit/collide.h"
 
 /* An exactly orthonormal, right-handed, non-trivial frame (rational entries). */
@@ -288,7 +289,7 @@ static void test_centre_and_degenerate(void **state)
 /* Samples a point at distance in [lo, hi] * (bound + |volume|) from the centre. */
 static hk_Vec3 random_point(const hk_Shape *s, double lo, double hi)
 {
-    const double reach = s->bound + fabs(s->volume);
+    const double reach = hk_shape_bound(s) + fabs(s->volume);
     return hk_v3_madd(s->centre, random_direction(), reach * (lo + (hi - lo) * hk_test_uniform()));
 }
 
@@ -439,7 +440,6 @@ static void test_envelope(void **state)
          * contact at alpha 0 (no envelope) and 1 cm deep at 2 cm. */
         hk_Shape n = *s;
         n.volume = -0.01;
-        hk_shape_finish(&n);
         const hk_Vec3 d = hk_v3_sub(outside[i], s->centre);
         const hk_Vec3 normal = hk_v3_normalize(i == 2 ? s->axis[2] : d);
         const hk_Vec3 surface = hk_v3_madd(outside[i], normal, -0.01);
@@ -511,9 +511,8 @@ static void test_bound_never_rejects_contacts(void **state)
             for (int ai = 0; ai < 2; ai++) {
                 hk_Shape s = test_shape(i);
                 s.volume = volumes[vi];
-                hk_shape_finish(&s);
                 const double alpha = alphas[ai], extra = alpha * s.volume;
-                const double reach = s.bound + sqrt(3.0) * fabs(extra);
+                const double reach = hk_shape_bound(&s) + sqrt(3.0) * fabs(extra);
                 int contacts = 0;
                 /* dense shell sampling up to past the reach */
                 for (int t = 0; t < 2000; t++)
@@ -555,32 +554,30 @@ static void test_bound_never_rejects_contacts(void **state)
     hk_Shape cube = test_shape(6);
     const double extra = cube.volume;
     const double corner = hk_v3_norm(hk_v3(cube.half.x + extra, cube.half.y + extra, cube.half.z + extra));
-    hk_assert_rel(corner, cube.bound + sqrt(3.0) * extra, 1e-15, 0);
+    hk_assert_rel(corner, hk_shape_bound(&cube) + sqrt(3.0) * extra, 1e-15, 0);
 }
 
-/* The rejection is really taken (it is the hot path's shortcut) and follows the
- * documented inequality |p - c| > bound + sqrt(3)|extra|: with a deliberately too
- * small hand-set bound a deep point beyond it is dropped, one within it is not. */
-static void test_rejection_uses_bound(void **state)
+/* The bound is the largest radius (the cuboid's half-diagonal), computed from the
+ * shape's fields at every call: a shape edited by hand after its constructor needs no
+ * refresh (a cached bound would reject the contacts of a grown shape). */
+static void test_bound_follows_edits(void **state)
 {
     (void)state;
     hk_Shape s = hk_shape_sphere(hk_v3(0, 0, 0), 0.1, 0.01, 10.0);
-    s.bound = 0.05; /* wrong on purpose; hk_shape_finish() would restore 0.1 */
-    const double reach = 0.05 + sqrt(3.0) * 0.01;
+    hk_assert_near(hk_shape_bound(&s), 0.1, 0.0);
+    /* grown to 0.2 by hand: a point at 0.15 lies beyond the old reach 0.1 + sqrt(3) 0.01 */
+    s.half = hk_v3(0.2, 0.2, 0.2);
+    hk_assert_near(hk_shape_bound(&s), 0.2, 0.0);
+    hk_assert_rel(hk_shape_penalty(&s, 1.0, hk_v3(0, 0.15, 0), NULL, NULL), 0.5 * 10.0 * pow(0.21 - 0.15, 2), 1e-12, 0);
+    hk_assert_near(hk_collision_depth(&s, 1, 1.0, hk_v3(0, 0.15, 0)), 0.21 - 0.15, 1e-15);
+    /* and beyond the new reach nothing */
+    const double reach = 0.2 + sqrt(3.0) * 0.01;
     hk_assert_near(hk_shape_penalty(&s, 1.0, hk_v3(0, reach * 1.001, 0), NULL, NULL), 0.0, 0.0);
-    hk_assert_near(hk_collision_depth(&s, 1, 1.0, hk_v3(0, reach * 1.001, 0)), 0.0, 0.0);
-    const double q = reach * 0.999;
-    hk_assert_rel(hk_shape_penalty(&s, 1.0, hk_v3(0, q, 0), NULL, NULL), 0.5 * 10.0 * pow(0.11 - q, 2), 1e-12, 0);
-    hk_assert_near(hk_collision_depth(&s, 1, 1.0, hk_v3(0, q, 0)), 0.11 - q, 1e-15);
-    /* not rejected even a hair (1e-12 relative) inside the reach */
-    const double q1 = reach * (1 - 1e-12);
-    hk_assert_rel(hk_shape_penalty(&s, 1.0, hk_v3(q1, 0, 0), NULL, NULL), 0.5 * 10.0 * pow(0.11 - q1, 2), 1e-12, 0);
-    /* |extra|, not extra: a negative volume must not shrink the reach below the shape. */
-    s.volume = -0.01;
-    const double qn = 0.05 + sqrt(3.0) * 0.01 * 0.999;
-    hk_assert_rel(hk_shape_penalty(&s, 1.0, hk_v3(0, 0, qn), NULL, NULL), 0.5 * 10.0 * pow(0.09 - qn, 2), 1e-12, 0);
-    hk_shape_finish(&s);
-    hk_assert_near(s.bound, 0.1, 0.0);
+    /* an ellipsoid: its largest semi-axis; a cuboid: its half-diagonal */
+    const hk_Shape e = hk_shape_ellipsoid(hk_v3(0, 0, 0), hk_v3(0.05, 0.12, 0.07), NULL, 0.0, 1.0);
+    hk_assert_near(hk_shape_bound(&e), 0.12, 0.0);
+    const hk_Shape c = hk_shape_cuboid(hk_v3(0, 0, 0), hk_v3(0.03, 0.04, 0.12), NULL, 0.0, 1.0);
+    hk_assert_rel(hk_shape_bound(&c), 0.13, 1e-15, 0);
 }
 
 /* ---- sums over shapes ----------------------------------------------------------- */
@@ -662,7 +659,7 @@ int main(void)
         cmocka_unit_test(test_penalty_derivatives),
         cmocka_unit_test(test_envelope),
         cmocka_unit_test(test_bound_never_rejects_contacts),
-        cmocka_unit_test(test_rejection_uses_bound),
+        cmocka_unit_test(test_bound_follows_edits),
         cmocka_unit_test(test_sums),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -14,6 +14,7 @@
 
 #include "dynamics/dynamics_internal.h"
 #include "dynamics/hair_contact_solve.h"
+#include "hairkit/io.h"
 #include "hairkit/statics.h"
 
 #define STRANDS 3
@@ -30,12 +31,12 @@ typedef struct World {
 
 /* Three 20 cm strands of examples/guides200's hair rooted close together and
  * crossing as they fall, with the linearly implicit Euler step of full heads. */
-static void world_make(World *w, const hk_HairContactParams *cp)
+static void world_make(World *w, const hk_HairContactDef *cp)
 {
     hk_Error err;
-    hk_HairstyleDef style = hk_default_hairstyle();
+    hk_Hairstyle style = hk_default_hairstyle();
     assert_int_equal(hk_hairstyle_load(HK_SOURCE_DIR "/examples/guides200/hairstyle.txt", &style, &err), HK_OK);
-    hk_DynamicsParams p = hk_dynamics_params_for(&style);
+    hk_DynamicsDef p = style.dynamics;
     p.integrator = HK_INTEGRATOR_LINEAR_EULER;
     p.solver = HK_DYNAMICS_DENSE;
     p.stiffness = HK_STIFFNESS_FULL;
@@ -43,12 +44,12 @@ static void world_make(World *w, const hk_HairContactParams *cp)
     p.max_turn = p.max_travel = 1e9; /* one step each, as the commit takes it */
     const hk_Vec3 roots[STRANDS] = {hk_v3(0, 0, 0), hk_v3(0.004, 0.0, 0.05), hk_v3(-0.03, 0.003, 0.02)};
     const hk_Vec3 dirs[STRANDS] = {hk_v3(0, 0, 1), hk_v3(0, 0.01, -1), hk_v3(1, 0.02, 0.1)};
-    const hk_StrandEnv env = hk_default_strand_env();
+    const hk_StrandEnvDef env = hk_default_strand_env_def();
     for (int i = 0; i < STRANDS; i++) {
-        assert_int_equal(hk_superhelix_from_hairstyle(&style, roots[i], hk_v3_normalize(dirs[i]), &w->sh[i], &err), HK_OK);
+        assert_int_equal(hk_superhelix_from_def(&style.strand, roots[i], hk_v3_normalize(dirs[i]), &w->sh[i], &err), HK_OK);
         assert_int_equal(hk_strand_dynamics_create(w->sh[i], &p, &env, &w->d[i], &err), HK_OK);
     }
-    const double len = hk_hairstyle_length(&style);
+    const double len = hk_strand_def_length(&style.strand);
     for (int j = 0; j < SAMPLES; j++) w->s[j] = len * j / (SAMPLES - 1);
     assert_int_equal(hk_hair_contacts_create(STRANDS, cp, &w->contacts, &err), HK_OK);
     assert_int_equal(hk_contact_solve_create(STRANDS, &w->solve, &err), HK_OK);
@@ -75,9 +76,9 @@ static void world_solve(World *w, double h, hk_ContactSolveStats *stats)
     assert_int_equal(hk_contact_solve(w->solve, w->contacts, w->d, STRANDS, &still, h, stats, &err), HK_OK);
 }
 
-static hk_HairContactParams params(void)
+static hk_HairContactDef params(void)
 {
-    hk_HairContactParams cp = hk_default_hair_contact_params();
+    hk_HairContactDef cp = hk_default_hair_contact_def();
     cp.distance = 0.005, cp.stiffness = 0.005, cp.damping = 8e-5, cp.root_exclusion = 0.0, cp.along = 1;
     return cp;
 }
@@ -85,7 +86,7 @@ static hk_HairContactParams params(void)
 static void test_commit_matches_the_step_with_forces(void **state)
 {
     (void)state;
-    const hk_HairContactParams cp = params();
+    const hk_HairContactDef cp = params();
     World a, b;
     world_make(&a, &cp);
     world_make(&b, &cp);
@@ -126,7 +127,7 @@ static void test_commit_matches_the_step_with_forces(void **state)
 static void test_point_jacobians_match_finite_differences(void **state)
 {
     (void)state;
-    const hk_HairContactParams cp = params();
+    const hk_HairContactDef cp = params();
     World w;
     world_make(&w, &cp);
     hk_StrandDynamics *d = w.d[1];
@@ -164,7 +165,7 @@ static void test_point_jacobians_match_finite_differences(void **state)
 static void test_forces_opposite_and_in_the_cone(void **state)
 {
     (void)state;
-    const hk_HairContactParams cp = params();
+    const hk_HairContactDef cp = params();
     World w;
     world_make(&w, &cp);
     const double h = 1.0 / 30.0;

@@ -231,7 +231,7 @@ typedef struct Probe {
     long calls;
 } Probe;
 
-static double rosenbrock2(const double *x, void *user)
+static double rosenbrock2(void *user, const double *x)
 {
     ((Probe *)user)->calls++;
     const double a = 1.0 - x[0], b = x[1] - x[0] * x[0];
@@ -243,12 +243,12 @@ static void test_nm_rosenbrock(void **state)
     (void)state;
     double x[2] = {-1.2, 1.0};
     const double scale[2] = {0.5, 0.5};
-    hk_NelderMeadOptions o = hk_default_nelder_mead_options();
+    hk_NelderMeadDef o = hk_default_nelder_mead_def();
     o.x_tolerance = 1e-10;
     o.f_tolerance = 1e-20;
     o.max_evaluations = 5000;
     Probe p = {0};
-    hk_NelderMeadResult r;
+    hk_MinimizeResult r;
     assert_int_equal(hk_nelder_mead_minimize(2, x, scale, rosenbrock2, &p, &o, &r, NULL), HK_OK);
     assert_true(r.converged);
     assert_int_equal(r.evaluations, p.calls);
@@ -259,7 +259,7 @@ static void test_nm_rosenbrock(void **state)
                   r.iterations);
 }
 
-static double quadratic4(const double *x, void *user)
+static double quadratic4(void *user, const double *x)
 {
     (void)user;
     /* A rotated, badly scaled bowl: minimum 3 at (1, -2, 0.5, 4). */
@@ -276,11 +276,11 @@ static void test_nm_quadratic_4d(void **state)
     (void)state;
     double x[4] = {0, 0, 0, 0};
     const double scale[4] = {1, 1, 1, 1};
-    hk_NelderMeadOptions o = hk_default_nelder_mead_options();
+    hk_NelderMeadDef o = hk_default_nelder_mead_def();
     o.x_tolerance = 1e-10;
     o.f_tolerance = 1e-20;
     o.max_evaluations = 20000;
-    hk_NelderMeadResult r;
+    hk_MinimizeResult r;
     assert_int_equal(hk_nelder_mead_minimize(4, x, scale, quadratic4, NULL, &o, &r, NULL), HK_OK);
     assert_true(r.converged);
     const double c[4] = {1.0, -2.0, 0.5, 4.0};
@@ -290,7 +290,7 @@ static void test_nm_quadratic_4d(void **state)
 
 /* Undefined (NaN) left of x0 = 0.5 and infinite below x1 = -1: a bowl centred at the
  * corner of the defined region's edge. */
-static double walled(const double *x, void *user)
+static double walled(void *user, const double *x)
 {
     ((Probe *)user)->calls++;
     if (x[0] < 0.5) return NAN;
@@ -303,10 +303,10 @@ static void test_nm_nan_regions(void **state)
     (void)state;
     double x[2] = {2.0, 2.0};
     const double scale[2] = {1.0, 1.0};
-    hk_NelderMeadOptions o = hk_default_nelder_mead_options();
+    hk_NelderMeadDef o = hk_default_nelder_mead_def();
     o.max_evaluations = 3000;
     Probe p = {0};
-    hk_NelderMeadResult r;
+    hk_MinimizeResult r;
     assert_int_equal(hk_nelder_mead_minimize(2, x, scale, walled, &p, &o, &r, NULL), HK_OK);
     assert_true(p.calls <= 3000);
     /* The constrained minimum is the corner (0.5, -1). */
@@ -329,13 +329,13 @@ static void test_nm_nan_regions(void **state)
     hk_assert_near(z[0], 0.5, 1e-6);
 }
 
-static double overflowing(const double *x, void *user)
+static double overflowing(void *user, const double *x)
 {
     (void)user;
     return -x[0] * 1e300; /* decreases for ever: expansions overflow x */
 }
 
-static double constant(const double *x, void *user)
+static double constant(void *user, const double *x)
 {
     (void)x;
     ((Probe *)user)->calls++;
@@ -346,17 +346,17 @@ static void test_nm_limits_and_determinism(void **state)
 {
     (void)state;
     const double scale[2] = {0.5, 0.5};
-    hk_NelderMeadOptions o = hk_default_nelder_mead_options();
+    hk_NelderMeadDef o = hk_default_nelder_mead_def();
     o.max_evaluations = 57;
     double x[2] = {-1.2, 1.0};
     Probe p = {0};
-    hk_NelderMeadResult r;
+    hk_MinimizeResult r;
     assert_int_equal(hk_nelder_mead_minimize(2, x, scale, rosenbrock2, &p, &o, &r, NULL), HK_OK);
     assert_int_equal(p.calls, 57);
     assert_int_equal(r.evaluations, 57);
     assert_false(r.converged);
     double y[2] = {-1.2, 1.0};
-    hk_NelderMeadResult r2;
+    hk_MinimizeResult r2;
     assert_int_equal(hk_nelder_mead_minimize(2, y, scale, rosenbrock2, &p, &o, &r2, NULL), HK_OK);
     assert_memory_equal(x, y, sizeof x);
     assert_true(r.f == r2.f);
@@ -382,7 +382,7 @@ static void test_nm_bad_arguments(void **state)
     double x[17] = {0};
     double scale[17];
     for (int i = 0; i < 17; i++) scale[i] = 1.0;
-    hk_NelderMeadOptions o = hk_default_nelder_mead_options();
+    hk_NelderMeadDef o = hk_default_nelder_mead_def();
     hk_Error err;
     assert_int_equal(hk_nelder_mead_minimize(17, x, scale, quadratic4, NULL, &o, NULL, &err), HK_ERR_INVALID);
     assert_int_equal(hk_nelder_mead_minimize(-1, x, scale, quadratic4, NULL, &o, NULL, &err), HK_ERR_INVALID);
@@ -397,7 +397,7 @@ static void test_nm_bad_arguments(void **state)
     x[1] = 0.0;
     o.max_evaluations = 4;
     assert_int_equal(hk_nelder_mead_minimize(4, x, scale, quadratic4, NULL, &o, NULL, &err), HK_ERR_INVALID);
-    o = hk_default_nelder_mead_options();
+    o = hk_default_nelder_mead_def();
     o.f_tolerance = NAN;
     assert_int_equal(hk_nelder_mead_minimize(4, x, scale, quadratic4, NULL, &o, NULL, &err), HK_ERR_INVALID);
 }
@@ -519,16 +519,16 @@ static void test_resample_arc(void **state)
  * the paper's Nelder-Mead (the *_nelder_mead entries of main). */
 static int fit_method = HK_CURVEFIT_LEAST_SQUARES;
 
-static hk_CurveFitOptions fit_options(void)
+static hk_CurveFitDef fit_options(void)
 {
-    hk_CurveFitOptions o = hk_default_curve_fit_options();
+    hk_CurveFitDef o = hk_default_curve_fit_def();
     o.method = fit_method;
     return o;
 }
 
-static hk_CurveFitOptions exact_options(void)
+static hk_CurveFitDef exact_options(void)
 {
-    hk_CurveFitOptions o = fit_options();
+    hk_CurveFitDef o = fit_options();
     o.lambda = 0.0;
     o.tolerance = 1e-7;
     o.param_tolerance = 1e-9;
@@ -548,7 +548,7 @@ static void test_fit_single_arc(void **state)
         const hk_CurveStart s0 = random_start();
         const double kappa = uniform(5.0, 150.0), length = uniform(0.03, 0.15);
         helix_trace(kappa, 0.0, &s0, length, N, target, &e);
-        hk_CurveFitOptions o = exact_options();
+        hk_CurveFitDef o = exact_options();
         o.max_pieces = 1;
         const double seed[1] = {10.0}, scale[1] = {20.0};
         hk_CurveFit fit;
@@ -573,7 +573,7 @@ static void test_fit_single_helix(void **state)
         const double k[2] = {uniform(20.0, 150.0), uniform(-60.0, 60.0)};
         const double length = 0.1;
         helix_trace(k[0], k[1], &s0, length, N, target, &e);
-        hk_CurveFitOptions o = exact_options();
+        hk_CurveFitDef o = exact_options();
         const double seed[2] = {30.0, 0.0}, scale[2] = {20.0, 20.0};
         hk_CurveFit fit;
         hk_Error err;
@@ -605,7 +605,7 @@ static void test_fit_straight(void **state)
     assert_true(fit.error < 1e-15);
     /* The helix with lambda > 0: the regularisation takes both parameters to 0, even the
      * torsion that does not change a straight line's points. */
-    hk_CurveFitOptions o = fit_options();
+    hk_CurveFitDef o = fit_options();
     o.lambda = 1e-6;
     const double seed[2] = {40.0, 25.0}, scale[2] = {10.0, 10.0};
     assert_int_equal(hk_curve_fit_piecewise(target, N, helix_model, NULL, 2, seed, scale, &o, &fit, &err), HK_OK);
@@ -627,7 +627,7 @@ static void test_fit_two_pieces(void **state)
         const int segments[2] = {trial % 2 ? 12 : 17, trial % 2 ? 18 : 13};
         const double h = 0.004;
         make_helix_target(&s0, 2, k, segments, h, target);
-        hk_CurveFitOptions o = exact_options();
+        hk_CurveFitDef o = exact_options();
         o.tolerance = 1e-6;
         o.min_fragment_length = 0.01;
         const double seed[2] = {30.0, 0.0}, scale[2] = {20.0, 20.0};
@@ -668,7 +668,7 @@ static void test_fit_fixed_pieces(void **state)
     const double k[2][2] = {{45.0, 12.0}, {120.0, -30.0}};
     const int segments[2] = {15, 15};
     make_helix_target(&s0, 2, k, segments, 0.004, target);
-    hk_CurveFitOptions o = exact_options();
+    hk_CurveFitDef o = exact_options();
     o.fixed_pieces = 2;
     const double seed[2] = {30.0, 0.0}, scale[2] = {20.0, 20.0};
     hk_CurveFit fit;
@@ -750,7 +750,7 @@ static void test_fit_noise(void **state)
         const double k[2] = {uniform(20.0, 60.0), uniform(-20.0, 20.0)};
         helix_trace(k[0], k[1], &s0, 0.1, N, target, &e);
         add_noise(target, N, sigma);
-        hk_CurveFitOptions o = fit_options();
+        hk_CurveFitDef o = fit_options();
         o.lambda = 0.0;
         o.tolerance = 3e-4;
         hk_CurveFit fit;
@@ -812,30 +812,30 @@ static void test_fit_bad_input(void **state)
     const double bad_seed[2] = {NAN, 0.0}, bad_scale[2] = {1.0, 0.0};
     EXPECT(HK_ERR_INVALID, "seed[0]", target, N, helix_model, NULL, 2, bad_seed, scale, NULL);
     EXPECT(HK_ERR_INVALID, "scale[1]", target, N, helix_model, NULL, 2, seed, bad_scale, NULL);
-    hk_CurveFitOptions o = hk_default_curve_fit_options();
+    hk_CurveFitDef o = hk_default_curve_fit_def();
     o.max_pieces = 0;
     EXPECT(HK_ERR_INVALID, "max_pieces", target, N, helix_model, NULL, 2, seed, scale, &o);
-    o = hk_default_curve_fit_options(), o.max_pieces = HK_CURVEFIT_MAX_PIECES + 1;
+    o = hk_default_curve_fit_def(), o.max_pieces = HK_CURVEFIT_MAX_PIECES + 1;
     EXPECT(HK_ERR_INVALID, "max_pieces", target, N, helix_model, NULL, 2, seed, scale, &o);
-    o = hk_default_curve_fit_options(), o.split_threshold = 0.0;
+    o = hk_default_curve_fit_def(), o.split_threshold = 0.0;
     EXPECT(HK_ERR_INVALID, "split_threshold", target, N, helix_model, NULL, 2, seed, scale, &o);
-    o = hk_default_curve_fit_options(), o.split_threshold = 1.5;
+    o = hk_default_curve_fit_def(), o.split_threshold = 1.5;
     EXPECT(HK_ERR_INVALID, "split_threshold", target, N, helix_model, NULL, 2, seed, scale, &o);
-    o = hk_default_curve_fit_options(), o.lambda = NAN;
+    o = hk_default_curve_fit_def(), o.lambda = NAN;
     EXPECT(HK_ERR_INVALID, "lambda", target, N, helix_model, NULL, 2, seed, scale, &o);
-    o = hk_default_curve_fit_options(), o.tolerance = -1.0;
+    o = hk_default_curve_fit_def(), o.tolerance = -1.0;
     EXPECT(HK_ERR_INVALID, "tolerance", target, N, helix_model, NULL, 2, seed, scale, &o);
-    o = hk_default_curve_fit_options(), o.max_evaluations = 2;
+    o = hk_default_curve_fit_def(), o.max_evaluations = 2;
     EXPECT(HK_ERR_INVALID, "max_evaluations", target, N, helix_model, NULL, 2, seed, scale, &o);
-    o = hk_default_curve_fit_options(), o.samples = HK_CURVEFIT_MAX_SAMPLES + 1;
+    o = hk_default_curve_fit_def(), o.samples = HK_CURVEFIT_MAX_SAMPLES + 1;
     EXPECT(HK_ERR_INVALID, "samples", target, N, helix_model, NULL, 2, seed, scale, &o);
-    o = hk_default_curve_fit_options(), o.use_start = 1, o.start.frame.m[0][0] = 2.0;
+    o = hk_default_curve_fit_def(), o.use_start = 1, o.start.frame.m[0][0] = 2.0;
     EXPECT(HK_ERR_INVALID, "start pose", target, N, helix_model, NULL, 2, seed, scale, &o);
-    o = hk_default_curve_fit_options(), o.method = 7;
+    o = hk_default_curve_fit_def(), o.method = 7;
     EXPECT(HK_ERR_INVALID, "method", target, N, helix_model, NULL, 2, seed, scale, &o);
-    o = hk_default_curve_fit_options(), o.penalty_weight[1] = -1.0;
+    o = hk_default_curve_fit_def(), o.penalty_weight[1] = -1.0;
     EXPECT(HK_ERR_INVALID, "penalty_weight[1]", target, N, helix_model, NULL, 2, seed, scale, &o);
-    o = hk_default_curve_fit_options(), o.arc_length = 2;
+    o = hk_default_curve_fit_def(), o.arc_length = 2;
     EXPECT(HK_ERR_INVALID, "arc_length", target, N, helix_model, NULL, 2, seed, scale, &o);
     /* Bad points. */
     hk_Vec3 bad[N];
@@ -885,7 +885,7 @@ static void test_fit_hostile_targets(void **state)
     hk_Vec3 target[N];
     const double seed[2] = {30.0, 0.0}, scale[2] = {20.0, 20.0};
     const double magnitudes[5] = {1e-300, 1e-6, 1.0, 1e150, 1e300};
-    hk_CurveFitOptions o = hk_default_curve_fit_options();
+    hk_CurveFitDef o = hk_default_curve_fit_def();
     o.max_evaluations = 60;
     o.max_pieces = 8;
     o.min_fragment_length = 0.0;
@@ -920,7 +920,7 @@ static void test_fit_evaluations_and_determinism(void **state)
     const int segments[2] = {15, 15};
     make_helix_target(&s0, 2, k, segments, 0.004, target);
     const double seed[2] = {30.0, 0.0}, scale[2] = {20.0, 20.0};
-    hk_CurveFitOptions o = hk_default_curve_fit_options();
+    hk_CurveFitDef o = hk_default_curve_fit_def();
     o.tolerance = 1e-6;
     Counter c = {0};
     hk_CurveFit a, b;
@@ -947,7 +947,7 @@ static void test_fit_resampled(void **state)
     hk_CurveStart e;
     const hk_CurveStart s0 = random_start();
     helix_trace(60.0, 25.0, &s0, 0.1, N, target, &e);
-    hk_CurveFitOptions o = exact_options();
+    hk_CurveFitDef o = exact_options();
     o.samples = 31;
     o.max_pieces = 1;
     const double seed[2] = {30.0, 0.0}, scale[2] = {20.0, 20.0};

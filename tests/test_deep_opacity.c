@@ -55,28 +55,29 @@ static void make_sheets(hk_HairFile *h, const double *depth, int count)
 
 /* The light's maps of hair h lit from straight above (the scene's box fixed, so that
  * every map has the same texels whichever sheets it holds), as hk_render builds them. */
-static void build_maps(const hk_HairFile *h, const hk_RenderOptions *o, hk_LightMaps *m)
+static void build_maps(const hk_HairFile *h, const hk_RenderDef *o, hk_LightMaps *m)
 {
-    const hk_VisualityDef v = hk_default_visuality();
+    const hk_Visuality v = hk_default_visuality();
     hk_Scene sc;
     memset(&sc, 0, sizeof sc);
     sc.hair = h, sc.head = NULL, sc.vis = &v, sc.opt = o;
     sc.light_dir = hk_v3(0, 1, 0);
     sc.lo = hk_v3(-0.05, -0.02, -0.05), sc.hi = hk_v3(0.05, 0.0, 0.05);
     sc.thickness = h->default_thickness;
+    sc.threads = hk_render_threads(o);
     hk_scene_thickness(&sc);
     uint8_t *seg = malloc(h->point_count);
     assert_non_null(seg);
-    sc.segment_count = hk_segment_starts(h, seg);
+    sc.segment_count = hk_segment_starts(h, seg, sc.threads);
     memset(m, 0, sizeof *m);
     hk_Error err;
     assert_int_equal(hk_light_maps_build(&sc, seg, m, NULL, &err), HK_OK);
     free(seg);
 }
 
-static hk_RenderOptions light_options(void)
+static hk_RenderDef light_options(void)
 {
-    hk_RenderOptions o = hk_default_render_options();
+    hk_RenderDef o = hk_default_render_def();
     o.shadow_map_size = 128; /* texels of 1.1 mm: two or three strands of a sheet each */
     o.light_azimuth_deg = 0.0, o.light_elevation_deg = 90.0;
     return o;
@@ -98,7 +99,7 @@ static void test_layer_layout(void **state)
         {0.0, 6, {2, 6, 14, 30, 62, 126}},     /* 2 ... 64 mm */
     };
     for (int c = 0; c < 3; c++) {
-        hk_RenderOptions o = light_options();
+        hk_RenderDef o = light_options();
         o.layer_size = cases[c].layer_size, o.opacity_layers = cases[c].layers;
         hk_LightMaps m;
         build_maps(&h, &o, &m);
@@ -123,7 +124,7 @@ static void test_transmittance_behind_sheets(void **state)
 {
     (void)state;
     const double depth[4] = {0.0, 0.003, 0.009, 0.020};
-    const hk_RenderOptions o = light_options();
+    const hk_RenderDef o = light_options();
     /* Opacity of the first k sheets, from behind them all. */
     double alone[5] = {0, 0, 0, 0, 0};
     for (int k = 1; k <= 4; k++) {

@@ -168,7 +168,7 @@ static void test_mass_matrix_gives_kinetic_energy(void **state)
     (void)state;
     const int n = 6, dim = 3 * n;
     hk_SuperHelix *sh = curly_strand(n);
-    hk_DynamicsParams prm = hk_default_dynamics_params();
+    hk_DynamicsDef prm = hk_default_dynamics_def();
     hk_StrandDynamics *d = NULL;
     hk_Error err;
     assert_int_equal(hk_strand_dynamics_create(sh, &prm, NULL, &d, &err), HK_OK);
@@ -209,9 +209,9 @@ static void test_linear_and_dense_agree(void **state)
     hk_Vec3 mid;
     hk_superhelix_eval(a, NULL, 0.6 * a->total_length, &mid, NULL);
     hk_Shape sphere = hk_shape_sphere(hk_v3_add(mid, hk_v3(0.0, -0.02, 0.0)), 0.025, 0.0, 10.0);
-    hk_StrandEnv body = {&sphere, 1, 0.0, 0.004};
+    hk_StrandEnvDef body = {&sphere, 1, 0.0, 0.004};
     /* The same scheme for both: the stiffness the O(N) recursion can carry. */
-    hk_DynamicsParams pl = hk_default_dynamics_params(), pd = pl;
+    hk_DynamicsDef pl = hk_default_dynamics_def(), pd = pl;
     /* one linear solve per step: the solvers' difference is not hidden by Newton's
      * iteration converging to the same stage solution */
     pl.integrator = pd.integrator = HK_INTEGRATOR_LINEAR_EULER;

@@ -17,11 +17,12 @@
 #include <string.h>
 
 #include "hairkit/dynamics.h"
+#include "hairkit/io.h"
 #include "hairkit/statics.h"
 
 /* A strand of an example hairstyle, its elements replaced by n equal ones of a total
  * length `length` (0: as in the file), leaving the root at the origin along +x. */
-static hk_SuperHelix *example_strand(const char *name, double length, int n, hk_HairstyleDef *def)
+static hk_SuperHelix *example_strand(const char *name, double length, int n, hk_Hairstyle *def)
 {
     char path[512];
     snprintf(path, sizeof path, "%s/examples/strand/%s.txt", HK_SOURCE_DIR, name);
@@ -31,12 +32,12 @@ static hk_SuperHelix *example_strand(const char *name, double length, int n, hk_
         double *lengths = hk_alloc_array((size_t)n, sizeof(double), &err);
         assert_non_null(lengths);
         for (int i = 0; i < n; i++) lengths[i] = length / n;
-        hk_free(def->element_lengths);
-        def->element_lengths = lengths;
-        def->element_count = n;
+        hk_free(def->strand.element_lengths);
+        def->strand.element_lengths = lengths;
+        def->strand.element_count = n;
     }
     hk_SuperHelix *sh = NULL;
-    assert_int_equal(hk_superhelix_from_hairstyle(def, hk_v3(0, 0, 0), hk_v3(1, 0, 0), &sh, &err), HK_OK);
+    assert_int_equal(hk_superhelix_from_def(&def->strand, hk_v3(0, 0, 0), hk_v3(1, 0, 0), &sh, &err), HK_OK);
     return sh;
 }
 
@@ -77,9 +78,9 @@ static void test_long_wavy_strand_at_paper_step(void **state)
     (void)state;
     const char *motions[2] = {"shake", "nod"};
     for (int m = 0; m < 2; m++) {
-        hk_HairstyleDef def;
+        hk_Hairstyle def;
         hk_SuperHelix *sh = example_strand("wavy", 1.0, 40, &def);
-        hk_DynamicsParams p = hk_dynamics_params_for(&def);
+        hk_DynamicsDef p = def.dynamics;
         hk_StrandDynamics *d = NULL;
         hk_HeadMotion *motion = NULL;
         hk_Error err;
@@ -105,18 +106,18 @@ static void test_undamped_energy_stays_bounded(void **state)
     (void)state;
     const double steps[4] = {1.0 / 24.0, 1.0 / 30.0, 1.0 / 100.0, 1.0 / 1000.0};
     const double seconds[4] = {10.0, 10.0, 3.0, 1.0}; /* the budget of CI */
-    hk_HairstyleDef def;
+    hk_Hairstyle def;
     hk_SuperHelix *rest = example_strand("straight", 0.0, 0, &def);
-    hk_StaticsOptions so = hk_default_statics_options();
+    hk_StaticsDef so = hk_default_statics_def();
     hk_MinimizeResult res;
     hk_Error err;
-    const hk_StrandEnv free_env = hk_default_strand_env();
+    const hk_StrandEnvDef free_env = hk_default_strand_env_def();
     assert_int_equal(hk_statics_solve(rest, &free_env, &so, &res, &err), HK_OK);
     const double e_rest = res.f;
     for (int k = 0; k < 4; k++) {
-        hk_HairstyleDef def_k;
+        hk_Hairstyle def_k;
         hk_SuperHelix *sh = example_strand("straight", 0.0, 0, &def_k);
-        hk_DynamicsParams p = hk_dynamics_params_for(&def_k);
+        hk_DynamicsDef p = def_k.dynamics;
         p.internal_friction = p.air_drag = 0.0;
         hk_StrandDynamics *d = NULL;
         assert_int_equal(hk_strand_dynamics_create(sh, &p, NULL, &d, &err), HK_OK);
@@ -141,9 +142,9 @@ static void test_undamped_energy_stays_bounded(void **state)
  * `seconds`. */
 static double *curly_bounce(double dt, double seconds, int damped, int *count)
 {
-    hk_HairstyleDef def;
+    hk_Hairstyle def;
     hk_SuperHelix *sh = example_strand("curly", 0.0, 0, &def);
-    hk_DynamicsParams p = hk_dynamics_params_for(&def);
+    hk_DynamicsDef p = def.dynamics;
     if (!damped) p.internal_friction = p.air_drag = 0.0;
     hk_StrandDynamics *d = NULL;
     hk_Error err;
@@ -237,10 +238,10 @@ static void test_violent_motion_completes(void **state)
     hk_Error err;
     assert_int_equal(hk_collision_load(HK_SOURCE_DIR "/examples/strand/head.txt", &shapes, &shape_count, &err), HK_OK);
     for (int m = 0; m < 3; m++) {
-        hk_HairstyleDef def;
-        hk_StrandEnv body;
+        hk_Hairstyle def;
+        hk_StrandEnvDef body;
         hk_SuperHelix *sh = hk_test_strand_on_head("wavy", shapes, shape_count, &def, &body);
-        hk_DynamicsParams p = hk_dynamics_params_for(&def);
+        hk_DynamicsDef p = def.dynamics;
         hk_StrandDynamics *d = NULL;
         hk_HeadMotion *motion = NULL;
         assert_int_equal(hk_strand_dynamics_create(sh, &p, &body, &d, &err), HK_OK);

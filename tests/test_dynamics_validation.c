@@ -24,6 +24,7 @@
 #include <string.h>
 
 #include "hairkit/dynamics.h"
+#include "hairkit/io.h"
 #include "hairkit/statics.h"
 
 /* Horizontal straight strand along +x, N equal elements, gravity g along -y. */
@@ -39,9 +40,9 @@ static hk_SuperHelix *strand(int n, double length, double g)
     return sh;
 }
 
-static hk_DynamicsParams undamped(void)
+static hk_DynamicsDef undamped(void)
 {
-    hk_DynamicsParams p = hk_default_dynamics_params();
+    hk_DynamicsDef p = hk_default_dynamics_def();
     p.internal_friction = 0.0;
     p.air_drag = 0.0;
     return p;
@@ -69,7 +70,7 @@ static void test_cantilever_first_frequency(void **state)
     const double period = 2.0 * 3.14159265358979323846 / omega;
     /* dt = period / 2000: implicit Euler's phase error (omega dt)^2 / 3 ~ 3e-6. */
     const double dt = period / 2000.0;
-    hk_DynamicsParams p = undamped();
+    hk_DynamicsDef p = undamped();
     hk_StrandDynamics *d = NULL;
     hk_Error err;
     assert_int_equal(hk_strand_dynamics_create(sh, &p, NULL, &d, &err), HK_OK);
@@ -139,15 +140,15 @@ static void test_damped_strand_rests_on_statics(void **state)
     const double length = 0.15;
     hk_SuperHelix *sh = wavy_strand(10, length);
     /* Reference: Newton's minimum of the same energy. */
-    hk_StrandEnv env = hk_default_strand_env();
-    hk_StaticsOptions opt = hk_default_statics_options();
+    hk_StrandEnvDef env = hk_default_strand_env_def();
+    hk_StaticsDef opt = hk_default_statics_def();
     hk_Error err;
     hk_MinimizeResult res;
     assert_int_equal(hk_statics_solve(sh, &env, &opt, &res, &err), HK_OK);
     double *rest = malloc(sizeof(double) * 30);
     memcpy(rest, sh->q, sizeof(double) * 30);
     memcpy(sh->q, sh->q_rest, sizeof(double) * 30);
-    hk_DynamicsParams p = hk_default_dynamics_params();
+    hk_DynamicsDef p = hk_default_dynamics_def();
     hk_StrandDynamics *d = NULL;
     assert_int_equal(hk_strand_dynamics_create(sh, &p, NULL, &d, &err), HK_OK);
     const double dt = 1.0 / 30.0;
@@ -172,7 +173,7 @@ static void test_damped_strand_rests_on_statics(void **state)
 static double energy_run(double dt, double seconds, int damped, int monotone, hk_DynamicsStiffness stiffness)
 {
     hk_SuperHelix *sh = wavy_strand(8, 0.2);
-    hk_DynamicsParams p = damped ? hk_default_dynamics_params() : undamped();
+    hk_DynamicsDef p = damped ? hk_default_dynamics_def() : undamped();
     p.stiffness = stiffness;
     p.solver = stiffness == HK_STIFFNESS_FULL ? HK_DYNAMICS_DENSE : HK_DYNAMICS_LINEAR;
     hk_StrandDynamics *d = NULL;
@@ -229,7 +230,7 @@ static double spinning_drift(double dt)
     sh->material.rotary_inertia[1] = 0.5 * rho_s * 0.01 * 0.01;
     sh->material.rotary_inertia[2] = 1.5 * rho_s * 0.01 * 0.01;
     sh->material.rotary_inertia[0] = sh->material.rotary_inertia[1] + sh->material.rotary_inertia[2];
-    hk_DynamicsParams p = undamped();
+    hk_DynamicsDef p = undamped();
     hk_StrandDynamics *d = NULL;
     hk_Error err;
     assert_int_equal(hk_strand_dynamics_create(sh, &p, NULL, &d, &err), HK_OK);
@@ -309,7 +310,7 @@ static void spinning_rod_bend(int n, double length, double theta, hk_DynamicsSol
     sh->material.rotary_inertia[0] = i_t;
     sh->material.rotary_inertia[1] = sh->material.rotary_inertia[2] = i_n;
     sh->root_frame = hk_root_frame(hk_v3(sin(theta), cos(theta), 0.0));
-    hk_DynamicsParams p = undamped();
+    hk_DynamicsDef p = undamped();
     p.internal_friction = 1e-10; /* the paper's gamma: about critical for the first mode */
     p.solver = solver;
     if (solver == HK_DYNAMICS_LINEAR) p.stiffness = HK_STIFFNESS_GAUSS_NEWTON;
@@ -373,7 +374,7 @@ static void test_helix_at_zero_gravity_stays(void **state)
     double tau, kappa;
     hk_helix_natural_curvature(0.004, 0.01, &tau, &kappa); /* curly */
     hk_superhelix_set_uniform_rest(sh, tau, kappa, 0.0);
-    hk_DynamicsParams p = undamped();
+    hk_DynamicsDef p = undamped();
     hk_StrandDynamics *d = NULL;
     hk_Error err;
     assert_int_equal(hk_strand_dynamics_create(sh, &p, NULL, &d, &err), HK_OK);
@@ -393,7 +394,7 @@ static void test_translating_head_moves_strand_rigidly(void **state)
     for (int fall = 0; fall < 2; fall++) {
         hk_SuperHelix *sh = wavy_strand(10, 0.2);
         if (!fall) sh->material.gravity = hk_v3_zero();
-        hk_DynamicsParams p = undamped(); /* still air would drag the strand */
+        hk_DynamicsDef p = undamped(); /* still air would drag the strand */
         hk_StrandDynamics *d = NULL;
         hk_Error err;
         assert_int_equal(hk_strand_dynamics_create(sh, &p, NULL, &d, &err), HK_OK);
@@ -477,8 +478,8 @@ static void test_air_drag_terminal_velocity(void **state)
     const double rho_s = ref->material.mass_per_length;
     const DragFall fall = {rho_s * g / nu, rho_s / nu, g};
     const hk_Vec3 straight = tip_of(ref);
-    hk_StrandEnv env = hk_default_strand_env();
-    hk_StaticsOptions so = hk_default_statics_options();
+    hk_StrandEnvDef env = hk_default_strand_env_def();
+    hk_StaticsDef so = hk_default_statics_def();
     hk_MinimizeResult res;
     hk_Error err;
     assert_int_equal(hk_statics_solve(ref, &env, &so, &res, &err), HK_OK);
@@ -488,7 +489,7 @@ static void test_air_drag_terminal_velocity(void **state)
                   rho_s, nu, fall.vt, fall.tau, 100 * length, 1e3 * sag);
     assert_true(sag > 1e-4);
     hk_superhelix_destroy(ref);
-    hk_DynamicsParams p = hk_default_dynamics_params();
+    hk_DynamicsDef p = hk_default_dynamics_def();
     p.air_drag = nu;
 
     /* Falling with its head, from rest, straight: weightless all the way. */
@@ -562,10 +563,10 @@ static void test_appendix_b_hair_stable_on_a_shaking_head(void **state)
     assert_int_equal(hk_head_motion_scripted("shake", 40.0, 1.5, hk_default_head_pivot(), &shake, &err), HK_OK);
     for (int k = 0; k < 4; k++) {
         /* from the statics rest shape, as a groomed head starts */
-        hk_HairstyleDef def;
-        hk_StrandEnv body;
+        hk_Hairstyle def;
+        hk_StrandEnvDef body;
         hk_SuperHelix *sh = hk_test_strand_on_head(types[k], shapes, shape_count, &def, &body);
-        hk_DynamicsParams p = hk_dynamics_params_for(&def);
+        hk_DynamicsDef p = def.dynamics;
         hk_StrandDynamics *d = NULL;
         assert_int_equal(hk_strand_dynamics_create(sh, &p, &body, &d, &err), HK_OK);
         const int n = sh->n;

@@ -12,6 +12,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/core_internal.h"
 #include "hairkit/core.h"
 
 static hk_Error error_of(long index)

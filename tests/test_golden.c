@@ -55,14 +55,14 @@ enum { WIDTH = 160, HEIGHT = 120 };
 typedef struct Scene {
     hk_HairFile hair;
     hk_Mesh head;
-    hk_VisualityDef vis;
+    hk_Visuality vis;
 } Scene;
 
 static int setup(void **state)
 {
     Scene *sc = calloc(1, sizeof *sc);
     assert_non_null(sc);
-    hk_HairstyleDef style;
+    hk_Hairstyle style;
     hk_Shape *shapes = NULL;
     int shape_count = 0;
     hk_Mesh wick;
@@ -73,11 +73,11 @@ static int setup(void **state)
     assert_int_equal(hk_visuality_load(HK_SOURCE_DIR "/examples/default/visuality.txt", &sc->vis, &err), HK_OK);
     assert_int_equal(hk_obj_load(HK_SOURCE_DIR "/assets/wick-200.obj", &wick, &err), HK_OK);
     assert_int_equal(hk_obj_load(HK_SOURCE_DIR "/assets/head.obj", &sc->head, &err), HK_OK);
-    style.hair_density = 30.0;
-    hk_GroomOptions o = hk_default_groom_options();
+    style.interpolation.hair_density = 30.0;
+    hk_GroomDef o = hk_default_groom_def();
     hk_Groom g;
-    assert_int_equal(hk_groom_grow(&style, shapes, shape_count, &wick, &o, &g, &err), HK_OK);
-    assert_int_equal(hk_groom_to_hair(&g, &style, &sc->hair, &err), HK_OK);
+    assert_int_equal(hk_groom_grow(&style.strand, &style.interpolation, shapes, shape_count, &wick, &o, &g, &err), HK_OK);
+    assert_int_equal(hk_groom_to_hair(&g, &style.strand, &sc->hair, &err), HK_OK);
     hk_groom_free(&g);
     hk_mesh_free(&wick);
     hk_free(shapes);
@@ -125,7 +125,7 @@ static void write_png(const char *path, const uint8_t *rgb, int w, int h)
 
 /* The picture as `hairkit render` writes it (hk_render_write_png: 8-bit sRGB), read
  * back. */
-static uint8_t *render(const Scene *sc, const hk_RenderOptions *o)
+static uint8_t *render(const Scene *sc, const hk_RenderDef *o)
 {
     hk_Canvas img;
     hk_Error err;
@@ -133,7 +133,7 @@ static uint8_t *render(const Scene *sc, const hk_RenderOptions *o)
     char path[4096];
     snprintf(path, sizeof path, "%s/picture.png", hk_test_tmpdir());
     assert_int_equal(hk_render_write_png(&img, path, &err), HK_OK);
-    hk_canvas_destroy(&img);
+    hk_canvas_free(&img);
     int w, h;
     uint8_t *rgb = read_png(path, &w, &h);
     assert_non_null(rgb);
@@ -173,7 +173,7 @@ static int within_tolerance(Difference d)
 /* The picture of options o against tests/golden/NAME.png; with HK_REFRESH_GOLDEN set,
  * writes it there instead. *rgb receives the picture (to free); returns 0 when it is
  * not within the tolerance of the stored one (and writes it to the build folder). */
-static int check_golden(const Scene *sc, const char *name, const hk_RenderOptions *o, uint8_t **rgb)
+static int check_golden(const Scene *sc, const char *name, const hk_RenderDef *o, uint8_t **rgb)
 {
     *rgb = render(sc, o);
     char path[4096];
@@ -202,9 +202,9 @@ static int check_golden(const Scene *sc, const char *name, const hk_RenderOption
     return 0;
 }
 
-static hk_RenderOptions options(hk_Shading shading, int shadows)
+static hk_RenderDef options(hk_Shading shading, int shadows)
 {
-    hk_RenderOptions o = hk_default_render_options();
+    hk_RenderDef o = hk_default_render_def();
     o.width = WIDTH, o.height = HEIGHT;
     o.shading = shading;
     o.shadows = shadows;
@@ -229,7 +229,7 @@ static void test_golden_pictures(void **state)
     uint8_t *rgb[4];
     int failed = 0;
     for (int k = 0; k < 4; k++) {
-        hk_RenderOptions o = options(cases[k].shading, cases[k].shadows);
+        hk_RenderDef o = options(cases[k].shading, cases[k].shadows);
         failed += !check_golden(sc, cases[k].name, &o, &rgb[k]);
     }
     if (failed)

@@ -6,13 +6,14 @@
 #include "hk_test.h"
 
 #include <math.h>
-#include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/core_internal.h"
 #include "groom/groom_internal.h"
 #include "hairkit/groom.h"
+#include "hairkit/io.h"
 #include "hairkit/rod.h"
 
 /* A small wick: a 4 x 4 cm square made of a 3 x 3 grid of quads (18 triangles),
@@ -38,21 +39,21 @@ static void make_wick(hk_Mesh *m)
     hk_mesh_compute_normals(m);
 }
 
-static hk_HairstyleDef make_style(double gravity, double helix_radius)
+static hk_Hairstyle make_style(double gravity, double helix_radius)
 {
-    hk_HairstyleDef s = hk_default_hairstyle();
+    hk_Hairstyle s = hk_default_hairstyle();
     static double lengths[4] = {0.02, 0.02, 0.02, 0.02};
-    s.element_count = 4;
-    s.element_lengths = lengths; /* not freed: static */
-    s.radius1 = s.radius2 = 5e-5;
-    s.young = 1e9;
-    s.helix_radius = helix_radius;
-    s.helix_step = 0.02;
-    s.gravity = gravity;
-    s.visuality_step = 0.004;
-    s.hair_density = 300.0; /* per cm^2: about 4800 strands on 16 cm^2 */
-    s.clump = 0.25;
-    s.clump_profile = 1.0;
+    s.strand.element_count = 4;
+    s.strand.element_lengths = lengths; /* not freed: static */
+    s.strand.radius1 = s.strand.radius2 = 5e-5;
+    s.strand.young = 1e9;
+    s.strand.helix_radius = helix_radius;
+    s.strand.helix_step = 0.02;
+    s.strand.gravity = gravity;
+    s.strand.visuality_step = 0.004;
+    s.interpolation.hair_density = 300.0; /* per cm^2: about 4800 strands on 16 cm^2 */
+    s.interpolation.clump = 0.25;
+    s.interpolation.clump_profile = 1.0;
     return s;
 }
 
@@ -70,11 +71,11 @@ static void test_straight_guides_follow_normals(void **state)
     /* No gravity, no curl: every guide is the straight line along its follicle normal. */
     hk_Mesh wick;
     make_wick(&wick);
-    hk_HairstyleDef style = make_style(0.0, 0.0);
-    hk_GroomOptions o = hk_default_groom_options();
+    hk_Hairstyle style = make_style(0.0, 0.0);
+    hk_GroomDef o = hk_default_groom_def();
     hk_Groom g;
     hk_Error err;
-    assert_int_equal(hk_groom_grow(&style, NULL, 0, &wick, &o, &g, &err), HK_OK);
+    assert_int_equal(hk_groom_grow(&style.strand, &style.interpolation, NULL, 0, &wick, &o, &g, &err), HK_OK);
     assert_int_equal(g.guide_count, wick.vertex_count);
     assert_int_equal(g.points_per_strand, 21); /* 0.08 / 0.004 + 1 */
     for (int i = 0; i < g.guide_count; i++)
@@ -92,18 +93,18 @@ static void test_roots_counts_lengths(void **state)
     (void)state;
     hk_Mesh wick;
     make_wick(&wick);
-    hk_HairstyleDef style = make_style(9.81, 0.01);
-    hk_GroomOptions o = hk_default_groom_options();
+    hk_Hairstyle style = make_style(9.81, 0.01);
+    hk_GroomDef o = hk_default_groom_def();
     hk_Groom g;
     hk_Error err;
-    assert_int_equal(hk_groom_grow(&style, NULL, 0, &wick, &o, &g, &err), HK_OK);
+    assert_int_equal(hk_groom_grow(&style.strand, &style.interpolation, NULL, 0, &wick, &o, &g, &err), HK_OK);
     const int n = g.points_per_strand;
     /* Guides: root on the wick vertex, first step along its normal: the chord of the
      * first 4 mm leans from the root tangent by at most kappa_max ds / 2, where the
      * curvature near the root is at most the natural one plus the bending of the whole
      * weight, rho S g L^2 / (2 E I) (moment balance at the clamped root). */
     hk_SuperHelix *probe;
-    assert_int_equal(hk_superhelix_from_hairstyle(&style, hk_v3(0, 0, 0), hk_v3(1, 0, 0), &probe, &err), HK_OK);
+    assert_int_equal(hk_superhelix_from_def(&style.strand, hk_v3(0, 0, 0), hk_v3(1, 0, 0), &probe, &err), HK_OK);
     const double kappa0 = hypot(probe->q_rest[0], probe->q_rest[1]);
     const double weight = probe->material.mass_per_length * 9.81 * 0.08 * 0.08 / 2.0;
     const double lean = (kappa0 + weight / probe->material.stiffness[2]) * 0.004 / 2.0;
@@ -124,7 +125,7 @@ static void test_roots_counts_lengths(void **state)
     for (int s = 0; s < g.strand_count; s++) count[g.strand_triangle[s]]++;
     double expected = 0.0;
     for (int t = 0; t < wick.triangle_count; t++) {
-        double e = hk_mesh_triangle_area(&wick, t) * 1e4 * style.hair_density;
+        double e = hk_mesh_triangle_area(&wick, t) * 1e4 * style.interpolation.hair_density;
         expected += e;
         assert_true(count[t] == (int)floor(e) || count[t] == (int)floor(e) + 1);
     }
@@ -155,21 +156,21 @@ static void test_deterministic_across_threads(void **state)
     (void)state;
     hk_Mesh wick;
     make_wick(&wick);
-    hk_HairstyleDef style = make_style(9.81, 0.01);
+    hk_Hairstyle style = make_style(9.81, 0.01);
     hk_Groom a, b, c;
     hk_Error err;
-    hk_GroomOptions o = hk_default_groom_options();
+    hk_GroomDef o = hk_default_groom_def();
     o.seed = 42;
     o.threads = 1;
-    assert_int_equal(hk_groom_grow(&style, NULL, 0, &wick, &o, &a, &err), HK_OK);
+    assert_int_equal(hk_groom_grow(&style.strand, &style.interpolation, NULL, 0, &wick, &o, &a, &err), HK_OK);
     o.threads = 2;
-    assert_int_equal(hk_groom_grow(&style, NULL, 0, &wick, &o, &b, &err), HK_OK);
+    assert_int_equal(hk_groom_grow(&style.strand, &style.interpolation, NULL, 0, &wick, &o, &b, &err), HK_OK);
     assert_int_equal(a.strand_count, b.strand_count);
     const size_t bytes = (size_t)a.strand_count * a.points_per_strand * 3 * sizeof(float);
     assert_memory_equal(a.strands, b.strands, bytes);
     assert_memory_equal(a.guides, b.guides, (size_t)a.guide_count * a.points_per_strand * 3 * sizeof(double));
     o.seed = 43;
-    assert_int_equal(hk_groom_grow(&style, NULL, 0, &wick, &o, &c, &err), HK_OK);
+    assert_int_equal(hk_groom_grow(&style.strand, &style.interpolation, NULL, 0, &wick, &o, &c, &err), HK_OK);
     assert_true(c.strand_count != a.strand_count || memcmp(a.strands, c.strands, bytes) != 0);
     hk_groom_free(&a);
     hk_groom_free(&b);
@@ -193,23 +194,21 @@ static void test_first_failing_guide_reported(void **state)
     const int bad[3] = {41, 17, 30};
     for (int k = 0; k < 3; k++) normal[bad[k]] = hk_v3_zero();
     const hk_Follicles f = {COUNT, position, normal, alpha};
-    hk_HairstyleDef style = make_style(9.81, 0.01);
-    hk_GroomOptions o = hk_default_groom_options();
+    hk_Hairstyle style = make_style(9.81, 0.01);
+    hk_GroomDef o = hk_default_groom_def();
     char expected[128];
     snprintf(expected, sizeof expected, "guide 18 (follicle at %.4g, %.4g, %.4g): root direction must be a non-zero",
              position[17].x, position[17].y, position[17].z);
-    const int saved = omp_get_max_threads();
     for (int threads = 1; threads <= 4; threads++)
         for (int rep = 0; rep < 3; rep++) {
-            omp_set_num_threads(threads);
+            o.threads = threads;
             hk_Groom g;
             memset(&g, 0, sizeof g);
             hk_Error err;
-            assert_int_equal(hk_groom_solve_guides(&style, NULL, 0, &f, &o, &g, &err), HK_ERR_INVALID);
+            assert_int_equal(hk_groom_solve_guides(&style.strand, NULL, 0, &f, &o, &g, &err), HK_ERR_INVALID);
             hk_assert_contains(err.message, expected);
             hk_groom_free(&g);
         }
-    omp_set_num_threads(saved);
 }
 
 /* Thesis §4.1.4.4, Table 4: where v1, v2, v3 go for each ordering of the root weights
@@ -266,12 +265,12 @@ static void test_semi_interpolation(void **state)
      * nearest guide, translated to its own root. */
     hk_Mesh wick;
     make_wick(&wick);
-    hk_HairstyleDef style = make_style(9.81, 0.01);
-    style.max_tip_distance = 1e-9;
-    hk_GroomOptions o = hk_default_groom_options();
+    hk_Hairstyle style = make_style(9.81, 0.01);
+    style.interpolation.max_tip_distance = 1e-9;
+    hk_GroomDef o = hk_default_groom_def();
     hk_Groom g;
     hk_Error err;
-    assert_int_equal(hk_groom_grow(&style, NULL, 0, &wick, &o, &g, &err), HK_OK);
+    assert_int_equal(hk_groom_grow(&style.strand, &style.interpolation, NULL, 0, &wick, &o, &g, &err), HK_OK);
     const int n = g.points_per_strand;
     for (int s = 0; s < g.strand_count; s += 37) {
         const float *w = g.strand_root_weights + 3 * s;
@@ -313,21 +312,21 @@ static void test_huge_wick_refused(void **state)
     const int tris[6] = {0, 2, 1, 1, 2, 3};
     memcpy(wick.triangles, tris, sizeof tris);
     hk_mesh_compute_normals(&wick);
-    hk_HairstyleDef style = make_style(9.81, 0.0);
+    hk_Hairstyle style = make_style(9.81, 0.0);
     hk_Groom g;
     memset(&g, 0, sizeof g);
     g.guide_count = 4, g.points_per_strand = 2;
     g.guides = calloc(4 * 2 * 3, sizeof(double));
     assert_non_null(g.guides);
-    hk_GroomOptions o = hk_default_groom_options();
-    assert_int_equal(hk_groom_interpolate_guides(&style, NULL, 0, &wick, &o, &g, &err), HK_ERR_INVALID);
+    hk_GroomDef o = hk_default_groom_def();
+    assert_int_equal(hk_groom_interpolate_guides(&style.interpolation, NULL, 0, &wick, &o, &g, &err), HK_ERR_INVALID);
     hk_assert_contains(err.message, "HairDensity 300");
     hk_assert_contains(err.message, "more than 100000000 strands");
     assert_int_equal(g.strand_count, 0);
-    assert_int_equal(hk_groom_check_size(&style, &wick, &o, NULL, &err), HK_ERR_INVALID);
+    assert_int_equal(hk_groom_check_size(&style.strand, &style.interpolation, &wick, &o, NULL, &err), HK_ERR_INVALID);
     /* A triangle whose area is not finite. */
     wick.positions[1] = hk_v3(1e200, 0, 0), wick.positions[2] = hk_v3(0, 0, 1e200);
-    assert_int_equal(hk_groom_check_size(&style, &wick, &o, NULL, &err), HK_ERR_INVALID);
+    assert_int_equal(hk_groom_check_size(&style.strand, &style.interpolation, &wick, &o, NULL, &err), HK_ERR_INVALID);
     hk_assert_contains(err.message, "wick triangle 1 has an area of inf");
     free(g.guides);
     hk_mesh_free(&wick);
@@ -341,30 +340,30 @@ static void test_memory_budget(void **state)
     (void)state;
     hk_Mesh wick;
     make_wick(&wick);
-    hk_HairstyleDef style = make_style(9.81, 0.0);
+    hk_Hairstyle style = make_style(9.81, 0.0);
     hk_Error err;
     long strands = 0;
     unsetenv(HK_MEMORY_LIMIT_ENV);
-    assert_int_equal(hk_groom_check_size(&style, &wick, NULL, &strands, &err), HK_OK);
+    assert_int_equal(hk_groom_check_size(&style.strand, &style.interpolation, &wick, NULL, &strands, &err), HK_OK);
     assert_true(strands > 4000 && strands < 6000); /* 300 per cm^2 on about 16 cm^2 */
     /* 21 points a strand: (24 x 21 + 26) bytes each and the 16 guides' (36 x 21 + 10). */
     const double bytes = (double)strands * 530.0 + 16.0 * 766.0;
     char limit[64];
     snprintf(limit, sizeof limit, "%.0f", bytes - 1.0);
     setenv(HK_MEMORY_LIMIT_ENV, limit, 1);
-    assert_int_equal(hk_groom_check_size(&style, &wick, NULL, NULL, &err), HK_ERR_NOMEM);
+    assert_int_equal(hk_groom_check_size(&style.strand, &style.interpolation, &wick, NULL, NULL, &err), HK_ERR_NOMEM);
     hk_assert_contains(err.message, "strands of 21 points with their .hair would take about");
     hk_assert_contains(err.message, "over the limit of");
     hk_assert_contains(err.message, "HAIRKIT_MEMORY_LIMIT raises it");
     /* hk_groom_grow refuses it too, before solving anything. */
     hk_Groom g;
     const double t0 = hk_seconds_now();
-    assert_int_equal(hk_groom_grow(&style, NULL, 0, &wick, NULL, &g, &err), HK_ERR_NOMEM);
+    assert_int_equal(hk_groom_grow(&style.strand, &style.interpolation, NULL, 0, &wick, NULL, &g, &err), HK_ERR_NOMEM);
     assert_true(hk_seconds_now() - t0 < 0.05);
     assert_null(g.guides);
     snprintf(limit, sizeof limit, "%.0f", bytes);
     setenv(HK_MEMORY_LIMIT_ENV, limit, 1);
-    assert_int_equal(hk_groom_check_size(&style, &wick, NULL, NULL, &err), HK_OK);
+    assert_int_equal(hk_groom_check_size(&style.strand, &style.interpolation, &wick, NULL, NULL, &err), HK_OK);
     setenv(HK_MEMORY_LIMIT_ENV, "1.5Gi", 1);
     double b = 0.0;
     assert_int_equal(hk_memory_limit(&b, &err), HK_OK);
@@ -373,7 +372,7 @@ static void test_memory_budget(void **state)
     assert_int_equal(hk_memory_limit(&b, &err), HK_OK);
     hk_assert_near(b, 16e9, 0);
     setenv(HK_MEMORY_LIMIT_ENV, "0x10", 1);
-    assert_int_equal(hk_groom_check_size(&style, &wick, NULL, NULL, &err), HK_ERR_INVALID);
+    assert_int_equal(hk_groom_check_size(&style.strand, &style.interpolation, &wick, NULL, NULL, &err), HK_ERR_INVALID);
     hk_assert_contains(err.message, "HAIRKIT_MEMORY_LIMIT='0x10' is not a size");
     unsetenv(HK_MEMORY_LIMIT_ENV);
     /* The default: 8 GB, the machine's memory when smaller. */

@@ -47,12 +47,13 @@
 #include <string.h>
 
 #include "hairkit/groom.h"
+#include "hairkit/io.h"
 #include "hairkit/rng.h"
 
 enum { MAX_POINTS = 64 };
 
 typedef struct Head {
-    hk_HairstyleDef style;
+    hk_Hairstyle style;
     hk_Mesh wick;
     hk_Groom g;
     double profile[MAX_POINTS]; /* t^ClumpProfile at every sample */
@@ -69,15 +70,15 @@ static Head *grow_head(void)
     assert_int_equal(hk_collision_load(HK_SOURCE_DIR "/examples/default/collision.txt", &shapes, &shape_count, &err),
                      HK_OK);
     assert_int_equal(hk_obj_load(HK_SOURCE_DIR "/assets/wick.obj", &h->wick, &err), HK_OK);
-    h->style.hair_density = 50.0;
-    h->style.max_tip_distance = 0.0; /* the plain blend */
+    h->style.interpolation.hair_density = 50.0;
+    h->style.interpolation.max_tip_distance = 0.0; /* the plain blend */
     /* The documented values this test's references use. */
-    assert_true(h->style.clump == 0.25 && h->style.clump_profile == 1.5 && !h->style.stray_hairs);
-    hk_GroomOptions o = hk_default_groom_options();
+    assert_true(h->style.interpolation.clump == 0.25 && h->style.interpolation.clump_profile == 1.5 && !h->style.interpolation.stray_hairs);
+    hk_GroomDef o = hk_default_groom_def();
     o.keep_outside = 0;
-    assert_int_equal(hk_groom_grow(&h->style, shapes, shape_count, &h->wick, &o, &h->g, &err), HK_OK);
+    assert_int_equal(hk_groom_grow(&h->style.strand, &h->style.interpolation, shapes, shape_count, &h->wick, &o, &h->g, &err), HK_OK);
     assert_true(h->g.strand_count > 20000 && h->g.points_per_strand == 41);
-    for (int j = 0; j < 41; j++) h->profile[j] = pow(j / 40.0, h->style.clump_profile);
+    for (int j = 0; j < 41; j++) h->profile[j] = pow(j / 40.0, h->style.interpolation.clump_profile);
     hk_free(shapes);
     return h;
 }
@@ -197,7 +198,7 @@ static void test_clump_blend_root_to_tip(void **state)
 {
     const Head *h = *state;
     const int n = h->g.points_per_strand;
-    const double clump = h->style.clump;
+    const double clump = h->style.interpolation.clump;
     double weight_sum = 0.0, weight_sq = 0.0, lowest = 1.0, highest = 0.0, worst = 0.0;
     long weights = 0, skipped = 0;
     int worst_strand = -1, worst_point = -1;
@@ -242,7 +243,7 @@ static void test_clumped_tips_closer(void **state)
 {
     const Head *h = *state;
     const int n = h->g.points_per_strand, last = n - 1, count = h->g.strand_count;
-    const double clump = h->style.clump;
+    const double clump = h->style.interpolation.clump;
     /* Each strand's tip as grown, without clumping, and as documented with DRAWS draws
      * of the tip weights made here. */
     enum { DRAWS = 8, STRIDE = 3 * (2 + DRAWS) };

@@ -17,9 +17,10 @@
 
 #include "groom/groom_internal.h"
 #include "hairkit/groom.h"
+#include "hairkit/io.h"
 
 typedef struct Head {
-    hk_HairstyleDef style;
+    hk_Hairstyle style;
     hk_Shape *shapes, *body;
     int shape_count, body_count;
     hk_Mesh wick;
@@ -39,13 +40,13 @@ static int load_head(void **state)
     assert_int_equal(hk_obj_load(HK_SOURCE_DIR "/assets/wick.obj", &h->wick, &err), HK_OK);
     /* A fifth of the hair (about 25,000 strands): the same triangles and guides, enough
      * points to measure 0.05 %, quick under the sanitizers. */
-    h->style.hair_density = 50.0;
+    h->style.interpolation.hair_density = 50.0;
     assert_int_equal(hk_groom_body_shapes(h->shapes, h->shape_count, &h->body, &h->body_count, &err), HK_OK);
     /* The head, the face and the neck; the sphere before the face is styling. */
     assert_int_equal(h->body_count, 3);
-    hk_GroomOptions o = hk_default_groom_options();
+    hk_GroomDef o = hk_default_groom_def();
     o.threads = 1;
-    assert_int_equal(hk_groom_grow(&h->style, h->shapes, h->shape_count, &h->wick, &o, &h->groom, &err), HK_OK);
+    assert_int_equal(hk_groom_grow(&h->style.strand, &h->style.interpolation, h->shapes, h->shape_count, &h->wick, &o, &h->groom, &err), HK_OK);
     assert_true(h->groom.strand_count > 20000);
     *state = h;
     return 0;
@@ -75,11 +76,11 @@ static void regrow(const Head *h, int keep_outside, int threads, double sag, hk_
     assert_non_null(g->guides);
     memcpy(g->guides, h->groom.guides, values * sizeof(double));
     for (size_t v = 1; v < values; v += 3) g->guides[v] -= sag * (double)((v / 3) % n) / (n - 1);
-    hk_GroomOptions o = hk_default_groom_options();
+    hk_GroomDef o = hk_default_groom_def();
     o.keep_outside = keep_outside;
     o.threads = threads;
     hk_Error err;
-    assert_int_equal(hk_groom_interpolate_guides(&h->style, h->shapes, h->shape_count, &h->wick, &o, g, &err), HK_OK);
+    assert_int_equal(hk_groom_interpolate_guides(&h->style.interpolation, h->shapes, h->shape_count, &h->wick, &o, g, &err), HK_OK);
 }
 
 static double depth_at(const Head *h, const float *p)
@@ -126,7 +127,7 @@ static double seg_len(const float *p, int j)
 static void test_projection_keeps_lengths(void **state)
 {
     Head plain = *(const Head *)state[0];
-    plain.style.max_tip_distance = 0.0;
+    plain.style.interpolation.max_tip_distance = 0.0;
     const Head *h = &plain;
     hk_Groom kept1, blend, kept2;
     const hk_Groom *kept = &kept1;

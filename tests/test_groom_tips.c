@@ -18,6 +18,7 @@
 #include <string.h>
 
 #include "hairkit/groom.h"
+#include "hairkit/io.h"
 
 static double tip_distance(const double *guide_tip, const float *tip)
 {
@@ -28,7 +29,7 @@ static double tip_distance(const double *guide_tip, const float *tip)
 static void test_tips_near_their_guides(void **state)
 {
     (void)state;
-    hk_HairstyleDef style;
+    hk_Hairstyle style;
     hk_Shape *shapes = NULL;
     int shape_count = 0;
     hk_Mesh wick;
@@ -37,10 +38,10 @@ static void test_tips_near_their_guides(void **state)
     assert_int_equal(hk_collision_load(HK_SOURCE_DIR "/examples/default/collision.txt", &shapes, &shape_count, &err),
                      HK_OK);
     assert_int_equal(hk_obj_load(HK_SOURCE_DIR "/assets/wick.obj", &wick, &err), HK_OK);
-    style.hair_density = 50.0; /* about 25,000 strands */
-    hk_GroomOptions o = hk_default_groom_options();
+    style.interpolation.hair_density = 50.0; /* about 25,000 strands */
+    hk_GroomDef o = hk_default_groom_def();
     hk_Groom g;
-    assert_int_equal(hk_groom_grow(&style, shapes, shape_count, &wick, &o, &g, &err), HK_OK);
+    assert_int_equal(hk_groom_grow(&style.strand, &style.interpolation, shapes, shape_count, &wick, &o, &g, &err), HK_OK);
     assert_true(g.strand_count > 20000);
     const int n = g.points_per_strand;
     long far = 0;

@@ -1,6 +1,6 @@
 /* Guides in motion stay within 2 mm of the body's surface (issue 12 item 2;
  * docs/dynamics.md, "Limitations"): the 201 guides of examples/guides200, grown,
- * solved and stepped as `hairkit simulate` does (hk_default_hair_sim_options: the
+ * solved and stepped as `hairkit simulate` does (hk_hair_sim_def_for: the
  * linearly implicit Euler step at dt = 1/30 s), under the scripted nod and tilt of
  * `hairkit simulate --motion` (25 degrees, 1 Hz), 40 frames from rest (the deepest
  * moments of 60-frame runs come before). Before the fix they went 6.7 mm into the
@@ -29,7 +29,7 @@ static void head_state(void *user, double t, hk_RigidState *out) { hk_head_motio
 
 /* The guides at rest, solved once for every motion. */
 typedef struct Head {
-    hk_HairstyleDef style;
+    hk_Hairstyle style;
     hk_Shape *shapes, body[8];
     int shape_count, body_count;
     hk_Mesh wick;
@@ -58,14 +58,14 @@ static int setup(void **state)
     assert_int_equal(h->body_count, 3); /* cranium, face and jaw, neck */
     for (int i = 0; i < h->f.count; i++) {
         /* as hair_sim.c's make_guide: the statics rest shape with its follicle's envelope */
-        assert_int_equal(hk_superhelix_from_hairstyle(&h->style, h->f.position[i], h->f.normal[i], &h->guide[i], &err),
+        assert_int_equal(hk_superhelix_from_def(&h->style.strand, h->f.position[i], h->f.normal[i], &h->guide[i], &err),
                          HK_OK);
-        hk_StrandEnv env = hk_default_strand_env();
+        hk_StrandEnvDef env = hk_default_strand_env_def();
         env.shapes = h->shapes;
         env.shape_count = h->shape_count;
         env.envelope_alpha = h->f.alpha[i];
-        env.collision_step = h->style.collision_step;
-        hk_StaticsOptions so = hk_default_statics_options();
+        env.collision_step = h->style.strand.collision_step;
+        hk_StaticsDef so = hk_default_statics_def();
         hk_MinimizeResult res;
         assert_int_equal(hk_statics_solve(h->guide[i], &env, &so, &res, &err), HK_OK);
         const size_t dim = 3 * (size_t)h->guide[i]->n;
@@ -100,7 +100,7 @@ static double deepest_in_motion(const char *motion, int frames)
     hk_Error err;
     hk_HeadMotion *m = NULL;
     assert_int_equal(hk_head_motion_scripted(motion, 25.0, 1.0, hk_default_head_pivot(), &m, &err), HK_OK);
-    const hk_HairSimOptions o = hk_default_hair_sim_options(&h->style);
+    const hk_HairSimDef o = hk_hair_sim_def_for(&h->style);
     assert_int_equal(o.dynamics.integrator, HK_INTEGRATOR_LINEAR_EULER);
     double deepest = 0.0;
     int deepest_guide = -1, deepest_frame = -1, over = 0;
@@ -110,11 +110,11 @@ static double deepest_in_motion(const char *motion, int frames)
         memcpy(sh->q, h->rest[i], 3 * (size_t)sh->n * sizeof(double));
         sh->root = h->root[i]; /* head space: the dynamics takes its root pose from here */
         sh->root_frame = h->frame[i];
-        hk_StrandEnv env = hk_default_strand_env();
+        hk_StrandEnvDef env = hk_default_strand_env_def();
         env.shapes = h->shapes;
         env.shape_count = h->shape_count;
         env.envelope_alpha = h->f.alpha[i];
-        env.collision_step = h->style.collision_step;
+        env.collision_step = h->style.strand.collision_step;
         hk_StrandDynamics *d = NULL;
         assert_int_equal(hk_strand_dynamics_create(sh, &o.dynamics, &env, &d, &err), HK_OK);
         const int points = hk_superhelix_sample_count(sh, 0.0025);

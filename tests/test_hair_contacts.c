@@ -6,7 +6,6 @@
 #include "hk_test.h"
 
 #include <math.h>
-#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -238,7 +237,7 @@ static int brute_local_min(const hk_HcStrand *vi, int a, const hk_HcStrand *vj, 
 /* Every segment pair of different strands closer than 2 d0 (candidates), those that
  * are local minima (pairs) and the pairs closer than d0 (contacts); any list may be
  * NULL. O(segments^2). */
-static void brute_force(const Strands *st, const hk_HairContactParams *p, QuadList *candidates, QuadList *pairs,
+static void brute_force(const Strands *st, const hk_HairContactDef *p, QuadList *candidates, QuadList *pairs,
                         QuadList *contacts)
 {
     hk_HcStrand *views = calloc((size_t)st->g, sizeof *views);
@@ -289,14 +288,14 @@ static void assert_same_quads(const QuadList *x, const QuadList *y)
     for (int k = 0; k < x->count; k++) assert_int_equal(quad_cmp(&x->q[k], &y->q[k]), 0);
 }
 
-static hk_HairContactParams test_params(void)
+static hk_HairContactDef test_params(void)
 {
-    hk_HairContactParams p = hk_default_hair_contact_params();
+    hk_HairContactDef p = hk_default_hair_contact_def();
     p.root_exclusion = 0.006; /* cuts through a segment: exercises the clipping */
     return p;
 }
 
-static hk_HairContacts *make_contacts(int g, const hk_HairContactParams *p)
+static hk_HairContacts *make_contacts(int g, const hk_HairContactDef *p)
 {
     hk_HairContacts *c = NULL;
     hk_Error err;
@@ -317,7 +316,7 @@ static void update_ok(hk_HairContacts *c, const Strands *st)
 static void test_broad_phase_matches_brute_force(void **state)
 {
     (void)state;
-    const hk_HairContactParams p = test_params();
+    const hk_HairContactDef p = test_params();
     /* Wavy guides, more of them, and a tangle of curly strands (long walks). */
     const int sizes[][2] = {{40, 30}, {60, 25}, {8, 200}};
     const double curl[3] = {0.4, 0.4, 1.5};
@@ -373,7 +372,7 @@ static void small_motion(Strands *st, double amount)
 static void test_tracking_matches_brute_force(void **state)
 {
     (void)state;
-    hk_HairContactParams p = test_params();
+    hk_HairContactDef p = test_params();
     p.rescan_interval = 1000000; /* only the first update searches */
     rng_seed(11);
     Strands st = random_strands(50, 40, 0.004, 0.05);
@@ -429,7 +428,7 @@ static void test_tracking_matches_brute_force(void **state)
 static void test_parallel_strands_one_pair(void **state)
 {
     (void)state;
-    hk_HairContactParams p = test_params();
+    hk_HairContactDef p = test_params();
     p.root_exclusion = 0.0;
     for (int t = 0; t < 20; t++) {
         Strands st = strands_alloc(2, 30);
@@ -457,7 +456,7 @@ static void test_parallel_strands_one_pair(void **state)
 static void test_pairs_along_strands(void **state)
 {
     (void)state;
-    hk_HairContactParams p = test_params();
+    hk_HairContactDef p = test_params();
     p.along = 1;
     const int sizes[][2] = {{40, 30}, {8, 200}};
     const double curl[2] = {0.4, 1.5};
@@ -521,7 +520,7 @@ static void test_root_exclusion_and_self(void **state)
          * others. Its own segments never make a pair. */
         *P(&st, 2, k) = k <= 10 ? hk_v3(1.0, -s, 0.0) : hk_v3(1.002, -0.1 + s, 0.0);
     }
-    hk_HairContactParams p = hk_default_hair_contact_params();
+    hk_HairContactDef p = hk_default_hair_contact_def();
     p.root_exclusion = 0.0;
     hk_HairContacts *c = make_contacts(3, &p);
     update_ok(c, &st);
@@ -592,7 +591,7 @@ static void test_crossing_force_values(void **state)
         *P(&st, 1, k) = hk_v3(0.0, h, 0.01 * k - 0.055);
         *V(&st, 0, k) = w;
     }
-    hk_HairContactParams p = hk_default_hair_contact_params();
+    hk_HairContactDef p = hk_default_hair_contact_def();
     p.root_exclusion = 0.0;
     hk_HairContacts *c = make_contacts(2, &p);
     update_ok(c, &st);
@@ -637,7 +636,7 @@ static void test_crossing_force_values(void **state)
 static void test_forces_opposite_never_pull(void **state)
 {
     (void)state;
-    hk_HairContactParams p = test_params();
+    hk_HairContactDef p = test_params();
     p.damping = 0.01; /* strong enough that some random velocities clamp the normal force */
     Strands st = random_strands(60, 30, 0.004, 0.04);
     hk_HairContacts *c = make_contacts(st.g, &p);
@@ -686,7 +685,7 @@ static void add_velocity(Strands *st, int i, hk_Vec3 by)
 static void test_linearisations_finite_differences(void **state)
 {
     (void)state;
-    hk_HairContactParams p = test_params();
+    hk_HairContactDef p = test_params();
     p.rescan_interval = 1;
     Strands st = random_strands(40, 30, 0.004, 0.04);
     hk_HairContacts *c = make_contacts(st.g, &p);
@@ -761,7 +760,7 @@ static void test_linearisations_finite_differences(void **state)
 static void test_dissipation(void **state)
 {
     (void)state;
-    hk_HairContactParams p = test_params();
+    hk_HairContactDef p = test_params();
     p.damping = 0.01;
     Strands st = random_strands(60, 30, 0.004, 0.04);
     hk_Vec3 *strand_vel = calloc((size_t)st.g, sizeof *strand_vel);
@@ -836,7 +835,7 @@ static hk_Vec3 solve3(hk_Mat3 a, hk_Vec3 b)
 static void test_implicit_step_with_defaults(void **state)
 {
     (void)state;
-    hk_HairContactParams p = hk_default_hair_contact_params();
+    hk_HairContactDef p = hk_default_hair_contact_def();
     p.root_exclusion = 0.0;
     const double dt = 1.0 / 30.0, mass_per_length = 6.5e-6, length = 0.2;
     const int n = 41;
@@ -904,11 +903,10 @@ static void test_implicit_step_with_defaults(void **state)
  * as one byte string (caller frees). */
 static unsigned char *run_bytes(int threads, size_t *size)
 {
-    hk_HairContactParams p = test_params();
+    hk_HairContactDef p = test_params();
     p.rescan_interval = 3;
     Strands st = random_strands(120, 40, 0.004, 0.06);
-    const int saved = omp_get_max_threads();
-    omp_set_num_threads(threads);
+    p.threads = threads;
     hk_HairContacts *c = make_contacts(st.g, &p);
     unsigned char *bytes = NULL;
     size_t used = 0;
@@ -926,7 +924,6 @@ static unsigned char *run_bytes(int threads, size_t *size)
         }
         small_motion(&st, 0.001);
     }
-    omp_set_num_threads(saved);
     hk_hair_contacts_destroy(c);
     strands_free(&st);
     *size = used;
@@ -957,7 +954,7 @@ static void test_linear_cost(void **state)
     (void)state;
     /* The same hair twice, the copy far away: twice the segments, twice the work of
      * the tracking (exactly) and of the broad phase (about), not four times. */
-    hk_HairContactParams p = test_params();
+    hk_HairContactDef p = test_params();
     p.rescan_interval = 1000000;
     Strands one = random_strands(80, 40, 0.004, 0.05);
     Strands two = strands_alloc(160, 40);
@@ -993,12 +990,12 @@ static void test_bad_input(void **state)
     (void)state;
     hk_Error err;
     hk_HairContacts *c = (hk_HairContacts *)&err; /* must be reset to NULL on failure */
-    hk_HairContactParams p = hk_default_hair_contact_params();
+    hk_HairContactDef p = hk_default_hair_contact_def();
     assert_int_equal(hk_hair_contacts_create(0, &p, &c, &err), HK_ERR_INVALID);
     assert_null(c);
     assert_int_equal(hk_hair_contacts_create(-3, &p, &c, &err), HK_ERR_INVALID);
     assert_int_equal(hk_hair_contacts_create(2, &p, NULL, &err), HK_ERR_INVALID);
-    hk_HairContactParams bad = p;
+    hk_HairContactDef bad = p;
     bad.distance = NAN;
     assert_int_equal(hk_hair_contacts_create(2, &bad, &c, &err), HK_ERR_INVALID);
     hk_assert_contains(err.message, "distance");

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/core_internal.h"
 #include "hairkit/hairfile.h"
 
 /* Little-endian byte builder. */

@@ -20,7 +20,7 @@
 #include "hairkit/simulate.h"
 
 typedef struct Scene {
-    hk_HairstyleDef style;
+    hk_Hairstyle style;
     hk_Shape *shapes;
     int shape_count;
     hk_Mesh wick;
@@ -55,7 +55,7 @@ static void test_still_head_keeps_rest_shape(void **state)
     (void)state;
     Scene sc;
     load_scene(&sc);
-    hk_HairSimOptions o = hk_default_hair_sim_options(&sc.style);
+    hk_HairSimDef o = hk_hair_sim_def_for(&sc.style);
     o.hair_contacts = 0; /* the statics knows no guide-guide contacts */
     hk_HairSim *sim = NULL;
     hk_Error err;
@@ -79,7 +79,7 @@ static double shaking_depth(int substeps, double *reach_out)
 {
     Scene sc;
     load_scene(&sc);
-    hk_HairSimOptions o = hk_default_hair_sim_options(&sc.style);
+    hk_HairSimDef o = hk_hair_sim_def_for(&sc.style);
     hk_HairSim *sim = NULL;
     hk_HeadMotion *shake = NULL;
     hk_Error err;
@@ -127,8 +127,8 @@ static double shaking_depth(int substeps, double *reach_out)
      * up to a factor two for a tip reversing within a frame */
     double k = 0.0;
     for (int i = 0; i < hard_count; i++) k = fmax(k, hard[i].penalty);
-    const double reach = 2.0 * fastest * sqrt(sc.style.density * 3.14159265358979323846 * sc.style.radius1 *
-                                               sc.style.radius2 / k);
+    const double reach = 2.0 * fastest * sqrt(sc.style.strand.density * 3.14159265358979323846 * sc.style.strand.radius1 *
+                                               sc.style.strand.radius2 / k);
     print_message("shaking head, %d steps per frame: deepest guide sample %.3g m inside the head, penalty reach "
                   "%.3g m at %.2f m/s; %d guide-guide contacts\n", substeps, deepest, reach, fastest, contacts);
     assert_true(contacts > 0);
@@ -152,12 +152,12 @@ static void test_shaking_head_keeps_hair_out(void **state)
     double reach;
     const double fine = shaking_depth(4, &reach), coarse = shaking_depth(1, NULL);
     assert_true(fine <= reach);
-    assert_true(coarse <= fine + hk_default_dynamics_params().max_travel);
+    assert_true(coarse <= fine + hk_default_dynamics_def().max_travel);
 }
 
 static void run_frames(const Scene *sc, int threads, double **guides, hk_Groom *groom)
 {
-    hk_HairSimOptions o = hk_default_hair_sim_options(&sc->style);
+    hk_HairSimDef o = hk_hair_sim_def_for(&sc->style);
     o.threads = threads;
     hk_HairSim *sim = NULL;
     hk_HeadMotion *nod = NULL;
@@ -167,7 +167,7 @@ static void run_frames(const Scene *sc, int threads, double **guides, hk_Groom *
     assert_int_equal(hk_hair_sim_settle(sim, NULL, 0.1, 1.0 / 30.0, &err), HK_OK);
     for (int f = 0; f < 6; f++) assert_int_equal(hk_hair_sim_advance(sim, nod, f / 30.0, 1.0 / 30.0, NULL, &err), HK_OK);
     *guides = guides_now(sim);
-    hk_GroomOptions go = hk_default_groom_options();
+    hk_GroomDef go = hk_default_groom_def();
     go.threads = threads;
     assert_int_equal(hk_hair_sim_groom(sim, &sc->wick, &go, groom, &err), HK_OK);
     hk_head_motion_destroy(nod);
@@ -249,7 +249,7 @@ static void test_run_frames_outside_posed_body(void **state)
     hk_Error err;
     hk_HeadMotion *shake = NULL;
     assert_int_equal(hk_head_motion_scripted("shake", 90.0, 2.0, hk_default_head_pivot(), &shake, &err), HK_OK);
-    hk_SimRunOptions o = hk_default_sim_run_options();
+    hk_SimRunDef o = hk_default_sim_run_def();
     o.frames = 4;
     o.fps = 20.0;
     o.preroll = 0.0;
@@ -301,16 +301,16 @@ static void test_bad_input(void **state)
     (void)state;
     Scene sc;
     load_scene(&sc);
-    hk_HairSimOptions o = hk_default_hair_sim_options(&sc.style);
+    hk_HairSimDef o = hk_hair_sim_def_for(&sc.style);
     hk_HairSim *sim = NULL;
     hk_Error err;
     o.dynamics.air_drag = -1.0;
     assert_int_equal(hk_hair_sim_create(&sc.style, sc.shapes, sc.shape_count, &sc.wick, &o, &sim, &err), HK_ERR_INVALID);
     assert_null(sim);
-    o = hk_default_hair_sim_options(&sc.style);
+    o = hk_hair_sim_def_for(&sc.style);
     o.contacts.distance = 0.0;
     assert_int_equal(hk_hair_sim_create(&sc.style, sc.shapes, sc.shape_count, &sc.wick, &o, &sim, &err), HK_ERR_INVALID);
-    o = hk_default_hair_sim_options(&sc.style);
+    o = hk_hair_sim_def_for(&sc.style);
     assert_int_equal(hk_hair_sim_create(&sc.style, sc.shapes, sc.shape_count, &sc.wick, &o, &sim, &err), HK_OK);
     assert_int_equal(hk_hair_sim_settle(sim, NULL, 1.0, 0.0, &err), HK_ERR_INVALID);
     assert_int_equal(hk_hair_sim_advance(sim, NULL, 0.0, -1.0, NULL, &err), HK_ERR_INVALID);

@@ -44,7 +44,7 @@ static void fit_single_pieces(int method, double tolerance, int check_params, in
         h.length[0] = rnd(0.05, 0.15);
         hk_Vec3 pts[30];
         trace30(&h, pts);
-        hk_CurveFitOptions opt = hk_helicoid_fit_options();
+        hk_CurveFitDef opt = hk_default_helicoid_fit_def();
         opt.method = method;
         opt.tolerance = 1e-7; /* a strand the model can make exactly */
         opt.max_pieces = 1;
@@ -106,7 +106,7 @@ static void test_two_pieces(void **state)
     const double step = 0.16 / 60.0; /* 30 steps per piece */
     assert_int_equal(hk_phelicoid_point_count(&h, step), 61);
     assert_int_equal(hk_phelicoid_trace(&h, step, NULL, NULL, pts, NULL, &err), HK_OK);
-    hk_CurveFitOptions opt = hk_helicoid_fit_options();
+    hk_CurveFitDef opt = hk_default_helicoid_fit_def();
     opt.tolerance = 1e-4; /* four times the fitter's resampling floor (see above) */
     hk_PHelicoid fit;
     hk_CurveFit report;
@@ -171,7 +171,7 @@ static void test_reconstruction(void **state)
         assert_int_equal(hk_phelicoid_interpolate(guides, 9, root, NULL, 3.0, &h, NULL), HK_OK);
         assert_int_equal(hk_phelicoid_trace(&h, 0.2 / (TUFT_POINTS - 1), NULL, NULL, original[i], NULL, NULL), HK_OK);
         if (i % 10) continue;
-        hk_CurveFitOptions opt = hk_helicoid_fit_options();
+        hk_CurveFitDef opt = hk_default_helicoid_fit_def();
         truth[i / 10] = h;
         opt.fixed_pieces = 4;
         assert_int_equal(hk_helicoid_fit(f, original[i], TUFT_POINTS, &opt, &common[i / 10], NULL, NULL), HK_OK);
@@ -256,7 +256,7 @@ static void test_lift_off_layouts(void **state)
     const int layouts[4] = {2, 3, 4, 0};
     const double bound[4] = {1.5e-3, 5e-4, 3e-4, 2e-4};
     for (int l = 0; l < 4; l++) {
-        hk_CurveFitOptions opt = hk_helicoid_fit_options();
+        hk_CurveFitDef opt = hk_default_helicoid_fit_def();
         opt.fixed_pieces = layouts[l];
         hk_PHelicoid fit;
         hk_CurveFit report;

@@ -64,36 +64,36 @@ static const char *const full_hairstyle = "VisualityStep 0.0025\n"              
                                           "GravityDirection 0 -1 0\n";                 /* 15 */
 
 /* Everything a successful load promises. */
-static void assert_sane(const hk_HairstyleDef *d)
+static void assert_sane(const hk_Hairstyle *d)
 {
-    assert_true(d->element_count >= 1 && d->element_count <= HK_MAX_ELEMENTS);
-    assert_non_null(d->element_lengths);
-    for (int i = 0; i < d->element_count; i++)
-        assert_true(d->element_lengths[i] > 0.0 && d->element_lengths[i] <= 10.0);
-    const double len = hk_hairstyle_length(d);
-    assert_true(d->visuality_step > 0.0 && len / d->visuality_step <= HK_MAX_SAMPLES_PER_STRAND);
-    assert_true(d->collision_step > 0.0 && len / d->collision_step <= HK_MAX_SAMPLES_PER_STRAND);
-    assert_true(d->max_iter >= 1 && d->max_iter <= 1000000000);
-    assert_true(d->epsilon > 0.0 && isfinite(d->epsilon));
-    assert_true(d->hair_density >= 0.0 && d->hair_density <= 100000.0);
-    assert_true(d->radius1 > 0.0 && d->radius1 < 0.01);
-    assert_true(d->radius2 > 0.0 && d->radius2 < 0.01);
-    assert_true(d->helix_radius >= 0.0 && isfinite(d->helix_radius));
-    assert_true(isfinite(d->helix_step));
-    assert_true(d->poisson > -1.0 && d->poisson < 0.5);
-    assert_true(d->young > 0.0 && isfinite(d->young));
-    assert_true(d->density > 0.0 && isfinite(d->density));
-    assert_true(d->gravity >= 0.0 && isfinite(d->gravity));
-    const hk_Vec3 g = d->gravity_dir;
+    assert_true(d->strand.element_count >= 1 && d->strand.element_count <= HK_MAX_ELEMENTS);
+    assert_non_null(d->strand.element_lengths);
+    for (int i = 0; i < d->strand.element_count; i++)
+        assert_true(d->strand.element_lengths[i] > 0.0 && d->strand.element_lengths[i] <= 10.0);
+    const double len = hk_strand_def_length(&d->strand);
+    assert_true(d->strand.visuality_step > 0.0 && len / d->strand.visuality_step <= HK_MAX_SAMPLES_PER_STRAND);
+    assert_true(d->strand.collision_step > 0.0 && len / d->strand.collision_step <= HK_MAX_SAMPLES_PER_STRAND);
+    assert_true(d->strand.max_iter >= 1 && d->strand.max_iter <= 1000000000);
+    assert_true(d->strand.epsilon > 0.0 && isfinite(d->strand.epsilon));
+    assert_true(d->interpolation.hair_density >= 0.0 && d->interpolation.hair_density <= 100000.0);
+    assert_true(d->strand.radius1 > 0.0 && d->strand.radius1 < 0.01);
+    assert_true(d->strand.radius2 > 0.0 && d->strand.radius2 < 0.01);
+    assert_true(d->strand.helix_radius >= 0.0 && isfinite(d->strand.helix_radius));
+    assert_true(isfinite(d->strand.helix_step));
+    assert_true(d->strand.poisson > -1.0 && d->strand.poisson < 0.5);
+    assert_true(d->strand.young > 0.0 && isfinite(d->strand.young));
+    assert_true(d->strand.density > 0.0 && isfinite(d->strand.density));
+    assert_true(d->strand.gravity >= 0.0 && isfinite(d->strand.gravity));
+    const hk_Vec3 g = d->strand.gravity_dir;
     hk_assert_near(sqrt(g.x * g.x + g.y * g.y + g.z * g.z), 1.0, 1e-12);
-    assert_true(d->clump >= 0.0 && d->clump < 1.0);
-    assert_true(d->clump_profile > 0.0 && isfinite(d->clump_profile));
-    assert_true(d->stray_hairs == 0 || d->stray_hairs == 1);
-    assert_true(d->max_tip_distance >= 0.0 && isfinite(d->max_tip_distance));
+    assert_true(d->interpolation.clump >= 0.0 && d->interpolation.clump < 1.0);
+    assert_true(d->interpolation.clump_profile > 0.0 && isfinite(d->interpolation.clump_profile));
+    assert_true(d->interpolation.stray_hairs == 0 || d->interpolation.stray_hairs == 1);
+    assert_true(d->interpolation.max_tip_distance >= 0.0 && isfinite(d->interpolation.max_tip_distance));
 }
 
 /* Loads `text`; fails the test unless it succeeds. */
-static void load_ok(const char *text, hk_HairstyleDef *d)
+static void load_ok(const char *text, hk_Hairstyle *d)
 {
     hk_Error err;
     hk_Status st = hk_hairstyle_load(hk_test_write_text("hairstyle.txt", text), d, &err);
@@ -105,71 +105,71 @@ static void load_ok(const char *text, hk_HairstyleDef *d)
 static void test_thesis_sample(void **state)
 {
     (void)state;
-    hk_HairstyleDef d;
+    hk_Hairstyle d;
     load_ok(thesis_hairstyle, &d);
-    hk_assert_near(d.visuality_step, 0.0025, 0);
-    hk_assert_near(d.collision_step, 0.005, 0);
-    assert_int_equal(d.max_iter, 5);
-    hk_assert_near(d.epsilon, 1e-4, 0);
-    assert_int_equal(d.element_count, 8);
-    for (int i = 0; i < 8; i++) hk_assert_near(d.element_lengths[i], 0.01, 0);
-    hk_assert_near(hk_hairstyle_length(&d), 0.08, 1e-15);
-    hk_assert_near(d.hair_density, 80, 0);
-    hk_assert_near(d.radius1, 35e-6, 0);
-    hk_assert_near(d.radius2, 50e-6, 0);
-    hk_assert_near(d.helix_radius, 0.05, 0);
-    hk_assert_near(d.helix_step, 0.05, 0);
-    hk_assert_near(d.poisson, 0.48, 0);
-    hk_assert_near(d.young, 1e9, 0);
-    hk_assert_near(d.density, 13000, 0); /* the thesis's value, kept as written */
-    hk_assert_near(d.gravity, 9.81, 0);
-    hk_assert_near(d.gravity_dir.x, 0, 0);
-    hk_assert_near(d.gravity_dir.y, -1, 0);
-    hk_assert_near(d.gravity_dir.z, 0, 0);
+    hk_assert_near(d.strand.visuality_step, 0.0025, 0);
+    hk_assert_near(d.strand.collision_step, 0.005, 0);
+    assert_int_equal(d.strand.max_iter, 5);
+    hk_assert_near(d.strand.epsilon, 1e-4, 0);
+    assert_int_equal(d.strand.element_count, 8);
+    for (int i = 0; i < 8; i++) hk_assert_near(d.strand.element_lengths[i], 0.01, 0);
+    hk_assert_near(hk_strand_def_length(&d.strand), 0.08, 1e-15);
+    hk_assert_near(d.interpolation.hair_density, 80, 0);
+    hk_assert_near(d.strand.radius1, 35e-6, 0);
+    hk_assert_near(d.strand.radius2, 50e-6, 0);
+    hk_assert_near(d.strand.helix_radius, 0.05, 0);
+    hk_assert_near(d.strand.helix_step, 0.05, 0);
+    hk_assert_near(d.strand.poisson, 0.48, 0);
+    hk_assert_near(d.strand.young, 1e9, 0);
+    hk_assert_near(d.strand.density, 13000, 0); /* the thesis's value, kept as written */
+    hk_assert_near(d.strand.gravity, 9.81, 0);
+    hk_assert_near(d.strand.gravity_dir.x, 0, 0);
+    hk_assert_near(d.strand.gravity_dir.y, -1, 0);
+    hk_assert_near(d.strand.gravity_dir.z, 0, 0);
     hk_hairstyle_free(&d);
-    assert_null(d.element_lengths);
-    assert_int_equal(d.element_count, 0);
+    assert_null(d.strand.element_lengths);
+    assert_int_equal(d.strand.element_count, 0);
 }
 
 static void test_defaults(void **state)
 {
     (void)state;
-    hk_HairstyleDef def = hk_default_hairstyle();
-    hk_assert_near(def.visuality_step, 0.0025, 0);
-    hk_assert_near(def.collision_step, 0.005, 0);
-    assert_int_equal(def.max_iter, 20);
-    hk_assert_near(def.epsilon, 1e-4, 0);
-    hk_assert_near(def.hair_density, 250, 0);
-    hk_assert_near(def.poisson, 0.48, 0);
-    hk_assert_near(def.density, 1300, 0);
-    hk_assert_near(def.gravity, 9.81, 0);
-    hk_assert_near(def.gravity_dir.y, -1, 0);
-    hk_assert_near(def.clump, 0.25, 0);
-    hk_assert_near(def.clump_profile, 1.0, 0);
-    assert_int_equal(def.stray_hairs, 0);
-    hk_assert_near(def.max_tip_distance, 0.08, 0); /* docs/file-formats.md */
-    assert_null(def.element_lengths);
-    assert_int_equal(def.element_count, 0);
-    hk_assert_near(hk_hairstyle_length(&def), 0, 0);
+    hk_Hairstyle def = hk_default_hairstyle();
+    hk_assert_near(def.strand.visuality_step, 0.0025, 0);
+    hk_assert_near(def.strand.collision_step, 0.005, 0);
+    assert_int_equal(def.strand.max_iter, 20);
+    hk_assert_near(def.strand.epsilon, 1e-4, 0);
+    hk_assert_near(def.interpolation.hair_density, 250, 0);
+    hk_assert_near(def.strand.poisson, 0.48, 0);
+    hk_assert_near(def.strand.density, 1300, 0);
+    hk_assert_near(def.strand.gravity, 9.81, 0);
+    hk_assert_near(def.strand.gravity_dir.y, -1, 0);
+    hk_assert_near(def.interpolation.clump, 0.25, 0);
+    hk_assert_near(def.interpolation.clump_profile, 1.0, 0);
+    assert_int_equal(def.interpolation.stray_hairs, 0);
+    hk_assert_near(def.interpolation.max_tip_distance, 0.08, 0); /* docs/file-formats.md */
+    assert_null(def.strand.element_lengths);
+    assert_int_equal(def.strand.element_count, 0);
+    hk_assert_near(hk_strand_def_length(&def.strand), 0, 0);
     hk_hairstyle_free(&def); /* safe on a default */
 
     /* Only the required keys: every optional one takes its default. */
-    hk_HairstyleDef d;
+    hk_Hairstyle d;
     load_ok("HairLengths 0.1\nHairRadius1 5e-5\nHairRadius2 4e-5\nHelixRadius 0\nHelixStep 0\nYoung 1e9\n", &d);
-    hk_assert_near(d.visuality_step, def.visuality_step, 0);
-    hk_assert_near(d.collision_step, def.collision_step, 0);
-    assert_int_equal(d.max_iter, def.max_iter);
-    hk_assert_near(d.epsilon, def.epsilon, 0);
-    hk_assert_near(d.hair_density, def.hair_density, 0);
-    hk_assert_near(d.poisson, def.poisson, 0);
-    hk_assert_near(d.density, def.density, 0);
-    hk_assert_near(d.gravity, def.gravity, 0);
-    hk_assert_near(d.gravity_dir.y, -1, 0);
-    hk_assert_near(d.clump, def.clump, 0);
-    hk_assert_near(d.clump_profile, def.clump_profile, 0);
-    assert_int_equal(d.stray_hairs, def.stray_hairs);
-    hk_assert_near(d.max_tip_distance, def.max_tip_distance, 0);
-    hk_assert_near(d.radius2, 4e-5, 0);
+    hk_assert_near(d.strand.visuality_step, def.strand.visuality_step, 0);
+    hk_assert_near(d.strand.collision_step, def.strand.collision_step, 0);
+    assert_int_equal(d.strand.max_iter, def.strand.max_iter);
+    hk_assert_near(d.strand.epsilon, def.strand.epsilon, 0);
+    hk_assert_near(d.interpolation.hair_density, def.interpolation.hair_density, 0);
+    hk_assert_near(d.strand.poisson, def.strand.poisson, 0);
+    hk_assert_near(d.strand.density, def.strand.density, 0);
+    hk_assert_near(d.strand.gravity, def.strand.gravity, 0);
+    hk_assert_near(d.strand.gravity_dir.y, -1, 0);
+    hk_assert_near(d.interpolation.clump, def.interpolation.clump, 0);
+    hk_assert_near(d.interpolation.clump_profile, def.interpolation.clump_profile, 0);
+    assert_int_equal(d.interpolation.stray_hairs, def.interpolation.stray_hairs);
+    hk_assert_near(d.interpolation.max_tip_distance, def.interpolation.max_tip_distance, 0);
+    hk_assert_near(d.strand.radius2, 4e-5, 0);
     hk_hairstyle_free(&d);
 }
 
@@ -180,22 +180,22 @@ static void test_groom_keys(void **state)
     static const char *const required =
         "HairLengths 0.1\nHairRadius1 5e-5\nHairRadius2 4e-5\nHelixRadius 0\nHelixStep 0\nYoung 1e9\n";
     char text[512];
-    hk_HairstyleDef d;
+    hk_Hairstyle d;
     snprintf(text, sizeof text, "%sclumpfactor 0.1\nClumpProfile 1.5\nSTRAYHAIRS yes\nMaxTipDistance 0.05\n",
              required);
     load_ok(text, &d);
-    hk_assert_near(d.clump, 0.1, 0);
-    hk_assert_near(d.clump_profile, 1.5, 0);
-    assert_int_equal(d.stray_hairs, 1);
-    hk_assert_near(d.max_tip_distance, 0.05, 0);
+    hk_assert_near(d.interpolation.clump, 0.1, 0);
+    hk_assert_near(d.interpolation.clump_profile, 1.5, 0);
+    assert_int_equal(d.interpolation.stray_hairs, 1);
+    hk_assert_near(d.interpolation.max_tip_distance, 0.05, 0);
     hk_hairstyle_free(&d);
     snprintf(text, sizeof text, "%sClumpFactor 0\nClumpProfile 1e-3\nStrayHairs false\nMaxTipDistance 0\n",
              required);
     load_ok(text, &d);
-    hk_assert_near(d.clump, 0.0, 0);
-    hk_assert_near(d.clump_profile, 1e-3, 0);
-    assert_int_equal(d.stray_hairs, 0);
-    hk_assert_near(d.max_tip_distance, 0, 0); /* off: the plain blend */
+    hk_assert_near(d.interpolation.clump, 0.0, 0);
+    hk_assert_near(d.interpolation.clump_profile, 1e-3, 0);
+    assert_int_equal(d.interpolation.stray_hairs, 0);
+    hk_assert_near(d.interpolation.max_tip_distance, 0, 0); /* off: the plain blend */
     hk_hairstyle_free(&d);
 }
 
@@ -209,35 +209,35 @@ static void test_spellings_and_layout(void **state)
                        "helixradius 0.01\r\nHeLiXsTeP -0.005\r\nYOUNG +1.5e9\r\n"
                        "maxiter 7\r\nPOISSON -0.25\r\ngravitydirection 0 0 -2\r\n"
                        "gravity 0\r\nDENSITY 1000";
-    hk_HairstyleDef d;
+    hk_Hairstyle d;
     load_ok(text, &d);
-    assert_int_equal(d.element_count, 2);
-    hk_assert_near(d.element_lengths[1], 0.2, 0);
-    hk_assert_near(hk_hairstyle_length(&d), 0.3, 1e-15);
-    hk_assert_near(d.radius1, 5e-5, 0);
-    hk_assert_near(d.radius2, 4e-5, 0);
-    hk_assert_near(d.helix_radius, 0.01, 0);
-    hk_assert_near(d.helix_step, -0.005, 0); /* left-handed */
-    hk_assert_near(d.young, 1.5e9, 0);
-    assert_int_equal(d.max_iter, 7);
-    hk_assert_near(d.poisson, -0.25, 0);
-    hk_assert_near(d.gravity_dir.x, 0, 0);
-    hk_assert_near(d.gravity_dir.z, -1, 0);
-    hk_assert_near(d.gravity, 0, 0);
-    hk_assert_near(d.density, 1000, 0);
+    assert_int_equal(d.strand.element_count, 2);
+    hk_assert_near(d.strand.element_lengths[1], 0.2, 0);
+    hk_assert_near(hk_strand_def_length(&d.strand), 0.3, 1e-15);
+    hk_assert_near(d.strand.radius1, 5e-5, 0);
+    hk_assert_near(d.strand.radius2, 4e-5, 0);
+    hk_assert_near(d.strand.helix_radius, 0.01, 0);
+    hk_assert_near(d.strand.helix_step, -0.005, 0); /* left-handed */
+    hk_assert_near(d.strand.young, 1.5e9, 0);
+    assert_int_equal(d.strand.max_iter, 7);
+    hk_assert_near(d.strand.poisson, -0.25, 0);
+    hk_assert_near(d.strand.gravity_dir.x, 0, 0);
+    hk_assert_near(d.strand.gravity_dir.z, -1, 0);
+    hk_assert_near(d.strand.gravity, 0, 0);
+    hk_assert_near(d.strand.density, 1000, 0);
     hk_hairstyle_free(&d);
 
     /* Directions too large or too small to square are still normalised. */
     load_ok("HairLength 0.1\nHairRadius1 5e-5\nHairRadius2 5e-5\nHelixRadius 0\nHelixStep 0\n"
             "Young 1e9\nGravityDirection 1e300 -1e300 0\n",
             &d);
-    hk_assert_near(d.gravity_dir.x, sqrt(0.5), 1e-15);
-    hk_assert_near(d.gravity_dir.y, -sqrt(0.5), 1e-15);
+    hk_assert_near(d.strand.gravity_dir.x, sqrt(0.5), 1e-15);
+    hk_assert_near(d.strand.gravity_dir.y, -sqrt(0.5), 1e-15);
     hk_hairstyle_free(&d);
     load_ok("HairLength 0.1\nHairRadius1 5e-5\nHairRadius2 5e-5\nHelixRadius 0\nHelixStep 0\n"
             "Young 1e9\nGravityDirection 0 3e-300 0\n",
             &d);
-    hk_assert_near(d.gravity_dir.y, 1.0, 1e-15);
+    hk_assert_near(d.strand.gravity_dir.y, 1.0, 1e-15);
     hk_hairstyle_free(&d);
 
     /* The largest allowed values at the edges of the closed ranges. */
@@ -248,40 +248,40 @@ static void test_spellings_and_layout(void **state)
              "\nHairRadius1 0.00999\nHairRadius2 1e-300\nHelixRadius 0\nHelixStep 0\nYoung 1e-300\n"
              "HairDensity 100000\nMaxIter 1000000000\nGravity 0\nPoisson 0.4999\n");
     load_ok(text2, &d);
-    assert_int_equal(d.element_count, HK_MAX_ELEMENTS);
-    hk_assert_near(hk_hairstyle_length(&d), 1.0, 1e-12);
-    assert_int_equal(d.max_iter, 1000000000);
-    hk_assert_near(d.hair_density, 100000, 0);
+    assert_int_equal(d.strand.element_count, HK_MAX_ELEMENTS);
+    hk_assert_near(hk_strand_def_length(&d.strand), 1.0, 1e-12);
+    assert_int_equal(d.strand.max_iter, 1000000000);
+    hk_assert_near(d.interpolation.hair_density, 100000, 0);
     hk_hairstyle_free(&d);
     load_ok("HairLengths 10 10\nHairRadius1 5e-5\nHairRadius2 5e-5\nHelixRadius 0\nHelixStep 0\n"
             "Young 1e9\nHairDensity 0\nPoisson -0.9999\n",
             &d);
-    hk_assert_near(d.element_lengths[1], 10.0, 0);
+    hk_assert_near(d.strand.element_lengths[1], 10.0, 0);
     hk_hairstyle_free(&d);
 }
 
 static void test_copy(void **state)
 {
     (void)state;
-    hk_HairstyleDef d, c;
+    hk_Hairstyle d, c;
     hk_Error err;
     load_ok(full_hairstyle, &d);
     memset(&c, 0x5A, sizeof c);
     assert_int_equal(hk_hairstyle_copy(&d, &c, &err), HK_OK);
-    assert_ptr_not_equal(c.element_lengths, d.element_lengths);
-    assert_int_equal(c.element_count, 5);
-    hk_assert_near(c.young, 1.5e9, 0);
-    hk_assert_near(c.radius2, 4e-5, 0);
-    hk_assert_near(c.gravity_dir.y, -1, 0);
-    hk_assert_near(c.clump, 0.25, 0);
+    assert_ptr_not_equal(c.strand.element_lengths, d.strand.element_lengths);
+    assert_int_equal(c.strand.element_count, 5);
+    hk_assert_near(c.strand.young, 1.5e9, 0);
+    hk_assert_near(c.strand.radius2, 4e-5, 0);
+    hk_assert_near(c.strand.gravity_dir.y, -1, 0);
+    hk_assert_near(c.interpolation.clump, 0.25, 0);
     hk_hairstyle_free(&d); /* the copy owns its own lengths */
-    hk_assert_near(c.element_lengths[4], 0.02, 0);
-    hk_assert_near(hk_hairstyle_length(&c), 0.1, 1e-15);
+    hk_assert_near(c.strand.element_lengths[4], 0.02, 0);
+    hk_assert_near(hk_strand_def_length(&c.strand), 0.1, 1e-15);
     hk_hairstyle_free(&c);
     /* A default (no elements) copies to no array. */
     d = hk_default_hairstyle();
     assert_int_equal(hk_hairstyle_copy(&d, &c, &err), HK_OK);
-    assert_null(c.element_lengths);
+    assert_null(c.strand.element_lengths);
     hk_hairstyle_free(&c);
 }
 
@@ -312,7 +312,7 @@ static const char *hairstyle_with(const char *key, const char *line)
  * ":line: " (or ": " for line 0), and contains `phrase`; `out` holds nothing to free. */
 static void expect_error_in(const char *path, hk_Status code, int line, const char *phrase)
 {
-    hk_HairstyleDef d;
+    hk_Hairstyle d;
     hk_Error err;
     memset(&d, 0x5A, sizeof d);
     err.message[0] = '\0';
@@ -328,8 +328,8 @@ static void expect_error_in(const char *path, hk_Status code, int line, const ch
     }
     hk_assert_contains(err.message, phrase);
     assert_int_equal(err.code, code);
-    assert_null(d.element_lengths);
-    assert_int_equal(d.element_count, 0);
+    assert_null(d.strand.element_lengths);
+    assert_int_equal(d.strand.element_count, 0);
     hk_hairstyle_free(&d);
 }
 
@@ -358,7 +358,7 @@ static void test_key_errors(void **state)
                                            "HairDensity", "Poisson", "Density", "Gravity",
                                            "GravityDirection"};
     for (int i = 0; i < 9; i++) {
-        hk_HairstyleDef d;
+        hk_Hairstyle d;
         hk_Error err;
         assert_int_equal(hk_hairstyle_load(hairstyle_with(optional[i], NULL), &d, &err), HK_OK);
         hk_hairstyle_free(&d);
@@ -462,7 +462,7 @@ static void test_sample_limits(void **state)
     expect_error("CollisionStep", "CollisionStep 9e-8", HK_ERR_INVALID, 2,
                  "CollisionStep 9e-08 gives 1.11e+06 samples over the 0.1 m strand (at most 1000000)");
     /* Just under the limit is fine. */
-    hk_HairstyleDef d;
+    hk_Hairstyle d;
     hk_Error err;
     assert_int_equal(hk_hairstyle_load(hairstyle_with("VisualityStep", "VisualityStep 1.01e-7"), &d, &err), HK_OK);
     hk_hairstyle_free(&d);
@@ -497,12 +497,12 @@ static void test_sample_limits(void **state)
 static void test_files(void **state)
 {
     (void)state;
-    hk_HairstyleDef d;
+    hk_Hairstyle d;
     hk_Error err;
     memset(&d, 0x5A, sizeof d);
     assert_int_equal(hk_hairstyle_load("/nonexistent/dir/hairstyle.txt", &d, &err), HK_ERR_IO);
     hk_assert_contains(err.message, "/nonexistent/dir/hairstyle.txt: cannot open");
-    assert_null(d.element_lengths);
+    assert_null(d.strand.element_lengths);
     expect_error_in(hk_test_write_text("empty.txt", ""), HK_ERR_PARSE, 0, "file is empty");
     expect_error_in(hk_test_write_text("blank.txt", "\n  \n# nothing\n"), HK_ERR_PARSE, 0, "missing required key 'HairLengths'");
     static const char bin[] = "HairLengths 0.1\n\0\1\2binary";
@@ -554,7 +554,7 @@ static void test_fuzz(void **state)
         for (int e = 0; e < edits; e++)
             len = hk_test_mutate(buf, len, sizeof buf, " \t\n#\"-.e0123456789", junk, 12, &x);
         const char *path = hk_test_write_file("fuzz_hairstyle.txt", buf, len);
-        hk_HairstyleDef d;
+        hk_Hairstyle d;
         hk_Error err;
         memset(&d, 0x5A, sizeof d);
         err.message[0] = '\0';
@@ -567,7 +567,7 @@ static void test_fuzz(void **state)
             assert_true(st == HK_ERR_PARSE || st == HK_ERR_INVALID);
             assert_true(strncmp(err.message, path, strlen(path)) == 0); /* names the file */
             assert_true(strlen(err.message) > strlen(path) + 3);
-            assert_null(d.element_lengths);
+            assert_null(d.strand.element_lengths);
             rejected++;
         }
     }

@@ -115,7 +115,7 @@ static void test_visuality(void **state)
     /* Thesis Appendix B sample. */
     const char *text = "# Blond 0.863 0.549 0.000\nAmbientColor 0.392 0.584 0.929\nDiffuseColor 0.471 0.235 0.000\n"
                        "SpecularColor 0.200 0.200 0.200\nGlossiness 60\n";
-    hk_VisualityDef v;
+    hk_Visuality v;
     hk_Error err;
     assert_int_equal(hk_visuality_load(hk_test_write_text("visuality.txt", text), &v, &err), HK_OK);
     hk_assert_near(v.ambient.z, 0.929, 0);
@@ -139,7 +139,7 @@ static void test_setup(void **state)
     const char *text = "# thesis Appendix B style\nLoad false\nSave TRUE\nSaveFile \"out dir/h1.hair\"\n"
                        "HairstyleInfo hairstyle.txt\nCollisionInfo collision.txt\nWickModel wick.obj\n"
                        "HeadVert Assets/Shaders/Phong_Shadow.vert\n";
-    hk_SetupDef s;
+    hk_Setup s;
     hk_Error err;
     assert_int_equal(hk_setup_load(hk_test_write_text("setup.txt", text), &s, &err), HK_OK);
     assert_false(s.load);

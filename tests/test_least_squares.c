@@ -15,7 +15,7 @@ typedef struct Probe {
 } Probe;
 
 /* r = (10 (x1 - x0^2), 1 - x0): sum r^2 is Rosenbrock's banana, minimum 0 at (1, 1). */
-static int rosenbrock(const double *x, double *r, void *user)
+static int rosenbrock(void *user, const double *x, double *r)
 {
     if (user) ((Probe *)user)->calls++;
     r[0] = 10.0 * (x[1] - x[0] * x[0]);
@@ -30,14 +30,14 @@ static void test_rosenbrock(void **state)
     const double scale[2] = {1.0, 1.0};
     double work[HK_LEAST_SQUARES_WORK(2, 2)];
     Probe p = {0};
-    hk_LeastSquaresResult r;
+    hk_MinimizeResult r;
     assert_int_equal(hk_least_squares_minimize(2, 2, x, scale, rosenbrock, &p, NULL, work, &r, NULL), HK_OK);
     assert_true(r.converged);
     assert_int_equal(r.evaluations, p.calls);
     hk_assert_near(x[0], 1.0, 1e-10);
     hk_assert_near(x[1], 1.0, 1e-10);
-    assert_true(r.cost < 1e-20);
-    print_message("  levenberg-marquardt rosenbrock: cost %.3g after %ld evaluations, %d steps\n", r.cost,
+    assert_true(r.f < 1e-20);
+    print_message("  levenberg-marquardt rosenbrock: cost %.3g after %ld evaluations, %d steps\n", r.f,
                   r.evaluations, r.iterations);
 }
 
@@ -46,7 +46,7 @@ enum { LINE_N = 7 };
 static const double line_t[LINE_N] = {0.0, 1.0, 2.0, 3.5, 4.0, 6.0, 7.5};
 static const double line_y[LINE_N] = {1.1, 2.9, 5.2, 8.1, 8.8, 13.3, 15.9};
 
-static int line_residuals(const double *x, double *r, void *user)
+static int line_residuals(void *user, const double *x, double *r)
 {
     (void)user;
     for (int i = 0; i < LINE_N; i++) r[i] = x[0] + x[1] * line_t[i] - line_y[i];
@@ -67,22 +67,22 @@ static void test_linear_fit(void **state)
     double x[2] = {0.0, 0.0};
     const double scale[2] = {1.0, 1.0};
     double work[HK_LEAST_SQUARES_WORK(2, LINE_N)];
-    hk_LeastSquaresResult r;
+    hk_MinimizeResult r;
     assert_int_equal(hk_least_squares_minimize(2, LINE_N, x, scale, line_residuals, NULL, NULL, work, &r, NULL), HK_OK);
     assert_true(r.converged);
     hk_assert_near(x[0], a, 1e-7);
     hk_assert_near(x[1], b, 1e-7);
     double res[LINE_N];
-    line_residuals(x, res, NULL);
+    line_residuals(NULL, x, res);
     double cost = 0.0;
     for (int i = 0; i < LINE_N; i++) cost += 0.5 * res[i] * res[i];
-    hk_assert_rel(r.cost, cost, 1e-12, 0);
-    assert_true(r.cost > 0.01); /* the data do scatter: the minimum is not zero */
+    hk_assert_rel(r.f, cost, 1e-12, 0);
+    assert_true(r.f > 0.01); /* the data do scatter: the minimum is not zero */
 }
 
 /* y = c exp(-k t) + d sampled exactly at (c, k, d) = (2.5, 1.3, 0.4), from a far start
  * with badly scaled parameters. */
-static int exponential(const double *x, double *r, void *user)
+static int exponential(void *user, const double *x, double *r)
 {
     (void)user;
     for (int i = 0; i < 20; i++) {
@@ -98,7 +98,7 @@ static void test_exponential(void **state)
     double x[3] = {1.0, 0.2, 0.0};
     const double scale[3] = {1.0, 1.0, 1.0};
     double work[HK_LEAST_SQUARES_WORK(3, 20)];
-    hk_LeastSquaresResult r;
+    hk_MinimizeResult r;
     assert_int_equal(hk_least_squares_minimize(3, 20, x, scale, exponential, NULL, NULL, work, &r, NULL), HK_OK);
     assert_true(r.converged);
     hk_assert_near(x[0], 2.5, 1e-8);
@@ -108,7 +108,7 @@ static void test_exponential(void **state)
 
 /* Residuals undefined for x0 < 0.5 (the minimiser must step back from there); the
  * unconstrained minimum (1, 2) is inside the defined region. */
-static int walled(const double *x, double *r, void *user)
+static int walled(void *user, const double *x, double *r)
 {
     ((Probe *)user)->calls++;
     if (x[0] < 0.5) return 1;
@@ -124,7 +124,7 @@ static void test_undefined_regions(void **state)
     double work[HK_LEAST_SQUARES_WORK(2, 3)];
     const double scale[2] = {1.0, 1.0};
     Probe p = {0};
-    hk_LeastSquaresResult r;
+    hk_MinimizeResult r;
     double x[2] = {0.6, -5.0}; /* the first steps head left, over the wall */
     assert_int_equal(hk_least_squares_minimize(2, 3, x, scale, walled, &p, NULL, work, &r, NULL), HK_OK);
     hk_assert_near(x[0], 1.0, 1e-9);
@@ -142,20 +142,20 @@ static void test_limits_and_determinism(void **state)
     (void)state;
     const double scale[2] = {1.0, 1.0};
     double work[HK_LEAST_SQUARES_WORK(2, 2)];
-    hk_LeastSquaresOptions o = hk_default_least_squares_options();
+    hk_LeastSquaresDef o = hk_default_least_squares_def();
     o.max_evaluations = 9;
     double x[2] = {-1.2, 1.0}, y[2] = {-1.2, 1.0};
     Probe p = {0};
-    hk_LeastSquaresResult r, r2;
+    hk_MinimizeResult r, r2;
     assert_int_equal(hk_least_squares_minimize(2, 2, x, scale, rosenbrock, &p, &o, work, &r, NULL), HK_OK);
     assert_true(p.calls <= 9);
     assert_int_equal(r.evaluations, p.calls);
     assert_false(r.converged);
     /* never worse than the start: cost(-1.2, 1) = (10 * -0.44)^2 / 2 + 2.2^2 / 2 = 12.1 */
-    assert_true(r.cost <= 12.1 + 1e-12);
+    assert_true(r.f <= 12.1 + 1e-12);
     assert_int_equal(hk_least_squares_minimize(2, 2, y, scale, rosenbrock, NULL, &o, work, &r2, NULL), HK_OK);
     assert_memory_equal(x, y, sizeof x);
-    assert_true(r.cost == r2.cost);
+    assert_true(r.f == r2.f);
 }
 
 static void test_bad_arguments(void **state)
@@ -183,10 +183,10 @@ static void test_bad_arguments(void **state)
     assert_int_equal(hk_least_squares_minimize(2, 2, x, scale, rosenbrock, NULL, NULL, work, NULL, &err),
                      HK_ERR_INVALID);
     x[0] = 0.0;
-    hk_LeastSquaresOptions o = hk_default_least_squares_options();
+    hk_LeastSquaresDef o = hk_default_least_squares_def();
     o.max_evaluations = 3;
     assert_int_equal(hk_least_squares_minimize(2, 2, x, scale, rosenbrock, NULL, &o, work, NULL, &err), HK_ERR_INVALID);
-    o = hk_default_least_squares_options();
+    o = hk_default_least_squares_def();
     o.x_tolerance = NAN;
     assert_int_equal(hk_least_squares_minimize(2, 2, x, scale, rosenbrock, NULL, &o, work, NULL, &err), HK_ERR_INVALID);
 }

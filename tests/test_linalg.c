@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "hairkit/linalg.h"
+#include "core/linalg.h"
 
 static void check(int n, const double *a, const double *w, const double *v)
 {

@@ -3,7 +3,7 @@
  * default head (the vertices of assets/wick-200.obj behind the ears), grown 1 m long in
  * 20 elements, settle 0.3 s and are then shaken (25 degrees at 1 Hz) for 30 frames at
  * dt = 1/30 s with body and guide-guide contacts, as `hairkit simulate` steps them
- * (hk_default_hair_sim_options: the linearly implicit Euler step, four steps a frame
+ * (hk_hair_sim_def_for: the linearly implicit Euler step, four steps a frame
  * for 1 m, the contacts solved together over all guides).
  *
  * References: nothing fails (no guide has to be recovered, held at rest relative to the
@@ -53,7 +53,7 @@ static void back_of(const hk_Mesh *wick, double z_max, hk_Mesh *out)
 #define FRAMES 30
 
 typedef struct LongHead {
-    hk_HairstyleDef style; /* guides200's, 1 m in 20 elements */
+    hk_Hairstyle style; /* guides200's, 1 m in 20 elements */
     hk_Shape *shapes;
     int shape_count;
     hk_Mesh wick, back;
@@ -73,9 +73,9 @@ static void long_head_load(LongHead *h)
     double *lengths = hk_alloc_array(20, sizeof(double), NULL);
     assert_non_null(lengths);
     for (int k = 0; k < 20; k++) lengths[k] = 0.05;
-    hk_free(h->style.element_lengths);
-    h->style.element_lengths = lengths;
-    h->style.element_count = 20;
+    hk_free(h->style.strand.element_lengths);
+    h->style.strand.element_lengths = lengths;
+    h->style.strand.element_count = 20;
 }
 
 static void long_head_free(LongHead *h)
@@ -93,7 +93,7 @@ typedef struct ShakeResult {
 } ShakeResult;
 
 /* Settles 0.3 s, then shakes FRAMES frames. */
-static ShakeResult shake_head(const LongHead *h, const hk_HairSimOptions *o)
+static ShakeResult shake_head(const LongHead *h, const hk_HairSimDef *o)
 {
     hk_Error err;
     hk_HairSim *sim = NULL;
@@ -140,14 +140,14 @@ static void test_long_guides_complete_a_shake(void **state)
     LongHead h;
     long_head_load(&h);
     /* The reference: TR-BDF2 without guide-guide contacts. */
-    hk_HairSimOptions free_hair = hk_default_hair_sim_options(&h.style);
-    const hk_DynamicsParams strand = hk_default_dynamics_params();
+    hk_HairSimDef free_hair = hk_hair_sim_def_for(&h.style);
+    const hk_DynamicsDef strand = hk_default_dynamics_def();
     free_hair.dynamics.integrator = HK_INTEGRATOR_TRBDF2;
     free_hair.dynamics.solver = strand.solver;
     free_hair.dynamics.stiffness = strand.stiffness;
     free_hair.hair_contacts = 0;
     const ShakeResult ref = shake_head(&h, &free_hair);
-    const hk_HairSimOptions o = hk_default_hair_sim_options(&h.style);
+    const hk_HairSimDef o = hk_hair_sim_def_for(&h.style);
     assert_int_equal(o.dynamics.integrator, HK_INTEGRATOR_LINEAR_EULER);
     const ShakeResult r = shake_head(&h, &o);
     print_message("%d guides of 1 m: %d recovered, guide-guide pairs %d in the first frame and %d in the last, "

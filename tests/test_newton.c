@@ -8,7 +8,7 @@
 #include "hairkit/statics.h"
 
 /* f = 1/2 (x - c)^T A (x - c) with A = [[4, 1, 0], [1, 3, 1], [0, 1, 2]]. */
-static double quadratic(const double *x, double *g, double *h, void *user)
+static double quadratic(void *user, const double *x, double *g, double *h)
 {
     (void)user;
     static const double a[3][3] = {{4, 1, 0}, {1, 3, 1}, {0, 1, 2}}, c[3] = {1, -2, 3};
@@ -28,7 +28,7 @@ static void test_quadratic_in_one_step(void **state)
 {
     (void)state;
     double x[3] = {10, 10, 10};
-    hk_NewtonOptions o = hk_default_newton_options();
+    hk_NewtonDef o = hk_default_newton_def();
     hk_MinimizeResult r;
     hk_Error err;
     assert_int_equal(hk_newton_minimize(3, x, quadratic, NULL, NULL, &o, &r, &err), HK_OK);
@@ -39,7 +39,7 @@ static void test_quadratic_in_one_step(void **state)
     hk_assert_near(x[2], 3, 1e-12);
 }
 
-static double banana(const double *x, double *g, double *h, void *user)
+static double banana(void *user, const double *x, double *g, double *h)
 {
     (void)user;
     double a = 1 - x[0], b = x[1] - x[0] * x[0];
@@ -62,7 +62,7 @@ static void test_banana(void **state)
     const double starts[2][2] = {{-1.2, 1.0}, {0.0, 0.5}};
     for (int s = 0; s < 2; s++) {
         double x[2] = {starts[s][0], starts[s][1]};
-        hk_NewtonOptions o = hk_default_newton_options();
+        hk_NewtonDef o = hk_default_newton_def();
         o.energy_scale = 1.0;
         hk_MinimizeResult r;
         hk_Error err;
@@ -74,7 +74,7 @@ static void test_banana(void **state)
     }
 }
 
-static double not_finite(const double *x, double *g, double *h, void *user)
+static double not_finite(void *user, const double *x, double *g, double *h)
 {
     (void)x, (void)g, (void)h, (void)user;
     return NAN;
@@ -84,7 +84,7 @@ static void test_errors(void **state)
 {
     (void)state;
     double x[2] = {0, 0};
-    hk_NewtonOptions o = hk_default_newton_options();
+    hk_NewtonDef o = hk_default_newton_def();
     hk_MinimizeResult r;
     hk_Error err;
     assert_int_equal(hk_newton_minimize(2, x, not_finite, NULL, NULL, &o, &r, &err), HK_ERR_NUMERIC);

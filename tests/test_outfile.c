@@ -17,7 +17,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "hairkit/outfile.h"
+#include "io/outfile.h"
 
 static const char *tmp_path(const char *name)
 {

@@ -34,9 +34,9 @@ static void make_strands(hk_HairFile *h, int strands, int points, double half_le
         }
 }
 
-static hk_RenderOptions plain_options(int size)
+static hk_RenderDef plain_options(int size)
 {
-    hk_RenderOptions o = hk_default_render_options();
+    hk_RenderDef o = hk_default_render_def();
     o.width = o.height = size;
     o.shadows = 0;
     o.azimuth_deg = 0.0, o.elevation_deg = 0.0; /* camera on +z looking along -z */
@@ -48,12 +48,13 @@ static hk_RenderOptions plain_options(int size)
 
 /* The pixel where the renderer's camera sees the origin (the middle of the strand). */
 static hk_Vec3 last_eye; /* the camera's position, from the last call */
-static size_t origin_pixel(const hk_HairFile *h, const hk_Mesh *head, const hk_RenderOptions *o)
+static size_t origin_pixel(const hk_HairFile *h, const hk_Mesh *head, const hk_RenderDef *o)
 {
-    hk_VisualityDef v = hk_default_visuality();
+    hk_Visuality v = hk_default_visuality();
     hk_Scene sc;
     memset(&sc, 0, sizeof sc);
     sc.hair = h, sc.head = head, sc.vis = &v, sc.opt = o;
+    sc.threads = hk_render_threads(o);
     sc.lo = hk_v3(1e9, 1e9, 1e9), sc.hi = hk_v3(-1e9, -1e9, -1e9);
     for (uint32_t i = 0; i < h->point_count; i++) {
         hk_Vec3 q = hk_hair_point(h, i);
@@ -82,15 +83,15 @@ static void lit_strand(double cam_azimuth, double light_az, double light_el, hk_
     hk_HairFile h;
     make_strands(&h, 1, 401, 0.1, 0.0, 0.0);
     h.default_thickness = 0.01f; /* four pixels wide: the pixels near its axis are covered */
-    hk_RenderOptions o = plain_options(96);
+    hk_RenderDef o = plain_options(96);
     o.azimuth_deg = cam_azimuth;
     o.light_azimuth_deg = light_az, o.light_elevation_deg = light_el;
-    hk_VisualityDef v = hk_default_visuality();
+    hk_Visuality v = hk_default_visuality();
     v.diffuse = kd, v.specular = ks, v.glossiness = p;
     hk_Canvas img;
     assert_int_equal(hk_render(&h, NULL, &v, &o, &img, NULL, NULL), HK_OK);
     memcpy(out, img.rgb + 3 * origin_pixel(&h, NULL, &o), 3 * sizeof(float));
-    hk_canvas_destroy(&img);
+    hk_canvas_free(&img);
     hk_hair_free(&h);
 }
 
@@ -138,15 +139,15 @@ static void test_kajiya_kay_pixel(void **state)
  * between the light and the strand darkens it, but not to black (the scatter floor). */
 static double strand_brightness(const hk_HairFile *h, const hk_Mesh *occluder, int shadows)
 {
-    hk_RenderOptions o = plain_options(96);
+    hk_RenderDef o = plain_options(96);
     o.shadows = shadows;
     o.light_azimuth_deg = 0.0, o.light_elevation_deg = 90.0;
-    hk_VisualityDef v = hk_default_visuality();
+    hk_Visuality v = hk_default_visuality();
     hk_Canvas img;
     assert_int_equal(hk_render(h, occluder, &v, &o, &img, NULL, NULL), HK_OK);
     const float *px = img.rgb + 3 * origin_pixel(h, occluder, &o);
     const double b = px[0] + px[1] + px[2];
-    hk_canvas_destroy(&img);
+    hk_canvas_free(&img);
     return b;
 }
 
@@ -278,10 +279,10 @@ static void test_scene_deterministic_finite_png(void **state)
     hk_HairFile h;
     hk_Mesh ball;
     make_scene(&h, &ball);
-    hk_VisualityDef v = hk_default_visuality();
+    hk_Visuality v = hk_default_visuality();
     hk_Canvas img[2];
     for (int k = 0; k < 2; k++) {
-        hk_RenderOptions o = hk_default_render_options();
+        hk_RenderDef o = hk_default_render_def();
         o.width = 160, o.height = 120, o.threads = k + 1, o.shadow_map_size = 128;
         hk_RenderStats stats;
         assert_int_equal(hk_render(&h, &ball, &v, &o, &img[k], &stats, NULL), HK_OK);
@@ -304,8 +305,8 @@ static void test_scene_deterministic_finite_png(void **state)
     assert_int_equal(w, 160);
     assert_int_equal(hgt, 120);
     hk_free(rgb);
-    hk_canvas_destroy(&img[0]);
-    hk_canvas_destroy(&img[1]);
+    hk_canvas_free(&img[0]);
+    hk_canvas_free(&img[1]);
     hk_mesh_free(&ball);
     hk_hair_free(&h);
 }
@@ -373,7 +374,7 @@ static void test_canvas_non_finite(void **state)
     (void)state;
     hk_Canvas c;
     hk_Error err;
-    assert_int_equal(hk_canvas_create(20, 20, hk_v3(1, 1, 1), &c, &err), HK_OK);
+    assert_int_equal(hk_canvas_alloc(20, 20, hk_v3(1, 1, 1), &c, &err), HK_OK);
     const hk_Vec3 black = hk_v3(0, 0, 0);
     hk_canvas_line(&c, NAN, 5.0, 5.0, 5.0, 2.0, black, 1.0);
     hk_canvas_line(&c, 5.0, 5.0, 5.0, NAN, 2.0, black, 1.0);
@@ -386,7 +387,7 @@ static void test_canvas_non_finite(void **state)
     /* An ordinary line still draws. */
     hk_canvas_line(&c, 2.0, 10.0, 18.0, 10.0, 2.0, black, 1.0);
     assert_true(c.rgb[3 * (10 * 20 + 10)] < 0.5f);
-    hk_canvas_destroy(&c);
+    hk_canvas_free(&c);
 
     const hk_Vec3 axes[3] = {hk_v3(1, 0, 0), hk_v3(0, 1, 0), hk_v3(0, 0, 1)};
     const hk_Shape big[2] = {hk_shape_ellipsoid(hk_v3(0, 0, 0), hk_v3(1e308, 0.1, 0.1), axes, 0.0, 1000.0),
@@ -431,9 +432,9 @@ static void test_fragment_key_sort(void **state)
 /* A renderer kept over pictures of different scenes, sizes and thread counts (its
  * buffers grow and are reused; a failed draw in between) draws each the same bytes
  * as hk_render. */
-static void same_as_render(hk_Renderer *r, const hk_HairFile *h, const hk_Mesh *head, const hk_RenderOptions *o)
+static void same_as_render(hk_Renderer *r, const hk_HairFile *h, const hk_Mesh *head, const hk_RenderDef *o)
 {
-    hk_VisualityDef v = hk_default_visuality();
+    hk_Visuality v = hk_default_visuality();
     hk_Canvas fresh;
     assert_int_equal(hk_render(h, head, &v, o, &fresh, NULL, NULL), HK_OK);
     assert_int_equal(hk_renderer_draw(r, h, head, NULL, o, NULL, NULL), HK_OK);
@@ -441,7 +442,7 @@ static void same_as_render(hk_Renderer *r, const hk_HairFile *h, const hk_Mesh *
     assert_int_equal(kept->width, o->width);
     assert_int_equal(kept->height, o->height);
     assert_memory_equal(kept->rgb, fresh.rgb, 3 * (size_t)o->width * (size_t)o->height * sizeof(float));
-    hk_canvas_destroy(&fresh);
+    hk_canvas_free(&fresh);
 }
 
 static void test_renderer_reuse(void **state)
@@ -453,13 +454,13 @@ static void test_renderer_reuse(void **state)
     make_strands(&small, 3, 9, 0.1, 0.01, 0.0);
     hk_Renderer *r;
     assert_int_equal(hk_renderer_create(&r, NULL), HK_OK);
-    hk_RenderOptions o = hk_default_render_options();
+    hk_RenderDef o = hk_default_render_def();
     o.width = 160, o.height = 120, o.threads = 2, o.shadow_map_size = 128;
     same_as_render(r, &big, &ball, &o);
-    hk_RenderOptions p = plain_options(64);
+    hk_RenderDef p = plain_options(64);
     p.threads = 1;
     same_as_render(r, &small, NULL, &p);
-    hk_RenderOptions bad = o;
+    hk_RenderDef bad = o;
     bad.width = 0;
     assert_int_equal(hk_renderer_draw(r, &big, &ball, NULL, &bad, NULL, NULL), HK_ERR_INVALID);
     assert_int_equal(hk_renderer_picture(r)->width, 0);
@@ -476,18 +477,18 @@ static void test_bad_options(void **state)
     (void)state;
     hk_HairFile h;
     make_strands(&h, 1, 5, 0.1, 0.0, 0.0);
-    hk_VisualityDef v = hk_default_visuality();
-    hk_RenderOptions o = hk_default_render_options();
+    hk_Visuality v = hk_default_visuality();
+    hk_RenderDef o = hk_default_render_def();
     hk_Canvas img;
     hk_Error err;
     o.width = 0;
     assert_int_equal(hk_render(&h, NULL, &v, &o, &img, NULL, &err), HK_ERR_INVALID);
     hk_assert_contains(err.message, "picture size");
-    o = hk_default_render_options();
+    o = hk_default_render_def();
     o.opacity_layers = 99;
     assert_int_equal(hk_render(&h, NULL, &v, &o, &img, NULL, &err), HK_ERR_INVALID);
     h.points[4] = NAN;
-    o = hk_default_render_options();
+    o = hk_default_render_def();
     assert_int_equal(hk_render(&h, NULL, &v, &o, &img, NULL, &err), HK_ERR_INVALID);
     hk_assert_contains(err.message, "not finite");
     assert_null(img.rgb);

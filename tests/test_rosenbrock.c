@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "hairkit/statics.h"
+#include "statics/statics_internal.h"
 
 #define NMAX 10
 
@@ -116,7 +117,7 @@ static void probe_init(Probe *p, int n, double (*fn)(const double *, int), long 
     p->call_limit = call_limit;
 }
 
-static double probe_eval(const double *x, void *user)
+static double probe_eval(void *user, const double *x)
 {
     Probe *p = user;
     if (p->calls >= p->call_limit) fail_msg("objective called more than %ld times", p->call_limit);
@@ -222,7 +223,7 @@ static double infinite_objective(const double *x, int n)
 static void test_defaults(void **state)
 {
     (void)state;
-    const hk_RosenbrockOptions o = hk_default_rosenbrock_options();
+    const hk_RosenbrockDef o = hk_default_rosenbrock_def();
     assert_int_equal(o.max_stages, 20);
     hk_assert_near(o.epsilon, 1e-4, 0.0);
     hk_assert_near(o.initial_step, 0.1, 0.0);
@@ -331,7 +332,7 @@ static void test_trial_sequence_1d(void **state)
     (void)state;
     Probe p;
     probe_init(&p, 1, parabola_1d, 1000);
-    hk_RosenbrockOptions o = hk_default_rosenbrock_options();
+    hk_RosenbrockDef o = hk_default_rosenbrock_def();
     o.max_stages = 2;
     double x = 0.0;
     hk_MinimizeResult r;
@@ -355,7 +356,7 @@ static void test_ties_succeed(void **state)
     (void)state;
     Probe p;
     probe_init(&p, 1, flat_bottom, 1000);
-    hk_RosenbrockOptions o = hk_default_rosenbrock_options();
+    hk_RosenbrockDef o = hk_default_rosenbrock_def();
     o.max_stages = 1;
     double x = 0.0;
     hk_MinimizeResult r;
@@ -373,7 +374,7 @@ static void test_stage_restart_along_advance(void **state)
 {
     (void)state;
     const double x0[2] = {-1.2, 1.0};
-    hk_RosenbrockOptions o = hk_default_rosenbrock_options();
+    hk_RosenbrockDef o = hk_default_rosenbrock_def();
     o.initial_step = 0.05;
     o.epsilon = 0.0;
     /* Stage 1 alone: where it ends and how many calls it takes. */
@@ -413,7 +414,7 @@ static void test_banana(void **state)
     Probe p;
     probe_init(&p, 2, banana, 2000000);
     double x[2] = {-1.2, 1.0};
-    hk_RosenbrockOptions o = hk_default_rosenbrock_options();
+    hk_RosenbrockDef o = hk_default_rosenbrock_def();
     o.max_stages = 100000;
     o.epsilon = 1e-14;
     hk_MinimizeResult r;
@@ -475,7 +476,7 @@ static void test_rotated_quadratic(void **state)
     (void)state;
     make_quadratic();
     const double target = 1.0 + 1e-10;
-    hk_RosenbrockOptions o = hk_default_rosenbrock_options();
+    hk_RosenbrockDef o = hk_default_rosenbrock_def();
     o.max_stages = 100000;
     o.epsilon = 1e-15;
     Probe p;
@@ -489,7 +490,7 @@ static void test_rotated_quadratic(void **state)
     assert_true(rot.f <= target);
     /* Coordinate descent with the same trial rules. */
     double y[QN] = {0};
-    hk_RosenbrockOptions one = o;
+    hk_RosenbrockDef one = o;
     one.max_stages = 1;
     long evaluations = 0;
     double f = quadratic(y, QN);
@@ -513,7 +514,7 @@ static void test_stage_limit(void **state)
     (void)state;
     Probe p;
     probe_init(&p, 2, banana, 1000000);
-    hk_RosenbrockOptions o = hk_default_rosenbrock_options();
+    hk_RosenbrockDef o = hk_default_rosenbrock_def();
     o.max_stages = 3;
     o.epsilon = 0.0;
     double x[2] = {-1.2, 1.0};
@@ -529,7 +530,7 @@ static void test_stage_limit(void **state)
 static void test_evaluation_limit(void **state)
 {
     (void)state;
-    hk_RosenbrockOptions o = hk_default_rosenbrock_options();
+    hk_RosenbrockDef o = hk_default_rosenbrock_def();
     o.max_stages = 1000;
     o.epsilon = 0.0;
     for (long limit = 1; limit <= 200; limit += 13) {
@@ -558,7 +559,7 @@ static void test_epsilon_stopping(void **state)
 {
     (void)state;
     enum { N = 3 };
-    hk_RosenbrockOptions o = hk_default_rosenbrock_options();
+    hk_RosenbrockDef o = hk_default_rosenbrock_def();
     o.max_stages = 1000;
     o.epsilon = 1e-6;
     double x[N] = {2.1, -1.3, 0.7};
@@ -571,7 +572,7 @@ static void test_epsilon_stopping(void **state)
     for (int i = 0; i < N; i++) hk_assert_near(x[i], 0.3 * i, 1e-3);
     double f_prev = bowl((const double[]){2.1, -1.3, 0.7}, N);
     for (int k = 1; k <= r.iterations; k++) {
-        hk_RosenbrockOptions ok = o;
+        hk_RosenbrockDef ok = o;
         ok.max_stages = k;
         double y[N] = {2.1, -1.3, 0.7};
         hk_MinimizeResult rk;
@@ -609,7 +610,7 @@ static void test_nan_after_start(void **state)
 {
     (void)state;
     arm_watchdog();
-    hk_RosenbrockOptions o = hk_default_rosenbrock_options();
+    hk_RosenbrockDef o = hk_default_rosenbrock_def();
     o.max_evaluations = 0;
     o.max_stages = 1000;
     Probe p;
@@ -634,7 +635,7 @@ static void test_nan_region(void **state)
 {
     (void)state;
     arm_watchdog();
-    hk_RosenbrockOptions o = hk_default_rosenbrock_options();
+    hk_RosenbrockDef o = hk_default_rosenbrock_def();
     o.max_evaluations = 0;
     o.max_stages = 1000;
     o.epsilon = 1e-12;
@@ -657,7 +658,7 @@ static void test_kink_and_unbounded_terminate(void **state)
 {
     (void)state;
     arm_watchdog();
-    hk_RosenbrockOptions o = hk_default_rosenbrock_options();
+    hk_RosenbrockDef o = hk_default_rosenbrock_def();
     o.max_evaluations = 0;
     o.max_stages = 50;
     /* |x0| + |x1| at the origin: every non-zero step fails, down to the last normal
@@ -712,7 +713,7 @@ static void test_large_dimension(void **state)
     double x[M] = {0};
     Probe p;
     probe_init(&p, M, sphere, 10000000);
-    hk_RosenbrockOptions o = hk_default_rosenbrock_options();
+    hk_RosenbrockDef o = hk_default_rosenbrock_def();
     o.max_stages = 3;
     hk_MinimizeResult r;
     assert_int_equal(hk_rosenbrock_minimize(M, x, probe_eval, &p, &o, &r, NULL), HK_OK);
@@ -726,7 +727,7 @@ static void test_large_dimension(void **state)
 static void test_nonfinite_start(void **state)
 {
     (void)state;
-    hk_RosenbrockOptions o = hk_default_rosenbrock_options();
+    hk_RosenbrockDef o = hk_default_rosenbrock_def();
     double x[2] = {0.25, -0.5};
     hk_MinimizeResult r;
     hk_Error err;
@@ -743,7 +744,7 @@ static void test_nonfinite_start(void **state)
     assert_int_equal(hk_rosenbrock_minimize(2, x, probe_eval, &p, &o, &r, NULL), HK_ERR_NUMERIC);
 }
 
-static void expect_invalid(int n, double *x, hk_ObjectiveFn f, const hk_RosenbrockOptions *o,
+static void expect_invalid(int n, double *x, hk_ObjectiveFn f, const hk_RosenbrockDef *o,
                            const char *needle)
 {
     Probe p;
@@ -765,14 +766,14 @@ static void expect_invalid(int n, double *x, hk_ObjectiveFn f, const hk_Rosenbro
 static void test_invalid_arguments(void **state)
 {
     (void)state;
-    const hk_RosenbrockOptions d = hk_default_rosenbrock_options();
+    const hk_RosenbrockDef d = hk_default_rosenbrock_def();
     double x[2] = {0, 0};
     expect_invalid(0, x, probe_eval, &d, "dimension");
     expect_invalid(-3, x, probe_eval, &d, "dimension");
     expect_invalid(2, NULL, probe_eval, &d, "x");
     expect_invalid(2, x, NULL, &d, "objective");
-    expect_invalid(2, x, probe_eval, NULL, "options");
-    hk_RosenbrockOptions o = d;
+    /* NULL options mean the defaults (test_null_defaults.c) */
+    hk_RosenbrockDef o = d;
     o.max_stages = 0;
     expect_invalid(2, x, probe_eval, &o, "max_stages");
     const double bad_eps[] = {-1e-9, NAN, INFINITY};

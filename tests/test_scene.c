@@ -29,7 +29,7 @@ static void test_parts(void **state)
     assert_int_equal(s.parts, (unsigned)HK_SCENE_ALL);
     assert_int_equal(s.wick.vertex_count, 201); /* assets/wick-200.obj */
     assert_true(s.shape_count > 0);
-    hk_assert_near(s.style.hair_density, 4.0, 0.0); /* hk_test_light_setup's hairstyle */
+    hk_assert_near(s.style.interpolation.hair_density, 4.0, 0.0); /* hk_test_light_setup's hairstyle */
     hk_scene_free(&s);
     hk_scene_free(&s); /* freeing twice is harmless: the scene is empty after the first */
 }
@@ -64,7 +64,7 @@ static void test_errors(void **state)
     assert_true(hk_scene_load_parts(&s, HK_SCENE_ALL, &err) != HK_OK);
     hk_assert_contains(err.message, "badhead.obj:2");
     assert_int_equal(s.parts, 0u);
-    assert_int_equal(s.style.element_count, hk_default_hairstyle().element_count);
+    assert_int_equal(s.style.strand.element_count, hk_default_hairstyle().strand.element_count);
     hk_scene_free(&s);
     /* Growing needs the grooming parts. */
     assert_int_equal(hk_scene_load(hk_test_light_setup(), HK_SCENE_RENDERING, &s, &err), HK_OK);
@@ -82,7 +82,7 @@ static void test_same_as_pieces(void **state)
     hk_Error err;
     hk_Scene s;
     assert_int_equal(hk_scene_load(hk_test_light_setup(), HK_SCENE_ALL, &s, &err), HK_OK);
-    hk_GroomOptions go = hk_default_groom_options();
+    hk_GroomDef go = hk_default_groom_def();
     go.threads = 2;
     hk_HairFile a, b;
     hk_SceneHairReport report;
@@ -91,19 +91,19 @@ static void test_same_as_pieces(void **state)
     assert_int_equal(report.guides, 201);
     assert_int_equal((uint32_t)(report.guides + report.strands), a.strand_count);
     hk_Groom g;
-    assert_int_equal(hk_groom_grow(&s.style, s.shapes, s.shape_count, &s.wick, &go, &g, &err), HK_OK);
-    assert_int_equal(hk_groom_to_hair(&g, &s.style, &b, &err), HK_OK);
+    assert_int_equal(hk_groom_grow(&s.style.strand, &s.style.interpolation, s.shapes, s.shape_count, &s.wick, &go, &g, &err), HK_OK);
+    assert_int_equal(hk_groom_to_hair(&g, &s.style.strand, &b, &err), HK_OK);
     assert_int_equal(a.point_count, b.point_count);
     assert_memory_equal(a.points, b.points, sizeof(float) * 3 * a.point_count);
     hk_groom_free(&g);
-    hk_RenderOptions ro = hk_default_render_options();
+    hk_RenderDef ro = hk_default_render_def();
     ro.width = 64, ro.height = 48;
     hk_Canvas pa, pb;
     assert_int_equal(hk_scene_render(&s, &a, &ro, &pa, NULL, &err), HK_OK);
     assert_int_equal(hk_render(&a, &s.head, &s.visuality, &ro, &pb, NULL, &err), HK_OK);
     assert_memory_equal(pa.rgb, pb.rgb, sizeof(float) * 3 * 64 * 48);
-    hk_canvas_destroy(&pa);
-    hk_canvas_destroy(&pb);
+    hk_canvas_free(&pa);
+    hk_canvas_free(&pb);
     hk_hair_free(&b);
     hk_scene_free(&s);
 

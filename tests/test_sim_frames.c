@@ -29,7 +29,7 @@ static void run(const char *setup, const char *name, int threads, Seen *seen)
     hk_HeadMotion *shake = NULL;
     hk_Error err;
     assert_int_equal(hk_head_motion_scripted("shake", 90.0, 2.0, hk_default_head_pivot(), &shake, &err), HK_OK);
-    hk_SimRunOptions o = hk_default_sim_run_options();
+    hk_SimRunDef o = hk_default_sim_run_def();
     o.frames = FRAMES;
     o.fps = 20.0;
     o.preroll = 0.0;

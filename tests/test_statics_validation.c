@@ -32,8 +32,8 @@ static hk_SuperHelix *cantilever(int n, double lambda, double length)
 
 static hk_Vec3 solve_tip(hk_SuperHelix *sh, hk_SolverKind solver, hk_MinimizeResult *res)
 {
-    hk_StrandEnv env = hk_default_strand_env();
-    hk_StaticsOptions opt = hk_default_statics_options();
+    hk_StrandEnvDef env = hk_default_strand_env_def();
+    hk_StaticsDef opt = hk_default_statics_def();
     opt.solver = solver;
     hk_Error err;
     hk_MinimizeResult r;
@@ -160,8 +160,8 @@ static void test_solvers_agree(void **state)
         double tau, k1;
         hk_helix_natural_curvature(0.02, 0.02, &tau, &k1);
         hk_superhelix_set_uniform_rest(sh, tau, k1, 0.0);
-        hk_StrandEnv env = hk_default_strand_env();
-        hk_StaticsOptions opt = hk_default_statics_options();
+        hk_StrandEnvDef env = hk_default_strand_env_def();
+        hk_StaticsDef opt = hk_default_statics_def();
         opt.solver = s == 0 ? HK_SOLVER_NEWTON : HK_SOLVER_ROSENBROCK;
         opt.rosenbrock.max_stages = 100000;
         opt.rosenbrock.epsilon = 1e-15;
@@ -200,11 +200,11 @@ static void test_resting_on_ellipsoid(void **state)
     hk_Shape head = hk_shape_ellipsoid(hk_v3(0, 0, 0), radii, axes, 0.0, 10.0);
     sh->root = hk_v3(0.0, 0.111, 0.0); /* 1 mm above the crown */
     sh->root_frame = hk_root_frame(hk_v3(0, 0.3, 1));
-    hk_StrandEnv env = hk_default_strand_env();
+    hk_StrandEnvDef env = hk_default_strand_env_def();
     env.shapes = &head;
     env.shape_count = 1;
     env.collision_step = 0.005;
-    hk_StaticsOptions opt = hk_default_statics_options();
+    hk_StaticsDef opt = hk_default_statics_def();
     hk_MinimizeResult res;
     assert_int_equal(hk_statics_solve(sh, &env, &opt, &res, &err), HK_OK);
     assert_true(res.converged);
@@ -233,7 +233,7 @@ static void test_newton_reaches_stationary_minimum(void **state)
     hk_helix_natural_curvature(0.01, 0.005, &tau, &k1);
     hk_superhelix_set_uniform_rest(sh, tau, k1, 0.0);
     solve_tip(sh, HK_SOLVER_NEWTON, NULL);
-    hk_StrandEnv env = hk_default_strand_env();
+    hk_StrandEnvDef env = hk_default_strand_env_def();
     hk_StrandWorkspace *ws;
     hk_Error err;
     assert_int_equal(hk_strand_workspace_create(sh, &env, &ws, &err), HK_OK);

@@ -53,7 +53,7 @@ static void tips(const hk_HairSim *sim, double *all, hk_Vec3 *out)
  * frames of 1/30 s; the largest jump is taken over the last 60. */
 static Stillness still_head(double mu, double max_settle, int frames)
 {
-    hk_HairstyleDef style = hk_default_hairstyle();
+    hk_Hairstyle style = hk_default_hairstyle();
     hk_Shape *shapes = NULL;
     int shape_count = 0;
     hk_Mesh wick;
@@ -62,7 +62,7 @@ static Stillness still_head(double mu, double max_settle, int frames)
     assert_int_equal(hk_collision_load(HK_SOURCE_DIR "/examples/default/collision.txt", &shapes, &shape_count, &err),
                      HK_OK);
     assert_int_equal(hk_obj_load(HK_SOURCE_DIR "/assets/wick-200.obj", &wick, &err), HK_OK);
-    hk_HairSimOptions o = hk_default_hair_sim_options(&style);
+    hk_HairSimDef o = hk_hair_sim_def_for(&style);
     o.contacts.friction_coefficient = mu;
     hk_HairSim *sim = NULL;
     assert_int_equal(hk_hair_sim_create(&style, shapes, shape_count, &wick, &o, &sim, &err), HK_OK);
@@ -72,7 +72,7 @@ static Stillness still_head(double mu, double max_settle, int frames)
             *now = malloc((size_t)g * sizeof(hk_Vec3));
     double *drift = malloc((size_t)g * sizeof(double));
     Stillness out = {0.0, 0.0, 0.0, {0.0, 0, 0.0}};
-    hk_SettleOptions settle = hk_default_settle_options();
+    hk_SettleDef settle = hk_default_settle_def();
     settle.max_seconds = max_settle;
     assert_int_equal(hk_hair_sim_settle_until_still(sim, NULL, 1.0 / 30.0, &settle, &out.settled, &err), HK_OK);
     tips(sim, all, start);
@@ -110,8 +110,8 @@ static Stillness still_head(double mu, double max_settle, int frames)
 static void test_still_hair_stays_still(void **state)
 {
     (void)state;
-    const Stillness held = still_head(hk_default_hair_contact_params().friction_coefficient,
-                                      hk_default_settle_options().max_seconds, 120);
+    const Stillness held = still_head(hk_default_hair_contact_def().friction_coefficient,
+                                      hk_default_settle_def().max_seconds, 120);
     assert_true(held.settled.at_rest);
     assert_true(held.max_drift <= 0.5e-3);
     assert_true(held.max_jump <= 0.05e-3);

@@ -9,11 +9,12 @@
 #include <string.h>
 
 #include "hairkit/rod.h"
+#include "rod/rod_internal.h"
 
 typedef struct Scene {
     hk_SuperHelix *sh;
     hk_Shape shapes[3];
-    hk_StrandEnv env;
+    hk_StrandEnvDef env;
     hk_StrandWorkspace *ws;
 } Scene;
 
@@ -40,7 +41,7 @@ static void scene_init(Scene *sc, int n, int with_shapes, unsigned seed)
     sc->shapes[0] = hk_shape_sphere(hk_v3_add(p[0], hk_v3(0.0, -0.015, 0.004)), 0.02, 0.004, 50.0);
     sc->shapes[1] = hk_shape_ellipsoid(hk_v3_add(p[1], hk_v3(0.01, -0.02, 0.0)), hk_v3(0.02, 0.03, 0.025), axes, 0.003, 80.0);
     sc->shapes[2] = hk_shape_cuboid(hk_v3_add(p[2], hk_v3(0.0, -0.012, 0.0)), hk_v3(0.01, 0.015, 0.02), axes, 0.002, 30.0);
-    sc->env = hk_default_strand_env();
+    sc->env = hk_default_strand_env_def();
     if (with_shapes) {
         sc->env.shapes = sc->shapes;
         sc->env.shape_count = 3;

@@ -17,7 +17,7 @@
 #include "hairkit/hairfile.h"
 #include "hairkit/helicoid.h"
 #include "hairkit/mesh.h"
-#include "hairkit/outfile.h"
+#include "io/outfile.h"
 
 #define MAX_GUIDES 64
 #define DS 0.0005 /* walking step (m) */

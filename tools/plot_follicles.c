@@ -42,7 +42,7 @@ int main(int argc, char **argv)
         hk_follicle_samples_free(&free_part);
         goto fail;
     }
-    if (hk_canvas_create(1000, 500, hk_v3(1, 1, 1), &c, &err) != HK_OK) goto fail_samples;
+    if (hk_canvas_alloc(1000, 500, hk_v3(1, 1, 1), &c, &err) != HK_OK) goto fail_samples;
     /* left: from above (x right, face +z down); right: from the side (z right, y up) */
     const View views[2] = {
         {250, 250, 1500, {1, 0, 0}, {0, 0, -1}, {0, 1, 0}},
@@ -62,14 +62,14 @@ int main(int argc, char **argv)
     if (hk_canvas_write_png(&c, argv[4], &err) != HK_OK) goto fail_samples;
     printf("plot_follicles: %d follicles (%d on the contour) at %g m\n", all.count, all.count - free_part.count,
            def.spacing);
-    hk_canvas_destroy(&c);
+    hk_canvas_free(&c);
     hk_follicle_samples_free(&free_part);
     hk_follicle_samples_free(&all);
     hk_mesh_free(&head);
     hk_mesh_free(&wick);
     return 0;
 fail_samples:
-    hk_canvas_destroy(&c);
+    hk_canvas_free(&c);
     hk_follicle_samples_free(&free_part);
     hk_follicle_samples_free(&all);
 fail:

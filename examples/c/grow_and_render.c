@@ -20,13 +20,13 @@ int main(int argc, char **argv)
 
     /* Every call that can fail returns an hk_Status (HK_OK is 0) and fills err. */
     hk_Error err;
-    hk_SetupDef setup;
+    hk_Setup setup;
     if (hk_setup_load(argv[1], &setup, &err) != HK_OK) {
         fprintf(stderr, "%s\n", err.message);
         return 1;
     }
-    hk_HairstyleDef style = hk_default_hairstyle();
-    hk_VisualityDef colours = hk_default_visuality();
+    hk_Hairstyle style = hk_default_hairstyle();
+    hk_Visuality colours = hk_default_visuality();
     hk_Shape *shapes = NULL; /* the collision shapes (body envelopes) */
     int shape_count = 0;
     hk_Mesh wick = {0}, head = {0};
@@ -38,8 +38,9 @@ int main(int argc, char **argv)
      * hair grows from) and the head. Optional ones are NULL when the setup has none. */
     hk_Status st = hk_hairstyle_load(setup.hairstyle, &style, &err);
     if (st == HK_OK && argc == 4) {
-        style.hair_density = strtod(argv[3], NULL);
-        if (!(style.hair_density > 0)) st = hk_error_set(&err, HK_ERR_INVALID, "bad density '%s'", argv[3]);
+        style.interpolation.hair_density = strtod(argv[3], NULL);
+        if (!(style.interpolation.hair_density > 0))
+            st = hk_error_set(&err, HK_ERR_INVALID, "bad density '%s'", argv[3]);
     }
     if (st == HK_OK && setup.collision) st = hk_collision_load(setup.collision, &shapes, &shape_count, &err);
     if (st == HK_OK && setup.visuality) st = hk_visuality_load(setup.visuality, &colours, &err);
@@ -49,12 +50,13 @@ int main(int argc, char **argv)
     /* Grow: one guide strand per wick vertex, solved as a Super-Helix at rest under
      * gravity and the collision shapes (in parallel), then HairDensity strands per cm^2
      * interpolated between the guides; then the whole groom as cyHair data. */
-    hk_GroomOptions grow = hk_default_groom_options();
-    if (st == HK_OK) st = hk_groom_grow(&style, shapes, shape_count, &wick, &grow, &groom, &err);
-    if (st == HK_OK) st = hk_groom_to_hair(&groom, &style, &hair, &err);
+    hk_GroomDef grow = hk_default_groom_def();
+    if (st == HK_OK)
+        st = hk_groom_grow(&style.strand, &style.interpolation, shapes, shape_count, &wick, &grow, &groom, &err);
+    if (st == HK_OK) st = hk_groom_to_hair(&groom, &style.strand, &hair, &err);
 
     /* Render over the head (Kajiya-Kay shading, deep opacity shadows) and save. */
-    hk_RenderOptions view = hk_default_render_options();
+    hk_RenderDef view = hk_default_render_def();
     view.width = 800;
     view.height = 600;
     if (st == HK_OK)
@@ -66,7 +68,7 @@ int main(int argc, char **argv)
                groom.points_per_strand, argv[2]);
     else
         fprintf(stderr, "%s\n", err.message);
-    hk_canvas_destroy(&picture);
+    hk_canvas_free(&picture);
     hk_hair_free(&hair);
     hk_groom_free(&groom);
     hk_mesh_free(&head);

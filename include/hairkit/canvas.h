@@ -16,9 +16,11 @@ typedef struct hk_Canvas {
     float *rgb; /* 3 floats per pixel in [0, 1], row-major, top row first */
 } hk_Canvas;
 
-HK_API hk_Status hk_canvas_create(int width, int height, hk_Vec3 background, hk_Canvas *out,
-                                  hk_Error *err);
-HK_API void hk_canvas_destroy(hk_Canvas *c);
+/* A canvas of width x height pixels filled with `background` (data: release it with
+ * hk_canvas_free, safe on a zeroed or freed canvas). */
+HK_API hk_Status hk_canvas_alloc(int width, int height, hk_Vec3 background, hk_Canvas *out,
+                                 hk_Error *err);
+HK_API void hk_canvas_free(hk_Canvas *c);
 
 /* Segment from (x0, y0) to (x1, y1) in pixel units (y down), of the given width,
  * blended with the given opacity; coverage from the exact distance to the segment. */

@@ -34,15 +34,14 @@ typedef struct hk_Shape {
     hk_Vec3 half;    /* ellipsoid radii / cuboid half-dimensions (a, b, c) along the
                         axes; for a sphere all three equal the radius */
     hk_Vec3 axis[3]; /* orthonormal local axes U, V, W (identity for a sphere) */
-    double bound;    /* |p - centre| > bound + sqrt(3) * |extra| implies
-                        dent(p) + extra < 0 (no contact); set by hk_shape_finish() */
     int styling;     /* 0 (the constructors' value): part of the body, which no strand may
                         enter (docs/grooming.md); 1: a styling field such as the soft
                         sphere before the face (thesis Appendix C, coupes 3-4) that only
                         shapes the guides through its penalty */
 } hk_Shape;
 
-/* Shape constructors; axes are normalised. They fill `bound`. */
+/* Shape constructors; axes are normalised. The fields may be edited afterwards (a shape
+ * has no derived state). */
 HK_API hk_Shape hk_shape_sphere(hk_Vec3 centre, double radius, double volume, double penalty);
 HK_API hk_Shape hk_shape_ellipsoid(hk_Vec3 centre, hk_Vec3 radii, const hk_Vec3 axes[3],
                                    double volume, double penalty);
@@ -55,9 +54,6 @@ HK_API hk_Shape hk_shape_cuboid(hk_Vec3 centre, hk_Vec3 half_dims, const hk_Vec3
  * overlap shapes. */
 HK_API void hk_shapes_posed(const hk_Shape *shapes, int count, const hk_RigidState *head,
                             hk_Shape *out);
-
-/* Recomputes derived fields (bound) after the public fields were edited by hand. */
-HK_API void hk_shape_finish(hk_Shape *shape);
 
 /* Penetration depth of p as defined by the thesis:
  *   sphere:    dent = r - |p - c|
@@ -73,7 +69,8 @@ HK_API double hk_shape_dent(const hk_Shape *shape, hk_Vec3 p, hk_Vec3 *grad, hk_
 /* Penalty energy density e(p) of one shape (see top of file) with envelope level
  * alpha; adds its gradient to *grad and its Hessian to *hess when they are not NULL
  * (callers zero them first). Returns the energy density. Cheap when p is far outside
- * (see `bound`). */
+ * (farther from the centre than the largest radius, or the cuboid's half-diagonal, plus
+ * sqrt(3) |extra|). */
 HK_API double hk_shape_penalty(const hk_Shape *shape, double alpha, hk_Vec3 p, hk_Vec3 *grad,
                                hk_Mat3 *hess);
 

@@ -2,7 +2,11 @@
  *
  * Every library function that can fail returns an hk_Status (HK_OK == 0) and, when
  * given a non-NULL hk_Error, fills it with a one-line message. Messages about input
- * files start with "path:line: " so that editors can jump to the spot. */
+ * files start with "path:line: " so that editors can jump to the spot.
+ *
+ * Every function that takes a pointer to a parameter struct (a configuration with a
+ * default function) accepts NULL for it and then uses the defaults; docs/library.md
+ * lists the conventions of the API. */
 #ifndef HAIRKIT_CORE_H
 #define HAIRKIT_CORE_H
 
@@ -49,46 +53,6 @@ HK_API const char *hk_status_name(hk_Status status);
  * prints); HK_VERSION_STRING is the version of the headers compiled against. */
 HK_API const char *hk_version(void);
 
-/* The error of the lowest failing index of a parallel loop, so that the error reported
- * is the same whatever the thread count and the schedule (DESIGN.md: results do not
- * depend on the threads). Iterations run in any order; each failure is recorded with
- * its index and the lowest one is kept:
- *
- *     hk_FirstError fe;
- *     hk_first_error_init(&fe);
- *     #pragma omp parallel for schedule(dynamic)
- *     for (long i = 0; i < n; i++) {
- *         if (hk_first_error_skip(&fe, i)) continue; // optional: cannot change the outcome
- *         hk_Error e;
- *         if (work(i, &e) != HK_OK) hk_first_error_record(&fe, i, &e);
- *     }
- *     if (fe.index >= 0) return hk_error_set(err, fe.error.code, "item %ld: %s", fe.index,
- *                                            fe.error.message);
- *
- * (or `return hk_first_error_status(&fe, err);` to pass the error on as it is). Read
- * the fields after the loop only. Internal to hairkit: the hk_first_error_* functions are
- * not exported from the shared library (no HK_API). */
-typedef struct hk_FirstError {
-    long index;     /* lowest failing index recorded, -1 while none */
-    hk_Error error; /* the error recorded with it */
-} hk_FirstError;
-
-/* No failure yet. */
-void hk_first_error_init(hk_FirstError *fe);
-
-/* Records err (not NULL) as the failure of iteration `index` (>= 0) if no lower index
- * has failed. Safe to call from any thread of a parallel region. */
-void hk_first_error_record(hk_FirstError *fe, long index, const hk_Error *err);
-
-/* Whether a lower index than `index` has failed already, so that iteration `index` can
- * be skipped without changing which error is kept (an iteration below every recorded
- * failure is never skipped). Safe to call from any thread. */
-int hk_first_error_skip(const hk_FirstError *fe, long index);
-
-/* After the loop: HK_OK when nothing failed; else copies the lowest index's error into
- * err (when not NULL) and returns its code. */
-hk_Status hk_first_error_status(const hk_FirstError *fe, hk_Error *err);
-
 /* Progress report of long work: stage name and fraction done in [0, 1]. Called from one
  * thread at a time. */
 typedef void (*hk_ProgressFn)(void *user, const char *stage, double fraction);
@@ -125,11 +89,6 @@ HK_API void *hk_calloc_array(size_t count, size_t size, hk_Error *err);
 HK_API void hk_free(void *ptr);
 /* A copy of the string s (free with hk_free); NULL and err filled when out of memory. */
 HK_API char *hk_strdup(const char *s, hk_Error *err);
-
-/* Seconds on a monotonic clock (CLOCK_MONOTONIC) from an arbitrary origin: for timings
- * and progress reports, never for results. Internal: not exported from the shared library
- * (no HK_API). */
-double hk_seconds_now(void);
 
 #ifdef __cplusplus
 }

@@ -20,6 +20,7 @@
 
 #include "hairkit/core.h"
 #include "hairkit/export.h"
+#include "hairkit/optimize.h"
 #include "hairkit/vecmath.h"
 
 #ifdef __cplusplus
@@ -68,37 +69,28 @@ HK_API hk_Status hk_frechet_measures(const hk_Vec3 *a, int p, const hk_Vec3 *b, 
 
 #define HK_NELDER_MEAD_MAX_PARAMS 16
 
-/* Objective: f(x) for x of the size given to the minimiser. NaN counts as +infinity
- * (a region where the objective is undefined is simply never accepted). */
-typedef double (*hk_CostFn)(const double *x, void *user);
-
-typedef struct hk_NelderMeadOptions {
+typedef struct hk_NelderMeadDef {
     long max_evaluations; /* hard limit on calls of f (>= n + 1) */
     double x_tolerance;   /* stop when every vertex is within x_tolerance * |scale_j| of the
                              best one in every coordinate j ... */
     double f_tolerance;   /* ... and f(worst) - f(best) <= f_tolerance */
-} hk_NelderMeadOptions;
+} hk_NelderMeadDef;
 
 /* 2000 evaluations, x_tolerance 1e-8, f_tolerance 1e-12. */
-HK_API hk_NelderMeadOptions hk_default_nelder_mead_options(void);
-
-typedef struct hk_NelderMeadResult {
-    double f;         /* objective at the returned x */
-    int iterations;   /* simplex moves */
-    long evaluations; /* calls of f */
-    int converged;    /* 1: both tolerances met; 0: the evaluation limit stopped it */
-} hk_NelderMeadResult;
+HK_API hk_NelderMeadDef hk_default_nelder_mead_def(void);
 
 /* Minimises f over n (0..16) parameters with the standard Nelder-Mead simplex moves:
  * reflection 1, expansion 2, contraction 0.5 (outside and inside), shrink 0.5, in the
  * ordering and acceptance rules of Lagarias et al. (1998). The initial simplex is x and
- * x + scale_j e_j (scale_j finite and non-zero). x is updated in place with the best
+ * x + scale_j e_j (scale_j finite and non-zero). A NaN objective counts as +infinity (a
+ * region where it is undefined is simply never accepted). result->converged: both
+ * tolerances met (0: the evaluation limit stopped it). x is updated in place with the best
  * vertex. Deterministic (ties keep the older vertex first). Returns HK_ERR_INVALID for
  * bad arguments and HK_ERR_NUMERIC when f was NaN or +inf everywhere it was tried (x
  * is then left at the start). Never allocates. */
-HK_API hk_Status hk_nelder_mead_minimize(int n, double *x, const double *scale, hk_CostFn f,
-                                         void *user, const hk_NelderMeadOptions *options,
-                                         hk_NelderMeadResult *result, hk_Error *err);
+HK_API hk_Status hk_nelder_mead_minimize(int n, double *x, const double *scale, hk_ObjectiveFn f,
+                                         void *user, const hk_NelderMeadDef *options,
+                                         hk_MinimizeResult *result, hk_Error *err);
 
 /* ---- Levenberg-Marquardt (src/helicoid/least_squares.c) ------------------------------ */
 
@@ -107,25 +99,18 @@ HK_API hk_Status hk_nelder_mead_minimize(int n, double *x, const double *scale, 
 
 /* Residuals: writes the m values r(x); returns 0, or non-zero where r is undefined (the
  * step is then rejected, like one that does not lower the cost). */
-typedef int (*hk_ResidualFn)(const double *x, double *residuals, void *user);
+typedef int (*hk_ResidualFn)(void *user, const double *x, double *residuals);
 
-typedef struct hk_LeastSquaresOptions {
+typedef struct hk_LeastSquaresDef {
     long max_evaluations; /* hard limit on calls of r (>= n + 2) */
     double x_tolerance;   /* stop when every |step_j| <= x_tolerance * |scale_j| ... */
     double f_tolerance;   /* ... or two accepted steps in a row each lowered the cost by
                              <= f_tolerance * cost ... */
     double g_tolerance;   /* ... or max_j |g_j scale_j| <= g_tolerance * cost (g = J^T r) */
-} hk_LeastSquaresOptions;
+} hk_LeastSquaresDef;
 
 /* 400 evaluations, x_tolerance 1e-10, f_tolerance 1e-12, g_tolerance 1e-14. */
-HK_API hk_LeastSquaresOptions hk_default_least_squares_options(void);
-
-typedef struct hk_LeastSquaresResult {
-    double cost;      /* sum r_i^2 / 2 at the returned x */
-    int iterations;   /* trial steps */
-    long evaluations; /* calls of r, the Jacobian's included */
-    int converged;    /* 1: a tolerance was met; 0: the evaluation limit stopped it */
-} hk_LeastSquaresResult;
+HK_API hk_LeastSquaresDef hk_default_least_squares_def(void);
 
 /* Doubles of work memory for n parameters and m residuals. */
 #define HK_LEAST_SQUARES_WORK(n, m) ((size_t)(m) * ((size_t)(n) + 3))
@@ -134,12 +119,14 @@ typedef struct hk_LeastSquaresResult {
  * Levenberg-Marquardt with a forward-difference Jacobian (step sqrt(eps) times
  * max(|x_j|, |scale_j|)), Marquardt's diagonal scaling and Nielsen's damping update.
  * x is updated in place with the best point found (never worse than the start).
+ * result->f is the cost sum r_i^2 / 2 and result->converged says a tolerance was met (0:
+ * the evaluation limit stopped it).
  * `work` holds HK_LEAST_SQUARES_WORK(n, m) doubles. Deterministic; never allocates.
  * HK_ERR_INVALID for bad arguments, HK_ERR_NUMERIC when r is undefined at the start. */
 HK_API hk_Status hk_least_squares_minimize(int n, int m, double *x, const double *scale,
                                            hk_ResidualFn f, void *user,
-                                           const hk_LeastSquaresOptions *options, double *work,
-                                           hk_LeastSquaresResult *result, hk_Error *err);
+                                           const hk_LeastSquaresDef *options, double *work,
+                                           hk_MinimizeResult *result, hk_Error *err);
 
 /* ---- curve models ------------------------------------------------------------------- */
 
@@ -207,7 +194,7 @@ HK_API hk_Status hk_curve_resample_arc(const hk_Vec3 *points, int count, int sam
 #define HK_CURVEFIT_MAX_PIECES 64
 #define HK_CURVEFIT_MAX_PARAMS 8
 /* The coupling is O(samples^2) per evaluation: longer polylines are resampled (see
- * hk_CurveFitOptions.samples) rather than fitted at full resolution. */
+ * hk_CurveFitDef.samples) rather than fitted at full resolution. */
 #define HK_CURVEFIT_MAX_SAMPLES 4096
 
 /* How a piece's parameters are found. */
@@ -219,8 +206,8 @@ typedef enum hk_CurveFitMethod {
     HK_CURVEFIT_NELDER_MEAD = 1
 } hk_CurveFitMethod;
 
-typedef struct hk_CurveFitOptions {
-    int method;                 /* hk_CurveFitMethod */
+typedef struct hk_CurveFitDef {
+    hk_CurveFitMethod method;
     double lambda;              /* eq. (5) regularisation (m per unit of |params|), >= 0;
                                    least squares adds (lambda |params|)^2 to the mean
                                    squared distance */
@@ -274,12 +261,12 @@ typedef struct hk_CurveFitOptions {
                                    frame is refitted with a rotation of that frame (3 more
                                    Nelder-Mead parameters), for noisy captures whose first
                                    points give a poor frame; 0: keep the frame as it is */
-} hk_CurveFitOptions;
+} hk_CurveFitDef;
 
 /* lambda 1e-7 m, tolerance 0.2 mm, split_threshold 0.6, min_fragment_length 5 mm,
  * max_pieces 16, max_evaluations 1000, samples 0, restarts 1, param_tolerance 1e-5,
  * cost_tolerance 1e-8 m, use_start 0, refine_start 1. */
-HK_API hk_CurveFitOptions hk_default_curve_fit_options(void);
+HK_API hk_CurveFitDef hk_default_curve_fit_def(void);
 
 typedef struct hk_CurveFit {
     int piece_count;
@@ -324,13 +311,13 @@ HK_API void hk_curve_fit_workspace_destroy(hk_CurveFitWorkspace *ws);
 HK_API hk_Status hk_curve_fit_piecewise_ws(hk_CurveFitWorkspace *ws, const hk_Vec3 *target,
                                            int count, hk_CurveModelFn model, void *user,
                                            int param_count, const double *seed, const double *scale,
-                                           const hk_CurveFitOptions *opt, hk_CurveFit *out,
+                                           const hk_CurveFitDef *opt, hk_CurveFit *out,
                                            hk_Error *err);
 
 /* The same with a workspace of its own (one allocation per call). */
 HK_API hk_Status hk_curve_fit_piecewise(const hk_Vec3 *target, int count, hk_CurveModelFn model,
                                         void *user, int param_count, const double *seed,
-                                        const double *scale, const hk_CurveFitOptions *opt,
+                                        const double *scale, const hk_CurveFitDef *opt,
                                         hk_CurveFit *out, hk_Error *err);
 
 /* Traces a fit's chained pieces at its sample spacing into out (fit->sample_count

@@ -29,7 +29,6 @@
 
 #include "hairkit/core.h"
 #include "hairkit/export.h"
-#include "hairkit/io.h"
 #include "hairkit/motion.h"
 #include "hairkit/rod.h"
 
@@ -55,6 +54,9 @@ typedef enum hk_DynamicsStiffness {
 } hk_DynamicsStiffness;
 
 typedef enum hk_DynamicsIntegrator {
+    /* In hk_SimRunDef only: the integrator the hair simulation chooses
+     * (hk_hair_sim_def_for'); hk_DynamicsDef refuses it */
+    HK_INTEGRATOR_AUTO = -1,
     /* TR-BDF2 with Newton's iteration on every stage: second order, L-stable, every
      * force implicit, the energy guard on a still head; stable for long hair at the
      * paper's step (default) */
@@ -66,9 +68,11 @@ typedef enum hk_DynamicsIntegrator {
     HK_INTEGRATOR_LINEAR_EULER = 1
 } hk_DynamicsIntegrator;
 
-typedef struct hk_DynamicsParams {
-    double internal_friction;  /* gamma (kg m^3/s), paper 000 eq. 5d */
-    double air_drag;           /* nu (kg/(m s)), paper 000 eq. 5a */
+typedef struct hk_DynamicsDef {
+    double internal_friction;  /* gamma (kg m^3/s), paper 000 eq. 5d: visco-elastic
+                                  dissipation of the curvatures, paper: 5e-11 .. 5e-10 */
+    double air_drag;           /* nu (kg/(m s)), paper 000 eq. 5a: viscous drag of the air
+                                  at rest, paper: 5e-6 (disciplined) .. 5e-5 (fuzzy hair) */
     double friction_with;      /* body friction coefficient for the hair sliding with its
                                   scales (root first relative to the body) */
     double friction_against;   /* ... against them (tip first); paper 000 §4.2 blends the
@@ -95,7 +99,7 @@ typedef struct hk_DynamicsParams {
     int newton_iterations;     /* most Newton iterations of a stage before the step
                                   counts as failed (and is split by advance) */
     hk_DynamicsIntegrator integrator;
-} hk_DynamicsParams;
+} hk_DynamicsDef;
 
 /* What the steps of a strand have cost since its creation. */
 typedef struct hk_DynamicsStats {
@@ -110,11 +114,9 @@ typedef struct hk_DynamicsStats {
 } hk_DynamicsStats;
 
 /* Paper-range defaults: gamma 1e-10, nu 1e-5, friction 0.2 / 0.4, 5 cm/s, auto
- * quadrature, O(N) solver with the Gauss-Newton stiffness. */
-HK_API hk_DynamicsParams hk_default_dynamics_params(void);
-
-/* The same from a hairstyle's InternalFriction, AirDrag and BodyFriction. */
-HK_API hk_DynamicsParams hk_dynamics_params_for(const hk_HairstyleDef *def);
+ * quadrature, O(N) solver with the Gauss-Newton stiffness. A hairstyle file's are these
+ * with its InternalFriction, AirDrag and BodyFriction (hk_Hairstyle.dynamics). */
+HK_API hk_DynamicsDef hk_default_dynamics_def(void);
 
 /* A point force on a strand at arc length s, with its linearisation for the implicit
  * step (both matrices symmetric positive semi-definite). */
@@ -132,8 +134,8 @@ typedef struct hk_StrandDynamics hk_StrandDynamics;
  * creation are taken as head-space: every step places them with the head's motion.
  * body (may be NULL) holds the collision shapes, also in head space; it is copied. The
  * velocity starts at zero. */
-HK_API hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *params,
-                                           const hk_StrandEnv *body, hk_StrandDynamics **out,
+HK_API hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsDef *params,
+                                           const hk_StrandEnvDef *body, hk_StrandDynamics **out,
                                            hk_Error *err);
 HK_API void hk_strand_dynamics_destroy(hk_StrandDynamics *d);
 
@@ -179,10 +181,6 @@ HK_API void hk_strand_dynamics_energy(hk_StrandDynamics *d, const hk_RigidState 
  * detection and output. vel may be NULL. head as above. */
 HK_API void hk_strand_dynamics_points(hk_StrandDynamics *d, const hk_RigidState *head,
                                       const double *s, int count, hk_Vec3 *pos, hk_Vec3 *vel);
-
-/* The generalized mass matrix M(q) (3N x 3N, row-major), assembled densely, for tests
- * and diagnostics. */
-HK_API hk_Status hk_strand_dynamics_mass_matrix(hk_StrandDynamics *d, double *mass, hk_Error *err);
 
 /* Number of body contact samples that touched a shape during the last step. */
 HK_API int hk_strand_dynamics_contact_count(const hk_StrandDynamics *d);

@@ -44,7 +44,7 @@ typedef struct hk_StrandSamples {
     const hk_Vec3 *vel;
 } hk_StrandSamples;
 
-typedef struct hk_HairContactParams {
+typedef struct hk_HairContactDef {
     double distance;       /* contact distance d0 (m) > 0: the guides stand for clumps of hair of
                               this diameter; pairs are tracked while closer than 2 d0 */
     double stiffness;      /* normal penalty stiffness k (N/m) >= 0 on the overlap (d0 - d) */
@@ -65,17 +65,19 @@ typedef struct hk_HairContactParams {
                               at their closest points, so that strands side by side are held
                               along their length instead of at one point that jumps along
                               them from update to update; every update then rescans */
-} hk_HairContactParams;
+    int threads;           /* OpenMP threads of the updates and forces; <= 0: the OpenMP
+                              default (the results do not depend on it) */
+} hk_HairContactDef;
 
 /* Defaults for the guides of a human head (20 cm guides with one hair's mass per
  * length, about 6.5e-6 kg/m, dt = 1/30 s, forces treated implicitly; see
  * docs/dynamics.md, "Hair–hair contacts" for the reasoning):
  *   distance 5 mm, stiffness 0.5 N/m, damping 1e-3 N s/m, friction 1e-5 N s/m,
  *   friction_coefficient 0.3,
- *   root_exclusion 2 cm, rescan_interval 2.
+ *   root_exclusion 2 cm, rescan_interval 2, along 0, the default threads.
  * The dynamics depends on k / m, c_n / m and c_t / m: if a guide carries the mass of a
  * whole clump, scale the three coefficients by the same mass ratio. */
-HK_API hk_HairContactParams hk_default_hair_contact_params(void);
+HK_API hk_HairContactDef hk_default_hair_contact_def(void);
 
 /* One tracked pair, for reports, pictures and tests. */
 typedef struct hk_HairContactPair {
@@ -91,7 +93,7 @@ typedef struct hk_HairContactPair {
 typedef struct hk_HairContacts hk_HairContacts;
 
 /* Contacts between strand_count >= 1 guides. Fails on out-of-range parameters. */
-HK_API hk_Status hk_hair_contacts_create(int strand_count, const hk_HairContactParams *p,
+HK_API hk_Status hk_hair_contacts_create(int strand_count, const hk_HairContactDef *p,
                                          hk_HairContacts **out, hk_Error *err);
 HK_API void hk_hair_contacts_destroy(hk_HairContacts *c);
 

@@ -16,7 +16,7 @@ extern "C" {
  * arc_length = 1 (pieces are traced at arc-length spacing); and the seed and initial steps
  * of the helicoid parameters (k_T, k_N, k_B, alpha) for a strand of the given length:
  * straight to start, steps of a quarter turn over the strand's length. */
-HK_API hk_CurveFitOptions hk_helicoid_fit_options(void);
+HK_API hk_CurveFitDef hk_default_helicoid_fit_def(void);
 HK_API void hk_helicoid_fit_seed(double length, double seed[4], double scale[4]);
 
 /* Work memory of one fitting thread (no allocation per fit). */
@@ -33,7 +33,7 @@ HK_API void hk_helicoid_fitter_destroy(hk_HelicoidFitter *f);
  * model refuses pieces that turn more than a radian per sample or come within a tenth of
  * their singular axis (they describe no definite curve). */
 HK_API hk_Status hk_helicoid_fit(hk_HelicoidFitter *f, const hk_Vec3 *points, int count,
-                                 const hk_CurveFitOptions *options, hk_PHelicoid *out,
+                                 const hk_CurveFitDef *options, hk_PHelicoid *out,
                                  hk_CurveFit *fit, hk_Error *err);
 
 /* The curve model of one helicoid piece (params k_T, k_N, k_B, alpha), for curvefit.h;

@@ -51,14 +51,14 @@ typedef struct hk_HelicoidFitReport {
 } hk_HelicoidFitReport;
 
 /* Fits p-helicoids to strands index[0..count) of `hair` (hk_helicoid_fit with `options`;
- * NULL: hk_helicoid_fit_options()) into out[0..count), their figures into
+ * NULL: hk_default_helicoid_fit_def()) into out[0..count), their figures into
  * reports[0..count) (may be NULL), in parallel with one fitter per thread (threads <= 0:
  * OpenMP's default). progress (may be NULL) is told the fraction done ("fitting"), from
  * one thread. A strand of fewer than 2 or more than HK_CURVEFIT_MAX_SAMPLES points is
  * refused before any fitting; the first strand that fails (by position) gives the
  * error. */
 HK_API hk_Status hk_helicoid_fit_strands(const hk_HairFile *hair, const long *index, long count,
-                                         const hk_CurveFitOptions *options, int threads,
+                                         const hk_CurveFitDef *options, int threads,
                                          hk_ProgressFn progress, void *progress_user,
                                          hk_PHelicoid *out, hk_HelicoidFitReport *reports,
                                          hk_Error *err);
@@ -81,12 +81,12 @@ typedef struct hk_HelicoidReconstruction {
 } hk_HelicoidReconstruction;
 
 /* A full head rebuilt from sparse fits (§5.4): strands 0, every, 2 every, ... of `hair`
- * fitted (options; NULL: hk_helicoid_fit_options() with the layout above), every strand
+ * fitted (options; NULL: hk_default_helicoid_fit_def() with the layout above), every strand
  * of the hair then interpolated at its own root from those fits (power) and traced at
  * `step` into `out` (its wave phases from `seed`), and each compared with its original.
  * report may be NULL. */
 HK_API hk_Status hk_helicoid_reconstruct(const hk_HairFile *hair, long every,
-                                         const hk_CurveFitOptions *options, double power,
+                                         const hk_CurveFitDef *options, double power,
                                          double step, uint64_t seed, int threads,
                                          hk_ProgressFn progress, void *progress_user,
                                          hk_HairFile *out, hk_HelicoidReconstruction *report,

@@ -23,7 +23,7 @@ extern "C" {
 
 typedef enum hk_Shading { HK_SHADING_KAJIYA_KAY = 0, HK_SHADING_MARSCHNER = 1 } hk_Shading;
 
-typedef struct hk_RenderOptions {
+typedef struct hk_RenderDef {
     int width, height;        /* pixels of the picture (default 1200 x 900) */
     int threads;              /* 0: OpenMP's default (all cores) */
     int shadows;              /* deep opacity maps and the head's shadow map (default on) */
@@ -54,9 +54,9 @@ typedef struct hk_RenderOptions {
                                  (default 0.15) */
     hk_Vec3 background_top, background_bottom; /* vertical gradient, linear RGB */
     hk_Vec3 skin;             /* diffuse colour of the head, linear RGB */
-} hk_RenderOptions;
+} hk_RenderDef;
 
-HK_API hk_RenderOptions hk_default_render_options(void);
+HK_API hk_RenderDef hk_default_render_def(void);
 
 typedef struct hk_RenderStats {
     long long hair_fragments;  /* camera fragments kept (in front of the head) */
@@ -69,9 +69,10 @@ typedef struct hk_RenderStats {
 
 /* Renders `hair` (the strands of a cyHair file; may have no strands) over `head` (may
  * be NULL) with the colours of `visuality` into `out` (linear RGB, created here; free
- * with hk_canvas_destroy). stats may be NULL. */
+ * with hk_canvas_free). options NULL: hk_default_render_def(); visuality NULL:
+ * hk_default_visuality(); stats may be NULL. */
 HK_API hk_Status hk_render(const hk_HairFile *hair, const hk_Mesh *head,
-                           const hk_VisualityDef *visuality, const hk_RenderOptions *options,
+                           const hk_Visuality *visuality, const hk_RenderDef *options,
                            hk_Canvas *out, hk_RenderStats *stats, hk_Error *err);
 
 /* A renderer that keeps its working memory from one picture to the next: the
@@ -85,10 +86,10 @@ HK_API hk_Status hk_renderer_create(hk_Renderer **out, hk_Error *err);
 HK_API void hk_renderer_destroy(hk_Renderer *renderer);
 
 /* Renders as hk_render does, the same bytes, into the renderer's picture (options
- * NULL: hk_default_render_options(); visuality NULL: hk_default_visuality()). */
+ * NULL: hk_default_render_def(); visuality NULL: hk_default_visuality()). */
 HK_API hk_Status hk_renderer_draw(hk_Renderer *renderer, const hk_HairFile *hair,
-                                  const hk_Mesh *head, const hk_VisualityDef *visuality,
-                                  const hk_RenderOptions *options, hk_RenderStats *stats,
+                                  const hk_Mesh *head, const hk_Visuality *visuality,
+                                  const hk_RenderDef *options, hk_RenderStats *stats,
                                   hk_Error *err);
 
 /* The last picture drawn (linear RGB): valid until the next draw or destroy, empty
@@ -98,7 +99,7 @@ HK_API const hk_Canvas *hk_renderer_picture(const hk_Renderer *renderer);
 /* The camera hk_render would fit to this hair and head with these options: its target
  * and distance (for a fixed camera over the frames of an animation). */
 HK_API hk_Status hk_render_fit_camera(const hk_HairFile *hair, const hk_Mesh *head,
-                                      const hk_RenderOptions *options, hk_Vec3 *target,
+                                      const hk_RenderDef *options, hk_Vec3 *target,
                                       double *distance, hk_Error *err);
 
 /* Writes a linear-RGB picture as an 8-bit sRGB PNG (atomically). */

@@ -17,12 +17,46 @@
 #include "hairkit/collide.h"
 #include "hairkit/core.h"
 #include "hairkit/export.h"
-#include "hairkit/io.h"
 #include "hairkit/vecmath.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* Limits that keep absurd input from turning into absurd allocations or run times. */
+#define HK_MAX_ELEMENTS 1000              /* Super-Helix elements per strand */
+#define HK_MAX_SAMPLES_PER_STRAND 1000000 /* L / VisualityStep, L / CollisionStep */
+
+/* A strand as a hairstyle file describes it (thesis Appendix B; the key of each field
+ * after its colon): its elements, the section and the material of the hair, its natural
+ * helix, gravity, how it is sampled and the thesis's statics solver. */
+typedef struct hk_StrandDef {
+    int element_count;       /* N, the number of values of HairLengths */
+    double *element_lengths; /* HairLengths: l_Q for Q = 1..N (m); a hairstyle's own them
+                                (hk_hairstyle_free), a def made by hand points at the
+                                caller's */
+    double radius1;          /* HairRadius1: semi-axis a of the section along n1 (m) */
+    double radius2;          /* HairRadius2: semi-axis b of the section along n2 (m) */
+    double helix_radius;     /* HelixRadius r_h (m); 0 means straight hair */
+    double helix_step;       /* HelixStep Delta_h (m); negative gives a left-handed helix */
+    double poisson;          /* Poisson: sigma in (-1, 0.5) */
+    double young;            /* Young: E (Pa) */
+    double density;          /* Density: rho (kg/m^3) */
+    double gravity;          /* Gravity: |g| (m/s^2) */
+    hk_Vec3 gravity_dir;     /* GravityDirection: unit vector, default (0, -1, 0) */
+    double visuality_step;   /* VisualityStep: spacing of output vertices along s (m) */
+    double collision_step;   /* CollisionStep: spacing of collision samples along s (m) */
+    int max_iter;            /* MaxIter: Rosenbrock stages */
+    double epsilon;          /* Epsilon: Rosenbrock relative energy decrease per stage */
+} hk_StrandDef;
+
+/* The defaults of the hairstyle file's optional keys: VisualityStep 2.5 mm,
+ * CollisionStep 5 mm, MaxIter 20, Epsilon 1e-4, Poisson 0.48, Density 1300, Gravity 9.81
+ * along (0, -1, 0); no elements, and the required keys (radii, helix, Young) zero. */
+HK_API hk_StrandDef hk_default_strand_def(void);
+
+/* Sum of the element lengths. */
+HK_API double hk_strand_def_length(const hk_StrandDef *def);
 
 /* Mechanical constants of a strand (paper 000 eq. 5; DESIGN.md physics notes). */
 typedef struct hk_RodMaterial {
@@ -67,10 +101,10 @@ typedef struct hk_SuperHelix {
 HK_API hk_Status hk_superhelix_create(int n, const double *lengths, hk_SuperHelix **out,
                                       hk_Error *err);
 
-/* A strand as described by a hairstyle file: element lengths, material, natural helix
- * (uniform along the strand), root at `root` leaving along `dir`; q starts at q_rest. */
-HK_API hk_Status hk_superhelix_from_hairstyle(const hk_HairstyleDef *def, hk_Vec3 root, hk_Vec3 dir,
-                                              hk_SuperHelix **out, hk_Error *err);
+/* A strand as def describes it: element lengths, material, natural helix (uniform
+ * along the strand), root at `root` leaving along `dir`; q starts at q_rest. */
+HK_API hk_Status hk_superhelix_from_def(const hk_StrandDef *def, hk_Vec3 root, hk_Vec3 dir,
+                                        hk_SuperHelix **out, hk_Error *err);
 
 HK_API void hk_superhelix_destroy(hk_SuperHelix *sh);
 
@@ -103,20 +137,20 @@ HK_API void hk_superhelix_points(const hk_SuperHelix *sh, const double *q, const
 /* ---- energy ---------------------------------------------------------------------- */
 
 /* Environment of a strand for the statics energy. */
-typedef struct hk_StrandEnv {
+typedef struct hk_StrandEnvDef {
     const hk_Shape *shapes;  /* collision shapes (may be NULL when shape_count == 0) */
     int shape_count;
     double envelope_alpha;   /* envelope level in [0, 1] of this strand (thesis §4.1.2.2) */
     double collision_step;   /* CollisionStep; the strand is cut into ceil(L / step) equal
                                 pieces sampled at their midpoints (<= 0: no collisions) */
-} hk_StrandEnv;
+} hk_StrandEnvDef;
 
-HK_API hk_StrandEnv hk_default_strand_env(void);
+HK_API hk_StrandEnvDef hk_default_strand_env_def(void);
 
 /* Collision samples of the strand in env: ceil(L / collision_step) pieces (at least 1,
  * at most HK_MAX_SAMPLES_PER_STRAND) whose midpoints are sampled; 0 without shapes or
  * step. The statics energy and the dynamics' body contacts use the same samples. */
-HK_API int hk_strand_collision_sample_count(const hk_SuperHelix *sh, const hk_StrandEnv *env);
+HK_API int hk_strand_collision_sample_count(const hk_SuperHelix *sh, const hk_StrandEnvDef *env);
 
 typedef struct hk_StrandEnergy {
     double total, elastic, gravity, collision;
@@ -125,7 +159,7 @@ typedef struct hk_StrandEnergy {
 /* Scratch memory for hk_strand_energy, sized for one strand and one environment. */
 typedef struct hk_StrandWorkspace hk_StrandWorkspace;
 
-HK_API hk_Status hk_strand_workspace_create(const hk_SuperHelix *sh, const hk_StrandEnv *env,
+HK_API hk_Status hk_strand_workspace_create(const hk_SuperHelix *sh, const hk_StrandEnvDef *env,
                                             hk_StrandWorkspace **out, hk_Error *err);
 HK_API void hk_strand_workspace_destroy(hk_StrandWorkspace *ws);
 
@@ -137,23 +171,13 @@ HK_API void hk_strand_workspace_destroy(hk_StrandWorkspace *ws);
  * gradient is exact; the Hessian is exact as well (second derivatives of the
  * kinematics through every element, plus the shapes' own Hessians). O(N + samples)
  * for the gradient, O(N^2 + samples) for the Hessian. parts may be NULL. */
-HK_API double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnv *env, const double *q,
+HK_API double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, const double *q,
                                hk_StrandWorkspace *ws, double *grad, double *hess,
                                hk_StrandEnergy *parts);
 
-/* Collision sample i (0 <= i < hk_strand_collision_sample_count) as the last
- * hk_strand_energy call with this workspace and a gradient (grad or hess not NULL) found
- * it: returns 1 if it touched a shape, and then *grad is the gradient of its penalty
- * energy (w * dE/dp, with w the arc length the sample stands for) at its position, in
- * the coordinates of that call; 0 otherwise (and for every sample after a call without
- * a gradient, or hk_strand_max_penetration). The dynamics' body friction reads its
- * normal force here instead of evaluating the shapes again. Internal: not exported from
- * the shared library (no HK_API). */
-int hk_strand_workspace_contact(const hk_StrandWorkspace *ws, int i, hk_Vec3 *grad);
-
 /* Greatest depth of a collision sample inside the envelopes at coordinates q (0 when
  * no sample touches a shape), evaluated at the same samples as the energy. */
-HK_API double hk_strand_max_penetration(const hk_SuperHelix *sh, const hk_StrandEnv *env,
+HK_API double hk_strand_max_penetration(const hk_SuperHelix *sh, const hk_StrandEnvDef *env,
                                         const double *q, hk_StrandWorkspace *ws);
 
 #ifdef __cplusplus

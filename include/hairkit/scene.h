@@ -39,12 +39,12 @@ typedef enum hk_ScenePart {
  * holds its defaults (hk_default_hairstyle, hk_default_visuality) or is empty. */
 typedef struct hk_Scene {
     char *setup_path;            /* as given to hk_scene_load */
-    hk_SetupDef setup;
+    hk_Setup setup;
     unsigned parts;              /* hk_ScenePart bits read (HK_SCENE_HAIR resolved) */
-    hk_HairstyleDef style;
+    hk_Hairstyle style;
     hk_Shape *shapes;            /* the collision file's shapes, in head space */
     int shape_count;
-    hk_VisualityDef visuality;
+    hk_Visuality visuality;
     hk_Mesh head;                /* vertex_count 0 when there is none */
     hk_Mesh wick;
 } hk_Scene;
@@ -69,16 +69,16 @@ typedef struct hk_SceneHairReport {
 
 /* The scene's hair: read from LoadFile (Load true) or grown from the hairstyle, the
  * collision shapes and the wick (loaded with HK_SCENE_GROOMING) with `options` (NULL:
- * hk_default_groom_options); then written to SaveFile when the setup says Save true
+ * hk_default_groom_def); then written to SaveFile when the setup says Save true
  * (Lansink 2010, §4.2.2). `hair` is filled (free with hk_hair_free; empty on error);
  * report may be NULL. */
-HK_API hk_Status hk_scene_hair(const hk_Scene *s, const hk_GroomOptions *options, hk_HairFile *hair,
+HK_API hk_Status hk_scene_hair(const hk_Scene *s, const hk_GroomDef *options, hk_HairFile *hair,
                                hk_SceneHairReport *report, hk_Error *err);
 
 /* Renders `hair` over the scene's head with its visuality's colours (hk_render; the
- * scene loaded with HK_SCENE_RENDERING). options NULL: hk_default_render_options. */
+ * scene loaded with HK_SCENE_RENDERING). options NULL: hk_default_render_def. */
 HK_API hk_Status hk_scene_render(const hk_Scene *s, const hk_HairFile *hair,
-                                 const hk_RenderOptions *options, hk_Canvas *out,
+                                 const hk_RenderDef *options, hk_Canvas *out,
                                  hk_RenderStats *stats, hk_Error *err);
 
 #ifdef __cplusplus

@@ -10,6 +10,7 @@
 #include "hairkit/export.h"
 #include "hairkit/groom.h"
 #include "hairkit/hair_contacts.h"
+#include "hairkit/io.h"
 #include "hairkit/motion.h"
 #include "hairkit/render.h"
 
@@ -17,29 +18,34 @@
 extern "C" {
 #endif
 
-typedef struct hk_HairSimOptions {
+typedef struct hk_HairSimDef {
     int threads;                  /* OpenMP threads (<= 0: the default); results do not
                                      depend on it */
-    hk_DynamicsParams dynamics;   /* of every guide */
+    hk_DynamicsDef dynamics;   /* of every guide */
     int hair_contacts;            /* guide-guide interactions on (default 1) */
-    hk_HairContactParams contacts;
+    hk_HairContactDef contacts;
     hk_ProgressFn progress;       /* may be NULL: progress of the initial statics */
     void *progress_user;
-} hk_HairSimOptions;
+} hk_HairSimDef;
 
-/* Dynamics from the hairstyle's InternalFriction, AirDrag and BodyFriction, every guide
- * stepped by the linearly implicit Euler step with the guide-guide contacts solved
- * together (docs/dynamics.md, "Long guides on a head"), contacts with their defaults. */
-HK_API hk_HairSimOptions hk_default_hair_sim_options(const hk_HairstyleDef *style);
+/* The defaults for a hairstyle: dynamics from its InternalFriction, AirDrag and
+ * BodyFriction, every guide stepped by the linearly implicit Euler step with the
+ * guide-guide contacts solved together (docs/dynamics.md, "Long guides on a head"),
+ * contacts scaled to the mass of its strands. */
+HK_API hk_HairSimDef hk_hair_sim_def_for(const hk_Hairstyle *style);
+
+/* The same for the defaults of a hairstyle file (hk_default_hairstyle) with hair of
+ * 40 um radius and 20 cm. */
+HK_API hk_HairSimDef hk_default_hair_sim_def(void);
 
 typedef struct hk_HairSim hk_HairSim;
 
 /* Solves every guide's rest shape (the groom's statics, with the layered envelopes)
  * on the still head and sets up its dynamics. The hairstyle, shapes and wick are
- * copied or only read here. */
-HK_API hk_Status hk_hair_sim_create(const hk_HairstyleDef *style, const hk_Shape *shapes,
+ * copied or only read here. options NULL: hk_hair_sim_def_for(style). */
+HK_API hk_Status hk_hair_sim_create(const hk_Hairstyle *style, const hk_Shape *shapes,
                                     int shape_count, const hk_Mesh *wick,
-                                    const hk_HairSimOptions *options, hk_HairSim **out,
+                                    const hk_HairSimDef *options, hk_HairSim **out,
                                     hk_Error *err);
 HK_API void hk_hair_sim_destroy(hk_HairSim *sim);
 
@@ -74,14 +80,14 @@ HK_API hk_Status hk_hair_sim_settle(hk_HairSim *sim, const hk_RigidState *head, 
  * all. A pile of hair held by friction can take a few seconds to come to rest: on
  * examples/guides200 one guide still slid 0.4 mm/s after the first second and stopped
  * at about 2.3 s (docs/dynamics.md, "Contacts solved together"). */
-typedef struct hk_SettleOptions {
+typedef struct hk_SettleDef {
     double seconds;     /* at least (default 1) */
     double max_seconds; /* at most, in all (default 5; = seconds for a fixed settling) */
     double rest_speed;  /* m/s: the fastest tip at rest (default 1e-4, 0.1 mm/s) */
     int rest_steps;     /* steps in a row (default 5) */
-} hk_SettleOptions;
+} hk_SettleDef;
 
-HK_API hk_SettleOptions hk_default_settle_options(void);
+HK_API hk_SettleDef hk_default_settle_def(void);
 
 typedef struct hk_SettleReport {
     double seconds;     /* settled in all */
@@ -91,8 +97,12 @@ typedef struct hk_SettleReport {
 
 /* o NULL: the defaults; report may be NULL. */
 HK_API hk_Status hk_hair_sim_settle_until_still(hk_HairSim *sim, const hk_RigidState *head,
-                                                double dt, const hk_SettleOptions *o,
+                                                double dt, const hk_SettleDef *o,
                                                 hk_SettleReport *report, hk_Error *err);
+
+/* The threads of the next calls (options.threads; <= 0: the OpenMP default), and of the
+ * guide-guide contacts unless their own were set. The results do not depend on it. */
+HK_API void hk_hair_sim_set_threads(hk_HairSim *sim, int threads);
 
 HK_API int hk_hair_sim_guide_count(const hk_HairSim *sim);
 HK_API int hk_hair_sim_points_per_strand(const hk_HairSim *sim);
@@ -103,9 +113,10 @@ HK_API void hk_hair_sim_guides(const hk_HairSim *sim, double *out);
 /* The groom of the current frame: the guides as above and the interpolated strands
  * regrown from them (same seed: same roots and clumps every frame), kept out of the
  * body shapes where the head is at the end of the last step (docs/grooming.md). g is
- * filled (free with hk_groom_free). */
+ * filled (free with hk_groom_free). go NULL: the defaults; go->threads <= 0: the
+ * simulation's threads. */
 HK_API hk_Status hk_hair_sim_groom(const hk_HairSim *sim, const hk_Mesh *wick,
-                                   const hk_GroomOptions *go, hk_Groom *g, hk_Error *err);
+                                   const hk_GroomDef *go, hk_Groom *g, hk_Error *err);
 
 
 /* ---- a simulation written to a folder (sim_run.c, sim_files.c, sim_rebuild.c) -------
@@ -142,7 +153,7 @@ typedef struct hk_SimProgress {
 /* Called with frame 0 once the hair is at rest, then after every frame. */
 typedef void (*hk_SimProgressFn)(void *user, const hk_SimProgress *p);
 
-typedef struct hk_SimRunOptions {
+typedef struct hk_SimRunDef {
     long frames;              /* 1 to 100000 */
     double fps;               /* the time step is 1/fps */
     double preroll;           /* seconds of settling on the still head before frame 0, at
@@ -154,28 +165,29 @@ typedef struct hk_SimRunOptions {
     int full_hair;            /* also DIR/frame_kkkk.hair, every strand */
     int hair_contacts;        /* guide-guide interactions (default 1) */
     int damping;              /* internal friction and air drag (default 1) */
-    int integrator;           /* -1 (default): hk_default_hair_sim_options' (the linear
-                                 Euler step); else an hk_DynamicsIntegrator, TR-BDF2 with
-                                 the O(N) solver or the linear Euler step with the dense one */
+    hk_DynamicsIntegrator integrator; /* HK_INTEGRATOR_AUTO (default): the hair
+                                 simulation's default (the linear Euler step); else TR-BDF2
+                                 with the O(N) solver or the linear Euler step with the
+                                 dense one */
     int video;                /* DIR/hair.mp4 with ffmpeg when installed (default 1) */
     int threads;              /* <= 0: all cores; the files do not depend on it */
     uint64_t seed;            /* of the interpolation */
     const hk_HeadMotion *motion; /* NULL: still */
-    hk_RenderOptions render;  /* camera_distance <= 0: fixed at the first frame's fit */
+    hk_RenderDef render;  /* camera_distance <= 0: fixed at the first frame's fit */
     hk_ProgressFn statics_progress; /* may be NULL: the guides' rest shapes */
     void *statics_user;
     hk_SimProgressFn progress;      /* may be NULL */
     void *progress_user;
-} hk_SimRunOptions;
+} hk_SimRunDef;
 
-HK_API hk_SimRunOptions hk_default_sim_run_options(void);
+HK_API hk_SimRunDef hk_default_sim_run_def(void);
 
 /* Loads the setup, solves the guides at rest, settles them, and writes every frame to
  * dir (made if missing; files of an earlier run removed first, see
  * hk_simulation_clean_folder) with DIR/simulation.txt. p (may be NULL) gets the final
  * figures. */
 HK_API hk_Status hk_simulation_run(const char *setup_path, const char *dir,
-                                   const hk_SimRunOptions *options, hk_SimProgress *p,
+                                   const hk_SimRunDef *options, hk_SimProgress *p,
                                    hk_Error *err);
 
 /* Removes from dir the files a simulation writes, and only them: frame_kkkk.png,

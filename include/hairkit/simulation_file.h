@@ -52,10 +52,6 @@ HK_API hk_Status hk_simulation_manifest_save(const char *path, const hk_Simulati
                                              hk_Error *err);
 HK_API void hk_simulation_manifest_free(hk_SimulationManifest *m);
 
-/* FNV-1a 64 of a file's bytes ("path: cannot read" when it cannot be read). Internal:
- * not exported from the shared library (no HK_API). */
-hk_Status hk_file_fingerprint(const char *path, uint64_t *out, hk_Error *err);
-
 #ifdef __cplusplus
 }
 #endif

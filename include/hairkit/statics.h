@@ -10,6 +10,7 @@
 
 #include "hairkit/core.h"
 #include "hairkit/export.h"
+#include "hairkit/optimize.h"
 #include "hairkit/rod.h"
 
 #ifdef __cplusplus
@@ -18,26 +19,18 @@ extern "C" {
 
 /* ---- generic minimisers ------------------------------------------------------- */
 
-/* Objective without derivatives: returns f(x) for x of the size given to the solver. */
-typedef double (*hk_ObjectiveFn)(const double *x, void *user);
+/* hk_ObjectiveFn and hk_MinimizeResult: hairkit/optimize.h. */
 
-typedef struct hk_MinimizeResult {
-    double f;          /* objective at the returned x */
-    int iterations;    /* Rosenbrock: stages; Newton: Newton steps */
-    long evaluations;  /* objective evaluations (Newton: with derivatives or not) */
-    int converged;     /* 1 if the stopping test was met, 0 if a limit stopped it */
-} hk_MinimizeResult;
-
-typedef struct hk_RosenbrockOptions {
+typedef struct hk_RosenbrockDef {
     int max_stages;        /* MaxIter of the hairstyle file */
     double epsilon;        /* stop when a stage lowers f by <= epsilon * |f| */
     double initial_step;   /* trial step length at the start of every stage */
     double alpha;          /* step growth after a success (Rosenbrock 1960: 3) */
     double beta;           /* step shrink after a failure (Rosenbrock 1960: 0.5) */
     long max_evaluations;  /* safety limit on objective evaluations (<= 0: none) */
-} hk_RosenbrockOptions;
+} hk_RosenbrockDef;
 
-HK_API hk_RosenbrockOptions hk_default_rosenbrock_options(void);
+HK_API hk_RosenbrockDef hk_default_rosenbrock_def(void);
 
 /* Rosenbrock's rotating-coordinates direct search (Rosenbrock 1960) with Palmer's
  * (1969) orthonormalisation of the new directions, as described in thesis §4.1.3.2-3.
@@ -45,28 +38,22 @@ HK_API hk_RosenbrockOptions hk_default_rosenbrock_options(void);
  * has had a success followed by a failure; then the directions are rotated so that
  * xi_1 points along the stage's total advance. x (size n) is updated in place. */
 HK_API hk_Status hk_rosenbrock_minimize(int n, double *x, hk_ObjectiveFn f, void *user,
-                                        const hk_RosenbrockOptions *options,
+                                        const hk_RosenbrockDef *options,
                                         hk_MinimizeResult *result, hk_Error *err);
-
-/* Palmer's orthonormalisation step on its own, for tests (internal: not exported from
- * the shared library, no HK_API): given the n orthonormal directions xi (row-major
- * n x n, row i = direction i) and the stage advances d[0..n), writes the new orthonormal
- * directions into xi_new. */
-void hk_rosenbrock_palmer_directions(int n, const double *xi, const double *d, double *xi_new);
 
 /* Objective with derivatives: returns f(x); fills grad (n) and hess (n x n, row-major)
  * when they are not NULL. */
-typedef double (*hk_DerivFn)(const double *x, double *grad, double *hess, void *user);
+typedef double (*hk_DerivFn)(void *user, const double *x, double *grad, double *hess);
 
-typedef struct hk_NewtonOptions {
+typedef struct hk_NewtonDef {
     int max_iterations;   /* Newton steps (accepted or not) */
     double tolerance;     /* stop when the Newton decrement g.H^-1.g / 2 <= tolerance * scale */
     double energy_scale;  /* `scale` above; <= 0 uses max(|f|, tiny) */
     double max_step;      /* > 0: no step moves a variable by more than max_step units */
     const double *step_unit; /* the unit of each variable for max_step (NULL: 1) */
-} hk_NewtonOptions;
+} hk_NewtonDef;
 
-HK_API hk_NewtonOptions hk_default_newton_options(void);
+HK_API hk_NewtonDef hk_default_newton_def(void);
 
 /* Newton's method: steps (H + mu D) p = -g with D a positive diagonal metric (NULL:
  * the identity) and mu the smallest damping that makes H + mu D positive definite,
@@ -74,25 +61,25 @@ HK_API hk_NewtonOptions hk_default_newton_options(void);
  * strands far from rest, quadratically convergent near the minimum. x (size n) is
  * updated in place. */
 HK_API hk_Status hk_newton_minimize(int n, double *x, hk_DerivFn f, void *user,
-                                    const double *metric, const hk_NewtonOptions *options,
+                                    const double *metric, const hk_NewtonDef *options,
                                     hk_MinimizeResult *result, hk_Error *err);
 
 /* ---- strand statics --------------------------------------------------------------- */
 
 typedef enum hk_SolverKind { HK_SOLVER_NEWTON = 0, HK_SOLVER_ROSENBROCK = 1 } hk_SolverKind;
 
-typedef struct hk_StaticsOptions {
+typedef struct hk_StaticsDef {
     hk_SolverKind solver;
-    hk_RosenbrockOptions rosenbrock; /* for HK_SOLVER_ROSENBROCK */
-    hk_NewtonOptions newton;         /* for HK_SOLVER_NEWTON */
-} hk_StaticsOptions;
+    hk_RosenbrockDef rosenbrock; /* for HK_SOLVER_ROSENBROCK */
+    hk_NewtonDef newton;         /* for HK_SOLVER_NEWTON */
+} hk_StaticsDef;
 
 /* Newton by default; Rosenbrock settings from the thesis defaults (MaxIter 20,
  * Epsilon 1e-4). */
-HK_API hk_StaticsOptions hk_default_statics_options(void);
+HK_API hk_StaticsDef hk_default_statics_def(void);
 
-/* Rosenbrock settings of a hairstyle file (MaxIter, Epsilon) and its initial step. */
-HK_API hk_RosenbrockOptions hk_rosenbrock_options_for(const hk_HairstyleDef *def);
+/* Rosenbrock settings of a strand (MaxIter, Epsilon) and its initial step. */
+HK_API hk_RosenbrockDef hk_rosenbrock_def_for(const hk_StrandDef *def);
 
 /* Name of a solver for messages ("newton", "rosenbrock"); parse back with
  * hk_solver_from_name (returns -1 for an unknown name). */
@@ -101,8 +88,8 @@ HK_API int hk_solver_from_name(const char *name);
 
 /* Finds the rest shape of the strand: minimises hk_strand_energy over sh->q starting
  * from the current sh->q. On success sh->q holds the minimiser. */
-HK_API hk_Status hk_statics_solve(hk_SuperHelix *sh, const hk_StrandEnv *env,
-                                  const hk_StaticsOptions *options, hk_MinimizeResult *result,
+HK_API hk_Status hk_statics_solve(hk_SuperHelix *sh, const hk_StrandEnvDef *env,
+                                  const hk_StaticsDef *options, hk_MinimizeResult *result,
                                   hk_Error *err);
 
 #ifdef __cplusplus

@@ -1,6 +1,7 @@
 /* Collision shapes' penetration depth and envelope penalty, exact derivatives (thesis 004 §4.1.2). */
 #include <float.h>
 
+#include "collide/collide_internal.h"
 #include "hairkit/collide.h"
 
 /* A point closer to the centre than this fraction of the smallest radius counts as
@@ -153,11 +154,11 @@ double hk_shape_dent(const hk_Shape *shape, hk_Vec3 p, hk_Vec3 *grad, hk_Mat3 *h
     return dent_at(shape, d, hk_v3_norm2(d), grad, hess);
 }
 
-/* The quick rejection of hk_Shape.bound, on squares so no sqrt is spent on the
+/* The quick rejection of hk_shape_bound, on squares so no sqrt is spent on the
  * (common) far points. */
 static int out_of_reach(const hk_Shape *s, double extra, double q2)
 {
-    const double reach = s->bound + SQRT3 * fabs(extra);
+    const double reach = hk_shape_bound(s) + SQRT3 * fabs(extra);
     return q2 > reach * reach;
 }
 

@@ -13,20 +13,7 @@ static hk_Shape shape_base(hk_ShapeKind kind, hk_Vec3 centre, hk_Vec3 half, cons
     s.half = half;
     s.styling = 0;
     for (int i = 0; i < 3; i++) s.axis[i] = axes ? hk_v3_normalize(axes[i]) : hk_v3_unit(i);
-    hk_shape_finish(&s);
     return s;
-}
-
-void hk_shape_finish(hk_Shape *s)
-{
-    /* For every kind, dent(p) <= R - |p - c| with R the largest radius (sphere,
-     * ellipsoid: the radial surface distance is at most the largest semi-axis) or the
-     * half-diagonal (cuboid), so |p - c| > R + |v| implies dent + extra < 0. */
-    double a = s->half.x, b = s->half.y, c = s->half.z;
-    if (s->kind == HK_SHAPE_CUBOID)
-        s->bound = sqrt(a * a + b * b + c * c);
-    else
-        s->bound = fmax(a, fmax(b, c));
 }
 
 hk_Shape hk_shape_sphere(hk_Vec3 centre, double radius, double volume, double penalty)

@@ -1,6 +1,7 @@
-/* The monotonic clock of timings and progress reports (hairkit/core.h). */
+/* The monotonic clock of timings and progress reports (core/core_internal.h). */
 #include <time.h>
 
+#include "core/core_internal.h"
 #include "hairkit/core.h"
 
 double hk_seconds_now(void)

@@ -1,5 +1,6 @@
 /* Error reporting: one formatted message per failure, carried up to the caller; the
  * first (lowest index) error of a parallel loop. */
+#include "core/core_internal.h"
 #include "hairkit/core.h"
 
 #include <stdarg.h>

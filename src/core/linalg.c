@@ -1,5 +1,5 @@
 /* Dense Cholesky factorisation for the Newton solvers (n up to a few hundred). */
-#include "hairkit/linalg.h"
+#include "core/linalg.h"
 
 #include <math.h>
 #include <stddef.h>

@@ -14,6 +14,7 @@
  * and splitting would not bring it out sooner. */
 #include <string.h>
 
+#include "collide/collide_internal.h"
 #include "dynamics_internal.h"
 
 /* Head-space positions of the samples and the tip for coordinates q: a step's end is
@@ -47,7 +48,7 @@ double hk_dynamics_largest_entry(hk_StrandDynamics *d, const double *before, con
         for (int k = 0; k < d->tip.shape_count; k++) {
             const hk_Shape *sh = &d->tip.shapes[k];
             /* beyond the shape's bound (with extra = 0) the point is outside it */
-            if (!(sh->penalty > 0.0) || hk_v3_dist(to[j], sh->centre) > sh->bound) continue;
+            if (!(sh->penalty > 0.0) || hk_v3_dist(to[j], sh->centre) > hk_shape_bound(sh)) continue;
             const double dent = hk_shape_dent(sh, to[j], NULL, NULL);
             if (!(dent > entry)) continue;
             /* felt at the start: the penalty was on */

@@ -113,7 +113,7 @@ int hk_body_contact_friction(const hk_BodyContact *bc, const hk_RigidState *head
  * each, one block. */
 struct hk_StrandDynamics {
     hk_SuperHelix *sh;
-    hk_DynamicsParams params;
+    hk_DynamicsDef params;
     hk_Vec3 root_head;   /* root in head space */
     hk_Mat3 frame_head;  /* root frame in head space */
     hk_Shape *shapes;    /* body shapes (head space), owned copy */
@@ -123,7 +123,7 @@ struct hk_StrandDynamics {
     hk_Shape *tip_shapes;
     int contact_samples; /* collision samples along the strand (0: no body) */
     int contact_count;   /* samples in contact during the last evaluation */
-    hk_StrandEnv potential_env; /* no shapes: elastic + gravity */
+    hk_StrandEnvDef potential_env; /* no shapes: elastic + gravity */
     hk_StrandWorkspace *ws;
     double *v;           /* generalized velocity q' */
     double *delta;       /* Newton correction of the velocity */
@@ -159,7 +159,7 @@ struct hk_StrandDynamics {
     /* HK_STIFFNESS_FULL: the potential with the body's penalty; its Hessian, then G+
      * (the positive part of the geometric stiffness, kept between refreshes); the
      * Cholesky factor / eigenvectors; eigenvalues and work (2 x 3N) */
-    hk_StrandEnv body_env;
+    hk_StrandEnvDef body_env;
     hk_StrandWorkspace *ws_body;
     double *hess, *hess_pos, *factor, *metric;
     int hess_pos_valid;
@@ -278,5 +278,9 @@ int hk_dynamics_reverse_factor(const hk_StrandDynamics *d, double *u);
 void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head, const double *rates,
                                  const double *s, int count, double *screws, double *jac, hk_Vec3 *pos,
                                  hk_Vec3 *vel, int *element);
+
+/* The generalized mass matrix M(q) (3N x 3N, row-major), assembled densely, for tests
+ * and diagnostics. */
+hk_Status hk_strand_dynamics_mass_matrix(hk_StrandDynamics *d, double *mass, hk_Error *err);
 
 #endif

@@ -294,13 +294,13 @@ hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
     /* Pairs of entries sharing a cell, buckets in parallel: each thread keeps its own
      * candidates; they are sorted into one order afterwards, so what a thread found
      * does not matter, only what all found. */
-    const int threads = omp_get_max_threads();
+    const int threads = hk_hc_threads(c);
     if (reserve_threads(g, threads, err) != HK_OK) return HK_ERR_NOMEM;
     for (int t = 0; t < threads; t++) g->found[t].count = 0;
     int failed = 0;
     long evaluations = 0;
     const long buckets = (long)table;
-#pragma omp parallel for schedule(dynamic, 256) reduction(+ : evaluations) reduction(| : failed)
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : evaluations) reduction(| : failed) num_threads(threads)
     for (long bucket = 0; bucket < buckets; bucket++) {
         Found *out = &g->found[omp_get_thread_num()];
         const size_t begin = bucket == 0 ? 0 : start[bucket - 1], end = start[bucket];
@@ -365,7 +365,7 @@ hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
     const long long band_rank = hk_hc_rank(band2, metric.quantum);
     const int count = c->candidate_count;
     const int strands = c->strand_count;
-#pragma omp parallel for schedule(dynamic, 8)
+#pragma omp parallel for schedule(dynamic, 8) num_threads(threads)
     for (int i = 0; i < strands; i++)
         for (int a = c->views[i].first; a <= c->views[i].count - 2; a++) mark_minima(c, i, a, &metric, band_rank, g->is_min);
     for (int k = 0; k < count; k++)

@@ -41,7 +41,7 @@ static hk_Vec3 fallback_normal(hk_Vec3 d1, hk_Vec3 d2)
 static void pair_contact(const hk_HairContacts *c, const hk_HcPair *p, hk_HcContact *out)
 {
     const hk_HcStrand *si = &c->views[p->i], *sj = &c->views[p->j];
-    const hk_HairContactParams *pr = &c->p;
+    const hk_HairContactDef *pr = &c->p;
     memset(out, 0, sizeof *out);
     out->force_index[0] = out->force_index[1] = -1;
     out->point[0] = lerp(si->pos[p->a], si->pos[p->a + 1], p->u);
@@ -102,7 +102,7 @@ hk_Status hk_hc_forces(hk_HairContacts *c, hk_Error *err)
         c->contacts = grown;
         c->contact_cap = n;
     }
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(hk_hc_threads(c))
     for (int k = 0; k < n; k++) pair_contact(c, &c->pairs[k], &c->contacts[k]);
     c->contact_count = 0;
     memset(c->force_start, 0, (size_t)(g + 1) * sizeof *c->force_start);
@@ -139,7 +139,7 @@ hk_Status hk_hc_forces(hk_HairContacts *c, hk_Error *err)
             keys[slot].record = 2 * k + side;
         }
     }
-#pragma omp parallel for schedule(dynamic, 16)
+#pragma omp parallel for schedule(dynamic, 16) num_threads(hk_hc_threads(c))
     for (int s = 0; s < g; s++) {
         const int begin = c->force_start[s], count = c->force_start[s + 1] - begin;
         if (count > 1) qsort(keys + begin, (size_t)count, sizeof *keys, force_key_cmp);

@@ -187,7 +187,7 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Strand
     }
     /* Each strand's points alone: a pair's slot[0] and slot[1] are set by the loops of
      * its two strands. */
-    #pragma omp parallel for schedule(dynamic, 8)
+    #pragma omp parallel for schedule(dynamic, 8) num_threads(hk_hc_threads(c))
     for (int s = 0; s < g; s++) {
         const int begin = cs->slot_start[s], count = cs->slot_start[s + 1] - begin;
         if (count > 1) qsort(slot + begin, (size_t)count, sizeof(Slot), slot_cmp);
@@ -548,9 +548,9 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
 {
     PairState *pairs = cs->pairs.items;
     const PairState *old = cs->old_pairs.items;
-    const hk_HairContactParams *p = &c->p;
+    const hk_HairContactDef *p = &c->p;
     const hk_Vec3 *vel = cs->vel.items;
-    #pragma omp parallel for schedule(static)
+    #pragma omp parallel for schedule(static) num_threads(hk_hc_threads(c))
     for (int k = 0; k < c->pair_count; k++) {
         PairState *ps = &pairs[k];
         const hk_HcPair *hp = &c->pairs[k];
@@ -659,6 +659,7 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
         return hk_error_set(err, HK_ERR_INVALID, "contact solve: %d strands, expected %d", strand_count,
                             cs->strand_count);
     if (!(dt > 0.0) || !isfinite(dt)) return hk_error_set(err, HK_ERR_INVALID, "contact solve: step %g s", dt);
+    const int threads = hk_hc_threads(contacts);
     hk_Status st = layout(cs, contacts, dyn, err);
     if (st != HK_OK) {
         memset(cs->slot_start, 0, (size_t)(strand_count + 1) * sizeof(int));
@@ -666,15 +667,15 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
         return st;
     }
     cs->dyn = dyn;
-    #pragma omp parallel for schedule(dynamic, 2)
+    #pragma omp parallel for schedule(dynamic, 2) num_threads(threads)
     for (int s = 0; s < strand_count; s++) predict(cs, dyn[s], s, head_end, dt);
     prepare_pairs(cs, contacts, dt);
-    #pragma omp parallel for schedule(dynamic, 2)
+    #pragma omp parallel for schedule(dynamic, 2) num_threads(threads)
     for (int s = 0; s < strand_count; s++) answer_points(cs, dyn[s], s);
     PairState *pairs = cs->pairs.items;
     const int n = contacts->pair_count;
     const char *answered = cs->answered.items;
-    #pragma omp parallel for schedule(static)
+    #pragma omp parallel for schedule(static) num_threads(threads)
     for (int k = 0; k < n; k++) {
         const int strand[2] = {contacts->pairs[k].i, contacts->pairs[k].j};
         if (answered[pairs[k].slot[0]] == ANSWERED && answered[pairs[k].slot[1]] == ANSWERED)
@@ -720,7 +721,7 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
         ps->lambda = next;
     }
     /* The reversed strands' velocity changes from w = U^T dv: U^T dv = w, forward. */
-    #pragma omp parallel for schedule(static)
+    #pragma omp parallel for schedule(static) num_threads(threads)
     for (int g = 0; g < strand_count; g++) {
         if (!cs->reversed[g]) continue;
         const size_t dim = dim_of(cs, g);
@@ -733,7 +734,7 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
         }
     }
     /* The impulses in world space, as forces held over the step. */
-    #pragma omp parallel for schedule(static)
+    #pragma omp parallel for schedule(static) num_threads(threads)
     for (int k = 0; k < n; k++) pairs[k].lambda = from_basis(pairs[k].basis, pairs[k].lambda);
     hk_PointForce *forces = cs->forces.items;
     const Slot *slot = cs->slots.items;

@@ -2,6 +2,7 @@
  * interactions"): the public API, its input checks and the schedule of the broad
  * phase (every rescan_interval updates) against the tracking of pairs in between
  * (temporal coherence, after Raghupathi et al. 2003). */
+#include <omp.h>
 #include <string.h>
 
 #include "hair_contacts_internal.h"
@@ -11,9 +12,10 @@
 #define HK_HC_MAX_SAMPLES (1 << 24)
 #define HK_HC_MAX_STRANDS (1 << 24)
 
-hk_HairContactParams hk_default_hair_contact_params(void)
+hk_HairContactDef hk_default_hair_contact_def(void)
 {
-    hk_HairContactParams p;
+    hk_HairContactDef p;
+    memset(&p, 0, sizeof p); /* along 0, the default threads */
     /* A guide stands for a clump of a few hundred hairs (paper 000 §4.2): 300 fibres
      * of 40 um radius loosely packed make a lock about 5 mm across. */
     p.distance = 0.005;
@@ -48,7 +50,7 @@ hk_HairContactParams hk_default_hair_contact_params(void)
     return p;
 }
 
-static hk_Status check_params(const hk_HairContactParams *p, hk_Error *err)
+static hk_Status check_params(const hk_HairContactDef *p, hk_Error *err)
 {
     if (!(isfinite(p->distance) && p->distance > 0.0))
         return hk_error_set(err, HK_ERR_INVALID, "hair contacts: distance must be > 0, got %g", p->distance);
@@ -72,7 +74,14 @@ static hk_Status check_params(const hk_HairContactParams *p, hk_Error *err)
     return HK_OK;
 }
 
-hk_Status hk_hair_contacts_create(int strand_count, const hk_HairContactParams *p, hk_HairContacts **out,
+int hk_hc_threads(const hk_HairContacts *c)
+{
+    return c->p.threads > 0 ? c->p.threads : omp_get_max_threads();
+}
+
+void hk_hc_set_threads(hk_HairContacts *c, int threads) { c->p.threads = threads; }
+
+hk_Status hk_hair_contacts_create(int strand_count, const hk_HairContactDef *p, hk_HairContacts **out,
                                   hk_Error *err)
 {
     if (!out) return hk_error_set(err, HK_ERR_INVALID, "hair contacts: no output pointer");
@@ -80,7 +89,7 @@ hk_Status hk_hair_contacts_create(int strand_count, const hk_HairContactParams *
     if (strand_count < 1 || strand_count > HK_HC_MAX_STRANDS)
         return hk_error_set(err, HK_ERR_INVALID, "hair contacts: strand count must be in [1, %d], got %d",
                             HK_HC_MAX_STRANDS, strand_count);
-    hk_HairContactParams params = p ? *p : hk_default_hair_contact_params();
+    hk_HairContactDef params = p ? *p : hk_default_hair_contact_def();
     hk_Status st = check_params(&params, err);
     if (st != HK_OK) return st;
     hk_HairContacts *c = hk_calloc_array(1, sizeof *c, err);

@@ -48,7 +48,7 @@ typedef struct hk_HcMetric {
     double quantum;
 } hk_HcMetric;
 
-hk_HcMetric hk_hc_metric(const hk_HairContactParams *p);
+hk_HcMetric hk_hc_metric(const hk_HairContactDef *p);
 
 /* Rank of a squared distance: floor(d2 / quantum), saturated for far pairs. */
 long long hk_hc_rank(double d2, double quantum);
@@ -84,7 +84,7 @@ typedef struct hk_HcContact {
 
 struct hk_HairContacts {
     int strand_count;
-    hk_HairContactParams p;
+    hk_HairContactDef p;
     long updates;          /* successful updates so far */
     int rescan_requested;
     int *counts;           /* sample counts seen by the last successful update */
@@ -119,6 +119,12 @@ struct hk_HairContacts {
     long distance_evaluations; /* segment-pair distances computed by the last update */
     int last_update_rescanned;
 };
+
+/* The threads of the contacts' parallel loops: p.threads, or OpenMP's default. */
+int hk_hc_threads(const hk_HairContacts *c);
+
+/* Changes the threads of the next updates (the hair simulation's own change). */
+void hk_hc_set_threads(hk_HairContacts *c, int threads);
 
 /* Appends a pair (growing the array); 0 and err filled when out of memory. */
 int hk_hc_push_pair(hk_HcPair **array, int *count, int *cap, const hk_HcPair *p, hk_Error *err);

@@ -51,7 +51,7 @@ double hk_hc_pair_distance2(const hk_HcStrand *si, int a, const hk_HcStrand *sj,
     return d2;
 }
 
-hk_HcMetric hk_hc_metric(const hk_HairContactParams *p)
+hk_HcMetric hk_hc_metric(const hk_HairContactDef *p)
 {
     hk_HcMetric m = {p->root_exclusion, ldexp(p->distance * p->distance, -40)};
     return m;
@@ -222,7 +222,7 @@ hk_Status hk_hc_track(hk_HairContacts *c, hk_Error *err)
     const int n = c->pair_count;
     /* Each walk reads the strands and writes its own pair: the result does not depend
      * on which thread does it. */
-#pragma omp parallel for schedule(static) reduction(+ : evaluations)
+#pragma omp parallel for schedule(static) reduction(+ : evaluations) num_threads(hk_hc_threads(c))
     for (int k = 0; k < n; k++) {
         hk_HcPair *p = &c->pairs[k];
         const hk_HcStrand *si = &c->views[p->i], *sj = &c->views[p->j];

@@ -11,22 +11,20 @@
 #include <string.h>
 
 #include "dynamics_internal.h"
-#include "hairkit/linalg.h"
+#include "core/linalg.h"
 #include "rod/helix_local.h"
+#include "rod/rod_internal.h"
 
-hk_DynamicsParams hk_default_dynamics_params(void)
+hk_DynamicsDef hk_default_dynamics_def(void)
 {
-    const hk_HairstyleDef def = hk_default_hairstyle();
-    return hk_dynamics_params_for(&def);
-}
-
-hk_DynamicsParams hk_dynamics_params_for(const hk_HairstyleDef *def)
-{
-    hk_DynamicsParams p;
-    p.internal_friction = def->internal_friction;
-    p.air_drag = def->air_drag;
-    p.friction_with = def->body_friction[0];
-    p.friction_against = def->body_friction[1];
+    hk_DynamicsDef p;
+    /* Paper 000 §4.2: gamma = 1e-10 fitted its curly clump (Fig. 6), nu between 5e-6
+     * (disciplined) and 5e-5 (fuzzy); we take disciplined-to-average hair. */
+    p.internal_friction = 1e-10;
+    p.air_drag = 1e-5;
+    /* Hair on skin or fabric: about 0.2 along the scales, 0.4 against them. */
+    p.friction_with = 0.2;
+    p.friction_against = 0.4;
     p.friction_velocity = 0.05;
     p.quadrature = 0;
     /* 0.3 rad per step keeps the linearised step within a few percent of the exact
@@ -74,7 +72,7 @@ void hk_strand_dynamics_destroy(hk_StrandDynamics *d)
     hk_free(d);
 }
 
-static int params_valid(const hk_DynamicsParams *p)
+static int params_valid(const hk_DynamicsDef *p)
 {
     return p->internal_friction >= 0.0 && isfinite(p->internal_friction) && p->air_drag >= 0.0 &&
            isfinite(p->air_drag) && p->friction_with >= 0.0 && isfinite(p->friction_with) &&
@@ -91,11 +89,13 @@ static int params_valid(const hk_DynamicsParams *p)
             (p->stiffness == HK_STIFFNESS_FULL && p->solver == HK_DYNAMICS_DENSE));
 }
 
-hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *params,
-                                    const hk_StrandEnv *body, hk_StrandDynamics **out,
+hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsDef *params,
+                                    const hk_StrandEnvDef *body, hk_StrandDynamics **out,
                                     hk_Error *err)
 {
     *out = NULL;
+    const hk_DynamicsDef defaults = hk_default_dynamics_def();
+    if (!params) params = &defaults;
     if (!params_valid(params))
         return hk_error_set(err, HK_ERR_INVALID,
                             "dynamics parameters out of range (friction and drag must be >= 0, "
@@ -109,7 +109,7 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *
     d->params = *params;
     d->root_head = sh->root;
     d->frame_head = sh->root_frame;
-    d->potential_env = hk_default_strand_env();
+    d->potential_env = hk_default_strand_env_def();
     hk_gauss_table_init(&d->gauss);
     /* One block for the 3N vectors (struct hk_StrandDynamics). */
     d->v = hk_calloc_array((22 + 2 * HK_ANDERSON_DEPTH + 2) * dim, sizeof(double), err);
@@ -176,7 +176,7 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsParams *
         for (int i = 0; i < body->shape_count; i++)
             if (!body->shapes[i].styling) d->tip_shapes[d->tip.shape_count++] = body->shapes[i];
     } else {
-        d->body_env = hk_default_strand_env();
+        d->body_env = hk_default_strand_env_def();
     }
     if (params->stiffness == HK_STIFFNESS_FULL) {
         /* hess, hess_pos and factor (3N)^2 each, metric (2 x 3N: eigenvalues and work) */

@@ -32,7 +32,7 @@
 #include <string.h>
 
 #include "dynamics_internal.h"
-#include "hairkit/linalg.h"
+#include "core/linalg.h"
 #include "motion_internal.h"
 
 #define HK_TRAVEL_NODES 64

@@ -11,7 +11,7 @@
 #include <string.h>
 
 #include "dynamics_internal.h"
-#include "hairkit/linalg.h"
+#include "core/linalg.h"
 
 static hk_Vec3 k_at(const double *q, int p) { return hk_v3(q[3 * p], q[3 * p + 1], q[3 * p + 2]); }
 

@@ -19,7 +19,7 @@
 #include <string.h>
 
 #include "dynamics_internal.h"
-#include "hairkit/linalg.h"
+#include "core/linalg.h"
 
 static double dot6(const double *a, const double *b)
 {

@@ -5,16 +5,19 @@
 #include "hairkit/groom.h"
 
 /* Reports progress from thread 0 only (OpenMP), at most every 1/200 of the work. */
-void hk_groom_report(const hk_GroomOptions *o, const char *stage, long done, long total);
+void hk_groom_report(const hk_GroomDef *o, const char *stage, long done, long total);
+
+/* The threads of the grooming's parallel loops: o->threads, or OpenMP's default. */
+int hk_groom_threads(const hk_GroomDef *o);
 
 /* Solves one guide per follicle; fills g->guides, g->points_per_strand, stats. */
-hk_Status hk_groom_solve_guides(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
-                                const hk_Follicles *f, const hk_GroomOptions *o, hk_Groom *g, hk_Error *err);
+hk_Status hk_groom_solve_guides(const hk_StrandDef *strand, const hk_Shape *shapes, int shape_count,
+                                const hk_Follicles *f, const hk_GroomDef *o, hk_Groom *g, hk_Error *err);
 
 /* Fills every wick triangle with interpolated strands from its three guides, kept
  * out of the body shapes among shapes[0..shape_count) when o->keep_outside is set. */
-hk_Status hk_groom_interpolate(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
-                               const hk_Mesh *wick, const hk_GroomOptions *o, hk_Groom *g, hk_Error *err);
+hk_Status hk_groom_interpolate(const hk_InterpolationDef *interp, const hk_Shape *shapes, int shape_count,
+                               const hk_Mesh *wick, const hk_GroomDef *o, hk_Groom *g, hk_Error *err);
 
 /* Keeping strands out of the body (body_projection.c). hk_groom_body_shapes copies the
  * shapes that are body (not styling) into *body (NULL when there are none; hk_free

@@ -5,23 +5,24 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/core_internal.h"
 #include "groom_internal.h"
 #include "hairkit/statics.h"
 
 /* Solves guide i and writes its samples; returns the status. */
-static hk_Status solve_one(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
+static hk_Status solve_one(const hk_StrandDef *strand, const hk_Shape *shapes, int shape_count,
                            const hk_Follicles *f, int i, int points, double *out, long *iterations,
                            int *converged, double *penetration, hk_Error *err)
 {
     hk_SuperHelix *sh;
-    hk_Status st = hk_superhelix_from_hairstyle(style, f->position[i], f->normal[i], &sh, err);
+    hk_Status st = hk_superhelix_from_def(strand, f->position[i], f->normal[i], &sh, err);
     if (st != HK_OK) return st;
-    hk_StrandEnv env = hk_default_strand_env();
+    hk_StrandEnvDef env = hk_default_strand_env_def();
     env.shapes = shapes;
     env.shape_count = shape_count;
     env.envelope_alpha = f->alpha[i];
-    env.collision_step = style->collision_step;
-    hk_StaticsOptions opt = hk_default_statics_options();
+    env.collision_step = strand->collision_step;
+    hk_StaticsDef opt = hk_default_statics_def();
     hk_MinimizeResult res;
     st = hk_statics_solve(sh, &env, &opt, &res, err);
     if (st == HK_OK) {
@@ -29,7 +30,7 @@ static hk_Status solve_one(const hk_HairstyleDef *style, const hk_Shape *shapes,
         if (!p) {
             st = HK_ERR_NOMEM;
         } else {
-            hk_superhelix_sample(sh, NULL, style->visuality_step, NULL, p, NULL);
+            hk_superhelix_sample(sh, NULL, strand->visuality_step, NULL, p, NULL);
             for (int j = 0; j < points; j++) {
                 out[3 * j] = p[j].x;
                 out[3 * j + 1] = p[j].y;
@@ -52,14 +53,14 @@ static hk_Status solve_one(const hk_HairstyleDef *style, const hk_Shape *shapes,
     return st;
 }
 
-hk_Status hk_groom_solve_guides(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
-                                const hk_Follicles *f, const hk_GroomOptions *o, hk_Groom *g, hk_Error *err)
+hk_Status hk_groom_solve_guides(const hk_StrandDef *strand, const hk_Shape *shapes, int shape_count,
+                                const hk_Follicles *f, const hk_GroomDef *o, hk_Groom *g, hk_Error *err)
 {
     /* Every guide has the same sample count: it depends on the length and step only. */
     hk_SuperHelix *probe;
-    hk_Status st = hk_superhelix_create(style->element_count, style->element_lengths, &probe, err);
+    hk_Status st = hk_superhelix_create(strand->element_count, strand->element_lengths, &probe, err);
     if (st != HK_OK) return st;
-    const int points = hk_superhelix_sample_count(probe, style->visuality_step);
+    const int points = hk_superhelix_sample_count(probe, strand->visuality_step);
     hk_superhelix_destroy(probe);
     g->points_per_strand = points;
     g->guide_count = f->count;
@@ -71,14 +72,15 @@ hk_Status hk_groom_solve_guides(const hk_HairstyleDef *style, const hk_Shape *sh
     double deepest = 0.0;
     hk_FirstError first;
     hk_first_error_init(&first);
-    #pragma omp parallel for schedule(dynamic, 4) reduction(+ : iterations, not_converged) reduction(max : deepest)
+    #pragma omp parallel for schedule(dynamic, 4) reduction(+ : iterations, not_converged) reduction(max : deepest) \
+        num_threads(hk_groom_threads(o))
     for (int i = 0; i < f->count; i++) {
         if (hk_first_error_skip(&first, i)) continue;
         long it = 0;
         int conv = 1;
         double pen = 0.0;
         hk_Error e;
-        hk_Status s = solve_one(style, shapes, shape_count, f, i, points, g->guides + (size_t)i * (size_t)points * 3,
+        hk_Status s = solve_one(strand, shapes, shape_count, f, i, points, g->guides + (size_t)i * (size_t)points * 3,
                                 &it, &conv, &pen, &e);
         if (s != HK_OK) hk_first_error_record(&first, i, &e);
         iterations += it;

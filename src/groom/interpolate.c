@@ -136,7 +136,7 @@ static double groom_bytes(double strands, double guides, double points)
  * draws as ever), as offsets into first[0..nt] when first is not NULL, and their total.
  * The counts are summed in double and checked before any conversion to an integer, so
  * that a huge or non-finite area (a wick vertex at 1e39) is an error, not an overflow. */
-static hk_Status strand_counts(const hk_HairstyleDef *style, const hk_Mesh *wick, uint64_t seed, long *first,
+static hk_Status strand_counts(const hk_InterpolationDef *interp, const hk_Mesh *wick, uint64_t seed, long *first,
                                long *total_out, hk_Error *err)
 {
     const int nt = wick->triangle_count;
@@ -144,7 +144,7 @@ static hk_Status strand_counts(const hk_HairstyleDef *style, const hk_Mesh *wick
     for (int t = 0; t < nt; t++) {
         /* HairDensity is per cm^2; stochastic rounding keeps the expected count. */
         const double area = hk_mesh_triangle_area(wick, t);
-        const double expected = area * 1e4 * style->hair_density;
+        const double expected = area * 1e4 * interp->hair_density;
         if (!isfinite(expected) || expected < 0.0)
             return hk_error_set(err, HK_ERR_INVALID, "wick triangle %d has an area of %g m^2 (not a finite size)",
                                 t + 1, area);
@@ -154,41 +154,41 @@ static hk_Status strand_counts(const hk_HairstyleDef *style, const hk_Mesh *wick
             return hk_error_set(err, HK_ERR_INVALID,
                                 "HairDensity %g over the wick's %.4g cm^2 gives more than %ld strands, the most a "
                                 "groom may have",
-                                style->hair_density, hk_mesh_area(wick) * 1e4, (long)HK_MAX_GROOM_STRANDS);
+                                interp->hair_density, hk_mesh_area(wick) * 1e4, (long)HK_MAX_GROOM_STRANDS);
     }
     if (first) first[nt] = (long)total;
     *total_out = (long)total;
     return HK_OK;
 }
 
-static hk_Status check_bytes(const hk_HairstyleDef *style, const hk_Mesh *wick, long strands, int guides, int points,
+static hk_Status check_bytes(const hk_InterpolationDef *interp, const hk_Mesh *wick, long strands, int guides, int points,
                              hk_Error *err)
 {
     char what[256];
     snprintf(what, sizeof what, "HairDensity %g over the wick's %.4g cm^2: %ld strands of %d points with their .hair",
-             style->hair_density, hk_mesh_area(wick) * 1e4, strands, points);
+             interp->hair_density, hk_mesh_area(wick) * 1e4, strands, points);
     return hk_memory_check(groom_bytes((double)strands, (double)guides, (double)points), what, err);
 }
 
-hk_Status hk_groom_check_size(const hk_HairstyleDef *style, const hk_Mesh *wick, const hk_GroomOptions *options,
-                              long *strands, hk_Error *err)
+hk_Status hk_groom_check_size(const hk_StrandDef *strand, const hk_InterpolationDef *interp, const hk_Mesh *wick,
+                              const hk_GroomDef *options, long *strands, hk_Error *err)
 {
-    const hk_GroomOptions o = options ? *options : hk_default_groom_options();
+    const hk_GroomDef o = options ? *options : hk_default_groom_def();
     long total = 0;
-    hk_Status st = strand_counts(style, wick, o.seed, NULL, &total, err);
+    hk_Status st = strand_counts(interp, wick, o.seed, NULL, &total, err);
     if (st != HK_OK) return st;
     hk_SuperHelix *probe;
-    st = hk_superhelix_create(style->element_count, style->element_lengths, &probe, err);
+    st = hk_superhelix_create(strand->element_count, strand->element_lengths, &probe, err);
     if (st != HK_OK) return st;
-    const int points = hk_superhelix_sample_count(probe, style->visuality_step);
+    const int points = hk_superhelix_sample_count(probe, strand->visuality_step);
     hk_superhelix_destroy(probe);
-    st = check_bytes(style, wick, total, wick->vertex_count, points, err);
+    st = check_bytes(interp, wick, total, wick->vertex_count, points, err);
     if (st == HK_OK && strands) *strands = total;
     return st;
 }
 
-hk_Status hk_groom_interpolate(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
-                               const hk_Mesh *wick, const hk_GroomOptions *o, hk_Groom *g, hk_Error *err)
+hk_Status hk_groom_interpolate(const hk_InterpolationDef *interp, const hk_Shape *shapes, int shape_count,
+                               const hk_Mesh *wick, const hk_GroomDef *o, hk_Groom *g, hk_Error *err)
 {
     const int nt = wick->triangle_count, points = g->points_per_strand;
     /* Strand counts per triangle, then their offsets: a serial prefix sum, so the
@@ -196,8 +196,8 @@ hk_Status hk_groom_interpolate(const hk_HairstyleDef *style, const hk_Shape *sha
     long *first = hk_alloc_array((size_t)nt + 1, sizeof(long), err);
     if (!first) return HK_ERR_NOMEM;
     long total = 0;
-    hk_Status st = strand_counts(style, wick, o->seed, first, &total, err);
-    if (st == HK_OK) st = check_bytes(style, wick, total, g->guide_count, points, err);
+    hk_Status st = strand_counts(interp, wick, o->seed, first, &total, err);
+    if (st == HK_OK) st = check_bytes(interp, wick, total, g->guide_count, points, err);
     if (st != HK_OK) {
         hk_free(first);
         return st;
@@ -242,9 +242,9 @@ hk_Status hk_groom_interpolate(const hk_HairstyleDef *style, const hk_Shape *sha
     }
     for (int j = 0; j < points; j++) {
         const double t = points > 1 ? (double)j / (points - 1) : 0.0;
-        profile[j] = style->clump_profile == 1.0 ? t : pow(t, style->clump_profile);
+        profile[j] = interp->clump_profile == 1.0 ? t : pow(t, interp->clump_profile);
     }
-    #pragma omp parallel for schedule(static)
+    #pragma omp parallel for schedule(static) num_threads(hk_groom_threads(o))
     for (int k = 0; k < g->guide_count; k++) {
         const double *guide = g->guides + (size_t)k * (size_t)points * 3;
         double *len = seg_len + (size_t)k * (size_t)points;
@@ -252,7 +252,7 @@ hk_Status hk_groom_interpolate(const hk_HairstyleDef *style, const hk_Shape *sha
         for (int j = 1; j < points; j++) len[j] = dist3(guide + 3 * j, guide + 3 * (j - 1));
     }
     long done = 0;
-    #pragma omp parallel for schedule(dynamic, 8)
+    #pragma omp parallel for schedule(dynamic, 8) num_threads(hk_groom_threads(o))
     for (int t = 0; t < nt; t++) {
         const int *tri = wick->triangles + 3 * t;
         const double *guide[3];
@@ -267,14 +267,14 @@ hk_Status hk_groom_interpolate(const hk_HairstyleDef *style, const hk_Shape *sha
         const size_t tipo = (size_t)(points - 1) * 3;
         for (int a = 0; a < 3; a++)
             for (int b = 0; b < 3; b++)
-                fades[a][b] = a == b ? 1.0 : tip_fade(dist3(guide[a] + tipo, guide[b] + tipo), style->max_tip_distance);
+                fades[a][b] = a == b ? 1.0 : tip_fade(dist3(guide[a] + tipo, guide[b] + tipo), interp->max_tip_distance);
         for (long s = first[t]; s < first[t + 1]; s++) {
             const uint64_t key = (uint64_t)(s - first[t]) * 4;
             double root[3], tip[3];
             hk_groom_root_weights(hk_rng_uniform(o->seed, STREAM_STRAND + ((uint64_t)t << 8), key),
                          hk_rng_uniform(o->seed, STREAM_STRAND + ((uint64_t)t << 8), key + 1), root);
-            hk_groom_tip_weights(root, style->clump, hk_rng_uniform(o->seed, STREAM_STRAND + ((uint64_t)t << 8), key + 2),
-                        hk_rng_uniform(o->seed, STREAM_STRAND + ((uint64_t)t << 8), key + 3), style->stray_hairs, tip);
+            hk_groom_tip_weights(root, interp->clump, hk_rng_uniform(o->seed, STREAM_STRAND + ((uint64_t)t << 8), key + 2),
+                        hk_rng_uniform(o->seed, STREAM_STRAND + ((uint64_t)t << 8), key + 3), interp->stray_hairs, tip);
             float *strand = g->strands + (size_t)s * (size_t)points * 3;
             const int near = (root[0] >= root[1] && root[0] >= root[2]) ? 0 : (root[1] >= root[2] ? 1 : 2);
             make_strand(guide, len, profile, points, root, tip, fades[near], strand);

@@ -50,7 +50,7 @@ static int trace_params(Fit *F, const double *x, hk_CurveStart *starts)
 
 /* The chain's residuals for all its parameters x: the distances of every sample to the
  * chained model and the regularisation. */
-static int chain_residuals(const double *x, double *r, void *user)
+static int chain_residuals(void *user, const double *x, double *r)
 {
     Fit *F = user;
     if (trace_params(F, x, NULL) != 0) return 1;
@@ -77,9 +77,9 @@ hk_Status hk_cf_polish_chain(Fit *F)
             x[k * F->np + j] = o->params[k][j];
             scale[k * F->np + j] = F->scale[j];
         }
-    const hk_LeastSquaresOptions lo = hk_cf_least_squares_options(F, n);
+    const hk_LeastSquaresDef lo = hk_cf_least_squares_options(F, n);
     const int m = (int)(3 * F->n) + n;
-    hk_LeastSquaresResult r;
+    hk_MinimizeResult r;
     if (hk_least_squares_minimize(n, m, x, scale, chain_residuals, F, &lo, F->ws->lsq, &r, NULL) != HK_OK) return HK_OK;
     /* The polished chain, traced once more (the minimiser's last trace may have been a
      * rejected step) with its poses. */

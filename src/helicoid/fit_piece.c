@@ -5,7 +5,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "hairkit/linalg.h"
+#include "core/linalg.h"
 #include "helicoid/piecewise_internal.h"
 
 #define M_PI_VALUE 3.14159265358979323846
@@ -60,7 +60,7 @@ int hk_cf_trace(Fit *F, const double *params, const hk_CurveStart *start, int m,
 }
 
 /* The weight of parameter j in the regularisation (options.penalty_weight, 0 = 1). */
-double hk_cf_penalty_weight(const hk_CurveFitOptions *o, int j)
+double hk_cf_penalty_weight(const hk_CurveFitDef *o, int j)
 {
     return o->penalty_weight[j] > 0.0 ? o->penalty_weight[j] : 1.0;
 }
@@ -94,7 +94,7 @@ static double coupling_error(const double *x, Fit *F)
 
 /* Eq. (5): normalised coupling + lambda |k| (the root rotation is not penalised).
  * Model failure: +inf, which Nelder-Mead never accepts. */
-static double objective(const double *x, void *user)
+static double objective(void *user, const double *x)
 {
     Fit *F = user;
     return coupling_error(x, F) + F->opt->lambda * param_norm(F, x);
@@ -149,7 +149,7 @@ static hk_Vec3 join_residual(const Fit *F, const hk_CurveStart *end)
  * mean squared distance, and lambda k_j for the regularisation (the root rotation is not
  * penalised). The model is traced at the samples' spacing, so point i of both is at arc
  * length i h: on clean data the minimum is 0 at the true parameters, as the coupling's. */
-static int residuals(const double *x, double *r, void *user)
+static int residuals(void *user, const double *x, double *r)
 {
     Fit *F = user;
     hk_CurveStart end;
@@ -173,8 +173,8 @@ static int residual_count(const Fit *F) { return 3 * F->m + F->np + (has_join(F)
 static double start_cost(const double *x, void *user)
 {
     Fit *F = user;
-    if (F->opt->method == HK_CURVEFIT_NELDER_MEAD) return objective(x, F);
-    return residuals(x, F->ws->lsq, F) != 0 ? INFINITY : 0.5 * hk_dot(F->ws->lsq, F->ws->lsq, residual_count(F));
+    if (F->opt->method == HK_CURVEFIT_NELDER_MEAD) return objective(F, x);
+    return residuals(F, x, F->ws->lsq) != 0 ? INFINITY : 0.5 * hk_dot(F->ws->lsq, F->ws->lsq, residual_count(F));
 }
 
 /* The Levenberg-Marquardt settings of the fits for nx parameters: the fit's evaluation
@@ -182,9 +182,9 @@ static double start_cost(const double *x, void *user)
  * (quadratic convergence gets there in a step or two), and a stop once the cost levels
  * off to 1e-6 of itself (on a target the model cannot follow exactly, sloppy directions
  * would otherwise be crawled along for hundreds of evaluations for no visible gain). */
-hk_LeastSquaresOptions hk_cf_least_squares_options(const Fit *F, int nx)
+hk_LeastSquaresDef hk_cf_least_squares_options(const Fit *F, int nx)
 {
-    hk_LeastSquaresOptions lo = hk_default_least_squares_options();
+    hk_LeastSquaresDef lo = hk_default_least_squares_def();
     lo.max_evaluations = F->opt->max_evaluations > nx + 2 ? F->opt->max_evaluations : nx + 2;
     lo.x_tolerance = 1e-3 * F->opt->param_tolerance;
     lo.f_tolerance = 1e-6;
@@ -194,8 +194,8 @@ hk_LeastSquaresOptions hk_cf_least_squares_options(const Fit *F, int nx)
 /* Levenberg-Marquardt over the first nx entries of x. */
 static hk_Status minimise_least_squares(Fit *F, int nx, double *x, const double *scale)
 {
-    const hk_LeastSquaresOptions lo = hk_cf_least_squares_options(F, nx);
-    hk_LeastSquaresResult r;
+    const hk_LeastSquaresDef lo = hk_cf_least_squares_options(F, nx);
+    hk_MinimizeResult r;
     return hk_least_squares_minimize(nx, residual_count(F), x, scale, residuals, F, &lo, F->ws->lsq, &r, NULL);
 }
 
@@ -206,11 +206,11 @@ static hk_Status minimise(Fit *F, int nx, double *x, const double *scale)
 {
     if (nx == 0) return HK_OK; /* nothing to choose: the model has one shape */
     if (F->opt->method == HK_CURVEFIT_LEAST_SQUARES) return minimise_least_squares(F, nx, x, scale);
-    hk_NelderMeadOptions nm;
+    hk_NelderMeadDef nm;
     nm.max_evaluations = F->opt->max_evaluations;
     nm.x_tolerance = F->opt->param_tolerance;
     nm.f_tolerance = F->opt->cost_tolerance;
-    hk_NelderMeadResult r;
+    hk_MinimizeResult r;
     hk_Status st = hk_nelder_mead_minimize(nx, x, scale, objective, F, &nm, &r, NULL);
     for (int k = 0; st == HK_OK && r.converged && k < F->opt->restarts &&
                     r.f - F->opt->lambda * param_norm(F, x) > F->opt->tolerance;

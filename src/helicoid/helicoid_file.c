@@ -12,7 +12,7 @@
 #include <string.h>
 
 #include "hairkit/helicoid_file.h"
-#include "hairkit/outfile.h"
+#include "io/outfile.h"
 #include "io/keyfile.h"
 
 void hk_helicoid_set_free(hk_HelicoidSet *set)

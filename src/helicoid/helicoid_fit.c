@@ -20,9 +20,9 @@ struct hk_HelicoidFitter {
     hk_CurveFitWorkspace *ws;
 };
 
-hk_CurveFitOptions hk_helicoid_fit_options(void)
+hk_CurveFitDef hk_default_helicoid_fit_def(void)
 {
-    hk_CurveFitOptions o = hk_default_curve_fit_options();
+    hk_CurveFitDef o = hk_default_curve_fit_def();
     o.arc_length = 1; /* the pieces are traced by RK4 or closed forms at arc-length spacing */
     return o;
 }
@@ -135,18 +135,18 @@ static void fragment_seed(void *user, const hk_Vec3 *p, int count, const hk_Curv
 }
 
 hk_Status hk_helicoid_fit(hk_HelicoidFitter *f, const hk_Vec3 *points, int count,
-                          const hk_CurveFitOptions *options, hk_PHelicoid *out, hk_CurveFit *fit,
+                          const hk_CurveFitDef *options, hk_PHelicoid *out, hk_CurveFit *fit,
                           hk_Error *err)
 {
     hk_CurveFit local;
     if (!fit) fit = &local;
-    const hk_CurveFitOptions opt = options ? *options : hk_helicoid_fit_options();
+    const hk_CurveFitDef opt = options ? *options : hk_default_helicoid_fit_def();
     double length = 0.0;
     for (int i = 1; i < count; i++) length += hk_v3_dist(points[i], points[i - 1]);
     double seed[4], scale[4];
     hk_helicoid_fit_seed(length, seed, scale);
 
-    hk_CurveFitOptions first = opt;
+    hk_CurveFitDef first = opt;
     first.fragment_seed = fragment_seed;
     /* alpha is a pitch ratio, not a curvature: weigh it as a curvature of one radian per
      * sample spacing, so that the regularisation prefers a bend in the frame's normal

@@ -2,6 +2,7 @@
  * (include/hairkit/helicoid_hair.h; Piuze, Kry and Siddiqi 2011, §3-4). */
 #include <omp.h>
 
+#include "core/core_internal.h"
 #include "hairkit/helicoid_hair.h"
 #include "hairkit/rng.h"
 

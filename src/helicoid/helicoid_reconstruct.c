@@ -5,15 +5,16 @@
 #include <omp.h>
 #include <string.h>
 
+#include "core/core_internal.h"
 #include "hairkit/helicoid_fit.h"
 #include "hairkit/helicoid_hair.h"
 
 hk_Status hk_helicoid_fit_strands(const hk_HairFile *hair, const long *index, long count,
-                                  const hk_CurveFitOptions *options, int threads, hk_ProgressFn progress,
+                                  const hk_CurveFitDef *options, int threads, hk_ProgressFn progress,
                                   void *progress_user, hk_PHelicoid *out, hk_HelicoidFitReport *reports,
                                   hk_Error *err)
 {
-    const hk_CurveFitOptions defaults = hk_helicoid_fit_options();
+    const hk_CurveFitDef defaults = hk_default_helicoid_fit_def();
     if (!options) options = &defaults;
     uint32_t longest = 2;
     for (long i = 0; i < count; i++) {
@@ -89,7 +90,7 @@ static hk_Status compare(const hk_HairFile *a, const hk_HairFile *b, double *mea
     return HK_OK;
 }
 
-hk_Status hk_helicoid_reconstruct(const hk_HairFile *hair, long every, const hk_CurveFitOptions *options,
+hk_Status hk_helicoid_reconstruct(const hk_HairFile *hair, long every, const hk_CurveFitDef *options,
                                   double power, double step, uint64_t seed, int threads, hk_ProgressFn progress,
                                   void *progress_user, hk_HairFile *out, hk_HelicoidReconstruction *report,
                                   hk_Error *err)
@@ -100,7 +101,7 @@ hk_Status hk_helicoid_reconstruct(const hk_HairFile *hair, long every, const hk_
     memset(report, 0, sizeof *report);
     if (every < 1) return hk_error_set(err, HK_ERR_INVALID, "reconstruct: one strand in %ld", every);
     if (!(step > 0.0) || !isfinite(step)) return hk_error_set(err, HK_ERR_INVALID, "reconstruct: step %g", step);
-    hk_CurveFitOptions opt = hk_helicoid_fit_options();
+    hk_CurveFitDef opt = hk_default_helicoid_fit_def();
     if (options) {
         opt = *options;
     } else {

@@ -20,13 +20,13 @@
 #include <string.h>
 
 #include "hairkit/curvefit.h"
-#include "hairkit/linalg.h"
+#include "core/linalg.h"
 
 #define NMAX HK_LEAST_SQUARES_MAX_PARAMS
 
-hk_LeastSquaresOptions hk_default_least_squares_options(void)
+hk_LeastSquaresDef hk_default_least_squares_def(void)
 {
-    hk_LeastSquaresOptions o;
+    hk_LeastSquaresDef o;
     o.max_evaluations = 400;
     o.x_tolerance = 1e-10;
     o.f_tolerance = 1e-12;
@@ -47,7 +47,7 @@ static int residuals(Run *run, const double *x, double *r)
     run->evaluations++;
     for (int j = 0; j < run->n; j++)
         if (!isfinite(x[j])) return 1;
-    if (run->f(x, r, run->user) != 0) return 1;
+    if (run->f(run->user, x, r) != 0) return 1;
     for (int i = 0; i < run->m; i++)
         if (!isfinite(r[i])) return 1;
     return 0;
@@ -102,7 +102,7 @@ static int more_damping(double *mu, double *nu)
 }
 
 static hk_Status check_args(int n, int m, const double *x, const double *scale, hk_ResidualFn f, double *work,
-                            const hk_LeastSquaresOptions *o, hk_Error *err)
+                            const hk_LeastSquaresDef *o, hk_Error *err)
 {
     if (n < 1 || n > NMAX) return hk_error_set(err, HK_ERR_INVALID, "least squares: %d parameters, expected 1..%d", n, NMAX);
     if (m < n || m > HK_LEAST_SQUARES_MAX_RESIDUALS)
@@ -122,19 +122,19 @@ static hk_Status check_args(int n, int m, const double *x, const double *scale, 
 }
 
 hk_Status hk_least_squares_minimize(int n, int m, double *x, const double *scale, hk_ResidualFn f, void *user,
-                                    const hk_LeastSquaresOptions *options, double *work,
-                                    hk_LeastSquaresResult *result, hk_Error *err)
+                                    const hk_LeastSquaresDef *options, double *work,
+                                    hk_MinimizeResult *result, hk_Error *err)
 {
-    const hk_LeastSquaresOptions o = options ? *options : hk_default_least_squares_options();
+    const hk_LeastSquaresDef o = options ? *options : hk_default_least_squares_def();
     hk_Status st = check_args(n, m, x, scale, f, work, options, err);
     if (st != HK_OK) return st;
     Run run = {n, m, f, user, 0, o.max_evaluations};
     double *r = work, *r_new = r + m, *trial = r_new + m, *jac = trial + m;
     double a[NMAX * NMAX], l[NMAX * NMAX], g[NMAX], d[NMAX], h[NMAX], x_new[NMAX];
-    hk_LeastSquaresResult res = {0.0, 0, 0, 0};
+    hk_MinimizeResult res = {0.0, 0, 0, 0};
 
     if (residuals(&run, x, r) != 0) {
-        if (result) res.evaluations = run.evaluations, res.cost = INFINITY, *result = res;
+        if (result) res.evaluations = run.evaluations, res.f = INFINITY, *result = res;
         return hk_error_set(err, HK_ERR_NUMERIC, "least squares: the residuals are not defined at the start");
     }
     double cost = half_norm2(r, m), mu = 1e-3, nu = 2.0;
@@ -200,7 +200,7 @@ hk_Status hk_least_squares_minimize(int n, int m, double *x, const double *scale
             break;
         }
     }
-    res.cost = cost;
+    res.f = cost;
     res.evaluations = run.evaluations;
     if (result) *result = res;
     return HK_OK;

@@ -29,9 +29,9 @@
 
 #define NMAX HK_NELDER_MEAD_MAX_PARAMS
 
-hk_NelderMeadOptions hk_default_nelder_mead_options(void)
+hk_NelderMeadDef hk_default_nelder_mead_def(void)
 {
-    hk_NelderMeadOptions o;
+    hk_NelderMeadDef o;
     o.max_evaluations = 2000;
     o.x_tolerance = 1e-8;
     o.f_tolerance = 1e-12;
@@ -40,7 +40,7 @@ hk_NelderMeadOptions hk_default_nelder_mead_options(void)
 
 typedef struct Run {
     int n;
-    hk_CostFn f;
+    hk_ObjectiveFn f;
     void *user;
     long evaluations;
     long max_evaluations;
@@ -53,7 +53,7 @@ static double evaluate(Run *r, const double *x)
     r->evaluations++;
     for (int j = 0; j < r->n; j++)
         if (!isfinite(x[j])) return INFINITY;
-    const double v = r->f(x, r->user);
+    const double v = r->f(r->user, x);
     return isnan(v) ? INFINITY : v;
 }
 
@@ -77,8 +77,8 @@ static void sort_order(int m, const double *fv, int *order)
     }
 }
 
-static hk_Status check_args(int n, const double *x, const double *scale, hk_CostFn f,
-                            const hk_NelderMeadOptions *o, hk_Error *err)
+static hk_Status check_args(int n, const double *x, const double *scale, hk_ObjectiveFn f,
+                            const hk_NelderMeadDef *o, hk_Error *err)
 {
     if (n < 0 || n > NMAX)
         return hk_error_set(err, HK_ERR_INVALID, "nelder-mead: %d parameters, expected 0..%d", n, NMAX);
@@ -98,10 +98,12 @@ static hk_Status check_args(int n, const double *x, const double *scale, hk_Cost
     return HK_OK;
 }
 
-hk_Status hk_nelder_mead_minimize(int n, double *x, const double *scale, hk_CostFn f, void *user,
-                                  const hk_NelderMeadOptions *options, hk_NelderMeadResult *result,
+hk_Status hk_nelder_mead_minimize(int n, double *x, const double *scale, hk_ObjectiveFn f, void *user,
+                                  const hk_NelderMeadDef *options, hk_MinimizeResult *result,
                                   hk_Error *err)
 {
+    const hk_NelderMeadDef defaults = hk_default_nelder_mead_def();
+    if (!options) options = &defaults;
     const hk_Status st = check_args(n, x, scale, f, options, err);
     if (st != HK_OK) return st;
     Run run = {n, f, user, 0, options->max_evaluations};

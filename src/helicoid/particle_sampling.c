@@ -31,6 +31,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "core/core_internal.h"
 #include "follicle_internal.h"
 #include "hairkit/follicle_sampling.h"
 #include "hairkit/rng.h"
@@ -347,7 +348,9 @@ hk_Status hk_sample_follicles(hk_ImplicitFunction fn, const hk_Vec3 *seeds, int 
                               const hk_FollicleSamplingDef *def, hk_FollicleSamples *out, hk_Error *err)
 {
     memset(out, 0, sizeof *out);
-    if (!fn.eval || !def) return hk_error_set(err, HK_ERR_INVALID, "follicle sampling needs a surface and parameters");
+    if (!fn.eval) return hk_error_set(err, HK_ERR_INVALID, "follicle sampling needs a surface");
+    const hk_FollicleSamplingDef defaults = hk_default_follicle_sampling_def();
+    if (!def) def = &defaults;
     hk_Status st = check_def(def, seeds, seed_count, err);
     if (st != HK_OK) return st;
     const int threads = def->threads > 0 ? def->threads : omp_get_max_threads();

@@ -27,9 +27,9 @@
 
 #include "helicoid/piecewise_internal.h"
 
-hk_CurveFitOptions hk_default_curve_fit_options(void)
+hk_CurveFitDef hk_default_curve_fit_def(void)
 {
-    hk_CurveFitOptions o;
+    hk_CurveFitDef o;
     memset(&o, 0, sizeof o);
     o.method = HK_CURVEFIT_LEAST_SQUARES;
     o.lambda = 1e-7;
@@ -102,7 +102,7 @@ static int frame_ok(const hk_Mat3 *q)
     return hk_v3_dot(hk_v3_cross(hk_m3_col(q, 0), hk_m3_col(q, 1)), hk_m3_col(q, 2)) > 0.0;
 }
 
-static hk_Status check_options(const hk_CurveFitOptions *o, int np, hk_Error *err)
+static hk_Status check_options(const hk_CurveFitDef *o, int np, hk_Error *err)
 {
 #define BAD(...) hk_error_set(err, HK_ERR_INVALID, "curve fit: " __VA_ARGS__)
     if (!(o->lambda >= 0.0) || !isfinite(o->lambda)) return BAD("lambda must be finite and >= 0, got %g", o->lambda);
@@ -117,7 +117,7 @@ static hk_Status check_options(const hk_CurveFitOptions *o, int np, hk_Error *er
     if (o->max_pieces < 1 || o->max_pieces > HK_CURVEFIT_MAX_PIECES)
         return BAD("max_pieces must be in 1..%d, got %d", HK_CURVEFIT_MAX_PIECES, o->max_pieces);
     if (o->method != HK_CURVEFIT_LEAST_SQUARES && o->method != HK_CURVEFIT_NELDER_MEAD)
-        return BAD("method must be HK_CURVEFIT_LEAST_SQUARES or HK_CURVEFIT_NELDER_MEAD, got %d", o->method);
+        return BAD("method must be HK_CURVEFIT_LEAST_SQUARES or HK_CURVEFIT_NELDER_MEAD, got %d", (int)o->method);
     if (o->max_evaluations < np + 1)
         return BAD("max_evaluations must be >= param_count + 1 = %d, got %d", np + 1, o->max_evaluations);
     if (o->samples != 0 && (o->samples < 2 || o->samples > HK_CURVEFIT_MAX_SAMPLES))
@@ -152,7 +152,7 @@ static hk_Status check_options(const hk_CurveFitOptions *o, int np, hk_Error *er
  * target too short for the layout gets as many pieces as it holds, at least one (a strand
  * of a head may be short, and failing the whole head for it would help nobody); with
  * piece_length, a rest shorter than that goes to the last piece. */
-static int fixed_layout(const Fit *F, const hk_CurveFitOptions *o, int *bounds)
+static int fixed_layout(const Fit *F, const hk_CurveFitDef *o, int *bounds)
 {
     const int least = F->min_points > 1 ? F->min_points - 1 : 1; /* segments of a piece */
     int count = 0;
@@ -176,16 +176,16 @@ static int fixed_layout(const Fit *F, const hk_CurveFitOptions *o, int *bounds)
     return pieces;
 }
 
-static int samples_for(const hk_CurveFitOptions *o, int count) { return o->samples ? o->samples : count; }
+static int samples_for(const hk_CurveFitDef *o, int count) { return o->samples ? o->samples : count; }
 
 hk_Status hk_curve_fit_piecewise_ws(hk_CurveFitWorkspace *ws, const hk_Vec3 *target, int count,
                                     hk_CurveModelFn model, void *user, int param_count,
                                     const double *seed, const double *scale,
-                                    const hk_CurveFitOptions *opt, hk_CurveFit *out, hk_Error *err)
+                                    const hk_CurveFitDef *opt, hk_CurveFit *out, hk_Error *err)
 {
     if (!ws || !target || !model || !out) return hk_error_set(err, HK_ERR_INVALID, "curve fit: NULL argument");
     memset(out, 0, sizeof *out);
-    const hk_CurveFitOptions defaults = hk_default_curve_fit_options();
+    const hk_CurveFitDef defaults = hk_default_curve_fit_def();
     if (!opt) opt = &defaults;
     if (param_count < 0 || param_count > MAXP)
         return hk_error_set(err, HK_ERR_INVALID, "curve fit: %d parameters, expected 0..%d", param_count, MAXP);
@@ -267,9 +267,9 @@ hk_Status hk_curve_fit_piecewise_ws(hk_CurveFitWorkspace *ws, const hk_Vec3 *tar
 
 hk_Status hk_curve_fit_piecewise(const hk_Vec3 *target, int count, hk_CurveModelFn model, void *user,
                                  int param_count, const double *seed, const double *scale,
-                                 const hk_CurveFitOptions *opt, hk_CurveFit *out, hk_Error *err)
+                                 const hk_CurveFitDef *opt, hk_CurveFit *out, hk_Error *err)
 {
-    const hk_CurveFitOptions defaults = hk_default_curve_fit_options();
+    const hk_CurveFitDef defaults = hk_default_curve_fit_def();
     const int n = samples_for(opt ? opt : &defaults, count);
     if (out) memset(out, 0, sizeof *out);
     if (count < 2) return hk_error_set(err, HK_ERR_INVALID, "curve fit: the target needs at least 2 points, got %d", count);

@@ -47,7 +47,7 @@ typedef struct Fit {
     int np;
     const double *seed;
     double scale[MAXP + ROT];
-    const hk_CurveFitOptions *opt;
+    const hk_CurveFitDef *opt;
     int n;          /* samples */
     double h;       /* their spacing */
     int min_points; /* samples of the shortest fragment a split may create */
@@ -68,7 +68,7 @@ int hk_cf_trace(Fit *F, const double *params, const hk_CurveStart *start, int m,
                 hk_CurveStart *end);
 
 /* The weight of parameter j in the regularisation (options.penalty_weight, 0 = 1). */
-double hk_cf_penalty_weight(const hk_CurveFitOptions *o, int j);
+double hk_cf_penalty_weight(const hk_CurveFitDef *o, int j);
 
 /* Least-squares rows: the 3 m distances of model and target points, weighted 1/sqrt(m)
  * (half the mean squared distance as cost), and the regularisation lambda w_j x_j of
@@ -77,7 +77,7 @@ void hk_cf_distance_residuals(const hk_Vec3 *model, const hk_Vec3 *target, int m
 void hk_cf_penalty_residuals(const Fit *F, const double *x, int count, double *r);
 
 /* The Levenberg-Marquardt settings of the fits for nx parameters. */
-hk_LeastSquaresOptions hk_cf_least_squares_options(const Fit *F, int nx);
+hk_LeastSquaresDef hk_cf_least_squares_options(const Fit *F, int nx);
 
 /* Fits samples i0..i1 from `start` (see fit_piece.c), from the seeds and hints. */
 hk_Status hk_cf_fit_piece(Fit *F, int i0, int i1, const hk_CurveStart *start, int may_refine, const Piece *hint1,

@@ -16,7 +16,7 @@
 #include <string.h>
 
 #include "follicle_internal.h"
-#include "hairkit/linalg.h"
+#include "core/linalg.h"
 
 typedef struct Reflector {
     double *v; /* n entries, zero before the reflector's index */

@@ -215,8 +215,8 @@ hk_Status hk_wick_follicles(const hk_Mesh *head, const hk_Mesh *wick, const hk_W
                             hk_FollicleSamples *out, hk_Error *err)
 {
     memset(out, 0, sizeof *out);
-    if (!wick || !def) return hk_error_set(err, HK_ERR_INVALID, "wick follicles need a wick and parameters");
-    hk_WickSamplingDef d = *def;
+    if (!wick) return hk_error_set(err, HK_ERR_INVALID, "wick follicles need a wick");
+    hk_WickSamplingDef d = def ? *def : hk_default_wick_sampling_def();
     if (!(d.spacing > 0.0) || !isfinite(d.spacing))
         return hk_error_set(err, HK_ERR_INVALID, "follicle spacing must be > 0, got %g", d.spacing);
     if (!isfinite(d.fit_spacing) || !isfinite(d.margin))

@@ -7,7 +7,7 @@
 #include <sys/stat.h>
 
 #include "hairkit/hairfile.h"
-#include "hairkit/outfile.h"
+#include "io/outfile.h"
 
 #define HEADER_SIZE 128
 

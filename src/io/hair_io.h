@@ -9,7 +9,7 @@
 
 #include "hairkit/core.h"
 #include "hairkit/hairfile.h"
-#include "hairkit/outfile.h"
+#include "io/outfile.h"
 
 /* ---- binary input ---- */
 typedef struct hk_BinIn {

@@ -60,63 +60,34 @@ static const Range poisson = {-1.0, 0.5, 1, 1, "in (-1, 0.5)"};
 static const Range hair_density = {0.0, 100000.0, 0, 0, "in [0, 100000] hairs/cm^2"};
 static const Range clump = {0.0, 1.0, 0, 1, "in [0, 1)"};
 
-hk_HairstyleDef hk_default_hairstyle(void)
+hk_Hairstyle hk_default_hairstyle(void)
 {
-    hk_HairstyleDef d;
-    memset(&d, 0, sizeof d);
-    d.visuality_step = 0.0025;
-    d.collision_step = 0.005;
-    d.max_iter = 20;
-    d.epsilon = 1e-4;
-    d.hair_density = 250.0;
-    d.poisson = 0.48;
-    d.density = 1300.0; /* real hair; the thesis's sample says 13000 (seeds README) */
-    d.gravity = 9.81;
-    d.gravity_dir = hk_v3(0.0, -1.0, 0.0);
-    d.clump = 0.25; /* the thesis's clumping (§4.1.4.4) */
-    d.clump_profile = 1.0; /* the thesis's linear root-to-tip blend */
-    d.stray_hairs = 0;
-    /* The three guides of 84 % of the default head's wick triangles end within 4 cm of
-     * each other; of the rest, most (73 of 122 triangles) hold guides that fell to
-     * different sides of the head, more than 8 cm apart. The fade from 4 to 8 cm keeps
-     * the first blended and parts the second (docs/grooming.md, "Keeping hair outside
-     * the body"). */
-    d.max_tip_distance = 0.08;
-    /* Paper 000 §4.2: gamma = 1e-10 fitted its curly clump (Fig. 6), nu between 5e-6
-     * (disciplined) and 5e-5 (fuzzy); we take disciplined-to-average hair. */
-    d.internal_friction = 1e-10;
-    d.air_drag = 1e-5;
-    /* Hair on skin or fabric: about 0.2 along the scales, 0.4 against them. */
-    d.body_friction[0] = 0.2;
-    d.body_friction[1] = 0.4;
+    hk_Hairstyle d;
+    d.strand = hk_default_strand_def();
+    d.interpolation = hk_default_interpolation_def();
+    d.dynamics = hk_default_dynamics_def();
     return d;
 }
 
-double hk_hairstyle_length(const hk_HairstyleDef *def)
-{
-    double s = 0.0;
-    for (int i = 0; i < def->element_count; i++) s += def->element_lengths[i];
-    return s;
-}
-
-void hk_hairstyle_free(hk_HairstyleDef *def)
+void hk_hairstyle_free(hk_Hairstyle *def)
 {
     if (!def) return;
-    hk_free(def->element_lengths);
+    hk_free(def->strand.element_lengths);
     *def = hk_default_hairstyle();
 }
 
-hk_Status hk_hairstyle_copy(const hk_HairstyleDef *src, hk_HairstyleDef *dst, hk_Error *err)
+hk_Status hk_hairstyle_copy(const hk_Hairstyle *src, hk_Hairstyle *dst, hk_Error *err)
 {
-    hk_HairstyleDef d = *src;
-    d.element_lengths = NULL;
-    if (src->element_count > 0) {
-        d.element_lengths = hk_alloc_array((size_t)src->element_count, sizeof(double), err);
-        if (!d.element_lengths) {
+    hk_Hairstyle d = *src;
+    d.strand.element_lengths = NULL;
+    if (src->strand.element_count > 0) {
+        d.strand.element_lengths = hk_alloc_array((size_t)src->strand.element_count, sizeof(double), err);
+        if (!d.strand.element_lengths) {
             *dst = hk_default_hairstyle();
             return HK_ERR_NOMEM;
         }
-        memcpy(d.element_lengths, src->element_lengths, (size_t)src->element_count * sizeof(double));
+        memcpy(d.strand.element_lengths, src->strand.element_lengths,
+               (size_t)src->strand.element_count * sizeof(double));
     }
     *dst = d;
     return HK_OK;
@@ -137,7 +108,7 @@ static hk_Status scalar(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, Range
     return HK_OK;
 }
 
-static hk_Status read_lengths(const hk_KeyFile *kf, const hk_KeyLine *kl, hk_HairstyleDef *d,
+static hk_Status read_lengths(const hk_KeyFile *kf, const hk_KeyLine *kl, hk_Hairstyle *d,
                               hk_Error *err)
 {
     /* Count first, then an array of exactly that size: never more than
@@ -159,34 +130,34 @@ static hk_Status read_lengths(const hk_KeyFile *kf, const hk_KeyLine *kl, hk_Hai
         hk_free(len);
         return st;
     }
-    d->element_lengths = len;
-    d->element_count = n;
+    d->strand.element_lengths = len;
+    d->strand.element_count = n;
     return HK_OK;
 }
 
-static hk_Status read_value(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, hk_HairstyleDef *d,
+static hk_Status read_value(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, hk_Hairstyle *d,
                             hk_Error *err)
 {
     switch ((enum Key)k) {
-    case K_VISUALITY_STEP: return scalar(kf, kl, k, positive, &d->visuality_step, err);
-    case K_COLLISION_STEP: return scalar(kf, kl, k, positive, &d->collision_step, err);
+    case K_VISUALITY_STEP: return scalar(kf, kl, k, positive, &d->strand.visuality_step, err);
+    case K_COLLISION_STEP: return scalar(kf, kl, k, positive, &d->strand.collision_step, err);
     case K_MAX_ITER: {
         long v = 0;
         hk_Status st = hk_keyline_int(kf, kl, 1, 1000000000L, &v, err);
-        if (st == HK_OK) d->max_iter = (int)v;
+        if (st == HK_OK) d->strand.max_iter = (int)v;
         return st;
     }
-    case K_EPSILON: return scalar(kf, kl, k, positive, &d->epsilon, err);
+    case K_EPSILON: return scalar(kf, kl, k, positive, &d->strand.epsilon, err);
     case K_LENGTHS: return read_lengths(kf, kl, d, err);
-    case K_HAIR_DENSITY: return scalar(kf, kl, k, hair_density, &d->hair_density, err);
-    case K_RADIUS1: return scalar(kf, kl, k, hair_radius, &d->radius1, err);
-    case K_RADIUS2: return scalar(kf, kl, k, hair_radius, &d->radius2, err);
-    case K_HELIX_RADIUS: return scalar(kf, kl, k, helix_radius, &d->helix_radius, err);
-    case K_HELIX_STEP: return scalar(kf, kl, k, any, &d->helix_step, err);
-    case K_POISSON: return scalar(kf, kl, k, poisson, &d->poisson, err);
-    case K_YOUNG: return scalar(kf, kl, k, positive, &d->young, err);
-    case K_DENSITY: return scalar(kf, kl, k, positive, &d->density, err);
-    case K_GRAVITY: return scalar(kf, kl, k, non_negative, &d->gravity, err);
+    case K_HAIR_DENSITY: return scalar(kf, kl, k, hair_density, &d->interpolation.hair_density, err);
+    case K_RADIUS1: return scalar(kf, kl, k, hair_radius, &d->strand.radius1, err);
+    case K_RADIUS2: return scalar(kf, kl, k, hair_radius, &d->strand.radius2, err);
+    case K_HELIX_RADIUS: return scalar(kf, kl, k, helix_radius, &d->strand.helix_radius, err);
+    case K_HELIX_STEP: return scalar(kf, kl, k, any, &d->strand.helix_step, err);
+    case K_POISSON: return scalar(kf, kl, k, poisson, &d->strand.poisson, err);
+    case K_YOUNG: return scalar(kf, kl, k, positive, &d->strand.young, err);
+    case K_DENSITY: return scalar(kf, kl, k, positive, &d->strand.density, err);
+    case K_GRAVITY: return scalar(kf, kl, k, non_negative, &d->strand.gravity, err);
     case K_GRAVITY_DIR: {
         double v[3];
         hk_Status st = hk_keyline_doubles(kf, kl, 3, v, err);
@@ -197,16 +168,16 @@ static hk_Status read_value(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, h
         if (!(m > 0.0))
             return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err,
                                     "GravityDirection must not be zero");
-        d->gravity_dir = hk_v3_normalize(hk_v3(v[0] / m, v[1] / m, v[2] / m));
+        d->strand.gravity_dir = hk_v3_normalize(hk_v3(v[0] / m, v[1] / m, v[2] / m));
         return HK_OK;
     }
-    case K_CLUMP: return scalar(kf, kl, k, clump, &d->clump, err);
-    case K_CLUMP_PROFILE: return scalar(kf, kl, k, positive, &d->clump_profile, err);
-    case K_STRAY_HAIRS: return hk_keyline_bool(kf, kl, &d->stray_hairs, err);
-    case K_MAX_TIP_DISTANCE: return scalar(kf, kl, k, non_negative, &d->max_tip_distance, err);
+    case K_CLUMP: return scalar(kf, kl, k, clump, &d->interpolation.clump, err);
+    case K_CLUMP_PROFILE: return scalar(kf, kl, k, positive, &d->interpolation.clump_profile, err);
+    case K_STRAY_HAIRS: return hk_keyline_bool(kf, kl, &d->interpolation.stray_hairs, err);
+    case K_MAX_TIP_DISTANCE: return scalar(kf, kl, k, non_negative, &d->interpolation.max_tip_distance, err);
     case K_INTERNAL_FRICTION:
-        return scalar(kf, kl, k, non_negative, &d->internal_friction, err);
-    case K_AIR_DRAG: return scalar(kf, kl, k, non_negative, &d->air_drag, err);
+        return scalar(kf, kl, k, non_negative, &d->dynamics.internal_friction, err);
+    case K_AIR_DRAG: return scalar(kf, kl, k, non_negative, &d->dynamics.air_drag, err);
     case K_BODY_FRICTION: {
         double v[2];
         hk_Status st = hk_keyline_doubles(kf, kl, 2, v, err);
@@ -216,8 +187,8 @@ static hk_Status read_value(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, h
                                     "BodyFriction needs two coefficients in [0, 10] (with and "
                                     "against the scales), got %s %s",
                                     kl->values[0], kl->values[1]);
-        d->body_friction[0] = v[0];
-        d->body_friction[1] = v[1];
+        d->dynamics.friction_with = v[0];
+        d->dynamics.friction_against = v[1];
         return HK_OK;
     }
     case K_COUNT: break;
@@ -227,10 +198,10 @@ static hk_Status read_value(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, h
 
 /* The sample counts L / step size the arrays of every strand (§4.1.4): refuse absurd
  * ones here, at the step's line (or at HairLengths' when the step is the default). */
-static hk_Status check_samples(const hk_KeyFile *kf, const hk_HairstyleDef *d, const int *line_of,
+static hk_Status check_samples(const hk_KeyFile *kf, const hk_Hairstyle *d, const int *line_of,
                                int k, double step, hk_Error *err)
 {
-    const double len = hk_hairstyle_length(d), samples = len / step;
+    const double len = hk_strand_def_length(&d->strand), samples = len / step;
     if (samples <= HK_MAX_SAMPLES_PER_STRAND) return HK_OK;
     const int given = line_of[k] != 0;
     return hk_keyfile_error(kf, given ? line_of[k] : line_of[K_LENGTHS], HK_ERR_INVALID, err,
@@ -239,25 +210,25 @@ static hk_Status check_samples(const hk_KeyFile *kf, const hk_HairstyleDef *d, c
                             HK_MAX_SAMPLES_PER_STRAND);
 }
 
-hk_Status hk_hairstyle_load(const char *path, hk_HairstyleDef *out, hk_Error *err)
+hk_Status hk_hairstyle_load(const char *path, hk_Hairstyle *out, hk_Error *err)
 {
     *out = hk_default_hairstyle();
     hk_KeyFile kf;
     hk_Status st = hk_keyfile_read(path, &kf, err);
     if (st != HK_OK) return st;
-    hk_HairstyleDef d = hk_default_hairstyle();
+    hk_Hairstyle d = hk_default_hairstyle();
     int line_of[K_COUNT];
     st = hk_keyfile_check_keys(&kf, specs, K_COUNT, "hairstyle", line_of, err);
     for (int i = 0; i < kf.line_count && st == HK_OK; i++)
         st = read_value(&kf, &kf.lines[i], hk_keyspec_find(specs, K_COUNT, kf.lines[i].key), &d,
                         err);
     if (st == HK_OK)
-        st = check_samples(&kf, &d, line_of, K_VISUALITY_STEP, d.visuality_step, err);
+        st = check_samples(&kf, &d, line_of, K_VISUALITY_STEP, d.strand.visuality_step, err);
     if (st == HK_OK)
-        st = check_samples(&kf, &d, line_of, K_COLLISION_STEP, d.collision_step, err);
+        st = check_samples(&kf, &d, line_of, K_COLLISION_STEP, d.strand.collision_step, err);
     hk_keyfile_free(&kf);
     if (st != HK_OK) {
-        hk_free(d.element_lengths);
+        hk_free(d.strand.element_lengths);
         return st;
     }
     *out = d;

@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "hairkit/mesh.h"
-#include "hairkit/outfile.h"
+#include "io/outfile.h"
 #include "keyfile.h"
 
 hk_Status hk_mesh_alloc(hk_Mesh *mesh, int vertex_count, int triangle_count, hk_Error *err)

@@ -1,7 +1,7 @@
 /* Atomic output files: temporary name in the same folder, then rename (see outfile.h);
  * symbolic links followed, FIFOs and character devices written in place, and the live
  * temporaries removed when the process is killed by SIGINT, SIGTERM, SIGHUP or SIGPIPE. */
-#include "hairkit/outfile.h"
+#include "io/outfile.h"
 
 #include <errno.h>
 #include <fcntl.h>

@@ -6,7 +6,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "hairkit/outfile.h"
+#include "io/outfile.h"
 
 typedef struct PngErr {
     jmp_buf jump;

@@ -26,7 +26,7 @@ static const hk_KeySpec specs[S_COUNT] = {
     [S_HAIR_FRAG] = {"HairFrag", NULL, 0},
 };
 
-void hk_setup_free(hk_SetupDef *d)
+void hk_setup_free(hk_Setup *d)
 {
     hk_free(d->load_file);
     hk_free(d->save_file);
@@ -39,7 +39,7 @@ void hk_setup_free(hk_SetupDef *d)
 }
 
 /* One line's value; paths[k] non-NULL for the keys that name a file. */
-static hk_Status read_value(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, hk_SetupDef *d,
+static hk_Status read_value(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, hk_Setup *d,
                             char **const paths[S_COUNT], hk_Error *err)
 {
     if (k == S_LOAD) return hk_keyline_bool(kf, kl, &d->load, err);
@@ -52,7 +52,7 @@ static hk_Status read_value(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, h
 }
 
 /* What the switches need, and files to read that exist: each message names the line. */
-static hk_Status check_needs(const hk_KeyFile *kf, const hk_SetupDef *d, char **const paths[S_COUNT],
+static hk_Status check_needs(const hk_KeyFile *kf, const hk_Setup *d, char **const paths[S_COUNT],
                              const int line_of[S_COUNT], hk_Error *err)
 {
     if (d->load && !d->load_file)
@@ -73,13 +73,13 @@ static hk_Status check_needs(const hk_KeyFile *kf, const hk_SetupDef *d, char **
     return HK_OK;
 }
 
-hk_Status hk_setup_load(const char *path, hk_SetupDef *out, hk_Error *err)
+hk_Status hk_setup_load(const char *path, hk_Setup *out, hk_Error *err)
 {
     memset(out, 0, sizeof *out);
     hk_KeyFile kf;
     hk_Status st = hk_keyfile_read(path, &kf, err);
     if (st != HK_OK) return st;
-    hk_SetupDef d;
+    hk_Setup d;
     memset(&d, 0, sizeof d);
     char **const paths[S_COUNT] = {[S_LOAD_FILE] = &d.load_file, [S_SAVE_FILE] = &d.save_file,
                                    [S_HAIRSTYLE] = &d.hairstyle, [S_COLLISION] = &d.collision,

@@ -6,7 +6,8 @@
 #include <string.h>
 
 #include "hairkit/motion.h"
-#include "hairkit/outfile.h"
+#include "io/io_internal.h"
+#include "io/outfile.h"
 #include "hairkit/simulation_file.h"
 #include "keyfile.h"
 

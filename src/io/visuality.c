@@ -4,9 +4,9 @@
 #include "hairkit/io.h"
 #include "keyfile.h"
 
-hk_VisualityDef hk_default_visuality(void)
+hk_Visuality hk_default_visuality(void)
 {
-    hk_VisualityDef v;
+    hk_Visuality v;
     v.ambient = hk_v3(0.10, 0.10, 0.10);
     v.diffuse = hk_v3(0.471, 0.235, 0.0); /* the thesis's "Brown" */
     v.specular = hk_v3(0.2, 0.2, 0.2);
@@ -36,7 +36,7 @@ static const hk_KeySpec specs[V_COUNT] = {
     [V_GLOSSINESS] = {"Glossiness", NULL, 0},
 };
 
-static hk_Status read_value(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, hk_VisualityDef *v,
+static hk_Status read_value(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, hk_Visuality *v,
                             hk_Error *err)
 {
     if (k == V_AMBIENT) return colour(kf, kl, &v->ambient, err);
@@ -49,13 +49,13 @@ static hk_Status read_value(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, h
     return st;
 }
 
-hk_Status hk_visuality_load(const char *path, hk_VisualityDef *out, hk_Error *err)
+hk_Status hk_visuality_load(const char *path, hk_Visuality *out, hk_Error *err)
 {
     *out = hk_default_visuality();
     hk_KeyFile kf;
     hk_Status st = hk_keyfile_read(path, &kf, err);
     if (st != HK_OK) return st;
-    hk_VisualityDef v = hk_default_visuality();
+    hk_Visuality v = hk_default_visuality();
     int line_of[V_COUNT];
     st = hk_keyfile_check_keys(&kf, specs, V_COUNT, "visuality", line_of, err);
     for (int i = 0; i < kf.line_count && st == HK_OK; i++)

@@ -13,7 +13,7 @@ static hk_Vec3 direction(double azimuth_deg, double elevation_deg)
 
 hk_View hk_camera_frame(const hk_Scene *scene)
 {
-    const hk_RenderOptions *o = scene->opt;
+    const hk_RenderDef *o = scene->opt;
     hk_View v;
     v.perspective = 1;
     v.width = o->width;
@@ -42,7 +42,7 @@ hk_View hk_camera_frame(const hk_Scene *scene)
     for (int pass = 0; pass < 2; pass++) {
         double dist = 1e-6;
         /* max and min are exact: the same result whatever the threads. */
-#pragma omp parallel for schedule(static) reduction(max : dist)
+#pragma omp parallel for schedule(static) reduction(max : dist) num_threads(scene->threads)
         for (long i = 0; i < n; i++) {
             const hk_Vec3 r = hk_v3_sub(SCENE_POINT(i), target);
             const double w = hk_v3_dot(r, v.forward);
@@ -57,7 +57,8 @@ hk_View hk_camera_frame(const hk_Scene *scene)
         v.distance = dist;
         if (pass == 1) break;
         double xlo = 1e300, xhi = -1e300, ylo = 1e300, yhi = -1e300;
-#pragma omp parallel for schedule(static) reduction(min : xlo, ylo) reduction(max : xhi, yhi)
+#pragma omp parallel for schedule(static) reduction(min : xlo, ylo) reduction(max : xhi, yhi) \
+    num_threads(scene->threads)
         for (long i = 0; i < n; i++) {
             const hk_Vec3 d = hk_v3_sub(SCENE_POINT(i), v.origin);
             const double z = hk_v3_dot(d, v.forward);

@@ -6,7 +6,7 @@
 
 #include "hairkit/image.h"
 
-hk_Status hk_canvas_create(int width, int height, hk_Vec3 background, hk_Canvas *out, hk_Error *err)
+hk_Status hk_canvas_alloc(int width, int height, hk_Vec3 background, hk_Canvas *out, hk_Error *err)
 {
     out->width = out->height = 0;
     out->rgb = NULL;
@@ -24,7 +24,7 @@ hk_Status hk_canvas_create(int width, int height, hk_Vec3 background, hk_Canvas 
     return HK_OK;
 }
 
-void hk_canvas_destroy(hk_Canvas *c)
+void hk_canvas_free(hk_Canvas *c)
 {
     hk_free(c->rgb);
     c->rgb = NULL;

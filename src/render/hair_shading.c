@@ -28,7 +28,7 @@ hk_Status hk_hair_shader_init(hk_HairShader *s, const hk_Scene *sc, const uint8_
      * after 2^31 pictures, rather than every picture). */
     if (s->colour_cap != kept || s->done > UINT32_MAX - 2) {
         hk_VertexColour *c = s->colour;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(sc->threads)
         for (long i = 0; i < (long)s->colour_cap; i++) atomic_init(&c[i].state, 0);
         s->done = 0;
     }
@@ -43,7 +43,7 @@ hk_Status hk_hair_shader_init(hk_HairShader *s, const hk_Scene *sc, const uint8_
         uniform = (uint64_t)h->first_point[k] == (uint64_t)k * len;
     s->strand_length = uniform ? len : 0;
     if (uniform) return HK_OK;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(sc->threads)
     for (long k = 0; k < (long)h->strand_count; k++)
         for (uint32_t i = h->first_point[k]; i < h->first_point[k + 1]; i++) s->strand_of[i] = (uint32_t)k;
     return HK_OK;
@@ -72,7 +72,7 @@ static void shade(const hk_HairShader *s, uint32_t i, float out[3])
 {
     const hk_Scene *sc = s->scene;
     const hk_HairFile *h = sc->hair;
-    const hk_RenderOptions *o = sc->opt;
+    const hk_RenderDef *o = sc->opt;
     const int has_next = s->segment_start[i], has_prev = i > 0 && s->segment_start[i - 1];
     hk_Vec3 t = hk_v3_sub(hk_hair_point(h, has_next ? i + 1 : i), hk_hair_point(h, has_prev ? i - 1 : i));
     t = hk_v3_norm(t) > 0.0 ? hk_v3_normalize(t) : hk_v3(0, 1, 0);
@@ -84,7 +84,7 @@ static void shade(const hk_HairShader *s, uint32_t i, float out[3])
         hk_light_lookup(s->maps, p, &head_visible, &opacity);
         visible = head_visible * (o->scatter_floor + (1.0 - o->scatter_floor) * exp(-opacity));
     }
-    hk_VisualityDef v = *sc->vis;
+    hk_Visuality v = *sc->vis;
     if (h->colors) v.diffuse = hk_srgb_to_linear(hk_v3(h->colors[3 * (size_t)i], h->colors[3 * (size_t)i + 1],
                                                        h->colors[3 * (size_t)i + 2]));
     hk_Vec3 lit;

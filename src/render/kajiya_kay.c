@@ -11,7 +11,7 @@
  * direction); hairkit uses the reflection cone of the paper. */
 #include "shading.h"
 
-hk_Vec3 hk_shade_kajiya_kay(hk_Vec3 t, hk_Vec3 l, hk_Vec3 e, const hk_VisualityDef *v)
+hk_Vec3 hk_shade_kajiya_kay(hk_Vec3 t, hk_Vec3 l, hk_Vec3 e, const hk_Visuality *v)
 {
     const double tl = hk_v3_dot(t, l), te = hk_v3_dot(t, e);
     const double sin_tl = sqrt(fmax(0.0, 1.0 - tl * tl)), sin_te = sqrt(fmax(0.0, 1.0 - te * te));

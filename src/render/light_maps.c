@@ -174,10 +174,10 @@ static hk_Status head_depth_map(const hk_Scene *scene, hk_LightMaps *m, hk_Error
     for (int i = 0; i < head->vertex_count; i++) proj[i] = hk_view_project(&m->view, head->positions[i]);
     HeadPass hp = {m, proj, head->triangles, NULL};
     hk_TileBins *bins = &m->bins;
-    hk_Status st = bin_head((uint32_t)head->triangle_count, &hp, NULL, NULL, m->size, m->size, bins, err);
+    hk_Status st = bin_head((uint32_t)head->triangle_count, &hp, NULL, NULL, m->size, m->size, scene->threads, bins, err);
     if (st != HK_OK) return st;
     const int tiles = bins->tiles_x * bins->tiles_y;
-#pragma omp parallel for schedule(dynamic, 1) firstprivate(hp)
+#pragma omp parallel for schedule(dynamic, 1) firstprivate(hp) num_threads(scene->threads)
     for (int k = 0; k < tiles; k++) {
         const int tile = (int)bins->heavy[k];
         const hk_Rect r = hk_tile_rect(bins, tile, m->size, m->size);
@@ -199,10 +199,10 @@ static hk_Status hair_opacity_map(const hk_Scene *scene, const uint8_t *segment_
     if (hair->point_count == 0) return HK_OK;
     if (!HK_RESERVE(m->proj, m->proj_cap, hair->point_count, err)) return HK_ERR_NOMEM;
     hk_RasterPoint *proj = m->proj;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(scene->threads)
     for (long i = 0; i < (long)hair->point_count; i++) proj[i] = hk_view_project(&m->view, hk_hair_point(hair, (uint32_t)i));
     /* Each thread's fragment buffer, kept for the next picture. */
-    const int threads = omp_get_max_threads();
+    const int threads = scene->threads;
     if (threads > m->frag_threads) {
         hk_ThreadBuffer *f = realloc(m->frag, (size_t)threads * sizeof *f);
         if (!f) return hk_error_set(err, HK_ERR_NOMEM, "out of memory in the deep opacity map");
@@ -213,12 +213,12 @@ static hk_Status hair_opacity_map(const hk_Scene *scene, const uint8_t *segment_
     memset(&lp, 0, sizeof lp);
     lp.scene = scene, lp.maps = m, lp.proj = proj, lp.segment_start = segment_start;
     const hk_TileBins *bins = &m->bins;
-    hk_Status st = bin_hair(hair->point_count, &lp, NULL, NULL, m->size, m->size, &m->bins, err);
+    hk_Status st = bin_hair(hair->point_count, &lp, NULL, NULL, m->size, m->size, scene->threads, &m->bins, err);
     if (st != HK_OK) return st;
     long long total = 0;
     int failed = 0;
     const int tiles = bins->tiles_x * bins->tiles_y;
-#pragma omp parallel firstprivate(lp) reduction(+ : total) reduction(| : failed)
+#pragma omp parallel firstprivate(lp) reduction(+ : total) reduction(| : failed) num_threads(threads)
     {
         hk_ThreadBuffer *mine = &m->frag[omp_get_thread_num()];
         lp.frag = mine->data, lp.cap = mine->cap;
@@ -239,7 +239,7 @@ static hk_Status hair_opacity_map(const hk_Scene *scene, const uint8_t *segment_
 hk_Status hk_light_maps_build(const hk_Scene *scene, const uint8_t *segment_start, hk_LightMaps *m,
                               hk_RenderStats *stats, hk_Error *err)
 {
-    const hk_RenderOptions *o = scene->opt;
+    const hk_RenderDef *o = scene->opt;
     m->size = o->shadow_map_size;
     m->layers = o->opacity_layers;
     const double first = o->layer_size > 0.0 ? o->layer_size : 0.002;

@@ -9,9 +9,9 @@
 
 #include "render_internal.h"
 
-hk_RenderOptions hk_default_render_options(void)
+hk_RenderDef hk_default_render_def(void)
 {
-    hk_RenderOptions o;
+    hk_RenderDef o;
     memset(&o, 0, sizeof o);
     o.width = 1200;
     o.height = 900;
@@ -39,7 +39,7 @@ hk_RenderOptions hk_default_render_options(void)
     return o;
 }
 
-hk_Status hk_render_check_options(const hk_RenderOptions *o, hk_Error *err)
+hk_Status hk_render_check_options(const hk_RenderDef *o, hk_Error *err)
 {
     if (o->width < 8 || o->height < 8 || o->width > 16384 || o->height > 16384)
         return hk_error_set(err, HK_ERR_INVALID, "picture size %dx%d: each side must be 8 to 16384 pixels",
@@ -61,10 +61,15 @@ hk_Status hk_render_check_options(const hk_RenderOptions *o, hk_Error *err)
     return HK_OK;
 }
 
-uint32_t hk_segment_starts(const hk_HairFile *hair, uint8_t *s)
+int hk_render_threads(const hk_RenderDef *options)
+{
+    return options->threads > 0 ? options->threads : omp_get_max_threads();
+}
+
+uint32_t hk_segment_starts(const hk_HairFile *hair, uint8_t *s, int threads)
 {
     uint32_t n = 0;
-#pragma omp parallel for schedule(static) reduction(+ : n)
+#pragma omp parallel for schedule(static) reduction(+ : n) num_threads(threads)
     for (long k = 0; k < (long)hair->strand_count; k++) {
         const uint32_t first = hair->first_point[k], end = hair->first_point[k + 1];
         for (uint32_t i = first; i < end; i++) s[i] = i + 1 < end;
@@ -88,7 +93,7 @@ hk_Status hk_scene_bounds(hk_Scene *sc, hk_Error *err)
     /* Without branches: a point that is not finite makes the box meaningless, but the
      * picture is refused then, and the point is looked for below. */
 #pragma omp parallel for schedule(static) reduction(min : lx, ly, lz) reduction(max : hx, hy, hz) \
-    reduction(| : nonfinite)
+    reduction(| : nonfinite) num_threads(sc->threads)
     for (long i = 0; i < (long)h->point_count; i++) {
         const float x = pts[3 * i], y = pts[3 * i + 1], z = pts[3 * i + 2];
         nonfinite |= !(x - x == 0.0f) | !(y - y == 0.0f) | !(z - z == 0.0f); /* NaN for NaN and infinities */
@@ -113,15 +118,17 @@ hk_Status hk_scene_bounds(hk_Scene *sc, hk_Error *err)
 }
 
 hk_Status hk_render_fit_camera(const hk_HairFile *hair, const hk_Mesh *head,
-                               const hk_RenderOptions *opt, hk_Vec3 *target, double *distance,
+                               const hk_RenderDef *opt, hk_Vec3 *target, double *distance,
                                hk_Error *err)
 {
+    const hk_RenderDef defaults = hk_default_render_def();
+    if (!opt) opt = &defaults;
     hk_Status st = hk_render_check_options(opt, err);
     if (st != HK_OK) return st;
-    hk_RenderOptions fit = *opt;
+    hk_RenderDef fit = *opt;
     fit.camera_distance = 0.0;
     hk_Scene sc = {hair, head && head->triangle_count > 0 ? head : NULL, NULL, &fit, hk_v3_zero(), hk_v3_zero(),
-                   hk_v3_zero(), 0.0, 0, NULL, 0.0};
+                   hk_v3_zero(), 0.0, 0, NULL, 0.0, hk_render_threads(opt)};
     if ((st = hk_scene_bounds(&sc, err)) != HK_OK) return st;
     const hk_View cam = hk_camera_frame(&sc);
     *target = cam.target;

@@ -169,8 +169,8 @@ typedef struct hk_LightMaps {
 typedef struct hk_Scene {
     const hk_HairFile *hair;
     const hk_Mesh *head;
-    const hk_VisualityDef *vis;
-    const hk_RenderOptions *opt;
+    const hk_Visuality *vis;
+    const hk_RenderDef *opt;
     hk_Vec3 light_dir;   /* unit, towards the light */
     hk_Vec3 lo, hi;      /* bounding box of hair and head */
     double thickness;    /* strand diameter (scene units) when the file has no array */
@@ -181,7 +181,12 @@ typedef struct hk_Scene {
      * of three dependent loads a segment. */
     const float *thickness_point;
     double thickness_fixed;
+    int threads; /* OpenMP threads of every parallel loop: opt->threads, or OpenMP's
+                    default when that is <= 0 (hk_render_threads) */
 } hk_Scene;
+
+/* The threads a picture is drawn with: options->threads, or OpenMP's default. */
+int hk_render_threads(const hk_RenderDef *options);
 
 static inline void hk_scene_thickness(hk_Scene *s)
 {
@@ -204,10 +209,10 @@ static inline hk_Vec3 hk_hair_point(const hk_HairFile *h, uint32_t i)
 /* Segment i starts at point i; valid unless i is the last point of its strand:
  * s[0 .. point_count) set to 1 where a segment starts, 0 elsewhere; returns their
  * number. */
-uint32_t hk_segment_starts(const hk_HairFile *hair, uint8_t *s);
+uint32_t hk_segment_starts(const hk_HairFile *hair, uint8_t *s, int threads);
 
 /* hk_render's checks of its options, and the scene's bounding box (render.c). */
-hk_Status hk_render_check_options(const hk_RenderOptions *o, hk_Error *err);
+hk_Status hk_render_check_options(const hk_RenderDef *o, hk_Error *err);
 hk_Status hk_scene_bounds(hk_Scene *sc, hk_Error *err);
 
 /* maps: zeroed before its first build; a build reuses the memory of the one before. */

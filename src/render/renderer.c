@@ -128,7 +128,7 @@ HK_TILE_BINS_BUILD(bin_triangles, front_triangle_box)
 static void draw_head(hk_Renderer *r, const hk_TileInput *in)
 {
     const int tiles = in->tiles->tiles_x * in->tiles->tiles_y;
-#pragma omp parallel
+#pragma omp parallel num_threads(in->scene->threads)
     {
         hk_TileHead *work = r->tile_head[omp_get_thread_num()];
 #pragma omp for schedule(dynamic, 4)
@@ -145,7 +145,8 @@ static hk_Status draw_tiles(hk_Renderer *r, const hk_TileInput *in, hk_RenderSta
     const int tiles = in->hair_bins->tiles_x * in->hair_bins->tiles_y;
     long long fragments = 0;
     int most = 0, failed = 0;
-#pragma omp parallel reduction(+ : fragments) reduction(max : most) reduction(| : failed)
+#pragma omp parallel reduction(+ : fragments) reduction(max : most) reduction(| : failed) \
+    num_threads(in->scene->threads)
     {
         hk_TileHair *hair = r->tile_hair[omp_get_thread_num()];
 #pragma omp for schedule(dynamic, 1)
@@ -168,27 +169,27 @@ static hk_Vec3 direction(double azimuth_deg, double elevation_deg)
                  cos(azimuth_deg * d) * cos(elevation_deg * d));
 }
 
-static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *head, const hk_VisualityDef *vis,
-                      const hk_RenderOptions *opt, hk_RenderStats *stats, hk_Error *err)
+static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *head, const hk_Visuality *vis,
+                      const hk_RenderDef *opt, hk_RenderStats *stats, hk_Error *err)
 {
     /* The visuality file's colours are display (sRGB) values, as in the thesis's
      * shaders, which wrote them to the screen unconverted; shading works in linear. */
-    const hk_VisualityDef vis_default = hk_default_visuality();
+    const hk_Visuality vis_default = hk_default_visuality();
     if (!vis) vis = &vis_default;
-    hk_VisualityDef vis_linear = *vis;
+    hk_Visuality vis_linear = *vis;
     vis_linear.ambient = hk_srgb_to_linear(vis->ambient);
     vis_linear.diffuse = hk_srgb_to_linear(vis->diffuse);
     vis_linear.specular = hk_srgb_to_linear(vis->specular);
     hk_Scene sc = {hair, head && head->triangle_count > 0 ? head : NULL, &vis_linear, opt, hk_v3_zero(), hk_v3_zero(),
-                   hk_v3_zero(), 0.0, 0, NULL, 0.0};
+                   hk_v3_zero(), 0.0, 0, NULL, 0.0, hk_render_threads(opt)};
     sc.light_dir = hk_v3_normalize(direction(opt->light_azimuth_deg, opt->light_elevation_deg));
     hk_Status st = hk_scene_bounds(&sc, err);
     if (st != HK_OK) return st;
     sc.thickness = hair->default_thickness > 0.0f ? hair->default_thickness : 1e-3 * hk_v3_dist(sc.lo, sc.hi);
     hk_scene_thickness(&sc);
-    if ((st = reserve_tile_work(r, omp_get_max_threads(), err)) != HK_OK) return st;
+    if ((st = reserve_tile_work(r, sc.threads, err)) != HK_OK) return st;
     if (!HK_RESERVE(r->seg, r->seg_cap, hair->point_count, err)) return HK_ERR_NOMEM;
-    sc.segment_count = hk_segment_starts(hair, r->seg);
+    sc.segment_count = hk_segment_starts(hair, r->seg, sc.threads);
     const double t0 = omp_get_wtime();
     if (opt->shadows && (st = hk_light_maps_build(&sc, r->seg, &r->maps, stats, err)) != HK_OK) return st;
     const double t1 = omp_get_wtime();
@@ -199,7 +200,7 @@ static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *he
         return HK_ERR_NOMEM;
     hk_RasterPoint *proj = r->proj, *head_proj = r->head_proj;
     float *near = r->near;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(sc.threads)
     for (long i = 0; i < (long)hair->point_count; i++) proj[i] = hk_view_project(&cam, hk_hair_point(hair, (uint32_t)i));
     /* What the tiles sort their segments by, copied into the bins next to the
      * segments (read there in order, rather than from scattered points by every
@@ -207,7 +208,7 @@ static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *he
     const uint8_t *seg = r->seg;
     /* The smaller by a comparison (fminf is a call into libm); the points are finite
      * (hk_scene_bounds), so there is no NaN for fminf to pass over. */
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(sc.threads)
     for (long i = 0; i < (long)hair->point_count; i++)
         near[i] = seg[i] ? (proj[i].z < proj[i + 1].z ? proj[i].z : proj[i + 1].z) : 0.0f;
     for (int i = 0; sc.head && i < sc.head->vertex_count; i++) head_proj[i] = hk_view_project(&cam, sc.head->positions[i]);
@@ -217,7 +218,7 @@ static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *he
     if (sc.head) {
         BoxCtx hb = {&sc, head_proj, NULL, sc.head->triangles, opt->width, opt->height};
         if ((st = bin_triangles((uint32_t)sc.head->triangle_count, &hb, NULL, NULL,
-                                     opt->width, opt->height, &r->head_bins, err)) != HK_OK)
+                                opt->width, opt->height, sc.threads, &r->head_bins, err)) != HK_OK)
             return st;
     }
     hk_TileBins layout;
@@ -237,8 +238,8 @@ static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *he
      * leaving them out of the bins leaves the picture as it was (the bytes), and on a
      * full head the hair behind the head is a large part of the tiles' entries. */
     BoxCtx box = {&sc, proj, r->seg, NULL, opt->width, opt->height};
-    if ((st = bin_segments(hair->point_count, &box, near, r->cull, opt->width, opt->height,
-                                 &r->hair_bins, err)) != HK_OK)
+    if ((st = bin_segments(hair->point_count, &box, near, r->cull, opt->width, opt->height, sc.threads,
+                           &r->hair_bins, err)) != HK_OK)
         return st;
     if ((st = draw_tiles(r, &in, stats, err)) != HK_OK) return st;
     stats->seconds_light = t1 - t0;
@@ -247,27 +248,24 @@ static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *he
     return HK_OK;
 }
 
-hk_Status hk_renderer_draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *head, const hk_VisualityDef *vis,
-                           const hk_RenderOptions *options, hk_RenderStats *stats, hk_Error *err)
+hk_Status hk_renderer_draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *head, const hk_Visuality *vis,
+                           const hk_RenderDef *options, hk_RenderStats *stats, hk_Error *err)
 {
     r->picture.width = r->picture.height = 0;
     hk_RenderStats st_local;
     if (!stats) stats = &st_local;
     memset(stats, 0, sizeof *stats);
-    const hk_RenderOptions defaults = hk_default_render_options();
-    const hk_RenderOptions *opt = options ? options : &defaults;
+    const hk_RenderDef defaults = hk_default_render_def();
+    const hk_RenderDef *opt = options ? options : &defaults;
     hk_Status st = hk_render_check_options(opt, err);
     if (st != HK_OK) return st;
-    const int saved_threads = omp_get_max_threads();
-    if (opt->threads > 0) omp_set_num_threads(opt->threads);
     st = draw(r, hair, head, vis, opt, stats, err);
     if (st != HK_OK) r->picture.width = r->picture.height = 0;
-    if (opt->threads > 0) omp_set_num_threads(saved_threads);
     return st;
 }
 
-hk_Status hk_render(const hk_HairFile *hair, const hk_Mesh *head, const hk_VisualityDef *vis,
-                    const hk_RenderOptions *opt, hk_Canvas *out, hk_RenderStats *stats, hk_Error *err)
+hk_Status hk_render(const hk_HairFile *hair, const hk_Mesh *head, const hk_Visuality *vis,
+                    const hk_RenderDef *opt, hk_Canvas *out, hk_RenderStats *stats, hk_Error *err)
 {
     out->rgb = NULL, out->width = out->height = 0;
     hk_Renderer *r;

@@ -12,7 +12,7 @@
  * the cone of mirror reflections around t, (sin_tl sin_te - (t.l)(t.e))^p clamped at
  * 0 (Kajiya & Kay 1989; the thesis shader's abs() also lights the transmission cone).
  * Returns diffuse * sin + specular * spec; the ambient term is added by the caller. */
-hk_Vec3 hk_shade_kajiya_kay(hk_Vec3 t, hk_Vec3 l, hk_Vec3 e, const hk_VisualityDef *v);
+hk_Vec3 hk_shade_kajiya_kay(hk_Vec3 t, hk_Vec3 l, hk_Vec3 e, const hk_Visuality *v);
 
 /* Parameters of the Marschner model (Marschner, Jensen, Cammarano, Worley, Hanrahan,
  * "Light Scattering from Human Hair Fibers", SIGGRAPH 2003). */

@@ -160,7 +160,7 @@ hk_Status hk_plot_strands_png(const char *path, int width, int height, const hk_
                               double envelope_alpha, hk_Error *err)
 {
     hk_Canvas canvas;
-    hk_Status st = hk_canvas_create(width, height, hk_v3(1, 1, 1), &canvas, err);
+    hk_Status st = hk_canvas_alloc(width, height, hk_v3(1, 1, 1), &canvas, err);
     if (st != HK_OK) return st;
     Frame f;
     for (int i = 0; i < 3; i++) f.lo[i] = DBL_MAX, f.hi[i] = -DBL_MAX;
@@ -217,6 +217,6 @@ hk_Status hk_plot_strands_png(const char *path, int width, int height, const hk_
     /* Separator between the two panels. */
     hk_canvas_line(&canvas, width / 2 + 0.5, 0, width / 2 + 0.5, height, 1.0, hk_v3(0.6, 0.6, 0.6), 1.0);
     st = hk_canvas_write_png(&canvas, path, err);
-    hk_canvas_destroy(&canvas);
+    hk_canvas_free(&canvas);
     return st;
 }

@@ -89,9 +89,8 @@
         }                                                                                                     \
     }                                                                                                         \
     static hk_Status name(uint32_t item_count, void *user, const float *key, const float *cull, int width,   \
-                          int height, hk_TileBins *bins, hk_Error *err)                                       \
+                          int height, int ranges, hk_TileBins *bins, hk_Error *err)                           \
     {                                                                                                         \
-        const int ranges = omp_get_max_threads();                                                             \
         hk_Status st = hk_tile_bins_begin(item_count, width, height, bins, ranges, err);                      \
         if (st != HK_OK) return st;                                                                           \
         name##_ranges(item_count, user, key, cull, bins, ranges, bins->count, 0);                             \

@@ -25,7 +25,7 @@ static void head_sample(void *user, int x, int y, int s, float l0, float l1, flo
 static hk_Vec3 shade_skin(const hk_TileInput *in, int tri, float b0, float b1)
 {
     const hk_Mesh *m = in->scene->head;
-    const hk_RenderOptions *o = in->scene->opt;
+    const hk_RenderDef *o = in->scene->opt;
     const int *v = m->triangles + 3 * (size_t)tri;
     const double b2 = 1.0 - b0 - b1;
     hk_Vec3 p = hk_v3_scale(m->positions[v[0]], b0);
@@ -66,7 +66,7 @@ float hk_tile_head(const hk_TileInput *in, int tile, hk_TileHead *w, hk_TileBase
             w->tri = (int)t, w->tv = v;
             hk_raster_triangle(v, w->r, 2, head_sample, w);
         }
-    const hk_RenderOptions *o = in->scene->opt;
+    const hk_RenderDef *o = in->scene->opt;
     float farthest = 0.0f;
     for (int y = w->r.y0; y < w->r.y1; y++) {
         const double f = o->height > 1 ? (double)y / (o->height - 1) : 0.0;

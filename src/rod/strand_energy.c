@@ -10,11 +10,13 @@
  * Second derivatives add the second moment S0 = sum p f^T (rotations of lever arms),
  * the 6x6 contact stiffness C = sum B^T A B, and per element the second derivatives
  * of the element's closed form. Derivation: docs/physics.md. */
+#include "collide/collide_internal.h"
 #include "hairkit/rod.h"
 
 #include <string.h>
 
 #include "helix_local.h"
+#include "rod/rod_internal.h"
 
 struct hk_StrandWorkspace {
     int n;                   /* elements of the strand this workspace was made for */
@@ -36,14 +38,17 @@ struct hk_StrandWorkspace {
     double *xi, *y;          /* Hessian: 6-vectors per coordinate */
 };
 
-hk_StrandEnv hk_default_strand_env(void)
+/* The default environment: no shapes, no collisions (what a NULL env means). */
+static const hk_StrandEnvDef no_env = {NULL, 0, 0.0, 0.0};
+
+hk_StrandEnvDef hk_default_strand_env_def(void)
 {
-    hk_StrandEnv env = {NULL, 0, 0.0, 0.0};
-    return env;
+    return no_env;
 }
 
-int hk_strand_collision_sample_count(const hk_SuperHelix *sh, const hk_StrandEnv *env)
+int hk_strand_collision_sample_count(const hk_SuperHelix *sh, const hk_StrandEnvDef *env)
 {
+    if (!env) env = &no_env;
     if (env->shape_count <= 0 || !(env->collision_step > 0.0)) return 0;
     double m = ceil(sh->total_length / env->collision_step - 1e-9);
     if (m < 1.0) m = 1.0;
@@ -51,10 +56,11 @@ int hk_strand_collision_sample_count(const hk_SuperHelix *sh, const hk_StrandEnv
     return (int)m;
 }
 
-hk_Status hk_strand_workspace_create(const hk_SuperHelix *sh, const hk_StrandEnv *env,
+hk_Status hk_strand_workspace_create(const hk_SuperHelix *sh, const hk_StrandEnvDef *env,
                                      hk_StrandWorkspace **out, hk_Error *err)
 {
     *out = NULL;
+    if (!env) env = &no_env;
     hk_StrandWorkspace *ws = hk_calloc_array(1, sizeof *ws, err);
     if (!ws) return HK_ERR_NOMEM;
     const int n = sh->n, ns = hk_strand_collision_sample_count(sh, env);
@@ -134,17 +140,17 @@ static void forward(const hk_SuperHelix *sh, const double *q, int order, hk_Stra
 
 /* Collision samples: energy, and for active samples the data the derivatives need. */
 /* Whether any point within `radius` of `centre` can touch a shape's envelope. */
-static int near_shapes(const hk_StrandEnv *env, hk_Vec3 centre, double radius)
+static int near_shapes(const hk_StrandEnvDef *env, hk_Vec3 centre, double radius)
 {
     for (int j = 0; j < env->shape_count; j++) {
         const hk_Shape *sh = &env->shapes[j];
-        const double reach = sh->bound + 1.7320508075688772 * fabs(env->envelope_alpha * sh->volume) + radius;
+        const double reach = hk_shape_bound(sh) + 1.7320508075688772 * fabs(env->envelope_alpha * sh->volume) + radius;
         if (hk_v3_norm2(hk_v3_sub(centre, sh->centre)) <= reach * reach) return 1;
     }
     return 0;
 }
 
-static double collisions(const hk_SuperHelix *sh, const hk_StrandEnv *env, const double *q,
+static double collisions(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, const double *q,
                          int order, hk_StrandWorkspace *ws, double *max_depth)
 {
     double energy = 0.0;
@@ -239,9 +245,10 @@ static hk_Vec3 moment_op(const hk_Mat3 *s, double trace, hk_Vec3 w)
     return hk_v3_madd(hk_m3_mul_v3(s, w), w, -trace);
 }
 
-double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnv *env, const double *q,
+double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, const double *q,
                         hk_StrandWorkspace *ws, double *grad, double *hess, hk_StrandEnergy *parts)
 {
+    if (!env) env = &no_env;
     const int n = sh->n, dim = 3 * n;
     const int order = hess ? 2 : (grad ? 1 : 0);
     forward(sh, q, order, ws);
@@ -402,10 +409,11 @@ int hk_strand_workspace_contact(const hk_StrandWorkspace *ws, int i, hk_Vec3 *gr
     return 1;
 }
 
-double hk_strand_max_penetration(const hk_SuperHelix *sh, const hk_StrandEnv *env,
+double hk_strand_max_penetration(const hk_SuperHelix *sh, const hk_StrandEnvDef *env,
                                  const double *q, hk_StrandWorkspace *ws)
 {
     if (ws->sample_count == 0) return 0.0;
+    if (!env) env = &no_env;
     forward(sh, q, 0, ws);
     double depth = 0.0;
     collisions(sh, env, q, 0, ws, &depth);

@@ -95,8 +95,30 @@ hk_Status hk_superhelix_create(int n, const double *lengths, hk_SuperHelix **out
     return HK_OK;
 }
 
-hk_Status hk_superhelix_from_hairstyle(const hk_HairstyleDef *def, hk_Vec3 root, hk_Vec3 dir,
-                                       hk_SuperHelix **out, hk_Error *err)
+hk_StrandDef hk_default_strand_def(void)
+{
+    hk_StrandDef d;
+    memset(&d, 0, sizeof d);
+    d.visuality_step = 0.0025;
+    d.collision_step = 0.005;
+    d.max_iter = 20;
+    d.epsilon = 1e-4;
+    d.poisson = 0.48;
+    d.density = 1300.0; /* real hair; the thesis's sample says 13000 (seeds README) */
+    d.gravity = 9.81;
+    d.gravity_dir = hk_v3(0.0, -1.0, 0.0);
+    return d;
+}
+
+double hk_strand_def_length(const hk_StrandDef *def)
+{
+    double s = 0.0;
+    for (int i = 0; i < def->element_count; i++) s += def->element_lengths[i];
+    return s;
+}
+
+hk_Status hk_superhelix_from_def(const hk_StrandDef *def, hk_Vec3 root, hk_Vec3 dir, hk_SuperHelix **out,
+                                 hk_Error *err)
 {
     if (!(hk_v3_norm(dir) > 0.0) || !hk_v3_isfinite(dir))
         return hk_error_set(err, HK_ERR_INVALID, "root direction must be a non-zero vector");

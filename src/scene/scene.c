@@ -28,7 +28,7 @@ void hk_scene_free(hk_Scene *s)
 /* The part of the scene bit `part` names: its file in the setup, and where it goes. */
 static hk_Status load_part(hk_Scene *s, unsigned part, const char *setup_path, hk_Error *err)
 {
-    const hk_SetupDef *setup = &s->setup;
+    const hk_Setup *setup = &s->setup;
     switch (part) {
     case HK_SCENE_HAIRSTYLE:
         if (!setup->hairstyle) return hk_error_set(err, HK_ERR_PARSE, "%s: no HairstyleInfo", setup_path);
@@ -104,14 +104,14 @@ hk_Status hk_scene_load(const char *setup_path, unsigned parts, hk_Scene *out, h
     return st;
 }
 
-hk_Status hk_scene_hair(const hk_Scene *s, const hk_GroomOptions *options, hk_HairFile *hair,
+hk_Status hk_scene_hair(const hk_Scene *s, const hk_GroomDef *options, hk_HairFile *hair,
                         hk_SceneHairReport *report, hk_Error *err)
 {
     hk_SceneHairReport local;
     if (!report) report = &local;
     memset(hair, 0, sizeof *hair);
     memset(report, 0, sizeof *report);
-    const hk_GroomOptions defaults = hk_default_groom_options();
+    const hk_GroomDef defaults = hk_default_groom_def();
     if (!options) options = &defaults;
     hk_Status st = HK_OK;
     if (s->setup.load) {
@@ -124,11 +124,12 @@ hk_Status hk_scene_hair(const hk_Scene *s, const hk_GroomOptions *options, hk_Ha
         memset(&groom, 0, sizeof groom);
         /* hk_groom_grow checks the same; here the message can name the files. */
         hk_Error sub;
-        st = hk_groom_check_size(&s->style, &s->wick, options, NULL, &sub);
+        st = hk_groom_check_size(&s->style.strand, &s->style.interpolation, &s->wick, options, NULL, &sub);
         if (st != HK_OK)
             return hk_error_set(err, st, "%s, %s: %s", s->setup.hairstyle, s->setup.wick_model, sub.message);
-        st = hk_groom_grow(&s->style, s->shapes, s->shape_count, &s->wick, options, &groom, err);
-        if (st == HK_OK) st = hk_groom_to_hair(&groom, &s->style, hair, err);
+        st = hk_groom_grow(&s->style.strand, &s->style.interpolation, s->shapes, s->shape_count, &s->wick, options,
+                           &groom, err);
+        if (st == HK_OK) st = hk_groom_to_hair(&groom, &s->style.strand, hair, err);
         report->grown = st == HK_OK;
         report->guides = groom.guide_count;
         report->strands = groom.strand_count;
@@ -141,10 +142,10 @@ hk_Status hk_scene_hair(const hk_Scene *s, const hk_GroomOptions *options, hk_Ha
     return st;
 }
 
-hk_Status hk_scene_render(const hk_Scene *s, const hk_HairFile *hair, const hk_RenderOptions *options,
+hk_Status hk_scene_render(const hk_Scene *s, const hk_HairFile *hair, const hk_RenderDef *options,
                           hk_Canvas *out, hk_RenderStats *stats, hk_Error *err)
 {
-    const hk_RenderOptions defaults = hk_default_render_options();
+    const hk_RenderDef defaults = hk_default_render_def();
     return hk_render(hair, s->head.vertex_count > 0 ? &s->head : NULL, &s->visuality, options ? options : &defaults,
                      out, stats, err);
 }

@@ -5,14 +5,16 @@
 #include <omp.h>
 #include <string.h>
 
+#include "core/core_internal.h"
 #include "hairkit/simulate.h"
 #include "hairkit/statics.h"
 #include "dynamics/hair_contact_solve.h"
+#include "dynamics/hair_contacts_internal.h"
 #include "sim_internal.h"
 
 struct hk_HairSim {
-    hk_HairstyleDef style;       /* own copy */
-    hk_HairSimOptions options;
+    hk_Hairstyle style;       /* own copy */
+    hk_HairSimDef options;
     hk_Shape *shapes;            /* own copy (head space) */
     int shape_count;
     int guide_count, points;
@@ -32,12 +34,13 @@ struct hk_HairSim {
 /* Length of hair whose weight a guide-guide contact pushes with at full overlap. */
 #define HK_CONTACT_HAIR_LENGTH 0.2
 
-hk_HairSimOptions hk_default_hair_sim_options(const hk_HairstyleDef *style)
+/* The defaults for hair of this section and material, contacts scaled to `length` of it. */
+static hk_HairSimDef sim_def(const hk_Hairstyle *style, double length)
 {
-    hk_HairSimOptions o;
+    hk_HairSimDef o;
     memset(&o, 0, sizeof o);
     o.threads = 0;
-    o.dynamics = hk_dynamics_params_for(style);
+    o.dynamics = style->dynamics;
     /* Every guide takes the linearly implicit Euler step, whatever its length, with the
      * guide-guide contacts solved together over all guides (advance, below), long
      * guides in several steps a frame (euler_steps). TR-BDF2 is the better integrator
@@ -56,7 +59,7 @@ hk_HairSimOptions hk_default_hair_sim_options(const hk_HairstyleDef *style)
     o.dynamics.stiffness = HK_STIFFNESS_FULL;
     o.dynamics.hessian_interval = 1;
     o.hair_contacts = 1;
-    o.contacts = hk_default_hair_contact_params();
+    o.contacts = hk_default_hair_contact_def();
     /* Contacts scaled to this hair (docs/dynamics.md): guides keep 2.5 mm apart, less
      * than the spacing of neighbouring follicles near the crown (about 3 mm on the
      * generated wick), so the groomed rest state is nearly free of contacts; a full
@@ -68,10 +71,10 @@ hk_HairSimOptions hk_default_hair_sim_options(const hk_HairstyleDef *style)
      * with its length: with the whole strand's weight, a 1 m guide on a full head was
      * pushed by up to 1,400 contacts each as strong as its weight, and Newton's iteration
      * failed in 29 % of its stages (docs/dynamics.md, "Limitations"). */
-    const double mass = style->density * 3.14159265358979323846 * style->radius1 * style->radius2 *
-                        fmin(hk_hairstyle_length(style), HK_CONTACT_HAIR_LENGTH);
+    const double mass = style->strand.density * 3.14159265358979323846 * style->strand.radius1 * style->strand.radius2 *
+                        fmin(length, HK_CONTACT_HAIR_LENGTH);
     o.contacts.distance = 0.0025;
-    o.contacts.stiffness = 1.0 * mass * (style->gravity > 0.0 ? style->gravity : 9.81) / o.contacts.distance;
+    o.contacts.stiffness = 1.0 * mass * (style->strand.gravity > 0.0 ? style->strand.gravity : 9.81) / o.contacts.distance;
     o.contacts.damping = 2.0 * sqrt(o.contacts.stiffness * 0.25 * mass);
     o.contacts.friction = 0.2 * o.contacts.damping;
     /* Guides side by side are held along their length: with one pair at their closest
@@ -81,6 +84,16 @@ hk_HairSimOptions hk_default_hair_sim_options(const hk_HairstyleDef *style)
      * not apply). */
     o.contacts.along = 1;
     return o;
+}
+
+hk_HairSimDef hk_hair_sim_def_for(const hk_Hairstyle *style) { return sim_def(style, hk_strand_def_length(&style->strand)); }
+
+hk_HairSimDef hk_default_hair_sim_def(void)
+{
+    /* The hairstyle's defaults with a hair of 40 um radius (examples/default), 20 cm long */
+    hk_Hairstyle style = hk_default_hairstyle();
+    style.strand.radius1 = style.strand.radius2 = 4e-5;
+    return sim_def(&style, HK_CONTACT_HAIR_LENGTH);
 }
 
 void hk_hair_sim_destroy(hk_HairSim *sim)
@@ -105,18 +118,24 @@ void hk_hair_sim_destroy(hk_HairSim *sim)
  * follicle's level, then its dynamics. */
 static hk_Status make_guide(hk_HairSim *sim, const hk_Follicles *f, int i, hk_Error *err)
 {
-    hk_Status st = hk_superhelix_from_hairstyle(&sim->style, f->position[i], f->normal[i], &sim->strand[i], err);
+    hk_Status st = hk_superhelix_from_def(&sim->style.strand, f->position[i], f->normal[i], &sim->strand[i], err);
     if (st != HK_OK) return st;
-    hk_StrandEnv env = hk_default_strand_env();
+    hk_StrandEnvDef env = hk_default_strand_env_def();
     env.shapes = sim->shapes;
     env.shape_count = sim->shape_count;
     env.envelope_alpha = f->alpha[i];
-    env.collision_step = sim->style.collision_step;
-    hk_StaticsOptions opt = hk_default_statics_options();
+    env.collision_step = sim->style.strand.collision_step;
+    hk_StaticsDef opt = hk_default_statics_def();
     hk_MinimizeResult res;
     st = hk_statics_solve(sim->strand[i], &env, &opt, &res, err);
     if (st == HK_OK) st = hk_strand_dynamics_create(sim->strand[i], &sim->options.dynamics, &env, &sim->dyn[i], err);
     return st;
+}
+
+/* The threads of the simulation's parallel loops: options.threads, or OpenMP's default. */
+static int sim_threads(const hk_HairSim *sim)
+{
+    return sim->options.threads > 0 ? sim->options.threads : omp_get_max_threads();
 }
 
 static hk_Status make_guides(hk_HairSim *sim, const hk_Follicles *f, hk_Error *err)
@@ -124,7 +143,7 @@ static hk_Status make_guides(hk_HairSim *sim, const hk_Follicles *f, hk_Error *e
     hk_FirstError first;
     hk_first_error_init(&first);
     long done = 0;
-    #pragma omp parallel for schedule(dynamic, 2)
+    #pragma omp parallel for schedule(dynamic, 2) num_threads(sim_threads(sim))
     for (int i = 0; i < f->count; i++) {
         if (hk_first_error_skip(&first, i)) continue;
         hk_Error e;
@@ -140,8 +159,8 @@ static hk_Status make_guides(hk_HairSim *sim, const hk_Follicles *f, hk_Error *e
 
 static hk_Status make_contacts(hk_HairSim *sim, hk_Error *err)
 {
-    const double len = hk_hairstyle_length(&sim->style);
-    double m = ceil(len / sim->style.collision_step - 1e-9);
+    const double len = hk_strand_def_length(&sim->style.strand);
+    double m = ceil(len / sim->style.strand.collision_step - 1e-9);
     if (m < 1.0) m = 1.0;
     if (m > 10000.0) m = 10000.0;
     sim->sample_count = (int)m + 1;
@@ -156,19 +175,22 @@ static hk_Status make_contacts(hk_HairSim *sim, hk_Error *err)
         const size_t o = (size_t)i * (size_t)sim->sample_count;
         sim->samples[i] = (hk_StrandSamples){sim->sample_count, sim->sample_s, sim->sample_pos + o, sim->sample_vel + o};
     }
-    hk_Status st = hk_hair_contacts_create(sim->guide_count, &sim->options.contacts, &sim->contacts, err);
+    /* The contacts' threads follow the simulation's unless they are set. */
+    hk_HairContactDef params = sim->options.contacts;
+    if (params.threads <= 0) params.threads = sim->options.threads;
+    hk_Status st = hk_hair_contacts_create(sim->guide_count, &params, &sim->contacts, err);
     if (st == HK_OK) st = hk_contact_solve_create(sim->guide_count, &sim->contact_solve, err);
     return st;
 }
 
-hk_Status hk_hair_sim_create(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
-                             const hk_Mesh *wick, const hk_HairSimOptions *options, hk_HairSim **out,
+hk_Status hk_hair_sim_create(const hk_Hairstyle *style, const hk_Shape *shapes, int shape_count,
+                             const hk_Mesh *wick, const hk_HairSimDef *options, hk_HairSim **out,
                              hk_Error *err)
 {
     *out = NULL;
     hk_HairSim *sim = hk_calloc_array(1, sizeof *sim, err);
     if (!sim) return HK_ERR_NOMEM;
-    sim->options = options ? *options : hk_default_hair_sim_options(style);
+    sim->options = options ? *options : hk_hair_sim_def_for(style);
     sim->head = hk_rigid_identity();
     hk_Follicles f = {0, NULL, NULL, NULL};
     hk_Status st = hk_hairstyle_copy(style, &sim->style, err);
@@ -185,12 +207,9 @@ hk_Status hk_hair_sim_create(const hk_HairstyleDef *style, const hk_Shape *shape
         sim->dyn = hk_calloc_array((size_t)f.count, sizeof(hk_StrandDynamics *), err);
         if (!sim->strand || !sim->dyn) st = HK_ERR_NOMEM;
     }
-    const int saved_threads = omp_get_max_threads();
-    if (sim->options.threads > 0) omp_set_num_threads(sim->options.threads);
     if (st == HK_OK) st = make_guides(sim, &f, err);
-    if (sim->options.threads > 0) omp_set_num_threads(saved_threads);
     if (st == HK_OK) {
-        sim->points = hk_superhelix_sample_count(sim->strand[0], sim->style.visuality_step);
+        sim->points = hk_superhelix_sample_count(sim->strand[0], sim->style.strand.visuality_step);
         if (sim->options.hair_contacts) st = make_contacts(sim, err);
     }
     hk_follicles_free(&f);
@@ -200,6 +219,12 @@ hk_Status hk_hair_sim_create(const hk_HairstyleDef *style, const hk_Shape *shape
     }
     *out = sim;
     return HK_OK;
+}
+
+void hk_hair_sim_set_threads(hk_HairSim *sim, int threads)
+{
+    sim->options.threads = threads;
+    if (sim->contacts && sim->options.contacts.threads <= 0) hk_hc_set_threads(sim->contacts, threads);
 }
 
 int hk_hair_sim_guide_count(const hk_HairSim *sim) { return sim->guide_count; }
@@ -232,7 +257,7 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
 static int euler_steps(const hk_HairSim *sim, double dt)
 {
     if (sim->options.dynamics.integrator != HK_INTEGRATOR_LINEAR_EULER) return 1; /* TR-BDF2 splits by itself */
-    const double longest = (1.0 / 24.0) * fmin(1.0, HK_EULER_FULL_STEP_LENGTH / hk_hairstyle_length(&sim->style));
+    const double longest = (1.0 / 24.0) * fmin(1.0, HK_EULER_FULL_STEP_LENGTH / hk_strand_def_length(&sim->style.strand));
     const double n = ceil(dt / longest - 1e-9);
     return n < 1.0 ? 1 : n > 64.0 ? 64 : (int)n;
 }
@@ -300,9 +325,9 @@ static const hk_PointForce *penalty_forces(const hk_HairContacts *c, int i, hk_P
     return forces;
 }
 
-hk_SettleOptions hk_default_settle_options(void)
+hk_SettleDef hk_default_settle_def(void)
 {
-    hk_SettleOptions o;
+    hk_SettleDef o;
     o.seconds = 1.0;
     o.max_seconds = 5.0;
     o.rest_speed = 1e-4;
@@ -313,7 +338,7 @@ hk_SettleOptions hk_default_settle_options(void)
 /* The guides' tips, world space. */
 static void guide_tips(hk_HairSim *sim, hk_Vec3 *tip)
 {
-    #pragma omp parallel for schedule(static)
+    #pragma omp parallel for schedule(static) num_threads(sim_threads(sim))
     for (int i = 0; i < sim->guide_count; i++) {
         const hk_SuperHelix *sh = sim->strand[i];
         const double end = sh->s_start[sh->n - 1] + sh->length[sh->n - 1];
@@ -322,9 +347,9 @@ static void guide_tips(hk_HairSim *sim, hk_Vec3 *tip)
 }
 
 hk_Status hk_hair_sim_settle_until_still(hk_HairSim *sim, const hk_RigidState *head, double dt,
-                                         const hk_SettleOptions *o, hk_SettleReport *report, hk_Error *err)
+                                         const hk_SettleDef *o, hk_SettleReport *report, hk_Error *err)
 {
-    const hk_SettleOptions def = hk_default_settle_options();
+    const hk_SettleDef def = hk_default_settle_def();
     if (!o) o = &def;
     if (report) memset(report, 0, sizeof *report);
     if (!(dt > 0.0) || !isfinite(dt) || !(o->seconds >= 0.0) || !(o->max_seconds >= o->seconds) ||
@@ -336,8 +361,6 @@ hk_Status hk_hair_sim_settle_until_still(hk_HairSim *sim, const hk_RigidState *h
     const long least = (long)ceil(o->seconds / dt - 1e-9), most = (long)ceil(o->max_seconds / dt - 1e-9);
     hk_Vec3 *tips = hk_alloc_array(2 * (size_t)sim->guide_count, sizeof(hk_Vec3), err);
     if (!tips) return HK_ERR_NOMEM;
-    const int threads = omp_get_max_threads();
-    if (sim->options.threads > 0) omp_set_num_threads(sim->options.threads);
     hk_Vec3 *before = tips, *after = tips + sim->guide_count;
     long steps = 0;
     int resting = 0;
@@ -355,7 +378,6 @@ hk_Status hk_hair_sim_settle_until_still(hk_HairSim *sim, const hk_RigidState *h
         hk_Vec3 *swap = before; /* this step's end is the next one's start */
         before = after, after = swap;
     }
-    if (sim->options.threads > 0) omp_set_num_threads(threads);
     hk_free(tips);
     if (report) {
         report->seconds = (double)steps * dt;
@@ -373,8 +395,7 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
     memset(&local, 0, sizeof local);
     hk_RigidState head = hk_rigid_identity();
     if (head_fn) head_fn(user, t, &head);
-    const int saved_threads = omp_get_max_threads();
-    if (sim->options.threads > 0) omp_set_num_threads(sim->options.threads);
+    const int threads = sim_threads(sim);
     /* Guide-guide interactions (paper 000 §4.1): the pairs from the state at t. With the
      * linearly implicit Euler step (the default) their impulses are solved over all
      * guides together with static friction (dynamics/hair_contact_solve.h), then held
@@ -385,14 +406,14 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
      * apart (pairs 54,000 to 1,800 in 8 frames, 103 guides recovered), and correcting
      * the TR-BDF2 steps afterwards with the impulses (a splitting) threw 20 cm guides
      * 10 cm a frame; block Jacobi holds them together but long guides whip
-     * (hk_default_hair_sim_options). */
+     * (hk_hair_sim_def_for). */
     const int coupled = sim->options.dynamics.integrator == HK_INTEGRATOR_LINEAR_EULER;
     hk_Status st = HK_OK;
     long predicted = 0; /* evaluations of the contacts' solve */
     hk_RigidState head_end = hk_rigid_identity();
     if (head_fn) head_fn(user, t + dt, &head_end);
     if (sim->contacts) {
-        #pragma omp parallel for schedule(static)
+        #pragma omp parallel for schedule(static) num_threads(threads)
         for (int i = 0; i < sim->guide_count; i++) {
             const size_t o = (size_t)i * (size_t)sim->sample_count;
             hk_strand_dynamics_points(sim->dyn[i], &head, sim->sample_s, sim->sample_count, sim->sample_pos + o,
@@ -417,7 +438,8 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
     hk_FirstError first;
     hk_first_error_init(&first);
     if (st == HK_OK) {
-        #pragma omp parallel for schedule(dynamic, 4) reduction(+ : substeps, body, recovered, iterations)
+        #pragma omp parallel for schedule(dynamic, 4) reduction(+ : substeps, body, recovered, iterations) \
+            num_threads(threads)
         for (int i = 0; i < sim->guide_count; i++) {
             int count = 0, taken = 0;
             hk_Error e;
@@ -457,7 +479,6 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
             hk_free(own);
         }
     }
-    if (sim->options.threads > 0) omp_set_num_threads(saved_threads);
     if (st == HK_OK && first.index >= 0)
         st = hk_error_set(err, first.error.code, "guide %ld at t = %.4g s: %s", first.index, t, first.error.message);
     if (st == HK_OK) {
@@ -475,11 +496,11 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
 
 void hk_hair_sim_guides(const hk_HairSim *sim, double *out)
 {
-    #pragma omp parallel for schedule(static)
+    #pragma omp parallel for schedule(static) num_threads(sim_threads(sim))
     for (int i = 0; i < sim->guide_count; i++) {
         hk_Vec3 buf[512], *p = sim->points <= 512 ? buf : hk_alloc_array((size_t)sim->points, sizeof(hk_Vec3), NULL);
         if (!p) continue;
-        hk_superhelix_sample(sim->strand[i], NULL, sim->style.visuality_step, NULL, p, NULL);
+        hk_superhelix_sample(sim->strand[i], NULL, sim->style.strand.visuality_step, NULL, p, NULL);
         double *o = out + (size_t)i * (size_t)sim->points * 3;
         for (int j = 0; j < sim->points; j++) {
             o[3 * j] = p[j].x;
@@ -490,7 +511,7 @@ void hk_hair_sim_guides(const hk_HairSim *sim, double *out)
     }
 }
 
-hk_Status hk_hair_sim_groom(const hk_HairSim *sim, const hk_Mesh *wick, const hk_GroomOptions *go,
+hk_Status hk_hair_sim_groom(const hk_HairSim *sim, const hk_Mesh *wick, const hk_GroomDef *go,
                             hk_Groom *g, hk_Error *err)
 {
     memset(g, 0, sizeof *g);
@@ -501,7 +522,9 @@ hk_Status hk_hair_sim_groom(const hk_HairSim *sim, const hk_Mesh *wick, const hk
     hk_hair_sim_guides(sim, g->guides);
     /* The strands are kept out of the body where it is now: the shapes go where the
      * head took them (the guides, and so the strands, are in world space). */
-    hk_Status st = hk_sim_interpolate_posed(&sim->style, sim->shapes, sim->shape_count, &sim->head, wick, go, g, err);
+    hk_GroomDef o = go ? *go : hk_default_groom_def();
+    if (o.threads <= 0) o.threads = sim->options.threads;
+    hk_Status st = hk_sim_interpolate_posed(&sim->style, sim->shapes, sim->shape_count, &sim->head, wick, &o, g, err);
     if (st != HK_OK) hk_groom_free(g);
     return st;
 }

@@ -20,8 +20,8 @@ hk_RigidState hk_sim_head_pose(const hk_HeadMotion *motion, double t)
     return pose;
 }
 
-hk_Status hk_sim_interpolate_posed(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
-                                   const hk_RigidState *head, const hk_Mesh *wick, const hk_GroomOptions *go,
+hk_Status hk_sim_interpolate_posed(const hk_Hairstyle *style, const hk_Shape *shapes, int shape_count,
+                                   const hk_RigidState *head, const hk_Mesh *wick, const hk_GroomDef *go,
                                    hk_Groom *g, hk_Error *err)
 {
     hk_Shape *posed = NULL;
@@ -30,22 +30,22 @@ hk_Status hk_sim_interpolate_posed(const hk_HairstyleDef *style, const hk_Shape 
         if (!posed) return HK_ERR_NOMEM;
         hk_shapes_posed(shapes, shape_count, head, posed);
     }
-    hk_Status st = hk_groom_interpolate_guides(style, posed, shape_count, wick, go, g, err);
+    hk_Status st = hk_groom_interpolate_guides(&style->interpolation, posed, shape_count, wick, go, g, err);
     hk_free(posed);
     return st;
 }
 
-hk_Status hk_sim_grow_hair(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
+hk_Status hk_sim_grow_hair(const hk_Hairstyle *style, const hk_Shape *shapes, int shape_count,
                            const hk_RigidState *head, const hk_Mesh *wick, uint64_t seed, int threads,
                            int guides_only, int reuse, hk_Groom *g, hk_HairFile *out, hk_Error *err)
 {
     hk_Status st = HK_OK;
     if (!guides_only) {
-        hk_GroomOptions go = hk_default_groom_options();
+        hk_GroomDef go = hk_default_groom_def();
         go.seed = seed;
         go.threads = threads;
         st = hk_sim_interpolate_posed(style, shapes, shape_count, head, wick, &go, g, err);
     }
     if (st != HK_OK) return st;
-    return reuse ? hk_groom_to_hair_again(g, style, out, err) : hk_groom_to_hair(g, style, out, err);
+    return reuse ? hk_groom_to_hair_again(g, &style->strand, out, err) : hk_groom_to_hair(g, &style->strand, out, err);
 }

@@ -19,8 +19,8 @@ hk_RigidState hk_sim_head_pose(const hk_HeadMotion *motion, double t);
 /* hk_groom_interpolate_guides with the body shapes (head space) posed where the head
  * is (hk_shapes_posed): world-space guides give world-space strands, kept out of the
  * body where it is now. */
-hk_Status hk_sim_interpolate_posed(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
-                                   const hk_RigidState *head, const hk_Mesh *wick, const hk_GroomOptions *go,
+hk_Status hk_sim_interpolate_posed(const hk_Hairstyle *style, const hk_Shape *shapes, int shape_count,
+                                   const hk_RigidState *head, const hk_Mesh *wick, const hk_GroomDef *go,
                                    hk_Groom *g, hk_Error *err);
 
 /* The groom's cyHair data (guides, then interpolated strands unless guides_only) from
@@ -28,7 +28,7 @@ hk_Status hk_sim_interpolate_posed(const hk_HairstyleDef *style, const hk_Shape 
  * kept out of the shapes posed at the frame's head state; g's strands are replaced.
  * reuse: out holds an earlier frame's hair (or is zeroed), whose arrays are reused
  * (hk_groom_to_hair_again); else out is filled anew. */
-hk_Status hk_sim_grow_hair(const hk_HairstyleDef *style, const hk_Shape *shapes, int shape_count,
+hk_Status hk_sim_grow_hair(const hk_Hairstyle *style, const hk_Shape *shapes, int shape_count,
                            const hk_RigidState *head, const hk_Mesh *wick, uint64_t seed, int threads,
                            int guides_only, int reuse, hk_Groom *g, hk_HairFile *out, hk_Error *err);
 

@@ -8,6 +8,7 @@
 
 #include "hairkit/scene.h"
 #include "hairkit/simulation_file.h"
+#include "io/io_internal.h"
 #include "sim_internal.h"
 
 /* What the regrowth reads besides the guides: the setup's hairstyle, wick and body
@@ -55,7 +56,7 @@ static hk_Status load_inputs(const hk_SimulationManifest *m, const char *manifes
 {
     hk_Status st = hk_scene_load(m->setup, 0, &in->scene, err);
     if (st != HK_OK) return st;
-    const hk_SetupDef *setup = &in->scene.setup;
+    const hk_Setup *setup = &in->scene.setup;
     if (!setup->hairstyle || !setup->wick_model)
         st = hk_error_set(err, HK_ERR_PARSE, "%s: no HairstyleInfo or WickModel", m->setup);
     const char *changed = NULL;

@@ -15,11 +15,12 @@
 
 #include "hairkit/scene.h"
 #include "hairkit/simulation_file.h"
+#include "io/io_internal.h"
 #include "sim_internal.h"
 
-hk_SimRunOptions hk_default_sim_run_options(void)
+hk_SimRunDef hk_default_sim_run_def(void)
 {
-    hk_SimRunOptions o;
+    hk_SimRunDef o;
     memset(&o, 0, sizeof o);
     o.frames = 1;
     o.fps = 30.0;
@@ -27,10 +28,10 @@ hk_SimRunOptions hk_default_sim_run_options(void)
     o.preroll_max = 5.0;
     o.hair_contacts = 1;
     o.damping = 1;
-    o.integrator = -1;
+    o.integrator = HK_INTEGRATOR_AUTO;
     o.video = 1;
     o.seed = 1;
-    o.render = hk_default_render_options();
+    o.render = hk_default_render_def();
     return o;
 }
 
@@ -67,12 +68,13 @@ typedef struct FrameJob {
 
 typedef struct Run {
     const char *dir;
-    const hk_SimRunOptions *o;
+    const hk_SimRunDef *o;
     hk_Scene scene;       /* the setup and every part of it */
     hk_HairSim *sim;
-    hk_RenderOptions ro;  /* the camera fixed at frame 0 */
+    hk_RenderDef ro;  /* the camera fixed at frame 0 */
     hk_Groom groom;       /* the guides being stepped (guides array only) */
     FrameJob jobs[MAX_AT_ONCE];
+    int threads;          /* the run's threads (options, or OpenMP's default) */
     int at_once;          /* jobs in use */
     double t_frames;      /* when the first frame began */
     hk_SimProgress p;
@@ -177,13 +179,13 @@ static hk_Status write_manifest(Run *r, const char *setup_path, hk_Error *err)
 
 static hk_Status create_sim(Run *r, hk_Error *err)
 {
-    const hk_SimRunOptions *o = r->o;
-    hk_HairSimOptions so = hk_default_hair_sim_options(&r->scene.style);
-    so.threads = 0; /* the calling thread's: hk_simulation_run sets them, fewer while frames are drawn */
+    const hk_SimRunDef *o = r->o;
+    hk_HairSimDef so = hk_hair_sim_def_for(&r->scene.style);
+    so.threads = r->threads; /* all of them until frame 0 is drawn, then fewer (hk_hair_sim_set_threads) */
     so.hair_contacts = o->hair_contacts;
     if (!o->damping) so.dynamics.internal_friction = so.dynamics.air_drag = 0.0;
     if (o->integrator == HK_INTEGRATOR_TRBDF2) {
-        const hk_DynamicsParams strand = hk_default_dynamics_params();
+        const hk_DynamicsDef strand = hk_default_dynamics_def();
         so.dynamics.integrator = HK_INTEGRATOR_TRBDF2;
         so.dynamics.solver = strand.solver;
         so.dynamics.stiffness = strand.stiffness;
@@ -197,7 +199,7 @@ static hk_Status create_sim(Run *r, hk_Error *err)
     hk_Status st = hk_hair_sim_create(&r->scene.style, r->scene.shapes, r->scene.shape_count, &r->scene.wick, &so, &r->sim, err);
     if (st == HK_OK && (o->preroll > 0.0 || o->preroll_max > 0.0)) {
         const hk_RigidState pose = hk_sim_head_pose(o->motion, 0.0);
-        hk_SettleOptions settle = hk_default_settle_options();
+        hk_SettleDef settle = hk_default_settle_def();
         settle.seconds = o->preroll;
         settle.max_seconds = fmax(o->preroll, o->preroll_max);
         hk_SettleReport report;
@@ -249,7 +251,7 @@ static hk_Status render_frame(FrameJob *j, const hk_HairFile *hair)
         st = hk_render_fit_camera(hair, head, &r->ro, &r->ro.camera_target, &r->ro.camera_distance, err);
         r->ro.camera_distance *= 1.15;
     }
-    hk_RenderOptions ro = r->ro;
+    hk_RenderDef ro = r->ro;
     ro.threads = j->threads;
     if (st == HK_OK && !j->renderer) st = hk_renderer_create(&j->renderer, err);
     if (st == HK_OK) st = hk_renderer_draw(j->renderer, hair, head, &r->scene.visuality, &ro, NULL, err);
@@ -269,10 +271,7 @@ static void *frame_job(void *arg)
 {
     FrameJob *j = arg;
     Run *r = j->run;
-    const hk_SimRunOptions *o = r->o;
-    /* A setting of the calling thread's own (libgomp keeps one per thread). */
-    const int saved_threads = omp_get_max_threads();
-    omp_set_num_threads(j->threads);
+    const hk_SimRunDef *o = r->o;
     double t0 = omp_get_wtime();
     const hk_RigidState head = hk_sim_head_pose(o->motion, j->t);
     j->st = hk_sim_grow_hair(&r->scene.style, r->scene.shapes, r->scene.shape_count, &head, &r->scene.wick, o->seed, j->threads, 0, 1,
@@ -284,7 +283,6 @@ static void *frame_job(void *arg)
         j->seconds_write += omp_get_wtime() - t0;
     }
     if (j->st == HK_OK) j->st = render_frame(j, &j->hair);
-    omp_set_num_threads(saved_threads);
     return NULL;
 }
 
@@ -318,7 +316,7 @@ static hk_Status collect(Run *r, FrameJob *j, int report, hk_Error *err)
  * a job: on a thread of its own when frames are drawn at once, else here. */
 static hk_Status write_frame(Run *r, long k, double t, int job_threads, hk_Error *err)
 {
-    const hk_SimRunOptions *o = r->o;
+    const hk_SimRunDef *o = r->o;
     hk_Groom *g = &r->groom;
     double t0 = omp_get_wtime();
     hk_hair_sim_guides(r->sim, g->guides);
@@ -327,7 +325,7 @@ static hk_Status write_frame(Run *r, long k, double t, int job_threads, hk_Error
     guides_view.strand_count = 0;
     hk_HairFile hair;
     memset(&hair, 0, sizeof hair);
-    hk_Status st = hk_groom_to_hair(&guides_view, &r->scene.style, &hair, err);
+    hk_Status st = hk_groom_to_hair(&guides_view, &r->scene.style.strand, &hair, err);
     double t1 = omp_get_wtime();
     r->p.seconds_regrow += t1 - t0;
     if (st == HK_OK) st = save_hair(r, &hair, "guides", k, &r->p.bytes, err);
@@ -377,7 +375,7 @@ static hk_Status collect_all(Run *r, long next, hk_Status st, hk_Error *err)
     return st;
 }
 
-static hk_Status check_options(const hk_SimRunOptions *o, hk_Error *err)
+static hk_Status check_options(const hk_SimRunDef *o, hk_Error *err)
 {
     if (o->frames < 1 || o->frames > 100000)
         return hk_error_set(err, HK_ERR_INVALID, "%ld frames: must be 1 to 100000", o->frames);
@@ -390,20 +388,21 @@ static hk_Status check_options(const hk_SimRunOptions *o, hk_Error *err)
     return HK_OK;
 }
 
-hk_Status hk_simulation_run(const char *setup_path, const char *dir, const hk_SimRunOptions *options,
+hk_Status hk_simulation_run(const char *setup_path, const char *dir, const hk_SimRunDef *options,
                             hk_SimProgress *progress, hk_Error *err)
 {
+    const hk_SimRunDef defaults = hk_default_sim_run_def();
+    if (!options) options = &defaults;
     Run r;
     memset(&r, 0, sizeof r);
     r.dir = dir;
     r.o = options;
     r.ro = options->render;
     r.p.frames = options->frames;
-    /* The threads of this thread's OpenMP loops (the statics, the preroll, the steps),
-     * set here and given back at the end. */
-    const int saved_threads = omp_get_max_threads();
-    const int threads = options->threads > 0 ? options->threads : saved_threads;
-    omp_set_num_threads(threads);
+    /* The threads of the statics, the preroll and the steps (every loop is given its
+     * threads: nothing is set for the calling thread). */
+    const int threads = options->threads > 0 ? options->threads : omp_get_max_threads();
+    r.threads = threads;
     r.at_once = threads >= MAX_AT_ONCE ? MAX_AT_ONCE : 1;
     const int job_threads = threads / r.at_once;
     /* While frames are drawn, the steps take the threads the jobs leave (at least one). */
@@ -417,7 +416,7 @@ hk_Status hk_simulation_run(const char *setup_path, const char *dir, const hk_Si
     if (st == HK_OK) st = write_manifest(&r, setup_path, err);
     if (st == HK_OK) {
         r.p.guides = hk_hair_sim_guide_count(r.sim);
-        r.p.elements = r.scene.style.element_count;
+        r.p.elements = r.scene.style.strand.element_count;
         r.p.seconds_setup = omp_get_wtime() - t_start;
         r.p.frames_at_once = options->guides_only ? 1 : r.at_once;
         if (options->progress) options->progress(options->progress_user, &r.p);
@@ -435,10 +434,9 @@ hk_Status hk_simulation_run(const char *setup_path, const char *dir, const hk_Si
             r.p.recovered += stats.recovered;
         }
         if (st == HK_OK) st = write_frame(&r, k, t, k == 0 ? threads : job_threads, err);
-        if (k == 0) omp_set_num_threads(step_threads);
+        if (k == 0 && r.sim) hk_hair_sim_set_threads(r.sim, step_threads);
     }
     st = collect_all(&r, k, st, err);
-    omp_set_num_threads(saved_threads);
     r.p.seconds = omp_get_wtime() - r.t_frames;
     if (st == HK_OK && options->video && !options->guides_only) {
         char video[4096];

@@ -1,16 +1,16 @@
 /* Newton's method with Levenberg-Marquardt regularisation and a backtracking line
  * search: the fast default minimiser of the statics (it uses the exact gradient and Hessian of
  * the strand energy, where the thesis's Rosenbrock search uses energies alone). */
-#include "hairkit/linalg.h"
+#include "core/linalg.h"
 #include "hairkit/statics.h"
 
 #include <float.h>
 #include <math.h>
 #include <string.h>
 
-hk_NewtonOptions hk_default_newton_options(void)
+hk_NewtonDef hk_default_newton_def(void)
 {
-    hk_NewtonOptions o = {500, 1e-16, 0.0, 0.0, NULL};
+    hk_NewtonDef o = {500, 1e-16, 0.0, 0.0, NULL};
     return o;
 }
 
@@ -20,12 +20,14 @@ hk_NewtonOptions hk_default_newton_options(void)
 #define MU_LIMIT 1e30
 
 hk_Status hk_newton_minimize(int n, double *x, hk_DerivFn f, void *user, const double *metric,
-                             const hk_NewtonOptions *options, hk_MinimizeResult *result,
+                             const hk_NewtonDef *options, hk_MinimizeResult *result,
                              hk_Error *err)
 {
     hk_MinimizeResult res = {0.0, 0, 0, 0};
     if (result) *result = res;
-    if (n < 1 || !x || !f || !options || options->max_iterations < 0 || !(options->tolerance >= 0.0))
+    const hk_NewtonDef defaults = hk_default_newton_def();
+    if (!options) options = &defaults;
+    if (n < 1 || !x || !f || options->max_iterations < 0 || !(options->tolerance >= 0.0))
         return hk_error_set(err, HK_ERR_INVALID, "newton: invalid arguments (n = %d)", n);
     const size_t sn = (size_t)n;
     /* g, trial g, p, trial x: 4n; H, trial H, L: 3 n^2. One block per solve. */
@@ -34,7 +36,7 @@ hk_Status hk_newton_minimize(int n, double *x, hk_DerivFn f, void *user, const d
     double *g = block, *gt = g + sn, *p = gt + sn, *xt = p + sn;
     double *h = xt + sn, *ht = h + sn * sn, *l = ht + sn * sn;
 
-    double fx = f(x, g, h, user);
+    double fx = f(user, x, g, h);
     res.evaluations = 1;
     hk_Status status = HK_OK;
     if (!isfinite(fx)) {
@@ -83,7 +85,7 @@ hk_Status hk_newton_minimize(int n, double *x, hk_DerivFn f, void *user, const d
             /* Once full steps are being accepted they usually go on being accepted:
              * then evaluate their derivatives right away. */
             const int eager = ls == 0 && last_full;
-            ft = f(xt, eager ? gt : NULL, eager ? ht : NULL, user);
+            ft = f(user, xt, eager ? gt : NULL, eager ? ht : NULL);
             res.evaluations++;
             if (isfinite(ft) && ft <= fx + 1e-4 * alpha * gp) {
                 accepted = 1;
@@ -111,7 +113,7 @@ hk_Status hk_newton_minimize(int n, double *x, hk_DerivFn f, void *user, const d
             swap = h;
             h = ht, ht = swap;
         } else {
-            fx = f(x, g, h, user);
+            fx = f(user, x, g, h);
             res.evaluations++;
         }
         res.iterations++;

@@ -43,14 +43,15 @@
 #include <string.h>
 
 #include "hairkit/statics.h"
+#include "statics/statics_internal.h"
 
 /* alpha >= 1 + STEP_CHANGE_MIN and beta <= 1 - STEP_CHANGE_MIN. Rosenbrock's values (3 and
  * 0.5) are far from it; nearer to 1 a direction could need millions of trials. */
 #define STEP_CHANGE_MIN 1e-3
 
-hk_RosenbrockOptions hk_default_rosenbrock_options(void)
+hk_RosenbrockDef hk_default_rosenbrock_def(void)
 {
-    hk_RosenbrockOptions o;
+    hk_RosenbrockDef o;
     o.max_stages = 20;   /* the thesis's MaxIter */
     o.epsilon = 1e-4;    /* the thesis's Epsilon */
     o.initial_step = 0.1;
@@ -152,13 +153,12 @@ enum {
 };
 
 static hk_Status check_options(int n, const double *x, hk_ObjectiveFn f,
-                               const hk_RosenbrockOptions *o, hk_Error *err)
+                               const hk_RosenbrockDef *o, hk_Error *err)
 {
     if (n < 1)
         return hk_error_set(err, HK_ERR_INVALID, "rosenbrock: dimension must be >= 1, got %d", n);
-    if (!x || !f || !o)
-        return hk_error_set(err, HK_ERR_INVALID, "rosenbrock: %s is NULL",
-                            !x ? "x" : !f ? "the objective" : "options");
+    if (!x || !f)
+        return hk_error_set(err, HK_ERR_INVALID, "rosenbrock: %s is NULL", !x ? "x" : "the objective");
     if (o->max_stages < 1)
         return hk_error_set(err, HK_ERR_INVALID, "rosenbrock: max_stages must be >= 1, got %d",
                             o->max_stages);
@@ -180,14 +180,16 @@ static hk_Status check_options(int n, const double *x, hk_ObjectiveFn f,
 }
 
 hk_Status hk_rosenbrock_minimize(int n, double *x, hk_ObjectiveFn f, void *user,
-                                 const hk_RosenbrockOptions *options, hk_MinimizeResult *result,
+                                 const hk_RosenbrockDef *options, hk_MinimizeResult *result,
                                  hk_Error *err)
 {
     hk_MinimizeResult res = {0.0, 0, 0, 0};
     if (result) *result = res;
+    const hk_RosenbrockDef defaults = hk_default_rosenbrock_def();
+    if (!options) options = &defaults;
     hk_Status status = check_options(n, x, f, options, err);
     if (status != HK_OK) return status;
-    const hk_RosenbrockOptions *o = options;
+    const hk_RosenbrockDef *o = options;
     const size_t sn = (size_t)n;
 
     /* Directions and their successors (n x n each), trial point, steps, advances. */
@@ -203,7 +205,7 @@ hk_Status hk_rosenbrock_minimize(int n, double *x, hk_ObjectiveFn f, void *user,
     memset(xi, 0, sn * sn * sizeof(double));
     for (size_t i = 0; i < sn; i++) xi[i * sn + i] = 1.0; /* first stage: the coordinate axes */
 
-    double fx = f(x, user);
+    double fx = f(user, x);
     res.evaluations = 1;
     if (!isfinite(fx)) {
         status = hk_error_set(err, HK_ERR_NUMERIC,
@@ -237,7 +239,7 @@ hk_Status hk_rosenbrock_minimize(int n, double *x, hk_ObjectiveFn f, void *user,
                     out_of_budget = 1;
                     break;
                 }
-                ft = f(xt, user);
+                ft = f(user, xt);
                 res.evaluations++;
             }
             if (isfinite(ft) && ft <= fx) {

@@ -8,42 +8,42 @@
 
 typedef struct StrandProblem {
     const hk_SuperHelix *sh;
-    const hk_StrandEnv *env;
+    const hk_StrandEnvDef *env;
     hk_StrandWorkspace *ws;
 } StrandProblem;
 
-static double strand_value(const double *q, void *user)
+static double strand_value(void *user, const double *q)
 {
     const StrandProblem *pb = user;
     return hk_strand_energy(pb->sh, pb->env, q, pb->ws, NULL, NULL, NULL);
 }
 
-static double strand_derivs(const double *q, double *grad, double *hess, void *user)
+static double strand_derivs(void *user, const double *q, double *grad, double *hess)
 {
     const StrandProblem *pb = user;
     return hk_strand_energy(pb->sh, pb->env, q, pb->ws, grad, hess, NULL);
 }
 
-hk_StaticsOptions hk_default_statics_options(void)
+hk_StaticsDef hk_default_statics_def(void)
 {
-    hk_StaticsOptions o;
+    hk_StaticsDef o;
     o.solver = HK_SOLVER_NEWTON;
-    o.rosenbrock = hk_default_rosenbrock_options();
-    o.newton = hk_default_newton_options();
+    o.rosenbrock = hk_default_rosenbrock_def();
+    o.newton = hk_default_newton_def();
     /* Each Newton step turns no element by more than half a radian: far from rest it
      * keeps the strand from leaping through wild twists into a poor local minimum. */
     o.newton.max_step = 0.5;
     return o;
 }
 
-hk_RosenbrockOptions hk_rosenbrock_options_for(const hk_HairstyleDef *def)
+hk_RosenbrockDef hk_rosenbrock_def_for(const hk_StrandDef *def)
 {
-    hk_RosenbrockOptions o = hk_default_rosenbrock_options();
+    hk_RosenbrockDef o = hk_default_rosenbrock_def();
     o.max_stages = def->max_iter;
     o.epsilon = def->epsilon;
     /* The thesis gives no initial step. One radian of bending over the strand length
      * is the natural unit of curvature; the search grows or shrinks it from there. */
-    const double length = hk_hairstyle_length(def);
+    const double length = hk_strand_def_length(def);
     if (length > 0.0) o.initial_step = 1.0 / length;
     return o;
 }
@@ -72,10 +72,14 @@ static double energy_scale(const hk_SuperHelix *sh)
     return bend + sh->material.mass_per_length * hk_v3_norm(sh->material.gravity) * len * len;
 }
 
-hk_Status hk_statics_solve(hk_SuperHelix *sh, const hk_StrandEnv *env,
-                           const hk_StaticsOptions *options, hk_MinimizeResult *result,
+hk_Status hk_statics_solve(hk_SuperHelix *sh, const hk_StrandEnvDef *env,
+                           const hk_StaticsDef *options, hk_MinimizeResult *result,
                            hk_Error *err)
 {
+    const hk_StrandEnvDef no_env = hk_default_strand_env_def();
+    const hk_StaticsDef defaults = hk_default_statics_def();
+    if (!env) env = &no_env;
+    if (!options) options = &defaults;
     const int dim = 3 * sh->n;
     StrandProblem pb = {sh, env, NULL};
     hk_Status st = hk_strand_workspace_create(sh, env, &pb.ws, err);
@@ -98,7 +102,7 @@ hk_Status hk_statics_solve(hk_SuperHelix *sh, const hk_StrandEnv *env,
                 /* A change of 1 / l_Q turns element Q's end by a radian. */
                 unit[3 * p + i] = 1.0 / sh->length[p];
             }
-        hk_NewtonOptions no = options->newton;
+        hk_NewtonDef no = options->newton;
         if (!(no.energy_scale > 0.0)) no.energy_scale = energy_scale(sh);
         if (!no.step_unit) no.step_unit = unit;
         st = hk_newton_minimize(dim, q, strand_derivs, &pb, metric, &no, result, err);

@@ -13,7 +13,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         ready = 1;
     }
     const char *path = hk_fuzz_write("setup.txt", data, size);
-    hk_SetupDef setup;
+    hk_Setup setup;
     hk_Error err;
     if (path && hk_setup_load(path, &setup, &err) == HK_OK) hk_setup_free(&setup);
     return 0;

@@ -6,7 +6,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     const char *path = hk_fuzz_write("visuality.txt", data, size);
-    hk_VisualityDef v;
+    hk_Visuality v;
     hk_Error err;
     if (path) hk_visuality_load(path, &v, &err);
     return 0;

@@ -63,6 +63,12 @@ for h in "$prefix"/include/hairkit/*.h; do
         fail "hairkit/$name does not compile on its own: $(head -c 400 "$tmp/cc.err")"
 done
 
+# The public headers declare the API only: every function declared there has HK_API
+# (internal functions are declared in headers under src/, which are not installed).
+if grep -n '^[A-Za-z].*\bhk_[a-z0-9_]*(' "$prefix"/include/hairkit/*.h | grep -v 'HK_API\|typedef\|static inline' >"$tmp/internal"; then
+    fail "functions declared without HK_API in the public headers: $(head -5 "$tmp/internal")"
+fi
+
 # The shared library exports exactly the functions declared with HK_API.
 grep -ho '^HK_API [^(]*(' "$prefix"/include/hairkit/*.h | sed -E 's/.*[ *](hk_[A-Za-z0-9_]+) *\($/\1/' |
     sort -u >"$tmp/declared"

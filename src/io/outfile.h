@@ -8,17 +8,13 @@
  * /dev/stdout) is written in place, without a temporary (so without the atomicity);
  * a folder, a block device or a socket is refused with a message.
  *
- * Internal to hairkit: these functions are not exported from the shared library (no HK_API). */
-#ifndef HAIRKIT_OUTFILE_H
-#define HAIRKIT_OUTFILE_H
+ * Internal to hairkit (not installed, not exported): included as "io/outfile.h". */
+#ifndef HK_IO_OUTFILE_H
+#define HK_IO_OUTFILE_H
 
 #include <stdio.h>
 
 #include "hairkit/core.h"
-
-#ifdef __cplusplus
-extern "C" {
-#endif
 
 typedef struct hk_OutFile {
     FILE *fp;          /* write here */
@@ -43,8 +39,4 @@ void hk_outfile_abort(hk_OutFile *out);
  * library never installs it by itself. */
 void hk_outfile_cleanup_on_signals(void);
 
-#ifdef __cplusplus
-}
-#endif
-
-#endif
+#endif /* HK_IO_OUTFILE_H */

@@ -1,11 +1,7 @@
 /* Small dense linear algebra for the solvers (row-major n x n matrices). Internal to
- * hairkit: these functions are not exported from the shared library (no HK_API). */
-#ifndef HAIRKIT_LINALG_H
-#define HAIRKIT_LINALG_H
-
-#ifdef __cplusplus
-extern "C" {
-#endif
+ * hairkit (not installed, not exported): included as "core/linalg.h". */
+#ifndef HK_CORE_LINALG_H
+#define HK_CORE_LINALG_H
 
 /* sum a[k] b[k], k < n, with four partial sums in a fixed order (the same bytes on
  * every machine and thread count). */
@@ -33,8 +29,4 @@ void hk_cholesky_solve_columns(int n, const double *l, double *x, int count);
  * iteration did not converge. */
 int hk_symmetric_eigen(int n, const double *a, double *w, double *v, double *e);
 
-#ifdef __cplusplus
-}
-#endif
-
-#endif
+#endif /* HK_CORE_LINALG_H */

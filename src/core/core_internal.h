@@ -1,0 +1,52 @@
+/* Internal to hairkit (not installed, not exported from the shared library): the first
+ * error of a parallel loop and the monotonic clock. The library, the hairkit program, the
+ * benchmarks, the tools and the tests include it as "core/core_internal.h". */
+#ifndef HK_CORE_INTERNAL_H
+#define HK_CORE_INTERNAL_H
+
+#include "hairkit/core.h"
+
+/* The error of the lowest failing index of a parallel loop, so that the error reported
+ * is the same whatever the thread count and the schedule (DESIGN.md: results do not
+ * depend on the threads). Iterations run in any order; each failure is recorded with
+ * its index and the lowest one is kept:
+ *
+ *     hk_FirstError fe;
+ *     hk_first_error_init(&fe);
+ *     #pragma omp parallel for schedule(dynamic)
+ *     for (long i = 0; i < n; i++) {
+ *         if (hk_first_error_skip(&fe, i)) continue; // optional: cannot change the outcome
+ *         hk_Error e;
+ *         if (work(i, &e) != HK_OK) hk_first_error_record(&fe, i, &e);
+ *     }
+ *     if (fe.index >= 0) return hk_error_set(err, fe.error.code, "item %ld: %s", fe.index,
+ *                                            fe.error.message);
+ *
+ * (or `return hk_first_error_status(&fe, err);` to pass the error on as it is). Read
+ * the fields after the loop only.*/
+typedef struct hk_FirstError {
+    long index;     /* lowest failing index recorded, -1 while none */
+    hk_Error error; /* the error recorded with it */
+} hk_FirstError;
+
+/* No failure yet. */
+void hk_first_error_init(hk_FirstError *fe);
+
+/* Records err (not NULL) as the failure of iteration `index` (>= 0) if no lower index
+ * has failed. Safe to call from any thread of a parallel region. */
+void hk_first_error_record(hk_FirstError *fe, long index, const hk_Error *err);
+
+/* Whether a lower index than `index` has failed already, so that iteration `index` can
+ * be skipped without changing which error is kept (an iteration below every recorded
+ * failure is never skipped). Safe to call from any thread. */
+int hk_first_error_skip(const hk_FirstError *fe, long index);
+
+/* After the loop: HK_OK when nothing failed; else copies the lowest index's error into
+ * err (when not NULL) and returns its code. */
+hk_Status hk_first_error_status(const hk_FirstError *fe, hk_Error *err);
+
+/* Seconds on a monotonic clock (CLOCK_MONOTONIC) from an arbitrary origin: for timings
+ * and progress reports, never for results.*/
+double hk_seconds_now(void);
+
+#endif /* HK_CORE_INTERNAL_H */

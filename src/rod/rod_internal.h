@@ -1,0 +1,17 @@
+/* Internal to hairkit (not installed, not exported): what the dynamics reads from the
+ * statics energy's workspace. Included as "rod/rod_internal.h". */
+#ifndef HK_ROD_INTERNAL_H
+#define HK_ROD_INTERNAL_H
+
+#include "hairkit/rod.h"
+
+/* Collision sample i (0 <= i < hk_strand_collision_sample_count) as the last
+ * hk_strand_energy call with this workspace and a gradient (grad or hess not NULL) found
+ * it: returns 1 if it touched a shape, and then *grad is the gradient of its penalty
+ * energy (w * dE/dp, with w the arc length the sample stands for) at its position, in
+ * the coordinates of that call; 0 otherwise (and for every sample after a call without
+ * a gradient, or hk_strand_max_penetration). The dynamics' body friction reads its
+ * normal force here instead of evaluating the shapes again. */
+int hk_strand_workspace_contact(const hk_StrandWorkspace *ws, int i, hk_Vec3 *grad);
+
+#endif /* HK_ROD_INTERNAL_H */

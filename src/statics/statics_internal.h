@@ -1,0 +1,13 @@
+/* Internal to hairkit (not installed, not exported): parts of the minimisers the tests
+ * check on their own. Included as "statics/statics_internal.h". */
+#ifndef HK_STATICS_INTERNAL_H
+#define HK_STATICS_INTERNAL_H
+
+#include "hairkit/statics.h"
+
+/* Palmer's orthonormalisation step on its own, for tests: given the n orthonormal directions xi (row-major
+ * n x n, row i = direction i) and the stage advances d[0..n), writes the new orthonormal
+ * directions into xi_new. */
+void hk_rosenbrock_palmer_directions(int n, const double *xi, const double *d, double *xi_new);
+
+#endif /* HK_STATICS_INTERNAL_H */
