@@ -10,7 +10,7 @@
 #include <string.h>
 
 #include "hairkit/follicle_sampling.h"
-#include "helicoid/follicle_internal.h"
+#include "follicles/follicle_internal.h"
 
 #define PI 3.14159265358979323846
 #define HEX_AREA 0.8660254037844386 /* area per point of a hexagonal packing of spacing 1 */

@@ -1,4 +1,4 @@
-/* Helicoid files (src/helicoid/helicoid_file.c): a sample with every key, save -> load
+/* Helicoid files (src/io/helicoid_file.c): a sample with every key, save -> load
  * gives back the same numbers and the same bytes, every error class with its file:line
  * message, and a fuzz loop that never crashes. */
 #include "hk_test.h"

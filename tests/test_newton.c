@@ -1,4 +1,4 @@
-/* The generic Newton minimiser (src/statics/newton.c) on functions with known minima:
+/* The generic Newton minimiser (src/optimize/newton.c) on functions with known minima:
  * a convex quadratic (one step), Rosenbrock's banana (non-convex start, damping
  * needed), an indefinite start, and the error paths. */
 #include "hk_test.h"

@@ -1,4 +1,4 @@
-/* The thesis's Rosenbrock + Palmer minimiser (src/statics/rosenbrock.c): Palmer's
+/* The thesis's Rosenbrock + Palmer minimiser (src/optimize/rosenbrock.c): Palmer's
  * directions against an independent Gram-Schmidt and in the degenerate cases Palmer
  * was made for, exact trial sequences, minima of test functions, the benefit of the
  * rotation, stopping rules and limits, NaN and other hostile objectives, errors. */
@@ -12,7 +12,7 @@
 #include <unistd.h>
 
 #include "hairkit/statics.h"
-#include "statics/statics_internal.h"
+#include "optimize/optimize_internal.h"
 
 #define NMAX 10
 

@@ -1,4 +1,4 @@
-/* libFuzzer: helicoid files (src/helicoid/helicoid_file.c). */
+/* libFuzzer: helicoid files (src/io/helicoid_file.c). */
 #include "fuzz_file.h"
 #include "hairkit/helicoid_file.h"
 

@@ -1,4 +1,4 @@
-/* libFuzzer: head motion files (src/dynamics/motion_file.c), and the motion evaluated
+/* libFuzzer: head motion files (src/io/motion_file.c), and the motion evaluated
  * before, inside and after its keyframes. */
 #include <math.h>
 

@@ -43,7 +43,7 @@
 #include <string.h>
 
 #include "hairkit/statics.h"
-#include "statics/statics_internal.h"
+#include "optimize/optimize_internal.h"
 
 /* alpha >= 1 + STEP_CHANGE_MIN and beta <= 1 - STEP_CHANGE_MIN. Rosenbrock's values (3 and
  * 0.5) are far from it; nearer to 1 a direction could need millions of trials. */

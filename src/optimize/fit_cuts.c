@@ -18,7 +18,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "helicoid/piecewise_internal.h"
+#include "optimize/piecewise_internal.h"
 
 /* Upper limit of the first fragment: the last sample k such that the fragment i0..k
  * couples with the same stretch of the fit (in ws->best) within `threshold` of the

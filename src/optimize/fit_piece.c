@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "core/linalg.h"
-#include "helicoid/piecewise_internal.h"
+#include "optimize/piecewise_internal.h"
 
 #define M_PI_VALUE 3.14159265358979323846
 

@@ -25,7 +25,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "helicoid/piecewise_internal.h"
+#include "optimize/piecewise_internal.h"
 
 hk_CurveFitDef hk_default_curve_fit_def(void)
 {

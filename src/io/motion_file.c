@@ -22,7 +22,7 @@
 
 #include "hairkit/io.h"
 #include "io/keyfile.h"
-#include "motion_internal.h"
+#include "dynamics/motion_internal.h"
 
 #define HK_PI 3.14159265358979323846
 

@@ -16,7 +16,7 @@
  * longer curve is always the outer loop, whatever the argument order. */
 #include <math.h>
 
-#include "helicoid/curvefit_internal.h"
+#include "optimize/curvefit_internal.h"
 
 static inline double leash(hk_Vec3 a, hk_Vec3 b)
 {

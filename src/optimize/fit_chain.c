@@ -3,7 +3,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "helicoid/piecewise_internal.h"
+#include "optimize/piecewise_internal.h"
 
 /* ---- a fixed layout (§5.4) ------------------------------------------------------------ */
 

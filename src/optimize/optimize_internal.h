@@ -1,7 +1,7 @@
 /* Internal to hairkit (not installed, not exported): parts of the minimisers the tests
- * check on their own. Included as "statics/statics_internal.h". */
-#ifndef HK_STATICS_INTERNAL_H
-#define HK_STATICS_INTERNAL_H
+ * check on their own. Included as "optimize/optimize_internal.h". */
+#ifndef HK_OPTIMIZE_INTERNAL_H
+#define HK_OPTIMIZE_INTERNAL_H
 
 #include "hairkit/statics.h"
 
@@ -10,4 +10,4 @@
  * directions into xi_new. */
 void hk_rosenbrock_palmer_directions(int n, const double *xi, const double *d, double *xi_new);
 
-#endif /* HK_STATICS_INTERNAL_H */
+#endif /* HK_OPTIMIZE_INTERNAL_H */

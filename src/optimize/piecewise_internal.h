@@ -4,7 +4,7 @@
 #ifndef HK_PIECEWISE_INTERNAL_H
 #define HK_PIECEWISE_INTERNAL_H
 
-#include "helicoid/curvefit_internal.h"
+#include "optimize/curvefit_internal.h"
 
 #define MAXP HK_CURVEFIT_MAX_PARAMS
 #define ROT 3 /* parameters of the root frame's rotation when it is refined */

@@ -3,7 +3,7 @@
  * discrete curvature vectors the split heuristics of §5.3 compare. */
 #include <math.h>
 
-#include "helicoid/curvefit_internal.h"
+#include "optimize/curvefit_internal.h"
 
 /* Turning angle (rad) at vertex i of a polyline, 0 at its ends and where a segment is
  * degenerate. */
