@@ -29,7 +29,7 @@ static double uniform(uint64_t key, double lo, double hi)
 static double gaussian(uint64_t key)
 {
     const double u = 1.0 - uniform(2 * key, 0, 1), v = uniform(2 * key + 1, 0, 1);
-    return sqrt(-2.0 * log(u)) * cos(6.283185307179586 * v);
+    return sqrt(-2.0 * log(u)) * cos(2.0 * HK_PI * v);
 }
 
 /* Strand s of a set: kind 0 single helix, 1 two pieces joined at sample 14, 2 single

@@ -80,7 +80,7 @@ static hk_Status guide_normals(const hk_HelicoidArgs *a, const hk_Mesh *mesh, co
         const double lean = hk_v3_dot(hk_m3_col(&g->frame, 0), normals[i]);
         if (lean < 0.0 && !a->quiet)
             fprintf(stderr, "hairkit %s interpolate: warning: guide %d of %s points %.0f degrees into %s at its root\n",
-                    CMD, i + 1, a->input, asin(fmin(1.0, -lean)) * 57.29577951308232, a->surface);
+                    CMD, i + 1, a->input, asin(fmin(1.0, -lean)) * (180.0 / HK_PI), a->surface);
     }
     return HK_OK;
 }

@@ -19,7 +19,7 @@ static double uniform(double lo, double hi) { return lo + (hi - lo) * hk_test_un
 static double gaussian(void)
 {
     const double u = 1.0 - hk_test_uniform(), v = hk_test_uniform();
-    return sqrt(-2.0 * log(u)) * cos(6.283185307179586 * v);
+    return sqrt(-2.0 * log(u)) * cos(2.0 * HK_PI * v);
 }
 
 static hk_Vec3 random_unit(void)

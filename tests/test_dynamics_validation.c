@@ -67,7 +67,7 @@ static void test_cantilever_first_frequency(void **state)
     m = NULL;
     sh->material.gravity = hk_v3(0.0, -0.01 * ei / (rho_a * length * length * length), 0.0);
     const double omega = 1.8751 * 1.8751 * sqrt(ei / (rho_a * pow(length, 4)));
-    const double period = 2.0 * 3.14159265358979323846 / omega;
+    const double period = 2.0 * HK_PI / omega;
     /* dt = period / 2000: implicit Euler's phase error (omega dt)^2 / 3 ~ 3e-6. */
     const double dt = period / 2000.0;
     hk_DynamicsDef p = undamped();
@@ -338,9 +338,9 @@ static void spinning_rod_bend(int n, double length, double theta, hk_DynamicsSol
 static void test_gyroscopic_couple_bends_a_spinning_rod(void **state)
 {
     (void)state;
-    const double length = 0.1, theta = 0.25 * 3.14159265358979323846, w = 2.0 * 3.14159265358979323846;
+    const double length = 0.1, theta = 0.25 * HK_PI, w = 2.0 * HK_PI;
     /* EI = E pi a^4 / 4 of strand()'s section (a = 50 um, E = 1 GPa). */
-    const double ei = 1e9 * 3.14159265358979323846 * pow(5e-5, 4) / 4.0;
+    const double ei = 1e9 * HK_PI * pow(5e-5, 4) / 4.0;
     /* A section exaggerated to a 1 cm radius of gyration, as in the energy test above. */
     const double i_n = 1e-9;
     const struct {

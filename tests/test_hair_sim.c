@@ -127,7 +127,7 @@ static double shaking_depth(int substeps, double *reach_out)
      * up to a factor two for a tip reversing within a frame */
     double k = 0.0;
     for (int i = 0; i < hard_count; i++) k = fmax(k, hard[i].penalty);
-    const double reach = 2.0 * fastest * sqrt(sc.style.strand.density * 3.14159265358979323846 * sc.style.strand.radius1 *
+    const double reach = 2.0 * fastest * sqrt(sc.style.strand.density * HK_PI * sc.style.strand.radius1 *
                                                sc.style.strand.radius2 / k);
     print_message("shaking head, %d steps per frame: deepest guide sample %.3g m inside the head, penalty reach "
                   "%.3g m at %.2f m/s; %d guide-guide contacts\n", substeps, deepest, reach, fastest, contacts);
@@ -270,8 +270,8 @@ static void test_run_frames_outside_posed_body(void **state)
         hk_RigidState head;
         hk_head_motion_eval(shake, k / o.fps, &head);
         const double turned = acos(fmin(1.0, 0.5 * (head.rot.m[0][0] + head.rot.m[1][1] + head.rot.m[2][2] - 1.0)));
-        print_message("frame %ld, the head turned by %.0f degrees:\n", k, turned * 180.0 / 3.14159265358979323846);
-        if (k == 3) assert_true(turned > 50.0 * 3.14159265358979323846 / 180.0);
+        print_message("frame %ld, the head turned by %.0f degrees:\n", k, turned * 180.0 / HK_PI);
+        if (k == 3) assert_true(turned > 50.0 * HK_PI / 180.0);
         hk_HairFile hair;
         assert_int_equal(hk_simulation_frame_path(frame, sizeof frame, dir, "frame", k, "hair", &err), HK_OK);
         assert_int_equal(hk_hair_load(frame, &hair, &err), HK_OK);

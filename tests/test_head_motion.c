@@ -14,7 +14,7 @@
 #include "dynamics/motion_internal.h"
 #include "hairkit/motion.h"
 
-#define PI 3.14159265358979323846
+
 
 /* ---- Helpers ------------------------------------------------------------------------ */
 
@@ -206,7 +206,7 @@ static void test_scripted_derivatives(void **state)
         const double te = 0.5 / freq[k];
         /* Speeds are of the order of amplitude x 2 pi f (metres: the lever arm of the
          * rotations is some 0.2 m). */
-        const double scale = (k < 3 ? amplitude[k] * PI / 180 * 0.2 : amplitude[k]) * 2 * PI * freq[k];
+        const double scale = (k < 3 ? amplitude[k] * HK_PI / 180 * 0.2 : amplitude[k]) * 2 * HK_PI * freq[k];
         for (int i = 1; i < 60; i++) {
             const double t = 4.0 * te * i / 60.0 + 1e-3;
             if (fabs(t - te) < 2e-5) continue; /* the ease-in's end: C2, not smoother */
@@ -221,7 +221,7 @@ static double profile(double a, double f, double t)
 {
     if (t <= 0) return 0;
     const double u = fmin(t * 2 * f, 1.0);
-    return a * u * u * u * (10 - 15 * u + 6 * u * u) * sin(2 * PI * f * t);
+    return a * u * u * u * (10 - 15 * u + 6 * u * u) * sin(2 * HK_PI * f * t);
 }
 
 static void test_scripted_formulas(void **state)
@@ -236,7 +236,7 @@ static void test_scripted_formulas(void **state)
             assert_rotation(&st.rot);
             if (k < 3) {
                 /* The rotation about axis k by g(t) degrees; the pivot stays fixed. */
-                const hk_Mat3 want = rodrigues(hk_v3_unit(k), profile(a, f, t) * PI / 180);
+                const hk_Mat3 want = rodrigues(hk_v3_unit(k), profile(a, f, t) * HK_PI / 180);
                 for (int i = 0; i < 3; i++)
                     for (int j = 0; j < 3; j++) hk_assert_near(st.rot.m[i][j], want.m[i][j], 1e-14);
                 hk_Vec3 p, v, acc;
@@ -336,7 +336,7 @@ static void test_scripted_errors(void **state)
 static void test_rotation_exp(void **state)
 {
     (void)state;
-    const double centres[] = {0.0, 1e-9, 0.3, 1.99999, 2.0, 2.00001, 3.1, 2 * PI, 9.0, 40.0};
+    const double centres[] = {0.0, 1e-9, 0.3, 1.99999, 2.0, 2.00001, 3.1, 2 * HK_PI, 9.0, 40.0};
     for (size_t c = 0; c < sizeof centres / sizeof *centres; c++) {
         const hk_Vec3 r0 = hk_v3_scale(hk_v3_normalize(hk_v3(0.3, -0.8, 0.5)), centres[c]);
         const hk_Vec3 r1 = hk_v3(0.7, 0.2, -0.4), r2 = hk_v3(-0.3, 0.5, 0.9);
@@ -398,7 +398,7 @@ static void test_file_keys_exact(void **state)
         const double *key = sample_keys[k];
         const hk_RigidState st = eval_at(m, key[0]);
         const hk_Vec3 axis = hk_v3_normalize(hk_v3(key[4], key[5], key[6]));
-        const hk_Mat3 want = rodrigues(axis, key[7] * PI / 180);
+        const hk_Mat3 want = rodrigues(axis, key[7] * HK_PI / 180);
         for (int i = 0; i < 3; i++)
             for (int j = 0; j < 3; j++) hk_assert_near(st.rot.m[i][j], want.m[i][j], 2e-16);
         /* x -> R (x - c) + c + p: T = p + c - R c; the pivot lands on c + p exactly up

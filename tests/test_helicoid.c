@@ -144,7 +144,7 @@ static void test_theta_continuation(void **state)
     hk_helicoid_angles(&k, hk_v3(0.0, 0.5 - 0.3, 0.0), 0.0, &prev, NULL);
     const double start = prev;
     for (int i = 1; i <= n; i++) {
-        double a = -HK_HELICOID_PI / 2 + HK_HELICOID_TWO_PI * i / n;
+        double a = -HK_PI / 2 + (2.0 * HK_PI) * i / n;
         hk_Vec3 x = hk_v3(0.3 * cos(a), 0.5 + 0.3 * sin(a), 0.0);
         double th, ph;
         hk_helicoid_angles(&k, x, prev, &th, &ph);
@@ -152,7 +152,7 @@ static void test_theta_continuation(void **state)
         hk_assert_near(ph, 0.5 * th, 1e-15);
         prev = th;
     }
-    hk_assert_near(prev - start, HK_HELICOID_TWO_PI, 1e-12);
+    hk_assert_near(prev - start, (2.0 * HK_PI), 1e-12);
 }
 
 /* ---- closed forms ------------------------------------------------------------------- */
@@ -249,7 +249,7 @@ static void test_spiral_closed_form_vs_rk4(void **state)
     const double wr = (1 + 0.4 * s) * cos(th) - 1, wi = (1 + 0.4 * s) * sin(th), cc = 0.4 * 0.4 + 1.5 * 1.5;
     hk_assert_near(p[n - 1].x, (wr * 0.4 + wi * 1.5) / cc, 1e-14);
     hk_assert_near(p[n - 1].y, (wi * 0.4 - wr * 1.5) / cc, 1e-14);
-    hk_assert_near(atan2(f[n - 1].m[1][0], f[n - 1].m[0][0]), remainder(th, HK_HELICOID_TWO_PI), 1e-14);
+    hk_assert_near(atan2(f[n - 1].m[1][0], f[n - 1].m[0][0]), remainder(th, (2.0 * HK_PI)), 1e-14);
     free(p);
     free(f);
 }
@@ -708,7 +708,7 @@ static void test_fig6_pi_rotated_pair(void **state)
         assert_true(out.frame.m[2][1] >= -1e-15);
         const double angle = acos(fmax(-1.0, fmin(1.0, out.frame.m[1][1])));
         const double t = i / 20.0, wa = pow(t, -3), wb = pow(1 - t, -3);
-        hk_assert_near(angle, i == 0 ? 0.0 : (i == 20 ? HK_HELICOID_PI : 2 * atan2(wb, wa)), 1e-7);
+        hk_assert_near(angle, i == 0 ? 0.0 : (i == 20 ? HK_PI : 2 * atan2(wb, wa)), 1e-7);
         assert_true(angle >= prev_angle - 1e-15);
         prev_angle = angle;
         hk_Vec3 *p = trace(&out, 0.05, HK_HELICOID_AUTO, NULL, NULL, NULL, &n);
@@ -720,7 +720,7 @@ static void test_fig6_pi_rotated_pair(void **state)
         for (int j = 0; j < n; j++) p[j] = hk_v3_sub(p[j], x);
         prev = p;
     }
-    hk_assert_near(prev_angle, HK_HELICOID_PI, 1e-12);
+    hk_assert_near(prev_angle, HK_PI, 1e-12);
     free(prev);
     /* Neighbours 1/20 of the way apart: the largest turn (mid-way, d angle / dt = 12) moves
      * points up to ~2.5 from the axis by 0.6 rad. */

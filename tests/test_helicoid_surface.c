@@ -14,7 +14,7 @@
 #include "hairkit/helicoid_file.h"
 #include "hairkit/mesh.h"
 
-static const double PI = 3.14159265358979323846;
+
 
 static hk_Vec3 random_unit(void)
 {
@@ -143,7 +143,7 @@ static void test_lift_off_the_surface(void **state)
         g[i].length[0] = 1.0;
     }
     /* E_T 20 degrees into the plane y = 0, towards +x and towards +z */
-    const double e = 20.0 * PI / 180.0;
+    const double e = 20.0 * HK_PI / 180.0;
     g[0].frame = frame_along(hk_v3(cos(e), -sin(e), 0), 0.3);
     g[1].frame = frame_along(hk_v3(0, -sin(e), cos(e)), 1.1);
     hk_Error err;
@@ -201,7 +201,7 @@ static void test_surface_bad_input(void **state)
     EXPECT_BAD(hk_phelicoid_interpolate_on_surface(g, gn, 2, hk_v3(NAN, 0, 0), x, 3.0, 0.1, &out, &err));
     EXPECT_BAD(hk_phelicoid_interpolate_on_surface(g, gn, 2, x, x, 0.0, 0.1, &out, &err));
     EXPECT_BAD(hk_phelicoid_interpolate_on_surface(g, gn, 2, x, x, 3.0, -0.1, &out, &err));
-    EXPECT_BAD(hk_phelicoid_interpolate_on_surface(g, gn, 2, x, x, 3.0, PI / 2, &out, &err));
+    EXPECT_BAD(hk_phelicoid_interpolate_on_surface(g, gn, 2, x, x, 3.0, HK_PI / 2, &out, &err));
     EXPECT_BAD(hk_phelicoid_interpolate_on_surface(g, gn, 2, x, x, 3.0, NAN, &out, &err));
     EXPECT_BAD(hk_phelicoid_interpolate_on_surface(g, gn, 2, x, x, 3.0, 0.1, NULL, &err));
     gn[1] = zero;
@@ -279,7 +279,7 @@ static void test_follicles_on_the_head(void **state)
         /* the example's guides leave along the normal */
         assert_true(hk_v3_dot(hk_m3_col(&guides.strands[i].frame, 0), gn[i]) > 0.99);
     }
-    const double min_elevation = 10.0 * PI / 180.0;
+    const double min_elevation = 10.0 * HK_PI / 180.0;
     double lowest = 1.0;
     for (int i = 0; i < f.count; i++) {
         assert_true(hk_mesh_closest_point(&wick, f.points[i], NULL, NULL) < 0.3 * def.spacing);

@@ -121,7 +121,7 @@ static int make_head(hk_Mesh *m, hk_Error *err)
     const int rings = 80, segments = 96;
     const int nv = 2 + (rings - 1) * segments, nt = 2 * segments * (rings - 1);
     if (hk_mesh_alloc(m, nv, nt, err) != HK_OK) return 0;
-    const double pi = 3.14159265358979323846;
+    const double pi = HK_PI;
     int v = 0;
     m->positions[v++] = surface_along(hk_v3(0, 1, 0));
     for (int i = 1; i < rings; i++) {
@@ -161,7 +161,7 @@ static int make_head(hk_Mesh *m, hk_Error *err)
  * the ears, 125 at the nape. */
 static double hairline(double phi)
 {
-    const double pi = 3.14159265358979323846, w = 0.5 * (1.0 - cos(phi));
+    const double pi = HK_PI, w = 0.5 * (1.0 - cos(phi));
     return (63.0 + 62.0 * pow(w, 1.5)) * pi / 180.0;
 }
 
@@ -170,7 +170,7 @@ static int make_wick(hk_Mesh *m, int rings, int segments, hk_Error *err)
 {
     const int nv = 1 + rings * segments, nt = segments + 2 * segments * (rings - 1);
     if (hk_mesh_alloc(m, nv, nt, err) != HK_OK) return 0;
-    const double pi = 3.14159265358979323846;
+    const double pi = HK_PI;
     for (int v = 0; v < nv; v++) {
         double theta = 0.0, phi = 0.0;
         if (v > 0) {

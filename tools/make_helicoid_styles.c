@@ -99,7 +99,7 @@ static int pick_roots(const Style *st, const hk_Mesh *wick, hk_Vec3 *roots)
     for (int i = 0; i < wick->vertex_count; i++) dist[i] = INFINITY;
     int count = 0;
     for (int k = 0; k < st->crown_ring; k++) {
-        const double a = 2.0 * 3.141592653589793 * (k + 0.5) / st->crown_ring;
+        const double a = 2.0 * HK_PI * (k + 0.5) / st->crown_ring;
         hk_Vec3 p;
         if (point_above(wick, st->crown.x + st->crown_radius * sin(a), st->crown.z + st->crown_radius * cos(a), &p))
             add_root(wick, p, roots, &count, dist);
@@ -274,7 +274,7 @@ static int write_style(const Style *st, const Guide *g, int count, const char *p
         fprintf(fp,
                 "\nStrand  # %.0f degrees from the front\nRoot  %.6f %.6f %.6f\n"
                 "Frame %.6f %.6f %.6f   %.6f %.6f %.6f\n",
-                g[i].azimuth * 57.29577951308232, h->root.x, h->root.y, h->root.z, t.x, t.y, t.z, nn.x, nn.y, nn.z);
+                g[i].azimuth * (180.0 / HK_PI), h->root.x, h->root.y, h->root.z, t.x, t.y, t.z, nn.x, nn.y, nn.z);
         for (int j = 0; j < h->piece_count; j++)
             fprintf(fp, "Piece %.6g 0 0 0 %.6g\n", h->k[j].kt, h->length[j]);
     }
@@ -369,7 +369,7 @@ int main(int argc, char **argv)
         const double c = clearance(&g[i].h, &head, &w), c0 = clearance(&g[i].h, &head, NULL);
         worst = fmin(worst, c);
         printf("guide %2d: azimuth %5.0f, %2d pieces, length %.3f m, clearance %.1f mm (%.1f mm without waves)\n",
-               i + 1, g[i].azimuth * 57.29577951308232, g[i].h.piece_count, hk_phelicoid_length(&g[i].h), 1e3 * c,
+               i + 1, g[i].azimuth * (180.0 / HK_PI), g[i].h.piece_count, hk_phelicoid_length(&g[i].h), 1e3 * c,
                1e3 * c0);
     }
     printf("closest approach to the head: %.1f mm\n", 1e3 * worst);

@@ -7,6 +7,10 @@
 
 #include <math.h>
 
+/* pi to the precision of a long double literal, defined once for the whole library (math.h
+ * has M_PI only as a POSIX extension). */
+#define HK_PI 3.14159265358979323846
+
 #ifdef __cplusplus
 extern "C" {
 #endif

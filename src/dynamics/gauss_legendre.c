@@ -7,7 +7,7 @@
 
 void hk_gauss_table_init(hk_GaussTable *table)
 {
-    const double pi = 3.14159265358979323846;
+    const double pi = HK_PI;
     for (int n = 1; n <= HK_GAUSS_MAX; n++) {
         for (int i = 0; i < n; i++) {
             /* Root i of P_n by Newton from the Chebyshev-like guess cos(pi (i + 3/4) /

@@ -9,7 +9,6 @@
 #include "io/keyfile.h"
 #include "motion_internal.h"
 
-#define HK_PI 3.14159265358979323846
 
 hk_RigidState hk_rigid_identity(void)
 {

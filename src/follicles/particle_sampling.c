@@ -209,7 +209,7 @@ static int population(Sampler *s, int iteration, int *births, int *deaths)
             if (u >= P_FISSION) continue;
             /* W&H fission: two children half the parent's radius apart along a random
              * tangent, each with the radius of half the area, sigma / sqrt(2). */
-            const double theta = 6.283185307179586 * hk_rng_uniform(seed, s->id[k], 2 * (uint64_t)iteration + 1);
+            const double theta = 2.0 * HK_PI * hk_rng_uniform(seed, s->id[k], 2 * (uint64_t)iteration + 1);
             const hk_Vec3 n = s->nrm[k], t1 = tangent_of(n), t2 = hk_v3_cross(n, t1);
             const hk_Vec3 t = hk_v3_add(hk_v3_scale(t1, cos(theta)), hk_v3_scale(t2, sin(theta)));
             const double delta = 0.5 * s->sigma[k];

@@ -31,7 +31,7 @@ void hk_helicoid_fit_seed(double length, double seed[4], double scale[4])
 {
     /* Straight to start; a first simplex step of a quarter turn over the strand for
      * the curvatures and of 0.5 for alpha (a dimensionless pitch). */
-    const double turn = 1.5707963267948966 / (length > 0.0 ? length : 1.0);
+    const double turn = (HK_PI / 2.0) / (length > 0.0 ? length : 1.0);
     for (int i = 0; i < 4; i++) seed[i] = 0.0;
     scale[0] = scale[1] = scale[2] = turn;
     scale[3] = 0.5;

@@ -52,7 +52,7 @@ hk_Status hk_helicoid_set_trace(const hk_HelicoidSet *set, double step, uint64_t
         hk_Error e;
         /* the strand's wave phase: from the seed and its index, whatever the threads */
         hk_Waviness wave = set->waviness;
-        wave.phase = 6.283185307179586 * set->wave_jitter * hk_rng_uniform(seed, WAVE_PHASE_STREAM, (uint64_t)s);
+        wave.phase = 2.0 * HK_PI * set->wave_jitter * hk_rng_uniform(seed, WAVE_PHASE_STREAM, (uint64_t)s);
         hk_Vec3 *pts = hk_alloc_array((size_t)n * (size_t)m, sizeof(hk_Vec3), &e);
         hk_Status rs = pts ? hk_phelicoid_trace(h, step, &wave, NULL, pts, NULL, &e) : HK_ERR_NOMEM;
         if (rs == HK_OK && m > 1)

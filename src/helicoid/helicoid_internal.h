@@ -8,8 +8,6 @@
 
 #include "hairkit/helicoid.h"
 
-#define HK_HELICOID_PI 3.14159265358979323846
-#define HK_HELICOID_TWO_PI 6.28318530717958647692
 
 /* The angles of the field at one point, with their sines and cosines (the frame of eq. 2 and
  * the tangent need only these, so tracing takes each sine once). */
@@ -28,8 +26,8 @@ static inline void hk_helicoid_eval(const hk_Helicoid *k, double x, double y, do
 {
     const double wr = 1.0 + k->kn * x - k->kt * y, wi = k->kt * x + k->kn * y;
     double t = atan2(wi, wr) + k->kb * z;
-    if (fabs(theta_ref - t) > HK_HELICOID_PI) /* rare: only after a 2 pi cycle */
-        t += HK_HELICOID_TWO_PI * round((theta_ref - t) * (1.0 / HK_HELICOID_TWO_PI));
+    if (fabs(theta_ref - t) > HK_PI) /* rare: only after a 2 pi cycle */
+        t += (2.0 * HK_PI) * round((theta_ref - t) * (1.0 / (2.0 * HK_PI)));
     a->theta = t;
     a->ct = cos(t);
     a->st = sin(t);

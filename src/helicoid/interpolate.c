@@ -259,7 +259,7 @@ hk_Status hk_phelicoid_interpolate_on_surface(const hk_PHelicoid *guides, const 
     hk_Status st = check_args(guides, guide_count, x, power, out, err);
     if (st != HK_OK) return st;
     if (!guide_normals) return hk_error_set(err, HK_ERR_INVALID, "helicoid interpolation: NULL guide normals");
-    if (!(min_elevation >= 0.0 && min_elevation < 1.5707963267948966))
+    if (!(min_elevation >= 0.0 && min_elevation < HK_PI / 2.0))
         return hk_error_set(err, HK_ERR_INVALID, "helicoid interpolation: min_elevation must be in [0, pi/2), got %g",
                             min_elevation);
     hk_Vec3 n;

@@ -23,7 +23,7 @@ hk_Status hk_phelicoid_wisp(const hk_PHelicoid *guide, int count, double radius,
     if (count < 0) return hk_error_set(err, HK_ERR_INVALID, "wisp: strand count must be >= 0, got %d", count);
     if (!(radius >= 0.0) || !isfinite(radius))
         return hk_error_set(err, HK_ERR_INVALID, "wisp: radius must be >= 0, got %g", radius);
-    if (!(spread >= 0.0) || !(spread <= HK_HELICOID_PI))
+    if (!(spread >= 0.0) || !(spread <= HK_PI))
         return hk_error_set(err, HK_ERR_INVALID, "wisp: spread must be in [0, pi] radians, got %g", spread);
     const int n = hk_phelicoid_point_count(guide, step);
     if (n < 0)
@@ -49,7 +49,7 @@ hk_Status hk_phelicoid_wisp(const hk_PHelicoid *guide, int count, double radius,
         double u[4];
         for (int c = 0; c < 4; c++) u[c] = hk_rng_uniform(seed, (uint64_t)j, (uint64_t)(STREAM + c));
         /* Uniform in the disc: the radius goes as the square root of a uniform number. */
-        const double rho = radius * sqrt(u[0]), t = HK_HELICOID_TWO_PI * u[1];
+        const double rho = radius * sqrt(u[0]), t = (2.0 * HK_PI) * u[1];
         const hk_Vec3 offset = hk_v3(0.0, rho * cos(t), rho * sin(t));
         hk_Vec3 *p = points + (size_t)j * (size_t)n;
         st = hk_phelicoid_trace_with(guide, step, HK_HELICOID_AUTO, w, &offset, &placement, p, NULL, NULL, err);
@@ -57,7 +57,7 @@ hk_Status hk_phelicoid_wisp(const hk_PHelicoid *guide, int count, double radius,
         if (spread > 0.0) {
             /* Tilt about an axis of the root's E_N-E_B plane, so the strand's initial direction
              * leans away from E_T by the angle; rigid, about the strand's own root. */
-            const double at = HK_HELICOID_TWO_PI * u[3];
+            const double at = (2.0 * HK_PI) * u[3];
             const hk_Vec3 axis = hk_m3_mul_v3(q, hk_v3(0.0, cos(at), sin(at)));
             const hk_Mat3 r = axis_angle(axis, spread * u[2]);
             const hk_Vec3 c = hk_v3_add(guide->root, hk_m3_mul_v3(q, offset));

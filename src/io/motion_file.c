@@ -24,7 +24,6 @@
 #include "io/keyfile.h"
 #include "dynamics/motion_internal.h"
 
-#define HK_PI 3.14159265358979323846
 
 /* Sanity limits: beyond them the values are typing errors, and within them the spline
  * arithmetic stays far from overflow (velocities < 1e10, accelerations < 1e17). */

@@ -8,7 +8,6 @@
 #include "core/linalg.h"
 #include "optimize/piecewise_internal.h"
 
-#define M_PI_VALUE 3.14159265358979323846
 
 /* The root pose turned by the rotation vector r (radians, in the frame's own axes: roll
  * about T, tilts about N and B): frame * exp([r]x), by Rodrigues' formula. */
@@ -337,7 +336,7 @@ hk_Status hk_cf_fit_piece(Fit *F, int i0, int i1, const hk_CurveStart *start, in
         }
         for (int q = 1; q < 4; q++) {
             memcpy(cand[count], F->seed, (size_t)F->np * sizeof(double));
-            cand[count++][F->np] = q * (M_PI_VALUE / 2.0);
+            cand[count++][F->np] = q * (HK_PI / 2.0);
         }
         st = descend(F, cand, count, F->np + ROT, x, &error);
     }

@@ -9,7 +9,7 @@
 hk_RodMaterial hk_rod_material(double radius1, double radius2, double young, double poisson,
                                double density, hk_Vec3 gravity)
 {
-    const double a = radius1, b = radius2, pi = 3.14159265358979323846;
+    const double a = radius1, b = radius2, pi = HK_PI;
     hk_RodMaterial m;
     const double shear = young / (2.0 * (1.0 + poisson));
     /* kappa1 turns the section about n1: its bending inertia is int y2^2 dA with y2
@@ -39,7 +39,7 @@ void hk_helix_natural_curvature(double helix_radius, double helix_step, double *
         *kappa1 = 0.0;
         return;
     }
-    const double c = helix_step / (2.0 * 3.14159265358979323846);
+    const double c = helix_step / (2.0 * HK_PI);
     const double den = helix_radius * helix_radius + c * c;
     *kappa1 = helix_radius / den;
     *tau = c / den;

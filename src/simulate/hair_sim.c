@@ -71,7 +71,7 @@ static hk_HairSimDef sim_def(const hk_Hairstyle *style, double length)
      * with its length: with the whole strand's weight, a 1 m guide on a full head was
      * pushed by up to 1,400 contacts each as strong as its weight, and Newton's iteration
      * failed in 29 % of its stages (docs/dynamics.md, "Limitations"). */
-    const double mass = style->strand.density * 3.14159265358979323846 * style->strand.radius1 * style->strand.radius2 *
+    const double mass = style->strand.density * HK_PI * style->strand.radius1 * style->strand.radius2 *
                         fmin(length, HK_CONTACT_HAIR_LENGTH);
     o.contacts.distance = 0.0025;
     o.contacts.stiffness = 1.0 * mass * (style->strand.gravity > 0.0 ? style->strand.gravity : 9.81) / o.contacts.distance;
