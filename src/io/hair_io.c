@@ -9,6 +9,8 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "io/keyfile.h"
+
 /* ---- binary input ---- */
 
 hk_Status hk_binin_open(hk_BinIn *in, const char *path, hk_Error *err)
@@ -286,26 +288,11 @@ hk_Status hk_textin_error(const hk_TextIn *t, long line, hk_Error *err, const ch
 
 static int is_digit(char c) { return c >= '0' && c <= '9'; }
 
-/* Checks the decimal syntax and copies the token into local[] with the locale's point. */
+/* Checks the decimal syntax (keyfile.c) and copies the token into local[] with the locale's point. */
 static int decimal_token(const char *s, size_t n, char point, char *local, size_t cap)
 {
     if (n == 0 || n >= cap) return 0;
-    size_t i = 0;
-    int digits = 0;
-    if (s[i] == '+' || s[i] == '-') i++;
-    while (i < n && is_digit(s[i])) i++, digits++;
-    if (i < n && s[i] == '.') {
-        i++;
-        while (i < n && is_digit(s[i])) i++, digits++;
-    }
-    if (!digits) return 0;
-    if (i < n && (s[i] == 'e' || s[i] == 'E')) {
-        i++;
-        if (i < n && (s[i] == '+' || s[i] == '-')) i++;
-        if (i >= n || !is_digit(s[i])) return 0;
-        while (i < n && is_digit(s[i])) i++;
-    }
-    if (i != n) return 0;
+    if (!hk_decimal_syntax(s, n)) return 0;
     memcpy(local, s, n);
     local[n] = '\0';
     if (point != '.') {

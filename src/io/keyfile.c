@@ -299,24 +299,29 @@ static int is_digit(char c) { return c >= '0' && c <= '9'; }
 /* Decimal numbers only (keyfile.h; the OBJ reader uses it too): strtod alone would
  * also take "nan", "inf", hex floats and leading blanks, and would read "0.5" as 0
  * under a locale with a decimal comma, which a program embedding hairkit may have set. */
+int hk_decimal_syntax(const char *s, size_t n)
+{
+    size_t i = 0;
+    int digits = 0;
+    if (i < n && (s[i] == '+' || s[i] == '-')) i++;
+    while (i < n && is_digit(s[i])) i++, digits++;
+    if (i < n && s[i] == '.') {
+        i++;
+        while (i < n && is_digit(s[i])) i++, digits++;
+    }
+    if (!digits) return 0;
+    if (i < n && (s[i] == 'e' || s[i] == 'E')) {
+        i++;
+        if (i < n && (s[i] == '+' || s[i] == '-')) i++;
+        if (i >= n || !is_digit(s[i])) return 0;
+        while (i < n && is_digit(s[i])) i++;
+    }
+    return i == n;
+}
+
 int hk_parse_decimal(const char *s, double *out)
 {
-    const char *p = s;
-    int digits = 0;
-    if (*p == '+' || *p == '-') p++;
-    for (; is_digit(*p); p++) digits++;
-    if (*p == '.') {
-        p++;
-        for (; is_digit(*p); p++) digits++;
-    }
-    if (digits == 0) return HK_NUM_SYNTAX;
-    if (*p == 'e' || *p == 'E') {
-        p++;
-        if (*p == '+' || *p == '-') p++;
-        if (!is_digit(*p)) return HK_NUM_SYNTAX;
-        while (is_digit(*p)) p++;
-    }
-    if (*p != '\0') return HK_NUM_SYNTAX;
+    if (!hk_decimal_syntax(s, strlen(s))) return HK_NUM_SYNTAX;
 
     char local[256];
     const char *text = s;

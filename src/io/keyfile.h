@@ -72,6 +72,11 @@ hk_Status hk_keyline_doubles(const hk_KeyFile *kf, const hk_KeyLine *kl, int cou
 hk_Status hk_keyline_double_list(const hk_KeyFile *kf, const hk_KeyLine *kl, int max, double *out,
                                  int *got, hk_Error *err);
 
+/* 1 when the n bytes at s are one decimal number, [+-]digits[.digits][e[+-]digits] with
+ * at least one digit before the exponent, else 0: the syntax every reader of decimal text
+ * checks before strtod/strtof (which would also take nan, inf, hex and leading blanks). */
+int hk_decimal_syntax(const char *s, size_t n);
+
 /* What hk_parse_decimal found. */
 enum { HK_NUM_OK, HK_NUM_SYNTAX, HK_NUM_RANGE };
 
