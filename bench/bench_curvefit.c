@@ -1,4 +1,4 @@
-/* Benchmark of the curve fitting machinery (helicoid paper 003 §5): fits per second of
+/* Benchmark of the curve fitting machinery (Piuze et al. 2011 §5): fits per second of
  * 30-sample strands, the paper's "approximately 5 hairs per second" data size, with 1
  * and 2 threads (one workspace per thread). The model is a discrete Frenet helix
  * (kappa, tau) traced like the paper traces helicoids (forward Euler), standing in for

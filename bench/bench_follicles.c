@@ -1,4 +1,4 @@
-/* Benchmark of the follicle sampling (paper 003 §4.3): the thin-plate fit for growing
+/* Benchmark of the follicle sampling (Piuze et al. 2011 §4.3): the thin-plate fit for growing
  * point counts, and the particle sampling of the default wick at two spacings, with
  * 1 and 2 threads. */
 #include <math.h>

@@ -1,4 +1,4 @@
-/* Benchmark of grooming (thesis 004 §4.1.4): the default head of examples/default,
+/* Benchmark of grooming (Lansink 2010 §4.1.4): the default head of examples/default,
  * guides solved and strands interpolated per second, with 1 and 2 threads. */
 #include <omp.h>
 #include <stdio.h>

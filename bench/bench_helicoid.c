@@ -1,4 +1,4 @@
-/* Benchmark of generalized helicoids (paper 003): interpolating 90,000 hairs from 9
+/* Benchmark of generalized helicoids (Piuze et al. 2011): interpolating 90,000 hairs from 9
  * p-helicoid guides of 4 pieces (the paper: 1,000 in 0.67 s, a head of 90,000 in about a
  * minute), fitting 30-vertex strands (the paper: about 5 per second), and the error of a
  * tuft reconstructed from one strand in ten (§5.4); 1 and 2 threads. */

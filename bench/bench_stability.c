@@ -1,7 +1,7 @@
 /* Stability matrix of the strand dynamics (docs/dynamics.md): single strands run as
  * `hairkit strand HAIRSTYLE --simulate T` runs them (root at the origin leaving along +x,
  * no body, O(N) solver with the Gauss-Newton stiffness, released from rest in the natural
- * shape), for the four hair types of paper 000 Appendix B (examples/strand/) cut into N
+ * shape), for the four hair types of Bertails et al. 2006 Appendix B (examples/strand/) cut into N
  * elements of L / N, on a still head and the scripted motions of the CLI's defaults (25
  * degrees or 3 cm at 1 Hz) and examples/motions/nod-and-shake.txt, at dt = 1/24 and 1/30 s,
  * TR-BDF2 and linear Euler side by side. Each cell: whether it ran to the end (or the time

@@ -1,5 +1,5 @@
 /* Benchmark of Super-Helix statics: the Newton solver (analytic gradient and Hessian)
- * against the thesis's Rosenbrock + Palmer search (thesis 004 §4.1.3), on the same
+ * against the thesis's Rosenbrock + Palmer search (Lansink 2010 §4.1.3), on the same
  * curly strand resting on an ellipsoidal head, for N = 5, 10, 20, 40 elements. */
 #include <math.h>
 #include <string.h>
@@ -53,7 +53,7 @@ static void print_run(FILE *out, int n, const char *name, const Run *r)
 
 int hk_bench_statics(FILE *out, const hk_BenchOptions *options)
 {
-    /* Caucasian curly hair of paper 000 Appendix B: mean radius 50 um, ellipticity 1.1,
+    /* Caucasian curly hair of Bertails et al. 2006 Appendix B: mean radius 50 um, ellipticity 1.1,
      * helix radius 0.6 cm and step 0.5 cm, E = 1.5 GPa; 20 cm long, rooted on the crown
      * of a head-sized ellipsoid with a 5 mm envelope, thesis penalty k = 10. */
     const double length = 0.2, a = 50e-6 * 2.0 * 1.1 / 2.1, b = 50e-6 * 2.0 / 2.1;

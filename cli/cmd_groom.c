@@ -1,4 +1,4 @@
-/* hairkit groom: a setup file in, a full head of hair out (.hair), thesis 004 §4.1.4
+/* hairkit groom: a setup file in, a full head of hair out (.hair), Lansink 2010 §4.1.4
  * and §4.2.2 (load or grow, optionally save). */
 #include <errno.h>
 #include <getopt.h>

@@ -1,4 +1,4 @@
-/* hairkit simulate: a full head of hair in motion (paper 000 §3-4). Parses the options
+/* hairkit simulate: a full head of hair in motion (Bertails et al. 2006 §3-4). Parses the options
  * and prints progress; the work is hk_simulation_run and hk_simulation_rebuild
  * (src/simulate/sim_run.c, sim_rebuild.c). */
 #include <getopt.h>
@@ -18,10 +18,11 @@ static void usage(FILE *out)
             "usage: hairkit simulate SETUP.txt --frames N --fps F -o DIR [options]\n"
             "       hairkit simulate --rebuild DIR --frame K -o OUT.hair [--threads N]\n"
             "\n"
-            "Dynamics of a full head of hair (paper 000): one Super-Helix per guide follicle\n"
-            "of the setup's wick, starting from its rest shape, moved by the head, pushed by\n"
-            "the collision shapes (with anisotropic friction) and by the other guides. Frame\n"
-            "k (k = 0 .. N-1, at t = k / F; frame 0 is the rest state) is written as\n"
+            "Dynamics of a full head of hair (Bertails et al. 2006): one Super-Helix per guide\n"
+            "follicle of the setup's wick, starting from its rest shape, moved by the head,\n"
+            "pushed by the collision shapes (with anisotropic friction) and by the other\n"
+            "guides. Frame k (k = 0 .. N-1, at t = k / F; frame 0 is the rest state) is\n"
+            "written as\n"
             "DIR/guides_kkkk.hair (the guides) and DIR/frame_kkkk.png (the guides and the\n"
             "interpolated hair grown from them), and DIR/hair.mp4 is made from the pictures\n"
             "when ffmpeg is installed. DIR/simulation.txt records what grows the interpolated\n"

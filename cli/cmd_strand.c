@@ -1,5 +1,5 @@
-/* hairkit strand: the rest shape of one Super-Helix strand (statics, paper 000 §3 and
- * thesis 004 §4.1.1-4.1.3) printed as CSV samples along its arc length. */
+/* hairkit strand: the rest shape of one Super-Helix strand (statics, Bertails et al. 2006 §3 and
+ * Lansink 2010 §4.1.1-4.1.3) printed as CSV samples along its arc length. */
 #include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -33,8 +33,9 @@ static void usage(FILE *out)
             "  --quiet            no summary on stderr\n"
             "  -h, --help         this help\n"
             "\n"
-            "dynamics (paper 000 3.3-3.4): instead of the rest shape, the strand's motion\n"
-            "from rest in its natural shape, under gravity, friction and the head's motion\n"
+            "dynamics (Bertails et al. 2006, 3.3-3.4): instead of the rest shape, the\n"
+            "strand's motion from rest in its natural shape, under gravity, friction and\n"
+            "the head's motion\n"
             "  --simulate T       simulated time in seconds\n"
             "  --dt DT            time step in seconds (default 1/30, the paper's)\n"
             "  --damping on|off   internal friction and air drag (InternalFriction, AirDrag\n"
@@ -45,8 +46,8 @@ static void usage(FILE *out)
             "                     dense Cholesky with the full stiffness\n"
             "  --integrator trbdf2|euler\n"
             "                     TR-BDF2, second order with every force implicit (default),\n"
-            "                     or the linearly implicit Euler step of paper 000 3.4\n"
-            "                     (cheaper, first order, unstable for long hair at 1/30 s)\n"
+            "                     or the linearly implicit Euler step of Bertails et al.\n"
+            "                     2006, 3.4 (cheaper, first order, unstable for long hair at 1/30 s)\n"
             "  --tip-csv FILE     write t,x,y,z of the tip at every step\n");
     hk_cli_motion_options_help(out);
     fprintf(out,

@@ -1,5 +1,5 @@
 /* hairkit helicoid interpolate: new strands on a surface, each the inverse-distance blend of
- * a helicoid file's guides (paper 003 §4.1-4.3), rooted at random area-uniform points or at
+ * a helicoid file's guides (Piuze et al. 2011 §4.1-4.3), rooted at random area-uniform points or at
  * follicles spread by the particle sampler (docs/helicoids.md). */
 #include <math.h>
 #include <stdio.h>

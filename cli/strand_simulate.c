@@ -1,5 +1,5 @@
 /* hairkit strand --simulate: the motion of one strand from rest in its natural shape
- * (paper 000 §3.3-3.4), printed in the strand command's format at the final time. */
+ * (Bertails et al. 2006 §3.3-3.4), printed in the strand command's format at the final time. */
 #include <math.h>
 #include <stdio.h>
 

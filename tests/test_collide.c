@@ -1,4 +1,4 @@
-/* Collision shapes (src/collide/, thesis 004 §4.1.2): penetration values at known
+/* Collision shapes (src/collide/, Lansink 2010 §4.1.2): penetration values at known
  * points, gradients and Hessians against finite differences, the layered envelopes
  * of §4.1.2.2, the quick-rejection bound, sums over shapes and the centre. */
 #include "hk_test.h"

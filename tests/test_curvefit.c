@@ -1,4 +1,4 @@
-/* Curve fitting machinery (helicoid paper 003 §5, include/hairkit/curvefit.h): the
+/* Curve fitting machinery (Piuze et al. 2011 §5, include/hairkit/curvefit.h): the
  * discrete Fréchet measures against brute force, Nelder-Mead on standard and hostile
  * functions, start poses and resampling, single and piecewise fits of targets traced by
  * the test's own models (recovery of known parameters, splits at the join, noise), bad

@@ -1,4 +1,4 @@
-/* Follicle sampling (paper 003 §4.3): the variational implicit surface interpolates
+/* Follicle sampling (Piuze et al. 2011 §4.3): the variational implicit surface interpolates
  * its constraints and recovers a sphere; particles end on the surface, evenly spaced,
  * in the expected number, away from fixed particles and inside the mask; the same
  * seed gives the same bytes with 1 or 2 threads; the wick of the project's head;

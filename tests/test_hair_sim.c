@@ -1,4 +1,4 @@
-/* The full head in motion (paper 000 §4.1) on the 201-guide scene of examples/guides200:
+/* The full head in motion (Bertails et al. 2006 §4.1) on the 201-guide scene of examples/guides200:
  *  - with the head still, every guide keeps its statics rest shape (the dynamics'
  *    equilibrium is the Newton minimum of the same energy, an independent method),
  *    also for guides pressed into the layered envelopes of the head;

@@ -1,4 +1,4 @@
-/* Generalized helicoids (src/helicoid/, paper 003 §3-4.2): the field and its continued angle,
+/* Generalized helicoids (src/helicoid/, Piuze et al. 2011 §3-4.2): the field and its continued angle,
  * exact straight lines, circles and spirals, RK4 against closed forms and its order, p-helicoid
  * joins, waviness, the pi-rotation rule, wisps, IDW interpolation (guides reproduced, the
  * paper's Fig. 6 pair) and bad input. */

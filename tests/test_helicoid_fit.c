@@ -1,4 +1,4 @@
-/* Fitting p-helicoids (paper 003 §5) with the helicoid piece as the model of the
+/* Fitting p-helicoids (Piuze et al. 2011 §5) with the helicoid piece as the model of the
  * piecewise fitter: strands traced from known parameters are fitted back (the
  * reference: the parameters they were made from), single pieces and two pieces; the
  * fitted strand retraces the target; bad input is refused. */

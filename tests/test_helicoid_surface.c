@@ -1,4 +1,4 @@
-/* Interpolation of generalized helicoids on a surface (paper 003 §4.3): root frames averaged
+/* Interpolation of generalized helicoids on a surface (Piuze et al. 2011 §4.3): root frames averaged
  * relative to the surface normal (hk_phelicoid_interpolate_on_surface), the lift that makes
  * every strand leave the surface, the mesh query behind the guides' normals
  * (hk_mesh_closest_point), and the whole chain on the project's head: follicles on the wick,

@@ -11,7 +11,7 @@
 #include "collide/collide_internal.h"
 #include "hairkit/io.h"
 
-/* Thesis 004 Appendix B, "Collision Info", as printed ("Elipsoid"). */
+/* Lansink 2010 Appendix B, "Collision Info", as printed ("Elipsoid"). */
 static const char *const thesis_collision =
     "\n"
     "#######################################\n"

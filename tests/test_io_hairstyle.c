@@ -10,7 +10,7 @@
 
 #include "hairkit/io.h"
 
-/* Thesis 004 Appendix B, "Hairstyle Info", as printed: `Maxiter`, tabs, banner. */
+/* Lansink 2010 Appendix B, "Hairstyle Info", as printed: `Maxiter`, tabs, banner. */
 static const char *const thesis_hairstyle =
     "\n"
     "#######################################\n"

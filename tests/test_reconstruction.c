@@ -1,4 +1,4 @@
-/* Super-Helix reconstruction (paper 000 §3.2, Appendix A): exact helices, straight
+/* Super-Helix reconstruction (Bertails et al. 2006 §3.2, Appendix A): exact helices, straight
  * rods, C1 continuity between elements, inextensibility, natural curliness formulas
  * and the root frame of thesis §4.1.4.1. */
 #include "hk_test.h"
@@ -39,7 +39,7 @@ static void test_natural_curvature_formulas(void **state)
 }
 
 /* With uniform (tau, kappa1, 0) the strand is one exact helix of radius r and pitch
- * 2 pi c whatever N (paper 000 §3.2): check every sample against the analytic curve. */
+ * 2 pi c whatever N (Bertails et al. 2006 §3.2): check every sample against the analytic curve. */
 static void check_exact_helix(int n, double r_h, double step)
 {
     hk_SuperHelix *sh = make_strand(n, 0.5);
@@ -76,7 +76,7 @@ static void check_exact_helix(int n, double r_h, double step)
 static void test_exact_helix(void **state)
 {
     (void)state;
-    check_exact_helix(1, 0.01, 0.005);  /* paper 000 Appendix B, wavy */
+    check_exact_helix(1, 0.01, 0.005);  /* Bertails et al. 2006 Appendix B, wavy */
     check_exact_helix(7, 0.006, 0.005); /* curly */
     check_exact_helix(5, 0.001, 0.01);  /* fuzzy: many turns per element */
     check_exact_helix(3, 0.02, -0.01);  /* left-handed */

@@ -4,7 +4,7 @@
  *
  * The head is a smooth union of ellipsoids and a capsule (cranium, face, jaw, nose,
  * brow, cheeks, lips, ears, neck) minus eye sockets. Its cranium is exactly the head
- * ellipsoid of the thesis's hair coupes (thesis 004 Appendix C: centre (-0.001, 0.068,
+ * ellipsoid of the thesis's hair coupes (Lansink 2010 Appendix C: centre (-0.001, 0.068,
  * 0.010), semi-axes 0.08, 0.08, 0.11), so the collision files of the thesis fit it.
  * y is up, the face looks along +z, units are metres. The surface is star-shaped from
  * a point inside the head: every vertex is the outermost crossing of the surface along
@@ -218,7 +218,7 @@ int main(int argc, char **argv)
     hk_Error err;
     hk_Mesh head, wick, wick200;
     /* wick-200: the same scalp with half the rings, 201 guides (the dynamics benchmark
-     * and examples/guides200: paper 000 simulates 100-200 guides). */
+     * and examples/guides200: Bertails et al. 2006 simulates 100-200 guides). */
     if (!make_head(&head, &err) || !make_wick(&wick, 10, 40, &err) || !make_wick(&wick200, 5, 40, &err)) {
         fprintf(stderr, "make_assets: %s\n", err.message);
         return 1;

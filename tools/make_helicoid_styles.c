@@ -1,4 +1,4 @@
-/* Guide strands of the helicoid hairstyles in examples/helicoid/ (paper 003 §4.3, Fig. 11):
+/* Guide strands of the helicoid hairstyles in examples/helicoid/ (Piuze et al. 2011 §4.3, Fig. 11):
  * planar p-helicoids that leave the scalp along its normal, lie down over the head at a
  * chosen height and fall from where nothing is below them, in the plane of the normal and the
  * way down the head, away from the crown (root frame: E_T = the normal, E_N = that way). Each
@@ -260,7 +260,7 @@ static int write_style(const Style *st, const Guide *g, int count, const char *p
     FILE *fp = of.fp;
     fprintf(fp,
             "# %s: %d guides on the wick of assets/head.obj for `hairkit helicoid interpolate`\n"
-            "# (paper 003 §4.3, Fig. 11; docs/helicoids.md), made by tools/make_helicoid_styles.c.\n"
+            "# (Piuze et al. 2011 §4.3, Fig. 11; docs/helicoids.md), made by tools/make_helicoid_styles.c.\n"
             "# Each guide leaves the scalp along its normal (Frame: E_T = the normal, E_N down the head,\n"
             "# away from the crown), lies down over the head about a centimetre above it and falls\n"
             "# where nothing is below: %d lift piece, %d over the head, %d falling%s, all in one plane.\n"

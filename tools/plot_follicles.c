@@ -1,5 +1,5 @@
 /* Follicles sampled on the head's wick, seen from above and from the side, in the
- * manner of paper 003's Fig. 9 (interior follicles green, fixed contour particles
+ * manner of the helicoid paper's Fig. 9 (interior follicles green, fixed contour particles
  * red), for docs/follicle-sampling.md (scripts/make-doc-images.sh).
  * Usage: plot_follicles HEAD.obj WICK.obj SPACING OUT.png */
 #include <stdio.h>

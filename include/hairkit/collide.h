@@ -1,4 +1,4 @@
-/* Collision shapes and their penalty energy (thesis 004 §4.1.2).
+/* Collision shapes and their penalty energy (Lansink 2010 §4.1.2).
  *
  * A shape measures the penetration depth `dent` of a point (positive inside, negative
  * outside). The penalty energy density of a point is

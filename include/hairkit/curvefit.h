@@ -1,4 +1,4 @@
-/* Fitting parametric curve models to polylines (helicoid paper 003 §5).
+/* Fitting parametric curve models to polylines (Piuze et al. 2011 §5).
  *
  * The machinery of the paper's hair fitting, generic over the curve model: the model is
  * a callback that traces points from a start pose (position + frame) with a parameter

@@ -1,4 +1,4 @@
-/* Follicles on an arbitrary surface (paper 003 §4.3, Fig. 9): a variational implicit
+/* Follicles on an arbitrary surface (Piuze et al. 2011 §4.3, Fig. 9): a variational implicit
  * surface fitted to points with normals (Turk & O'Brien 2002), then a particle system
  * of repulsion and the implicit constraint with fission and death (Witkin & Heckbert
  * 1994) that spreads near-regularly over the part of the surface where hair grows. */

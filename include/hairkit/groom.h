@@ -1,4 +1,4 @@
-/* Growing a full head of hair (thesis 004 §4.1.4, paper 000 §4.1): follicles on a
+/* Growing a full head of hair (Lansink 2010 §4.1.4, Bertails et al. 2006 §4.1): follicles on a
  * wick mesh, guide strands solved as Super-Helices, and interpolated strands filling
  * every wick triangle, with clumping, stray hairs and semi-interpolation. */
 #ifndef HAIRKIT_GROOM_H
@@ -30,7 +30,7 @@ typedef struct hk_GroomDef {
 HK_API hk_GroomDef hk_default_groom_def(void);
 
 /* The interpolation of the full head as a hairstyle file describes it (thesis
- * §4.1.4.3-4, paper 000 §4.1; the key of each field after its colon). */
+ * §4.1.4.3-4, Bertails et al. 2006 §4.1; the key of each field after its colon). */
 typedef struct hk_InterpolationDef {
     double hair_density;   /* HairDensity: hairs per cm^2 of wick surface */
     double clump;          /* ClumpFactor in [0, 1): spread of the tips around their nearest
@@ -41,7 +41,7 @@ typedef struct hk_InterpolationDef {
     int stray_hairs;       /* StrayHairs: the thesis's stray-hair behaviour (§4.1.4.4) */
     double max_tip_distance; /* MaxTipDistance (m): an interpolated strand does not blend
                               guides whose tips are this far or farther from its nearest
-                              guide's tip, and fades them out from half of it (paper 000
+                              guide's tip, and fades them out from half of it (Bertails et al. 2006
                               Fig. 4d; docs/grooming.md); default 0.08, 0 = off */
 } hk_InterpolationDef;
 

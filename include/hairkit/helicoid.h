@@ -1,5 +1,5 @@
-/* Generalized helicoids (paper 003, Piuze, Kry & Siddiqi): the orientation field of eq. 1-2,
- * strands traced along it (§3.1), waviness (§3.2), wisps (§3.3), piecewise helicoids (§3.4)
+/* Generalized helicoids (Piuze, Kry, Siddiqi, "Generalized Helicoids for Modeling Hair
+ * Geometry", 2011): the orientation field of eq. 1-2, strands traced along it (§3.1), waviness (§3.2), wisps (§3.3), piecewise helicoids (§3.4)
  * and inverse-distance interpolation between guide strands (§4.1-4.2). docs/helicoids.md
  * has the derivations behind the choices made here.
  *

@@ -1,4 +1,4 @@
-/* Fitting p-helicoids to polylines (paper 003 §5) with the generic piecewise fitter of
+/* Fitting p-helicoids to polylines (Piuze et al. 2011 §5) with the generic piecewise fitter of
  * curvefit.h, the helicoid piece as the model; and reconstruction of a full head from
  * sparse fitted strands (§5.4). */
 #ifndef HAIRKIT_HELICOID_FIT_H

@@ -1,4 +1,4 @@
-/* Input files of the thesis framework (thesis 004 §4.2.1 and Appendix B).
+/* Input files of the thesis framework (Lansink 2010 §4.2.1 and Appendix B).
  *
  * Every file is text: one `Key value...` per line, `#` starts a comment, keys match
  * without regard to case, values are separated by blanks, a value with blanks is

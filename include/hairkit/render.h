@@ -1,4 +1,4 @@
-/* The CPU hair renderer (thesis 004 §4.1.5-4.1.6 done on the CPU): a perspective
+/* The CPU hair renderer (Lansink 2010 §4.1.5-4.1.6 done on the CPU): a perspective
  * camera, the head rasterised with a z-buffer and Lambert shading, every strand drawn
  * as an anti-aliased curve whose width is the hair's projected diameter (sub-pixel
  * widths become opacity), exact transparency by sorting each pixel's fragments by

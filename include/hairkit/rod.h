@@ -1,4 +1,4 @@
-/* Super-Helix kinematics and energies (paper 000 §3.1-3.2 and Appendix A; thesis 004
+/* Super-Helix kinematics and energies (Bertails et al. 2006 §3.1-3.2 and Appendix A; Lansink 2010
  * §4.1.1-4.1.2).
  *
  * A strand of length L is cut into N elements of lengths l_Q. Over element Q the twist
@@ -58,7 +58,7 @@ HK_API hk_StrandDef hk_default_strand_def(void);
 /* Sum of the element lengths. */
 HK_API double hk_strand_def_length(const hk_StrandDef *def);
 
-/* Mechanical constants of a strand (paper 000 eq. 5; DESIGN.md physics notes). */
+/* Mechanical constants of a strand (Bertails et al. 2006 eq. 5; DESIGN.md physics notes). */
 typedef struct hk_RodMaterial {
     double stiffness[3];    /* (mu J, E I1, E I2): twist and bending stiffnesses (N m^2) */
     double mass_per_length; /* rho * pi a b (kg/m) */
@@ -112,7 +112,7 @@ HK_API void hk_superhelix_destroy(hk_SuperHelix *sh);
 HK_API void hk_superhelix_set_uniform_rest(hk_SuperHelix *sh, double tau, double kappa1,
                                            double kappa2);
 
-/* Reconstruction (paper 000 Appendix A) for coordinates q (sh->q when q is NULL):
+/* Reconstruction (Bertails et al. 2006 Appendix A) for coordinates q (sh->q when q is NULL):
  * node poses at s_start[0..N]: pos[N+1] and frame[N+1] (either may be NULL). */
 HK_API void hk_superhelix_nodes(const hk_SuperHelix *sh, const double *q, hk_Vec3 *pos,
                                 hk_Mat3 *frame);

@@ -1,4 +1,4 @@
-/* A full head of hair in motion (paper 000 §4.1): one Super-Helix per guide follicle
+/* A full head of hair in motion (Bertails et al. 2006 §4.1): one Super-Helix per guide follicle
  * of the wick, starting from its statics rest shape, moved by the head, pushed by the
  * body's collision shapes with friction and by its neighbouring guides, and the
  * interpolated hair regrown from the moving guides every frame. */

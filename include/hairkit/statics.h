@@ -1,4 +1,4 @@
-/* Energy minimisers for Super-Helix statics (paper 000 §3, thesis 004 §4.1.3).
+/* Energy minimisers for Super-Helix statics (Bertails et al. 2006 §3, Lansink 2010 §4.1.3).
  *
  * Two methods find the rest shape of a strand under gravity and contacts:
  *  - the thesis's Rosenbrock direct search with Palmer's orthogonalisation, kept

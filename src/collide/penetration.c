@@ -1,4 +1,4 @@
-/* Collision shapes' penetration depth and envelope penalty, exact derivatives (thesis 004 §4.1.2). */
+/* Collision shapes' penetration depth and envelope penalty, exact derivatives (Lansink 2010 §4.1.2). */
 #include <float.h>
 
 #include "collide/collide_internal.h"

@@ -1,4 +1,4 @@
-/* Construction of collision shapes (thesis 004 §4.1.2.1): sphere, ellipsoid, cuboid;
+/* Construction of collision shapes (Lansink 2010 §4.1.2.1): sphere, ellipsoid, cuboid;
  * shapes posed by the head's rigid motion. */
 #include "hairkit/collide.h"
 

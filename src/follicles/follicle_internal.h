@@ -1,4 +1,4 @@
-/* Private pieces of the follicle sampling (paper 003 §4.3): the dense solve of the
+/* Private pieces of the follicle sampling (Piuze et al. 2011 §4.3): the dense solve of the
  * thin-plate interpolation system and the neighbour grid of the particle system. */
 #ifndef HK_FOLLICLE_INTERNAL_H
 #define HK_FOLLICLE_INTERNAL_H

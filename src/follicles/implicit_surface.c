@@ -1,4 +1,4 @@
-/* Variational implicit surface through points with normals (paper 003 §4.3 after Turk
+/* Variational implicit surface through points with normals (Piuze et al. 2011 §4.3 after Turk
  * & O'Brien, "Modelling with implicit surfaces that interpolate", ACM TOG 2002):
  * the function of least thin-plate energy taking 0 on the surface points and +1 (and
  * -1) a little way out (and in) along the normals; in 3D that function is

@@ -1,4 +1,4 @@
-/* Follicle sampling by a particle system on an implicit surface (paper 003 §4.3 after
+/* Follicle sampling by a particle system on an implicit surface (Piuze et al. 2011 §4.3 after
  * Witkin & Heckbert, "Using particles to sample and control implicit surfaces",
  * SIGGRAPH 1994): Gaussian repulsion with an adaptive radius per particle, velocities
  * projected on the surface's tangent plane and a Newton step back onto f = 0,

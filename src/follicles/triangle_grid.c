@@ -1,5 +1,5 @@
 /* Distance to a triangle mesh within a radius, for the "hair grows here" mask of the
- * follicle sampling on a wick (paper 003 §4.3: sampling confined to a region). */
+ * follicle sampling on a wick (Piuze et al. 2011 §4.3: sampling confined to a region). */
 #include <float.h>
 #include <math.h>
 #include <string.h>

@@ -1,4 +1,4 @@
-/* Follicles on a head's wick (paper 003 §4.3, Fig. 9): the implicit surface fitted to
+/* Follicles on a head's wick (Piuze et al. 2011 §4.3, Fig. 9): the implicit surface fitted to
  * the wick and the head around it, the wick's boundary as the fixed particles of the
  * scalp contour, and the particle sampling restricted to the wick. */
 #include <math.h>

@@ -1,4 +1,4 @@
-/* Follicles from a wick mesh (thesis 004 §4.1.4.1): one per vertex, along its normal,
+/* Follicles from a wick mesh (Lansink 2010 §4.1.4.1): one per vertex, along its normal,
  * with the envelope level of §4.1.2.2 from the follicle's height. */
 #include <float.h>
 #include <string.h>

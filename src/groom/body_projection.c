@@ -1,5 +1,5 @@
 /* Keeps interpolated strands out of the body. Blending guides that fell to different
- * sides of the head (thesis 004 §4.1.4.3 blends whatever three guides a wick triangle
+ * sides of the head (Lansink 2010 §4.1.4.3 blends whatever three guides a wick triangle
  * has) can put a strand's middle inside the head, where no guide ever was; the statics
  * keep the guides out with the shapes' penalty (§4.1.2), but nothing checks the strands
  * made from them. A follow-the-leader pass (the rule of hair simulators since Müller

@@ -1,4 +1,4 @@
-/* The groom pipeline (thesis 004 §4.1.4, Fig. 37): follicles from the wick, guides,
+/* The groom pipeline (Lansink 2010 §4.1.4, Fig. 37): follicles from the wick, guides,
  * interpolated strands; and its conversion to cyHair data. */
 #include <omp.h>
 #include <stdio.h>

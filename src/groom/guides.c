@@ -1,4 +1,4 @@
-/* Guide strands (thesis 004 §4.1.4.2): one Super-Helix per follicle, its rest shape
+/* Guide strands (Lansink 2010 §4.1.4.2): one Super-Helix per follicle, its rest shape
  * under gravity and the layered collision envelopes found by the Newton statics, all
  * guides in parallel. */
 #include <omp.h>

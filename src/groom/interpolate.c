@@ -1,4 +1,4 @@
-/* Interpolated hair (thesis 004 §4.1.4.3-4.1.4.4, paper 000 §4.1): every wick triangle
+/* Interpolated hair (Lansink 2010 §4.1.4.3-4.1.4.4, Bertails et al. 2006 §4.1): every wick triangle
  * is filled with area x HairDensity strands whose points blend the triangle's three
  * guides, evenly spread at the root and clumped around the nearest guide at the tip. */
 #include <math.h>
@@ -64,7 +64,7 @@ static double dist3(const double *p, const double *q)
  * from far on, and a smoothstep between. Guides that fell to different sides of the
  * head (a parting, an ear, the hairline before the styling sphere) blend into a strand
  * that cuts through the head, which the body projection then slides round the scalp:
- * the stray strands across the forehead of issue 12. Paper 000 (Fig. 4d) switches such
+ * the stray strands across the forehead of issue 12. Bertails et al. 2006 (Fig. 4d) switches such
  * triangles to following the nearest guide; a fade over a range of distances does the
  * same without a jump when a simulated guide's tip crosses the distance. */
 static double tip_fade(double d, double far)

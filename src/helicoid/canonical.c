@@ -1,4 +1,4 @@
-/* The pi-rotation rule of paper 003 §4.1, as derived in docs/helicoids.md: with
+/* The pi-rotation rule of Piuze et al. 2011 §4.1, as derived in docs/helicoids.md: with
  * D = diag(1, -1, -1) (pi about E_T), the field of k' = (-k_T, k_N, k_B, alpha) at D x has
  * theta' = -theta and phi' = -phi, so Q D E_T(k', D x) = Q E_T(k, x): the strand is unchanged.
  * The frame at a piece's end becomes Q D F(-theta, -phi) = Q F(theta, phi) D, so every later

@@ -1,4 +1,4 @@
-/* The generalized helicoid field (paper 003 §3, eq. 1) and its frame (eq. 2), public forms of
+/* The generalized helicoid field (Piuze et al. 2011 §3, eq. 1) and its frame (eq. 2), public forms of
  * the inline evaluation the tracers use. */
 #include "helicoid_internal.h"
 

@@ -1,4 +1,4 @@
-/* p-helicoid fitting (paper 003 §5): the helicoid piece as the model of the generic
+/* p-helicoid fitting (Piuze et al. 2011 §5): the helicoid piece as the model of the generic
  * piecewise fitter (curvefit.h: Fréchet coupling, Nelder-Mead with the regularisation of
  * eq. 5, recursive splitting of §5.3). */
 #include <math.h>

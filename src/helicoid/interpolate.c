@@ -1,4 +1,4 @@
-/* Inverse-distance (Shepard) interpolation of p-helicoids, paper 003 §4.1-4.2: the new strand's
+/* Inverse-distance (Shepard) interpolation of p-helicoids, Piuze et al. 2011 §4.1-4.2: the new strand's
  * parameters are weighted averages of the guides' (canonical) parameters with weights
  * |x - x_i|^-power. Two passes over the guides and no allocation: interpolating 90,000
  * strands must cost little next to tracing them. On a surface (§4.3) the root frames are

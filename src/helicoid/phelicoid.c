@@ -1,4 +1,4 @@
-/* p-helicoid bookkeeping (paper 003 §3.4): validation, total length and the number of points a
+/* p-helicoid bookkeeping (Piuze et al. 2011 §3.4): validation, total length and the number of points a
  * trace has, so that callers can size their buffers before tracing. */
 #include "helicoid_internal.h"
 

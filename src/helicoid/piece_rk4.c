@@ -1,4 +1,4 @@
-/* Tracing one helicoid piece with classical RK4 (paper 003 §3.1 uses forward Euler, eq. 3,
+/* Tracing one helicoid piece with classical RK4 (Piuze et al. 2011 §3.1 uses forward Euler, eq. 3,
  * whose O(h) error bends curly strands visibly at hair-like steps; RK4 costs four field
  * evaluations per step for an O(h^4) error). Used where no closed form exists (alpha != 0).
  *

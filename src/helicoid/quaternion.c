@@ -1,4 +1,4 @@
-/* Rotation <-> unit quaternion, for averaging root frames in interpolation (paper 003 §4.1).
+/* Rotation <-> unit quaternion, for averaging root frames in interpolation (Piuze et al. 2011 §4.1).
  * Shepperd's method: the square root is taken of the largest of the four candidates
  * (trace or a diagonal entry), so no division by a small number happens for any rotation. */
 #include "helicoid_internal.h"

@@ -1,4 +1,4 @@
-/* Tracing a p-helicoid strand (paper 003 §3.1-3.4): piece after piece, each starting where
+/* Tracing a p-helicoid strand (Piuze et al. 2011 §3.1-3.4): piece after piece, each starting where
  * the previous one ended with the frame of eq. 2 there (§3.4), with the waviness of eq. 4 and
  * the root offset of wisps (§3.3). */
 #include "helicoid_internal.h"

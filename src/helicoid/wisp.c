@@ -1,4 +1,4 @@
-/* Wisps (paper 003 §3.3): more streamlines of a guide's own field, started from random points
+/* Wisps (Piuze et al. 2011 §3.3): more streamlines of a guide's own field, started from random points
  * around its root, optionally tilted at random to fan the wisp out. */
 #include "hairkit/rng.h"
 #include "helicoid_internal.h"

@@ -1,5 +1,5 @@
 /* Closest point of a triangle mesh and the smooth normal there: the surface normal at a guide's
- * root for interpolation on a surface (paper 003 §4.3). Brute force over the triangles. */
+ * root for interpolation on a surface (Piuze et al. 2011 §4.3). Brute force over the triangles. */
 #include <math.h>
 
 #include "hairkit/mesh.h"

@@ -1,4 +1,4 @@
-/* Polyline helpers of the fitting (helicoid paper 003 §5.2): uniform resampling by arc
+/* Polyline helpers of the fitting (Piuze et al. 2011 §5.2): uniform resampling by arc
  * length, the start pose ("target hair h with estimated Frenet frame Q" [Ros03]) and the
  * discrete curvature vectors the split heuristics of §5.3 compare. */
 #include <math.h>

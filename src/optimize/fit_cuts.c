@@ -1,4 +1,4 @@
-/* Where to cut a range that one piece cannot fit (helicoid paper 003 §5.3), and the
+/* Where to cut a range that one piece cannot fit (Piuze et al. 2011 §5.3), and the
  * recursion over ranges.
  *
  * The paper's cut (with Nelder-Mead):

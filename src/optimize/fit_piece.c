@@ -1,4 +1,4 @@
-/* One piece of the piecewise fitter (helicoid paper 003 §5.2, eq. 5): the objectives
+/* One piece of the piecewise fitter (Piuze et al. 2011 §5.2, eq. 5): the objectives
  * (the normalised Fréchet coupling for Nelder-Mead, point distances and the join term for
  * Levenberg-Marquardt), the root frame's pose and refinement, the minimisers' starts, and
  * the bookkeeping of emitted pieces. */

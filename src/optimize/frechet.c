@@ -1,4 +1,4 @@
-/* Discrete Fréchet measures between polylines (helicoid paper 003 §5.1, after Eiter &
+/* Discrete Fréchet measures between polylines (Piuze et al. 2011 §5.1, after Eiter &
  * Mannila, "Computing discrete Fréchet distance", TU Wien CD-TR 94/64, 1994).
  *
  * Both measures minimise over monotone couplings (the dog and its handler both walk

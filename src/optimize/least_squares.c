@@ -1,5 +1,5 @@
 /* Levenberg-Marquardt for small nonlinear least-squares problems: the fast fitter of
- * helicoids (docs/helicoid-fitting.md). The paper (003 §5.2) minimises the Fréchet
+ * helicoids (docs/helicoid-fitting.md). the paper (Piuze et al. 2011 §5.2) minimises the Fréchet
  * coupling with Nelder-Mead, about 5 fits per second; a curve traced at the target's own
  * arc-length spacing can instead be matched point for point, and the sum of squared
  * distances is smooth in the parameters, so a Gauss-Newton method converges in a few

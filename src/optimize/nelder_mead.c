@@ -1,5 +1,5 @@
 /* Nelder-Mead simplex minimiser: the paper's [NM65] choice for fitting helicoids (paper
- * 003 §5.2), "a gradient-free method ... that performs well with arbitrary seed points".
+ * Piuze et al. 2011 §5.2), "a gradient-free method ... that performs well with arbitrary seed points".
  *
  * J. A. Nelder and R. Mead, "A simplex method for function minimization", Computer J. 7
  * (1965) 308-313, with the standard coefficients (reflection 1, expansion 2, contraction

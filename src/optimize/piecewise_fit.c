@@ -1,4 +1,4 @@
-/* Fitting a chain of curve-model pieces to a polyline (helicoid paper 003 §5.2-5.3): the
+/* Fitting a chain of curve-model pieces to a polyline (Piuze et al. 2011 §5.2-5.3): the
  * options, the workspace and the entry points. The parts: fit_piece.c (one piece),
  * fit_cuts.c (where to cut, the recursion), fit_chain.c (fixed layouts, the polish).
  *

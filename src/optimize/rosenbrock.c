@@ -1,6 +1,6 @@
 /* Rosenbrock's rotating-coordinates direct search with Palmer's orthonormalisation. */
 /*
- * The thesis's minimiser of the Super-Helix energy (thesis 004 §4.1.3.2 "Rosenbrock
+ * The thesis's minimiser of the Super-Helix energy (Lansink 2010 §4.1.3.2 "Rosenbrock
  * Method" and §4.1.3.3 "Palmer Improvement"), after
  *   H. H. Rosenbrock, "An automatic method for finding the greatest or least value of
  *   a function", Computer J. 3 (1960) 175-184, and

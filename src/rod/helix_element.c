@@ -1,5 +1,5 @@
 /* One helical element in closed form with exact first and second derivatives in its
- * curvatures and twist (paper 000 Appendix A, eq. 7; derivation in docs/physics.md). */
+ * curvatures and twist (Bertails et al. 2006 Appendix A, eq. 7; derivation in docs/physics.md). */
 #include "helix_local.h"
 
 hk_Mat3 hk_helix_rotation(const double c[HK_CN_COUNT], hk_Vec3 phi)

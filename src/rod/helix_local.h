@@ -1,4 +1,4 @@
-/* Closed forms of one helical element in its own frame (paper 000 Appendix A).
+/* Closed forms of one helical element in its own frame (Bertails et al. 2006 Appendix A).
  *
  * Everything reduces to the entire functions
  *     c_n(x) = sum_{k>=0} (-x)^k / (2k + n)!,     x = theta^2,

@@ -1,5 +1,5 @@
 /* The entire functions c_n(x) = sum_k (-x)^k / (2k+n)! behind the closed-form helix
- * (paper 000 Appendix A), evaluated without cancellation near theta = 0. */
+ * (Bertails et al. 2006 Appendix A), evaluated without cancellation near theta = 0. */
 #include "helix_local.h"
 
 #include <math.h>

@@ -1,4 +1,4 @@
-/* Statics energy of a Super-Helix (thesis 004 §4.1.1.3 elastic and gravity, §4.1.2
+/* Statics energy of a Super-Helix (Lansink 2010 §4.1.1.3 elastic and gravity, §4.1.2
  * collision penalty with envelopes) with its exact gradient and Hessian.
  *
  * Derivatives flow backwards along the strand. Changing the coordinates k_P of element

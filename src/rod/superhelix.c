@@ -1,5 +1,5 @@
 /* Super-Helix strands: construction from a hairstyle, natural curliness and the
- * reconstruction of centreline and material frame (paper 000 §3.2 and Appendix A). */
+ * reconstruction of centreline and material frame (Bertails et al. 2006 §3.2 and Appendix A). */
 #include "hairkit/rod.h"
 
 #include <string.h>
@@ -18,7 +18,7 @@ hk_RodMaterial hk_rod_material(double radius1, double radius2, double young, dou
     m.stiffness[1] = young * pi * a * b * b * b / 4.0;
     m.stiffness[2] = young * pi * b * a * a * a / 4.0;
     m.mass_per_length = density * pi * a * b;
-    /* Rotary inertia of the section (paper 000 eq. 5b counts only the centreline's
+    /* Rotary inertia of the section (Bertails et al. 2006 eq. 5b counts only the centreline's
      * kinetic energy; without this term the twist has no inertia and M is singular on a
      * straight rod, DESIGN.md). */
     m.rotary_inertia[1] = density * pi * a * b * b * b / 4.0;

@@ -1,4 +1,4 @@
-/* A full head of hair in motion (paper 000 §4.1; docs/dynamics.md): the guides of the
+/* A full head of hair in motion (Bertails et al. 2006 §4.1; docs/dynamics.md): the guides of the
  * groom as Super-Helices in motion, guide-guide interactions, and the interpolated hair
  * regrown from the guides per frame. */
 #include <math.h>
@@ -396,7 +396,7 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
     hk_RigidState head = hk_rigid_identity();
     if (head_fn) head_fn(user, t, &head);
     const int threads = sim_threads(sim);
-    /* Guide-guide interactions (paper 000 §4.1): the pairs from the state at t. With the
+    /* Guide-guide interactions (Bertails et al. 2006 §4.1): the pairs from the state at t. With the
      * linearly implicit Euler step (the default) their impulses are solved over all
      * guides together with static friction (dynamics/hair_contact_solve.h), then held
      * over the step as point forces. The solve predicts with each guide's Euler step;

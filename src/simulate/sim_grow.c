@@ -1,5 +1,5 @@
 /* The hair of a frame from its guides as written to DIR/guides_kkkk.hair: one function
- * for the run and for the rebuild, so that both grow the same bytes (paper 000 §4.1:
+ * for the run and for the rebuild, so that both grow the same bytes (Bertails et al. 2006 §4.1:
  * the interpolated hair follows the guides; same seed, same roots and clumps), kept out
  * of the body where the head is at that frame (docs/grooming.md). */
 #include <string.h>

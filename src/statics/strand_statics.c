@@ -1,5 +1,5 @@
-/* Rest shape of one strand: minimisation of the Super-Helix energy (paper 000 §3,
- * thesis 004 §4.1.1.4) with the thesis's Rosenbrock search or the Newton default. */
+/* Rest shape of one strand: minimisation of the Super-Helix energy (Bertails et al. 2006 §3,
+ * Lansink 2010 §4.1.1.4) with the thesis's Rosenbrock search or the Newton default. */
 #include "hairkit/statics.h"
 
 #include <math.h>
