@@ -168,6 +168,22 @@ static void test_strand(void **state)
     hk_superhelix_destroy(sh);
     hk_superhelix_destroy(other);
 
+    /* capture: a fit and an inverse with NULL parameters, against the defaults */
+    const hk_Vec3 pts[4] = {hk_v3(0, 0, 0), hk_v3(0.01, -0.01, 0), hk_v3(0.015, -0.02, 0.003),
+                            hk_v3(0.016, -0.03, 0.01)};
+    const hk_SuperHelixFitDef fd = hk_default_superhelix_fit_def();
+    hk_SuperHelix *f1, *f2;
+    assert_int_equal(hk_superhelix_fit(pts, 4, NULL, NULL, &f1, NULL, &err), HK_OK);
+    assert_int_equal(hk_superhelix_fit(pts, 4, NULL, &fd, &f2, NULL, &err), HK_OK);
+    assert_int_equal(f1->n, f2->n);
+    assert_memory_equal(f1->q, f2->q, 3 * (size_t)f1->n * sizeof(double));
+    const hk_InverseStaticsDef id = hk_default_inverse_statics_def();
+    assert_int_equal(hk_statics_invert(f1, NULL, NULL, NULL, &err), HK_OK);
+    assert_int_equal(hk_statics_invert(f2, &env, &id, NULL, &err), HK_OK);
+    assert_memory_equal(f1->q_rest, f2->q_rest, 3 * (size_t)f1->n * sizeof(double));
+    hk_superhelix_destroy(f1);
+    hk_superhelix_destroy(f2);
+
     hk_HairContacts *c;
     assert_int_equal(hk_hair_contacts_create(2, NULL, &c, &err), HK_OK);
     hk_hair_contacts_destroy(c);

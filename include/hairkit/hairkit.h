@@ -5,6 +5,7 @@
 #define HAIRKIT_HAIRKIT_H
 
 #include "hairkit/canvas.h"
+#include "hairkit/capture.h"
 #include "hairkit/collide.h"
 #include "hairkit/core.h"
 #include "hairkit/curvefit.h"
