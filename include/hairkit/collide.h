@@ -13,6 +13,7 @@
 
 #include "hairkit/core.h"
 #include "hairkit/export.h"
+#include "hairkit/mesh.h"
 #include "hairkit/motion.h"
 #include "hairkit/vecmath.h"
 
@@ -23,7 +24,8 @@ extern "C" {
 typedef enum hk_ShapeKind {
     HK_SHAPE_SPHERE = 0,
     HK_SHAPE_ELLIPSOID = 1,
-    HK_SHAPE_CUBOID = 2
+    HK_SHAPE_CUBOID = 2,
+    HK_SHAPE_FIELD = 3  /* a mesh's signed distance field (a head as a collider) */
 } hk_ShapeKind;
 
 typedef struct hk_Shape {
@@ -32,12 +34,15 @@ typedef struct hk_Shape {
     double penalty;  /* stiffness k >= 0 (J/m^3: energy density per dent^2 per length) */
     hk_Vec3 centre;
     hk_Vec3 half;    /* ellipsoid radii / cuboid half-dimensions (a, b, c) along the
-                        axes; for a sphere all three equal the radius */
+                        axes; for a sphere all three equal the radius; for a field the
+                        half-dimensions of its grid */
     hk_Vec3 axis[3]; /* orthonormal local axes U, V, W (identity for a sphere) */
     int styling;     /* 0 (the constructors' value): part of the body, which no strand may
                         enter (docs/grooming.md); 1: a styling field such as the soft
                         sphere before the face (thesis Appendix C, coupes 3-4) that only
                         shapes the guides through its penalty */
+    const hk_DistanceField *field; /* HK_SHAPE_FIELD: the field, borrowed (it must outlive
+                                      the shape and its copies); NULL for the others */
 } hk_Shape;
 
 /* Shape constructors; axes are normalised. The fields may be edited afterwards (a shape
@@ -48,6 +53,13 @@ HK_API hk_Shape hk_shape_ellipsoid(hk_Vec3 centre, hk_Vec3 radii, const hk_Vec3 
 HK_API hk_Shape hk_shape_cuboid(hk_Vec3 centre, hk_Vec3 half_dims, const hk_Vec3 axes[3],
                                 double volume, double penalty);
 
+/* A mesh as a body shape: dent = -field(p) (the signed distance, negative inside), with
+ * the field's grid placed where the mesh was (centre: the grid's centre; axes: the
+ * world's) and moved like the other shapes (hk_shapes_posed). The dent's gradient is the
+ * trilinear field's; its Hessian is taken as zero, as the cuboid's. The field is
+ * borrowed. */
+HK_API hk_Shape hk_shape_field(const hk_DistanceField *field, double volume, double penalty);
+
 /* The shapes (head space) where the head's rigid state puts them: out[i] is shapes[i]
  * with its centre at R c + T and its axes turned by R (the rest unchanged). Body shapes
  * move with the head, world-space strands do not (docs/grooming.md). out[count] may not
@@ -56,6 +68,7 @@ HK_API void hk_shapes_posed(const hk_Shape *shapes, int count, const hk_RigidSta
                             hk_Shape *out);
 
 /* Penetration depth of p as defined by the thesis:
+ *   field:     dent = -distance(p) in the field's grid (hk_shape_field)
  *   sphere:    dent = r - |p - c|
  *   ellipsoid: dent = |p - c| / ratio - |p - c|, ratio = |(pU/a, pV/b, pW/c)| (radial
  *              distance to the surface along the ray from the centre, §4.1.2.1.1)

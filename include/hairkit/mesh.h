@@ -62,6 +62,45 @@ HK_API double hk_mesh_closest_point(const hk_Mesh *mesh, hk_Vec3 x, hk_Vec3 *poi
 HK_API hk_Status hk_mesh_sample_uniform(const hk_Mesh *mesh, long count, uint64_t seed, int threads,
                                         hk_Vec3 *point, hk_Vec3 *normal, hk_Error *err);
 
+/* ---- signed distance fields ------------------------------------------------------ */
+
+/* The signed distance to a closed triangle mesh sampled on a regular grid: negative
+ * inside, positive outside (src/mesh/distance_field.c says how it is built). A head as
+ * a collider (docs/capture.md). */
+typedef struct hk_DistanceField {
+    hk_Vec3 origin;  /* node (0, 0, 0) */
+    double spacing;  /* between nodes */
+    int size[3];     /* nodes along x, y and z (>= 2 each) */
+    float *distance; /* size[0] * size[1] * size[2] values, x fastest, then y */
+} hk_DistanceField;
+
+typedef struct hk_DistanceFieldDef {
+    double spacing; /* grid spacing in the mesh's units (default 0.002: 2 mm in metres) */
+    double margin;  /* the grid reaches this far beyond the mesh's bounding box (0.03) */
+    int exact_band; /* cells around each triangle whose distance is computed exactly
+                       before the sweeps carry the closest triangles on (2) */
+    double exact_reach; /* nodes this far from the mesh get their exact distance; beyond,
+                           the chamfer distance of the sweeps, a few per cent long
+                           (default 0.01) */
+} hk_DistanceFieldDef;
+
+HK_API hk_DistanceFieldDef hk_default_distance_field_def(void);
+
+/* Builds the field of the mesh (def NULL: the defaults). The grid's size is checked
+ * against the memory budget (hk_memory_check) before anything is allocated. The sign
+ * is right everywhere for a closed mesh; an open one gets wrong signs along the lines
+ * parallel to x through its holes. */
+HK_API hk_Status hk_distance_field_build(const hk_Mesh *mesh, const hk_DistanceFieldDef *def,
+                                         hk_DistanceField *out, hk_Error *err);
+
+/* The field at p, trilinear between the nodes, and its gradient when grad is not NULL
+ * (the trilinear interpolant's, constant along no axis; continuous in value, not in
+ * gradient, across cell faces). Beyond the grid: the value at the nearest point of the
+ * grid plus the distance to it, and the direction away as the gradient. */
+HK_API double hk_distance_field_eval(const hk_DistanceField *field, hk_Vec3 p, hk_Vec3 *grad);
+
+HK_API void hk_distance_field_free(hk_DistanceField *field);
+
 /* Allocates an empty mesh of the given sizes (all zero). */
 HK_API hk_Status hk_mesh_alloc(hk_Mesh *mesh, int vertex_count, int triangle_count, hk_Error *err);
 HK_API void hk_mesh_free(hk_Mesh *mesh);

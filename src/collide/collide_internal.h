@@ -10,12 +10,14 @@
 /* The radius beyond which a point is outside the shape: |p - centre| > bound +
  * sqrt(3) * |extra| implies dent(p) + extra < 0 (no contact). For every kind, dent(p) <=
  * R - |p - c| with R the largest radius (sphere, ellipsoid: the radial surface distance
- * is at most the largest semi-axis) or the half-diagonal (cuboid). Computed from the
+ * is at most the largest semi-axis) or the half-diagonal (cuboid; a field's grid, which
+ * reaches its margin beyond the mesh, so that the envelopes of a few centimetres stay
+ * inside it). Computed from the
  * shape's fields each time, so that a shape edited by hand needs no refresh. */
 static inline double hk_shape_bound(const hk_Shape *s)
 {
     const double a = s->half.x, b = s->half.y, c = s->half.z;
-    if (s->kind == HK_SHAPE_CUBOID) return sqrt(a * a + b * b + c * c);
+    if (s->kind == HK_SHAPE_CUBOID || s->kind == HK_SHAPE_FIELD) return sqrt(a * a + b * b + c * c);
     return fmax(a, fmax(b, c));
 }
 

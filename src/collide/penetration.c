@@ -137,9 +137,26 @@ static double cuboid_dent(const hk_Shape *s, hk_Vec3 d, hk_Vec3 *grad, hk_Mat3 *
     return dent;
 }
 
+/* A mesh's field: d in the shape's axes is the offset from the grid's centre. */
+static double field_dent(const hk_Shape *s, hk_Vec3 d, hk_Vec3 *grad, hk_Mat3 *hess)
+{
+    const hk_Vec3 local = hk_v3(hk_v3_dot(d, s->axis[0]), hk_v3_dot(d, s->axis[1]), hk_v3_dot(d, s->axis[2]));
+    const hk_Vec3 at = hk_v3_add(hk_v3_add(s->field->origin, s->half), local);
+    hk_Vec3 g;
+    const double value = hk_distance_field_eval(s->field, at, grad ? &g : NULL);
+    if (grad)
+        *grad = hk_v3_neg(hk_v3_add(hk_v3_add(hk_v3_scale(s->axis[0], g.x), hk_v3_scale(s->axis[1], g.y)),
+                                    hk_v3_scale(s->axis[2], g.z)));
+    if (hess) *hess = hk_m3_zero(); /* trilinear: zero inside a cell, as the cuboid's */
+    return -value;
+}
+
 static double dent_at(const hk_Shape *s, hk_Vec3 d, double q2, hk_Vec3 *grad, hk_Mat3 *hess)
 {
     switch (s->kind) {
+    case HK_SHAPE_FIELD:
+        if (s->field) return field_dent(s, d, grad, hess);
+        break;
     case HK_SHAPE_SPHERE: return sphere_dent(s, d, q2, grad, hess);
     case HK_SHAPE_ELLIPSOID: return ellipsoid_dent(s, d, q2, grad, hess);
     case HK_SHAPE_CUBOID: return cuboid_dent(s, d, grad, hess);
@@ -173,10 +190,10 @@ double hk_shape_penalty(const hk_Shape *shape, double alpha, hk_Vec3 p, hk_Vec3 
     const double q2 = hk_v3_norm2(d);
     if (out_of_reach(shape, extra, q2)) return 0.0;
     /* The Hessian needs the gradient (k g g^T) even when the caller does not; the
-     * cuboid's own Hessian is zero, so it is not asked for. */
+     * cuboid's and the field's own Hessians are zero, so they are not asked for. */
     hk_Vec3 g;
     hk_Mat3 h;
-    hk_Mat3 *hp = hess && shape->kind != HK_SHAPE_CUBOID ? &h : NULL;
+    hk_Mat3 *hp = hess && shape->kind != HK_SHAPE_CUBOID && shape->kind != HK_SHAPE_FIELD ? &h : NULL;
     const double phi = dent_at(shape, d, q2, grad || hess ? &g : NULL, hp) + extra;
     if (!(phi > 0.0)) return 0.0;
     const double kphi = k * phi;
@@ -218,6 +235,7 @@ static int clearly_outside(const hk_Shape *s, hk_Vec3 d, double q2)
         return r2 > 1.0 + 1e-9;
     }
     case HK_SHAPE_CUBOID: break;
+    case HK_SHAPE_FIELD: break;
     }
     return 0;
 }

@@ -12,6 +12,7 @@ static hk_Shape shape_base(hk_ShapeKind kind, hk_Vec3 centre, hk_Vec3 half, cons
     s.centre = centre;
     s.half = half;
     s.styling = 0;
+    s.field = NULL;
     for (int i = 0; i < 3; i++) s.axis[i] = axes ? hk_v3_normalize(axes[i]) : hk_v3_unit(i);
     return s;
 }
@@ -32,6 +33,15 @@ hk_Shape hk_shape_cuboid(hk_Vec3 centre, hk_Vec3 half_dims, const hk_Vec3 axes[3
                          double penalty)
 {
     return shape_base(HK_SHAPE_CUBOID, centre, half_dims, axes, volume, penalty);
+}
+
+hk_Shape hk_shape_field(const hk_DistanceField *field, double volume, double penalty)
+{
+    hk_Vec3 half = hk_v3_zero();
+    for (int i = 0; i < 3; i++) hk_v3_set(&half, i, 0.5 * (field->size[i] - 1) * field->spacing);
+    hk_Shape s = shape_base(HK_SHAPE_FIELD, hk_v3_add(field->origin, half), half, NULL, volume, penalty);
+    s.field = field;
+    return s;
 }
 
 void hk_shapes_posed(const hk_Shape *shapes, int count, const hk_RigidState *head, hk_Shape *out)

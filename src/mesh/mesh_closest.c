@@ -3,10 +3,9 @@
 #include <math.h>
 
 #include "hairkit/mesh.h"
+#include "mesh/mesh_internal.h"
 
-/* Closest point to p on the triangle (a, b, c) as barycentric weights (Ericson, Real-Time
- * Collision Detection, §5.1.5: the Voronoi regions of the vertices, the edges, the face). */
-static void closest_barycentric(hk_Vec3 p, hk_Vec3 a, hk_Vec3 b, hk_Vec3 c, double w[3])
+void hk_triangle_closest_barycentric(hk_Vec3 p, hk_Vec3 a, hk_Vec3 b, hk_Vec3 c, double w[3])
 {
     const hk_Vec3 ab = hk_v3_sub(b, a), ac = hk_v3_sub(c, a), ap = hk_v3_sub(p, a);
     w[0] = 1.0, w[1] = 0.0, w[2] = 0.0;
@@ -47,6 +46,14 @@ static void closest_barycentric(hk_Vec3 p, hk_Vec3 a, hk_Vec3 b, hk_Vec3 c, doub
     w[1] = vb / sum, w[2] = vc / sum, w[0] = 1.0 - w[1] - w[2];
 }
 
+double hk_triangle_distance(hk_Vec3 p, hk_Vec3 a, hk_Vec3 b, hk_Vec3 c)
+{
+    double w[3];
+    hk_triangle_closest_barycentric(p, a, b, c, w);
+    const hk_Vec3 q = hk_v3_add(hk_v3_scale(a, w[0]), hk_v3_add(hk_v3_scale(b, w[1]), hk_v3_scale(c, w[2])));
+    return hk_v3_dist(p, q);
+}
+
 double hk_mesh_closest_point(const hk_Mesh *mesh, hk_Vec3 x, hk_Vec3 *point, hk_Vec3 *normal)
 {
     double best = INFINITY;
@@ -57,7 +64,7 @@ double hk_mesh_closest_point(const hk_Mesh *mesh, hk_Vec3 x, hk_Vec3 *point, hk_
         const int *v = mesh->triangles + 3 * t;
         const hk_Vec3 a = mesh->positions[v[0]], b = mesh->positions[v[1]], c = mesh->positions[v[2]];
         double w[3];
-        closest_barycentric(x, a, b, c, w);
+        hk_triangle_closest_barycentric(x, a, b, c, w);
         const hk_Vec3 q = hk_v3_add(hk_v3_scale(a, w[0]), hk_v3_add(hk_v3_scale(b, w[1]), hk_v3_scale(c, w[2])));
         const double d = hk_v3_dist(x, q);
         if (d < best) {

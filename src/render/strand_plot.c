@@ -190,6 +190,7 @@ hk_Status hk_plot_strands_png(const char *path, int width, int height, const hk_
         for (int s = 0; s < shape_count; s++) {
             const hk_Shape *sh = &shapes[s];
             const double extra = envelope_alpha * sh->volume;
+            if (sh->kind == HK_SHAPE_FIELD) continue; /* a mesh: no outline drawn */
             if (sh->kind == HK_SHAPE_CUBOID) {
                 if (extra != 0.0) cuboid_outline(&canvas, &f, v, sh, extra, env, 1.0);
                 cuboid_outline(&canvas, &f, v, sh, 0.0, outline, 1.5);
