@@ -1,7 +1,7 @@
 /* Meshes (heads, wicks) from PLY files, binary little-endian or ASCII (docs/file-formats.md,
  * "PLY heads"), through the PLY reader the strands use (ply.h); the mesh reader that
- * picks OBJ or PLY by the file's extension; and the transforms a head made elsewhere
- * needs (units, up axis).
+ * picks OBJ or PLY by the file's extension (the transforms a head made elsewhere needs,
+ * units and up axis, are in src/mesh/mesh.c).
  *
  * Read: a `vertex` element with x, y, z (float or double) and optionally nx, ny, nz
  * (float or double: the vertex normals); a `face` element with a list property
@@ -251,27 +251,4 @@ hk_Status hk_mesh_load(const char *path, hk_Mesh *mesh, hk_Error *err)
     }
     if (ends_with_ply(path) || starts_with_ply(path)) return hk_ply_mesh_load(path, mesh, err);
     return hk_obj_load(path, mesh, err);
-}
-
-/* ---- transforms ---- */
-
-hk_Status hk_mesh_scale(hk_Mesh *mesh, double s, hk_Error *err)
-{
-    if (!(s > 0.0) || !isfinite(s)) return hk_error_set(err, HK_ERR_INVALID, "scale %g: must be > 0 and finite", s);
-    for (int i = 0; i < mesh->vertex_count; i++)
-        if (!(fabs(mesh->positions[i].x * s) <= HK_MAX_MESH_COORDINATE &&
-              fabs(mesh->positions[i].y * s) <= HK_MAX_MESH_COORDINATE &&
-              fabs(mesh->positions[i].z * s) <= HK_MAX_MESH_COORDINATE))
-            return hk_error_set(err, HK_ERR_INVALID, "scale %g: vertex %d leaves +-%g", s, i, HK_MAX_MESH_COORDINATE);
-    if (s == 1.0) return HK_OK;
-    for (int i = 0; i < mesh->vertex_count; i++) mesh->positions[i] = hk_v3_scale(mesh->positions[i], s);
-    return HK_OK;
-}
-
-void hk_mesh_up_to_y(hk_Mesh *mesh, hk_Axis up)
-{
-    for (int i = 0; i < mesh->vertex_count; i++) {
-        mesh->positions[i] = hk_v3_up_to_y(mesh->positions[i], up);
-        mesh->normals[i] = hk_v3_up_to_y(mesh->normals[i], up);
-    }
 }
