@@ -18,7 +18,7 @@ HAIRKIT := ./$(BUILD)/hairkit
 FUZZ_BUILD   ?= build-fuzz
 FUZZ_SECONDS ?= 60
 FUZZERS      := obj hair hairstyle collision visuality setup motion helicoid simulation \
-                tfx usc ply objlines usda
+                tfx usc ply objlines usda plymesh
 
 .PHONY: all deps build demo test bench asan install fuzz clean
 

@@ -54,4 +54,9 @@ int hk_bench_follicles(FILE *out, const hk_BenchOptions *options);
  * strands, reconstruction error of a tuft from one strand in ten; 1 and 2 threads. */
 int hk_bench_helicoid(FILE *out, const hk_BenchOptions *options);
 
+/* Hair file input and output: the Sintel TressFX groom to .hair (../shared/hair-data;
+ * skipped when absent), and 1 million strands of 32 points written and read as .hair
+ * against stdio writing and reading the same bytes. */
+int hk_bench_io(FILE *out, const hk_BenchOptions *options);
+
 #endif

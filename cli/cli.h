@@ -8,6 +8,7 @@
 
 #include "hairkit/core.h"
 #include "hairkit/groom.h"
+#include "hairkit/hair_formats.h"
 #include "hairkit/hairfile.h"
 #include "hairkit/io.h"
 #include "hairkit/render.h"
@@ -91,6 +92,34 @@ enum { HK_OPT_WIDTH = 1000, HK_OPT_HEIGHT, HK_OPT_NO_SHADOWS, HK_OPT_SHADING, HK
 int hk_cli_render_option(const char *cmd, int option, const char *value, hk_RenderDef *o);
 void hk_cli_render_options_help(FILE *out);
 void hk_cli_report_render(const char *cmd, const char *path, const hk_RenderDef *o, const hk_RenderStats *s);
+
+/* ---- units and up axis of foreign files (transform_options.c) ---- */
+/* --scale / --up (hair) and --head-scale / --head-up (head meshes): add the codes to
+ * the option table and pass the option's name to hk_cli_transform_option. */
+enum { HK_OPT_HAIR_SCALE = 1200, HK_OPT_HAIR_UP, HK_OPT_HEAD_SCALE, HK_OPT_HEAD_UP };
+#define HK_CLI_HAIR_TRANSFORM_LONG_OPTIONS                                                          \
+    {"scale", required_argument, NULL, HK_OPT_HAIR_SCALE}, {"up", required_argument, NULL, HK_OPT_HAIR_UP}
+#define HK_CLI_HEAD_TRANSFORM_LONG_OPTIONS                                                          \
+    {"head-scale", required_argument, NULL, HK_OPT_HEAD_SCALE},                                     \
+    {"head-up", required_argument, NULL, HK_OPT_HEAD_UP}
+typedef struct hk_CliTransform {
+    double scale; /* 1: none */
+    hk_Axis up;   /* HK_AXIS_POS_Y: none */
+    int given;    /* an option set it */
+} hk_CliTransform;
+hk_CliTransform hk_cli_default_transform(void);
+/* Parses the value of --OPTION (a name containing "scale", or an up axis); 0 when set,
+ * else the usage error's exit code. */
+int hk_cli_transform_option(const char *cmd, const char *option, const char *value, hk_CliTransform *t);
+hk_Status hk_cli_transform_hair(const hk_CliTransform *t, hk_HairFile *hair, hk_Error *err);
+hk_Status hk_cli_transform_mesh(const hk_CliTransform *t, const char *path, hk_Mesh *mesh, hk_Error *err);
+void hk_cli_transform_help(FILE *out, int hair, int head);
+/* Plausible strand width for a foreign groom: when --thickness was not given
+ * (ro->hair_thickness <= 0) and the file's width is not hair's
+ * (hk_hair_thickness_implausible), sets ro->hair_thickness to `diameter` (metres) in the
+ * file's units (metres when `metres`, else guessed from the extent), says so on stderr
+ * and returns 1; 0 otherwise. */
+int hk_cli_fine_hair(const char *cmd, const hk_HairFile *hair, double diameter, int metres, hk_RenderDef *ro);
 
 /* ---- head motion options (motion_options.c) ---- */
 enum { HK_OPT_MOTION = 1100, HK_OPT_AMPLITUDE, HK_OPT_FREQUENCY };

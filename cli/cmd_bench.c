@@ -22,6 +22,7 @@ static const Bench benches[] = {
     {"curvefit", hk_bench_curvefit, "helicoid fitting machinery: fits/s of 30-sample strands, 1 and 2 threads"},
     {"helicoid", hk_bench_helicoid, "helicoids: 90,000 hairs interpolated, fits/s of 30-vertex strands, reconstruction"},
     {"follicles", hk_bench_follicles, "thin-plate fit of 500..2000 points; follicles sampled on the wick, 1 and 2 threads"},
+    {"io", hk_bench_io, "Sintel .tfx -> .hair; 1M strands x 32 points .hair read and written against stdio"},
 };
 
 static void usage(FILE *out)
@@ -40,7 +41,8 @@ static void usage(FILE *out)
             "options:\n"
             "  --quick            smoke run: few repetitions, figures not meaningful\n"
             "  --min-time S       measure each figure for at least S seconds (default 0.5)\n"
-            "  --root DIR         the hairkit source folder, for its examples (default .)\n"
+            "  --root DIR         the hairkit source folder, for its examples (default .;\n"
+            "                     'io' reads DIR/../shared/hair-data when it is there)\n"
             "  -h, --help         this help\n");
 }
 

@@ -59,8 +59,8 @@ int hk_cmd_convert(int argc, char **argv)
     };
     hk_HairFormat from = HK_HAIR_FORMAT_AUTO;
     hk_HairWriteDef def = hk_hair_write_defaults();
-    double scale = 1.0;
-    int up = HK_AXIS_POS_Y, quiet = 0, c;
+    hk_CliTransform tf = hk_cli_default_transform();
+    int quiet = 0, c;
     optind = 1;
     opterr = 0;
     while ((c = getopt_long(argc, argv, ":h", options, NULL)) != -1) {
@@ -76,13 +76,11 @@ int hk_cmd_convert(int argc, char **argv)
             break;
         }
         case OPT_SCALE:
-            if (!hk_cli_parse_double(optarg, &scale) || !(scale > 0.0))
-                return hk_cli_usage_error(CMD, "--scale expects a number > 0, got '%s'", optarg);
+        case OPT_UP: {
+            const int rc = hk_cli_transform_option(CMD, c == OPT_SCALE ? "scale" : "up", optarg, &tf);
+            if (rc) return rc;
             break;
-        case OPT_UP:
-            up = hk_axis_from_name(optarg);
-            if (up < 0) return hk_cli_usage_error(CMD, "--up expects +x, -x, +y, -y, +z or -z, got '%s'", optarg);
-            break;
+        }
         case OPT_POINTS: {
             long n;
             if (!hk_cli_parse_int(optarg, 2, 65536, &n))
@@ -113,8 +111,7 @@ int hk_cmd_convert(int argc, char **argv)
     const double t0 = hk_seconds_now();
     if (hk_hair_read(in, from, &hair, &err) != HK_OK) return hk_cli_fail(CMD, &err);
     const uint32_t strands = hair.strand_count, points = hair.point_count;
-    hk_Status st = hk_hair_scale(&hair, scale, &err);
-    if (st == HK_OK) hk_hair_up_to_y(&hair, (hk_Axis)up);
+    hk_Status st = hk_cli_transform_hair(&tf, &hair, &err);
     if (st == HK_OK) st = hk_hair_write(out, &hair, &def, &err);
     if (st != HK_OK) {
         hk_hair_free(&hair);
@@ -124,8 +121,8 @@ int hk_cmd_convert(int argc, char **argv)
         const hk_HairFormat got = from != HK_HAIR_FORMAT_AUTO ? from : hk_hair_format_from_path(in);
         fprintf(stderr, "hairkit %s: %u strands, %u points: %s -> %s", CMD, strands, points,
                 got != HK_HAIR_FORMAT_AUTO ? hk_hair_format_name(got) : "(by content)", hk_hair_format_name(to));
-        if (scale != 1.0) fprintf(stderr, ", scale %g", scale);
-        if (up != HK_AXIS_POS_Y) fprintf(stderr, ", up %s onto +y", hk_axis_name((hk_Axis)up));
+        if (tf.scale != 1.0) fprintf(stderr, ", scale %g", tf.scale);
+        if (tf.up != HK_AXIS_POS_Y) fprintf(stderr, ", up %s onto +y", hk_axis_name(tf.up));
         if (def.points) fprintf(stderr, ", %u points per strand", def.points);
         fprintf(stderr, " (%.3f s)\n", hk_seconds_now() - t0);
     }

@@ -74,14 +74,10 @@ int hk_cmd_info(int argc, char **argv)
         printf("bounding box:  (%.6g, %.6g, %.6g) to (%.6g, %.6g, %.6g)\n", lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
     if (h.point_count) {
         /* hairkit works in metres: a head of hair spans tens of centimetres. */
-        double extent = 0.0;
-        for (int k = 0; k < 3; k++) extent = fmax(extent, hi[k] - lo[k]);
-        if (extent >= 200.0 && extent < 20000.0)
-            printf("units:         extent %.3g: millimetres? --scale 0.001\n", extent);
-        else if (extent >= 5.0 && extent < 200.0)
-            printf("units:         extent %.3g: centimetres? --scale 0.01\n", extent);
-        else
-            printf("units:         extent %.3g\n", extent);
+        const double extent = hk_hair_extent(&h), per_unit = hk_hair_guess_meters_per_unit(&h);
+        if (per_unit == 0.001) printf("units:         extent %.3g: millimetres? --scale 0.001\n", extent);
+        else if (per_unit == 0.01) printf("units:         extent %.3g: centimetres? --scale 0.01\n", extent);
+        else printf("units:         extent %.3g\n", extent);
     }
     printf("arrays:        %s%s%s%s%s\n", h.flags & HK_HAIR_SEGMENTS ? "segments " : "", "points ",
            h.flags & HK_HAIR_THICKNESS ? "thickness " : "", h.flags & HK_HAIR_TRANSPARENCY ? "transparency " : "",

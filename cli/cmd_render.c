@@ -1,4 +1,5 @@
-/* hairkit render: a .hair file (hairkit's or another tool's) rendered over a head. */
+/* hairkit render: hair in any format hairkit reads (hairkit's or another tool's) rendered
+ * over a head (OBJ or PLY), with the units and up axis of both. */
 #include <getopt.h>
 #include <stdio.h>
 #include <string.h>
@@ -13,15 +14,21 @@ static void usage(FILE *out)
             "usage: hairkit render HAIR.hair -o OUT.png [--head HEAD.obj] [--visuality V.txt]\n"
             "                      [--no-shadows] [--width W --height H] [options]\n"
             "\n"
-            "Renders the strands of a cyHair .hair file on the CPU: Kajiya-Kay (or Marschner)\n"
-            "shading, self-shadowing with deep opacity maps, exact transparency of the\n"
-            "sub-pixel strands. The camera frames hair and head from a three-quarter front\n"
-            "view. Strand width is the file's thickness (hairkit writes the hair diameter).\n"
+            "Renders hair strands on the CPU: Kajiya-Kay (or Marschner) shading,\n"
+            "self-shadowing with deep opacity maps, exact transparency of the sub-pixel\n"
+            "strands. The camera frames hair and head from a three-quarter front view.\n"
+            "HAIR is any format hairkit reads, by its extension (.hair .tfx .data .ply .obj\n"
+            ".usda, as 'hairkit convert'). Strand width is the file's thickness (hairkit\n"
+            "writes the hair diameter). When the file gives none per strand and its default\n"
+            "is not a hair's (over 1%% of the groom's extent or over 0.5 mm: other tools\n"
+            "write 1.0), hair 70 um across is drawn in the file's units (--scale says them,\n"
+            "otherwise they are guessed from the extent) and stderr says so.\n"
             "\n"
             "options:\n"
             "  -o, --output FILE  the PNG to write\n"
-            "  --head FILE        OBJ of the head (optional)\n"
+            "  --head FILE        the head mesh, OBJ or PLY (by the extension; optional)\n"
             "  --visuality FILE   hair colours (thesis visuality file; default brown)\n");
+    hk_cli_transform_help(out, 1, 1);
     hk_cli_render_options_help(out);
     fprintf(out,
             "  --threads N        threads to use (default: all cores); the picture does not\n"
@@ -36,10 +43,12 @@ int hk_cmd_render(int argc, char **argv)
         {"output", required_argument, NULL, 'o'}, {"head", required_argument, NULL, 'H'},
         {"visuality", required_argument, NULL, 'v'}, {"threads", required_argument, NULL, 't'},
         {"quiet", no_argument, NULL, 'q'}, {"help", no_argument, NULL, 'h'},
-        HK_CLI_RENDER_LONG_OPTIONS, {NULL, 0, NULL, 0},
+        HK_CLI_RENDER_LONG_OPTIONS, HK_CLI_HAIR_TRANSFORM_LONG_OPTIONS, HK_CLI_HEAD_TRANSFORM_LONG_OPTIONS,
+        {NULL, 0, NULL, 0},
     };
     const char *output = NULL, *head_path = NULL, *vis_path = NULL;
     hk_RenderDef ro = hk_default_render_def();
+    hk_CliTransform hair_tf = hk_cli_default_transform(), head_tf = hk_cli_default_transform();
     int quiet = 0, c;
     optind = 1;
     opterr = 0;
@@ -50,6 +59,16 @@ int hk_cmd_render(int argc, char **argv)
             continue;
         }
         switch (c) {
+        case HK_OPT_HAIR_SCALE:
+        case HK_OPT_HAIR_UP:
+        case HK_OPT_HEAD_SCALE:
+        case HK_OPT_HEAD_UP: {
+            static const char *const names[] = {"scale", "up", "head-scale", "head-up"};
+            hk_CliTransform *t = c == HK_OPT_HAIR_SCALE || c == HK_OPT_HAIR_UP ? &hair_tf : &head_tf;
+            const int rc = hk_cli_transform_option(CMD, names[c - HK_OPT_HAIR_SCALE], optarg, t);
+            if (rc) return rc;
+            break;
+        }
         case 'o': output = optarg; break;
         case 'H': head_path = optarg; break;
         case 'v': vis_path = optarg; break;
@@ -64,7 +83,8 @@ int hk_cmd_render(int argc, char **argv)
         default: return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
         }
     }
-    if (optind >= argc) return hk_cli_usage_error(CMD, "missing HAIR.hair file");
+    if (optind >= argc) return hk_cli_usage_error(CMD, "missing HAIR file");
+    if (head_tf.given && !head_path) return hk_cli_usage_error(CMD, "--head-scale and --head-up need --head");
     if (optind + 1 < argc) return hk_cli_usage_error(CMD, "unexpected argument '%s'", argv[optind + 1]);
     if (!output) return hk_cli_usage_error(CMD, "no output: give -o OUT.png");
     hk_Error err;
@@ -74,9 +94,12 @@ int hk_cmd_render(int argc, char **argv)
     hk_Canvas image = {0, 0, NULL};
     hk_RenderStats stats;
     int status = HK_EXIT_FAIL;
-    hk_Status st = hk_hair_load(argv[optind], &hair, &err);
+    hk_Status st = hk_hair_read(argv[optind], HK_HAIR_FORMAT_AUTO, &hair, &err);
     if (st != HK_OK) return hk_cli_fail(CMD, &err);
-    if (head_path) st = hk_obj_load(head_path, &head, &err);
+    st = hk_cli_transform_hair(&hair_tf, &hair, &err);
+    if (st == HK_OK) hk_cli_fine_hair(CMD, &hair, HK_HUMAN_HAIR_DIAMETER, hair_tf.scale != 1.0, &ro);
+    if (st == HK_OK && head_path) st = hk_mesh_load(head_path, &head, &err);
+    if (st == HK_OK && head_path) st = hk_cli_transform_mesh(&head_tf, head_path, &head, &err);
     if (st == HK_OK && vis_path) st = hk_visuality_load(vis_path, &vis, &err);
     if (st == HK_OK) st = hk_render(&hair, head_path ? &head : NULL, &vis, &ro, &image, &stats, &err);
     if (st == HK_OK) st = hk_render_write_png(&image, output, &err);

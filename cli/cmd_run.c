@@ -20,10 +20,19 @@ static void usage(FILE *out)
             "solved as Super-Helices under gravity and the collision shapes, then the\n"
             "interpolated strands) or loads it ('Load true'), saves it when the setup says\n"
             "'Save true', and renders it over HeadModel with the VisualityInfo colours.\n"
+            "LoadFile may be any hair format hairkit reads (.hair .tfx .data .ply .obj\n"
+            ".usda, by the extension); HeadModel and WickModel OBJ or PLY. Loaded hair whose\n"
+            "strand width is not a hair's (see 'hairkit render --help') is drawn at the\n"
+            "hairstyle's diameter (HairRadius1 + HairRadius2; 70 um without HairstyleInfo).\n"
             "\n"
             "options:\n"
             "  -o, --output FILE  the PNG to write\n"
-            "  --hair FILE        also write the hair as a .hair file\n");
+            "  --hair FILE        also write the hair as a .hair file\n"
+            "  --scale S, --up AXIS  units and up axis of the LoadFile hair (Load true):\n"
+            "                     multiply by S (0.001: millimetres to metres), rotate AXIS\n"
+            "                     (+x -x +y -y +z -z) onto +y as 'hairkit convert' does\n"
+            "  --head-scale S, --head-up AXIS  the same for the head and wick meshes\n"
+            "                     (HeadModel, WickModel; not the collision shapes)\n");
     hk_cli_render_options_help(out);
     fprintf(out,
             "  --seed N           random seed of the interpolation (default 1)\n"
@@ -39,11 +48,13 @@ int hk_cmd_run(int argc, char **argv)
         {"output", required_argument, NULL, 'o'}, {"hair", required_argument, NULL, 'a'},
         {"seed", required_argument, NULL, 's'},   {"threads", required_argument, NULL, 't'},
         {"quiet", no_argument, NULL, 'q'},        {"help", no_argument, NULL, 'h'},
-        HK_CLI_RENDER_LONG_OPTIONS,               {NULL, 0, NULL, 0},
+        HK_CLI_RENDER_LONG_OPTIONS,               HK_CLI_HAIR_TRANSFORM_LONG_OPTIONS,
+        HK_CLI_HEAD_TRANSFORM_LONG_OPTIONS,       {NULL, 0, NULL, 0},
     };
     const char *output = NULL, *hair_out = NULL;
     hk_RenderDef ro = hk_default_render_def();
     hk_GroomDef go = hk_default_groom_def();
+    hk_CliTransform hair_tf = hk_cli_default_transform(), head_tf = hk_cli_default_transform();
     int quiet = 0, c;
     optind = 1;
     opterr = 0;
@@ -54,6 +65,16 @@ int hk_cmd_run(int argc, char **argv)
             continue;
         }
         switch (c) {
+        case HK_OPT_HAIR_SCALE:
+        case HK_OPT_HAIR_UP:
+        case HK_OPT_HEAD_SCALE:
+        case HK_OPT_HEAD_UP: {
+            static const char *const names[] = {"scale", "up", "head-scale", "head-up"};
+            hk_CliTransform *t = c == HK_OPT_HAIR_SCALE || c == HK_OPT_HAIR_UP ? &hair_tf : &head_tf;
+            const int rc = hk_cli_transform_option(CMD, names[c - HK_OPT_HAIR_SCALE], optarg, t);
+            if (rc) return rc;
+            break;
+        }
         case 'o': output = optarg; break;
         case 'a': hair_out = optarg; break;
         case 'q': quiet = 1; break;
@@ -93,10 +114,28 @@ int hk_cmd_run(int argc, char **argv)
      * long work. */
     hk_Status st = hk_scene_load(argv[optind], HK_SCENE_RENDERING | HK_SCENE_HAIR, &scene, &err);
     if (st != HK_OK) return hk_cli_fail(CMD, &err);
-    st = hk_scene_hair(&scene, &go, &hair, &report, &err);
+    if (hair_tf.given && !scene.setup.load) {
+        hk_scene_free(&scene);
+        return hk_cli_usage_error(CMD, "--scale and --up are for hair read from LoadFile; %s grows its hair (Load false)",
+                                  argv[optind]);
+    }
+    /* Loaded hair is drawn at the hairstyle's diameter when its file's width is not a
+     * hair's: the hairstyle is read for it when the setup names one. */
+    if (scene.setup.load && scene.setup.hairstyle) st = hk_scene_load_parts(&scene, HK_SCENE_HAIRSTYLE, &err);
+    if (st == HK_OK && scene.head.vertex_count)
+        st = hk_cli_transform_mesh(&head_tf, scene.setup.head_model, &scene.head, &err);
+    if (st == HK_OK && scene.wick.vertex_count)
+        st = hk_cli_transform_mesh(&head_tf, scene.setup.wick_model, &scene.wick, &err);
+    if (st == HK_OK) st = hk_scene_hair(&scene, &go, &hair, &report, &err);
     hk_cli_progress_done(&progress);
+    if (st == HK_OK && !report.grown) st = hk_cli_transform_hair(&hair_tf, &hair, &err);
     if (st == HK_OK && hair_out) st = hk_hair_save(hair_out, &hair, &err);
     if (st == HK_OK && !quiet) hk_cli_report_scene_hair(CMD, &scene.setup, &hair, &report);
+    if (st == HK_OK && !report.grown) {
+        const hk_StrandDef *strand = &scene.style.strand;
+        const double diameter = scene.setup.hairstyle ? strand->radius1 + strand->radius2 : HK_HUMAN_HAIR_DIAMETER;
+        hk_cli_fine_hair(CMD, &hair, diameter, hair_tf.scale != 1.0, &ro);
+    }
     if (st == HK_OK) st = hk_scene_render(&scene, &hair, &ro, &image, &stats, &err);
     if (st == HK_OK) st = hk_render_write_png(&image, output, &err);
     if (st == HK_OK) {

@@ -34,7 +34,7 @@ static hk_Status follicle_roots(const hk_HelicoidArgs *a, const hk_Mesh *wick, l
 {
     hk_Mesh head;
     memset(&head, 0, sizeof head);
-    if (a->head && hk_obj_load(a->head, &head, err) != HK_OK) return err->code;
+    if (a->head && hk_mesh_load(a->head, &head, err) != HK_OK) return err->code;
     if (hk_cli_stderr_is_tty() && !a->quiet)
         fprintf(stderr, "hairkit %s interpolate: sampling follicles %g mm apart on %s...\n", CMD, 1e3 * a->follicles,
                 a->surface);
@@ -93,7 +93,7 @@ int hk_helicoid_cli_interpolate(const hk_HelicoidArgs *a)
     hk_Mesh mesh;
     memset(&mesh, 0, sizeof mesh);
     if (hk_helicoid_file_load(a->input, &guides, &err) != HK_OK) return hk_cli_fail(CMD, &err);
-    hk_Status st = hk_obj_load(a->surface, &mesh, &err);
+    hk_Status st = hk_mesh_load(a->surface, &mesh, &err);
     hk_Vec3 *roots = NULL, *normals = NULL, *gnormals = NULL;
     hk_HairFile hair;
     memset(&hair, 0, sizeof hair);

@@ -15,7 +15,8 @@ void hk_cli_render_options_help(FILE *out)
             "                     elevation (default 35,12: three-quarter front)\n"
             "  --light AZ,EL      direction of the key light, the same way (default -30,40)\n"
             "  --shadow-map N     texels per side of the light's maps (default 512)\n"
-            "  --thickness D      strand diameter in scene units (default: from the file)\n");
+            "  --thickness D      strand diameter in scene units (default: the file's, or\n"
+            "                     70 um when the file's is not a hair's)\n");
 }
 
 /* Parses "a,b" into two finite numbers. */

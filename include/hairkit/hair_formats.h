@@ -25,6 +25,7 @@
 #include "hairkit/core.h"
 #include "hairkit/export.h"
 #include "hairkit/hairfile.h"
+#include "hairkit/vecmath.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -96,25 +97,14 @@ HK_API hk_Status hk_usda_hair_save(const char *path, const hk_HairFile *hair, do
  * default), which is a length too: 0.001 turns millimetres into metres. */
 HK_API hk_Status hk_hair_scale(hk_HairFile *hair, double s, hk_Error *err);
 
-/* The six axes a file may have as its up direction. */
-typedef enum hk_Axis {
-    HK_AXIS_POS_X, HK_AXIS_NEG_X, HK_AXIS_POS_Y, HK_AXIS_NEG_Y, HK_AXIS_POS_Z, HK_AXIS_NEG_Z
-} hk_Axis;
-
+/* The six axes a file may have as its up direction: hk_Axis (hairkit/vecmath.h). */
 /* "+x" "-x" "+y" "-y" "+z" "-z" ("x" means "+x"; any case); -1 when unknown. */
 HK_API int hk_axis_from_name(const char *name);
 HK_API const char *hk_axis_name(hk_Axis axis);
 
-/* Rotates the points so that `up` becomes +y, by the smallest rotation. Every case
- * only swaps and negates coordinates, so it is exact (docs/file-formats.md, "Units and
- * axes"):
- *   +y  none:                     (x, y, z) -> ( x,  y,  z)
- *   +x  +90 degrees about z:      (x, y, z) -> (-y,  x,  z)
- *   -x  -90 degrees about z:      (x, y, z) -> ( y, -x,  z)
- *   +z  -90 degrees about x:      (x, y, z) -> ( x,  z, -y)
- *   -z  +90 degrees about x:      (x, y, z) -> ( x, -z,  y)
- *   -y  180 degrees about x:      (x, y, z) -> ( x, -y, -z)
- *       (a half turn about any axis in the xz plane is as small; x is the one chosen) */
+/* Rotates the points so that `up` becomes +y, by the smallest rotation: the one of
+ * hk_v3_up_to_y (hairkit/vecmath.h), which only swaps and negates coordinates, so it is
+ * exact (hk_mesh_up_to_y does the same to a head). */
 HK_API void hk_hair_up_to_y(hk_HairFile *hair, hk_Axis up);
 
 /* A copy of `in` whose strands each have `points` (2 to 65536) points, placed at equal
@@ -123,6 +113,31 @@ HK_API void hk_hair_up_to_y(hk_HairFile *hair, hk_Axis up);
  * copied as it is. Only points and segments are kept; the defaults and information are
  * copied. */
 HK_API hk_Status hk_hair_resample(const hk_HairFile *in, uint32_t points, hk_HairFile *out, hk_Error *err);
+
+/* ---- units and strand width of a groom made elsewhere ---- */
+
+/* The diameter of a human hair, 70 micrometres, in metres: what `hairkit render` draws
+ * when a file's strand width is not a hair's. */
+#define HK_HUMAN_HAIR_DIAMETER 70e-6
+
+/* The largest side of the points' bounding box (0 with no points). */
+HK_API double hk_hair_extent(const hk_HairFile *hair);
+
+/* The units a groom's extent suggests, in metres per file unit: a head of hair spans
+ * tens of centimetres, so an extent of 200 to 20,000 suggests millimetres (0.001), 5 to
+ * 200 centimetres (0.01), anything else metres (1). A guess (`hairkit info` prints it). */
+HK_API double hk_hair_guess_meters_per_unit(const hk_HairFile *hair);
+
+/* The widest strand hk_hair_thickness_implausible takes for hair: 0.5 mm, in metres
+ * (human hair is 17 to 181 micrometres across). */
+#define HK_MAX_HAIR_DIAMETER 0.5e-3
+
+/* Whether the strand width a file gives cannot be hair's: it has no per-point thickness
+ * and its default thickness is more than 1 % of the groom's extent, or more than
+ * HK_MAX_HAIR_DIAMETER in metres with `meters_per_unit` metres per file unit (<= 0:
+ * hk_hair_guess_meters_per_unit). Other tools write 1.0 there whatever the units;
+ * hairkit writes the hair's diameter. */
+HK_API int hk_hair_thickness_implausible(const hk_HairFile *hair, double meters_per_unit);
 
 /* Whether every strand has the same number of points (also true with no strands). */
 HK_API int hk_hair_uniform_strands(const hk_HairFile *hair);

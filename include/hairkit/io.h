@@ -84,13 +84,13 @@ HK_API hk_Status hk_visuality_load(const char *path, hk_Visuality *out, hk_Error
 typedef struct hk_Setup {
     int load;          /* Load: read the hair from load_file instead of growing it */
     int save;          /* Save: write the grown hair to save_file */
-    char *load_file;   /* LoadFile (alias LoadPath) */
+    char *load_file;   /* LoadFile (alias LoadPath): hair in any format hk_hair_read reads */
     char *save_file;   /* SaveFile (alias SavePath) */
     char *hairstyle;   /* HairstyleInfo */
     char *collision;   /* CollisionInfo */
     char *visuality;   /* VisualityInfo */
-    char *head_model;  /* HeadModel: OBJ of the head */
-    char *wick_model;  /* WickModel (alias HairModel): OBJ of the scalp the hair grows from */
+    char *head_model;  /* HeadModel: OBJ or PLY of the head (hk_mesh_load) */
+    char *wick_model;  /* WickModel (alias HairModel): OBJ or PLY of the scalp the hair grows from */
 } hk_Setup;
 
 /* Reads a setup file. Growing hair (Load false) needs HairstyleInfo and WickModel;

@@ -1,4 +1,5 @@
-/* Triangle meshes (heads, wicks) and their Wavefront OBJ input and output. */
+/* Triangle meshes (heads, wicks): Wavefront OBJ input and output, PLY input, and the
+ * transforms a head made elsewhere needs (units, up axis). */
 #ifndef HAIRKIT_MESH_H
 #define HAIRKIT_MESH_H
 
@@ -14,7 +15,7 @@ extern "C" {
 
 #define HK_MAX_MESH_VERTICES 10000000
 #define HK_MAX_MESH_TRIANGLES 20000000
-/* Largest |coordinate| of an OBJ vertex or normal: a head in metres, millimetres or
+/* Largest |coordinate| of an OBJ or PLY vertex or normal: a head in metres, millimetres or
  * micrometres fits; 1e39 (or nan, inf) is refused at its line. */
 #define HK_MAX_MESH_COORDINATE 1e6
 
@@ -35,6 +36,28 @@ typedef struct hk_Mesh {
  * of 0 or out of range (vertex, normal, or a texture index of 0) is an error. Errors
  * give file:line. */
 HK_API hk_Status hk_obj_load(const char *path, hk_Mesh *mesh, hk_Error *err);
+
+/* Reads a PLY mesh, binary little-endian or ASCII (docs/file-formats.md, "PLY heads"):
+ * a `vertex` element with x, y, z (float or double) and optional normals nx, ny, nz; a
+ * `face` element whose list `vertex_indices` (or `vertex_index`, or its only list)
+ * holds 0-based vertex indices, polygons of 3 or more corners triangulated as fans.
+ * Other properties and elements are skipped. The normals are the file's (made unit) or,
+ * when it has none, the area-weighted average of the faces'. Coordinates within
+ * +-HK_MAX_MESH_COORDINATE; every element's count is checked against the file's size
+ * before allocating. Errors give file:line (header, ASCII) or file:offset (binary). */
+HK_API hk_Status hk_ply_mesh_load(const char *path, hk_Mesh *mesh, hk_Error *err);
+
+/* Reads a head or wick in any mesh format hairkit reads: PLY when the name ends in .ply
+ * (any case) or the file starts with a "ply" line, OBJ otherwise. */
+HK_API hk_Status hk_mesh_load(const char *path, hk_Mesh *mesh, hk_Error *err);
+
+/* Multiplies every vertex by s (> 0 and finite; 0.001 turns millimetres into metres);
+ * refused, the mesh unchanged, when a coordinate would leave +-HK_MAX_MESH_COORDINATE. */
+HK_API hk_Status hk_mesh_scale(hk_Mesh *mesh, double s, hk_Error *err);
+
+/* Rotates the vertices and normals so that `up` becomes +y, by the smallest rotation
+ * (hk_v3_up_to_y, the rotation of hk_hair_up_to_y and `hairkit convert --up`). */
+HK_API void hk_mesh_up_to_y(hk_Mesh *mesh, hk_Axis up);
 
 /* Writes v, vn and f v//vn lines atomically; `comment` (may be NULL) goes in a
  * leading # line. */

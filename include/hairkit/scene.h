@@ -24,7 +24,7 @@ typedef enum hk_ScenePart {
     HK_SCENE_HAIRSTYLE = 1 << 0, /* HairstyleInfo */
     HK_SCENE_COLLISION = 1 << 1, /* CollisionInfo (none when the setup names none) */
     HK_SCENE_VISUALITY = 1 << 2, /* VisualityInfo (the defaults when the setup names none) */
-    HK_SCENE_HEAD = 1 << 3,      /* HeadModel (an empty mesh when the setup names none) */
+    HK_SCENE_HEAD = 1 << 3,      /* HeadModel, OBJ or PLY (an empty mesh when the setup names none) */
     HK_SCENE_WICK = 1 << 4,      /* WickModel */
     /* What hk_scene_hair needs: the grooming parts when the setup grows the hair (Load
      * false), none when it reads it (Load true). */
@@ -67,7 +67,7 @@ typedef struct hk_SceneHairReport {
     hk_GroomStats stats;    /* of the growing */
 } hk_SceneHairReport;
 
-/* The scene's hair: read from LoadFile (Load true) or grown from the hairstyle, the
+/* The scene's hair: read from LoadFile (Load true; any format, hk_hair_read) or grown from the hairstyle, the
  * collision shapes and the wick (loaded with HK_SCENE_GROOMING) with `options` (NULL:
  * hk_default_groom_def); then written to SaveFile when the setup says Save true
  * (Lansink 2010, §4.2.2). `hair` is filled (free with hk_hair_free; empty on error);

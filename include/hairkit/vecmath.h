@@ -138,6 +138,34 @@ static inline hk_Mat3 hk_m3_skew(hk_Vec3 a)
 }
 static inline double hk_m3_trace(const hk_Mat3 *a) { return a->m[0][0] + a->m[1][1] + a->m[2][2]; }
 
+/* The six axes a file (hair or mesh) may have as its up direction; hairkit's up is +y.
+ * Names: hk_axis_from_name, hk_axis_name (hairkit/hair_formats.h). */
+typedef enum hk_Axis {
+    HK_AXIS_POS_X, HK_AXIS_NEG_X, HK_AXIS_POS_Y, HK_AXIS_NEG_Y, HK_AXIS_POS_Z, HK_AXIS_NEG_Z
+} hk_Axis;
+
+/* p rotated by the smallest rotation that takes `up` onto +y. Every case only swaps and
+ * negates coordinates, so it is exact (docs/file-formats.md, "Units and axes"):
+ *   +y  none:                     (x, y, z) -> ( x,  y,  z)
+ *   +x  +90 degrees about z:      (x, y, z) -> (-y,  x,  z)
+ *   -x  -90 degrees about z:      (x, y, z) -> ( y, -x,  z)
+ *   +z  -90 degrees about x:      (x, y, z) -> ( x,  z, -y)
+ *   -z  +90 degrees about x:      (x, y, z) -> ( x, -z,  y)
+ *   -y  180 degrees about x:      (x, y, z) -> ( x, -y, -z)
+ *       (a half turn about any axis in the xz plane is as small; x is the one chosen) */
+static inline hk_Vec3 hk_v3_up_to_y(hk_Vec3 p, hk_Axis up)
+{
+    switch (up) {
+    case HK_AXIS_POS_X: return hk_v3(-p.y, p.x, p.z);
+    case HK_AXIS_NEG_X: return hk_v3(p.y, -p.x, p.z);
+    case HK_AXIS_POS_Z: return hk_v3(p.x, p.z, -p.y);
+    case HK_AXIS_NEG_Z: return hk_v3(p.x, -p.z, p.y);
+    case HK_AXIS_NEG_Y: return hk_v3(p.x, -p.y, -p.z);
+    case HK_AXIS_POS_Y: break;
+    }
+    return p;
+}
+
 #ifdef __cplusplus
 }
 #endif

@@ -104,6 +104,38 @@ hk_HairWriteDef hk_hair_write_defaults(void)
     return d;
 }
 
+double hk_hair_extent(const hk_HairFile *h)
+{
+    if (!h->point_count || !h->points) return 0.0;
+    float lo[3], hi[3];
+    for (int k = 0; k < 3; k++) lo[k] = hi[k] = h->points[k];
+    for (size_t i = 1; i < (size_t)h->point_count; i++)
+        for (int k = 0; k < 3; k++) {
+            const float v = h->points[3 * i + (size_t)k];
+            lo[k] = v < lo[k] ? v : lo[k];
+            hi[k] = v > hi[k] ? v : hi[k];
+        }
+    double extent = 0.0;
+    for (int k = 0; k < 3; k++) extent = fmax(extent, (double)hi[k] - (double)lo[k]);
+    return extent;
+}
+
+double hk_hair_guess_meters_per_unit(const hk_HairFile *h)
+{
+    const double extent = hk_hair_extent(h);
+    if (extent >= 200.0 && extent < 20000.0) return 0.001;
+    if (extent >= 5.0 && extent < 200.0) return 0.01;
+    return 1.0;
+}
+
+int hk_hair_thickness_implausible(const hk_HairFile *h, double meters_per_unit)
+{
+    if ((h->flags & HK_HAIR_THICKNESS) && h->thickness) return 0;
+    if (!(meters_per_unit > 0.0)) meters_per_unit = hk_hair_guess_meters_per_unit(h);
+    const double t = (double)h->default_thickness;
+    return t > 0.01 * hk_hair_extent(h) || t * meters_per_unit > HK_MAX_HAIR_DIAMETER;
+}
+
 int hk_hair_uniform_strands(const hk_HairFile *h)
 {
     for (uint32_t s = 1; s < h->strand_count; s++)
@@ -191,17 +223,12 @@ const char *hk_axis_name(hk_Axis axis) { return (unsigned)axis < 6 ? axis_names[
 
 void hk_hair_up_to_y(hk_HairFile *h, hk_Axis up)
 {
+    if (up == HK_AXIS_POS_Y) return;
     for (size_t i = 0; i < (size_t)h->point_count; i++) {
         float *p = h->points + 3 * i;
-        const float x = p[0], y = p[1], z = p[2];
-        switch (up) {
-        case HK_AXIS_POS_Y: break;
-        case HK_AXIS_POS_X: p[0] = -y, p[1] = x, p[2] = z; break;  /* +90 degrees about z */
-        case HK_AXIS_NEG_X: p[0] = y, p[1] = -x, p[2] = z; break;  /* -90 degrees about z */
-        case HK_AXIS_POS_Z: p[0] = x, p[1] = z, p[2] = -y; break;  /* -90 degrees about x */
-        case HK_AXIS_NEG_Z: p[0] = x, p[1] = -z, p[2] = y; break;  /* +90 degrees about x */
-        case HK_AXIS_NEG_Y: p[0] = x, p[1] = -y, p[2] = -z; break; /* 180 degrees about x */
-        }
+        /* float -> double -> float is exact, and the rotation only swaps and negates */
+        const hk_Vec3 q = hk_v3_up_to_y(hk_v3(p[0], p[1], p[2]), up);
+        p[0] = (float)q.x, p[1] = (float)q.y, p[2] = (float)q.z;
     }
 }
 

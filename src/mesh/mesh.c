@@ -1,5 +1,6 @@
-/* Triangle meshes as data (hairkit/mesh.h): allocation, areas and smooth vertex normals.
- * The readers and writers of mesh files are in src/io (obj.c). */
+/* Triangle meshes as data (hairkit/mesh.h): allocation, areas, smooth vertex normals, and
+ * the scale and up-axis transforms of a head made elsewhere.
+ * The readers and writers of mesh files are in src/io (obj.c, mesh_ply.c). */
 #include <math.h>
 #include <string.h>
 
@@ -56,4 +57,27 @@ void hk_mesh_compute_normals(hk_Mesh *mesh)
         for (int k = 0; k < 3; k++) mesh->normals[tri[k]] = hk_v3_add(mesh->normals[tri[k]], n);
     }
     for (int i = 0; i < mesh->vertex_count; i++) mesh->normals[i] = hk_v3_normalize(mesh->normals[i]);
+}
+
+/* ---- transforms: units and up axis of a head made elsewhere ---- */
+
+hk_Status hk_mesh_scale(hk_Mesh *mesh, double s, hk_Error *err)
+{
+    if (!(s > 0.0) || !isfinite(s)) return hk_error_set(err, HK_ERR_INVALID, "scale %g: must be > 0 and finite", s);
+    for (int i = 0; i < mesh->vertex_count; i++)
+        if (!(fabs(mesh->positions[i].x * s) <= HK_MAX_MESH_COORDINATE &&
+              fabs(mesh->positions[i].y * s) <= HK_MAX_MESH_COORDINATE &&
+              fabs(mesh->positions[i].z * s) <= HK_MAX_MESH_COORDINATE))
+            return hk_error_set(err, HK_ERR_INVALID, "scale %g: vertex %d leaves +-%g", s, i, HK_MAX_MESH_COORDINATE);
+    if (s == 1.0) return HK_OK;
+    for (int i = 0; i < mesh->vertex_count; i++) mesh->positions[i] = hk_v3_scale(mesh->positions[i], s);
+    return HK_OK;
+}
+
+void hk_mesh_up_to_y(hk_Mesh *mesh, hk_Axis up)
+{
+    for (int i = 0; i < mesh->vertex_count; i++) {
+        mesh->positions[i] = hk_v3_up_to_y(mesh->positions[i], up);
+        mesh->normals[i] = hk_v3_up_to_y(mesh->normals[i], up);
+    }
 }

@@ -4,6 +4,7 @@
  * here. */
 #include <string.h>
 
+#include "hairkit/hair_formats.h"
 #include "hairkit/scene.h"
 
 static void scene_empty(hk_Scene *s)
@@ -40,10 +41,10 @@ static hk_Status load_part(hk_Scene *s, unsigned part, const char *setup_path, h
     case HK_SCENE_VISUALITY:
         return setup->visuality ? hk_visuality_load(setup->visuality, &s->visuality, err) : HK_OK;
     case HK_SCENE_HEAD:
-        return setup->head_model ? hk_obj_load(setup->head_model, &s->head, err) : HK_OK;
+        return setup->head_model ? hk_mesh_load(setup->head_model, &s->head, err) : HK_OK;
     case HK_SCENE_WICK:
         if (!setup->wick_model) return hk_error_set(err, HK_ERR_PARSE, "%s: no WickModel", setup_path);
-        return hk_obj_load(setup->wick_model, &s->wick, err);
+        return hk_mesh_load(setup->wick_model, &s->wick, err);
     default: return HK_OK;
     }
 }
@@ -115,7 +116,7 @@ hk_Status hk_scene_hair(const hk_Scene *s, const hk_GroomDef *options, hk_HairFi
     if (!options) options = &defaults;
     hk_Status st = HK_OK;
     if (s->setup.load) {
-        st = hk_hair_load(s->setup.load_file, hair, err);
+        st = hk_hair_read(s->setup.load_file, HK_HAIR_FORMAT_AUTO, hair, err);
     } else {
         if ((s->parts & HK_SCENE_GROOMING) != HK_SCENE_GROOMING)
             return hk_error_set(err, HK_ERR_INVALID, "scene: growing the hair needs the scene loaded with "
