@@ -1,4 +1,4 @@
-/* Collision Info files (thesis 004 §4.2.1 and Appendix B): spheres, ellipsoids and
+/* Collision Info files (Lansink 2010 §4.2.1 and Appendix B): spheres, ellipsoids and
  * cuboids with their envelope Volume and Penalty stiffness (§4.1.2). */
 #include <ctype.h>
 #include <math.h>

@@ -1,4 +1,4 @@
-/* Hairstyle Info files (thesis 004 §4.2.1 and Appendix B): the mechanical parameters
+/* Hairstyle Info files (Lansink 2010 §4.2.1 and Appendix B): the mechanical parameters
  * of a strand, checked for physical sense with file:line messages. */
 #include <math.h>
 #include <string.h>
@@ -35,7 +35,7 @@ static const hk_KeySpec specs[K_COUNT] = {
     [K_CLUMP_PROFILE] = {"ClumpProfile", NULL, 0},
     [K_STRAY_HAIRS] = {"StrayHairs", NULL, 0},
     [K_MAX_TIP_DISTANCE] = {"MaxTipDistance", NULL, 0},
-    /* Dynamics (paper 000 eq. 5d, 5a and §4.2; docs/dynamics.md). */
+    /* Dynamics (Bertails et al. 2006 eq. 5d, 5a and §4.2; docs/dynamics.md). */
     [K_INTERNAL_FRICTION] = {"InternalFriction", NULL, 0},
     [K_AIR_DRAG] = {"AirDrag", NULL, 0},
     [K_BODY_FRICTION] = {"BodyFriction", NULL, 0},

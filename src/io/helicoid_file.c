@@ -6,7 +6,7 @@
  *     Root      x y z
  *     Frame     tx ty tz  nx ny nz      E_T and E_N at the root (E_B = E_T x E_N)
  *     Piece     kT kN kB alpha length   one line per helicoid piece, root to tip
- *     Wisp      count radius spread     optional (paper 003 §3.3)
+ *     Wisp      count radius spread     optional (Piuze et al. 2011 §3.3)
  * Every error names the file and line. */
 #include <math.h>
 #include <string.h>

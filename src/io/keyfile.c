@@ -1,5 +1,5 @@
 /* Tokeniser and typed accessors for the thesis's `Key value...` input files
- * (thesis 004 §4.2.1, Appendix B), with file:line error messages. */
+ * (Lansink 2010 §4.2.1, Appendix B), with file:line error messages. */
 #include "keyfile.h"
 
 #include <errno.h>

@@ -1,4 +1,4 @@
-/* Reader for the thesis's `Key value...` text files (thesis 004 §4.2.1, Appendix B):
+/* Reader for the thesis's `Key value...` text files (Lansink 2010 §4.2.1, Appendix B):
  * one entry per line, `#` starts a comment outside double quotes, values separated by
  * blanks or tabs, "a value with blanks" in double quotes. Used for the hairstyle,
  * collision, setup and visuality files; every message names the file and the line. */

@@ -1,4 +1,4 @@
-/* Setup files (thesis 004 §4.2.1, Appendix B): the files that make up a scene, with
+/* Setup files (Lansink 2010 §4.2.1, Appendix B): the files that make up a scene, with
  * paths relative to the setup file and the Load/Save switches. */
 #include <string.h>
 #include <unistd.h>

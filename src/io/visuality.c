@@ -1,4 +1,4 @@
-/* Visuality Info files (thesis 004 §4.2.1, Appendix B): hair colours and glossiness. */
+/* Visuality Info files (Lansink 2010 §4.2.1, Appendix B): hair colours and glossiness. */
 #include <string.h>
 
 #include "hairkit/io.h"
