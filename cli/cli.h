@@ -111,6 +111,10 @@ hk_CliTransform hk_cli_default_transform(void);
 /* Parses the value of --OPTION (a name containing "scale", or an up axis); 0 when set,
  * else the usage error's exit code. */
 int hk_cli_transform_option(const char *cmd, const char *option, const char *value, hk_CliTransform *t);
+/* The same by option code (HK_OPT_HAIR_* into *hair, HK_OPT_HEAD_* into *head), for the
+ * commands that take both. */
+int hk_cli_transforms_option(const char *cmd, int code, const char *value, hk_CliTransform *hair,
+                             hk_CliTransform *head);
 hk_Status hk_cli_transform_hair(const hk_CliTransform *t, hk_HairFile *hair, hk_Error *err);
 hk_Status hk_cli_transform_mesh(const hk_CliTransform *t, const char *path, hk_Mesh *mesh, hk_Error *err);
 void hk_cli_transform_help(FILE *out, int hair, int head);

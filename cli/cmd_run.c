@@ -69,9 +69,7 @@ int hk_cmd_run(int argc, char **argv)
         case HK_OPT_HAIR_UP:
         case HK_OPT_HEAD_SCALE:
         case HK_OPT_HEAD_UP: {
-            static const char *const names[] = {"scale", "up", "head-scale", "head-up"};
-            hk_CliTransform *t = c == HK_OPT_HAIR_SCALE || c == HK_OPT_HAIR_UP ? &hair_tf : &head_tf;
-            const int rc = hk_cli_transform_option(CMD, names[c - HK_OPT_HAIR_SCALE], optarg, t);
+            const int rc = hk_cli_transforms_option(CMD, c, optarg, &hair_tf, &head_tf);
             if (rc) return rc;
             break;
         }

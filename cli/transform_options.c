@@ -28,6 +28,14 @@ int hk_cli_transform_option(const char *cmd, const char *option, const char *val
     return 0;
 }
 
+int hk_cli_transforms_option(const char *cmd, int code, const char *value, hk_CliTransform *hair,
+                             hk_CliTransform *head)
+{
+    static const char *const names[] = {"scale", "up", "head-scale", "head-up"};
+    hk_CliTransform *t = code == HK_OPT_HAIR_SCALE || code == HK_OPT_HAIR_UP ? hair : head;
+    return hk_cli_transform_option(cmd, names[code - HK_OPT_HAIR_SCALE], value, t);
+}
+
 hk_Status hk_cli_transform_hair(const hk_CliTransform *t, hk_HairFile *hair, hk_Error *err)
 {
     hk_Status st = hk_hair_scale(hair, t->scale, err);

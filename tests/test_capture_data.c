@@ -13,28 +13,14 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include "hairkit/capture.h"
 #include "hairkit/hair_formats.h"
 #include "hairkit/hairfile.h"
 
-#ifndef HK_SHARED_DATA_DIR
-#define HK_SHARED_DATA_DIR "../shared/hair-data"
-#endif
-
-static int have_data(void)
-{
-    struct stat sb;
-    if (stat(HK_SHARED_DATA_DIR "/SOURCES.md", &sb) == 0) return 1;
-    print_message("skipped: %s is absent (the real grooms of ../shared/hair-data)\n", HK_SHARED_DATA_DIR);
-    return 0;
-}
-
 static void check_groom(const char *name, double scale, hk_Axis up, uint32_t every)
 {
-    char path[1024];
-    snprintf(path, sizeof path, "%s/%s", HK_SHARED_DATA_DIR, name);
+    const char *path = hk_test_shared_path(name);
     hk_HairFile h = {0};
     hk_Error err;
     if (hk_hair_read(path, HK_HAIR_FORMAT_AUTO, &h, &err) != HK_OK) fail_msg("%s: %s", name, err.message);
@@ -104,14 +90,14 @@ static void check_groom(const char *name, double scale, hk_Axis up, uint32_t eve
 static void test_sintel(void **state)
 {
     (void)state;
-    if (!have_data()) return;
+    if (!hk_test_have_shared_data()) skip();
     check_groom("SintelHairOriginal-sintel_hair.16points.tfx", 1.0, HK_AXIS_POS_Y, 40);
 }
 
 static void test_bangs(void **state)
 {
     (void)state;
-    if (!have_data()) return;
+    if (!hk_test_have_shared_data()) skip();
     check_groom("Bangs_100.hair", 0.001, HK_AXIS_POS_X, 1);
 }
 

@@ -11,36 +11,14 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include "hairkit/hair_formats.h"
 #include "hairkit/hairfile.h"
 
-#ifndef HK_SHARED_DATA_DIR
-#define HK_SHARED_DATA_DIR "../shared/hair-data"
-#endif
-
-static int have_data(void)
-{
-    struct stat sb;
-    if (stat(HK_SHARED_DATA_DIR "/SOURCES.md", &sb) == 0) return 1;
-    print_message("skipped: %s is absent (the real grooms of ../shared/hair-data)\n", HK_SHARED_DATA_DIR);
-    return 0;
-}
-
-static const char *data_path(const char *name)
-{
-    static char buf[4][1024];
-    static int slot;
-    char *p = buf[slot++ % 4];
-    snprintf(p, 1024, "%s/%s", HK_SHARED_DATA_DIR, name);
-    return p;
-}
-
 static void read_ok(const char *name, hk_HairFile *h)
 {
     hk_Error err;
-    if (hk_hair_read(data_path(name), HK_HAIR_FORMAT_AUTO, h, &err) != HK_OK) fail_msg("%s: %s", name, err.message);
+    if (hk_hair_read(hk_test_shared_path(name), HK_HAIR_FORMAT_AUTO, h, &err) != HK_OK) fail_msg("%s: %s", name, err.message);
 }
 
 static void assert_same(const hk_HairFile *a, const hk_HairFile *b)
@@ -76,7 +54,7 @@ static void through_every_format(const hk_HairFile *h)
 static void test_bangs_hair_and_data(void **state)
 {
     (void)state;
-    if (!have_data()) skip();
+    if (!hk_test_have_shared_data()) skip();
     hk_HairFile a, b;
     read_ok("Bangs_100.hair", &a);
     read_ok("Bangs_100.data", &b);
@@ -107,14 +85,14 @@ static void test_bangs_hair_and_data(void **state)
 static void test_curly_ply(void **state)
 {
     (void)state;
-    if (!have_data()) skip();
+    if (!hk_test_have_shared_data()) skip();
     hk_HairFile h;
     read_ok("Curly_100.ply", &h);
     assert_int_equal(h.strand_count, 100);
     assert_int_equal(h.point_count, 2528);
     assert_true(h.flags & HK_HAIR_COLORS);
     size_t size;
-    unsigned char *d = (unsigned char *)hk_test_read_file(data_path("Curly_100.ply"), &size);
+    unsigned char *d = (unsigned char *)hk_test_read_file(hk_test_shared_path("Curly_100.ply"), &size);
     const char *end = strstr((const char *)d, "end_header\n");
     assert_non_null(end);
     size_t at = (size_t)(end - (const char *)d) + strlen("end_header\n");
@@ -177,7 +155,7 @@ static void check_tfx(const char *name, uint32_t strands, uint32_t verts, float 
     assert_true(hk_hair_uniform_strands(&h));
     assert_int_equal(hk_hair_strand_points(&h, 0), verts);
     size_t size;
-    unsigned char *d = (unsigned char *)hk_test_read_file(data_path(name), &size);
+    unsigned char *d = (unsigned char *)hk_test_read_file(hk_test_shared_path(name), &size);
     float version;
     uint32_t ns, nv, offset;
     memcpy(&version, d, 4);
@@ -206,7 +184,7 @@ static void check_tfx(const char *name, uint32_t strands, uint32_t verts, float 
 static void test_tressfx(void **state)
 {
     (void)state;
-    if (!have_data()) skip();
+    if (!hk_test_have_shared_data()) skip();
     check_tfx("SintelHairOriginal-sintel_hair.16points.tfx", 11400, 16, 1.40f, 1.67f);
     check_tfx("Ratboy_mohawk.tfx", 2228, 32, 0.21f, 1.11f);
     check_tfx("tressfx_ponytail/front_top.tfx", 876, 16, 63.2f, 123.6f);
@@ -222,7 +200,7 @@ static void test_tressfx(void **state)
     hk_Error err;
     assert_int_equal(hk_hair_write(path, &h, NULL, &err), HK_OK);
     size_t a, b;
-    char *x = hk_test_read_file(path, &a), *y = hk_test_read_file(data_path("SintelHairOriginal-sintel_hair.16points.tfx"), &b);
+    char *x = hk_test_read_file(path, &a), *y = hk_test_read_file(hk_test_shared_path("SintelHairOriginal-sintel_hair.16points.tfx"), &b);
     assert_int_equal(a, b);
     assert_memory_equal(x, y, a);
     free(x);
@@ -233,13 +211,13 @@ static void test_tressfx(void **state)
 static void test_head_mesh_is_not_hair(void **state)
 {
     (void)state;
-    if (!have_data()) skip();
+    if (!hk_test_have_shared_data()) skip();
     hk_HairFile h;
     hk_Error err;
-    assert_int_equal(hk_hair_read(data_path("Bangs_head.ply"), HK_HAIR_FORMAT_AUTO, &h, &err), HK_ERR_PARSE);
+    assert_int_equal(hk_hair_read(hk_test_shared_path("Bangs_head.ply"), HK_HAIR_FORMAT_AUTO, &h, &err), HK_ERR_PARSE);
     hk_assert_contains(err.message, "Bangs_head.ply");
     hk_assert_contains(err.message, "a mesh, not hair strands");
-    assert_int_equal(hk_hair_read(data_path("sintel.obj"), HK_HAIR_FORMAT_AUTO, &h, &err), HK_ERR_PARSE);
+    assert_int_equal(hk_hair_read(hk_test_shared_path("sintel.obj"), HK_HAIR_FORMAT_AUTO, &h, &err), HK_ERR_PARSE);
     hk_assert_contains(err.message, "sintel.obj: no polylines");
 }
 

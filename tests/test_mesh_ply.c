@@ -11,14 +11,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include "hairkit/hair_formats.h"
 #include "hairkit/mesh.h"
 
-#ifndef HK_SHARED_DATA_DIR
-#define HK_SHARED_DATA_DIR "../shared/hair-data"
-#endif
 
 /* A unit cube's corners and its six faces as quads (fanned into two triangles each). */
 static const float cube[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
@@ -284,21 +280,13 @@ static void test_transforms(void **state)
     hk_mesh_free(&m);
 }
 
-static int have_data(void)
-{
-    struct stat sb;
-    if (stat(HK_SHARED_DATA_DIR "/SOURCES.md", &sb) == 0) return 1;
-    print_message("skipped: %s is absent (the real heads of ../shared/hair-data)\n", HK_SHARED_DATA_DIR);
-    return 0;
-}
-
 /* Bangs_head.ply: binary little-endian (trimesh), vertex x, y, z float and s, t double
  * (28 bytes), face list uchar int: 3,943 vertices and 7,694 triangles (SOURCES.md). */
 static void test_bangs_head(void **state)
 {
     (void)state;
-    if (!have_data()) skip();
-    const char *path = HK_SHARED_DATA_DIR "/Bangs_head.ply";
+    if (!hk_test_have_shared_data()) skip();
+    const char *path = hk_test_shared_path("Bangs_head.ply");
     hk_Mesh m;
     hk_Error err;
     if (hk_mesh_load(path, &m, &err) != HK_OK) fail_msg("%s", err.message);
@@ -337,7 +325,7 @@ static void test_bangs_head(void **state)
     for (int k = 0; k < 3; k++) assert_true(hi[k] - lo[k] > 0.1 && hi[k] - lo[k] < 0.5);
     hk_mesh_free(&m);
     /* The OBJ heads read through the same entry point. */
-    assert_int_equal(hk_mesh_load(HK_SHARED_DATA_DIR "/sintel.obj", &m, &err), HK_OK);
+    assert_int_equal(hk_mesh_load(hk_test_shared_path("sintel.obj"), &m, &err), HK_OK);
     assert_int_equal(m.vertex_count, 3046);
     assert_int_equal(m.triangle_count, 5952);
     hk_mesh_free(&m);

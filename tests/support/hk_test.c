@@ -128,3 +128,23 @@ size_t hk_test_mutate(char *buf, size_t len, size_t cap, const char *plausible,
     }
     }
 }
+
+#ifndef HK_SHARED_DATA_DIR
+#define HK_SHARED_DATA_DIR "../shared/hair-data"
+#endif
+
+int hk_test_have_shared_data(void)
+{
+    if (access(HK_SHARED_DATA_DIR "/SOURCES.md", R_OK) == 0) return 1;
+    print_message("skipped: %s is absent (the real grooms and heads of ../shared/hair-data)\n", HK_SHARED_DATA_DIR);
+    return 0;
+}
+
+const char *hk_test_shared_path(const char *name)
+{
+    static char buf[4][1024];
+    static int slot;
+    char *p = buf[slot++ % 4];
+    snprintf(p, sizeof buf[0], "%s/%s", HK_SHARED_DATA_DIR, name);
+    return p;
+}

@@ -28,6 +28,13 @@ char *hk_test_read_file(const char *path, size_t *size);
  * path. */
 const char *hk_test_light_setup(void);
 
+/* The real grooms and heads of ../shared/hair-data (made by others, described in its
+ * SOURCES.md, never copied into this repository). hk_test_have_shared_data: 1 when the
+ * folder is there, else 0 after printing that the test is skipped (call skip() then).
+ * hk_test_shared_path: the path of `name` in it (one of 4 static buffers in turn). */
+int hk_test_have_shared_data(void);
+const char *hk_test_shared_path(const char *name);
+
 /* |a - b| <= tol; prints both values and the tolerance when it fails. */
 #define hk_assert_near(a, b, tol) hk_assert_near_impl((a), (b), (tol), #a, #b, __FILE__, __LINE__)
 void hk_assert_near_impl(double a, double b, double tol, const char *as, const char *bs,
