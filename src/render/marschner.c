@@ -69,7 +69,7 @@ hk_MarschnerParams hk_marschner_params_from_color(hk_Vec3 c)
     return p;
 }
 
-hk_Vec3 hk_shade_marschner(hk_Vec3 t, hk_Vec3 l, hk_Vec3 e, const hk_MarschnerParams *p)
+void hk_marschner_lobes(hk_Vec3 t, hk_Vec3 l, hk_Vec3 e, const hk_MarschnerParams *p, hk_Vec3 lobe[3])
 {
     const double sin_i = fmax(-1.0, fmin(1.0, hk_v3_dot(t, l))), sin_o = fmax(-1.0, fmin(1.0, hk_v3_dot(t, e)));
     const double theta_i = asin(sin_i), theta_o = asin(sin_o);
@@ -91,7 +91,7 @@ hk_Vec3 hk_shade_marschner(hk_Vec3 t, hk_Vec3 l, hk_Vec3 e, const hk_MarschnerPa
     /* R: surface reflection. */
     const double m_r = longitudinal(p->beta_r, theta_h - p->alpha_r);
     const double n_r = 0.25 * cos_half_phi * fresnel(eta, sqrt(fmax(0.0, 0.5 * (1.0 + hk_v3_dot(l, e)))));
-    double r = m_r * n_r;
+    const double r = m_r * n_r;
 
     /* TT: through the fibre; Karis's offset h_TT for the azimuth phi. */
     const double a = 1.0 / eta_prime;
@@ -111,6 +111,14 @@ hk_Vec3 hk_shade_marschner(hk_Vec3 t, hk_Vec3 l, hk_Vec3 e, const hk_MarschnerPa
     const double k_trt = m_trt * (1.0 - f_trt) * (1.0 - f_trt) * f_trt * d_trt;
 
     const double scale = inv_cos2 * cos_i; /* S times the projected irradiance */
-    return hk_v3(scale * (r + k_tt * t_tt.x + k_trt * t_trt.x), scale * (r + k_tt * t_tt.y + k_trt * t_trt.y),
-                 scale * (r + k_tt * t_tt.z + k_trt * t_trt.z));
+    lobe[0] = hk_v3(scale * r, scale * r, scale * r);
+    lobe[1] = hk_v3_scale(t_tt, scale * k_tt);
+    lobe[2] = hk_v3_scale(t_trt, scale * k_trt);
+}
+
+hk_Vec3 hk_shade_marschner(hk_Vec3 t, hk_Vec3 l, hk_Vec3 e, const hk_MarschnerParams *p)
+{
+    hk_Vec3 lobe[3];
+    hk_marschner_lobes(t, l, e, p, lobe);
+    return hk_v3_add(lobe[0], hk_v3_add(lobe[1], lobe[2]));
 }
