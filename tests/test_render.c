@@ -137,10 +137,12 @@ static void test_kajiya_kay_pixel(void **state)
  * from the front (edge-on) the square hides nothing. The strand must be darker with
  * the square than without, and unchanged with --no-shadows. Likewise a layer of hair
  * between the light and the strand darkens it, but not to black (the scatter floor). */
-static double strand_brightness(const hk_HairFile *h, const hk_Mesh *occluder, int shadows)
+static double strand_brightness_with(const hk_HairFile *h, const hk_Mesh *occluder, int shadows,
+                                     hk_Scattering scattering)
 {
     hk_RenderDef o = plain_options(96);
     o.shadows = shadows;
+    o.scattering = scattering;
     o.light_azimuth_deg = 0.0, o.light_elevation_deg = 90.0;
     hk_Visuality v = hk_default_visuality();
     hk_Canvas img;
@@ -149,6 +151,11 @@ static double strand_brightness(const hk_HairFile *h, const hk_Mesh *occluder, i
     const double b = px[0] + px[1] + px[2];
     hk_canvas_free(&img);
     return b;
+}
+
+static double strand_brightness(const hk_HairFile *h, const hk_Mesh *occluder, int shadows)
+{
+    return strand_brightness_with(h, occluder, shadows, HK_SCATTERING_DUAL);
 }
 
 static void make_quad(hk_Mesh *quad, double y)
@@ -200,10 +207,32 @@ static void test_shadow_from_occluder(void **state)
             }
         }
     cover.default_thickness = 0.01f;
-    const double under_hair = strand_brightness(&cover, NULL, 1);
-    const double unshaded = strand_brightness(&cover, NULL, 0);
+    const double under_hair = strand_brightness_with(&cover, NULL, 1, HK_SCATTERING_SINGLE);
+    const double unshaded = strand_brightness_with(&cover, NULL, 0, HK_SCATTERING_SINGLE);
     assert_true(under_hair < 0.5 * unshaded);
     assert_true(under_hair >= 0.24 * unshaded);
+    /* Dual scattering (the default): no floor, the sheet's fibres pass on what they
+     * scatter forward; the strand is darker than in full light, lighter than the
+     * unscattered light alone, exp(-opacity), and the same without shadows. */
+    const double dual_under = strand_brightness(&cover, NULL, 1), dual_lit = strand_brightness(&cover, NULL, 0);
+    hk_assert_rel(dual_lit, unshaded, 1e-5, 1e-9);
+    assert_true(dual_under < dual_lit);
+    hk_RenderDef o = plain_options(96);
+    o.light_azimuth_deg = 0.0, o.light_elevation_deg = 90.0;
+    hk_LightMaps maps = {0};
+    hk_Scene scene = {&cover, NULL, NULL, &o, hk_v3(0, 1, 0), hk_v3_zero(), hk_v3_zero(), 0.01, 0, NULL, 0.0, 1};
+    assert_int_equal(hk_scene_bounds(&scene, NULL), HK_OK);
+    hk_scene_thickness(&scene);
+    uint8_t *starts = malloc(cover.point_count);
+    assert_non_null(starts);
+    hk_segment_starts(&cover, starts, 1);
+    assert_int_equal(hk_light_maps_build(&scene, starts, &maps, NULL, NULL), HK_OK);
+    double head_visible, opacity;
+    hk_light_lookup(&maps, hk_v3(0, 0, 0), &head_visible, &opacity);
+    assert_true(opacity > 0.5); /* the sheet is in front */
+    assert_true(dual_under > 1.2 * exp(-opacity) * dual_lit);
+    hk_light_maps_free(&maps);
+    free(starts);
     hk_hair_free(&cover);
 }
 
@@ -487,6 +516,11 @@ static void test_bad_options(void **state)
     o = hk_default_render_def();
     o.opacity_layers = 99;
     assert_int_equal(hk_render(&h, NULL, &v, &o, &img, NULL, &err), HK_ERR_INVALID);
+    o = hk_default_render_def();
+    assert_int_equal(o.scattering, HK_SCATTERING_DUAL); /* the default */
+    o.scattering = (hk_Scattering)7;
+    assert_int_equal(hk_render(&h, NULL, &v, &o, &img, NULL, &err), HK_ERR_INVALID);
+    hk_assert_contains(err.message, "scattering");
     h.points[4] = NAN;
     o = hk_default_render_def();
     assert_int_equal(hk_render(&h, NULL, &v, &o, &img, NULL, &err), HK_ERR_INVALID);
