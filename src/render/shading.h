@@ -68,7 +68,7 @@ typedef struct hk_DualScattering {
 } hk_DualScattering;
 
 /* Integrates the fibre's lobes numerically over the outgoing directions (midpoint rule,
- * 90 x 36 directions per half-space) at each tabulated incidence. Deterministic. */
+ * 60 x 24 directions per half-space) at each tabulated incidence. Deterministic. */
 void hk_dual_scattering_init(const hk_MarschnerParams *fibre, hk_DualScattering *ds);
 
 /* The entry for sin(theta_i) = t.l, interpolated linearly between the tabulated ones. */
