@@ -12,6 +12,8 @@
 #include "render_internal.h"
 #include "shading.h"
 
+static const double HK_PI = 3.14159265358979323846;
+
 hk_Status hk_hair_shader_init(hk_HairShader *s, const hk_Scene *sc, const uint8_t *segment_start,
                               const hk_LightMaps *maps, const hk_View *camera, hk_Error *err)
 {
@@ -97,8 +99,13 @@ static void shade(const hk_HairShader *s, uint32_t i, float out[3])
          * the head's shadow stops all of it. The ambient light is reflected by the hair
          * as a whole, with the colour of hair lit from all around: DiffuseColor (what
          * Chiang et al.'s mapping makes of it for the fibre). */
+        /* Marschner's S is per steradian; the renderer's unit light gives a Lambert
+         * surface of albedo rho the radiance rho cos (the skin, tile_head.c), which is
+         * an irradiance of pi: S is scaled by pi to match (without the Kajiya-Kay
+         * stand-in of single scattering, whose K_d sin is in those units, the lobes
+         * alone would be a third as bright as the skin of the same albedo). */
         const hk_Vec3 lit = o->shading == HK_SHADING_MARSCHNER
-                                ? hk_shade_dual_marschner(&s->dual, t, sc->light_dir, e, opacity)
+                                ? hk_v3_scale(hk_shade_dual_marschner(&s->dual, t, sc->light_dir, e, opacity), HK_PI)
                                 : hk_shade_dual_kajiya_kay(&s->dual, t, sc->light_dir, e, opacity, &v);
         c = hk_v3_madd(hk_v3_madd(s->ambient, v.diffuse, s->ambient_light), lit, o->light_intensity * head_visible);
     } else {
