@@ -10,7 +10,6 @@
 #include "hk_test.h"
 #include "render/shading.h"
 
-static const double PI = 3.14159265358979323846;
 
 static double ch(hk_Vec3 v, int c) { return c == 0 ? v.x : c == 1 ? v.y : v.z; }
 
@@ -42,10 +41,10 @@ static void integrate(const hk_MarschnerParams *p, double theta_i, hk_Vec3 *a_f,
     for (int i = 0; i < NZ; i++) {
         const double z = -1.0 + (i + 0.5) * 2.0 / NZ, r = sqrt(1.0 - z * z);
         for (int j = 0; j < NPSI; j++) {
-            const double psi = (j + 0.5) * 2.0 * PI / NPSI;
+            const double psi = (j + 0.5) * 2.0 * HK_PI / NPSI;
             const hk_Vec3 e = hk_v3_add(hk_v3_scale(t, z), hk_v3_add(hk_v3_scale(u, r * cos(psi)), hk_v3_scale(w, r * sin(psi))));
             const hk_Vec3 s = hk_shade_marschner(t, l, e, p);
-            const double weight = r / cos(theta_i) * (2.0 / NZ) * (2.0 * PI / NPSI);
+            const double weight = r / cos(theta_i) * (2.0 / NZ) * (2.0 * HK_PI / NPSI);
             const hk_Vec3 ep = hk_v3_madd(e, t, -z);
             hk_Vec3 *sum = hk_v3_dot(ep, lp) < 0.0 ? a_f : a_b;
             *sum = hk_v3_madd(*sum, s, weight);
@@ -64,7 +63,7 @@ static void test_table_against_integration(void **state)
         hk_dual_scattering_init(&p, &ds);
         for (int k = 0; k < 5; k++) {
             const int at = incidences[k];
-            const double ti = -0.5 * PI + PI * (at + 0.5) / HK_DUAL_THETA;
+            const double ti = -0.5 * HK_PI + HK_PI * (at + 0.5) / HK_DUAL_THETA;
             hk_Vec3 af, ab;
             integrate(&p, ti, &af, &ab);
             /* The table scales a fibre that would return more than it receives (the
@@ -82,10 +81,10 @@ static void test_table_against_integration(void **state)
             if (c < 2 && (at == 8 || at == 9)) assert_true(ds.at[at].a_f.x > 3.0 * ds.at[at].a_b.x);
         }
         /* The lookup interpolates between the table's entries and meets them there. */
-        const double ti = -0.5 * PI + PI * 10.0 / HK_DUAL_THETA; /* between entries 9 and 10 */
+        const double ti = -0.5 * HK_PI + HK_PI * 10.0 / HK_DUAL_THETA; /* between entries 9 and 10 */
         const hk_DualEntry en = hk_dual_lookup(&ds, sin(ti));
         hk_assert_rel(en.a_f.x, 0.5 * (ds.at[9].a_f.x + ds.at[10].a_f.x), 1e-9, 1e-12);
-        const hk_DualEntry exact = hk_dual_lookup(&ds, sin(-0.5 * PI + PI * 9.5 / HK_DUAL_THETA));
+        const hk_DualEntry exact = hk_dual_lookup(&ds, sin(-0.5 * HK_PI + HK_PI * 9.5 / HK_DUAL_THETA));
         hk_assert_rel(exact.A_b.y, ds.at[9].A_b.y, 1e-9, 1e-12);
     }
 }
@@ -124,11 +123,11 @@ static hk_Vec3 sphere_integral(hk_Vec3 (*shade)(const void *, hk_Vec3, hk_Vec3, 
     enum { N = 240 };
     hk_Vec3 sum = hk_v3_zero();
     for (int a = 0; a < N; a++) {
-        const double th = -0.5 * PI + PI * (a + 0.5) / N;
+        const double th = -0.5 * HK_PI + HK_PI * (a + 0.5) / N;
         for (int b = 0; b < 2 * N; b++) {
-            const double ph = PI * (b + 0.5) / N;
+            const double ph = HK_PI * (b + 0.5) / N;
             const hk_Vec3 e = hk_v3(sin(th), cos(th) * cos(ph), cos(th) * sin(ph));
-            sum = hk_v3_madd(sum, shade(user, t, l, e), cos(th) * cos(th) * (PI / N) * (PI / N) / cos(theta_i));
+            sum = hk_v3_madd(sum, shade(user, t, l, e), cos(th) * cos(th) * (HK_PI / N) * (HK_PI / N) / cos(theta_i));
         }
     }
     return sum;

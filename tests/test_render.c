@@ -1,5 +1,5 @@
 /* The renderer: the pixel of a lit strand against the Kajiya-Kay formula written out
- * here from the paper (Kajiya & Kay 1989, thesis 004 §4.1.5), shadows from an
+ * here from the paper (Kajiya & Kay 1989, Lansink 2010 §4.1.5), shadows from an
  * occluder in the light's view, sub-pixel coverage against the analytic area of a
  * thin line, determinism across thread counts, no NaN or black frames, and a PNG that
  * libpng reads back. */
@@ -16,7 +16,6 @@
 #include "render/raster_inline.h"
 #include "render/render_internal.h"
 
-static const double PI = 3.14159265358979323846;
 
 /* Straight strands along x in the plane z = z0, `points` points each. */
 static void make_strands(hk_HairFile *h, int strands, int points, double half_length, double spacing, double z0)
@@ -95,7 +94,7 @@ static void lit_strand(double cam_azimuth, double light_az, double light_el, hk_
     hk_hair_free(&h);
 }
 
-/* Kajiya-Kay (Kajiya & Kay 1989; thesis 004 §4.1.5), written out here:
+/* Kajiya-Kay (Kajiya & Kay 1989; Lansink 2010 §4.1.5), written out here:
  *   I = K_d sin(t, l) + K_s (sin(t,l) sin(t,e) - (t.l)(t.e))^p,
  * with the visuality colours read as sRGB. (1) Diffuse only, three light directions:
  * I = K_d sin(t, l), with t.l = sin(az) cos(el). (2) Light perpendicular to the
@@ -115,7 +114,7 @@ static void test_kajiya_kay_pixel(void **state)
     float px[3], other[3];
     for (int k = 0; k < 3; k++) {
         lit_strand(0.0, azimuths[k], elevations[k], kd, none, 12.0, px);
-        const double tl = sin(azimuths[k] * PI / 180) * cos(elevations[k] * PI / 180);
+        const double tl = sin(azimuths[k] * HK_PI / 180) * cos(elevations[k] * HK_PI / 180);
         for (int c = 0; c < 3; c++) hk_assert_rel(px[c], kd_lin[c] * sqrt(1.0 - tl * tl), 1e-4, 1e-7);
     }
     lit_strand(0.0, 0.0, 30.0, kd, ks, 12.0, px);
@@ -277,7 +276,7 @@ static void make_scene(hk_HairFile *h, hk_Mesh *ball)
     assert_int_equal(hk_hair_alloc(h, strands, counts, NULL), HK_OK);
     h->default_thickness = 8e-5f;
     for (int s = 0; s < strands; s++) {
-        const double u = hk_test_uniform() * 2 * PI, v = acos(2 * hk_test_uniform() - 1);
+        const double u = hk_test_uniform() * 2 * HK_PI, v = acos(2 * hk_test_uniform() - 1);
         hk_Vec3 n = hk_v3(sin(v) * cos(u), cos(v), sin(v) * sin(u)), p = hk_v3_scale(n, 0.08);
         for (int k = 0; k < points; k++) {
             float *q = h->points + 3 * ((size_t)s * points + k);
@@ -289,7 +288,7 @@ static void make_scene(hk_HairFile *h, hk_Mesh *ball)
     assert_int_equal(hk_mesh_alloc(ball, (rings + 1) * segs, rings * segs * 2, NULL), HK_OK);
     for (int i = 0; i <= rings; i++)
         for (int j = 0; j < segs; j++) {
-            const double v = PI * i / rings, u = 2 * PI * j / segs;
+            const double v = HK_PI * i / rings, u = 2 * HK_PI * j / segs;
             ball->positions[i * segs + j] = hk_v3(0.078 * sin(v) * cos(u), 0.078 * cos(v), -0.078 * sin(v) * sin(u));
         }
     int t = 0;

@@ -30,10 +30,9 @@
 
 #include "shading.h"
 
-static const double PI = 3.14159265358979323846;
 
 /* Normalised Gaussian of variance v at x. */
-static double gauss(double v, double x) { return exp(-x * x / (2.0 * v)) / sqrt(2.0 * PI * v); }
+static double gauss(double v, double x) { return exp(-x * x / (2.0 * v)) / sqrt(2.0 * HK_PI * v); }
 
 static double channel(hk_Vec3 v, int c) { return c == 0 ? v.x : c == 1 ? v.y : v.z; }
 static void set_channel(hk_Vec3 *v, int c, double x)
@@ -51,7 +50,7 @@ static void lobe_shape(const hk_MarschnerParams *f, int p, double *alpha, double
     *beta = width[p] * f->beta_r;
 }
 
-static double theta_of(int k) { return -0.5 * PI + PI * (k + 0.5) / HK_DUAL_THETA; }
+static double theta_of(int k) { return -0.5 * HK_PI + HK_PI * (k + 0.5) / HK_DUAL_THETA; }
 
 enum { OUT_THETA = 60, OUT_PHI = 24 }; /* midpoints over [-pi/2, pi/2] x [0, pi] */
 
@@ -64,14 +63,14 @@ void hk_dual_scattering_init(const hk_MarschnerParams *fibre, hk_DualScattering 
     for (int p = 0; p < 3; p++) lobe_shape(fibre, p, &alpha[p], &beta[p]);
     /* cos(phi) at the azimuth midpoints, and the directions' weights: phi and -phi
      * scatter alike, so [0, pi] is integrated twice. */
-    const double dth = PI / OUT_THETA, dph = PI / OUT_PHI;
+    const double dth = HK_PI / OUT_THETA, dph = HK_PI / OUT_PHI;
     for (int k = 0; k < HK_DUAL_THETA; k++) {
         const double ti = theta_of(k);
         const hk_Vec3 l = hk_v3(sin(ti), cos(ti), 0.0);
         hk_Vec3 fwd[3], back[3];
         for (int p = 0; p < 3; p++) fwd[p] = back[p] = hk_v3_zero();
         for (int a = 0; a < OUT_THETA; a++) {
-            const double to = -0.5 * PI + (a + 0.5) * dth;
+            const double to = -0.5 * HK_PI + (a + 0.5) * dth;
             /* int S cos(theta_o) d omega, d omega = cos(theta_o) d theta d phi; S is the
              * returned value over cos(theta_i). */
             const double w = 2.0 * cos(to) * cos(to) * dth * dph / cos(ti);
@@ -130,7 +129,7 @@ void hk_dual_scattering_init(const hk_MarschnerParams *fibre, hk_DualScattering 
 hk_DualEntry hk_dual_lookup(const hk_DualScattering *ds, double sin_i)
 {
     const double ti = asin(fmax(-1.0, fmin(1.0, sin_i)));
-    double x = (ti + 0.5 * PI) / (PI / HK_DUAL_THETA) - 0.5;
+    double x = (ti + 0.5 * HK_PI) / (HK_PI / HK_DUAL_THETA) - 0.5;
     x = fmax(0.0, fmin((double)(HK_DUAL_THETA - 1), x));
     int k = (int)x;
     if (k > HK_DUAL_THETA - 2) k = HK_DUAL_THETA - 2;
@@ -180,7 +179,7 @@ static hk_Vec3 backscatter(const hk_DualEntry *en, const Angles *a, hk_Vec3 extr
     hk_Vec3 r;
     for (int c = 0; c < 3; c++) {
         const double v = channel(en->sigma_b2, c) + channel(extra, c);
-        set_channel(&r, c, channel(en->A_b, c) * 0.5 * gauss(v, a->theta_h - channel(en->delta_b, c)) / PI *
+        set_channel(&r, c, channel(en->A_b, c) * 0.5 * gauss(v, a->theta_h - channel(en->delta_b, c)) / HK_PI *
                                a->inv_cos2_d * a->cos_i);
     }
     return r;
@@ -214,10 +213,10 @@ hk_Vec3 hk_shade_dual_marschner(const hk_DualScattering *ds, hk_Vec3 t, hk_Vec3 
         for (int p = 0; p < 3; p++) {
             double alpha, beta;
             lobe_shape(&ds->fibre, p, &alpha, &beta);
-            sg += channel(en.lobe[p], c) / (2.0 * PI) * 0.5 * gauss(beta * beta + s2, a.theta_h - alpha);
+            sg += channel(en.lobe[p], c) / (2.0 * HK_PI) * 0.5 * gauss(beta * beta + s2, a.theta_h - alpha);
         }
         sg *= a.inv_cos2_d * a.cos_i;
-        set_channel(&out, c, channel(out, c) + channel(global, c) * (sg + PI * HK_DUAL_DB * channel(back, c)));
+        set_channel(&out, c, channel(out, c) + channel(global, c) * (sg + HK_PI * HK_DUAL_DB * channel(back, c)));
     }
     return out;
 }
@@ -236,7 +235,7 @@ hk_Vec3 hk_shade_dual_kajiya_kay(const hk_DualScattering *ds, hk_Vec3 t, hk_Vec3
     /* Only a_f and beta_f2 of the entry are needed: interpolated alone (the whole
      * entry is 27 numbers). */
     const double ti = asin(fmax(-1.0, fmin(1.0, tl)));
-    const double x = fmax(0.0, fmin((double)(HK_DUAL_THETA - 1), (ti + 0.5 * PI) / (PI / HK_DUAL_THETA) - 0.5));
+    const double x = fmax(0.0, fmin((double)(HK_DUAL_THETA - 1), (ti + 0.5 * HK_PI) / (HK_PI / HK_DUAL_THETA) - 0.5));
     const int k = x < HK_DUAL_THETA - 1 ? (int)x : HK_DUAL_THETA - 2;
     const double w = x - k;
     hk_DualEntry en;

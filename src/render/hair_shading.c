@@ -12,8 +12,6 @@
 #include "render_internal.h"
 #include "shading.h"
 
-static const double HK_PI = 3.14159265358979323846;
-
 hk_Status hk_hair_shader_init(hk_HairShader *s, const hk_Scene *sc, const uint8_t *segment_start,
                               const hk_LightMaps *maps, const hk_View *camera, hk_Error *err)
 {

@@ -1,5 +1,5 @@
 /* Marschner, Jensen, Cammarano, Worley and Hanrahan, "Light Scattering from Human
- * Hair Fibers" (SIGGRAPH 2003), the model paper 000 renders with: a hair fibre is a
+ * Hair Fibers" (SIGGRAPH 2003), the model Bertails et al. 2006 render with: a hair fibre is a
  * dielectric cylinder, light leaves it by three paths, R (reflected at the surface),
  * TT (through the fibre) and TRT (reflected once inside), each a product of a
  * longitudinal lobe M_p(theta_h) and an azimuthal term N_p(phi):
@@ -16,7 +16,6 @@
  * gamma_t the refracted offset angle and theta_t the refracted longitudinal angle). */
 #include "shading.h"
 
-static const double PI = 3.14159265358979323846;
 
 /* Fresnel reflectance of unpolarised light entering a dielectric of index eta at an
  * angle of incidence whose cosine is cos_i (exact, both polarisations averaged). */
@@ -37,7 +36,7 @@ static double fresnel(double eta, double cos_i)
  * of its azimuthal term (the non-conservation noted by d'Eon et al. 2011). */
 static double longitudinal(double beta, double x)
 {
-    return 0.5 * exp(-x * x / (2.0 * beta * beta)) / (beta * sqrt(2.0 * PI));
+    return 0.5 * exp(-x * x / (2.0 * beta * beta)) / (beta * sqrt(2.0 * HK_PI));
 }
 
 /* Transmittance along a path through the fibre at offset h (|h| < 1). */
@@ -63,8 +62,8 @@ hk_MarschnerParams hk_marschner_params_from_color(hk_Vec3 c)
     }
     hk_MarschnerParams p;
     p.eta = 1.55;                 /* Marschner Table 1 */
-    p.alpha_r = -7.0 * PI / 180;  /* the cuticle's tilt: -5 to -10 degrees */
-    p.beta_r = 7.0 * PI / 180;    /* 5 to 10 degrees */
+    p.alpha_r = -7.0 * HK_PI / 180;  /* the cuticle's tilt: -5 to -10 degrees */
+    p.beta_r = 7.0 * HK_PI / 180;    /* 5 to 10 degrees */
     p.sigma_a = hk_v3(v[0], v[1], v[2]);
     return p;
 }

@@ -1,5 +1,5 @@
-/* Hair and skin shading models of the renderer: Kajiya-Kay (thesis 004 §4.1.5, the
- * default) and Marschner et al. 2003 (paper 000 renders with it). All directions are
+/* Hair and skin shading models of the renderer: Kajiya-Kay (Lansink 2010 §4.1.5, the
+ * default) and Marschner et al. 2003 (Bertails et al. 2006 render with it). All directions are
  * unit vectors in world space: t the hair tangent, l towards the light, e towards the
  * eye. Results are linear RGB radiance for a unit light intensity, before shadowing. */
 #ifndef HK_RENDER_SHADING_H
