@@ -78,13 +78,14 @@ void hk_cli_report_scene_hair(const char *cmd, const hk_Setup *setup, const hk_H
 /* ---- render options (render_options.c) ---- */
 /* getopt_long codes of the render options; add HK_CLI_RENDER_LONG_OPTIONS to the
  * option table and pass these codes to hk_cli_render_option. */
-enum { HK_OPT_WIDTH = 1000, HK_OPT_HEIGHT, HK_OPT_NO_SHADOWS, HK_OPT_SHADING, HK_OPT_VIEW, HK_OPT_LIGHT,
+enum { HK_OPT_WIDTH = 1000, HK_OPT_HEIGHT, HK_OPT_NO_SHADOWS, HK_OPT_SHADING, HK_OPT_SCATTERING, HK_OPT_VIEW, HK_OPT_LIGHT,
        HK_OPT_SHADOW_MAP, HK_OPT_THICKNESS };
 #define HK_CLI_RENDER_LONG_OPTIONS                                                                  \
     {"width", required_argument, NULL, HK_OPT_WIDTH}, {"height", required_argument, NULL, HK_OPT_HEIGHT}, \
     {"no-shadows", no_argument, NULL, HK_OPT_NO_SHADOWS},                                           \
     {"shading", required_argument, NULL, HK_OPT_SHADING}, {"view", required_argument, NULL, HK_OPT_VIEW}, \
     {"light", required_argument, NULL, HK_OPT_LIGHT},                                               \
+    {"scattering", required_argument, NULL, HK_OPT_SCATTERING},                                     \
     {"shadow-map", required_argument, NULL, HK_OPT_SHADOW_MAP},                                     \
     {"thickness", required_argument, NULL, HK_OPT_THICKNESS}
 #define HK_CLI_IS_RENDER_OPTION(c) ((c) >= HK_OPT_WIDTH && (c) <= HK_OPT_THICKNESS)

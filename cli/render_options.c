@@ -10,6 +10,8 @@ void hk_cli_render_options_help(FILE *out)
             "  --width W, --height H  picture size in pixels (default 1200 x 900)\n"
             "  --no-shadows       no deep opacity map or head shadow\n"
             "  --shading MODEL    kajiya-kay (default, thesis 4.1.5) or marschner\n"
+            "  --scattering S     dual (default: multiple scattering by the dual scattering\n"
+            "                     approximation) or single (the thesis's shadow floor)\n"
             "  --view AZ,EL       camera direction in degrees: azimuth about the vertical\n"
             "                     axis from the front of the face (+z) towards +x, and\n"
             "                     elevation (default 35,12: three-quarter front)\n"
@@ -47,6 +49,11 @@ int hk_cli_render_option(const char *cmd, int option, const char *value, hk_Rend
         if (!strcmp(value, "kajiya-kay") || !strcmp(value, "kajiya")) o->shading = HK_SHADING_KAJIYA_KAY;
         else if (!strcmp(value, "marschner")) o->shading = HK_SHADING_MARSCHNER;
         else return hk_cli_usage_error(cmd, "--shading expects kajiya-kay or marschner, got '%s'", value);
+        return 0;
+    case HK_OPT_SCATTERING:
+        if (!strcmp(value, "dual")) o->scattering = HK_SCATTERING_DUAL;
+        else if (!strcmp(value, "single")) o->scattering = HK_SCATTERING_SINGLE;
+        else return hk_cli_usage_error(cmd, "--scattering expects dual or single, got '%s'", value);
         return 0;
     case HK_OPT_VIEW:
     case HK_OPT_LIGHT:

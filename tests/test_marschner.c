@@ -9,11 +9,10 @@
 #include "hk_test.h"
 #include "render/shading.h"
 
-static const double PI = 3.14159265358979323846;
 
 static hk_Vec3 random_unit(void)
 {
-    const double z = 2.0 * hk_test_uniform() - 1.0, a = 2.0 * PI * hk_test_uniform(), r = sqrt(1.0 - z * z);
+    const double z = 2.0 * hk_test_uniform() - 1.0, a = 2.0 * HK_PI * hk_test_uniform(), r = sqrt(1.0 - z * z);
     return hk_v3(r * cos(a), r * sin(a), z);
 }
 
@@ -86,11 +85,11 @@ static void test_forward_scattering(void **state)
     (void)state;
     const hk_Vec3 t = hk_v3(1, 0, 0), l = dir(0.1, 0.0);
     hk_MarschnerParams p = hk_marschner_params_from_color(hk_v3(0.9, 0.9, 0.9));
-    const double behind = scattering(t, l, dir(-0.1, PI), &p).x; /* light shining through */
+    const double behind = scattering(t, l, dir(-0.1, HK_PI), &p).x; /* light shining through */
     const double front = scattering(t, l, dir(-0.1, 0.0), &p).x;
     assert_true(behind > 10.0 * front);
     p.sigma_a = hk_v3(1e4, 1e4, 1e4);
-    assert_true(scattering(t, l, dir(-0.1, PI), &p).x < 1e-6 * behind);
+    assert_true(scattering(t, l, dir(-0.1, HK_PI), &p).x < 1e-6 * behind);
 }
 
 /* Darker channels absorb more (Chiang et al. 2016's mapping is monotonic), and light
@@ -100,7 +99,7 @@ static void test_colour(void **state)
     (void)state;
     const hk_MarschnerParams p = hk_marschner_params_from_color(hk_v3(0.8, 0.3, 0.1));
     assert_true(p.sigma_a.x < p.sigma_a.y && p.sigma_a.y < p.sigma_a.z);
-    const hk_Vec3 c = scattering(hk_v3(1, 0, 0), dir(0.1, 0.0), dir(-0.1, PI), &p);
+    const hk_Vec3 c = scattering(hk_v3(1, 0, 0), dir(0.1, 0.0), dir(-0.1, HK_PI), &p);
     assert_true(c.x > c.y && c.y > c.z);
     const hk_MarschnerParams white = hk_marschner_params_from_color(hk_v3(1, 1, 1));
     assert_true(white.sigma_a.x < 1e-5); /* a white fibre barely absorbs */
@@ -113,10 +112,10 @@ static double albedo(const hk_MarschnerParams *p, double theta_i)
     const hk_Vec3 t = hk_v3(1, 0, 0), l = dir(theta_i, 0.0);
     double sum = 0.0;
     for (int a = 0; a < n; a++) {
-        const double th = -PI / 2 + PI * (a + 0.5) / n;
+        const double th = -HK_PI / 2 + HK_PI * (a + 0.5) / n;
         for (int b = 0; b < 2 * n; b++) {
-            const double ph = 2 * PI * (b + 0.5) / (2 * n);
-            sum += scattering(t, l, dir(th, ph), p).x * cos(th) * cos(th) * (PI / n) * (PI / n);
+            const double ph = 2 * HK_PI * (b + 0.5) / (2 * n);
+            sum += scattering(t, l, dir(th, ph), p).x * cos(th) * cos(th) * (HK_PI / n) * (HK_PI / n);
         }
     }
     return sum;

@@ -1,5 +1,5 @@
 /* The renderer: the pixel of a lit strand against the Kajiya-Kay formula written out
- * here from the paper (Kajiya & Kay 1989, thesis 004 §4.1.5), shadows from an
+ * here from the paper (Kajiya & Kay 1989, Lansink 2010 §4.1.5), shadows from an
  * occluder in the light's view, sub-pixel coverage against the analytic area of a
  * thin line, determinism across thread counts, no NaN or black frames, and a PNG that
  * libpng reads back. */
@@ -16,7 +16,6 @@
 #include "render/raster_inline.h"
 #include "render/render_internal.h"
 
-static const double PI = 3.14159265358979323846;
 
 /* Straight strands along x in the plane z = z0, `points` points each. */
 static void make_strands(hk_HairFile *h, int strands, int points, double half_length, double spacing, double z0)
@@ -95,7 +94,7 @@ static void lit_strand(double cam_azimuth, double light_az, double light_el, hk_
     hk_hair_free(&h);
 }
 
-/* Kajiya-Kay (Kajiya & Kay 1989; thesis 004 §4.1.5), written out here:
+/* Kajiya-Kay (Kajiya & Kay 1989; Lansink 2010 §4.1.5), written out here:
  *   I = K_d sin(t, l) + K_s (sin(t,l) sin(t,e) - (t.l)(t.e))^p,
  * with the visuality colours read as sRGB. (1) Diffuse only, three light directions:
  * I = K_d sin(t, l), with t.l = sin(az) cos(el). (2) Light perpendicular to the
@@ -115,7 +114,7 @@ static void test_kajiya_kay_pixel(void **state)
     float px[3], other[3];
     for (int k = 0; k < 3; k++) {
         lit_strand(0.0, azimuths[k], elevations[k], kd, none, 12.0, px);
-        const double tl = sin(azimuths[k] * PI / 180) * cos(elevations[k] * PI / 180);
+        const double tl = sin(azimuths[k] * HK_PI / 180) * cos(elevations[k] * HK_PI / 180);
         for (int c = 0; c < 3; c++) hk_assert_rel(px[c], kd_lin[c] * sqrt(1.0 - tl * tl), 1e-4, 1e-7);
     }
     lit_strand(0.0, 0.0, 30.0, kd, ks, 12.0, px);
@@ -137,10 +136,12 @@ static void test_kajiya_kay_pixel(void **state)
  * from the front (edge-on) the square hides nothing. The strand must be darker with
  * the square than without, and unchanged with --no-shadows. Likewise a layer of hair
  * between the light and the strand darkens it, but not to black (the scatter floor). */
-static double strand_brightness(const hk_HairFile *h, const hk_Mesh *occluder, int shadows)
+static double strand_brightness_with(const hk_HairFile *h, const hk_Mesh *occluder, int shadows,
+                                     hk_Scattering scattering)
 {
     hk_RenderDef o = plain_options(96);
     o.shadows = shadows;
+    o.scattering = scattering;
     o.light_azimuth_deg = 0.0, o.light_elevation_deg = 90.0;
     hk_Visuality v = hk_default_visuality();
     hk_Canvas img;
@@ -149,6 +150,11 @@ static double strand_brightness(const hk_HairFile *h, const hk_Mesh *occluder, i
     const double b = px[0] + px[1] + px[2];
     hk_canvas_free(&img);
     return b;
+}
+
+static double strand_brightness(const hk_HairFile *h, const hk_Mesh *occluder, int shadows)
+{
+    return strand_brightness_with(h, occluder, shadows, HK_SCATTERING_DUAL);
 }
 
 static void make_quad(hk_Mesh *quad, double y)
@@ -200,10 +206,32 @@ static void test_shadow_from_occluder(void **state)
             }
         }
     cover.default_thickness = 0.01f;
-    const double under_hair = strand_brightness(&cover, NULL, 1);
-    const double unshaded = strand_brightness(&cover, NULL, 0);
+    const double under_hair = strand_brightness_with(&cover, NULL, 1, HK_SCATTERING_SINGLE);
+    const double unshaded = strand_brightness_with(&cover, NULL, 0, HK_SCATTERING_SINGLE);
     assert_true(under_hair < 0.5 * unshaded);
     assert_true(under_hair >= 0.24 * unshaded);
+    /* Dual scattering (the default): no floor, the sheet's fibres pass on what they
+     * scatter forward; the strand is darker than in full light, lighter than the
+     * unscattered light alone, exp(-opacity), and the same without shadows. */
+    const double dual_under = strand_brightness(&cover, NULL, 1), dual_lit = strand_brightness(&cover, NULL, 0);
+    hk_assert_rel(dual_lit, unshaded, 1e-5, 1e-9);
+    assert_true(dual_under < dual_lit);
+    hk_RenderDef o = plain_options(96);
+    o.light_azimuth_deg = 0.0, o.light_elevation_deg = 90.0;
+    hk_LightMaps maps = {0};
+    hk_Scene scene = {&cover, NULL, NULL, &o, hk_v3(0, 1, 0), hk_v3_zero(), hk_v3_zero(), 0.01, 0, NULL, 0.0, 1};
+    assert_int_equal(hk_scene_bounds(&scene, NULL), HK_OK);
+    hk_scene_thickness(&scene);
+    uint8_t *starts = malloc(cover.point_count);
+    assert_non_null(starts);
+    hk_segment_starts(&cover, starts, 1);
+    assert_int_equal(hk_light_maps_build(&scene, starts, &maps, NULL, NULL), HK_OK);
+    double head_visible, opacity;
+    hk_light_lookup(&maps, hk_v3(0, 0, 0), &head_visible, &opacity);
+    assert_true(opacity > 0.5); /* the sheet is in front */
+    assert_true(dual_under > 1.2 * exp(-opacity) * dual_lit);
+    hk_light_maps_free(&maps);
+    free(starts);
     hk_hair_free(&cover);
 }
 
@@ -248,7 +276,7 @@ static void make_scene(hk_HairFile *h, hk_Mesh *ball)
     assert_int_equal(hk_hair_alloc(h, strands, counts, NULL), HK_OK);
     h->default_thickness = 8e-5f;
     for (int s = 0; s < strands; s++) {
-        const double u = hk_test_uniform() * 2 * PI, v = acos(2 * hk_test_uniform() - 1);
+        const double u = hk_test_uniform() * 2 * HK_PI, v = acos(2 * hk_test_uniform() - 1);
         hk_Vec3 n = hk_v3(sin(v) * cos(u), cos(v), sin(v) * sin(u)), p = hk_v3_scale(n, 0.08);
         for (int k = 0; k < points; k++) {
             float *q = h->points + 3 * ((size_t)s * points + k);
@@ -260,7 +288,7 @@ static void make_scene(hk_HairFile *h, hk_Mesh *ball)
     assert_int_equal(hk_mesh_alloc(ball, (rings + 1) * segs, rings * segs * 2, NULL), HK_OK);
     for (int i = 0; i <= rings; i++)
         for (int j = 0; j < segs; j++) {
-            const double v = PI * i / rings, u = 2 * PI * j / segs;
+            const double v = HK_PI * i / rings, u = 2 * HK_PI * j / segs;
             ball->positions[i * segs + j] = hk_v3(0.078 * sin(v) * cos(u), 0.078 * cos(v), -0.078 * sin(v) * sin(u));
         }
     int t = 0;
@@ -487,6 +515,11 @@ static void test_bad_options(void **state)
     o = hk_default_render_def();
     o.opacity_layers = 99;
     assert_int_equal(hk_render(&h, NULL, &v, &o, &img, NULL, &err), HK_ERR_INVALID);
+    o = hk_default_render_def();
+    assert_int_equal(o.scattering, HK_SCATTERING_DUAL); /* the default */
+    o.scattering = (hk_Scattering)7;
+    assert_int_equal(hk_render(&h, NULL, &v, &o, &img, NULL, &err), HK_ERR_INVALID);
+    hk_assert_contains(err.message, "scattering");
     h.points[4] = NAN;
     o = hk_default_render_def();
     assert_int_equal(hk_render(&h, NULL, &v, &o, &img, NULL, &err), HK_ERR_INVALID);

@@ -23,11 +23,17 @@ extern "C" {
 
 typedef enum hk_Shading { HK_SHADING_KAJIYA_KAY = 0, HK_SHADING_MARSCHNER = 1 } hk_Shading;
 
+/* Light scattered between fibres: none (single scattering, the light in shadow floored
+ * at scatter_floor, as the thesis), or the dual scattering approximation (Zinke et al.
+ * 2008; docs/rendering.md), the default. */
+typedef enum hk_Scattering { HK_SCATTERING_SINGLE = 0, HK_SCATTERING_DUAL = 1 } hk_Scattering;
+
 typedef struct hk_RenderDef {
     int width, height;        /* pixels of the picture (default 1200 x 900) */
     int threads;              /* 0: OpenMP's default (all cores) */
     int shadows;              /* deep opacity maps and the head's shadow map (default on) */
     hk_Shading shading;       /* default Kajiya-Kay */
+    hk_Scattering scattering; /* default HK_SCATTERING_DUAL */
     /* Camera: it looks at the centre of the scene's bounding box from the direction
      * given by azimuth (degrees about +y, 0 = in front of the face, +z; positive turns
      * towards +x) and elevation (degrees above the horizontal), at the distance where
@@ -42,13 +48,16 @@ typedef struct hk_RenderDef {
     /* One directional key light, from the direction azimuth/elevation as above. */
     double light_azimuth_deg, light_elevation_deg;
     double light_intensity;   /* default 1 */
-    double ambient_intensity; /* multiplies AmbientColor (thesis shader: 0.2) */
+    double ambient_intensity; /* multiplies AmbientColor (thesis shader: 0.2); with dual
+                                 scattering the hair also reflects an ambient light of
+                                 twice this (the skin's) with its DiffuseColor */
     int shadow_map_size;      /* texels per side of the light's maps (default 512) */
     int opacity_layers;       /* K layers of the deep opacity map (thesis: 4) */
     double layer_size;        /* depth of the first layer (m); layer k is 2^k times as deep
                                  (<= 0: 2 mm) */
-    double scatter_floor;     /* light that reaches the deepest hair, as a fraction: a
-                                 stand-in for multiple scattering (thesis: 0.25) */
+    double scatter_floor;     /* single scattering only: light that reaches the deepest
+                                 hair, as a fraction, a stand-in for multiple scattering
+                                 (thesis: 0.25); dual scattering computes that light */
     double hair_thickness;    /* strand diameter in scene units; <= 0: from the file */
     double strand_variation;  /* each strand's brightness varies by up to this fraction
                                  (default 0.15) */

@@ -2,7 +2,7 @@
  * distance where every hair point and head vertex fits the picture. */
 #include "render_internal.h"
 
-static const double DEG = 3.14159265358979323846 / 180.0;
+static const double DEG = HK_PI / 180.0;
 
 /* Unit vector from azimuth (about +y, 0 = +z, positive towards +x) and elevation. */
 static hk_Vec3 direction(double azimuth_deg, double elevation_deg)

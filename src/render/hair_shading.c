@@ -18,6 +18,12 @@ hk_Status hk_hair_shader_init(hk_HairShader *s, const hk_Scene *sc, const uint8_
     s->scene = sc, s->segment_start = segment_start, s->maps = maps, s->camera = camera;
     s->marschner = hk_marschner_params_from_color(sc->vis->diffuse);
     s->ambient = hk_v3_scale(sc->vis->ambient, sc->opt->ambient_intensity);
+    s->ambient_light = 2.0 * sc->opt->ambient_intensity; /* as the skin's (tile_head.c) */
+    if (sc->opt->scattering == HK_SCATTERING_DUAL &&
+        !(s->dual_ready && hk_v3_dist(s->dual_colour, sc->vis->diffuse) == 0.0)) {
+        hk_dual_scattering_init(&s->marschner, &s->dual);
+        s->dual_colour = sc->vis->diffuse, s->dual_ready = 1;
+    }
     const size_t n = sc->hair->point_count ? sc->hair->point_count : 1;
     const size_t kept = s->colour_cap;
     if (!HK_RESERVE(s->colour, s->colour_cap, n, err) || !HK_RESERVE(s->strand_of, s->strand_of_cap, n, err)) {
@@ -56,6 +62,7 @@ void hk_hair_shader_free(hk_HairShader *s)
     s->colour = NULL, s->strand_of = NULL;
     s->colour_cap = s->strand_of_cap = 0;
     s->busy = s->done = 0;
+    s->dual_ready = 0;
 }
 
 /* A number in [-1, 1) from a strand's index (splitmix64 finaliser). */
@@ -78,26 +85,42 @@ static void shade(const hk_HairShader *s, uint32_t i, float out[3])
     t = hk_v3_norm(t) > 0.0 ? hk_v3_normalize(t) : hk_v3(0, 1, 0);
     const hk_Vec3 p = hk_hair_point(h, i);
     const hk_Vec3 e = hk_v3_normalize(hk_v3_sub(s->camera->origin, p));
-    double visible = 1.0;
-    if (s->maps) {
-        double head_visible, opacity;
-        hk_light_lookup(s->maps, p, &head_visible, &opacity);
-        visible = head_visible * (o->scatter_floor + (1.0 - o->scatter_floor) * exp(-opacity));
-    }
+    double head_visible = 1.0, opacity = 0.0;
+    if (s->maps) hk_light_lookup(s->maps, p, &head_visible, &opacity);
     hk_Visuality v = *sc->vis;
     if (h->colors) v.diffuse = hk_srgb_to_linear(hk_v3(h->colors[3 * (size_t)i], h->colors[3 * (size_t)i + 1],
                                                        h->colors[3 * (size_t)i + 2]));
-    hk_Vec3 lit;
-    if (o->shading == HK_SHADING_MARSCHNER) {
-        /* Marschner's lobes are single scattering; the colour of brown and blond hair
-         * comes mostly from light scattered through many fibres, which Kajiya-Kay's
-         * diffuse term stands in for (as production Marschner shaders do). */
-        const double sin_tl = sqrt(fmax(0.0, 1.0 - hk_v3_dot(t, sc->light_dir) * hk_v3_dot(t, sc->light_dir)));
-        lit = hk_v3_madd(hk_shade_marschner(t, sc->light_dir, e, &s->marschner), v.diffuse, sin_tl);
+    hk_Vec3 c;
+    if (o->scattering == HK_SCATTERING_DUAL) {
+        /* Dual scattering (dual_scattering.c): the light through the `opacity` fibres in
+         * front, unscattered and forward-scattered, and the neighbours' backscattering;
+         * the head's shadow stops all of it. The ambient light is reflected by the hair
+         * as a whole, with the colour of hair lit from all around: DiffuseColor (what
+         * Chiang et al.'s mapping makes of it for the fibre). */
+        /* Marschner's S is per steradian; the renderer's unit light gives a Lambert
+         * surface of albedo rho the radiance rho cos (the skin, tile_head.c), which is
+         * an irradiance of pi: S is scaled by pi to match (without the Kajiya-Kay
+         * stand-in of single scattering, whose K_d sin is in those units, the lobes
+         * alone would be a third as bright as the skin of the same albedo). */
+        const hk_Vec3 lit = o->shading == HK_SHADING_MARSCHNER
+                                ? hk_v3_scale(hk_shade_dual_marschner(&s->dual, t, sc->light_dir, e, opacity), HK_PI)
+                                : hk_shade_dual_kajiya_kay(&s->dual, t, sc->light_dir, e, opacity, &v);
+        c = hk_v3_madd(hk_v3_madd(s->ambient, v.diffuse, s->ambient_light), lit, o->light_intensity * head_visible);
     } else {
-        lit = hk_shade_kajiya_kay(t, sc->light_dir, e, &v);
+        const double visible = head_visible * (o->scatter_floor + (1.0 - o->scatter_floor) * exp(-opacity));
+        hk_Vec3 lit;
+        if (o->shading == HK_SHADING_MARSCHNER) {
+            /* Marschner's lobes are single scattering; the colour of brown and blond
+             * hair comes mostly from light scattered through many fibres, which
+             * Kajiya-Kay's diffuse term stands in for (as production Marschner shaders
+             * do). */
+            const double tl = hk_v3_dot(t, sc->light_dir), sin_tl = sqrt(fmax(0.0, 1.0 - tl * tl));
+            lit = hk_v3_madd(hk_shade_marschner(t, sc->light_dir, e, &s->marschner), v.diffuse, sin_tl);
+        } else {
+            lit = hk_shade_kajiya_kay(t, sc->light_dir, e, &v);
+        }
+        c = hk_v3_madd(s->ambient, lit, o->light_intensity * visible);
     }
-    hk_Vec3 c = hk_v3_madd(s->ambient, lit, o->light_intensity * visible);
     /* Real hairs differ slightly in colour; a fixed brightness per strand (from a hash
      * of its index, so the same on every run) keeps a full head from looking painted. */
     if (o->strand_variation > 0.0) {

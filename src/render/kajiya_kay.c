@@ -1,5 +1,5 @@
 /* Kajiya & Kay, "Rendering Fur with Three Dimensional Textures" (SIGGRAPH 1989), as in
- * thesis 004 §4.1.5: the diffuse term is Lambert's law integrated over the lit half
+ * Lansink 2010 §4.1.5: the diffuse term is Lambert's law integrated over the lit half
  * of the hair cylinder, K_d sin(t, l); the specular term is K_s cos^p of the angle
  * between the eye and the cone of mirror directions around the tangent.
  *

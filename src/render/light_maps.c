@@ -1,6 +1,6 @@
 /* The light's view: a depth map of the head (its shadow on itself and on the hair)
  * and the deep opacity map of the hair (Yuksel & Keyser, "Deep Opacity Maps", 2008;
- * thesis 004 §4.1.6 and the opacity and hair shaders of Appendix A). The map is built
+ * Lansink 2010 §4.1.6 and the opacity and hair shaders of Appendix A). The map is built
  * per tile from the hair's fragments as seen from the light: z0, the depth where the
  * hair begins in each texel, then the opacity of every fragment added to the layer it
  * falls in, layers starting at z0 and growing deeper. Lookups interpolate between the

@@ -1,5 +1,5 @@
 /* Marschner, Jensen, Cammarano, Worley and Hanrahan, "Light Scattering from Human
- * Hair Fibers" (SIGGRAPH 2003), the model paper 000 renders with: a hair fibre is a
+ * Hair Fibers" (SIGGRAPH 2003), the model Bertails et al. 2006 render with: a hair fibre is a
  * dielectric cylinder, light leaves it by three paths, R (reflected at the surface),
  * TT (through the fibre) and TRT (reflected once inside), each a product of a
  * longitudinal lobe M_p(theta_h) and an azimuthal term N_p(phi):
@@ -16,7 +16,6 @@
  * gamma_t the refracted offset angle and theta_t the refracted longitudinal angle). */
 #include "shading.h"
 
-static const double PI = 3.14159265358979323846;
 
 /* Fresnel reflectance of unpolarised light entering a dielectric of index eta at an
  * angle of incidence whose cosine is cos_i (exact, both polarisations averaged). */
@@ -37,7 +36,7 @@ static double fresnel(double eta, double cos_i)
  * of its azimuthal term (the non-conservation noted by d'Eon et al. 2011). */
 static double longitudinal(double beta, double x)
 {
-    return 0.5 * exp(-x * x / (2.0 * beta * beta)) / (beta * sqrt(2.0 * PI));
+    return 0.5 * exp(-x * x / (2.0 * beta * beta)) / (beta * sqrt(2.0 * HK_PI));
 }
 
 /* Transmittance along a path through the fibre at offset h (|h| < 1). */
@@ -63,13 +62,13 @@ hk_MarschnerParams hk_marschner_params_from_color(hk_Vec3 c)
     }
     hk_MarschnerParams p;
     p.eta = 1.55;                 /* Marschner Table 1 */
-    p.alpha_r = -7.0 * PI / 180;  /* the cuticle's tilt: -5 to -10 degrees */
-    p.beta_r = 7.0 * PI / 180;    /* 5 to 10 degrees */
+    p.alpha_r = -7.0 * HK_PI / 180;  /* the cuticle's tilt: -5 to -10 degrees */
+    p.beta_r = 7.0 * HK_PI / 180;    /* 5 to 10 degrees */
     p.sigma_a = hk_v3(v[0], v[1], v[2]);
     return p;
 }
 
-hk_Vec3 hk_shade_marschner(hk_Vec3 t, hk_Vec3 l, hk_Vec3 e, const hk_MarschnerParams *p)
+void hk_marschner_lobes(hk_Vec3 t, hk_Vec3 l, hk_Vec3 e, const hk_MarschnerParams *p, hk_Vec3 lobe[3])
 {
     const double sin_i = fmax(-1.0, fmin(1.0, hk_v3_dot(t, l))), sin_o = fmax(-1.0, fmin(1.0, hk_v3_dot(t, e)));
     const double theta_i = asin(sin_i), theta_o = asin(sin_o);
@@ -91,7 +90,7 @@ hk_Vec3 hk_shade_marschner(hk_Vec3 t, hk_Vec3 l, hk_Vec3 e, const hk_MarschnerPa
     /* R: surface reflection. */
     const double m_r = longitudinal(p->beta_r, theta_h - p->alpha_r);
     const double n_r = 0.25 * cos_half_phi * fresnel(eta, sqrt(fmax(0.0, 0.5 * (1.0 + hk_v3_dot(l, e)))));
-    double r = m_r * n_r;
+    const double r = m_r * n_r;
 
     /* TT: through the fibre; Karis's offset h_TT for the azimuth phi. */
     const double a = 1.0 / eta_prime;
@@ -111,6 +110,14 @@ hk_Vec3 hk_shade_marschner(hk_Vec3 t, hk_Vec3 l, hk_Vec3 e, const hk_MarschnerPa
     const double k_trt = m_trt * (1.0 - f_trt) * (1.0 - f_trt) * f_trt * d_trt;
 
     const double scale = inv_cos2 * cos_i; /* S times the projected irradiance */
-    return hk_v3(scale * (r + k_tt * t_tt.x + k_trt * t_trt.x), scale * (r + k_tt * t_tt.y + k_trt * t_trt.y),
-                 scale * (r + k_tt * t_tt.z + k_trt * t_trt.z));
+    lobe[0] = hk_v3(scale * r, scale * r, scale * r);
+    lobe[1] = hk_v3_scale(t_tt, scale * k_tt);
+    lobe[2] = hk_v3_scale(t_trt, scale * k_trt);
+}
+
+hk_Vec3 hk_shade_marschner(hk_Vec3 t, hk_Vec3 l, hk_Vec3 e, const hk_MarschnerParams *p)
+{
+    hk_Vec3 lobe[3];
+    hk_marschner_lobes(t, l, e, p, lobe);
+    return hk_v3_add(lobe[0], hk_v3_add(lobe[1], lobe[2]));
 }

@@ -18,6 +18,7 @@ hk_RenderDef hk_default_render_def(void)
     o.threads = 0;
     o.shadows = 1;
     o.shading = HK_SHADING_KAJIYA_KAY;
+    o.scattering = HK_SCATTERING_DUAL;
     o.azimuth_deg = 35.0;
     o.elevation_deg = 12.0;
     o.fov_deg = 30.0;
@@ -49,6 +50,10 @@ hk_Status hk_render_check_options(const hk_RenderDef *o, hk_Error *err)
     if (o->shadows && (o->opacity_layers < 1 || o->opacity_layers > HK_MAX_OPACITY_LAYERS))
         return hk_error_set(err, HK_ERR_INVALID, "opacity layers %d: must be 1 to %d", o->opacity_layers,
                             HK_MAX_OPACITY_LAYERS);
+    if (o->shading != HK_SHADING_KAJIYA_KAY && o->shading != HK_SHADING_MARSCHNER)
+        return hk_error_set(err, HK_ERR_INVALID, "shading model %d: must be Kajiya-Kay or Marschner", (int)o->shading);
+    if (o->scattering != HK_SCATTERING_SINGLE && o->scattering != HK_SCATTERING_DUAL)
+        return hk_error_set(err, HK_ERR_INVALID, "scattering %d: must be single or dual", (int)o->scattering);
     if (!isfinite(o->camera_distance) || !hk_v3_isfinite(o->camera_target))
         return hk_error_set(err, HK_ERR_INVALID, "camera target and distance must be finite");
     if (!(o->fov_deg >= 1.0 && o->fov_deg <= 150.0))

@@ -248,6 +248,13 @@ typedef struct hk_HairShader {
     const hk_View *camera;
     hk_MarschnerParams marschner;
     hk_Vec3 ambient;
+    /* Dual scattering: the table of the hair colour's fibre (made at init, kept while
+     * the colour stays the same: the frames of an animation), and the ambient light the
+     * hair reflects with its diffuse colour (the skin's). */
+    hk_DualScattering dual;
+    hk_Vec3 dual_colour;
+    int dual_ready;
+    double ambient_light;
     hk_VertexColour *colour;
     /* The states of this picture's vertices: a new picture takes two new values, so
      * that the states need no clearing (the earlier pictures' values mean new). */

@@ -164,7 +164,7 @@ static hk_Status draw_tiles(hk_Renderer *r, const hk_TileInput *in, hk_RenderSta
 
 static hk_Vec3 direction(double azimuth_deg, double elevation_deg)
 {
-    const double d = 3.14159265358979323846 / 180.0;
+    const double d = HK_PI / 180.0;
     return hk_v3(sin(azimuth_deg * d) * cos(elevation_deg * d), sin(elevation_deg * d),
                  cos(azimuth_deg * d) * cos(elevation_deg * d));
 }

@@ -100,7 +100,7 @@ static void ellipsoid_silhouette(hk_Canvas *c, const Frame *f, const View *v, co
     ex /= n, ey /= n;
     double px = 0, py = 0;
     for (int i = 0; i <= 180; i++) {
-        double t = 2.0 * 3.14159265358979323846 * i / 180;
+        double t = 2.0 * HK_PI * i / 180;
         double u = cos(t) / sqrt(l1), w = sin(t) / sqrt(l2);
         double x = cx + (u * ex - w * ey) * f->scale, y = cy - (u * ey + w * ex) * f->scale;
         if (i > 0) hk_canvas_line(c, px, py, x, y, width, line, 1.0);

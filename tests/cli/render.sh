@@ -15,6 +15,7 @@ expect 2 "$hk" run "$src/examples/default/setup.txt"
 contains "$tmp/err" "no output"
 expect 2 "$hk" run "$src/examples/default/setup.txt" -o "$tmp/x.png" --width 3
 expect 2 "$hk" run "$src/examples/default/setup.txt" -o "$tmp/x.png" --shading phong
+expect 2 "$hk" run "$src/examples/default/setup.txt" -o "$tmp/x.png" --scattering triple
 expect 2 "$hk" run "$src/examples/default/setup.txt" -o "$tmp/x.png" --view 10
 expect 2 "$hk" run "$src/examples/default/setup.txt" -o "$tmp/x.png" --light 0,120
 
@@ -34,7 +35,7 @@ cmp -s "$tmp/one.png" "$tmp/two.png" || fail "1 and 2 threads give different pic
 expect 0 "$hk" render "$tmp/h.hair" --head "$src/assets/head.obj" --visuality "$scene/visuality.txt" \
     -o "$tmp/r.png" --width 200 --height 150 --quiet
 cmp -s "$tmp/one.png" "$tmp/r.png" || fail "render of the saved hair differs from run"
-for opt in "--no-shadows" "--shading marschner" "--view -60,20" "--light 60,30" "--thickness 0.0002"; do
+for opt in "--no-shadows" "--shading marschner" "--scattering single" "--view -60,20" "--light 60,30" "--thickness 0.0002"; do
     # shellcheck disable=SC2086
     expect 0 "$hk" render "$tmp/h.hair" --head "$src/assets/head.obj" -o "$tmp/o.png" --width 200 --height 150 $opt
     png "$tmp/o.png"
