@@ -66,18 +66,25 @@ int hk_helicoid_cli_fit(const hk_HelicoidArgs *a)
     if (st == HK_OK) st = hk_helicoid_file_save(a->output, &set, "fitted by hairkit helicoid fit", &err);
     if (st == HK_OK) {
         double sum = 0.0, worst = 0.0, fr = 0.0;
-        long pieces = 0;
+        long pieces = 0, over = 0;
         printf("strand,points,pieces,error_m,frechet_m\n");
         for (uint32_t s = 0; s < hair.strand_count; s++) {
             printf("%u,%u,%d,%.6g,%.6g\n", s + 1, hair.first_point[s + 1] - hair.first_point[s], rep[s].pieces,
                    rep[s].error, rep[s].frechet);
             sum += rep[s].error, worst = fmax(worst, rep[s].error), fr = fmax(fr, rep[s].frechet);
             pieces += rep[s].pieces;
+            /* a strand the fitter could not bring within the tolerance (after its retry) */
+            if (rep[s].error > opt.tolerance && ++over <= 10 && !a->quiet)
+                fprintf(stderr, "%s: strand %u fitted to %.3g mm, over the tolerance of %.3g mm\n", CMD, s + 1,
+                        1e3 * rep[s].error, 1e3 * opt.tolerance);
         }
+        if (over > 10 && !a->quiet)
+            fprintf(stderr, "%s: ... and %ld more strands over the tolerance (the CSV lists every error)\n", CMD,
+                    over - 10);
         const double n = hair.strand_count ? (double)hair.strand_count : 1.0;
         printf("# strands=%u mean_error_m=%.6g max_error_m=%.6g max_frechet_m=%.6g mean_pieces=%.3g "
-               "fits_per_second=%.1f\n",
-               hair.strand_count, sum / n, worst, fr, pieces / n, hair.strand_count / fmax(seconds, 1e-9));
+               "over_tolerance=%ld fits_per_second=%.1f\n",
+               hair.strand_count, sum / n, worst, fr, pieces / n, over, hair.strand_count / fmax(seconds, 1e-9));
     }
     hk_free(idx), hk_free(rep);
     hk_helicoid_set_free(&set);

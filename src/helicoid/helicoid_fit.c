@@ -134,13 +134,11 @@ static void fragment_seed(void *user, const hk_Vec3 *p, int count, const hk_Curv
     if (fabs(kn) > 1e-9 * fabs(kb)) params[3] = fmax(-1.0, fmin(1.0, kb / kn));
 }
 
-hk_Status hk_helicoid_fit(hk_HelicoidFitter *f, const hk_Vec3 *points, int count,
-                          const hk_CurveFitDef *options, hk_PHelicoid *out, hk_CurveFit *fit,
-                          hk_Error *err)
+/* One fit with the options as they are (the body of hk_helicoid_fit). */
+static hk_Status fit_once(hk_HelicoidFitter *f, const hk_Vec3 *points, int count, const hk_CurveFitDef *options,
+                          hk_PHelicoid *out, hk_CurveFit *fit, hk_Error *err)
 {
-    hk_CurveFit local;
-    if (!fit) fit = &local;
-    const hk_CurveFitDef opt = options ? *options : hk_default_helicoid_fit_def();
+    const hk_CurveFitDef opt = *options;
     double length = 0.0;
     for (int i = 1; i < count; i++) length += hk_v3_dist(points[i], points[i - 1]);
     double seed[4], scale[4];
@@ -194,4 +192,44 @@ hk_Status hk_helicoid_fit(hk_HelicoidFitter *f, const hk_Vec3 *points, int count
         out->length[p] = fit->length[p];
     }
     return HK_OK;
+}
+
+/* A coarse polyline (fewer than this many points) whose fit misses the tolerance is fitted
+ * again on RESAMPLE times as many samples, and the better fit is kept. */
+#define COARSE_POINTS 64
+#define RESAMPLE 4
+
+hk_Status hk_helicoid_fit(hk_HelicoidFitter *f, const hk_Vec3 *points, int count,
+                          const hk_CurveFitDef *options, hk_PHelicoid *out, hk_CurveFit *fit,
+                          hk_Error *err)
+{
+    hk_CurveFit local;
+    if (!fit) fit = &local;
+    const hk_CurveFitDef opt = options ? *options : hk_default_helicoid_fit_def();
+    hk_Status st = fit_once(f, points, count, &opt, out, fit, err);
+    /* A piece needs param_count + 2 samples, so a strand of 16 points (TressFX) is never
+     * cut into more than 2 pieces, and most real strands then miss the tolerance (0.74 mm
+     * mean on the Sintel groom, a strand 85 mm off). Resampled 4 times finer (the points
+     * kept, straight between them) it can be cut where it bends: on every 38th Sintel
+     * strand the mean error goes from 0.64 to 0.18 mm and the worst from 18 to 0.86 mm;
+     * Bangs 0.50 to 0.15 mm, Curly 0.49 to 0.17 mm (docs/helicoid-fitting.md). The
+     * errors compared are both mean leashes against the same polyline. */
+    const int finer = RESAMPLE * (count - 1) + 1;
+    if (st == HK_OK && opt.samples == 0 && opt.fixed_pieces == 0 && !(opt.piece_length > 0.0) &&
+        count < COARSE_POINTS && fit->error > opt.tolerance && finer <= f->capacity) {
+        hk_CurveFitDef retry = opt;
+        retry.samples = finer;
+        hk_PHelicoid other;
+        hk_CurveFit other_fit = {0};
+        hk_Error ignored;
+        if (fit_once(f, points, count, &retry, &other, &other_fit, &ignored) == HK_OK &&
+            other_fit.error < fit->error) {
+            other_fit.evaluations += fit->evaluations;
+            *out = other;
+            *fit = other_fit;
+        } else {
+            fit->evaluations += other_fit.evaluations;
+        }
+    }
+    return st;
 }

@@ -33,7 +33,9 @@ hk_Status hk_helicoid_fit_strands(const hk_HairFile *hair, const long *index, lo
 #pragma omp parallel num_threads(threads > 0 ? threads : omp_get_max_threads())
     {
         hk_Error e;
-        hk_HelicoidFitter *f = hk_helicoid_fitter_create((int)longest, &e);
+        /* room for the resampled retry of coarse strands (hk_helicoid_fit) */
+        const int capacity = longest < 64 ? 4 * ((int)longest - 1) + 1 : (int)longest;
+        hk_HelicoidFitter *f = hk_helicoid_fitter_create(capacity, &e);
         hk_Vec3 *pts = hk_alloc_array(longest, sizeof(hk_Vec3), f ? &e : NULL);
 #pragma omp for schedule(dynamic, 4)
         for (long i = 0; i < count; i++) {
