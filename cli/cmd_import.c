@@ -129,8 +129,11 @@ int hk_cmd_import(int argc, char **argv)
         fprintf(stderr, "  fit: mean error %.3f mm (worst guide %.3f mm, largest point error %.3f mm), %.1f elements\n",
                 1e3 * g->fit_mean, 1e3 * g->fit_worst, 1e3 * g->fit_max, g->elements_mean);
         fprintf(stderr, "  inverse statics: %d guides unstable", g->unstable);
-        if (g->unstable) fprintf(stderr, ", %d settled to the stable rest nearby (moved %.2f mm at most)", g->settled,
-                                 1e3 * g->drift_max);
+        if (g->unstable)
+            fprintf(stderr,
+                    ", %d settled to the stable rest nearby (moved %.2f mm at most); %d of them, moved more than "
+                    "%g mm, are followed by no strand",
+                    g->settled, 1e3 * g->drift_max, g->unfollowed, 1e3 * HK_IMPORT_MAX_DRIFT);
         fprintf(stderr, "\n  time: %.2f s (read %.2f, head field %.2f, push out %.2f, guides %.2f, fit and inverse "
                         "%.2f, attach %.2f, write %.2f)\n",
                 r.seconds, r.seconds_read, r.seconds_field, g->seconds_push, g->seconds_choose, g->seconds_fit,

@@ -109,6 +109,7 @@ HK_API hk_Status hk_statics_invert(hk_SuperHelix *sh, const hk_StrandEnvDef *env
 
 #define HK_IMPORT_ATTACH 3 /* guides each strand follows */
 #define HK_MAX_IMPORT_STRANDS 10000000
+#define HK_IMPORT_MAX_DRIFT 1e-3 /* a guide settled farther from its capture is followed by no strand (m) */
 
 typedef struct hk_GroomImportDef {
     int guides;            /* K; 0 (default): one guide per 75 strands, at least one;
@@ -157,6 +158,8 @@ typedef struct hk_GroomImportReport {
     int unstable;            /* guides whose captured shape is an unstable equilibrium */
     int settled;             /* of them, settled to the stable rest nearby */
     double drift_max;        /* the largest drift of a settled guide (m) */
+    int unfollowed;          /* settled guides farther than HK_IMPORT_MAX_DRIFT: followed
+                                by no strand */
     double seconds_push, seconds_choose, seconds_fit, seconds_attach;
 } hk_GroomImportReport;
 
@@ -165,7 +168,9 @@ typedef struct hk_GroomImportReport {
  * that start inside a body shape are moved out (keeping segment lengths); K guides are
  * chosen by farthest-point sampling of the roots; each guide is fitted
  * (hk_superhelix_fit) and inverted (hk_statics_invert) with the body shapes; every
- * strand follows its HK_IMPORT_ATTACH nearest guides (inverse distance of the roots).
+ * strand follows its HK_IMPORT_ATTACH nearest guides (inverse distance of the roots)
+ * among those that rest at their capture: an unstable guide settled more than
+ * HK_IMPORT_MAX_DRIFT away is simulated but followed by no strand, its own included.
  * def NULL: the defaults. report may be NULL. */
 HK_API hk_Status hk_groom_import(const hk_HairFile *hair, const hk_Shape *body, int body_count,
                                  const hk_GroomImportDef *def, hk_ImportedGroom *out,

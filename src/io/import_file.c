@@ -59,7 +59,7 @@ hk_Status hk_imported_groom_save(const char *path, const char *strands_file, con
     h.strand_count = (uint32_t)g->strand_count;
     h.point_count = g->first_point[g->strand_count];
     h.flags = HK_HAIR_POINTS | HK_HAIR_SEGMENTS;
-    h.default_thickness = 1.0f;
+    h.default_thickness = 8e-5f; /* a diameter of 80 um, in metres */
     h.default_transparency = 0.0f;
     h.points = g->points;
     h.first_point = g->first_point;
