@@ -73,12 +73,9 @@ int hk_cmd_import(int argc, char **argv)
         case 'o': d.dir = optarg; break;
         case HK_OPT_HAIR_SCALE:
         case HK_OPT_HAIR_UP:
-            if ((rc = hk_cli_transform_option(CMD, c == HK_OPT_HAIR_SCALE ? "scale" : "up", optarg, &hair_tf))) return rc;
-            break;
         case HK_OPT_HEAD_SCALE:
         case HK_OPT_HEAD_UP:
-            if ((rc = hk_cli_transform_option(CMD, c == HK_OPT_HEAD_SCALE ? "head-scale" : "head-up", optarg, &head_tf)))
-                return rc;
+            if ((rc = hk_cli_transforms_option(CMD, c, optarg, &hair_tf, &head_tf))) return rc;
             break;
         case OPT_GUIDES:
             if (!hk_cli_parse_int(optarg, 1, HK_MAX_IMPORT_STRANDS, &n))

@@ -11,22 +11,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include "hairkit/capture.h"
 #include "hairkit/simulate.h"
-
-#ifndef HK_SHARED_DATA_DIR
-#define HK_SHARED_DATA_DIR "../shared/hair-data"
-#endif
-
-static int have_data(void)
-{
-    struct stat sb;
-    if (stat(HK_SHARED_DATA_DIR "/SOURCES.md", &sb) == 0) return 1;
-    print_message("skipped: %s is absent (the real grooms of ../shared/hair-data)\n", HK_SHARED_DATA_DIR);
-    return 0;
-}
 
 static int by_value(const void *a, const void *b)
 {
@@ -36,16 +23,13 @@ static int by_value(const void *a, const void *b)
 
 static void still_run(const char *hair_name, const char *head_name, double scale, hk_Axis up, int guides)
 {
-    char path[1024];
     hk_Error err;
     hk_HairFile h;
-    snprintf(path, sizeof path, "%s/%s", HK_SHARED_DATA_DIR, hair_name);
-    if (hk_hair_read(path, HK_HAIR_FORMAT_AUTO, &h, &err) != HK_OK) fail_msg("%s", err.message);
+    if (hk_hair_read(hk_test_shared_path(hair_name), HK_HAIR_FORMAT_AUTO, &h, &err) != HK_OK) fail_msg("%s", err.message);
     assert_int_equal(hk_hair_scale(&h, scale, &err), HK_OK);
     hk_hair_up_to_y(&h, up);
     hk_Mesh mesh;
-    snprintf(path, sizeof path, "%s/%s", HK_SHARED_DATA_DIR, head_name);
-    if (hk_mesh_load(path, &mesh, &err) != HK_OK) fail_msg("%s", err.message);
+    if (hk_mesh_load(hk_test_shared_path(head_name), &mesh, &err) != HK_OK) fail_msg("%s", err.message);
     assert_int_equal(hk_mesh_scale(&mesh, scale, &err), HK_OK);
     hk_mesh_up_to_y(&mesh, up);
     hk_DistanceField field;
@@ -100,14 +84,14 @@ static void still_run(const char *hair_name, const char *head_name, double scale
 static void test_sintel(void **state)
 {
     (void)state;
-    if (!have_data()) return;
+    if (!hk_test_have_shared_data()) skip();
     still_run("SintelHairOriginal-sintel_hair.16points.tfx", "sintel-collider.obj", 1.0, HK_AXIS_POS_Y, 300);
 }
 
 static void test_bangs(void **state)
 {
     (void)state;
-    if (!have_data()) return;
+    if (!hk_test_have_shared_data()) skip();
     still_run("Bangs_100.hair", "Bangs_head.ply", 0.001, HK_AXIS_POS_X, 100);
 }
 
