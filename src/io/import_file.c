@@ -252,6 +252,7 @@ hk_Status hk_imported_groom_load(const char *path, hk_ImportedGroom *out, hk_Err
                 st = hk_keyfile_error(&kf, kl->line, HK_ERR_INVALID, err,
                                       "attachment %d: guide %s (-1 or 0 to %d) with weight %s (0 to 1; 0 for -1)",
                                       a, kl->values[1 + 2 * a], g->guide_count - 1, kl->values[2 + 2 * a]);
+            if (st != HK_OK) break;
             g->attach_guide[(size_t)i * HK_IMPORT_ATTACH + (size_t)a] = (int)gi;
             g->attach_weight[(size_t)i * HK_IMPORT_ATTACH + (size_t)a] = w;
             sum += w;
