@@ -17,7 +17,7 @@ HAIRKIT := ./$(BUILD)/hairkit
 # make fuzz: every libFuzzer harness of tests/fuzz for FUZZ_SECONDS each (clang).
 FUZZ_BUILD   ?= build-fuzz
 FUZZ_SECONDS ?= 60
-FUZZERS      := obj hair hairstyle collision visuality setup motion helicoid simulation \
+FUZZERS      := obj hair hairstyle collision visuality setup motion helicoid simulation import \
                 tfx usc ply objlines usda plymesh
 
 .PHONY: all deps build demo test bench asan install fuzz clean

@@ -12,7 +12,10 @@
 #define HAIRKIT_CAPTURE_H
 
 #include "hairkit/core.h"
+#include "hairkit/collide.h"
 #include "hairkit/export.h"
+#include "hairkit/hair_formats.h"
+#include "hairkit/hairfile.h"
 #include "hairkit/rod.h"
 #include "hairkit/statics.h"
 #include "hairkit/vecmath.h"
@@ -100,6 +103,132 @@ typedef struct hk_InverseStaticsReport {
 HK_API hk_Status hk_statics_invert(hk_SuperHelix *sh, const hk_StrandEnvDef *env,
                                    const hk_InverseStaticsDef *def, hk_InverseStaticsReport *report,
                                    hk_Error *err);
+
+
+/* ---- a whole groom imported (hairkit import; docs/capture.md, "Importing a groom") -- */
+
+#define HK_IMPORT_ATTACH 3 /* guides each strand follows */
+#define HK_MAX_IMPORT_STRANDS 10000000
+#define HK_IMPORT_MAX_DRIFT 1e-3 /* a guide settled farther from its capture is followed by no strand (m) */
+
+typedef struct hk_GroomImportDef {
+    int guides;            /* K; 0 (default): one guide per 75 strands, at least one;
+                              >= the strands: every strand is a guide */
+    uint64_t seed;         /* picks the first guide of the farthest-point sampling (default 1) */
+    int threads;           /* OpenMP threads (<= 0: the default); the result does not
+                              depend on it */
+    double station_step;   /* spacing of the guides' stations the other strands are
+                              attached to (m; default 0.001) */
+    hk_RodMaterial material;       /* of every strand (default: 40 um radius, 3 GPa,
+                                      Poisson 0.48, 1300 kg/m^3, gravity 9.81 down y) */
+    hk_SuperHelixFitDef fit;       /* hk_default_superhelix_fit_def */
+    hk_InverseStaticsDef inverse;  /* hk_default_inverse_statics_def */
+    hk_ProgressFn progress;        /* may be NULL: stages "push out", "fit" */
+    void *progress_user;
+} hk_GroomImportDef;
+
+HK_API hk_GroomImportDef hk_default_groom_import_def(void);
+
+/* A groom made Super-Helix guides at rest and strands that follow them. A value: its
+ * arrays belong to it (hk_imported_groom_free). */
+typedef struct hk_ImportedGroom {
+    int strand_count, guide_count;
+    uint32_t *first_point;  /* strand_count + 1 offsets into points */
+    float *points;          /* the captured strands in input order (moved out of the body),
+                               3 floats per point */
+    int *guide_strand;      /* guide_count: the strand each guide was fitted to */
+    hk_SuperHelix **guide;  /* guide_count: q the fitted captured shape, q_rest the natural
+                               shape that makes it an equilibrium */
+    int *attach_guide;      /* HK_IMPORT_ATTACH per strand: the guides it follows, nearest
+                               root first, -1 unused */
+    double *attach_weight;  /* HK_IMPORT_ATTACH per strand, summing to 1 */
+    double station_step;    /* m */
+    hk_RodMaterial material;
+} hk_ImportedGroom;
+
+typedef struct hk_GroomImportReport {
+    int strands, guides;
+    int moved_strands;       /* strands with points that started inside the body */
+    long moved_points;
+    double moved_max, moved_mean; /* how far those points moved (m) */
+    double fit_mean;         /* mean over the guides of their mean fit error (m) */
+    double fit_worst;        /* the worst guide's mean error (m) */
+    double fit_max;          /* the largest point error of any guide (m) */
+    double elements_mean;
+    int unstable;            /* guides whose captured shape is an unstable equilibrium */
+    int settled;             /* of them, settled to the stable rest nearby */
+    double drift_max;        /* the largest drift of a settled guide (m) */
+    int unfollowed;          /* settled guides farther than HK_IMPORT_MAX_DRIFT: followed
+                                by no strand */
+    double seconds_push, seconds_choose, seconds_fit, seconds_attach;
+} hk_GroomImportReport;
+
+/* The guides and attachments of `hair` (metres, y up: scale it first), with the body
+ * shapes (head space, e.g. hk_shape_field of the head; may be none): points of a strand
+ * that start inside a body shape are moved out (keeping segment lengths); K guides are
+ * chosen by farthest-point sampling of the roots; each guide is fitted
+ * (hk_superhelix_fit) and inverted (hk_statics_invert) with the body shapes; every
+ * strand follows its HK_IMPORT_ATTACH nearest guides (inverse distance of the roots)
+ * among those that rest at their capture: an unstable guide settled more than
+ * HK_IMPORT_MAX_DRIFT away is simulated but followed by no strand, its own included.
+ * def NULL: the defaults. report may be NULL. */
+HK_API hk_Status hk_groom_import(const hk_HairFile *hair, const hk_Shape *body, int body_count,
+                                 const hk_GroomImportDef *def, hk_ImportedGroom *out,
+                                 hk_GroomImportReport *report, hk_Error *err);
+
+HK_API void hk_imported_groom_free(hk_ImportedGroom *g);
+
+/* Every strand where the guides now are: guides_now[guide_count] (the same elements as
+ * g->guide; NULL: g->guide themselves), each point p of a strand moved by the weighted
+ * motion of its guides' stations nearest its arc length,
+ *     p' = p + sum_a w_a [(r_a - r0_a) + (R_a - R0_a) R0_a^T (p - r0_a)],
+ * r, R a station's position and material frame now, r0, R0 at rest: at rest every point
+ * is its captured float, exactly. out: 3 floats per point, as g->points. */
+HK_API hk_Status hk_imported_groom_strands(const hk_ImportedGroom *g, const hk_SuperHelix *const *guides_now,
+                                           int threads, float *out, hk_Error *err);
+
+/* The imported-guides file (docs/file-formats.md, "Imported guides"): text, versioned,
+ * doubles with 17 digits; the captured strands in a .hair file beside it (strands_file,
+ * relative to the guides file's folder). Written atomically. */
+HK_API hk_Status hk_imported_groom_save(const char *path, const char *strands_file, const hk_ImportedGroom *g,
+                                        hk_Error *err);
+HK_API hk_Status hk_imported_groom_load(const char *path, hk_ImportedGroom *out, hk_Error *err);
+
+/* ---- hairkit import: a groom and a head made a setup (import_run.c) ----------------- */
+
+typedef struct hk_ImportRunDef {
+    const char *hair;          /* any format hk_hair_read reads */
+    hk_HairFormat format;      /* HK_HAIR_FORMAT_AUTO: from the name, else the content */
+    double scale;              /* the hair's units to metres (default 1) */
+    hk_Axis up;                /* the hair's up axis (default +y) */
+    const char *head;          /* OBJ or PLY (may be NULL: no head, no collider) */
+    double head_scale;         /* default 1 */
+    hk_Axis head_up;           /* default +y */
+    const char *hairstyle;     /* NULL: DIR/hairstyle.txt gets the defaults (40 um radius,
+                                  3 GPa, Poisson 0.48, 1300 kg/m^3, 9.81 m/s^2) */
+    const char *dir;           /* made if missing */
+    double collider_volume;    /* the head field's envelope (m; default 0) */
+    double collider_penalty;   /* its penalty stiffness (default 10, as the example heads') */
+    hk_GroomImportDef groom;   /* guides, elements (groom.fit.elements), threads; the
+                                  material comes from the hairstyle */
+} hk_ImportRunDef;
+
+HK_API hk_ImportRunDef hk_default_import_run_def(void);
+
+typedef struct hk_ImportRunReport {
+    hk_GroomImportReport groom;
+    long points;               /* of the groom */
+    int head_triangles;
+    int field_size[3];         /* nodes of the head's field */
+    double seconds_read, seconds_field, seconds_write, seconds;
+} hk_ImportRunReport;
+
+/* Reads the groom and the head, scales and turns them to metres and y up, builds the
+ * head's signed distance field (the collider), imports the groom (hk_groom_import) and
+ * writes DIR/setup.txt, DIR/hairstyle.txt, DIR/head.obj (the head as transformed),
+ * DIR/guides.txt and DIR/strands.hair (docs/capture.md, "Importing a groom"). report
+ * may be NULL. */
+HK_API hk_Status hk_import_run(const hk_ImportRunDef *def, hk_ImportRunReport *report, hk_Error *err);
 
 #ifdef __cplusplus
 }

@@ -91,9 +91,14 @@ typedef struct hk_Setup {
     char *visuality;   /* VisualityInfo */
     char *head_model;  /* HeadModel: OBJ or PLY of the head (hk_mesh_load) */
     char *wick_model;  /* WickModel (alias HairModel): OBJ or PLY of the scalp the hair grows from */
+    char *import_file; /* ImportFile: guides made by `hairkit import` (hairkit/capture.h),
+                          which `simulate` moves instead of growing guides from the wick */
+    int head_collider; /* HeadCollider Volume Penalty given: the HeadModel's signed
+                          distance field is a body shape besides CollisionInfo's */
+    double head_collider_volume, head_collider_penalty;
 } hk_Setup;
 
-/* Reads a setup file. Growing hair (Load false) needs HairstyleInfo and WickModel;
+/* Reads a setup file. Growing hair (Load false, no ImportFile) needs HairstyleInfo and WickModel;
  * Load true needs LoadFile, Save true SaveFile. Every file the setup names for reading
  * must exist (checked here, so that the message can name the setup file's line). */
 HK_API hk_Status hk_setup_load(const char *path, hk_Setup *out, hk_Error *err);

@@ -5,6 +5,7 @@
 #ifndef HAIRKIT_SIMULATE_H
 #define HAIRKIT_SIMULATE_H
 
+#include "hairkit/capture.h"
 #include "hairkit/core.h"
 #include "hairkit/dynamics.h"
 #include "hairkit/export.h"
@@ -48,6 +49,22 @@ HK_API hk_Status hk_hair_sim_create(const hk_Hairstyle *style, const hk_Shape *s
                                     const hk_HairSimDef *options, hk_HairSim **out,
                                     hk_Error *err);
 HK_API void hk_hair_sim_destroy(hk_HairSim *sim);
+
+/* The guides of an import (hairkit/capture.h, hk_groom_import) in motion: each a copy of
+ * the fitted Super-Helix, at rest in its captured shape (q) with the natural shape found
+ * by the inverse statics (q_rest); the hairstyle gives the dynamics' friction and drag,
+ * CollisionStep and VisualityStep. Guide-guide contacts are off (options->hair_contacts is
+ * ignored): the captured guides are closer than the contacts' distance in places, and
+ * pushed apart they would leave the capture. hk_hair_sim_guides and hk_hair_sim_groom
+ * are for grown guides: rebuild the strands with hk_imported_groom_strands and
+ * hk_hair_sim_strands. */
+HK_API hk_Status hk_hair_sim_create_imported(const hk_Hairstyle *style, const hk_Shape *shapes,
+                                             int shape_count, const hk_ImportedGroom *groom,
+                                             const hk_HairSimDef *options, hk_HairSim **out,
+                                             hk_Error *err);
+
+/* The guides' Super-Helices as they are now (world space), guide_count of them. */
+HK_API const hk_SuperHelix *const *hk_hair_sim_strands(const hk_HairSim *sim);
 
 typedef struct hk_HairSimStats {
     int substeps;         /* steps of all guides (more than guides where motion was fast,

@@ -7,7 +7,7 @@
 #include "keyfile.h"
 
 enum { S_LOAD, S_SAVE, S_LOAD_FILE, S_SAVE_FILE, S_HAIRSTYLE, S_COLLISION, S_VISUALITY, S_HEAD, S_WICK,
-       S_HEAD_VERT, S_HEAD_FRAG, S_HAIR_VERT, S_HAIR_FRAG, S_COUNT };
+       S_HEAD_VERT, S_HEAD_FRAG, S_HAIR_VERT, S_HAIR_FRAG, S_IMPORT, S_HEAD_COLLIDER, S_COUNT };
 
 /* Nothing is required by itself: what is needed depends on Load (checked below). */
 static const hk_KeySpec specs[S_COUNT] = {
@@ -24,6 +24,8 @@ static const hk_KeySpec specs[S_COUNT] = {
     [S_HEAD_FRAG] = {"HeadFrag", NULL, 0},
     [S_HAIR_VERT] = {"HairVert", NULL, 0},
     [S_HAIR_FRAG] = {"HairFrag", NULL, 0},
+    [S_IMPORT] = {"ImportFile", NULL, 0},
+    [S_HEAD_COLLIDER] = {"HeadCollider", NULL, 0},
 };
 
 void hk_setup_free(hk_Setup *d)
@@ -35,6 +37,7 @@ void hk_setup_free(hk_Setup *d)
     hk_free(d->visuality);
     hk_free(d->head_model);
     hk_free(d->wick_model);
+    hk_free(d->import_file);
     memset(d, 0, sizeof *d);
 }
 
@@ -44,6 +47,17 @@ static hk_Status read_value(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, h
 {
     if (k == S_LOAD) return hk_keyline_bool(kf, kl, &d->load, err);
     if (k == S_SAVE) return hk_keyline_bool(kf, kl, &d->save, err);
+    if (k == S_HEAD_COLLIDER) {
+        double v[2] = {0.0, 0.0};
+        hk_Status st = hk_keyline_doubles(kf, kl, 2, v, err);
+        if (st == HK_OK && !(v[1] >= 0.0))
+            st = hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err, "HeadCollider's Penalty must be >= 0, got %s",
+                                  kl->values[1]);
+        d->head_collider = st == HK_OK;
+        d->head_collider_volume = v[0];
+        d->head_collider_penalty = v[1];
+        return st;
+    }
     const char *value;
     hk_Status st = hk_keyline_string(kf, kl, &value, err);
     if (st != HK_OK || !paths[k]) return st; /* the GLSL shader paths are ignored */
@@ -60,7 +74,10 @@ static hk_Status check_needs(const hk_KeyFile *kf, const hk_Setup *d, char **con
     if (d->save && !d->save_file)
         return hk_keyfile_error(kf, line_of[S_SAVE], HK_ERR_PARSE, err, "Save is true but no SaveFile is given");
     static const int grow_needs[] = {S_HAIRSTYLE, S_WICK};
-    for (size_t i = 0; !d->load && i < sizeof grow_needs / sizeof grow_needs[0]; i++)
+    if (d->head_collider && !d->head_model)
+        return hk_keyfile_error(kf, line_of[S_HEAD_COLLIDER], HK_ERR_PARSE, err,
+                                "HeadCollider makes the HeadModel a collider, but no HeadModel is given");
+    for (size_t i = 0; !d->load && !d->import_file && i < sizeof grow_needs / sizeof grow_needs[0]; i++)
         if (!*paths[grow_needs[i]])
             return hk_keyfile_error(kf, 0, HK_ERR_PARSE, err, "missing key '%s' (needed to grow hair)",
                                     specs[grow_needs[i]].name);
@@ -84,7 +101,7 @@ hk_Status hk_setup_load(const char *path, hk_Setup *out, hk_Error *err)
     char **const paths[S_COUNT] = {[S_LOAD_FILE] = &d.load_file, [S_SAVE_FILE] = &d.save_file,
                                    [S_HAIRSTYLE] = &d.hairstyle, [S_COLLISION] = &d.collision,
                                    [S_VISUALITY] = &d.visuality, [S_HEAD] = &d.head_model,
-                                   [S_WICK] = &d.wick_model};
+                                   [S_WICK] = &d.wick_model, [S_IMPORT] = &d.import_file};
     int line_of[S_COUNT];
     st = hk_keyfile_check_keys(&kf, specs, S_COUNT, "setup", line_of, err);
     for (int i = 0; i < kf.line_count && st == HK_OK; i++)

@@ -29,6 +29,8 @@ struct hk_HairSim {
     hk_StrandSamples *samples;   /* guide_count views of the above */
     hk_RigidState head;          /* the head's pose at the end of the last step: the
                                     guides are in world space, the shapes in head space */
+    double longest;              /* imported guides: the longest (m); 0: grown guides,
+                                    all of the hairstyle's length */
 };
 
 /* Length of hair whose weight a guide-guide contact pushes with at full overlap. */
@@ -221,6 +223,75 @@ hk_Status hk_hair_sim_create(const hk_Hairstyle *style, const hk_Shape *shapes, 
     return HK_OK;
 }
 
+/* An imported guide: a copy of the fitted, inverted Super-Helix (its q the captured rest,
+ * q_rest the natural shape found), then its dynamics; no statics: the inverse made the
+ * capture the rest. */
+static hk_Status import_guide(hk_HairSim *sim, const hk_SuperHelix *from, int i, hk_Error *err)
+{
+    hk_Status st = hk_superhelix_create(from->n, from->length, &sim->strand[i], err);
+    if (st != HK_OK) return st;
+    hk_SuperHelix *sh = sim->strand[i];
+    memcpy(sh->q, from->q, 3 * (size_t)from->n * sizeof(double));
+    memcpy(sh->q_rest, from->q_rest, 3 * (size_t)from->n * sizeof(double));
+    sh->root = from->root;
+    sh->root_frame = from->root_frame;
+    sh->material = from->material;
+    hk_StrandEnvDef env = hk_default_strand_env_def();
+    env.shapes = sim->shapes;
+    env.shape_count = sim->shape_count;
+    env.envelope_alpha = 0.0;
+    env.collision_step = sim->style.strand.collision_step;
+    return hk_strand_dynamics_create(sh, &sim->options.dynamics, &env, &sim->dyn[i], err);
+}
+
+hk_Status hk_hair_sim_create_imported(const hk_Hairstyle *style, const hk_Shape *shapes, int shape_count,
+                                      const hk_ImportedGroom *groom, const hk_HairSimDef *options, hk_HairSim **out,
+                                      hk_Error *err)
+{
+    *out = NULL;
+    hk_HairSim *sim = hk_calloc_array(1, sizeof *sim, err);
+    if (!sim) return HK_ERR_NOMEM;
+    sim->options = options ? *options : hk_hair_sim_def_for(style);
+    sim->options.hair_contacts = 0;
+    sim->head = hk_rigid_identity();
+    hk_Status st = hk_hairstyle_copy(style, &sim->style, err);
+    if (st == HK_OK && shape_count > 0) {
+        sim->shapes = hk_alloc_array((size_t)shape_count, sizeof(hk_Shape), err);
+        if (!sim->shapes) st = HK_ERR_NOMEM;
+        else memcpy(sim->shapes, shapes, (size_t)shape_count * sizeof(hk_Shape));
+        sim->shape_count = shape_count;
+    }
+    if (st == HK_OK) {
+        sim->guide_count = groom->guide_count;
+        sim->strand = hk_calloc_array((size_t)groom->guide_count, sizeof(hk_SuperHelix *), err);
+        sim->dyn = hk_calloc_array((size_t)groom->guide_count, sizeof(hk_StrandDynamics *), err);
+        if (!sim->strand || !sim->dyn) st = HK_ERR_NOMEM;
+    }
+    if (st == HK_OK) {
+        hk_FirstError first;
+        hk_first_error_init(&first);
+        #pragma omp parallel for schedule(dynamic, 2) num_threads(sim_threads(sim))
+        for (int i = 0; i < groom->guide_count; i++) {
+            hk_Error e;
+            if (import_guide(sim, groom->guide[i], i, &e) != HK_OK) hk_first_error_record(&first, i, &e);
+        }
+        st = hk_first_error_status(&first, err);
+    }
+    for (int i = 0; st == HK_OK && i < sim->guide_count; i++) {
+        sim->longest = fmax(sim->longest, sim->strand[i]->total_length);
+        const int p = hk_superhelix_sample_count(sim->strand[i], sim->style.strand.visuality_step);
+        if (p > sim->points) sim->points = p;
+    }
+    if (st != HK_OK) {
+        hk_hair_sim_destroy(sim);
+        return st;
+    }
+    *out = sim;
+    return HK_OK;
+}
+
+const hk_SuperHelix *const *hk_hair_sim_strands(const hk_HairSim *sim) { return (const hk_SuperHelix *const *)sim->strand; }
+
 void hk_hair_sim_set_threads(hk_HairSim *sim, int threads)
 {
     sim->options.threads = threads;
@@ -257,7 +328,8 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
 static int euler_steps(const hk_HairSim *sim, double dt)
 {
     if (sim->options.dynamics.integrator != HK_INTEGRATOR_LINEAR_EULER) return 1; /* TR-BDF2 splits by itself */
-    const double longest = (1.0 / 24.0) * fmin(1.0, HK_EULER_FULL_STEP_LENGTH / hk_strand_def_length(&sim->style.strand));
+    const double length = sim->longest > 0.0 ? sim->longest : hk_strand_def_length(&sim->style.strand);
+    const double longest = (1.0 / 24.0) * fmin(1.0, HK_EULER_FULL_STEP_LENGTH / length);
     const double n = ceil(dt / longest - 1e-9);
     return n < 1.0 ? 1 : n > 64.0 ? 64 : (int)n;
 }

@@ -56,6 +56,11 @@ static hk_Status load_inputs(const hk_SimulationManifest *m, const char *manifes
 {
     hk_Status st = hk_scene_load(m->setup, 0, &in->scene, err);
     if (st != HK_OK) return st;
+    if (in->scene.setup.import_file)
+        return hk_error_set(err, HK_ERR_INVALID,
+                            "%s: the simulation of an import (ImportFile) writes every frame whole: read its "
+                            "frame_kkkk.hair",
+                            manifest_path);
     const hk_Setup *setup = &in->scene.setup;
     if (!setup->hairstyle || !setup->wick_model)
         st = hk_error_set(err, HK_ERR_PARSE, "%s: no HairstyleInfo or WickModel", m->setup);

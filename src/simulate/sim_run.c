@@ -73,6 +73,10 @@ typedef struct Run {
     hk_HairSim *sim;
     hk_RenderDef ro;  /* the camera fixed at frame 0 */
     hk_Groom groom;       /* the guides being stepped (guides array only) */
+    int imported;         /* the setup's ImportFile: guides of an import, every strand
+                             rebuilt from them (hk_imported_groom_strands) */
+    hk_ImportedGroom import;
+    hk_HairFile strands;  /* imported: the frame's strands, in input order */
     FrameJob jobs[MAX_AT_ONCE];
     int threads;          /* the run's threads (options, or OpenMP's default) */
     int at_once;          /* jobs in use */
@@ -91,6 +95,8 @@ static void run_free(Run *r)
         hk_free(r->jobs[j].moved.normals);
     }
     hk_groom_free(&r->groom);
+    hk_imported_groom_free(&r->import);
+    hk_hair_free(&r->strands);
     hk_scene_free(&r->scene);
 }
 
@@ -101,6 +107,39 @@ static hk_Status load_scene(Run *r, const char *setup_path, hk_Error *err)
     /* The guides are grown from the hairstyle and the wick: hair read from LoadFile
      * cannot be simulated yet (its strands are no Super-Helices; issue 15), and growing
      * other hair in its place would ignore the setup's key silently. */
+    r->imported = r->scene.setup.import_file != NULL;
+    if (r->imported) {
+        if (!r->scene.setup.hairstyle)
+            return hk_error_set(err, HK_ERR_PARSE, "%s: simulating an import needs HairstyleInfo", setup_path);
+        st = hk_scene_load_parts(&r->scene, HK_SCENE_HAIRSTYLE | HK_SCENE_COLLISION | HK_SCENE_RENDERING, err);
+        if (st == HK_OK) st = hk_imported_groom_load(r->scene.setup.import_file, &r->import, err);
+        /* the frames' hair: the captured strands' layout (a .hair of every strand) */
+        hk_HairFile *h = &r->strands;
+        if (st == HK_OK) {
+            h->strand_count = (uint32_t)r->import.strand_count;
+            h->point_count = r->import.first_point[r->import.strand_count];
+            h->flags = HK_HAIR_POINTS | HK_HAIR_SEGMENTS;
+            h->default_thickness = (float)(r->scene.style.strand.radius1 + r->scene.style.strand.radius2);
+            h->segments = hk_alloc_array(h->strand_count, sizeof(uint16_t), err);
+            h->points = hk_alloc_array(h->point_count, 3 * sizeof(float), err);
+            h->first_point = hk_alloc_array((size_t)h->strand_count + 1, sizeof(uint32_t), err);
+            if (!h->segments || !h->points || !h->first_point) return HK_ERR_NOMEM;
+            memcpy(h->first_point, r->import.first_point, ((size_t)h->strand_count + 1) * sizeof(uint32_t));
+            for (uint32_t i = 0; i < h->strand_count; i++)
+                h->segments[i] = (uint16_t)(h->first_point[i + 1] - h->first_point[i] - 1);
+        }
+    }
+    if (r->imported && st == HK_OK) {
+        const hk_Mesh *head = &r->scene.head;
+        for (int j = 0; head->vertex_count > 0 && j < MAX_AT_ONCE; j++) {
+            hk_Mesh *m = &r->jobs[j].moved;
+            *m = *head;
+            m->positions = hk_alloc_array((size_t)head->vertex_count, sizeof(hk_Vec3), err);
+            m->normals = hk_alloc_array((size_t)head->vertex_count, sizeof(hk_Vec3), err);
+            if (!m->positions || !m->normals) return HK_ERR_NOMEM;
+        }
+    }
+    if (r->imported) return st;
     if (r->scene.setup.load)
         return hk_error_set(err, HK_ERR_INVALID,
                             "%s: Load true: simulate grows its guides from HairstyleInfo and WickModel and cannot "
@@ -148,7 +187,8 @@ static hk_Status write_manifest(Run *r, const char *setup_path, hk_Error *err)
     m.interpolated = !r->o->guides_only;
     m.full_hair = r->o->full_hair;
     hk_Status st = hk_file_fingerprint(r->scene.setup.hairstyle, &m.hairstyle_hash, err);
-    if (st == HK_OK) st = hk_file_fingerprint(r->scene.setup.wick_model, &m.wick_hash, err);
+    /* an import has no wick: its frames are written whole (hk_simulation_rebuild refuses it) */
+    if (st == HK_OK && r->scene.setup.wick_model) st = hk_file_fingerprint(r->scene.setup.wick_model, &m.wick_hash, err);
     m.has_collision = r->scene.setup.collision != NULL;
     if (st == HK_OK && m.has_collision) st = hk_file_fingerprint(r->scene.setup.collision, &m.collision_hash, err);
     /* The motion poses the body of every frame: made again by the rebuild. */
@@ -196,7 +236,10 @@ static hk_Status create_sim(Run *r, hk_Error *err)
     }
     so.progress = o->statics_progress;
     so.progress_user = o->statics_user;
-    hk_Status st = hk_hair_sim_create(&r->scene.style, r->scene.shapes, r->scene.shape_count, &r->scene.wick, &so, &r->sim, err);
+    hk_Status st = r->imported ? hk_hair_sim_create_imported(&r->scene.style, r->scene.shapes, r->scene.shape_count,
+                                                             &r->import, &so, &r->sim, err)
+                               : hk_hair_sim_create(&r->scene.style, r->scene.shapes, r->scene.shape_count,
+                                                    &r->scene.wick, &so, &r->sim, err);
     if (st == HK_OK && (o->preroll > 0.0 || o->preroll_max > 0.0)) {
         const hk_RigidState pose = hk_sim_head_pose(o->motion, 0.0);
         hk_SettleDef settle = hk_default_settle_def();
@@ -314,8 +357,31 @@ static hk_Status collect(Run *r, FrameJob *j, int report, hk_Error *err)
 
 /* Frame k at time t: the guides written (here, in frame order), then the rest handed to
  * a job: on a thread of its own when frames are drawn at once, else here. */
+/* An import's frame k: every strand rebuilt from the guides, written whole
+ * (DIR/frame_kkkk.hair, input order) and drawn unless guides_only. */
+static hk_Status write_imported_frame(Run *r, long k, double t, hk_Error *err)
+{
+    double t0 = omp_get_wtime();
+    hk_Status st = hk_imported_groom_strands(&r->import, hk_hair_sim_strands(r->sim), r->threads, r->strands.points, err);
+    double t1 = omp_get_wtime();
+    r->p.seconds_regrow += t1 - t0;
+    if (st == HK_OK) st = save_hair(r, &r->strands, "frame", k, &r->p.bytes, err);
+    r->p.seconds_write += omp_get_wtime() - t1;
+    if (st == HK_OK && !r->o->guides_only) {
+        FrameJob *j = &r->jobs[0];
+        j->run = r, j->k = k, j->t = t, j->threads = r->threads;
+        st = render_frame(j, &r->strands);
+        r->p.seconds_render += j->seconds_render, r->p.seconds_write += j->seconds_write, r->p.bytes += j->bytes;
+        j->seconds_render = j->seconds_write = 0.0, j->bytes = 0;
+        if (st != HK_OK) *err = j->err;
+    }
+    if (st == HK_OK) report_frame(r, k);
+    return st;
+}
+
 static hk_Status write_frame(Run *r, long k, double t, int job_threads, hk_Error *err)
 {
+    if (r->imported) return write_imported_frame(r, k, t, err);
     const hk_SimRunDef *o = r->o;
     hk_Groom *g = &r->groom;
     double t0 = omp_get_wtime();
@@ -403,14 +469,15 @@ hk_Status hk_simulation_run(const char *setup_path, const char *dir, const hk_Si
      * threads: nothing is set for the calling thread). */
     const int threads = options->threads > 0 ? options->threads : omp_get_max_threads();
     r.threads = threads;
-    r.at_once = threads >= MAX_AT_ONCE ? MAX_AT_ONCE : 1;
+    const double t_start = omp_get_wtime();
+    hk_Status st = check_options(options, err);
+    if (st == HK_OK) st = load_scene(&r, setup_path, err);
+    /* an import's frames are rebuilt and drawn one at a time, with every thread */
+    r.at_once = threads >= MAX_AT_ONCE && !r.imported ? MAX_AT_ONCE : 1;
     const int job_threads = threads / r.at_once;
     /* While frames are drawn, the steps take the threads the jobs leave (at least one). */
     const int step_threads = r.at_once > 1 ? (threads > r.at_once * job_threads ? threads - r.at_once * job_threads : 1)
                                            : threads;
-    const double t_start = omp_get_wtime();
-    hk_Status st = check_options(options, err);
-    if (st == HK_OK) st = load_scene(&r, setup_path, err);
     if (st == HK_OK) st = prepare_folder(&r, err);
     if (st == HK_OK) st = create_sim(&r, err);
     if (st == HK_OK) st = write_manifest(&r, setup_path, err);
