@@ -77,7 +77,10 @@ void hk_gl_light_maps_draw(hk_GlLightMaps *m, const hk_GlHair *hair, const hk_Gl
     hk_gl_uniform_mat4(m->depth_program, "LightMatrix", m->matrix.m);
     glBindFramebuffer(GL_FRAMEBUFFER, m->fbo_head);
     glClear(GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_POLYGON_OFFSET_FILL); /* slope-scaled bias: no acne where the light grazes */
+    glPolygonOffset(2.0f, 4.0f);
     hk_gl_head_draw(head);
+    glDisable(GL_POLYGON_OFFSET_FILL);
     glBindFramebuffer(GL_FRAMEBUFFER, m->fbo_hair);
     glClear(GL_DEPTH_BUFFER_BIT);
     hk_gl_hair_draw(hair);
