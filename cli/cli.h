@@ -31,6 +31,7 @@ int hk_cmd_simulate(int argc, char **argv);
 int hk_cmd_helicoid(int argc, char **argv);
 int hk_cmd_convert(int argc, char **argv);
 int hk_cmd_import(int argc, char **argv);
+int hk_cmd_view(int argc, char **argv);
 
 /* "x,y,z" -> vector; returns 0 on malformed or non-finite input. */
 int hk_cli_parse_vec3(const char *text, hk_Vec3 *out);

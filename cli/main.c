@@ -20,6 +20,7 @@ static const Command commands[] = {
     {"convert", hk_cmd_convert, "hair files between formats: .hair .tfx .data .ply .obj .usda"},
     {"render", hk_cmd_render, "render a .hair file over a head into a PNG"},
     {"import", hk_cmd_import, "a groom and a head made guides at rest: a setup simulate runs"},
+    {"view", hk_cmd_view, "the interactive OpenGL viewer: turn the head, move the light"},
     {"simulate", hk_cmd_simulate, "a full head of hair in motion: frames of .hair and PNG"},
     {"helicoid", hk_cmd_helicoid, "generalized helicoids: trace, interpolate, fit, reconstruct"},
     {"bench", hk_cmd_bench, "benchmarks with side-by-side figures"},

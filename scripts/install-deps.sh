@@ -5,6 +5,9 @@
 set -euo pipefail
 
 packages=(gcc make cmake pkg-config libpng-dev zlib1g-dev libcmocka-dev)
+# `hairkit view` (docs/viewer.md): GLFW and libepoxy for OpenGL 3.3 core; Xvfb, xauth and
+# Mesa's software OpenGL (llvmpipe) for its headless tests (tests/cli/view.sh).
+packages+=(libglfw3-dev libepoxy-dev xvfb xauth libgl1-mesa-dri)
 # `make fuzz` (install-deps.sh --fuzz): clang and its runtimes (libFuzzer, ASan, UBSan).
 if [ "${1:-}" = "--fuzz" ]; then
     packages+=(clang libclang-rt-dev)
@@ -13,6 +16,7 @@ fi
 if ! command -v dpkg-query >/dev/null 2>&1; then
     echo "install-deps: this is not a Debian-like system; make sure these are installed:" >&2
     echo "  a C11 compiler with OpenMP, cmake >= 3.16, pkg-config, libpng, zlib, cmocka" >&2
+    echo "  and for 'hairkit view' (optional): GLFW 3, libepoxy; for its tests Xvfb and Mesa" >&2
     exit 0
 fi
 

@@ -150,6 +150,10 @@ static void test_setup(void **state)
     snprintf(expect, sizeof expect, "%s/wick.obj", hk_test_tmpdir());
     assert_string_equal(s.wick_model, expect);
     assert_null(s.visuality);
+    /* The viewer's shaders: resolved, not required to exist (the CPU jobs ignore them). */
+    snprintf(expect, sizeof expect, "%s/Assets/Shaders/Phong_Shadow.vert", hk_test_tmpdir());
+    assert_string_equal(s.head_vert, expect);
+    assert_null(s.hair_frag);
     hk_setup_free(&s);
     /* The rules, each with the setup file's line. */
     struct {

@@ -79,8 +79,8 @@ HK_API hk_Status hk_visuality_load(const char *path, hk_Visuality *out, hk_Error
 
 /* Setup (thesis Appendix B): which files make up a scene. Paths are resolved against
  * the setup file's folder; keys that are absent give NULL. HeadVert, HeadFrag,
- * HairVert and HairFrag (the thesis's GLSL shaders) are accepted and ignored: hairkit
- * renders on the CPU. */
+ * HairVert and HairFrag name the thesis's GLSL shaders: `hairkit view` compiles them
+ * instead of its own (docs/viewer.md); the CPU renderer does not use them. */
 typedef struct hk_Setup {
     int load;          /* Load: read the hair from load_file instead of growing it */
     int save;          /* Save: write the grown hair to save_file */
@@ -96,6 +96,8 @@ typedef struct hk_Setup {
     int head_collider; /* HeadCollider Volume Penalty given: the HeadModel's signed
                           distance field is a body shape besides CollisionInfo's */
     double head_collider_volume, head_collider_penalty;
+    char *head_vert, *head_frag; /* HeadVert, HeadFrag: GLSL of the viewer's head */
+    char *hair_vert, *hair_frag; /* HairVert, HairFrag: GLSL of the viewer's hair */
 } hk_Setup;
 
 /* Reads a setup file. Growing hair (Load false, no ImportFile) needs HairstyleInfo and WickModel;

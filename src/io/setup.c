@@ -38,6 +38,10 @@ void hk_setup_free(hk_Setup *d)
     hk_free(d->head_model);
     hk_free(d->wick_model);
     hk_free(d->import_file);
+    hk_free(d->head_vert);
+    hk_free(d->head_frag);
+    hk_free(d->hair_vert);
+    hk_free(d->hair_frag);
     memset(d, 0, sizeof *d);
 }
 
@@ -60,7 +64,7 @@ static hk_Status read_value(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, h
     }
     const char *value;
     hk_Status st = hk_keyline_string(kf, kl, &value, err);
-    if (st != HK_OK || !paths[k]) return st; /* the GLSL shader paths are ignored */
+    if (st != HK_OK || !paths[k]) return st;
     *paths[k] = hk_keyfile_resolve_path(kf, value, err);
     return *paths[k] ? HK_OK : HK_ERR_NOMEM;
 }
@@ -82,7 +86,9 @@ static hk_Status check_needs(const hk_KeyFile *kf, const hk_Setup *d, char **con
             return hk_keyfile_error(kf, 0, HK_ERR_PARSE, err, "missing key '%s' (needed to grow hair)",
                                     specs[grow_needs[i]].name);
     for (int k = 0; k < S_COUNT; k++) {
-        if (!paths[k] || !*paths[k] || k == S_SAVE_FILE || (k == S_LOAD_FILE && !d->load)) continue;
+        /* The shaders are the viewer's: the jobs that do not draw with them need not find them. */
+        const int shader = k == S_HEAD_VERT || k == S_HEAD_FRAG || k == S_HAIR_VERT || k == S_HAIR_FRAG;
+        if (!paths[k] || !*paths[k] || shader || k == S_SAVE_FILE || (k == S_LOAD_FILE && !d->load)) continue;
         if (access(*paths[k], R_OK) != 0)
             return hk_keyfile_error(kf, line_of[k], HK_ERR_IO, err, "%s '%s' cannot be read", specs[k].name,
                                     *paths[k]);
@@ -101,7 +107,9 @@ hk_Status hk_setup_load(const char *path, hk_Setup *out, hk_Error *err)
     char **const paths[S_COUNT] = {[S_LOAD_FILE] = &d.load_file, [S_SAVE_FILE] = &d.save_file,
                                    [S_HAIRSTYLE] = &d.hairstyle, [S_COLLISION] = &d.collision,
                                    [S_VISUALITY] = &d.visuality, [S_HEAD] = &d.head_model,
-                                   [S_WICK] = &d.wick_model, [S_IMPORT] = &d.import_file};
+                                   [S_WICK] = &d.wick_model, [S_IMPORT] = &d.import_file,
+                                   [S_HEAD_VERT] = &d.head_vert, [S_HEAD_FRAG] = &d.head_frag,
+                                   [S_HAIR_VERT] = &d.hair_vert, [S_HAIR_FRAG] = &d.hair_frag};
     int line_of[S_COUNT];
     st = hk_keyfile_check_keys(&kf, specs, S_COUNT, "setup", line_of, err);
     for (int i = 0; i < kf.line_count && st == HK_OK; i++)

@@ -1,0 +1,205 @@
+/* hairkit view: the command line of the interactive viewer (viewer/, docs/viewer.md).
+ * Parses the options, reads the hair and the head as `render` and `run` do, and hands
+ * them to hk_viewer_run; built without HK_VIEWER it says so. */
+#include <getopt.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "cli.h"
+#include "hairkit/scene.h"
+#ifdef HK_HAVE_VIEWER
+#include "viewer/viewer.h"
+#endif
+
+static const char *const CMD = "view";
+
+enum { OPT_FRAMES = 1300, OPT_SCREENSHOT, OPT_HEAD_VERT, OPT_HEAD_FRAG, OPT_HAIR_VERT, OPT_HAIR_FRAG };
+
+static void usage(FILE *out)
+{
+    fprintf(out,
+            "usage: hairkit view SETUP.txt | HAIR [--head MESH] [--visuality V.txt]\n"
+            "                    [--width W --height H] [--view AZ,EL] [--light AZ,EL]\n"
+            "                    [--frames N --screenshot OUT.png] [options]\n"
+            "\n"
+            "The interactive OpenGL viewer (thesis 4.1.5-4.1.6): the head with a Lambert\n"
+            "shader, the hair as line strips with Kajiya-Kay (or Marschner) shading and\n"
+            "opacity shadow maps. A setup file's hair is grown (or loaded) as 'hairkit run'\n"
+            "does; any other file is hair in a format hairkit reads, as 'hairkit render'.\n"
+            "--view, --light, --width and --height frame the picture as 'render' does.\n"
+            "Mouse: left drag turns, right drag moves, wheel zooms, L + left drag moves the\n"
+            "light. Keys: arrows turn, + - zoom, S shadows, M shading, H head, R reset,\n"
+            "P screenshot, F5 reload shaders, Esc quits (docs/viewer.md).\n"
+            "\n"
+            "options:\n"
+            "  --head FILE        the head mesh, OBJ or PLY (with a hair file; optional)\n"
+            "  --visuality FILE   hair colours (with a hair file; default brown)\n"
+            "  --frames N         headless: draw N frames in a hidden window, then stop\n"
+            "  --screenshot FILE  the last frame as a PNG (with --frames; alone: one frame)\n"
+            "  --head-vert F, --head-frag F, --hair-vert F, --hair-frag F\n"
+            "                     GLSL files replacing the built-in shaders (as the setup\n"
+            "                     keys HeadVert, HeadFrag, HairVert, HairFrag)\n");
+    hk_cli_transform_help(out, 1, 1);
+    hk_cli_render_options_help(out);
+    fprintf(out,
+            "  --quiet            no summary on stderr\n"
+            "  -h, --help         this help\n");
+}
+
+typedef struct ViewArgs {
+    const char *input, *head_path, *vis_path, *screenshot;
+    const char *shader[4];
+    long frames;
+    int quiet;
+    hk_RenderDef ro;
+    hk_CliTransform hair_tf, head_tf;
+} ViewArgs;
+
+/* Returns -1 to go on, else the exit status. */
+static int parse(int argc, char **argv, ViewArgs *a)
+{
+    static const struct option options[] = {
+        {"head", required_argument, NULL, 'H'}, {"visuality", required_argument, NULL, 'v'},
+        {"frames", required_argument, NULL, OPT_FRAMES}, {"screenshot", required_argument, NULL, OPT_SCREENSHOT},
+        {"head-vert", required_argument, NULL, OPT_HEAD_VERT}, {"head-frag", required_argument, NULL, OPT_HEAD_FRAG},
+        {"hair-vert", required_argument, NULL, OPT_HAIR_VERT}, {"hair-frag", required_argument, NULL, OPT_HAIR_FRAG},
+        {"quiet", no_argument, NULL, 'q'}, {"help", no_argument, NULL, 'h'},
+        HK_CLI_RENDER_LONG_OPTIONS, HK_CLI_HAIR_TRANSFORM_LONG_OPTIONS, HK_CLI_HEAD_TRANSFORM_LONG_OPTIONS,
+        {NULL, 0, NULL, 0},
+    };
+    int c;
+    optind = 1;
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, ":h", options, NULL)) != -1) {
+        if (HK_CLI_IS_RENDER_OPTION(c)) {
+            const int rc = hk_cli_render_option(CMD, c, optarg, &a->ro);
+            if (rc) return rc;
+            continue;
+        }
+        switch (c) {
+        case HK_OPT_HAIR_SCALE:
+        case HK_OPT_HAIR_UP:
+        case HK_OPT_HEAD_SCALE:
+        case HK_OPT_HEAD_UP: {
+            const int rc = hk_cli_transforms_option(CMD, c, optarg, &a->hair_tf, &a->head_tf);
+            if (rc) return rc;
+            break;
+        }
+        case 'H': a->head_path = optarg; break;
+        case 'v': a->vis_path = optarg; break;
+        case 'q': a->quiet = 1; break;
+        case OPT_FRAMES:
+            if (!hk_cli_parse_int(optarg, 1, 1000000, &a->frames))
+                return hk_cli_usage_error(CMD, "--frames expects 1 to 1000000, got '%s'", optarg);
+            break;
+        case OPT_SCREENSHOT: a->screenshot = optarg; break;
+        case OPT_HEAD_VERT:
+        case OPT_HEAD_FRAG:
+        case OPT_HAIR_VERT:
+        case OPT_HAIR_FRAG: a->shader[c - OPT_HEAD_VERT] = optarg; break;
+        case 'h': usage(stdout); return HK_EXIT_OK;
+        case ':': return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
+        default: return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
+        }
+    }
+    if (optind >= argc) return hk_cli_usage_error(CMD, "missing SETUP.txt or HAIR file");
+    if (optind + 1 < argc) return hk_cli_usage_error(CMD, "unexpected argument '%s'", argv[optind + 1]);
+    a->input = argv[optind];
+    if (a->screenshot && !a->frames) a->frames = 1;
+    return -1;
+}
+
+static int is_setup(const char *path)
+{
+    const size_t n = strlen(path);
+    return n > 4 && !strcmp(path + n - 4, ".txt");
+}
+
+#ifdef HK_HAVE_VIEWER
+/* The scene of a setup file: its hair grown or loaded, head, colours, shaders. */
+static hk_Status load_setup(ViewArgs *a, hk_Scene *scene, hk_HairFile *hair, hk_Error *err)
+{
+    if (a->head_path || a->vis_path)
+        return hk_error_set(err, HK_ERR_INVALID, "--head and --visuality are for a hair file; %s names its own",
+                            a->input);
+    hk_Status st = hk_scene_load(a->input, HK_SCENE_RENDERING | HK_SCENE_HAIR, scene, err);
+    if (st != HK_OK) return st;
+    if (scene->head.vertex_count) st = hk_cli_transform_mesh(&a->head_tf, scene->setup.head_model, &scene->head, err);
+    if (st == HK_OK && scene->wick.vertex_count)
+        st = hk_cli_transform_mesh(&a->head_tf, scene->setup.wick_model, &scene->wick, err);
+    hk_SceneHairReport report;
+    hk_GroomDef go = hk_default_groom_def();
+    if (st == HK_OK) st = hk_scene_hair(scene, &go, hair, &report, err);
+    if (st == HK_OK && !report.grown) st = hk_cli_transform_hair(&a->hair_tf, hair, err);
+    if (st == HK_OK && !a->quiet) hk_cli_report_scene_hair(CMD, &scene->setup, hair, &report);
+    if (st == HK_OK && !report.grown) hk_cli_fine_hair(CMD, hair, HK_HUMAN_HAIR_DIAMETER, a->hair_tf.scale != 1.0, &a->ro);
+    const char *setup_shader[4] = {scene->setup.head_vert, scene->setup.head_frag, scene->setup.hair_vert,
+                                   scene->setup.hair_frag};
+    for (int k = 0; k < 4; k++)
+        if (!a->shader[k]) a->shader[k] = setup_shader[k];
+    return st;
+}
+
+static int view(ViewArgs *a)
+{
+    hk_Error err;
+    hk_Scene scene;
+    memset(&scene, 0, sizeof scene);
+    hk_HairFile hair;
+    memset(&hair, 0, sizeof hair);
+    hk_Mesh head = {0, 0, NULL, NULL, NULL};
+    hk_ViewerInput in;
+    memset(&in, 0, sizeof in);
+    in.visuality = hk_default_visuality();
+    hk_Status st;
+    if (is_setup(a->input)) {
+        st = load_setup(a, &scene, &hair, &err);
+        in.visuality = scene.visuality;
+        in.head = &scene.head;
+    } else {
+        if (a->head_tf.given && !a->head_path)
+            return hk_cli_usage_error(CMD, "--head-scale and --head-up need --head");
+        st = hk_hair_read(a->input, HK_HAIR_FORMAT_AUTO, &hair, &err);
+        if (st == HK_OK) st = hk_cli_transform_hair(&a->hair_tf, &hair, &err);
+        if (st == HK_OK) hk_cli_fine_hair(CMD, &hair, HK_HUMAN_HAIR_DIAMETER, a->hair_tf.scale != 1.0, &a->ro);
+        if (st == HK_OK && a->head_path) st = hk_mesh_load(a->head_path, &head, &err);
+        if (st == HK_OK && a->head_path) st = hk_cli_transform_mesh(&a->head_tf, a->head_path, &head, &err);
+        if (st == HK_OK && a->vis_path) st = hk_visuality_load(a->vis_path, &in.visuality, &err);
+        in.head = &head;
+    }
+    int status = HK_EXIT_FAIL;
+    if (st == HK_OK) {
+        in.hair = &hair;
+        in.render = a->ro;
+        for (int k = 0; k < 4; k++) in.shader[k] = a->shader[k];
+        in.frames = (int)a->frames;
+        in.screenshot = a->screenshot;
+        in.quiet = a->quiet;
+        status = hk_viewer_run(&in);
+    } else {
+        hk_cli_fail(CMD, &err);
+    }
+    hk_mesh_free(&head);
+    hk_hair_free(&hair);
+    hk_scene_free(&scene);
+    return status;
+}
+#endif
+
+int hk_cmd_view(int argc, char **argv)
+{
+    ViewArgs a;
+    memset(&a, 0, sizeof a);
+    a.ro = hk_default_render_def();
+    a.hair_tf = hk_cli_default_transform();
+    a.head_tf = hk_cli_default_transform();
+    const int rc = parse(argc, argv, &a);
+    if (rc >= 0) return rc;
+#ifdef HK_HAVE_VIEWER
+    return view(&a);
+#else
+    fprintf(stderr, "hairkit view: this hairkit was built without the viewer (HK_VIEWER off: GLFW or libepoxy "
+                    "were not found); install them (scripts/install-deps.sh) and build again\n");
+    return HK_EXIT_FAIL;
+#endif
+}

@@ -1,0 +1,31 @@
+/* hairkit view: the thesis's interactive OpenGL viewer (Lansink 2010 §4.1.5-4.1.6,
+ * docs/viewer.md). Built only with HK_VIEWER (GLFW and libepoxy); cli/cmd_view.c
+ * parses the command line and loads the files, this draws them. */
+#ifndef HK_VIEWER_H
+#define HK_VIEWER_H
+
+#include "hairkit/hairfile.h"
+#include "hairkit/io.h"
+#include "hairkit/mesh.h"
+#include "hairkit/render.h"
+
+/* The shaders a setup (HeadVert, HeadFrag, HairVert, HairFrag) or the command line may
+ * replace; NULL: the default of assets/shaders (built into the program). */
+enum { HK_VIEW_HEAD_VERT, HK_VIEW_HEAD_FRAG, HK_VIEW_HAIR_VERT, HK_VIEW_HAIR_FRAG, HK_VIEW_SHADER_COUNT };
+
+typedef struct hk_ViewerInput {
+    const hk_HairFile *hair;
+    const hk_Mesh *head;      /* NULL or no vertices: none */
+    hk_Visuality visuality;   /* colours as the files give them (sRGB) */
+    hk_RenderDef render;      /* size, view, light, shading, shadows, shadow map, thickness */
+    const char *shader[HK_VIEW_SHADER_COUNT];
+    int frames;               /* > 0: headless, draw this many frames, then stop */
+    const char *screenshot;   /* with frames: the last frame written here (PNG) */
+    int quiet;
+} hk_ViewerInput;
+
+/* Opens the window and runs until it is closed (or `frames` are drawn); the exit
+ * status of the command (HK_EXIT_OK, or 1 with a message on stderr). */
+int hk_viewer_run(const hk_ViewerInput *in);
+
+#endif
