@@ -20,17 +20,26 @@
  * A point belongs to one pair: its rows of J are turned into the pair's basis (normal,
  * tangents) before anything else, so that u_c, Y, the Delassus block and the impulses
  * are all in that basis and a pair that does not push is told by one row. Projected
- * Gauss-Seidel visits the pairs in their fixed order and solves each one's law given
- * the others' impulses; the sweeps stop when no impulse changed by more than
- * HK_PGS_TOLERANCE of the largest. The same pairs in the same order give the same bits
- * whatever the number of threads: only the per-strand and per-pair parts (the
- * Jacobians, the solves, the blocks) run in parallel. Sweeping groups of pairs that
- * share no strand in parallel (nested dissection of the guides) was tried: 30 % less
- * time in the sweeps, but another order settles the pile differently, and the still
- * head's test then saw up to 10 guides creep past 0.5 mm (docs/dynamics.md). */
+ * Gauss-Seidel solves each pair's law given the others' impulses; the sweeps stop when
+ * no impulse changed by more than HK_PGS_TOLERANCE of the largest. A sweep visits the
+ * pairs in units, the run of pairs between the same two strands, and the units in
+ * colours: a greedy colouring of the units (the edges of the graph of strands in
+ * contact) gives the units of one colour no strand in common, so that their visits
+ * touch disjoint data and commute. The units of a colour are visited in parallel (each
+ * by one thread, its pairs in pair order), the colours one after the other; the result
+ * is then the same bits whatever the number of threads, and so is every other part (the
+ * Jacobians, the solves, the blocks: per strand or per pair). The order differs from
+ * the pairs' own (sorted by strand), which the sweeps visited serially until
+ * 3 December 2026; the sweeps do not converge to their tolerance in 20 (residual
+ * 0.5-2 % of the largest impulse; the largest changes are pairs switching between
+ * pushing and not), so the order shows in the bits, not in the tests
+ * (docs/dynamics.md, "Contacts solved together"). */
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include <omp.h>
 
 #include "dynamics_internal.h"
 #include "hair_contact_solve.h"
@@ -39,6 +48,7 @@
 #define HK_PGS_SWEEPS 20
 #define HK_PGS_FULL_EVERY 4
 #define HK_PGS_TOLERANCE 1e-4
+#define HK_PGS_MAX_THREADS 256
 
 enum { UNANSWERED = 0, WANTED = 1, ANSWERED = 2 }; /* a point's Y^T */
 
@@ -63,6 +73,17 @@ typedef struct Buffer {
     void *items;
     size_t cap;
 } Buffer;
+
+/* The order of a sweep: units, each the run of pairs between the same two strands
+ * (in pair order), visited one after the other by one thread; the units dealt to
+ * colours so that the units of one colour share no strand. */
+typedef struct Schedule {
+    Buffer pairs;  /* int per pair: the pairs, unit after unit */
+    Buffer begin;  /* int per unit + 1: where each unit's pairs begin */
+    Buffer order;  /* int per unit: the units, colour after colour */
+    Buffer start;  /* int per colour + 1: where each colour's units begin in order */
+    int units, colours;
+} Schedule;
 
 /* Makes room for count items of size bytes (contents not kept); 0 when out of memory. */
 static int reserve(Buffer *b, size_t count, size_t size, hk_Error *err)
@@ -97,7 +118,11 @@ struct hk_ContactSolve {
     Buffer vfree;         /* double, 3N per strand: its velocity after a step without them */
     Buffer screws;        /* double, 18N per strand: work of the Jacobians */
     Buffer pairs, old_pairs; /* PairState per pair, this step's and the last one's */
-    Buffer active;        /* int per pair: the pushing pairs of the last full sweep */
+    Schedule all, active; /* every pair's, and the pushing pairs' of the last full sweep */
+    Buffer colour_of;     /* int per unit: its colour (work of the colouring) */
+    Buffer used;          /* uint64_t per strand and word: colours taken at the strand */
+    Buffer law;           /* int per pair: its law's verdict on the last full sweep */
+    Buffer fill;          /* int per colour: work of the colouring */
     int old_count;
     hk_StrandDynamics **dyn; /* the strands of the solve under way */
 };
@@ -133,7 +158,9 @@ void hk_contact_solve_destroy(hk_ContactSolve *cs)
     hk_free(cs->reversed);
     hk_free(cs->ul_start);
     Buffer *all[] = {&cs->slots, &cs->at, &cs->vfree, &cs->vel, &cs->forces, &cs->jac, &cs->yt, &cs->support, &cs->ul,
-                     &cs->answered, &cs->dv, &cs->screws, &cs->pairs, &cs->old_pairs, &cs->active};
+                     &cs->answered, &cs->dv, &cs->screws, &cs->pairs, &cs->old_pairs, &cs->colour_of,
+                     &cs->used, &cs->law, &cs->fill, &cs->all.pairs, &cs->all.begin, &cs->all.order,
+                     &cs->all.start, &cs->active.pairs, &cs->active.begin, &cs->active.order, &cs->active.start};
     for (size_t k = 0; k < sizeof all / sizeof *all; k++) hk_free(all[k]->items);
     hk_free(cs);
 }
@@ -171,7 +198,7 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Strand
         !reserve(&cs->answered, slots, sizeof(char), err) ||
         !reserve(&cs->dv, dims, sizeof(double), err) || !reserve(&cs->vfree, dims, sizeof(double), err) ||
         !reserve(&cs->screws, 6 * dims, sizeof(double), err) ||
-        !reserve(&cs->pairs, (size_t)n, sizeof(PairState), err) || !reserve(&cs->active, (size_t)n, sizeof(int), err))
+        !reserve(&cs->pairs, (size_t)n, sizeof(PairState), err))
         return HK_ERR_NOMEM;
     Slot *slot = cs->slots.items;
     PairState *pairs = cs->pairs.items;
@@ -650,6 +677,90 @@ static int visit(hk_ContactSolve *cs, const hk_HairContacts *contacts, int k, do
     return law;
 }
 
+/* Reserves a schedule's arrays for n pairs and up to `colours` colours; 0 when out of
+ * memory. */
+static int reserve_schedule(Schedule *sc, int n, int colours, hk_Error *err)
+{
+    return reserve(&sc->pairs, (size_t)n, sizeof(int), err) && reserve(&sc->begin, (size_t)n + 1, sizeof(int), err) &&
+           reserve(&sc->order, (size_t)n, sizeof(int), err) &&
+           reserve(&sc->start, (size_t)colours + 1, sizeof(int), err);
+}
+
+/* Greedy colouring of sc's units in their order: each takes the smallest colour that
+ * neither of its strands has yet (at most 2 max_degree - 1 colours, max_degree the most
+ * units at one strand), so that the units of one colour share no strand and their visits
+ * commute. Fills sc->order and sc->start. */
+static void colour_units(hk_ContactSolve *cs, const hk_HairContacts *c, Schedule *sc, int max_degree)
+{
+    const size_t words = (size_t)(2 * max_degree) / 64 + 1;
+    uint64_t *used = cs->used.items;
+    const int *pairs = sc->pairs.items, *begin = sc->begin.items;
+    int *colour = cs->colour_of.items, *fill = cs->fill.items, *start = sc->start.items, *order = sc->order.items;
+    memset(used, 0, (size_t)cs->strand_count * words * sizeof(uint64_t));
+    int colours = 0;
+    for (int u = 0; u < sc->units; u++) {
+        const hk_HcPair *hp = &c->pairs[pairs[begin[u]]];
+        uint64_t *ui = used + (size_t)hp->i * words, *uj = used + (size_t)hp->j * words;
+        size_t w = 0;
+        while (w + 1 < words && (ui[w] | uj[w]) == ~(uint64_t)0) w++;
+        const int bit = __builtin_ctzll(~(ui[w] | uj[w])); /* (one of the 2 max_degree is free) */
+        ui[w] |= (uint64_t)1 << bit, uj[w] |= (uint64_t)1 << bit;
+        colour[u] = (int)(64 * w) + bit;
+        if (colour[u] + 1 > colours) colours = colour[u] + 1;
+    }
+    memset(start, 0, (size_t)(colours + 1) * sizeof(int));
+    for (int u = 0; u < sc->units; u++) start[colour[u] + 1]++;
+    for (int k = 0; k < colours; k++) start[k + 1] += start[k];
+    memcpy(fill, start, (size_t)colours * sizeof(int));
+    for (int u = 0; u < sc->units; u++) order[fill[colour[u]]++] = u;
+    sc->colours = colours;
+}
+
+/* The schedule of all pairs: the pairs (sorted by (i, a, j, b)) regrouped by (i, j),
+ * each group in pair order: within each run of one i, an insertion sort by (j, index). */
+static void schedule_all(hk_ContactSolve *cs, const hk_HairContacts *c, int max_degree)
+{
+    Schedule *sc = &cs->all;
+    int *pairs = sc->pairs.items, *begin = sc->begin.items;
+    const int n = c->pair_count;
+    for (int k = 0; k < n; k++) pairs[k] = k;
+    sc->units = 0;
+    for (int run = 0; run < n;) {
+        int end = run;
+        while (end < n && c->pairs[end].i == c->pairs[run].i) end++;
+        for (int x = run + 1; x < end; x++) {
+            const int k = pairs[x];
+            int y = x;
+            while (y > run && c->pairs[pairs[y - 1]].j > c->pairs[k].j) pairs[y] = pairs[y - 1], y--;
+            pairs[y] = k;
+        }
+        for (int x = run; x < end; x++)
+            if (x == run || c->pairs[pairs[x]].j != c->pairs[pairs[x - 1]].j) begin[sc->units++] = x;
+        run = end;
+    }
+    begin[sc->units] = n;
+    colour_units(cs, c, sc, max_degree);
+}
+
+/* The schedule of the pairs whose law pushed on the last full sweep: all's units kept
+ * with those of their pairs, coloured afresh. */
+static void schedule_active(hk_ContactSolve *cs, const hk_HairContacts *c, int max_degree)
+{
+    const Schedule *all = &cs->all;
+    Schedule *sc = &cs->active;
+    const int *from = all->pairs.items, *from_begin = all->begin.items, *law = cs->law.items;
+    int *pairs = sc->pairs.items, *begin = sc->begin.items, count = 0;
+    sc->units = 0;
+    for (int u = 0; u < all->units; u++) {
+        const int first = count;
+        for (int x = from_begin[u]; x < from_begin[u + 1]; x++)
+            if (law[from[x]] > 0) pairs[count++] = from[x];
+        if (count > first) begin[sc->units++] = first;
+    }
+    begin[sc->units] = count;
+    colour_units(cs, c, sc, max_degree);
+}
+
 hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts, hk_StrandDynamics **dyn,
                            int strand_count, const hk_RigidState *head_end, double dt,
                            hk_ContactSolveStats *stats, hk_Error *err)
@@ -687,24 +798,66 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
         if (hk_v3_norm2(pairs[k].lambda) > 0.0) apply_change(cs, &pairs[k], strand, pairs[k].lambda);
     }
     /* Pairs that do not push (most of those between d0 and 2 d0) are visited on every
-     * HK_PGS_FULL_EVERY-th sweep and the last one only; the others on every sweep. */
-    int *active = cs->active.items, active_count = 0;
-    for (int sweep = 0; sweep < HK_PGS_SWEEPS; sweep++) {
-        const int full = sweep % HK_PGS_FULL_EVERY == 0 || sweep == HK_PGS_SWEEPS - 1;
-        const int count = full ? n : active_count;
-        double change = 0.0, largest = 0.0;
-        if (full) local.pushing = local.sticking = 0, active_count = 0;
-        for (int x = 0; x < count; x++) {
-            const int k = full ? x : active[x];
-            double l;
-            const int law = visit(cs, contacts, k, mu, viscous, &change, &l);
-            if (l > largest) largest = l;
-            if (full && law > 0) active[active_count++] = k;
-            if (full) local.pushing += law > 0, local.sticking += law == 2;
+     * HK_PGS_FULL_EVERY-th sweep and the last one only; the others on every sweep. A
+     * sweep visits colour after colour (Schedule); the units of one colour touch
+     * distinct strands and are visited in parallel, each by one thread in pair order, so
+     * that the result is the same whatever the number of threads. */
+    int max_degree = 1;
+    for (int s = 0; s < strand_count; s++)
+        if (cs->slot_start[s + 1] - cs->slot_start[s] > max_degree) max_degree = cs->slot_start[s + 1] - cs->slot_start[s];
+    const size_t words = (size_t)(2 * max_degree) / 64 + 1;
+    if (!reserve_schedule(&cs->all, n, 2 * max_degree, err) || !reserve_schedule(&cs->active, n, 2 * max_degree, err) ||
+        !reserve(&cs->law, (size_t)n, sizeof(int), err) || !reserve(&cs->colour_of, (size_t)n, sizeof(int), err) ||
+        !reserve(&cs->fill, (size_t)(2 * max_degree + 1), sizeof(int), err) ||
+        !reserve(&cs->used, (size_t)strand_count * words, sizeof(uint64_t), err)) {
+        memset(cs->slot_start, 0, (size_t)(strand_count + 1) * sizeof(int));
+        cs->old_count = 0;
+        return HK_ERR_NOMEM;
+    }
+    int *law_of = cs->law.items;
+    schedule_all(cs, contacts, max_degree);
+    cs->active.units = cs->active.colours = 0;
+    int stop = 0;
+    double thread_change[HK_PGS_MAX_THREADS], thread_largest[HK_PGS_MAX_THREADS];
+    const int team = threads < HK_PGS_MAX_THREADS ? threads : HK_PGS_MAX_THREADS;
+    #pragma omp parallel num_threads(team)
+    {
+        const int me = omp_get_thread_num();
+        for (int sweep = 0; sweep < HK_PGS_SWEEPS && !stop; sweep++) {
+            const int full = sweep % HK_PGS_FULL_EVERY == 0 || sweep == HK_PGS_SWEEPS - 1;
+            const Schedule *sc = full ? &cs->all : &cs->active;
+            const int *list = sc->pairs.items, *begin = sc->begin.items, *order = sc->order.items;
+            const int *start = sc->start.items;
+            double change = 0.0, largest = 0.0;
+            for (int colour = 0; colour < sc->colours; colour++) {
+                #pragma omp for schedule(dynamic, 1)
+                for (int x = start[colour]; x < start[colour + 1]; x++)
+                    for (int y = begin[order[x]]; y < begin[order[x] + 1]; y++) {
+                        const int k = list[y];
+                        double l;
+                        const int law = visit(cs, contacts, k, mu, viscous, &change, &l);
+                        if (l > largest) largest = l;
+                        if (full) law_of[k] = law;
+                    }
+            }
+            thread_change[me] = change, thread_largest[me] = largest;
+            #pragma omp barrier
+            #pragma omp single
+            {
+                for (int t = 0; t < omp_get_num_threads(); t++) {
+                    if (thread_change[t] > change) change = thread_change[t];
+                    if (thread_largest[t] > largest) largest = thread_largest[t];
+                }
+                local.sweeps = sweep + 1;
+                local.residual = largest > 0.0 ? change / largest : 0.0;
+                if (full) {
+                    local.pushing = local.sticking = 0;
+                    for (int k = 0; k < n; k++) local.pushing += law_of[k] > 0, local.sticking += law_of[k] == 2;
+                    schedule_active(cs, contacts, max_degree);
+                    if (change <= HK_PGS_TOLERANCE * largest) stop = 1;
+                }
+            }
         }
-        local.sweeps = sweep + 1;
-        local.residual = largest > 0.0 ? change / largest : 0.0;
-        if (full && change <= HK_PGS_TOLERANCE * largest) break;
     }
     /* The bound of the last sweep's Tresca problems lags the normal impulses by a
      * sweep: what exceeds Coulomb's cone is taken back (and from dv, which the commit
