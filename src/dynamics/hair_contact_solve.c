@@ -549,8 +549,15 @@ static void pair_block(hk_ContactSolve *cs, PairState *ps, const int strand[2])
         const size_t dim = dim_of(cs, strand[side]), m = support_of(cs, x);
         const double *rows = read_rows(cs, strand[side], x);
         const double *yt = (const double *)cs->yt.items + block_of(cs, strand[side], x);
+        /* Z^T Z is symmetric to the bit (a product's factors commute, the sums run in
+         * one order): its lower triangle is copied. */
+        const int symmetric = rows == yt;
+        double e[3][3];
         for (int r = 0; r < 3; r++)
-            for (int q = 0; q < 3; q++) ps->w[r][q] += dot_n(rows + (size_t)r * dim, yt + (size_t)q * dim, m);
+            for (int q = 0; q < 3; q++)
+                e[r][q] = symmetric && q < r ? e[q][r] : dot_n(rows + (size_t)r * dim, yt + (size_t)q * dim, m);
+        for (int r = 0; r < 3; r++)
+            for (int q = 0; q < 3; q++) ps->w[r][q] += e[r][q];
     }
     ps->ready = 1;
 }
