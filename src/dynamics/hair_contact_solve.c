@@ -20,33 +20,22 @@
  * A point belongs to one pair: its rows of J are turned into the pair's basis (normal,
  * tangents) before anything else, so that u_c, Y, the Delassus block and the impulses
  * are all in that basis and a pair that does not push is told by one row. Projected
- * Gauss-Seidel solves each pair's law given the others' impulses; the sweeps stop when
- * no impulse changed by more than HK_PGS_TOLERANCE of the largest. A sweep visits the
- * pairs in units and the units in colours. The strands are grouped in clusters of
- * HK_PGS_CLUSTER consecutive indices; a unit is the pairs between two clusters (or
- * within one), in pair order, and a greedy colouring of the units (the edges of the
- * graph of clusters in contact) gives the units of one colour no cluster, so no strand,
- * in common: their visits touch disjoint data and commute. The units of a colour are
- * visited in parallel (each by one thread), the colours one after the other; the result
- * is then the same bits whatever the number of threads, and so is every other part (the
- * Jacobians, the solves, the blocks: per strand or per pair). Clusters rather than
- * single strands keep the visits of a unit on few strands (the caches) and give fewer
- * colours, so fewer barriers (on examples/guides200 16 colours for the full sweeps and
- * 12 for the pushing pairs' ones, against 31 and 16 with one strand a cluster). Whether
- * the sweeps run on one thread or all is chosen from their timing (the bits are the
- * same). The order differs from the pairs' own (sorted by strand), which the sweeps
- * visited serially until 3 December 2026; the sweeps do not converge to their tolerance
- * in 20 (residual 0.5-3 % of the largest impulse; the largest changes are pairs switching
- * between pushing and not), so the order shows in the bits, not in the tests
- * (docs/dynamics.md, "Contacts solved together"). */
+ * Gauss-Seidel visits the pairs in their fixed order and solves each one's law given
+ * the others' impulses; the sweeps stop when no impulse changed by more than
+ * HK_PGS_TOLERANCE of the largest. The same pairs in the same order give the same bits
+ * whatever the number of threads: only the per-strand and per-pair parts (the
+ * Jacobians, the solves, the blocks) run in parallel. Sweeping groups of pairs that
+ * share no strand in parallel (nested dissection of the guides) was tried: 30 % less
+ * time in the sweeps, but another order settles the pile differently, and the still
+ * head's test then saw up to 10 guides creep past 0.5 mm (docs/dynamics.md). So were
+ * coloured sweeps (3 December 2026: units of the pairs between two guides or two
+ * clusters of guides, coloured so that a colour's units share no guide and run in
+ * parallel; the same bits for any number of threads, the still head's test passing):
+ * no faster on 2 threads, as the colour order loses the caches' reuse of a guide's
+ * consecutive pairs (docs/dynamics.md, "Contacts solved together"). */
 #include <math.h>
-#include <sched.h>
-#include <stdatomic.h>
-#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
-
-#include <omp.h>
 
 #include "dynamics_internal.h"
 #include "hair_contact_solve.h"
@@ -55,8 +44,6 @@
 #define HK_PGS_SWEEPS 20
 #define HK_PGS_FULL_EVERY 4
 #define HK_PGS_TOLERANCE 1e-4
-#define HK_PGS_MAX_THREADS 256
-#define HK_PGS_CLUSTER 8 /* strands per cluster (consecutive indices) */
 
 enum { UNANSWERED = 0, WANTED = 1, ANSWERED = 2 }; /* a point's Y^T */
 
@@ -81,17 +68,6 @@ typedef struct Buffer {
     void *items;
     size_t cap;
 } Buffer;
-
-/* The order of a sweep: units, each the run of pairs between the same two strands
- * (in pair order), visited one after the other by one thread; the units dealt to
- * colours so that the units of one colour share no strand. */
-typedef struct Schedule {
-    Buffer pairs;  /* int per pair: the pairs, unit after unit */
-    Buffer begin;  /* int per unit + 1: where each unit's pairs begin */
-    Buffer order;  /* int per unit: the units, colour after colour */
-    Buffer start;  /* int per colour + 1: where each colour's units begin in order */
-    int units, colours;
-} Schedule;
 
 /* Makes room for count items of size bytes (contents not kept); 0 when out of memory. */
 static int reserve(Buffer *b, size_t count, size_t size, hk_Error *err)
@@ -126,15 +102,8 @@ struct hk_ContactSolve {
     Buffer vfree;         /* double, 3N per strand: its velocity after a step without them */
     Buffer screws;        /* double, 18N per strand: work of the Jacobians */
     Buffer pairs, old_pairs; /* PairState per pair, this step's and the last one's */
-    Schedule all, active; /* every pair's, and the pushing pairs' of the last full sweep */
-    Buffer colour_of;     /* int per unit: its colour (work of the colouring) */
-    Buffer used;          /* uint64_t per strand and word: colours taken at the strand */
-    Buffer law;           /* int per pair: its law's verdict on the last full sweep */
-    Buffer fill;          /* int per colour: work of the colouring */
-    Buffer keys;          /* int per pair of clusters + 1: work of the schedule */
+    Buffer active;        /* int per pair: the pushing pairs of the last full sweep */
     int old_count;
-    long solves;          /* solves so far */
-    double pace[2];       /* seconds per visit of the sweeps on one thread and on threads */
     hk_StrandDynamics **dyn; /* the strands of the solve under way */
 };
 
@@ -169,9 +138,7 @@ void hk_contact_solve_destroy(hk_ContactSolve *cs)
     hk_free(cs->reversed);
     hk_free(cs->ul_start);
     Buffer *all[] = {&cs->slots, &cs->at, &cs->vfree, &cs->vel, &cs->forces, &cs->jac, &cs->yt, &cs->support, &cs->ul,
-                     &cs->answered, &cs->dv, &cs->screws, &cs->pairs, &cs->old_pairs, &cs->colour_of,
-                     &cs->used, &cs->law, &cs->fill, &cs->keys, &cs->all.pairs, &cs->all.begin, &cs->all.order,
-                     &cs->all.start, &cs->active.pairs, &cs->active.begin, &cs->active.order, &cs->active.start};
+                     &cs->answered, &cs->dv, &cs->screws, &cs->pairs, &cs->old_pairs, &cs->active};
     for (size_t k = 0; k < sizeof all / sizeof *all; k++) hk_free(all[k]->items);
     hk_free(cs);
 }
@@ -209,7 +176,7 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Strand
         !reserve(&cs->answered, slots, sizeof(char), err) ||
         !reserve(&cs->dv, dims, sizeof(double), err) || !reserve(&cs->vfree, dims, sizeof(double), err) ||
         !reserve(&cs->screws, 6 * dims, sizeof(double), err) ||
-        !reserve(&cs->pairs, (size_t)n, sizeof(PairState), err))
+        !reserve(&cs->pairs, (size_t)n, sizeof(PairState), err) || !reserve(&cs->active, (size_t)n, sizeof(int), err))
         return HK_ERR_NOMEM;
     Slot *slot = cs->slots.items;
     PairState *pairs = cs->pairs.items;
@@ -695,115 +662,6 @@ static int visit(hk_ContactSolve *cs, const hk_HairContacts *contacts, int k, do
     return law;
 }
 
-/* The sweeps' own barrier between colours: the last thread to arrive opens the next
- * phase; the others spin a little, then yield their core while they wait, so that a
- * partner waiting for a core (a machine busier than its cores) gets it. OpenMP's
- * barriers spin for long: with about 280 a step, frames became several times slower on
- * a loaded machine. ticket hands the units of a colour out. */
-typedef struct TeamSync {
-    atomic_int arrived, phase, ticket;
-} TeamSync;
-
-static void team_wait(TeamSync *t, int team, int *phase)
-{
-    const int now = *phase;
-    if (atomic_fetch_add(&t->arrived, 1) == team - 1) {
-        atomic_store(&t->arrived, 0);
-        atomic_store(&t->phase, now + 1);
-    } else {
-        for (int spin = 0; atomic_load(&t->phase) == now; spin++)
-            if (spin >= 200) sched_yield();
-    }
-    *phase = now + 1;
-}
-
-/* The clusters of strands that the sweeps' units join: strand s is in s / HK_PGS_CLUSTER. */
-static int cluster_count(const hk_ContactSolve *cs) { return (cs->strand_count + HK_PGS_CLUSTER - 1) / HK_PGS_CLUSTER; }
-
-/* Reserves a schedule's arrays for n pairs and up to `colours` colours; 0 when out of
- * memory. */
-static int reserve_schedule(Schedule *sc, int n, int colours, hk_Error *err)
-{
-    return reserve(&sc->pairs, (size_t)n, sizeof(int), err) && reserve(&sc->begin, (size_t)n + 1, sizeof(int), err) &&
-           reserve(&sc->order, (size_t)n, sizeof(int), err) &&
-           reserve(&sc->start, (size_t)colours + 1, sizeof(int), err);
-}
-
-/* Greedy colouring of sc's units in their order: each takes the smallest colour that
- * neither of its clusters has yet (at most 2 max_degree - 1 colours, max_degree the most
- * pairs at one cluster), so that the units of one colour share no strand and their
- * visits commute. Fills sc->order and sc->start. */
-static void colour_units(hk_ContactSolve *cs, const hk_HairContacts *c, Schedule *sc, int max_degree)
-{
-    const size_t words = (size_t)(2 * max_degree) / 64 + 1;
-    uint64_t *used = cs->used.items;
-    const int *pairs = sc->pairs.items, *begin = sc->begin.items;
-    int *colour = cs->colour_of.items, *fill = cs->fill.items, *start = sc->start.items, *order = sc->order.items;
-    memset(used, 0, (size_t)cluster_count(cs) * words * sizeof(uint64_t));
-    int colours = 0;
-    for (int u = 0; u < sc->units; u++) {
-        const hk_HcPair *hp = &c->pairs[pairs[begin[u]]];
-        uint64_t *ui = used + (size_t)(hp->i / HK_PGS_CLUSTER) * words;
-        uint64_t *uj = used + (size_t)(hp->j / HK_PGS_CLUSTER) * words;
-        size_t w = 0;
-        while (w + 1 < words && (ui[w] | uj[w]) == ~(uint64_t)0) w++;
-        const int bit = __builtin_ctzll(~(ui[w] | uj[w])); /* (one of the 2 max_degree is free) */
-        ui[w] |= (uint64_t)1 << bit, uj[w] |= (uint64_t)1 << bit;
-        colour[u] = (int)(64 * w) + bit;
-        if (colour[u] + 1 > colours) colours = colour[u] + 1;
-    }
-    memset(start, 0, (size_t)(colours + 1) * sizeof(int));
-    for (int u = 0; u < sc->units; u++) start[colour[u] + 1]++;
-    for (int k = 0; k < colours; k++) start[k + 1] += start[k];
-    memcpy(fill, start, (size_t)colours * sizeof(int));
-    for (int u = 0; u < sc->units; u++) order[fill[colour[u]]++] = u;
-    sc->colours = colours;
-}
-
-/* The unit of a pair: its two strands' clusters, as one number. */
-static int unit_key(const hk_ContactSolve *cs, const hk_HcPair *p)
-{
-    return (p->i / HK_PGS_CLUSTER) * cluster_count(cs) + p->j / HK_PGS_CLUSTER;
-}
-
-/* The schedule of all pairs: the pairs regrouped by their clusters (i / C, j / C), each
- * group in pair order (a counting sort, stable, on the clusters). */
-static void schedule_all(hk_ContactSolve *cs, const hk_HairContacts *c, int max_degree)
-{
-    Schedule *sc = &cs->all;
-    int *pairs = sc->pairs.items, *begin = sc->begin.items, *count = cs->keys.items;
-    const int n = c->pair_count, keys = cluster_count(cs) * cluster_count(cs);
-    memset(count, 0, ((size_t)keys + 1) * sizeof(int));
-    for (int k = 0; k < n; k++) count[unit_key(cs, &c->pairs[k]) + 1]++;
-    sc->units = 0;
-    for (int key = 0; key < keys; key++) {
-        if (count[key + 1] > 0) begin[sc->units++] = count[key];
-        count[key + 1] += count[key];
-    }
-    begin[sc->units] = n;
-    for (int k = 0; k < n; k++) pairs[count[unit_key(cs, &c->pairs[k])]++] = k;
-    colour_units(cs, c, sc, max_degree);
-}
-
-/* The schedule of the pairs whose law pushed on the last full sweep: all's units kept
- * with those of their pairs, coloured afresh. */
-static void schedule_active(hk_ContactSolve *cs, const hk_HairContacts *c, int max_degree)
-{
-    const Schedule *all = &cs->all;
-    Schedule *sc = &cs->active;
-    const int *from = all->pairs.items, *from_begin = all->begin.items, *law = cs->law.items;
-    int *pairs = sc->pairs.items, *begin = sc->begin.items, count = 0;
-    sc->units = 0;
-    for (int u = 0; u < all->units; u++) {
-        const int first = count;
-        for (int x = from_begin[u]; x < from_begin[u + 1]; x++)
-            if (law[from[x]] > 0) pairs[count++] = from[x];
-        if (count > first) begin[sc->units++] = first;
-    }
-    begin[sc->units] = count;
-    colour_units(cs, c, sc, max_degree);
-}
-
 hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts, hk_StrandDynamics **dyn,
                            int strand_count, const hk_RigidState *head_end, double dt,
                            hk_ContactSolveStats *stats, hk_Error *err)
@@ -841,104 +699,25 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
         if (hk_v3_norm2(pairs[k].lambda) > 0.0) apply_change(cs, &pairs[k], strand, pairs[k].lambda);
     }
     /* Pairs that do not push (most of those between d0 and 2 d0) are visited on every
-     * HK_PGS_FULL_EVERY-th sweep and the last one only; the others on every sweep. A
-     * sweep visits colour after colour (Schedule); the units of one colour touch
-     * distinct strands and are visited in parallel, each by one thread in pair order, so
-     * that the result is the same whatever the number of threads. */
-    int max_degree = 1; /* the most pairs at a cluster */
-    const int clusters = cluster_count(cs);
-    for (int k = 0; k < clusters; k++) {
-        const int last = (k + 1) * HK_PGS_CLUSTER < strand_count ? (k + 1) * HK_PGS_CLUSTER : strand_count;
-        const int degree = cs->slot_start[last] - cs->slot_start[k * HK_PGS_CLUSTER];
-        if (degree > max_degree) max_degree = degree;
-    }
-    const size_t words = (size_t)(2 * max_degree) / 64 + 1;
-    if (!reserve_schedule(&cs->all, n, 2 * max_degree, err) || !reserve_schedule(&cs->active, n, 2 * max_degree, err) ||
-        !reserve(&cs->law, (size_t)n, sizeof(int), err) || !reserve(&cs->colour_of, (size_t)n, sizeof(int), err) ||
-        !reserve(&cs->fill, (size_t)(2 * max_degree + 1), sizeof(int), err) ||
-        !reserve(&cs->used, (size_t)clusters * words, sizeof(uint64_t), err) ||
-        !reserve(&cs->keys, (size_t)clusters * (size_t)clusters + 1, sizeof(int), err)) {
-        memset(cs->slot_start, 0, (size_t)(strand_count + 1) * sizeof(int));
-        cs->old_count = 0;
-        return HK_ERR_NOMEM;
-    }
-    int *law_of = cs->law.items;
-    schedule_all(cs, contacts, max_degree);
-    cs->active.units = cs->active.colours = 0;
-    int stop = 0;
-    double thread_change[HK_PGS_MAX_THREADS], thread_largest[HK_PGS_MAX_THREADS];
-    /* The sweeps' result does not depend on how many threads visit a colour, so they
-     * take the team that has been faster. A colour ends with a barrier, about 400 a step
-     * on examples/guides200, which threads spinning while their partner waits for a core
-     * make costly on a machine busier than its cores. Each sweep is timed per visit (pace,
-     * kept per way, seconds per visit averaged over the solves); a solve starts on the
-     * faster way, the first and every 16th on the threads, and on the threads turns to one
-     * thread as soon as a sweep was slower than one thread has been. */
-    int parallel = threads > 1 && (cs->solves % 16 == 0 || cs->pace[1] <= cs->pace[0]);
-    int sweep = 0;
-    while (sweep < HK_PGS_SWEEPS && !stop) {
-        const int team = !parallel ? 1 : threads < HK_PGS_MAX_THREADS ? threads : HK_PGS_MAX_THREADS;
-        int bail = 0;
-        TeamSync sync;
-        atomic_init(&sync.arrived, 0), atomic_init(&sync.phase, 0), atomic_init(&sync.ticket, 0);
-        #pragma omp parallel num_threads(team) if (team > 1)
-        {
-            const int me = omp_get_thread_num();
-            int phase = 0, ticket_base = 0;
-            for (; sweep < HK_PGS_SWEEPS && !stop && !bail;) {
-                const double begun = omp_get_wtime();
-                const int full = sweep % HK_PGS_FULL_EVERY == 0 || sweep == HK_PGS_SWEEPS - 1;
-                const Schedule *sc = full ? &cs->all : &cs->active;
-                const int *list = sc->pairs.items, *begin = sc->begin.items, *order = sc->order.items;
-                const int *start = sc->start.items;
-                double change = 0.0, largest = 0.0;
-                for (int colour = 0; colour < sc->colours; colour++) {
-                    const int units = start[colour + 1] - start[colour];
-                    for (;;) { /* the colour's units, each to the thread that takes its ticket */
-                        const int x = atomic_fetch_add(&sync.ticket, 1) - ticket_base;
-                        if (x >= units) break;
-                        const int u = order[start[colour] + x];
-                        for (int y = begin[u]; y < begin[u + 1]; y++) {
-                            const int k = list[y];
-                            double l;
-                            const int law = visit(cs, contacts, k, mu, viscous, &change, &l);
-                            if (l > largest) largest = l;
-                            if (full) law_of[k] = law;
-                        }
-                    }
-                    ticket_base += units + team; /* (every thread took one ticket too many) */
-                    team_wait(&sync, team, &phase);
-                }
-                thread_change[me] = change, thread_largest[me] = largest;
-                #pragma omp barrier
-                #pragma omp single
-                {
-                    for (int t = 0; t < omp_get_num_threads(); t++) {
-                        if (thread_change[t] > change) change = thread_change[t];
-                        if (thread_largest[t] > largest) largest = thread_largest[t];
-                    }
-                    local.sweeps = sweep + 1;
-                    local.residual = largest > 0.0 ? change / largest : 0.0;
-                    const int visits = full ? n : begin[sc->units];
-                    if (visits > 0) {
-                        const double pace = (omp_get_wtime() - begun) / (double)visits;
-                        double *kept = &cs->pace[parallel];
-                        *kept = *kept > 0.0 ? 0.9 * *kept + 0.1 * pace : pace;
-                        if (parallel && cs->pace[0] > 0.0 && pace > cs->pace[0]) bail = 1;
-                    }
-                    if (full) {
-                        local.pushing = local.sticking = 0;
-                        for (int k = 0; k < n; k++) local.pushing += law_of[k] > 0, local.sticking += law_of[k] == 2;
-                        schedule_active(cs, contacts, max_degree);
-                        if (change <= HK_PGS_TOLERANCE * largest) stop = 1;
-                    }
-                    sweep++;
-                }
-            }
+     * HK_PGS_FULL_EVERY-th sweep and the last one only; the others on every sweep. */
+    int *active = cs->active.items, active_count = 0;
+    for (int sweep = 0; sweep < HK_PGS_SWEEPS; sweep++) {
+        const int full = sweep % HK_PGS_FULL_EVERY == 0 || sweep == HK_PGS_SWEEPS - 1;
+        const int count = full ? n : active_count;
+        double change = 0.0, largest = 0.0;
+        if (full) local.pushing = local.sticking = 0, active_count = 0;
+        for (int x = 0; x < count; x++) {
+            const int k = full ? x : active[x];
+            double l;
+            const int law = visit(cs, contacts, k, mu, viscous, &change, &l);
+            if (l > largest) largest = l;
+            if (full && law > 0) active[active_count++] = k;
+            if (full) local.pushing += law > 0, local.sticking += law == 2;
         }
-        parallel = 0;
+        local.sweeps = sweep + 1;
+        local.residual = largest > 0.0 ? change / largest : 0.0;
+        if (full && change <= HK_PGS_TOLERANCE * largest) break;
     }
-    cs->solves++;
     /* The bound of the last sweep's Tresca problems lags the normal impulses by a
      * sweep: what exceeds Coulomb's cone is taken back (and from dv, which the commit
      * uses). */
