@@ -27,7 +27,12 @@
  * Jacobians, the solves, the blocks) run in parallel. Sweeping groups of pairs that
  * share no strand in parallel (nested dissection of the guides) was tried: 30 % less
  * time in the sweeps, but another order settles the pile differently, and the still
- * head's test then saw up to 10 guides creep past 0.5 mm (docs/dynamics.md). */
+ * head's test then saw up to 10 guides creep past 0.5 mm (docs/dynamics.md). So were
+ * coloured sweeps (3 December 2026: units of the pairs between two guides or two
+ * clusters of guides, coloured so that a colour's units share no guide and run in
+ * parallel; the same bits for any number of threads, the still head's test passing):
+ * no faster on 2 threads, as the colour order loses the caches' reuse of a guide's
+ * consecutive pairs (docs/dynamics.md, "Contacts solved together"). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -522,8 +527,15 @@ static void pair_block(hk_ContactSolve *cs, PairState *ps, const int strand[2])
         const size_t dim = dim_of(cs, strand[side]), m = support_of(cs, x);
         const double *rows = read_rows(cs, strand[side], x);
         const double *yt = (const double *)cs->yt.items + block_of(cs, strand[side], x);
+        /* Z^T Z is symmetric to the bit (a product's factors commute, the sums run in
+         * one order): its lower triangle is copied. */
+        const int symmetric = rows == yt;
+        double e[3][3];
         for (int r = 0; r < 3; r++)
-            for (int q = 0; q < 3; q++) ps->w[r][q] += dot_n(rows + (size_t)r * dim, yt + (size_t)q * dim, m);
+            for (int q = 0; q < 3; q++)
+                e[r][q] = symmetric && q < r ? e[q][r] : dot_n(rows + (size_t)r * dim, yt + (size_t)q * dim, m);
+        for (int r = 0; r < 3; r++)
+            for (int q = 0; q < 3; q++) ps->w[r][q] += e[r][q];
     }
     ps->ready = 1;
 }
