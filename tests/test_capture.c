@@ -24,7 +24,7 @@
  * makes it (hk_root_frame of its root tangent). */
 static hk_SuperHelix *known_strand(int n, double length, hk_Vec3 root, hk_Vec3 dir)
 {
-    double lengths[64];
+    double lengths[64] = {0};
     for (int e = 0; e < n; e++) lengths[e] = length / n;
     hk_SuperHelix *sh = NULL;
     hk_Error err;
@@ -168,7 +168,7 @@ static void test_inverse_matches_forward_statics(void **state)
 
     /* 1. The rest shape itself inverted: the natural shape comes back. */
     hk_SuperHelix *copy = NULL;
-    double lengths[10];
+    double lengths[10] = {0};
     for (int e = 0; e < n; e++) lengths[e] = truth->length[e];
     assert_int_equal(hk_superhelix_create(n, lengths, &copy, &err), HK_OK);
     copy->material = truth->material;
@@ -232,7 +232,7 @@ static void check_column(double height_ratio, int expect_stable)
     const hk_RodMaterial mat = hair_material();
     const double w = mat.mass_per_length * 9.81, critical = cbrt(7.8373 * mat.stiffness[1] / w);
     const int n = 20;
-    double lengths[20];
+    double lengths[20] = {0};
     for (int e = 0; e < n; e++) lengths[e] = height_ratio * critical / n;
     hk_SuperHelix *sh = NULL;
     hk_Error err;

@@ -241,7 +241,7 @@ static void test_field_as_shape(void **state)
 
     /* A strand of 20 cm from the top of the sphere, pressed down on it by gravity. */
     hk_StrandDef sd = hk_default_strand_def();
-    double lengths[10];
+    double lengths[10] = {0};
     for (int e = 0; e < 10; e++) lengths[e] = 0.02;
     sd.element_count = 10;
     sd.element_lengths = lengths;
