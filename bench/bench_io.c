@@ -105,7 +105,7 @@ static int make_groom(hk_HairFile *h, uint32_t strands, uint32_t points, hk_Erro
     free(counts);
     if (st != HK_OK) return 0;
     for (uint32_t s = 0; s < strands; s++) {
-        const double a = 6.283185307179586 * (double)s / strands, x = 0.1 * cos(a), z = 0.1 * sin(a);
+        const double a = 2.0 * HK_PI * (double)s / strands, x = 0.1 * cos(a), z = 0.1 * sin(a);
         for (uint32_t p = 0; p < points; p++) {
             float *q = h->points + 3 * ((size_t)s * points + p);
             q[0] = (float)(x + 0.003 * sin(0.7 * p + a)), q[1] = (float)(1.7 - 0.01 * p), q[2] = (float)z;

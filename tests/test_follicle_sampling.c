@@ -12,7 +12,7 @@
 #include "hairkit/follicle_sampling.h"
 #include "follicles/follicle_internal.h"
 
-#define PI 3.14159265358979323846
+#define PI HK_PI
 #define HEX_AREA 0.8660254037844386 /* area per point of a hexagonal packing of spacing 1 */
 
 /* Fibonacci points on a sphere: near-uniform and deterministic. */

@@ -7,7 +7,7 @@
 
 #include "hairkit/rod.h"
 
-static const double pi = 3.14159265358979323846;
+static const double pi = HK_PI;
 
 static hk_SuperHelix *make_strand(int n, double length)
 {

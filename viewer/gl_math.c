@@ -3,7 +3,7 @@
 
 #include "viewer/gl_math.h"
 
-static const double DEG = 3.14159265358979323846 / 180.0;
+static const double DEG = HK_PI / 180.0;
 
 hk_Vec3 hk_view_direction(double azimuth_deg, double elevation_deg)
 {

@@ -3,7 +3,7 @@
 
 #include "viewer/orbit.h"
 
-static const double DEG = 3.14159265358979323846 / 180.0;
+static const double DEG = HK_PI / 180.0;
 
 hk_OrbitFrame hk_orbit_frame(const hk_Orbit *o, int width, int height)
 {
