@@ -442,20 +442,22 @@ hk_Status hk_superhelix_fit(const hk_Vec3 *points, int count, const hk_RodMateri
     }
     const double length = f.poly_s[f.m];
     const int target = first_count(&d, length, f.m);
-    double lengths[FIT_MAX_ELEMENTS];
-    for (int e = 0; e < target; e++) lengths[e] = length / target;
-    st = hk_superhelix_create(target, lengths, &f.sh, err);
+    /* one element carrying the pose and the material, then split() to N */
+    st = hk_superhelix_create(1, &length, &f.sh, err);
+    if (st == HK_OK) {
+        if (material) f.sh->material = *material;
+        f.sh->root = f.poly[0];
+        f.sh->root_frame = hk_root_frame(tangent);
+        st = split(&f, target, err);
+    }
     if (st != HK_OK) {
+        hk_superhelix_destroy(f.sh);
         free_work(&f);
         return st;
     }
-    if (material) f.sh->material = *material;
-    f.sh->root = f.poly[0];
-    f.sh->root_frame = hk_root_frame(tangent);
     /* Two starts, the better kept (each alone leaves about 1 % of real or curly strands
      * in a local minimum several times worse than the polyline allows):
      * A: element after element at N (initial_guess), then the whole fit; */
-    place_points(&f);
     initial_guess(&f);
     int iterations = least_squares(&f, d.max_iterations);
     double mean = 0.0, max = 0.0;
