@@ -1,5 +1,6 @@
 # hairkit top-level commands. Everything real lives in CMake; this file only gives
 # the short commands the README promises: make demo, make test, make bench, make asan,
+# make fuzz, make format, make format-check,
 # make install PREFIX=DIR (DESTDIR=... is honoured, as cmake --install does).
 
 BUILD      ?= build
@@ -20,7 +21,7 @@ FUZZ_SECONDS ?= 60
 FUZZERS      := obj hair hairstyle collision visuality setup motion helicoid simulation import \
                 tfx usc ply objlines usda plymesh
 
-.PHONY: all deps build demo test bench asan install fuzz clean
+.PHONY: all deps build demo test bench asan install fuzz format format-check clean
 
 all: build
 
@@ -71,6 +72,16 @@ fuzz:
 			> $(FUZZ_BUILD)/fuzz_$$f.log 2>&1 || { tail -n 60 $(FUZZ_BUILD)/fuzz_$$f.log; exit 1; }; \
 		grep -h '^#[0-9]*.*DONE' $(FUZZ_BUILD)/fuzz_$$f.log | tail -n 1; \
 	done
+
+# make format: formats every C file with .clang-format (scripts/format.sh);
+# make format-check: fails on any file that make format would change (run by .ci/run).
+format:
+	@bash scripts/install-deps.sh --format
+	@bash scripts/format.sh
+
+format-check:
+	@bash scripts/install-deps.sh --format
+	@bash scripts/format.sh --check
 
 clean:
 	rm -rf $(BUILD) $(ASAN_BUILD) $(FUZZ_BUILD) $(BUILD).configure.log $(ASAN_BUILD).configure.log \

@@ -14,7 +14,7 @@
 #include "hairkit/curvefit.h"
 
 #define SAMPLES 30
-#define LENGTH 0.1
+#define LENGTH  0.1
 
 /* Counter-based uniform numbers, so that the strands do not depend on the thread count. */
 static double uniform(uint64_t key, double lo, double hi)
@@ -53,7 +53,8 @@ static void make_strand(int kind, int s, hk_Vec3 *pts)
     if (kind == 2)
         for (int i = 1; i < SAMPLES; i++)
             pts[i] = hk_v3_add(pts[i], hk_v3_scale(hk_v3(gaussian(key + 8 + 3 * i), gaussian(key + 9 + 3 * i),
-                                                       gaussian(key + 10 + 3 * i)), 1e-4));
+                                                         gaussian(key + 10 + 3 * i)),
+                                                   1e-4));
 }
 
 typedef struct Stats {
@@ -99,13 +100,14 @@ static Stats run_set(const hk_Vec3 (*strands)[SAMPLES], int count, int threads, 
 int hk_bench_curvefit(FILE *out, const hk_BenchOptions *options)
 {
     const int count = options->quick ? 8 : 400;
-    hk_Vec3 (*strands)[SAMPLES] = hk_alloc_array((size_t)count, sizeof *strands, NULL);
+    hk_Vec3(*strands)[SAMPLES] = hk_alloc_array((size_t)count, sizeof *strands, NULL);
     if (!strands) return 1;
     static const char *const names[3] = {"clean single helices", "clean two-piece strands", "0.1 mm noise, single"};
     fprintf(out,
             "curvefit: piecewise fits of %d-sample strands, L = %.2f m (helix model, 2 parameters),\n"
             "default options (tolerance %.1f mm, root frame refined when needed); %d strands per set\n"
-            "  set                   method  threads   fits/s   evals/fit  us/eval  pieces  mean err (mm)  worst (mm)  over tol\n",
+            "  set                   method  threads   fits/s   evals/fit  us/eval  pieces  mean err (mm)  worst (mm)  "
+            "over tol\n",
             SAMPLES, LENGTH, 1e3 * hk_default_curve_fit_def().tolerance, count);
     int rc = 0;
     for (int kind = 0; kind < 3; kind++) {
@@ -126,9 +128,8 @@ int hk_bench_curvefit(FILE *out, const hk_BenchOptions *options)
             } while (total < options->min_seconds && !options->quick);
             const double per_fit = total / reps / count;
             fprintf(out, "  %-22s %6s %7d %8.0f %11.0f %8.2f %7.2f %14.3f %11.3f %9d\n", names[kind],
-                    method == HK_CURVEFIT_NELDER_MEAD ? "NM" : "LM", threads,
-                    1.0 / per_fit, st.evaluations, 1e6 * per_fit * threads / st.evaluations, st.pieces, 1e3 * st.error,
-                    1e3 * st.worst, st.failures);
+                    method == HK_CURVEFIT_NELDER_MEAD ? "NM" : "LM", threads, 1.0 / per_fit, st.evaluations,
+                    1e6 * per_fit * threads / st.evaluations, st.pieces, 1e3 * st.error, 1e3 * st.worst, st.failures);
         }
     }
     fprintf(out, "NM: the paper's Nelder-Mead on the Frechet coupling; LM: Levenberg-Marquardt on point distances\n"

@@ -110,21 +110,20 @@ done:
 
 int hk_bench_dynamics(FILE *out, const hk_BenchOptions *options)
 {
-    fprintf(out,
-            "dynamics, one strand: 20 cm wavy hair released sideways, frames of dt = 1/30 s per second\n"
-            "  (the paper: up to 10 strands in real time, about 300 steps/s, on a 3 GHz Pentium 4)\n"
-            "         TR-BDF2 (default)             linear Euler (issue 6)\n"
-            "      N   O(N), Gauss-Newton   dense, full   dense, full   O(N), Gauss-Newton\n");
+    fprintf(out, "dynamics, one strand: 20 cm wavy hair released sideways, frames of dt = 1/30 s per second\n"
+                 "  (the paper: up to 10 strands in real time, about 300 steps/s, on a 3 GHz Pentium 4)\n"
+                 "         TR-BDF2 (default)             linear Euler (issue 6)\n"
+                 "      N   O(N), Gauss-Newton   dense, full   dense, full   O(N), Gauss-Newton\n");
     const int ns[4] = {5, 10, 20, 40};
     for (int k = 0; k < 4; k++) {
         const double q = options->min_seconds;
         const int quick = options->quick;
         const double tr_linear = strand_steps_per_second(ns[k], HK_INTEGRATOR_TRBDF2, HK_DYNAMICS_LINEAR,
                                                          HK_STIFFNESS_GAUSS_NEWTON, q, quick);
-        const double tr_dense = strand_steps_per_second(ns[k], HK_INTEGRATOR_TRBDF2, HK_DYNAMICS_DENSE,
-                                                        HK_STIFFNESS_FULL, q, quick);
-        const double eu_dense = strand_steps_per_second(ns[k], HK_INTEGRATOR_LINEAR_EULER, HK_DYNAMICS_DENSE,
-                                                        HK_STIFFNESS_FULL, q, quick);
+        const double tr_dense =
+            strand_steps_per_second(ns[k], HK_INTEGRATOR_TRBDF2, HK_DYNAMICS_DENSE, HK_STIFFNESS_FULL, q, quick);
+        const double eu_dense =
+            strand_steps_per_second(ns[k], HK_INTEGRATOR_LINEAR_EULER, HK_DYNAMICS_DENSE, HK_STIFFNESS_FULL, q, quick);
         const double eu_linear = strand_steps_per_second(ns[k], HK_INTEGRATOR_LINEAR_EULER, HK_DYNAMICS_LINEAR,
                                                          HK_STIFFNESS_GAUSS_NEWTON, q, quick);
         fprintf(out, "  %5d %20.0f %13.0f %13.0f %20.0f\n", ns[k], tr_linear, tr_dense, eu_dense, eu_linear);
@@ -140,7 +139,8 @@ int hk_bench_dynamics(FILE *out, const hk_BenchOptions *options)
             "\ndynamics, full head: examples/guides200, %d guides of N = %d, head shaking 25 degrees at 1 Hz,\n"
             "body and guide-guide contacts, dt = 1/30 s, %d frames after 0.5 s of settling\n"
             "  (the paper: 0.3 to 3 s per frame for 100 to 200 guides)\n"
-            "  integrator     threads   ms/frame   frames/s   steps/guide/frame   evaluations/guide/frame   guide contacts   body samples\n",
+            "  integrator     threads   ms/frame   frames/s   steps/guide/frame   evaluations/guide/frame   guide "
+            "contacts   body samples\n",
             wick.vertex_count, style.strand.element_count, frames);
     double fps[3] = {0, 0, 0};
     for (int run = 0; run < 3 && !rc; run++) {

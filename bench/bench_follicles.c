@@ -70,7 +70,8 @@ int hk_bench_follicles(FILE *out, const hk_BenchOptions *options)
         hk_mesh_free(&head);
         return 1;
     }
-    fprintf(out, "follicles: the default wick (%.0f cm^2), fit + contour + particle sampling\n", 1e4 * hk_mesh_area(&wick));
+    fprintf(out, "follicles: the default wick (%.0f cm^2), fit + contour + particle sampling\n",
+            1e4 * hk_mesh_area(&wick));
     fprintf(out, "  spacing (mm)  follicles  iterations   1 thread (s)  2 threads (s)\n");
     const double spacings[2] = {0.01, 0.005};
     for (int k = 0; k < (options->quick ? 1 : 2) && !rc; k++) {

@@ -63,8 +63,8 @@ int hk_bench_groom(FILE *out, const hk_BenchOptions *options)
         }
         if (rc) break;
         total[threads] = best;
-        fprintf(out, "  %7d %12.3f %9.0f %13.3f %10.0f %11.3f %8d %12.3f\n", threads, best_g, wick.vertex_count / best_g,
-                best_s, strands / best_s, best, strands, best_save);
+        fprintf(out, "  %7d %12.3f %9.0f %13.3f %10.0f %11.3f %8d %12.3f\n", threads, best_g,
+                wick.vertex_count / best_g, best_s, strands / best_s, best, strands, best_save);
     }
     if (!rc)
         fprintf(out, "  speed-up with 2 threads: %.2fx; target: the default head groomed in under 1 s on 2 cores\n\n",

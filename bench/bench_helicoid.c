@@ -34,7 +34,10 @@ static void make_guides(hk_PHelicoid *g)
     }
 }
 
-static hk_Vec3 patch_root(long i) { return hk_v3(uniform(5, (uint64_t)i, -0.025, 0.025), 0.0, uniform(6, (uint64_t)i, -0.025, 0.025)); }
+static hk_Vec3 patch_root(long i)
+{
+    return hk_v3(uniform(5, (uint64_t)i, -0.025, 0.025), 0.0, uniform(6, (uint64_t)i, -0.025, 0.025));
+}
 
 /* Seconds to interpolate n strands (and trace them at 41 points when `trace`). */
 static double interpolate_run(const hk_PHelicoid *guides, long n, int threads, int trace)
@@ -47,8 +50,10 @@ static double interpolate_run(const hk_PHelicoid *guides, long n, int threads, i
 #pragma omp for schedule(static)
         for (long i = 0; i < n; i++) {
             hk_PHelicoid h;
-            if (hk_phelicoid_interpolate(guides, 9, patch_root(i), NULL, 3.0, &h, NULL) != HK_OK) failures++;
-            else if (trace && hk_phelicoid_trace(&h, hk_phelicoid_length(&h) / 40.0, NULL, NULL, pts, NULL, NULL) != HK_OK)
+            if (hk_phelicoid_interpolate(guides, 9, patch_root(i), NULL, 3.0, &h, NULL) != HK_OK)
+                failures++;
+            else if (trace &&
+                     hk_phelicoid_trace(&h, hk_phelicoid_length(&h) / 40.0, NULL, NULL, pts, NULL, NULL) != HK_OK)
                 failures++;
         }
     }
@@ -152,8 +157,10 @@ int hk_bench_helicoid(FILE *out, const hk_BenchOptions *options)
             return 1;
         }
         fprintf(out, "  %7d %16.3f %33.3f %9.0f\n", threads, a, b, hairs / b);
-        if (threads == 1) t1 = b;
-        else t2 = b;
+        if (threads == 1)
+            t1 = b;
+        else
+            t2 = b;
     }
     fprintf(out, "  speed-up with 2 threads: %.2fx; target: 90,000 hairs in under 1 s on 2 cores\n", t1 / t2);
 

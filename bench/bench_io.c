@@ -27,9 +27,9 @@ static double best_of(int reps, Step step, void *user)
 }
 
 typedef struct Io {
-    const char *in, *out;  /* paths */
-    hk_HairFile hair;      /* the groom written, or read back */
-    unsigned char *bytes;  /* the plain copy's buffer */
+    const char *in, *out; /* paths */
+    hk_HairFile hair;     /* the groom written, or read back */
+    unsigned char *bytes; /* the plain copy's buffer */
     size_t size;
     hk_Error err;
 } Io;
@@ -154,8 +154,10 @@ int hk_bench_io(FILE *out, const hk_BenchOptions *options)
         io.in = plain, io.out = path;
         io.size = 128 + 2 * (size_t)strands + 12 * (size_t)strands * points;
         io.bytes = malloc(io.size);
-        if (!io.bytes) rc = 1;
-        else memset(io.bytes, 0x3c, io.size);
+        if (!io.bytes)
+            rc = 1;
+        else
+            memset(io.bytes, 0x3c, io.size);
     }
     if (!rc) {
         const double ws = best_of(reps, save_hair, &io), wp = best_of(reps, plain_write, &io);
@@ -171,8 +173,10 @@ int hk_bench_io(FILE *out, const hk_BenchOptions *options)
                     ws / wp);
             fprintf(out, "    read  (hk_hair_load / malloc + fread) %8.1f ms %12.1f ms %10.2f\n", 1e3 * rs, 1e3 * rp,
                     rs / rp);
-            fprintf(out, "    (fread into memory already mapped: %.1f ms; most of a read is the kernel mapping fresh pages)\n",
-                    1e3 * rw);
+            fprintf(
+                out,
+                "    (fread into memory already mapped: %.1f ms; most of a read is the kernel mapping fresh pages)\n",
+                1e3 * rw);
         }
     }
     hk_hair_free(&io.hair);

@@ -21,7 +21,7 @@
 #include "hairkit/motion.h"
 #include "hairkit/simulate.h"
 
-#define ELEMENTS 20
+#define ELEMENTS       20
 #define ELEMENT_LENGTH 0.05
 
 static const char *const motions[] = {"still", "shake", "nod", "tilt", "sway", "jump", "file"};
@@ -31,11 +31,11 @@ static const double fps[2] = {24.0, 30.0};
 
 typedef struct Row {
     int ran;
-    double failed_at;   /* start of the frame that failed */
-    int recovered;      /* guide steps recovered */
-    double tip_move;    /* m, the farthest a tip moved in a frame */
+    double failed_at;          /* start of the frame that failed */
+    int recovered;             /* guide steps recovered */
+    double tip_move;           /* m, the farthest a tip moved in a frame */
     double steps, evaluations; /* per guide and frame */
-    double cpu;         /* s per frame */
+    double cpu;                /* s per frame */
     char error[160];
 } Row;
 

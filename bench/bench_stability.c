@@ -36,9 +36,9 @@ typedef struct Strand {
 
 /* wavy at every length, the four types at 25 cm and 1 m */
 static const Strand strands[] = {
-    {"wavy", 0.05, 5},      {"straight", 0.25, 10}, {"wavy", 0.25, 10},  {"curly", 0.25, 10},
-    {"fuzzy", 0.25, 10},    {"wavy", 0.5, 20},      {"straight", 1.0, 40}, {"wavy", 1.0, 40},
-    {"curly", 1.0, 40},     {"fuzzy", 1.0, 40},     {"wavy", 1.5, 80},
+    {"wavy", 0.05, 5},   {"straight", 0.25, 10}, {"wavy", 0.25, 10},    {"curly", 0.25, 10},
+    {"fuzzy", 0.25, 10}, {"wavy", 0.5, 20},      {"straight", 1.0, 40}, {"wavy", 1.0, 40},
+    {"curly", 1.0, 40},  {"fuzzy", 1.0, 40},     {"wavy", 1.5, 80},
 };
 enum { STRAND_COUNT = sizeof strands / sizeof strands[0] };
 
@@ -64,7 +64,7 @@ static const int quick_motions[] = {0, 1, 2, 7};
 
 typedef struct StrandRef {
     hk_Hairstyle def; /* the type's file with its HairLengths replaced */
-    double rest;         /* the statics minimum of the potential (no body) */
+    double rest;      /* the statics minimum of the potential (no body) */
     int ok;
 } StrandRef;
 
@@ -90,10 +90,7 @@ static double thread_cpu(void)
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
-static void head_state(void *user, double t, hk_RigidState *out)
-{
-    hk_head_motion_eval(user, t, out);
-}
+static void head_state(void *user, double t, hk_RigidState *out) { hk_head_motion_eval(user, t, out); }
 
 /* The hairstyle of a strand and its potential at the statics minimum. */
 static int strand_ref(const hk_BenchOptions *options, const Strand *st, StrandRef *ref)
@@ -116,7 +113,8 @@ static int strand_ref(const hk_BenchOptions *options, const Strand *st, StrandRe
     const hk_StaticsDef opt = hk_default_statics_def();
     hk_MinimizeResult res;
     if (hk_superhelix_from_def(&ref->def.strand, hk_v3(0, 0, 0), hk_v3(1, 0, 0), &sh, &err) != HK_OK ||
-        hk_statics_solve(sh, &env, &opt, &res, &err) != HK_OK || hk_strand_workspace_create(sh, &env, &ws, &err) != HK_OK)
+        hk_statics_solve(sh, &env, &opt, &res, &err) != HK_OK ||
+        hk_strand_workspace_create(sh, &env, &ws, &err) != HK_OK)
         goto fail;
     ref->rest = hk_strand_energy(sh, &env, sh->q, ws, NULL, NULL, NULL);
     ref->ok = 1;
@@ -272,10 +270,13 @@ static void print_row(FILE *out, const Layout *l, const Cell *cells, int row)
     const Strand *st = layout_strand(l, k);
     const int motion = layout_motion(l, m);
     char len[16], n[8] = "";
-    snprintf(len, sizeof len, st->length < 1.0 ? "%.0f cm" : "%.1f m", st->length < 1.0 ? 100 * st->length : st->length);
+    snprintf(len, sizeof len, st->length < 1.0 ? "%.0f cm" : "%.1f m",
+             st->length < 1.0 ? 100 * st->length : st->length);
     if (m == 0) snprintf(n, sizeof n, "%d", st->n);
     fprintf(out, "  %-9s %-7s %3s   %-17s", m == 0 ? st->type : "", m == 0 ? len : "", n,
-            motion == UNDAMPED_ROW ? "still, undamped" : !strcmp(motions[motion], "file") ? "nod-and-shake.txt" : motions[motion]);
+            motion == UNDAMPED_ROW             ? "still, undamped"
+            : !strcmp(motions[motion], "file") ? "nod-and-shake.txt"
+                                               : motions[motion]);
     for (int g = 0; g < 2; g++) {
         Cell shown = cells[2 * row + g];
         shown.motion = motion;
@@ -300,8 +301,8 @@ static void print_progress(const Layout *l, const Cell *c, int done, double elap
     else
         snprintf(result, sizeof result, "failed at t = %.2f s", c->failed_at);
     fprintf(stderr, "bench stability: %3d/%d done, %4.0f s: %s %.2f m %s dt %s %s: %s (%.1f s CPU)\n", done, l->count,
-            elapsed, st->type, st->length, motion == UNDAMPED_ROW ? "still undamped" : motions[motion],
-            dt_names[c->dt], c->integrator ? "Euler" : "TR-BDF2", result, c->cpu);
+            elapsed, st->type, st->length, motion == UNDAMPED_ROW ? "still undamped" : motions[motion], dt_names[c->dt],
+            c->integrator ? "Euler" : "TR-BDF2", result, c->cpu);
 }
 
 /* The hairstyles of the layout's strands; 0 on success. */

@@ -10,15 +10,15 @@
 #include "hairkit/statics.h"
 
 typedef struct Run {
-    double seconds;  /* per solve */
+    double seconds; /* per solve */
     double energy;
     hk_MinimizeResult result;
     int ok;
 } Run;
 
 /* Solves repeatedly from the natural shape until min_seconds have passed. */
-static Run measure(hk_SuperHelix *sh, const hk_StrandEnvDef *env, const hk_StaticsDef *opt,
-                   double min_seconds, int max_reps)
+static Run measure(hk_SuperHelix *sh, const hk_StrandEnvDef *env, const hk_StaticsDef *opt, double min_seconds,
+                   int max_reps)
 {
     Run run = {0, 0, {0, 0, 0, 0}, 0};
     const int dim = 3 * sh->n;

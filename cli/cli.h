@@ -16,8 +16,8 @@
 #include "hairkit/vecmath.h"
 
 /* Exit codes: 0 success, 1 failure (bad input file, I/O, numerics), 2 usage error. */
-#define HK_EXIT_OK 0
-#define HK_EXIT_FAIL 1
+#define HK_EXIT_OK    0
+#define HK_EXIT_FAIL  1
 #define HK_EXIT_USAGE 2
 
 /* Subcommands: argv[0] is the subcommand name. */
@@ -49,10 +49,7 @@ int hk_cli_seed_option(const char *cmd, const char *value, uint64_t *out);
 int hk_cli_fail(const char *cmd, const hk_Error *err);
 /* Prints "hairkit <cmd>: <formatted>" and "Try 'hairkit <cmd> --help'." and returns
  * HK_EXIT_USAGE. */
-#if defined(__GNUC__)
-__attribute__((format(printf, 2, 3)))
-#endif
-int hk_cli_usage_error(const char *cmd, const char *fmt, ...);
+int hk_cli_usage_error(const char *cmd, const char *fmt, ...) HK_PRINTF_LIKE(2, 3);
 
 /* Whether progress and summaries may go to stderr (a terminal and not --quiet). */
 int hk_cli_stderr_is_tty(void);
@@ -60,7 +57,7 @@ int hk_cli_stderr_is_tty(void);
 /* Progress bar on stderr for long work (hk_ProgressFn-compatible): redraws one line
  * "stage [#####.....]  45%"; `user` is an hk_CliProgress. */
 typedef struct hk_CliProgress {
-    int enabled;          /* stderr is a terminal and --quiet was not given */
+    int enabled; /* stderr is a terminal and --quiet was not given */
     char stage[32];
     int last_percent;
 } hk_CliProgress;
@@ -80,16 +77,26 @@ void hk_cli_report_scene_hair(const char *cmd, const hk_Setup *setup, const hk_H
 /* ---- render options (render_options.c) ---- */
 /* getopt_long codes of the render options; add HK_CLI_RENDER_LONG_OPTIONS to the
  * option table and pass these codes to hk_cli_render_option. */
-enum { HK_OPT_WIDTH = 1000, HK_OPT_HEIGHT, HK_OPT_NO_SHADOWS, HK_OPT_SHADING, HK_OPT_SCATTERING, HK_OPT_VIEW, HK_OPT_LIGHT,
-       HK_OPT_SHADOW_MAP, HK_OPT_THICKNESS };
-#define HK_CLI_RENDER_LONG_OPTIONS                                                                  \
-    {"width", required_argument, NULL, HK_OPT_WIDTH}, {"height", required_argument, NULL, HK_OPT_HEIGHT}, \
-    {"no-shadows", no_argument, NULL, HK_OPT_NO_SHADOWS},                                           \
-    {"shading", required_argument, NULL, HK_OPT_SHADING}, {"view", required_argument, NULL, HK_OPT_VIEW}, \
-    {"light", required_argument, NULL, HK_OPT_LIGHT},                                               \
-    {"scattering", required_argument, NULL, HK_OPT_SCATTERING},                                     \
-    {"shadow-map", required_argument, NULL, HK_OPT_SHADOW_MAP},                                     \
-    {"thickness", required_argument, NULL, HK_OPT_THICKNESS}
+enum {
+    HK_OPT_WIDTH = 1000,
+    HK_OPT_HEIGHT,
+    HK_OPT_NO_SHADOWS,
+    HK_OPT_SHADING,
+    HK_OPT_SCATTERING,
+    HK_OPT_VIEW,
+    HK_OPT_LIGHT,
+    HK_OPT_SHADOW_MAP,
+    HK_OPT_THICKNESS
+};
+#define HK_CLI_RENDER_LONG_OPTIONS                                                                                     \
+    {"width", required_argument, NULL, HK_OPT_WIDTH}, {"height", required_argument, NULL, HK_OPT_HEIGHT},              \
+        {"no-shadows", no_argument, NULL, HK_OPT_NO_SHADOWS}, {"shading", required_argument, NULL, HK_OPT_SHADING},    \
+        {"view", required_argument, NULL, HK_OPT_VIEW}, {"light", required_argument, NULL, HK_OPT_LIGHT},              \
+        {"scattering", required_argument, NULL, HK_OPT_SCATTERING},                                                    \
+        {"shadow-map", required_argument, NULL, HK_OPT_SHADOW_MAP},                                                    \
+    {                                                                                                                  \
+        "thickness", required_argument, NULL, HK_OPT_THICKNESS                                                         \
+    }
 #define HK_CLI_IS_RENDER_OPTION(c) ((c) >= HK_OPT_WIDTH && (c) <= HK_OPT_THICKNESS)
 /* Applies one render option; 0 on success, else the usage error's exit code. */
 int hk_cli_render_option(const char *cmd, int option, const char *value, hk_RenderDef *o);
@@ -100,11 +107,10 @@ void hk_cli_report_render(const char *cmd, const char *path, const hk_RenderDef 
 /* --scale / --up (hair) and --head-scale / --head-up (head meshes): add the codes to
  * the option table and pass the option's name to hk_cli_transform_option. */
 enum { HK_OPT_HAIR_SCALE = 1200, HK_OPT_HAIR_UP, HK_OPT_HEAD_SCALE, HK_OPT_HEAD_UP };
-#define HK_CLI_HAIR_TRANSFORM_LONG_OPTIONS                                                          \
-    {"scale", required_argument, NULL, HK_OPT_HAIR_SCALE}, {"up", required_argument, NULL, HK_OPT_HAIR_UP}
-#define HK_CLI_HEAD_TRANSFORM_LONG_OPTIONS                                                          \
-    {"head-scale", required_argument, NULL, HK_OPT_HEAD_SCALE},                                     \
-    {"head-up", required_argument, NULL, HK_OPT_HEAD_UP}
+#define HK_CLI_HAIR_TRANSFORM_LONG_OPTIONS                                                                             \
+    {"scale", required_argument, NULL, HK_OPT_HAIR_SCALE}, { "up", required_argument, NULL, HK_OPT_HAIR_UP }
+#define HK_CLI_HEAD_TRANSFORM_LONG_OPTIONS                                                                             \
+    {"head-scale", required_argument, NULL, HK_OPT_HEAD_SCALE}, { "head-up", required_argument, NULL, HK_OPT_HEAD_UP }
 typedef struct hk_CliTransform {
     double scale; /* 1: none */
     hk_Axis up;   /* HK_AXIS_POS_Y: none */
@@ -130,15 +136,16 @@ int hk_cli_fine_hair(const char *cmd, const hk_HairFile *hair, double diameter, 
 
 /* ---- head motion options (motion_options.c) ---- */
 enum { HK_OPT_MOTION = 1100, HK_OPT_AMPLITUDE, HK_OPT_FREQUENCY };
-#define HK_CLI_MOTION_LONG_OPTIONS                                                                 \
-    {"motion", required_argument, NULL, HK_OPT_MOTION},                                             \
-    {"amplitude", required_argument, NULL, HK_OPT_AMPLITUDE},                                       \
-    {"frequency", required_argument, NULL, HK_OPT_FREQUENCY}
+#define HK_CLI_MOTION_LONG_OPTIONS                                                                                     \
+    {"motion", required_argument, NULL, HK_OPT_MOTION}, {"amplitude", required_argument, NULL, HK_OPT_AMPLITUDE},      \
+    {                                                                                                                  \
+        "frequency", required_argument, NULL, HK_OPT_FREQUENCY                                                         \
+    }
 #define HK_CLI_IS_MOTION_OPTION(c) ((c) >= HK_OPT_MOTION && (c) <= HK_OPT_FREQUENCY)
 typedef struct hk_CliMotion {
-    const char *spec;  /* a scripted motion's name or a motion file */
-    double amplitude;  /* given with has_amplitude */
-    double frequency;  /* Hz */
+    const char *spec; /* a scripted motion's name or a motion file */
+    double amplitude; /* given with has_amplitude */
+    double frequency; /* Hz */
     int has_amplitude;
 } hk_CliMotion;
 struct hk_HeadMotion;

@@ -97,9 +97,12 @@ void hk_cli_progress_note(hk_CliProgress *p, const char *stage, double fraction,
 void hk_cli_format_duration(double seconds, char *buf, size_t size)
 {
     if (!(seconds >= 0.0)) seconds = 0.0;
-    if (seconds < 60.0) snprintf(buf, size, "%.0f s", seconds);
-    else if (seconds < 3600.0) snprintf(buf, size, "%.0f min %.0f s", floor(seconds / 60.0), fmod(seconds, 60.0));
-    else snprintf(buf, size, "%.0f h %.0f min", floor(seconds / 3600.0), floor(fmod(seconds, 3600.0) / 60.0));
+    if (seconds < 60.0)
+        snprintf(buf, size, "%.0f s", seconds);
+    else if (seconds < 3600.0)
+        snprintf(buf, size, "%.0f min %.0f s", floor(seconds / 60.0), fmod(seconds, 60.0));
+    else
+        snprintf(buf, size, "%.0f h %.0f min", floor(seconds / 3600.0), floor(fmod(seconds, 3600.0) / 60.0));
 }
 
 void hk_cli_progress_done(hk_CliProgress *p)
@@ -111,7 +114,8 @@ void hk_cli_progress_done(hk_CliProgress *p)
 int hk_cli_threads_option(const char *cmd, const char *value, int *out)
 {
     long n;
-    if (!hk_cli_parse_int(value, 1, 1024, &n)) return hk_cli_usage_error(cmd, "--threads expects 1 to 1024, got '%s'", value);
+    if (!hk_cli_parse_int(value, 1, 1024, &n))
+        return hk_cli_usage_error(cmd, "--threads expects 1 to 1024, got '%s'", value);
     *out = (int)n;
     return 0;
 }

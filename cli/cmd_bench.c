@@ -17,33 +17,35 @@ static const Bench benches[] = {
     {"groom", hk_bench_groom, "grooming examples/default with 1 and 2 threads"},
     {"render", hk_bench_render, "rendering examples/default at 1920x1080 with shadows, 1 and 2 threads"},
     {"dynamics", hk_bench_dynamics, "one strand's steps/s (dense and O(N)); 201 guides' frames/s, 1 and 2 threads"},
-    {"stability", hk_bench_stability, "single strands 5 cm..1.5 m, 7 head motions, dt 1/24 and 1/30 s: ran or failed, energy"},
-    {"long-heads", hk_bench_long_heads, "201 guides of 1 m, 7 head motions, 10 s at 24 and 30 frames/s: ran, recovered, tip moves"},
+    {"stability", hk_bench_stability,
+     "single strands 5 cm..1.5 m, 7 head motions, dt 1/24 and 1/30 s: ran or failed, energy"},
+    {"long-heads", hk_bench_long_heads,
+     "201 guides of 1 m, 7 head motions, 10 s at 24 and 30 frames/s: ran, recovered, tip moves"},
     {"curvefit", hk_bench_curvefit, "helicoid fitting machinery: fits/s of 30-sample strands, 1 and 2 threads"},
-    {"helicoid", hk_bench_helicoid, "helicoids: 90,000 hairs interpolated, fits/s of 30-vertex strands, reconstruction"},
-    {"follicles", hk_bench_follicles, "thin-plate fit of 500..2000 points; follicles sampled on the wick, 1 and 2 threads"},
+    {"helicoid", hk_bench_helicoid,
+     "helicoids: 90,000 hairs interpolated, fits/s of 30-vertex strands, reconstruction"},
+    {"follicles", hk_bench_follicles,
+     "thin-plate fit of 500..2000 points; follicles sampled on the wick, 1 and 2 threads"},
     {"io", hk_bench_io, "Sintel .tfx -> .hair; 1M strands x 32 points .hair read and written against stdio"},
 };
 
 static void usage(FILE *out)
 {
-    fprintf(out,
-            "usage: hairkit bench [NAME...] [--quick] [--min-time SECONDS]\n"
-            "\n"
-            "Runs benchmarks and prints their figures side by side (all of them when no\n"
-            "NAME is given). Timings are wall-clock on this machine.\n"
-            "\n"
-            "benchmarks:\n");
+    fprintf(out, "usage: hairkit bench [NAME...] [--quick] [--min-time SECONDS]\n"
+                 "\n"
+                 "Runs benchmarks and prints their figures side by side (all of them when no\n"
+                 "NAME is given). Timings are wall-clock on this machine.\n"
+                 "\n"
+                 "benchmarks:\n");
     for (size_t i = 0; i < sizeof benches / sizeof *benches; i++)
         fprintf(out, "  %-10s %s\n", benches[i].name, benches[i].summary);
-    fprintf(out,
-            "\n"
-            "options:\n"
-            "  --quick            smoke run: few repetitions, figures not meaningful\n"
-            "  --min-time S       measure each figure for at least S seconds (default 0.5)\n"
-            "  --root DIR         the hairkit source folder, for its examples (default .;\n"
-            "                     'io' reads DIR/../shared/hair-data when it is there)\n"
-            "  -h, --help         this help\n");
+    fprintf(out, "\n"
+                 "options:\n"
+                 "  --quick            smoke run: few repetitions, figures not meaningful\n"
+                 "  --min-time S       measure each figure for at least S seconds (default 0.5)\n"
+                 "  --root DIR         the hairkit source folder, for its examples (default .;\n"
+                 "                     'io' reads DIR/../shared/hair-data when it is there)\n"
+                 "  -h, --help         this help\n");
 }
 
 int hk_cmd_bench(int argc, char **argv)
@@ -61,15 +63,23 @@ int hk_cmd_bench(int argc, char **argv)
     int c;
     while ((c = getopt_long(argc, argv, ":h", options, NULL)) != -1) {
         switch (c) {
-        case 'q': bo.quick = 1; break;
+        case 'q':
+            bo.quick = 1;
+            break;
         case 't':
             if (!hk_cli_parse_double(optarg, &bo.min_seconds) || bo.min_seconds < 0 || bo.min_seconds > 3600)
                 return hk_cli_usage_error("bench", "--min-time expects seconds in [0, 3600], got '%s'", optarg);
             break;
-        case 'r': bo.root = optarg; break;
-        case 'h': usage(stdout); return HK_EXIT_OK;
-        case ':': return hk_cli_usage_error("bench", "option '%s' needs a value", argv[optind - 1]);
-        default: return hk_cli_usage_error("bench", "unknown option '%s'", argv[optind - 1]);
+        case 'r':
+            bo.root = optarg;
+            break;
+        case 'h':
+            usage(stdout);
+            return HK_EXIT_OK;
+        case ':':
+            return hk_cli_usage_error("bench", "option '%s' needs a value", argv[optind - 1]);
+        default:
+            return hk_cli_usage_error("bench", "unknown option '%s'", argv[optind - 1]);
         }
     }
     if (bo.quick) bo.min_seconds = 0.0;

@@ -12,38 +12,37 @@ static const char *const CMD = "convert";
 
 static void usage(FILE *out)
 {
-    fprintf(out,
-            "usage: hairkit convert IN OUT [--from F] [--to F] [--scale S] [--up AXIS]\n"
-            "                       [--points N] [--ascii] [--quiet]\n"
-            "\n"
-            "Converts hair strands between file formats; the format comes from each file's\n"
-            "extension unless --from / --to name it:\n"
-            "  hair  (.hair)  cyHair                          read, write\n"
-            "  tfx   (.tfx)   AMD TressFX v3, v4              read; write v4\n"
-            "  usc   (.data)  USC-HairSalon                   read, write\n"
-            "  ply   (.ply)   PLY strands (CT2Hair), edges    read; write binary or ASCII\n"
-            "  obj   (.obj)   OBJ polylines (v + l)           read, write\n"
-            "  usda  (.usda)  USD ascii, linear BasisCurves   read, write\n"
-            "Points are copied exactly (float32) and strands keep their order unless an option\n"
-            "asks otherwise. Then, in this order: --scale, --up, --points.\n"
-            "\n"
-            "options:\n"
-            "  --from F           format of IN (hair, tfx, usc, ply, obj, usda)\n"
-            "  --to F             format of OUT\n"
-            "  --scale S          multiply coordinates (and thickness) by S > 0: 0.001 turns\n"
-            "                     millimetres into metres, 0.01 centimetres (hairkit works in\n"
-            "                     metres; 'hairkit info IN' hints at the units)\n"
-            "  --up AXIS          the input's up axis (+x -x +y -y +z -z), rotated onto +y\n"
-            "                     (hairkit's up) by the smallest rotation: +x by +90 degrees\n"
-            "                     about z, -x by -90 about z, +z by -90 about x, -z by +90\n"
-            "                     about x, -y by 180 about x; +y changes nothing\n"
-            "  --points N         resample every strand by arc length to N points (2 to\n"
-            "                     65536; strands that have N already are kept as they are).\n"
-            "                     TressFX needs the same count in every strand: without\n"
-            "                     --points, strands that differ are refused\n"
-            "  --ascii            PLY output in ASCII (default binary little-endian)\n"
-            "  --quiet            no summary on stderr\n"
-            "  -h, --help         this help\n");
+    fprintf(out, "usage: hairkit convert IN OUT [--from F] [--to F] [--scale S] [--up AXIS]\n"
+                 "                       [--points N] [--ascii] [--quiet]\n"
+                 "\n"
+                 "Converts hair strands between file formats; the format comes from each file's\n"
+                 "extension unless --from / --to name it:\n"
+                 "  hair  (.hair)  cyHair                          read, write\n"
+                 "  tfx   (.tfx)   AMD TressFX v3, v4              read; write v4\n"
+                 "  usc   (.data)  USC-HairSalon                   read, write\n"
+                 "  ply   (.ply)   PLY strands (CT2Hair), edges    read; write binary or ASCII\n"
+                 "  obj   (.obj)   OBJ polylines (v + l)           read, write\n"
+                 "  usda  (.usda)  USD ascii, linear BasisCurves   read, write\n"
+                 "Points are copied exactly (float32) and strands keep their order unless an option\n"
+                 "asks otherwise. Then, in this order: --scale, --up, --points.\n"
+                 "\n"
+                 "options:\n"
+                 "  --from F           format of IN (hair, tfx, usc, ply, obj, usda)\n"
+                 "  --to F             format of OUT\n"
+                 "  --scale S          multiply coordinates (and thickness) by S > 0: 0.001 turns\n"
+                 "                     millimetres into metres, 0.01 centimetres (hairkit works in\n"
+                 "                     metres; 'hairkit info IN' hints at the units)\n"
+                 "  --up AXIS          the input's up axis (+x -x +y -y +z -z), rotated onto +y\n"
+                 "                     (hairkit's up) by the smallest rotation: +x by +90 degrees\n"
+                 "                     about z, -x by -90 about z, +z by -90 about x, -z by +90\n"
+                 "                     about x, -y by 180 about x; +y changes nothing\n"
+                 "  --points N         resample every strand by arc length to N points (2 to\n"
+                 "                     65536; strands that have N already are kept as they are).\n"
+                 "                     TressFX needs the same count in every strand: without\n"
+                 "                     --points, strands that differ are refused\n"
+                 "  --ascii            PLY output in ASCII (default binary little-endian)\n"
+                 "  --quiet            no summary on stderr\n"
+                 "  -h, --help         this help\n");
 }
 
 enum { OPT_FROM = 1, OPT_TO, OPT_SCALE, OPT_UP, OPT_POINTS, OPT_ASCII, OPT_QUIET };
@@ -51,10 +50,14 @@ enum { OPT_FROM = 1, OPT_TO, OPT_SCALE, OPT_UP, OPT_POINTS, OPT_ASCII, OPT_QUIET
 int hk_cmd_convert(int argc, char **argv)
 {
     static const struct option options[] = {
-        {"from", required_argument, NULL, OPT_FROM},     {"to", required_argument, NULL, OPT_TO},
-        {"scale", required_argument, NULL, OPT_SCALE},   {"up", required_argument, NULL, OPT_UP},
-        {"points", required_argument, NULL, OPT_POINTS}, {"ascii", no_argument, NULL, OPT_ASCII},
-        {"quiet", no_argument, NULL, OPT_QUIET},         {"help", no_argument, NULL, 'h'},
+        {"from", required_argument, NULL, OPT_FROM},
+        {"to", required_argument, NULL, OPT_TO},
+        {"scale", required_argument, NULL, OPT_SCALE},
+        {"up", required_argument, NULL, OPT_UP},
+        {"points", required_argument, NULL, OPT_POINTS},
+        {"ascii", no_argument, NULL, OPT_ASCII},
+        {"quiet", no_argument, NULL, OPT_QUIET},
+        {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
     hk_HairFormat from = HK_HAIR_FORMAT_AUTO;
@@ -71,8 +74,10 @@ int hk_cmd_convert(int argc, char **argv)
             if (f <= 0)
                 return hk_cli_usage_error(CMD, "--%s expects hair, tfx, usc, ply, obj or usda, got '%s'",
                                           c == OPT_FROM ? "from" : "to", optarg);
-            if (c == OPT_FROM) from = (hk_HairFormat)f;
-            else def.format = (hk_HairFormat)f;
+            if (c == OPT_FROM)
+                from = (hk_HairFormat)f;
+            else
+                def.format = (hk_HairFormat)f;
             break;
         }
         case OPT_SCALE:
@@ -88,11 +93,19 @@ int hk_cmd_convert(int argc, char **argv)
             def.points = (uint32_t)n;
             break;
         }
-        case OPT_ASCII: def.ascii = 1; break;
-        case OPT_QUIET: quiet = 1; break;
-        case 'h': usage(stdout); return HK_EXIT_OK;
-        case ':': return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
-        default: return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
+        case OPT_ASCII:
+            def.ascii = 1;
+            break;
+        case OPT_QUIET:
+            quiet = 1;
+            break;
+        case 'h':
+            usage(stdout);
+            return HK_EXIT_OK;
+        case ':':
+            return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
+        default:
+            return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
         }
     }
     if (optind >= argc) return hk_cli_usage_error(CMD, "missing IN and OUT files");

@@ -15,30 +15,29 @@ static const char *const CMD = "groom";
 
 static void usage(FILE *out)
 {
-    fprintf(out,
-            "usage: hairkit groom SETUP.txt -o OUT.hair [--seed N] [--threads N] [--quiet]\n"
-            "\n"
-            "Grows a full head of hair from a setup file: one guide strand per vertex of the\n"
-            "wick (WickModel), each a Super-Helix at rest under gravity and the collision\n"
-            "shapes' envelopes, then area x HairDensity interpolated strands per wick\n"
-            "triangle. With 'Load true' in the setup the hair is read from LoadFile instead;\n"
-            "with 'Save true' it is also written to SaveFile.\n"
-            "\n"
-            "options:\n"
-            "  -o, --output FILE  the .hair file to write (optional when the setup saves)\n"
-            "  --seed N           random seed of the interpolation (default 1); the same\n"
-            "                     seed gives the same bytes whatever the thread count\n"
-            "  --threads N        threads to use (default: all cores)\n"
-            "  --quiet            no progress bar (shown on a terminal) or summary on stderr\n"
-            "  -h, --help         this help\n");
+    fprintf(out, "usage: hairkit groom SETUP.txt -o OUT.hair [--seed N] [--threads N] [--quiet]\n"
+                 "\n"
+                 "Grows a full head of hair from a setup file: one guide strand per vertex of the\n"
+                 "wick (WickModel), each a Super-Helix at rest under gravity and the collision\n"
+                 "shapes' envelopes, then area x HairDensity interpolated strands per wick\n"
+                 "triangle. With 'Load true' in the setup the hair is read from LoadFile instead;\n"
+                 "with 'Save true' it is also written to SaveFile.\n"
+                 "\n"
+                 "options:\n"
+                 "  -o, --output FILE  the .hair file to write (optional when the setup saves)\n"
+                 "  --seed N           random seed of the interpolation (default 1); the same\n"
+                 "                     seed gives the same bytes whatever the thread count\n"
+                 "  --threads N        threads to use (default: all cores)\n"
+                 "  --quiet            no progress bar (shown on a terminal) or summary on stderr\n"
+                 "  -h, --help         this help\n");
 }
 
 int hk_cmd_groom(int argc, char **argv)
 {
     static const struct option options[] = {
-        {"output", required_argument, NULL, 'o'}, {"seed", required_argument, NULL, 's'},
+        {"output", required_argument, NULL, 'o'},  {"seed", required_argument, NULL, 's'},
         {"threads", required_argument, NULL, 't'}, {"quiet", no_argument, NULL, 'q'},
-        {"help", no_argument, NULL, 'h'},         {NULL, 0, NULL, 0},
+        {"help", no_argument, NULL, 'h'},          {NULL, 0, NULL, 0},
     };
     const char *output = NULL;
     hk_GroomDef go = hk_default_groom_def();
@@ -48,8 +47,12 @@ int hk_cmd_groom(int argc, char **argv)
     int c;
     while ((c = getopt_long(argc, argv, ":ho:", options, NULL)) != -1) {
         switch (c) {
-        case 'o': output = optarg; break;
-        case 'q': quiet = 1; break;
+        case 'o':
+            output = optarg;
+            break;
+        case 'q':
+            quiet = 1;
+            break;
         case 's': {
             int rc = hk_cli_seed_option(CMD, optarg, &go.seed);
             if (rc) return rc;
@@ -60,9 +63,13 @@ int hk_cmd_groom(int argc, char **argv)
             if (rc) return rc;
             break;
         }
-        case 'h': usage(stdout); return HK_EXIT_OK;
-        case ':': return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
-        default: return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
+        case 'h':
+            usage(stdout);
+            return HK_EXIT_OK;
+        case ':':
+            return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
+        default:
+            return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
         }
     }
     if (optind >= argc) return hk_cli_usage_error(CMD, "missing SETUP file");

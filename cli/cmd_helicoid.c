@@ -68,11 +68,11 @@ static void usage(FILE *out)
                  "                     reconstruct: --piece-length 0.03 --root-piece 0.01, since\n"
                  "                     fits are blended piece by piece)\n"
                  "  --piece-length L   or pieces L metres long from the root (the same stretch of\n"
-            "                     hair for piece j on strands of any length; the last piece\n"
-            "                     takes what is left)\n"
-            "  --root-piece R     with --piece-length: the first piece R metres long (a lift\n"
-            "                     off the scalp); default L\n"
-            "  --method M         lm: Levenberg-Marquardt on point distances (default, fast);\n"
+                 "                     hair for piece j on strands of any length; the last piece\n"
+                 "                     takes what is left)\n"
+                 "  --root-piece R     with --piece-length: the first piece R metres long (a lift\n"
+                 "                     off the scalp); default L\n"
+                 "  --method M         lm: Levenberg-Marquardt on point distances (default, fast);\n"
                  "                     nelder-mead: the paper's, on the Frechet coupling (slow)\n"
                  "  --every K          reconstruct: fit one strand in K (default 10)\n"
                  "  --seed N           random seed (default 1)\n"
@@ -148,10 +148,18 @@ static int parse_args(int argc, char **argv, hk_HelicoidArgs *a)
     int c, rc;
     while ((c = getopt_long(argc, argv, ":ho:", options, NULL)) != -1) {
         switch (c) {
-        case 'o': a->output = optarg; break;
-        case OPT_SURFACE: a->surface = optarg; break;
-        case OPT_PARAMS: a->params = optarg; break;
-        case OPT_HEAD: a->head = optarg; break;
+        case 'o':
+            a->output = optarg;
+            break;
+        case OPT_SURFACE:
+            a->surface = optarg;
+            break;
+        case OPT_PARAMS:
+            a->params = optarg;
+            break;
+        case OPT_HEAD:
+            a->head = optarg;
+            break;
         case OPT_FOLLICLES:
             if (!hk_cli_parse_double(optarg, &a->follicles) || !(a->follicles > 0.0 && a->follicles <= 1.0))
                 return hk_cli_usage_error(CMD, "--follicles expects a spacing in metres in (0, 1], got '%s'", optarg);
@@ -202,9 +210,12 @@ static int parse_args(int argc, char **argv, hk_HelicoidArgs *a)
             break;
         }
         case OPT_METHOD:
-            if (!strcmp(optarg, "lm")) a->method = HK_CURVEFIT_LEAST_SQUARES;
-            else if (!strcmp(optarg, "nelder-mead")) a->method = HK_CURVEFIT_NELDER_MEAD;
-            else return hk_cli_usage_error(CMD, "--method expects lm or nelder-mead, got '%s'", optarg);
+            if (!strcmp(optarg, "lm"))
+                a->method = HK_CURVEFIT_LEAST_SQUARES;
+            else if (!strcmp(optarg, "nelder-mead"))
+                a->method = HK_CURVEFIT_NELDER_MEAD;
+            else
+                return hk_cli_usage_error(CMD, "--method expects lm or nelder-mead, got '%s'", optarg);
             break;
         case OPT_EVERY:
             if (!hk_cli_parse_int(optarg, 1, 1000000, &a->every))
@@ -216,10 +227,16 @@ static int parse_args(int argc, char **argv, hk_HelicoidArgs *a)
         case 't':
             if ((rc = hk_cli_threads_option(CMD, optarg, &a->threads))) return rc;
             break;
-        case 'q': a->quiet = 1; break;
-        case 'h': usage(stdout); return -1;
-        case ':': return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
-        default: return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
+        case 'q':
+            a->quiet = 1;
+            break;
+        case 'h':
+            usage(stdout);
+            return -1;
+        case ':':
+            return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
+        default:
+            return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
         }
     }
     if (optind >= argc) return hk_cli_usage_error(CMD, "%s: missing input file", a->action);
@@ -232,11 +249,13 @@ static int parse_args(int argc, char **argv, hk_HelicoidArgs *a)
         return hk_cli_usage_error(CMD, "--follicles places one strand per follicle: drop --%s",
                                   a->count ? "count" : "density");
     if ((a->pieces > 0 || a->piece_length > 0.0) && a->max_pieces_given)
-        return hk_cli_usage_error(CMD, "--%s fixes the layout: drop --max-pieces", a->pieces > 0 ? "pieces" : "piece-length");
+        return hk_cli_usage_error(CMD, "--%s fixes the layout: drop --max-pieces",
+                                  a->pieces > 0 ? "pieces" : "piece-length");
     if (a->pieces_given && a->piece_length > 0.0)
         return hk_cli_usage_error(CMD, "--pieces and --piece-length are two layouts: give one");
     if (a->root_piece > 0.0 && !(a->piece_length > 0.0))
-        return hk_cli_usage_error(CMD, "--root-piece is the first piece of a --piece-length layout: give --piece-length");
+        return hk_cli_usage_error(CMD,
+                                  "--root-piece is the first piece of a --piece-length layout: give --piece-length");
     if (a->head && !(a->follicles > 0.0))
         return hk_cli_usage_error(CMD, "--head is fitted with the wick by --follicles: give --follicles SPACING");
     return 0;

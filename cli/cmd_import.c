@@ -12,35 +12,33 @@ static const char *const CMD = "import";
 
 static void usage(FILE *out)
 {
-    fprintf(out,
-            "usage: hairkit import HAIR --head MESH -o DIR [--scale S] [--up AXIS]\n"
-            "                      [--head-scale S] [--head-up AXIS] [--guides K] [--elements N]\n"
-            "                      [--hairstyle STYLE.txt] [--threads N] [--seed N] [--quiet]\n"
-            "\n"
-            "Makes a groom in any hair format (.hair .tfx .data .ply .obj .usda) Super-Helices\n"
-            "at rest on a head (docs/capture.md, \"Importing a groom\"): strand points inside\n"
-            "the head are moved out; K guides are chosen by farthest-point sampling of the\n"
-            "roots, each fitted with a Super-Helix and given the natural shape that makes the\n"
-            "captured shape its rest under gravity and the head (inverse statics); every\n"
-            "strand follows its 3 nearest guides. Writes DIR/setup.txt (run by\n"
-            "'hairkit simulate DIR/setup.txt'), DIR/hairstyle.txt, DIR/head.obj (the head as\n"
-            "scaled and turned), DIR/guides.txt and DIR/strands.hair.\n"
-            "\n"
-            "options:\n"
-            "  --head MESH        the head, OBJ or PLY: the collider (a signed distance field)\n"
-            "  -o, --output DIR   the folder to write (made if missing)\n");
+    fprintf(out, "usage: hairkit import HAIR --head MESH -o DIR [--scale S] [--up AXIS]\n"
+                 "                      [--head-scale S] [--head-up AXIS] [--guides K] [--elements N]\n"
+                 "                      [--hairstyle STYLE.txt] [--threads N] [--seed N] [--quiet]\n"
+                 "\n"
+                 "Makes a groom in any hair format (.hair .tfx .data .ply .obj .usda) Super-Helices\n"
+                 "at rest on a head (docs/capture.md, \"Importing a groom\"): strand points inside\n"
+                 "the head are moved out; K guides are chosen by farthest-point sampling of the\n"
+                 "roots, each fitted with a Super-Helix and given the natural shape that makes the\n"
+                 "captured shape its rest under gravity and the head (inverse statics); every\n"
+                 "strand follows its 3 nearest guides. Writes DIR/setup.txt (run by\n"
+                 "'hairkit simulate DIR/setup.txt'), DIR/hairstyle.txt, DIR/head.obj (the head as\n"
+                 "scaled and turned), DIR/guides.txt and DIR/strands.hair.\n"
+                 "\n"
+                 "options:\n"
+                 "  --head MESH        the head, OBJ or PLY: the collider (a signed distance field)\n"
+                 "  -o, --output DIR   the folder to write (made if missing)\n");
     hk_cli_transform_help(out, 1, 1);
-    fprintf(out,
-            "  --guides K         guides (default: one per 75 strands; K >= the strands: every\n"
-            "                     strand is a guide)\n"
-            "  --elements N       Super-Helix elements of every guide (default: chosen per\n"
-            "                     strand from its length and the fit's error)\n"
-            "  --hairstyle FILE   the material (radii, Young, Poisson, Density, Gravity) and the\n"
-            "                     dynamics' friction; copied to DIR (default: 40 um, 3 GPa)\n"
-            "  --threads N        threads (default: all cores); the files do not depend on it\n"
-            "  --seed N           the first guide of the sampling (default 1)\n"
-            "  --quiet            no progress and summary on stderr\n"
-            "  -h, --help         this help\n");
+    fprintf(out, "  --guides K         guides (default: one per 75 strands; K >= the strands: every\n"
+                 "                     strand is a guide)\n"
+                 "  --elements N       Super-Helix elements of every guide (default: chosen per\n"
+                 "                     strand from its length and the fit's error)\n"
+                 "  --hairstyle FILE   the material (radii, Young, Poisson, Density, Gravity) and the\n"
+                 "                     dynamics' friction; copied to DIR (default: 40 um, 3 GPa)\n"
+                 "  --threads N        threads (default: all cores); the files do not depend on it\n"
+                 "  --seed N           the first guide of the sampling (default 1)\n"
+                 "  --quiet            no progress and summary on stderr\n"
+                 "  -h, --help         this help\n");
 }
 
 enum { OPT_HEAD = 1, OPT_GUIDES, OPT_ELEMENTS, OPT_HAIRSTYLE, OPT_THREADS, OPT_SEED, OPT_QUIET };
@@ -69,8 +67,12 @@ int hk_cmd_import(int argc, char **argv)
     opterr = 0;
     while ((c = getopt_long(argc, argv, ":ho:", options, NULL)) != -1) {
         switch (c) {
-        case OPT_HEAD: d.head = optarg; break;
-        case 'o': d.dir = optarg; break;
+        case OPT_HEAD:
+            d.head = optarg;
+            break;
+        case 'o':
+            d.dir = optarg;
+            break;
         case HK_OPT_HAIR_SCALE:
         case HK_OPT_HAIR_UP:
         case HK_OPT_HEAD_SCALE:
@@ -87,17 +89,25 @@ int hk_cmd_import(int argc, char **argv)
                 return hk_cli_usage_error(CMD, "--elements expects 1 to 64, got '%s'", optarg);
             d.groom.fit.elements = (int)n;
             break;
-        case OPT_HAIRSTYLE: d.hairstyle = optarg; break;
+        case OPT_HAIRSTYLE:
+            d.hairstyle = optarg;
+            break;
         case OPT_THREADS:
             if ((rc = hk_cli_threads_option(CMD, optarg, &d.groom.threads))) return rc;
             break;
         case OPT_SEED:
             if ((rc = hk_cli_seed_option(CMD, optarg, &d.groom.seed))) return rc;
             break;
-        case OPT_QUIET: quiet = 1; break;
-        case 'h': usage(stdout); return HK_EXIT_OK;
-        case ':': return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
-        default: return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
+        case OPT_QUIET:
+            quiet = 1;
+            break;
+        case 'h':
+            usage(stdout);
+            return HK_EXIT_OK;
+        case ':':
+            return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
+        default:
+            return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
         }
     }
     if (optind >= argc) return hk_cli_usage_error(CMD, "missing the HAIR file");
@@ -131,8 +141,9 @@ int hk_cmd_import(int argc, char **argv)
                     ", %d settled to the stable rest nearby (moved %.2f mm at most); %d of them, moved more than "
                     "%g mm, are followed by no strand",
                     g->settled, 1e3 * g->drift_max, g->unfollowed, 1e3 * HK_IMPORT_MAX_DRIFT);
-        fprintf(stderr, "\n  time: %.2f s (read %.2f, head field %.2f, push out %.2f, guides %.2f, fit and inverse "
-                        "%.2f, attach %.2f, write %.2f)\n",
+        fprintf(stderr,
+                "\n  time: %.2f s (read %.2f, head field %.2f, push out %.2f, guides %.2f, fit and inverse "
+                "%.2f, attach %.2f, write %.2f)\n",
                 r.seconds, r.seconds_read, r.seconds_field, g->seconds_push, g->seconds_choose, g->seconds_fit,
                 g->seconds_attach, r.seconds_write);
     }

@@ -27,11 +27,14 @@ int hk_cmd_info(int argc, char **argv)
         if (!strcmp(argv[i], "--from")) {
             if (i + 1 >= argc) return hk_cli_usage_error("info", "option '--from' needs a value");
             const int f = hk_hair_format_from_name(argv[++i]);
-            if (f < 0) return hk_cli_usage_error("info", "--from expects hair, tfx, usc, ply, obj or usda, got '%s'", argv[i]);
+            if (f < 0)
+                return hk_cli_usage_error("info", "--from expects hair, tfx, usc, ply, obj or usda, got '%s'", argv[i]);
             format = (hk_HairFormat)f;
         } else if (!strncmp(argv[i], "--from=", 7)) {
             const int f = hk_hair_format_from_name(argv[i] + 7);
-            if (f < 0) return hk_cli_usage_error("info", "--from expects hair, tfx, usc, ply, obj or usda, got '%s'", argv[i] + 7);
+            if (f < 0)
+                return hk_cli_usage_error("info", "--from expects hair, tfx, usc, ply, obj or usda, got '%s'",
+                                          argv[i] + 7);
             format = (hk_HairFormat)f;
         } else if (argv[i][0] == '-' && argv[i][1]) {
             return hk_cli_usage_error("info", "unknown option '%s'", argv[i]);
@@ -45,7 +48,8 @@ int hk_cmd_info(int argc, char **argv)
     hk_HairFile h;
     hk_Error err;
     if (hk_hair_read(path, format, &h, &err) != HK_OK) return hk_cli_fail("info", &err);
-    double lmin = DBL_MAX, lmax = 0.0, lsum = 0.0, lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
+    double lmin = DBL_MAX, lmax = 0.0, lsum = 0.0, lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX},
+           hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
     uint32_t pmin = UINT32_MAX, pmax = 0;
     for (uint32_t s = 0; s < h.strand_count; s++) {
         double len = 0.0;
@@ -75,9 +79,12 @@ int hk_cmd_info(int argc, char **argv)
     if (h.point_count) {
         /* hairkit works in metres: a head of hair spans tens of centimetres. */
         const double extent = hk_hair_extent(&h), per_unit = hk_hair_guess_meters_per_unit(&h);
-        if (per_unit == 0.001) printf("units:         extent %.3g: millimetres? --scale 0.001\n", extent);
-        else if (per_unit == 0.01) printf("units:         extent %.3g: centimetres? --scale 0.01\n", extent);
-        else printf("units:         extent %.3g\n", extent);
+        if (per_unit == 0.001)
+            printf("units:         extent %.3g: millimetres? --scale 0.001\n", extent);
+        else if (per_unit == 0.01)
+            printf("units:         extent %.3g: centimetres? --scale 0.01\n", extent);
+        else
+            printf("units:         extent %.3g\n", extent);
     }
     printf("arrays:        %s%s%s%s%s\n", h.flags & HK_HAIR_SEGMENTS ? "segments " : "", "points ",
            h.flags & HK_HAIR_THICKNESS ? "thickness " : "", h.flags & HK_HAIR_TRANSPARENCY ? "transparency " : "",

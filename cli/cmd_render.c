@@ -10,40 +10,43 @@ static const char *const CMD = "render";
 
 static void usage(FILE *out)
 {
-    fprintf(out,
-            "usage: hairkit render HAIR.hair -o OUT.png [--head HEAD.obj] [--visuality V.txt]\n"
-            "                      [--no-shadows] [--width W --height H] [options]\n"
-            "\n"
-            "Renders hair strands on the CPU: Kajiya-Kay (or Marschner) shading,\n"
-            "self-shadowing with deep opacity maps, exact transparency of the sub-pixel\n"
-            "strands. The camera frames hair and head from a three-quarter front view.\n"
-            "HAIR is any format hairkit reads, by its extension (.hair .tfx .data .ply .obj\n"
-            ".usda, as 'hairkit convert'). Strand width is the file's thickness (hairkit\n"
-            "writes the hair diameter). When the file gives none per strand and its default\n"
-            "is not a hair's (over 1%% of the groom's extent or over 0.5 mm: other tools\n"
-            "write 1.0), hair 70 um across is drawn in the file's units (--scale says them,\n"
-            "otherwise they are guessed from the extent) and stderr says so.\n"
-            "\n"
-            "options:\n"
-            "  -o, --output FILE  the PNG to write\n"
-            "  --head FILE        the head mesh, OBJ or PLY (by the extension; optional)\n"
-            "  --visuality FILE   hair colours (thesis visuality file; default brown)\n");
+    fprintf(out, "usage: hairkit render HAIR.hair -o OUT.png [--head HEAD.obj] [--visuality V.txt]\n"
+                 "                      [--no-shadows] [--width W --height H] [options]\n"
+                 "\n"
+                 "Renders hair strands on the CPU: Kajiya-Kay (or Marschner) shading,\n"
+                 "self-shadowing with deep opacity maps, exact transparency of the sub-pixel\n"
+                 "strands. The camera frames hair and head from a three-quarter front view.\n"
+                 "HAIR is any format hairkit reads, by its extension (.hair .tfx .data .ply .obj\n"
+                 ".usda, as 'hairkit convert'). Strand width is the file's thickness (hairkit\n"
+                 "writes the hair diameter). When the file gives none per strand and its default\n"
+                 "is not a hair's (over 1%% of the groom's extent or over 0.5 mm: other tools\n"
+                 "write 1.0), hair 70 um across is drawn in the file's units (--scale says them,\n"
+                 "otherwise they are guessed from the extent) and stderr says so.\n"
+                 "\n"
+                 "options:\n"
+                 "  -o, --output FILE  the PNG to write\n"
+                 "  --head FILE        the head mesh, OBJ or PLY (by the extension; optional)\n"
+                 "  --visuality FILE   hair colours (thesis visuality file; default brown)\n");
     hk_cli_transform_help(out, 1, 1);
     hk_cli_render_options_help(out);
-    fprintf(out,
-            "  --threads N        threads to use (default: all cores); the picture does not\n"
-            "                     depend on it\n"
-            "  --quiet            no summary on stderr\n"
-            "  -h, --help         this help\n");
+    fprintf(out, "  --threads N        threads to use (default: all cores); the picture does not\n"
+                 "                     depend on it\n"
+                 "  --quiet            no summary on stderr\n"
+                 "  -h, --help         this help\n");
 }
 
 int hk_cmd_render(int argc, char **argv)
 {
     static const struct option options[] = {
-        {"output", required_argument, NULL, 'o'}, {"head", required_argument, NULL, 'H'},
-        {"visuality", required_argument, NULL, 'v'}, {"threads", required_argument, NULL, 't'},
-        {"quiet", no_argument, NULL, 'q'}, {"help", no_argument, NULL, 'h'},
-        HK_CLI_RENDER_LONG_OPTIONS, HK_CLI_HAIR_TRANSFORM_LONG_OPTIONS, HK_CLI_HEAD_TRANSFORM_LONG_OPTIONS,
+        {"output", required_argument, NULL, 'o'},
+        {"head", required_argument, NULL, 'H'},
+        {"visuality", required_argument, NULL, 'v'},
+        {"threads", required_argument, NULL, 't'},
+        {"quiet", no_argument, NULL, 'q'},
+        {"help", no_argument, NULL, 'h'},
+        HK_CLI_RENDER_LONG_OPTIONS,
+        HK_CLI_HAIR_TRANSFORM_LONG_OPTIONS,
+        HK_CLI_HEAD_TRANSFORM_LONG_OPTIONS,
         {NULL, 0, NULL, 0},
     };
     const char *output = NULL, *head_path = NULL, *vis_path = NULL;
@@ -67,18 +70,30 @@ int hk_cmd_render(int argc, char **argv)
             if (rc) return rc;
             break;
         }
-        case 'o': output = optarg; break;
-        case 'H': head_path = optarg; break;
-        case 'v': vis_path = optarg; break;
-        case 'q': quiet = 1; break;
+        case 'o':
+            output = optarg;
+            break;
+        case 'H':
+            head_path = optarg;
+            break;
+        case 'v':
+            vis_path = optarg;
+            break;
+        case 'q':
+            quiet = 1;
+            break;
         case 't': {
             int rc = hk_cli_threads_option(CMD, optarg, &ro.threads);
             if (rc) return rc;
             break;
         }
-        case 'h': usage(stdout); return HK_EXIT_OK;
-        case ':': return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
-        default: return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
+        case 'h':
+            usage(stdout);
+            return HK_EXIT_OK;
+        case ':':
+            return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
+        default:
+            return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
         }
     }
     if (optind >= argc) return hk_cli_usage_error(CMD, "missing HAIR file");

@@ -13,43 +13,46 @@ static const char *const CMD = "run";
 
 static void usage(FILE *out)
 {
-    fprintf(out,
-            "usage: hairkit run SETUP.txt -o OUT.png [--width W --height H] [options]\n"
-            "\n"
-            "The main job: reads a setup file (thesis Appendix B), grows the hair (guides\n"
-            "solved as Super-Helices under gravity and the collision shapes, then the\n"
-            "interpolated strands) or loads it ('Load true'), saves it when the setup says\n"
-            "'Save true', and renders it over HeadModel with the VisualityInfo colours.\n"
-            "LoadFile may be any hair format hairkit reads (.hair .tfx .data .ply .obj\n"
-            ".usda, by the extension); HeadModel and WickModel OBJ or PLY. Loaded hair whose\n"
-            "strand width is not a hair's (see 'hairkit render --help') is drawn at the\n"
-            "hairstyle's diameter (HairRadius1 + HairRadius2; 70 um without HairstyleInfo).\n"
-            "\n"
-            "options:\n"
-            "  -o, --output FILE  the PNG to write\n"
-            "  --hair FILE        also write the hair as a .hair file\n"
-            "  --scale S, --up AXIS  units and up axis of the LoadFile hair (Load true):\n"
-            "                     multiply by S (0.001: millimetres to metres), rotate AXIS\n"
-            "                     (+x -x +y -y +z -z) onto +y as 'hairkit convert' does\n"
-            "  --head-scale S, --head-up AXIS  the same for the head and wick meshes\n"
-            "                     (HeadModel, WickModel; not the collision shapes)\n");
+    fprintf(out, "usage: hairkit run SETUP.txt -o OUT.png [--width W --height H] [options]\n"
+                 "\n"
+                 "The main job: reads a setup file (thesis Appendix B), grows the hair (guides\n"
+                 "solved as Super-Helices under gravity and the collision shapes, then the\n"
+                 "interpolated strands) or loads it ('Load true'), saves it when the setup says\n"
+                 "'Save true', and renders it over HeadModel with the VisualityInfo colours.\n"
+                 "LoadFile may be any hair format hairkit reads (.hair .tfx .data .ply .obj\n"
+                 ".usda, by the extension); HeadModel and WickModel OBJ or PLY. Loaded hair whose\n"
+                 "strand width is not a hair's (see 'hairkit render --help') is drawn at the\n"
+                 "hairstyle's diameter (HairRadius1 + HairRadius2; 70 um without HairstyleInfo).\n"
+                 "\n"
+                 "options:\n"
+                 "  -o, --output FILE  the PNG to write\n"
+                 "  --hair FILE        also write the hair as a .hair file\n"
+                 "  --scale S, --up AXIS  units and up axis of the LoadFile hair (Load true):\n"
+                 "                     multiply by S (0.001: millimetres to metres), rotate AXIS\n"
+                 "                     (+x -x +y -y +z -z) onto +y as 'hairkit convert' does\n"
+                 "  --head-scale S, --head-up AXIS  the same for the head and wick meshes\n"
+                 "                     (HeadModel, WickModel; not the collision shapes)\n");
     hk_cli_render_options_help(out);
-    fprintf(out,
-            "  --seed N           random seed of the interpolation (default 1)\n"
-            "  --threads N        threads to use (default: all cores); the results do not\n"
-            "                     depend on it\n"
-            "  --quiet            no progress or summary on stderr\n"
-            "  -h, --help         this help\n");
+    fprintf(out, "  --seed N           random seed of the interpolation (default 1)\n"
+                 "  --threads N        threads to use (default: all cores); the results do not\n"
+                 "                     depend on it\n"
+                 "  --quiet            no progress or summary on stderr\n"
+                 "  -h, --help         this help\n");
 }
 
 int hk_cmd_run(int argc, char **argv)
 {
     static const struct option options[] = {
-        {"output", required_argument, NULL, 'o'}, {"hair", required_argument, NULL, 'a'},
-        {"seed", required_argument, NULL, 's'},   {"threads", required_argument, NULL, 't'},
-        {"quiet", no_argument, NULL, 'q'},        {"help", no_argument, NULL, 'h'},
-        HK_CLI_RENDER_LONG_OPTIONS,               HK_CLI_HAIR_TRANSFORM_LONG_OPTIONS,
-        HK_CLI_HEAD_TRANSFORM_LONG_OPTIONS,       {NULL, 0, NULL, 0},
+        {"output", required_argument, NULL, 'o'},
+        {"hair", required_argument, NULL, 'a'},
+        {"seed", required_argument, NULL, 's'},
+        {"threads", required_argument, NULL, 't'},
+        {"quiet", no_argument, NULL, 'q'},
+        {"help", no_argument, NULL, 'h'},
+        HK_CLI_RENDER_LONG_OPTIONS,
+        HK_CLI_HAIR_TRANSFORM_LONG_OPTIONS,
+        HK_CLI_HEAD_TRANSFORM_LONG_OPTIONS,
+        {NULL, 0, NULL, 0},
     };
     const char *output = NULL, *hair_out = NULL;
     hk_RenderDef ro = hk_default_render_def();
@@ -73,9 +76,15 @@ int hk_cmd_run(int argc, char **argv)
             if (rc) return rc;
             break;
         }
-        case 'o': output = optarg; break;
-        case 'a': hair_out = optarg; break;
-        case 'q': quiet = 1; break;
+        case 'o':
+            output = optarg;
+            break;
+        case 'a':
+            hair_out = optarg;
+            break;
+        case 'q':
+            quiet = 1;
+            break;
         case 's': {
             int rc = hk_cli_seed_option(CMD, optarg, &go.seed);
             if (rc) return rc;
@@ -87,9 +96,13 @@ int hk_cmd_run(int argc, char **argv)
             go.threads = ro.threads;
             break;
         }
-        case 'h': usage(stdout); return HK_EXIT_OK;
-        case ':': return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
-        default: return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
+        case 'h':
+            usage(stdout);
+            return HK_EXIT_OK;
+        case ':':
+            return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
+        default:
+            return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
         }
     }
     if (optind >= argc) return hk_cli_usage_error(CMD, "missing SETUP file");
@@ -114,8 +127,8 @@ int hk_cmd_run(int argc, char **argv)
     if (st != HK_OK) return hk_cli_fail(CMD, &err);
     if (hair_tf.given && !scene.setup.load) {
         hk_scene_free(&scene);
-        return hk_cli_usage_error(CMD, "--scale and --up are for hair read from LoadFile; %s grows its hair (Load false)",
-                                  argv[optind]);
+        return hk_cli_usage_error(
+            CMD, "--scale and --up are for hair read from LoadFile; %s grows its hair (Load false)", argv[optind]);
     }
     /* Loaded hair is drawn at the hairstyle's diameter when its file's width is not a
      * hair's: the hairstyle is read for it when the setup names one. */

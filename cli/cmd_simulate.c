@@ -14,62 +14,60 @@ static const char *const CMD = "simulate";
 
 static void usage(FILE *out)
 {
-    fprintf(out,
-            "usage: hairkit simulate SETUP.txt --frames N --fps F -o DIR [options]\n"
-            "       hairkit simulate --rebuild DIR --frame K -o OUT.hair [--threads N]\n"
-            "\n"
-            "Dynamics of a full head of hair (Bertails et al. 2006): one Super-Helix per guide\n"
-            "follicle of the setup's wick, starting from its rest shape, moved by the head,\n"
-            "pushed by the collision shapes (with anisotropic friction) and by the other\n"
-            "guides. Frame k (k = 0 .. N-1, at t = k / F; frame 0 is the rest state) is\n"
-            "written as\n"
-            "DIR/guides_kkkk.hair (the guides) and DIR/frame_kkkk.png (the guides and the\n"
-            "interpolated hair grown from them), and DIR/hair.mp4 is made from the pictures\n"
-            "when ffmpeg is installed. DIR/simulation.txt records what grows the interpolated\n"
-            "hair again: --rebuild writes any frame's full hair, byte for byte what\n"
-            "--full-hair would have written (about 60 MB a frame on the default head, so\n"
-            "not written by default).\n"
-            "\n"
-            "Files of an earlier run in DIR (frame_*.png, frame_*.hair, guides_*.hair,\n"
-            "hair.mp4, simulation.txt) are removed first; nothing else in DIR is touched.\n"
-            "\n"
-            "options:\n"
-            "  --frames N         number of frames (1 to 100000)\n"
-            "  --fps F            frames per second; the time step is 1/F (the paper: 30)\n"
-            "  -o, --output DIR   folder for the frames (made if missing)\n"
-            "  --guides-only      simulate and write only the guides (DIR/guides_kkkk.hair),\n"
-            "                     no interpolation and no pictures: a quick preview\n"
-            "  --full-hair        also write every strand of every frame, DIR/frame_kkkk.hair\n"
-            "                     (guides first, then the interpolated strands)\n"
-            "  --no-contacts      no guide-guide interactions\n"
-            "  --preroll auto|S   let the hair settle on the still head before frame 0 (the\n"
-            "                     groomed shape ignores the guide-guide contacts): S seconds,\n"
-            "                     or (auto, the default) 1 s and then on until every guide's\n"
-            "                     tip is at rest (slower than 0.1 mm/s for 5 frames), 5 s at\n"
-            "                     most\n"
-            "  --damping on|off   internal friction and air drag (default on)\n"
-            "  --integrator auto|trbdf2|euler\n"
-            "                     time stepping of the guides: the linearly implicit Euler\n"
-            "                     step with the guide-guide contacts solved together, guides\n"
-            "                     over 25 cm in several steps a frame (auto, the default;\n"
-            "                     euler), or TR-BDF2 (second order, the contacts as penalty\n"
-            "                     forces per guide; long guides whip)\n");
+    fprintf(out, "usage: hairkit simulate SETUP.txt --frames N --fps F -o DIR [options]\n"
+                 "       hairkit simulate --rebuild DIR --frame K -o OUT.hair [--threads N]\n"
+                 "\n"
+                 "Dynamics of a full head of hair (Bertails et al. 2006): one Super-Helix per guide\n"
+                 "follicle of the setup's wick, starting from its rest shape, moved by the head,\n"
+                 "pushed by the collision shapes (with anisotropic friction) and by the other\n"
+                 "guides. Frame k (k = 0 .. N-1, at t = k / F; frame 0 is the rest state) is\n"
+                 "written as\n"
+                 "DIR/guides_kkkk.hair (the guides) and DIR/frame_kkkk.png (the guides and the\n"
+                 "interpolated hair grown from them), and DIR/hair.mp4 is made from the pictures\n"
+                 "when ffmpeg is installed. DIR/simulation.txt records what grows the interpolated\n"
+                 "hair again: --rebuild writes any frame's full hair, byte for byte what\n"
+                 "--full-hair would have written (about 60 MB a frame on the default head, so\n"
+                 "not written by default).\n"
+                 "\n"
+                 "Files of an earlier run in DIR (frame_*.png, frame_*.hair, guides_*.hair,\n"
+                 "hair.mp4, simulation.txt) are removed first; nothing else in DIR is touched.\n"
+                 "\n"
+                 "options:\n"
+                 "  --frames N         number of frames (1 to 100000)\n"
+                 "  --fps F            frames per second; the time step is 1/F (the paper: 30)\n"
+                 "  -o, --output DIR   folder for the frames (made if missing)\n"
+                 "  --guides-only      simulate and write only the guides (DIR/guides_kkkk.hair),\n"
+                 "                     no interpolation and no pictures: a quick preview\n"
+                 "  --full-hair        also write every strand of every frame, DIR/frame_kkkk.hair\n"
+                 "                     (guides first, then the interpolated strands)\n"
+                 "  --no-contacts      no guide-guide interactions\n"
+                 "  --preroll auto|S   let the hair settle on the still head before frame 0 (the\n"
+                 "                     groomed shape ignores the guide-guide contacts): S seconds,\n"
+                 "                     or (auto, the default) 1 s and then on until every guide's\n"
+                 "                     tip is at rest (slower than 0.1 mm/s for 5 frames), 5 s at\n"
+                 "                     most\n"
+                 "  --damping on|off   internal friction and air drag (default on)\n"
+                 "  --integrator auto|trbdf2|euler\n"
+                 "                     time stepping of the guides: the linearly implicit Euler\n"
+                 "                     step with the guide-guide contacts solved together, guides\n"
+                 "                     over 25 cm in several steps a frame (auto, the default;\n"
+                 "                     euler), or TR-BDF2 (second order, the contacts as penalty\n"
+                 "                     forces per guide; long guides whip)\n");
     hk_cli_motion_options_help(out);
     fprintf(out, "pictures:\n");
     hk_cli_render_options_help(out);
-    fprintf(out,
-            "rebuilding a frame:\n"
-            "  --rebuild DIR      the folder of an earlier run (it needs DIR/simulation.txt,\n"
-            "                     DIR/guides_kkkk.hair and the setup's unchanged hairstyle,\n"
-            "                     wick, collision and motion files)\n"
-            "  --frame K          the frame to rebuild; -o names the .hair to write\n"
-            "\n"
-            "  --seed N           random seed of the interpolation (default 1)\n"
-            "  --threads N        threads to use (default: all cores); the results do not\n"
-            "                     depend on it\n"
-            "  --quiet            no progress or summary on stderr (otherwise a bar with the\n"
-            "                     time left on a terminal, else a line every few seconds)\n"
-            "  -h, --help         this help\n");
+    fprintf(out, "rebuilding a frame:\n"
+                 "  --rebuild DIR      the folder of an earlier run (it needs DIR/simulation.txt,\n"
+                 "                     DIR/guides_kkkk.hair and the setup's unchanged hairstyle,\n"
+                 "                     wick, collision and motion files)\n"
+                 "  --frame K          the frame to rebuild; -o names the .hair to write\n"
+                 "\n"
+                 "  --seed N           random seed of the interpolation (default 1)\n"
+                 "  --threads N        threads to use (default: all cores); the results do not\n"
+                 "                     depend on it\n"
+                 "  --quiet            no progress or summary on stderr (otherwise a bar with the\n"
+                 "                     time left on a terminal, else a line every few seconds)\n"
+                 "  -h, --help         this help\n");
 }
 
 typedef struct SimArgs {
@@ -83,8 +81,18 @@ typedef struct SimArgs {
 
 static int parse_args(int argc, char **argv, SimArgs *a)
 {
-    enum { OPT_FRAMES = 2000, OPT_FPS, OPT_GUIDES_ONLY, OPT_NO_CONTACTS, OPT_DAMPING, OPT_INTEGRATOR, OPT_PREROLL, OPT_FULL_HAIR,
-           OPT_REBUILD, OPT_FRAME };
+    enum {
+        OPT_FRAMES = 2000,
+        OPT_FPS,
+        OPT_GUIDES_ONLY,
+        OPT_NO_CONTACTS,
+        OPT_DAMPING,
+        OPT_INTEGRATOR,
+        OPT_PREROLL,
+        OPT_FULL_HAIR,
+        OPT_REBUILD,
+        OPT_FRAME
+    };
     static const struct option options[] = {
         {"frames", required_argument, NULL, OPT_FRAMES},
         {"fps", required_argument, NULL, OPT_FPS},
@@ -130,15 +138,25 @@ static int parse_args(int argc, char **argv, SimArgs *a)
             if (!hk_cli_parse_double(optarg, &a->fps) || !(a->fps >= 1.0 && a->fps <= 100000.0))
                 return hk_cli_usage_error(CMD, "--fps expects a number from 1 to 100000, got '%s'", optarg);
             break;
-        case 'o': a->dir = optarg; break;
-        case OPT_GUIDES_ONLY: a->run.guides_only = 1; break;
-        case OPT_FULL_HAIR: a->run.full_hair = 1; break;
-        case OPT_REBUILD: a->rebuild = optarg; break;
+        case 'o':
+            a->dir = optarg;
+            break;
+        case OPT_GUIDES_ONLY:
+            a->run.guides_only = 1;
+            break;
+        case OPT_FULL_HAIR:
+            a->run.full_hair = 1;
+            break;
+        case OPT_REBUILD:
+            a->rebuild = optarg;
+            break;
         case OPT_FRAME:
             if (!hk_cli_parse_int(optarg, 0, 99999, &a->frame))
                 return hk_cli_usage_error(CMD, "--frame expects a frame number from 0 to 99999, got '%s'", optarg);
             break;
-        case OPT_NO_CONTACTS: a->run.hair_contacts = 0; break;
+        case OPT_NO_CONTACTS:
+            a->run.hair_contacts = 0;
+            break;
         case OPT_PREROLL:
             if (strcmp(optarg, "auto") == 0) {
                 const hk_SimRunDef def = hk_default_sim_run_def();
@@ -155,10 +173,14 @@ static int parse_args(int argc, char **argv, SimArgs *a)
             a->run.damping = strcmp(optarg, "on") == 0;
             break;
         case OPT_INTEGRATOR:
-            if (strcmp(optarg, "auto") == 0) a->run.integrator = HK_INTEGRATOR_AUTO;
-            else if (strcmp(optarg, "trbdf2") == 0) a->run.integrator = HK_INTEGRATOR_TRBDF2;
-            else if (strcmp(optarg, "euler") == 0) a->run.integrator = HK_INTEGRATOR_LINEAR_EULER;
-            else return hk_cli_usage_error(CMD, "--integrator must be auto, trbdf2 or euler, got '%s'", optarg);
+            if (strcmp(optarg, "auto") == 0)
+                a->run.integrator = HK_INTEGRATOR_AUTO;
+            else if (strcmp(optarg, "trbdf2") == 0)
+                a->run.integrator = HK_INTEGRATOR_TRBDF2;
+            else if (strcmp(optarg, "euler") == 0)
+                a->run.integrator = HK_INTEGRATOR_LINEAR_EULER;
+            else
+                return hk_cli_usage_error(CMD, "--integrator must be auto, trbdf2 or euler, got '%s'", optarg);
             break;
         case 's':
             if ((rc = hk_cli_seed_option(CMD, optarg, &a->run.seed))) return rc;
@@ -166,10 +188,16 @@ static int parse_args(int argc, char **argv, SimArgs *a)
         case 't':
             if ((rc = hk_cli_threads_option(CMD, optarg, &a->run.threads))) return rc;
             break;
-        case 'q': a->quiet = 1; break;
-        case 'h': usage(stdout); return -1;
-        case ':': return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
-        default: return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
+        case 'q':
+            a->quiet = 1;
+            break;
+        case 'h':
+            usage(stdout);
+            return -1;
+        case ':':
+            return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
+        default:
+            return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
         }
     }
     if (a->rebuild) {
@@ -210,9 +238,12 @@ static void on_progress(void *user, const hk_SimProgress *p)
     if (p->frame == 0) {
         hk_cli_progress_done(&pr->bar);
         if (!pr->lines && !pr->bar.enabled) return;
-        if (p->removed) fprintf(stderr, "hairkit %s: removed %d files of an earlier run from %s\n", CMD, p->removed, pr->dir);
+        if (p->removed)
+            fprintf(stderr, "hairkit %s: removed %d files of an earlier run from %s\n", CMD, p->removed, pr->dir);
         if (p->preroll_at_rest || p->preroll == 0.0)
-            fprintf(stderr, "hairkit %s: %d guides of %d elements at rest after %.2f s of settling (set up in %.2f s); %ld frames\n",
+            fprintf(stderr,
+                    "hairkit %s: %d guides of %d elements at rest after %.2f s of settling (set up in %.2f s); %ld "
+                    "frames\n",
                     CMD, p->guides, p->elements, p->preroll, p->seconds_setup, p->frames);
         else
             fprintf(stderr,
@@ -224,8 +255,9 @@ static void on_progress(void *user, const hk_SimProgress *p)
     }
     if (p->recovered > pr->recovered) { /* always said, even without progress lines */
         hk_cli_progress_done(&pr->bar);
-        fprintf(stderr, "hairkit %s: by frame %ld, %ld guide(s) could not be advanced through a frame and were held "
-                        "at rest relative to the head for it (%ld so far)\n",
+        fprintf(stderr,
+                "hairkit %s: by frame %ld, %ld guide(s) could not be advanced through a frame and were held "
+                "at rest relative to the head for it (%ld so far)\n",
                 CMD, p->frame, p->recovered - pr->recovered, p->recovered);
         pr->recovered = p->recovered;
     }
@@ -235,7 +267,8 @@ static void on_progress(void *user, const hk_SimProgress *p)
     snprintf(note, sizeof note, "%.2f s/frame, about %s left", per_frame, left);
     if (pr->bar.enabled) {
         hk_cli_progress_note(&pr->bar, "frames", (double)p->frame / (double)p->frames, note);
-    } else if (pr->lines && (p->frame == 1 || p->frame == p->frames || hk_seconds_now() - pr->last_line >= LINE_INTERVAL)) {
+    } else if (pr->lines &&
+               (p->frame == 1 || p->frame == p->frames || hk_seconds_now() - pr->last_line >= LINE_INTERVAL)) {
         fprintf(stderr, "hairkit %s: frame %ld/%ld, %s\n", CMD, p->frame, p->frames, note);
         pr->last_line = hk_seconds_now();
     }
@@ -251,12 +284,14 @@ static void print_summary(const SimArgs *a, const hk_SimProgress *p)
             "picture %.3f s, writing %.3f s%s; %.1f MB written (%.2f MB per frame)\n",
             CMD, p->frame, a->dir, p->video > 0 ? " (and hair.mp4)" : "", total, p->seconds / n,
             p->seconds_dynamics / n, p->seconds_regrow / n, p->seconds_render / n, p->seconds_write / n,
-            p->frames_at_once > 1 ? " (two frames drawn at once: the stages overlap)" : "",
-            (double)p->bytes / 1e6, (double)p->bytes / 1e6 / n);
+            p->frames_at_once > 1 ? " (two frames drawn at once: the stages overlap)" : "", (double)p->bytes / 1e6,
+            (double)p->bytes / 1e6 / n);
     if (p->video < 0) fprintf(stderr, "hairkit %s: ffmpeg failed, no video\n", CMD);
     if (p->recovered > 0)
-        fprintf(stderr, "hairkit %s: %ld time(s) a guide could not be advanced through a frame and was held at rest "
-                        "relative to the head for it\n", CMD, p->recovered);
+        fprintf(stderr,
+                "hairkit %s: %ld time(s) a guide could not be advanced through a frame and was held at rest "
+                "relative to the head for it\n",
+                CMD, p->recovered);
 }
 
 static int rebuild(const SimArgs *a)

@@ -15,50 +15,48 @@ static const char *const CMD = "strand";
 
 static void usage(FILE *out)
 {
-    fprintf(out,
-            "usage: hairkit strand HAIRSTYLE.txt [options]\n"
-            "\n"
-            "Finds the rest shape of one hair strand (a Super-Helix) under gravity and\n"
-            "collision penalties by minimising its energy, and prints it.\n"
-            "\n"
-            "options:\n"
-            "  --collision FILE   collision shapes (thesis Collision Info file)\n"
-            "  --root X,Y,Z       root position in metres (default 0,0,0)\n"
-            "  --dir X,Y,Z        direction in which the strand leaves the root (default 1,0,0)\n"
-            "  --solver NAME      newton (default: analytic gradient and Hessian) or\n"
-            "                     rosenbrock (the thesis's direct search, MaxIter/Epsilon)\n"
-            "  --envelope A       envelope level of this strand in [0,1] (thesis 4.1.2.2:\n"
-            "                     0 lowest follicle, 1 highest; default 0)\n"
-            "  --plot FILE.png    also draw side and front views of the strand and shapes\n"
-            "  --quiet            no summary on stderr\n"
-            "  -h, --help         this help\n"
-            "\n"
-            "dynamics (Bertails et al. 2006, 3.3-3.4): instead of the rest shape, the\n"
-            "strand's motion from rest in its natural shape, under gravity, friction and\n"
-            "the head's motion\n"
-            "  --simulate T       simulated time in seconds\n"
-            "  --dt DT            time step in seconds (default 1/30, the paper's)\n"
-            "  --damping on|off   internal friction and air drag (InternalFriction, AirDrag\n"
-            "                     of the hairstyle file; default on)\n"
-            "  --dynamics-solver linear|dense\n"
-            "                     matrix of Newton's iteration: the O(N) recursion with the\n"
-            "                     elastic and Gauss-Newton contact stiffness (default), or\n"
-            "                     dense Cholesky with the full stiffness\n"
-            "  --integrator trbdf2|euler\n"
-            "                     TR-BDF2, second order with every force implicit (default),\n"
-            "                     or the linearly implicit Euler step of Bertails et al.\n"
-            "                     2006, 3.4 (cheaper, first order, unstable for long hair at 1/30 s)\n"
-            "  --tip-csv FILE     write t,x,y,z of the tip at every step\n");
+    fprintf(out, "usage: hairkit strand HAIRSTYLE.txt [options]\n"
+                 "\n"
+                 "Finds the rest shape of one hair strand (a Super-Helix) under gravity and\n"
+                 "collision penalties by minimising its energy, and prints it.\n"
+                 "\n"
+                 "options:\n"
+                 "  --collision FILE   collision shapes (thesis Collision Info file)\n"
+                 "  --root X,Y,Z       root position in metres (default 0,0,0)\n"
+                 "  --dir X,Y,Z        direction in which the strand leaves the root (default 1,0,0)\n"
+                 "  --solver NAME      newton (default: analytic gradient and Hessian) or\n"
+                 "                     rosenbrock (the thesis's direct search, MaxIter/Epsilon)\n"
+                 "  --envelope A       envelope level of this strand in [0,1] (thesis 4.1.2.2:\n"
+                 "                     0 lowest follicle, 1 highest; default 0)\n"
+                 "  --plot FILE.png    also draw side and front views of the strand and shapes\n"
+                 "  --quiet            no summary on stderr\n"
+                 "  -h, --help         this help\n"
+                 "\n"
+                 "dynamics (Bertails et al. 2006, 3.3-3.4): instead of the rest shape, the\n"
+                 "strand's motion from rest in its natural shape, under gravity, friction and\n"
+                 "the head's motion\n"
+                 "  --simulate T       simulated time in seconds\n"
+                 "  --dt DT            time step in seconds (default 1/30, the paper's)\n"
+                 "  --damping on|off   internal friction and air drag (InternalFriction, AirDrag\n"
+                 "                     of the hairstyle file; default on)\n"
+                 "  --dynamics-solver linear|dense\n"
+                 "                     matrix of Newton's iteration: the O(N) recursion with the\n"
+                 "                     elastic and Gauss-Newton contact stiffness (default), or\n"
+                 "                     dense Cholesky with the full stiffness\n"
+                 "  --integrator trbdf2|euler\n"
+                 "                     TR-BDF2, second order with every force implicit (default),\n"
+                 "                     or the linearly implicit Euler step of Bertails et al.\n"
+                 "                     2006, 3.4 (cheaper, first order, unstable for long hair at 1/30 s)\n"
+                 "  --tip-csv FILE     write t,x,y,z of the tip at every step\n");
     hk_cli_motion_options_help(out);
-    fprintf(out,
-            "\n"
-            "output (stdout):\n"
-            "  # energy=<J> iterations=<n> evaluations=<n> solver=<name>\n"
-            "  s,x,y,z            one row every VisualityStep from the root, the tip last\n"
-            "with --simulate, energy is the total (kinetic + elastic + gravity) at time T,\n"
-            "iterations counts the steps of DT, evaluations the evaluations of the forces\n"
-            "(Newton iterations, with the splits of fast motion), and the solver is\n"
-            "dynamics-linear or dynamics-dense.\n");
+    fprintf(out, "\n"
+                 "output (stdout):\n"
+                 "  # energy=<J> iterations=<n> evaluations=<n> solver=<name>\n"
+                 "  s,x,y,z            one row every VisualityStep from the root, the tip last\n"
+                 "with --simulate, energy is the total (kinetic + elastic + gravity) at time T,\n"
+                 "iterations counts the steps of DT, evaluations the evaluations of the forces\n"
+                 "(Newton iterations, with the splits of fast motion), and the solver is\n"
+                 "dynamics-linear or dynamics-dense.\n");
 }
 
 typedef struct StrandArgs {
@@ -72,8 +70,21 @@ typedef struct StrandArgs {
 
 static int parse_args(int argc, char **argv, StrandArgs *a)
 {
-    enum { OPT_COLLISION = 1000, OPT_ROOT, OPT_DIR, OPT_SOLVER, OPT_ENVELOPE, OPT_PLOT, OPT_QUIET,
-           OPT_SIMULATE, OPT_DT, OPT_DAMPING, OPT_DYN_SOLVER, OPT_TIP_CSV, OPT_INTEGRATOR };
+    enum {
+        OPT_COLLISION = 1000,
+        OPT_ROOT,
+        OPT_DIR,
+        OPT_SOLVER,
+        OPT_ENVELOPE,
+        OPT_PLOT,
+        OPT_QUIET,
+        OPT_SIMULATE,
+        OPT_DT,
+        OPT_DAMPING,
+        OPT_DYN_SOLVER,
+        OPT_TIP_CSV,
+        OPT_INTEGRATOR
+    };
     static const struct option options[] = {
         {"simulate", required_argument, NULL, OPT_SIMULATE},
         {"dt", required_argument, NULL, OPT_DT},
@@ -92,8 +103,7 @@ static int parse_args(int argc, char **argv, StrandArgs *a)
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
-    *a = (StrandArgs){NULL, NULL, NULL, {0, 0, 0}, {1, 0, 0}, HK_SOLVER_NEWTON, 0.0, 0,
-                      hk_cli_default_strand_sim()};
+    *a = (StrandArgs){NULL, NULL, NULL, {0, 0, 0}, {1, 0, 0}, HK_SOLVER_NEWTON, 0.0, 0, hk_cli_default_strand_sim()};
     optind = 1;
     opterr = 0;
     int c, dynamics_option = 0;
@@ -106,8 +116,7 @@ static int parse_args(int argc, char **argv, StrandArgs *a)
         }
         switch (c) {
         case OPT_SIMULATE:
-            if (!hk_cli_parse_double(optarg, &a->sim.duration) || !(a->sim.duration > 0.0) ||
-                a->sim.duration > 1e5)
+            if (!hk_cli_parse_double(optarg, &a->sim.duration) || !(a->sim.duration > 0.0) || a->sim.duration > 1e5)
                 return hk_cli_usage_error(CMD, "--simulate expects a time in (0, 1e5] s, got '%s'", optarg);
             a->sim.enabled = 1;
             break;
@@ -137,9 +146,15 @@ static int parse_args(int argc, char **argv, StrandArgs *a)
             a->sim.tip_csv = optarg;
             dynamics_option = 1;
             break;
-        case OPT_COLLISION: a->collision = optarg; break;
-        case OPT_PLOT: a->plot = optarg; break;
-        case OPT_QUIET: a->quiet = 1; break;
+        case OPT_COLLISION:
+            a->collision = optarg;
+            break;
+        case OPT_PLOT:
+            a->plot = optarg;
+            break;
+        case OPT_QUIET:
+            a->quiet = 1;
+            break;
         case OPT_ROOT:
             if (!hk_cli_parse_vec3(optarg, &a->root))
                 return hk_cli_usage_error(CMD, "--root expects X,Y,Z (three numbers), got '%s'", optarg);
@@ -158,16 +173,19 @@ static int parse_args(int argc, char **argv, StrandArgs *a)
             if (!hk_cli_parse_double(optarg, &a->envelope) || a->envelope < 0.0 || a->envelope > 1.0)
                 return hk_cli_usage_error(CMD, "--envelope expects a number in [0, 1], got '%s'", optarg);
             break;
-        case 'h': usage(stdout); return -1;
-        case ':': return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
-        default: return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
+        case 'h':
+            usage(stdout);
+            return -1;
+        case ':':
+            return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
+        default:
+            return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
         }
     }
     if (dynamics_option && !a->sim.enabled)
         return hk_cli_usage_error(CMD, "--dt, --damping, --tip-csv and the motion options need --simulate T");
     if (a->sim.enabled && a->sim.duration / a->sim.dt > 1e8)
-        return hk_cli_usage_error(CMD, "--simulate %g with --dt %g is more than 1e8 steps", a->sim.duration,
-                                  a->sim.dt);
+        return hk_cli_usage_error(CMD, "--simulate %g with --dt %g is more than 1e8 steps", a->sim.duration, a->sim.dt);
     if (optind >= argc) return hk_cli_usage_error(CMD, "missing HAIRSTYLE file");
     if (optind + 1 < argc) return hk_cli_usage_error(CMD, "unexpected argument '%s'", argv[optind + 1]);
     a->hairstyle = argv[optind];
@@ -175,11 +193,11 @@ static int parse_args(int argc, char **argv, StrandArgs *a)
 }
 
 /* Writes the sampled strand to stdout in the format of the command-line contract. */
-static void print_strand(const hk_MinimizeResult *res, hk_SolverKind solver, double energy, int count,
-                         const double *s, const hk_Vec3 *p)
+static void print_strand(const hk_MinimizeResult *res, hk_SolverKind solver, double energy, int count, const double *s,
+                         const hk_Vec3 *p)
 {
-    printf("# energy=%.10e iterations=%d evaluations=%ld solver=%s\n", energy, res->iterations,
-           res->evaluations, hk_solver_name(solver));
+    printf("# energy=%.10e iterations=%d evaluations=%ld solver=%s\n", energy, res->iterations, res->evaluations,
+           hk_solver_name(solver));
     printf("s,x,y,z\n");
     for (int j = 0; j < count; j++) printf("%.10g,%.10g,%.10g,%.10g\n", s[j], p[j].x, p[j].y, p[j].z);
 }
@@ -259,8 +277,8 @@ int hk_cmd_strand(int argc, char **argv)
     }
     if (!a.quiet && hk_cli_stderr_is_tty()) {
         fprintf(stderr, "hairkit strand: %d elements, L = %.4g m, %s: %d iterations, %ld evaluations, %.3g ms%s\n",
-                sh->n, sh->total_length, hk_solver_name(a.solver), res.iterations, res.evaluations,
-                1e3 * seconds, res.converged ? "" : " (stopped by its limit before converging)");
+                sh->n, sh->total_length, hk_solver_name(a.solver), res.iterations, res.evaluations, 1e3 * seconds,
+                res.converged ? "" : " (stopped by its limit before converging)");
         if (shape_count > 0)
             fprintf(stderr, "hairkit strand: deepest collision sample %.3g m inside the envelopes\n",
                     hk_strand_max_penetration(sh, &env, sh->q, ws));

@@ -17,33 +17,31 @@ enum { OPT_FRAMES = 1300, OPT_SCREENSHOT, OPT_HEAD_VERT, OPT_HEAD_FRAG, OPT_HAIR
 
 static void usage(FILE *out)
 {
-    fprintf(out,
-            "usage: hairkit view SETUP.txt | HAIR [--head MESH] [--visuality V.txt]\n"
-            "                    [--width W --height H] [--view AZ,EL] [--light AZ,EL]\n"
-            "                    [--frames N --screenshot OUT.png] [options]\n"
-            "\n"
-            "The interactive OpenGL viewer (thesis 4.1.5-4.1.6): the head with a Lambert\n"
-            "shader, the hair as line strips with Kajiya-Kay (or Marschner) shading and\n"
-            "opacity shadow maps. A setup file's hair is grown (or loaded) as 'hairkit run'\n"
-            "does; any other file is hair in a format hairkit reads, as 'hairkit render'.\n"
-            "--view, --light, --width and --height frame the picture as 'render' does.\n"
-            "Mouse: left drag turns, right drag moves, wheel zooms, L + left drag moves the\n"
-            "light. Keys: arrows turn, + - zoom, S shadows, M shading, H head, R reset,\n"
-            "P screenshot, F5 reload shaders, Esc quits (docs/viewer.md).\n"
-            "\n"
-            "options:\n"
-            "  --head FILE        the head mesh, OBJ or PLY (with a hair file; optional)\n"
-            "  --visuality FILE   hair colours (with a hair file; default brown)\n"
-            "  --frames N         headless: draw N frames in a hidden window, then stop\n"
-            "  --screenshot FILE  the last frame as a PNG (with --frames; alone: one frame)\n"
-            "  --head-vert F, --head-frag F, --hair-vert F, --hair-frag F\n"
-            "                     GLSL files replacing the built-in shaders (as the setup\n"
-            "                     keys HeadVert, HeadFrag, HairVert, HairFrag)\n");
+    fprintf(out, "usage: hairkit view SETUP.txt | HAIR [--head MESH] [--visuality V.txt]\n"
+                 "                    [--width W --height H] [--view AZ,EL] [--light AZ,EL]\n"
+                 "                    [--frames N --screenshot OUT.png] [options]\n"
+                 "\n"
+                 "The interactive OpenGL viewer (thesis 4.1.5-4.1.6): the head with a Lambert\n"
+                 "shader, the hair as line strips with Kajiya-Kay (or Marschner) shading and\n"
+                 "opacity shadow maps. A setup file's hair is grown (or loaded) as 'hairkit run'\n"
+                 "does; any other file is hair in a format hairkit reads, as 'hairkit render'.\n"
+                 "--view, --light, --width and --height frame the picture as 'render' does.\n"
+                 "Mouse: left drag turns, right drag moves, wheel zooms, L + left drag moves the\n"
+                 "light. Keys: arrows turn, + - zoom, S shadows, M shading, H head, R reset,\n"
+                 "P screenshot, F5 reload shaders, Esc quits (docs/viewer.md).\n"
+                 "\n"
+                 "options:\n"
+                 "  --head FILE        the head mesh, OBJ or PLY (with a hair file; optional)\n"
+                 "  --visuality FILE   hair colours (with a hair file; default brown)\n"
+                 "  --frames N         headless: draw N frames in a hidden window, then stop\n"
+                 "  --screenshot FILE  the last frame as a PNG (with --frames; alone: one frame)\n"
+                 "  --head-vert F, --head-frag F, --hair-vert F, --hair-frag F\n"
+                 "                     GLSL files replacing the built-in shaders (as the setup\n"
+                 "                     keys HeadVert, HeadFrag, HairVert, HairFrag)\n");
     hk_cli_transform_help(out, 1, 1);
     hk_cli_render_options_help(out);
-    fprintf(out,
-            "  --quiet            no summary on stderr\n"
-            "  -h, --help         this help\n");
+    fprintf(out, "  --quiet            no summary on stderr\n"
+                 "  -h, --help         this help\n");
 }
 
 typedef struct ViewArgs {
@@ -59,12 +57,19 @@ typedef struct ViewArgs {
 static int parse(int argc, char **argv, ViewArgs *a)
 {
     static const struct option options[] = {
-        {"head", required_argument, NULL, 'H'}, {"visuality", required_argument, NULL, 'v'},
-        {"frames", required_argument, NULL, OPT_FRAMES}, {"screenshot", required_argument, NULL, OPT_SCREENSHOT},
-        {"head-vert", required_argument, NULL, OPT_HEAD_VERT}, {"head-frag", required_argument, NULL, OPT_HEAD_FRAG},
-        {"hair-vert", required_argument, NULL, OPT_HAIR_VERT}, {"hair-frag", required_argument, NULL, OPT_HAIR_FRAG},
-        {"quiet", no_argument, NULL, 'q'}, {"help", no_argument, NULL, 'h'},
-        HK_CLI_RENDER_LONG_OPTIONS, HK_CLI_HAIR_TRANSFORM_LONG_OPTIONS, HK_CLI_HEAD_TRANSFORM_LONG_OPTIONS,
+        {"head", required_argument, NULL, 'H'},
+        {"visuality", required_argument, NULL, 'v'},
+        {"frames", required_argument, NULL, OPT_FRAMES},
+        {"screenshot", required_argument, NULL, OPT_SCREENSHOT},
+        {"head-vert", required_argument, NULL, OPT_HEAD_VERT},
+        {"head-frag", required_argument, NULL, OPT_HEAD_FRAG},
+        {"hair-vert", required_argument, NULL, OPT_HAIR_VERT},
+        {"hair-frag", required_argument, NULL, OPT_HAIR_FRAG},
+        {"quiet", no_argument, NULL, 'q'},
+        {"help", no_argument, NULL, 'h'},
+        HK_CLI_RENDER_LONG_OPTIONS,
+        HK_CLI_HAIR_TRANSFORM_LONG_OPTIONS,
+        HK_CLI_HEAD_TRANSFORM_LONG_OPTIONS,
         {NULL, 0, NULL, 0},
     };
     int c;
@@ -85,21 +90,35 @@ static int parse(int argc, char **argv, ViewArgs *a)
             if (rc) return rc;
             break;
         }
-        case 'H': a->head_path = optarg; break;
-        case 'v': a->vis_path = optarg; break;
-        case 'q': a->quiet = 1; break;
+        case 'H':
+            a->head_path = optarg;
+            break;
+        case 'v':
+            a->vis_path = optarg;
+            break;
+        case 'q':
+            a->quiet = 1;
+            break;
         case OPT_FRAMES:
             if (!hk_cli_parse_int(optarg, 1, 1000000, &a->frames))
                 return hk_cli_usage_error(CMD, "--frames expects 1 to 1000000, got '%s'", optarg);
             break;
-        case OPT_SCREENSHOT: a->screenshot = optarg; break;
+        case OPT_SCREENSHOT:
+            a->screenshot = optarg;
+            break;
         case OPT_HEAD_VERT:
         case OPT_HEAD_FRAG:
         case OPT_HAIR_VERT:
-        case OPT_HAIR_FRAG: a->shader[c - OPT_HEAD_VERT] = optarg; break;
-        case 'h': usage(stdout); return HK_EXIT_OK;
-        case ':': return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
-        default: return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
+        case OPT_HAIR_FRAG:
+            a->shader[c - OPT_HEAD_VERT] = optarg;
+            break;
+        case 'h':
+            usage(stdout);
+            return HK_EXIT_OK;
+        case ':':
+            return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
+        default:
+            return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
         }
     }
     if (optind >= argc) return hk_cli_usage_error(CMD, "missing SETUP.txt or HAIR file");
@@ -132,7 +151,8 @@ static hk_Status load_setup(ViewArgs *a, hk_Scene *scene, hk_HairFile *hair, hk_
     if (st == HK_OK) st = hk_scene_hair(scene, &go, hair, &report, err);
     if (st == HK_OK && !report.grown) st = hk_cli_transform_hair(&a->hair_tf, hair, err);
     if (st == HK_OK && !a->quiet) hk_cli_report_scene_hair(CMD, &scene->setup, hair, &report);
-    if (st == HK_OK && !report.grown) hk_cli_fine_hair(CMD, hair, HK_HUMAN_HAIR_DIAMETER, a->hair_tf.scale != 1.0, &a->ro);
+    if (st == HK_OK && !report.grown)
+        hk_cli_fine_hair(CMD, hair, HK_HUMAN_HAIR_DIAMETER, a->hair_tf.scale != 1.0, &a->ro);
     const char *setup_shader[4] = {scene->setup.head_vert, scene->setup.head_frag, scene->setup.hair_vert,
                                    scene->setup.hair_frag};
     for (int k = 0; k < 4; k++)
@@ -157,8 +177,7 @@ static int view(ViewArgs *a)
         in.visuality = scene.visuality;
         in.head = &scene.head;
     } else {
-        if (a->head_tf.given && !a->head_path)
-            return hk_cli_usage_error(CMD, "--head-scale and --head-up need --head");
+        if (a->head_tf.given && !a->head_path) return hk_cli_usage_error(CMD, "--head-scale and --head-up need --head");
         st = hk_hair_read(a->input, HK_HAIR_FORMAT_AUTO, &hair, &err);
         if (st == HK_OK) st = hk_cli_transform_hair(&a->hair_tf, &hair, &err);
         if (st == HK_OK) hk_cli_fine_hair(CMD, &hair, HK_HUMAN_HAIR_DIAMETER, a->hair_tf.scale != 1.0, &a->ro);

@@ -15,7 +15,7 @@ typedef struct hk_HelicoidArgs {
     double step, density, power, tolerance, lambda, follicles; /* follicles: spacing, 0 = random roots */
     double piece_length, root_piece;                           /* layout by length (m), 0 = none */
     int density_given;
-    long count, max_pieces, every, pieces;      /* pieces: fixed layout, 0 = split as needed */
+    long count, max_pieces, every, pieces; /* pieces: fixed layout, 0 = split as needed */
     int pieces_given, max_pieces_given;
     hk_CurveFitMethod method;
     uint64_t seed;

@@ -15,7 +15,8 @@ static const char *const CMD = HK_HELICOID_CMD;
 /* Fits strands idx[0..n) (hk_helicoid_fit_strands) with a progress bar on a terminal;
  * errors name the input file. */
 static hk_Status fit_strands(const hk_HairFile *hair, const long *idx, long n, const hk_CurveFitDef *opt,
-                             const hk_HelicoidArgs *args, hk_PHelicoid *out, hk_HelicoidFitReport *report, hk_Error *err)
+                             const hk_HelicoidArgs *args, hk_PHelicoid *out, hk_HelicoidFitReport *report,
+                             hk_Error *err)
 {
     hk_CliProgress bar = {hk_cli_stderr_is_tty() && !args->quiet, "", -1};
     hk_Status st = hk_helicoid_fit_strands(hair, idx, n, opt, args->threads, hk_cli_progress, &bar, out, report, err);
@@ -105,10 +106,10 @@ int hk_helicoid_cli_reconstruct(const hk_HelicoidArgs *a)
     }
     hk_CliProgress bar = {hk_cli_stderr_is_tty() && !a->quiet, "", -1};
     hk_HelicoidReconstruction r;
-    hk_Status st = hair.strand_count > 0 ? hk_helicoid_reconstruct(&hair, a->every, &opt, a->power,
-                                                                   a->step > 0.0 ? a->step : 0.002, a->seed, a->threads,
-                                                                   hk_cli_progress, &bar, &out, &r, &err)
-                                         : hk_error_set(&err, HK_ERR_INVALID, "%s has no strands", a->input);
+    hk_Status st = hair.strand_count > 0
+                       ? hk_helicoid_reconstruct(&hair, a->every, &opt, a->power, a->step > 0.0 ? a->step : 0.002,
+                                                 a->seed, a->threads, hk_cli_progress, &bar, &out, &r, &err)
+                       : hk_error_set(&err, HK_ERR_INVALID, "%s has no strands", a->input);
     hk_cli_progress_done(&bar);
     if (st != HK_OK && hair.strand_count > 0) {
         const hk_Error inner = err;

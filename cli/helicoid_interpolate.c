@@ -17,7 +17,8 @@ static hk_Status random_roots(const hk_HelicoidArgs *a, const hk_Mesh *mesh, lon
 {
     const double area = hk_mesh_area(mesh);
     long n = a->count ? a->count : (long)llround(area * 1e4 * a->density);
-    if (n < 1 || !(area > 0.0)) return hk_error_set(err, HK_ERR_INVALID, "%s: no area to grow %ld strands on", a->surface, n);
+    if (n < 1 || !(area > 0.0))
+        return hk_error_set(err, HK_ERR_INVALID, "%s: no area to grow %ld strands on", a->surface, n);
     if (n > 10000000) return hk_error_set(err, HK_ERR_INVALID, "%ld strands: at most 10,000,000", n);
     *roots = hk_alloc_array((size_t)n, sizeof(hk_Vec3), err);
     *normals = hk_alloc_array((size_t)n, sizeof(hk_Vec3), err);

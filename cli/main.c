@@ -38,12 +38,11 @@ static void print_help(FILE *out)
             hk_version());
     for (size_t i = 0; i < sizeof commands / sizeof *commands; i++)
         fprintf(out, "  %-10s %s\n", commands[i].name, commands[i].summary);
-    fprintf(out,
-            "\n"
-            "Units are SI (metres, pascals, kg/m^3); y is up and gravity points along -y.\n"
-            "Input files are the thesis's text files; hair is read and written as cyHair .hair,\n"
-            "TressFX .tfx, USC-HairSalon .data, PLY, OBJ polylines and USD ascii\n"
-            "(docs/file-formats.md).\n");
+    fprintf(out, "\n"
+                 "Units are SI (metres, pascals, kg/m^3); y is up and gravity points along -y.\n"
+                 "Input files are the thesis's text files; hair is read and written as cyHair .hair,\n"
+                 "TressFX .tfx, USC-HairSalon .data, PLY, OBJ polylines and USD ascii\n"
+                 "(docs/file-formats.md).\n");
 }
 
 int main(int argc, char **argv)

@@ -24,7 +24,9 @@ int hk_cli_motion_option(const char *cmd, int option, const char *value, hk_CliM
 {
     double v;
     switch (option) {
-    case HK_OPT_MOTION: m->spec = value; return 0;
+    case HK_OPT_MOTION:
+        m->spec = value;
+        return 0;
     case HK_OPT_AMPLITUDE:
         if (!hk_cli_parse_double(value, &v))
             return hk_cli_usage_error(cmd, "--amplitude expects a number, got '%s'", value);
@@ -36,19 +38,19 @@ int hk_cli_motion_option(const char *cmd, int option, const char *value, hk_CliM
             return hk_cli_usage_error(cmd, "--frequency expects a number > 0 (Hz), got '%s'", value);
         m->frequency = v;
         return 0;
-    default: return hk_cli_usage_error(cmd, "internal: not a motion option");
+    default:
+        return hk_cli_usage_error(cmd, "internal: not a motion option");
     }
 }
 
 void hk_cli_motion_options_help(FILE *out)
 {
-    fprintf(out,
-            "head motion:\n"
-            "  --motion NAME|FILE scripted motion: still (default), nod, shake, tilt (degrees\n"
-            "                     about the neck), sway, jump (metres along x, y); or a head\n"
-            "                     motion file (docs/file-formats.md)\n"
-            "  --amplitude A      of a scripted motion (default 25 degrees or 0.03 m)\n"
-            "  --frequency F      of a scripted motion in Hz (default 1)\n");
+    fprintf(out, "head motion:\n"
+                 "  --motion NAME|FILE scripted motion: still (default), nod, shake, tilt (degrees\n"
+                 "                     about the neck), sway, jump (metres along x, y); or a head\n"
+                 "                     motion file (docs/file-formats.md)\n"
+                 "  --amplitude A      of a scripted motion (default 25 degrees or 0.03 m)\n"
+                 "  --frequency F      of a scripted motion in Hz (default 1)\n");
 }
 
 hk_Status hk_cli_motion_create(const hk_CliMotion *m, hk_HeadMotion **out, hk_Error *err)
@@ -57,9 +59,9 @@ hk_Status hk_cli_motion_create(const hk_CliMotion *m, hk_HeadMotion **out, hk_Er
         hk_Status st = hk_head_motion_load(m->spec, out, err);
         /* A bare word that is no file was meant as a motion's name: say so. */
         if (st == HK_ERR_IO && !strchr(m->spec, '/') && !strchr(m->spec, '.'))
-            st = hk_error_set(err, HK_ERR_INVALID,
-                              "unknown motion '%s': give still, nod, shake, tilt, sway, jump or a motion file",
-                              m->spec);
+            st =
+                hk_error_set(err, HK_ERR_INVALID,
+                             "unknown motion '%s': give still, nod, shake, tilt, sway, jump or a motion file", m->spec);
         return st;
     }
     const int translation = strcmp(m->spec, "sway") == 0 || strcmp(m->spec, "jump") == 0;

@@ -6,19 +6,18 @@
 
 void hk_cli_render_options_help(FILE *out)
 {
-    fprintf(out,
-            "  --width W, --height H  picture size in pixels (default 1200 x 900)\n"
-            "  --no-shadows       no deep opacity map or head shadow\n"
-            "  --shading MODEL    kajiya-kay (default, thesis 4.1.5) or marschner\n"
-            "  --scattering S     dual (default: multiple scattering by the dual scattering\n"
-            "                     approximation) or single (the thesis's shadow floor)\n"
-            "  --view AZ,EL       camera direction in degrees: azimuth about the vertical\n"
-            "                     axis from the front of the face (+z) towards +x, and\n"
-            "                     elevation (default 35,12: three-quarter front)\n"
-            "  --light AZ,EL      direction of the key light, the same way (default -30,40)\n"
-            "  --shadow-map N     texels per side of the light's maps (default 512)\n"
-            "  --thickness D      strand diameter in scene units (default: the file's, or\n"
-            "                     70 um when the file's is not a hair's)\n");
+    fprintf(out, "  --width W, --height H  picture size in pixels (default 1200 x 900)\n"
+                 "  --no-shadows       no deep opacity map or head shadow\n"
+                 "  --shading MODEL    kajiya-kay (default, thesis 4.1.5) or marschner\n"
+                 "  --scattering S     dual (default: multiple scattering by the dual scattering\n"
+                 "                     approximation) or single (the thesis's shadow floor)\n"
+                 "  --view AZ,EL       camera direction in degrees: azimuth about the vertical\n"
+                 "                     axis from the front of the face (+z) towards +x, and\n"
+                 "                     elevation (default 35,12: three-quarter front)\n"
+                 "  --light AZ,EL      direction of the key light, the same way (default -30,40)\n"
+                 "  --shadow-map N     texels per side of the light's maps (default 512)\n"
+                 "  --thickness D      strand diameter in scene units (default: the file's, or\n"
+                 "                     70 um when the file's is not a hair's)\n");
 }
 
 /* Parses "a,b" into two finite numbers. */
@@ -44,24 +43,34 @@ int hk_cli_render_option(const char *cmd, int option, const char *value, hk_Rend
                                       option == HK_OPT_WIDTH ? "width" : "height", value);
         *(option == HK_OPT_WIDTH ? &o->width : &o->height) = (int)n;
         return 0;
-    case HK_OPT_NO_SHADOWS: o->shadows = 0; return 0;
+    case HK_OPT_NO_SHADOWS:
+        o->shadows = 0;
+        return 0;
     case HK_OPT_SHADING:
-        if (!strcmp(value, "kajiya-kay") || !strcmp(value, "kajiya")) o->shading = HK_SHADING_KAJIYA_KAY;
-        else if (!strcmp(value, "marschner")) o->shading = HK_SHADING_MARSCHNER;
-        else return hk_cli_usage_error(cmd, "--shading expects kajiya-kay or marschner, got '%s'", value);
+        if (!strcmp(value, "kajiya-kay") || !strcmp(value, "kajiya"))
+            o->shading = HK_SHADING_KAJIYA_KAY;
+        else if (!strcmp(value, "marschner"))
+            o->shading = HK_SHADING_MARSCHNER;
+        else
+            return hk_cli_usage_error(cmd, "--shading expects kajiya-kay or marschner, got '%s'", value);
         return 0;
     case HK_OPT_SCATTERING:
-        if (!strcmp(value, "dual")) o->scattering = HK_SCATTERING_DUAL;
-        else if (!strcmp(value, "single")) o->scattering = HK_SCATTERING_SINGLE;
-        else return hk_cli_usage_error(cmd, "--scattering expects dual or single, got '%s'", value);
+        if (!strcmp(value, "dual"))
+            o->scattering = HK_SCATTERING_DUAL;
+        else if (!strcmp(value, "single"))
+            o->scattering = HK_SCATTERING_SINGLE;
+        else
+            return hk_cli_usage_error(cmd, "--scattering expects dual or single, got '%s'", value);
         return 0;
     case HK_OPT_VIEW:
     case HK_OPT_LIGHT:
         if (!parse_pair(value, &a, &b) || b < -90.0 || b > 90.0)
             return hk_cli_usage_error(cmd, "--%s expects AZIMUTH,ELEVATION in degrees (elevation -90 to 90), got '%s'",
                                       option == HK_OPT_VIEW ? "view" : "light", value);
-        if (option == HK_OPT_VIEW) o->azimuth_deg = a, o->elevation_deg = b;
-        else o->light_azimuth_deg = a, o->light_elevation_deg = b;
+        if (option == HK_OPT_VIEW)
+            o->azimuth_deg = a, o->elevation_deg = b;
+        else
+            o->light_azimuth_deg = a, o->light_elevation_deg = b;
         return 0;
     case HK_OPT_SHADOW_MAP:
         if (!hk_cli_parse_int(value, 16, 8192, &n))
@@ -73,7 +82,8 @@ int hk_cli_render_option(const char *cmd, int option, const char *value, hk_Rend
             return hk_cli_usage_error(cmd, "--thickness expects a positive diameter, got '%s'", value);
         o->hair_thickness = a;
         return 0;
-    default: return hk_cli_usage_error(cmd, "unknown render option");
+    default:
+        return hk_cli_usage_error(cmd, "unknown render option");
     }
 }
 
@@ -82,6 +92,6 @@ void hk_cli_report_render(const char *cmd, const char *path, const hk_RenderDef 
     fprintf(stderr,
             "hairkit %s: %s %dx%d; light maps %.2f s (%lld fragments), camera %.2f s, "
             "head and hair %.2f s (%lld fragments, up to %d in a pixel)\n",
-            cmd, path, o->width, o->height, s->seconds_light, s->light_fragments, s->seconds_camera,
-            s->seconds_hair, s->hair_fragments, s->max_depth_complexity);
+            cmd, path, o->width, o->height, s->seconds_light, s->light_fragments, s->seconds_camera, s->seconds_hair,
+            s->hair_fragments, s->max_depth_complexity);
 }

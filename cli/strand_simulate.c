@@ -16,10 +16,7 @@ hk_CliStrandSim hk_cli_default_strand_sim(void)
     return s;
 }
 
-static void head_state(void *user, double t, hk_RigidState *out)
-{
-    hk_head_motion_eval(user, t, out);
-}
+static void head_state(void *user, double t, hk_RigidState *out) { hk_head_motion_eval(user, t, out); }
 
 static int write_tip(FILE *fp, double t, const hk_SuperHelix *sh)
 {
@@ -28,9 +25,8 @@ static int write_tip(FILE *fp, double t, const hk_SuperHelix *sh)
     return fprintf(fp, "%.10g,%.10g,%.10g,%.10g\n", t, tip.x, tip.y, tip.z) > 0;
 }
 
-int hk_cli_strand_simulate(const char *cmd, const hk_CliStrandSim *sim, const hk_Hairstyle *def,
-                           hk_SuperHelix *sh, const hk_StrandEnvDef *env, const char *plot,
-                           const hk_Shape *shapes, int shape_count)
+int hk_cli_strand_simulate(const char *cmd, const hk_CliStrandSim *sim, const hk_Hairstyle *def, hk_SuperHelix *sh,
+                           const hk_StrandEnvDef *env, const char *plot, const hk_Shape *shapes, int shape_count)
 {
     hk_Error err;
     hk_HeadMotion *motion = NULL;
@@ -123,8 +119,7 @@ int hk_cli_strand_simulate(const char *cmd, const hk_CliStrandSim *sim, const hk
         fprintf(stderr,
                 "hairkit %s: %d elements, %ld steps of %.4g s (%ld with the splits of fast motion) in "
                 "%.3g s (%.0f steps/s); kinetic %.3g J, potential %.3g J\n",
-                cmd, sh->n, steps, sim->dt, substeps, seconds, substeps / fmax(seconds, 1e-9), kinetic,
-                potential);
+                cmd, sh->n, steps, sim->dt, substeps, seconds, substeps / fmax(seconds, 1e-9), kinetic, potential);
     status = HK_EXIT_OK;
     goto done;
 write_error:

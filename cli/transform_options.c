@@ -28,8 +28,7 @@ int hk_cli_transform_option(const char *cmd, const char *option, const char *val
     return 0;
 }
 
-int hk_cli_transforms_option(const char *cmd, int code, const char *value, hk_CliTransform *hair,
-                             hk_CliTransform *head)
+int hk_cli_transforms_option(const char *cmd, int code, const char *value, hk_CliTransform *hair, hk_CliTransform *head)
 {
     static const char *const names[] = {"scale", "up", "head-scale", "head-up"};
     hk_CliTransform *t = code == HK_OPT_HAIR_SCALE || code == HK_OPT_HAIR_UP ? hair : head;
@@ -55,16 +54,14 @@ hk_Status hk_cli_transform_mesh(const hk_CliTransform *t, const char *path, hk_M
 void hk_cli_transform_help(FILE *out, int hair, int head)
 {
     if (hair)
-        fprintf(out,
-                "  --scale S          multiply the hair's coordinates (and thickness) by S > 0:\n"
-                "                     0.001 turns millimetres into metres, 0.01 centimetres\n"
-                "                     (hairkit works in metres; 'hairkit info' hints at units)\n"
-                "  --up AXIS          the hair file's up axis (+x -x +y -y +z -z), rotated onto\n"
-                "                     +y by the smallest rotation (as 'hairkit convert --up')\n");
+        fprintf(out, "  --scale S          multiply the hair's coordinates (and thickness) by S > 0:\n"
+                     "                     0.001 turns millimetres into metres, 0.01 centimetres\n"
+                     "                     (hairkit works in metres; 'hairkit info' hints at units)\n"
+                     "  --up AXIS          the hair file's up axis (+x -x +y -y +z -z), rotated onto\n"
+                     "                     +y by the smallest rotation (as 'hairkit convert --up')\n");
     if (head)
-        fprintf(out,
-                "  --head-scale S     the same for the head mesh: multiply its vertices by S\n"
-                "  --head-up AXIS     the head mesh's up axis, rotated onto +y the same way\n");
+        fprintf(out, "  --head-scale S     the same for the head mesh: multiply its vertices by S\n"
+                     "  --head-up AXIS     the head mesh's up axis, rotated onto +y the same way\n");
 }
 
 int hk_cli_fine_hair(const char *cmd, const hk_HairFile *hair, double diameter, int metres, hk_RenderDef *ro)

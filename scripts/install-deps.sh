@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian packages hairkit needs to build and test, and does nothing
 # when they are all present. Called first by `make demo`, `make test`, `make bench`;
-# with --fuzz (`make fuzz`) also clang and its runtimes.
+# with --fuzz (`make fuzz`) also clang and its runtimes; with --format (`make format`,
+# `make format-check`) clang-format.
 set -euo pipefail
 
 packages=(gcc make cmake pkg-config libpng-dev zlib1g-dev libcmocka-dev)
@@ -11,6 +12,11 @@ packages+=(libglfw3-dev libepoxy-dev xvfb xauth libgl1-mesa-dri)
 # `make fuzz` (install-deps.sh --fuzz): clang and its runtimes (libFuzzer, ASan, UBSan).
 if [ "${1:-}" = "--fuzz" ]; then
     packages+=(clang libclang-rt-dev)
+fi
+# `make format` and `make format-check` (install-deps.sh --format): clang-format 14 and
+# python3 (scripts/fix-comment-indent.py).
+if [ "${1:-}" = "--format" ]; then
+    packages+=(clang-format python3)
 fi
 
 if ! command -v dpkg-query >/dev/null 2>&1; then

@@ -184,8 +184,8 @@ static void test_inverse_matches_forward_statics(void **state)
         top = fmax(top, fabs(copy->q_rest[i] - q_rest[i]));
         sag = fmax(sag, fabs(truth->q[i] - q_rest[i]));
     }
-    print_message("inverse of the rest shape: natural shape within %.3g 1/m (gravity bends by up to %.3g 1/m)\n",
-                  top, sag);
+    print_message("inverse of the rest shape: natural shape within %.3g 1/m (gravity bends by up to %.3g 1/m)\n", top,
+                  sag);
     assert_true(sag > 1.0); /* gravity matters here */
     assert_true(top < 1e-6 * sag);
 
@@ -198,8 +198,8 @@ static void test_inverse_matches_forward_statics(void **state)
     hk_RodMaterial mat = hair_material();
     hk_SuperHelixFitReport fitted;
     assert_int_equal(hk_superhelix_fit(pts, 601, &mat, &def, &fit, &fitted, &err), HK_OK);
-    print_message("the capture fitted: mean %.3g m, max %.3g m, %d iterations\n", fitted.mean_error,
-                  fitted.max_error, fitted.iterations);
+    print_message("the capture fitted: mean %.3g m, max %.3g m, %d iterations\n", fitted.mean_error, fitted.max_error,
+                  fitted.iterations);
     double fitted_q[30];
     memcpy(fitted_q, fit->q, sizeof fitted_q);
     assert_int_equal(hk_statics_invert(fit, NULL, NULL, &rep, &err), HK_OK);
@@ -216,7 +216,8 @@ static void test_inverse_matches_forward_statics(void **state)
         worst = fmax(worst, hk_v3_norm(hk_v3_sub(at, pts[j])));
     }
     print_message("fitted, inverted and solved forward from its natural shape: within %.3g m of the fitted\n"
-                  "shape, %.3g m of the capture\n", back, worst);
+                  "shape, %.3g m of the capture\n",
+                  back, worst);
     assert_true(back < 1e-7);
     assert_true(worst < fitted.max_error + 1e-7);
     free(pts);
@@ -268,10 +269,8 @@ static void test_stability_greenhill(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_fit_recovers_known_strand),
-        cmocka_unit_test(test_fit_chooses_elements),
-        cmocka_unit_test(test_fit_refuses_bad_input),
-        cmocka_unit_test(test_inverse_matches_forward_statics),
+        cmocka_unit_test(test_fit_recovers_known_strand), cmocka_unit_test(test_fit_chooses_elements),
+        cmocka_unit_test(test_fit_refuses_bad_input),     cmocka_unit_test(test_inverse_matches_forward_statics),
         cmocka_unit_test(test_stability_greenhill),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -79,8 +79,8 @@ static void check_groom(const char *name, double scale, hk_Axis up, uint32_t eve
     print_message("%s: %d strands fitted, mean error %.3f mm (worst strand %u: %.3f mm; largest point error "
                   "%.3f mm), %.1f elements on average; %d of them unstable equilibria without the head; "
                   "%d stable ones solved forward from their natural shape return within %.2g m\n",
-                  name, count, 1e3 * sum / count, worst_strand, 1e3 * worst, 1e3 * worst_max,
-                  (double)elements / count, unstable, checked, returned);
+                  name, count, 1e3 * sum / count, worst_strand, 1e3 * worst, 1e3 * worst_max, (double)elements / count,
+                  unstable, checked, returned);
     assert_true(worst <= 3e-4);
     assert_true(checked > 0);
     assert_true(returned < 1e-6);

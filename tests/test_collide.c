@@ -19,18 +19,22 @@ enum { SHAPE_COUNT = 8 };
 static hk_Shape test_shape(int i)
 {
     switch (i) {
-    case 0: return hk_shape_sphere(hk_v3(0.1, -0.2, 0.3), 0.05, 0.01, 20.0);
-    case 1: return hk_shape_ellipsoid(hk_v3(0.0, 0.07, 0.01), hk_v3(0.08, 0.11, 0.09), NULL, 0.02, 10.0);
+    case 0:
+        return hk_shape_sphere(hk_v3(0.1, -0.2, 0.3), 0.05, 0.01, 20.0);
+    case 1:
+        return hk_shape_ellipsoid(hk_v3(0.0, 0.07, 0.01), hk_v3(0.08, 0.11, 0.09), NULL, 0.02, 10.0);
     case 2: /* rotated and elongated (aspect 4) */
         return hk_shape_ellipsoid(hk_v3(0.02, 0.0, -0.01), hk_v3(0.03, 0.12, 0.06), rotated_axes, 0.01, 5.0);
     case 3: /* nearly a sphere: the terms of the Hessian almost cancel */
-        return hk_shape_ellipsoid(hk_v3(-0.3, 0.1, 0.0), hk_v3(0.05, 0.0500001, 0.0499999), rotated_axes,
-                                  0.005, 30.0);
-    case 4: return hk_shape_ellipsoid(hk_v3(0.0, 0.0, 0.0), hk_v3(0.04, 0.06, 0.05), skewed_axes, -0.01, 7.0);
-    case 5: return hk_shape_cuboid(hk_v3(-0.1, 0.05, 0.0), hk_v3(0.02, 0.03, 0.04), rotated_axes, 0.01, 8.0);
+        return hk_shape_ellipsoid(hk_v3(-0.3, 0.1, 0.0), hk_v3(0.05, 0.0500001, 0.0499999), rotated_axes, 0.005, 30.0);
+    case 4:
+        return hk_shape_ellipsoid(hk_v3(0.0, 0.0, 0.0), hk_v3(0.04, 0.06, 0.05), skewed_axes, -0.01, 7.0);
+    case 5:
+        return hk_shape_cuboid(hk_v3(-0.1, 0.05, 0.0), hk_v3(0.02, 0.03, 0.04), rotated_axes, 0.01, 8.0);
     case 6: /* a cube: the only cuboid whose corner needs the full sqrt(3) of the bound */
         return hk_shape_cuboid(hk_v3(0.2, 0.0, 0.1), hk_v3(0.03, 0.03, 0.03), rotated_axes, 0.03, 12.0);
-    default: return hk_shape_cuboid(hk_v3(0.0, 0.3, 0.0), hk_v3(0.05, 0.01, 0.02), skewed_axes, -0.004, 3.0);
+    default:
+        return hk_shape_cuboid(hk_v3(0.0, 0.3, 0.0), hk_v3(0.05, 0.01, 0.02), skewed_axes, -0.004, 3.0);
     }
 }
 
@@ -78,12 +82,14 @@ static double reference_dent(const hk_Shape *s, hk_Vec3 p)
     const double pu = hk_v3_dot(d, s->axis[0]), pv = hk_v3_dot(d, s->axis[1]), pw = hk_v3_dot(d, s->axis[2]);
     const double a = s->half.x, b = s->half.y, c = s->half.z, dist = hk_v3_norm(d);
     switch (s->kind) {
-    case HK_SHAPE_SPHERE: return a - dist;
+    case HK_SHAPE_SPHERE:
+        return a - dist;
     case HK_SHAPE_ELLIPSOID: {
         double ratio = sqrt((pu / a) * (pu / a) + (pv / b) * (pv / b) + (pw / c) * (pw / c));
         return dist / ratio - dist;
     }
-    default: return fmin(a - fabs(pu), fmin(b - fabs(pv), c - fabs(pw)));
+    default:
+        return fmin(a - fabs(pu), fmin(b - fabs(pv), c - fabs(pw)));
     }
 }
 
@@ -93,10 +99,10 @@ static void test_sphere_values(void **state)
 {
     (void)state;
     hk_Shape s = hk_shape_sphere(hk_v3(1, 2, 3), 0.5, 0.0, 1.0);
-    hk_assert_near(hk_shape_dent(&s, hk_v3(1, 2, 3.2), NULL, NULL), 0.3, 1e-15);  /* inside: > 0 */
-    hk_assert_near(hk_shape_dent(&s, hk_v3(1, 2.5, 3), NULL, NULL), 0.0, 1e-15);  /* surface */
-    hk_assert_near(hk_shape_dent(&s, hk_v3(0.5, 2, 3), NULL, NULL), 0.0, 1e-15);  /* surface */
-    hk_assert_near(hk_shape_dent(&s, hk_v3(2, 2, 3), NULL, NULL), -0.5, 1e-15);   /* outside: < 0 */
+    hk_assert_near(hk_shape_dent(&s, hk_v3(1, 2, 3.2), NULL, NULL), 0.3, 1e-15); /* inside: > 0 */
+    hk_assert_near(hk_shape_dent(&s, hk_v3(1, 2.5, 3), NULL, NULL), 0.0, 1e-15); /* surface */
+    hk_assert_near(hk_shape_dent(&s, hk_v3(0.5, 2, 3), NULL, NULL), 0.0, 1e-15); /* surface */
+    hk_assert_near(hk_shape_dent(&s, hk_v3(2, 2, 3), NULL, NULL), -0.5, 1e-15);  /* outside: < 0 */
     /* Gradient -n and Hessian -(I - n n^T)/|d| at d = (0.3, 0, 0.4), |d| = 0.5. */
     hk_Vec3 g;
     hk_Mat3 h;
@@ -284,7 +290,7 @@ static void test_centre_and_degenerate(void **state)
  * where the stencil crosses a cuboid edge (kink) or the clipping phi = 0 of the
  * penalty (where the second derivative jumps) are skipped and counted. */
 #define FD_STEP 1e-5
-#define FD_TOL 1e-6
+#define FD_TOL  1e-6
 
 /* Samples a point at distance in [lo, hi] * (bound + |volume|) from the centre. */
 static hk_Vec3 random_point(const hk_Shape *s, double lo, double hi)
@@ -413,10 +419,9 @@ static void test_envelope(void **state)
     (void)state;
     const double k = 50.0;
     /* For each kind, a point 1 cm outside along a face/axis direction, v = 2 cm. */
-    const hk_Shape shapes[3] = {
-        hk_shape_sphere(hk_v3(0, 0, 0), 0.1, 0.02, k),
-        hk_shape_ellipsoid(hk_v3(0.1, 0, 0), hk_v3(0.08, 0.11, 0.09), rotated_axes, 0.02, k),
-        hk_shape_cuboid(hk_v3(0, 0.2, 0), hk_v3(0.05, 0.06, 0.07), rotated_axes, 0.02, k)};
+    const hk_Shape shapes[3] = {hk_shape_sphere(hk_v3(0, 0, 0), 0.1, 0.02, k),
+                                hk_shape_ellipsoid(hk_v3(0.1, 0, 0), hk_v3(0.08, 0.11, 0.09), rotated_axes, 0.02, k),
+                                hk_shape_cuboid(hk_v3(0, 0.2, 0), hk_v3(0.05, 0.06, 0.07), rotated_axes, 0.02, k)};
     const hk_Vec3 outside[3] = {at_local(&shapes[0], 0.0, 0.11, 0.0), at_local(&shapes[1], 0.0, 0.12, 0.0),
                                 at_local(&shapes[2], 0.01, 0.02, 0.08)};
     for (int i = 0; i < 3; i++) {
@@ -477,10 +482,12 @@ static double envelope_radius(const hk_Shape *s, hk_Vec3 u, double extra)
     const double lu = hk_v3_dot(u, s->axis[0]), lv = hk_v3_dot(u, s->axis[1]), lw = hk_v3_dot(u, s->axis[2]);
     const double a = s->half.x, b = s->half.y, c = s->half.z;
     switch (s->kind) {
-    case HK_SHAPE_SPHERE: return a + extra;
+    case HK_SHAPE_SPHERE:
+        return a + extra;
     case HK_SHAPE_ELLIPSOID: /* |u| / ratio(u) + extra, with |u| = 1 */
         return 1.0 / sqrt((lu / a) * (lu / a) + (lv / b) * (lv / b) + (lw / c) * (lw / c)) + extra;
-    default: return fmin((a + extra) / fabs(lu), fmin((b + extra) / fabs(lv), (c + extra) / fabs(lw)));
+    default:
+        return fmin((a + extra) / fabs(lu), fmin((b + extra) / fabs(lv), (c + extra) / fabs(lw)));
     }
 }
 
@@ -516,8 +523,8 @@ static void test_bound_never_rejects_contacts(void **state)
                 int contacts = 0;
                 /* dense shell sampling up to past the reach */
                 for (int t = 0; t < 2000; t++)
-                    contacts += check_against_dent(&s, alpha, hk_v3_madd(s.centre, random_direction(),
-                                                                          1.05 * reach * hk_test_uniform()));
+                    contacts += check_against_dent(
+                        &s, alpha, hk_v3_madd(s.centre, random_direction(), 1.05 * reach * hk_test_uniform()));
                 /* just inside / outside the envelope surface along random rays */
                 for (int t = 0; t < 1000; t++) {
                     const hk_Vec3 u = random_direction();
@@ -533,7 +540,8 @@ static void test_bound_never_rejects_contacts(void **state)
                  * diagonals, are the points farthest from the centre (orthonormal
                  * frames: there local coordinates are the axis components) */
                 const int orthonormal = fabs(hk_v3_dot(s.axis[0], s.axis[1])) + fabs(hk_v3_dot(s.axis[0], s.axis[2])) +
-                                            fabs(hk_v3_dot(s.axis[1], s.axis[2])) < 1e-12;
+                                            fabs(hk_v3_dot(s.axis[1], s.axis[2])) <
+                                        1e-12;
                 if (s.kind == HK_SHAPE_CUBOID && orthonormal && extra > -min_half(&s))
                     for (int corner = 0; corner < 8; corner++) {
                         const double lu = (corner & 1 ? 1 : -1) * (s.half.x + extra);

@@ -46,7 +46,8 @@ static void world_make(World *w, const hk_HairContactDef *cp)
     const hk_Vec3 dirs[STRANDS] = {hk_v3(0, 0, 1), hk_v3(0, 0.01, -1), hk_v3(1, 0.02, 0.1)};
     const hk_StrandEnvDef env = hk_default_strand_env_def();
     for (int i = 0; i < STRANDS; i++) {
-        assert_int_equal(hk_superhelix_from_def(&style.strand, roots[i], hk_v3_normalize(dirs[i]), &w->sh[i], &err), HK_OK);
+        assert_int_equal(hk_superhelix_from_def(&style.strand, roots[i], hk_v3_normalize(dirs[i]), &w->sh[i], &err),
+                         HK_OK);
         assert_int_equal(hk_strand_dynamics_create(w->sh[i], &p, &env, &w->d[i], &err), HK_OK);
     }
     const double len = hk_strand_def_length(&style.strand);
@@ -104,7 +105,10 @@ static void test_commit_matches_the_step_with_forces(void **state)
             int count = 0;
             const hk_PointForce *f = hk_contact_solve_forces(b.solve, i, &count);
             if (!hk_contact_solve_commit(a.solve, a.d[i], i, &still, h))
-                assert_int_equal(hk_strand_dynamics_advance(a.d[i], NULL, NULL, 0.0, h, hk_contact_solve_forces(a.solve, i, &count), count, NULL, &err), HK_OK);
+                assert_int_equal(hk_strand_dynamics_advance(a.d[i], NULL, NULL, 0.0, h,
+                                                            hk_contact_solve_forces(a.solve, i, &count), count, NULL,
+                                                            &err),
+                                 HK_OK);
             assert_int_equal(hk_strand_dynamics_advance(b.d[i], NULL, NULL, 0.0, h, f, count, NULL, &err), HK_OK);
             const double *va = hk_strand_dynamics_velocity(a.d[i]), *vb = hk_strand_dynamics_velocity(b.d[i]);
             for (int k = 0; k < 3 * a.sh[i]->n; k++) {
@@ -153,7 +157,8 @@ static void test_point_jacobians_match_finite_differences(void **state)
         for (int i = 0; i < 3; i++) {
             const hk_Vec3 fd = hk_v3_scale(hk_v3_sub(plus[i], minus[i]), 0.5 / e);
             const double x[3] = {fd.x, fd.y, fd.z};
-            for (int r = 0; r < 3; r++) worst = fmax(worst, fabs(x[r] - jac[(size_t)(3 * i + r) * (size_t)dim + (size_t)c]));
+            for (int r = 0; r < 3; r++)
+                worst = fmax(worst, fabs(x[r] - jac[(size_t)(3 * i + r) * (size_t)dim + (size_t)c]));
         }
     }
     print_message("point Jacobians against central differences: %.2g\n", worst);

@@ -46,31 +46,31 @@ static hk_CurveStart random_start(void)
 
 /* The discrete Frenet helix of the library (hk_curve_model_frenet_helix), by its
  * curvature and torsion. */
-static int helix_trace(double kappa, double tau, const hk_CurveStart *start, double length, int count,
-                       hk_Vec3 *out, hk_CurveStart *end)
+static int helix_trace(double kappa, double tau, const hk_CurveStart *start, double length, int count, hk_Vec3 *out,
+                       hk_CurveStart *end)
 {
     const double k[2] = {kappa, tau};
     return hk_curve_model_frenet_helix(NULL, k, start, length, count, out, end);
 }
 
-static int helix_model(void *user, const double *k, const hk_CurveStart *start, double length, int count,
-                       hk_Vec3 *out, hk_CurveStart *end)
+static int helix_model(void *user, const double *k, const hk_CurveStart *start, double length, int count, hk_Vec3 *out,
+                       hk_CurveStart *end)
 {
     (void)user;
     return helix_trace(k[0], k[1], start, length, count, out, end);
 }
 
 /* A planar arc: the helix without torsion. params: (kappa). */
-static int arc_model(void *user, const double *k, const hk_CurveStart *start, double length, int count,
-                     hk_Vec3 *out, hk_CurveStart *end)
+static int arc_model(void *user, const double *k, const hk_CurveStart *start, double length, int count, hk_Vec3 *out,
+                     hk_CurveStart *end)
 {
     (void)user;
     return helix_trace(k[0], 0.0, start, length, count, out, end);
 }
 
 /* A straight line, no parameters. */
-static int line_model(void *user, const double *k, const hk_CurveStart *start, double length, int count,
-                      hk_Vec3 *out, hk_CurveStart *end)
+static int line_model(void *user, const double *k, const hk_CurveStart *start, double length, int count, hk_Vec3 *out,
+                      hk_CurveStart *end)
 {
     (void)user;
     (void)k;
@@ -87,8 +87,8 @@ static int failing_model(void *user, const double *k, const hk_CurveStart *start
 
 /* The helix, but failing for tau < 0 and returning NaN points for kappa > 200: the fit
  * must route around both. */
-static int patchy_model(void *user, const double *k, const hk_CurveStart *start, double length, int count,
-                        hk_Vec3 *out, hk_CurveStart *end)
+static int patchy_model(void *user, const double *k, const hk_CurveStart *start, double length, int count, hk_Vec3 *out,
+                        hk_CurveStart *end)
 {
     if (k[1] < 0.0) return 1;
     const int rc = helix_model(user, k, start, length, count, out, end);
@@ -758,9 +758,9 @@ static void test_fit_noise(void **state)
         /* Near the noise level: the mean distance of a 3D Gaussian is 1.6 sigma, and the
          * coupling can only do better than pairing point i with point i. */
         for (int mode = 0; mode < 3; mode++) {
-            o.use_start = mode == 0;      /* 0: the true root pose */
+            o.use_start = mode == 0; /* 0: the true root pose */
             o.start = s0;
-            o.refine_start = mode != 2;   /* 1: estimated and refined; 2: estimated only */
+            o.refine_start = mode != 2; /* 1: estimated and refined; 2: estimated only */
             assert_int_equal(hk_curve_fit_piecewise(target, N, helix_model, NULL, 2, seed, scale, &o, &fit, &err),
                              HK_OK);
             if (mode == 2) {
@@ -772,8 +772,10 @@ static void test_fit_noise(void **state)
             assert_true(fit.frechet < 10.0 * sigma);
             hk_assert_rel(fit.params[0][0], k[0], 0.05, 0);
             hk_assert_near(fit.params[0][1], k[1], 0.1 * k[0]);
-            if (mode == 0) mean_given += fit.error / TRIALS;
-            else mean_estimated += fit.error / TRIALS;
+            if (mode == 0)
+                mean_given += fit.error / TRIALS;
+            else
+                mean_estimated += fit.error / TRIALS;
         }
     }
     /* The frame from the first noisy points alone is poor (the first bend, h^2 kappa
@@ -797,12 +799,12 @@ static void test_fit_bad_input(void **state)
     const double seed[2] = {30.0, 0.0}, scale[2] = {20.0, 20.0};
     hk_CurveFit fit;
     hk_Error err;
-#define EXPECT(code, text, ...)                                                   \
-    do {                                                                          \
-        hk_error_clear(&err);                                                     \
-        assert_int_equal(hk_curve_fit_piecewise(__VA_ARGS__, &fit, &err), code); \
-        hk_assert_contains(err.message, text);                                    \
-        assert_int_equal(fit.piece_count, 0);                                     \
+#define EXPECT(code, text, ...)                                                                                        \
+    do {                                                                                                               \
+        hk_error_clear(&err);                                                                                          \
+        assert_int_equal(hk_curve_fit_piecewise(__VA_ARGS__, &fit, &err), code);                                       \
+        hk_assert_contains(err.message, text);                                                                         \
+        assert_int_equal(fit.piece_count, 0);                                                                          \
     } while (0)
     EXPECT(HK_ERR_INVALID, "at least 2", target, 1, helix_model, NULL, 2, seed, scale, NULL);
     EXPECT(HK_ERR_INVALID, "at least 2", target, 0, helix_model, NULL, 2, seed, scale, NULL);
@@ -962,7 +964,8 @@ static void test_fit_resampled(void **state)
     /* hk_curve_fit_piecewise_ws refuses more samples than its workspace holds. */
     hk_CurveFitWorkspace *ws = hk_curve_fit_workspace_create(31, &err);
     assert_non_null(ws);
-    assert_int_equal(hk_curve_fit_piecewise_ws(ws, target, N, helix_model, NULL, 2, seed, scale, &o, &fit, &err), HK_OK);
+    assert_int_equal(hk_curve_fit_piecewise_ws(ws, target, N, helix_model, NULL, 2, seed, scale, &o, &fit, &err),
+                     HK_OK);
     o.samples = 0;
     assert_int_equal(hk_curve_fit_piecewise_ws(ws, target, N, helix_model, NULL, 2, seed, scale, &o, &fit, &err),
                      HK_ERR_INVALID);
@@ -970,12 +973,12 @@ static void test_fit_resampled(void **state)
 }
 
 /* The fit tests again with the paper's minimiser. */
-#define WITH_NELDER_MEAD(name)                                                                                      \
-    static void name##_nelder_mead(void **state)                                                                   \
-    {                                                                                                              \
-        fit_method = HK_CURVEFIT_NELDER_MEAD;                                                                      \
-        name(state);                                                                                               \
-        fit_method = HK_CURVEFIT_LEAST_SQUARES;                                                                    \
+#define WITH_NELDER_MEAD(name)                                                                                         \
+    static void name##_nelder_mead(void **state)                                                                       \
+    {                                                                                                                  \
+        fit_method = HK_CURVEFIT_NELDER_MEAD;                                                                          \
+        name(state);                                                                                                   \
+        fit_method = HK_CURVEFIT_LEAST_SQUARES;                                                                        \
     }
 WITH_NELDER_MEAD(test_fit_single_arc)
 WITH_NELDER_MEAD(test_fit_single_helix)

@@ -94,9 +94,9 @@ static void test_layer_layout(void **state)
         int layers;
         double ends_mm[6];
     } cases[3] = {
-        {0.0, 4, {2, 6, 14, 30}},              /* default: 2, 4, 8, 16 mm deep */
-        {0.001, 4, {1, 3, 7, 15}},             /* 1, 2, 4, 8 mm */
-        {0.0, 6, {2, 6, 14, 30, 62, 126}},     /* 2 ... 64 mm */
+        {0.0, 4, {2, 6, 14, 30}},          /* default: 2, 4, 8, 16 mm deep */
+        {0.001, 4, {1, 3, 7, 15}},         /* 1, 2, 4, 8 mm */
+        {0.0, 6, {2, 6, 14, 30, 62, 126}}, /* 2 ... 64 mm */
     };
     for (int c = 0; c < 3; c++) {
         hk_RenderDef o = light_options();

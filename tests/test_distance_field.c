@@ -60,12 +60,12 @@ static int subdivide(const hk_Vec3 *in, int count, hk_Vec3 *out, double r)
 static int icosphere(hk_Mesh *m, double r, int levels)
 {
     const double p = (1.0 + sqrt(5.0)) / 2.0;
-    const hk_Vec3 v[12] = {hk_v3(-1, p, 0), hk_v3(1, p, 0),   hk_v3(-1, -p, 0), hk_v3(1, -p, 0),
-                           hk_v3(0, -1, p), hk_v3(0, 1, p),   hk_v3(0, -1, -p), hk_v3(0, 1, -p),
-                           hk_v3(p, 0, -1), hk_v3(p, 0, 1),   hk_v3(-p, 0, -1), hk_v3(-p, 0, 1)};
-    const int f[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+    const hk_Vec3 v[12] = {hk_v3(-1, p, 0), hk_v3(1, p, 0), hk_v3(-1, -p, 0), hk_v3(1, -p, 0),
+                           hk_v3(0, -1, p), hk_v3(0, 1, p), hk_v3(0, -1, -p), hk_v3(0, 1, -p),
+                           hk_v3(p, 0, -1), hk_v3(p, 0, 1), hk_v3(-p, 0, -1), hk_v3(-p, 0, 1)};
+    const int f[20][3] = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
                           {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-                          {3, 8, 9},  {4, 9, 5},  {2, 4, 11},  {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+                          {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
     int count = 20;
     hk_Vec3 *a = malloc(sizeof(hk_Vec3) * 3 * 20 * (size_t)pow(4, levels));
     hk_Vec3 *b = malloc(sizeof(hk_Vec3) * 3 * 20 * (size_t)pow(4, levels));
@@ -96,7 +96,8 @@ static void test_sphere(void **state)
     /* How far the flat faces sit inside the sphere: at most at a face's centroid. */
     double sag = 0.0;
     for (int t = 0; t < tris; t++) {
-        const hk_Vec3 c = hk_v3_scale(hk_v3_add(m.positions[3 * t], hk_v3_add(m.positions[3 * t + 1], m.positions[3 * t + 2])), 1.0 / 3.0);
+        const hk_Vec3 c = hk_v3_scale(
+            hk_v3_add(m.positions[3 * t], hk_v3_add(m.positions[3 * t + 1], m.positions[3 * t + 2])), 1.0 / 3.0);
         sag = fmax(sag, r - hk_v3_norm(c));
     }
     /* every 7th node against the brute-force distance to the mesh */
@@ -109,8 +110,10 @@ static void test_sphere(void **state)
         const double exact = hk_mesh_closest_point(&m, p, NULL, NULL);
         const double radial = hk_v3_norm(p);
         const double value = f.distance[x];
-        if (exact < def.exact_reach - f.spacing) worst = fmax(worst, fabs(fabs(value) - exact));
-        else if (exact > def.exact_reach + f.spacing) worst_far = fmax(worst_far, fabs(fabs(value) - exact) / exact);
+        if (exact < def.exact_reach - f.spacing)
+            worst = fmax(worst, fabs(fabs(value) - exact));
+        else if (exact > def.exact_reach + f.spacing)
+            worst_far = fmax(worst_far, fabs(fabs(value) - exact) / exact);
         if (radial < r - sag - 1e-9 && value >= 0.0) wrong_sign++;
         if (radial > r + 1e-9 && value <= 0.0) wrong_sign++;
         checked++;
@@ -127,8 +130,9 @@ static void test_sphere(void **state)
     /* between nodes: against the sphere itself */
     double between = 0.0, angle = 0.0;
     for (int s = 0; s < 20000; s++) {
-        const hk_Vec3 p = hk_v3(0.24 * hk_rng_uniform(7, 0, (uint64_t)s) - 0.12, 0.24 * hk_rng_uniform(7, 1, (uint64_t)s) - 0.12,
-                                0.24 * hk_rng_uniform(7, 2, (uint64_t)s) - 0.12);
+        const hk_Vec3 p =
+            hk_v3(0.24 * hk_rng_uniform(7, 0, (uint64_t)s) - 0.12, 0.24 * hk_rng_uniform(7, 1, (uint64_t)s) - 0.12,
+                  0.24 * hk_rng_uniform(7, 2, (uint64_t)s) - 0.12);
         hk_Vec3 g;
         const double value = hk_distance_field_eval(&f, p, &g);
         if (fabs(hk_v3_norm(p) - r) > 0.006) continue; /* cells whose nodes are within 1 cm */
@@ -178,17 +182,20 @@ static void test_cube_on_the_grid(void **state)
     for (int k = 0; k < f.size[2]; k++)
         for (int j = 0; j < f.size[1]; j++)
             for (int i = 0; i < f.size[0]; i++) {
-                const hk_Vec3 p = hk_v3(f.origin.x + i * f.spacing, f.origin.y + j * f.spacing, f.origin.z + k * f.spacing);
+                const hk_Vec3 p =
+                    hk_v3(f.origin.x + i * f.spacing, f.origin.y + j * f.spacing, f.origin.z + k * f.spacing);
                 /* the box's signed distance */
                 const hk_Vec3 q = hk_v3(fabs(p.x) - 0.05, fabs(p.y) - 0.05, fabs(p.z) - 0.05);
                 const hk_Vec3 qo = hk_v3(fmax(q.x, 0.0), fmax(q.y, 0.0), fmax(q.z, 0.0));
                 const double exact = hk_v3_norm(qo) + fmin(fmax(q.x, fmax(q.y, q.z)), 0.0);
-                const double value = f.distance[((size_t)k * (size_t)f.size[1] + (size_t)j) * (size_t)f.size[0] + (size_t)i];
+                const double value =
+                    f.distance[((size_t)k * (size_t)f.size[1] + (size_t)j) * (size_t)f.size[0] + (size_t)i];
                 if (fabs(exact) < def.exact_reach - f.spacing) worst = fmax(worst, fabs(value - exact));
                 if (fabs(exact) > 1e-9 && (value > 0.0) != (exact > 0.0)) wrong++;
                 checked++;
             }
-    print_message("cube on the grid: %ld nodes, %ld wrong signs, largest error within 1 cm %.3g m\n", checked, wrong, worst);
+    print_message("cube on the grid: %ld nodes, %ld wrong signs, largest error within 1 cm %.3g m\n", checked, wrong,
+                  worst);
     assert_int_equal(wrong, 0);
     assert_true(worst < 1e-6);
     hk_distance_field_free(&f);
@@ -220,8 +227,9 @@ static void test_field_as_shape(void **state)
     hk_shapes_posed(shapes, 2, &head, posed);
     double worst = 0.0, worst_angle = 0.0;
     for (int s = 0; s < 5000; s++) {
-        const hk_Vec3 dir = hk_v3_normalize(hk_v3(hk_rng_uniform(3, 0, (uint64_t)s) - 0.5, hk_rng_uniform(3, 1, (uint64_t)s) - 0.5,
-                                                  hk_rng_uniform(3, 2, (uint64_t)s) - 0.5));
+        const hk_Vec3 dir =
+            hk_v3_normalize(hk_v3(hk_rng_uniform(3, 0, (uint64_t)s) - 0.5, hk_rng_uniform(3, 1, (uint64_t)s) - 0.5,
+                                  hk_rng_uniform(3, 2, (uint64_t)s) - 0.5));
         const hk_Vec3 p = hk_v3_scale(dir, r + 0.008 * (hk_rng_uniform(3, 3, (uint64_t)s) - 0.5));
         hk_Vec3 world;
         hk_rigid_point(&head, p, &world, NULL, NULL);
@@ -235,7 +243,8 @@ static void test_field_as_shape(void **state)
         }
     }
     print_message("field shape against the sphere within 4 mm of its surface, resting and posed: dents within "
-                  "%.3g m, gradients within %.1f degrees\n", worst, worst_angle * 180.0 / HK_PI);
+                  "%.3g m, gradients within %.1f degrees\n",
+                  worst, worst_angle * 180.0 / HK_PI);
     assert_true(worst < 3e-4); /* faces 0.09 mm in, trilinear 3 h^2 / (8 * 7.6 cm) = 0.02 mm */
     assert_true(worst_angle < 5.0 * HK_PI / 180.0);
 
@@ -263,7 +272,8 @@ static void test_field_as_shape(void **state)
     double apart = 0.0, drop = rest[1][0].y - rest[1][10].y;
     for (int i = 0; i <= 10; i++) apart = fmax(apart, hk_v3_dist(rest[0][i], rest[1][i]));
     print_message("a strand at rest on the field and on the sphere: nodes within %.3g m (the tip %.3g m below "
-                  "the root)\n", apart, drop);
+                  "the root)\n",
+                  apart, drop);
     assert_true(drop > 0.05); /* it hangs over the sphere */
     assert_true(apart < 1e-3);
     hk_distance_field_free(&f);

@@ -34,7 +34,8 @@ static void integrate(const hk_MarschnerParams *p, double theta_i, hk_Vec3 *a_f,
     const hk_Vec3 t = hk_v3_normalize(hk_v3(0.3, 0.8, -0.5));
     hk_Vec3 u, w;
     frame(t, &u, &w);
-    const hk_Vec3 l = hk_v3_add(hk_v3_scale(t, sin(theta_i)), hk_v3_scale(hk_v3_add(hk_v3_scale(u, 0.6), hk_v3_scale(w, 0.8)), cos(theta_i)));
+    const hk_Vec3 l = hk_v3_add(hk_v3_scale(t, sin(theta_i)),
+                                hk_v3_scale(hk_v3_add(hk_v3_scale(u, 0.6), hk_v3_scale(w, 0.8)), cos(theta_i)));
     const hk_Vec3 lp = hk_v3_madd(l, t, -hk_v3_dot(t, l));
     enum { NZ = 600, NPSI = 400 };
     *a_f = *a_b = hk_v3_zero();
@@ -42,7 +43,8 @@ static void integrate(const hk_MarschnerParams *p, double theta_i, hk_Vec3 *a_f,
         const double z = -1.0 + (i + 0.5) * 2.0 / NZ, r = sqrt(1.0 - z * z);
         for (int j = 0; j < NPSI; j++) {
             const double psi = (j + 0.5) * 2.0 * HK_PI / NPSI;
-            const hk_Vec3 e = hk_v3_add(hk_v3_scale(t, z), hk_v3_add(hk_v3_scale(u, r * cos(psi)), hk_v3_scale(w, r * sin(psi))));
+            const hk_Vec3 e =
+                hk_v3_add(hk_v3_scale(t, z), hk_v3_add(hk_v3_scale(u, r * cos(psi)), hk_v3_scale(w, r * sin(psi))));
             const hk_Vec3 s = hk_shade_marschner(t, l, e, p);
             const double weight = r / cos(theta_i) * (2.0 / NZ) * (2.0 * HK_PI / NPSI);
             const hk_Vec3 ep = hk_v3_madd(e, t, -z);
@@ -180,7 +182,8 @@ static void test_unshadowed_tends_to_single(void **state)
 static void test_shadowed_fibre(void **state)
 {
     (void)state;
-    const hk_Vec3 t = hk_v3(0, 1, 0), l = hk_v3_normalize(hk_v3(0.3, 0.2, 1.0)), e = hk_v3_normalize(hk_v3(-0.2, 0.1, 1.0));
+    const hk_Vec3 t = hk_v3(0, 1, 0), l = hk_v3_normalize(hk_v3(0.3, 0.2, 1.0)),
+                  e = hk_v3_normalize(hk_v3(-0.2, 0.1, 1.0));
     const double n = 12.0, greys[] = {0.1, 0.3, 0.6, 0.9};
     double last_m = 0.0, last_k = 0.0;
     for (int g = 0; g < 4; g++) {
@@ -191,7 +194,8 @@ static void test_shadowed_fibre(void **state)
         hk_Visuality v = hk_default_visuality();
         v.diffuse = c;
         const hk_Vec3 m = hk_shade_dual_marschner(&ds, t, l, e, n), k = hk_shade_dual_kajiya_kay(&ds, t, l, e, n, &v);
-        const double single_m = exp(-n) * hk_shade_marschner(t, l, e, &p).x, single_k = exp(-n) * hk_shade_kajiya_kay(t, l, e, &v).x;
+        const double single_m = exp(-n) * hk_shade_marschner(t, l, e, &p).x,
+                     single_k = exp(-n) * hk_shade_kajiya_kay(t, l, e, &v).x;
         assert_true(m.x > last_m && k.x > last_k);
         last_m = m.x, last_k = k.x;
         if (g >= 1) {
@@ -234,8 +238,10 @@ static void test_global_fraction(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_table_against_integration), cmocka_unit_test(test_local_bounds),
-        cmocka_unit_test(test_unshadowed_tends_to_single), cmocka_unit_test(test_shadowed_fibre),
+        cmocka_unit_test(test_table_against_integration),
+        cmocka_unit_test(test_local_bounds),
+        cmocka_unit_test(test_unshadowed_tends_to_single),
+        cmocka_unit_test(test_shadowed_fibre),
         cmocka_unit_test(test_global_fraction),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

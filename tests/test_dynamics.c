@@ -77,8 +77,8 @@ static hk_FrameKinematics motion_at(const Motion *m, double t)
     k.frame = hk_m3_mul(&rzx, &m->f0);
     const hk_Vec3 ex_w = hk_m3_mul_v3(&rz, ex);
     k.omega = hk_v3_add(hk_v3_scale(ez, ad), hk_v3_scale(ex_w, bd));
-    k.alpha = hk_v3_add(hk_v3_add(hk_v3_scale(ez, add), hk_v3_scale(ex_w, bdd)),
-                        hk_v3_scale(hk_v3_cross(ez, ex_w), ad * bd));
+    k.alpha =
+        hk_v3_add(hk_v3_add(hk_v3_scale(ez, add), hk_v3_scale(ex_w, bdd)), hk_v3_scale(hk_v3_cross(ez, ex_w), ad * bd));
     k.pos = hk_v3_add(m->p0, hk_v3_add(hk_v3_scale(m->v0, t), hk_v3_scale(m->acc0, 0.5 * t * t)));
     k.vel = hk_v3_add(m->v0, hk_v3_scale(m->acc0, t));
     k.acc = m->acc0;
@@ -108,8 +108,8 @@ static void test_point_kinematics_match_finite_differences(void **state)
         const hk_PointKinematics *c = &at[1];
         /* velocity = d pos / dt, bias acceleration = d2 pos / dt2 (k'' = 0) */
         const hk_Vec3 vel = hk_v3_scale(hk_v3_sub(at[2].k.pos, at[0].k.pos), 0.5 / h);
-        const hk_Vec3 acc = hk_v3_scale(
-            hk_v3_add(hk_v3_sub(at[2].k.pos, hk_v3_scale(c->k.pos, 2.0)), at[0].k.pos), 1.0 / (h * h));
+        const hk_Vec3 acc =
+            hk_v3_scale(hk_v3_add(hk_v3_sub(at[2].k.pos, hk_v3_scale(c->k.pos, 2.0)), at[0].k.pos), 1.0 / (h * h));
         const double vs = hk_v3_norm(c->k.vel) + 1e-3, as = hk_v3_norm(c->k.acc) + 1.0;
         hk_assert_near(hk_v3_dist(vel, c->k.vel) / vs, 0.0, 1e-6);
         hk_assert_near(hk_v3_dist(acc, c->k.acc) / as, 0.0, 1e-4);
@@ -119,8 +119,8 @@ static void test_point_kinematics_match_finite_differences(void **state)
         /* angular velocity from the frames: (R+ R-^T - R- R+^T) / (4 h) = [w]x */
         const hk_Mat3 rmt = hk_m3_transpose(&at[0].k.frame);
         const hk_Mat3 dr = hk_m3_mul(&at[2].k.frame, &rmt);
-        const hk_Vec3 w = hk_v3_scale(hk_v3(dr.m[2][1] - dr.m[1][2], dr.m[0][2] - dr.m[2][0],
-                                            dr.m[1][0] - dr.m[0][1]), 0.25 / h);
+        const hk_Vec3 w =
+            hk_v3_scale(hk_v3(dr.m[2][1] - dr.m[1][2], dr.m[0][2] - dr.m[2][0], dr.m[1][0] - dr.m[0][1]), 0.25 / h);
         const double ws = hk_v3_norm(c->k.omega) + 1e-3;
         hk_assert_near(hk_v3_dist(w, c->k.omega) / ws, 0.0, 1e-6);
         /* bias angular acceleration = d w / dt */
@@ -281,8 +281,7 @@ static void test_linear_solve_residual(void **state)
                     jrot.m[r][c] = rnd(-1, 1);
                 }
             }
-            hk_element_terms_add(&terms[p], rnd3(-1, 1), &a, &b, &jac,
-                                 &jrot, hk_v3_zero(), hk_v3_zero());
+            hk_element_terms_add(&terms[p], rnd3(-1, 1), &a, &b, &jac, &jrot, hk_v3_zero(), hk_v3_zero());
         }
         for (int b = 0; b < 3; b++)
             for (int i = 0; i < 6; i++) terms[p].xi[b][i] = rnd(-1, 1);
@@ -312,7 +311,6 @@ static void test_linear_solve_residual(void **state)
         bnorm += rhs[i] * rhs[i];
     }
     assert_true(sqrt(rnorm) <= 1e-11 * sqrt(bnorm));
-
 }
 
 /* Gauss-Newton stiffness of a point inside two overlapping shapes, a stiff sphere and a
@@ -346,7 +344,8 @@ static void test_body_stiffness_of_overlapping_shapes(void **state)
     }
     assert_int_equal(touching, 2);
     for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++) hk_assert_near(pf.stiffness.m[r][c], want.m[r][c], 1e-12 + 1e-9 * fabs(want.m[r][c]));
+        for (int c = 0; c < 3; c++)
+            hk_assert_near(pf.stiffness.m[r][c], want.m[r][c], 1e-12 + 1e-9 * fabs(want.m[r][c]));
 }
 
 static void test_body_friction_blend(void **state)
@@ -366,8 +365,13 @@ static void test_body_friction_blend(void **state)
     const double fn = pf.force.y;
     /* sliding fast (Coulomb regime): tip first = against the scales, root first = with
      * them, sideways = the mean (cos = 0) */
-    const struct { hk_Vec3 v; double mu; } cases[] = {
-        {hk_v3(1, 0, 0), 0.6}, {hk_v3(-1, 0, 0), 0.2}, {hk_v3(0, 0, 1), 0.4}, {hk_v3(0.5, 0, 0.5), 0.4 + 0.2 * sqrt(0.5)}};
+    const struct {
+        hk_Vec3 v;
+        double mu;
+    } cases[] = {{hk_v3(1, 0, 0), 0.6},
+                 {hk_v3(-1, 0, 0), 0.2},
+                 {hk_v3(0, 0, 1), 0.4},
+                 {hk_v3(0.5, 0, 0.5), 0.4 + 0.2 * sqrt(0.5)}};
     for (int i = 0; i < 4; i++) {
         assert_int_equal(hk_body_contact_force(&bc, &still, pos, cases[i].v, tangent, &pf), 1);
         const hk_Vec3 ft = hk_v3(pf.force.x, 0.0, pf.force.z);

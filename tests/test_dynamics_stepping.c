@@ -63,7 +63,8 @@ static double run_frames(hk_StrandDynamics *d, hk_SuperHelix *sh, hk_HeadMotion 
         hk_Vec3 pos[3], vel[3];
         hk_strand_dynamics_points(d, &head, s, 3, pos, vel);
         for (int i = 0; i < 3; i++)
-            if (!(hk_v3_norm(vel[i]) < fastest)) fail_msg("%s: t = %g s: a point moves at %g m/s", what, f * dt, hk_v3_norm(vel[i]));
+            if (!(hk_v3_norm(vel[i]) < fastest))
+                fail_msg("%s: t = %g s: a point moves at %g m/s", what, f * dt, hk_v3_norm(vel[i]));
         double kinetic, potential;
         hk_strand_dynamics_energy(d, &head, &kinetic, &potential);
         highest = fmax(highest, kinetic + potential);
@@ -88,8 +89,8 @@ static void test_long_wavy_strand_at_paper_step(void **state)
         assert_int_equal(hk_head_motion_scripted(motions[m], 25.0, 1.0, hk_default_head_pivot(), &motion, &err), HK_OK);
         run_frames(d, sh, motion, 1.0 / 30.0, 2.0, 20.0, motions[m]);
         const hk_DynamicsStats st = hk_strand_dynamics_stats(d);
-        print_message("1 m wavy, %s: %ld steps, %ld Newton iterations, %ld splits in 60 frames\n", motions[m],
-                      st.steps, st.iterations, st.splits);
+        print_message("1 m wavy, %s: %ld steps, %ld Newton iterations, %ld splits in 60 frames\n", motions[m], st.steps,
+                      st.iterations, st.splits);
         hk_head_motion_destroy(motion);
         hk_strand_dynamics_destroy(d);
         hk_superhelix_destroy(sh);
@@ -245,9 +246,9 @@ static void test_violent_motion_completes(void **state)
         hk_StrandDynamics *d = NULL;
         hk_HeadMotion *motion = NULL;
         assert_int_equal(hk_strand_dynamics_create(sh, &p, &body, &d, &err), HK_OK);
-        assert_int_equal(hk_head_motion_scripted(names[m], amplitude[m], frequency[m], hk_default_head_pivot(), &motion,
-                                                 &err),
-                         HK_OK);
+        assert_int_equal(
+            hk_head_motion_scripted(names[m], amplitude[m], frequency[m], hk_default_head_pivot(), &motion, &err),
+            HK_OK);
         run_frames(d, sh, motion, 1.0 / 30.0, 1.5, 60.0, names[m]);
         hk_head_motion_destroy(motion);
         hk_strand_dynamics_destroy(d);

@@ -98,8 +98,8 @@ static void test_cantilever_first_frequency(void **state)
         }
     assert_true(crossings >= 3);
     const double measured = (last - first) / (crossings - 1);
-    print_message("cantilever: period %.6f s, Euler-Bernoulli %.6f s (%+.3f%%), sag %.4g m\n",
-                  measured, period, 100.0 * (measured / period - 1.0), -lo);
+    print_message("cantilever: period %.6f s, Euler-Bernoulli %.6f s (%+.3f%%), sag %.4g m\n", measured, period,
+                  100.0 * (measured / period - 1.0), -lo);
     hk_assert_rel(measured, period, 0.02, 0.0);
     /* and the sag: twice the static deflection lambda L / 8 at the lowest point */
     hk_assert_rel(-lo, 2.0 * 0.01 * length / 8.0, 0.05, 0.0);
@@ -159,8 +159,7 @@ static void test_damped_strand_rests_on_statics(void **state)
         hk_strand_dynamics_energy(d, NULL, &kinetic, NULL);
     }
     const double gap = max_distance(sh, sh->q, rest);
-    print_message("damped strand: at rest after %.1f s, %.3g L from the statics shape\n", steps * dt,
-                  gap / length);
+    print_message("damped strand: at rest after %.1f s, %.3g L from the statics shape\n", steps * dt, gap / length);
     assert_true(gap < 1e-3 * length);
     free(rest);
     hk_strand_dynamics_destroy(d);
@@ -302,8 +301,8 @@ static void spin_state(double w, double t, hk_RigidState *out)
 }
 
 /* Tip angle towards the spin axis and out of the plane, for rotary inertias i_t, i_n. */
-static void spinning_rod_bend(int n, double length, double theta, hk_DynamicsSolver solver, double i_t,
-                              double i_n, double w, double *towards, double *out_of_plane)
+static void spinning_rod_bend(int n, double length, double theta, hk_DynamicsSolver solver, double i_t, double i_n,
+                              double w, double *towards, double *out_of_plane)
 {
     hk_SuperHelix *sh = strand(n, length, 0.0);
     sh->material.mass_per_length = 0.0;
@@ -378,8 +377,7 @@ static void test_helix_at_zero_gravity_stays(void **state)
     hk_StrandDynamics *d = NULL;
     hk_Error err;
     assert_int_equal(hk_strand_dynamics_create(sh, &p, NULL, &d, &err), HK_OK);
-    for (int i = 0; i < 100; i++)
-        assert_int_equal(hk_strand_dynamics_step(d, NULL, NULL, 0, 1.0 / 30.0, &err), HK_OK);
+    for (int i = 0; i < 100; i++) assert_int_equal(hk_strand_dynamics_step(d, NULL, NULL, 0, 1.0 / 30.0, &err), HK_OK);
     for (int i = 0; i < 30; i++) {
         hk_assert_near(sh->q[i], sh->q_rest[i], 1e-12 * kappa);
         hk_assert_near(hk_strand_dynamics_velocity(d)[i], 0.0, 1e-12 * kappa);
@@ -415,8 +413,7 @@ static void test_translating_head_moves_strand_rigidly(void **state)
         }
         hk_Vec3 now[11];
         hk_superhelix_nodes(sh, NULL, now, NULL);
-        for (int j = 0; j < 11; j++)
-            hk_assert_near(hk_v3_dist(now[j], hk_v3_add(rest[j], head.trans)), 0.0, 1e-12);
+        for (int j = 0; j < 11; j++) hk_assert_near(hk_v3_dist(now[j], hk_v3_add(rest[j], head.trans)), 0.0, 1e-12);
         hk_strand_dynamics_destroy(d);
         hk_superhelix_destroy(sh);
     }
@@ -527,7 +524,8 @@ static void test_air_drag_terminal_velocity(void **state)
         assert_int_equal(hk_strand_dynamics_create(sh, &p, NULL, &d, &err), HK_OK);
         for (int i = 0; i < 150; i++)
             assert_int_equal(
-                hk_strand_dynamics_advance(d, steady_descent_state, (void *)&v, i * dt, dt, NULL, 0, NULL, &err), HK_OK);
+                hk_strand_dynamics_advance(d, steady_descent_state, (void *)&v, i * dt, dt, NULL, 0, NULL, &err),
+                HK_OK);
         steady_descent_state((void *)&v, 150 * dt, &head);
         const hk_Vec3 tip = tip_in_head(sh, &head), want = tip_of(expect);
         print_message("going down at %.2f v_t: tip %+.4f mm from straight (statics under %+.3f g: %+.4f mm; %.2g m "

@@ -22,7 +22,8 @@ static void groom(hk_HairFile *h, uint32_t strands, double size, float thickness
         const double a = 2.0 * HK_PI * s / strands, x = 0.3 * size * cos(a), z = 0.3 * size * sin(a);
         for (uint32_t p = 0; p < 8; p++) {
             float *q = h->points + 3 * (size_t)(8 * s + p);
-            q[0] = (float)(x * (1.0 + 0.1 * p)), q[1] = (float)(size * (1.0 - p / 7.0)), q[2] = (float)(z * (1.0 + 0.1 * p));
+            q[0] = (float)(x * (1.0 + 0.1 * p)), q[1] = (float)(size * (1.0 - p / 7.0)),
+            q[2] = (float)(z * (1.0 + 0.1 * p));
         }
     }
     h->default_thickness = thickness;

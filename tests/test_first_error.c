@@ -105,7 +105,7 @@ static hk_FirstError parallel_loop(long n, int threads, int order, int chunk, in
 {
     hk_FirstError fe;
     hk_first_error_init(&fe);
-    #pragma omp parallel for num_threads(threads) schedule(dynamic, chunk)
+#pragma omp parallel for num_threads(threads) schedule(dynamic, chunk)
     for (long k = 0; k < n; k++) {
         const long i = visit(order, k, n);
         if (use_skip && hk_first_error_skip(&fe, i)) continue;

@@ -12,7 +12,7 @@
 #include "hairkit/follicle_sampling.h"
 #include "follicles/follicle_internal.h"
 
-#define PI HK_PI
+#define PI       HK_PI
 #define HEX_AREA 0.8660254037844386 /* area per point of a hexagonal packing of spacing 1 */
 
 /* Fibonacci points on a sphere: near-uniform and deterministic. */
@@ -139,7 +139,8 @@ static void test_fit_same_bytes_any_threads(void **state)
         hk_ImplicitSurface *s;
         hk_Error err;
         assert_int_equal(hk_implicit_surface_fit(p, n, N, &def, &s, &err), HK_OK);
-        for (int k = 0; k < 20; k++) f[t - 1][k] = hk_implicit_surface_eval(s, hk_v3(0.1 * k - 1.0, 0.05 * k, 0.3), NULL);
+        for (int k = 0; k < 20; k++)
+            f[t - 1][k] = hk_implicit_surface_eval(s, hk_v3(0.1 * k - 1.0, 0.05 * k, 0.3), NULL);
         hk_implicit_surface_destroy(s);
     }
     assert_memory_equal(f[0], f[1], sizeof f[0]);
@@ -302,8 +303,8 @@ static void test_fitted_sphere(void **state)
     for (int i = 0; i < out.count; i++) {
         hk_Vec3 g;
         const double f = hk_implicit_surface_eval(s, out.points[i], &g);
-        assert_true(fabs(f) / hk_v3_norm(g) < 1e-6 * R);          /* on the fitted surface */
-        hk_assert_near(hk_v3_norm(out.points[i]), R, 1e-4 * R);    /* hence on the sphere */
+        assert_true(fabs(f) / hk_v3_norm(g) < 1e-6 * R);        /* on the fitted surface */
+        hk_assert_near(hk_v3_norm(out.points[i]), R, 1e-4 * R); /* hence on the sphere */
         assert_true(hk_v3_dot(out.normals[i], hk_v3_normalize(out.points[i])) > 1.0 - 1e-6);
     }
     assert_true(nearest_neighbours(out.points, out.count, NULL, 0).cv < 0.1);
@@ -311,10 +312,7 @@ static void test_fitted_sphere(void **state)
     hk_implicit_surface_destroy(s);
 }
 
-static int upper_half(void *user, hk_Vec3 x)
-{
-    return x.y > *(const double *)user;
-}
+static int upper_half(void *user, hk_Vec3 x) { return x.y > *(const double *)user; }
 
 static void test_fixed_contour_and_mask(void **state)
 {
@@ -558,7 +556,8 @@ static void test_closest_point_triangle(void **state)
         for (int i = 0; i <= m; i++)
             for (int j = 0; i + j <= m; j++) {
                 const double u = (double)i / m, v = (double)j / m;
-                const hk_Vec3 q = hk_v3_add(a, hk_v3_add(hk_v3_scale(hk_v3_sub(b, a), u), hk_v3_scale(hk_v3_sub(c, a), v)));
+                const hk_Vec3 q =
+                    hk_v3_add(a, hk_v3_add(hk_v3_scale(hk_v3_sub(b, a), u), hk_v3_scale(hk_v3_sub(c, a), v)));
                 best = fmin(best, hk_v3_dist(x, q));
             }
         assert_true(got <= best + 1e-12);
@@ -609,9 +608,9 @@ static void test_wick_follicles(void **state)
         int nearest = 0;
         for (int t = 0; t < wick.triangle_count; t++) {
             const int *v = wick.triangles + 3 * t;
-            const double dist = hk_v3_dist(out.points[i], hk_closest_point_triangle(out.points[i], wick.positions[v[0]],
-                                                                                    wick.positions[v[1]],
-                                                                                    wick.positions[v[2]]));
+            const double dist =
+                hk_v3_dist(out.points[i], hk_closest_point_triangle(out.points[i], wick.positions[v[0]],
+                                                                    wick.positions[v[1]], wick.positions[v[2]]));
             if (dist < best) best = dist, nearest = v[0];
         }
         assert_true(best < 0.3 * def.spacing);

@@ -51,9 +51,9 @@
 enum { WIDTH = 160, HEIGHT = 120 };
 
 /* Tolerance (see the top). */
-#define LEVELS_PER_PIXEL 2 /* a pixel differs when a channel is more than this off */
-#define PIXEL_FRACTION 0.002 /* at most this fraction of the pixels may differ */
-#define MEAN_LEVELS 0.1      /* mean absolute difference of the channels, below this */
+#define LEVELS_PER_PIXEL 2     /* a pixel differs when a channel is more than this off */
+#define PIXEL_FRACTION   0.002 /* at most this fraction of the pixels may differ */
+#define MEAN_LEVELS      0.1   /* mean absolute difference of the channels, below this */
 
 typedef struct Scene {
     hk_HairFile hair;
@@ -79,7 +79,8 @@ static int setup(void **state)
     style.interpolation.hair_density = 30.0;
     hk_GroomDef o = hk_default_groom_def();
     hk_Groom g;
-    assert_int_equal(hk_groom_grow(&style.strand, &style.interpolation, shapes, shape_count, &wick, &o, &g, &err), HK_OK);
+    assert_int_equal(hk_groom_grow(&style.strand, &style.interpolation, shapes, shape_count, &wick, &o, &g, &err),
+                     HK_OK);
     assert_int_equal(hk_groom_to_hair(&g, &style.strand, &sc->hair, &err), HK_OK);
     hk_groom_free(&g);
     hk_mesh_free(&wick);
@@ -145,9 +146,9 @@ static uint8_t *render(const Scene *sc, const hk_RenderDef *o)
 }
 
 typedef struct Difference {
-    int pixels;      /* pixels with a channel more than LEVELS_PER_PIXEL apart */
-    double mean;     /* mean absolute difference over all channels (levels) */
-    int largest;     /* largest difference of a channel (levels) */
+    int pixels;  /* pixels with a channel more than LEVELS_PER_PIXEL apart */
+    double mean; /* mean absolute difference over all channels (levels) */
+    int largest; /* largest difference of a channel (levels) */
 } Difference;
 
 static Difference compare(const uint8_t *a, const uint8_t *b)
@@ -212,7 +213,7 @@ static hk_RenderDef options(hk_Shading shading, int shadows, hk_Scattering scatt
     o.shading = shading;
     o.shadows = shadows;
     o.scattering = scattering;
-    o.azimuth_deg = 140.0, o.elevation_deg = 15.0;      /* from behind, on the hair */
+    o.azimuth_deg = 140.0, o.elevation_deg = 15.0;             /* from behind, on the hair */
     o.light_azimuth_deg = 160.0, o.light_elevation_deg = 40.0; /* over the camera's shoulder */
     return o;
 }
@@ -248,8 +249,8 @@ static void test_golden_pictures(void **state)
     for (int a = 0; a < CASES; a++)
         for (int b = a + 1; b < CASES; b++) {
             const Difference d = compare(rgb[a], rgb[b]);
-            print_message("%s against %s: %d pixels differ, mean %.2f levels\n", cases[a].name, cases[b].name,
-                          d.pixels, d.mean);
+            print_message("%s against %s: %d pixels differ, mean %.2f levels\n", cases[a].name, cases[b].name, d.pixels,
+                          d.mean);
             assert_false(within_tolerance(d));
         }
     for (int k = 0; k < CASES; k++) free(rgb[k]);

@@ -61,7 +61,8 @@ static double strand_length(const float *p, int points)
 {
     double len = 0.0;
     for (int j = 1; j < points; j++)
-        len += sqrt(pow(p[3 * j] - p[3 * j - 3], 2) + pow(p[3 * j + 1] - p[3 * j - 2], 2) + pow(p[3 * j + 2] - p[3 * j - 1], 2));
+        len += sqrt(pow(p[3 * j] - p[3 * j - 3], 2) + pow(p[3 * j + 1] - p[3 * j - 2], 2) +
+                    pow(p[3 * j + 2] - p[3 * j - 1], 2));
     return len;
 }
 
@@ -279,8 +280,7 @@ static void test_semi_interpolation(void **state)
         const double *gp = g.guides + (size_t)gi * n * 3;
         const float *p = g.strands + (size_t)s * n * 3;
         for (int j = 1; j < n; j++)
-            for (int k = 0; k < 3; k++)
-                hk_assert_near(p[3 * j + k] - p[k], gp[3 * j + k] - gp[k], 2e-6);
+            for (int k = 0; k < 3; k++) hk_assert_near(p[3 * j + k] - p[k], gp[3 * j + k] - gp[k], 2e-6);
     }
     hk_groom_free(&g);
     hk_mesh_free(&wick);

@@ -73,10 +73,13 @@ static Head *grow_head(void)
     h->style.interpolation.hair_density = 50.0;
     h->style.interpolation.max_tip_distance = 0.0; /* the plain blend */
     /* The documented values this test's references use. */
-    assert_true(h->style.interpolation.clump == 0.25 && h->style.interpolation.clump_profile == 1.5 && !h->style.interpolation.stray_hairs);
+    assert_true(h->style.interpolation.clump == 0.25 && h->style.interpolation.clump_profile == 1.5 &&
+                !h->style.interpolation.stray_hairs);
     hk_GroomDef o = hk_default_groom_def();
     o.keep_outside = 0;
-    assert_int_equal(hk_groom_grow(&h->style.strand, &h->style.interpolation, shapes, shape_count, &h->wick, &o, &h->g, &err), HK_OK);
+    assert_int_equal(
+        hk_groom_grow(&h->style.strand, &h->style.interpolation, shapes, shape_count, &h->wick, &o, &h->g, &err),
+        HK_OK);
     assert_true(h->g.strand_count > 20000 && h->g.points_per_strand == 41);
     for (int j = 0; j < 41; j++) h->profile[j] = pow(j / 40.0, h->style.interpolation.clump_profile);
     hk_free(shapes);

@@ -35,8 +35,8 @@ static int load_head(void **state)
     Head *h = &head;
     hk_Error err;
     assert_int_equal(hk_hairstyle_load(HK_SOURCE_DIR "/examples/default/hairstyle.txt", &h->style, &err), HK_OK);
-    assert_int_equal(hk_collision_load(HK_SOURCE_DIR "/examples/default/collision.txt", &h->shapes, &h->shape_count, &err),
-                     HK_OK);
+    assert_int_equal(
+        hk_collision_load(HK_SOURCE_DIR "/examples/default/collision.txt", &h->shapes, &h->shape_count, &err), HK_OK);
     assert_int_equal(hk_obj_load(HK_SOURCE_DIR "/assets/wick.obj", &h->wick, &err), HK_OK);
     /* A fifth of the hair (about 25,000 strands): the same triangles and guides, enough
      * points to measure 0.05 %, quick under the sanitizers. */
@@ -46,7 +46,9 @@ static int load_head(void **state)
     assert_int_equal(h->body_count, 3);
     hk_GroomDef o = hk_default_groom_def();
     o.threads = 1;
-    assert_int_equal(hk_groom_grow(&h->style.strand, &h->style.interpolation, h->shapes, h->shape_count, &h->wick, &o, &h->groom, &err), HK_OK);
+    assert_int_equal(hk_groom_grow(&h->style.strand, &h->style.interpolation, h->shapes, h->shape_count, &h->wick, &o,
+                                   &h->groom, &err),
+                     HK_OK);
     assert_true(h->groom.strand_count > 20000);
     *state = h;
     return 0;
@@ -80,7 +82,8 @@ static void regrow(const Head *h, int keep_outside, int threads, double sag, hk_
     o.keep_outside = keep_outside;
     o.threads = threads;
     hk_Error err;
-    assert_int_equal(hk_groom_interpolate_guides(&h->style.interpolation, h->shapes, h->shape_count, &h->wick, &o, g, &err), HK_OK);
+    assert_int_equal(
+        hk_groom_interpolate_guides(&h->style.interpolation, h->shapes, h->shape_count, &h->wick, &o, g, &err), HK_OK);
 }
 
 static double depth_at(const Head *h, const float *p)
@@ -136,7 +139,8 @@ static void test_projection_keeps_lengths(void **state)
     regrow(h, 1, 2, 0.0, &kept2);
     assert_int_equal(blend.strand_count, kept->strand_count);
     assert_int_equal(kept2.strand_count, kept->strand_count);
-    assert_memory_equal(kept->strands, kept2.strands, (size_t)kept->strand_count * kept->points_per_strand * 3 * sizeof(float));
+    assert_memory_equal(kept->strands, kept2.strands,
+                        (size_t)kept->strand_count * kept->points_per_strand * 3 * sizeof(float));
     const int n = blend.points_per_strand;
     long moved = 0;
     for (int s = 0; s < blend.strand_count; s++) {

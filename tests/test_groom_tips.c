@@ -41,7 +41,8 @@ static void test_tips_near_their_guides(void **state)
     style.interpolation.hair_density = 50.0; /* about 25,000 strands */
     hk_GroomDef o = hk_default_groom_def();
     hk_Groom g;
-    assert_int_equal(hk_groom_grow(&style.strand, &style.interpolation, shapes, shape_count, &wick, &o, &g, &err), HK_OK);
+    assert_int_equal(hk_groom_grow(&style.strand, &style.interpolation, shapes, shape_count, &wick, &o, &g, &err),
+                     HK_OK);
     assert_true(g.strand_count > 20000);
     const int n = g.points_per_strand;
     long far = 0;

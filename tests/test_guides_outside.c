@@ -48,8 +48,8 @@ static int setup(void **state)
     hk_Error err;
     Head *h = &head;
     assert_int_equal(hk_hairstyle_load(HK_SOURCE_DIR "/examples/guides200/hairstyle.txt", &h->style, &err), HK_OK);
-    assert_int_equal(hk_collision_load(HK_SOURCE_DIR "/examples/default/collision.txt", &h->shapes, &h->shape_count, &err),
-                     HK_OK);
+    assert_int_equal(
+        hk_collision_load(HK_SOURCE_DIR "/examples/default/collision.txt", &h->shapes, &h->shape_count, &err), HK_OK);
     assert_int_equal(hk_obj_load(HK_SOURCE_DIR "/assets/wick-200.obj", &h->wick, &err), HK_OK);
     assert_int_equal(hk_follicles_from_wick(&h->wick, &h->f, &err), HK_OK);
     assert_true(h->f.count <= GUIDES_MAX);

@@ -64,10 +64,7 @@ static Strands strands_alloc(int g, int n)
     return st;
 }
 
-static void strands_free(Strands *st)
-{
-    free(st->s), free(st->pos), free(st->vel), free(st->ss);
-}
+static void strands_free(Strands *st) { free(st->s), free(st->pos), free(st->vel), free(st->ss); }
 
 static hk_Vec3 *P(Strands *st, int i, int k) { return &st->pos[(size_t)i * st->n + k]; }
 static hk_Vec3 *V(Strands *st, int i, int k) { return &st->vel[(size_t)i * st->n + k]; }
@@ -155,17 +152,17 @@ static void test_segment_closest_reference(void **state)
     (void)state;
     /* Special configurations, finely sampled. */
     const hk_Vec3 cases[][4] = {
-        {{0, 0, 0}, {1, 0, 0}, {0.3, 0.2, 0}, {0.8, 0.2, 0}},          /* parallel, one inside the other */
-        {{0, 0, 0}, {1, 0, 0}, {1.5, 0.1, 0}, {2.5, 0.1, 0}},          /* parallel, disjoint */
-        {{0, 0, 0}, {1, 0, 0}, {1, 0.5, 0.2}, {0, 0.5, 0.2}},          /* anti-parallel */
-        {{0, 0, 0}, {1, 0, 0}, {0.2, 0.1, 0}, {0.9, 0.1, 1e-9}},       /* nearly parallel */
-        {{0, 0, 0}, {1, 0, 0}, {0.5, -1, 0.4}, {0.5, 1, 0.4}},         /* skew, crossing */
-        {{0, 0, 0}, {1, 0, 0}, {1.2, -1, 0.4}, {1.4, 1, 0.4}},         /* skew, beyond an end */
-        {{0, 0, 0}, {1, 1, 1}, {1, 0, 0}, {0, 1, 1}},                  /* intersecting */
-        {{0.2, 0.2, 0.2}, {0.2, 0.2, 0.2}, {0, 0, 0}, {1, 0, 1}},      /* zero-length first */
-        {{0, 0, 0}, {1, 2, 0}, {3, 1, 1}, {3, 1, 1}},                  /* zero-length second */
+        {{0, 0, 0}, {1, 0, 0}, {0.3, 0.2, 0}, {0.8, 0.2, 0}},                 /* parallel, one inside the other */
+        {{0, 0, 0}, {1, 0, 0}, {1.5, 0.1, 0}, {2.5, 0.1, 0}},                 /* parallel, disjoint */
+        {{0, 0, 0}, {1, 0, 0}, {1, 0.5, 0.2}, {0, 0.5, 0.2}},                 /* anti-parallel */
+        {{0, 0, 0}, {1, 0, 0}, {0.2, 0.1, 0}, {0.9, 0.1, 1e-9}},              /* nearly parallel */
+        {{0, 0, 0}, {1, 0, 0}, {0.5, -1, 0.4}, {0.5, 1, 0.4}},                /* skew, crossing */
+        {{0, 0, 0}, {1, 0, 0}, {1.2, -1, 0.4}, {1.4, 1, 0.4}},                /* skew, beyond an end */
+        {{0, 0, 0}, {1, 1, 1}, {1, 0, 0}, {0, 1, 1}},                         /* intersecting */
+        {{0.2, 0.2, 0.2}, {0.2, 0.2, 0.2}, {0, 0, 0}, {1, 0, 1}},             /* zero-length first */
+        {{0, 0, 0}, {1, 2, 0}, {3, 1, 1}, {3, 1, 1}},                         /* zero-length second */
         {{0.5, 0.5, 0.5}, {0.5, 0.5, 0.5}, {0.1, 0.2, 0.3}, {0.1, 0.2, 0.3}}, /* both */
-        {{0, 0, 0}, {1, 0, 0}, {1, 0, 0}, {1, 1, 0}},                  /* sharing an end */
+        {{0, 0, 0}, {1, 0, 0}, {1, 0, 0}, {1, 1, 0}},                         /* sharing an end */
     };
     for (size_t k = 0; k < sizeof cases / sizeof *cases; k++) {
         check_against_grid(cases[k][0], cases[k][1], cases[k][2], cases[k][3], 1000);
@@ -255,8 +252,10 @@ static void brute_force(const Strands *st, const hk_HairContactDef *p, QuadList 
                     if ((pairs || contacts) && brute_local_min(&views[i], a, &views[j], b, &m)) {
                         if (pairs) quad_push(pairs, i, a, j, b);
                         /* A contact as the forces see it: the distance of the closest points. */
-                        const hk_Vec3 pa = hk_v3_madd(views[i].pos[a], hk_v3_sub(views[i].pos[a + 1], views[i].pos[a]), u);
-                        const hk_Vec3 pb = hk_v3_madd(views[j].pos[b], hk_v3_sub(views[j].pos[b + 1], views[j].pos[b]), v);
+                        const hk_Vec3 pa =
+                            hk_v3_madd(views[i].pos[a], hk_v3_sub(views[i].pos[a + 1], views[i].pos[a]), u);
+                        const hk_Vec3 pb =
+                            hk_v3_madd(views[j].pos[b], hk_v3_sub(views[j].pos[b + 1], views[j].pos[b]), v);
                         if (contacts && hk_v3_dist(pa, pb) < p->distance) quad_push(contacts, i, a, j, b);
                     }
                 }
@@ -407,10 +406,11 @@ static void test_tracking_matches_brute_force(void **state)
         free(reference.q), free(contacts.q), free(contacts_ref.q);
     }
     assert_true(checked > 500);
-    assert_true(moved > 20);              /* the walks did move pairs to other segments */
-    assert_true(split * 25 <= checked);   /* rare: at most 4% of the contacts */
+    assert_true(moved > 20);            /* the walks did move pairs to other segments */
+    assert_true(split * 25 <= checked); /* rare: at most 4% of the contacts */
     print_message("tracking: %d contacts checked over 12 updates, %d pairs walked to other segments, "
-                  "%d split-off minima left to the next rescan\n", checked, moved, split);
+                  "%d split-off minima left to the next rescan\n",
+                  checked, moved, split);
     /* A rescan finds them all again. */
     hk_hair_contacts_request_rescan(c);
     update_ok(c, &st);
@@ -475,7 +475,8 @@ static void test_pairs_along_strands(void **state)
                         int best_b = -1;
                         for (int b = views[j].first; b <= views[j].count - 2; b++) {
                             double u, v;
-                            const double d2 = hk_hc_pair_distance2(&views[i], a, &views[j], b, p.root_exclusion, &u, &v);
+                            const double d2 =
+                                hk_hc_pair_distance2(&views[i], a, &views[j], b, p.root_exclusion, &u, &v);
                             if (d2 < best) best = d2, best_b = b;
                         }
                         if (best_b >= 0) quad_push(&reference, i, a, j, best_b);
@@ -873,7 +874,8 @@ static void test_implicit_step_with_defaults(void **state)
             a = hk_m3_add(&a, &kk);
             id = hk_m3_scale(&id, m);
             a = hk_m3_add(&a, &id);
-            const hk_Vec3 rhs = hk_v3_add(hk_v3_madd(hk_v3_scale(v, m), force, dt), hk_v3_scale(hk_m3_mul_v3(&d_sum, v), dt));
+            const hk_Vec3 rhs =
+                hk_v3_add(hk_v3_madd(hk_v3_scale(v, m), force, dt), hk_v3_scale(hk_m3_mul_v3(&d_sum, v), dt));
             const hk_Vec3 v_new = solve3(a, rhs);
             turns += v_new.y * v.y < 0.0 && fabs(v_new.y) > 1e-6 && fabs(v.y) > 1e-6; /* above rounding */
             v = v_new;
@@ -890,7 +892,7 @@ static void test_implicit_step_with_defaults(void **state)
             assert_true(turns <= 1); /* settles, does not ring */
         } else {
             assert_true(x.y >= p.distance - 1e-9); /* pushed back out of contact */
-            assert_true(max_rebound < 0.02);        /* nearly inelastic: restitution below 0.2 */
+            assert_true(max_rebound < 0.02);       /* nearly inelastic: restitution below 0.2 */
         }
         hk_hair_contacts_destroy(c);
         strands_free(&st);

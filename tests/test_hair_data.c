@@ -18,7 +18,8 @@
 static void read_ok(const char *name, hk_HairFile *h)
 {
     hk_Error err;
-    if (hk_hair_read(hk_test_shared_path(name), HK_HAIR_FORMAT_AUTO, h, &err) != HK_OK) fail_msg("%s: %s", name, err.message);
+    if (hk_hair_read(hk_test_shared_path(name), HK_HAIR_FORMAT_AUTO, h, &err) != HK_OK)
+        fail_msg("%s: %s", name, err.message);
 }
 
 static void assert_same(const hk_HairFile *a, const hk_HairFile *b)
@@ -44,7 +45,8 @@ static void through_every_format(const hk_HairFile *h)
             hk_Error err;
             hk_HairFile back;
             if (hk_hair_write(path, h, &def, &err) != HK_OK) fail_msg("%s: %s", names[i], err.message);
-            if (hk_hair_read(path, HK_HAIR_FORMAT_AUTO, &back, &err) != HK_OK) fail_msg("%s: %s", names[i], err.message);
+            if (hk_hair_read(path, HK_HAIR_FORMAT_AUTO, &back, &err) != HK_OK)
+                fail_msg("%s: %s", names[i], err.message);
             assert_same(h, &back);
             hk_hair_free(&back);
         }
@@ -71,7 +73,8 @@ static void test_bangs_hair_and_data(void **state)
     /* bbox x[11.9, 247.9] y[17.1, 236.9] z[31.8, 204.9]: millimetres */
     float l[3] = {INFINITY, INFINITY, INFINITY}, u[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (size_t i = 0; i < a.point_count; i++)
-        for (int k = 0; k < 3; k++) l[k] = fminf(l[k], a.points[3 * i + (size_t)k]), u[k] = fmaxf(u[k], a.points[3 * i + (size_t)k]);
+        for (int k = 0; k < 3; k++)
+            l[k] = fminf(l[k], a.points[3 * i + (size_t)k]), u[k] = fmaxf(u[k], a.points[3 * i + (size_t)k]);
     hk_assert_near(l[0], 11.9, 0.05), hk_assert_near(u[0], 247.9, 0.05);
     hk_assert_near(l[1], 17.1, 0.05), hk_assert_near(u[1], 236.9, 0.05);
     hk_assert_near(l[2], 31.8, 0.05), hk_assert_near(u[2], 204.9, 0.05);
@@ -110,7 +113,8 @@ static void test_curly_ply(void **state)
     assert_int_equal(segs, 2428);
     for (uint32_t i = 0; i < 2528; i++) {
         assert_memory_equal(h.points + 3 * (size_t)i, vert + 15 * (size_t)i, 12); /* little-endian host */
-        for (int k = 0; k < 3; k++) assert_true(h.colors[3 * i + (uint32_t)k] == (float)vert[15 * i + 12 + (uint32_t)k] / 255.0f);
+        for (int k = 0; k < 3; k++)
+            assert_true(h.colors[3 * i + (uint32_t)k] == (float)vert[15 * i + 12 + (uint32_t)k] / 255.0f);
     }
     /* The edges chain each strand's points, root first. */
     uint32_t e = 0;
@@ -126,7 +130,8 @@ static void test_curly_ply(void **state)
     char *copy = malloc(size);
     const char *strand_line = strstr((const char *)d, "element strand 100\nproperty ushort nsegs\n");
     assert_non_null(strand_line);
-    const size_t cut = (size_t)(strand_line - (const char *)d), cut_len = strlen("element strand 100\nproperty ushort nsegs\n");
+    const size_t cut = (size_t)(strand_line - (const char *)d),
+                 cut_len = strlen("element strand 100\nproperty ushort nsegs\n");
     memcpy(copy, d, cut);
     memcpy(copy + cut, d + cut + cut_len, at - cut - cut_len);
     size_t n = at - cut_len;
@@ -200,7 +205,8 @@ static void test_tressfx(void **state)
     hk_Error err;
     assert_int_equal(hk_hair_write(path, &h, NULL, &err), HK_OK);
     size_t a, b;
-    char *x = hk_test_read_file(path, &a), *y = hk_test_read_file(hk_test_shared_path("SintelHairOriginal-sintel_hair.16points.tfx"), &b);
+    char *x = hk_test_read_file(path, &a),
+         *y = hk_test_read_file(hk_test_shared_path("SintelHairOriginal-sintel_hair.16points.tfx"), &b);
     assert_int_equal(a, b);
     assert_memory_equal(x, y, a);
     free(x);

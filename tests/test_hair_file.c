@@ -185,7 +185,8 @@ static void test_lying_header(void **state)
     header(&b, 2147483646u, 0, 0x2, 0, "");
     assert_int_equal(b.n, 128);
     double t0 = hk_seconds_now();
-    expect_error(&b, b.n, "strand count 2147483646 in the header needs at least 25769803880 bytes but the file has 128");
+    expect_error(&b, b.n,
+                 "strand count 2147483646 in the header needs at least 25769803880 bytes but the file has 128");
     assert_true(hk_seconds_now() - t0 < 0.05);
     header(&b, 0xFFFFFFFFu, 0, 0x2, 0, "");
     expect_error(&b, b.n, "strand count 4294967295 in the header needs at least");

@@ -209,9 +209,9 @@ static void test_tfx_resampling(void **state)
     for (uint32_t s = 0; s < h.strand_count; s++)
         for (uint32_t i = h.first_point[s]; i < h.first_point[s + 1]; i++)
             for (int k = 0; k < 3; k++)
-                h.points[3 * i + (uint32_t)k] =
-                    i == h.first_point[s] ? (float)uniform(-0.1, 0.1)
-                                          : h.points[3 * (i - 1) + (uint32_t)k] + (float)uniform(-0.01, 0.01);
+                h.points[3 * i + (uint32_t)k] = i == h.first_point[s]
+                                                    ? (float)uniform(-0.1, 0.1)
+                                                    : h.points[3 * (i - 1) + (uint32_t)k] + (float)uniform(-0.01, 0.01);
     const char *path = tmp_path("resample.tfx");
     /* Strands of different counts and no count given: refused, saying what to do. */
     assert_int_equal(hk_tfx_save(path, &h, 0, &err), HK_ERR_INVALID);
@@ -237,7 +237,7 @@ static void test_tfx_resampling(void **state)
             assert_memory_equal(q, p, 12 * 3 * sizeof(float));
             continue;
         }
-        assert_memory_equal(q, p, 3 * sizeof(float));                               /* the root */
+        assert_memory_equal(q, p, 3 * sizeof(float));                            /* the root */
         assert_memory_equal(q + 33, p + 3 * (size_t)(n - 1), 3 * sizeof(float)); /* the tip */
         for (uint32_t k = 0; k < 12; k++) {
             const double at = arc_position(p, n, q + 3 * k, 1e-6);
@@ -570,19 +570,20 @@ static void test_usda_subset(void **state)
     hk_Error err;
     /* Z up, centimetres, nested prims, identity transforms, uniform widths as a primvar,
      * a second curves prim, metadata and comments a DCC writes. */
-    const char *usda = "#usda 1.0\n(\n    \"\"\"a doc\n string\"\"\"\n    upAxis = \"Z\"\n"
-                       "    metersPerUnit = 0.01\n    customLayerData = { string creator = \"x\" }\n)\n\n"
-                       "def Xform \"root\" (\n    kind = \"component\"\n)\n{\n"
-                       "    double3 xformOp:translate = (0, 0, 0)\n    float3 xformOp:scale = (1, 1, 1)\n"
-                       "    uniform token[] xformOpOrder = [\"xformOp:translate\", \"xformOp:scale\"]\n"
-                       "    def BasisCurves \"a\" # comment\n    {\n        uniform token type = \"linear\"\n"
-                       "        int[] curveVertexCounts = [2, 3]\n"
-                       "        point3f[] points = [(0, 0, 100), (0, 0, 200), (1, 2, 3), (4, 5, 6), (7, 8, 9)]\n"
-                       "        float[] primvars:widths = [0.5, 0.25] (\n            interpolation = \"uniform\"\n        )\n"
-                       "        rel material:binding = </Mat>\n        color3f[] primvars:displayColor = [(1, 0, 0)]\n"
-                       "    }\n    def BasisCurves \"b\"\n    {\n        uniform token type = \"linear\"\n"
-                       "        uniform token wrap = \"nonperiodic\"\n        int[] curveVertexCounts = [1]\n"
-                       "        point3f[] points = [(10, 20, 30),]\n    }\n}\n";
+    const char *usda =
+        "#usda 1.0\n(\n    \"\"\"a doc\n string\"\"\"\n    upAxis = \"Z\"\n"
+        "    metersPerUnit = 0.01\n    customLayerData = { string creator = \"x\" }\n)\n\n"
+        "def Xform \"root\" (\n    kind = \"component\"\n)\n{\n"
+        "    double3 xformOp:translate = (0, 0, 0)\n    float3 xformOp:scale = (1, 1, 1)\n"
+        "    uniform token[] xformOpOrder = [\"xformOp:translate\", \"xformOp:scale\"]\n"
+        "    def BasisCurves \"a\" # comment\n    {\n        uniform token type = \"linear\"\n"
+        "        int[] curveVertexCounts = [2, 3]\n"
+        "        point3f[] points = [(0, 0, 100), (0, 0, 200), (1, 2, 3), (4, 5, 6), (7, 8, 9)]\n"
+        "        float[] primvars:widths = [0.5, 0.25] (\n            interpolation = \"uniform\"\n        )\n"
+        "        rel material:binding = </Mat>\n        color3f[] primvars:displayColor = [(1, 0, 0)]\n"
+        "    }\n    def BasisCurves \"b\"\n    {\n        uniform token type = \"linear\"\n"
+        "        uniform token wrap = \"nonperiodic\"\n        int[] curveVertexCounts = [1]\n"
+        "        point3f[] points = [(10, 20, 30),]\n    }\n}\n";
     assert_int_equal(hk_usda_hair_load(hk_test_write_text("dcc.usda", usda), &h, &err), HK_OK);
     assert_int_equal(h.strand_count, 3);
     assert_int_equal(hk_hair_strand_points(&h, 0), 2);
@@ -605,10 +606,12 @@ static void test_usda_subset(void **state)
         {"#usda 1.0\n", "}\n", NULL},
         {"#usda 1.0\n", "    uniform token wrap = \"periodic\"\n}\n", ":7: wrap = \"periodic\""},
         {"#usda 1.0\n", "    uniform token type = \"cubic\"\n}\n", ":7: type = \"cubic\": only linear"},
-        {"#usda 1.0\n", "    int[] curveVertexCounts = [3]\n}\n", ":2: curveVertexCounts add up to 3 points, points has 2"},
+        {"#usda 1.0\n", "    int[] curveVertexCounts = [3]\n}\n",
+         ":2: curveVertexCounts add up to 3 points, points has 2"},
         {"#usda 1.0\n", "    int[] curveVertexCounts = [0, 2]\n}\n", ":7: curve 0 has 0 vertices"},
         {"#usda 1.0\n", "    float[] widths = [1, 2, 3]\n}\n", "3 widths with interpolation \"vertex\""},
-        {"#usda 1.0\n", "    double3 xformOp:translate = (1, 0, 0)\n}\n", ":7: xformOp:translate: transforms are not applied"},
+        {"#usda 1.0\n", "    double3 xformOp:translate = (1, 0, 0)\n}\n",
+         ":7: xformOp:translate: transforms are not applied"},
         {"#usda 1.0\n", "    point3f[] points = [(0, 0, 0), (1, 1)]\n}\n", ":7: expected ','"},
         {"#usda 1.0\n", "    point3f[] points = [(0, 0, 0), (1, 1, inf)]\n}\n", ":7: 'inf' is not a number"},
         {"#usda 1.0\n", "", "missing '}'"},
@@ -630,21 +633,24 @@ static void test_usda_subset(void **state)
         hk_assert_contains(err.message, bad[i].msg);
     }
     /* Without type (the schema's default is cubic), with time samples only. */
-    assert_int_equal(hk_usda_hair_load(hk_test_write_text("notype.usda",
-                                                          "#usda 1.0\ndef BasisCurves \"c\" {\n"
-                                                          "int[] curveVertexCounts = [1]\npoint3f[] points = [(0,0,0)]\n}\n"),
-                                       &h, &err),
-                     HK_ERR_PARSE);
+    assert_int_equal(
+        hk_usda_hair_load(hk_test_write_text("notype.usda",
+                                             "#usda 1.0\ndef BasisCurves \"c\" {\n"
+                                             "int[] curveVertexCounts = [1]\npoint3f[] points = [(0,0,0)]\n}\n"),
+                          &h, &err),
+        HK_ERR_PARSE);
     hk_assert_contains(err.message, "notype.usda:2: BasisCurves without 'type'");
-    assert_int_equal(hk_usda_hair_load(hk_test_write_text("anim.usda",
-                                                          "#usda 1.0\ndef BasisCurves \"c\" {\nuniform token type = \"linear\"\n"
-                                                          "int[] curveVertexCounts = [1]\npoint3f[] points.timeSamples = {\n"
-                                                          "  1: [(0,0,0)],\n}\n}\n"),
-                                       &h, &err),
-                     HK_ERR_PARSE);
+    assert_int_equal(
+        hk_usda_hair_load(hk_test_write_text("anim.usda",
+                                             "#usda 1.0\ndef BasisCurves \"c\" {\nuniform token type = \"linear\"\n"
+                                             "int[] curveVertexCounts = [1]\npoint3f[] points.timeSamples = {\n"
+                                             "  1: [(0,0,0)],\n}\n}\n"),
+                          &h, &err),
+        HK_ERR_PARSE);
     hk_assert_contains(err.message, "time samples");
-    assert_int_equal(hk_usda_hair_load(hk_test_write_text("nocurves.usda", "#usda 1.0\ndef Mesh \"m\" {\n}\n"), &h, &err),
-                     HK_ERR_PARSE);
+    assert_int_equal(
+        hk_usda_hair_load(hk_test_write_text("nocurves.usda", "#usda 1.0\ndef Mesh \"m\" {\n}\n"), &h, &err),
+        HK_ERR_PARSE);
     hk_assert_contains(err.message, "no BasisCurves prim");
 }
 
@@ -703,7 +709,8 @@ static void test_binary_truncated_and_lying(void **state)
         assert_true(size <= sizeof copy);
         memcpy(copy, b, size);
         for (int k = 0; k < 4; k++) copy[tfx_bad[i].at + (size_t)k] = (unsigned char)(tfx_bad[i].value >> (8 * k));
-        const char *path = hk_test_write_file("good-lie.tfx", copy, i + 1 == sizeof tfx_bad / sizeof *tfx_bad ? 200 : size);
+        const char *path =
+            hk_test_write_file("good-lie.tfx", copy, i + 1 == sizeof tfx_bad / sizeof *tfx_bad ? 200 : size);
         if (hk_tfx_load(path, &h, &err) == HK_OK) fail_msg("tfx case %zu was read", i);
         hk_assert_contains(err.message, "good-lie.tfx");
         hk_assert_contains(err.message, tfx_bad[i].msg);
@@ -825,9 +832,18 @@ static void test_fuzz_small(void **state)
     make_hair(&g, 3, 4);
     const hk_HairFormat formats[] = {HK_HAIR_FORMAT_TFX, HK_HAIR_FORMAT_USC, HK_HAIR_FORMAT_PLY,
                                      HK_HAIR_FORMAT_PLY, HK_HAIR_FORMAT_OBJ, HK_HAIR_FORMAT_USDA};
-    static const char *const junk[] = {"element vertex 99\n", "property list uchar int x\n", "l 1 2 3\n",
-                                       "v 1 2 3\n", "def BasisCurves \"x\" {", "[(", "\"\"\"", "}",
-                                       "\xff\xff\xff\x7f", "\0\0\0\0", "-1", "1e30"};
+    static const char *const junk[] = {"element vertex 99\n",
+                                       "property list uchar int x\n",
+                                       "l 1 2 3\n",
+                                       "v 1 2 3\n",
+                                       "def BasisCurves \"x\" {",
+                                       "[(",
+                                       "\"\"\"",
+                                       "}",
+                                       "\xff\xff\xff\x7f",
+                                       "\0\0\0\0",
+                                       "-1",
+                                       "1e30"};
     unsigned long long x = 12345;
     for (size_t f = 0; f < sizeof formats / sizeof *formats; f++) {
         hk_HairWriteDef def = hk_hair_write_defaults();
@@ -845,8 +861,10 @@ static void test_fuzz_small(void **state)
             for (int k = 0; k < 1 + round % 4; k++)
                 len = hk_test_mutate(buf, len, sizeof buf, " \n0123456789.-e()[],\"", junk, 12, &x);
             const char *cut = hk_test_write_file("fuzz.bin", buf, len);
-            if (hk_hair_read(cut, formats[f], &h, &err) == HK_OK) hk_hair_free(&h);
-            else hk_assert_contains(err.message, "fuzz.bin");
+            if (hk_hair_read(cut, formats[f], &h, &err) == HK_OK)
+                hk_hair_free(&h);
+            else
+                hk_assert_contains(err.message, "fuzz.bin");
         }
         free(seed);
     }

@@ -31,8 +31,8 @@ static void load_scene(Scene *s)
 {
     hk_Error err;
     assert_int_equal(hk_hairstyle_load(HK_SOURCE_DIR "/examples/guides200/hairstyle.txt", &s->style, &err), HK_OK);
-    assert_int_equal(hk_collision_load(HK_SOURCE_DIR "/examples/default/collision.txt", &s->shapes, &s->shape_count, &err),
-                     HK_OK);
+    assert_int_equal(
+        hk_collision_load(HK_SOURCE_DIR "/examples/default/collision.txt", &s->shapes, &s->shape_count, &err), HK_OK);
     assert_int_equal(hk_obj_load(HK_SOURCE_DIR "/assets/wick-200.obj", &s->wick, &err), HK_OK);
 }
 
@@ -63,7 +63,8 @@ static void test_still_head_keeps_rest_shape(void **state)
     assert_int_equal(hk_hair_sim_create(&sc.style, sc.shapes, sc.shape_count, &sc.wick, &o, &sim, &err), HK_OK);
     assert_int_equal(hk_hair_sim_guide_count(sim), 201);
     double *rest = guides_now(sim);
-    for (int f = 0; f < 30; f++) assert_int_equal(hk_hair_sim_advance(sim, NULL, f / 30.0, 1.0 / 30.0, NULL, &err), HK_OK);
+    for (int f = 0; f < 30; f++)
+        assert_int_equal(hk_hair_sim_advance(sim, NULL, f / 30.0, 1.0 / 30.0, NULL, &err), HK_OK);
     double *now = guides_now(sim);
     const size_t n = (size_t)201 * (size_t)hk_hair_sim_points_per_strand(sim) * 3;
     double worst = 0.0;
@@ -128,10 +129,11 @@ static double shaking_depth(int substeps, double *reach_out)
      * up to a factor two for a tip reversing within a frame */
     double k = 0.0;
     for (int i = 0; i < hard_count; i++) k = fmax(k, hard[i].penalty);
-    const double reach = 2.0 * fastest * sqrt(sc.style.strand.density * HK_PI * sc.style.strand.radius1 *
-                                               sc.style.strand.radius2 / k);
+    const double reach =
+        2.0 * fastest * sqrt(sc.style.strand.density * HK_PI * sc.style.strand.radius1 * sc.style.strand.radius2 / k);
     print_message("shaking head, %d steps per frame: deepest guide sample %.3g m inside the head, penalty reach "
-                  "%.3g m at %.2f m/s; %d guide-guide contacts\n", substeps, deepest, reach, fastest, contacts);
+                  "%.3g m at %.2f m/s; %d guide-guide contacts\n",
+                  substeps, deepest, reach, fastest, contacts);
     assert_true(contacts > 0);
     /* not vacuous: the guides press on the head (with static friction between the
      * guides, none needs to enter it at the fine step) */
@@ -166,7 +168,8 @@ static void run_frames(const Scene *sc, int threads, double **guides, hk_Groom *
     assert_int_equal(hk_hair_sim_create(&sc->style, sc->shapes, sc->shape_count, &sc->wick, &o, &sim, &err), HK_OK);
     assert_int_equal(hk_head_motion_scripted("nod", 30.0, 2.0, hk_default_head_pivot(), &nod, &err), HK_OK);
     assert_int_equal(hk_hair_sim_settle(sim, NULL, 0.1, 1.0 / 30.0, &err), HK_OK);
-    for (int f = 0; f < 6; f++) assert_int_equal(hk_hair_sim_advance(sim, nod, f / 30.0, 1.0 / 30.0, NULL, &err), HK_OK);
+    for (int f = 0; f < 6; f++)
+        assert_int_equal(hk_hair_sim_advance(sim, nod, f / 30.0, 1.0 / 30.0, NULL, &err), HK_OK);
     *guides = guides_now(sim);
     hk_GroomDef go = hk_default_groom_def();
     go.threads = threads;
@@ -179,8 +182,7 @@ static void run_frames(const Scene *sc, int threads, double **guides, hk_Groom *
  * (they are grown from world-space guides; the shapes are in head space): back in head
  * space no point after a root is more than 2 mm inside a body shape, at most 0.05 % more
  * than 1 mm (docs/grooming.md). */
-static void assert_points_outside(const Scene *sc, const hk_RigidState *head, const float *points, long strands,
-                                  int n)
+static void assert_points_outside(const Scene *sc, const hk_RigidState *head, const float *points, long strands, int n)
 {
     hk_Shape body[8];
     int body_count = 0;
@@ -314,11 +316,13 @@ static void test_bad_input(void **state)
     hk_HairSim *sim = NULL;
     hk_Error err;
     o.dynamics.air_drag = -1.0;
-    assert_int_equal(hk_hair_sim_create(&sc.style, sc.shapes, sc.shape_count, &sc.wick, &o, &sim, &err), HK_ERR_INVALID);
+    assert_int_equal(hk_hair_sim_create(&sc.style, sc.shapes, sc.shape_count, &sc.wick, &o, &sim, &err),
+                     HK_ERR_INVALID);
     assert_null(sim);
     o = hk_hair_sim_def_for(&sc.style);
     o.contacts.distance = 0.0;
-    assert_int_equal(hk_hair_sim_create(&sc.style, sc.shapes, sc.shape_count, &sc.wick, &o, &sim, &err), HK_ERR_INVALID);
+    assert_int_equal(hk_hair_sim_create(&sc.style, sc.shapes, sc.shape_count, &sc.wick, &o, &sim, &err),
+                     HK_ERR_INVALID);
     o = hk_hair_sim_def_for(&sc.style);
     assert_int_equal(hk_hair_sim_create(&sc.style, sc.shapes, sc.shape_count, &sc.wick, &o, &sim, &err), HK_OK);
     assert_int_equal(hk_hair_sim_settle(sim, NULL, 1.0, 0.0, &err), HK_ERR_INVALID);

@@ -15,14 +15,12 @@
 #include "hairkit/motion.h"
 
 
-
 /* ---- Helpers ------------------------------------------------------------------------ */
 
 static double vec_max_abs(hk_Vec3 a) { return fmax(fabs(a.x), fmax(fabs(a.y), fabs(a.z))); }
 
 /* |a - b| <= rtol * max(|a|, |b|) + atol, componentwise on the largest component. */
-static void assert_vec_close_impl(hk_Vec3 a, hk_Vec3 b, double rtol, double atol, const char *what,
-                                  double t, int line)
+static void assert_vec_close_impl(hk_Vec3 a, hk_Vec3 b, double rtol, double atol, const char *what, double t, int line)
 {
     const double diff = vec_max_abs(hk_v3_sub(a, b));
     const double tol = rtol * fmax(vec_max_abs(a), vec_max_abs(b)) + atol;
@@ -33,7 +31,7 @@ static void assert_vec_close_impl(hk_Vec3 a, hk_Vec3 b, double rtol, double atol
         fail();
     }
 }
-#define assert_vec_close(a, b, rtol, atol, what, t) \
+#define assert_vec_close(a, b, rtol, atol, what, t)                                                                    \
     assert_vec_close_impl((a), (b), (rtol), (atol), (what), (t), __LINE__)
 
 static hk_RigidState eval_at(const hk_HeadMotion *m, double t)
@@ -55,16 +53,14 @@ static void assert_rotation(const hk_Mat3 *r)
 }
 
 /* omega from (R(t+h) - R(t-h)) / (2h) R(t)^T = [omega]x + O(h^2), its skew part. */
-static hk_Vec3 fd_omega(const hk_RigidState *plus, const hk_RigidState *minus,
-                        const hk_RigidState *mid, double h)
+static hk_Vec3 fd_omega(const hk_RigidState *plus, const hk_RigidState *minus, const hk_RigidState *mid, double h)
 {
     hk_Mat3 d;
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++) d.m[i][j] = (plus->rot.m[i][j] - minus->rot.m[i][j]) / (2 * h);
     hk_Mat3 rt = hk_m3_transpose(&mid->rot);
     hk_Mat3 w = hk_m3_mul(&d, &rt);
-    return hk_v3(0.5 * (w.m[2][1] - w.m[1][2]), 0.5 * (w.m[0][2] - w.m[2][0]),
-                 0.5 * (w.m[1][0] - w.m[0][1]));
+    return hk_v3(0.5 * (w.m[2][1] - w.m[1][2]), 0.5 * (w.m[0][2] - w.m[2][0]), 0.5 * (w.m[1][0] - w.m[0][1]));
 }
 
 /* Every derivative the state claims against central differences at t, with step h;
@@ -84,8 +80,8 @@ static void check_derivatives(const hk_HeadMotion *m, double t, double h, double
     /* The acceleration also against the second difference of the position, whose
      * rounding error eps |T| / h^2 allows it only with the larger steps. */
     if (h >= 1e-6) {
-        const hk_Vec3 dd = hk_v3_scale(
-            hk_v3_add(hk_v3_sub(plus.trans, hk_v3_scale(mid.trans, 2.0)), minus.trans), 1.0 / (h * h));
+        const hk_Vec3 dd =
+            hk_v3_scale(hk_v3_add(hk_v3_sub(plus.trans, hk_v3_scale(mid.trans, 2.0)), minus.trans), 1.0 / (h * h));
         assert_vec_close(mid.acc, dd, 1e-4, 1e-5 * scale, "acc vs second difference of trans", t);
     }
     /* A scalp point: hk_rigid_point's velocity and acceleration. */
@@ -103,18 +99,16 @@ static void check_derivatives(const hk_HeadMotion *m, double t, double h, double
  * the derivatives there are the limits from either side. */
 static hk_Vec3 one_sided(hk_Vec3 f0, hk_Vec3 f1, hk_Vec3 f2, double d, double h)
 {
-    return hk_v3_scale(hk_v3_add(hk_v3_scale(f0, -3.0), hk_v3_sub(hk_v3_scale(f1, 4.0), f2)),
-                       d / (2 * h));
+    return hk_v3_scale(hk_v3_add(hk_v3_scale(f0, -3.0), hk_v3_sub(hk_v3_scale(f1, 4.0), f2)), d / (2 * h));
 }
 
 static void check_one_sided(const hk_HeadMotion *m, double t, double h, double d, double scale)
 {
     const hk_RigidState s0 = eval_at(m, t), s1 = eval_at(m, t + d * h), s2 = eval_at(m, t + 2 * d * h);
     const double rtol = 1e-6, atol = 1e-7 * scale;
-    assert_vec_close(s0.vel, one_sided(s0.trans, s1.trans, s2.trans, d, h), rtol, atol,
-                     "vel vs one-sided FD of trans", t);
-    assert_vec_close(s0.acc, one_sided(s0.vel, s1.vel, s2.vel, d, h), rtol, atol,
-                     "acc vs one-sided FD of vel", t);
+    assert_vec_close(s0.vel, one_sided(s0.trans, s1.trans, s2.trans, d, h), rtol, atol, "vel vs one-sided FD of trans",
+                     t);
+    assert_vec_close(s0.acc, one_sided(s0.vel, s1.vel, s2.vel, d, h), rtol, atol, "acc vs one-sided FD of vel", t);
     assert_vec_close(s0.alpha, one_sided(s0.omega, s1.omega, s2.omega, d, h), rtol, atol,
                      "alpha vs one-sided FD of omega", t);
     hk_Mat3 dr;
@@ -123,8 +117,8 @@ static void check_one_sided(const hk_HeadMotion *m, double t, double h, double d
             dr.m[i][j] = d * (-3 * s0.rot.m[i][j] + 4 * s1.rot.m[i][j] - s2.rot.m[i][j]) / (2 * h);
     const hk_Mat3 rt = hk_m3_transpose(&s0.rot);
     const hk_Mat3 w = hk_m3_mul(&dr, &rt);
-    const hk_Vec3 om = hk_v3(0.5 * (w.m[2][1] - w.m[1][2]), 0.5 * (w.m[0][2] - w.m[2][0]),
-                             0.5 * (w.m[1][0] - w.m[0][1]));
+    const hk_Vec3 om =
+        hk_v3(0.5 * (w.m[2][1] - w.m[1][2]), 0.5 * (w.m[0][2] - w.m[2][0]), 0.5 * (w.m[1][0] - w.m[0][1]));
     assert_vec_close(s0.omega, om, rtol, atol, "omega vs one-sided FD of R", t);
 }
 
@@ -307,8 +301,7 @@ static void test_scripted_errors(void **state)
     const hk_Vec3 c = hk_default_head_pivot();
     assert_int_equal(hk_head_motion_scripted("wobble", 10, 1, c, &m, &err), HK_ERR_INVALID);
     assert_null(m);
-    assert_string_equal(err.message,
-                        "unknown head motion 'wobble' (expected still, nod, shake, tilt, sway or jump)");
+    assert_string_equal(err.message, "unknown head motion 'wobble' (expected still, nod, shake, tilt, sway or jump)");
     assert_int_equal(hk_head_motion_scripted("nod", 200, 1, c, &m, &err), HK_ERR_INVALID);
     assert_string_equal(err.message, "amplitude of head motion 'nod' must be in [-180, 180] degrees, got 200");
     assert_int_equal(hk_head_motion_scripted("sway", 11, 1, c, &m, &err), HK_ERR_INVALID);
@@ -358,8 +351,7 @@ static void test_rotation_exp(void **state)
             hk_RigidState plus = hk_rigid_identity(), minus = plus, mid = plus;
             plus.rot = rot[2], minus.rot = rot[0], mid.rot = rot[1];
             assert_vec_close(om[1], fd_omega(&plus, &minus, &mid, h), 1e-7, 1e-9, "omega", t);
-            assert_vec_close(al[1], hk_v3_scale(hk_v3_sub(om[2], om[0]), 0.5 / h), 1e-7, 1e-9,
-                             "alpha", t);
+            assert_vec_close(al[1], hk_v3_scale(hk_v3_sub(om[2], om[0]), 0.5 / h), 1e-7, 1e-9, "alpha", t);
         }
     }
 }
@@ -367,20 +359,18 @@ static void test_rotation_exp(void **state)
 /* ---- Motion files -------------------------------------------------------------------- */
 
 /* Line n holds key n - 2 (line 1 is the pivot). */
-static const char *const sample =
-    "Pivot 0.01 -0.02 0.005\n"
-    "0.0   0     0     0      1 0 0   0\n"
-    "0.5   0.01 -0.004 0.002  1 0 0   25\n"
-    "0.9  -0.01  0     0.001  1 0.2 0 -15\n"
-    "1.6   0     0.003 0      0 1 0   40\n"
-    "2.0   0.02  0     0      0 1 1  -30   # a comment\n"
-    "3.1   0     0     0      0 0 1   190\n"
-    "3.5   0     0     0      0 0 0   0\n";
+static const char *const sample = "Pivot 0.01 -0.02 0.005\n"
+                                  "0.0   0     0     0      1 0 0   0\n"
+                                  "0.5   0.01 -0.004 0.002  1 0 0   25\n"
+                                  "0.9  -0.01  0     0.001  1 0.2 0 -15\n"
+                                  "1.6   0     0.003 0      0 1 0   40\n"
+                                  "2.0   0.02  0     0      0 1 1  -30   # a comment\n"
+                                  "3.1   0     0     0      0 0 1   190\n"
+                                  "3.5   0     0     0      0 0 0   0\n";
 
 static const double sample_keys[7][8] = {
-    {0.0, 0, 0, 0, 1, 0, 0, 0},           {0.5, 0.01, -0.004, 0.002, 1, 0, 0, 25},
-    {0.9, -0.01, 0, 0.001, 1, 0.2, 0, -15}, {1.6, 0, 0.003, 0, 0, 1, 0, 40},
-    {2.0, 0.02, 0, 0, 0, 1, 1, -30},      {3.1, 0, 0, 0, 0, 0, 1, 190},
+    {0.0, 0, 0, 0, 1, 0, 0, 0},      {0.5, 0.01, -0.004, 0.002, 1, 0, 0, 25}, {0.9, -0.01, 0, 0.001, 1, 0.2, 0, -15},
+    {1.6, 0, 0.003, 0, 0, 1, 0, 40}, {2.0, 0.02, 0, 0, 0, 1, 1, -30},         {3.1, 0, 0, 0, 0, 0, 1, 190},
     {3.5, 0, 0, 0, 0, 0, 0, 0},
 };
 
@@ -405,8 +395,7 @@ static void test_file_keys_exact(void **state)
          * to the rounding of R c. */
         hk_Vec3 pos;
         hk_rigid_point(&st, c, &pos, NULL, NULL);
-        assert_vec_close(pos, hk_v3_add(c, hk_v3(key[1], key[2], key[3])), 0, 1e-17, "pivot at key",
-                         key[0]);
+        assert_vec_close(pos, hk_v3_add(c, hk_v3(key[1], key[2], key[3])), 0, 1e-17, "pivot at key", key[0]);
         /* Rest at the first and last keys. */
         if (k == 0 || k == 6) {
             const hk_Vec3 z = hk_v3_zero();
@@ -604,13 +593,11 @@ static void test_file_errors(void **state)
     load_fails("", HK_ERR_PARSE, "motion.txt: file is empty");
     load_fails("# nothing but comments\n\n", HK_ERR_PARSE,
                "motion.txt: no keyframe (expected lines 't tx ty tz ax ay az angle')");
-    load_fails("Pivot 0 0 0\n", HK_ERR_PARSE,
-               "motion.txt: no keyframe (expected lines 't tx ty tz ax ay az angle')");
+    load_fails("Pivot 0 0 0\n", HK_ERR_PARSE, "motion.txt: no keyframe (expected lines 't tx ty tz ax ay az angle')");
     load_fails("0 0 0 0 0 0 0 30\n", HK_ERR_INVALID,
                "motion.txt:1: the rotation axis is zero but the angle is 30 degrees (a zero axis goes "
                "only with angle 0)");
-    load_fails("Pivot 0 0\n0 0 0 0 1 0 0 0\n", HK_ERR_PARSE,
-               "motion.txt:1: expected 3 numbers after 'Pivot', got 2");
+    load_fails("Pivot 0 0\n0 0 0 0 1 0 0 0\n", HK_ERR_PARSE, "motion.txt:1: expected 3 numbers after 'Pivot', got 2");
     load_fails("Pivot 0 0 0\npivot 0 0 0\n0 0 0 0 1 0 0 0\n", HK_ERR_PARSE,
                "motion.txt:2: duplicate key 'Pivot' (first given at line 1)");
     load_fails("# c\n0 0 0 0 1 0 0 0\nPivot 0 0 0\n", HK_ERR_PARSE,
@@ -621,10 +608,8 @@ static void test_file_errors(void **state)
                "motion.txt:1: unknown key 'Pivto' in a head motion file (a keyframe line is t tx ty "
                "tz ax ay az angle)");
     load_fails("2e6 0 0 0 1 0 0 0\n", HK_ERR_INVALID, "motion.txt:1: time must be within +-1e+06 s, got 2e6");
-    load_fails("0 0 -1001 0 1 0 0 0\n", HK_ERR_INVALID,
-               "motion.txt:1: translation must be within +-1000 m, got -1001");
-    load_fails("0 0 0 0 1 0 0 1e6\n", HK_ERR_INVALID,
-               "motion.txt:1: angle must be within +-100000 degrees, got 1e6");
+    load_fails("0 0 -1001 0 1 0 0 0\n", HK_ERR_INVALID, "motion.txt:1: translation must be within +-1000 m, got -1001");
+    load_fails("0 0 0 0 1 0 0 1e6\n", HK_ERR_INVALID, "motion.txt:1: angle must be within +-100000 degrees, got 1e6");
     load_fails("0 0 0 0 1 0 0 0\n1 0 0 0 1 0 0 \"5\"x\n", HK_ERR_PARSE,
                "motion.txt:2: misplaced double quote: quotes enclose a whole value, as in \"my "
                "file.txt\"");
@@ -674,8 +659,8 @@ static void test_file_key_limit(void **state)
 static void test_fuzz(void **state)
 {
     (void)state;
-    static const char *const junk[10] = {"1e308 ", "-", "nan", "\"", "#", "\r\n", "Pivot 0 0 0\n",
-                                         "0 0 0 0 0 0 0 0\n", "\t", "99999999"};
+    static const char *const junk[10] = {
+        "1e308 ", "-", "nan", "\"", "#", "\r\n", "Pivot 0 0 0\n", "0 0 0 0 0 0 0 0\n", "\t", "99999999"};
     unsigned long long x = 0x9E3779B97F4A7C15ULL;
     int rejected = 0, accepted = 0;
     for (int iter = 0; iter < 2000; iter++) {
@@ -683,8 +668,7 @@ static void test_fuzz(void **state)
         size_t len = strlen(sample);
         memcpy(buf, sample, len);
         const int edits = 1 + iter % 4;
-        for (int e = 0; e < edits; e++)
-            len = hk_test_mutate(buf, len, sizeof buf, " \t\n#-.e0123456789", junk, 10, &x);
+        for (int e = 0; e < edits; e++) len = hk_test_mutate(buf, len, sizeof buf, " \t\n#-.e0123456789", junk, 10, &x);
         const char *path = hk_test_write_file("fuzz_motion.txt", buf, len);
         hk_HeadMotion *m = NULL;
         hk_Error err;
@@ -718,14 +702,22 @@ static void test_fuzz(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_still),           cmocka_unit_test(test_scripted_derivatives),
-        cmocka_unit_test(test_scripted_formulas), cmocka_unit_test(test_ease_in),
-        cmocka_unit_test(test_scripted_errors), cmocka_unit_test(test_rotation_exp),
-        cmocka_unit_test(test_file_keys_exact), cmocka_unit_test(test_file_derivatives),
-        cmocka_unit_test(test_file_c2),         cmocka_unit_test(test_file_few_keys),
-        cmocka_unit_test(test_file_turns),      cmocka_unit_test(test_example_file),
-        cmocka_unit_test(test_file_errors),     cmocka_unit_test(test_file_key_limit),
-        cmocka_unit_test(test_fuzz),            cmocka_unit_test(test_source),
+        cmocka_unit_test(test_still),
+        cmocka_unit_test(test_scripted_derivatives),
+        cmocka_unit_test(test_scripted_formulas),
+        cmocka_unit_test(test_ease_in),
+        cmocka_unit_test(test_scripted_errors),
+        cmocka_unit_test(test_rotation_exp),
+        cmocka_unit_test(test_file_keys_exact),
+        cmocka_unit_test(test_file_derivatives),
+        cmocka_unit_test(test_file_c2),
+        cmocka_unit_test(test_file_few_keys),
+        cmocka_unit_test(test_file_turns),
+        cmocka_unit_test(test_example_file),
+        cmocka_unit_test(test_file_errors),
+        cmocka_unit_test(test_file_key_limit),
+        cmocka_unit_test(test_fuzz),
+        cmocka_unit_test(test_source),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -64,9 +64,9 @@ static hk_Vec3 *trace(const hk_PHelicoid *h, double step, hk_HelicoidMethod m, c
         pl.frame[0] = h->frame;
         if (offset && h->piece_count > 1)
             assert_int_equal(hk_phelicoid_trace_with(h, step, m, NULL, NULL, NULL, NULL, NULL, &pl, &err), HK_OK);
-        assert_int_equal(hk_phelicoid_trace_with(h, step, m, w, offset, offset ? &pl : NULL, p,
-                                                 frames ? *frames : NULL, NULL, &err),
-                         HK_OK);
+        assert_int_equal(
+            hk_phelicoid_trace_with(h, step, m, w, offset, offset ? &pl : NULL, p, frames ? *frames : NULL, NULL, &err),
+            HK_OK);
     }
     return p;
 }
@@ -356,8 +356,7 @@ static void test_point_count(void **state)
     hk_Vec3 *p = trace(&h, 0.1, HK_HELICOID_AUTO, NULL, NULL, NULL, &n);
     assert_int_equal(n, 1 + 4 + 2 + 1);
     const double s[] = {0, 0.0875, 0.175, 0.2625, 0.35, 0.45, 0.55, 0.6};
-    for (int i = 0; i < n; i++)
-        assert_true(hk_v3_dist(p[i], hk_v3_madd(h.root, hk_m3_col(&h.frame, 0), s[i])) < 1e-14);
+    for (int i = 0; i < n; i++) assert_true(hk_v3_dist(p[i], hk_v3_madd(h.root, hk_m3_col(&h.frame, 0), s[i])) < 1e-14);
     free(p);
 }
 
@@ -736,8 +735,8 @@ static void test_idw_normal(void **state)
     (void)state;
     hk_PHelicoid g[2];
     g[0] = one_piece(hk_v3(-1, 0, 0), hk_m3_identity(), kv(0.5, 0, 0, 0), 1.0);
-    g[1] = one_piece(hk_v3(1, 0, 0), hk_m3_from_cols(hk_v3(0, -1, 0), hk_v3(1, 0, 0), hk_v3(0, 0, 1)),
-                     kv(0.5, 0, 0, 0), 1.0);
+    g[1] = one_piece(hk_v3(1, 0, 0), hk_m3_from_cols(hk_v3(0, -1, 0), hk_v3(1, 0, 0), hk_v3(0, 0, 1)), kv(0.5, 0, 0, 0),
+                     1.0);
     hk_Error err;
     hk_PHelicoid a, b;
     const hk_Vec3 up = hk_v3(0, 2, 0);
@@ -803,11 +802,11 @@ static void test_bad_input(void **state)
     hk_Vec3 pts[64];
     hk_Error err;
     const double nan = NAN;
-#define EXPECT_BAD(call)                                   \
-    do {                                                   \
-        hk_error_clear(&err);                              \
-        assert_int_not_equal((call), HK_OK);               \
-        assert_true(strlen(err.message) > 0);              \
+#define EXPECT_BAD(call)                                                                                               \
+    do {                                                                                                               \
+        hk_error_clear(&err);                                                                                          \
+        assert_int_not_equal((call), HK_OK);                                                                           \
+        assert_true(strlen(err.message) > 0);                                                                          \
     } while (0)
     h = good;
     h.piece_count = 0;

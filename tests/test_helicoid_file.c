@@ -10,21 +10,20 @@
 
 #include "hairkit/helicoid_file.h"
 
-static const char *const sample =
-    "# two guides\n"
-    "Step      0.001\n"
-    "Waviness  0.0005 300\n"
-    "\n"
-    "Strand\n"
-    "Root      0 0.15 0.02\n"
-    "Frame     0 1 0   1 0 0        # up, E_N along x (E_B = -z)\n"
-    "Piece     20 -1 3 0.5 0.05\n"
-    "Piece     40 0 0 0 0.1\n"
-    "Wisp      16 0.004 0.1\n"
-    "Strand\n"
-    "Root      0.02 0.15 0\n"
-    "Frame     1 1 0   -1 1 0\n"
-    "Piece     0 0 0 0 0.2\n";
+static const char *const sample = "# two guides\n"
+                                  "Step      0.001\n"
+                                  "Waviness  0.0005 300\n"
+                                  "\n"
+                                  "Strand\n"
+                                  "Root      0 0.15 0.02\n"
+                                  "Frame     0 1 0   1 0 0        # up, E_N along x (E_B = -z)\n"
+                                  "Piece     20 -1 3 0.5 0.05\n"
+                                  "Piece     40 0 0 0 0.1\n"
+                                  "Wisp      16 0.004 0.1\n"
+                                  "Strand\n"
+                                  "Root      0.02 0.15 0\n"
+                                  "Frame     1 1 0   -1 1 0\n"
+                                  "Piece     0 0 0 0 0.2\n";
 
 static void test_sample(void **state)
 {

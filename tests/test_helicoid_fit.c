@@ -54,12 +54,15 @@ static void fit_single_pieces(int method, double tolerance, int check_params, in
         hk_PHelicoid fit;
         hk_CurveFit report;
         assert_int_equal(hk_helicoid_fit(f, pts, 30, &opt, &fit, &report, &err), HK_OK);
-        const int ok = report.error < tolerance && (!check_params || (fabs(fit.k[0].kt - h.k[0].kt) < 1e-3 * h.k[0].kt &&
-                                                                      fabs(fit.k[0].alpha - h.k[0].alpha) < 1e-3));
-        if (ok) recovered++;
-        else print_message("trial %d: error %.3g m, k = (%g %g %g %g) fitted (%g %g %g %g)\n", t, report.error,
-                           h.k[0].kt, h.k[0].kn, h.k[0].kb, h.k[0].alpha, fit.k[0].kt, fit.k[0].kn, fit.k[0].kb,
-                           fit.k[0].alpha);
+        const int ok =
+            report.error < tolerance && (!check_params || (fabs(fit.k[0].kt - h.k[0].kt) < 1e-3 * h.k[0].kt &&
+                                                           fabs(fit.k[0].alpha - h.k[0].alpha) < 1e-3));
+        if (ok)
+            recovered++;
+        else
+            print_message("trial %d: error %.3g m, k = (%g %g %g %g) fitted (%g %g %g %g)\n", t, report.error,
+                          h.k[0].kt, h.k[0].kn, h.k[0].kb, h.k[0].alpha, fit.k[0].kt, fit.k[0].kn, fit.k[0].kb,
+                          fit.k[0].alpha);
         /* retracing the fit gives back the target to the reported error */
         hk_Vec3 again[30];
         trace30(&fit, again);
@@ -312,8 +315,8 @@ static void check_groom(const char *name, double scale, uint32_t every)
         hk_helicoid_fitter_destroy(plain);
         free(p);
     }
-    print_message("%s: %d strands, mean %.3f mm (%.3f mm without the retry), worst %.3f mm\n", name, n,
-                  1e3 * sum / n, 1e3 * first_sum / n, 1e3 * worst);
+    print_message("%s: %d strands, mean %.3f mm (%.3f mm without the retry), worst %.3f mm\n", name, n, 1e3 * sum / n,
+                  1e3 * first_sum / n, 1e3 * worst);
     assert_true(sum / n <= 2.5e-4);
     assert_true(worst <= 2e-3);
     hk_helicoid_fitter_destroy(with);

@@ -15,7 +15,6 @@
 #include "hairkit/mesh.h"
 
 
-
 static hk_Vec3 random_unit(void)
 {
     for (;;) {
@@ -187,11 +186,11 @@ static void test_surface_bad_input(void **state)
     sphere_guides(2, g, gn);
     hk_Error err;
     const hk_Vec3 x = hk_v3(0, 0, 1), zero = hk_v3_zero();
-#define EXPECT_BAD(call)                                \
-    do {                                                \
-        hk_error_clear(&err);                           \
-        assert_int_equal((call), HK_ERR_INVALID);       \
-        assert_true(err.message[0] != '\0');            \
+#define EXPECT_BAD(call)                                                                                               \
+    do {                                                                                                               \
+        hk_error_clear(&err);                                                                                          \
+        assert_int_equal((call), HK_ERR_INVALID);                                                                      \
+        assert_true(err.message[0] != '\0');                                                                           \
     } while (0)
     EXPECT_BAD(hk_phelicoid_interpolate_on_surface(g, NULL, 2, x, x, 3.0, 0.1, &out, &err));
     EXPECT_BAD(hk_phelicoid_interpolate_on_surface(NULL, gn, 2, x, x, 3.0, 0.1, &out, &err));

@@ -104,12 +104,10 @@ static void test_rotation_matches_rodrigues(void **state)
 }
 
 /* Gauss-Legendre 8-point rule on [a, b] applied to f sampled through a callback. */
-static const double gl_x[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290,
-                               -0.1834346424956498, 0.1834346424956498,  0.5255324099163290,
-                               0.7966664774136267,  0.9602898564975363};
-static const double gl_w[8] = {0.1012285362903763, 0.2223810344533745, 0.3137066458778873,
-                               0.3626837833783620, 0.3626837833783620, 0.3137066458778873,
-                               0.2223810344533745, 0.1012285362903763};
+static const double gl_x[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290, -0.1834346424956498,
+                               0.1834346424956498,  0.5255324099163290,  0.7966664774136267,  0.9602898564975363};
+static const double gl_w[8] = {0.1012285362903763, 0.2223810344533745, 0.3137066458778873, 0.3626837833783620,
+                               0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763};
 
 /* Lambda(u) by composite Gauss-Legendre quadrature of exp(v [k]x) (Rodrigues). */
 static hk_Mat3 quad_lambda(hk_Vec3 k, double u)
@@ -190,8 +188,8 @@ static void check_term_derivatives(int m, double alpha, hk_Vec3 phi, hk_Vec3 w)
 static void test_term_derivatives_fd(void **state)
 {
     (void)state;
-    const hk_Vec3 phis[] = {{0, 0, 0}, {1e-6, -2e-6, 3e-7}, {0.3, 0.2, -0.1}, {0.9, 0.4, 0.1},
-                            {2.0, -1.0, 0.5}, {3.5, 4.0, -2.0}, {-6.0, 1.0, 8.0}};
+    const hk_Vec3 phis[] = {{0, 0, 0},        {1e-6, -2e-6, 3e-7}, {0.3, 0.2, -0.1}, {0.9, 0.4, 0.1},
+                            {2.0, -1.0, 0.5}, {3.5, 4.0, -2.0},    {-6.0, 1.0, 8.0}};
     for (size_t t = 0; t < sizeof phis / sizeof *phis; t++)
         for (int b = 0; b < 3; b++) {
             check_term_derivatives(2, 1.0, phis[t], hk_v3_unit(b));
@@ -236,10 +234,8 @@ static void test_element_local_scaling(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_cn_against_long_double),
-        cmocka_unit_test(test_rotation_matches_rodrigues),
-        cmocka_unit_test(test_integrals_match_quadrature),
-        cmocka_unit_test(test_term_derivatives_fd),
+        cmocka_unit_test(test_cn_against_long_double),     cmocka_unit_test(test_rotation_matches_rodrigues),
+        cmocka_unit_test(test_integrals_match_quadrature), cmocka_unit_test(test_term_derivatives_fd),
         cmocka_unit_test(test_element_local_scaling),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -18,7 +18,7 @@
 #include "hairkit/simulate.h"
 
 #define STRANDS 150
-#define POINTS 11
+#define POINTS  11
 
 /* Arcs of 10 cm leaving a sphere of 8 cm along its normal and bending down. */
 static void make_groom(hk_HairFile *h)
@@ -39,8 +39,8 @@ static void make_groom(hk_HairFile *h)
         const double rc = 0.1;
         for (int j = 0; j < POINTS; j++) {
             const double s = 0.1 * j / (POINTS - 1);
-            const hk_Vec3 p = hk_v3_add(root, hk_v3_add(hk_v3_scale(n, rc * sin(s / rc)),
-                                                        hk_v3_scale(down, rc * (1.0 - cos(s / rc)))));
+            const hk_Vec3 p = hk_v3_add(
+                root, hk_v3_add(hk_v3_scale(n, rc * sin(s / rc)), hk_v3_scale(down, rc * (1.0 - cos(s / rc)))));
             float *o = h->points + 3 * (size_t)(i * POINTS + j);
             o[0] = (float)p.x, o[1] = (float)p.y, o[2] = (float)p.z;
         }

@@ -25,7 +25,8 @@ static void still_run(const char *hair_name, const char *head_name, double scale
 {
     hk_Error err;
     hk_HairFile h;
-    if (hk_hair_read(hk_test_shared_path(hair_name), HK_HAIR_FORMAT_AUTO, &h, &err) != HK_OK) fail_msg("%s", err.message);
+    if (hk_hair_read(hk_test_shared_path(hair_name), HK_HAIR_FORMAT_AUTO, &h, &err) != HK_OK)
+        fail_msg("%s", err.message);
     assert_int_equal(hk_hair_scale(&h, scale, &err), HK_OK);
     hk_hair_up_to_y(&h, up);
     hk_Mesh mesh;
@@ -66,9 +67,8 @@ static void still_run(const char *hair_name, const char *head_name, double scale
     print_message("%s: %d strands, %d guides (fit %.3f mm, %d unstable, %d followed by none), moved out %d "
                   "strands by %.2f mm at most; still head after %d frames: %.4f mm mean, %.4f mm p95, %.3f mm max "
                   "from the capture; %ld guide steps recovered\n",
-                  hair_name, g.strand_count, g.guide_count, 1e3 * r.fit_mean, r.unstable, r.unfollowed,
-                  r.moved_strands, 1e3 * r.moved_max, frames, 1e3 * mean, 1e3 * p95, 1e3 * dist[count - 1],
-                  recovered);
+                  hair_name, g.strand_count, g.guide_count, 1e3 * r.fit_mean, r.unstable, r.unfollowed, r.moved_strands,
+                  1e3 * r.moved_max, frames, 1e3 * mean, 1e3 * p95, 1e3 * dist[count - 1], recovered);
     assert_true(mean < 1e-3);
     assert_true(p95 < 3e-3);
     free(out);

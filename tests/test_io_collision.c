@@ -12,19 +12,18 @@
 #include "hairkit/io.h"
 
 /* Lansink 2010 Appendix B, "Collision Info", as printed ("Elipsoid"). */
-static const char *const thesis_collision =
-    "\n"
-    "#######################################\n"
-    "## Collision File ##\n"
-    "#######################################\n"
-    "# Elipsoid [Volume:1] [Penalty:1] [Centre:3] [Dimensions:3] [Axis:9]\n"
-    "# Cuboid [Volume:1] [Penalty:1] [Centre:3] [Dimensions:3] [Axis:9]\n"
-    "# Sphere [Volume:1] [Penalty:1] [Centre:3] [Radius:1]\n"
-    "\n"
-    "\n"
-    "# Collision List\n"
-    "Elipsoid 0.04 10.00 0.00 0.07 0.01 0.08 0.08 0.11 1 0 0 0 1 0 0 0 1\n"
-    "Sphere -0.02 0.01 0.00 0.04 0.16 0.10\n";
+static const char *const thesis_collision = "\n"
+                                            "#######################################\n"
+                                            "## Collision File ##\n"
+                                            "#######################################\n"
+                                            "# Elipsoid [Volume:1] [Penalty:1] [Centre:3] [Dimensions:3] [Axis:9]\n"
+                                            "# Cuboid [Volume:1] [Penalty:1] [Centre:3] [Dimensions:3] [Axis:9]\n"
+                                            "# Sphere [Volume:1] [Penalty:1] [Centre:3] [Radius:1]\n"
+                                            "\n"
+                                            "\n"
+                                            "# Collision List\n"
+                                            "Elipsoid 0.04 10.00 0.00 0.07 0.01 0.08 0.08 0.11 1 0 0 0 1 0 0 0 1\n"
+                                            "Sphere -0.02 0.01 0.00 0.04 0.16 0.10\n";
 
 /* Appendix C (Hair Coupe 3): the head and the sphere in front of the face, with the
  * tables' '+' signs. */
@@ -141,8 +140,10 @@ static void expect_error_in(const char *path, hk_Status code, int line, const ch
     if (st != code) print_error("status %d (wanted %d), message '%s'\n", st, code, err.message);
     assert_int_equal(st, code);
     char prefix[700];
-    if (line > 0) snprintf(prefix, sizeof prefix, "%s:%d: ", path, line);
-    else snprintf(prefix, sizeof prefix, "%s: ", path);
+    if (line > 0)
+        snprintf(prefix, sizeof prefix, "%s:%d: ", path, line);
+    else
+        snprintf(prefix, sizeof prefix, "%s: ", path);
     if (strncmp(err.message, prefix, strlen(prefix)) != 0) {
         print_error("message '%s' does not start with '%s'\n", err.message, prefix);
         fail();
@@ -181,7 +182,8 @@ static void test_roles(void **state)
     expect_error("Sphere 0 1 0 0 0 1 Style\n", HK_ERR_PARSE, 1,
                  "unknown role 'Style' after the Sphere's numbers (expected Body or Styling)");
     /* A role does not stand in for a missing number. */
-    expect_error("Sphere 0 1 0 0 0 Styling\n", HK_ERR_PARSE, 1, "'Styling' is not a finite number (value 6 of 'Sphere')");
+    expect_error("Sphere 0 1 0 0 0 Styling\n", HK_ERR_PARSE, 1,
+                 "'Styling' is not a finite number (value 6 of 'Sphere')");
     expect_error("Sphere 0 1 0 0 0 1 Styling Body\n", HK_ERR_PARSE, 1, "expected 6 numbers after 'Sphere', got 8");
     expect_error("Cuboid 0 1 0 0 0 1 1 1 1 0 0 0 1 0 0 0 1 1e-3\n", HK_ERR_PARSE, 1,
                  "expected 17 numbers after 'Cuboid', got 18");
@@ -206,8 +208,10 @@ static void test_count_and_number_errors(void **state)
     expect_error("Sphere nan 1 0 0 0 1\n", HK_ERR_PARSE, 1, "'nan' is not a finite number (value 1");
     expect_error("Sphere inf 1 0 0 0 1\n", HK_ERR_PARSE, 1, "'inf' is not a finite number");
     expect_error("Sphere 0 1 0 0 0 1e999\n", HK_ERR_PARSE, 1, "'1e999' is out of the range");
-    expect_error("Cuboid 0 1 0 0 0 1 1 1 1 0 0 0 1 0 0 0 -inf\n", HK_ERR_PARSE, 1, "'-inf' is not a finite number (value 17");
-    expect_error("Sphere 0 1 0 0 0 1\nBox 1 2\n", HK_ERR_PARSE, 2, "unknown shape 'Box' (expected Sphere, Ellipsoid or Cuboid)");
+    expect_error("Cuboid 0 1 0 0 0 1 1 1 1 0 0 0 1 0 0 0 -inf\n", HK_ERR_PARSE, 1,
+                 "'-inf' is not a finite number (value 17");
+    expect_error("Sphere 0 1 0 0 0 1\nBox 1 2\n", HK_ERR_PARSE, 2,
+                 "unknown shape 'Box' (expected Sphere, Ellipsoid or Cuboid)");
     expect_error("Spheres 0 1 0 0 0 1\n", HK_ERR_PARSE, 1, "unknown shape 'Spheres'");
     expect_error("Young 1e9\n", HK_ERR_PARSE, 1, "unknown shape 'Young'");
 }
@@ -216,7 +220,8 @@ static void test_range_errors(void **state)
 {
     (void)state;
     expect_error("Sphere 0 -1 0 0 0 1\n", HK_ERR_INVALID, 1, "Penalty must be >= 0, got -1");
-    expect_error("Ellipsoid 0 -0.5 0 0 0 1 1 1 1 0 0 0 1 0 0 0 1\n", HK_ERR_INVALID, 1, "Penalty must be >= 0, got -0.5");
+    expect_error("Ellipsoid 0 -0.5 0 0 0 1 1 1 1 0 0 0 1 0 0 0 1\n", HK_ERR_INVALID, 1,
+                 "Penalty must be >= 0, got -0.5");
     expect_error("Sphere 0 10 0 0 0 -1\n", HK_ERR_INVALID, 1, "sphere radius must be > 0, got -1");
     expect_error("\nSphere 0 10 0 0 0 0\n", HK_ERR_INVALID, 2, "sphere radius must be > 0, got 0");
     static const char *const dims[] = {"0 1 1", "1 0 1", "1 1 0", "1 1 -2"};
@@ -232,13 +237,17 @@ static void test_range_errors(void **state)
     /* Zero axes, named. */
     expect_error("Cuboid 0 1 0 0 0 1 1 1 0 0 0 0 1 0 0 0 1\n", HK_ERR_INVALID, 1, "axis U of the Cuboid is zero");
     expect_error("Ellipsoid 0 1 0 0 0 1 1 1 1 0 0 0 0 0 0 0 1\n", HK_ERR_INVALID, 1, "axis V of the Ellipsoid is zero");
-    expect_error("Ellipsoid 0 1 0 0 0 1 1 1 1 0 0 0 1 0 -0 0.0 0e9\n", HK_ERR_INVALID, 1, "axis W of the Ellipsoid is zero");
+    expect_error("Ellipsoid 0 1 0 0 0 1 1 1 1 0 0 0 1 0 -0 0.0 0e9\n", HK_ERR_INVALID, 1,
+                 "axis W of the Ellipsoid is zero");
     /* Axes that are not orthogonal, each pair, named. */
     expect_error("Ellipsoid 0 1 0 0 0 1 1 1 1 0 0 1 1 0 0 0 1\n", HK_ERR_INVALID, 1,
                  "axes U and V of the Ellipsoid are not orthogonal (cosine 0.707");
-    expect_error("Cuboid 0 1 0 0 0 1 1 1 1 0 0 0 1 0 1 0 0\n", HK_ERR_INVALID, 1, "axes U and W of the Cuboid are not orthogonal");
-    expect_error("Cuboid 0 1 0 0 0 1 1 1 1 0 0 0 1 0 0 -1 1\n", HK_ERR_INVALID, 1, "axes V and W of the Cuboid are not orthogonal");
-    expect_error("Cuboid 0 1 0 0 0 1 1 1 1 0 0 1 0 0 0 0 1\n", HK_ERR_INVALID, 1, "axes U and V of the Cuboid are not orthogonal (cosine 1");
+    expect_error("Cuboid 0 1 0 0 0 1 1 1 1 0 0 0 1 0 1 0 0\n", HK_ERR_INVALID, 1,
+                 "axes U and W of the Cuboid are not orthogonal");
+    expect_error("Cuboid 0 1 0 0 0 1 1 1 1 0 0 0 1 0 0 -1 1\n", HK_ERR_INVALID, 1,
+                 "axes V and W of the Cuboid are not orthogonal");
+    expect_error("Cuboid 0 1 0 0 0 1 1 1 1 0 0 1 0 0 0 0 1\n", HK_ERR_INVALID, 1,
+                 "axes U and V of the Cuboid are not orthogonal (cosine 1");
     /* Just outside the 1e-3 tolerance (cosine 0.0011 after normalisation). */
     expect_error("Ellipsoid 0 1 0 0 0 1 1 1 1 0 0 0.0011 1 0 0 0 1\n", HK_ERR_INVALID, 1, "axes U and V");
     /* The error names the offending line, not the first shape. */
@@ -292,10 +301,9 @@ static void test_fuzz(void **state)
 {
     (void)state;
     char base[1024];
-    snprintf(base, sizeof base, "%s%sCuboid 0 1 0 0 0 1 1 1 1 0 0 0 1 0 0 0 1\n", thesis_collision,
-             coupe_collision);
-    static const char *const junk[12] = {"1e308 ", "-", "nan", "\"", "#", "\r\n", "Sphere ", "0x1p3",
-                                    "\t", "Elipsoid ", " 0 0", "99e999"};
+    snprintf(base, sizeof base, "%s%sCuboid 0 1 0 0 0 1 1 1 1 0 0 0 1 0 0 0 1\n", thesis_collision, coupe_collision);
+    static const char *const junk[12] = {"1e308 ",  "-",     "nan", "\"",        "#",    "\r\n",
+                                         "Sphere ", "0x1p3", "\t",  "Elipsoid ", " 0 0", "99e999"};
     unsigned long long x = 0xD1B54A32D192ED03ULL;
     int rejected = 0, accepted = 0;
     for (int iter = 0; iter < 2000; iter++) {
@@ -340,10 +348,14 @@ static void test_fuzz(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_thesis_sample),  cmocka_unit_test(test_spellings_and_layout),
-        cmocka_unit_test(test_count_and_number_errors), cmocka_unit_test(test_range_errors),
-        cmocka_unit_test(test_shape_limit),    cmocka_unit_test(test_files),
-        cmocka_unit_test(test_fuzz), cmocka_unit_test(test_roles),
+        cmocka_unit_test(test_thesis_sample),
+        cmocka_unit_test(test_spellings_and_layout),
+        cmocka_unit_test(test_count_and_number_errors),
+        cmocka_unit_test(test_range_errors),
+        cmocka_unit_test(test_shape_limit),
+        cmocka_unit_test(test_files),
+        cmocka_unit_test(test_fuzz),
+        cmocka_unit_test(test_roles),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

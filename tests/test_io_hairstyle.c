@@ -11,57 +11,56 @@
 #include "hairkit/io.h"
 
 /* Lansink 2010 Appendix B, "Hairstyle Info", as printed: `Maxiter`, tabs, banner. */
-static const char *const thesis_hairstyle =
-    "\n"
-    "#######################################\n"
-    "## Hairstyle File: Medium Straight ##\n"
-    "#######################################\n"
-    "\n"
-    "# Precision\n"
-    "\n"
-    "VisualityStep\t0.0025\n"
-    "CollisionStep\t0.0050\n"
-    "\n"
-    "# Minimization\n"
-    "\n"
-    "Maxiter\t5\n"
-    "Epsilon\t0.0001\n"
-    "\n"
-    "# Hair Shape\n"
-    "\n"
-    "HairLengths\t0.01 0.01 0.01 0.01 0.01 0.01 0.01 0.01\n"
-    "HairDensity\t80\n"
-    "\n"
-    "# Elasticity\n"
-    "\n"
-    "HairRadius1\t0.000035\n"
-    "HairRadius2\t0.000050\n"
-    "HelixRadius\t0.050\n"
-    "HelixStep\t0.050\n"
-    "Poisson\t0.48\n"
-    "Young\t1000000000\n"
-    "\n"
-    "# Gravity\n"
-    "\n"
-    "Density\t13000\n"
-    "Gravity\t9.81\n";
+static const char *const thesis_hairstyle = "\n"
+                                            "#######################################\n"
+                                            "## Hairstyle File: Medium Straight ##\n"
+                                            "#######################################\n"
+                                            "\n"
+                                            "# Precision\n"
+                                            "\n"
+                                            "VisualityStep\t0.0025\n"
+                                            "CollisionStep\t0.0050\n"
+                                            "\n"
+                                            "# Minimization\n"
+                                            "\n"
+                                            "Maxiter\t5\n"
+                                            "Epsilon\t0.0001\n"
+                                            "\n"
+                                            "# Hair Shape\n"
+                                            "\n"
+                                            "HairLengths\t0.01 0.01 0.01 0.01 0.01 0.01 0.01 0.01\n"
+                                            "HairDensity\t80\n"
+                                            "\n"
+                                            "# Elasticity\n"
+                                            "\n"
+                                            "HairRadius1\t0.000035\n"
+                                            "HairRadius2\t0.000050\n"
+                                            "HelixRadius\t0.050\n"
+                                            "HelixStep\t0.050\n"
+                                            "Poisson\t0.48\n"
+                                            "Young\t1000000000\n"
+                                            "\n"
+                                            "# Gravity\n"
+                                            "\n"
+                                            "Density\t13000\n"
+                                            "Gravity\t9.81\n";
 
 /* Every key once, one per line, so that line n is the n-th key. */
-static const char *const full_hairstyle = "VisualityStep 0.0025\n"                     /* 1 */
-                                          "CollisionStep 0.005\n"                      /* 2 */
-                                          "MaxIter 20\n"                               /* 3 */
-                                          "Epsilon 0.0001\n"                           /* 4 */
-                                          "HairLengths 0.02 0.02 0.02 0.02 0.02\n"     /* 5 */
-                                          "HairDensity 250\n"                          /* 6 */
-                                          "HairRadius1 0.00005\n"                      /* 7 */
-                                          "HairRadius2 0.00004\n"                      /* 8 */
-                                          "HelixRadius 0.006\n"                        /* 9 */
-                                          "HelixStep 0.005\n"                          /* 10 */
-                                          "Poisson 0.48\n"                             /* 11 */
-                                          "Young 1.5e9\n"                              /* 12 */
-                                          "Density 1300\n"                             /* 13 */
-                                          "Gravity 9.81\n"                             /* 14 */
-                                          "GravityDirection 0 -1 0\n";                 /* 15 */
+static const char *const full_hairstyle = "VisualityStep 0.0025\n"                 /* 1 */
+                                          "CollisionStep 0.005\n"                  /* 2 */
+                                          "MaxIter 20\n"                           /* 3 */
+                                          "Epsilon 0.0001\n"                       /* 4 */
+                                          "HairLengths 0.02 0.02 0.02 0.02 0.02\n" /* 5 */
+                                          "HairDensity 250\n"                      /* 6 */
+                                          "HairRadius1 0.00005\n"                  /* 7 */
+                                          "HairRadius2 0.00004\n"                  /* 8 */
+                                          "HelixRadius 0.006\n"                    /* 9 */
+                                          "HelixStep 0.005\n"                      /* 10 */
+                                          "Poisson 0.48\n"                         /* 11 */
+                                          "Young 1.5e9\n"                          /* 12 */
+                                          "Density 1300\n"                         /* 13 */
+                                          "Gravity 9.81\n"                         /* 14 */
+                                          "GravityDirection 0 -1 0\n";             /* 15 */
 
 /* Everything a successful load promises. */
 static void assert_sane(const hk_Hairstyle *d)
@@ -181,16 +180,14 @@ static void test_groom_keys(void **state)
         "HairLengths 0.1\nHairRadius1 5e-5\nHairRadius2 4e-5\nHelixRadius 0\nHelixStep 0\nYoung 1e9\n";
     char text[512];
     hk_Hairstyle d;
-    snprintf(text, sizeof text, "%sclumpfactor 0.1\nClumpProfile 1.5\nSTRAYHAIRS yes\nMaxTipDistance 0.05\n",
-             required);
+    snprintf(text, sizeof text, "%sclumpfactor 0.1\nClumpProfile 1.5\nSTRAYHAIRS yes\nMaxTipDistance 0.05\n", required);
     load_ok(text, &d);
     hk_assert_near(d.interpolation.clump, 0.1, 0);
     hk_assert_near(d.interpolation.clump_profile, 1.5, 0);
     assert_int_equal(d.interpolation.stray_hairs, 1);
     hk_assert_near(d.interpolation.max_tip_distance, 0.05, 0);
     hk_hairstyle_free(&d);
-    snprintf(text, sizeof text, "%sClumpFactor 0\nClumpProfile 1e-3\nStrayHairs false\nMaxTipDistance 0\n",
-             required);
+    snprintf(text, sizeof text, "%sClumpFactor 0\nClumpProfile 1e-3\nStrayHairs false\nMaxTipDistance 0\n", required);
     load_ok(text, &d);
     hk_assert_near(d.interpolation.clump, 0.0, 0);
     hk_assert_near(d.interpolation.clump_profile, 1e-3, 0);
@@ -320,8 +317,10 @@ static void expect_error_in(const char *path, hk_Status code, int line, const ch
     if (st != code) print_error("status %d (wanted %d), message '%s'\n", st, code, err.message);
     assert_int_equal(st, code);
     char prefix[700];
-    if (line > 0) snprintf(prefix, sizeof prefix, "%s:%d: ", path, line);
-    else snprintf(prefix, sizeof prefix, "%s: ", path);
+    if (line > 0)
+        snprintf(prefix, sizeof prefix, "%s:%d: ", path, line);
+    else
+        snprintf(prefix, sizeof prefix, "%s: ", path);
     if (strncmp(err.message, prefix, strlen(prefix)) != 0) {
         print_error("message '%s' does not start with '%s'\n", err.message, prefix);
         fail();
@@ -346,17 +345,17 @@ static void test_key_errors(void **state)
     expect_error("Extra", "young 2e9", HK_ERR_PARSE, 16, "duplicate key 'Young' (first given at line 12)");
     expect_error("Extra", "HairLength 0.1", HK_ERR_PARSE, 16, "duplicate key 'HairLengths' (first given at line 5)");
     expect_error("Extra", "MAXITER 3", HK_ERR_PARSE, 16, "duplicate key 'MaxIter' (first given at line 3)");
-    static const char *const required[] = {"HairLengths", "HairRadius1", "HairRadius2", "HelixRadius",
-                                           "HelixStep", "Young"};
+    static const char *const required[] = {"HairLengths", "HairRadius1", "HairRadius2",
+                                           "HelixRadius", "HelixStep",   "Young"};
     for (int i = 0; i < 6; i++) {
         char phrase[64];
         snprintf(phrase, sizeof phrase, "missing required key '%s'", required[i]);
         expect_error(required[i], NULL, HK_ERR_PARSE, 0, phrase);
     }
     /* Optional keys may be left out. */
-    static const char *const optional[] = {"VisualityStep", "CollisionStep", "MaxIter", "Epsilon",
-                                           "HairDensity", "Poisson", "Density", "Gravity",
-                                           "GravityDirection"};
+    static const char *const optional[] = {"VisualityStep", "CollisionStep", "MaxIter",
+                                           "Epsilon",       "HairDensity",   "Poisson",
+                                           "Density",       "Gravity",       "GravityDirection"};
     for (int i = 0; i < 9; i++) {
         hk_Hairstyle d;
         hk_Error err;
@@ -373,15 +372,17 @@ static void test_number_errors(void **state)
     expect_error("GravityDirection", "GravityDirection 0 -1", HK_ERR_PARSE, 15,
                  "expected 3 numbers after 'GravityDirection', got 2");
     expect_error("HairLengths", "HairLengths", HK_ERR_PARSE, 5, "'HairLengths' needs at least one number");
-    expect_error("Density", "Density 1.0abc", HK_ERR_PARSE, 13, "'1.0abc' is not a finite number (value 1 of 'Density')");
-    expect_error("HairLengths", "HairLengths 0.01 0.01 O.01", HK_ERR_PARSE, 5, "'O.01' is not a finite number (value 3");
+    expect_error("Density", "Density 1.0abc", HK_ERR_PARSE, 13,
+                 "'1.0abc' is not a finite number (value 1 of 'Density')");
+    expect_error("HairLengths", "HairLengths 0.01 0.01 O.01", HK_ERR_PARSE, 5,
+                 "'O.01' is not a finite number (value 3");
     expect_error("MaxIter", "MaxIter 2.5", HK_ERR_PARSE, 3, "'2.5' is not a whole number");
     expect_error("MaxIter", "MaxIter ten", HK_ERR_PARSE, 3, "'ten' is not a whole number");
     expect_error("Young", "Young 1e999", HK_ERR_PARSE, 12, "'1e999' is out of the range");
     /* NaN and infinities are refused for every numeric key. */
-    static const char *const keys[] = {"VisualityStep", "CollisionStep", "Epsilon", "HairLengths",
-                                       "HairDensity", "HairRadius1", "HairRadius2", "HelixRadius",
-                                       "HelixStep", "Poisson", "Young", "Density", "Gravity"};
+    static const char *const keys[] = {"VisualityStep", "CollisionStep", "Epsilon",     "HairLengths", "HairDensity",
+                                       "HairRadius1",   "HairRadius2",   "HelixRadius", "HelixStep",   "Poisson",
+                                       "Young",         "Density",       "Gravity"};
     static const char *const words[] = {"nan", "inf", "-inf", "NAN", "Infinity"};
     for (int k = 0; k < 13; k++)
         for (int w = 0; w < 5; w++) {
@@ -389,7 +390,8 @@ static void test_number_errors(void **state)
             snprintf(line, sizeof line, "%s %s", keys[k], words[w]);
             expect_error(keys[k], line, HK_ERR_PARSE, k < 2 ? k + 1 : k + 2, "is not a finite number");
         }
-    expect_error("GravityDirection", "GravityDirection 0 nan 0", HK_ERR_PARSE, 15, "'nan' is not a finite number (value 2");
+    expect_error("GravityDirection", "GravityDirection 0 nan 0", HK_ERR_PARSE, 15,
+                 "'nan' is not a finite number (value 2");
     expect_error("Extra", "ClumpFactor nan", HK_ERR_PARSE, 16, "'nan' is not a finite number");
     expect_error("Extra", "ClumpProfile inf", HK_ERR_PARSE, 16, "'inf' is not a finite number");
     expect_error("Extra", "MaxTipDistance -inf", HK_ERR_PARSE, 16, "'-inf' is not a finite number");
@@ -449,7 +451,8 @@ static void test_range_errors(void **state)
     char many[16384];
     int n = snprintf(many, sizeof many, "HairLengths");
     for (int i = 0; i <= HK_MAX_ELEMENTS; i++) n += snprintf(many + n, sizeof many - (size_t)n, " x");
-    expect_error("HairLengths", many, HK_ERR_INVALID, 5, "HairLengths has 1001 values (elements), at most 1000 allowed");
+    expect_error("HairLengths", many, HK_ERR_INVALID, 5,
+                 "HairLengths has 1001 values (elements), at most 1000 allowed");
 }
 
 /* Sample counts L / step, checked once the whole file is read. */
@@ -476,7 +479,8 @@ static void test_sample_limits(void **state)
     assert_int_equal(hk_hairstyle_load(hk_test_write_text("edge.txt", text1), &d, &err), HK_OK);
     hk_hairstyle_free(&d);
     snprintf(text1, sizeof text1, "%sVisualityStep 1e-6\nCollisionStep 9.99e-7\n", one_metre);
-    expect_error_in(hk_test_write_text("edge.txt", text1), HK_ERR_INVALID, 8, "CollisionStep 9.99e-07 gives 1e+06 samples");
+    expect_error_in(hk_test_write_text("edge.txt", text1), HK_ERR_INVALID, 8,
+                    "CollisionStep 9.99e-07 gives 1e+06 samples");
     snprintf(text1, sizeof text1, "%sVisualityStep 9.99e-7\nCollisionStep 1e-6\n", one_metre);
     expect_error_in(hk_test_write_text("edge.txt", text1), HK_ERR_INVALID, 7, "VisualityStep 9.99e-07 gives");
     /* The step's line is reported even when the step comes after the lengths. */
@@ -486,7 +490,8 @@ static void test_sample_limits(void **state)
     /* A 10 km strand with the default steps: reported at HairLengths. */
     char *text = malloc(16384);
     assert_non_null(text);
-    int n = snprintf(text, 16384, "HairRadius1 5e-5\nHairRadius2 5e-5\nHelixRadius 0\nHelixStep 0\nYoung 1e9\nHairLengths");
+    int n =
+        snprintf(text, 16384, "HairRadius1 5e-5\nHairRadius2 5e-5\nHelixRadius 0\nHelixStep 0\nYoung 1e9\nHairLengths");
     for (int i = 0; i < HK_MAX_ELEMENTS; i++) n += snprintf(text + n, 16384 - (size_t)n, " 10");
     snprintf(text + n, 16384 - (size_t)n, "\n");
     expect_error_in(hk_test_write_text("long.txt", text), HK_ERR_INVALID, 6,
@@ -504,7 +509,8 @@ static void test_files(void **state)
     hk_assert_contains(err.message, "/nonexistent/dir/hairstyle.txt: cannot open");
     assert_null(d.strand.element_lengths);
     expect_error_in(hk_test_write_text("empty.txt", ""), HK_ERR_PARSE, 0, "file is empty");
-    expect_error_in(hk_test_write_text("blank.txt", "\n  \n# nothing\n"), HK_ERR_PARSE, 0, "missing required key 'HairLengths'");
+    expect_error_in(hk_test_write_text("blank.txt", "\n  \n# nothing\n"), HK_ERR_PARSE, 0,
+                    "missing required key 'HairLengths'");
     static const char bin[] = "HairLengths 0.1\n\0\1\2binary";
     expect_error_in(hk_test_write_file("binary.txt", bin, sizeof bin - 1), HK_ERR_PARSE, 0,
                     "not a text file (binary data at line 2)");
@@ -542,8 +548,9 @@ static void test_files(void **state)
 static void test_fuzz(void **state)
 {
     (void)state;
-    static const char *const junk[12] = {"1e308 ", "-", "nan", "\"", "#", "\r\n", "Young 1\n", "0x1p3",
-                                    "\t\t", "HairLength ", "\xEF\xBB\xBF", "99999999999"};
+    static const char *const junk[12] = {"1e308 ", "-",           "nan",          "\"",
+                                         "#",      "\r\n",        "Young 1\n",    "0x1p3",
+                                         "\t\t",   "HairLength ", "\xEF\xBB\xBF", "99999999999"};
     unsigned long long x = 0x2545F4914F6CDD1DULL;
     int rejected = 0, accepted = 0;
     for (int iter = 0; iter < 2000; iter++) {
@@ -578,12 +585,17 @@ static void test_fuzz(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_thesis_sample),   cmocka_unit_test(test_defaults),
-        cmocka_unit_test(test_spellings_and_layout), cmocka_unit_test(test_groom_keys),
+        cmocka_unit_test(test_thesis_sample),
+        cmocka_unit_test(test_defaults),
+        cmocka_unit_test(test_spellings_and_layout),
+        cmocka_unit_test(test_groom_keys),
         cmocka_unit_test(test_copy),
-        cmocka_unit_test(test_key_errors),      cmocka_unit_test(test_number_errors),
-        cmocka_unit_test(test_range_errors),    cmocka_unit_test(test_sample_limits),
-        cmocka_unit_test(test_files),           cmocka_unit_test(test_fuzz),
+        cmocka_unit_test(test_key_errors),
+        cmocka_unit_test(test_number_errors),
+        cmocka_unit_test(test_range_errors),
+        cmocka_unit_test(test_sample_limits),
+        cmocka_unit_test(test_files),
+        cmocka_unit_test(test_fuzz),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

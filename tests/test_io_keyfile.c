@@ -27,8 +27,7 @@ static const char *read_ok(const char *name, const char *text, hk_KeyFile *kf)
 
 /* Reading `size` bytes as file `name` fails with `code` and a message containing
  * `phrase`; kf is left with nothing to free. */
-static void read_fails(const char *name, const void *data, size_t size, hk_Status code,
-                       const char *phrase)
+static void read_fails(const char *name, const void *data, size_t size, hk_Status code, const char *phrase)
 {
     hk_KeyFile kf;
     hk_Error err;
@@ -170,7 +169,9 @@ static void test_refused_files(void **state)
     read_text_fails("ctl.txt", "A 1\r\nB \x01\n", HK_ERR_PARSE, "ctl.txt: not a text file (binary data at line 2)");
     read_text_fails("del.txt", "A \x7F\n", HK_ERR_PARSE, "(binary data at line 1)");
     read_text_fails("esc.txt", "A 1\rB 2\r\x1B[0m", HK_ERR_PARSE, "(binary data at line 3)");
-    static const char utf16[] = "\xFF\xFE" "A\0 \0" "1\0";
+    static const char utf16[] = "\xFF\xFE"
+                                "A\0 \0"
+                                "1\0";
     read_fails("utf16.txt", utf16, sizeof utf16 - 1, HK_ERR_PARSE, "utf16.txt: not a text file (UTF-16");
     /* Form feeds, vertical tabs and non-ASCII text (UTF-8 comments) are text. */
     read_ok("ok.txt", "A\f1\v2 # caf\xC3\xA9\n", &kf);
@@ -266,9 +267,9 @@ static void test_doubles(void **state)
     hk_assert_contains(err.message, "expected 1 number after 'Sphere', got 2");
     hk_keyfile_free(&kf);
 
-    static const char *const bad[] = {"1.0abc", "nan", "NaN", "inf", "-inf", "Infinity", "0x1p3",
-                                      "0x10", "1e", "1e+", ".", "+", "-", "1.2.3", "1e5.5", "--1",
-                                      "1,5", "1 .5x", "e5", "1d0", "\"\""};
+    static const char *const bad[] = {"1.0abc", "nan", "NaN", "inf",   "-inf", "Infinity", "0x1p3",
+                                      "0x10",   "1e",  "1e+", ".",     "+",    "-",        "1.2.3",
+                                      "1e5.5",  "--1", "1,5", "1 .5x", "e5",   "1d0",      "\"\""};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         char text[64];
         snprintf(text, sizeof text, "Density %s\n", bad[i]);
@@ -283,7 +284,8 @@ static void test_doubles(void **state)
     }
     kl = one_line("Young 1 1e400\n", &kf);
     assert_int_equal(hk_keyline_doubles(&kf, kl, 2, v, &err), HK_ERR_PARSE);
-    hk_assert_contains(err.message, "values.txt:1: '1e400' is out of the range of double precision (value 2 of 'Young')");
+    hk_assert_contains(err.message,
+                       "values.txt:1: '1e400' is out of the range of double precision (value 2 of 'Young')");
     hk_keyfile_free(&kf);
     kl = one_line("Young -1e-400\n", &kf);
     assert_int_equal(hk_keyline_doubles(&kf, kl, 1, v, &err), HK_ERR_PARSE);
@@ -300,12 +302,11 @@ static void test_doubles(void **state)
 static void test_locale(void **state)
 {
     (void)state;
-    static const char *const names[] = {"de_DE.UTF-8", "de_DE.utf8", "fr_FR.UTF-8", "fr_FR.utf8",
-                                        "nl_NL.UTF-8", "nl_NL.utf8"};
+    static const char *const names[] = {"de_DE.UTF-8", "de_DE.utf8",  "fr_FR.UTF-8",
+                                        "fr_FR.utf8",  "nl_NL.UTF-8", "nl_NL.utf8"};
     const char *found = NULL;
     for (size_t i = 0; i < sizeof names / sizeof names[0] && !found; i++)
-        if (setlocale(LC_NUMERIC, names[i]) && strcmp(localeconv()->decimal_point, ",") == 0)
-            found = names[i];
+        if (setlocale(LC_NUMERIC, names[i]) && strcmp(localeconv()->decimal_point, ",") == 0) found = names[i];
     if (!found) {
         setlocale(LC_NUMERIC, "C");
         skip(); /* no locale with a decimal comma installed */
@@ -395,8 +396,8 @@ static void test_bool(void **state)
     static const struct {
         const char *word;
         int value;
-    } words[] = {{"true", 1}, {"TRUE", 1}, {"True", 1}, {"yes", 1}, {"YeS", 1}, {"on", 1}, {"1", 1},
-                 {"false", 0}, {"FALSE", 0}, {"no", 0}, {"No", 0}, {"off", 0}, {"0", 0}};
+    } words[] = {{"true", 1},  {"TRUE", 1},  {"True", 1}, {"yes", 1}, {"YeS", 1}, {"on", 1}, {"1", 1},
+                 {"false", 0}, {"FALSE", 0}, {"no", 0},   {"No", 0},  {"off", 0}, {"0", 0}};
     hk_KeyFile kf;
     hk_Error err;
     for (size_t i = 0; i < sizeof words / sizeof words[0]; i++) {
@@ -443,7 +444,9 @@ static void test_string(void **state)
     /* Appendix B's own setup file has this slip: blanks without quotes. */
     kl = one_line("HeadVert Assets/Shaders/Phong Shadow.vert\n", &kf);
     assert_int_equal(hk_keyline_string(&kf, kl, &s, &err), HK_ERR_PARSE);
-    hk_assert_contains(err.message, "values.txt:1: expected one value after 'HeadVert', got 2 (write a value with blanks in double quotes)");
+    hk_assert_contains(
+        err.message,
+        "values.txt:1: expected one value after 'HeadVert', got 2 (write a value with blanks in double quotes)");
     hk_keyfile_free(&kf);
 }
 
@@ -573,9 +576,12 @@ static void test_fuzz(void **state)
             x ^= x << 13, x ^= x >> 7, x ^= x << 17;
             size_t at = (size_t)(x % (len + 1));
             unsigned op = (unsigned)(x >> 40) % 4;
-            if (op == 0 && at < len) buf[at] = (char)(x >> 48);
-            else if (op == 1) len = at;
-            else if (op == 2 && at < len) buf[at] = "\"#\r\n \t\0x"[(x >> 32) % 8];
+            if (op == 0 && at < len)
+                buf[at] = (char)(x >> 48);
+            else if (op == 1)
+                len = at;
+            else if (op == 2 && at < len)
+                buf[at] = "\"#\r\n \t\0x"[(x >> 32) % 8];
             else if (len + 3 < sizeof buf) {
                 memmove(buf + at + 3, buf + at, len - at);
                 memcpy(buf + at, " \"#", 3);
@@ -610,14 +616,11 @@ static void test_fuzz(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_tokens),        cmocka_unit_test(test_line_ends),
-        cmocka_unit_test(test_quotes),        cmocka_unit_test(test_refused_files),
-        cmocka_unit_test(test_size_limit),    cmocka_unit_test(test_unsized_file),
-        cmocka_unit_test(test_doubles),
-        cmocka_unit_test(test_locale),        cmocka_unit_test(test_double_list),
-        cmocka_unit_test(test_int),           cmocka_unit_test(test_bool),
-        cmocka_unit_test(test_string),        cmocka_unit_test(test_check_keys),
-        cmocka_unit_test(test_resolve_path),  cmocka_unit_test(test_error_helper),
+        cmocka_unit_test(test_tokens),        cmocka_unit_test(test_line_ends),    cmocka_unit_test(test_quotes),
+        cmocka_unit_test(test_refused_files), cmocka_unit_test(test_size_limit),   cmocka_unit_test(test_unsized_file),
+        cmocka_unit_test(test_doubles),       cmocka_unit_test(test_locale),       cmocka_unit_test(test_double_list),
+        cmocka_unit_test(test_int),           cmocka_unit_test(test_bool),         cmocka_unit_test(test_string),
+        cmocka_unit_test(test_check_keys),    cmocka_unit_test(test_resolve_path), cmocka_unit_test(test_error_helper),
         cmocka_unit_test(test_fuzz),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

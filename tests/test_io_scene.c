@@ -47,8 +47,8 @@ static void test_obj_face_normals(void **state)
     hk_Mesh m;
     hk_Error err;
     assert_int_equal(hk_obj_load(hk_test_write_text("corner.obj", text), &m, &err), HK_OK);
-    hk_assert_near(m.normals[1].y, 1.0, 1e-15);  /* only in face 1: normal +y */
-    hk_assert_near(m.normals[3].z, 1.0, 1e-15);  /* only in face 2: normal +z */
+    hk_assert_near(m.normals[1].y, 1.0, 1e-15);       /* only in face 1: normal +y */
+    hk_assert_near(m.normals[3].z, 1.0, 1e-15);       /* only in face 2: normal +z */
     hk_assert_near(m.normals[0].y, sqrt(0.5), 1e-15); /* shared, equal areas */
     hk_mesh_free(&m);
 }
@@ -178,10 +178,8 @@ static void test_setup(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_obj_forms),
-        cmocka_unit_test(test_obj_face_normals),
-        cmocka_unit_test(test_obj_errors),
-        cmocka_unit_test(test_visuality),
+        cmocka_unit_test(test_obj_forms),  cmocka_unit_test(test_obj_face_normals),
+        cmocka_unit_test(test_obj_errors), cmocka_unit_test(test_visuality),
         cmocka_unit_test(test_setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -37,8 +37,8 @@ static void test_rosenbrock(void **state)
     hk_assert_near(x[0], 1.0, 1e-10);
     hk_assert_near(x[1], 1.0, 1e-10);
     assert_true(r.f < 1e-20);
-    print_message("  levenberg-marquardt rosenbrock: cost %.3g after %ld evaluations, %d steps\n", r.f,
-                  r.evaluations, r.iterations);
+    print_message("  levenberg-marquardt rosenbrock: cost %.3g after %ld evaluations, %d steps\n", r.f, r.evaluations,
+                  r.iterations);
 }
 
 /* Points of a line with known scatter: y_i = a + b t_i + e_i. */

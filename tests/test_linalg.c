@@ -81,8 +81,16 @@ static void test_known_spectrum(void **state)
     memcpy(want, d, sizeof want);
     for (int i = 0; i < N; i++)
         for (int j = i + 1; j < N; j++) {
-            if (sorted[j] < sorted[i]) { double t = sorted[i]; sorted[i] = sorted[j]; sorted[j] = t; }
-            if (want[j] < want[i]) { double t = want[i]; want[i] = want[j]; want[j] = t; }
+            if (sorted[j] < sorted[i]) {
+                double t = sorted[i];
+                sorted[i] = sorted[j];
+                sorted[j] = t;
+            }
+            if (want[j] < want[i]) {
+                double t = want[i];
+                want[i] = want[j];
+                want[j] = t;
+            }
         }
     for (int i = 0; i < N; i++) hk_assert_near(sorted[i], want[i], 1e-12 * 1e3);
 }

@@ -66,8 +66,8 @@ static void long_head_load(LongHead *h)
     h->shapes = NULL;
     h->shape_count = 0;
     assert_int_equal(hk_hairstyle_load(HK_SOURCE_DIR "/examples/guides200/hairstyle.txt", &h->style, &err), HK_OK);
-    assert_int_equal(hk_collision_load(HK_SOURCE_DIR "/examples/default/collision.txt", &h->shapes, &h->shape_count, &err),
-                     HK_OK);
+    assert_int_equal(
+        hk_collision_load(HK_SOURCE_DIR "/examples/default/collision.txt", &h->shapes, &h->shape_count, &err), HK_OK);
     assert_int_equal(hk_obj_load(HK_SOURCE_DIR "/assets/wick-200.obj", &h->wick, &err), HK_OK);
     back_of(&h->wick, -0.03, &h->back);
     double *lengths = hk_alloc_array(20, sizeof(double), NULL);

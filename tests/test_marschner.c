@@ -76,7 +76,8 @@ static void test_r_lobe(void **state)
     }
     hk_assert_near(best_h, p.alpha_r, 0.001);
     const double at = scattering(t, dir(p.alpha_r - theta_d, 0.0), dir(p.alpha_r + theta_d, 0.0), &p).x;
-    const double off = scattering(t, dir(p.alpha_r + p.beta_r - theta_d, 0.0), dir(p.alpha_r + p.beta_r + theta_d, 0.0), &p).x;
+    const double off =
+        scattering(t, dir(p.alpha_r + p.beta_r - theta_d, 0.0), dir(p.alpha_r + p.beta_r + theta_d, 0.0), &p).x;
     hk_assert_rel(off / at, exp(-0.5), 1e-9, 0.0);
 }
 
@@ -143,9 +144,8 @@ static void test_energy(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_finite_non_negative), cmocka_unit_test(test_reciprocity),
-        cmocka_unit_test(test_r_lobe),              cmocka_unit_test(test_forward_scattering),
-        cmocka_unit_test(test_colour),              cmocka_unit_test(test_energy),
+        cmocka_unit_test(test_finite_non_negative), cmocka_unit_test(test_reciprocity), cmocka_unit_test(test_r_lobe),
+        cmocka_unit_test(test_forward_scattering),  cmocka_unit_test(test_colour),      cmocka_unit_test(test_energy),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

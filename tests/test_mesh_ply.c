@@ -172,42 +172,62 @@ static void expect_error(const char *name, const char *text, size_t size, const 
 static void test_refused(void **state)
 {
     (void)state;
-    const char *head = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
+    const char *head =
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
     char text[1024];
     /* Face with two corners, index out of range, negative, a float index list. */
-    snprintf(text, sizeof text, "%selement face 1\nproperty list uchar int vertex_indices\nend_header\n"
-                                "0 0 0\n1 0 0\n0 1 0\n2 0 1\n", head);
+    snprintf(text, sizeof text,
+             "%selement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+             "0 0 0\n1 0 0\n0 1 0\n2 0 1\n",
+             head);
     expect_error("two.ply", text, 0, "two.ply:13: face 0 has 2 corners");
-    snprintf(text, sizeof text, "%selement face 1\nproperty list uchar int vertex_indices\nend_header\n"
-                                "0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n", head);
+    snprintf(text, sizeof text,
+             "%selement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+             "0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n",
+             head);
     expect_error("range.ply", text, 0, "range.ply:13: face 0: corner 2 is vertex 3 (3 vertices)");
-    snprintf(text, sizeof text, "%selement face 1\nproperty list uchar int vertex_indices\nend_header\n"
-                                "0 0 0\n1 0 0\n0 1 0\n3 0 1 -1\n", head);
+    snprintf(text, sizeof text,
+             "%selement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+             "0 0 0\n1 0 0\n0 1 0\n3 0 1 -1\n",
+             head);
     expect_error("neg.ply", text, 0, "corner 2 is vertex -1");
-    snprintf(text, sizeof text, "%selement face 1\nproperty list uchar float vertex_indices\nend_header\n"
-                                "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", head);
+    snprintf(text, sizeof text,
+             "%selement face 1\nproperty list uchar float vertex_indices\nend_header\n"
+             "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+             head);
     expect_error("float.ply", text, 0, "float.ply:7: face indices are float");
     /* Not a number, a coordinate past the bound, nan. */
-    snprintf(text, sizeof text, "%selement face 1\nproperty list uchar int vertex_indices\nend_header\n"
-                                "0 0 0\n1 x 0\n0 1 0\n3 0 1 2\n", head);
+    snprintf(text, sizeof text,
+             "%selement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+             "0 0 0\n1 x 0\n0 1 0\n3 0 1 2\n",
+             head);
     expect_error("word.ply", text, 0, "word.ply:11: 'x' is not a float in vertex 1");
-    snprintf(text, sizeof text, "%selement face 1\nproperty list uchar int vertex_indices\nend_header\n"
-                                "0 0 0\n1 0 0\n0 1e9 0\n3 0 1 2\n", head);
+    snprintf(text, sizeof text,
+             "%selement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+             "0 0 0\n1 0 0\n0 1e9 0\n3 0 1 2\n",
+             head);
     expect_error("far.ply", text, 0, "out of range in vertex 2");
     /* Lying counts: more vertices or faces than the file holds, refused before any
      * allocation ("truncated" at the header's element). */
-    snprintf(text, sizeof text, "ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\n"
-                                "property float y\nproperty float z\nelement face 1\n"
-                                "property list uchar int vertex_indices\nend_header\n0 0 0\n");
+    snprintf(text, sizeof text,
+             "ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\n"
+             "property float y\nproperty float z\nelement face 1\n"
+             "property list uchar int vertex_indices\nend_header\n0 0 0\n");
     expect_error("many.ply", text, 0, "vertices (1 to");
-    snprintf(text, sizeof text, "%selement face 1000000\nproperty list uchar int vertex_indices\nend_header\n"
-                                "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", head);
+    snprintf(text, sizeof text,
+             "%selement face 1000000\nproperty list uchar int vertex_indices\nend_header\n"
+             "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+             head);
     expect_error("faces.ply", text, 0, "truncated: element 'face' announces 1000000 records");
-    snprintf(text, sizeof text, "%selement face 1\nproperty list uchar int vertex_indices\nend_header\n"
-                                "0 0 0\n1 0 0\n0 1 0\n3 0 1\n", head);
+    snprintf(text, sizeof text,
+             "%selement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+             "0 0 0\n1 0 0\n0 1 0\n3 0 1\n",
+             head);
     expect_error("short.ply", text, 0, "short.ply:14: truncated in face 0 (the file ends)");
-    snprintf(text, sizeof text, "%selement face 1\nproperty list uchar int vertex_indices\nend_header\n"
-                                "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n4\n", head);
+    snprintf(text, sizeof text,
+             "%selement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+             "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n4\n",
+             head);
     expect_error("after.ply", text, 0, "data after the last element");
     /* Binary: truncated inside the faces, at its offset. */
     unsigned char bin[512];
@@ -242,8 +262,9 @@ static void test_refused(void **state)
     expect_error("big.ply", "ply\nformat binary_big_endian 1.0\nend_header\n", 0, "big.ply:2: big-endian PLY");
     expect_error("open.ply", "ply\nformat ascii 1.0\nelement vertex 3\n", 0, "no end_header");
     expect_error("obj.ply", "v 0 0 0\n", 0, "obj.ply:1: not a PLY file");
-    expect_error("novert.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
-                               "element face 0\nproperty list uchar int vertex_indices\nend_header\n0 0\n",
+    expect_error("novert.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                 "element face 0\nproperty list uchar int vertex_indices\nend_header\n0 0\n",
                  0, "novert.ply:3: the vertex element has no property z");
 }
 

@@ -278,10 +278,11 @@ static void test_head(void **state)
     assert_int_equal(plain.dynamics.integrator, mine.dynamics.integrator);
 
     hk_Groom g = {0};
-    assert_int_equal(hk_groom_grow(&scene.style.strand, &scene.style.interpolation, scene.shapes, scene.shape_count, &scene.wick, NULL, &g, &err),
+    assert_int_equal(hk_groom_grow(&scene.style.strand, &scene.style.interpolation, scene.shapes, scene.shape_count,
+                                   &scene.wick, NULL, &g, &err),
                      HK_OK);
-    assert_int_equal(hk_groom_interpolate_guides(&scene.style.interpolation, scene.shapes, scene.shape_count, &scene.wick, NULL,
-                                                 &g, &err),
+    assert_int_equal(hk_groom_interpolate_guides(&scene.style.interpolation, scene.shapes, scene.shape_count,
+                                                 &scene.wick, NULL, &g, &err),
                      HK_OK);
     hk_groom_free(&g);
 
@@ -300,11 +301,8 @@ static void test_head(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_render),
-        cmocka_unit_test(test_minimizers),
-        cmocka_unit_test(test_strand),
-        cmocka_unit_test(test_fitting),
-        cmocka_unit_test(test_head),
+        cmocka_unit_test(test_render),  cmocka_unit_test(test_minimizers), cmocka_unit_test(test_strand),
+        cmocka_unit_test(test_fitting), cmocka_unit_test(test_head),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

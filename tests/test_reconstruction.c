@@ -56,8 +56,8 @@ static void check_exact_helix(int n, double r_h, double step)
      * the closed-form helix: r(s) = a + r_h (cos(w s) e1 + sin(w s) e2) + c w s axis. */
     const double c = step / (2 * pi);
     const hk_Vec3 t_perp = hk_v3_sub(n0, hk_v3_scale(axis, hk_v3_dot(n0, axis)));
-    const hk_Vec3 e2 = hk_v3_normalize(t_perp);         /* direction of motion around the axis */
-    const hk_Vec3 e1 = hk_v3_cross(e2, axis);             /* from axis to the curve at s = 0 */
+    const hk_Vec3 e2 = hk_v3_normalize(t_perp); /* direction of motion around the axis */
+    const hk_Vec3 e1 = hk_v3_cross(e2, axis);   /* from axis to the curve at s = 0 */
     const hk_Vec3 centre = hk_v3_sub(sh->root, hk_v3_scale(e1, r_h));
     const int count = 200;
     for (int j = 0; j <= count; j++) {

@@ -531,11 +531,11 @@ static void test_bad_options(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_kajiya_kay_pixel),   cmocka_unit_test(test_shadow_from_occluder),
-        cmocka_unit_test(test_subpixel_coverage),  cmocka_unit_test(test_scene_deterministic_finite_png),
-        cmocka_unit_test(test_depth_order),        cmocka_unit_test(test_fragment_key_sort),
-        cmocka_unit_test(test_renderer_reuse),     cmocka_unit_test(test_bad_options),
-        cmocka_unit_test(test_depth_order_empty),  cmocka_unit_test(test_canvas_non_finite),
+        cmocka_unit_test(test_kajiya_kay_pixel),  cmocka_unit_test(test_shadow_from_occluder),
+        cmocka_unit_test(test_subpixel_coverage), cmocka_unit_test(test_scene_deterministic_finite_png),
+        cmocka_unit_test(test_depth_order),       cmocka_unit_test(test_fragment_key_sort),
+        cmocka_unit_test(test_renderer_reuse),    cmocka_unit_test(test_bad_options),
+        cmocka_unit_test(test_depth_order_empty), cmocka_unit_test(test_canvas_non_finite),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -45,8 +45,7 @@ static void random_basis(int n, double *xi)
 static void assert_orthonormal(int n, const double *xi)
 {
     for (int a = 0; a < n; a++)
-        for (int b = 0; b < n; b++)
-            hk_assert_near(dot(n, xi + a * n, xi + b * n), a == b ? 1.0 : 0.0, 1e-12);
+        for (int b = 0; b < n; b++) hk_assert_near(dot(n, xi + a * n, xi + b * n), a == b ? 1.0 : 0.0, 1e-12);
 }
 
 /* A_k / max|d| (0-based k): the advance from direction k on, scaled so that tiny or
@@ -82,8 +81,7 @@ static void gram_schmidt_reference(int n, const double *xi, const double *d, dou
 /* The properties that define Rosenbrock's new directions, checked without computing
  * them: orthonormal; xi'_1 = A_1 / |A_1| (when A_1 != 0); and A_k lies in the span of
  * xi'_1..xi'_k, i.e. A_k . xi'_m = 0 for m > k (the Gram-Schmidt triangle). */
-static void assert_rosenbrock_directions(int n, const double *xi, const double *d,
-                                         const double *out)
+static void assert_rosenbrock_directions(int n, const double *xi, const double *d, const double *out)
 {
     assert_orthonormal(n, out);
     double a[NMAX];
@@ -122,8 +120,7 @@ static double probe_eval(void *user, const double *x)
     Probe *p = user;
     if (p->calls >= p->call_limit) fail_msg("objective called more than %ld times", p->call_limit);
     const double f = p->fn(x, p->n);
-    if (p->calls < RECORD_MAX)
-        memcpy(p->rec[p->calls], x, (size_t)(p->n < NMAX ? p->n : NMAX) * sizeof(double));
+    if (p->calls < RECORD_MAX) memcpy(p->rec[p->calls], x, (size_t)(p->n < NMAX ? p->n : NMAX) * sizeof(double));
     p->calls++;
     return f;
 }
@@ -296,9 +293,7 @@ static void test_palmer_degenerate_advances(void **state)
         double d[NMAX];
         random_basis(n, xi);
         for (int i = 0; i < n; i++)
-            d[i] = hk_test_uniform() < 0.35
-                       ? 0.0
-                       : (2.0 * hk_test_uniform() - 1.0) * (1 + 9 * hk_test_uniform());
+            d[i] = hk_test_uniform() < 0.35 ? 0.0 : (2.0 * hk_test_uniform() - 1.0) * (1 + 9 * hk_test_uniform());
         hk_rosenbrock_palmer_directions(n, xi, d, out);
         assert_rosenbrock_directions(n, xi, d, out);
     }
@@ -319,10 +314,7 @@ static void test_palmer_one_dimension(void **state)
 
 /* ---- exact trial sequences ----------------------------------------------------------- */
 
-static void assert_recorded(const Probe *p, long call, double x0)
-{
-    hk_assert_near(p->rec[call][0], x0, 1e-14);
-}
+static void assert_recorded(const Probe *p, long call, double x0) { hk_assert_near(p->rec[call][0], x0, 1e-14); }
 
 /* f = (x - 1)^2 from 0 with steps 0.1, alpha 3, beta 0.5, worked out by hand:
  * stage 1: 0.1 ok, 0.4 ok, 1.3 ok, 4.0 fails (success then failure: stage over, d = 1.3);
@@ -420,8 +412,8 @@ static void test_banana(void **state)
     hk_MinimizeResult r;
     hk_Error err;
     assert_int_equal(hk_rosenbrock_minimize(2, x, probe_eval, &p, &o, &r, &err), HK_OK);
-    print_message("banana: %d stages, %ld evaluations, f = %.3g at (%.8f, %.8f)\n", r.iterations,
-                  r.evaluations, r.f, x[0], x[1]);
+    print_message("banana: %d stages, %ld evaluations, f = %.3g at (%.8f, %.8f)\n", r.iterations, r.evaluations, r.f,
+                  x[0], x[1]);
     assert_true(r.converged);
     hk_assert_near(x[0], 1.0, 1e-4);
     hk_assert_near(x[1], 1.0, 1e-4);
@@ -454,8 +446,7 @@ static void make_quadratic(void)
     for (int i = 0; i < QN; i++)
         for (int j = 0; j < QN; j++) {
             double s = 0.0;
-            for (int k = 0; k < QN; k++)
-                s += q[k * QN + i] * pow(1e4, (double)k / (QN - 1)) * q[k * QN + j];
+            for (int k = 0; k < QN; k++) s += q[k * QN + i] * pow(1e4, (double)k / (QN - 1)) * q[k * QN + j];
             quad.h[i * QN + j] = s;
         }
     for (int i = 0; i < QN; i++) quad.c[i] = 2.0 * hk_test_uniform() - 1.0;
@@ -601,10 +592,7 @@ static void test_epsilon_stopping(void **state)
 
 /* The objective for the NaN test: finite at the first call, NaN at every later one. */
 static long nan_after_first_calls;
-static double nan_after_first(const double *x, int n)
-{
-    return nan_after_first_calls++ == 0 ? banana(x, n) : NAN;
-}
+static double nan_after_first(const double *x, int n) { return nan_after_first_calls++ == 0 ? banana(x, n) : NAN; }
 
 static void test_nan_after_start(void **state)
 {
@@ -625,8 +613,7 @@ static void test_nan_after_start(void **state)
     hk_assert_near(x[1], 0.5, 0.0);
     hk_assert_near(r.f, banana((const double[]){0.5, 0.5}, 2), 0.0);
     assert_int_equal(r.evaluations, p.calls);
-    print_message("NaN objective: ended after %ld evaluations, %d stages\n", r.evaluations,
-                  r.iterations);
+    print_message("NaN objective: ended after %ld evaluations, %d stages\n", r.evaluations, r.iterations);
 }
 
 /* NaN only beyond x0 = 2, the unconstrained minimum (3, 0) lies there: NaN trials are
@@ -744,8 +731,7 @@ static void test_nonfinite_start(void **state)
     assert_int_equal(hk_rosenbrock_minimize(2, x, probe_eval, &p, &o, &r, NULL), HK_ERR_NUMERIC);
 }
 
-static void expect_invalid(int n, double *x, hk_ObjectiveFn f, const hk_RosenbrockDef *o,
-                           const char *needle)
+static void expect_invalid(int n, double *x, hk_ObjectiveFn f, const hk_RosenbrockDef *o, const char *needle)
 {
     Probe p;
     probe_init(&p, 2, banana, 1000);

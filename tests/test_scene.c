@@ -56,9 +56,10 @@ static void test_errors(void **state)
     /* A broken part: the error names its file and line, parts read before it in the same
      * call are dropped. */
     const char *bad_head = hk_test_write_text("badhead.obj", "v 0 0 0\nv 1 0\n");
-    snprintf(text, sizeof text,
-             "HairstyleInfo \"%s/examples/default/hairstyle.txt\"\nHeadModel \"%s\"\nWickModel \"%s/assets/wick-200.obj\"\n",
-             HK_SOURCE_DIR, bad_head, HK_SOURCE_DIR);
+    snprintf(
+        text, sizeof text,
+        "HairstyleInfo \"%s/examples/default/hairstyle.txt\"\nHeadModel \"%s\"\nWickModel \"%s/assets/wick-200.obj\"\n",
+        HK_SOURCE_DIR, bad_head, HK_SOURCE_DIR);
     path = hk_test_write_text("badsetup.txt", text);
     assert_int_equal(hk_scene_load(path, 0, &s, &err), HK_OK);
     assert_true(hk_scene_load_parts(&s, HK_SCENE_ALL, &err) != HK_OK);
@@ -91,7 +92,8 @@ static void test_same_as_pieces(void **state)
     assert_int_equal(report.guides, 201);
     assert_int_equal((uint32_t)(report.guides + report.strands), a.strand_count);
     hk_Groom g;
-    assert_int_equal(hk_groom_grow(&s.style.strand, &s.style.interpolation, s.shapes, s.shape_count, &s.wick, &go, &g, &err), HK_OK);
+    assert_int_equal(
+        hk_groom_grow(&s.style.strand, &s.style.interpolation, s.shapes, s.shape_count, &s.wick, &go, &g, &err), HK_OK);
     assert_int_equal(hk_groom_to_hair(&g, &s.style.strand, &b, &err), HK_OK);
     assert_int_equal(a.point_count, b.point_count);
     assert_memory_equal(a.points, b.points, sizeof(float) * 3 * a.point_count);

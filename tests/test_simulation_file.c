@@ -129,9 +129,18 @@ static void test_fuzz(void **state)
     (void)state;
     size_t base_len;
     char *base = valid_text(&base_len);
-    static const char *const junk[] = {"\"",      "Motion shake 1 1 0 0 0\n", "MotionFile \"/x\"\n", "\n\n",
-                                       "#",       "1e308",                    "-0",                 "nan",
-                                       "0x",      "Seed 18446744073709551616\n", "\t",                "Frames 0\n"};
+    static const char *const junk[] = {"\"",
+                                       "Motion shake 1 1 0 0 0\n",
+                                       "MotionFile \"/x\"\n",
+                                       "\n\n",
+                                       "#",
+                                       "1e308",
+                                       "-0",
+                                       "nan",
+                                       "0x",
+                                       "Seed 18446744073709551616\n",
+                                       "\t",
+                                       "Frames 0\n"};
     unsigned long long x = 0x9e3779b97f4a7c15ull;
     int accepted = 0;
     for (int iter = 0; iter < 3000; iter++) {

@@ -23,8 +23,7 @@ static hk_SuperHelix *cantilever(int n, double lambda, double length)
     hk_Error err;
     assert_int_equal(hk_superhelix_create(n, len, &sh, &err), HK_OK);
     sh->material = hk_rod_material(5e-5, 5e-5, 1e9, 0.48, 1300.0, hk_v3(0, -1, 0));
-    const double g = lambda * sh->material.stiffness[1] /
-                     (sh->material.mass_per_length * length * length * length);
+    const double g = lambda * sh->material.stiffness[1] / (sh->material.mass_per_length * length * length * length);
     sh->material.gravity = hk_v3(0.0, -g, 0.0);
     sh->root_frame = hk_root_frame(hk_v3(1, 0, 0));
     return sh;
@@ -68,8 +67,10 @@ static void elastica_tip(double lambda, double *x, double *y)
             px += h / 6 * (k1x + 2 * k2x + 2 * k3x + k4x);
             py += h / 6 * (k1y + 2 * k2y + 2 * k3y + k4y);
         }
-        if (w > 0) hi = a;
-        else lo = a;
+        if (w > 0)
+            hi = a;
+        else
+            lo = a;
         *x = px;
         *y = py;
     }
@@ -173,8 +174,8 @@ static void test_solvers_agree(void **state)
         hk_strand_workspace_destroy(ws);
         hk_superhelix_destroy(sh);
     }
-    print_message("newton E = %.15g (%ld evaluations), rosenbrock E = %.15g (%ld evaluations)\n",
-                  energy[0], res[0].evaluations, energy[1], res[1].evaluations);
+    print_message("newton E = %.15g (%ld evaluations), rosenbrock E = %.15g (%ld evaluations)\n", energy[0],
+                  res[0].evaluations, energy[1], res[1].evaluations);
     /* Same minimum to 1e-9 of the energy; Newton's is never the higher one beyond rounding. */
     hk_assert_rel(energy[0], energy[1], 1e-9, 0);
     assert_true(energy[0] <= energy[1] + 1e-14 * fabs(energy[1]));
@@ -241,8 +242,7 @@ static void test_newton_reaches_stationary_minimum(void **state)
     hk_strand_energy(sh, &env, sh->q, ws, g, h, NULL);
     /* Stationary: every generalised force is tiny next to the elastic force scale
      * K l kappa (stiffness x length x natural curvature). */
-    for (int i = 0; i < 24; i++)
-        hk_assert_near(g[i], 0.0, 1e-9 * sh->material.stiffness[1] * sh->length[0] * k1);
+    for (int i = 0; i < 24; i++) hk_assert_near(g[i], 0.0, 1e-9 * sh->material.stiffness[1] * sh->length[0] * k1);
     /* A minimum: the Hessian is positive definite (Cholesky by hand). */
     double l[24 * 24] = {0};
     for (int j = 0; j < 24; j++) {
@@ -263,14 +263,10 @@ static void test_newton_reaches_stationary_minimum(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_reference_elastica),
-        cmocka_unit_test(test_small_deflection),
-        cmocka_unit_test(test_large_deflection),
-        cmocka_unit_test(test_convergence_in_n),
-        cmocka_unit_test(test_helix_at_zero_gravity),
-        cmocka_unit_test(test_solvers_agree),
-        cmocka_unit_test(test_resting_on_ellipsoid),
-        cmocka_unit_test(test_newton_reaches_stationary_minimum),
+        cmocka_unit_test(test_reference_elastica),    cmocka_unit_test(test_small_deflection),
+        cmocka_unit_test(test_large_deflection),      cmocka_unit_test(test_convergence_in_n),
+        cmocka_unit_test(test_helix_at_zero_gravity), cmocka_unit_test(test_solvers_agree),
+        cmocka_unit_test(test_resting_on_ellipsoid),  cmocka_unit_test(test_newton_reaches_stationary_minimum),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -96,8 +96,8 @@ static Stillness still_head(double mu, double max_settle, int frames)
                   "largest %.3f mm; largest move between frames in the last 2 s %.4f mm; %d guide-guide contacts "
                   "pushing a frame\n",
                   mu, out.settled.seconds, out.settled.at_rest ? "at rest" : "still moving",
-                  1e3 * out.settled.tip_speed, frames / 30.0, 1e3 * out.median_drift, 1e3 * out.max_drift, 1e3 * out.max_jump,
-                  contacts / frames);
+                  1e3 * out.settled.tip_speed, frames / 30.0, 1e3 * out.median_drift, 1e3 * out.max_drift,
+                  1e3 * out.max_jump, contacts / frames);
     assert_true(contacts > frames * 100); /* not vacuous: the guides press on each other */
     free(all), free(start), free(prev), free(now), free(drift);
     hk_hair_sim_destroy(sim);
@@ -110,8 +110,8 @@ static Stillness still_head(double mu, double max_settle, int frames)
 static void test_still_hair_stays_still(void **state)
 {
     (void)state;
-    const Stillness held = still_head(hk_default_hair_contact_def().friction_coefficient,
-                                      hk_default_settle_def().max_seconds, 120);
+    const Stillness held =
+        still_head(hk_default_hair_contact_def().friction_coefficient, hk_default_settle_def().max_seconds, 120);
     assert_true(held.settled.at_rest);
     assert_true(held.max_drift <= 0.5e-3);
     assert_true(held.max_jump <= 0.05e-3);

@@ -39,8 +39,10 @@ static void scene_init(Scene *sc, int n, int with_shapes, unsigned seed)
     hk_superhelix_eval(sc->sh, NULL, 0.11, &p[1], NULL);
     hk_superhelix_eval(sc->sh, NULL, 0.17, &p[2], NULL);
     sc->shapes[0] = hk_shape_sphere(hk_v3_add(p[0], hk_v3(0.0, -0.015, 0.004)), 0.02, 0.004, 50.0);
-    sc->shapes[1] = hk_shape_ellipsoid(hk_v3_add(p[1], hk_v3(0.01, -0.02, 0.0)), hk_v3(0.02, 0.03, 0.025), axes, 0.003, 80.0);
-    sc->shapes[2] = hk_shape_cuboid(hk_v3_add(p[2], hk_v3(0.0, -0.012, 0.0)), hk_v3(0.01, 0.015, 0.02), axes, 0.002, 30.0);
+    sc->shapes[1] =
+        hk_shape_ellipsoid(hk_v3_add(p[1], hk_v3(0.01, -0.02, 0.0)), hk_v3(0.02, 0.03, 0.025), axes, 0.003, 80.0);
+    sc->shapes[2] =
+        hk_shape_cuboid(hk_v3_add(p[2], hk_v3(0.0, -0.012, 0.0)), hk_v3(0.01, 0.015, 0.02), axes, 0.002, 30.0);
     sc->env = hk_default_strand_env_def();
     if (with_shapes) {
         sc->env.shapes = sc->shapes;
@@ -174,8 +176,8 @@ static void test_gravity_of_straight_rods(void **state)
         sc.sh->root_frame = hk_root_frame(hk_v3(cos(a), -sin(a), 0.0));
         hk_StrandEnergy parts;
         hk_strand_energy(sc.sh, &sc.env, sc.sh->q, sc.ws, NULL, NULL, &parts);
-        double expected = sc.sh->material.mass_per_length * 9.81 * (-sin(a)) * 0.5 *
-                          sc.sh->total_length * sc.sh->total_length;
+        double expected =
+            sc.sh->material.mass_per_length * 9.81 * (-sin(a)) * 0.5 * sc.sh->total_length * sc.sh->total_length;
         hk_assert_near(parts.gravity, expected, 1e-18);
     }
     scene_free(&sc);
@@ -237,12 +239,9 @@ static void test_contacts_per_sample(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_derivatives_free_strand),
-        cmocka_unit_test(test_derivatives_with_contacts),
-        cmocka_unit_test(test_energy_terms_independent),
-        cmocka_unit_test(test_gravity_of_straight_rods),
-        cmocka_unit_test(test_penetration_report),
-        cmocka_unit_test(test_contacts_per_sample),
+        cmocka_unit_test(test_derivatives_free_strand),  cmocka_unit_test(test_derivatives_with_contacts),
+        cmocka_unit_test(test_energy_terms_independent), cmocka_unit_test(test_gravity_of_straight_rods),
+        cmocka_unit_test(test_penetration_report),       cmocka_unit_test(test_contacts_per_sample),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -66,7 +66,8 @@ int main(int argc, char **argv)
         /* the defaults of `hairkit simulate --motion` (cli/motion_options.c): 25 degrees,
          * or 0.03 m for the translations */
         const double amplitude = !strcmp(argv[3], "sway") || !strcmp(argv[3], "jump") ? 0.03 : 25.0;
-        if (!(fps > 0.0) || hk_head_motion_scripted(argv[3], amplitude, 1.0, hk_default_head_pivot(), &motion, &err) != HK_OK) {
+        if (!(fps > 0.0) ||
+            hk_head_motion_scripted(argv[3], amplitude, 1.0, hk_default_head_pivot(), &motion, &err) != HK_OK) {
             fprintf(stderr, "hair_depth: bad --motion or --fps\n");
             return 2;
         }

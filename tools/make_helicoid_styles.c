@@ -20,31 +20,65 @@
 #include "io/outfile.h"
 
 #define MAX_GUIDES 64
-#define DS 0.0005 /* walking step (m) */
-#define MAX_STEPS 4000
+#define DS         0.0005 /* walking step (m) */
+#define MAX_STEPS  4000
 
 typedef struct Style {
     const char *name, *comment;
-    int guides;                  /* roots: farthest-point samples of the wick's vertices */
-    hk_Vec3 crown;               /* a point of the crown's vertical axis: hair parts radially from it */
-    int crown_ring;              /* guides round the crown ... */
-    double crown_radius;         /* ... this far from its axis (m) */
-    double lift_angle, lift;     /* the first piece turns the strand by lift_angle (rad) over lift (m) */
-    double volume;               /* height of the hair over the head (m) */
-    double tip_y, fringe_tip_y;  /* tip heights (m): at the sides and back, and of the fringe */
-    double fringe_half_width;    /* strands combed forward from roots with |x| below this (m) ... */
-    double fringe_blend;         /* ... have the fringe's length, blending to the full one over this (m) */
-    double curl_under;           /* the last piece turns the tips under by this much (rad) */
-    int hug, fall;               /* pieces over the head and below it */
+    int guides;                            /* roots: farthest-point samples of the wick's vertices */
+    hk_Vec3 crown;                         /* a point of the crown's vertical axis: hair parts radially from it */
+    int crown_ring;                        /* guides round the crown ... */
+    double crown_radius;                   /* ... this far from its axis (m) */
+    double lift_angle, lift;               /* the first piece turns the strand by lift_angle (rad) over lift (m) */
+    double volume;                         /* height of the hair over the head (m) */
+    double tip_y, fringe_tip_y;            /* tip heights (m): at the sides and back, and of the fringe */
+    double fringe_half_width;              /* strands combed forward from roots with |x| below this (m) ... */
+    double fringe_blend;                   /* ... have the fringe's length, blending to the full one over this (m) */
+    double curl_under;                     /* the last piece turns the tips under by this much (rad) */
+    int hug, fall;                         /* pieces over the head and below it */
     double wave_amplitude, wave_frequency; /* eq. 4 (m, rad/m) */
     double wave_jitter;                    /* strands' phase spread (turns, file format) */
 } Style;
 
 static const Style STYLES[] = {
-    {"long", "long wavy hair with a fringe", 40, {0.0, 0.0, -0.03}, 6, 0.015, 1.35, 0.008, 0.012, -0.22, 0.095, 0.045,
-     0.02, 0.0, 4, 6, 0.004, 120.0, 0.3},
-    {"bob", "a curly bob with a fringe", 40, {0.0, 0.0, -0.06}, 6, 0.015, 1.0, 0.012, 0.016, -0.045, 0.095, 0.045,
-     0.02, 0.5, 4, 3, 0.006, 250.0, 0.4},
+    {"long",
+     "long wavy hair with a fringe",
+     40,
+     {0.0, 0.0, -0.03},
+     6,
+     0.015,
+     1.35,
+     0.008,
+     0.012,
+     -0.22,
+     0.095,
+     0.045,
+     0.02,
+     0.0,
+     4,
+     6,
+     0.004,
+     120.0,
+     0.3},
+    {"bob",
+     "a curly bob with a fringe",
+     40,
+     {0.0, 0.0, -0.06},
+     6,
+     0.015,
+     1.0,
+     0.012,
+     0.016,
+     -0.045,
+     0.095,
+     0.045,
+     0.02,
+     0.5,
+     4,
+     3,
+     0.006,
+     250.0,
+     0.4},
 };
 
 typedef struct Guide {
@@ -275,8 +309,7 @@ static int write_style(const Style *st, const Guide *g, int count, const char *p
                 "\nStrand  # %.0f degrees from the front\nRoot  %.6f %.6f %.6f\n"
                 "Frame %.6f %.6f %.6f   %.6f %.6f %.6f\n",
                 g[i].azimuth * (180.0 / HK_PI), h->root.x, h->root.y, h->root.z, t.x, t.y, t.z, nn.x, nn.y, nn.z);
-        for (int j = 0; j < h->piece_count; j++)
-            fprintf(fp, "Piece %.6g 0 0 0 %.6g\n", h->k[j].kt, h->length[j]);
+        for (int j = 0; j < h->piece_count; j++) fprintf(fp, "Piece %.6g 0 0 0 %.6g\n", h->k[j].kt, h->length[j]);
     }
     return hk_outfile_commit(&of, err) == HK_OK;
 }

@@ -56,7 +56,8 @@ int main(int argc, char **argv)
         for (int i = 0; i < all.count; i++) {
             if (hk_v3_dot(all.normals[i], w->eye) < -0.1) continue;
             const int contour = i >= free_part.count;
-            dot(&c, w, all.points[i], contour ? 3.0 : 2.6, contour ? hk_v3(0.85, 0.1, 0.1) : hk_v3(0.1, 0.6, 0.15), 1.0);
+            dot(&c, w, all.points[i], contour ? 3.0 : 2.6, contour ? hk_v3(0.85, 0.1, 0.1) : hk_v3(0.1, 0.6, 0.15),
+                1.0);
         }
     }
     if (hk_canvas_write_png(&c, argv[4], &err) != HK_OK) goto fail_samples;

@@ -39,7 +39,8 @@ int main(int argc, char **argv)
     for (int s = 0; s < n; s++) {
         const uint32_t a = hair.first_point[s];
         for (uint32_t p = a; p < hair.first_point[s + 1]; p++)
-            points[p] = hk_v3(hair.points[3 * (size_t)p], hair.points[3 * (size_t)p + 1], hair.points[3 * (size_t)p + 2]);
+            points[p] =
+                hk_v3(hair.points[3 * (size_t)p], hair.points[3 * (size_t)p + 1], hair.points[3 * (size_t)p + 2]);
         double t = yhi > ylo ? (hair.points[3 * (size_t)a + 1] - ylo) / (yhi - ylo) : 1.0;
         plot[s].points = points + a;
         plot[s].count = (int)hk_hair_strand_points(&hair, (uint32_t)s);

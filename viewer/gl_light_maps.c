@@ -94,8 +94,7 @@ void hk_gl_light_maps_draw(hk_GlLightMaps *m, const hk_GlHair *hair, const hk_Gl
     glBlendFunc(GL_ONE, GL_ONE);
     glUseProgram(m->opacity_program);
     hk_gl_uniform_mat4(m->opacity_program, "LightMatrix", m->matrix.m);
-    hk_gl_uniform4f(m->opacity_program, "LayerEnd", m->layer_end[0], m->layer_end[1], m->layer_end[2],
-                    m->layer_end[3]);
+    hk_gl_uniform4f(m->opacity_program, "LayerEnd", m->layer_end[0], m->layer_end[1], m->layer_end[2], m->layer_end[3]);
     const double texel = 2.0 * radius / m->size;
     hk_gl_uniform1f(m->opacity_program, "Alpha", fmin(1.0, thickness / texel));
     glActiveTexture(GL_TEXTURE1);

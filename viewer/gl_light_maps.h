@@ -14,7 +14,7 @@ typedef struct hk_GlLightMaps {
     GLuint head_depth, hair_depth, opacity; /* textures */
     GLuint fbo_head, fbo_hair, fbo_opacity;
     GLuint depth_program, opacity_program;
-    hk_Mat4 matrix;    /* world -> [0, 1]^3 (texture coordinates and depth) */
+    hk_Mat4 matrix;     /* world -> [0, 1]^3 (texture coordinates and depth) */
     float layer_end[4]; /* in depth units */
 } hk_GlLightMaps;
 

@@ -24,8 +24,10 @@ static char *read_text(const char *path)
         text = bigger;
     }
     fclose(f);
-    if (text) text[n] = '\0';
-    else fprintf(stderr, "hairkit view: %s: out of memory\n", path);
+    if (text)
+        text[n] = '\0';
+    else
+        fprintf(stderr, "hairkit view: %s: out of memory\n", path);
     return text;
 }
 
@@ -57,8 +59,10 @@ static void print_log(const char *label, const char *log)
             rest = after;
         }
         if (len > 0) {
-            if (number >= 0) fprintf(stderr, "hairkit view: %s:%ld: %s\n", label, number, rest);
-            else fprintf(stderr, "hairkit view: %s: %s\n", label, line);
+            if (number >= 0)
+                fprintf(stderr, "hairkit view: %s:%ld: %s\n", label, number, rest);
+            else
+                fprintf(stderr, "hairkit view: %s: %s\n", label, line);
         }
         log += len;
         if (*log == '\n') log++;

@@ -8,8 +8,10 @@
 static void storage(GLuint rb, int samples, GLenum format, int w, int h)
 {
     glBindRenderbuffer(GL_RENDERBUFFER, rb);
-    if (samples > 0) glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, format, w, h);
-    else glRenderbufferStorage(GL_RENDERBUFFER, format, w, h);
+    if (samples > 0)
+        glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, format, w, h);
+    else
+        glRenderbufferStorage(GL_RENDERBUFFER, format, w, h);
 }
 
 int hk_gl_target_create(hk_GlTarget *t, int width, int height, int samples)

@@ -16,8 +16,10 @@ static void on_button(GLFWwindow *w, int button, int action, int mods)
     }
     glfwGetCursorPos(w, &v->mouse_x, &v->mouse_y);
     const int light = glfwGetKey(w, GLFW_KEY_L) == GLFW_PRESS;
-    if (button == GLFW_MOUSE_BUTTON_LEFT) v->dragging = light ? 3 : 1;
-    else if (button == GLFW_MOUSE_BUTTON_RIGHT || button == GLFW_MOUSE_BUTTON_MIDDLE) v->dragging = 2;
+    if (button == GLFW_MOUSE_BUTTON_LEFT)
+        v->dragging = light ? 3 : 1;
+    else if (button == GLFW_MOUSE_BUTTON_RIGHT || button == GLFW_MOUSE_BUTTON_MIDDLE)
+        v->dragging = 2;
 }
 
 static void on_move(GLFWwindow *w, double x, double y)
@@ -28,14 +30,19 @@ static void on_move(GLFWwindow *w, double x, double y)
     int win_h;
     glfwGetWindowSize(w, NULL, &win_h);
     switch (v->dragging) {
-    case 1: hk_orbit_turn(&v->orbit, -0.4 * dx, 0.4 * dy); break;
-    case 2: hk_orbit_pan(&v->orbit, dx, dy, win_h > 0 ? win_h : 1); break;
+    case 1:
+        hk_orbit_turn(&v->orbit, -0.4 * dx, 0.4 * dy);
+        break;
+    case 2:
+        hk_orbit_pan(&v->orbit, dx, dy, win_h > 0 ? win_h : 1);
+        break;
     case 3:
         v->light_azimuth = fmod(v->light_azimuth + 0.4 * dx, 360.0);
         v->light_elevation = fmin(89.0, fmax(-89.0, v->light_elevation - 0.4 * dy));
         v->maps_stale = 1;
         break;
-    default: break;
+    default:
+        break;
     }
 }
 
@@ -52,21 +59,39 @@ static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods)
     (void)mods;
     if (action == GLFW_RELEASE) return;
     switch (key) {
-    case GLFW_KEY_LEFT: hk_orbit_turn(&v->orbit, -5.0, 0.0); break;
-    case GLFW_KEY_RIGHT: hk_orbit_turn(&v->orbit, 5.0, 0.0); break;
-    case GLFW_KEY_UP: hk_orbit_turn(&v->orbit, 0.0, 5.0); break;
-    case GLFW_KEY_DOWN: hk_orbit_turn(&v->orbit, 0.0, -5.0); break;
+    case GLFW_KEY_LEFT:
+        hk_orbit_turn(&v->orbit, -5.0, 0.0);
+        break;
+    case GLFW_KEY_RIGHT:
+        hk_orbit_turn(&v->orbit, 5.0, 0.0);
+        break;
+    case GLFW_KEY_UP:
+        hk_orbit_turn(&v->orbit, 0.0, 5.0);
+        break;
+    case GLFW_KEY_DOWN:
+        hk_orbit_turn(&v->orbit, 0.0, -5.0);
+        break;
     case GLFW_KEY_EQUAL:
-    case GLFW_KEY_KP_ADD: hk_orbit_zoom(&v->orbit, 0.9); break;
+    case GLFW_KEY_KP_ADD:
+        hk_orbit_zoom(&v->orbit, 0.9);
+        break;
     case GLFW_KEY_MINUS:
-    case GLFW_KEY_KP_SUBTRACT: hk_orbit_zoom(&v->orbit, 1.0 / 0.9); break;
-    case GLFW_KEY_R: v->orbit = v->home; break;
+    case GLFW_KEY_KP_SUBTRACT:
+        hk_orbit_zoom(&v->orbit, 1.0 / 0.9);
+        break;
+    case GLFW_KEY_R:
+        v->orbit = v->home;
+        break;
     case GLFW_KEY_S:
         v->shadows = !v->shadows;
         v->maps_stale = 1;
         break;
-    case GLFW_KEY_M: v->shading = !v->shading; break;
-    case GLFW_KEY_H: v->show_head = !v->show_head; break;
+    case GLFW_KEY_M:
+        v->shading = !v->shading;
+        break;
+    case GLFW_KEY_H:
+        v->show_head = !v->show_head;
+        break;
     case GLFW_KEY_F5:
         if (hk_viewer_load_programs(v)) fprintf(stderr, "hairkit view: shaders reloaded\n");
         break;
@@ -77,8 +102,11 @@ static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods)
         break;
     }
     case GLFW_KEY_ESCAPE:
-    case GLFW_KEY_Q: glfwSetWindowShouldClose(w, GLFW_TRUE); break;
-    default: break;
+    case GLFW_KEY_Q:
+        glfwSetWindowShouldClose(w, GLFW_TRUE);
+        break;
+    default:
+        break;
     }
 }
 

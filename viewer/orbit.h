@@ -9,7 +9,7 @@ typedef struct hk_Orbit {
     double azimuth, elevation; /* degrees, as --view */
     double distance, fov;      /* fov: vertical, degrees */
     hk_Vec3 target;
-    double radius;             /* of the scene, for the near and far planes */
+    double radius; /* of the scene, for the near and far planes */
 } hk_Orbit;
 
 typedef struct hk_OrbitFrame {

@@ -14,10 +14,7 @@ static void on_glfw_error(int code, const char *message)
     snprintf(glfw_message, sizeof glfw_message, "%s", message);
 }
 
-static double srgb_to_linear(double c)
-{
-    return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);
-}
+static double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4); }
 
 static hk_Vec3 linear(hk_Vec3 c) { return hk_v3(srgb_to_linear(c.x), srgb_to_linear(c.y), srgb_to_linear(c.z)); }
 
@@ -97,8 +94,8 @@ static int open_window(hk_Viewer *v)
 static void report(const hk_Viewer *v, int frames, double seconds, double first)
 {
     char line[320];
-    const int n = snprintf(line, sizeof line, "hairkit view: %d strands, %ld points; ", (int)v->hair.strands,
-                           v->hair.points);
+    const int n =
+        snprintf(line, sizeof line, "hairkit view: %d strands, %ld points; ", (int)v->hair.strands, v->hair.points);
     if (first >= 0.0)
         snprintf(line + n, sizeof line - (size_t)n, "first frame %.2f s, then %.2f frames/s (%s)", first,
                  seconds > 0.0 && frames > 0 ? frames / seconds : 0.0, (const char *)glGetString(GL_RENDERER));

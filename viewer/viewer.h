@@ -15,12 +15,12 @@ enum { HK_VIEW_HEAD_VERT, HK_VIEW_HEAD_FRAG, HK_VIEW_HAIR_VERT, HK_VIEW_HAIR_FRA
 
 typedef struct hk_ViewerInput {
     const hk_HairFile *hair;
-    const hk_Mesh *head;      /* NULL or no vertices: none */
-    hk_Visuality visuality;   /* colours as the files give them (sRGB) */
-    hk_RenderDef render;      /* size, view, light, shading, shadows, shadow map, thickness */
+    const hk_Mesh *head;    /* NULL or no vertices: none */
+    hk_Visuality visuality; /* colours as the files give them (sRGB) */
+    hk_RenderDef render;    /* size, view, light, shading, shadows, shadow map, thickness */
     const char *shader[HK_VIEW_SHADER_COUNT];
-    int frames;               /* > 0: headless, draw this many frames, then stop */
-    const char *screenshot;   /* with frames: the last frame written here (PNG) */
+    int frames;             /* > 0: headless, draw this many frames, then stop */
+    const char *screenshot; /* with frames: the last frame written here (PNG) */
     int quiet;
 } hk_ViewerInput;
 

@@ -16,13 +16,13 @@
 typedef struct hk_Viewer {
     const hk_ViewerInput *in;
     GLFWwindow *window;
-    hk_Orbit orbit, home;          /* home: the fitted camera, restored by R */
+    hk_Orbit orbit, home; /* home: the fitted camera, restored by R */
     double light_azimuth, light_elevation;
     int shadows, shading, show_head;
-    int maps_stale;                /* the light's maps must be drawn again */
-    hk_Vec3 centre;                /* the scene's bounding sphere */
+    int maps_stale; /* the light's maps must be drawn again */
+    hk_Vec3 centre; /* the scene's bounding sphere */
     double radius, thickness;
-    hk_Visuality colours;          /* linear */
+    hk_Visuality colours; /* linear */
     GLuint head_program, hair_program;
     hk_GlHair hair;
     hk_GlHead head;
@@ -30,8 +30,8 @@ typedef struct hk_Viewer {
     hk_GlTarget target;
     /* input */
     double mouse_x, mouse_y;
-    int dragging;                  /* 0 none, 1 orbit, 2 pan, 3 light */
-    int screenshots;               /* written with the P key */
+    int dragging;    /* 0 none, 1 orbit, 2 pan, 3 light */
+    int screenshots; /* written with the P key */
 } hk_Viewer;
 
 /* Draws one frame into the target (draw.c). */

@@ -59,8 +59,7 @@ int main(int argc, char **argv)
     hk_RenderDef view = hk_default_render_def();
     view.width = 800;
     view.height = 600;
-    if (st == HK_OK)
-        st = hk_render(&hair, setup.head_model ? &head : NULL, &colours, &view, &picture, NULL, &err);
+    if (st == HK_OK) st = hk_render(&hair, setup.head_model ? &head : NULL, &colours, &view, &picture, NULL, &err);
     if (st == HK_OK) st = hk_render_write_png(&picture, argv[2], &err);
 
     if (st == HK_OK)

@@ -61,8 +61,8 @@ typedef struct hk_SuperHelixFitReport {
  * material is *material, or hk_superhelix_create's when NULL. def NULL: the defaults.
  * report may be NULL. */
 HK_API hk_Status hk_superhelix_fit(const hk_Vec3 *points, int count, const hk_RodMaterial *material,
-                                   const hk_SuperHelixFitDef *def, hk_SuperHelix **out,
-                                   hk_SuperHelixFitReport *report, hk_Error *err);
+                                   const hk_SuperHelixFitDef *def, hk_SuperHelix **out, hk_SuperHelixFitReport *report,
+                                   hk_Error *err);
 
 /* ---- inverse statics ---------------------------------------------------------------- */
 
@@ -77,15 +77,15 @@ typedef struct hk_InverseStaticsDef {
 HK_API hk_InverseStaticsDef hk_default_inverse_statics_def(void);
 
 typedef struct hk_InverseStaticsReport {
-    int stable;           /* 1 when the Hessian of the total energy at the shape is
-                             positive definite (a stable equilibrium) */
-    int settled;          /* 1 when it was not and the statics settled the strand */
-    double drift;         /* settled: the largest distance between a node of the shape
-                             and the same node after settling (m); else 0 */
-    double rest_change;   /* max |q_rest - q| over the coordinates (1/m): how far the
-                             natural shape is from the given one */
-    double residual;      /* |grad E| at sh->q after the inversion, relative to the
-                             largest external generalized force (0 when there is none) */
+    int stable;         /* 1 when the Hessian of the total energy at the shape is
+                           positive definite (a stable equilibrium) */
+    int settled;        /* 1 when it was not and the statics settled the strand */
+    double drift;       /* settled: the largest distance between a node of the shape
+                           and the same node after settling (m); else 0 */
+    double rest_change; /* max |q_rest - q| over the coordinates (1/m): how far the
+                           natural shape is from the given one */
+    double residual;    /* |grad E| at sh->q after the inversion, relative to the
+                           largest external generalized force (0 when there is none) */
 } hk_InverseStaticsReport;
 
 /* Natural curvatures and twist that make the strand's current shape sh->q an equilibrium
@@ -100,30 +100,29 @@ typedef struct hk_InverseStaticsReport {
  * unstable (a column of hair standing up higher than Greenhill's critical height, e.g.)
  * and, with def->settle_unstable, sh->q becomes the rest the statics find from it.
  * def NULL: the defaults. report may be NULL. */
-HK_API hk_Status hk_statics_invert(hk_SuperHelix *sh, const hk_StrandEnvDef *env,
-                                   const hk_InverseStaticsDef *def, hk_InverseStaticsReport *report,
-                                   hk_Error *err);
+HK_API hk_Status hk_statics_invert(hk_SuperHelix *sh, const hk_StrandEnvDef *env, const hk_InverseStaticsDef *def,
+                                   hk_InverseStaticsReport *report, hk_Error *err);
 
 
 /* ---- a whole groom imported (hairkit import; docs/capture.md, "Importing a groom") -- */
 
-#define HK_IMPORT_ATTACH 3 /* guides each strand follows */
+#define HK_IMPORT_ATTACH      3 /* guides each strand follows */
 #define HK_MAX_IMPORT_STRANDS 10000000
-#define HK_IMPORT_MAX_DRIFT 1e-3 /* a guide settled farther from its capture is followed by no strand (m) */
+#define HK_IMPORT_MAX_DRIFT   1e-3 /* a guide settled farther from its capture is followed by no strand (m) */
 
 typedef struct hk_GroomImportDef {
-    int guides;            /* K; 0 (default): one guide per 75 strands, at least one;
-                              >= the strands: every strand is a guide */
-    uint64_t seed;         /* picks the first guide of the farthest-point sampling (default 1) */
-    int threads;           /* OpenMP threads (<= 0: the default); the result does not
-                              depend on it */
-    double station_step;   /* spacing of the guides' stations the other strands are
-                              attached to (m; default 0.001) */
-    hk_RodMaterial material;       /* of every strand (default: 40 um radius, 3 GPa,
-                                      Poisson 0.48, 1300 kg/m^3, gravity 9.81 down y) */
-    hk_SuperHelixFitDef fit;       /* hk_default_superhelix_fit_def */
-    hk_InverseStaticsDef inverse;  /* hk_default_inverse_statics_def */
-    hk_ProgressFn progress;        /* may be NULL: stages "push out", "fit" */
+    int guides;                   /* K; 0 (default): one guide per 75 strands, at least one;
+                                     >= the strands: every strand is a guide */
+    uint64_t seed;                /* picks the first guide of the farthest-point sampling (default 1) */
+    int threads;                  /* OpenMP threads (<= 0: the default); the result does not
+                                     depend on it */
+    double station_step;          /* spacing of the guides' stations the other strands are
+                                     attached to (m; default 0.001) */
+    hk_RodMaterial material;      /* of every strand (default: 40 um radius, 3 GPa,
+                                     Poisson 0.48, 1300 kg/m^3, gravity 9.81 down y) */
+    hk_SuperHelixFitDef fit;      /* hk_default_superhelix_fit_def */
+    hk_InverseStaticsDef inverse; /* hk_default_inverse_statics_def */
+    hk_ProgressFn progress;       /* may be NULL: stages "push out", "fit" */
     void *progress_user;
 } hk_GroomImportDef;
 
@@ -133,33 +132,33 @@ HK_API hk_GroomImportDef hk_default_groom_import_def(void);
  * arrays belong to it (hk_imported_groom_free). */
 typedef struct hk_ImportedGroom {
     int strand_count, guide_count;
-    uint32_t *first_point;  /* strand_count + 1 offsets into points */
-    float *points;          /* the captured strands in input order (moved out of the body),
-                               3 floats per point */
-    int *guide_strand;      /* guide_count: the strand each guide was fitted to */
-    hk_SuperHelix **guide;  /* guide_count: q the fitted captured shape, q_rest the natural
-                               shape that makes it an equilibrium */
-    int *attach_guide;      /* HK_IMPORT_ATTACH per strand: the guides it follows, nearest
-                               root first, -1 unused */
-    double *attach_weight;  /* HK_IMPORT_ATTACH per strand, summing to 1 */
-    double station_step;    /* m */
+    uint32_t *first_point; /* strand_count + 1 offsets into points */
+    float *points;         /* the captured strands in input order (moved out of the body),
+                              3 floats per point */
+    int *guide_strand;     /* guide_count: the strand each guide was fitted to */
+    hk_SuperHelix **guide; /* guide_count: q the fitted captured shape, q_rest the natural
+                              shape that makes it an equilibrium */
+    int *attach_guide;     /* HK_IMPORT_ATTACH per strand: the guides it follows, nearest
+                              root first, -1 unused */
+    double *attach_weight; /* HK_IMPORT_ATTACH per strand, summing to 1 */
+    double station_step;   /* m */
     hk_RodMaterial material;
 } hk_ImportedGroom;
 
 typedef struct hk_GroomImportReport {
     int strands, guides;
-    int moved_strands;       /* strands with points that started inside the body */
+    int moved_strands; /* strands with points that started inside the body */
     long moved_points;
     double moved_max, moved_mean; /* how far those points moved (m) */
-    double fit_mean;         /* mean over the guides of their mean fit error (m) */
-    double fit_worst;        /* the worst guide's mean error (m) */
-    double fit_max;          /* the largest point error of any guide (m) */
+    double fit_mean;              /* mean over the guides of their mean fit error (m) */
+    double fit_worst;             /* the worst guide's mean error (m) */
+    double fit_max;               /* the largest point error of any guide (m) */
     double elements_mean;
-    int unstable;            /* guides whose captured shape is an unstable equilibrium */
-    int settled;             /* of them, settled to the stable rest nearby */
-    double drift_max;        /* the largest drift of a settled guide (m) */
-    int unfollowed;          /* settled guides farther than HK_IMPORT_MAX_DRIFT: followed
-                                by no strand */
+    int unstable;     /* guides whose captured shape is an unstable equilibrium */
+    int settled;      /* of them, settled to the stable rest nearby */
+    double drift_max; /* the largest drift of a settled guide (m) */
+    int unfollowed;   /* settled guides farther than HK_IMPORT_MAX_DRIFT: followed
+                         by no strand */
     double seconds_push, seconds_choose, seconds_fit, seconds_attach;
 } hk_GroomImportReport;
 
@@ -173,8 +172,8 @@ typedef struct hk_GroomImportReport {
  * HK_IMPORT_MAX_DRIFT away is simulated but followed by no strand, its own included.
  * def NULL: the defaults. report may be NULL. */
 HK_API hk_Status hk_groom_import(const hk_HairFile *hair, const hk_Shape *body, int body_count,
-                                 const hk_GroomImportDef *def, hk_ImportedGroom *out,
-                                 hk_GroomImportReport *report, hk_Error *err);
+                                 const hk_GroomImportDef *def, hk_ImportedGroom *out, hk_GroomImportReport *report,
+                                 hk_Error *err);
 
 HK_API void hk_imported_groom_free(hk_ImportedGroom *g);
 
@@ -197,29 +196,29 @@ HK_API hk_Status hk_imported_groom_load(const char *path, hk_ImportedGroom *out,
 /* ---- hairkit import: a groom and a head made a setup (import_run.c) ----------------- */
 
 typedef struct hk_ImportRunDef {
-    const char *hair;          /* any format hk_hair_read reads */
-    hk_HairFormat format;      /* HK_HAIR_FORMAT_AUTO: from the name, else the content */
-    double scale;              /* the hair's units to metres (default 1) */
-    hk_Axis up;                /* the hair's up axis (default +y) */
-    const char *head;          /* OBJ or PLY (may be NULL: no head, no collider) */
-    double head_scale;         /* default 1 */
-    hk_Axis head_up;           /* default +y */
-    const char *hairstyle;     /* NULL: DIR/hairstyle.txt gets the defaults (40 um radius,
-                                  3 GPa, Poisson 0.48, 1300 kg/m^3, 9.81 m/s^2) */
-    const char *dir;           /* made if missing */
-    double collider_volume;    /* the head field's envelope (m; default 0) */
-    double collider_penalty;   /* its penalty stiffness (default 10, as the example heads') */
-    hk_GroomImportDef groom;   /* guides, elements (groom.fit.elements), threads; the
-                                  material comes from the hairstyle */
+    const char *hair;        /* any format hk_hair_read reads */
+    hk_HairFormat format;    /* HK_HAIR_FORMAT_AUTO: from the name, else the content */
+    double scale;            /* the hair's units to metres (default 1) */
+    hk_Axis up;              /* the hair's up axis (default +y) */
+    const char *head;        /* OBJ or PLY (may be NULL: no head, no collider) */
+    double head_scale;       /* default 1 */
+    hk_Axis head_up;         /* default +y */
+    const char *hairstyle;   /* NULL: DIR/hairstyle.txt gets the defaults (40 um radius,
+                                3 GPa, Poisson 0.48, 1300 kg/m^3, 9.81 m/s^2) */
+    const char *dir;         /* made if missing */
+    double collider_volume;  /* the head field's envelope (m; default 0) */
+    double collider_penalty; /* its penalty stiffness (default 10, as the example heads') */
+    hk_GroomImportDef groom; /* guides, elements (groom.fit.elements), threads; the
+                                material comes from the hairstyle */
 } hk_ImportRunDef;
 
 HK_API hk_ImportRunDef hk_default_import_run_def(void);
 
 typedef struct hk_ImportRunReport {
     hk_GroomImportReport groom;
-    long points;               /* of the groom */
+    long points; /* of the groom */
     int head_triangles;
-    int field_size[3];         /* nodes of the head's field */
+    int field_size[3]; /* nodes of the head's field */
     double seconds_read, seconds_field, seconds_write, seconds;
 } hk_ImportRunReport;
 

@@ -25,22 +25,22 @@ typedef enum hk_ShapeKind {
     HK_SHAPE_SPHERE = 0,
     HK_SHAPE_ELLIPSOID = 1,
     HK_SHAPE_CUBOID = 2,
-    HK_SHAPE_FIELD = 3  /* a mesh's signed distance field (a head as a collider) */
+    HK_SHAPE_FIELD = 3 /* a mesh's signed distance field (a head as a collider) */
 } hk_ShapeKind;
 
 typedef struct hk_Shape {
     hk_ShapeKind kind;
-    double volume;   /* envelope thickness v in metres (may be negative, §4.1.2.2) */
-    double penalty;  /* stiffness k >= 0 (J/m^3: energy density per dent^2 per length) */
+    double volume;  /* envelope thickness v in metres (may be negative, §4.1.2.2) */
+    double penalty; /* stiffness k >= 0 (J/m^3: energy density per dent^2 per length) */
     hk_Vec3 centre;
-    hk_Vec3 half;    /* ellipsoid radii / cuboid half-dimensions (a, b, c) along the
-                        axes; for a sphere all three equal the radius; for a field the
-                        half-dimensions of its grid */
-    hk_Vec3 axis[3]; /* orthonormal local axes U, V, W (identity for a sphere) */
-    int styling;     /* 0 (the constructors' value): part of the body, which no strand may
-                        enter (docs/grooming.md); 1: a styling field such as the soft
-                        sphere before the face (thesis Appendix C, coupes 3-4) that only
-                        shapes the guides through its penalty */
+    hk_Vec3 half;                  /* ellipsoid radii / cuboid half-dimensions (a, b, c) along the
+                                      axes; for a sphere all three equal the radius; for a field the
+                                      half-dimensions of its grid */
+    hk_Vec3 axis[3];               /* orthonormal local axes U, V, W (identity for a sphere) */
+    int styling;                   /* 0 (the constructors' value): part of the body, which no strand may
+                                      enter (docs/grooming.md); 1: a styling field such as the soft
+                                      sphere before the face (thesis Appendix C, coupes 3-4) that only
+                                      shapes the guides through its penalty */
     const hk_DistanceField *field; /* HK_SHAPE_FIELD: the field, borrowed (it must outlive
                                       the shape and its copies); NULL for the others */
 } hk_Shape;
@@ -48,10 +48,9 @@ typedef struct hk_Shape {
 /* Shape constructors; axes are normalised. The fields may be edited afterwards (a shape
  * has no derived state). */
 HK_API hk_Shape hk_shape_sphere(hk_Vec3 centre, double radius, double volume, double penalty);
-HK_API hk_Shape hk_shape_ellipsoid(hk_Vec3 centre, hk_Vec3 radii, const hk_Vec3 axes[3],
-                                   double volume, double penalty);
-HK_API hk_Shape hk_shape_cuboid(hk_Vec3 centre, hk_Vec3 half_dims, const hk_Vec3 axes[3],
-                                double volume, double penalty);
+HK_API hk_Shape hk_shape_ellipsoid(hk_Vec3 centre, hk_Vec3 radii, const hk_Vec3 axes[3], double volume, double penalty);
+HK_API hk_Shape hk_shape_cuboid(hk_Vec3 centre, hk_Vec3 half_dims, const hk_Vec3 axes[3], double volume,
+                                double penalty);
 
 /* A mesh as a body shape: dent = -field(p) (the signed distance, negative inside), with
  * the field's grid placed where the mesh was (centre: the grid's centre; axes: the
@@ -64,8 +63,7 @@ HK_API hk_Shape hk_shape_field(const hk_DistanceField *field, double volume, dou
  * with its centre at R c + T and its axes turned by R (the rest unchanged). Body shapes
  * move with the head, world-space strands do not (docs/grooming.md). out[count] may not
  * overlap shapes. */
-HK_API void hk_shapes_posed(const hk_Shape *shapes, int count, const hk_RigidState *head,
-                            hk_Shape *out);
+HK_API void hk_shapes_posed(const hk_Shape *shapes, int count, const hk_RigidState *head, hk_Shape *out);
 
 /* Penetration depth of p as defined by the thesis:
  *   field:     dent = -distance(p) in the field's grid (hk_shape_field)
@@ -84,13 +82,12 @@ HK_API double hk_shape_dent(const hk_Shape *shape, hk_Vec3 p, hk_Vec3 *grad, hk_
  * (callers zero them first). Returns the energy density. Cheap when p is far outside
  * (farther from the centre than the largest radius, or the cuboid's half-diagonal, plus
  * sqrt(3) |extra|). */
-HK_API double hk_shape_penalty(const hk_Shape *shape, double alpha, hk_Vec3 p, hk_Vec3 *grad,
-                               hk_Mat3 *hess);
+HK_API double hk_shape_penalty(const hk_Shape *shape, double alpha, hk_Vec3 p, hk_Vec3 *grad, hk_Mat3 *hess);
 
 /* Sum of hk_shape_penalty over shapes[0..count). grad and hess are overwritten (set
  * to the sum) when not NULL. Returns the summed energy density. */
-HK_API double hk_collision_penalty(const hk_Shape *shapes, int count, double alpha, hk_Vec3 p,
-                                   hk_Vec3 *grad, hk_Mat3 *hess);
+HK_API double hk_collision_penalty(const hk_Shape *shapes, int count, double alpha, hk_Vec3 p, hk_Vec3 *grad,
+                                   hk_Mat3 *hess);
 
 /* Largest dent + extra > 0 over shapes at p (0 when p touches none): how deep a
  * point sits inside the envelopes. Used by tests and reports. */
@@ -99,8 +96,7 @@ HK_API double hk_collision_depth(const hk_Shape *shapes, int count, double alpha
 /* The same, naming the shape: the index of the shape p is deepest inside (dent + extra
  * > 0, the first of equals), or -1 when p touches none; *depth (if not NULL) receives
  * hk_collision_depth's value. */
-HK_API int hk_collision_deepest(const hk_Shape *shapes, int count, double alpha, hk_Vec3 p,
-                                double *depth);
+HK_API int hk_collision_deepest(const hk_Shape *shapes, int count, double alpha, hk_Vec3 p, double *depth);
 
 #ifdef __cplusplus
 }

@@ -38,10 +38,7 @@ typedef struct hk_Error {
 
 /* Fills err (when not NULL) with code and a printf-style message; returns code so
  * that callers can write `return hk_error_set(err, HK_ERR_PARSE, "...")`. */
-#if defined(__GNUC__)
-__attribute__((format(printf, 3, 4)))
-#endif
-HK_API hk_Status hk_error_set(hk_Error *err, hk_Status code, const char *fmt, ...);
+HK_API hk_Status hk_error_set(hk_Error *err, hk_Status code, const char *fmt, ...) HK_PRINTF_LIKE(3, 4);
 
 /* Clears err to HK_OK with an empty message. */
 HK_API void hk_error_clear(hk_Error *err);
@@ -70,7 +67,7 @@ typedef void (*hk_ProgressFn)(void *user, const char *stage, double fraction);
  * HAIRKIT_MEMORY_LIMIT=16G. A budget over HK_MAX_ALLOCATION also raises the limit of
  * a single allocation to it. */
 #define HK_DEFAULT_MEMORY_LIMIT 8e9
-#define HK_MEMORY_LIMIT_ENV "HAIRKIT_MEMORY_LIMIT"
+#define HK_MEMORY_LIMIT_ENV     "HAIRKIT_MEMORY_LIMIT"
 
 /* The budget in bytes into *bytes; HK_ERR_INVALID (and *bytes the default) when
  * HAIRKIT_MEMORY_LIMIT is set to something that is not a size. */

@@ -47,8 +47,7 @@ HK_API double hk_frechet_coupling(const hk_Vec3 *a, int p, const hk_Vec3 *b, int
 /* The coupling divided by max(p, q), the fewest pairs any coupling has: a length in
  * metres, comparable across point counts (d for a curve against a copy of itself moved
  * by d perpendicular to its plane). Minimising it is minimising the coupling. */
-HK_API double hk_frechet_coupling_normalized(const hk_Vec3 *a, int p, const hk_Vec3 *b, int q,
-                                             double *work);
+HK_API double hk_frechet_coupling_normalized(const hk_Vec3 *a, int p, const hk_Vec3 *b, int q, double *work);
 
 /* Minimum over couplings of the LONGEST leash: the discrete Fréchet distance of Eiter &
  * Mannila (1994). Metres. */
@@ -62,8 +61,8 @@ typedef struct hk_FrechetMeasures {
 
 /* All three measures with checked input (counts >= 1, finite points) and its own work
  * memory: for occasional use; inner loops use the functions above with a workspace. */
-HK_API hk_Status hk_frechet_measures(const hk_Vec3 *a, int p, const hk_Vec3 *b, int q,
-                                     hk_FrechetMeasures *out, hk_Error *err);
+HK_API hk_Status hk_frechet_measures(const hk_Vec3 *a, int p, const hk_Vec3 *b, int q, hk_FrechetMeasures *out,
+                                     hk_Error *err);
 
 /* ---- Nelder-Mead (Nelder & Mead 1965) -------------------------------------------- */
 
@@ -88,13 +87,12 @@ HK_API hk_NelderMeadDef hk_default_nelder_mead_def(void);
  * vertex. Deterministic (ties keep the older vertex first). Returns HK_ERR_INVALID for
  * bad arguments and HK_ERR_NUMERIC when f was NaN or +inf everywhere it was tried (x
  * is then left at the start). Never allocates. */
-HK_API hk_Status hk_nelder_mead_minimize(int n, double *x, const double *scale, hk_ObjectiveFn f,
-                                         void *user, const hk_NelderMeadDef *options,
-                                         hk_MinimizeResult *result, hk_Error *err);
+HK_API hk_Status hk_nelder_mead_minimize(int n, double *x, const double *scale, hk_ObjectiveFn f, void *user,
+                                         const hk_NelderMeadDef *options, hk_MinimizeResult *result, hk_Error *err);
 
 /* ---- Levenberg-Marquardt (src/helicoid/least_squares.c) ------------------------------ */
 
-#define HK_LEAST_SQUARES_MAX_PARAMS 32
+#define HK_LEAST_SQUARES_MAX_PARAMS    32
 #define HK_LEAST_SQUARES_MAX_RESIDUALS 1000000
 
 /* Residuals: writes the m values r(x); returns 0, or non-zero where r is undefined (the
@@ -123,10 +121,9 @@ HK_API hk_LeastSquaresDef hk_default_least_squares_def(void);
  * the evaluation limit stopped it).
  * `work` holds HK_LEAST_SQUARES_WORK(n, m) doubles. Deterministic; never allocates.
  * HK_ERR_INVALID for bad arguments, HK_ERR_NUMERIC when r is undefined at the start. */
-HK_API hk_Status hk_least_squares_minimize(int n, int m, double *x, const double *scale,
-                                           hk_ResidualFn f, void *user,
-                                           const hk_LeastSquaresDef *options, double *work,
-                                           hk_MinimizeResult *result, hk_Error *err);
+HK_API hk_Status hk_least_squares_minimize(int n, int m, double *x, const double *scale, hk_ResidualFn f, void *user,
+                                           const hk_LeastSquaresDef *options, double *work, hk_MinimizeResult *result,
+                                           hk_Error *err);
 
 /* ---- curve models ------------------------------------------------------------------- */
 
@@ -147,8 +144,8 @@ typedef struct hk_CurveStart {
  * Returns 0 on success, non-zero when the parameters are unusable (the fit treats that
  * as an infinitely bad fit). Must be deterministic and thread-safe for distinct
  * out_points. */
-typedef int (*hk_CurveModelFn)(void *user, const double *params, const hk_CurveStart *start,
-                               double length, int count, hk_Vec3 *out_points, hk_CurveStart *end);
+typedef int (*hk_CurveModelFn)(void *user, const double *params, const hk_CurveStart *start, double length, int count,
+                               hk_Vec3 *out_points, hk_CurveStart *end);
 
 /* A model: the discrete Frenet helix, params (kappa, tau) in 1/m, traced like the paper
  * traces helicoids (forward Euler, eq. 3): each step moves length / (count - 1) along T,
@@ -157,9 +154,8 @@ typedef int (*hk_CurveModelFn)(void *user, const double *params, const hk_CurveS
  * the start tangent and its first bend lies in the (T, N) plane, so
  * hk_curve_estimate_start recovers the start frame exactly (kappa > 0). user is unused;
  * non-zero only for count < 2. */
-HK_API int hk_curve_model_frenet_helix(void *user, const double *params, const hk_CurveStart *start,
-                                       double length, int count, hk_Vec3 *out_points,
-                                       hk_CurveStart *end);
+HK_API int hk_curve_model_frenet_helix(void *user, const double *params, const hk_CurveStart *start, double length,
+                                       int count, hk_Vec3 *out_points, hk_CurveStart *end);
 
 /* The pose a fit starts from, estimated from a polyline's first points (the paper's
  * "target hair h with estimated Frenet frame Q" [Ros03]): position = points[0]; tangent
@@ -170,14 +166,13 @@ HK_API int hk_curve_model_frenet_helix(void *user, const double *params, const h
  * When every point lies on the first segment's line (straight hair) the normal is the
  * world axis least aligned with the tangent, made orthogonal to it. HK_ERR_INVALID when
  * count < 2, a point is not finite or every point is the same. */
-HK_API hk_Status hk_curve_estimate_start(const hk_Vec3 *points, int count, hk_CurveStart *out,
-                                         hk_Error *err);
+HK_API hk_Status hk_curve_estimate_start(const hk_Vec3 *points, int count, hk_CurveStart *out, hk_Error *err);
 
 /* Resamples a polyline to `samples` (>= 2) points spaced uniformly by arc length along
  * it (first and last points kept exactly); *length (may be NULL) gets its length.
  * HK_ERR_INVALID for count < 2, non-finite points or zero length. */
-HK_API hk_Status hk_curve_resample(const hk_Vec3 *points, int count, int samples, hk_Vec3 *out,
-                                   double *length, hk_Error *err);
+HK_API hk_Status hk_curve_resample(const hk_Vec3 *points, int count, int samples, hk_Vec3 *out, double *length,
+                                   hk_Error *err);
 
 /* The same, uniformly by the arc length of the smooth curve the points sample: each
  * chord lengthened to the arc of the circle turning by the polyline's turning angles
@@ -186,8 +181,8 @@ HK_API hk_Status hk_curve_resample(const hk_Vec3 *points, int count, int samples
  * traced at spacing s to chord-length samples leaves that much error per segment
  * (30 microns over a 10 cm curl of 3 cm radius at 3.4 mm spacing). *length gets the
  * estimated arc length. */
-HK_API hk_Status hk_curve_resample_arc(const hk_Vec3 *points, int count, int samples, hk_Vec3 *out,
-                                       double *length, hk_Error *err);
+HK_API hk_Status hk_curve_resample_arc(const hk_Vec3 *points, int count, int samples, hk_Vec3 *out, double *length,
+                                       hk_Error *err);
 
 /* ---- fitting (§5.2, §5.3) ------------------------------------------------------------ */
 
@@ -208,43 +203,43 @@ typedef enum hk_CurveFitMethod {
 
 typedef struct hk_CurveFitDef {
     hk_CurveFitMethod method;
-    double lambda;              /* eq. (5) regularisation (m per unit of |params|), >= 0;
-                                   least squares adds (lambda |params|)^2 to the mean
-                                   squared distance */
+    double lambda;                                 /* eq. (5) regularisation (m per unit of |params|), >= 0;
+                                                      least squares adds (lambda |params|)^2 to the mean
+                                                      squared distance */
     double penalty_weight[HK_CURVEFIT_MAX_PARAMS]; /* the regularisation's |k| is |W k|, W =
-                                   diag(penalty_weight), 0 meaning 1: parameters of other
-                                   units or meaning can be weighed (helicoid_fit.c) */
-    double tolerance;           /* accept a fit when its normalised coupling <= this (m) */
-    double split_threshold;     /* §5.3 Fréchet threshold in (0, 1]: 0.6 in the paper */
-    double min_fragment_length; /* shortest piece the splitting creates (m), >= 0 */
-    int max_pieces;             /* 1..HK_CURVEFIT_MAX_PIECES; 1 = single fit (§5.2) */
-    int fixed_pieces;           /* 0: split where the target needs it (§5.3); P >= 1: P pieces
-                                   of equal length (sample counts differing by at most one),
-                                   the same layout for every strand, so that fits of
-                                   neighbouring strands can be blended piece by piece (§5.4);
-                                   a target too short for P minimal fragments gets as many as
-                                   it holds (at least one): see fit.piece_count */
-    double piece_length;        /* > 0 (instead of fixed_pieces): a layout by arc length from
-                                   the root, the same stretch of hair for piece j on strands
-                                   of any length: the first piece root_piece_length long (0:
-                                   piece_length), the next ones piece_length, the last one
-                                   what is left (m) */
+                                                      diag(penalty_weight), 0 meaning 1: parameters of other
+                                                      units or meaning can be weighed (helicoid_fit.c) */
+    double tolerance;                              /* accept a fit when its normalised coupling <= this (m) */
+    double split_threshold;                        /* §5.3 Fréchet threshold in (0, 1]: 0.6 in the paper */
+    double min_fragment_length;                    /* shortest piece the splitting creates (m), >= 0 */
+    int max_pieces;                                /* 1..HK_CURVEFIT_MAX_PIECES; 1 = single fit (§5.2) */
+    int fixed_pieces;                              /* 0: split where the target needs it (§5.3); P >= 1: P pieces
+                                                      of equal length (sample counts differing by at most one),
+                                                      the same layout for every strand, so that fits of
+                                                      neighbouring strands can be blended piece by piece (§5.4);
+                                                      a target too short for P minimal fragments gets as many as
+                                                      it holds (at least one): see fit.piece_count */
+    double piece_length;                           /* > 0 (instead of fixed_pieces): a layout by arc length from
+                                                      the root, the same stretch of hair for piece j on strands
+                                                      of any length: the first piece root_piece_length long (0:
+                                                      piece_length), the next ones piece_length, the last one
+                                                      what is left (m) */
     double root_piece_length;
-    int max_evaluations;        /* per minimiser run (>= param_count + 1; a fit makes
-                                   a few runs, see fit.evaluations for the total) */
-    int samples;                /* points the target is resampled to; 0 = its own count */
-    int arc_length;             /* 0: the model places its points at polyline spacing (forward
-                                   Euler traces, like the paper's eq. 3): resample the target
-                                   by polyline length; 1: at arc-length spacing on a smooth
-                                   curve (RK4, closed forms): resample by estimated arc length
-                                   (hk_curve_resample_arc) */
-    int restarts;               /* Nelder-Mead restarts from a converged simplex that
-                                   still misses the tolerance (0..100) */
-    double param_tolerance;     /* NM stop: simplex size relative to `scale` (least
-                                   squares: a step of 1e-3 times this) */
-    double cost_tolerance;      /* NM stop: spread of the objective (m) */
-    int use_start;              /* non-zero: start from `start` instead of estimating it */
-    hk_CurveStart start;        /* the root pose when use_start is set */
+    int max_evaluations;    /* per minimiser run (>= param_count + 1; a fit makes
+                               a few runs, see fit.evaluations for the total) */
+    int samples;            /* points the target is resampled to; 0 = its own count */
+    int arc_length;         /* 0: the model places its points at polyline spacing (forward
+                               Euler traces, like the paper's eq. 3): resample the target
+                               by polyline length; 1: at arc-length spacing on a smooth
+                               curve (RK4, closed forms): resample by estimated arc length
+                               (hk_curve_resample_arc) */
+    int restarts;           /* Nelder-Mead restarts from a converged simplex that
+                               still misses the tolerance (0..100) */
+    double param_tolerance; /* NM stop: simplex size relative to `scale` (least
+                               squares: a step of 1e-3 times this) */
+    double cost_tolerance;  /* NM stop: spread of the objective (m) */
+    int use_start;          /* non-zero: start from `start` instead of estimating it */
+    hk_CurveStart start;    /* the root pose when use_start is set */
     /* NULL, or the model's rule for its frame at the root: given the start pose (the
      * estimated Frenet frame, or `start`) and the first piece's parameters, turn it
      * into the frame the model is traced from (a helicoid's Frenet normal is rolled
@@ -255,12 +250,11 @@ typedef struct hk_CurveFitDef {
      * count >= 3, at the fit's spacing) and the pose it starts from (for a root piece
      * the estimated pose, before root_frame): tried as a starting point beside `seed`
      * and the fits of overlapping ranges. */
-    void (*fragment_seed)(void *user, const hk_Vec3 *points, int count, const hk_CurveStart *start,
-                          double *params);
-    int refine_start;           /* 1: a first piece that misses the tolerance in the root
-                                   frame is refitted with a rotation of that frame (3 more
-                                   Nelder-Mead parameters), for noisy captures whose first
-                                   points give a poor frame; 0: keep the frame as it is */
+    void (*fragment_seed)(void *user, const hk_Vec3 *points, int count, const hk_CurveStart *start, double *params);
+    int refine_start; /* 1: a first piece that misses the tolerance in the root
+                         frame is refitted with a rotation of that frame (3 more
+                         Nelder-Mead parameters), for noisy captures whose first
+                         points give a poor frame; 0: keep the frame as it is */
 } hk_CurveFitDef;
 
 /* lambda 1e-7 m, tolerance 0.2 mm, split_threshold 0.6, min_fragment_length 5 mm,
@@ -271,11 +265,11 @@ HK_API hk_CurveFitDef hk_default_curve_fit_def(void);
 typedef struct hk_CurveFit {
     int piece_count;
     int param_count;
-    int sample_count;                    /* points of the resampled target */
-    double sample_spacing;               /* their spacing (m) */
-    hk_CurveStart start;                 /* the pose the first piece starts from: the
-                                            estimated (or given) root pose, turned when
-                                            refine_start refined it */
+    int sample_count;      /* points of the resampled target */
+    double sample_spacing; /* their spacing (m) */
+    hk_CurveStart start;   /* the pose the first piece starts from: the
+                              estimated (or given) root pose, turned when
+                              refine_start refined it */
     double params[HK_CURVEFIT_MAX_PIECES][HK_CURVEFIT_MAX_PARAMS];
     double length[HK_CURVEFIT_MAX_PIECES];        /* arc length of each piece (m) */
     int first_sample[HK_CURVEFIT_MAX_PIECES];     /* index of a piece's first sample; the
@@ -308,22 +302,20 @@ HK_API void hk_curve_fit_workspace_destroy(hk_CurveFitWorkspace *ws);
  * `seed` and `scale` have param_count (0..HK_CURVEFIT_MAX_PARAMS) entries; scale gives
  * the initial simplex steps (finite, non-zero); opt NULL means the defaults. Errors: HK_ERR_INVALID for bad input,
  * HK_ERR_NUMERIC when the model fails for every parameter vector tried. */
-HK_API hk_Status hk_curve_fit_piecewise_ws(hk_CurveFitWorkspace *ws, const hk_Vec3 *target,
-                                           int count, hk_CurveModelFn model, void *user,
-                                           int param_count, const double *seed, const double *scale,
-                                           const hk_CurveFitDef *opt, hk_CurveFit *out,
+HK_API hk_Status hk_curve_fit_piecewise_ws(hk_CurveFitWorkspace *ws, const hk_Vec3 *target, int count,
+                                           hk_CurveModelFn model, void *user, int param_count, const double *seed,
+                                           const double *scale, const hk_CurveFitDef *opt, hk_CurveFit *out,
                                            hk_Error *err);
 
 /* The same with a workspace of its own (one allocation per call). */
-HK_API hk_Status hk_curve_fit_piecewise(const hk_Vec3 *target, int count, hk_CurveModelFn model,
-                                        void *user, int param_count, const double *seed,
-                                        const double *scale, const hk_CurveFitDef *opt,
-                                        hk_CurveFit *out, hk_Error *err);
+HK_API hk_Status hk_curve_fit_piecewise(const hk_Vec3 *target, int count, hk_CurveModelFn model, void *user,
+                                        int param_count, const double *seed, const double *scale,
+                                        const hk_CurveFitDef *opt, hk_CurveFit *out, hk_Error *err);
 
 /* Traces a fit's chained pieces at its sample spacing into out (fit->sample_count
  * points). HK_ERR_INVALID for a malformed fit, HK_ERR_NUMERIC when the model fails. */
-HK_API hk_Status hk_curve_fit_trace(const hk_CurveFit *fit, hk_CurveModelFn model, void *user,
-                                    hk_Vec3 *out, hk_Error *err);
+HK_API hk_Status hk_curve_fit_trace(const hk_CurveFit *fit, hk_CurveModelFn model, void *user, hk_Vec3 *out,
+                                    hk_Error *err);
 
 #ifdef __cplusplus
 }

@@ -69,48 +69,48 @@ typedef enum hk_DynamicsIntegrator {
 } hk_DynamicsIntegrator;
 
 typedef struct hk_DynamicsDef {
-    double internal_friction;  /* gamma (kg m^3/s), paper 000 eq. 5d: visco-elastic
-                                  dissipation of the curvatures, paper: 5e-11 .. 5e-10 */
-    double air_drag;           /* nu (kg/(m s)), paper 000 eq. 5a: viscous drag of the air
-                                  at rest, paper: 5e-6 (disciplined) .. 5e-5 (fuzzy hair) */
-    double friction_with;      /* body friction coefficient for the hair sliding with its
-                                  scales (root first relative to the body) */
-    double friction_against;   /* ... against them (tip first); paper 000 §4.2 blends the
-                                  two with the cosine of the sliding angle */
-    double friction_velocity;  /* sliding speed (m/s) below which friction is viscous,
-                                  proportional to the speed (paper 000 §4.2); Coulomb above */
-    int quadrature;            /* Gauss points per element; 0 chooses from the curvature */
-    double max_turn;           /* hk_strand_dynamics_advance: largest turn of an element's
-                                  frame in one step (rad) before the step is split */
-    double max_travel;         /* ... or moves a node by more than this (m) relative to
-                                  the head: contacts are found at the start of a step */
-    double max_entry;          /* ... or, with the linearly implicit Euler step (whose
-                                  contacts are those of the step's start), lets a
-                                  collision sample that felt no body shape at the start
-                                  end more than this (m) inside one */
-    int max_depth;             /* ... splits at most this deep (dt / 2^max_depth) */
+    double internal_friction; /* gamma (kg m^3/s), paper 000 eq. 5d: visco-elastic
+                                 dissipation of the curvatures, paper: 5e-11 .. 5e-10 */
+    double air_drag;          /* nu (kg/(m s)), paper 000 eq. 5a: viscous drag of the air
+                                 at rest, paper: 5e-6 (disciplined) .. 5e-5 (fuzzy hair) */
+    double friction_with;     /* body friction coefficient for the hair sliding with its
+                                 scales (root first relative to the body) */
+    double friction_against;  /* ... against them (tip first); paper 000 §4.2 blends the
+                                 two with the cosine of the sliding angle */
+    double friction_velocity; /* sliding speed (m/s) below which friction is viscous,
+                                 proportional to the speed (paper 000 §4.2); Coulomb above */
+    int quadrature;           /* Gauss points per element; 0 chooses from the curvature */
+    double max_turn;          /* hk_strand_dynamics_advance: largest turn of an element's
+                                 frame in one step (rad) before the step is split */
+    double max_travel;        /* ... or moves a node by more than this (m) relative to
+                                 the head: contacts are found at the start of a step */
+    double max_entry;         /* ... or, with the linearly implicit Euler step (whose
+                                 contacts are those of the step's start), lets a
+                                 collision sample that felt no body shape at the start
+                                 end more than this (m) inside one */
+    int max_depth;            /* ... splits at most this deep (dt / 2^max_depth) */
     hk_DynamicsSolver solver;
     hk_DynamicsStiffness stiffness; /* HK_STIFFNESS_FULL needs HK_DYNAMICS_DENSE */
-    int hessian_interval;      /* HK_STIFFNESS_FULL: the Hessian and its positive part are
-                                  refreshed every this many evaluations (default 4), the
-                                  gradient every time */
-    double newton_tolerance;   /* a stage has converged when Newton's last correction
-                                  turns no element's frame by more than this (rad) */
-    int newton_iterations;     /* most Newton iterations of a stage before the step
-                                  counts as failed (and is split by advance) */
+    int hessian_interval;           /* HK_STIFFNESS_FULL: the Hessian and its positive part are
+                                       refreshed every this many evaluations (default 4), the
+                                       gradient every time */
+    double newton_tolerance;        /* a stage has converged when Newton's last correction
+                                       turns no element's frame by more than this (rad) */
+    int newton_iterations;          /* most Newton iterations of a stage before the step
+                                       counts as failed (and is split by advance) */
     hk_DynamicsIntegrator integrator;
 } hk_DynamicsDef;
 
 /* What the steps of a strand have cost since its creation. */
 typedef struct hk_DynamicsStats {
-    long steps;       /* steps taken (TR-BDF2, two stages each) */
-    long iterations;  /* Newton iterations (force evaluations and solves) */
-    long splits;      /* steps split in two by hk_strand_dynamics_advance */
-    long failures;    /* steps that did not converge (then split) */
+    long steps;        /* steps taken (TR-BDF2, two stages each) */
+    long iterations;   /* Newton iterations (force evaluations and solves) */
+    long splits;       /* steps split in two by hk_strand_dynamics_advance */
+    long failures;     /* steps that did not converge (then split) */
     long dense_stages; /* stages the O(N) solver's matrix did not converge, solved again
                           with the dense matrix and the potential's Hessian */
-    long projections; /* steps on a still head whose energy excess was taken from the
-                         kinetic energy (the energy guard, docs/dynamics.md) */
+    long projections;  /* steps on a still head whose energy excess was taken from the
+                          kinetic energy (the energy guard, docs/dynamics.md) */
 } hk_DynamicsStats;
 
 /* Paper-range defaults: gamma 1e-10, nu 1e-5, friction 0.2 / 0.4, 5 cm/s, auto
@@ -134,9 +134,8 @@ typedef struct hk_StrandDynamics hk_StrandDynamics;
  * creation are taken as head-space: every step places them with the head's motion.
  * body (may be NULL) holds the collision shapes, also in head space; it is copied. The
  * velocity starts at zero. */
-HK_API hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsDef *params,
-                                           const hk_StrandEnvDef *body, hk_StrandDynamics **out,
-                                           hk_Error *err);
+HK_API hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsDef *params, const hk_StrandEnvDef *body,
+                                           hk_StrandDynamics **out, hk_Error *err);
 HK_API void hk_strand_dynamics_destroy(hk_StrandDynamics *d);
 
 /* Generalized velocities q' (3N values), readable and writable. */
@@ -152,9 +151,8 @@ HK_API void hk_strand_dynamics_place(hk_StrandDynamics *d, const hk_RigidState *
  * s, e.g. hair-hair contacts, following their linearisation through the step. Fails
  * (HK_ERR_NUMERIC, state unchanged) if Newton's iteration does not converge or the new
  * state is not finite. */
-HK_API hk_Status hk_strand_dynamics_step(hk_StrandDynamics *d, const hk_RigidState *head,
-                                         const hk_PointForce *forces, int force_count, double dt,
-                                         hk_Error *err);
+HK_API hk_Status hk_strand_dynamics_step(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces,
+                                         int force_count, double dt, hk_Error *err);
 
 /* The head's state at time t, for hk_strand_dynamics_advance (user: caller data). */
 typedef void (*hk_HeadStateFn)(void *user, double t, hk_RigidState *out);
@@ -167,20 +165,19 @@ typedef void (*hk_HeadStateFn)(void *user, double t, hk_RigidState *out);
  * recursively, down to dt / 2^max_depth. head (NULL: at rest) gives the head's state at
  * any time; the point forces are held over the whole interval. *substeps (may be NULL)
  * receives the number of steps taken. */
-HK_API hk_Status hk_strand_dynamics_advance(hk_StrandDynamics *d, hk_HeadStateFn head, void *user,
-                                            double t, double dt, const hk_PointForce *forces,
-                                            int force_count, int *substeps, hk_Error *err);
+HK_API hk_Status hk_strand_dynamics_advance(hk_StrandDynamics *d, hk_HeadStateFn head, void *user, double t, double dt,
+                                            const hk_PointForce *forces, int force_count, int *substeps, hk_Error *err);
 
 /* Energies at the current state with the head state head (NULL: at rest): kinetic
  * (centreline and rotary, absolute velocities) and potential (elastic + gravity, the
  * statics energy without contacts). Either pointer may be NULL. */
-HK_API void hk_strand_dynamics_energy(hk_StrandDynamics *d, const hk_RigidState *head,
-                                      double *kinetic, double *potential);
+HK_API void hk_strand_dynamics_energy(hk_StrandDynamics *d, const hk_RigidState *head, double *kinetic,
+                                      double *potential);
 
 /* Positions and world velocities at the arc lengths s[0..count) (sorted), for contact
  * detection and output. vel may be NULL. head as above. */
-HK_API void hk_strand_dynamics_points(hk_StrandDynamics *d, const hk_RigidState *head,
-                                      const double *s, int count, hk_Vec3 *pos, hk_Vec3 *vel);
+HK_API void hk_strand_dynamics_points(hk_StrandDynamics *d, const hk_RigidState *head, const double *s, int count,
+                                      hk_Vec3 *pos, hk_Vec3 *vel);
 
 /* Number of body contact samples that touched a shape during the last step. */
 HK_API int hk_strand_dynamics_contact_count(const hk_StrandDynamics *d);

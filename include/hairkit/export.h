@@ -12,4 +12,13 @@
 #define HK_API
 #endif
 
+/* printf-style format checking of a function's arguments (format string argument fmt,
+ * first variadic argument first), placed after the declarator so that the declaration
+ * stays on one line (tests/install checks HK_API declarations line by line). */
+#if defined(__GNUC__)
+#define HK_PRINTF_LIKE(fmt, first) __attribute__((format(printf, fmt, first)))
+#else
+#define HK_PRINTF_LIKE(fmt, first)
+#endif
+
 #endif /* HAIRKIT_EXPORT_H */

@@ -41,8 +41,7 @@ typedef struct hk_ImplicitSurface hk_ImplicitSurface;
  * not zero). Errors: no or too many points, NaN/Inf, a zero normal, coincident
  * constraints, all constraints in one plane, a singular system. def may be NULL. */
 HK_API hk_Status hk_implicit_surface_fit(const hk_Vec3 *points, const hk_Vec3 *normals, int count,
-                                         const hk_ImplicitFitDef *def, hk_ImplicitSurface **out,
-                                         hk_Error *err);
+                                         const hk_ImplicitFitDef *def, hk_ImplicitSurface **out, hk_Error *err);
 HK_API void hk_implicit_surface_destroy(hk_ImplicitSurface *s);
 
 /* f(x); when grad is not NULL also the analytic gradient. Thread-safe. */
@@ -70,8 +69,8 @@ HK_API hk_ImplicitFunction hk_implicit_surface_function(const hk_ImplicitSurface
  * 50 steps, each shortened to `max_step` when that is > 0). Writes the point and the
  * unit normal grad f / |grad f| there. Returns 1 on success, 0 when grad f vanishes,
  * a value is not finite or the iteration does not converge. */
-HK_API int hk_implicit_project(hk_ImplicitFunction fn, hk_Vec3 x, double tol, double max_step,
-                               hk_Vec3 *out_point, hk_Vec3 *out_normal);
+HK_API int hk_implicit_project(hk_ImplicitFunction fn, hk_Vec3 x, double tol, double max_step, hk_Vec3 *out_point,
+                               hk_Vec3 *out_normal);
 
 /* Hard limit on the particles of one sampling (free + fixed). */
 #define HK_SAMPLING_MAX_PARTICLES 1000000
@@ -80,17 +79,17 @@ HK_API int hk_implicit_project(hk_ImplicitFunction fn, hk_Vec3 x, double tol, do
 typedef int (*hk_InsideFn)(void *user, hk_Vec3 x);
 
 typedef struct hk_FollicleSamplingDef {
-    double spacing;        /* target distance between neighbouring follicles (m), > 0 */
-    int max_particles;     /* cap on the free particles (fission stops there) */
-    int max_iterations;    /* all iterations, population control then relaxation */
-    int relax_iterations;  /* last iterations with the population frozen */
-    uint64_t seed;         /* same seed -> same follicles, byte for byte, any thread count */
-    const hk_Vec3 *fixed;  /* fixed particles (e.g. the scalp contour): they repel the others and
-                              never move; they are not returned. May be NULL when fixed_count = 0 */
+    double spacing;       /* target distance between neighbouring follicles (m), > 0 */
+    int max_particles;    /* cap on the free particles (fission stops there) */
+    int max_iterations;   /* all iterations, population control then relaxation */
+    int relax_iterations; /* last iterations with the population frozen */
+    uint64_t seed;        /* same seed -> same follicles, byte for byte, any thread count */
+    const hk_Vec3 *fixed; /* fixed particles (e.g. the scalp contour): they repel the others and
+                             never move; they are not returned. May be NULL when fixed_count = 0 */
     int fixed_count;
-    hk_InsideFn inside;    /* NULL: hair grows everywhere on the surface */
+    hk_InsideFn inside; /* NULL: hair grows everywhere on the surface */
     void *inside_user;
-    int threads;           /* OpenMP threads; <= 0: the OpenMP default */
+    int threads;            /* OpenMP threads; <= 0: the OpenMP default */
     hk_ProgressFn progress; /* may be NULL: stage "follicles", fraction of the iterations */
     void *progress_user;
 } hk_FollicleSamplingDef;
@@ -101,9 +100,9 @@ HK_API hk_FollicleSamplingDef hk_default_follicle_sampling_def(void);
 
 typedef struct hk_FollicleSamples {
     int count;
-    hk_Vec3 *points;  /* count, on f = 0 within 1e-6 spacing (1e-9 where rounding allows) */
-    hk_Vec3 *normals; /* count, grad f / |grad f| */
-    int iterations;   /* iterations run */
+    hk_Vec3 *points;    /* count, on f = 0 within 1e-6 spacing (1e-9 where rounding allows) */
+    hk_Vec3 *normals;   /* count, grad f / |grad f| */
+    int iterations;     /* iterations run */
     int births, deaths; /* fissions and deaths over the run */
 } hk_FollicleSamples;
 
@@ -111,8 +110,7 @@ typedef struct hk_FollicleSamples {
  * outside the mask are dropped, at least one must remain). Errors: no seeds, NaN,
  * spacing <= 0, counts out of range, a seed that cannot be projected. */
 HK_API hk_Status hk_sample_follicles(hk_ImplicitFunction fn, const hk_Vec3 *seeds, int seed_count,
-                                     const hk_FollicleSamplingDef *def, hk_FollicleSamples *out,
-                                     hk_Error *err);
+                                     const hk_FollicleSamplingDef *def, hk_FollicleSamples *out, hk_Error *err);
 HK_API void hk_follicle_samples_free(hk_FollicleSamples *s);
 
 /* ---- on a head: the wick region ---------------------------------------------------
@@ -125,9 +123,9 @@ HK_API void hk_follicle_samples_free(hk_FollicleSamples *s);
  * free follicles followed by the contour ones (both on the surface, with its
  * normals): roots for interpolated hair. */
 typedef struct hk_WickSamplingDef {
-    double spacing;     /* follicle spacing (m), > 0 */
-    double fit_spacing; /* thinning of the fitted points (m); <= 0: 1 cm */
-    double margin;      /* head vertices closer than this to the wick are fitted too (m); < 0: 2 cm */
+    double spacing;      /* follicle spacing (m), > 0 */
+    double fit_spacing;  /* thinning of the fitted points (m); <= 0: 1 cm */
+    double margin;       /* head vertices closer than this to the wick are fitted too (m); < 0: 2 cm */
     int include_contour; /* 1: append the contour particles to the follicles */
     int max_particles, max_iterations, relax_iterations;
     uint64_t seed;
@@ -139,9 +137,8 @@ typedef struct hk_WickSamplingDef {
 HK_API hk_WickSamplingDef hk_default_wick_sampling_def(void);
 
 /* head may be NULL (then only the wick's vertices are fitted). */
-HK_API hk_Status hk_wick_follicles(const hk_Mesh *head, const hk_Mesh *wick,
-                                   const hk_WickSamplingDef *def, hk_FollicleSamples *out,
-                                   hk_Error *err);
+HK_API hk_Status hk_wick_follicles(const hk_Mesh *head, const hk_Mesh *wick, const hk_WickSamplingDef *def,
+                                   hk_FollicleSamples *out, hk_Error *err);
 
 #ifdef __cplusplus
 }

@@ -45,28 +45,28 @@ typedef struct hk_StrandSamples {
 } hk_StrandSamples;
 
 typedef struct hk_HairContactDef {
-    double distance;       /* contact distance d0 (m) > 0: the guides stand for clumps of hair of
-                              this diameter; pairs are tracked while closer than 2 d0 */
-    double stiffness;      /* normal penalty stiffness k (N/m) >= 0 on the overlap (d0 - d) */
-    double damping;        /* normal dissipation c_n (N s/m) >= 0 on the normal relative speed */
-    double friction;       /* tangential viscous friction c_t (N s/m) >= 0 on the sliding velocity */
+    double distance;             /* contact distance d0 (m) > 0: the guides stand for clumps of hair of
+                                    this diameter; pairs are tracked while closer than 2 d0 */
+    double stiffness;            /* normal penalty stiffness k (N/m) >= 0 on the overlap (d0 - d) */
+    double damping;              /* normal dissipation c_n (N s/m) >= 0 on the normal relative speed */
+    double friction;             /* tangential viscous friction c_t (N s/m) >= 0 on the sliding velocity */
     double friction_coefficient; /* Coulomb's mu >= 0 of the full head's coupled solve
-                              (hk_hair_sim, docs/dynamics.md "Static friction"): touching
-                              guides stick while the tangential impulse stays within mu
-                              times the normal one; 0 gives the viscous friction above.
-                              hk_hair_contacts_forces does not use it */
-    double root_exclusion; /* no contacts on a strand closer than this arc length to its
-                              root (m) >= 0: neighbouring roots sit close on the scalp */
-    int rescan_interval;   /* >= 1: full broad-phase search every this many updates; pairs are
-                              only tracked in between */
-    int along;             /* 0: a pair per local minimum of the distance (a crossing, or
-                              the closest point of strands side by side); 1: a pair per
-                              segment of the lower-numbered strand and neighbouring strand,
-                              at their closest points, so that strands side by side are held
-                              along their length instead of at one point that jumps along
-                              them from update to update; every update then rescans */
-    int threads;           /* OpenMP threads of the updates and forces; <= 0: the OpenMP
-                              default (the results do not depend on it) */
+                                    (hk_hair_sim, docs/dynamics.md "Static friction"): touching
+                                    guides stick while the tangential impulse stays within mu
+                                    times the normal one; 0 gives the viscous friction above.
+                                    hk_hair_contacts_forces does not use it */
+    double root_exclusion;       /* no contacts on a strand closer than this arc length to its
+                                    root (m) >= 0: neighbouring roots sit close on the scalp */
+    int rescan_interval;         /* >= 1: full broad-phase search every this many updates; pairs are
+                                    only tracked in between */
+    int along;                   /* 0: a pair per local minimum of the distance (a crossing, or
+                                    the closest point of strands side by side); 1: a pair per
+                                    segment of the lower-numbered strand and neighbouring strand,
+                                    at their closest points, so that strands side by side are held
+                                    along their length instead of at one point that jumps along
+                                    them from update to update; every update then rescans */
+    int threads;                 /* OpenMP threads of the updates and forces; <= 0: the OpenMP
+                                    default (the results do not depend on it) */
 } hk_HairContactDef;
 
 /* Defaults for the guides of a human head (20 cm guides with one hair's mass per
@@ -93,8 +93,8 @@ typedef struct hk_HairContactPair {
 typedef struct hk_HairContacts hk_HairContacts;
 
 /* Contacts between strand_count >= 1 guides. Fails on out-of-range parameters. */
-HK_API hk_Status hk_hair_contacts_create(int strand_count, const hk_HairContactDef *p,
-                                         hk_HairContacts **out, hk_Error *err);
+HK_API hk_Status hk_hair_contacts_create(int strand_count, const hk_HairContactDef *p, hk_HairContacts **out,
+                                         hk_Error *err);
 HK_API void hk_hair_contacts_destroy(hk_HairContacts *c);
 
 /* Detection then forces for the strands at the current time (strand_count must be the
@@ -114,8 +114,8 @@ HK_API void hk_hair_contacts_destroy(hk_HairContacts *c);
  * On an error (bad counts, NaN, ...) there are no forces until the next successful
  * update (pairs report force = -1) and the tracked pairs are kept. Results are the
  * same bytes whatever the number of OpenMP threads. */
-HK_API hk_Status hk_hair_contacts_update(hk_HairContacts *c, const hk_StrandSamples *strands,
-                                         int strand_count, hk_Error *err);
+HK_API hk_Status hk_hair_contacts_update(hk_HairContacts *c, const hk_StrandSamples *strands, int strand_count,
+                                         hk_Error *err);
 
 /* Makes the next update run the broad phase (after a jump of the head, a reset, ...). */
 HK_API void hk_hair_contacts_request_rescan(hk_HairContacts *c);
@@ -129,8 +129,7 @@ HK_API int hk_hair_contacts_pair(const hk_HairContacts *c, int index, hk_HairCon
 
 /* Forces on strand `strand` (sorted by s, ties in pair order), valid until the next
  * update; NULL with *count = 0 when there are none or the strand is out of range. */
-HK_API const hk_PointForce *hk_hair_contacts_forces(const hk_HairContacts *c, int strand,
-                                                    int *count);
+HK_API const hk_PointForce *hk_hair_contacts_forces(const hk_HairContacts *c, int strand, int *count);
 
 #ifdef __cplusplus
 }

@@ -74,8 +74,7 @@ HK_API hk_HairWriteDef hk_hair_write_defaults(void);
 
 /* Writes the strands of `hair` (segments or default segments, points; colours to PLY,
  * thickness to USD widths). def NULL: the defaults. */
-HK_API hk_Status hk_hair_write(const char *path, const hk_HairFile *hair, const hk_HairWriteDef *def,
-                               hk_Error *err);
+HK_API hk_Status hk_hair_write(const char *path, const hk_HairFile *hair, const hk_HairWriteDef *def, hk_Error *err);
 
 /* ---- one format each (what hk_hair_read and hk_hair_write call) ---- */
 HK_API hk_Status hk_tfx_load(const char *path, hk_HairFile *hair, hk_Error *err);
@@ -88,8 +87,7 @@ HK_API hk_Status hk_ply_hair_save(const char *path, const hk_HairFile *hair, int
 HK_API hk_Status hk_obj_hair_load(const char *path, hk_HairFile *hair, hk_Error *err);
 HK_API hk_Status hk_obj_hair_save(const char *path, const hk_HairFile *hair, hk_Error *err);
 HK_API hk_Status hk_usda_hair_load(const char *path, hk_HairFile *hair, hk_Error *err);
-HK_API hk_Status hk_usda_hair_save(const char *path, const hk_HairFile *hair, double meters_per_unit,
-                                   hk_Error *err);
+HK_API hk_Status hk_usda_hair_save(const char *path, const hk_HairFile *hair, double meters_per_unit, hk_Error *err);
 
 /* ---- transforms ---- */
 

@@ -19,12 +19,12 @@
 extern "C" {
 #endif
 
-#define HK_HAIR_SEGMENTS 0x1u
-#define HK_HAIR_POINTS 0x2u
-#define HK_HAIR_THICKNESS 0x4u
+#define HK_HAIR_SEGMENTS     0x1u
+#define HK_HAIR_POINTS       0x2u
+#define HK_HAIR_THICKNESS    0x4u
 #define HK_HAIR_TRANSPARENCY 0x8u
-#define HK_HAIR_COLORS 0x10u
-#define HK_HAIR_INFO_SIZE 88
+#define HK_HAIR_COLORS       0x10u
+#define HK_HAIR_INFO_SIZE    88
 
 typedef struct hk_HairFile {
     uint32_t strand_count;
@@ -53,8 +53,8 @@ HK_API hk_Status hk_hair_save(const char *path, const hk_HairFile *hair, hk_Erro
 
 /* Allocates a file for strands of the given point counts (flags: segments and
  * points; other arrays absent). */
-HK_API hk_Status hk_hair_alloc(hk_HairFile *hair, uint32_t strand_count,
-                               const uint32_t *points_per_strand, hk_Error *err);
+HK_API hk_Status hk_hair_alloc(hk_HairFile *hair, uint32_t strand_count, const uint32_t *points_per_strand,
+                               hk_Error *err);
 
 /* Fills first_point from segments / default_segments; checks the total. */
 HK_API hk_Status hk_hair_index(hk_HairFile *hair, hk_Error *err);

@@ -46,9 +46,9 @@ typedef struct hk_Helicoid {
 typedef struct hk_PHelicoid {
     hk_Vec3 root;
     hk_Mat3 frame;
-    int piece_count;                        /* 1..HK_HELICOID_MAX_PIECES */
-    hk_Helicoid k[HK_HELICOID_MAX_PIECES];  /* finite */
-    double length[HK_HELICOID_MAX_PIECES];  /* finite, > 0 */
+    int piece_count;                       /* 1..HK_HELICOID_MAX_PIECES */
+    hk_Helicoid k[HK_HELICOID_MAX_PIECES]; /* finite */
+    double length[HK_HELICOID_MAX_PIECES]; /* finite, > 0 */
 } hk_PHelicoid;
 
 /* Waviness of eq. 4: the traced point p(s) is offset by a cos(b s + c) E_B(s) + a sin(b s + c)
@@ -65,8 +65,7 @@ typedef struct hk_Waviness {
  * theta_prev among the 2 pi-spaced ones, so that calling it along a path with theta_prev the
  * previous value (0 at a strand's root) counts the cycles (§3) and keeps phi = alpha theta
  * continuous. theta or phi may be NULL. A NULL k gives NaN. */
-HK_API void hk_helicoid_angles(const hk_Helicoid *k, hk_Vec3 x, double theta_prev, double *theta,
-                               double *phi);
+HK_API void hk_helicoid_angles(const hk_Helicoid *k, hk_Vec3 x, double theta_prev, double *theta, double *phi);
 
 /* The frame of eq. 2 for the angles theta, phi, as the columns of a rotation:
  *     E_T = (cos phi cos theta, cos phi sin theta, sin phi),  E_N = (-sin theta, cos theta, 0),
@@ -98,8 +97,7 @@ HK_API int hk_phelicoid_point_count(const hk_PHelicoid *h, double step);
  * meaningless points near it. HK_ERR_INVALID for bad input, HK_ERR_NUMERIC if the result is
  * not finite (absurdly large parameters). */
 HK_API hk_Status hk_phelicoid_trace(const hk_PHelicoid *h, double step, const hk_Waviness *waviness,
-                                    const hk_Vec3 *root_offset, hk_Vec3 *points, hk_Mat3 *frames,
-                                    hk_Error *err);
+                                    const hk_Vec3 *root_offset, hk_Vec3 *points, hk_Mat3 *frames, hk_Error *err);
 
 /* Total length (sum of the piece lengths); 0 for NULL or a piece count out of range. */
 HK_API double hk_phelicoid_length(const hk_PHelicoid *h);
@@ -128,9 +126,8 @@ HK_API void hk_phelicoid_canonical(hk_PHelicoid *h);
  * scalp can otherwise produce. At x equal to a guide's root the guide itself is returned, in
  * canonical form (the same strand; normal then ignored). out may be one of the guides. No
  * allocation; O(guide_count). */
-HK_API hk_Status hk_phelicoid_interpolate(const hk_PHelicoid *guides, int guide_count, hk_Vec3 x,
-                                          const hk_Vec3 *normal, double power, hk_PHelicoid *out,
-                                          hk_Error *err);
+HK_API hk_Status hk_phelicoid_interpolate(const hk_PHelicoid *guides, int guide_count, hk_Vec3 x, const hk_Vec3 *normal,
+                                          double power, hk_PHelicoid *out, hk_Error *err);
 
 /* Interpolation on a surface (§4.3): as hk_phelicoid_interpolate (the same weights, pieces,
  * lengths and parameters), but the root frames are averaged relative to the surface, the
@@ -145,11 +142,9 @@ HK_API hk_Status hk_phelicoid_interpolate(const hk_PHelicoid *guides, int guide_
  * elevation (keeping its azimuth), so that every interpolated strand leaves the surface
  * (min_elevation in [0, pi/2) radians). At x equal to a guide's root the guide itself is
  * returned in canonical form, as it is. No allocation; O(guide_count). */
-HK_API hk_Status hk_phelicoid_interpolate_on_surface(const hk_PHelicoid *guides,
-                                                     const hk_Vec3 *guide_normals, int guide_count,
-                                                     hk_Vec3 x, hk_Vec3 normal, double power,
-                                                     double min_elevation, hk_PHelicoid *out,
-                                                     hk_Error *err);
+HK_API hk_Status hk_phelicoid_interpolate_on_surface(const hk_PHelicoid *guides, const hk_Vec3 *guide_normals,
+                                                     int guide_count, hk_Vec3 x, hk_Vec3 normal, double power,
+                                                     double min_elevation, hk_PHelicoid *out, hk_Error *err);
 
 /* Wisp (§3.3): count strands around a guide. Strand j's root offset is uniform in the disc of
  * radius `radius` in the guide's E_N-E_B plane at the root, drawn from the counter-based RNG
@@ -159,9 +154,8 @@ HK_API hk_Status hk_phelicoid_interpolate_on_surface(const hk_PHelicoid *guides,
  * angle uniform in [0, spread] about a random axis of the E_N-E_B plane (the "random
  * orientation perturbation" that fans the wisp out). w may be NULL. points holds count x
  * hk_phelicoid_point_count(guide, step) points, strand after strand. */
-HK_API hk_Status hk_phelicoid_wisp(const hk_PHelicoid *guide, int count, double radius,
-                                   double spread, uint64_t seed, double step, const hk_Waviness *w,
-                                   hk_Vec3 *points, hk_Error *err);
+HK_API hk_Status hk_phelicoid_wisp(const hk_PHelicoid *guide, int count, double radius, double spread, uint64_t seed,
+                                   double step, const hk_Waviness *w, hk_Vec3 *points, hk_Error *err);
 
 #ifdef __cplusplus
 }

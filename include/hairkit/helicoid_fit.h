@@ -32,15 +32,13 @@ HK_API void hk_helicoid_fitter_destroy(hk_HelicoidFitter *f);
  * curvature of a radian per sample (penalty_weight[3], unless the caller set it). The
  * model refuses pieces that turn more than a radian per sample or come within a tenth of
  * their singular axis (they describe no definite curve). */
-HK_API hk_Status hk_helicoid_fit(hk_HelicoidFitter *f, const hk_Vec3 *points, int count,
-                                 const hk_CurveFitDef *options, hk_PHelicoid *out,
-                                 hk_CurveFit *fit, hk_Error *err);
+HK_API hk_Status hk_helicoid_fit(hk_HelicoidFitter *f, const hk_Vec3 *points, int count, const hk_CurveFitDef *options,
+                                 hk_PHelicoid *out, hk_CurveFit *fit, hk_Error *err);
 
 /* The curve model of one helicoid piece (params k_T, k_N, k_B, alpha), for curvefit.h;
  * user is the fitter. Non-zero for the refused parameters above. */
-HK_API int hk_helicoid_piece_model(void *user, const double *params, const hk_CurveStart *start,
-                                   double length, int count, hk_Vec3 *out_points,
-                                   hk_CurveStart *end);
+HK_API int hk_helicoid_piece_model(void *user, const double *params, const hk_CurveStart *start, double length,
+                                   int count, hk_Vec3 *out_points, hk_CurveStart *end);
 
 #ifdef __cplusplus
 }

@@ -27,8 +27,8 @@ extern "C" {
  * (filled here; free with hk_hair_free). `seed` draws the strands' wave phases when the
  * set's waviness has a jitter, from the strand's index: the same bytes whatever the
  * threads (<= 0: OpenMP's default). */
-HK_API hk_Status hk_helicoid_set_trace(const hk_HelicoidSet *set, double step, uint64_t seed,
-                                       int threads, hk_HairFile *hair, hk_Error *err);
+HK_API hk_Status hk_helicoid_set_trace(const hk_HelicoidSet *set, double step, uint64_t seed, int threads,
+                                       hk_HairFile *hair, hk_Error *err);
 
 /* Strands out[0..count) interpolated from the guides at the roots. With guide_normals
  * (then normals too): on the surface whose outward normals they are (§4.3: frames
@@ -36,16 +36,14 @@ HK_API hk_Status hk_helicoid_set_trace(const hk_HelicoidSet *set, double step, u
  * weighting of power `power` (§4.1), normals (may be NULL) only keeping each strand's
  * E_T out of the surface. In parallel (threads <= 0: OpenMP's default); the first strand
  * that fails (by index) gives the error. */
-HK_API hk_Status hk_helicoid_interpolate_at(const hk_PHelicoid *guides,
-                                            const hk_Vec3 *guide_normals, int guide_count,
-                                            const hk_Vec3 *roots, const hk_Vec3 *normals,
-                                            long count, double power, int threads,
-                                            hk_PHelicoid *out, hk_Error *err);
+HK_API hk_Status hk_helicoid_interpolate_at(const hk_PHelicoid *guides, const hk_Vec3 *guide_normals, int guide_count,
+                                            const hk_Vec3 *roots, const hk_Vec3 *normals, long count, double power,
+                                            int threads, hk_PHelicoid *out, hk_Error *err);
 
 /* A fit's figures (hk_CurveFit's, without its per-piece arrays). */
 typedef struct hk_HelicoidFitReport {
-    double error;     /* normalised coupling of the fit vs the strand (m) */
-    double frechet;   /* discrete Fréchet distance, same pair (m) */
+    double error;   /* normalised coupling of the fit vs the strand (m) */
+    double frechet; /* discrete Fréchet distance, same pair (m) */
     int pieces;
     long evaluations;
 } hk_HelicoidFitReport;
@@ -58,9 +56,8 @@ typedef struct hk_HelicoidFitReport {
  * refused before any fitting; the first strand that fails (by position) gives the
  * error. */
 HK_API hk_Status hk_helicoid_fit_strands(const hk_HairFile *hair, const long *index, long count,
-                                         const hk_CurveFitDef *options, int threads,
-                                         hk_ProgressFn progress, void *progress_user,
-                                         hk_PHelicoid *out, hk_HelicoidFitReport *reports,
+                                         const hk_CurveFitDef *options, int threads, hk_ProgressFn progress,
+                                         void *progress_user, hk_PHelicoid *out, hk_HelicoidFitReport *reports,
                                          hk_Error *err);
 
 /* The layout of a reconstruction's fits (§5.4: the fits are blended piece by piece, so
@@ -70,12 +67,12 @@ HK_API hk_Status hk_helicoid_fit_strands(const hk_HairFile *hair, const long *in
  * blending the strands' true parameters and 91 mm with 4 equal pieces; on the
  * benchmark's tuft as well as 4 equal pieces (2.8 mm, the blend's floor). */
 #define HK_RECONSTRUCT_PIECE_LENGTH 0.03
-#define HK_RECONSTRUCT_ROOT_PIECE 0.01
+#define HK_RECONSTRUCT_ROOT_PIECE   0.01
 
 typedef struct hk_HelicoidReconstruction {
-    long strands, fitted;        /* of the hair; fitted: one in `every` */
-    double seconds_fit;          /* fitting */
-    double seconds_rebuild;      /* interpolating and tracing */
+    long strands, fitted;         /* of the hair; fitted: one in `every` */
+    double seconds_fit;           /* fitting */
+    double seconds_rebuild;       /* interpolating and tracing */
     double mean_error, max_error; /* each rebuilt strand against its original: the mean
                                      leash of their Fréchet coupling (m) */
 } hk_HelicoidReconstruction;
@@ -85,11 +82,9 @@ typedef struct hk_HelicoidReconstruction {
  * of the hair then interpolated at its own root from those fits (power) and traced at
  * `step` into `out` (its wave phases from `seed`), and each compared with its original.
  * report may be NULL. */
-HK_API hk_Status hk_helicoid_reconstruct(const hk_HairFile *hair, long every,
-                                         const hk_CurveFitDef *options, double power,
-                                         double step, uint64_t seed, int threads,
-                                         hk_ProgressFn progress, void *progress_user,
-                                         hk_HairFile *out, hk_HelicoidReconstruction *report,
+HK_API hk_Status hk_helicoid_reconstruct(const hk_HairFile *hair, long every, const hk_CurveFitDef *options,
+                                         double power, double step, uint64_t seed, int threads, hk_ProgressFn progress,
+                                         void *progress_user, hk_HairFile *out, hk_HelicoidReconstruction *report,
                                          hk_Error *err);
 
 #ifdef __cplusplus

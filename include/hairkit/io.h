@@ -23,7 +23,7 @@ extern "C" {
 /* Limits that keep absurd input from turning into absurd allocations or run times
  * (HK_MAX_ELEMENTS and HK_MAX_SAMPLES_PER_STRAND: hairkit/rod.h). */
 #define HK_MAX_INPUT_FILE_BYTES ((long)16 << 20) /* 16 MiB for any text input file */
-#define HK_MAX_SHAPES 10000                      /* collision shapes in one file */
+#define HK_MAX_SHAPES           10000            /* collision shapes in one file */
 
 /* Hairstyle Info (thesis Appendix B, "Hairstyle Info"): the parameters of the three
  * parts of hairkit that use them. */
@@ -67,10 +67,10 @@ HK_API hk_Status hk_collision_load(const char *path, hk_Shape **shapes, int *cou
 
 /* Visuality Info (thesis Appendix B): colours of the Kajiya-Kay hair shader. */
 typedef struct hk_Visuality {
-    hk_Vec3 ambient;    /* AmbientColor: RGB in [0, 1] (values above 1 allowed: brighter) */
-    hk_Vec3 diffuse;    /* DiffuseColor */
-    hk_Vec3 specular;   /* SpecularColor */
-    double glossiness;  /* Glossiness: Kajiya-Kay specular exponent p > 0 */
+    hk_Vec3 ambient;   /* AmbientColor: RGB in [0, 1] (values above 1 allowed: brighter) */
+    hk_Vec3 diffuse;   /* DiffuseColor */
+    hk_Vec3 specular;  /* SpecularColor */
+    double glossiness; /* Glossiness: Kajiya-Kay specular exponent p > 0 */
 } hk_Visuality;
 
 /* Brown hair of the thesis's sample file. */

@@ -13,7 +13,7 @@
 extern "C" {
 #endif
 
-#define HK_MAX_MESH_VERTICES 10000000
+#define HK_MAX_MESH_VERTICES  10000000
 #define HK_MAX_MESH_TRIANGLES 20000000
 /* Largest |coordinate| of an OBJ or PLY vertex or normal: a head in metres, millimetres or
  * micrometres fits; 1e39 (or nan, inf) is refused at its line. */
@@ -61,8 +61,7 @@ HK_API void hk_mesh_up_to_y(hk_Mesh *mesh, hk_Axis up);
 
 /* Writes v, vn and f v//vn lines atomically; `comment` (may be NULL) goes in a
  * leading # line. */
-HK_API hk_Status hk_obj_save(const char *path, const hk_Mesh *mesh, const char *comment,
-                             hk_Error *err);
+HK_API hk_Status hk_obj_save(const char *path, const hk_Mesh *mesh, const char *comment, hk_Error *err);
 
 /* Area-weighted vertex normals from the faces (overwrites mesh->normals). */
 HK_API void hk_mesh_compute_normals(hk_Mesh *mesh);
@@ -74,16 +73,15 @@ HK_API double hk_mesh_area(const hk_Mesh *mesh);
  * point's barycentric weights (made unit; the face normal where they cancel). Brute force over
  * the triangles. Returns the distance, or -1 when the mesh has no triangles or x is not
  * finite (point and normal then untouched). point or normal may be NULL. */
-HK_API double hk_mesh_closest_point(const hk_Mesh *mesh, hk_Vec3 x, hk_Vec3 *point,
-                                    hk_Vec3 *normal);
+HK_API double hk_mesh_closest_point(const hk_Mesh *mesh, hk_Vec3 x, hk_Vec3 *point, hk_Vec3 *normal);
 
 /* count points uniform by area on the mesh (a triangle drawn by its area, then a point
  * uniform in it) and the vertex normals blended there (unit length), each from the
  * counter-based RNG (rng.h) keyed by (seed, its index): the same points whatever the
  * threads (<= 0: OpenMP's default). normal may be NULL. HK_ERR_INVALID when the mesh
  * has no area. */
-HK_API hk_Status hk_mesh_sample_uniform(const hk_Mesh *mesh, long count, uint64_t seed, int threads,
-                                        hk_Vec3 *point, hk_Vec3 *normal, hk_Error *err);
+HK_API hk_Status hk_mesh_sample_uniform(const hk_Mesh *mesh, long count, uint64_t seed, int threads, hk_Vec3 *point,
+                                        hk_Vec3 *normal, hk_Error *err);
 
 /* ---- signed distance fields ------------------------------------------------------ */
 
@@ -98,10 +96,10 @@ typedef struct hk_DistanceField {
 } hk_DistanceField;
 
 typedef struct hk_DistanceFieldDef {
-    double spacing; /* grid spacing in the mesh's units (default 0.002: 2 mm in metres) */
-    double margin;  /* the grid reaches this far beyond the mesh's bounding box (0.03) */
-    int exact_band; /* cells around each triangle whose distance is computed exactly
-                       before the sweeps carry the closest triangles on (2) */
+    double spacing;     /* grid spacing in the mesh's units (default 0.002: 2 mm in metres) */
+    double margin;      /* the grid reaches this far beyond the mesh's bounding box (0.03) */
+    int exact_band;     /* cells around each triangle whose distance is computed exactly
+                           before the sweeps carry the closest triangles on (2) */
     double exact_reach; /* nodes this far from the mesh get their exact distance; beyond,
                            the chamfer distance of the sweeps, a few per cent long
                            (default 0.01) */
@@ -113,8 +111,8 @@ HK_API hk_DistanceFieldDef hk_default_distance_field_def(void);
  * against the memory budget (hk_memory_check) before anything is allocated. The sign
  * is right everywhere for a closed mesh; an open one gets wrong signs along the lines
  * parallel to x through its holes. */
-HK_API hk_Status hk_distance_field_build(const hk_Mesh *mesh, const hk_DistanceFieldDef *def,
-                                         hk_DistanceField *out, hk_Error *err);
+HK_API hk_Status hk_distance_field_build(const hk_Mesh *mesh, const hk_DistanceFieldDef *def, hk_DistanceField *out,
+                                         hk_Error *err);
 
 /* The field at p, trilinear between the nodes, and its gradient when grad is not NULL
  * (the trilinear interpolant's, constant along no axis; continuous in value, not in

@@ -35,8 +35,7 @@ HK_API hk_RigidState hk_rigid_identity(void);
  *   pos = R x + T,  vel = dT/dt + omega x (R x),
  *   acc = d2T/dt2 + alpha x (R x) + omega x (omega x (R x)).
  * Any of pos, vel, acc may be NULL. */
-HK_API void hk_rigid_point(const hk_RigidState *st, hk_Vec3 x, hk_Vec3 *pos, hk_Vec3 *vel,
-                           hk_Vec3 *acc);
+HK_API void hk_rigid_point(const hk_RigidState *st, hk_Vec3 x, hk_Vec3 *pos, hk_Vec3 *vel, hk_Vec3 *acc);
 
 /* Default pivot of the head's rotations (m, head space): (0, -0.010, -0.015), the top
  * of the neck of assets/head.obj, where the skull sits on the spine (see
@@ -58,8 +57,8 @@ typedef struct hk_HeadMotion hk_HeadMotion;
  * Amplitude: degrees for rotations, |amplitude| <= 180; metres for translations,
  * |amplitude| <= 10. Frequency in (0, 1000] Hz. HK_ERR_INVALID, with a message, for an
  * unknown name or values out of range. */
-HK_API hk_Status hk_head_motion_scripted(const char *name, double amplitude, double frequency,
-                                         hk_Vec3 pivot, hk_HeadMotion **out, hk_Error *err);
+HK_API hk_Status hk_head_motion_scripted(const char *name, double amplitude, double frequency, hk_Vec3 pivot,
+                                         hk_HeadMotion **out, hk_Error *err);
 
 /* Reads a head motion file (docs/file-formats.md, "Head motion file"): an optional
  * `Pivot x y z` line, then keyframes `t tx ty tz ax ay az angle_deg`. Errors name the
@@ -87,7 +86,7 @@ typedef struct hk_HeadMotionSource {
     double amplitude;   /* degrees or metres, as given (scripted) */
     double frequency;   /* Hz (scripted) */
     hk_Vec3 pivot;
-    const char *file;   /* the motion file; NULL for a scripted motion */
+    const char *file; /* the motion file; NULL for a scripted motion */
 } hk_HeadMotionSource;
 
 HK_API hk_HeadMotionSource hk_head_motion_source(const hk_HeadMotion *m);

@@ -39,7 +39,7 @@ typedef struct hk_RenderDef {
      * towards +x) and elevation (degrees above the horizontal), at the distance where
      * everything fits the picture with a small margin. Default: three-quarter front. */
     double azimuth_deg, elevation_deg;
-    double fov_deg;           /* vertical field of view (default 30) */
+    double fov_deg; /* vertical field of view (default 30) */
     /* A fixed camera instead of the fit (for animations, so that the view does not follow
      * the hair): it looks at camera_target from camera_distance along the direction
      * above. camera_distance <= 0 (default): fit every picture. */
@@ -47,22 +47,22 @@ typedef struct hk_RenderDef {
     double camera_distance;
     /* One directional key light, from the direction azimuth/elevation as above. */
     double light_azimuth_deg, light_elevation_deg;
-    double light_intensity;   /* default 1 */
-    double ambient_intensity; /* multiplies AmbientColor (thesis shader: 0.2); with dual
-                                 scattering the hair also reflects an ambient light of
-                                 twice this (the skin's) with its DiffuseColor */
-    int shadow_map_size;      /* texels per side of the light's maps (default 512) */
-    int opacity_layers;       /* K layers of the deep opacity map (thesis: 4) */
-    double layer_size;        /* depth of the first layer (m); layer k is 2^k times as deep
-                                 (<= 0: 2 mm) */
-    double scatter_floor;     /* single scattering only: light that reaches the deepest
-                                 hair, as a fraction, a stand-in for multiple scattering
-                                 (thesis: 0.25); dual scattering computes that light */
-    double hair_thickness;    /* strand diameter in scene units; <= 0: from the file */
-    double strand_variation;  /* each strand's brightness varies by up to this fraction
-                                 (default 0.15) */
+    double light_intensity;                    /* default 1 */
+    double ambient_intensity;                  /* multiplies AmbientColor (thesis shader: 0.2); with dual
+                                                  scattering the hair also reflects an ambient light of
+                                                  twice this (the skin's) with its DiffuseColor */
+    int shadow_map_size;                       /* texels per side of the light's maps (default 512) */
+    int opacity_layers;                        /* K layers of the deep opacity map (thesis: 4) */
+    double layer_size;                         /* depth of the first layer (m); layer k is 2^k times as deep
+                                                  (<= 0: 2 mm) */
+    double scatter_floor;                      /* single scattering only: light that reaches the deepest
+                                                  hair, as a fraction, a stand-in for multiple scattering
+                                                  (thesis: 0.25); dual scattering computes that light */
+    double hair_thickness;                     /* strand diameter in scene units; <= 0: from the file */
+    double strand_variation;                   /* each strand's brightness varies by up to this fraction
+                                                  (default 0.15) */
     hk_Vec3 background_top, background_bottom; /* vertical gradient, linear RGB */
-    hk_Vec3 skin;             /* diffuse colour of the head, linear RGB */
+    hk_Vec3 skin;                              /* diffuse colour of the head, linear RGB */
 } hk_RenderDef;
 
 HK_API hk_RenderDef hk_default_render_def(void);
@@ -71,18 +71,17 @@ typedef struct hk_RenderStats {
     long long hair_fragments;  /* camera fragments kept (in front of the head) */
     long long light_fragments; /* fragments drawn into the deep opacity map */
     int max_depth_complexity;  /* most fragments in one pixel */
-    double seconds_light;  /* the light's maps */
-    double seconds_camera; /* framing and projecting */
-    double seconds_hair;   /* head and hair, tile by tile, with the shading */
+    double seconds_light;      /* the light's maps */
+    double seconds_camera;     /* framing and projecting */
+    double seconds_hair;       /* head and hair, tile by tile, with the shading */
 } hk_RenderStats;
 
 /* Renders `hair` (the strands of a cyHair file; may have no strands) over `head` (may
  * be NULL) with the colours of `visuality` into `out` (linear RGB, created here; free
  * with hk_canvas_free). options NULL: hk_default_render_def(); visuality NULL:
  * hk_default_visuality(); stats may be NULL. */
-HK_API hk_Status hk_render(const hk_HairFile *hair, const hk_Mesh *head,
-                           const hk_Visuality *visuality, const hk_RenderDef *options,
-                           hk_Canvas *out, hk_RenderStats *stats, hk_Error *err);
+HK_API hk_Status hk_render(const hk_HairFile *hair, const hk_Mesh *head, const hk_Visuality *visuality,
+                           const hk_RenderDef *options, hk_Canvas *out, hk_RenderStats *stats, hk_Error *err);
 
 /* A renderer that keeps its working memory from one picture to the next: the
  * projected points, the tile bins, the light's maps, the vertex colours and the
@@ -96,9 +95,8 @@ HK_API void hk_renderer_destroy(hk_Renderer *renderer);
 
 /* Renders as hk_render does, the same bytes, into the renderer's picture (options
  * NULL: hk_default_render_def(); visuality NULL: hk_default_visuality()). */
-HK_API hk_Status hk_renderer_draw(hk_Renderer *renderer, const hk_HairFile *hair,
-                                  const hk_Mesh *head, const hk_Visuality *visuality,
-                                  const hk_RenderDef *options, hk_RenderStats *stats,
+HK_API hk_Status hk_renderer_draw(hk_Renderer *renderer, const hk_HairFile *hair, const hk_Mesh *head,
+                                  const hk_Visuality *visuality, const hk_RenderDef *options, hk_RenderStats *stats,
                                   hk_Error *err);
 
 /* The last picture drawn (linear RGB): valid until the next draw or destroy, empty
@@ -107,9 +105,8 @@ HK_API const hk_Canvas *hk_renderer_picture(const hk_Renderer *renderer);
 
 /* The camera hk_render would fit to this hair and head with these options: its target
  * and distance (for a fixed camera over the frames of an animation). */
-HK_API hk_Status hk_render_fit_camera(const hk_HairFile *hair, const hk_Mesh *head,
-                                      const hk_RenderDef *options, hk_Vec3 *target,
-                                      double *distance, hk_Error *err);
+HK_API hk_Status hk_render_fit_camera(const hk_HairFile *hair, const hk_Mesh *head, const hk_RenderDef *options,
+                                      hk_Vec3 *target, double *distance, hk_Error *err);
 
 /* Writes a linear-RGB picture as an 8-bit sRGB PNG (atomically). */
 HK_API hk_Status hk_render_write_png(const hk_Canvas *image, const char *path, hk_Error *err);

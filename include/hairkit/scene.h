@@ -38,17 +38,17 @@ typedef enum hk_ScenePart {
 /* A value: its arrays belong to it and are freed by hk_scene_free. A part not read
  * holds its defaults (hk_default_hairstyle, hk_default_visuality) or is empty. */
 typedef struct hk_Scene {
-    char *setup_path;            /* as given to hk_scene_load */
+    char *setup_path; /* as given to hk_scene_load */
     hk_Setup setup;
-    unsigned parts;              /* hk_ScenePart bits read (HK_SCENE_HAIR resolved) */
+    unsigned parts; /* hk_ScenePart bits read (HK_SCENE_HAIR resolved) */
     hk_Hairstyle style;
-    hk_Shape *shapes;            /* the collision file's shapes, in head space, then the
-                                    head's field when the setup says HeadCollider */
+    hk_Shape *shapes;             /* the collision file's shapes, in head space, then the
+                                     head's field when the setup says HeadCollider */
     hk_DistanceField *head_field; /* HeadCollider: the HeadModel's field (2 mm grid), which
-                                    the last shape borrows; NULL otherwise */
+                                     the last shape borrows; NULL otherwise */
     int shape_count;
     hk_Visuality visuality;
-    hk_Mesh head;                /* vertex_count 0 when there is none */
+    hk_Mesh head; /* vertex_count 0 when there is none */
     hk_Mesh wick;
 } hk_Scene;
 
@@ -56,8 +56,7 @@ typedef struct hk_Scene {
  * alone), the small files first so that their errors come before any long work.
  * HairstyleInfo and WickModel must be named when asked for (the message names the
  * setup file); the others are optional. On error *out is empty (safe to free). */
-HK_API hk_Status hk_scene_load(const char *setup_path, unsigned parts, hk_Scene *out,
-                               hk_Error *err);
+HK_API hk_Status hk_scene_load(const char *setup_path, unsigned parts, hk_Scene *out, hk_Error *err);
 /* Reads more parts of a loaded scene (those already read are kept). On error the
  * scene keeps what it had. */
 HK_API hk_Status hk_scene_load_parts(hk_Scene *s, unsigned parts, hk_Error *err);
@@ -65,9 +64,9 @@ HK_API void hk_scene_free(hk_Scene *s);
 
 /* What hk_scene_hair did. */
 typedef struct hk_SceneHairReport {
-    int grown;              /* 1: grown from the hairstyle; 0: read from LoadFile */
+    int grown; /* 1: grown from the hairstyle; 0: read from LoadFile */
     int guides, strands, points_per_strand;
-    hk_GroomStats stats;    /* of the growing */
+    hk_GroomStats stats; /* of the growing */
 } hk_SceneHairReport;
 
 /* The scene's hair: read from LoadFile (Load true; any format, hk_hair_read) or grown from the hairstyle, the
@@ -80,9 +79,8 @@ HK_API hk_Status hk_scene_hair(const hk_Scene *s, const hk_GroomDef *options, hk
 
 /* Renders `hair` over the scene's head with its visuality's colours (hk_render; the
  * scene loaded with HK_SCENE_RENDERING). options NULL: hk_default_render_def. */
-HK_API hk_Status hk_scene_render(const hk_Scene *s, const hk_HairFile *hair,
-                                 const hk_RenderDef *options, hk_Canvas *out,
-                                 hk_RenderStats *stats, hk_Error *err);
+HK_API hk_Status hk_scene_render(const hk_Scene *s, const hk_HairFile *hair, const hk_RenderDef *options,
+                                 hk_Canvas *out, hk_RenderStats *stats, hk_Error *err);
 
 #ifdef __cplusplus
 }

@@ -20,12 +20,12 @@ extern "C" {
 #endif
 
 typedef struct hk_HairSimDef {
-    int threads;                  /* OpenMP threads (<= 0: the default); results do not
-                                     depend on it */
-    hk_DynamicsDef dynamics;   /* of every guide */
-    int hair_contacts;            /* guide-guide interactions on (default 1) */
+    int threads;             /* OpenMP threads (<= 0: the default); results do not
+                                depend on it */
+    hk_DynamicsDef dynamics; /* of every guide */
+    int hair_contacts;       /* guide-guide interactions on (default 1) */
     hk_HairContactDef contacts;
-    hk_ProgressFn progress;       /* may be NULL: progress of the initial statics */
+    hk_ProgressFn progress; /* may be NULL: progress of the initial statics */
     void *progress_user;
 } hk_HairSimDef;
 
@@ -44,10 +44,8 @@ typedef struct hk_HairSim hk_HairSim;
 /* Solves every guide's rest shape (the groom's statics, with the layered envelopes)
  * on the still head and sets up its dynamics. The hairstyle, shapes and wick are
  * copied or only read here. options NULL: hk_hair_sim_def_for(style). */
-HK_API hk_Status hk_hair_sim_create(const hk_Hairstyle *style, const hk_Shape *shapes,
-                                    int shape_count, const hk_Mesh *wick,
-                                    const hk_HairSimDef *options, hk_HairSim **out,
-                                    hk_Error *err);
+HK_API hk_Status hk_hair_sim_create(const hk_Hairstyle *style, const hk_Shape *shapes, int shape_count,
+                                    const hk_Mesh *wick, const hk_HairSimDef *options, hk_HairSim **out, hk_Error *err);
 HK_API void hk_hair_sim_destroy(hk_HairSim *sim);
 
 /* The guides of an import (hairkit/capture.h, hk_groom_import) in motion: each a copy of
@@ -58,39 +56,38 @@ HK_API void hk_hair_sim_destroy(hk_HairSim *sim);
  * pushed apart they would leave the capture. hk_hair_sim_guides and hk_hair_sim_groom
  * are for grown guides: rebuild the strands with hk_imported_groom_strands and
  * hk_hair_sim_strands. */
-HK_API hk_Status hk_hair_sim_create_imported(const hk_Hairstyle *style, const hk_Shape *shapes,
-                                             int shape_count, const hk_ImportedGroom *groom,
-                                             const hk_HairSimDef *options, hk_HairSim **out,
-                                             hk_Error *err);
+HK_API hk_Status hk_hair_sim_create_imported(const hk_Hairstyle *style, const hk_Shape *shapes, int shape_count,
+                                             const hk_ImportedGroom *groom, const hk_HairSimDef *options,
+                                             hk_HairSim **out, hk_Error *err);
 
 /* The guides' Super-Helices as they are now (world space), guide_count of them. */
 HK_API const hk_SuperHelix *const *hk_hair_sim_strands(const hk_HairSim *sim);
 
 typedef struct hk_HairSimStats {
-    int substeps;         /* steps of all guides (more than guides where motion was fast,
-                             or where long guides take several steps a frame) */
-    long iterations;      /* evaluations of the forces (Newton iterations), all guides */
-    int recovered;        /* guides that could not be advanced even in the smallest
-                             substeps: held at rest relative to the head at t, then
-                             advanced again (never dropped, never aborting the head);
-                             counted in each step of a frame where a frame takes several */
-    int contact_pairs;    /* guide-guide pairs tracked, and pushing (a normal impulse) */
+    int substeps;      /* steps of all guides (more than guides where motion was fast,
+                          or where long guides take several steps a frame) */
+    long iterations;   /* evaluations of the forces (Newton iterations), all guides */
+    int recovered;     /* guides that could not be advanced even in the smallest
+                          substeps: held at rest relative to the head at t, then
+                          advanced again (never dropped, never aborting the head);
+                          counted in each step of a frame where a frame takes several */
+    int contact_pairs; /* guide-guide pairs tracked, and pushing (a normal impulse) */
     int contacts;
-    int sticking;         /* pushing pairs held by static friction */
-    int contact_sweeps;   /* Gauss-Seidel sweeps of the contacts' solve over all guides */
-    int body_contacts;    /* collision samples touching the body, all guides */
-    double seconds;       /* wall time of the advance */
+    int sticking;       /* pushing pairs held by static friction */
+    int contact_sweeps; /* Gauss-Seidel sweeps of the contacts' solve over all guides */
+    int body_contacts;  /* collision samples touching the body, all guides */
+    double seconds;     /* wall time of the advance */
 } hk_HairSimStats;
 
 /* Advances every guide from time t to t + dt with the head motion (NULL: still). */
-HK_API hk_Status hk_hair_sim_advance(hk_HairSim *sim, const hk_HeadMotion *motion, double t,
-                                     double dt, hk_HairSimStats *stats, hk_Error *err);
+HK_API hk_Status hk_hair_sim_advance(hk_HairSim *sim, const hk_HeadMotion *motion, double t, double dt,
+                                     hk_HairSimStats *stats, hk_Error *err);
 
 /* Lets the hair settle for `seconds` (steps of dt) with the head held in the pose
  * `head` (NULL: at rest): the groomed rest shape ignores guide-guide contacts, which
  * then push neighbouring guides apart at first (a pre-roll, as animators do). */
-HK_API hk_Status hk_hair_sim_settle(hk_HairSim *sim, const hk_RigidState *head, double seconds,
-                                    double dt, hk_Error *err);
+HK_API hk_Status hk_hair_sim_settle(hk_HairSim *sim, const hk_RigidState *head, double seconds, double dt,
+                                    hk_Error *err);
 
 /* Settling until the hair is at rest: at least `seconds`, then on until no guide's tip
  * has moved faster than rest_speed over rest_steps steps in a row, or max_seconds in
@@ -107,15 +104,14 @@ typedef struct hk_SettleDef {
 HK_API hk_SettleDef hk_default_settle_def(void);
 
 typedef struct hk_SettleReport {
-    double seconds;     /* settled in all */
-    int at_rest;        /* 1: the tips came to rest; 0: max_seconds was reached first */
-    double tip_speed;   /* m/s: the fastest tip over the last step */
+    double seconds;   /* settled in all */
+    int at_rest;      /* 1: the tips came to rest; 0: max_seconds was reached first */
+    double tip_speed; /* m/s: the fastest tip over the last step */
 } hk_SettleReport;
 
 /* o NULL: the defaults; report may be NULL. */
-HK_API hk_Status hk_hair_sim_settle_until_still(hk_HairSim *sim, const hk_RigidState *head,
-                                                double dt, const hk_SettleDef *o,
-                                                hk_SettleReport *report, hk_Error *err);
+HK_API hk_Status hk_hair_sim_settle_until_still(hk_HairSim *sim, const hk_RigidState *head, double dt,
+                                                const hk_SettleDef *o, hk_SettleReport *report, hk_Error *err);
 
 /* The threads of the next calls (options.threads; <= 0: the OpenMP default), and of the
  * guide-guide contacts unless their own were set. The results do not depend on it. */
@@ -132,8 +128,8 @@ HK_API void hk_hair_sim_guides(const hk_HairSim *sim, double *out);
  * body shapes where the head is at the end of the last step (docs/grooming.md). g is
  * filled (free with hk_groom_free). go NULL: the defaults; go->threads <= 0: the
  * simulation's threads. */
-HK_API hk_Status hk_hair_sim_groom(const hk_HairSim *sim, const hk_Mesh *wick,
-                                   const hk_GroomDef *go, hk_Groom *g, hk_Error *err);
+HK_API hk_Status hk_hair_sim_groom(const hk_HairSim *sim, const hk_Mesh *wick, const hk_GroomDef *go, hk_Groom *g,
+                                   hk_Error *err);
 
 
 /* ---- a simulation written to a folder (sim_run.c, sim_files.c, sim_rebuild.c) -------
@@ -145,55 +141,55 @@ HK_API hk_Status hk_hair_sim_groom(const hk_HairSim *sim, const hk_Mesh *wick,
  * full_hair also writes it, DIR/frame_kkkk.hair. */
 
 typedef struct hk_SimProgress {
-    long frame, frames;       /* frames written so far (0: the hair is at rest, none yet), in all */
-    int guides, elements;     /* per guide */
-    double seconds_setup;     /* loading, the guides' statics and the preroll */
-    double preroll;           /* seconds of hair time settled before frame 0 */
-    int preroll_at_rest;      /* 1: the guides came to rest within preroll_max */
-    double seconds;           /* since the first frame began */
+    long frame, frames;   /* frames written so far (0: the hair is at rest, none yet), in all */
+    int guides, elements; /* per guide */
+    double seconds_setup; /* loading, the guides' statics and the preroll */
+    double preroll;       /* seconds of hair time settled before frame 0 */
+    int preroll_at_rest;  /* 1: the guides came to rest within preroll_max */
+    double seconds;       /* since the first frame began */
     /* totals so far, by stage: advancing the guides, regrowing the interpolated hair,
      * rendering the picture, writing files (encoding the PNG included) */
     double seconds_dynamics, seconds_regrow, seconds_render, seconds_write;
-    int frames_at_once;       /* frames regrown and drawn at the same time, each on its own
-                                 thread: the stages' totals are summed over them and may
-                                 exceed `seconds` */
-    long long bytes;          /* written so far */
-    long substeps;            /* guide steps so far */
-    long recovered;           /* guides that could not be advanced through a frame even in
-                                 the smallest substeps, so far (each held at rest relative
-                                 to the head for that frame, then advanced on;
-                                 hk_HairSimStats.recovered) */
-    int removed;              /* files of an earlier run removed from the folder */
-    int video;                /* at the end: 1 DIR/hair.mp4 made, 0 no ffmpeg, -1 ffmpeg failed */
+    int frames_at_once; /* frames regrown and drawn at the same time, each on its own
+                           thread: the stages' totals are summed over them and may
+                           exceed `seconds` */
+    long long bytes;    /* written so far */
+    long substeps;      /* guide steps so far */
+    long recovered;     /* guides that could not be advanced through a frame even in
+                           the smallest substeps, so far (each held at rest relative
+                           to the head for that frame, then advanced on;
+                           hk_HairSimStats.recovered) */
+    int removed;        /* files of an earlier run removed from the folder */
+    int video;          /* at the end: 1 DIR/hair.mp4 made, 0 no ffmpeg, -1 ffmpeg failed */
 } hk_SimProgress;
 
 /* Called with frame 0 once the hair is at rest, then after every frame. */
 typedef void (*hk_SimProgressFn)(void *user, const hk_SimProgress *p);
 
 typedef struct hk_SimRunDef {
-    long frames;              /* 1 to 100000 */
-    double fps;               /* the time step is 1/fps */
-    double preroll;           /* seconds of settling on the still head before frame 0, at
-                                 least; then on until the guides' tips rest (slower than
-                                 0.1 mm/s for 5 frames; hk_hair_sim_settle_until_still) */
-    double preroll_max;       /* seconds of settling at most (default 5; <= preroll: exactly
-                                 preroll) */
-    int guides_only;          /* no interpolated hair, no pictures */
-    int full_hair;            /* also DIR/frame_kkkk.hair, every strand */
-    int hair_contacts;        /* guide-guide interactions (default 1) */
-    int damping;              /* internal friction and air drag (default 1) */
+    long frames;                      /* 1 to 100000 */
+    double fps;                       /* the time step is 1/fps */
+    double preroll;                   /* seconds of settling on the still head before frame 0, at
+                                         least; then on until the guides' tips rest (slower than
+                                         0.1 mm/s for 5 frames; hk_hair_sim_settle_until_still) */
+    double preroll_max;               /* seconds of settling at most (default 5; <= preroll: exactly
+                                         preroll) */
+    int guides_only;                  /* no interpolated hair, no pictures */
+    int full_hair;                    /* also DIR/frame_kkkk.hair, every strand */
+    int hair_contacts;                /* guide-guide interactions (default 1) */
+    int damping;                      /* internal friction and air drag (default 1) */
     hk_DynamicsIntegrator integrator; /* HK_INTEGRATOR_AUTO (default): the hair
-                                 simulation's default (the linear Euler step); else TR-BDF2
-                                 with the O(N) solver or the linear Euler step with the
-                                 dense one */
-    int video;                /* DIR/hair.mp4 with ffmpeg when installed (default 1) */
-    int threads;              /* <= 0: all cores; the files do not depend on it */
-    uint64_t seed;            /* of the interpolation */
-    const hk_HeadMotion *motion; /* NULL: still */
-    hk_RenderDef render;  /* camera_distance <= 0: fixed at the first frame's fit */
-    hk_ProgressFn statics_progress; /* may be NULL: the guides' rest shapes */
+                                         simulation's default (the linear Euler step); else TR-BDF2
+                                         with the O(N) solver or the linear Euler step with the
+                                         dense one */
+    int video;                        /* DIR/hair.mp4 with ffmpeg when installed (default 1) */
+    int threads;                      /* <= 0: all cores; the files do not depend on it */
+    uint64_t seed;                    /* of the interpolation */
+    const hk_HeadMotion *motion;      /* NULL: still */
+    hk_RenderDef render;              /* camera_distance <= 0: fixed at the first frame's fit */
+    hk_ProgressFn statics_progress;   /* may be NULL: the guides' rest shapes */
     void *statics_user;
-    hk_SimProgressFn progress;      /* may be NULL */
+    hk_SimProgressFn progress; /* may be NULL */
     void *progress_user;
 } hk_SimRunDef;
 
@@ -203,9 +199,8 @@ HK_API hk_SimRunDef hk_default_sim_run_def(void);
  * dir (made if missing; files of an earlier run removed first, see
  * hk_simulation_clean_folder) with DIR/simulation.txt. p (may be NULL) gets the final
  * figures. */
-HK_API hk_Status hk_simulation_run(const char *setup_path, const char *dir,
-                                   const hk_SimRunDef *options, hk_SimProgress *p,
-                                   hk_Error *err);
+HK_API hk_Status hk_simulation_run(const char *setup_path, const char *dir, const hk_SimRunDef *options,
+                                   hk_SimProgress *p, hk_Error *err);
 
 /* Removes from dir the files a simulation writes, and only them: frame_kkkk.png,
  * frame_kkkk.hair, guides_kkkk.hair (k: 4 digits or more), hair.mp4, simulation.txt,
@@ -214,8 +209,8 @@ HK_API hk_Status hk_simulation_run(const char *setup_path, const char *dir,
 HK_API hk_Status hk_simulation_clean_folder(const char *dir, int *removed, hk_Error *err);
 
 /* DIR/STEM_kkkk.EXT */
-HK_API hk_Status hk_simulation_frame_path(char *buf, size_t size, const char *dir, const char *stem,
-                                          long frame, const char *ext, hk_Error *err);
+HK_API hk_Status hk_simulation_frame_path(char *buf, size_t size, const char *dir, const char *stem, long frame,
+                                          const char *ext, hk_Error *err);
 
 /* The full hair of frame k of the simulation in dir (guides first, then the interpolated
  * strands, kept out of the body posed at the frame's time, as DIR/frame_kkkk.hair of a
@@ -223,8 +218,7 @@ HK_API hk_Status hk_simulation_frame_path(char *buf, size_t size, const char *di
  * motion), DIR/guides_kkkk.hair and the setup's hairstyle, wick and collision file and
  * the motion file if any (refused if any changed since). threads <= 0: all cores. out is
  * filled (hk_hair_free). */
-HK_API hk_Status hk_simulation_rebuild(const char *dir, long frame, int threads, hk_HairFile *out,
-                                       hk_Error *err);
+HK_API hk_Status hk_simulation_rebuild(const char *dir, long frame, int threads, hk_HairFile *out, hk_Error *err);
 
 #ifdef __cplusplus
 }

@@ -21,14 +21,14 @@ extern "C" {
 #define HK_SIMULATION_FILE_VERSION 2
 
 typedef struct hk_SimulationManifest {
-    int version;               /* HK_SIMULATION_FILE_VERSION */
-    char *setup;               /* Setup: the setup file, absolute path */
-    uint64_t seed;             /* Seed of the interpolation */
-    long frames;               /* Frames asked for (the run may have stopped earlier) */
-    double fps;                /* Fps */
-    int guides, points;        /* Guides, PointsPerStrand of every guides_kkkk.hair */
-    int interpolated;          /* Interpolated: false for --guides-only runs */
-    int full_hair;             /* FullHair: frame_kkkk.hair written too */
+    int version;        /* HK_SIMULATION_FILE_VERSION */
+    char *setup;        /* Setup: the setup file, absolute path */
+    uint64_t seed;      /* Seed of the interpolation */
+    long frames;        /* Frames asked for (the run may have stopped earlier) */
+    double fps;         /* Fps */
+    int guides, points; /* Guides, PointsPerStrand of every guides_kkkk.hair */
+    int interpolated;   /* Interpolated: false for --guides-only runs */
+    int full_hair;      /* FullHair: frame_kkkk.hair written too */
     /* HairstyleHash, WickHash: FNV-1a 64 of the bytes of the two files the regrowth
      * reads, so that a rebuild after either changed is refused, not silently different */
     uint64_t hairstyle_hash, wick_hash;
@@ -46,10 +46,8 @@ typedef struct hk_SimulationManifest {
     uint64_t motion_hash;
 } hk_SimulationManifest;
 
-HK_API hk_Status hk_simulation_manifest_load(const char *path, hk_SimulationManifest *out,
-                                             hk_Error *err);
-HK_API hk_Status hk_simulation_manifest_save(const char *path, const hk_SimulationManifest *m,
-                                             hk_Error *err);
+HK_API hk_Status hk_simulation_manifest_load(const char *path, hk_SimulationManifest *out, hk_Error *err);
+HK_API hk_Status hk_simulation_manifest_save(const char *path, const hk_SimulationManifest *m, hk_Error *err);
 HK_API void hk_simulation_manifest_free(hk_SimulationManifest *m);
 
 #ifdef __cplusplus

@@ -22,12 +22,12 @@ extern "C" {
 /* hk_ObjectiveFn and hk_MinimizeResult: hairkit/optimize.h. */
 
 typedef struct hk_RosenbrockDef {
-    int max_stages;        /* MaxIter of the hairstyle file */
-    double epsilon;        /* stop when a stage lowers f by <= epsilon * |f| */
-    double initial_step;   /* trial step length at the start of every stage */
-    double alpha;          /* step growth after a success (Rosenbrock 1960: 3) */
-    double beta;           /* step shrink after a failure (Rosenbrock 1960: 0.5) */
-    long max_evaluations;  /* safety limit on objective evaluations (<= 0: none) */
+    int max_stages;       /* MaxIter of the hairstyle file */
+    double epsilon;       /* stop when a stage lowers f by <= epsilon * |f| */
+    double initial_step;  /* trial step length at the start of every stage */
+    double alpha;         /* step growth after a success (Rosenbrock 1960: 3) */
+    double beta;          /* step shrink after a failure (Rosenbrock 1960: 0.5) */
+    long max_evaluations; /* safety limit on objective evaluations (<= 0: none) */
 } hk_RosenbrockDef;
 
 HK_API hk_RosenbrockDef hk_default_rosenbrock_def(void);
@@ -37,8 +37,7 @@ HK_API hk_RosenbrockDef hk_default_rosenbrock_def(void);
  * A trial succeeds when f(x + step * xi_i) <= f(x); a stage ends once every direction
  * has had a success followed by a failure; then the directions are rotated so that
  * xi_1 points along the stage's total advance. x (size n) is updated in place. */
-HK_API hk_Status hk_rosenbrock_minimize(int n, double *x, hk_ObjectiveFn f, void *user,
-                                        const hk_RosenbrockDef *options,
+HK_API hk_Status hk_rosenbrock_minimize(int n, double *x, hk_ObjectiveFn f, void *user, const hk_RosenbrockDef *options,
                                         hk_MinimizeResult *result, hk_Error *err);
 
 /* Objective with derivatives: returns f(x); fills grad (n) and hess (n x n, row-major)
@@ -46,10 +45,10 @@ HK_API hk_Status hk_rosenbrock_minimize(int n, double *x, hk_ObjectiveFn f, void
 typedef double (*hk_DerivFn)(void *user, const double *x, double *grad, double *hess);
 
 typedef struct hk_NewtonDef {
-    int max_iterations;   /* Newton steps (accepted or not) */
-    double tolerance;     /* stop when the Newton decrement g.H^-1.g / 2 <= tolerance * scale */
-    double energy_scale;  /* `scale` above; <= 0 uses max(|f|, tiny) */
-    double max_step;      /* > 0: no step moves a variable by more than max_step units */
+    int max_iterations;      /* Newton steps (accepted or not) */
+    double tolerance;        /* stop when the Newton decrement g.H^-1.g / 2 <= tolerance * scale */
+    double energy_scale;     /* `scale` above; <= 0 uses max(|f|, tiny) */
+    double max_step;         /* > 0: no step moves a variable by more than max_step units */
     const double *step_unit; /* the unit of each variable for max_step (NULL: 1) */
 } hk_NewtonDef;
 
@@ -60,9 +59,8 @@ HK_API hk_NewtonDef hk_default_newton_def(void);
  * then a backtracking (Armijo) line search on f: robust on the indefinite Hessians of
  * strands far from rest, quadratically convergent near the minimum. x (size n) is
  * updated in place. */
-HK_API hk_Status hk_newton_minimize(int n, double *x, hk_DerivFn f, void *user,
-                                    const double *metric, const hk_NewtonDef *options,
-                                    hk_MinimizeResult *result, hk_Error *err);
+HK_API hk_Status hk_newton_minimize(int n, double *x, hk_DerivFn f, void *user, const double *metric,
+                                    const hk_NewtonDef *options, hk_MinimizeResult *result, hk_Error *err);
 
 /* ---- strand statics --------------------------------------------------------------- */
 
@@ -88,9 +86,8 @@ HK_API int hk_solver_from_name(const char *name);
 
 /* Finds the rest shape of the strand: minimises hk_strand_energy over sh->q starting
  * from the current sh->q. On success sh->q holds the minimiser. */
-HK_API hk_Status hk_statics_solve(hk_SuperHelix *sh, const hk_StrandEnvDef *env,
-                                  const hk_StaticsDef *options, hk_MinimizeResult *result,
-                                  hk_Error *err);
+HK_API hk_Status hk_statics_solve(hk_SuperHelix *sh, const hk_StrandEnvDef *env, const hk_StaticsDef *options,
+                                  hk_MinimizeResult *result, hk_Error *err);
 
 #ifdef __cplusplus
 }

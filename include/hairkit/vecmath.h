@@ -55,9 +55,12 @@ static inline hk_Vec3 hk_v3_normalize(hk_Vec3 a)
 static inline double hk_v3_get(hk_Vec3 a, int i) { return i == 0 ? a.x : (i == 1 ? a.y : a.z); }
 static inline void hk_v3_set(hk_Vec3 *a, int i, double v)
 {
-    if (i == 0) a->x = v;
-    else if (i == 1) a->y = v;
-    else a->z = v;
+    if (i == 0)
+        a->x = v;
+    else if (i == 1)
+        a->y = v;
+    else
+        a->z = v;
 }
 static inline int hk_v3_isfinite(hk_Vec3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
 /* Unit basis vector e_i. */
@@ -125,9 +128,8 @@ static inline hk_Mat3 hk_m3_scale(const hk_Mat3 *a, double s)
 /* a b^T */
 static inline hk_Mat3 hk_m3_outer(hk_Vec3 a, hk_Vec3 b)
 {
-    hk_Mat3 r = {{{a.x * b.x, a.x * b.y, a.x * b.z},
-                  {a.y * b.x, a.y * b.y, a.y * b.z},
-                  {a.z * b.x, a.z * b.y, a.z * b.z}}};
+    hk_Mat3 r = {
+        {{a.x * b.x, a.x * b.y, a.x * b.z}, {a.y * b.x, a.y * b.y, a.y * b.z}, {a.z * b.x, a.z * b.y, a.z * b.z}}};
     return r;
 }
 /* [a]x, the matrix with [a]x v = a x v */
@@ -141,7 +143,12 @@ static inline double hk_m3_trace(const hk_Mat3 *a) { return a->m[0][0] + a->m[1]
 /* The six axes a file (hair or mesh) may have as its up direction; hairkit's up is +y.
  * Names: hk_axis_from_name, hk_axis_name (hairkit/hair_formats.h). */
 typedef enum hk_Axis {
-    HK_AXIS_POS_X, HK_AXIS_NEG_X, HK_AXIS_POS_Y, HK_AXIS_NEG_Y, HK_AXIS_POS_Z, HK_AXIS_NEG_Z
+    HK_AXIS_POS_X,
+    HK_AXIS_NEG_X,
+    HK_AXIS_POS_Y,
+    HK_AXIS_NEG_Y,
+    HK_AXIS_POS_Z,
+    HK_AXIS_NEG_Z
 } hk_Axis;
 
 /* p rotated by the smallest rotation that takes `up` onto +y. Every case only swaps and
@@ -156,12 +163,18 @@ typedef enum hk_Axis {
 static inline hk_Vec3 hk_v3_up_to_y(hk_Vec3 p, hk_Axis up)
 {
     switch (up) {
-    case HK_AXIS_POS_X: return hk_v3(-p.y, p.x, p.z);
-    case HK_AXIS_NEG_X: return hk_v3(p.y, -p.x, p.z);
-    case HK_AXIS_POS_Z: return hk_v3(p.x, p.z, -p.y);
-    case HK_AXIS_NEG_Z: return hk_v3(p.x, -p.z, p.y);
-    case HK_AXIS_NEG_Y: return hk_v3(p.x, -p.y, -p.z);
-    case HK_AXIS_POS_Y: break;
+    case HK_AXIS_POS_X:
+        return hk_v3(-p.y, p.x, p.z);
+    case HK_AXIS_NEG_X:
+        return hk_v3(p.y, -p.x, p.z);
+    case HK_AXIS_POS_Z:
+        return hk_v3(p.x, p.z, -p.y);
+    case HK_AXIS_NEG_Z:
+        return hk_v3(p.x, -p.z, p.y);
+    case HK_AXIS_NEG_Y:
+        return hk_v3(p.x, -p.y, -p.z);
+    case HK_AXIS_POS_Y:
+        break;
     }
     return p;
 }

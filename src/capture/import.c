@@ -134,9 +134,8 @@ static hk_Status make_guide(const hk_ImportedGroom *g, int strand, const hk_Shap
 
 static int threads_of(int t) { return t > 0 ? t : omp_get_max_threads(); }
 
-hk_Status hk_groom_import(const hk_HairFile *hair, const hk_Shape *body, int body_count,
-                          const hk_GroomImportDef *def, hk_ImportedGroom *out, hk_GroomImportReport *report,
-                          hk_Error *err)
+hk_Status hk_groom_import(const hk_HairFile *hair, const hk_Shape *body, int body_count, const hk_GroomImportDef *def,
+                          hk_ImportedGroom *out, hk_GroomImportReport *report, hk_Error *err)
 {
     const hk_GroomImportDef defaults = hk_default_groom_import_def();
     const hk_GroomImportDef *d = def ? def : &defaults;
@@ -174,7 +173,7 @@ hk_Status hk_groom_import(const hk_HairFile *hair, const hk_Shape *body, int bod
     long moved_points = 0;
     double moved_sum = 0.0, moved_max = 0.0;
     if (body_count > 0) {
-        #pragma omp parallel for schedule(dynamic, 16) num_threads(threads) \
+#pragma omp parallel for schedule(dynamic, 16) num_threads(threads) \
             reduction(+ : moved_strands, moved_points, moved_sum) reduction(max : moved_max)
         for (int i = 0; i < n; i++) {
             const uint32_t first = g->first_point[i], np = g->first_point[i + 1] - first;
@@ -186,8 +185,8 @@ hk_Status hk_groom_import(const hk_HairFile *hair, const hk_Shape *body, int bod
             hk_groom_keep_outside(body, body_count, p, (int)np);
             int moved = 0;
             for (uint32_t j = 0; j < 3 * np; j += 3) {
-                const double m = hk_v3_norm(hk_v3((double)p[j] - b[j], (double)p[j + 1] - b[j + 1],
-                                                  (double)p[j + 2] - b[j + 2]));
+                const double m =
+                    hk_v3_norm(hk_v3((double)p[j] - b[j], (double)p[j + 1] - b[j + 1], (double)p[j + 2] - b[j + 2]));
                 if (m > 0.0) {
                     moved = 1;
                     moved_points++;
@@ -234,14 +233,14 @@ hk_Status hk_groom_import(const hk_HairFile *hair, const hk_Shape *body, int bod
         hk_FirstError first;
         hk_first_error_init(&first);
         long done = 0;
-        #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
         for (int c = 0; c < k; c++) {
             if (hk_first_error_skip(&first, c)) continue;
             hk_Error e;
             if (make_guide(g, g->guide_strand[c], body, body_count, d, &g->guide[c], &res[c], &e) != HK_OK)
                 hk_first_error_record(&first, c, &e);
             long dn;
-            #pragma omp atomic capture
+#pragma omp atomic capture
             dn = ++done;
             if (d->progress && omp_get_thread_num() == 0) d->progress(d->progress_user, "fit", (double)dn / k);
         }
@@ -277,7 +276,7 @@ hk_Status hk_groom_import(const hk_HairFile *hair, const hk_Shape *body, int bod
         }
         for (int c = 0; st == HK_OK && !any && c < k; c++) usable[c] = 1;
         if (st == HK_OK) {
-            #pragma omp parallel for schedule(static) num_threads(threads)
+#pragma omp parallel for schedule(static) num_threads(threads)
             for (int i = 0; i < n; i++) attach_strand(g, i, guide_of_strand, usable);
         }
         hk_free(usable);
@@ -306,8 +305,8 @@ static void stations(const hk_SuperHelix *sh, double step, int count, hk_Vec3 *p
     }
 }
 
-hk_Status hk_imported_groom_strands(const hk_ImportedGroom *g, const hk_SuperHelix *const *guides_now,
-                                    int threads, float *out, hk_Error *err)
+hk_Status hk_imported_groom_strands(const hk_ImportedGroom *g, const hk_SuperHelix *const *guides_now, int threads,
+                                    float *out, hk_Error *err)
 {
     const int k = g->guide_count;
     size_t *first = hk_alloc_array((size_t)k + 1, sizeof(size_t), err);
@@ -319,7 +318,7 @@ hk_Status hk_imported_groom_strands(const hk_ImportedGroom *g, const hk_SuperHel
     hk_Status st = r0 && r1 && f0 && f1 ? HK_OK : HK_ERR_NOMEM;
     const int nt = threads_of(threads);
     if (st == HK_OK) {
-        #pragma omp parallel for schedule(dynamic, 4) num_threads(nt)
+#pragma omp parallel for schedule(dynamic, 4) num_threads(nt)
         for (int c = 0; c < k; c++) {
             const int m = (int)(first[c + 1] - first[c]);
             stations(g->guide[c], g->station_step, m, r0 + first[c], f0 + first[c]);
@@ -331,7 +330,7 @@ hk_Status hk_imported_groom_strands(const hk_ImportedGroom *g, const hk_SuperHel
                 memcpy(f1 + first[c], f0 + first[c], (size_t)m * sizeof(hk_Mat3));
             }
         }
-        #pragma omp parallel for schedule(dynamic, 16) num_threads(nt)
+#pragma omp parallel for schedule(dynamic, 16) num_threads(nt)
         for (int i = 0; i < g->strand_count; i++) {
             const uint32_t a = g->first_point[i], b = g->first_point[i + 1];
             double s = 0.0;

@@ -62,7 +62,8 @@ static hk_Status leave_saddle(hk_SuperHelix *sh, const hk_StrandEnvDef *env, hk_
         double best = 0.0;
         int sign = 0;
         for (int side = 1; side >= -1; side -= 2) {
-            for (int i = 0; i < dim; i++) work[i] = sh->q[i] + side * step * vectors[(size_t)i * (size_t)dim + (size_t)low];
+            for (int i = 0; i < dim; i++)
+                work[i] = sh->q[i] + side * step * vectors[(size_t)i * (size_t)dim + (size_t)low];
             const double e = hk_strand_energy(sh, env, work, ws, NULL, NULL, NULL);
             if (!sign || e < best) best = e, sign = side;
         }

@@ -28,9 +28,9 @@
 #include "hairkit/capture.h"
 #include "rod/helix_local.h"
 
-#define FIT_MAX_ELEMENTS 256
-#define COARSE_ITERATIONS 30 /* per coarse level: a start for the next, not an answer */
-#define FIT_MIN_SEGMENT 1e-9 /* m: consecutive points closer than this are one point */
+#define FIT_MAX_ELEMENTS  256
+#define COARSE_ITERATIONS 30   /* per coarse level: a start for the next, not an answer */
+#define FIT_MIN_SEGMENT   1e-9 /* m: consecutive points closer than this are one point */
 
 hk_SuperHelixFitDef hk_default_superhelix_fit_def(void)
 {
@@ -44,19 +44,19 @@ hk_SuperHelixFitDef hk_default_superhelix_fit_def(void)
 }
 
 typedef struct Fit {
-    int m;              /* points after the root */
-    hk_Vec3 *target;    /* [m] */
-    double *s;          /* [m] arc length of each along the polyline */
-    double *poly_s;     /* [m + 1] arc length of every polyline point, the root's 0 */
-    hk_Vec3 *poly;      /* [m + 1] the polyline without repeated points */
-    int *elem;          /* [m] element of each point for the current N */
-    double *u;          /* [m] offset into it */
+    int m;           /* points after the root */
+    hk_Vec3 *target; /* [m] */
+    double *s;       /* [m] arc length of each along the polyline */
+    double *poly_s;  /* [m + 1] arc length of every polyline point, the root's 0 */
+    hk_Vec3 *poly;   /* [m + 1] the polyline without repeated points */
+    int *elem;       /* [m] element of each point for the current N */
+    double *u;       /* [m] offset into it */
     hk_SuperHelix *sh;
     /* per element, for the current q */
-    hk_Vec3 *node;      /* [N + 1] */
-    hk_Mat3 *frame;     /* [N + 1] */
-    hk_Mat3 *bq, *cq;   /* [N] B_Q and C_Q above */
-    hk_Mat3 *jb;        /* [N] a point's Jacobian blocks */
+    hk_Vec3 *node;                                         /* [N + 1] */
+    hk_Mat3 *frame;                                        /* [N + 1] */
+    hk_Mat3 *bq, *cq;                                      /* [N] B_Q and C_Q above */
+    hk_Mat3 *jb;                                           /* [N] a point's Jacobian blocks */
     double *ata, *g, *factor, *diag, *step, *trial, *best; /* 3N x 3N, then 3N each */
 } Fit;
 
@@ -155,13 +155,14 @@ static double normal_equations(Fit *f)
                     for (int k2 = 0; k2 < 3; k2++) {
                         const int col = 3 * b2 + k2;
                         if (col > row) break;
-                        arow[col] += jk[0] * f->jb[b2].m[0][k2] + jk[1] * f->jb[b2].m[1][k2] +
-                                     jk[2] * f->jb[b2].m[2][k2];
+                        arow[col] +=
+                            jk[0] * f->jb[b2].m[0][k2] + jk[1] * f->jb[b2].m[1][k2] + jk[2] * f->jb[b2].m[2][k2];
                     }
             }
     }
     for (int i = 0; i < dim; i++)
-        for (int k = 0; k < i; k++) f->ata[(size_t)k * (size_t)dim + (size_t)i] = f->ata[(size_t)i * (size_t)dim + (size_t)k];
+        for (int k = 0; k < i; k++)
+            f->ata[(size_t)k * (size_t)dim + (size_t)i] = f->ata[(size_t)i * (size_t)dim + (size_t)k];
     return c;
 }
 
@@ -229,8 +230,10 @@ static hk_Vec3 polyline_at(const Fit *f, double s)
     if (s >= f->poly_s[hi]) return f->poly[hi];
     while (hi - lo > 1) {
         const int mid = (lo + hi) / 2;
-        if (f->poly_s[mid] <= s) lo = mid;
-        else hi = mid;
+        if (f->poly_s[mid] <= s)
+            lo = mid;
+        else
+            hi = mid;
     }
     const double t = (s - f->poly_s[lo]) / (f->poly_s[hi] - f->poly_s[lo]);
     return hk_v3_add(f->poly[lo], hk_v3_scale(hk_v3_sub(f->poly[hi], f->poly[lo]), t));
@@ -312,8 +315,7 @@ static hk_Status read_polyline(Fit *f, const hk_Vec3 *points, int count, hk_Vec3
         f->poly_s[kept] = kept ? f->poly_s[kept - 1] + hk_v3_norm(hk_v3_sub(x, f->poly[kept - 1])) : 0.0;
         f->poly[kept++] = x;
     }
-    if (kept < 2)
-        return hk_error_set(err, HK_ERR_INVALID, "superhelix fit: the %d points have no length", count);
+    if (kept < 2) return hk_error_set(err, HK_ERR_INVALID, "superhelix fit: the %d points have no length", count);
     f->m = kept - 1;
     for (int j = 0; j < f->m; j++) {
         f->target[j] = f->poly[j + 1];
@@ -324,9 +326,9 @@ static hk_Status read_polyline(Fit *f, const hk_Vec3 *points, int count, hk_Vec3
     hk_Vec3 t = hk_v3_sub(f->poly[1], f->poly[0]);
     if (kept >= 3) {
         const double s1 = f->poly_s[1], s2 = f->poly_s[2];
-        t = hk_v3_add(hk_v3_add(hk_v3_scale(f->poly[0], -(s1 + s2) / (s1 * s2)),
-                                hk_v3_scale(f->poly[1], s2 / (s1 * (s2 - s1)))),
-                      hk_v3_scale(f->poly[2], -s1 / (s2 * (s2 - s1))));
+        t = hk_v3_add(
+            hk_v3_add(hk_v3_scale(f->poly[0], -(s1 + s2) / (s1 * s2)), hk_v3_scale(f->poly[1], s2 / (s1 * (s2 - s1)))),
+            hk_v3_scale(f->poly[2], -s1 / (s2 * (s2 - s1))));
         if (!(hk_v3_norm(t) > 0.0) || hk_v3_dot(t, hk_v3_sub(f->poly[1], f->poly[0])) <= 0.0)
             t = hk_v3_sub(f->poly[1], f->poly[0]);
     }
@@ -416,17 +418,16 @@ static int first_count(const hk_SuperHelixFitDef *d, double length, int segments
 }
 
 hk_Status hk_superhelix_fit(const hk_Vec3 *points, int count, const hk_RodMaterial *material,
-                            const hk_SuperHelixFitDef *def, hk_SuperHelix **out,
-                            hk_SuperHelixFitReport *report, hk_Error *err)
+                            const hk_SuperHelixFitDef *def, hk_SuperHelix **out, hk_SuperHelixFitReport *report,
+                            hk_Error *err)
 {
     *out = NULL;
     const hk_SuperHelixFitDef d = def ? *def : hk_default_superhelix_fit_def();
     if (!points || count < 2 || count > HK_MAX_SAMPLES_PER_STRAND)
         return hk_error_set(err, HK_ERR_INVALID, "superhelix fit: %d points, expected 2 to %d", count,
                             HK_MAX_SAMPLES_PER_STRAND);
-    if (d.elements < 0 || d.elements > FIT_MAX_ELEMENTS || d.max_elements < 1 ||
-        d.max_elements > FIT_MAX_ELEMENTS || !(d.element_length > 0.0) || !(d.tolerance >= 0.0) ||
-        d.max_iterations < 1)
+    if (d.elements < 0 || d.elements > FIT_MAX_ELEMENTS || d.max_elements < 1 || d.max_elements > FIT_MAX_ELEMENTS ||
+        !(d.element_length > 0.0) || !(d.tolerance >= 0.0) || d.max_iterations < 1)
         return hk_error_set(err, HK_ERR_INVALID,
                             "superhelix fit: elements 0..%d, max_elements 1..%d, element_length > 0, "
                             "tolerance >= 0 and max_iterations >= 1 expected",

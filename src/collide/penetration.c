@@ -39,8 +39,7 @@ static double sphere_dent(const hk_Shape *s, hk_Vec3 d, double q2, hk_Vec3 *grad
     if (grad) *grad = hk_v3_neg(n);
     if (hess) /* d2(-|d|) = -(I - n n^T) / |d| */
         for (int i = 0; i < 3; i++)
-            for (int j = 0; j < 3; j++)
-                hess->m[i][j] = (hk_v3_get(n, i) * hk_v3_get(n, j) - (i == j)) * iq;
+            for (int j = 0; j < 3; j++) hess->m[i][j] = (hk_v3_get(n, i) * hk_v3_get(n, j) - (i == j)) * iq;
     return r - q;
 }
 
@@ -104,10 +103,9 @@ static double ellipsoid_dent(const hk_Shape *s, hk_Vec3 d, double q2, hk_Vec3 *g
         for (int i = 0; i < 3; i++)
             for (int j = i; j < 3; j++) {
                 double aij = 0.0; /* (A)_ij */
-                for (int k = 0; k < 3; k++)
-                    aij += inv2[k] * hk_v3_get(s->axis[k], i) * hk_v3_get(s->axis[k], j);
-                const double hr = ((i == j) * R - R3 * aij - 2.0 * (nv[i] * gv[j] + gv[i] * nv[j]) +
-                                   3.0 * gv[i] * gv[j] * iR) * iq2;
+                for (int k = 0; k < 3; k++) aij += inv2[k] * hk_v3_get(s->axis[k], i) * hk_v3_get(s->axis[k], j);
+                const double hr =
+                    ((i == j) * R - R3 * aij - 2.0 * (nv[i] * gv[j] + gv[i] * nv[j]) + 3.0 * gv[i] * gv[j] * iR) * iq2;
                 hess->m[i][j] = hess->m[j][i] = hr - ((i == j) - nv[i] * nv[j]) * iq;
             }
     }
@@ -157,9 +155,12 @@ static double dent_at(const hk_Shape *s, hk_Vec3 d, double q2, hk_Vec3 *grad, hk
     case HK_SHAPE_FIELD:
         if (s->field) return field_dent(s, d, grad, hess);
         break;
-    case HK_SHAPE_SPHERE: return sphere_dent(s, d, q2, grad, hess);
-    case HK_SHAPE_ELLIPSOID: return ellipsoid_dent(s, d, q2, grad, hess);
-    case HK_SHAPE_CUBOID: return cuboid_dent(s, d, grad, hess);
+    case HK_SHAPE_SPHERE:
+        return sphere_dent(s, d, q2, grad, hess);
+    case HK_SHAPE_ELLIPSOID:
+        return ellipsoid_dent(s, d, q2, grad, hess);
+    case HK_SHAPE_CUBOID:
+        return cuboid_dent(s, d, grad, hess);
     }
     set_zero(grad, hess); /* unknown kind: never in contact */
     return -DBL_MAX;
@@ -201,14 +202,12 @@ double hk_shape_penalty(const hk_Shape *shape, double alpha, hk_Vec3 p, hk_Vec3 
     if (hess) {
         const double gv[3] = {g.x, g.y, g.z};
         for (int i = 0; i < 3; i++)
-            for (int j = 0; j < 3; j++)
-                hess->m[i][j] += k * gv[i] * gv[j] + (hp ? kphi * h.m[i][j] : 0.0);
+            for (int j = 0; j < 3; j++) hess->m[i][j] += k * gv[i] * gv[j] + (hp ? kphi * h.m[i][j] : 0.0);
     }
     return 0.5 * kphi * phi;
 }
 
-double hk_collision_penalty(const hk_Shape *shapes, int count, double alpha, hk_Vec3 p, hk_Vec3 *grad,
-                            hk_Mat3 *hess)
+double hk_collision_penalty(const hk_Shape *shapes, int count, double alpha, hk_Vec3 p, hk_Vec3 *grad, hk_Mat3 *hess)
 {
     set_zero(grad, hess);
     double e = 0.0;
@@ -225,7 +224,8 @@ double hk_collision_penalty(const hk_Shape *shapes, int count, double alpha, hk_
 static int clearly_outside(const hk_Shape *s, hk_Vec3 d, double q2)
 {
     switch (s->kind) {
-    case HK_SHAPE_SPHERE: return q2 > s->half.x * s->half.x * (1.0 + 1e-9);
+    case HK_SHAPE_SPHERE:
+        return q2 > s->half.x * s->half.x * (1.0 + 1e-9);
     case HK_SHAPE_ELLIPSOID: {
         double r2 = 0.0;
         for (int i = 0; i < 3; i++) {
@@ -234,8 +234,10 @@ static int clearly_outside(const hk_Shape *s, hk_Vec3 d, double q2)
         }
         return r2 > 1.0 + 1e-9;
     }
-    case HK_SHAPE_CUBOID: break;
-    case HK_SHAPE_FIELD: break;
+    case HK_SHAPE_CUBOID:
+        break;
+    case HK_SHAPE_FIELD:
+        break;
     }
     return 0;
 }

@@ -2,8 +2,8 @@
  * shapes posed by the head's rigid motion. */
 #include "hairkit/collide.h"
 
-static hk_Shape shape_base(hk_ShapeKind kind, hk_Vec3 centre, hk_Vec3 half, const hk_Vec3 axes[3],
-                           double volume, double penalty)
+static hk_Shape shape_base(hk_ShapeKind kind, hk_Vec3 centre, hk_Vec3 half, const hk_Vec3 axes[3], double volume,
+                           double penalty)
 {
     hk_Shape s;
     s.kind = kind;
@@ -19,18 +19,15 @@ static hk_Shape shape_base(hk_ShapeKind kind, hk_Vec3 centre, hk_Vec3 half, cons
 
 hk_Shape hk_shape_sphere(hk_Vec3 centre, double radius, double volume, double penalty)
 {
-    return shape_base(HK_SHAPE_SPHERE, centre, hk_v3(radius, radius, radius), NULL, volume,
-                      penalty);
+    return shape_base(HK_SHAPE_SPHERE, centre, hk_v3(radius, radius, radius), NULL, volume, penalty);
 }
 
-hk_Shape hk_shape_ellipsoid(hk_Vec3 centre, hk_Vec3 radii, const hk_Vec3 axes[3], double volume,
-                            double penalty)
+hk_Shape hk_shape_ellipsoid(hk_Vec3 centre, hk_Vec3 radii, const hk_Vec3 axes[3], double volume, double penalty)
 {
     return shape_base(HK_SHAPE_ELLIPSOID, centre, radii, axes, volume, penalty);
 }
 
-hk_Shape hk_shape_cuboid(hk_Vec3 centre, hk_Vec3 half_dims, const hk_Vec3 axes[3], double volume,
-                         double penalty)
+hk_Shape hk_shape_cuboid(hk_Vec3 centre, hk_Vec3 half_dims, const hk_Vec3 axes[3], double volume, double penalty)
 {
     return shape_base(HK_SHAPE_CUBOID, centre, half_dims, axes, volume, penalty);
 }

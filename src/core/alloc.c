@@ -24,11 +24,24 @@ static int parse_size(const char *s, double *out)
     if (digits == 0) return 0;
     int power = 0;
     switch (*p) {
-    case 'k': case 'K': power = 1; break;
-    case 'm': case 'M': power = 2; break;
-    case 'g': case 'G': power = 3; break;
-    case 't': case 'T': power = 4; break;
-    default: break;
+    case 'k':
+    case 'K':
+        power = 1;
+        break;
+    case 'm':
+    case 'M':
+        power = 2;
+        break;
+    case 'g':
+    case 'G':
+        power = 3;
+        break;
+    case 't':
+    case 'T':
+        power = 4;
+        break;
+    default:
+        break;
     }
     double base = 1000.0;
     if (power) {
@@ -73,9 +86,10 @@ hk_Status hk_memory_check(double bytes, const char *what, hk_Error *err)
     /* A suggestion that fits: the next power of two in GB above the need. */
     double suggest = 1.0;
     while (suggest < bytes / 1e9 && suggest < 1e9) suggest *= 2.0;
-    return hk_error_set(err, HK_ERR_NOMEM,
-                        "%s would take about %.3g GB of memory, over the limit of %.3g GB (%s raises it, e.g. %s=%.0fG)",
-                        what, bytes / 1e9, limit / 1e9, HK_MEMORY_LIMIT_ENV, HK_MEMORY_LIMIT_ENV, suggest);
+    return hk_error_set(
+        err, HK_ERR_NOMEM,
+        "%s would take about %.3g GB of memory, over the limit of %.3g GB (%s raises it, e.g. %s=%.0fG)", what,
+        bytes / 1e9, limit / 1e9, HK_MEMORY_LIMIT_ENV, HK_MEMORY_LIMIT_ENV, suggest);
 }
 
 static int size_ok(size_t count, size_t size, size_t *bytes, hk_Error *err)

@@ -30,12 +30,18 @@ void hk_error_clear(hk_Error *err)
 const char *hk_status_name(hk_Status status)
 {
     switch (status) {
-    case HK_OK: return "ok";
-    case HK_ERR_IO: return "io";
-    case HK_ERR_PARSE: return "parse";
-    case HK_ERR_INVALID: return "invalid";
-    case HK_ERR_NOMEM: return "nomem";
-    case HK_ERR_NUMERIC: return "numeric";
+    case HK_OK:
+        return "ok";
+    case HK_ERR_IO:
+        return "io";
+    case HK_ERR_PARSE:
+        return "parse";
+    case HK_ERR_INVALID:
+        return "invalid";
+    case HK_ERR_NOMEM:
+        return "nomem";
+    case HK_ERR_NUMERIC:
+        return "numeric";
     }
     return "unknown";
 }
@@ -51,11 +57,11 @@ void hk_first_error_init(hk_FirstError *fe)
  * after the loop (its end is a barrier). */
 void hk_first_error_record(hk_FirstError *fe, long index, const hk_Error *err)
 {
-    #pragma omp critical(hk_first_error)
+#pragma omp critical(hk_first_error)
     {
         if (fe->index < 0 || index < fe->index) {
             fe->error = *err;
-            #pragma omp atomic write
+#pragma omp atomic write
             fe->index = index;
         }
     }
@@ -64,7 +70,7 @@ void hk_first_error_record(hk_FirstError *fe, long index, const hk_Error *err)
 int hk_first_error_skip(const hk_FirstError *fe, long index)
 {
     long failed;
-    #pragma omp atomic read
+#pragma omp atomic read
     failed = fe->index;
     return failed >= 0 && failed < index;
 }

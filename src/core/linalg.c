@@ -100,7 +100,7 @@ static void transpose_square(double *m, size_t n)
 int hk_symmetric_eigen(int n, const double *a, double *w, double *v, double *e)
 {
     const size_t sn = (size_t)n;
-#define V(i, j) v[(size_t)(i) * sn + (size_t)(j)]
+#define V(i, j) v[(size_t)(i)*sn + (size_t)(j)]
     for (size_t k = 0; k < sn * sn; k++) v[k] = a[k];
     /* tred2: V becomes the orthogonal transformation, w the diagonal, e the
      * subdiagonal (e[i] couples i - 1 and i). */
@@ -154,13 +154,13 @@ int hk_symmetric_eigen(int n, const double *a, double *w, double *v, double *e)
             for (int j = 0; j <= l; j++) gbuf[j] = 0.0;
             for (int k = 0; k <= l; k++) {
                 const double x = V(i, k), *row = v + (size_t)k * sn;
-                #pragma omp simd
+#pragma omp simd
                 for (int j = 0; j <= l; j++) gbuf[j] += x * row[j];
             }
             for (int k = 0; k <= l; k++) {
                 const double y = V(k, i);
                 double *row = v + (size_t)k * sn;
-                #pragma omp simd
+#pragma omp simd
                 for (int j = 0; j <= l; j++) row[j] -= gbuf[j] * y;
             }
         } else if (w[i] != 0.0) {
@@ -214,7 +214,7 @@ int hk_symmetric_eigen(int n, const double *a, double *w, double *v, double *e)
                     w[i + 1] = g + (p = s * r);
                     g = c * r - b;
                     double *vi = v + (size_t)i * sn, *vn = vi + sn; /* columns i, i + 1 */
-                    #pragma omp simd
+#pragma omp simd
                     for (int k = 0; k < n; k++) {
                         const double x = vi[k], y = vn[k];
                         vn[k] = s * x + c * y;

@@ -11,8 +11,8 @@
 /* Friction of a sample pressed against the body with the normal force fn along
  * `normal` (out of the body): out->force is the friction force, out->damping its
  * linearisation; returns the force. */
-static hk_Vec3 friction(const hk_BodyContact *bc, const hk_RigidState *head, hk_Vec3 pos, hk_Vec3 vel,
-                        hk_Vec3 tangent, hk_Vec3 normal, double fn, hk_PointForce *out)
+static hk_Vec3 friction(const hk_BodyContact *bc, const hk_RigidState *head, hk_Vec3 pos, hk_Vec3 vel, hk_Vec3 tangent,
+                        hk_Vec3 normal, double fn, hk_PointForce *out)
 {
     /* Sliding velocity relative to the body surface. */
     const hk_Vec3 body_vel = hk_v3_add(head->vel, hk_v3_cross(head->omega, hk_v3_sub(pos, head->trans)));
@@ -21,8 +21,7 @@ static hk_Vec3 friction(const hk_BodyContact *bc, const hk_RigidState *head, hk_
     const double speed = hk_v3_norm(vt);
     /* cos = +1: the hair slides tip first, against its scales. */
     const double cosine = speed > 0.0 ? hk_v3_dot(hk_v3_normalize(tangent), vt) / speed : 0.0;
-    const double mu = bc->friction_with +
-                      (bc->friction_against - bc->friction_with) * 0.5 * (1.0 + cosine);
+    const double mu = bc->friction_with + (bc->friction_against - bc->friction_with) * 0.5 * (1.0 + cosine);
     const double c = mu * fn / (speed > bc->friction_velocity ? speed : bc->friction_velocity);
     /* Linearisation: c times the projector on the tangent plane. */
     const hk_Mat3 nn = hk_m3_outer(normal, normal);
@@ -34,8 +33,8 @@ static hk_Vec3 friction(const hk_BodyContact *bc, const hk_RigidState *head, hk_
     return hk_v3_scale(vt, -c);
 }
 
-int hk_body_contact_force(const hk_BodyContact *bc, const hk_RigidState *head, hk_Vec3 pos,
-                          hk_Vec3 vel, hk_Vec3 tangent, hk_PointForce *out)
+int hk_body_contact_force(const hk_BodyContact *bc, const hk_RigidState *head, hk_Vec3 pos, hk_Vec3 vel,
+                          hk_Vec3 tangent, hk_PointForce *out)
 {
     /* The shapes live in head space: x = R^T (p - T). Per shape i in contact,
      * e_i = k_i dent_i^2 / 2 and g_i = k_i dent_i grad(dent_i), so the Gauss-Newton
@@ -73,8 +72,8 @@ int hk_body_contact_force(const hk_BodyContact *bc, const hk_RigidState *head, h
     return 1;
 }
 
-int hk_body_contact_friction(const hk_BodyContact *bc, const hk_RigidState *head, hk_Vec3 pos,
-                             hk_Vec3 vel, hk_Vec3 tangent, hk_Vec3 grad, hk_PointForce *out)
+int hk_body_contact_friction(const hk_BodyContact *bc, const hk_RigidState *head, hk_Vec3 pos, hk_Vec3 vel,
+                             hk_Vec3 tangent, hk_Vec3 grad, hk_PointForce *out)
 {
     const double fn = hk_v3_norm(grad);
     if (!(fn > 0.0)) return 0;

@@ -4,8 +4,8 @@
 
 #include "hairkit/dynamics.h"
 
-#define HK_GAUSS_MAX 16 /* most Gauss points per element */
-#define HK_ANDERSON_DEPTH 4 /* past corrections Newton's iteration mixes (strand_integrator.c) */
+#define HK_GAUSS_MAX      16 /* most Gauss points per element */
+#define HK_ANDERSON_DEPTH 4  /* past corrections Newton's iteration mixes (strand_integrator.c) */
 
 /* Gauss-Legendre rules on [0, 1] with 1..HK_GAUSS_MAX points: rule n has its nodes at
  * node[n - 1][0..n) and weights at weight[n - 1][0..n). */
@@ -21,12 +21,12 @@ void hk_gauss_table_init(hk_GaussTable *table);
  * the "bias" accelerations, i.e. the accelerations the frame would have if every
  * generalized acceleration q'' were zero (root motion and velocity products only). */
 typedef struct hk_FrameKinematics {
-    hk_Mat3 frame;  /* material frame (columns n0, n1, n2) */
-    hk_Vec3 pos;    /* centreline point */
-    hk_Vec3 omega;  /* world angular velocity of the frame */
-    hk_Vec3 vel;    /* world velocity of the point */
-    hk_Vec3 alpha;  /* bias angular acceleration */
-    hk_Vec3 acc;    /* bias acceleration of the point */
+    hk_Mat3 frame; /* material frame (columns n0, n1, n2) */
+    hk_Vec3 pos;   /* centreline point */
+    hk_Vec3 omega; /* world angular velocity of the frame */
+    hk_Vec3 vel;   /* world velocity of the point */
+    hk_Vec3 alpha; /* bias angular acceleration */
+    hk_Vec3 acc;   /* bias acceleration of the point */
 } hk_FrameKinematics;
 
 /* A point inside an element, with the Jacobians of its own element's coordinates. */
@@ -38,8 +38,8 @@ typedef struct hk_PointKinematics {
 
 /* Kinematics at offset u into element P with start state `start`, coordinates k and
  * rates kd. order 1: pose, velocities, Jacobians; order 2: also bias accelerations. */
-void hk_point_kinematics(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, double u,
-                         int order, hk_PointKinematics *out);
+void hk_point_kinematics(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, double u, int order,
+                         hk_PointKinematics *out);
 
 /* Per element terms of one step, from its own points (quadrature, contacts). The
  * spatial vectors are (angular; linear) about the world origin: a screw (w; v) moves
@@ -56,12 +56,12 @@ typedef struct hk_ElementTerms {
 /* Adds one point to an element's terms: effective translational mass matrix a and
  * rotational inertia b (may be NULL) at point p with Jacobians jac and jac_rot (NULL
  * with b), load force f and moment tau. */
-void hk_element_terms_add(hk_ElementTerms *t, hk_Vec3 p, const hk_Mat3 *a, const hk_Mat3 *b,
-                          const hk_Mat3 *jac, const hk_Mat3 *jac_rot, hk_Vec3 f, hk_Vec3 tau);
+void hk_element_terms_add(hk_ElementTerms *t, hk_Vec3 p, const hk_Mat3 *a, const hk_Mat3 *b, const hk_Mat3 *jac,
+                          const hk_Mat3 *jac_rot, hk_Vec3 f, hk_Vec3 tau);
 
 /* The same for a quadrature point, whose translational mass matrix is a I. */
-void hk_element_terms_add_quadrature(hk_ElementTerms *t, hk_Vec3 p, double a, const hk_Mat3 *b,
-                                     const hk_Mat3 *jac, const hk_Mat3 *jac_rot, hk_Vec3 f, hk_Vec3 tau);
+void hk_element_terms_add_quadrature(hk_ElementTerms *t, hk_Vec3 p, double a, const hk_Mat3 *b, const hk_Mat3 *jac,
+                                     const hk_Mat3 *jac_rot, hk_Vec3 f, hk_Vec3 tau);
 
 /* Fills t->xi from the element's end point (its Jacobians at u = l_P). */
 void hk_element_terms_set_screw(hk_ElementTerms *t, const hk_PointKinematics *end);
@@ -72,18 +72,17 @@ void hk_terms_generalized_force(int n, const hk_ElementTerms *terms, double *out
 /* Solves (M + diag(extra)) x = rhs where M is the effective mass the terms describe:
  * dense assembly and Cholesky (work: HK_DENSE_WORK(n) doubles) or the O(n) recursion
  * (work: HK_LINEAR_WORK(n) doubles). Returns 0 if the system is not positive definite. */
-#define HK_DENSE_WORK(n) ((size_t)18 * (size_t)(n) * (size_t)(n))
+#define HK_DENSE_WORK(n)  ((size_t)18 * (size_t)(n) * (size_t)(n))
 #define HK_LINEAR_WORK(n) ((size_t)21 * (size_t)(n))
 /* dense: geo (may be NULL) is a further symmetric 3n x 3n matrix added times scale. */
-int hk_terms_solve_dense(int n, const hk_ElementTerms *terms, const double *extra,
-                         const double *geo, double scale, const double *rhs, double *x,
-                         double *work);
-int hk_terms_solve_linear(int n, const hk_ElementTerms *terms, const double *extra,
-                          const double *rhs, double *x, double *work);
+int hk_terms_solve_dense(int n, const hk_ElementTerms *terms, const double *extra, const double *geo, double scale,
+                         const double *rhs, double *x, double *work);
+int hk_terms_solve_linear(int n, const hk_ElementTerms *terms, const double *extra, const double *rhs, double *x,
+                          double *work);
 
 /* out = (M + diag(extra)) x in O(n) (two sweeps; screws: 6 n doubles of work). */
-void hk_terms_multiply(int n, const hk_ElementTerms *terms, const double *extra, const double *x,
-                       double *out, double *screws);
+void hk_terms_multiply(int n, const hk_ElementTerms *terms, const double *extra, const double *x, double *out,
+                       double *screws);
 
 /* Dense effective mass matrix (9 n^2 values, row-major) of the terms. */
 void hk_terms_assemble(int n, const hk_ElementTerms *terms, double *mass);
@@ -96,54 +95,54 @@ typedef struct hk_BodyContact {
     const hk_Shape *shapes;
     int shape_count;
     double envelope_alpha;
-    double weight;         /* arc length the sample stands for (m) */
+    double weight; /* arc length the sample stands for (m) */
     double friction_with, friction_against, friction_velocity;
 } hk_BodyContact;
 
-int hk_body_contact_force(const hk_BodyContact *bc, const hk_RigidState *head, hk_Vec3 pos,
-                          hk_Vec3 vel, hk_Vec3 tangent, hk_PointForce *out);
+int hk_body_contact_force(const hk_BodyContact *bc, const hk_RigidState *head, hk_Vec3 pos, hk_Vec3 vel,
+                          hk_Vec3 tangent, hk_PointForce *out);
 
 /* The friction alone, for a sample whose penalty energy has the world gradient grad
  * (hk_strand_workspace_contact, turned to world axes): the normal force, -grad, then
  * comes from the gradient of the potential. Returns 0 when grad is zero. */
-int hk_body_contact_friction(const hk_BodyContact *bc, const hk_RigidState *head, hk_Vec3 pos,
-                             hk_Vec3 vel, hk_Vec3 tangent, hk_Vec3 grad, hk_PointForce *out);
+int hk_body_contact_friction(const hk_BodyContact *bc, const hk_RigidState *head, hk_Vec3 pos, hk_Vec3 vel,
+                             hk_Vec3 tangent, hk_Vec3 grad, hk_PointForce *out);
 
 /* The state of one strand's dynamics (hairkit/dynamics.h). The vectors are 3N values
  * each, one block. */
 struct hk_StrandDynamics {
     hk_SuperHelix *sh;
     hk_DynamicsDef params;
-    hk_Vec3 root_head;   /* root in head space */
-    hk_Mat3 frame_head;  /* root frame in head space */
-    hk_Shape *shapes;    /* body shapes (head space), owned copy */
+    hk_Vec3 root_head;  /* root in head space */
+    hk_Mat3 frame_head; /* root frame in head space */
+    hk_Shape *shapes;   /* body shapes (head space), owned copy */
     hk_BodyContact contact;
-    hk_BodyContact tip;  /* the tip's penalty: the body shapes alone (tip_shapes), no
-                            envelope, weight CollisionStep / 2 (tip_contact.c) */
+    hk_BodyContact tip; /* the tip's penalty: the body shapes alone (tip_shapes), no
+                           envelope, weight CollisionStep / 2 (tip_contact.c) */
     hk_Shape *tip_shapes;
-    int contact_samples; /* collision samples along the strand (0: no body) */
-    int contact_count;   /* samples in contact during the last evaluation */
+    int contact_samples;           /* collision samples along the strand (0: no body) */
+    int contact_count;             /* samples in contact during the last evaluation */
     hk_StrandEnvDef potential_env; /* no shapes: elastic + gravity */
     hk_StrandWorkspace *ws;
-    double *v;           /* generalized velocity q' */
-    double *delta;       /* Newton correction of the velocity */
-    double *rhs;         /* generalized force (evaluate), then the residual */
-    double *extra;       /* diagonal of the iteration matrix beyond M: ch gamma l + ch^2 K l */
-    double *grad;        /* gradient of the potential at q */
-    double *saved;       /* q and v before a step that may be undone, 2 x 3N */
-    double *start;       /* q and v at the start of hk_strand_dynamics_advance, 2 x 3N */
-    double *acc;         /* q'' at the end of the last step (TR-BDF2 "first same as last") */
-    double *acc_at;      /* q and v (2 x 3N) for which acc holds: a velocity set by the
-                            caller makes it stale */
+    double *v;      /* generalized velocity q' */
+    double *delta;  /* Newton correction of the velocity */
+    double *rhs;    /* generalized force (evaluate), then the residual */
+    double *extra;  /* diagonal of the iteration matrix beyond M: ch gamma l + ch^2 K l */
+    double *grad;   /* gradient of the potential at q */
+    double *saved;  /* q and v before a step that may be undone, 2 x 3N */
+    double *start;  /* q and v at the start of hk_strand_dynamics_advance, 2 x 3N */
+    double *acc;    /* q'' at the end of the last step (TR-BDF2 "first same as last") */
+    double *acc_at; /* q and v (2 x 3N) for which acc holds: a velocity set by the
+                       caller makes it stale */
     int acc_valid;
-    double energy;       /* hk_dynamics_total_energy for the state of acc_at (energy_valid) */
+    double energy; /* hk_dynamics_total_energy for the state of acc_at (energy_valid) */
     int energy_valid;
-    double *q0, *v0;     /* the step's start */
-    double *aq, *av;     /* the known parts of a stage, q = aq + ch v, v = av + ch q'' */
-    double *x;           /* v - av */
-    double *vg, *qg;     /* the first stage's result */
+    double *q0, *v0;           /* the step's start */
+    double *aq, *av;           /* the known parts of a stage, q = aq + ch v, v = av + ch q'' */
+    double *x;                 /* v - av */
+    double *vg, *qg;           /* the first stage's result */
     double *prev_v0, *prev_vg; /* the last step's start and first-stage velocities, and its
-                            step prev_h: Newton's first guesses are extrapolated from them */
+                                  step prev_h: Newton's first guesses are extrapolated from them */
     double prev_h;
     double *start_guess; /* a stage's first guess, for its dense fallback */
     double *mixing;      /* Anderson's history in Newton's iteration (strand_integrator.c):
@@ -175,7 +174,7 @@ struct hk_StrandDynamics {
     double *entry_s, *entry_q[2];
     hk_Vec3 *entry_pos[2];
     int entry_count, entry_valid[2], entry_next;
-    long evaluations;    /* evaluations of the forces, to refresh G+ every few */
+    long evaluations; /* evaluations of the forces, to refresh G+ every few */
     hk_DynamicsStats stats;
     hk_ElementTerms *terms;
     hk_GaussTable gauss;
@@ -187,8 +186,8 @@ struct hk_StrandDynamics {
  * (internal friction and elastic stiffness), d->rhs the generalized force f(q, v) minus
  * M x / ch when x is given (the stage's inertia, so that ch rhs is the stage's
  * residual). ch = 0 (x NULL): the plain mass matrix and f. */
-void hk_dynamics_evaluate(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces,
-                          int force_count, double ch, const double *x);
+void hk_dynamics_evaluate(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces, int force_count,
+                          double ch, const double *x);
 
 /* Solves (iteration matrix) out = d->rhs after hk_dynamics_evaluate with the same ch;
  * returns 0 if the system is not positive definite. */
@@ -201,8 +200,7 @@ hk_Vec3 hk_dynamics_head_space_tip(hk_StrandDynamics *d, const double *q);
 
 /* The strand's points at the arc lengths s[0..count) (ascending) for coordinates q, in
  * head space. */
-void hk_dynamics_head_space_points(hk_StrandDynamics *d, const double *q, const double *s, int count,
-                                   hk_Vec3 *points);
+void hk_dynamics_head_space_points(hk_StrandDynamics *d, const double *q, const double *s, int count, hk_Vec3 *points);
 
 /* The tip's body contact (tip_contact.c), the tip's kinematics given: fills pf and
  * returns 1 when the tip is inside a body shape. */
@@ -275,9 +273,8 @@ int hk_dynamics_reverse_factor(const hk_StrandDynamics *d, double *u);
  * positions and the velocities with the generalized velocities `rates` and the head's
  * state head (the root's motion), element (may be NULL) the element each lies on.
  * screws: 18 N doubles of work. */
-void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head, const double *rates,
-                                 const double *s, int count, double *screws, double *jac, hk_Vec3 *pos,
-                                 hk_Vec3 *vel, int *element);
+void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head, const double *rates, const double *s,
+                                 int count, double *screws, double *jac, hk_Vec3 *pos, hk_Vec3 *vel, int *element);
 
 /* The generalized mass matrix M(q) (3N x 3N, row-major), assembled densely, for tests
  * and diagnostics. */

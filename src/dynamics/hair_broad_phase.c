@@ -35,16 +35,16 @@ typedef struct Grid {
     int *seg_strand, *seg_index; /* eligible segment e is segment seg_index[e] of seg_strand[e] */
     hk_Vec3 *lo, *hi;            /* its box grown by d0 */
     size_t entry_cap;
-    int32_t *cell;               /* 3 per entry: the cell's integer coordinates */
+    int32_t *cell; /* 3 per entry: the cell's integer coordinates */
     int *entry_seg;
     uint32_t *entry_bucket;
-    Entry *sorted;               /* entries by bucket */
+    Entry *sorted; /* entries by bucket */
     size_t table_cap;
-    size_t *bucket_start;        /* table size + 1 */
+    size_t *bucket_start; /* table size + 1 */
     int found_count;
-    Found *found;                /* per thread */
+    Found *found; /* per thread */
     int flag_cap;
-    unsigned char *is_min;       /* per candidate */
+    unsigned char *is_min; /* per candidate */
 } Grid;
 
 void hk_hc_grid_free(hk_HairContacts *c)
@@ -138,8 +138,7 @@ static double covered_cells(const Grid *g, int n, hk_Vec3 origin, double h)
 
 static int boxes_overlap(hk_Vec3 alo, hk_Vec3 ahi, hk_Vec3 blo, hk_Vec3 bhi)
 {
-    return alo.x <= bhi.x && blo.x <= ahi.x && alo.y <= bhi.y && blo.y <= ahi.y && alo.z <= bhi.z &&
-           blo.z <= ahi.z;
+    return alo.x <= bhi.x && blo.x <= ahi.x && alo.y <= bhi.y && blo.y <= ahi.y && alo.z <= bhi.z && blo.z <= ahi.z;
 }
 
 /* Measures two segments of different strands whose boxes overlap and keeps them as a
@@ -174,8 +173,10 @@ static void mark_minima(const hk_HairContacts *c, int i, int a, const hk_HcMetri
     int run_end[3], next[3];
     for (int r = 0; r < 3; r++) {
         const int na = a + r - 1;
-        if (na < si->first || na > si->count - 2) next[r] = run_end[r] = 0;
-        else hk_hc_run(c, i, na, &next[r], &run_end[r]);
+        if (na < si->first || na > si->count - 2)
+            next[r] = run_end[r] = 0;
+        else
+            hk_hc_run(c, i, na, &next[r], &run_end[r]);
     }
     for (int k = begin; k < end; k++) {
         const hk_HcPair *p = &cand[k];
@@ -187,7 +188,8 @@ static void mark_minima(const hk_HairContacts *c, int i, int a, const hk_HcMetri
         int min = 1;
         for (int r = 0; r < 3 && min; r++) {
             /* Skip what sorts before (j, b - 1): the runs and the candidates go up together. */
-            while (next[r] < run_end[r] && (cand[next[r]].j < p->j || (cand[next[r]].j == p->j && cand[next[r]].b < p->b - 1)))
+            while (next[r] < run_end[r] &&
+                   (cand[next[r]].j < p->j || (cand[next[r]].j == p->j && cand[next[r]].b < p->b - 1)))
                 next[r]++;
             const int na = a + r - 1;
             for (int x = next[r]; x < run_end[r]; x++) {
@@ -245,7 +247,9 @@ hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
     const hk_Vec3 extent = hk_v3_sub(gmax, gmin);
     const double max_extent = fmax(extent.x, fmax(extent.y, extent.z));
     if (!isfinite(max_extent) || !isfinite(side_sum))
-        return hk_error_set(err, HK_ERR_INVALID, "hair contacts: strand positions (grown by the contact distance) span more than the range of doubles");
+        return hk_error_set(
+            err, HK_ERR_INVALID,
+            "hair contacts: strand positions (grown by the contact distance) span more than the range of doubles");
 
     /* Cell size: the mean box side, so that a typical segment covers up to 8 cells;
      * at least the extent / 2^20 so that cell coordinates fit; doubled while long
@@ -344,8 +348,8 @@ hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
         for (int k = 0; k < c->candidate_count;) {
             const hk_HcPair *first = &c->candidates[k];
             int best = k, end = k + 1;
-            while (end < c->candidate_count && c->candidates[end].i == first->i &&
-                   c->candidates[end].a == first->a && c->candidates[end].j == first->j) {
+            while (end < c->candidate_count && c->candidates[end].i == first->i && c->candidates[end].a == first->a &&
+                   c->candidates[end].j == first->j) {
                 if (c->candidates[end].d2 < c->candidates[best].d2) best = end;
                 end++;
             }
@@ -367,7 +371,8 @@ hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
     const int strands = c->strand_count;
 #pragma omp parallel for schedule(dynamic, 8) num_threads(threads)
     for (int i = 0; i < strands; i++)
-        for (int a = c->views[i].first; a <= c->views[i].count - 2; a++) mark_minima(c, i, a, &metric, band_rank, g->is_min);
+        for (int a = c->views[i].first; a <= c->views[i].count - 2; a++)
+            mark_minima(c, i, a, &metric, band_rank, g->is_min);
     for (int k = 0; k < count; k++)
         if (g->is_min[k] && !hk_hc_push_pair(&c->pairs, &c->pair_count, &c->pair_cap, &c->candidates[k], err))
             return HK_ERR_NOMEM;

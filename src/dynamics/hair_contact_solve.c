@@ -41,9 +41,9 @@
 #include "hair_contact_solve.h"
 #include "hair_contacts_internal.h"
 
-#define HK_PGS_SWEEPS 20
+#define HK_PGS_SWEEPS     20
 #define HK_PGS_FULL_EVERY 4
-#define HK_PGS_TOLERANCE 1e-4
+#define HK_PGS_TOLERANCE  1e-4
 
 enum { UNANSWERED = 0, WANTED = 1, ANSWERED = 2 }; /* a point's Y^T */
 
@@ -53,14 +53,14 @@ typedef struct Slot {
 } Slot;
 
 typedef struct PairState {
-    int slot[2];    /* slots of point a (strand i) and point b (strand j) */
-    hk_Vec3 basis[3]; /* n (from b to a), t1, t2 */
-    double w[3][3]; /* Delassus block in the basis: B^T (J_a Y_a + J_b Y_b) B */
+    int slot[2];        /* slots of point a (strand i) and point b (strand j) */
+    hk_Vec3 basis[3];   /* n (from b to a), t1, t2 */
+    double w[3][3];     /* Delassus block in the basis: B^T (J_a Y_a + J_b Y_b) B */
     double beta, gamma; /* normal law lambda_n = max(0, beta - gamma u_n) */
-    hk_Vec3 free;   /* relative velocity in the basis at the strands' free velocities */
-    hk_Vec3 lambda; /* impulse on a in the basis during the solve, in world space after */
-    int key[4];     /* (i, a, j, b): warm start from the last step's same pair */
-    int ready;      /* w is set (both points' responses are) */
+    hk_Vec3 free;       /* relative velocity in the basis at the strands' free velocities */
+    hk_Vec3 lambda;     /* impulse on a in the basis during the solve, in world space after */
+    int key[4];         /* (i, a, j, b): warm start from the last step's same pair */
+    int ready;          /* w is set (both points' responses are) */
 } PairState;
 
 /* A growable array: its items and how many it has room for. */
@@ -83,26 +83,26 @@ static int reserve(Buffer *b, size_t count, size_t size, hk_Error *err)
 
 struct hk_ContactSolve {
     int strand_count;
-    int *slot_start;      /* strand_count + 1: the strands' points, slots [start, next) */
-    size_t *dim_start;    /* strand_count + 1: offsets of the strands' 3N vectors */
-    size_t *jac_start;    /* strand_count + 1: offsets of the strands' first 3 x 3N block */
-    int *movable;         /* per strand: its step's matrix answered */
-    int *reversed;        /* per strand: A = U U^T in ul; its points' rows of Z in yt, w in dv */
-    size_t *ul_start;     /* strand_count + 1: offsets of the strands' U (3N x 3N) */
-    Buffer slots;         /* Slot per point */
-    Buffer at;            /* double per point: its s, as the Jacobians take them */
-    Buffer vel;           /* hk_Vec3 per point: its velocity with v^free */
-    Buffer forces;        /* hk_PointForce per point */
-    Buffer jac, yt;       /* double, 3 x 3N per point: rows of J and of Y^T = (A^-1 J^T)^T,
-                             or of Z^T = (U^-1 J^T)^T for a reversed strand */
-    Buffer support;       /* int per point: its rows of J are zero from this column on */
-    Buffer ul;            /* double: the reversed strands' U */
-    Buffer answered;      /* char per point: its rows of Y^T are set */
-    Buffer dv;            /* double, 3N per strand: the velocity change of the impulses */
-    Buffer vfree;         /* double, 3N per strand: its velocity after a step without them */
-    Buffer screws;        /* double, 18N per strand: work of the Jacobians */
+    int *slot_start;         /* strand_count + 1: the strands' points, slots [start, next) */
+    size_t *dim_start;       /* strand_count + 1: offsets of the strands' 3N vectors */
+    size_t *jac_start;       /* strand_count + 1: offsets of the strands' first 3 x 3N block */
+    int *movable;            /* per strand: its step's matrix answered */
+    int *reversed;           /* per strand: A = U U^T in ul; its points' rows of Z in yt, w in dv */
+    size_t *ul_start;        /* strand_count + 1: offsets of the strands' U (3N x 3N) */
+    Buffer slots;            /* Slot per point */
+    Buffer at;               /* double per point: its s, as the Jacobians take them */
+    Buffer vel;              /* hk_Vec3 per point: its velocity with v^free */
+    Buffer forces;           /* hk_PointForce per point */
+    Buffer jac, yt;          /* double, 3 x 3N per point: rows of J and of Y^T = (A^-1 J^T)^T,
+                                or of Z^T = (U^-1 J^T)^T for a reversed strand */
+    Buffer support;          /* int per point: its rows of J are zero from this column on */
+    Buffer ul;               /* double: the reversed strands' U */
+    Buffer answered;         /* char per point: its rows of Y^T are set */
+    Buffer dv;               /* double, 3N per strand: the velocity change of the impulses */
+    Buffer vfree;            /* double, 3N per strand: its velocity after a step without them */
+    Buffer screws;           /* double, 18N per strand: work of the Jacobians */
     Buffer pairs, old_pairs; /* PairState per pair, this step's and the last one's */
-    Buffer active;        /* int per pair: the pushing pairs of the last full sweep */
+    Buffer active;           /* int per pair: the pushing pairs of the last full sweep */
     int old_count;
     hk_StrandDynamics **dyn; /* the strands of the solve under way */
 };
@@ -137,8 +137,9 @@ void hk_contact_solve_destroy(hk_ContactSolve *cs)
     hk_free(cs->movable);
     hk_free(cs->reversed);
     hk_free(cs->ul_start);
-    Buffer *all[] = {&cs->slots, &cs->at, &cs->vfree, &cs->vel, &cs->forces, &cs->jac, &cs->yt, &cs->support, &cs->ul,
-                     &cs->answered, &cs->dv, &cs->screws, &cs->pairs, &cs->old_pairs, &cs->active};
+    Buffer *all[] = {&cs->slots, &cs->at,     &cs->vfree,   &cs->vel,       &cs->forces,
+                     &cs->jac,   &cs->yt,     &cs->support, &cs->ul,        &cs->answered,
+                     &cs->dv,    &cs->screws, &cs->pairs,   &cs->old_pairs, &cs->active};
     for (size_t k = 0; k < sizeof all / sizeof *all; k++) hk_free(all[k]->items);
     hk_free(cs);
 }
@@ -173,9 +174,8 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Strand
         !reserve(&cs->vel, slots, sizeof(hk_Vec3), err) || !reserve(&cs->forces, slots, sizeof(hk_PointForce), err) ||
         !reserve(&cs->jac, jacs, sizeof(double), err) || !reserve(&cs->yt, jacs, sizeof(double), err) ||
         !reserve(&cs->support, slots, sizeof(int), err) || !reserve(&cs->ul, cs->ul_start[g], sizeof(double), err) ||
-        !reserve(&cs->answered, slots, sizeof(char), err) ||
-        !reserve(&cs->dv, dims, sizeof(double), err) || !reserve(&cs->vfree, dims, sizeof(double), err) ||
-        !reserve(&cs->screws, 6 * dims, sizeof(double), err) ||
+        !reserve(&cs->answered, slots, sizeof(char), err) || !reserve(&cs->dv, dims, sizeof(double), err) ||
+        !reserve(&cs->vfree, dims, sizeof(double), err) || !reserve(&cs->screws, 6 * dims, sizeof(double), err) ||
         !reserve(&cs->pairs, (size_t)n, sizeof(PairState), err) || !reserve(&cs->active, (size_t)n, sizeof(int), err))
         return HK_ERR_NOMEM;
     Slot *slot = cs->slots.items;
@@ -190,9 +190,9 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Strand
             sl->record = 2 * k + side;
         }
     }
-    /* Each strand's points alone: a pair's slot[0] and slot[1] are set by the loops of
-     * its two strands. */
-    #pragma omp parallel for schedule(dynamic, 8) num_threads(hk_hc_threads(c))
+/* Each strand's points alone: a pair's slot[0] and slot[1] are set by the loops of
+ * its two strands. */
+#pragma omp parallel for schedule(dynamic, 8) num_threads(hk_hc_threads(c))
     for (int s = 0; s < g; s++) {
         const int begin = cs->slot_start[s], count = cs->slot_start[s + 1] - begin;
         if (count > 1) qsort(slot + begin, (size_t)count, sizeof(Slot), slot_cmp);
@@ -219,12 +219,15 @@ static void complete_basis(hk_Vec3 basis[3])
 static double dot_n(const double *a, const double *b, size_t n)
 {
     double s = 0.0;
-    #pragma omp simd reduction(+ : s)
+#pragma omp simd reduction(+ : s)
     for (size_t i = 0; i < n; i++) s += a[i] * b[i];
     return s;
 }
 
-static size_t dim_of(const hk_ContactSolve *cs, int strand) { return cs->dim_start[strand + 1] - cs->dim_start[strand]; }
+static size_t dim_of(const hk_ContactSolve *cs, int strand)
+{
+    return cs->dim_start[strand + 1] - cs->dim_start[strand];
+}
 
 /* The 3 x 3N block of point x of strand `strand` in jac and yt. */
 static size_t block_of(const hk_ContactSolve *cs, int strand, int x)
@@ -310,13 +313,14 @@ static void answer_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s)
         int run = x;
         while (run < end && answered[run] == WANTED) answered[run++] = ANSWERED;
         const size_t at = block_of(cs, s, x);
-        ok = hk_dynamics_resolve_rows(d, (const double *)cs->jac.items + at, 3 * (run - x),
-                                      (double *)cs->yt.items + at);
+        ok =
+            hk_dynamics_resolve_rows(d, (const double *)cs->jac.items + at, 3 * (run - x), (double *)cs->yt.items + at);
         x = run;
     }
     if (!ok && end > begin) {
         cs->movable[s] = 0;
-        memset((double *)cs->yt.items + cs->jac_start[s], 0, (cs->jac_start[s + 1] - cs->jac_start[s]) * sizeof(double));
+        memset((double *)cs->yt.items + cs->jac_start[s], 0,
+               (cs->jac_start[s + 1] - cs->jac_start[s]) * sizeof(double));
         memset(answered + begin, ANSWERED, (size_t)(end - begin));
     }
 }
@@ -421,8 +425,8 @@ static void disc_qp(const double a[2][2], const double g[2], double s, double y[
  * exactly (the edge by one trust-region problem on the normal block's Schur
  * complement). mu = 0: the viscous lam_t = -viscous u_t.
  * Returns 2 when it sticks, 1 when it pushes otherwise, 0 when it does not push. */
-static int contact_law(double w[3][3], const double u0[3], double beta, double gamma, double mu,
-                       double viscous, double bound, double lam[3])
+static int contact_law(double w[3][3], const double u0[3], double beta, double gamma, double mu, double viscous,
+                       double bound, double lam[3])
 {
     const double free_push = beta - gamma * u0[0];
     if (mu > 0.0 || viscous > 0.0) {
@@ -432,8 +436,7 @@ static int contact_law(double w[3][3], const double u0[3], double beta, double g
                           {f * w[1][0], e + f * w[1][1], f * w[1][2]},
                           {f * w[2][0], f * w[2][1], e + f * w[2][2]}};
         double b[3] = {free_push, -f * u0[1], -f * u0[2]}, x[3];
-        if (solve3(a, b, x) && x[0] > 0.0 &&
-            (mu == 0.0 || x[1] * x[1] + x[2] * x[2] <= mu * mu * x[0] * x[0])) {
+        if (solve3(a, b, x) && x[0] > 0.0 && (mu == 0.0 || x[1] * x[1] + x[2] * x[2] <= mu * mu * x[0] * x[0])) {
             memcpy(lam, x, sizeof x);
             return mu > 0.0 ? 2 : 1;
         }
@@ -481,7 +484,7 @@ static void add_response(double *v, const double *yt, size_t dim, size_t m, hk_V
 {
     const double l0 = sign * lam.x, l1 = sign * lam.y, l2 = sign * lam.z;
     const double *y1 = yt + dim, *y2 = yt + 2 * dim;
-    #pragma omp simd
+#pragma omp simd
     for (size_t k = 0; k < m; k++) v[k] += yt[k] * l0 + y1[k] * l1 + y2[k] * l2;
 }
 
@@ -492,7 +495,7 @@ static hk_Vec3 point_change(const double *jac, size_t dim, size_t m, const doubl
 {
     const double *j1 = jac + dim, *j2 = jac + 2 * dim;
     double a0 = 0.0, a1 = 0.0, a2 = 0.0;
-    #pragma omp simd reduction(+ : a0, a1, a2)
+#pragma omp simd reduction(+ : a0, a1, a2)
     for (size_t k = 0; k < m; k++) {
         a0 += jac[k] * dv[k];
         a1 += j1[k] * dv[k];
@@ -562,7 +565,7 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
     const PairState *old = cs->old_pairs.items;
     const hk_HairContactDef *p = &c->p;
     const hk_Vec3 *vel = cs->vel.items;
-    #pragma omp parallel for schedule(static) num_threads(hk_hc_threads(c))
+#pragma omp parallel for schedule(static) num_threads(hk_hc_threads(c))
     for (int k = 0; k < c->pair_count; k++) {
         PairState *ps = &pairs[k];
         const hk_HcPair *hp = &c->pairs[k];
@@ -610,8 +613,8 @@ static double normal_velocity(const hk_ContactSolve *cs, const PairState *ps, co
     double u = ps->free.x;
     for (int side = 0; side < 2; side++) {
         const int x = ps->slot[side];
-        const double du = dot_n(read_rows(cs, strand[side], x), (const double *)cs->dv.items + cs->dim_start[strand[side]],
-                                support_of(cs, x));
+        const double du = dot_n(read_rows(cs, strand[side], x),
+                                (const double *)cs->dv.items + cs->dim_start[strand[side]], support_of(cs, x));
         u += side == 0 ? du : -du;
     }
     return u;
@@ -631,8 +634,8 @@ static void apply_change(hk_ContactSolve *cs, const PairState *ps, const int str
 /* One Gauss-Seidel visit of pair k: its law given the other impulses, the strands'
  * dv updated. *change is raised to the size of the impulse's change, *size receives the
  * new impulse's size; returns the law's verdict (contact_law). */
-static int visit(hk_ContactSolve *cs, const hk_HairContacts *contacts, int k, double mu, double viscous,
-                 double *change, double *size)
+static int visit(hk_ContactSolve *cs, const hk_HairContacts *contacts, int k, double mu, double viscous, double *change,
+                 double *size)
 {
     PairState *ps = (PairState *)cs->pairs.items + k;
     const int strand[2] = {contacts->pairs[k].i, contacts->pairs[k].j};
@@ -663,8 +666,8 @@ static int visit(hk_ContactSolve *cs, const hk_HairContacts *contacts, int k, do
 }
 
 hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts, hk_StrandDynamics **dyn,
-                           int strand_count, const hk_RigidState *head_end, double dt,
-                           hk_ContactSolveStats *stats, hk_Error *err)
+                           int strand_count, const hk_RigidState *head_end, double dt, hk_ContactSolveStats *stats,
+                           hk_Error *err)
 {
     hk_ContactSolveStats local = {0, 0, 0, 0.0};
     if (strand_count != cs->strand_count || contacts->strand_count != strand_count)
@@ -679,15 +682,15 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
         return st;
     }
     cs->dyn = dyn;
-    #pragma omp parallel for schedule(dynamic, 2) num_threads(threads)
+#pragma omp parallel for schedule(dynamic, 2) num_threads(threads)
     for (int s = 0; s < strand_count; s++) predict(cs, dyn[s], s, head_end, dt);
     prepare_pairs(cs, contacts, dt);
-    #pragma omp parallel for schedule(dynamic, 2) num_threads(threads)
+#pragma omp parallel for schedule(dynamic, 2) num_threads(threads)
     for (int s = 0; s < strand_count; s++) answer_points(cs, dyn[s], s);
     PairState *pairs = cs->pairs.items;
     const int n = contacts->pair_count;
     const char *answered = cs->answered.items;
-    #pragma omp parallel for schedule(static) num_threads(threads)
+#pragma omp parallel for schedule(static) num_threads(threads)
     for (int k = 0; k < n; k++) {
         const int strand[2] = {contacts->pairs[k].i, contacts->pairs[k].j};
         if (answered[pairs[k].slot[0]] == ANSWERED && answered[pairs[k].slot[1]] == ANSWERED)
@@ -732,8 +735,8 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
         apply_change(cs, ps, strand, hk_v3_sub(next, ps->lambda));
         ps->lambda = next;
     }
-    /* The reversed strands' velocity changes from w = U^T dv: U^T dv = w, forward. */
-    #pragma omp parallel for schedule(static) num_threads(threads)
+/* The reversed strands' velocity changes from w = U^T dv: U^T dv = w, forward. */
+#pragma omp parallel for schedule(static) num_threads(threads)
     for (int g = 0; g < strand_count; g++) {
         if (!cs->reversed[g]) continue;
         const size_t dim = dim_of(cs, g);
@@ -745,8 +748,8 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
             v[i] = x / u[i * dim + i];
         }
     }
-    /* The impulses in world space, as forces held over the step. */
-    #pragma omp parallel for schedule(static) num_threads(threads)
+/* The impulses in world space, as forces held over the step. */
+#pragma omp parallel for schedule(static) num_threads(threads)
     for (int k = 0; k < n; k++) pairs[k].lambda = from_basis(pairs[k].basis, pairs[k].lambda);
     hk_PointForce *forces = cs->forces.items;
     const Slot *slot = cs->slots.items;

@@ -30,9 +30,9 @@
 typedef struct hk_ContactSolve hk_ContactSolve;
 
 typedef struct hk_ContactSolveStats {
-    int sweeps;     /* Gauss-Seidel sweeps of the last solve */
-    int pushing;    /* pairs with a normal impulse */
-    int sticking;   /* ... of which stick (within the friction cone's interior) */
+    int sweeps;      /* Gauss-Seidel sweeps of the last solve */
+    int pushing;     /* pairs with a normal impulse */
+    int sticking;    /* ... of which stick (within the friction cone's interior) */
     double residual; /* largest impulse change of the last sweep relative to the largest impulse */
 } hk_ContactSolveStats;
 
@@ -44,8 +44,8 @@ void hk_contact_solve_destroy(hk_ContactSolve *cs);
  * step's start; unchanged), the head being in state head_end at the step's end (NULL:
  * still). */
 hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts, hk_StrandDynamics **dyn,
-                           int strand_count, const hk_RigidState *head_end, double dt,
-                           hk_ContactSolveStats *stats, hk_Error *err);
+                           int strand_count, const hk_RigidState *head_end, double dt, hk_ContactSolveStats *stats,
+                           hk_Error *err);
 
 /* The result as point forces on strand `strand`, sorted by s (impulse / dt; no
  * linearisation), until the next solve. */

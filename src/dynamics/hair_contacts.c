@@ -74,15 +74,11 @@ static hk_Status check_params(const hk_HairContactDef *p, hk_Error *err)
     return HK_OK;
 }
 
-int hk_hc_threads(const hk_HairContacts *c)
-{
-    return c->p.threads > 0 ? c->p.threads : omp_get_max_threads();
-}
+int hk_hc_threads(const hk_HairContacts *c) { return c->p.threads > 0 ? c->p.threads : omp_get_max_threads(); }
 
 void hk_hc_set_threads(hk_HairContacts *c, int threads) { c->p.threads = threads; }
 
-hk_Status hk_hair_contacts_create(int strand_count, const hk_HairContactDef *p, hk_HairContacts **out,
-                                  hk_Error *err)
+hk_Status hk_hair_contacts_create(int strand_count, const hk_HairContactDef *p, hk_HairContacts **out, hk_Error *err)
 {
     if (!out) return hk_error_set(err, HK_ERR_INVALID, "hair contacts: no output pointer");
     *out = NULL;
@@ -143,19 +139,18 @@ static hk_Status check_strands(const hk_HairContacts *c, const hk_StrandSamples 
                                 st->s ? "positions" : "arc lengths");
         total += st->count - 1;
         if (total > HK_HC_MAX_SAMPLES)
-            return hk_error_set(err, HK_ERR_INVALID, "hair contacts: more than %d segments in all",
-                                HK_HC_MAX_SAMPLES);
+            return hk_error_set(err, HK_ERR_INVALID, "hair contacts: more than %d segments in all", HK_HC_MAX_SAMPLES);
         for (int k = 0; k < st->count; k++) {
             if (!isfinite(st->s[k]) || (k > 0 && !(st->s[k] >= st->s[k - 1])))
                 return hk_error_set(err, HK_ERR_INVALID,
-                                    "hair contacts: strand %d sample %d: arc length %g is not finite or decreases",
-                                    g, k, st->s[k]);
+                                    "hair contacts: strand %d sample %d: arc length %g is not finite or decreases", g,
+                                    k, st->s[k]);
             if (!hk_v3_isfinite(st->pos[k]))
-                return hk_error_set(err, HK_ERR_INVALID, "hair contacts: strand %d sample %d: position not finite",
-                                    g, k);
+                return hk_error_set(err, HK_ERR_INVALID, "hair contacts: strand %d sample %d: position not finite", g,
+                                    k);
             if (st->vel && !hk_v3_isfinite(st->vel[k]))
-                return hk_error_set(err, HK_ERR_INVALID, "hair contacts: strand %d sample %d: velocity not finite",
-                                    g, k);
+                return hk_error_set(err, HK_ERR_INVALID, "hair contacts: strand %d sample %d: velocity not finite", g,
+                                    k);
         }
     }
     return HK_OK;
@@ -169,8 +164,7 @@ static void clear_forces(hk_HairContacts *c)
         c->contacts[k].force_index[0] = c->contacts[k].force_index[1] = -1;
 }
 
-hk_Status hk_hair_contacts_update(hk_HairContacts *c, const hk_StrandSamples *strands, int strand_count,
-                                  hk_Error *err)
+hk_Status hk_hair_contacts_update(hk_HairContacts *c, const hk_StrandSamples *strands, int strand_count, hk_Error *err)
 {
     if (!c) return hk_error_set(err, HK_ERR_INVALID, "hair contacts: no contacts object");
     clear_forces(c);

@@ -30,14 +30,13 @@ hk_HcStrand hk_hc_strand_view(const hk_StrandSamples *in, double root_exclusion)
 
 /* Ends of the part of segment k that takes part in contacts, and where that part
  * starts on the full segment (*t0 in [0, 1), 0 unless k is the clipped first one). */
-void hk_hc_segment_ends(const hk_HcStrand *st, int k, double root_exclusion, hk_Vec3 *p0,
-                        hk_Vec3 *p1, double *t0);
+void hk_hc_segment_ends(const hk_HcStrand *st, int k, double root_exclusion, hk_Vec3 *p0, hk_Vec3 *p1, double *t0);
 
 /* Squared distance of segment a of strand si and segment b of strand sj (both taking
  * part), with the parameters of the closest points on the full segments. Always
  * evaluated in this argument order, so that the same pair gives the same bits. */
-double hk_hc_pair_distance2(const hk_HcStrand *si, int a, const hk_HcStrand *sj, int b,
-                            double root_exclusion, double *u, double *v);
+double hk_hc_pair_distance2(const hk_HcStrand *si, int a, const hk_HcStrand *sj, int b, double root_exclusion,
+                            double *u, double *v);
 
 /* How pairs are measured and compared. Squared distances are ranked on a grid of
  * quantum = 2^-40 d0^2 (a few fm at d0 = 5 mm) before the tie-break on the segment
@@ -62,13 +61,11 @@ typedef struct hk_HcPair {
 
 /* Is (a, b) strictly below its up to 8 neighbours (a +- 1, b +- 1) in the order of
  * (rank of the squared distance, a, b)? d2 is the pair's own squared distance. */
-int hk_hc_is_local_min(const hk_HcStrand *si, int a, const hk_HcStrand *sj, int b, double d2,
-                       const hk_HcMetric *m);
+int hk_hc_is_local_min(const hk_HcStrand *si, int a, const hk_HcStrand *sj, int b, double d2, const hk_HcMetric *m);
 
 /* Walks the pair to the local minimum it leads to (moving to the smallest neighbour
  * while it is smaller), at most max_steps moves. Returns the distance evaluations. */
-long hk_hc_walk(const hk_HcStrand *si, const hk_HcStrand *sj, const hk_HcMetric *m,
-                hk_HcPair *p, int max_steps);
+long hk_hc_walk(const hk_HcStrand *si, const hk_HcStrand *sj, const hk_HcMetric *m, hk_HcPair *p, int max_steps);
 
 /* What an update computes for each pair, before it is dealt to the strands. */
 typedef struct hk_HcContact {
@@ -77,24 +74,24 @@ typedef struct hk_HcContact {
     int force_index[2]; /* position in each strand's sorted force list, -1 if inactive */
     double s[2];
     hk_Vec3 point[2];
-    hk_Vec3 normal;     /* unit, from point[1] to point[0] (any pair, active or not) */
-    hk_Vec3 force;      /* on point[0]; point[1] gets its opposite */
+    hk_Vec3 normal; /* unit, from point[1] to point[0] (any pair, active or not) */
+    hk_Vec3 force;  /* on point[0]; point[1] gets its opposite */
     hk_Mat3 stiffness, damping;
 } hk_HcContact;
 
 struct hk_HairContacts {
     int strand_count;
     hk_HairContactDef p;
-    long updates;          /* successful updates so far */
+    long updates; /* successful updates so far */
     int rescan_requested;
-    int *counts;           /* sample counts seen by the last successful update */
-    hk_HcStrand *views;    /* per strand, for the current update */
+    int *counts;        /* sample counts seen by the last successful update */
+    hk_HcStrand *views; /* per strand, for the current update */
 
-    hk_HcPair *pairs;      /* tracked pairs, sorted by (i, a, j, b), unique */
+    hk_HcPair *pairs; /* tracked pairs, sorted by (i, a, j, b), unique */
     int pair_count, pair_cap;
-    hk_HcPair *pairs_tmp;  /* sorting buffer */
+    hk_HcPair *pairs_tmp; /* sorting buffer */
     int pairs_tmp_cap;
-    int *bucket;           /* counting-sort buckets (segments + 1) */
+    int *bucket; /* counting-sort buckets (segments + 1) */
     int bucket_cap;
 
     hk_HcContact *contacts; /* per pair */
@@ -102,10 +99,10 @@ struct hk_HairContacts {
 
     hk_PointForce *forces; /* per strand, consecutive: strand g owns [force_start[g], force_start[g+1]) */
     int force_cap;
-    int *force_start;      /* strand_count + 1 */
-    void *force_key;       /* sorting keys of the forces (s, record) */
+    int *force_start; /* strand_count + 1 */
+    void *force_key;  /* sorting keys of the forces (s, record) */
     int force_key_cap;
-    int *force_order;      /* strand_count: fill positions while dealing the forces */
+    int *force_order; /* strand_count: fill positions while dealing the forces */
 
     /* Broad-phase scratch (hair_broad_phase.c). */
     void *grid;

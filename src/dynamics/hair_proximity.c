@@ -16,30 +16,30 @@ hk_HcStrand hk_hc_strand_view(const hk_StrandSamples *in, double root_exclusion)
         int lo = 0, hi = in->count - 1; /* answer in [lo, hi]; hi = count - 1 means none */
         while (lo < hi) {
             int mid = lo + (hi - lo) / 2;
-            if (in->s[mid + 1] > root_exclusion) hi = mid;
-            else lo = mid + 1;
+            if (in->s[mid + 1] > root_exclusion)
+                hi = mid;
+            else
+                lo = mid + 1;
         }
         st.first = lo;
     }
     return st;
 }
 
-void hk_hc_segment_ends(const hk_HcStrand *st, int k, double root_exclusion, hk_Vec3 *p0,
-                        hk_Vec3 *p1, double *t0)
+void hk_hc_segment_ends(const hk_HcStrand *st, int k, double root_exclusion, hk_Vec3 *p0, hk_Vec3 *p1, double *t0)
 {
     const hk_Vec3 a = st->pos[k], b = st->pos[k + 1];
     double t = 0.0;
     /* Only the first taking part can straddle the exclusion; then s[k] < r < s[k+1],
      * so the division is safe. */
-    if (root_exclusion > 0.0 && st->s[k] < root_exclusion)
-        t = (root_exclusion - st->s[k]) / (st->s[k + 1] - st->s[k]);
+    if (root_exclusion > 0.0 && st->s[k] < root_exclusion) t = (root_exclusion - st->s[k]) / (st->s[k + 1] - st->s[k]);
     *p0 = t > 0.0 ? hk_v3_madd(a, hk_v3_sub(b, a), t) : a;
     *p1 = b;
     *t0 = t;
 }
 
-double hk_hc_pair_distance2(const hk_HcStrand *si, int a, const hk_HcStrand *sj, int b,
-                            double root_exclusion, double *u, double *v)
+double hk_hc_pair_distance2(const hk_HcStrand *si, int a, const hk_HcStrand *sj, int b, double root_exclusion,
+                            double *u, double *v)
 {
     hk_Vec3 p0, p1, q0, q1;
     double ta, tb, uc, vc;
@@ -75,8 +75,7 @@ static int pair_less(long long d, int a, int b, long long e, int c, int f)
 
 static int in_range(const hk_HcStrand *st, int k) { return k >= st->first && k <= st->count - 2; }
 
-int hk_hc_is_local_min(const hk_HcStrand *si, int a, const hk_HcStrand *sj, int b, double d2,
-                       const hk_HcMetric *m)
+int hk_hc_is_local_min(const hk_HcStrand *si, int a, const hk_HcStrand *sj, int b, double d2, const hk_HcMetric *m)
 {
     const long long rank = hk_hc_rank(d2, m->quantum);
     for (int da = -1; da <= 1; da++)
@@ -88,8 +87,7 @@ int hk_hc_is_local_min(const hk_HcStrand *si, int a, const hk_HcStrand *sj, int 
     return 1;
 }
 
-long hk_hc_walk(const hk_HcStrand *si, const hk_HcStrand *sj, const hk_HcMetric *m,
-                hk_HcPair *p, int max_steps)
+long hk_hc_walk(const hk_HcStrand *si, const hk_HcStrand *sj, const hk_HcMetric *m, hk_HcPair *p, int max_steps)
 {
     long evaluations = 1;
     /* A pair whose segment no longer takes part (the strand's sampling or s moved)

@@ -24,8 +24,7 @@ void hk_rigid_point(const hk_RigidState *st, hk_Vec3 x, hk_Vec3 *pos, hk_Vec3 *v
     const hk_Vec3 w_r = hk_v3_cross(st->omega, r);
     if (pos) *pos = hk_v3_add(r, st->trans);
     if (vel) *vel = hk_v3_add(st->vel, w_r);
-    if (acc)
-        *acc = hk_v3_add(st->acc, hk_v3_add(hk_v3_cross(st->alpha, r), hk_v3_cross(st->omega, w_r)));
+    if (acc) *acc = hk_v3_add(st->acc, hk_v3_add(hk_v3_cross(st->alpha, r), hk_v3_cross(st->omega, w_r)));
 }
 
 /* The top of the neck capsule of tools/make_assets.c (axis x = 0, z = -0.015, from
@@ -53,16 +52,16 @@ typedef struct Script {
 } Script;
 
 static const Script scripts[] = {
-    {"still", HK_MOTION_STILL, 0},  {"nod", HK_MOTION_ROTATE, 0},    {"shake", HK_MOTION_ROTATE, 1},
-    {"tilt", HK_MOTION_ROTATE, 2},  {"sway", HK_MOTION_TRANSLATE, 0}, {"jump", HK_MOTION_TRANSLATE, 1},
+    {"still", HK_MOTION_STILL, 0}, {"nod", HK_MOTION_ROTATE, 0},     {"shake", HK_MOTION_ROTATE, 1},
+    {"tilt", HK_MOTION_ROTATE, 2}, {"sway", HK_MOTION_TRANSLATE, 0}, {"jump", HK_MOTION_TRANSLATE, 1},
 };
 
 #define HK_MAX_SCRIPT_DEGREES 180.0 /* a head turns less; more would wrap around */
-#define HK_MAX_SCRIPT_METRES 10.0
-#define HK_MAX_SCRIPT_HZ 1000.0
+#define HK_MAX_SCRIPT_METRES  10.0
+#define HK_MAX_SCRIPT_HZ      1000.0
 
-hk_Status hk_head_motion_scripted(const char *name, double amplitude, double frequency,
-                                  hk_Vec3 pivot, hk_HeadMotion **out, hk_Error *err)
+hk_Status hk_head_motion_scripted(const char *name, double amplitude, double frequency, hk_Vec3 pivot,
+                                  hk_HeadMotion **out, hk_Error *err)
 {
     *out = NULL;
     const Script *s = NULL;
@@ -73,18 +72,15 @@ hk_Status hk_head_motion_scripted(const char *name, double amplitude, double fre
                             "unknown head motion '%s' (expected still, nod, shake, tilt, sway or jump)",
                             name ? name : "(null)");
     if (!hk_v3_isfinite(pivot))
-        return hk_error_set(err, HK_ERR_INVALID, "the pivot of head motion '%s' is not finite",
-                            s->name);
+        return hk_error_set(err, HK_ERR_INVALID, "the pivot of head motion '%s' is not finite", s->name);
     if (s->kind != HK_MOTION_STILL) {
         const int rotate = s->kind == HK_MOTION_ROTATE;
         const double max = rotate ? HK_MAX_SCRIPT_DEGREES : HK_MAX_SCRIPT_METRES;
         if (!(fabs(amplitude) <= max))
-            return hk_error_set(err, HK_ERR_INVALID,
-                                "amplitude of head motion '%s' must be in [-%g, %g] %s, got %g",
+            return hk_error_set(err, HK_ERR_INVALID, "amplitude of head motion '%s' must be in [-%g, %g] %s, got %g",
                                 s->name, max, max, rotate ? "degrees" : "m", amplitude);
         if (!(frequency > 0.0 && frequency <= HK_MAX_SCRIPT_HZ))
-            return hk_error_set(err, HK_ERR_INVALID,
-                                "frequency of head motion '%s' must be in (0, %g] Hz, got %g",
+            return hk_error_set(err, HK_ERR_INVALID, "frequency of head motion '%s' must be in (0, %g] Hz, got %g",
                                 s->name, HK_MAX_SCRIPT_HZ, frequency);
     }
     hk_HeadMotion *m = hk_calloc_array(1, sizeof *m, err);
@@ -142,8 +138,8 @@ void hk_head_motion_eval(const hk_HeadMotion *m, double t, hk_RigidState *out)
     }
     /* A fixed axis: omega = g' axis and alpha = g'' axis, which hk_rotation_exp also
      * finds (r x r' = 0); one code path for R keeps scripted and keyed motions alike. */
-    hk_rotation_exp(hk_v3_scale(m->axis, g[0]), hk_v3_scale(m->axis, g[1]),
-                    hk_v3_scale(m->axis, g[2]), &out->rot, &out->omega, &out->alpha);
+    hk_rotation_exp(hk_v3_scale(m->axis, g[0]), hk_v3_scale(m->axis, g[1]), hk_v3_scale(m->axis, g[2]), &out->rot,
+                    &out->omega, &out->alpha);
     hk_motion_about_pivot(out, m->pivot, zero, zero, zero);
 }
 
@@ -162,10 +158,7 @@ hk_HeadMotionSource hk_head_motion_source(const hk_HeadMotion *m)
     return s;
 }
 
-int hk_head_motion_key_count(const hk_HeadMotion *m)
-{
-    return m->kind == HK_MOTION_KEYS ? m->key_count : 0;
-}
+int hk_head_motion_key_count(const hk_HeadMotion *m) { return m->kind == HK_MOTION_KEYS ? m->key_count : 0; }
 
 void hk_head_motion_destroy(hk_HeadMotion *m)
 {

@@ -39,8 +39,7 @@ struct hk_HeadMotion {
 /* R = exp([r]x) and, for r(t) with derivatives dr and ddr, the world angular velocity
  * omega (dR/dt = [omega]x R) and its derivative alpha. Smooth for every r, no
  * singularity at r = 0 or |r| = 2 pi. */
-void hk_rotation_exp(hk_Vec3 r, hk_Vec3 dr, hk_Vec3 ddr, hk_Mat3 *rot, hk_Vec3 *omega,
-                     hk_Vec3 *alpha);
+void hk_rotation_exp(hk_Vec3 r, hk_Vec3 dr, hk_Vec3 ddr, hk_Mat3 *rot, hk_Vec3 *omega, hk_Vec3 *alpha);
 
 /* Completes st, whose rot, omega and alpha are set, for a rotation about `pivot`
  * followed by the translation p (derivatives dp, ddp): a head point x goes to

@@ -54,8 +54,7 @@ static Coefs coefs(double x)
     return k;
 }
 
-void hk_rotation_exp(hk_Vec3 r, hk_Vec3 dr, hk_Vec3 ddr, hk_Mat3 *rot, hk_Vec3 *omega,
-                     hk_Vec3 *alpha)
+void hk_rotation_exp(hk_Vec3 r, hk_Vec3 dr, hk_Vec3 ddr, hk_Mat3 *rot, hk_Vec3 *omega, hk_Vec3 *alpha)
 {
     const double x = hk_v3_dot(r, r);
     const Coefs k = coefs(x);

@@ -76,22 +76,19 @@ static int params_valid(const hk_DynamicsDef *p)
 {
     return p->internal_friction >= 0.0 && isfinite(p->internal_friction) && p->air_drag >= 0.0 &&
            isfinite(p->air_drag) && p->friction_with >= 0.0 && isfinite(p->friction_with) &&
-           p->friction_against >= 0.0 && isfinite(p->friction_against) &&
-           p->friction_velocity > 0.0 && isfinite(p->friction_velocity) && p->quadrature >= 0 &&
-           p->quadrature <= HK_GAUSS_MAX && p->max_turn > 0.0 && p->max_travel > 0.0 &&
-           p->max_entry > 0.0 &&
-           p->max_depth >= 0 && p->max_depth <= 30 && p->hessian_interval >= 1 &&
-           p->hessian_interval <= 1000 && p->newton_tolerance > 0.0 && isfinite(p->newton_tolerance) &&
-           p->newton_iterations >= 1 && p->newton_iterations <= 1000 &&
+           p->friction_against >= 0.0 && isfinite(p->friction_against) && p->friction_velocity > 0.0 &&
+           isfinite(p->friction_velocity) && p->quadrature >= 0 && p->quadrature <= HK_GAUSS_MAX && p->max_turn > 0.0 &&
+           p->max_travel > 0.0 && p->max_entry > 0.0 && p->max_depth >= 0 && p->max_depth <= 30 &&
+           p->hessian_interval >= 1 && p->hessian_interval <= 1000 && p->newton_tolerance > 0.0 &&
+           isfinite(p->newton_tolerance) && p->newton_iterations >= 1 && p->newton_iterations <= 1000 &&
            (p->integrator == HK_INTEGRATOR_TRBDF2 || p->integrator == HK_INTEGRATOR_LINEAR_EULER) &&
            (p->solver == HK_DYNAMICS_LINEAR || p->solver == HK_DYNAMICS_DENSE) &&
            (p->stiffness == HK_STIFFNESS_GAUSS_NEWTON ||
             (p->stiffness == HK_STIFFNESS_FULL && p->solver == HK_DYNAMICS_DENSE));
 }
 
-hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsDef *params,
-                                    const hk_StrandEnvDef *body, hk_StrandDynamics **out,
-                                    hk_Error *err)
+hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsDef *params, const hk_StrandEnvDef *body,
+                                    hk_StrandDynamics **out, hk_Error *err)
 {
     *out = NULL;
     const hk_DynamicsDef defaults = hk_default_dynamics_def();
@@ -116,16 +113,15 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsDef *par
     d->terms = hk_alloc_array((size_t)n, sizeof(hk_ElementTerms), err);
     const int dense = params->solver == HK_DYNAMICS_DENSE;
     d->work = hk_alloc_array(dense ? HK_DENSE_WORK(n) : HK_LINEAR_WORK(n), sizeof(double), err);
-    if (!d->v || !d->terms || !d->work ||
-        hk_strand_workspace_create(sh, &d->potential_env, &d->ws, err) != HK_OK) {
+    if (!d->v || !d->terms || !d->work || hk_strand_workspace_create(sh, &d->potential_env, &d->ws, err) != HK_OK) {
         hk_strand_dynamics_destroy(d);
         return err ? err->code : HK_ERR_NOMEM;
     }
     double *next = d->v + dim;
-    double **vectors[] = {&d->delta, &d->rhs, &d->extra, &d->grad, &d->acc, &d->q0, &d->v0,
-                          &d->aq, &d->av, &d->x, &d->vg, &d->qg};
+    double **vectors[] = {&d->delta, &d->rhs, &d->extra, &d->grad, &d->acc, &d->q0,
+                          &d->v0,    &d->aq,  &d->av,    &d->x,    &d->vg,  &d->qg};
     for (size_t i = 0; i < sizeof vectors / sizeof vectors[0]; i++, next += dim) *vectors[i] = next;
-    d->saved = next;        /* 2 x 3N */
+    d->saved = next;            /* 2 x 3N */
     d->acc_at = next + 2 * dim; /* 2 x 3N */
     d->start = next + 4 * dim;  /* 2 x 3N */
     d->prev_v0 = next + 6 * dim;
@@ -188,8 +184,7 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsDef *par
         d->hess_pos = d->hess + dim * dim;
         d->factor = d->hess_pos + dim * dim;
         d->metric = d->factor + dim * dim;
-    } else if (d->contact_samples > 0 &&
-               hk_strand_workspace_create(sh, &d->body_env, &d->ws_body, err) != HK_OK) {
+    } else if (d->contact_samples > 0 && hk_strand_workspace_create(sh, &d->body_env, &d->ws_body, err) != HK_OK) {
         /* the body's penalty energy, for the energy guard of the integrator */
         hk_strand_dynamics_destroy(d);
         return err ? err->code : HK_ERR_NOMEM;
@@ -261,9 +256,8 @@ static hk_Mat3 rotary_inertia(const hk_RodMaterial *m, const hk_Mat3 *frame, dou
  * the force's linearisation from where it was given (the anchor, at the start of the
  * step: F0 - K (x - x0) - D (v - v0)), and ch^2 K + ch D as the iteration matrix's
  * effective mass. */
-static void add_point_force(hk_ElementTerms *t, const hk_PointKinematics *pk, const hk_PointForce *pf,
-                            double ch, const hk_Vec3 *anchor_pos, const hk_Vec3 *anchor_vel,
-                            const hk_RigidState *euler_head)
+static void add_point_force(hk_ElementTerms *t, const hk_PointKinematics *pk, const hk_PointForce *pf, double ch,
+                            const hk_Vec3 *anchor_pos, const hk_Vec3 *anchor_vel, const hk_RigidState *euler_head)
 {
     hk_Vec3 force = pf->force;
     if (anchor_pos) {
@@ -272,8 +266,8 @@ static void add_point_force(hk_ElementTerms *t, const hk_PointKinematics *pk, co
     }
     if (euler_head) { /* linearly implicit Euler: minus dt K (J q'), the stiffness acting
                          on the velocity relative to the head */
-        const hk_Vec3 rigid = hk_v3_add(euler_head->vel,
-                                        hk_v3_cross(euler_head->omega, hk_v3_sub(pk->k.pos, euler_head->trans)));
+        const hk_Vec3 rigid =
+            hk_v3_add(euler_head->vel, hk_v3_cross(euler_head->omega, hk_v3_sub(pk->k.pos, euler_head->trans)));
         force = hk_v3_sub(force, hk_v3_scale(hk_m3_mul_v3(&pf->stiffness, hk_v3_sub(pk->k.vel, rigid)), ch));
     }
     const hk_Mat3 ks = hk_m3_scale(&pf->stiffness, ch * ch), ds = hk_m3_scale(&pf->damping, ch);
@@ -301,8 +295,7 @@ static int body_contact(const hk_StrandDynamics *d, const hk_RigidState *head, c
     double c[HK_CN_COUNT];
     const hk_Vec3 pos = hk_v3_add(node->pos, hk_m3_mul_v3(&node->frame, hk_element_offset_begin(k, u, c)));
     const hk_Vec3 x = hk_m3_tmul_v3(&head->rot, hk_v3_sub(pos, head->trans));
-    if (!(hk_collision_depth(d->contact.shapes, d->contact.shape_count, d->contact.envelope_alpha, x) > 0.0))
-        return 0;
+    if (!(hk_collision_depth(d->contact.shapes, d->contact.shape_count, d->contact.envelope_alpha, x) > 0.0)) return 0;
     hk_point_kinematics(node, k, kd, u, 1, pk);
     return hk_body_contact_force(&d->contact, head, pk->k.pos, pk->k.vel, hk_m3_col(&pk->k.frame, 0), pf);
 }
@@ -327,8 +320,8 @@ typedef enum SweepMode { SWEEP_STEP, SWEEP_MASS } SweepMode;
 /* One sweep from root to tip filling d->terms. STEP: the iteration matrix's mass part
  * for the coefficient ch and every load at (q, v), minus M x / ch when x is given;
  * MASS: the plain mass matrix, no loads. */
-static void sweep(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces,
-                  int force_count, double ch, const double *x, SweepMode mode)
+static void sweep(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces, int force_count,
+                  double ch, const double *x, SweepMode mode)
 {
     const hk_SuperHelix *sh = d->sh;
     const hk_RodMaterial *mat = &sh->material;
@@ -432,8 +425,7 @@ void hk_dynamics_head_space_nodes(hk_StrandDynamics *d, const double *q, hk_Vec3
     restore_world_pose(d, world);
 }
 
-void hk_dynamics_head_space_points(hk_StrandDynamics *d, const double *q, const double *s, int count,
-                                   hk_Vec3 *points)
+void hk_dynamics_head_space_points(hk_StrandDynamics *d, const double *q, const double *s, int count, hk_Vec3 *points)
 {
     const RootPose world = use_head_space(d);
     hk_superhelix_points(d->sh, q, s, count, points);
@@ -535,8 +527,8 @@ double hk_dynamics_total_energy(hk_StrandDynamics *d, const hk_RigidState *head,
     return k + u;
 }
 
-void hk_dynamics_evaluate(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces,
-                          int force_count, double ch, const double *x)
+void hk_dynamics_evaluate(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces, int force_count,
+                          double ch, const double *x)
 {
     hk_SuperHelix *sh = d->sh;
     const int n = sh->n;
@@ -625,8 +617,7 @@ hk_Status hk_dynamics_anchor_forces(hk_StrandDynamics *d, const hk_RigidState *h
     return HK_OK;
 }
 
-void hk_strand_dynamics_energy(hk_StrandDynamics *d, const hk_RigidState *head, double *kinetic,
-                               double *potential)
+void hk_strand_dynamics_energy(hk_StrandDynamics *d, const hk_RigidState *head, double *kinetic, double *potential)
 {
     const hk_RigidState still = hk_rigid_identity();
     if (!head) head = &still;
@@ -656,8 +647,8 @@ void hk_strand_dynamics_energy(hk_StrandDynamics *d, const hk_RigidState *head, 
     *kinetic = t;
 }
 
-void hk_strand_dynamics_points(hk_StrandDynamics *d, const hk_RigidState *head, const double *s,
-                               int count, hk_Vec3 *pos, hk_Vec3 *vel)
+void hk_strand_dynamics_points(hk_StrandDynamics *d, const hk_RigidState *head, const double *s, int count,
+                               hk_Vec3 *pos, hk_Vec3 *vel)
 {
     const hk_RigidState still = hk_rigid_identity();
     if (!head) head = &still;

@@ -186,8 +186,8 @@ static int newton(hk_StrandDynamics *d, const hk_RigidState *head, const hk_Poin
  * hair lying on the scalp or held above its root has a negative geometric stiffness
  * that the O(N) matrix lacks, and there Newton's corrections grew three to seven times
  * per iteration. Only then: the dense solve is O(N^3). */
-static int solve_stage(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces,
-                       int force_count, double ch)
+static int solve_stage(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces, int force_count,
+                       double ch)
 {
     const size_t bytes = (size_t)(3 * d->sh->n) * sizeof(double);
     memcpy(d->start_guess, d->v, bytes);
@@ -227,7 +227,8 @@ static int head_still(const hk_RigidState heads[3])
     for (int i = 0; i < 3; i++) {
         const hk_RigidState *h = &heads[i];
         if (hk_v3_norm2(h->vel) + hk_v3_norm2(h->acc) + hk_v3_norm2(h->omega) + hk_v3_norm2(h->alpha) != 0.0 ||
-            memcmp(&h->rot, &heads[0].rot, sizeof h->rot) != 0 || memcmp(&h->trans, &heads[0].trans, sizeof h->trans) != 0)
+            memcmp(&h->rot, &heads[0].rot, sizeof h->rot) != 0 ||
+            memcmp(&h->trans, &heads[0].trans, sizeof h->trans) != 0)
             return 0;
     }
     return 1;
@@ -275,8 +276,8 @@ static double quadratic_nodes(double a, double b, double c, double xa, double xb
 /* One TR-BDF2 step of h from the state in sh->q, d->v, with the head in the states
  * heads[0..2] at t, t + g h and t + h. On failure the state is left changed (callers
  * restore it). */
-static int tr_bdf2(hk_StrandDynamics *d, const hk_RigidState heads[3], const hk_PointForce *forces,
-                   int force_count, double h)
+static int tr_bdf2(hk_StrandDynamics *d, const hk_RigidState heads[3], const hk_PointForce *forces, int force_count,
+                   double h)
 {
     hk_SuperHelix *sh = d->sh;
     const int dim = 3 * sh->n;
@@ -355,8 +356,8 @@ int hk_dynamics_euler_delta(hk_StrandDynamics *d, const hk_RigidState *head, con
     return hk_dynamics_solve(d, h, d->delta) && all_finite(d->delta, dim);
 }
 
-static int linear_euler(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces,
-                        int force_count, double h)
+static int linear_euler(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces, int force_count,
+                        double h)
 {
     hk_SuperHelix *sh = d->sh;
     const int dim = 3 * sh->n;
@@ -371,8 +372,8 @@ static int linear_euler(hk_StrandDynamics *d, const hk_RigidState *head, const h
 }
 
 /* One step of the chosen integrator. */
-static int integrate(hk_StrandDynamics *d, const hk_RigidState heads[3], const hk_PointForce *forces,
-                     int force_count, double h)
+static int integrate(hk_StrandDynamics *d, const hk_RigidState heads[3], const hk_PointForce *forces, int force_count,
+                     double h)
 {
     if (d->params.integrator == HK_INTEGRATOR_LINEAR_EULER) return linear_euler(d, &heads[2], forces, force_count, h);
     return tr_bdf2(d, heads, forces, force_count, h);
@@ -395,12 +396,10 @@ static void restore_state(hk_StrandDynamics *d)
     d->prev_h = 0.0;
 }
 
-hk_Status hk_strand_dynamics_step(hk_StrandDynamics *d, const hk_RigidState *head,
-                                  const hk_PointForce *forces, int force_count, double dt,
-                                  hk_Error *err)
+hk_Status hk_strand_dynamics_step(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces,
+                                  int force_count, double dt, hk_Error *err)
 {
-    if (!(dt > 0.0) || !isfinite(dt))
-        return hk_error_set(err, HK_ERR_INVALID, "time step must be > 0, got %g", dt);
+    if (!(dt > 0.0) || !isfinite(dt)) return hk_error_set(err, HK_ERR_INVALID, "time step must be > 0, got %g", dt);
     const hk_RigidState still = hk_rigid_identity();
     if (!head) head = &still;
     const hk_RigidState heads[3] = {head_before(head, dt), head_before(head, (1.0 - TR_G) * dt), *head};
@@ -413,7 +412,8 @@ hk_Status hk_strand_dynamics_step(hk_StrandDynamics *d, const hk_RigidState *hea
         hk_strand_dynamics_place(d, head);
         return hk_error_set(err, HK_ERR_NUMERIC,
                             "dynamics step failed: Newton's iteration did not converge or the state is "
-                            "not finite (time step %g s too large?)", dt);
+                            "not finite (time step %g s too large?)",
+                            dt);
     }
     hk_strand_dynamics_place(d, head);
     return HK_OK;
@@ -532,9 +532,8 @@ int hk_dynamics_euler_commit(hk_StrandDynamics *d, const double *v, double h, co
     return 1;
 }
 
-hk_Status hk_strand_dynamics_advance(hk_StrandDynamics *d, hk_HeadStateFn head, void *user,
-                                     double t, double dt, const hk_PointForce *forces,
-                                     int force_count, int *substeps, hk_Error *err)
+hk_Status hk_strand_dynamics_advance(hk_StrandDynamics *d, hk_HeadStateFn head, void *user, double t, double dt,
+                                     const hk_PointForce *forces, int force_count, int *substeps, hk_Error *err)
 {
     int count = 0;
     if (substeps) *substeps = 0;

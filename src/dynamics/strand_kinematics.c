@@ -16,8 +16,8 @@
 #include "dynamics_internal.h"
 #include "rod/helix_local.h"
 
-void hk_point_kinematics(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, double u,
-                         int order, hk_PointKinematics *out)
+void hk_point_kinematics(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, double u, int order,
+                         hk_PointKinematics *out)
 {
     hk_ElementLocal el;
     hk_element_local(k, u, order, 0, &el);
@@ -43,8 +43,7 @@ void hk_point_kinematics(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd,
         spin_rate = hk_v3_madd(spin_rate, hk_m3_mul_v3(&el.dlam[b], kd), kv[b]);
         for (int a = 0; a < 3; a++) curve = hk_v3_madd(curve, el.d2d[a][b], kv[a] * kv[b]);
     }
-    o->alpha = hk_v3_add(hk_v3_add(start->alpha, hk_v3_cross(start->omega, spin)),
-                         hk_m3_mul_v3(r, spin_rate));
+    o->alpha = hk_v3_add(hk_v3_add(start->alpha, hk_v3_cross(start->omega, spin)), hk_m3_mul_v3(r, spin_rate));
     hk_Vec3 acc = hk_v3_add(start->acc, hk_v3_cross(start->alpha, d));
     acc = hk_v3_add(acc, hk_v3_cross(start->omega, hk_v3_cross(start->omega, d)));
     acc = hk_v3_madd(acc, hk_v3_cross(start->omega, slide), 2.0);
@@ -57,8 +56,8 @@ static void add6(double *acc, hk_Vec3 ang, hk_Vec3 lin)
     acc[3] += lin.x, acc[4] += lin.y, acc[5] += lin.z;
 }
 
-void hk_element_terms_add(hk_ElementTerms *t, hk_Vec3 p, const hk_Mat3 *a, const hk_Mat3 *b,
-                          const hk_Mat3 *jac, const hk_Mat3 *jac_rot, hk_Vec3 f, hk_Vec3 tau)
+void hk_element_terms_add(hk_ElementTerms *t, hk_Vec3 p, const hk_Mat3 *a, const hk_Mat3 *b, const hk_Mat3 *jac,
+                          const hk_Mat3 *jac_rot, hk_Vec3 f, hk_Vec3 tau)
 {
     /* A point moved by the screw (w; v) has velocity T (w; v) with T = [-[p]x, I]; its
      * spatial inertia is T^T a T (plus b on the angular block). */
@@ -91,8 +90,8 @@ void hk_element_terms_add(hk_ElementTerms *t, hk_Vec3 p, const hk_Mat3 *a, const
     add6(t->wrench, hk_v3_add(hk_v3_cross(p, f), tau), f);
 }
 
-void hk_element_terms_add_quadrature(hk_ElementTerms *t, hk_Vec3 p, double a, const hk_Mat3 *b,
-                                     const hk_Mat3 *jac, const hk_Mat3 *jac_rot, hk_Vec3 f, hk_Vec3 tau)
+void hk_element_terms_add_quadrature(hk_ElementTerms *t, hk_Vec3 p, double a, const hk_Mat3 *b, const hk_Mat3 *jac,
+                                     const hk_Mat3 *jac_rot, hk_Vec3 f, hk_Vec3 tau)
 {
     /* hk_element_terms_add with the mass matrix a I: T^T (a I) T = a [[|p|^2 I - p p^T,
      * [p]x], [-[p]x, I]], without the 3x3 products. */

@@ -15,9 +15,8 @@
 
 static hk_Vec3 k_at(const double *q, int p) { return hk_v3(q[3 * p], q[3 * p + 1], q[3 * p + 2]); }
 
-void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head, const double *rates,
-                                 const double *s, int count, double *screws, double *jac, hk_Vec3 *pos,
-                                 hk_Vec3 *vel, int *element)
+void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head, const double *rates, const double *s,
+                                 int count, double *screws, double *jac, hk_Vec3 *pos, hk_Vec3 *vel, int *element)
 {
     const hk_RigidState still = hk_rigid_identity();
     if (!head) head = &still;

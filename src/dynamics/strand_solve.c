@@ -58,9 +58,8 @@ void hk_terms_assemble(int n, const hk_ElementTerms *terms, double *mass)
     }
 }
 
-int hk_terms_solve_dense(int n, const hk_ElementTerms *terms, const double *extra,
-                         const double *geo, double scale, const double *rhs, double *x,
-                         double *work)
+int hk_terms_solve_dense(int n, const hk_ElementTerms *terms, const double *extra, const double *geo, double scale,
+                         const double *rhs, double *x, double *work)
 {
     const int dim = 3 * n;
     const size_t count = (size_t)dim * (size_t)dim;
@@ -106,8 +105,8 @@ static void chol3_solve(double l[3][3], double *x)
     }
 }
 
-static int solve_recursive(int n, const hk_ElementTerms *terms, const double *extra,
-                           const double *rhs, double *x, double *work)
+static int solve_recursive(int n, const hk_ElementTerms *terms, const double *extra, const double *rhs, double *x,
+                           double *work)
 {
     /* work per element: u (3) then G = K^-1 C (3 x 6). */
     double ia[6][6], z[6];
@@ -151,8 +150,8 @@ static int solve_recursive(int n, const hk_ElementTerms *terms, const double *ex
     return 1;
 }
 
-void hk_terms_multiply(int n, const hk_ElementTerms *terms, const double *extra, const double *x,
-                       double *out, double *screws)
+void hk_terms_multiply(int n, const hk_ElementTerms *terms, const double *extra, const double *x, double *out,
+                       double *screws)
 {
     /* Row a of element P: its own points, mass_P x_P + coupling_P . A_P with A_P the
      * screw of the element's start frame, plus xi_a . h_{P+1}, the momentum of
@@ -165,8 +164,7 @@ void hk_terms_multiply(int n, const hk_ElementTerms *terms, const double *extra,
         for (int a = 0; a < 3; a++)
             out[3 * p + a] = t->mass[a][0] * xp[0] + t->mass[a][1] * xp[1] + t->mass[a][2] * xp[2] +
                              dot6(t->coupling[a], screw) + extra[3 * p + a] * xp[a];
-        for (int i = 0; i < 6; i++)
-            screw[i] += t->xi[0][i] * xp[0] + t->xi[1][i] * xp[1] + t->xi[2][i] * xp[2];
+        for (int i = 0; i < 6; i++) screw[i] += t->xi[0][i] * xp[0] + t->xi[1][i] * xp[1] + t->xi[2][i] * xp[2];
     }
     double h[6] = {0, 0, 0, 0, 0, 0};
     for (int p = n - 1; p >= 0; p--) {
@@ -179,8 +177,8 @@ void hk_terms_multiply(int n, const hk_ElementTerms *terms, const double *extra,
     }
 }
 
-int hk_terms_solve_linear(int n, const hk_ElementTerms *terms, const double *extra,
-                          const double *rhs, double *x, double *work)
+int hk_terms_solve_linear(int n, const hk_ElementTerms *terms, const double *extra, const double *rhs, double *x,
+                          double *work)
 {
     return solve_recursive(n, terms, extra, rhs, x, work);
 }

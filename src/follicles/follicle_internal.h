@@ -12,19 +12,18 @@
  *   [A  P] [w]   [h]      A_ij = |c_i - c_j|^3,  P = [1 x y z] (n x 4),
  *   [P' 0] [p] = [0],
  * for centres c (n >= 4, in coordinates of order one). w has n entries, p 4. */
-hk_Status hk_rbf_solve(int n, const hk_Vec3 *c, const double *h, int threads, double *w, double p[4],
-                       hk_Error *err);
+hk_Status hk_rbf_solve(int n, const hk_Vec3 *c, const double *h, int threads, double *w, double p[4], hk_Error *err);
 
 /* Uniform grid over points for neighbour queries within the cell size. Cells are
  * hashed; a bucket lists its points in increasing index order, so neighbour loops
  * visit them in an order independent of threads. */
 typedef struct hk_PointGrid {
-    double cell;        /* cell size */
-    int count;          /* points */
-    int bucket_count;   /* power of two */
-    int *bucket_start;  /* bucket_count + 1 */
-    int *items;         /* count point indices, grouped by bucket */
-    int32_t *key;       /* 3 * count integer cell coordinates */
+    double cell;       /* cell size */
+    int count;         /* points */
+    int bucket_count;  /* power of two */
+    int *bucket_start; /* bucket_count + 1 */
+    int *items;        /* count point indices, grouped by bucket */
+    int32_t *key;      /* 3 * count integer cell coordinates */
 } hk_PointGrid;
 
 /* Builds the grid of `count` points with cells of size `cell` (> 0). Reuses the
@@ -48,8 +47,8 @@ typedef struct hk_TriangleGrid {
 } hk_TriangleGrid;
 
 /* positions and triangles must outlive the grid. radius > 0. */
-hk_Status hk_triangle_grid_build(hk_TriangleGrid *g, const hk_Vec3 *positions, const int *triangles,
-                                 int triangle_count, double radius, hk_Error *err);
+hk_Status hk_triangle_grid_build(hk_TriangleGrid *g, const hk_Vec3 *positions, const int *triangles, int triangle_count,
+                                 double radius, hk_Error *err);
 void hk_triangle_grid_free(hk_TriangleGrid *g);
 
 /* Smallest distance from x to the mesh when it is below the grid's radius, else a

@@ -13,13 +13,13 @@
 #include "hairkit/follicle_sampling.h"
 
 struct hk_ImplicitSurface {
-    int n;                 /* centres = constraints */
-    double *cx, *cy, *cz;  /* centres in normalised coordinates, (x - origin) / scale */
-    double *w;             /* kernel weights */
-    double p[4];           /* polynomial p0 + p1 x + p2 y + p3 z in normalised coordinates */
+    int n;                /* centres = constraints */
+    double *cx, *cy, *cz; /* centres in normalised coordinates, (x - origin) / scale */
+    double *w;            /* kernel weights */
+    double p[4];          /* polynomial p0 + p1 x + p2 y + p3 z in normalised coordinates */
     hk_Vec3 origin;
     double scale;
-    double offset;         /* normal offset used (m) */
+    double offset; /* normal offset used (m) */
 };
 
 hk_ImplicitFitDef hk_default_implicit_fit_def(void)
@@ -126,13 +126,13 @@ hk_Status hk_implicit_surface_fit(const hk_Vec3 *points, const hk_Vec3 *normals,
                             "too many points for the implicit surface: %d (limit %d, i.e. %d constraints with "
                             "%d per point: the dense solve grows as n^3); thin the points first",
                             count, HK_IMPLICIT_MAX_CONSTRAINTS / per_point, HK_IMPLICIT_MAX_CONSTRAINTS, per_point);
-    if (!isfinite(d.normal_offset))
-        return hk_error_set(err, HK_ERR_INVALID, "the normal offset is not finite");
+    if (!isfinite(d.normal_offset)) return hk_error_set(err, HK_ERR_INVALID, "the normal offset is not finite");
     hk_Vec3 lo = hk_v3(DBL_MAX, DBL_MAX, DBL_MAX), hi = hk_v3(-DBL_MAX, -DBL_MAX, -DBL_MAX);
     for (int i = 0; i < count; i++) {
         if (!hk_v3_isfinite(points[i]) || !hk_v3_isfinite(normals[i]))
             return hk_error_set(err, HK_ERR_INVALID, "point %d or its normal is not finite", i);
-        if (!(hk_v3_norm(normals[i]) > 1e-12)) return hk_error_set(err, HK_ERR_INVALID, "point %d has a zero normal", i);
+        if (!(hk_v3_norm(normals[i]) > 1e-12))
+            return hk_error_set(err, HK_ERR_INVALID, "point %d has a zero normal", i);
         lo = hk_v3(fmin(lo.x, points[i].x), fmin(lo.y, points[i].y), fmin(lo.z, points[i].z));
         hi = hk_v3(fmax(hi.x, points[i].x), fmax(hi.y, points[i].y), fmax(hi.z, points[i].z));
     }

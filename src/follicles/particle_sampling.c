@@ -57,25 +57,25 @@ void hk_follicle_samples_free(hk_FollicleSamples *s)
 
 /* Tuning (radii in sigma*, lengths in d), chosen on spheres and the wick; see
  * docs/follicle-sampling.md. */
-#define SIGMA_HI 1.05     /* fission above */
-#define SIGMA_LO 0.95     /* death below */
-#define SIGMA_LONELY 1.5  /* fission even while moving */
-#define SIGMA_CAP 2.0     /* radius bounds: the cap bounds the neighbour grid's cells */
-#define SIGMA_FLOOR 0.25
-#define P_FISSION 0.5     /* per iteration, for a particle that qualifies */
-#define P_DEATH 0.1       /* W&H: deaths at random, lest a crowd die all at once */
-#define DT 0.3            /* Euler step of the repulsion velocity (stable below ~0.6) */
-#define MAX_STEP 0.2      /* largest move per iteration, in d */
-#define SETTLED_SPEED 0.05 /* a particle moving less (in sigma_i) may fission or die */
+#define SIGMA_HI         1.05 /* fission above */
+#define SIGMA_LO         0.95 /* death below */
+#define SIGMA_LONELY     1.5  /* fission even while moving */
+#define SIGMA_CAP        2.0  /* radius bounds: the cap bounds the neighbour grid's cells */
+#define SIGMA_FLOOR      0.25
+#define P_FISSION        0.5  /* per iteration, for a particle that qualifies */
+#define P_DEATH          0.1  /* W&H: deaths at random, lest a crowd die all at once */
+#define DT               0.3  /* Euler step of the repulsion velocity (stable below ~0.6) */
+#define MAX_STEP         0.2  /* largest move per iteration, in d */
+#define SETTLED_SPEED    0.05 /* a particle moving less (in sigma_i) may fission or die */
 #define QUIET_ITERATIONS 40
 
 typedef struct Sampler {
     hk_ImplicitFunction fn;
     const hk_FollicleSamplingDef *def;
     double d, sigma_star, e_star;
-    int fixed;   /* particles [0, fixed) are the fixed ones */
-    int n;       /* free particles are [fixed, fixed + n) */
-    int cap;     /* fixed + max free */
+    int fixed; /* particles [0, fixed) are the fixed ones */
+    int n;     /* free particles are [fixed, fixed + n) */
+    int cap;   /* fixed + max free */
     hk_Vec3 *pos, *nrm;
     double *sigma;
     uint64_t *id;
@@ -136,10 +136,7 @@ static void visit_neighbour(void *user, int j)
     a->repulsion = hk_v3_madd(a->repulsion, r, coef);
 }
 
-static int inside(const Sampler *s, hk_Vec3 x)
-{
-    return !s->def->inside || s->def->inside(s->def->inside_user, x);
-}
+static int inside(const Sampler *s, hk_Vec3 x) { return !s->def->inside || s->def->inside(s->def->inside_user, x); }
 
 /* Projects q onto the surface within tol and the mask: 1 on success. */
 static int place(const Sampler *s, hk_Vec3 q, double tol, hk_Vec3 *out, hk_Vec3 *out_n)
@@ -254,15 +251,18 @@ static hk_Status check_def(const hk_FollicleSamplingDef *d, const hk_Vec3 *seeds
     if (d->max_particles < 1 || d->max_particles > HK_SAMPLING_MAX_PARTICLES)
         return hk_error_set(err, HK_ERR_INVALID, "max_particles must be in [1, %d], got %d", HK_SAMPLING_MAX_PARTICLES,
                             d->max_particles);
-    if (d->fixed_count < 0 || d->fixed_count > HK_SAMPLING_MAX_PARTICLES - d->max_particles || (d->fixed_count && !d->fixed))
+    if (d->fixed_count < 0 || d->fixed_count > HK_SAMPLING_MAX_PARTICLES - d->max_particles ||
+        (d->fixed_count && !d->fixed))
         return hk_error_set(err, HK_ERR_INVALID, "fixed particles: %d with max_particles %d (together at most %d)",
                             d->fixed_count, d->max_particles, HK_SAMPLING_MAX_PARTICLES);
     if (d->max_iterations < 1 || d->max_iterations > 1000000 || d->relax_iterations < 0 ||
         d->relax_iterations > d->max_iterations)
-        return hk_error_set(err, HK_ERR_INVALID, "iterations: max %d, relax %d (need 1 <= max <= 1e6, 0 <= relax <= max)",
-                            d->max_iterations, d->relax_iterations);
+        return hk_error_set(err, HK_ERR_INVALID,
+                            "iterations: max %d, relax %d (need 1 <= max <= 1e6, 0 <= relax <= max)", d->max_iterations,
+                            d->relax_iterations);
     if (seed_count < 1 || !seeds)
-        return hk_error_set(err, HK_ERR_INVALID, "follicle sampling needs at least one seed particle, got %d", seed_count);
+        return hk_error_set(err, HK_ERR_INVALID, "follicle sampling needs at least one seed particle, got %d",
+                            seed_count);
     if (seed_count > d->max_particles)
         return hk_error_set(err, HK_ERR_INVALID, "%d seeds exceed max_particles %d", seed_count, d->max_particles);
     double extent = 0.0;
@@ -271,7 +271,8 @@ static hk_Status check_def(const hk_FollicleSamplingDef *d, const hk_Vec3 *seeds
         extent = fmax(extent, fmax(fabs(seeds[i].x), fmax(fabs(seeds[i].y), fabs(seeds[i].z))));
     }
     for (int i = 0; i < d->fixed_count; i++) {
-        if (!hk_v3_isfinite(d->fixed[i])) return hk_error_set(err, HK_ERR_INVALID, "fixed particle %d is not finite", i);
+        if (!hk_v3_isfinite(d->fixed[i]))
+            return hk_error_set(err, HK_ERR_INVALID, "fixed particle %d is not finite", i);
         extent = fmax(extent, fmax(fabs(d->fixed[i].x), fmax(fabs(d->fixed[i].y), fabs(d->fixed[i].z))));
     }
     /* the neighbour grid counts cells in 32 bits (and so much detail is absurd) */
@@ -332,7 +333,7 @@ static hk_Status iterate(Sampler *s, int adapt, int threads, double *max_move, h
     for (int k = 0; k < s->fixed + s->n; k++) sigma_max = fmax(sigma_max, s->sigma[k]);
     hk_Status st = hk_point_grid_build(&s->grid, s->pos, s->fixed + s->n, 3.0 * sigma_max, err);
     if (st != HK_OK) return st;
-    #pragma omp parallel for schedule(dynamic, 16) num_threads(threads) if (s->n >= s->parallel_from)
+#pragma omp parallel for schedule(dynamic, 16) num_threads(threads) if (s->n >= s->parallel_from)
     for (int i = 0; i < s->n; i++) update_particle(s, i, adapt);
     double m = 0.0;
     for (int i = 0; i < s->n; i++) {
@@ -420,9 +421,9 @@ hk_Status hk_sample_follicles(hk_ImplicitFunction fn, const hk_Vec3 *seeds, int 
         st = HK_ERR_NOMEM;
         goto done;
     }
-    /* The iterations project to 1e-6 d; finish with Newton to 1e-9 d where rounding
-     * allows and the mask agrees (else the point stays where it was). */
-    #pragma omp parallel for schedule(static) num_threads(threads)
+/* The iterations project to 1e-6 d; finish with Newton to 1e-9 d where rounding
+ * allows and the mask agrees (else the point stays where it was). */
+#pragma omp parallel for schedule(static) num_threads(threads)
     for (int i = 0; i < s.n; i++) {
         const int k = s.fixed + i;
         hk_Vec3 p, n;

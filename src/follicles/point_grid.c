@@ -47,8 +47,8 @@ hk_Status hk_point_grid_build(hk_PointGrid *g, const hk_Vec3 *p, int count, doub
             /* cells are 32-bit: refuse coordinates a billion cells from the origin */
             if (!(fabs(c[k]) < 1e9))
                 return hk_error_set(err, HK_ERR_INVALID,
-                                    "point %d at (%g, %g, %g) is too far from the origin for a grid of %g", i,
-                                    p[i].x, p[i].y, p[i].z, cell);
+                                    "point %d at (%g, %g, %g) is too far from the origin for a grid of %g", i, p[i].x,
+                                    p[i].y, p[i].z, cell);
             g->key[3 * i + k] = (int32_t)c[k];
         }
         g->bucket_start[cell_hash(g->key[3 * i], g->key[3 * i + 1], g->key[3 * i + 2], buckets) + 1]++;

@@ -57,11 +57,11 @@ static int householder_qr(int n, double *cols[4], Reflector h[4], double r[4][4]
 static void reflect_both_sides(const Reflector *h, int n, double *a, double *u, int threads)
 {
     const size_t sn = (size_t)n;
-    #pragma omp parallel for schedule(static) num_threads(threads)
+#pragma omp parallel for schedule(static) num_threads(threads)
     for (int i = 0; i < n; i++) u[i] = hk_dot(a + (size_t)i * sn, h->v, n);
     const double k = 0.5 * h->tau * h->tau * hk_dot(h->v, u, n);
     for (int i = 0; i < n; i++) u[i] = h->tau * u[i] - k * h->v[i]; /* u becomes q */
-    #pragma omp parallel for schedule(static) num_threads(threads)
+#pragma omp parallel for schedule(static) num_threads(threads)
     for (int i = 0; i < n; i++) {
         double *row = a + (size_t)i * sn;
         const double vi = h->v[i], qi = u[i];
@@ -95,7 +95,7 @@ static int cholesky_in_place(int m, double *a, int threads)
         }
         /* the rows below the panel */
         const long work = (long)(m - je) * (long)je;
-        #pragma omp parallel for schedule(static) num_threads(threads) if (work > 20000)
+#pragma omp parallel for schedule(static) num_threads(threads) if (work > 20000)
         for (int i = je; i < m; i++) {
             double *li = a + (size_t)i * sm;
             double s[PANEL];
@@ -123,8 +123,7 @@ static void cholesky_solve(int m, const double *l, double *x)
     }
 }
 
-hk_Status hk_rbf_solve(int n, const hk_Vec3 *c, const double *h, int threads, double *w, double p[4],
-                       hk_Error *err)
+hk_Status hk_rbf_solve(int n, const hk_Vec3 *c, const double *h, int threads, double *w, double p[4], hk_Error *err)
 {
     if (n < 5) return hk_error_set(err, HK_ERR_INVALID, "the implicit surface needs at least 5 constraints, got %d", n);
     if (threads <= 0) threads = 1;
@@ -159,7 +158,7 @@ hk_Status hk_rbf_solve(int n, const hk_Vec3 *c, const double *h, int threads, do
         goto done;
     }
 
-    #pragma omp parallel for schedule(static) num_threads(threads)
+#pragma omp parallel for schedule(static) num_threads(threads)
     for (int i = 0; i < n; i++) {
         double *row = a + (size_t)i * sn;
         for (int j = 0; j < n; j++) {
@@ -175,7 +174,8 @@ hk_Status hk_rbf_solve(int n, const hk_Vec3 *c, const double *h, int threads, do
      * the start of the buffer with stride m. Forward copies never overwrite a row
      * that is still to be read: i m <= (i + 4) n + 4. */
     memcpy(top, a, sizeof(double) * 4 * sn);
-    for (int i = 0; i < m; i++) memmove(a + (size_t)i * (size_t)m, a + (size_t)(i + 4) * sn + 4, sizeof(double) * (size_t)m);
+    for (int i = 0; i < m; i++)
+        memmove(a + (size_t)i * (size_t)m, a + (size_t)(i + 4) * sn + 4, sizeof(double) * (size_t)m);
     const int failed = cholesky_in_place(m, a, threads);
     if (failed >= 0) {
         st = hk_error_set(err, HK_ERR_NUMERIC,

@@ -38,10 +38,7 @@ void hk_triangle_grid_free(hk_TriangleGrid *g)
     memset(g, 0, sizeof *g);
 }
 
-static int cell_index(const hk_TriangleGrid *g, int i, int j, int k)
-{
-    return (k * g->dims[1] + j) * g->dims[0] + i;
-}
+static int cell_index(const hk_TriangleGrid *g, int i, int j, int k) { return (k * g->dims[1] + j) * g->dims[0] + i; }
 
 /* Cell range of a box, clamped to the grid. */
 static void cell_range(const hk_TriangleGrid *g, hk_Vec3 lo, hk_Vec3 hi, int r0[3], int r1[3])
@@ -54,8 +51,8 @@ static void cell_range(const hk_TriangleGrid *g, hk_Vec3 lo, hk_Vec3 hi, int r0[
     }
 }
 
-hk_Status hk_triangle_grid_build(hk_TriangleGrid *g, const hk_Vec3 *positions, const int *triangles,
-                                 int triangle_count, double radius, hk_Error *err)
+hk_Status hk_triangle_grid_build(hk_TriangleGrid *g, const hk_Vec3 *positions, const int *triangles, int triangle_count,
+                                 double radius, hk_Error *err)
 {
     memset(g, 0, sizeof *g);
     if (triangle_count < 1) return hk_error_set(err, HK_ERR_INVALID, "the mesh has no triangles");

@@ -120,7 +120,8 @@ static hk_Status contour_points(const hk_Mesh *wick, double spacing, hk_Vec3 **o
         if (j - i == 1 && e[i].lo != e[i].hi) {
             const int a = e[i].from, b = a == e[i].lo ? e[i].hi : e[i].lo;
             if (next[a] >= 0) {
-                st = hk_error_set(err, HK_ERR_INVALID, "the wick's boundary is not a set of simple loops at vertex %d", a + 1);
+                st = hk_error_set(err, HK_ERR_INVALID, "the wick's boundary is not a set of simple loops at vertex %d",
+                                  a + 1);
                 goto done;
             }
             next[a] = b;
@@ -147,8 +148,8 @@ static hk_Status contour_points(const hk_Mesh *wick, double spacing, hk_Vec3 **o
             } while (v != v0);
             const double m_real = fmax(3.0, round(length / spacing));
             if (m_real > (double)HK_SAMPLING_MAX_PARTICLES) {
-                st = hk_error_set(err, HK_ERR_INVALID, "a contour of %g m at spacing %g m makes too many particles", length,
-                                  spacing);
+                st = hk_error_set(err, HK_ERR_INVALID, "a contour of %g m at spacing %g m makes too many particles",
+                                  length, spacing);
                 goto done;
             }
             const int m = (int)m_real;
@@ -200,8 +201,8 @@ done:
 /* Hair grows where the surface runs over the wick: near a triangle along its normal
  * (the smooth surface bulges off the flat triangles), hardly beyond its edges. */
 typedef struct WickMask {
-    hk_TriangleGrid grid;  /* radius: the normal tolerance */
-    double beyond;         /* the tangential tolerance */
+    hk_TriangleGrid grid; /* radius: the normal tolerance */
+    double beyond;        /* the tangential tolerance */
 } WickMask;
 
 static int on_wick(void *user, hk_Vec3 x)

@@ -29,10 +29,7 @@ hk_InterpolationDef hk_default_interpolation_def(void)
     return d;
 }
 
-int hk_groom_threads(const hk_GroomDef *o)
-{
-    return o->threads > 0 ? o->threads : omp_get_max_threads();
-}
+int hk_groom_threads(const hk_GroomDef *o) { return o->threads > 0 ? o->threads : omp_get_max_threads(); }
 
 void hk_groom_report(const hk_GroomDef *o, const char *stage, long done, long total)
 {
@@ -52,8 +49,7 @@ void hk_groom_free(hk_Groom *g)
 }
 
 hk_Status hk_groom_grow(const hk_StrandDef *strand, const hk_InterpolationDef *interpolation, const hk_Shape *shapes,
-                        int shape_count, const hk_Mesh *wick,
-                        const hk_GroomDef *options, hk_Groom *out, hk_Error *err)
+                        int shape_count, const hk_Mesh *wick, const hk_GroomDef *options, hk_Groom *out, hk_Error *err)
 {
     memset(out, 0, sizeof *out);
     hk_GroomDef o = options ? *options : hk_default_groom_def();
@@ -86,8 +82,7 @@ static void fill_hair(const hk_Groom *g, const hk_StrandDef *strand, hk_HairFile
     /* cyHair thickness is a diameter in the file's units (metres here). */
     out->default_thickness = (float)(strand->radius1 + strand->radius2);
     char info[HK_HAIR_INFO_SIZE + 1];
-    snprintf(info, sizeof info, "hairkit %s guides=%d strands=%d", HK_VERSION_STRING, g->guide_count,
-             g->strand_count);
+    snprintf(info, sizeof info, "hairkit %s guides=%d strands=%d", HK_VERSION_STRING, g->guide_count, g->strand_count);
     hk_hair_set_info(out, info);
 }
 
@@ -122,8 +117,7 @@ hk_Status hk_groom_to_hair_again(const hk_Groom *g, const hk_StrandDef *strand, 
 }
 
 hk_Status hk_groom_interpolate_guides(const hk_InterpolationDef *interpolation, const hk_Shape *shapes, int shape_count,
-                                      const hk_Mesh *wick, const hk_GroomDef *options, hk_Groom *g,
-                                      hk_Error *err)
+                                      const hk_Mesh *wick, const hk_GroomDef *options, hk_Groom *g, hk_Error *err)
 {
     if (g->guide_count != wick->vertex_count || !g->guides || g->points_per_strand < 2)
         return hk_error_set(err, HK_ERR_INVALID, "%d guides for a wick of %d vertices", g->guide_count,

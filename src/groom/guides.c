@@ -10,9 +10,9 @@
 #include "hairkit/statics.h"
 
 /* Solves guide i and writes its samples; returns the status. */
-static hk_Status solve_one(const hk_StrandDef *strand, const hk_Shape *shapes, int shape_count,
-                           const hk_Follicles *f, int i, int points, double *out, long *iterations,
-                           int *converged, double *penetration, hk_Error *err)
+static hk_Status solve_one(const hk_StrandDef *strand, const hk_Shape *shapes, int shape_count, const hk_Follicles *f,
+                           int i, int points, double *out, long *iterations, int *converged, double *penetration,
+                           hk_Error *err)
 {
     hk_SuperHelix *sh;
     hk_Status st = hk_superhelix_from_def(strand, f->position[i], f->normal[i], &sh, err);
@@ -72,7 +72,7 @@ hk_Status hk_groom_solve_guides(const hk_StrandDef *strand, const hk_Shape *shap
     double deepest = 0.0;
     hk_FirstError first;
     hk_first_error_init(&first);
-    #pragma omp parallel for schedule(dynamic, 4) reduction(+ : iterations, not_converged) reduction(max : deepest) \
+#pragma omp parallel for schedule(dynamic, 4) reduction(+ : iterations, not_converged) reduction(max : deepest) \
         num_threads(hk_groom_threads(o))
     for (int i = 0; i < f->count; i++) {
         if (hk_first_error_skip(&first, i)) continue;
@@ -87,7 +87,7 @@ hk_Status hk_groom_solve_guides(const hk_StrandDef *strand, const hk_Shape *shap
         not_converged += !conv;
         deepest = pen > deepest ? pen : deepest;
         long d;
-        #pragma omp atomic capture
+#pragma omp atomic capture
         d = ++done;
         if (omp_get_thread_num() == 0) hk_groom_report(o, "guides", d, f->count);
     }

@@ -36,8 +36,10 @@ void hk_groom_tip_weights(const double root[3], double clump, double u1, double 
 {
     double v1 = clump * u1, v2 = clump * u2;
     if (v1 + v2 > 1.0) {
-        if (v1 > v2) v1 = 1.0 - v1;
-        else v2 = 1.0 - v2;
+        if (v1 > v2)
+            v1 = 1.0 - v1;
+        else
+            v2 = 1.0 - v2;
     }
     const double v3 = 1.0 - (v1 + v2);
     const double a = root[0], bb = root[1], c = root[2];
@@ -81,8 +83,8 @@ static double tip_fade(double d, double far)
  * weights kept; with a fade below 1 the strand is carried by its root offset, as the
  * nearest guide's copy of the semi-interpolation is: fade 0 for both other guides is
  * that copy. */
-static void make_strand(const double *const guide[3], const double *const seg_len[3], const double *profile,
-                        int points, const double root[3], const double tip[3], const double fade[3], float *out)
+static void make_strand(const double *const guide[3], const double *const seg_len[3], const double *profile, int points,
+                        const double root[3], const double tip[3], const double fade[3], float *out)
 {
     double prev[3] = {0, 0, 0}, placed[3] = {0, 0, 0}, last_dir[3] = {0, 0, 1}, offset[3] = {0, 0, 0};
     const int faded = fade[0] < 1.0 || fade[1] < 1.0 || fade[2] < 1.0;
@@ -93,10 +95,12 @@ static void make_strand(const double *const guide[3], const double *const seg_le
         for (int g = 0; g < 3; g++) w[g] = root[g] + (tip[g] - root[g]) * s;
         if (faded) {
             const double sum = w[0] + w[1] + w[2], kept = w[0] * fade[0] + w[1] * fade[1] + w[2] * fade[2];
-            for (int g = 0; g < 3; g++) w[g] = kept > 0.0 ? w[g] * fade[g] * (sum / kept) : (fade[g] == 1.0 ? sum : 0.0);
+            for (int g = 0; g < 3; g++)
+                w[g] = kept > 0.0 ? w[g] * fade[g] * (sum / kept) : (fade[g] == 1.0 ? sum : 0.0);
         }
-        for (int k = 0; k < 3; k++) p[k] = w[0] * guide[0][3 * j + k] + w[1] * guide[1][3 * j + k] + w[2] * guide[2][3 * j + k];
-        if (faded) { /* only then: adding a zero offset would turn -0 into +0 */
+        for (int k = 0; k < 3; k++)
+            p[k] = w[0] * guide[0][3 * j + k] + w[1] * guide[1][3 * j + k] + w[2] * guide[2][3 * j + k];
+        if (faded) {    /* only then: adding a zero offset would turn -0 into +0 */
             if (j == 0) /* the root where the triangle puts it */
                 for (int k = 0; k < 3; k++)
                     offset[k] = root[0] * guide[0][k] + root[1] * guide[1][k] + root[2] * guide[2][k] - p[k];
@@ -161,8 +165,8 @@ static hk_Status strand_counts(const hk_InterpolationDef *interp, const hk_Mesh 
     return HK_OK;
 }
 
-static hk_Status check_bytes(const hk_InterpolationDef *interp, const hk_Mesh *wick, long strands, int guides, int points,
-                             hk_Error *err)
+static hk_Status check_bytes(const hk_InterpolationDef *interp, const hk_Mesh *wick, long strands, int guides,
+                             int points, hk_Error *err)
 {
     char what[256];
     snprintf(what, sizeof what, "HairDensity %g over the wick's %.4g cm^2: %ld strands of %d points with their .hair",
@@ -244,7 +248,7 @@ hk_Status hk_groom_interpolate(const hk_InterpolationDef *interp, const hk_Shape
         const double t = points > 1 ? (double)j / (points - 1) : 0.0;
         profile[j] = interp->clump_profile == 1.0 ? t : pow(t, interp->clump_profile);
     }
-    #pragma omp parallel for schedule(static) num_threads(hk_groom_threads(o))
+#pragma omp parallel for schedule(static) num_threads(hk_groom_threads(o))
     for (int k = 0; k < g->guide_count; k++) {
         const double *guide = g->guides + (size_t)k * (size_t)points * 3;
         double *len = seg_len + (size_t)k * (size_t)points;
@@ -252,7 +256,7 @@ hk_Status hk_groom_interpolate(const hk_InterpolationDef *interp, const hk_Shape
         for (int j = 1; j < points; j++) len[j] = dist3(guide + 3 * j, guide + 3 * (j - 1));
     }
     long done = 0;
-    #pragma omp parallel for schedule(dynamic, 8) num_threads(hk_groom_threads(o))
+#pragma omp parallel for schedule(dynamic, 8) num_threads(hk_groom_threads(o))
     for (int t = 0; t < nt; t++) {
         const int *tri = wick->triangles + 3 * t;
         const double *guide[3];
@@ -267,14 +271,16 @@ hk_Status hk_groom_interpolate(const hk_InterpolationDef *interp, const hk_Shape
         const size_t tipo = (size_t)(points - 1) * 3;
         for (int a = 0; a < 3; a++)
             for (int b = 0; b < 3; b++)
-                fades[a][b] = a == b ? 1.0 : tip_fade(dist3(guide[a] + tipo, guide[b] + tipo), interp->max_tip_distance);
+                fades[a][b] =
+                    a == b ? 1.0 : tip_fade(dist3(guide[a] + tipo, guide[b] + tipo), interp->max_tip_distance);
         for (long s = first[t]; s < first[t + 1]; s++) {
             const uint64_t key = (uint64_t)(s - first[t]) * 4;
             double root[3], tip[3];
             hk_groom_root_weights(hk_rng_uniform(o->seed, STREAM_STRAND + ((uint64_t)t << 8), key),
-                         hk_rng_uniform(o->seed, STREAM_STRAND + ((uint64_t)t << 8), key + 1), root);
-            hk_groom_tip_weights(root, interp->clump, hk_rng_uniform(o->seed, STREAM_STRAND + ((uint64_t)t << 8), key + 2),
-                        hk_rng_uniform(o->seed, STREAM_STRAND + ((uint64_t)t << 8), key + 3), interp->stray_hairs, tip);
+                                  hk_rng_uniform(o->seed, STREAM_STRAND + ((uint64_t)t << 8), key + 1), root);
+            hk_groom_tip_weights(
+                root, interp->clump, hk_rng_uniform(o->seed, STREAM_STRAND + ((uint64_t)t << 8), key + 2),
+                hk_rng_uniform(o->seed, STREAM_STRAND + ((uint64_t)t << 8), key + 3), interp->stray_hairs, tip);
             float *strand = g->strands + (size_t)s * (size_t)points * 3;
             const int near = (root[0] >= root[1] && root[0] >= root[2]) ? 0 : (root[1] >= root[2] ? 1 : 2);
             make_strand(guide, len, profile, points, root, tip, fades[near], strand);
@@ -283,7 +289,7 @@ hk_Status hk_groom_interpolate(const hk_InterpolationDef *interp, const hk_Shape
             for (int k = 0; k < 3; k++) g->strand_root_weights[3 * s + k] = (float)root[k];
         }
         long d;
-        #pragma omp atomic capture
+#pragma omp atomic capture
         d = done += first[t + 1] - first[t];
         if (omp_get_thread_num() == 0) hk_groom_report(o, "strands", d, total);
     }

@@ -15,8 +15,8 @@
 #define MAX_TURN_PER_SAMPLE 1.0
 
 struct hk_HelicoidFitter {
-    int capacity;              /* points a model call may trace */
-    hk_Mat3 *frames;           /* their frames, for the end pose */
+    int capacity;    /* points a model call may trace */
+    hk_Mat3 *frames; /* their frames, for the end pose */
     hk_CurveFitWorkspace *ws;
 };
 
@@ -63,8 +63,8 @@ void hk_helicoid_fitter_destroy(hk_HelicoidFitter *f)
     hk_free(f);
 }
 
-int hk_helicoid_piece_model(void *user, const double *params, const hk_CurveStart *start, double length,
-                            int count, hk_Vec3 *out_points, hk_CurveStart *end)
+int hk_helicoid_piece_model(void *user, const double *params, const hk_CurveStart *start, double length, int count,
+                            hk_Vec3 *out_points, hk_CurveStart *end)
 {
     hk_HelicoidFitter *f = user;
     if (count < 2 || count > f->capacity || !(length > 0.0)) return 1;
@@ -177,8 +177,8 @@ static hk_Status fit_once(hk_HelicoidFitter *f, const hk_Vec3 *points, int count
             }
         }
     }
-    hk_Status st = hk_curve_fit_piecewise_ws(f->ws, points, count, hk_helicoid_piece_model, f, 4, seed, scale, &first,
-                                             fit, err);
+    hk_Status st =
+        hk_curve_fit_piecewise_ws(f->ws, points, count, hk_helicoid_piece_model, f, 4, seed, scale, &first, fit, err);
     if (st != HK_OK) return st;
     if (fit->piece_count > HK_HELICOID_MAX_PIECES)
         return hk_error_set(err, HK_ERR_INVALID, "fit of %d pieces: at most %d", fit->piece_count,
@@ -197,11 +197,10 @@ static hk_Status fit_once(hk_HelicoidFitter *f, const hk_Vec3 *points, int count
 /* A coarse polyline (fewer than this many points) whose fit misses the tolerance is fitted
  * again on RESAMPLE times as many samples, and the better fit is kept. */
 #define COARSE_POINTS 64
-#define RESAMPLE 4
+#define RESAMPLE      4
 
-hk_Status hk_helicoid_fit(hk_HelicoidFitter *f, const hk_Vec3 *points, int count,
-                          const hk_CurveFitDef *options, hk_PHelicoid *out, hk_CurveFit *fit,
-                          hk_Error *err)
+hk_Status hk_helicoid_fit(hk_HelicoidFitter *f, const hk_Vec3 *points, int count, const hk_CurveFitDef *options,
+                          hk_PHelicoid *out, hk_CurveFit *fit, hk_Error *err)
 {
     hk_CurveFit local;
     if (!fit) fit = &local;
@@ -222,8 +221,7 @@ hk_Status hk_helicoid_fit(hk_HelicoidFitter *f, const hk_Vec3 *points, int count
         hk_PHelicoid other;
         hk_CurveFit other_fit = {0};
         hk_Error ignored;
-        if (fit_once(f, points, count, &retry, &other, &other_fit, &ignored) == HK_OK &&
-            other_fit.error < fit->error) {
+        if (fit_once(f, points, count, &retry, &other, &other_fit, &ignored) == HK_OK && other_fit.error < fit->error) {
             other_fit.evaluations += fit->evaluations;
             *out = other;
             *fit = other_fit;

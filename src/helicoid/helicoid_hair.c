@@ -9,8 +9,8 @@
 /* RNG stream of the strands' wave phases (hk_rng_uniform). */
 enum { WAVE_PHASE_STREAM = 104 };
 
-hk_Status hk_helicoid_set_trace(const hk_HelicoidSet *set, double step, uint64_t seed, int threads,
-                                hk_HairFile *hair, hk_Error *err)
+hk_Status hk_helicoid_set_trace(const hk_HelicoidSet *set, double step, uint64_t seed, int threads, hk_HairFile *hair,
+                                hk_Error *err)
 {
     /* Point counts first, so that the file is allocated once. */
     long total = 0;

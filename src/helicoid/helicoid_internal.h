@@ -12,7 +12,7 @@
 /* The angles of the field at one point, with their sines and cosines (the frame of eq. 2 and
  * the tangent need only these, so tracing takes each sine once). */
 typedef struct hk_HelicoidAngles {
-    double theta; /* continued: the 2 pi cycles are counted along the path */
+    double theta;  /* continued: the 2 pi cycles are counted along the path */
     double ct, st; /* cos, sin theta */
     double cp, sp; /* cos, sin phi, phi = alpha theta */
 } hk_HelicoidAngles;
@@ -107,8 +107,7 @@ static inline void hk_helicoid_emit(const hk_HelicoidPiece *pc, const hk_Helicoi
 void hk_helicoid_piece_rk4(const hk_HelicoidPiece *pc, hk_Vec3 *p, hk_HelicoidAngles *a, const hk_HelicoidSink *out);
 /* The closed-form streamline for alpha = 0 (a logarithmic spiral, circle or line in the plane
  * z = const); exact. */
-void hk_helicoid_piece_planar(const hk_HelicoidPiece *pc, hk_Vec3 *p, hk_HelicoidAngles *a,
-                              const hk_HelicoidSink *out);
+void hk_helicoid_piece_planar(const hk_HelicoidPiece *pc, hk_Vec3 *p, hk_HelicoidAngles *a, const hk_HelicoidSink *out);
 
 /* Steps of a piece of length `length` with the largest step `step`: ceil(length / step) with a
  * 1e-12 relative tolerance; -1 when not finite or above HK_HELICOID_MAX_POINTS. */
@@ -130,10 +129,9 @@ typedef struct hk_HelicoidPlacement {
  * pieces (then offset must be NULL); else the pieces' fields sit there (see
  * hk_phelicoid_place). placed (may be NULL) receives the placement this trace produced.
  * HK_ERR_NUMERIC when the trace is not finite. */
-hk_Status hk_phelicoid_trace_with(const hk_PHelicoid *h, double step, hk_HelicoidMethod method,
-                                  const hk_Waviness *wave, const hk_Vec3 *offset,
-                                  const hk_HelicoidPlacement *placement, hk_Vec3 *points, hk_Mat3 *frames,
-                                  hk_HelicoidPlacement *placed, hk_Error *err);
+hk_Status hk_phelicoid_trace_with(const hk_PHelicoid *h, double step, hk_HelicoidMethod method, const hk_Waviness *wave,
+                                  const hk_Vec3 *offset, const hk_HelicoidPlacement *placement, hk_Vec3 *points,
+                                  hk_Mat3 *frames, hk_HelicoidPlacement *placed, hk_Error *err);
 
 /* Unit quaternions (w, x, y, z) of rotations: for the frame averages of interpolation. */
 void hk_helicoid_quat_from_rotation(const hk_Mat3 *r, double q[4]);

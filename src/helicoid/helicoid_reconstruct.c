@@ -9,10 +9,9 @@
 #include "hairkit/helicoid_fit.h"
 #include "hairkit/helicoid_hair.h"
 
-hk_Status hk_helicoid_fit_strands(const hk_HairFile *hair, const long *index, long count,
-                                  const hk_CurveFitDef *options, int threads, hk_ProgressFn progress,
-                                  void *progress_user, hk_PHelicoid *out, hk_HelicoidFitReport *reports,
-                                  hk_Error *err)
+hk_Status hk_helicoid_fit_strands(const hk_HairFile *hair, const long *index, long count, const hk_CurveFitDef *options,
+                                  int threads, hk_ProgressFn progress, void *progress_user, hk_PHelicoid *out,
+                                  hk_HelicoidFitReport *reports, hk_Error *err)
 {
     const hk_CurveFitDef defaults = hk_default_helicoid_fit_def();
     if (!options) options = &defaults;
@@ -78,8 +77,10 @@ static hk_Status compare(const hk_HairFile *a, const hk_HairFile *b, double *mea
         hk_Vec3 *pa = hk_alloc_array(a1 - a0 + (b1 - b0), sizeof(hk_Vec3), err);
         if (!pa) return HK_ERR_NOMEM;
         hk_Vec3 *pb = pa + (a1 - a0);
-        for (uint32_t p = a0; p < a1; p++) pa[p - a0] = hk_v3(a->points[3 * p], a->points[3 * p + 1], a->points[3 * p + 2]);
-        for (uint32_t p = b0; p < b1; p++) pb[p - b0] = hk_v3(b->points[3 * p], b->points[3 * p + 1], b->points[3 * p + 2]);
+        for (uint32_t p = a0; p < a1; p++)
+            pa[p - a0] = hk_v3(a->points[3 * p], a->points[3 * p + 1], a->points[3 * p + 2]);
+        for (uint32_t p = b0; p < b1; p++)
+            pb[p - b0] = hk_v3(b->points[3 * p], b->points[3 * p + 1], b->points[3 * p + 2]);
         hk_FrechetMeasures m;
         hk_Error ignored; /* a strand the measure refuses (a point not finite) is left out */
         if (hk_frechet_measures(pa, (int)(a1 - a0), pb, (int)(b1 - b0), &m, &ignored) == HK_OK) {
@@ -92,10 +93,9 @@ static hk_Status compare(const hk_HairFile *a, const hk_HairFile *b, double *mea
     return HK_OK;
 }
 
-hk_Status hk_helicoid_reconstruct(const hk_HairFile *hair, long every, const hk_CurveFitDef *options,
-                                  double power, double step, uint64_t seed, int threads, hk_ProgressFn progress,
-                                  void *progress_user, hk_HairFile *out, hk_HelicoidReconstruction *report,
-                                  hk_Error *err)
+hk_Status hk_helicoid_reconstruct(const hk_HairFile *hair, long every, const hk_CurveFitDef *options, double power,
+                                  double step, uint64_t seed, int threads, hk_ProgressFn progress, void *progress_user,
+                                  hk_HairFile *out, hk_HelicoidReconstruction *report, hk_Error *err)
 {
     memset(out, 0, sizeof *out);
     hk_HelicoidReconstruction local;
@@ -135,8 +135,8 @@ hk_Status hk_helicoid_reconstruct(const hk_HairFile *hair, long every, const hk_
             const float *q = hair->points + 3 * (size_t)hair->first_point[s];
             roots[s] = hk_v3(q[0], q[1], q[2]);
         }
-        st = hk_helicoid_interpolate_at(guides.strands, NULL, guides.count, roots, NULL, n, power, threads,
-                                        all.strands, err);
+        st = hk_helicoid_interpolate_at(guides.strands, NULL, guides.count, roots, NULL, n, power, threads, all.strands,
+                                        err);
     }
     all.step = step;
     if (st == HK_OK) st = hk_helicoid_set_trace(&all, step, seed, threads, out, err);

@@ -252,9 +252,9 @@ hk_Status hk_phelicoid_interpolate(const hk_PHelicoid *guides, int guide_count, 
     return HK_OK;
 }
 
-hk_Status hk_phelicoid_interpolate_on_surface(const hk_PHelicoid *guides, const hk_Vec3 *guide_normals,
-                                              int guide_count, hk_Vec3 x, hk_Vec3 normal, double power,
-                                              double min_elevation, hk_PHelicoid *out, hk_Error *err)
+hk_Status hk_phelicoid_interpolate_on_surface(const hk_PHelicoid *guides, const hk_Vec3 *guide_normals, int guide_count,
+                                              hk_Vec3 x, hk_Vec3 normal, double power, double min_elevation,
+                                              hk_PHelicoid *out, hk_Error *err)
 {
     hk_Status st = check_args(guides, guide_count, x, power, out, err);
     if (st != HK_OK) return st;

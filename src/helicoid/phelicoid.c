@@ -27,8 +27,9 @@ hk_Status hk_phelicoid_check(const hk_PHelicoid *h, hk_Error *err)
                             HK_HELICOID_MAX_PIECES, h->piece_count);
     if (!hk_v3_isfinite(h->root)) return hk_error_set(err, HK_ERR_INVALID, "p-helicoid: root is not finite");
     if (!frame_is_rotation(&h->frame))
-        return hk_error_set(err, HK_ERR_INVALID, "p-helicoid: root frame is not a rotation (columns orthonormal "
-                                                 "to %g, determinant +1)",
+        return hk_error_set(err, HK_ERR_INVALID,
+                            "p-helicoid: root frame is not a rotation (columns orthonormal "
+                            "to %g, determinant +1)",
                             FRAME_TOLERANCE);
     for (int i = 0; i < h->piece_count; i++) {
         const hk_Helicoid *k = &h->k[i];

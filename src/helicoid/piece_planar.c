@@ -10,15 +10,14 @@
  * (a sink) at s = r0 / -Re(c') and ends there. */
 #include "helicoid_internal.h"
 
-void hk_helicoid_piece_planar(const hk_HelicoidPiece *pc, hk_Vec3 *p, hk_HelicoidAngles *a,
-                              const hk_HelicoidSink *out)
+void hk_helicoid_piece_planar(const hk_HelicoidPiece *pc, hk_Vec3 *p, hk_HelicoidAngles *a, const hk_HelicoidSink *out)
 {
     const hk_Helicoid *k = pc->k;
     const double h = pc->length / pc->steps;
     const double x0 = p->x, y0 = p->y, z0 = p->z, th0 = a->theta, ct0 = a->ct, st0 = a->st;
     const double beta = k->kb * z0, cb = cos(beta), sb = sin(beta);
     const double ar = k->kn * cb - k->kt * sb, ai = k->kt * cb + k->kn * sb; /* c' */
-    const double cc = k->kn * k->kn + k->kt * k->kt;                          /* |c'|^2 */
+    const double cc = k->kn * k->kn + k->kt * k->kt;                         /* |c'|^2 */
     const double r0 = hypot(1.0 + k->kn * x0 - k->kt * y0, k->kt * x0 + k->kn * y0);
     double x = x0, y = y0;
     hk_HelicoidAngles cur = *a;

@@ -58,7 +58,7 @@ static inline Deriv field(const hk_Helicoid *k, double x, double y, double z, do
  * traced at 3.4 mm then stay within 0.5 micron of a trace 64 times finer (0.1 rad: 16 nm,
  * at twice the cost). Output spacings that would turn it more are split into substeps. */
 #define MAX_TURN_PER_STEP 0.25
-#define MAX_SUBSTEPS 64
+#define MAX_SUBSTEPS      64
 
 /* Substeps for an output step h starting at local (x, y): the field's direction turns at
  * most at hk_helicoid_turn_bound's rate, |w| taken where the step starts. Without this a fit could

@@ -5,7 +5,7 @@
 
 void hk_helicoid_quat_from_rotation(const hk_Mat3 *r, double q[4])
 {
-    const double (*m)[3] = r->m;
+    const double(*m)[3] = r->m;
     const double tr = m[0][0] + m[1][1] + m[2][2];
     if (tr >= m[0][0] && tr >= m[1][1] && tr >= m[2][2]) {
         const double s = 2.0 * sqrt(fmax(1.0 + tr, 0.0));

@@ -6,14 +6,15 @@
 static void trace_piece(const hk_HelicoidPiece *pc, hk_HelicoidMethod method, hk_Vec3 *p, hk_HelicoidAngles *a,
                         const hk_HelicoidSink *out)
 {
-    if (method == HK_HELICOID_AUTO && pc->k->alpha == 0.0) hk_helicoid_piece_planar(pc, p, a, out);
-    else hk_helicoid_piece_rk4(pc, p, a, out);
+    if (method == HK_HELICOID_AUTO && pc->k->alpha == 0.0)
+        hk_helicoid_piece_planar(pc, p, a, out);
+    else
+        hk_helicoid_piece_rk4(pc, p, a, out);
 }
 
-hk_Status hk_phelicoid_trace_with(const hk_PHelicoid *h, double step, hk_HelicoidMethod method,
-                                  const hk_Waviness *wave, const hk_Vec3 *offset,
-                                  const hk_HelicoidPlacement *placement, hk_Vec3 *points, hk_Mat3 *frames,
-                                  hk_HelicoidPlacement *placed, hk_Error *err)
+hk_Status hk_phelicoid_trace_with(const hk_PHelicoid *h, double step, hk_HelicoidMethod method, const hk_Waviness *wave,
+                                  const hk_Vec3 *offset, const hk_HelicoidPlacement *placement, hk_Vec3 *points,
+                                  hk_Mat3 *frames, hk_HelicoidPlacement *placed, hk_Error *err)
 {
     hk_HelicoidPiece pc;
     pc.origin = h->root;
@@ -75,8 +76,9 @@ hk_Status hk_phelicoid_trace(const hk_PHelicoid *h, double step, const hk_Wavine
                             step, HK_HELICOID_MAX_POINTS, hk_phelicoid_length(h));
     if (waviness && (!isfinite(waviness->amplitude) || !isfinite(waviness->frequency) || !isfinite(waviness->phase) ||
                      waviness->amplitude < 0.0))
-        return hk_error_set(err, HK_ERR_INVALID, "p-helicoid trace: waviness needs a finite amplitude >= 0 and "
-                                                 "frequency, got %g, %g",
+        return hk_error_set(err, HK_ERR_INVALID,
+                            "p-helicoid trace: waviness needs a finite amplitude >= 0 and "
+                            "frequency, got %g, %g",
                             waviness->amplitude, waviness->frequency);
     if (root_offset && !hk_v3_isfinite(*root_offset))
         return hk_error_set(err, HK_ERR_INVALID, "p-helicoid trace: root offset is not finite");
@@ -92,6 +94,6 @@ hk_Status hk_phelicoid_trace(const hk_PHelicoid *h, double step, const hk_Wavine
         st = hk_phelicoid_trace_with(h, step, HK_HELICOID_AUTO, NULL, NULL, NULL, NULL, NULL, &placement, err);
         if (st != HK_OK) return st;
     }
-    return hk_phelicoid_trace_with(h, step, HK_HELICOID_AUTO, waviness, root_offset, &placement, points, frames,
-                                   NULL, err);
+    return hk_phelicoid_trace_with(h, step, HK_HELICOID_AUTO, waviness, root_offset, &placement, points, frames, NULL,
+                                   err);
 }

@@ -30,8 +30,9 @@ hk_Status hk_phelicoid_wisp(const hk_PHelicoid *guide, int count, double radius,
         return hk_error_set(err, HK_ERR_INVALID, "wisp: step must be > 0 and give at most %d points, got %g",
                             HK_HELICOID_MAX_POINTS, step);
     if (w && (!isfinite(w->amplitude) || !isfinite(w->frequency) || !isfinite(w->phase) || w->amplitude < 0.0))
-        return hk_error_set(err, HK_ERR_INVALID, "wisp: waviness needs a finite amplitude >= 0 and frequency, "
-                                                 "got %g, %g",
+        return hk_error_set(err, HK_ERR_INVALID,
+                            "wisp: waviness needs a finite amplitude >= 0 and frequency, "
+                            "got %g, %g",
                             w->amplitude, w->frequency);
     if (count == 0) return HK_OK;
     if (!points) return hk_error_set(err, HK_ERR_INVALID, "wisp: NULL points");

@@ -19,15 +19,13 @@ static hk_Vec3 unit(double x, double y, double z)
 }
 
 /* Axes U, V, W from values 8..16 of an ellipsoid or cuboid line, normalised. */
-static hk_Status read_axes(const hk_KeyFile *kf, const hk_KeyLine *kl, const double *v,
-                           hk_Vec3 axes[3], hk_Error *err)
+static hk_Status read_axes(const hk_KeyFile *kf, const hk_KeyLine *kl, const double *v, hk_Vec3 axes[3], hk_Error *err)
 {
     static const char *const names[3] = {"U", "V", "W"};
     for (int i = 0; i < 3; i++) {
         axes[i] = unit(v[8 + 3 * i], v[9 + 3 * i], v[10 + 3 * i]);
         if (hk_v3_norm2(axes[i]) == 0.0)
-            return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err, "axis %s of the %s is zero",
-                                    names[i], kl->key);
+            return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err, "axis %s of the %s is zero", names[i], kl->key);
     }
     for (int i = 0; i < 3; i++)
         for (int j = i + 1; j < 3; j++) {
@@ -41,8 +39,7 @@ static hk_Status read_axes(const hk_KeyFile *kf, const hk_KeyLine *kl, const dou
     return HK_OK;
 }
 
-static hk_Status read_shape(const hk_KeyFile *kf, const hk_KeyLine *kl, hk_Shape *shape,
-                            hk_Error *err)
+static hk_Status read_shape(const hk_KeyFile *kf, const hk_KeyLine *kl, hk_Shape *shape, hk_Error *err)
 {
     /* Appendix B's sample spells "Elipsoid"; files written after it keep working. */
     const int sphere = hk_key_equal(kl->key, "Sphere");
@@ -50,8 +47,7 @@ static hk_Status read_shape(const hk_KeyFile *kf, const hk_KeyLine *kl, hk_Shape
     const int cuboid = hk_key_equal(kl->key, "Cuboid");
     if (!sphere && !ellipsoid && !cuboid)
         return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err,
-                                "unknown shape '%s' (expected Sphere, Ellipsoid or Cuboid)",
-                                kl->key);
+                                "unknown shape '%s' (expected Sphere, Ellipsoid or Cuboid)", kl->key);
     /* An optional last word says what the shape is: `Body` (the default, so the
      * thesis's files keep their meaning) or `Styling`, a field that shapes the guides
      * but that hair may enter (docs/file-formats.md). */
@@ -60,7 +56,8 @@ static hk_Status read_shape(const hk_KeyFile *kf, const hk_KeyLine *kl, hk_Shape
     int styling = 0;
     if (kl->count == numbers + 1) {
         const char *role = kl->values[numbers];
-        if (hk_key_equal(role, "Styling")) styling = 1;
+        if (hk_key_equal(role, "Styling"))
+            styling = 1;
         else if (!hk_key_equal(role, "Body")) {
             /* A word where a number cannot be is a misspelt role, not a count error. */
             if (isalpha((unsigned char)role[0]) && !hk_key_equal(role, "nan") && !hk_key_equal(role, "inf"))
@@ -77,21 +74,19 @@ static hk_Status read_shape(const hk_KeyFile *kf, const hk_KeyLine *kl, hk_Shape
     /* v[0] is the Volume (envelope thickness, §4.1.2.2): any finite value, negative
      * shrinks the shape. */
     if (!(v[1] >= 0.0))
-        return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err, "Penalty must be >= 0, got %s",
-                                kl->values[1]);
+        return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err, "Penalty must be >= 0, got %s", kl->values[1]);
     const hk_Vec3 centre = hk_v3(v[2], v[3], v[4]);
     if (sphere) {
         if (!(v[5] > 0.0))
-            return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err,
-                                    "sphere radius must be > 0, got %s", kl->values[5]);
+            return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err, "sphere radius must be > 0, got %s",
+                                    kl->values[5]);
         *shape = hk_shape_sphere(centre, v[5], v[0], v[1]);
         shape->styling = styling;
         return HK_OK;
     }
     if (!(v[5] > 0.0) || !(v[6] > 0.0) || !(v[7] > 0.0))
-        return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err,
-                                "%s dimensions must be > 0, got %s %s %s", kl->key, kl->values[5],
-                                kl->values[6], kl->values[7]);
+        return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err, "%s dimensions must be > 0, got %s %s %s", kl->key,
+                                kl->values[5], kl->values[6], kl->values[7]);
     hk_Vec3 axes[3];
     st = read_axes(kf, kl, v, axes, err);
     if (st != HK_OK) return st;
@@ -111,8 +106,8 @@ hk_Status hk_collision_load(const char *path, hk_Shape **shapes, int *count, hk_
     if (st != HK_OK) return st;
     /* Every non-empty line is one shape: count before allocating. */
     if (kf.line_count > HK_MAX_SHAPES) {
-        st = hk_keyfile_error(&kf, kf.lines[HK_MAX_SHAPES].line, HK_ERR_INVALID, err,
-                              "more than %d collision shapes", HK_MAX_SHAPES);
+        st = hk_keyfile_error(&kf, kf.lines[HK_MAX_SHAPES].line, HK_ERR_INVALID, err, "more than %d collision shapes",
+                              HK_MAX_SHAPES);
         hk_keyfile_free(&kf);
         return st;
     }
@@ -124,8 +119,7 @@ hk_Status hk_collision_load(const char *path, hk_Shape **shapes, int *count, hk_
             return HK_ERR_NOMEM;
         }
     }
-    for (int i = 0; i < kf.line_count && st == HK_OK; i++)
-        st = read_shape(&kf, &kf.lines[i], &out[i], err);
+    for (int i = 0; i < kf.line_count && st == HK_OK; i++) st = read_shape(&kf, &kf.lines[i], &out[i], err);
     if (st == HK_OK) {
         *shapes = out;
         *count = kf.line_count;

@@ -35,11 +35,10 @@ hk_Status hk_hair_index(hk_HairFile *h, hk_Error *err)
      * the offsets are allocated (a header of 2^31 strands and 0 points was 8 GB). */
     if (!(h->flags & HK_HAIR_SEGMENTS) &&
         (uint64_t)h->strand_count * ((uint64_t)h->default_segments + 1) != h->point_count)
-        return hk_error_set(err, HK_ERR_PARSE,
-                            "%u strands of default segment count %u make %llu points, the header says %u",
-                            h->strand_count, h->default_segments,
-                            (unsigned long long)h->strand_count * ((unsigned long long)h->default_segments + 1),
-                            h->point_count);
+        return hk_error_set(
+            err, HK_ERR_PARSE, "%u strands of default segment count %u make %llu points, the header says %u",
+            h->strand_count, h->default_segments,
+            (unsigned long long)h->strand_count * ((unsigned long long)h->default_segments + 1), h->point_count);
     if (h->strand_count > h->point_count)
         return hk_error_set(err, HK_ERR_PARSE, "%u strands need at least as many points, the header says %u",
                             h->strand_count, h->point_count);
@@ -53,15 +52,13 @@ hk_Status hk_hair_index(hk_HairFile *h, hk_Error *err)
         total += (uint64_t)seg + 1;
     }
     if (total != h->point_count)
-        return hk_error_set(err, HK_ERR_PARSE,
-                            "the strands' segment counts add up to %llu points, the header says %u",
+        return hk_error_set(err, HK_ERR_PARSE, "the strands' segment counts add up to %llu points, the header says %u",
                             (unsigned long long)total, h->point_count);
     h->first_point[h->strand_count] = h->point_count;
     return HK_OK;
 }
 
-hk_Status hk_hair_alloc(hk_HairFile *h, uint32_t strand_count, const uint32_t *points_per_strand,
-                        hk_Error *err)
+hk_Status hk_hair_alloc(hk_HairFile *h, uint32_t strand_count, const uint32_t *points_per_strand, hk_Error *err)
 {
     memset(h, 0, sizeof *h);
     uint64_t total = 0;
@@ -144,8 +141,10 @@ static hk_Status read_array(FILE *fp, void *dst, size_t count, int u16, const ch
         if (fread(buf, item, n, fp) != n)
             return hk_error_set(err, HK_ERR_PARSE, "%s: truncated in the %s array", path, what);
         for (size_t i = 0; i < n; i++) {
-            if (u16) ((uint16_t *)dst)[done + i] = (uint16_t)(buf[2 * i] | buf[2 * i + 1] << 8);
-            else ((float *)dst)[done + i] = get_f32(buf + 4 * i);
+            if (u16)
+                ((uint16_t *)dst)[done + i] = (uint16_t)(buf[2 * i] | buf[2 * i + 1] << 8);
+            else
+                ((float *)dst)[done + i] = get_f32(buf + 4 * i);
         }
         done += n;
     }
@@ -267,9 +266,9 @@ hk_Status hk_hair_load(const char *path, hk_HairFile *h, hk_Error *err)
         for (int a = 0; a < 4 && st == HK_OK; a++) {
             if (!(h->flags & arrays[a].flag)) continue;
             *arrays[a].dst = hk_alloc_array((size_t)np, arrays[a].per_point * sizeof(float), err);
-            st = *arrays[a].dst ? read_array(fp, *arrays[a].dst, (size_t)np * arrays[a].per_point, 0, path,
-                                             arrays[a].name, err)
-                                : HK_ERR_NOMEM;
+            st = *arrays[a].dst
+                     ? read_array(fp, *arrays[a].dst, (size_t)np * arrays[a].per_point, 0, path, arrays[a].name, err)
+                     : HK_ERR_NOMEM;
         }
     }
     fclose(fp);
@@ -322,8 +321,8 @@ static int write_u16(FILE *fp, const uint16_t *src, size_t count)
 hk_Status hk_hair_save(const char *path, const hk_HairFile *h, hk_Error *err)
 {
     if (((h->flags & HK_HAIR_SEGMENTS) && !h->segments) || !(h->flags & HK_HAIR_POINTS) || !h->points ||
-        ((h->flags & HK_HAIR_THICKNESS) && !h->thickness) ||
-        ((h->flags & HK_HAIR_TRANSPARENCY) && !h->transparency) || ((h->flags & HK_HAIR_COLORS) && !h->colors))
+        ((h->flags & HK_HAIR_THICKNESS) && !h->thickness) || ((h->flags & HK_HAIR_TRANSPARENCY) && !h->transparency) ||
+        ((h->flags & HK_HAIR_COLORS) && !h->colors))
         return hk_error_set(err, HK_ERR_INVALID, "%s: hair data lacks an array its flags announce", path);
     hk_OutFile out;
     hk_Status st = hk_outfile_open(&out, path, err);

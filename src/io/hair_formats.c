@@ -76,13 +76,20 @@ hk_Status hk_hair_read(const char *path, hk_HairFormat format, hk_HairFile *hair
     if (format == HK_HAIR_FORMAT_AUTO) format = hk_hair_format_from_path(path);
     if (format == HK_HAIR_FORMAT_AUTO) format = sniff(path);
     switch (format) {
-    case HK_HAIR_FORMAT_CYHAIR: return hk_hair_load(path, hair, err);
-    case HK_HAIR_FORMAT_TFX: return hk_tfx_load(path, hair, err);
-    case HK_HAIR_FORMAT_USC: return hk_usc_load(path, hair, err);
-    case HK_HAIR_FORMAT_PLY: return hk_ply_hair_load(path, hair, err);
-    case HK_HAIR_FORMAT_OBJ: return hk_obj_hair_load(path, hair, err);
-    case HK_HAIR_FORMAT_USDA: return hk_usda_hair_load(path, hair, err);
-    case HK_HAIR_FORMAT_AUTO: break;
+    case HK_HAIR_FORMAT_CYHAIR:
+        return hk_hair_load(path, hair, err);
+    case HK_HAIR_FORMAT_TFX:
+        return hk_tfx_load(path, hair, err);
+    case HK_HAIR_FORMAT_USC:
+        return hk_usc_load(path, hair, err);
+    case HK_HAIR_FORMAT_PLY:
+        return hk_ply_hair_load(path, hair, err);
+    case HK_HAIR_FORMAT_OBJ:
+        return hk_obj_hair_load(path, hair, err);
+    case HK_HAIR_FORMAT_USDA:
+        return hk_usda_hair_load(path, hair, err);
+    case HK_HAIR_FORMAT_AUTO:
+        break;
     }
     FILE *fp = fopen(path, "rb");
     if (!fp) return hk_error_set(err, HK_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
@@ -175,13 +182,26 @@ hk_Status hk_hair_write(const char *path, const hk_HairFile *hair, const hk_Hair
     }
     hk_Status st = HK_ERR_INVALID;
     switch (format) {
-    case HK_HAIR_FORMAT_CYHAIR: st = hk_hair_save(path, h, err); break;
-    case HK_HAIR_FORMAT_TFX: st = hk_tfx_save(path, h, 0, err); break;
-    case HK_HAIR_FORMAT_USC: st = hk_usc_save(path, h, err); break;
-    case HK_HAIR_FORMAT_PLY: st = hk_ply_hair_save(path, h, d.ascii, err); break;
-    case HK_HAIR_FORMAT_OBJ: st = hk_obj_hair_save(path, h, err); break;
-    case HK_HAIR_FORMAT_USDA: st = hk_usda_hair_save(path, h, d.meters_per_unit, err); break;
-    case HK_HAIR_FORMAT_AUTO: break;
+    case HK_HAIR_FORMAT_CYHAIR:
+        st = hk_hair_save(path, h, err);
+        break;
+    case HK_HAIR_FORMAT_TFX:
+        st = hk_tfx_save(path, h, 0, err);
+        break;
+    case HK_HAIR_FORMAT_USC:
+        st = hk_usc_save(path, h, err);
+        break;
+    case HK_HAIR_FORMAT_PLY:
+        st = hk_ply_hair_save(path, h, d.ascii, err);
+        break;
+    case HK_HAIR_FORMAT_OBJ:
+        st = hk_obj_hair_save(path, h, err);
+        break;
+    case HK_HAIR_FORMAT_USDA:
+        st = hk_usda_hair_save(path, h, d.meters_per_unit, err);
+        break;
+    case HK_HAIR_FORMAT_AUTO:
+        break;
     }
     hk_hair_free(&resampled);
     return st;
@@ -238,8 +258,8 @@ hk_Status hk_hair_resample(const hk_HairFile *in, uint32_t points, hk_HairFile *
     if (points < 2 || points > 65536)
         return hk_error_set(err, HK_ERR_INVALID, "cannot resample to %u points per strand (2 to 65536)", points);
     if ((uint64_t)in->strand_count * points > UINT32_MAX)
-        return hk_error_set(err, HK_ERR_INVALID, "%u strands of %u points are more than 2^32 points",
-                            in->strand_count, points);
+        return hk_error_set(err, HK_ERR_INVALID, "%u strands of %u points are more than 2^32 points", in->strand_count,
+                            points);
     uint32_t *counts = hk_alloc_array(in->strand_count, sizeof *counts, err);
     if (!counts) return HK_ERR_NOMEM;
     for (uint32_t s = 0; s < in->strand_count; s++) counts[s] = points;
@@ -265,7 +285,7 @@ hk_Status hk_hair_resample(const hk_HairFile *in, uint32_t points, hk_HairFile *
                          dz = (double)p[3 * i + 2] - p[3 * i - 1];
             total += sqrt(dx * dx + dy * dy + dz * dz);
         }
-        uint32_t seg = 0;     /* current segment: points seg, seg + 1 */
+        uint32_t seg = 0; /* current segment: points seg, seg + 1 */
         double seg_start = 0.0, seg_len = 0.0;
         if (n > 1) {
             const double dx = (double)p[3] - p[0], dy = (double)p[4] - p[1], dz = (double)p[5] - p[2];

@@ -47,11 +47,11 @@ hk_Status hk_binin_error(const hk_BinIn *in, uint64_t offset, hk_Error *err, con
 hk_Status hk_binin_read(hk_BinIn *in, void *dst, size_t n, const char *what, hk_Error *err)
 {
     if (n > in->size || in->offset > in->size - n)
-        return hk_binin_error(in, in->offset, err, "truncated in %s (%zu bytes needed, the file ends at %llu)", what,
-                              n, (unsigned long long)in->size);
+        return hk_binin_error(in, in->offset, err, "truncated in %s (%zu bytes needed, the file ends at %llu)", what, n,
+                              (unsigned long long)in->size);
     if (fread(dst, 1, n, in->fp) != n)
-        return hk_error_set(err, HK_ERR_IO, "%s:%llu: read error in %s", in->path,
-                            (unsigned long long)in->offset, what);
+        return hk_error_set(err, HK_ERR_IO, "%s:%llu: read error in %s", in->path, (unsigned long long)in->offset,
+                            what);
     in->offset += n;
     return HK_OK;
 }
@@ -67,8 +67,7 @@ hk_Status hk_binin_seek(hk_BinIn *in, uint64_t offset, hk_Error *err)
     return HK_OK;
 }
 
-hk_Status hk_binin_read_xyz(hk_BinIn *in, float *dst, size_t records, size_t stride, const char *what,
-                            hk_Error *err)
+hk_Status hk_binin_read_xyz(hk_BinIn *in, float *dst, size_t records, size_t stride, const char *what, hk_Error *err)
 {
     unsigned char buf[8192];
     const size_t rec = 4 * stride, per = sizeof buf / rec;
@@ -351,8 +350,7 @@ hk_Status hk_hair_check_finite(const char *path, const hk_HairFile *h, hk_Error 
             uint32_t s = 0;
             if (h->first_point)
                 while (s + 1 < h->strand_count && h->first_point[s + 1] <= p) s++;
-            return hk_error_set(err, HK_ERR_PARSE, "%s: point %u (strand %u) has a non-finite coordinate", path, p,
-                                s);
+            return hk_error_set(err, HK_ERR_PARSE, "%s: point %u (strand %u) has a non-finite coordinate", path, p, s);
         }
     return HK_OK;
 }

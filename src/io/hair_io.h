@@ -23,18 +23,14 @@ typedef struct hk_BinIn {
 hk_Status hk_binin_open(hk_BinIn *in, const char *path, hk_Error *err);
 void hk_binin_close(hk_BinIn *in);
 /* "path:offset: message" (HK_ERR_PARSE), returns it. */
-#if defined(__GNUC__)
-__attribute__((format(printf, 4, 5)))
-#endif
-hk_Status hk_binin_error(const hk_BinIn *in, uint64_t offset, hk_Error *err, const char *fmt, ...);
+hk_Status hk_binin_error(const hk_BinIn *in, uint64_t offset, hk_Error *err, const char *fmt, ...) HK_PRINTF_LIKE(4, 5);
 /* Reads n bytes; at the end of the file: "path:offset: truncated in WHAT (N bytes
  * needed, the file ends at SIZE)". */
 hk_Status hk_binin_read(hk_BinIn *in, void *dst, size_t n, const char *what, hk_Error *err);
 hk_Status hk_binin_seek(hk_BinIn *in, uint64_t offset, hk_Error *err);
 /* Reads `records` records of `stride` little-endian floats and keeps the first 3 of
  * each (x, y, z) into dst[3 * records]. */
-hk_Status hk_binin_read_xyz(hk_BinIn *in, float *dst, size_t records, size_t stride, const char *what,
-                            hk_Error *err);
+hk_Status hk_binin_read_xyz(hk_BinIn *in, float *dst, size_t records, size_t stride, const char *what, hk_Error *err);
 
 /* ---- little-endian values ---- */
 uint16_t hk_le_u16(const unsigned char *p);
@@ -59,10 +55,7 @@ hk_Status hk_writer_open(hk_Writer *w, const char *path, hk_Error *err);
 void hk_writer_bytes(hk_Writer *w, const void *data, size_t n);
 void hk_writer_u32(hk_Writer *w, uint32_t v);
 void hk_writer_f32(hk_Writer *w, float f);
-#if defined(__GNUC__)
-__attribute__((format(printf, 2, 3)))
-#endif
-void hk_writer_printf(hk_Writer *w, const char *fmt, ...);
+void hk_writer_printf(hk_Writer *w, const char *fmt, ...) HK_PRINTF_LIKE(2, 3);
 /* The shortest decimal that reads back as f (strtof), '.' as decimal point. */
 void hk_writer_float_text(hk_Writer *w, float f);
 /* Flushes and renames onto the destination (or removes the temporary file and says why
@@ -77,19 +70,16 @@ char hk_locale_point(void);
 /* ---- text input ---- */
 typedef struct hk_TextIn {
     const char *path;
-    char *data;     /* the whole file, NUL-terminated (hk_free) */
+    char *data; /* the whole file, NUL-terminated (hk_free) */
     size_t size;
-    char point;     /* locale decimal point, for the number parser */
+    char point; /* locale decimal point, for the number parser */
 } hk_TextIn;
 
 /* Reads a whole regular file into memory. */
 hk_Status hk_textin_load(hk_TextIn *t, const char *path, hk_Error *err);
 void hk_textin_free(hk_TextIn *t);
 /* "path:line: message" (HK_ERR_PARSE), returns it. */
-#if defined(__GNUC__)
-__attribute__((format(printf, 4, 5)))
-#endif
-hk_Status hk_textin_error(const hk_TextIn *t, long line, hk_Error *err, const char *fmt, ...);
+hk_Status hk_textin_error(const hk_TextIn *t, long line, hk_Error *err, const char *fmt, ...) HK_PRINTF_LIKE(4, 5);
 
 /* Decimal number token [s, s+n) ([+-]digits[.digits][e[+-]digits]) to a float, read
  * exactly (strtof); nan, inf, hex and glued text are refused: returns 0. */

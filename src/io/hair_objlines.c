@@ -66,7 +66,8 @@ hk_Status hk_obj_hair_load(const char *path, hk_HairFile *h, hk_Error *err)
     while (next_line(&t, &pos, &line, &b, &e)) {
         const char *tok, *p = b;
         size_t n = next_token(&p, e, &tok);
-        if (keyword(tok, n, "v")) nv++;
+        if (keyword(tok, n, "v"))
+            nv++;
         else if (keyword(tok, n, "l")) {
             nl++;
             while (next_token(&p, e, &tok)) nidx++;
@@ -109,8 +110,8 @@ hk_Status hk_obj_hair_load(const char *path, hk_HairFile *h, hk_Error *err)
                 k++;
             }
             if (k < 3 || k > 7) {
-                st = hk_textin_error(&t, line, err, "a vertex has 3 coordinates (and optionally w or a colour), got %d numbers",
-                                     k);
+                st = hk_textin_error(&t, line, err,
+                                     "a vertex has 3 coordinates (and optionally w or a colour), got %d numbers", k);
                 goto done;
             }
             memcpy(verts + 3 * (size_t)v++, xyz, sizeof xyz);
@@ -122,14 +123,17 @@ hk_Status hk_obj_hair_load(const char *path, hk_HairFile *h, hk_Error *err)
                 while (m < n && tok[m] != '/') m++;
                 long long k;
                 if (!hk_parse_long(tok, m, -(long long)v, (long long)nv, &k) || k == 0) {
-                    st = hk_textin_error(&t, line, err, "'%.*s' is not a vertex index (%u vertices so far, %llu in all)",
-                                         (int)(n < 40 ? n : 40), tok, v, (unsigned long long)nv);
+                    st =
+                        hk_textin_error(&t, line, err, "'%.*s' is not a vertex index (%u vertices so far, %llu in all)",
+                                        (int)(n < 40 ? n : 40), tok, v, (unsigned long long)nv);
                     goto done;
                 }
                 const uint32_t idx = (uint32_t)(k < 0 ? (long long)v + k : k - 1);
                 /* A line that starts where the previous one ended continues its strand. */
-                if (first && joinable && index[np - 1] == idx) joined = 1;
-                else index[np++] = idx;
+                if (first && joinable && index[np - 1] == idx)
+                    joined = 1;
+                else
+                    index[np++] = idx;
                 first = 0;
             }
             if (first) {
@@ -138,10 +142,9 @@ hk_Status hk_obj_hair_load(const char *path, hk_HairFile *h, hk_Error *err)
             }
             if (!joined) starts[ns++] = before;
             joinable = 1;
-        } else if (keyword(tok, n, "vt") || keyword(tok, n, "vn") || keyword(tok, n, "vp") ||
-                   keyword(tok, n, "g") || keyword(tok, n, "o") || keyword(tok, n, "s") ||
-                   keyword(tok, n, "usemtl") || keyword(tok, n, "mtllib") || keyword(tok, n, "f") ||
-                   keyword(tok, n, "p")) {
+        } else if (keyword(tok, n, "vt") || keyword(tok, n, "vn") || keyword(tok, n, "vp") || keyword(tok, n, "g") ||
+                   keyword(tok, n, "o") || keyword(tok, n, "s") || keyword(tok, n, "usemtl") ||
+                   keyword(tok, n, "mtllib") || keyword(tok, n, "f") || keyword(tok, n, "p")) {
             joinable = 0;
         } else if (keyword(tok, n, "cstype") || keyword(tok, n, "curv") || keyword(tok, n, "curv2") ||
                    keyword(tok, n, "deg") || keyword(tok, n, "parm")) {
@@ -166,7 +169,8 @@ hk_Status hk_obj_hair_load(const char *path, hk_HairFile *h, hk_Error *err)
         hk_error_set(err, st, "%s: %s", path, sub.message);
         goto done;
     }
-    for (uint32_t i = 0; i < np; i++) memcpy(h->points + 3 * (size_t)i, verts + 3 * (size_t)index[i], 3 * sizeof(float));
+    for (uint32_t i = 0; i < np; i++)
+        memcpy(h->points + 3 * (size_t)i, verts + 3 * (size_t)index[i], 3 * sizeof(float));
 done:
     hk_free(verts);
     hk_free(index);
@@ -182,8 +186,8 @@ hk_Status hk_obj_hair_save(const char *path, const hk_HairFile *h, hk_Error *err
     hk_Writer w;
     hk_Status st = hk_writer_open(&w, path, err);
     if (st != HK_OK) return st;
-    hk_writer_printf(&w, "# hairkit %s: %u strands, %u points; one 'l' polyline per strand, root first\n",
-                     hk_version(), h->strand_count, h->point_count);
+    hk_writer_printf(&w, "# hairkit %s: %u strands, %u points; one 'l' polyline per strand, root first\n", hk_version(),
+                     h->strand_count, h->point_count);
     for (size_t i = 0; i < h->point_count; i++) {
         const float *p = h->points + 3 * i;
         hk_writer_bytes(&w, "v ", 2);

@@ -22,14 +22,14 @@
 #include "ply.h"
 
 typedef struct Data {
-    float *xyz;       /* 3 per vertex */
-    float *rgb;       /* 3 per vertex or NULL */
+    float *xyz; /* 3 per vertex */
+    float *rgb; /* 3 per vertex or NULL */
     uint32_t nverts;
     int have_vertex;
-    uint32_t *nsegs;  /* per strand */
+    uint32_t *nsegs; /* per strand */
     uint32_t nstrands;
     int have_strands;
-    uint32_t *edges;  /* 2 per edge */
+    uint32_t *edges; /* 2 per edge */
     uint32_t nedges;
     int have_edges;
 } Data;
@@ -48,7 +48,8 @@ static hk_Status store_strand(hk_Ply *ply, void *user, uint64_t r, const double 
 {
     Data *d = user;
     if (row[0] < 0 || row[0] > 65535 || row[0] != floor(row[0]))
-        return hk_ply_error(ply, err, "strand %llu has %g segments (0 to 65535 are read)", (unsigned long long)r, row[0]);
+        return hk_ply_error(ply, err, "strand %llu has %g segments (0 to 65535 are read)", (unsigned long long)r,
+                            row[0]);
     d->nsegs[r] = (uint32_t)row[0];
     return HK_OK;
 }
@@ -86,7 +87,7 @@ static hk_Status read_body(hk_Ply *ply, Data *d, hk_Error *err)
                 if (el->props[at[k]].type != HK_PLY_F32 && el->props[at[k]].type != HK_PLY_F64) {
                     ply->line = -el->line;
                     return hk_ply_error(ply, err, "vertex %s is %s (float or double are read)", names[k],
-                                     hk_ply_types[el->props[at[k]].type].name);
+                                        hk_ply_types[el->props[at[k]].type].name);
                 }
                 keep[at[k]] = k;
             }
@@ -121,8 +122,8 @@ static hk_Status read_body(hk_Ply *ply, Data *d, hk_Error *err)
             st = hk_ply_read_element(ply, el, keep, row, 1, store_strand, d, err);
         } else if (!strcmp(el->name, "edge")) {
             const int a = hk_ply_prop_index(el, "vertex1"), b = hk_ply_prop_index(el, "vertex2");
-            if (a < 0 || b < 0 || el->props[a].count_type || el->props[b].count_type || el->props[a].type >= HK_PLY_F32 ||
-                el->props[b].type >= HK_PLY_F32) {
+            if (a < 0 || b < 0 || el->props[a].count_type || el->props[b].count_type ||
+                el->props[a].type >= HK_PLY_F32 || el->props[b].type >= HK_PLY_F32) {
                 ply->line = -el->line;
                 return hk_ply_error(ply, err, "the edge element has no integer properties vertex1 and vertex2");
             }
@@ -157,16 +158,16 @@ static hk_Status chain_edges(hk_Ply *ply, const Data *d, uint32_t *order, uint32
     for (uint32_t e = 0; e < d->nedges; e++) {
         const uint32_t a = d->edges[2 * e], b = d->edges[2 * e + 1];
         if (a >= nv || b >= nv || a == b) {
-            st = hk_error_set(err, HK_ERR_PARSE, "%s: edge %u joins vertices %u and %u (%u vertices)", ply->t.path, e, a,
-                              b, nv);
+            st = hk_error_set(err, HK_ERR_PARSE, "%s: edge %u joins vertices %u and %u (%u vertices)", ply->t.path, e,
+                              a, b, nv);
             goto done;
         }
         for (int k = 0; k < 2; k++) {
             const uint32_t v = k ? b : a;
             if (deg[v] == 2) {
-                st = hk_error_set(err, HK_ERR_PARSE,
-                                  "%s: edge %u gives vertex %u a third edge: strands must not branch", ply->t.path, e,
-                                  v);
+                st =
+                    hk_error_set(err, HK_ERR_PARSE, "%s: edge %u gives vertex %u a third edge: strands must not branch",
+                                 ply->t.path, e, v);
                 goto done;
             }
             nbr[2 * v + deg[v]] = k ? a : b;
@@ -235,8 +236,9 @@ hk_Status hk_ply_hair_load(const char *path, hk_HairFile *h, hk_Error *err)
         uint64_t total = 0;
         for (uint32_t s = 0; s < d.nstrands; s++) total += (uint64_t)d.nsegs[s] + 1;
         if (total != d.nverts) {
-            st = hk_error_set(err, HK_ERR_PARSE, "%s: the strands' segment counts add up to %llu points, the file has %u vertices",
-                              path, (unsigned long long)total, d.nverts);
+            st = hk_error_set(err, HK_ERR_PARSE,
+                              "%s: the strands' segment counts add up to %llu points, the file has %u vertices", path,
+                              (unsigned long long)total, d.nverts);
             goto done;
         }
         counts = d.nsegs;

@@ -56,8 +56,8 @@ hk_Status hk_tfx_load(const char *path, hk_HairFile *h, hk_Error *err)
     }
     const uint64_t need = (uint64_t)offset + (uint64_t)ns * nv * stride * 4;
     if (need > in.size) {
-        st = hk_binin_error(&in, 4,
-                            err, "truncated: the header announces %u strands of %u vertices at offset %u (%llu bytes), "
+        st = hk_binin_error(&in, 4, err,
+                            "truncated: the header announces %u strands of %u vertices at offset %u (%llu bytes), "
                             "the file has %llu",
                             ns, nv, offset, (unsigned long long)need, (unsigned long long)in.size);
         goto done;

@@ -40,8 +40,9 @@ hk_Status hk_usc_load(const char *path, hk_HairFile *h, hk_Error *err)
             goto done;
         }
         if (in.offset + 12 * (uint64_t)n > in.size) {
-            st = hk_binin_error(&in, at, err, "truncated: strand %d announces %d vertices (%llu bytes), the file ends at %llu",
-                                s, n, 12 * (unsigned long long)n, (unsigned long long)in.size);
+            st = hk_binin_error(&in, at, err,
+                                "truncated: strand %d announces %d vertices (%llu bytes), the file ends at %llu", s, n,
+                                12 * (unsigned long long)n, (unsigned long long)in.size);
             goto done;
         }
         counts[s] = (uint32_t)n;

@@ -100,7 +100,8 @@ static hk_Status lex(Lexer *lx, hk_Error *err)
         const char close = c == '<' ? '>' : '@';
         size_t q = p + 1;
         while (q < size && d[q] != close && d[q] != '\n') q++;
-        if (q >= size || d[q] != close) return lex_error(lx, err, c == '<' ? "unterminated path" : "unterminated asset path");
+        if (q >= size || d[q] != close)
+            return lex_error(lx, err, c == '<' ? "unterminated path" : "unterminated asset path");
         lx->kind = TK_PATH, lx->n = q + 1 - p, lx->pos = q + 1;
         return HK_OK;
     }
@@ -133,8 +134,10 @@ static hk_Status expect(Lexer *lx, const char *text, hk_Error *err)
 {
     if (is(lx, text)) return lex(lx, err);
     char msg[128];
-    if (lx->kind == TK_END) snprintf(msg, sizeof msg, "expected '%s', found the end of the file", text);
-    else snprintf(msg, sizeof msg, "expected '%s', found '%.*s'", text, (int)(lx->n < 40 ? lx->n : 40), lx->s);
+    if (lx->kind == TK_END)
+        snprintf(msg, sizeof msg, "expected '%s', found the end of the file", text);
+    else
+        snprintf(msg, sizeof msg, "expected '%s', found '%.*s'", text, (int)(lx->n < 40 ? lx->n : 40), lx->s);
     return lex_error(lx, err, msg);
 }
 
@@ -264,8 +267,10 @@ static hk_Status flat_numbers(Lexer *lx, double *out, int cap, int *count, hk_Er
     *count = 0;
     do {
         if (lx->kind == TK_END) return lex_error(lx, err, "the file ends inside a value");
-        if (is(lx, "(") || is(lx, "[")) depth++;
-        else if (is(lx, ")") || is(lx, "]")) depth--;
+        if (is(lx, "(") || is(lx, "["))
+            depth++;
+        else if (is(lx, ")") || is(lx, "]"))
+            depth--;
         else if (lx->kind == TK_WORD) {
             double v;
             if (!hk_parse_double(lx->s, lx->n, lx->t.point, &v)) return lex_error(lx, err, "a number is expected here");
@@ -293,7 +298,7 @@ typedef struct Curves {
 
 typedef struct Reader {
     Lexer lx;
-    U32s counts;   /* all prims */
+    U32s counts; /* all prims */
     Floats points;
     Floats widths; /* per point; NAN where no width was given */
     int any_width;
@@ -310,7 +315,10 @@ static void curves_free(Curves *c)
 }
 
 /* The word without a trailing "[]" type suffix handled by the caller. */
-static int word_is(const Lexer *lx, const char *w) { return lx->kind == TK_WORD && lx->n == strlen(w) && !memcmp(lx->s, w, lx->n); }
+static int word_is(const Lexer *lx, const char *w)
+{
+    return lx->kind == TK_WORD && lx->n == strlen(w) && !memcmp(lx->s, w, lx->n);
+}
 
 /* metadata "( key = value ... )" of a property: reads interpolation into interp. */
 static hk_Status property_metadata(Lexer *lx, char *interp, size_t cap, hk_Error *err)
@@ -460,8 +468,8 @@ static hk_Status property(Reader *r, Curves *c, hk_Error *err)
                                    "%.*s: transforms are not applied (only BasisCurves without transforms are read)",
                                    (int)(name_n < 60 ? name_n : 60), name);
     } else if (name_n > 8 && !memcmp(name, "xformOp:", 8)) {
-        return hk_textin_error(&lx->t, line, err, "%.*s: animated transforms are not read", (int)(name_n < 60 ? name_n : 60),
-                               name);
+        return hk_textin_error(&lx->t, line, err, "%.*s: animated transforms are not read",
+                               (int)(name_n < 60 ? name_n : 60), name);
     } else {
         st = skip_value(lx, err);
     }
@@ -475,10 +483,12 @@ static hk_Status add_curves(Reader *r, Curves *c, hk_Error *err)
 {
     const hk_TextIn *t = &r->lx.t;
     if (!c->type_given)
-        return hk_textin_error(t, c->line, err, "BasisCurves without 'type' (the schema's default is cubic): only linear curves are read");
+        return hk_textin_error(
+            t, c->line, err, "BasisCurves without 'type' (the schema's default is cubic): only linear curves are read");
     if (!c->have_points)
-        return hk_textin_error(t, c->line, err, c->points_sampled ? "points are given only as time samples (animation is not read)"
-                                                                  : "BasisCurves without points");
+        return hk_textin_error(t, c->line, err,
+                               c->points_sampled ? "points are given only as time samples (animation is not read)"
+                                                 : "BasisCurves without points");
     if (!c->have_counts) return hk_textin_error(t, c->line, err, "BasisCurves without curveVertexCounts");
     uint64_t total = 0;
     for (size_t i = 0; i < c->counts.n; i++) total += c->counts.v[i];
@@ -491,13 +501,17 @@ static hk_Status add_curves(Reader *r, Curves *c, hk_Error *err)
     const char *in = c->interp[0] ? c->interp : "vertex";
     size_t per = 0; /* 1: constant, 2: uniform (per curve), 3: per vertex */
     if (nw) {
-        if (!strcmp(in, "constant") && nw == 1) per = 1;
-        else if (!strcmp(in, "uniform") && nw == c->counts.n) per = 2;
-        else if ((!strcmp(in, "vertex") || !strcmp(in, "varying")) && nw == np) per = 3;
-        else if (nw == 1) per = 1;
+        if (!strcmp(in, "constant") && nw == 1)
+            per = 1;
+        else if (!strcmp(in, "uniform") && nw == c->counts.n)
+            per = 2;
+        else if ((!strcmp(in, "vertex") || !strcmp(in, "varying")) && nw == np)
+            per = 3;
+        else if (nw == 1)
+            per = 1;
         else
-            return hk_textin_error(t, c->line, err, "%zu widths with interpolation \"%s\" for %zu curves of %zu points", nw,
-                                   in, c->counts.n, np);
+            return hk_textin_error(t, c->line, err, "%zu widths with interpolation \"%s\" for %zu curves of %zu points",
+                                   nw, in, c->counts.n, np);
         r->any_width = 1;
     }
     for (size_t i = 0; i < c->counts.n; i++)
@@ -574,9 +588,12 @@ static hk_Status layer_metadata(Reader *r, hk_Error *err)
         if (st == HK_OK && is(lx, "=")) {
             st = lex(lx, err);
             if (st == HK_OK && up) {
-                if (is_str(lx, "Y")) r->z_up = 0;
-                else if (is_str(lx, "Z")) r->z_up = 1;
-                else return hk_textin_error(&lx->t, line, err, "upAxis must be \"Y\" or \"Z\"");
+                if (is_str(lx, "Y"))
+                    r->z_up = 0;
+                else if (is_str(lx, "Z"))
+                    r->z_up = 1;
+                else
+                    return hk_textin_error(&lx->t, line, err, "upAxis must be \"Y\" or \"Z\"");
                 st = lex(lx, err);
             } else if (st == HK_OK && mpu) {
                 double v;
@@ -604,8 +621,7 @@ hk_Status hk_usda_hair_load(const char *path, hk_HairFile *h, hk_Error *err)
     hk_Status st = hk_textin_load(&lx->t, path, err);
     if (st != HK_OK) return st;
     lx->line = 1;
-    if (lx->t.size < 9 || memcmp(lx->t.data, "#usda 1.0", 9) != 0 ||
-        (lx->t.size > 9 && !is_space(lx->t.data[9]))) {
+    if (lx->t.size < 9 || memcmp(lx->t.data, "#usda 1.0", 9) != 0 || (lx->t.size > 9 && !is_space(lx->t.data[9]))) {
         st = hk_textin_error(&lx->t, 1, err, "not a USD ascii file (no '#usda 1.0' first line)");
         goto done;
     }
@@ -617,8 +633,10 @@ hk_Status hk_usda_hair_load(const char *path, hk_HairFile *h, hk_Error *err)
     st = lex(lx, err);
     if (st == HK_OK && is(lx, "(")) st = layer_metadata(&r, err);
     while (st == HK_OK && lx->kind != TK_END) {
-        if (word_is(lx, "def") || word_is(lx, "over") || word_is(lx, "class")) st = prim(&r, err);
-        else st = lex_error(lx, err, "a prim (def, over or class) is expected here");
+        if (word_is(lx, "def") || word_is(lx, "over") || word_is(lx, "class"))
+            st = prim(&r, err);
+        else
+            st = lex_error(lx, err, "a prim (def, over or class) is expected here");
     }
     if (st != HK_OK) goto done;
     if (!r.prims) {
@@ -661,7 +679,8 @@ hk_Status hk_usda_hair_load(const char *path, hk_HairFile *h, hk_Error *err)
     if (r.z_up) hk_hair_up_to_y(h, HK_AXIS_POS_Z);
     if (r.meters_per_unit != 1.0) {
         st = hk_hair_scale(h, r.meters_per_unit, &sub);
-        if (st != HK_OK) hk_error_set(err, HK_ERR_PARSE, "%s: metersPerUnit %g: %s", path, r.meters_per_unit, sub.message);
+        if (st != HK_OK)
+            hk_error_set(err, HK_ERR_PARSE, "%s: metersPerUnit %g: %s", path, r.meters_per_unit, sub.message);
     }
     if (st == HK_OK) st = hk_hair_check_finite(path, h, err);
 done:

@@ -46,8 +46,8 @@ hk_Status hk_helicoid_set_alloc(hk_HelicoidSet *set, int count, hk_Error *err)
 }
 
 typedef struct Block {
-    int line;          /* of its `Strand` */
-    int root, frame;   /* lines that gave them, 0 when absent */
+    int line;        /* of its `Strand` */
+    int root, frame; /* lines that gave them, 0 when absent */
 } Block;
 
 /* Ends the strand opened at b: it needs a root, a frame and a piece. */
@@ -141,7 +141,8 @@ hk_Status hk_helicoid_file_load(const char *path, hk_HelicoidSet *out, hk_Error 
             int *seen = is_step ? &step_line : &wave_line;
             double v[3] = {0.0, 0.0, 0.0};
             if (current >= 0)
-                st = hk_keyfile_error(&kf, kl->line, HK_ERR_PARSE, err, "%s must come before the first Strand", kl->key);
+                st =
+                    hk_keyfile_error(&kf, kl->line, HK_ERR_PARSE, err, "%s must come before the first Strand", kl->key);
             else if (*seen)
                 st = hk_keyfile_error(&kf, kl->line, HK_ERR_PARSE, err, "duplicate key '%s' (first given at line %d)",
                                       kl->key, *seen);
@@ -154,8 +155,8 @@ hk_Status hk_helicoid_file_load(const char *path, hk_HelicoidSet *out, hk_Error 
                 if (is_step && !(v[0] > 0.0 && v[0] <= 1.0))
                     st = hk_keyfile_error(&kf, kl->line, HK_ERR_INVALID, err, "Step must be in (0, 1] m, got %s",
                                           kl->values[0]);
-                else if (!is_step && !(v[0] >= 0.0 && v[1] >= 0.0 && v[0] <= 1.0 && v[1] <= 1e6 && v[2] >= 0.0 &&
-                                       v[2] <= 1.0))
+                else if (!is_step &&
+                         !(v[0] >= 0.0 && v[1] >= 0.0 && v[0] <= 1.0 && v[1] <= 1e6 && v[2] >= 0.0 && v[2] <= 1.0))
                     st = hk_keyfile_error(&kf, kl->line, HK_ERR_INVALID, err,
                                           "Waviness needs an amplitude in [0, 1] m, a frequency in [0, 1e6] rad/m "
                                           "and optionally a phase jitter in [0, 1] turns");
@@ -235,7 +236,8 @@ hk_Status hk_helicoid_file_save(const char *path, const hk_HelicoidSet *set, con
             ok &= fprintf(fp, "Piece %.17g %.17g %.17g %.17g %.17g\n", h->k[p].kt, h->k[p].kn, h->k[p].kb,
                           h->k[p].alpha, h->length[p]) > 0;
         if (set->wisp_count && set->wisp_count[s] > 0)
-            ok &= fprintf(fp, "Wisp %d %.17g %.17g\n", set->wisp_count[s], set->wisp_radius[s], set->wisp_spread[s]) > 0;
+            ok &=
+                fprintf(fp, "Wisp %d %.17g %.17g\n", set->wisp_count[s], set->wisp_radius[s], set->wisp_spread[s]) > 0;
     }
     if (!ok) {
         hk_outfile_abort(&of);

@@ -44,8 +44,7 @@ static void folder_of(const char *path, char *buf, size_t size)
     buf[n] = '\0';
 }
 
-hk_Status hk_imported_groom_save(const char *path, const char *strands_file, const hk_ImportedGroom *g,
-                                 hk_Error *err)
+hk_Status hk_imported_groom_save(const char *path, const char *strands_file, const hk_ImportedGroom *g, hk_Error *err)
 {
     if (!strands_file || !*strands_file || strchr(strands_file, '"') || strchr(strands_file, '\n'))
         return hk_error_set(err, HK_ERR_INVALID, "%s: the strands file needs a plain name", path);
@@ -68,8 +67,10 @@ hk_Status hk_imported_groom_save(const char *path, const char *strands_file, con
     hk_Status st = HK_OK;
     for (int i = 0; i < g->strand_count && st == HK_OK; i++) {
         const uint32_t seg = g->first_point[i + 1] - g->first_point[i] - 1;
-        if (seg > 65535) st = hk_error_set(err, HK_ERR_INVALID, "strand %d has %u segments: a .hair holds 65535", i, seg);
-        else h.segments[i] = (uint16_t)seg;
+        if (seg > 65535)
+            st = hk_error_set(err, HK_ERR_INVALID, "strand %d has %u segments: a .hair holds 65535", i, seg);
+        else
+            h.segments[i] = (uint16_t)seg;
     }
     if (st == HK_OK) st = hk_hair_save(spath, &h, err);
     hk_free(h.segments);
@@ -80,11 +81,12 @@ hk_Status hk_imported_groom_save(const char *path, const char *strands_file, con
     if (st != HK_OK) return st;
     FILE *fp = of.fp;
     const hk_RodMaterial *m = &g->material;
-    const double mat[10] = {m->stiffness[0], m->stiffness[1], m->stiffness[2], m->mass_per_length,
-                            m->rotary_inertia[0], m->rotary_inertia[1], m->rotary_inertia[2],
-                            m->gravity.x, m->gravity.y, m->gravity.z};
-    int ok = fprintf(fp, "# hairkit imported guides (docs/file-formats.md, \"Imported guides\")\n"
-                         "HairkitImport %d\nStrandsFile \"%s\"\nStrands %d\nGuides %d\nStationStep %.17g\n",
+    const double mat[10] = {m->stiffness[0],      m->stiffness[1],      m->stiffness[2],      m->mass_per_length,
+                            m->rotary_inertia[0], m->rotary_inertia[1], m->rotary_inertia[2], m->gravity.x,
+                            m->gravity.y,         m->gravity.z};
+    int ok = fprintf(fp,
+                     "# hairkit imported guides (docs/file-formats.md, \"Imported guides\")\n"
+                     "HairkitImport %d\nStrandsFile \"%s\"\nStrands %d\nGuides %d\nStationStep %.17g\n",
                      HK_IMPORT_VERSION, strands_file, g->strand_count, g->guide_count, g->station_step) > 0;
     ok = ok && write_doubles(fp, "Material", mat, 10);
     for (int c = 0; c < g->guide_count && ok; c++) {
@@ -152,8 +154,8 @@ static hk_Status read_guide(const hk_KeyFile *kf, int at, int c, hk_ImportedGroo
     if ((st = hk_keyline_doubles(kf, kl, 2, idx, err)) != HK_OK) return st;
     if (idx[0] != c || !(idx[1] >= 0 && idx[1] < g->strand_count && idx[1] == floor(idx[1])))
         return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err,
-                                "Guide %s %s: expected guide %d and a strand 0 to %d", kl->values[0], kl->values[1],
-                                c, g->strand_count - 1);
+                                "Guide %s %s: expected guide %d and a strand 0 to %d", kl->values[0], kl->values[1], c,
+                                g->strand_count - 1);
     g->guide_strand[c] = (int)idx[1];
     const hk_KeyLine *lengths;
     if ((st = expect(kf, at + 3, "Lengths", &lengths, err)) != HK_OK) return st;
@@ -248,10 +250,11 @@ hk_Status hk_imported_groom_load(const char *path, hk_ImportedGroom *out, hk_Err
         double sum = 0.0;
         for (int a = 0; st == HK_OK && a < HK_IMPORT_ATTACH; a++) {
             const double gi = v[1 + 2 * a], w = v[2 + 2 * a];
-            if (!(gi == floor(gi) && gi >= -1 && gi < g->guide_count) || !(w >= 0.0 && w <= 1.0) || (gi < 0 && w != 0.0))
+            if (!(gi == floor(gi) && gi >= -1 && gi < g->guide_count) || !(w >= 0.0 && w <= 1.0) ||
+                (gi < 0 && w != 0.0))
                 st = hk_keyfile_error(&kf, kl->line, HK_ERR_INVALID, err,
-                                      "attachment %d: guide %s (-1 or 0 to %d) with weight %s (0 to 1; 0 for -1)",
-                                      a, kl->values[1 + 2 * a], g->guide_count - 1, kl->values[2 + 2 * a]);
+                                      "attachment %d: guide %s (-1 or 0 to %d) with weight %s (0 to 1; 0 for -1)", a,
+                                      kl->values[1 + 2 * a], g->guide_count - 1, kl->values[2 + 2 * a]);
             if (st != HK_OK) break;
             g->attach_guide[(size_t)i * HK_IMPORT_ATTACH + (size_t)a] = (int)gi;
             g->attach_weight[(size_t)i * HK_IMPORT_ATTACH + (size_t)a] = w;

@@ -15,8 +15,7 @@
 
 #include "hairkit/io.h"
 
-hk_Status hk_keyfile_error(const hk_KeyFile *kf, int line, hk_Status code, hk_Error *err,
-                           const char *fmt, ...)
+hk_Status hk_keyfile_error(const hk_KeyFile *kf, int line, hk_Status code, hk_Error *err, const char *fmt, ...)
 {
     if (!err) return code;
     char msg[HK_ERROR_MESSAGE_SIZE];
@@ -32,8 +31,7 @@ hk_Status hk_keyfile_error(const hk_KeyFile *kf, int line, hk_Status code, hk_Er
 
 static hk_Status too_large(const char *path, hk_Error *err)
 {
-    return hk_error_set(err, HK_ERR_PARSE,
-                        "%s: file is larger than the %ld bytes allowed for an input file", path,
+    return hk_error_set(err, HK_ERR_PARSE, "%s: file is larger than the %ld bytes allowed for an input file", path,
                         HK_MAX_INPUT_FILE_BYTES);
 }
 
@@ -105,16 +103,14 @@ static hk_Status read_all(const char *path, char **text, size_t *size, hk_Error 
 static hk_Status check_text(const char *path, const unsigned char *s, size_t size, hk_Error *err)
 {
     if (size >= 2 && ((s[0] == 0xFF && s[1] == 0xFE) || (s[0] == 0xFE && s[1] == 0xFF)))
-        return hk_error_set(err, HK_ERR_PARSE,
-                            "%s: not a text file (UTF-16 encoded: save it as UTF-8 or ASCII)", path);
+        return hk_error_set(err, HK_ERR_PARSE, "%s: not a text file (UTF-16 encoded: save it as UTF-8 or ASCII)", path);
     int line = 1;
     for (size_t i = 0; i < size; i++) {
         unsigned char c = s[i];
         if (c == '\n' || (c == '\r' && (i + 1 == size || s[i + 1] != '\n')))
             line++;
         else if ((c < 0x20 && c != '\t' && c != '\r' && c != '\f' && c != '\v') || c == 0x7F)
-            return hk_error_set(err, HK_ERR_PARSE, "%s: not a text file (binary data at line %d)",
-                                path, line);
+            return hk_error_set(err, HK_ERR_PARSE, "%s: not a text file (binary data at line %d)", path, line);
     }
     return HK_OK;
 }
@@ -149,8 +145,7 @@ static int tokenize(char *s, char *end, const char **out)
         if (*s == '"') {
             char *close = memchr(s + 1, '"', (size_t)(end - s - 1));
             if (!close) return TOK_UNTERMINATED;
-            if (close + 1 < end && !is_blank(close[1]) && close[1] != '#')
-                return TOK_MISPLACED_QUOTE;
+            if (close + 1 < end && !is_blank(close[1]) && close[1] != '#') return TOK_MISPLACED_QUOTE;
             if (out) {
                 out[n] = s + 1;
                 *close = '\0';
@@ -175,8 +170,7 @@ static int tokenize(char *s, char *end, const char **out)
 
 static hk_Status tokenize_error(const hk_KeyFile *kf, int line, int code, hk_Error *err)
 {
-    if (code == TOK_UNTERMINATED)
-        return hk_keyfile_error(kf, line, HK_ERR_PARSE, err, "unterminated double quote");
+    if (code == TOK_UNTERMINATED) return hk_keyfile_error(kf, line, HK_ERR_PARSE, err, "unterminated double quote");
     return hk_keyfile_error(kf, line, HK_ERR_PARSE, err,
                             "misplaced double quote: quotes enclose a whole value, "
                             "as in \"my file.txt\"");
@@ -264,13 +258,12 @@ int hk_key_equal(const char *a, const char *b)
 int hk_keyspec_find(const hk_KeySpec *specs, int spec_count, const char *key)
 {
     for (int k = 0; k < spec_count; k++)
-        if (hk_key_equal(key, specs[k].name) || (specs[k].alias && hk_key_equal(key, specs[k].alias)))
-            return k;
+        if (hk_key_equal(key, specs[k].name) || (specs[k].alias && hk_key_equal(key, specs[k].alias))) return k;
     return -1;
 }
 
-hk_Status hk_keyfile_check_keys(const hk_KeyFile *kf, const hk_KeySpec *specs, int spec_count,
-                                const char *kind, int *line_of, hk_Error *err)
+hk_Status hk_keyfile_check_keys(const hk_KeyFile *kf, const hk_KeySpec *specs, int spec_count, const char *kind,
+                                int *line_of, hk_Error *err)
 {
     for (int k = 0; k < spec_count; k++) line_of[k] = 0;
     for (int i = 0; i < kf->line_count; i++) {
@@ -280,15 +273,13 @@ hk_Status hk_keyfile_check_keys(const hk_KeyFile *kf, const hk_KeySpec *specs, i
             return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err, "unknown key '%s'%s%s%s", kl->key,
                                     kind ? " in a " : "", kind ? kind : "", kind ? " file" : "");
         if (line_of[k])
-            return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err,
-                                    "duplicate key '%s' (first given at line %d)", specs[k].name,
-                                    line_of[k]);
+            return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err, "duplicate key '%s' (first given at line %d)",
+                                    specs[k].name, line_of[k]);
         line_of[k] = kl->line;
     }
     for (int k = 0; k < spec_count; k++)
         if (specs[k].required && !line_of[k])
-            return hk_keyfile_error(kf, 0, HK_ERR_PARSE, err, "missing required key '%s'",
-                                    specs[k].name);
+            return hk_keyfile_error(kf, 0, HK_ERR_PARSE, err, "missing required key '%s'", specs[k].name);
     return HK_OK;
 }
 
@@ -343,28 +334,25 @@ int hk_parse_decimal(const char *s, double *out)
     return HK_NUM_OK;
 }
 
-static hk_Status number_at(const hk_KeyFile *kf, const hk_KeyLine *kl, int i, double *out,
-                           hk_Error *err)
+static hk_Status number_at(const hk_KeyFile *kf, const hk_KeyLine *kl, int i, double *out, hk_Error *err)
 {
     switch (hk_parse_decimal(kl->values[i], out)) {
-    case HK_NUM_OK: return HK_OK;
+    case HK_NUM_OK:
+        return HK_OK;
     case HK_NUM_RANGE:
         return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err,
-                                "'%s' is out of the range of double precision (value %d of '%s')",
-                                kl->values[i], i + 1, kl->key);
+                                "'%s' is out of the range of double precision (value %d of '%s')", kl->values[i], i + 1,
+                                kl->key);
     default:
-        return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err,
-                                "'%s' is not a finite number (value %d of '%s')", kl->values[i],
-                                i + 1, kl->key);
+        return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err, "'%s' is not a finite number (value %d of '%s')",
+                                kl->values[i], i + 1, kl->key);
     }
 }
 
-hk_Status hk_keyline_doubles(const hk_KeyFile *kf, const hk_KeyLine *kl, int count, double *out,
-                             hk_Error *err)
+hk_Status hk_keyline_doubles(const hk_KeyFile *kf, const hk_KeyLine *kl, int count, double *out, hk_Error *err)
 {
     if (kl->count != count)
-        return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err,
-                                "expected %d number%s after '%s', got %d", count,
+        return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err, "expected %d number%s after '%s', got %d", count,
                                 count == 1 ? "" : "s", kl->key, kl->count);
     for (int i = 0; i < count; i++) {
         hk_Status st = number_at(kf, kl, i, &out[i], err);
@@ -373,16 +361,15 @@ hk_Status hk_keyline_doubles(const hk_KeyFile *kf, const hk_KeyLine *kl, int cou
     return HK_OK;
 }
 
-hk_Status hk_keyline_double_list(const hk_KeyFile *kf, const hk_KeyLine *kl, int max, double *out,
-                                 int *got, hk_Error *err)
+hk_Status hk_keyline_double_list(const hk_KeyFile *kf, const hk_KeyLine *kl, int max, double *out, int *got,
+                                 hk_Error *err)
 {
     *got = 0;
     if (kl->count < 1)
-        return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err, "'%s' needs at least one number",
-                                kl->key);
+        return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err, "'%s' needs at least one number", kl->key);
     if (kl->count > max)
-        return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err,
-                                "'%s' has %d values, at most %d allowed", kl->key, kl->count, max);
+        return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err, "'%s' has %d values, at most %d allowed", kl->key,
+                                kl->count, max);
     for (int i = 0; i < kl->count; i++) {
         hk_Status st = number_at(kf, kl, i, &out[i], err);
         if (st != HK_OK) return st;
@@ -394,31 +381,28 @@ hk_Status hk_keyline_double_list(const hk_KeyFile *kf, const hk_KeyLine *kl, int
 static hk_Status one_value(const hk_KeyFile *kf, const hk_KeyLine *kl, hk_Error *err)
 {
     if (kl->count != 1)
-        return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err,
-                                "expected one value after '%s', got %d%s", kl->key, kl->count,
-                                kl->count > 1 ? " (write a value with blanks in double quotes)"
-                                              : "");
+        return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err, "expected one value after '%s', got %d%s", kl->key,
+                                kl->count, kl->count > 1 ? " (write a value with blanks in double quotes)" : "");
     return HK_OK;
 }
 
-hk_Status hk_keyline_int(const hk_KeyFile *kf, const hk_KeyLine *kl, long lo, long hi, long *out,
-                         hk_Error *err)
+hk_Status hk_keyline_int(const hk_KeyFile *kf, const hk_KeyLine *kl, long lo, long hi, long *out, hk_Error *err)
 {
     hk_Status st = one_value(kf, kl, err);
     if (st != HK_OK) return st;
     const char *s = kl->values[0], *p = s + (*s == '+' || *s == '-');
     if (!is_digit(*p))
-        return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err,
-                                "'%s' is not a whole number (value of '%s')", s, kl->key);
+        return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err, "'%s' is not a whole number (value of '%s')", s,
+                                kl->key);
     while (is_digit(*p)) p++;
     if (*p != '\0')
-        return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err,
-                                "'%s' is not a whole number (value of '%s')", s, kl->key);
+        return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err, "'%s' is not a whole number (value of '%s')", s,
+                                kl->key);
     errno = 0;
     long v = strtol(s, NULL, 10);
     if (errno == ERANGE || v < lo || v > hi)
-        return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err, "%s must be in [%ld, %ld], got %s",
-                                kl->key, lo, hi, s);
+        return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err, "%s must be in [%ld, %ld], got %s", kl->key, lo, hi,
+                                s);
     *out = v;
     return HK_OK;
 }
@@ -439,12 +423,11 @@ hk_Status hk_keyline_bool(const hk_KeyFile *kf, const hk_KeyLine *kl, int *out, 
             return HK_OK;
         }
     }
-    return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err, "'%s' must be true or false, got '%s'",
-                            kl->key, kl->values[0]);
+    return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err, "'%s' must be true or false, got '%s'", kl->key,
+                            kl->values[0]);
 }
 
-hk_Status hk_keyline_string(const hk_KeyFile *kf, const hk_KeyLine *kl, const char **out,
-                            hk_Error *err)
+hk_Status hk_keyline_string(const hk_KeyFile *kf, const hk_KeyLine *kl, const char **out, hk_Error *err)
 {
     hk_Status st = one_value(kf, kl, err);
     if (st != HK_OK) return st;

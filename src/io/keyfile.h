@@ -15,9 +15,9 @@ typedef struct hk_KeyLine {
 } hk_KeyLine;
 
 typedef struct hk_KeyFile {
-    char *path;          /* as given to hk_keyfile_read */
-    char *text;          /* file contents, cut into tokens in place */
-    hk_KeyLine *lines;   /* lines with at least one token, in file order */
+    char *path;        /* as given to hk_keyfile_read */
+    char *text;        /* file contents, cut into tokens in place */
+    hk_KeyLine *lines; /* lines with at least one token, in file order */
     int line_count;
     const char **tokens; /* storage behind every line's key and values */
 } hk_KeyFile;
@@ -34,11 +34,8 @@ hk_Status hk_keyfile_read(const char *path, hk_KeyFile *kf, hk_Error *err);
 void hk_keyfile_free(hk_KeyFile *kf);
 
 /* "path:line: message" (or "path: message" when line <= 0); returns code. */
-#if defined(__GNUC__)
-__attribute__((format(printf, 5, 6)))
-#endif
-hk_Status hk_keyfile_error(const hk_KeyFile *kf, int line, hk_Status code, hk_Error *err,
-                           const char *fmt, ...);
+hk_Status hk_keyfile_error(const hk_KeyFile *kf, int line, hk_Status code, hk_Error *err, const char *fmt, ...)
+    HK_PRINTF_LIKE(5, 6);
 
 /* ASCII case-insensitive comparison of two keys (locale-independent): 1 if equal. */
 int hk_key_equal(const char *a, const char *b);
@@ -58,19 +55,18 @@ int hk_keyspec_find(const hk_KeySpec *specs, int spec_count, const char *key);
  * key 'Young'" (HK_ERR_PARSE). `kind` ("hairstyle", ...; may be NULL) is named in the
  * unknown-key message. line_of[spec_count] receives the line giving each key, 0 when
  * absent. */
-hk_Status hk_keyfile_check_keys(const hk_KeyFile *kf, const hk_KeySpec *specs, int spec_count,
-                                const char *kind, int *line_of, hk_Error *err);
+hk_Status hk_keyfile_check_keys(const hk_KeyFile *kf, const hk_KeySpec *specs, int spec_count, const char *kind,
+                                int *line_of, hk_Error *err);
 
 /* Exactly `count` finite numbers after the key: "expected 3 numbers after 'Sphere',
  * got 2" (HK_ERR_PARSE). Numbers are decimal ([+-]digits[.digits][e[+-]digits]),
  * whatever the C locale; nan, inf, hex and "1.0abc" are refused. */
-hk_Status hk_keyline_doubles(const hk_KeyFile *kf, const hk_KeyLine *kl, int count, double *out,
-                             hk_Error *err);
+hk_Status hk_keyline_doubles(const hk_KeyFile *kf, const hk_KeyLine *kl, int count, double *out, hk_Error *err);
 
 /* One to `max` finite numbers into out[max]; *got receives how many. More than max
  * is HK_ERR_INVALID, none is HK_ERR_PARSE. */
-hk_Status hk_keyline_double_list(const hk_KeyFile *kf, const hk_KeyLine *kl, int max, double *out,
-                                 int *got, hk_Error *err);
+hk_Status hk_keyline_double_list(const hk_KeyFile *kf, const hk_KeyLine *kl, int max, double *out, int *got,
+                                 hk_Error *err);
 
 /* 1 when the n bytes at s are one decimal number, [+-]digits[.digits][e[+-]digits] with
  * at least one digit before the exponent, else 0: the syntax every reader of decimal text
@@ -87,15 +83,13 @@ enum { HK_NUM_OK, HK_NUM_SYNTAX, HK_NUM_RANGE };
 int hk_parse_decimal(const char *s, double *out);
 
 /* One whole number in [lo, hi] (outside: HK_ERR_INVALID). */
-hk_Status hk_keyline_int(const hk_KeyFile *kf, const hk_KeyLine *kl, long lo, long hi, long *out,
-                         hk_Error *err);
+hk_Status hk_keyline_int(const hk_KeyFile *kf, const hk_KeyLine *kl, long lo, long hi, long *out, hk_Error *err);
 
 /* One boolean: true/false, yes/no, on/off, 1/0, any case. */
 hk_Status hk_keyline_bool(const hk_KeyFile *kf, const hk_KeyLine *kl, int *out, hk_Error *err);
 
 /* One string, bare or quoted; *out points into kf (valid until hk_keyfile_free). */
-hk_Status hk_keyline_string(const hk_KeyFile *kf, const hk_KeyLine *kl, const char **out,
-                            hk_Error *err);
+hk_Status hk_keyline_string(const hk_KeyFile *kf, const hk_KeyLine *kl, const char **out, hk_Error *err);
 
 /* `relative` resolved against the folder of the file being read (absolute paths are
  * returned unchanged), so that a setup file can name its files relative to itself.

@@ -194,8 +194,10 @@ hk_Status hk_ply_mesh_load(const char *path, hk_Mesh *mesh, hk_Error *err)
         if (el == vert) {
             pos = hk_alloc_array((size_t)el->count, sizeof *pos, err);
             nrm = hk_alloc_array((size_t)el->count, sizeof *nrm, err);
-            if (!pos || !nrm) st = HK_ERR_NOMEM;
-            else st = read_vertices(&ply, el, pos, nrm, &has_normals, err);
+            if (!pos || !nrm)
+                st = HK_ERR_NOMEM;
+            else
+                st = read_vertices(&ply, el, pos, nrm, &has_normals, err);
         } else if (el == face) {
             st = read_faces(&ply, el, list, vert->count, &tris, err);
         } else {

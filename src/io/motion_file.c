@@ -27,9 +27,9 @@
 
 /* Sanity limits: beyond them the values are typing errors, and within them the spline
  * arithmetic stays far from overflow (velocities < 1e10, accelerations < 1e17). */
-#define HK_MOTION_MAX_TIME 1e6       /* |t| in seconds (11 days) */
-#define HK_MOTION_MIN_GAP 1e-6       /* seconds between keys (mocap runs at 1e-3) */
-#define HK_MOTION_MAX_METRES 1000.0  /* |translation|, |pivot| components */
+#define HK_MOTION_MAX_TIME    1e6    /* |t| in seconds (11 days) */
+#define HK_MOTION_MIN_GAP     1e-6   /* seconds between keys (mocap runs at 1e-3) */
+#define HK_MOTION_MAX_METRES  1000.0 /* |translation|, |pivot| components */
 #define HK_MOTION_MAX_DEGREES 1e5    /* |angle|: some 280 turns */
 
 #define KEY_NUMBERS 8 /* t tx ty tz ax ay az angle */
@@ -39,10 +39,7 @@
 static int is_pivot(const hk_KeyLine *kl) { return hk_key_equal(kl->key, "Pivot"); }
 
 /* A keyframe line starts with its time: a digit, a sign or a decimal point. */
-static int starts_like_number(const char *s)
-{
-    return (*s >= '0' && *s <= '9') || *s == '+' || *s == '-' || *s == '.';
-}
+static int starts_like_number(const char *s) { return (*s >= '0' && *s <= '9') || *s == '+' || *s == '-' || *s == '.'; }
 
 /* Unit vector along v, scaled first so that tiny or huge components neither underflow
  * nor overflow; zero stays zero. */
@@ -53,8 +50,7 @@ static hk_Vec3 unit_axis(hk_Vec3 v)
     return hk_v3_normalize(hk_v3_scale(v, 1.0 / m));
 }
 
-static hk_Status read_pivot(const hk_KeyFile *kf, const hk_KeyLine *kl, hk_Vec3 *pivot,
-                            hk_Error *err)
+static hk_Status read_pivot(const hk_KeyFile *kf, const hk_KeyLine *kl, hk_Vec3 *pivot, hk_Error *err)
 {
     double v[3];
     hk_Status st = hk_keyline_doubles(kf, kl, 3, v, err);
@@ -62,15 +58,14 @@ static hk_Status read_pivot(const hk_KeyFile *kf, const hk_KeyLine *kl, hk_Vec3 
     for (int i = 0; i < 3; i++)
         if (!(fabs(v[i]) <= HK_MOTION_MAX_METRES))
             return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err,
-                                    "Pivot coordinates must be within +-%g m, got %s",
-                                    HK_MOTION_MAX_METRES, kl->values[i]);
+                                    "Pivot coordinates must be within +-%g m, got %s", HK_MOTION_MAX_METRES,
+                                    kl->values[i]);
     *pivot = hk_v3(v[0], v[1], v[2]);
     return HK_OK;
 }
 
 /* One keyframe into time and channels (translation, rotation vector). */
-static hk_Status read_key(const hk_KeyFile *kf, const hk_KeyLine *kl, double *t, double ch[6],
-                          hk_Error *err)
+static hk_Status read_key(const hk_KeyFile *kf, const hk_KeyLine *kl, double *t, double ch[6], hk_Error *err)
 {
     if (!starts_like_number(kl->key))
         return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err,
@@ -94,17 +89,15 @@ static hk_Status read_key(const hk_KeyFile *kf, const hk_KeyLine *kl, double *t,
     if (st != HK_OK) return st;
 
     if (!(fabs(v[0]) <= HK_MOTION_MAX_TIME))
-        return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err,
-                                "time must be within +-%g s, got %s", HK_MOTION_MAX_TIME, tokens[0]);
+        return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err, "time must be within +-%g s, got %s",
+                                HK_MOTION_MAX_TIME, tokens[0]);
     for (int i = 1; i <= 3; i++)
         if (!(fabs(v[i]) <= HK_MOTION_MAX_METRES))
-            return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err,
-                                    "translation must be within +-%g m, got %s",
+            return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err, "translation must be within +-%g m, got %s",
                                     HK_MOTION_MAX_METRES, tokens[i]);
     if (!(fabs(v[7]) <= HK_MOTION_MAX_DEGREES))
-        return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err,
-                                "angle must be within +-%g degrees, got %s", HK_MOTION_MAX_DEGREES,
-                                tokens[7]);
+        return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err, "angle must be within +-%g degrees, got %s",
+                                HK_MOTION_MAX_DEGREES, tokens[7]);
     const hk_Vec3 axis = unit_axis(hk_v3(v[4], v[5], v[6]));
     if (hk_v3_norm2(axis) == 0.0 && v[7] != 0.0)
         return hk_keyfile_error(kf, kl->line, HK_ERR_INVALID, err,
@@ -173,8 +166,10 @@ void hk_motion_keys_eval(const hk_HeadMotion *m, double t, hk_RigidState *out)
     const int n = m->key_count;
     double p[HK_MOTION_CHANNELS], dp[HK_MOTION_CHANNELS], ddp[HK_MOTION_CHANNELS];
     int hold = -1;
-    if (n == 1 || !(t > m->times[0])) hold = 0;
-    else if (t >= m->times[n - 1]) hold = n - 1;
+    if (n == 1 || !(t > m->times[0]))
+        hold = 0;
+    else if (t >= m->times[n - 1])
+        hold = n - 1;
     if (hold >= 0) {
         for (int c = 0; c < HK_MOTION_CHANNELS; c++) {
             p[c] = knot(m, hold, c)[0];
@@ -184,8 +179,10 @@ void hk_motion_keys_eval(const hk_HeadMotion *m, double t, hk_RigidState *out)
         int lo = 0, hi = n - 1; /* times[lo] <= t < times[hi] */
         while (hi - lo > 1) {
             const int mid = lo + (hi - lo) / 2;
-            if (m->times[mid] <= t) lo = mid;
-            else hi = mid;
+            if (m->times[mid] <= t)
+                lo = mid;
+            else
+                hi = mid;
         }
         const double h = m->times[hi] - m->times[lo], u = (t - m->times[lo]) / h;
         for (int c = 0; c < HK_MOTION_CHANNELS; c++) {
@@ -194,8 +191,7 @@ void hk_motion_keys_eval(const hk_HeadMotion *m, double t, hk_RigidState *out)
              * right key (the solution of that 3x3 system). */
             const double *a = knot(m, lo, c), *b = knot(m, hi, c);
             const double e0 = a[0], e1 = a[1] * h, e2 = 0.5 * a[2] * h * h;
-            const double dy = b[0] - (e0 + e1 + e2), dv = b[1] * h - (e1 + 2.0 * e2),
-                         da = b[2] * h * h - 2.0 * e2;
+            const double dy = b[0] - (e0 + e1 + e2), dv = b[1] * h - (e1 + 2.0 * e2), da = b[2] * h * h - 2.0 * e2;
             const double e3 = 10.0 * dy - 4.0 * dv + 0.5 * da;
             const double e4 = -15.0 * dy + 7.0 * dv - da;
             const double e5 = 6.0 * dy - 3.0 * dv + 0.5 * da;
@@ -204,8 +200,8 @@ void hk_motion_keys_eval(const hk_HeadMotion *m, double t, hk_RigidState *out)
             ddp[c] = (2.0 * e2 + u * (6.0 * e3 + u * (12.0 * e4 + u * 20.0 * e5))) / (h * h);
         }
     }
-    hk_rotation_exp(hk_v3(p[3], p[4], p[5]), hk_v3(dp[3], dp[4], dp[5]), hk_v3(ddp[3], ddp[4], ddp[5]),
-                    &out->rot, &out->omega, &out->alpha);
+    hk_rotation_exp(hk_v3(p[3], p[4], p[5]), hk_v3(dp[3], dp[4], dp[5]), hk_v3(ddp[3], ddp[4], ddp[5]), &out->rot,
+                    &out->omega, &out->alpha);
     hk_motion_about_pivot(out, m->pivot, hk_v3(p[0], p[1], p[2]), hk_v3(dp[0], dp[1], dp[2]),
                           hk_v3(ddp[0], ddp[1], ddp[2]));
 }
@@ -226,8 +222,7 @@ static hk_Status read_lines(const hk_KeyFile *kf, hk_HeadMotion *m, hk_Error *er
                                         "duplicate key 'Pivot' (first given at line %d)", pivot_line);
             if (keys)
                 return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err,
-                                        "Pivot must come before the first keyframe (line %d)",
-                                        first_key_line);
+                                        "Pivot must come before the first keyframe (line %d)", first_key_line);
             st = read_pivot(kf, kl, &m->pivot, err);
             if (st != HK_OK) return st;
             pivot_line = kl->line;
@@ -270,15 +265,14 @@ hk_Status hk_head_motion_load(const char *path, hk_HeadMotion **out, hk_Error *e
     for (int i = 0; i < kf.line_count; i++) {
         if (is_pivot(&kf.lines[i])) continue;
         if (++keys > HK_MAX_MOTION_KEYS) {
-            st = hk_keyfile_error(&kf, kf.lines[i].line, HK_ERR_INVALID, err,
-                                  "more than %d keyframes", HK_MAX_MOTION_KEYS);
+            st = hk_keyfile_error(&kf, kf.lines[i].line, HK_ERR_INVALID, err, "more than %d keyframes",
+                                  HK_MAX_MOTION_KEYS);
             hk_keyfile_free(&kf);
             return st;
         }
     }
     if (keys == 0) {
-        st = hk_keyfile_error(&kf, 0, HK_ERR_PARSE, err,
-                              "no keyframe (expected lines 't tx ty tz ax ay az angle')");
+        st = hk_keyfile_error(&kf, 0, HK_ERR_PARSE, err, "no keyframe (expected lines 't tx ty tz ax ay az angle')");
         hk_keyfile_free(&kf);
         return st;
     }
@@ -292,9 +286,7 @@ hk_Status hk_head_motion_load(const char *path, hk_HeadMotion **out, hk_Error *e
         m->path = hk_alloc_array(strlen(path) + 1, 1, err);
         if (m->path) memcpy(m->path, path, strlen(path) + 1);
         m->times = m->path ? hk_alloc_array((size_t)keys, sizeof *m->times, err) : NULL;
-        m->knots = m->times ? hk_calloc_array((size_t)keys * HK_MOTION_CHANNELS * 3,
-                                              sizeof *m->knots, err)
-                            : NULL;
+        m->knots = m->times ? hk_calloc_array((size_t)keys * HK_MOTION_CHANNELS * 3, sizeof *m->knots, err) : NULL;
         scratch = m->knots ? hk_alloc_array(2 * (size_t)keys, sizeof *scratch, err) : NULL;
     }
     if (!scratch) st = HK_ERR_NOMEM;
@@ -304,8 +296,7 @@ hk_Status hk_head_motion_load(const char *path, hk_HeadMotion **out, hk_Error *e
         const size_t count = (size_t)keys * HK_MOTION_CHANNELS * 3;
         for (size_t i = 0; i < count && st == HK_OK; i++)
             if (!isfinite(m->knots[i]))
-                st = hk_keyfile_error(&kf, 0, HK_ERR_NUMERIC, err,
-                                      "the interpolation of the keyframes overflowed");
+                st = hk_keyfile_error(&kf, 0, HK_ERR_NUMERIC, err, "the interpolation of the keyframes overflowed");
     }
     hk_free(scratch);
     hk_keyfile_free(&kf);

@@ -108,8 +108,8 @@ hk_Status hk_obj_load(const char *path, hk_Mesh *mesh, hk_Error *err)
                  * the strand counts from them, overflow. */
                 const int r = hk_parse_decimal(tok, &xyz[i]);
                 if (r == HK_NUM_SYNTAX)
-                    st = hk_error_set(err, HK_ERR_PARSE, "%s:%ld: '%s' is not a decimal number (value %d of '%s')", path,
-                                      line_no, tok, i + 1, key);
+                    st = hk_error_set(err, HK_ERR_PARSE, "%s:%ld: '%s' is not a decimal number (value %d of '%s')",
+                                      path, line_no, tok, i + 1, key);
                 else if (r != HK_NUM_OK || !(fabs(xyz[i]) <= HK_MAX_MESH_COORDINATE))
                     st = hk_error_set(err, HK_ERR_PARSE,
                                       "%s:%ld: '%s' is out of range (value %d of '%s'): coordinates are within "
@@ -150,8 +150,8 @@ hk_Status hk_obj_load(const char *path, hk_Mesh *mesh, hk_Error *err)
             }
             if (st != HK_OK) break;
             if (n < 3) {
-                st = hk_error_set(err, HK_ERR_PARSE, "%s:%ld: a face needs at least 3 corners, got %d", path,
-                                  line_no, n);
+                st = hk_error_set(err, HK_ERR_PARSE, "%s:%ld: a face needs at least 3 corners, got %d", path, line_no,
+                                  n);
                 break;
             }
         }
@@ -173,8 +173,8 @@ hk_Status hk_obj_load(const char *path, hk_Mesh *mesh, hk_Error *err)
             const hk_Vec3 *nv = nrm.data;
             for (size_t i = 0; i < 3 * tris.count; i++)
                 if (tn[i] >= 0)
-                    mesh->normals[mesh->triangles[i]] = hk_v3_add(mesh->normals[mesh->triangles[i]],
-                                                                  hk_v3_normalize(nv[tn[i]]));
+                    mesh->normals[mesh->triangles[i]] =
+                        hk_v3_add(mesh->normals[mesh->triangles[i]], hk_v3_normalize(nv[tn[i]]));
             hk_Mesh faces = *mesh;
             hk_Vec3 *fallback = hk_alloc_array((size_t)mesh->vertex_count, sizeof(hk_Vec3), err);
             if (!fallback) {

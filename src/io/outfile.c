@@ -17,7 +17,7 @@
  * claimed (0 -> 1), its path copied, then made live (2); the handler unlinks the live
  * ones. A temporary whose path is too long, or found the table full, is still removed
  * on every error; only a signal would leave it. */
-#define SLOTS 16
+#define SLOTS     16
 #define SLOT_PATH 4096
 static char slot_path[SLOTS][SLOT_PATH];
 static atomic_int slot_state[SLOTS];

@@ -17,9 +17,9 @@
 #include "hairkit/core.h"
 
 typedef struct hk_OutFile {
-    FILE *fp;          /* write here */
-    char *path;        /* final destination (the links followed) */
-    char *tmp_path;    /* temporary file next to it; NULL when written in place */
+    FILE *fp;       /* write here */
+    char *path;     /* final destination (the links followed) */
+    char *tmp_path; /* temporary file next to it; NULL when written in place */
 } hk_OutFile;
 
 /* Creates the temporary file for `path` (binary mode). */

@@ -9,9 +9,9 @@
 #include "ply.h"
 
 const hk_PlyType hk_ply_types[HK_PLY_F64 + 1] = {
-    {"", "", 0},           {"char", "int8", 1},  {"uchar", "uint8", 1},  {"short", "int16", 2},
-    {"ushort", "uint16", 2}, {"int", "int32", 4}, {"uint", "uint32", 4}, {"float", "float32", 4},
-    {"double", "float64", 8}};
+    {"", "", 0},           {"char", "int8", 1},     {"uchar", "uint8", 1},
+    {"short", "int16", 2}, {"ushort", "uint16", 2}, {"int", "int32", 4},
+    {"uint", "uint32", 4}, {"float", "float32", 4}, {"double", "float64", 8}};
 
 /* file:line (ASCII body, header) or file:offset (binary body) */
 hk_Status hk_ply_error(const hk_Ply *ply, hk_Error *err, const char *fmt, ...)
@@ -21,7 +21,8 @@ hk_Status hk_ply_error(const hk_Ply *ply, hk_Error *err, const char *fmt, ...)
     va_start(ap, fmt);
     vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
-    if (ply->ascii || ply->line < 0) return hk_textin_error(&ply->t, ply->line < 0 ? -ply->line : ply->line, err, "%s", msg);
+    if (ply->ascii || ply->line < 0)
+        return hk_textin_error(&ply->t, ply->line < 0 ? -ply->line : ply->line, err, "%s", msg);
     return hk_error_set(err, HK_ERR_PARSE, "%s:%zu: %s", ply->t.path, ply->pos, msg);
 }
 
@@ -95,11 +96,14 @@ static hk_Status parse_header(hk_Ply *ply, hk_Error *err)
         if (!strcmp(tok[0], "comment") || !strcmp(tok[0], "obj_info")) continue;
         if (!strcmp(tok[0], "format")) {
             if (n != 3 || have_format) return hk_ply_error(ply, err, "malformed format line");
-            if (!strcmp(tok[1], "ascii")) ply->ascii = 1;
-            else if (!strcmp(tok[1], "binary_little_endian")) ply->ascii = 0;
+            if (!strcmp(tok[1], "ascii"))
+                ply->ascii = 1;
+            else if (!strcmp(tok[1], "binary_little_endian"))
+                ply->ascii = 0;
             else if (!strcmp(tok[1], "binary_big_endian"))
                 return hk_ply_error(ply, err, "big-endian PLY is not read (binary_little_endian and ascii are)");
-            else return hk_ply_error(ply, err, "unknown format '%s'", tok[1]);
+            else
+                return hk_ply_error(ply, err, "unknown format '%s'", tok[1]);
             if (strcmp(tok[2], "1.0")) return hk_ply_error(ply, err, "PLY version '%s' (1.0 is read)", tok[2]);
             have_format = 1;
             continue;
@@ -108,10 +112,12 @@ static hk_Status parse_header(hk_Ply *ply, hk_Error *err)
             long long count;
             if (n != 3 || !hk_parse_long(tok[2], strlen(tok[2]), 0, (long long)UINT32_MAX, &count))
                 return hk_ply_error(ply, err, "malformed element line (element NAME COUNT, COUNT < 2^32)");
-            if (ply->nelems == HK_PLY_MAX_ELEMS) return hk_ply_error(ply, err, "more than %d elements", HK_PLY_MAX_ELEMS);
+            if (ply->nelems == HK_PLY_MAX_ELEMS)
+                return hk_ply_error(ply, err, "more than %d elements", HK_PLY_MAX_ELEMS);
             if (strlen(tok[1]) >= HK_PLY_NAME_SIZE) return hk_ply_error(ply, err, "element name too long");
             for (int e = 0; e < ply->nelems; e++)
-                if (!strcmp(ply->elems[e].name, tok[1])) return hk_ply_error(ply, err, "element '%s' given twice", tok[1]);
+                if (!strcmp(ply->elems[e].name, tok[1]))
+                    return hk_ply_error(ply, err, "element '%s' given twice", tok[1]);
             hk_PlyElem *el = &ply->elems[ply->nelems++];
             memset(el, 0, sizeof *el);
             strcpy(el->name, tok[1]);
@@ -122,7 +128,8 @@ static hk_Status parse_header(hk_Ply *ply, hk_Error *err)
         if (!strcmp(tok[0], "property")) {
             if (!ply->nelems) return hk_ply_error(ply, err, "property before any element");
             hk_PlyElem *el = &ply->elems[ply->nelems - 1];
-            if (el->nprops == HK_PLY_MAX_PROPS) return hk_ply_error(ply, err, "more than %d properties", HK_PLY_MAX_PROPS);
+            if (el->nprops == HK_PLY_MAX_PROPS)
+                return hk_ply_error(ply, err, "more than %d properties", HK_PLY_MAX_PROPS);
             hk_PlyProp p;
             memset(&p, 0, sizeof p);
             const char *name;
@@ -167,14 +174,30 @@ hk_Status hk_ply_read_value(hk_Ply *ply, int type, double *out, const char *what
             return hk_ply_error(ply, err, "truncated in %s (the file ends at %zu)", what, size);
         const unsigned char *p = (const unsigned char *)d + ply->pos;
         switch (type) {
-        case HK_PLY_I8: *out = (double)(int8_t)p[0]; break;
-        case HK_PLY_U8: *out = (double)p[0]; break;
-        case HK_PLY_I16: *out = (double)(int16_t)hk_le_u16(p); break;
-        case HK_PLY_U16: *out = (double)hk_le_u16(p); break;
-        case HK_PLY_I32: *out = (double)(int32_t)hk_le_u32(p); break;
-        case HK_PLY_U32: *out = (double)hk_le_u32(p); break;
-        case HK_PLY_F32: *out = (double)hk_le_f32(p); break;
-        default: *out = hk_le_f64(p); break;
+        case HK_PLY_I8:
+            *out = (double)(int8_t)p[0];
+            break;
+        case HK_PLY_U8:
+            *out = (double)p[0];
+            break;
+        case HK_PLY_I16:
+            *out = (double)(int16_t)hk_le_u16(p);
+            break;
+        case HK_PLY_U16:
+            *out = (double)hk_le_u16(p);
+            break;
+        case HK_PLY_I32:
+            *out = (double)(int32_t)hk_le_u32(p);
+            break;
+        case HK_PLY_U32:
+            *out = (double)hk_le_u32(p);
+            break;
+        case HK_PLY_F32:
+            *out = (double)hk_le_f32(p);
+            break;
+        default:
+            *out = hk_le_f64(p);
+            break;
         }
         if (!isfinite(*out)) return hk_ply_error(ply, err, "non-finite number in %s", what);
         ply->pos += n;
@@ -219,10 +242,12 @@ uint64_t hk_ply_min_record(const hk_Ply *ply, const hk_PlyElem *el, uint64_t min
     uint64_t n = 0;
     for (int i = 0; i < el->nprops; i++) {
         const hk_PlyProp *p = &el->props[i];
-        if (ply->ascii) n += p->count_type ? 2 + 2 * min_items : 2;
+        if (ply->ascii)
+            n += p->count_type ? 2 + 2 * min_items : 2;
         else if (p->count_type)
             n += (uint64_t)hk_ply_types[p->count_type].size + min_items * (uint64_t)hk_ply_types[p->type].size;
-        else n += (uint64_t)hk_ply_types[p->type].size;
+        else
+            n += (uint64_t)hk_ply_types[p->type].size;
     }
     return n;
 }
@@ -284,8 +309,9 @@ hk_Status hk_ply_check_room(hk_Ply *ply, const hk_PlyElem *el, uint64_t min_item
     /* rec * count without overflow: counts are < 2^32 and records small */
     const uint64_t need = el->count * rec;
     if (need > left + (ply->ascii ? 1 : 0))
-        return hk_ply_error(ply, err, "truncated: element '%s' announces %llu records (at least %llu bytes), %llu are left",
-                            el->name, (unsigned long long)el->count, (unsigned long long)need, (unsigned long long)left);
+        return hk_ply_error(
+            ply, err, "truncated: element '%s' announces %llu records (at least %llu bytes), %llu are left", el->name,
+            (unsigned long long)el->count, (unsigned long long)need, (unsigned long long)left);
     return HK_OK;
 }
 
@@ -293,8 +319,8 @@ hk_Status hk_ply_check_end(hk_Ply *ply, hk_Error *err)
 {
     size_t p = ply->pos;
     if (ply->ascii)
-        while (p < ply->t.size && (ply->t.data[p] == ' ' || ply->t.data[p] == '\t' || ply->t.data[p] == '\n' ||
-                                   ply->t.data[p] == '\r'))
+        while (p < ply->t.size &&
+               (ply->t.data[p] == ' ' || ply->t.data[p] == '\t' || ply->t.data[p] == '\n' || ply->t.data[p] == '\r'))
             p++;
     if (p != ply->t.size) return hk_ply_error(ply, err, "data after the last element");
     return HK_OK;

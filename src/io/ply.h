@@ -52,15 +52,10 @@ void hk_ply_close(hk_Ply *ply);
 
 /* "path:line: message" (header, ASCII body) or "path:offset: message" (binary body);
  * returns HK_ERR_PARSE. */
-#if defined(__GNUC__)
-__attribute__((format(printf, 3, 4)))
-#endif
-hk_Status hk_ply_error(const hk_Ply *ply, hk_Error *err, const char *fmt, ...);
+hk_Status hk_ply_error(const hk_Ply *ply, hk_Error *err, const char *fmt, ...) HK_PRINTF_LIKE(3, 4);
 /* The same, naming the header line of element el. */
-#if defined(__GNUC__)
-__attribute__((format(printf, 4, 5)))
-#endif
-hk_Status hk_ply_elem_error(hk_Ply *ply, const hk_PlyElem *el, hk_Error *err, const char *fmt, ...);
+hk_Status hk_ply_elem_error(hk_Ply *ply, const hk_PlyElem *el, hk_Error *err, const char *fmt, ...)
+    HK_PRINTF_LIKE(4, 5);
 
 /* Reads one value of `type` at the cursor into *out (exact for float and double;
  * non-finite numbers refused); `what` names it in messages. */

@@ -6,8 +6,24 @@
 #include "hairkit/io.h"
 #include "keyfile.h"
 
-enum { S_LOAD, S_SAVE, S_LOAD_FILE, S_SAVE_FILE, S_HAIRSTYLE, S_COLLISION, S_VISUALITY, S_HEAD, S_WICK,
-       S_HEAD_VERT, S_HEAD_FRAG, S_HAIR_VERT, S_HAIR_FRAG, S_IMPORT, S_HEAD_COLLIDER, S_COUNT };
+enum {
+    S_LOAD,
+    S_SAVE,
+    S_LOAD_FILE,
+    S_SAVE_FILE,
+    S_HAIRSTYLE,
+    S_COLLISION,
+    S_VISUALITY,
+    S_HEAD,
+    S_WICK,
+    S_HEAD_VERT,
+    S_HEAD_FRAG,
+    S_HAIR_VERT,
+    S_HAIR_FRAG,
+    S_IMPORT,
+    S_HEAD_COLLIDER,
+    S_COUNT
+};
 
 /* Nothing is required by itself: what is needed depends on Load (checked below). */
 static const hk_KeySpec specs[S_COUNT] = {
@@ -46,8 +62,8 @@ void hk_setup_free(hk_Setup *d)
 }
 
 /* One line's value; paths[k] non-NULL for the keys that name a file. */
-static hk_Status read_value(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, hk_Setup *d,
-                            char **const paths[S_COUNT], hk_Error *err)
+static hk_Status read_value(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, hk_Setup *d, char **const paths[S_COUNT],
+                            hk_Error *err)
 {
     if (k == S_LOAD) return hk_keyline_bool(kf, kl, &d->load, err);
     if (k == S_SAVE) return hk_keyline_bool(kf, kl, &d->save, err);
@@ -90,8 +106,7 @@ static hk_Status check_needs(const hk_KeyFile *kf, const hk_Setup *d, char **con
         const int shader = k == S_HEAD_VERT || k == S_HEAD_FRAG || k == S_HAIR_VERT || k == S_HAIR_FRAG;
         if (!paths[k] || !*paths[k] || shader || k == S_SAVE_FILE || (k == S_LOAD_FILE && !d->load)) continue;
         if (access(*paths[k], R_OK) != 0)
-            return hk_keyfile_error(kf, line_of[k], HK_ERR_IO, err, "%s '%s' cannot be read", specs[k].name,
-                                    *paths[k]);
+            return hk_keyfile_error(kf, line_of[k], HK_ERR_IO, err, "%s '%s' cannot be read", specs[k].name, *paths[k]);
     }
     return HK_OK;
 }
@@ -104,12 +119,11 @@ hk_Status hk_setup_load(const char *path, hk_Setup *out, hk_Error *err)
     if (st != HK_OK) return st;
     hk_Setup d;
     memset(&d, 0, sizeof d);
-    char **const paths[S_COUNT] = {[S_LOAD_FILE] = &d.load_file, [S_SAVE_FILE] = &d.save_file,
-                                   [S_HAIRSTYLE] = &d.hairstyle, [S_COLLISION] = &d.collision,
-                                   [S_VISUALITY] = &d.visuality, [S_HEAD] = &d.head_model,
-                                   [S_WICK] = &d.wick_model, [S_IMPORT] = &d.import_file,
-                                   [S_HEAD_VERT] = &d.head_vert, [S_HEAD_FRAG] = &d.head_frag,
-                                   [S_HAIR_VERT] = &d.hair_vert, [S_HAIR_FRAG] = &d.hair_frag};
+    char **const paths[S_COUNT] = {
+        [S_LOAD_FILE] = &d.load_file, [S_SAVE_FILE] = &d.save_file, [S_HAIRSTYLE] = &d.hairstyle,
+        [S_COLLISION] = &d.collision, [S_VISUALITY] = &d.visuality, [S_HEAD] = &d.head_model,
+        [S_WICK] = &d.wick_model,     [S_IMPORT] = &d.import_file,  [S_HEAD_VERT] = &d.head_vert,
+        [S_HEAD_FRAG] = &d.head_frag, [S_HAIR_VERT] = &d.hair_vert, [S_HAIR_FRAG] = &d.hair_frag};
     int line_of[S_COUNT];
     st = hk_keyfile_check_keys(&kf, specs, S_COUNT, "setup", line_of, err);
     for (int i = 0; i < kf.line_count && st == HK_OK; i++)

@@ -11,8 +11,24 @@
 #include "hairkit/simulation_file.h"
 #include "keyfile.h"
 
-enum { M_FORMAT, M_SETUP, M_SEED, M_FRAMES, M_FPS, M_GUIDES, M_POINTS, M_INTERPOLATED, M_FULL_HAIR,
-       M_HAIRSTYLE_HASH, M_WICK_HASH, M_COLLISION_HASH, M_MOTION, M_MOTION_FILE, M_MOTION_HASH, M_COUNT };
+enum {
+    M_FORMAT,
+    M_SETUP,
+    M_SEED,
+    M_FRAMES,
+    M_FPS,
+    M_GUIDES,
+    M_POINTS,
+    M_INTERPOLATED,
+    M_FULL_HAIR,
+    M_HAIRSTYLE_HASH,
+    M_WICK_HASH,
+    M_COLLISION_HASH,
+    M_MOTION,
+    M_MOTION_FILE,
+    M_MOTION_HASH,
+    M_COUNT
+};
 
 static const hk_KeySpec specs[M_COUNT] = {
     [M_FORMAT] = {"HairkitSimulation", NULL, 1},
@@ -65,8 +81,8 @@ static hk_Status read_hash(const hk_KeyFile *kf, const hk_KeyLine *kl, uint64_t 
     if (st != HK_OK) return st;
     const size_t n = strlen(v);
     if (n == 0 || n > 16 || strspn(v, "0123456789abcdefABCDEF") != n)
-        return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err, "%s expects up to 16 hex digits, got '%s'",
-                                kl->key, v);
+        return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err, "%s expects up to 16 hex digits, got '%s'", kl->key,
+                                v);
     *out = strtoull(v, NULL, 16);
     return HK_OK;
 }
@@ -110,8 +126,7 @@ static hk_Status check_motion(const hk_KeyFile *kf, const int *line_of, hk_Error
     return HK_OK;
 }
 
-static hk_Status read_line(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, hk_SimulationManifest *m,
-                           hk_Error *err)
+static hk_Status read_line(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, hk_SimulationManifest *m, hk_Error *err)
 {
     long n = 0;
     hk_Status st = HK_OK;
@@ -142,7 +157,8 @@ static hk_Status read_line(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, hk
             return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err, "Seed expects a non-negative integer, got '%s'",
                                     s);
         return HK_OK;
-    case M_FRAMES: return hk_keyline_int(kf, kl, 1, 100000, &m->frames, err);
+    case M_FRAMES:
+        return hk_keyline_int(kf, kl, 1, 100000, &m->frames, err);
     case M_FPS:
         if ((st = hk_keyline_doubles(kf, kl, 1, &m->fps, err)) != HK_OK) return st;
         if (!(m->fps > 0.0))
@@ -154,20 +170,27 @@ static hk_Status read_line(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, hk
     case M_POINTS:
         if ((st = hk_keyline_int(kf, kl, 2, 65536, &n, err)) == HK_OK) m->points = (int)n;
         return st;
-    case M_INTERPOLATED: return hk_keyline_bool(kf, kl, &m->interpolated, err);
-    case M_FULL_HAIR: return hk_keyline_bool(kf, kl, &m->full_hair, err);
-    case M_HAIRSTYLE_HASH: return read_hash(kf, kl, &m->hairstyle_hash, err);
-    case M_WICK_HASH: return read_hash(kf, kl, &m->wick_hash, err);
+    case M_INTERPOLATED:
+        return hk_keyline_bool(kf, kl, &m->interpolated, err);
+    case M_FULL_HAIR:
+        return hk_keyline_bool(kf, kl, &m->full_hair, err);
+    case M_HAIRSTYLE_HASH:
+        return read_hash(kf, kl, &m->hairstyle_hash, err);
+    case M_WICK_HASH:
+        return read_hash(kf, kl, &m->wick_hash, err);
     case M_COLLISION_HASH:
         m->has_collision = 1;
         return read_hash(kf, kl, &m->collision_hash, err);
-    case M_MOTION: return read_motion(kf, kl, m, err);
+    case M_MOTION:
+        return read_motion(kf, kl, m, err);
     case M_MOTION_FILE:
         if ((st = hk_keyline_string(kf, kl, &s, err)) != HK_OK) return st;
         m->motion_file = hk_keyfile_resolve_path(kf, s, err);
         return m->motion_file ? HK_OK : HK_ERR_NOMEM;
-    case M_MOTION_HASH: return read_hash(kf, kl, &m->motion_hash, err);
-    default: return HK_OK;
+    case M_MOTION_HASH:
+        return read_hash(kf, kl, &m->motion_hash, err);
+    default:
+        return HK_OK;
     }
 }
 

@@ -36,8 +36,7 @@ static const hk_KeySpec specs[V_COUNT] = {
     [V_GLOSSINESS] = {"Glossiness", NULL, 0},
 };
 
-static hk_Status read_value(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, hk_Visuality *v,
-                            hk_Error *err)
+static hk_Status read_value(const hk_KeyFile *kf, const hk_KeyLine *kl, int k, hk_Visuality *v, hk_Error *err)
 {
     if (k == V_AMBIENT) return colour(kf, kl, &v->ambient, err);
     if (k == V_DIFFUSE) return colour(kf, kl, &v->diffuse, err);

@@ -196,8 +196,9 @@ hk_Status hk_distance_field_build(const hk_Mesh *mesh, const hk_DistanceFieldDef
     memset(out, 0, sizeof *out);
     const hk_DistanceFieldDef d = def ? *def : hk_default_distance_field_def();
     if (!(d.spacing > 0.0) || !(d.margin >= 0.0) || d.exact_band < 1 || d.exact_band > 100 || !(d.exact_reach >= 0.0))
-        return hk_error_set(err, HK_ERR_INVALID,
-                            "distance field: spacing > 0, margin >= 0, exact_band 1..100 and exact_reach >= 0 expected");
+        return hk_error_set(
+            err, HK_ERR_INVALID,
+            "distance field: spacing > 0, margin >= 0, exact_band 1..100 and exact_reach >= 0 expected");
     if (!mesh || mesh->triangle_count < 1)
         return hk_error_set(err, HK_ERR_INVALID, "distance field: the mesh has no triangles");
     hk_Vec3 lo = hk_v3(DBL_MAX, DBL_MAX, DBL_MAX), hi = hk_v3(-DBL_MAX, -DBL_MAX, -DBL_MAX);
@@ -215,8 +216,9 @@ hk_Status hk_distance_field_build(const hk_Mesh *mesh, const hk_DistanceFieldDef
         const double extent = hk_v3_get(hi, a) - hk_v3_get(lo, a) + 2.0 * d.margin;
         const double count = ceil(extent / d.spacing) + 1.0;
         if (!(count <= 100000.0))
-            return hk_error_set(err, HK_ERR_INVALID, "distance field: %.3g nodes along an axis (mesh extent %.3g, spacing %.3g)",
-                                count, extent, d.spacing);
+            return hk_error_set(err, HK_ERR_INVALID,
+                                "distance field: %.3g nodes along an axis (mesh extent %.3g, spacing %.3g)", count,
+                                extent, d.spacing);
         g.n[a] = (int)count < 2 ? 2 : (int)count;
         nodes *= g.n[a];
     }

@@ -11,8 +11,8 @@ hk_Status hk_mesh_alloc(hk_Mesh *mesh, int vertex_count, int triangle_count, hk_
     memset(mesh, 0, sizeof *mesh);
     if (vertex_count < 0 || vertex_count > HK_MAX_MESH_VERTICES || triangle_count < 0 ||
         triangle_count > HK_MAX_MESH_TRIANGLES)
-        return hk_error_set(err, HK_ERR_INVALID, "mesh of %d vertices and %d triangles is out of range",
-                            vertex_count, triangle_count);
+        return hk_error_set(err, HK_ERR_INVALID, "mesh of %d vertices and %d triangles is out of range", vertex_count,
+                            triangle_count);
     mesh->positions = hk_calloc_array((size_t)vertex_count, sizeof(hk_Vec3), err);
     mesh->normals = hk_calloc_array((size_t)vertex_count, sizeof(hk_Vec3), err);
     mesh->triangles = hk_calloc_array((size_t)triangle_count * 3, sizeof(int), err);

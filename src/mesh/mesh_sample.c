@@ -29,12 +29,15 @@ hk_Status hk_mesh_sample_uniform(const hk_Mesh *m, long count, uint64_t seed, in
         int lo = 0, hi = m->triangle_count - 1;
         while (lo < hi) { /* the triangle whose share of the area holds u */
             const int mid = (lo + hi) / 2;
-            if (cumulative[mid + 1] <= u) lo = mid + 1;
-            else hi = mid;
+            if (cumulative[mid + 1] <= u)
+                lo = mid + 1;
+            else
+                hi = mid;
         }
         /* uniform in the triangle: a point of the unit square folded onto the half below
          * its diagonal */
-        double r1 = hk_rng_uniform(seed, FIRST_STREAM, (uint64_t)i), r2 = hk_rng_uniform(seed, SECOND_STREAM, (uint64_t)i);
+        double r1 = hk_rng_uniform(seed, FIRST_STREAM, (uint64_t)i),
+               r2 = hk_rng_uniform(seed, SECOND_STREAM, (uint64_t)i);
         if (r1 + r2 > 1.0) r1 = 1.0 - r1, r2 = 1.0 - r2;
         const int *t = m->triangles + 3 * lo;
         const double b[3] = {1.0 - r1 - r2, r1, r2};

@@ -36,7 +36,8 @@ static hk_Status resample(const hk_Vec3 *points, int count, int samples, int arc
                           hk_Error *err)
 {
     if (!points || !out) return hk_error_set(err, HK_ERR_INVALID, "resample: NULL argument");
-    if (count < 2) return hk_error_set(err, HK_ERR_INVALID, "resample: a polyline needs at least 2 points, got %d", count);
+    if (count < 2)
+        return hk_error_set(err, HK_ERR_INVALID, "resample: a polyline needs at least 2 points, got %d", count);
     if (samples < 2) return hk_error_set(err, HK_ERR_INVALID, "resample: need at least 2 samples, got %d", samples);
     for (int i = 0; i < count; i++)
         if (!hk_v3_isfinite(points[i])) return hk_error_set(err, HK_ERR_INVALID, "resample: point %d is not finite", i);
@@ -67,8 +68,7 @@ static hk_Status resample(const hk_Vec3 *points, int count, int samples, int arc
     return HK_OK;
 }
 
-hk_Status hk_curve_resample(const hk_Vec3 *points, int count, int samples, hk_Vec3 *out, double *length,
-                            hk_Error *err)
+hk_Status hk_curve_resample(const hk_Vec3 *points, int count, int samples, hk_Vec3 *out, double *length, hk_Error *err)
 {
     return resample(points, count, samples, 0, out, length, err);
 }
@@ -88,7 +88,8 @@ hk_Status hk_curve_estimate_start(const hk_Vec3 *points, int count, hk_CurveStar
     if (!points || !out) return hk_error_set(err, HK_ERR_INVALID, "start pose: NULL argument");
     if (count < 2) return hk_error_set(err, HK_ERR_INVALID, "start pose: need at least 2 points, got %d", count);
     for (int i = 0; i < count; i++)
-        if (!hk_v3_isfinite(points[i])) return hk_error_set(err, HK_ERR_INVALID, "start pose: point %d is not finite", i);
+        if (!hk_v3_isfinite(points[i]))
+            return hk_error_set(err, HK_ERR_INVALID, "start pose: point %d is not finite", i);
     int i1 = 1;
     while (i1 < count && hk_v3_norm2(hk_v3_sub(points[i1], points[0])) == 0.0) i1++;
     if (i1 == count) return hk_error_set(err, HK_ERR_INVALID, "start pose: all %d points are the same", count);

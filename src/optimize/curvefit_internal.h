@@ -12,8 +12,8 @@ double hk_frechet_coupling_prefix(const hk_Vec3 *a, const hk_Vec3 *b, int n, dou
 
 /* Coupling and distance in one pass (the leash lengths are shared): work holds
  * 2 * HK_FRECHET_WORK(p, q) doubles. Unchecked, like the public fast entry points. */
-void hk_frechet_both(const hk_Vec3 *a, int p, const hk_Vec3 *b, int q, double *work,
-                     double *coupling, double *distance);
+void hk_frechet_both(const hk_Vec3 *a, int p, const hk_Vec3 *b, int q, double *work, double *coupling,
+                     double *distance);
 
 /* Intrinsic bend of a polyline at vertex i (0 < i < count - 2): the turning angle between
  * segments i-1 and i (discrete curvature times the spacing) and the signed angle between

@@ -196,12 +196,14 @@ static hk_Status longest_prefix_cut(Fit *F, int i0, int i1, int k_lo, int k_hi, 
  * F->out; *end gets the end pose of the last one. `known` (may be NULL) is a fit of this
  * very range already computed; hint (may be NULL) an extra seed. */
 hk_Status hk_cf_fit_range(Fit *F, int i0, int i1, const hk_CurveStart *start, int budget, const Piece *known,
-                           const Piece *hint, hk_CurveStart *end)
+                          const Piece *hint, hk_CurveStart *end)
 {
     Piece whole;
     hk_Status st;
-    if (known) whole = *known;
-    else if ((st = hk_cf_fit_piece(F, i0, i1, start, 1, hint, NULL, &whole)) != HK_OK) return st;
+    if (known)
+        whole = *known;
+    else if ((st = hk_cf_fit_piece(F, i0, i1, start, 1, hint, NULL, &whole)) != HK_OK)
+        return st;
     /* A first fragment that also turns the root frame has ROT more unknowns to pin down. */
     const int first_points = F->min_points + (F->opt->refine_start && i0 == 0 ? ROT : 0);
     const int k_lo = i0 + first_points - 1, k_hi = i1 - (F->min_points - 1);
@@ -229,7 +231,7 @@ hk_Status hk_cf_fit_range(Fit *F, int i0, int i1, const hk_CurveStart *start, in
 
     /* Undo a split that made the range worse (the heuristics can misjudge a cut). */
     if (hk_cf_trace_chain(F->model, F->user, F->out, mark, F->out->piece_count, i1, F->h, &F->starts[mark],
-                    F->ws->chain, &F->evaluations) != 0)
+                          F->ws->chain, &F->evaluations) != 0)
         return hk_error_set(F->err, HK_ERR_NUMERIC, "curve fit: the model failed re-tracing its own pieces");
     const int m = i1 - i0 + 1;
     const double split_error =

@@ -50,8 +50,7 @@ static int trace_finite(const hk_Vec3 *pts, int m, const hk_CurveStart *end)
 }
 
 /* Traces m samples from `start`; 0 when the model succeeded with finite output. */
-int hk_cf_trace(Fit *F, const double *params, const hk_CurveStart *start, int m, hk_Vec3 *out,
-                 hk_CurveStart *end)
+int hk_cf_trace(Fit *F, const double *params, const hk_CurveStart *start, int m, hk_Vec3 *out, hk_CurveStart *end)
 {
     F->evaluations++;
     if (F->model(F->user, params, start, F->h * (double)(m - 1), m, out, end) != 0) return 1;
@@ -136,9 +135,10 @@ static hk_Vec3 join_residual(const Fit *F, const hk_CurveStart *end)
     const hk_Vec3 *q = F->ws->target;
     /* A model traced by forward Euler (polyline spacing) leaves the join along its
      * next segment, exactly; a smooth one along the curve's tangent there. */
-    const hk_Vec3 t = F->opt->arc_length ? hk_v3_normalize(hk_v3_add(
-                                               hk_v3_sub(hk_v3_scale(q[b], 3.0), hk_v3_scale(q[b - 1], 4.0)), q[b - 2]))
-                                         : hk_v3_normalize(hk_v3_sub(q[b + 1], q[b]));
+    const hk_Vec3 t =
+        F->opt->arc_length
+            ? hk_v3_normalize(hk_v3_add(hk_v3_sub(hk_v3_scale(q[b], 3.0), hk_v3_scale(q[b - 1], 4.0)), q[b - 2]))
+            : hk_v3_normalize(hk_v3_sub(q[b + 1], q[b]));
     const double rest = F->h * (double)(F->n - 1 - b), own = F->h * (double)(F->m - 1);
     return hk_v3_scale(hk_v3_sub(hk_m3_col(&end->frame, 0), t), (rest < own ? rest : own) / sqrt(3.0));
 }
@@ -297,7 +297,7 @@ static hk_Status descend(Fit *F, double (*cand)[MAXP + ROT], int count, int nx, 
  * frame, and only when that misses the tolerance is the frame's rotation freed: a good
  * frame (clean data) is kept exactly and costs nothing more. */
 hk_Status hk_cf_fit_piece(Fit *F, int i0, int i1, const hk_CurveStart *start, int may_refine, const Piece *hint1,
-                           const Piece *hint2, Piece *piece)
+                          const Piece *hint2, Piece *piece)
 {
     const int refine = F->opt->refine_start && i0 == 0 && may_refine;
     const Piece *hints[2] = {hint1, hint2};
@@ -309,7 +309,8 @@ hk_Status hk_cf_fit_piece(Fit *F, int i0, int i1, const hk_CurveStart *start, in
     int count = 0;
     memset(cand, 0, sizeof cand);
     memcpy(cand[count++], F->seed, (size_t)F->np * sizeof(double));
-    if (F->opt->fragment_seed && F->m >= 3) F->opt->fragment_seed(F->user, F->ws->target + i0, F->m, start, cand[count++]);
+    if (F->opt->fragment_seed && F->m >= 3)
+        F->opt->fragment_seed(F->user, F->ws->target + i0, F->m, start, cand[count++]);
     for (int h = 0; h < 2; h++)
         if (hints[h]) memcpy(cand[count++], hints[h]->params, (size_t)F->np * sizeof(double));
     double x[MAXP + ROT], error;
@@ -317,7 +318,8 @@ hk_Status hk_cf_fit_piece(Fit *F, int i0, int i1, const hk_CurveStart *start, in
     /* Least squares refines the frame already at a tenth of the tolerance: it costs a few
      * dozen traces, and the root frame's error, small at the root, is what every later
      * piece inherits through the joins. */
-    const double refine_above = F->opt->method == HK_CURVEFIT_LEAST_SQUARES ? 0.1 * F->opt->tolerance : F->opt->tolerance;
+    const double refine_above =
+        F->opt->method == HK_CURVEFIT_LEAST_SQUARES ? 0.1 * F->opt->tolerance : F->opt->tolerance;
     if (st == HK_OK && refine && error > refine_above) {
         /* Free the frame: candidates are the fit so far, the hints with their own
          * rotations, and the seed rolled by quarter turns about the tangent, because the
@@ -383,8 +385,8 @@ void hk_cf_emit(Fit *F, const Piece *p, int i0, int i1)
 
 /* Traces pieces [from, to) of `fit` chained from `start` into out (indexed by sample; the
  * last piece ends at sample i_end). 0 on success. */
-int hk_cf_trace_chain(hk_CurveModelFn model, void *user, const hk_CurveFit *fit, int from, int to, int i_end,
-                       double h, const hk_CurveStart *start, hk_Vec3 *out, long *evaluations)
+int hk_cf_trace_chain(hk_CurveModelFn model, void *user, const hk_CurveFit *fit, int from, int to, int i_end, double h,
+                      const hk_CurveStart *start, hk_Vec3 *out, long *evaluations)
 {
     hk_CurveStart pose = *start, end;
     for (int k = from; k < to; k++) {

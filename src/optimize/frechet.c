@@ -32,8 +32,7 @@ static inline double min2(double a, double b) { return a < b ? a : b; }
  * path is one min and one add; the square roots overlap with it (measured: about 1.4 us
  * for 30 x 30 points, bound by the square roots' throughput; sweeping two rows at once
  * or packed square roots gained under 10%, not worth the code). */
-static double coupling_rows(const hk_Vec3 *a, int p, const hk_Vec3 *b, int q, double *row,
-                            double *prefix)
+static double coupling_rows(const hk_Vec3 *a, int p, const hk_Vec3 *b, int q, double *row, double *prefix)
 {
     double acc = 0.0;
     for (int j = 0; j < q; j++) {
@@ -83,8 +82,8 @@ static double distance_rows(const hk_Vec3 *a, int p, const hk_Vec3 *b, int q, do
     return row[q - 1];
 }
 
-static void both_rows(const hk_Vec3 *a, int p, const hk_Vec3 *b, int q, double *rs, double *rm,
-                      double *coupling, double *distance)
+static void both_rows(const hk_Vec3 *a, int p, const hk_Vec3 *b, int q, double *rs, double *rm, double *coupling,
+                      double *distance)
 {
     double sum = 0.0, mx = 0.0;
     for (int j = 0; j < q; j++) {
@@ -145,23 +144,23 @@ double hk_frechet_coupling_prefix(const hk_Vec3 *a, const hk_Vec3 *b, int n, dou
     return coupling_rows(a, n, b, n, row, prefix);
 }
 
-void hk_frechet_both(const hk_Vec3 *a, int p, const hk_Vec3 *b, int q, double *work,
-                     double *coupling, double *distance)
+void hk_frechet_both(const hk_Vec3 *a, int p, const hk_Vec3 *b, int q, double *work, double *coupling, double *distance)
 {
     if (!args_ok(a, p, b, q, work)) {
         *coupling = *distance = NAN;
         return;
     }
     const int m = p < q ? p : q;
-    if (p >= q) both_rows(a, p, b, q, work, work + m, coupling, distance);
-    else both_rows(b, q, a, p, work, work + m, coupling, distance);
+    if (p >= q)
+        both_rows(a, p, b, q, work, work + m, coupling, distance);
+    else
+        both_rows(b, q, a, p, work, work + m, coupling, distance);
 }
 
 /* Cells beyond which the checked entry point refuses (seconds of work, not a hang). */
 #define MAX_CELLS 1e9
 
-hk_Status hk_frechet_measures(const hk_Vec3 *a, int p, const hk_Vec3 *b, int q,
-                              hk_FrechetMeasures *out, hk_Error *err)
+hk_Status hk_frechet_measures(const hk_Vec3 *a, int p, const hk_Vec3 *b, int q, hk_FrechetMeasures *out, hk_Error *err)
 {
     if (!a || !b || !out) return hk_error_set(err, HK_ERR_INVALID, "frechet: NULL argument");
     if (p < 1 || q < 1)
@@ -170,9 +169,11 @@ hk_Status hk_frechet_measures(const hk_Vec3 *a, int p, const hk_Vec3 *b, int q,
         return hk_error_set(err, HK_ERR_INVALID,
                             "frechet: %d x %d points is too many for the O(pq) measures; resample first", p, q);
     for (int i = 0; i < p; i++)
-        if (!hk_v3_isfinite(a[i])) return hk_error_set(err, HK_ERR_INVALID, "frechet: point %d of the first curve is not finite", i);
+        if (!hk_v3_isfinite(a[i]))
+            return hk_error_set(err, HK_ERR_INVALID, "frechet: point %d of the first curve is not finite", i);
     for (int j = 0; j < q; j++)
-        if (!hk_v3_isfinite(b[j])) return hk_error_set(err, HK_ERR_INVALID, "frechet: point %d of the second curve is not finite", j);
+        if (!hk_v3_isfinite(b[j]))
+            return hk_error_set(err, HK_ERR_INVALID, "frechet: point %d of the second curve is not finite", j);
     const int m = p < q ? p : q;
     double *work = hk_alloc_array(2 * (size_t)m, sizeof(double), err);
     if (!work) return err ? err->code : HK_ERR_NOMEM;

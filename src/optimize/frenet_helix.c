@@ -5,8 +5,8 @@
 
 #include "hairkit/curvefit.h"
 
-int hk_curve_model_frenet_helix(void *user, const double *params, const hk_CurveStart *start, double length,
-                                int count, hk_Vec3 *out_points, hk_CurveStart *end)
+int hk_curve_model_frenet_helix(void *user, const double *params, const hk_CurveStart *start, double length, int count,
+                                hk_Vec3 *out_points, hk_CurveStart *end)
 {
     (void)user;
     if (count < 2) return 1;

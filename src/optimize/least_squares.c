@@ -104,7 +104,8 @@ static int more_damping(double *mu, double *nu)
 static hk_Status check_args(int n, int m, const double *x, const double *scale, hk_ResidualFn f, double *work,
                             const hk_LeastSquaresDef *o, hk_Error *err)
 {
-    if (n < 1 || n > NMAX) return hk_error_set(err, HK_ERR_INVALID, "least squares: %d parameters, expected 1..%d", n, NMAX);
+    if (n < 1 || n > NMAX)
+        return hk_error_set(err, HK_ERR_INVALID, "least squares: %d parameters, expected 1..%d", n, NMAX);
     if (m < n || m > HK_LEAST_SQUARES_MAX_RESIDUALS)
         return hk_error_set(err, HK_ERR_INVALID, "least squares: %d residuals for %d parameters, expected %d..%d", m, n,
                             n, HK_LEAST_SQUARES_MAX_RESIDUALS);
@@ -122,8 +123,8 @@ static hk_Status check_args(int n, int m, const double *x, const double *scale, 
 }
 
 hk_Status hk_least_squares_minimize(int n, int m, double *x, const double *scale, hk_ResidualFn f, void *user,
-                                    const hk_LeastSquaresDef *options, double *work,
-                                    hk_MinimizeResult *result, hk_Error *err)
+                                    const hk_LeastSquaresDef *options, double *work, hk_MinimizeResult *result,
+                                    hk_Error *err)
 {
     const hk_LeastSquaresDef o = options ? *options : hk_default_least_squares_def();
     hk_Status st = check_args(n, m, x, scale, f, work, options, err);

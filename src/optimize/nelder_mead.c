@@ -77,17 +77,17 @@ static void sort_order(int m, const double *fv, int *order)
     }
 }
 
-static hk_Status check_args(int n, const double *x, const double *scale, hk_ObjectiveFn f,
-                            const hk_NelderMeadDef *o, hk_Error *err)
+static hk_Status check_args(int n, const double *x, const double *scale, hk_ObjectiveFn f, const hk_NelderMeadDef *o,
+                            hk_Error *err)
 {
     if (n < 0 || n > NMAX)
         return hk_error_set(err, HK_ERR_INVALID, "nelder-mead: %d parameters, expected 0..%d", n, NMAX);
-    if (!x || !f || !o || (n > 0 && !scale))
-        return hk_error_set(err, HK_ERR_INVALID, "nelder-mead: NULL argument");
+    if (!x || !f || !o || (n > 0 && !scale)) return hk_error_set(err, HK_ERR_INVALID, "nelder-mead: NULL argument");
     for (int j = 0; j < n; j++) {
         if (!isfinite(x[j])) return hk_error_set(err, HK_ERR_INVALID, "nelder-mead: start x[%d] is not finite", j);
         if (!isfinite(scale[j]) || scale[j] == 0.0)
-            return hk_error_set(err, HK_ERR_INVALID, "nelder-mead: scale[%d] must be finite and non-zero, got %g", j, scale[j]);
+            return hk_error_set(err, HK_ERR_INVALID, "nelder-mead: scale[%d] must be finite and non-zero, got %g", j,
+                                scale[j]);
     }
     if (o->max_evaluations < (long)n + 1)
         return hk_error_set(err, HK_ERR_INVALID, "nelder-mead: max_evaluations must be >= n + 1 = %d, got %ld", n + 1,
@@ -99,8 +99,7 @@ static hk_Status check_args(int n, const double *x, const double *scale, hk_Obje
 }
 
 hk_Status hk_nelder_mead_minimize(int n, double *x, const double *scale, hk_ObjectiveFn f, void *user,
-                                  const hk_NelderMeadDef *options, hk_MinimizeResult *result,
-                                  hk_Error *err)
+                                  const hk_NelderMeadDef *options, hk_MinimizeResult *result, hk_Error *err)
 {
     const hk_NelderMeadDef defaults = hk_default_nelder_mead_def();
     if (!options) options = &defaults;
@@ -198,8 +197,8 @@ hk_Status hk_nelder_mead_minimize(int n, double *x, const double *scale, hk_Obje
         result->converged = converged;
     }
     if (!(fv[best] < INFINITY))
-        return hk_error_set(err, HK_ERR_NUMERIC,
-                            "nelder-mead: the objective was NaN or +inf at all %ld points tried", run.evaluations);
+        return hk_error_set(err, HK_ERR_NUMERIC, "nelder-mead: the objective was NaN or +inf at all %ld points tried",
+                            run.evaluations);
     memcpy(x, v[best], (size_t)n * sizeof(double));
     return HK_OK;
 }

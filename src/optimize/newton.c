@@ -20,8 +20,7 @@ hk_NewtonDef hk_default_newton_def(void)
 #define MU_LIMIT 1e30
 
 hk_Status hk_newton_minimize(int n, double *x, hk_DerivFn f, void *user, const double *metric,
-                             const hk_NewtonDef *options, hk_MinimizeResult *result,
-                             hk_Error *err)
+                             const hk_NewtonDef *options, hk_MinimizeResult *result, hk_Error *err)
 {
     hk_MinimizeResult res = {0.0, 0, 0, 0};
     if (result) *result = res;

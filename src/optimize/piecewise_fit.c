@@ -67,8 +67,8 @@ hk_CurveFitWorkspace *hk_curve_fit_workspace_create(int max_samples, hk_Error *e
     ws->row = ws->chain ? hk_alloc_array(2 * n, sizeof(double), err) : NULL;
     ws->prefix = ws->row ? hk_alloc_array(n, sizeof(double), err) : NULL;
     ws->diff = ws->prefix ? hk_alloc_array(n, sizeof(double), err) : NULL;
-    ws->lsq = ws->diff ? hk_alloc_array(HK_LEAST_SQUARES_WORK(POLISH_PARAMS, CHAIN_RESIDUALS(n)), sizeof(double), err)
-                       : NULL;
+    ws->lsq =
+        ws->diff ? hk_alloc_array(HK_LEAST_SQUARES_WORK(POLISH_PARAMS, CHAIN_RESIDUALS(n)), sizeof(double), err) : NULL;
     if (!ws->lsq) {
         hk_curve_fit_workspace_destroy(ws);
         return NULL;
@@ -136,7 +136,8 @@ static hk_Status check_options(const hk_CurveFitDef *o, int np, hk_Error *err)
         return BAD("param_tolerance and cost_tolerance must be >= 0 (got %g and %g)", o->param_tolerance,
                    o->cost_tolerance);
     if (o->arc_length != 0 && o->arc_length != 1) return BAD("arc_length must be 0 or 1, got %d", o->arc_length);
-    if (o->refine_start != 0 && o->refine_start != 1) return BAD("refine_start must be 0 or 1, got %d", o->refine_start);
+    if (o->refine_start != 0 && o->refine_start != 1)
+        return BAD("refine_start must be 0 or 1, got %d", o->refine_start);
     if (o->use_start && (!hk_v3_isfinite(o->start.pos) || !frame_ok(&o->start.frame)))
         return BAD("the given start pose needs a finite position and a right-handed orthonormal frame");
     return HK_OK;
@@ -178,9 +179,8 @@ static int fixed_layout(const Fit *F, const hk_CurveFitDef *o, int *bounds)
 
 static int samples_for(const hk_CurveFitDef *o, int count) { return o->samples ? o->samples : count; }
 
-hk_Status hk_curve_fit_piecewise_ws(hk_CurveFitWorkspace *ws, const hk_Vec3 *target, int count,
-                                    hk_CurveModelFn model, void *user, int param_count,
-                                    const double *seed, const double *scale,
+hk_Status hk_curve_fit_piecewise_ws(hk_CurveFitWorkspace *ws, const hk_Vec3 *target, int count, hk_CurveModelFn model,
+                                    void *user, int param_count, const double *seed, const double *scale,
                                     const hk_CurveFitDef *opt, hk_CurveFit *out, hk_Error *err)
 {
     if (!ws || !target || !model || !out) return hk_error_set(err, HK_ERR_INVALID, "curve fit: NULL argument");
@@ -196,7 +196,8 @@ hk_Status hk_curve_fit_piecewise_ws(hk_CurveFitWorkspace *ws, const hk_Vec3 *tar
             return hk_error_set(err, HK_ERR_INVALID, "curve fit: scale[%d] must be finite and non-zero, got %g", j,
                                 scale[j]);
     }
-    if (count < 2) return hk_error_set(err, HK_ERR_INVALID, "curve fit: the target needs at least 2 points, got %d", count);
+    if (count < 2)
+        return hk_error_set(err, HK_ERR_INVALID, "curve fit: the target needs at least 2 points, got %d", count);
     hk_Status st = check_options(opt, param_count, err);
     if (st != HK_OK) return st;
     const int n = samples_for(opt, count);
@@ -248,7 +249,8 @@ hk_Status hk_curve_fit_piecewise_ws(hk_CurveFitWorkspace *ws, const hk_Vec3 *tar
     }
     if (st == HK_OK) {
         out->start = F.starts[0];
-        if (hk_cf_trace_chain(model, user, out, 0, out->piece_count, n - 1, F.h, &out->start, ws->chain, &F.evaluations) != 0) {
+        if (hk_cf_trace_chain(model, user, out, 0, out->piece_count, n - 1, F.h, &out->start, ws->chain,
+                              &F.evaluations) != 0) {
             st = hk_error_set(err, HK_ERR_NUMERIC, "curve fit: the model failed re-tracing its own pieces");
         } else {
             double c, d;
@@ -265,20 +267,23 @@ hk_Status hk_curve_fit_piecewise_ws(hk_CurveFitWorkspace *ws, const hk_Vec3 *tar
     return st;
 }
 
-hk_Status hk_curve_fit_piecewise(const hk_Vec3 *target, int count, hk_CurveModelFn model, void *user,
-                                 int param_count, const double *seed, const double *scale,
-                                 const hk_CurveFitDef *opt, hk_CurveFit *out, hk_Error *err)
+hk_Status hk_curve_fit_piecewise(const hk_Vec3 *target, int count, hk_CurveModelFn model, void *user, int param_count,
+                                 const double *seed, const double *scale, const hk_CurveFitDef *opt, hk_CurveFit *out,
+                                 hk_Error *err)
 {
     const hk_CurveFitDef defaults = hk_default_curve_fit_def();
     const int n = samples_for(opt ? opt : &defaults, count);
     if (out) memset(out, 0, sizeof *out);
-    if (count < 2) return hk_error_set(err, HK_ERR_INVALID, "curve fit: the target needs at least 2 points, got %d", count);
+    if (count < 2)
+        return hk_error_set(err, HK_ERR_INVALID, "curve fit: the target needs at least 2 points, got %d", count);
     if (n < 2 || n > HK_CURVEFIT_MAX_SAMPLES)
-        return hk_error_set(err, HK_ERR_INVALID, "curve fit: %d samples, expected 2..%d (set options.samples to resample)",
-                            n, HK_CURVEFIT_MAX_SAMPLES);
+        return hk_error_set(err, HK_ERR_INVALID,
+                            "curve fit: %d samples, expected 2..%d (set options.samples to resample)", n,
+                            HK_CURVEFIT_MAX_SAMPLES);
     hk_CurveFitWorkspace *ws = hk_curve_fit_workspace_create(n, err);
     if (!ws) return err ? err->code : HK_ERR_NOMEM;
-    const hk_Status st = hk_curve_fit_piecewise_ws(ws, target, count, model, user, param_count, seed, scale, opt, out, err);
+    const hk_Status st =
+        hk_curve_fit_piecewise_ws(ws, target, count, model, user, param_count, seed, scale, opt, out, err);
     hk_curve_fit_workspace_destroy(ws);
     return st;
 }

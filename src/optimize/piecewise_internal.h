@@ -7,13 +7,13 @@
 #include "optimize/curvefit_internal.h"
 
 #define MAXP HK_CURVEFIT_MAX_PARAMS
-#define ROT 3 /* parameters of the root frame's rotation when it is refined */
+#define ROT  3 /* parameters of the root frame's rotation when it is refined */
 /* Least-squares residuals of a fragment of m samples: 3 per sample and one per model
  * parameter (the regularisation). */
 #define RESIDUALS(m) (3 * (size_t)(m) + MAXP + 3)
 /* The polish of a whole chain (least squares): all pieces' parameters at once, up to the
  * minimiser's limit; 3 residuals per sample and one per parameter. */
-#define POLISH_PARAMS HK_LEAST_SQUARES_MAX_PARAMS
+#define POLISH_PARAMS      HK_LEAST_SQUARES_MAX_PARAMS
 #define CHAIN_RESIDUALS(n) (3 * (size_t)(n) + POLISH_PARAMS)
 
 struct hk_CurveFitWorkspace {
@@ -64,8 +64,7 @@ typedef struct Fit {
 
 /* Traces m samples of the model from `start` into out, counting the evaluation; 0 when
  * the model succeeded with finite points and end pose. */
-int hk_cf_trace(Fit *F, const double *params, const hk_CurveStart *start, int m, hk_Vec3 *out,
-                hk_CurveStart *end);
+int hk_cf_trace(Fit *F, const double *params, const hk_CurveStart *start, int m, hk_Vec3 *out, hk_CurveStart *end);
 
 /* The weight of parameter j in the regularisation (options.penalty_weight, 0 = 1). */
 double hk_cf_penalty_weight(const hk_CurveFitDef *o, int j);
@@ -92,8 +91,8 @@ void hk_cf_emit(Fit *F, const Piece *p, int i0, int i1);
 
 /* Traces pieces [from, to) of `fit` chained from `start` into out (indexed by sample; the
  * last piece ends at sample i_end). 0 on success. */
-int hk_cf_trace_chain(hk_CurveModelFn model, void *user, const hk_CurveFit *fit, int from, int to, int i_end,
-                      double h, const hk_CurveStart *start, hk_Vec3 *out, long *evaluations);
+int hk_cf_trace_chain(hk_CurveModelFn model, void *user, const hk_CurveFit *fit, int from, int to, int i_end, double h,
+                      const hk_CurveStart *start, hk_Vec3 *out, long *evaluations);
 
 /* Fits samples i0..i1 from `start` with at most `budget` pieces, recursively (§5.3). */
 hk_Status hk_cf_fit_range(Fit *F, int i0, int i1, const hk_CurveStart *start, int budget, const Piece *known,

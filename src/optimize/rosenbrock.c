@@ -52,11 +52,11 @@
 hk_RosenbrockDef hk_default_rosenbrock_def(void)
 {
     hk_RosenbrockDef o;
-    o.max_stages = 20;   /* the thesis's MaxIter */
-    o.epsilon = 1e-4;    /* the thesis's Epsilon */
+    o.max_stages = 20; /* the thesis's MaxIter */
+    o.epsilon = 1e-4;  /* the thesis's Epsilon */
     o.initial_step = 0.1;
-    o.alpha = 3.0;       /* Rosenbrock 1960 */
-    o.beta = 0.5;        /* Rosenbrock 1960 */
+    o.alpha = 3.0; /* Rosenbrock 1960 */
+    o.beta = 0.5;  /* Rosenbrock 1960 */
     o.max_evaluations = 10000000L;
     return o;
 }
@@ -118,9 +118,9 @@ void hk_rosenbrock_palmer_directions(int n, const double *xi, const double *d, d
             memcpy(out, xk, sn * sizeof(double));
             continue;
         }
-        const double q = sqrt(ssq);                      /* |A_k| / c >= 1 */
-        const double tp = fabs(d[k - 1]) / c;            /* may overflow to inf: harmless */
-        double cosk, sink;                               /* see above, without overflow */
+        const double q = sqrt(ssq);           /* |A_k| / c >= 1 */
+        const double tp = fabs(d[k - 1]) / c; /* may overflow to inf: harmless */
+        double cosk, sink;                    /* see above, without overflow */
         if (tp >= q) {
             const double rho = q / tp;
             cosk = 1.0 / sqrt(1.0 + rho * rho);
@@ -130,8 +130,8 @@ void hk_rosenbrock_palmer_directions(int n, const double *xi, const double *d, d
             sink = 1.0 / sqrt(1.0 + rho * rho);
             cosk = rho * sink;
         }
-        const double a = cosk / q;                          /* times A_k / c: cos_k A_k / |A_k| */
-        const double b = d[k - 1] > 0.0 ? -sink : sink;     /* times xi_{k-1} */
+        const double a = cosk / q;                      /* times A_k / c: cos_k A_k / |A_k| */
+        const double b = d[k - 1] > 0.0 ? -sink : sink; /* times xi_{k-1} */
         const double *xp = xi + (size_t)(k - 1) * sn;
         for (size_t j = 0; j < sn; j++) out[j] = a * u[j] + b * xp[j];
     }
@@ -146,42 +146,34 @@ void hk_rosenbrock_palmer_directions(int n, const double *xi, const double *d, d
 
 /* Per-direction progress within a stage. */
 enum {
-    DIR_FRESH = 0,   /* no success yet */
-    DIR_SUCCEEDED,   /* a success, no failure since */
-    DIR_FINISHED,    /* a failure after a success: the thesis's condition */
-    DIR_RETIRED      /* the step can do nothing more this stage (see Termination) */
+    DIR_FRESH = 0, /* no success yet */
+    DIR_SUCCEEDED, /* a success, no failure since */
+    DIR_FINISHED,  /* a failure after a success: the thesis's condition */
+    DIR_RETIRED    /* the step can do nothing more this stage (see Termination) */
 };
 
-static hk_Status check_options(int n, const double *x, hk_ObjectiveFn f,
-                               const hk_RosenbrockDef *o, hk_Error *err)
+static hk_Status check_options(int n, const double *x, hk_ObjectiveFn f, const hk_RosenbrockDef *o, hk_Error *err)
 {
-    if (n < 1)
-        return hk_error_set(err, HK_ERR_INVALID, "rosenbrock: dimension must be >= 1, got %d", n);
-    if (!x || !f)
-        return hk_error_set(err, HK_ERR_INVALID, "rosenbrock: %s is NULL", !x ? "x" : "the objective");
+    if (n < 1) return hk_error_set(err, HK_ERR_INVALID, "rosenbrock: dimension must be >= 1, got %d", n);
+    if (!x || !f) return hk_error_set(err, HK_ERR_INVALID, "rosenbrock: %s is NULL", !x ? "x" : "the objective");
     if (o->max_stages < 1)
-        return hk_error_set(err, HK_ERR_INVALID, "rosenbrock: max_stages must be >= 1, got %d",
-                            o->max_stages);
+        return hk_error_set(err, HK_ERR_INVALID, "rosenbrock: max_stages must be >= 1, got %d", o->max_stages);
     if (!(o->epsilon >= 0.0) || !isfinite(o->epsilon))
-        return hk_error_set(err, HK_ERR_INVALID,
-                            "rosenbrock: epsilon must be finite and >= 0, got %g", o->epsilon);
+        return hk_error_set(err, HK_ERR_INVALID, "rosenbrock: epsilon must be finite and >= 0, got %g", o->epsilon);
     if (!(o->initial_step > 0.0) || !isfinite(o->initial_step))
-        return hk_error_set(err, HK_ERR_INVALID,
-                            "rosenbrock: initial_step must be finite and > 0, got %g",
+        return hk_error_set(err, HK_ERR_INVALID, "rosenbrock: initial_step must be finite and > 0, got %g",
                             o->initial_step);
     if (!(o->alpha >= 1.0 + STEP_CHANGE_MIN) || !isfinite(o->alpha))
-        return hk_error_set(err, HK_ERR_INVALID,
-                            "rosenbrock: alpha must be finite and >= %g, got %g",
+        return hk_error_set(err, HK_ERR_INVALID, "rosenbrock: alpha must be finite and >= %g, got %g",
                             1.0 + STEP_CHANGE_MIN, o->alpha);
     if (!(o->beta > 0.0 && o->beta <= 1.0 - STEP_CHANGE_MIN))
-        return hk_error_set(err, HK_ERR_INVALID, "rosenbrock: beta must be in (0, %g], got %g",
-                            1.0 - STEP_CHANGE_MIN, o->beta);
+        return hk_error_set(err, HK_ERR_INVALID, "rosenbrock: beta must be in (0, %g], got %g", 1.0 - STEP_CHANGE_MIN,
+                            o->beta);
     return HK_OK;
 }
 
-hk_Status hk_rosenbrock_minimize(int n, double *x, hk_ObjectiveFn f, void *user,
-                                 const hk_RosenbrockDef *options, hk_MinimizeResult *result,
-                                 hk_Error *err)
+hk_Status hk_rosenbrock_minimize(int n, double *x, hk_ObjectiveFn f, void *user, const hk_RosenbrockDef *options,
+                                 hk_MinimizeResult *result, hk_Error *err)
 {
     hk_MinimizeResult res = {0.0, 0, 0, 0};
     if (result) *result = res;
@@ -210,7 +202,8 @@ hk_Status hk_rosenbrock_minimize(int n, double *x, hk_ObjectiveFn f, void *user,
     if (!isfinite(fx)) {
         status = hk_error_set(err, HK_ERR_NUMERIC,
                               "rosenbrock: the objective is not finite at the starting point "
-                              "(f = %g)", fx);
+                              "(f = %g)",
+                              fx);
         goto done;
     }
     const long budget = o->max_evaluations; /* <= 0: no limit */

@@ -57,8 +57,9 @@ hk_View hk_camera_frame(const hk_Scene *scene)
         v.distance = dist;
         if (pass == 1) break;
         double xlo = 1e300, xhi = -1e300, ylo = 1e300, yhi = -1e300;
-#pragma omp parallel for schedule(static) reduction(min : xlo, ylo) reduction(max : xhi, yhi) \
-    num_threads(scene->threads)
+#pragma omp parallel for schedule(static) reduction(min                                                                \
+                                                    : xlo, ylo) reduction(max                                          \
+                                                                          : xhi, yhi) num_threads(scene->threads)
         for (long i = 0; i < n; i++) {
             const hk_Vec3 d = hk_v3_sub(SCENE_POINT(i), v.origin);
             const double z = hk_v3_dot(d, v.forward);

@@ -39,8 +39,8 @@ static void blend(hk_Canvas *c, int x, int y, hk_Vec3 color, double a)
     px[2] = (float)(px[2] + a * (color.z - px[2]));
 }
 
-void hk_canvas_line(hk_Canvas *c, double x0, double y0, double x1, double y1, double width,
-                    hk_Vec3 color, double opacity)
+void hk_canvas_line(hk_Canvas *c, double x0, double y0, double x1, double y1, double width, hk_Vec3 color,
+                    double opacity)
 {
     /* A point that is not finite draws nothing; the box is clipped to the canvas
      * before it becomes ints (a plot of a 1e308 ellipsoid gave NaN and 1e308 here). */

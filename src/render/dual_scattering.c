@@ -37,9 +37,12 @@ static double gauss(double v, double x) { return exp(-x * x / (2.0 * v)) / sqrt(
 static double channel(hk_Vec3 v, int c) { return c == 0 ? v.x : c == 1 ? v.y : v.z; }
 static void set_channel(hk_Vec3 *v, int c, double x)
 {
-    if (c == 0) v->x = x;
-    else if (c == 1) v->y = x;
-    else v->z = x;
+    if (c == 0)
+        v->x = x;
+    else if (c == 1)
+        v->y = x;
+    else
+        v->z = x;
 }
 
 /* Longitudinal shift and width of lobe p (R, TT, TRT), as in marschner.c. */
@@ -113,7 +116,8 @@ void hk_dual_scattering_init(const hk_MarschnerParams *fibre, hk_DualScattering 
              * scatterings among any number of forward ones, their shift and spread. */
             const double f = fmin(af, 0.999), f2 = f * f, q = 1.0 - f2, b2 = ab * ab, b3 = b2 * ab;
             const double A1 = ab * f2 / q, A3 = b3 * f2 / (q * q * q);
-            const double delta = alpha_b * (1.0 - 2.0 * b2 / (q * q)) + alpha_f * (2.0 * q * q + 4.0 * f2 * b2) / (q * q * q);
+            const double delta =
+                alpha_b * (1.0 - 2.0 * b2 / (q * q)) + alpha_f * (2.0 * q * q + 4.0 * f2 * b2) / (q * q * q);
             const double bf = sqrt(bf2), bb = sqrt(bb2);
             const double den = ab + b3 * (2.0 * bf + 3.0 * bb);
             const double sigma = den > 0.0 ? (1.0 + HK_DUAL_DB * f2) *
@@ -179,8 +183,9 @@ static hk_Vec3 backscatter(const hk_DualEntry *en, const Angles *a, hk_Vec3 extr
     hk_Vec3 r;
     for (int c = 0; c < 3; c++) {
         const double v = channel(en->sigma_b2, c) + channel(extra, c);
-        set_channel(&r, c, channel(en->A_b, c) * 0.5 * gauss(v, a->theta_h - channel(en->delta_b, c)) / HK_PI *
-                               a->inv_cos2_d * a->cos_i);
+        set_channel(&r, c,
+                    channel(en->A_b, c) * 0.5 * gauss(v, a->theta_h - channel(en->delta_b, c)) / HK_PI * a->inv_cos2_d *
+                        a->cos_i);
     }
     return r;
 }
@@ -200,9 +205,9 @@ hk_Vec3 hk_shade_dual_marschner(const hk_DualScattering *ds, hk_Vec3 t, hk_Vec3 
     const hk_Vec3 global = hk_dual_global_fraction(&en, n);
     const hk_Vec3 spread = hk_v3_scale(en.beta_f2, n);
     /* Light arriving unscattered: the single lobes and the neighbours' backscattering. */
-    hk_Vec3 out = hk_v3_scale(hk_v3_add(hk_shade_marschner(t, l, e, &ds->fibre),
-                                        hk_v3_scale(backscatter(&en, &a, hk_v3_zero()), HK_DUAL_DB)),
-                              direct);
+    hk_Vec3 out = hk_v3_scale(
+        hk_v3_add(hk_shade_marschner(t, l, e, &ds->fibre), hk_v3_scale(backscatter(&en, &a, hk_v3_zero()), HK_DUAL_DB)),
+        direct);
     /* Light forward-scattered through the fibres in front: the lobes widened by the
      * spread and averaged over the azimuth (lobe p scatters en.lobe[p] in all, over
      * 2 pi), and the backscattering of the light arriving from all around. */

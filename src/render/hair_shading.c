@@ -88,8 +88,9 @@ static void shade(const hk_HairShader *s, uint32_t i, float out[3])
     double head_visible = 1.0, opacity = 0.0;
     if (s->maps) hk_light_lookup(s->maps, p, &head_visible, &opacity);
     hk_Visuality v = *sc->vis;
-    if (h->colors) v.diffuse = hk_srgb_to_linear(hk_v3(h->colors[3 * (size_t)i], h->colors[3 * (size_t)i + 1],
-                                                       h->colors[3 * (size_t)i + 2]));
+    if (h->colors)
+        v.diffuse = hk_srgb_to_linear(
+            hk_v3(h->colors[3 * (size_t)i], h->colors[3 * (size_t)i + 1], h->colors[3 * (size_t)i + 2]));
     hk_Vec3 c;
     if (o->scattering == HK_SCATTERING_DUAL) {
         /* Dual scattering (dual_scattering.c): the light through the `opacity` fibres in
@@ -140,8 +141,8 @@ void hk_hair_shader_get(hk_HairShader *s, uint32_t i, float out[3])
     }
     shade(s, i, out);
     unsigned expected = state;
-    if (state != s->busy && atomic_compare_exchange_strong_explicit(&c->state, &expected, s->busy,
-                                                                    memory_order_acq_rel, memory_order_acquire)) {
+    if (state != s->busy && atomic_compare_exchange_strong_explicit(&c->state, &expected, s->busy, memory_order_acq_rel,
+                                                                    memory_order_acquire)) {
         c->rgb[0] = out[0], c->rgb[1] = out[1], c->rgb[2] = out[2];
         atomic_store_explicit(&c->state, s->done, memory_order_release);
     }

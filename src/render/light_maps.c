@@ -46,7 +46,7 @@ static int hair_box(void *user, uint32_t i, hk_Rect *box)
     const LightPass *lp = user;
     if (!lp->segment_start[i]) return 0;
     return hk_segment_box_inline(lp->proj[i], lp->proj[i + 1], segment_width(lp->scene, lp->proj, i), lp->maps->size,
-                          lp->maps->size, box);
+                                 lp->maps->size, box);
 }
 
 HK_TILE_BINS_BUILD(bin_hair, hair_box)
@@ -174,7 +174,8 @@ static hk_Status head_depth_map(const hk_Scene *scene, hk_LightMaps *m, hk_Error
     for (int i = 0; i < head->vertex_count; i++) proj[i] = hk_view_project(&m->view, head->positions[i]);
     HeadPass hp = {m, proj, head->triangles, NULL};
     hk_TileBins *bins = &m->bins;
-    hk_Status st = bin_head((uint32_t)head->triangle_count, &hp, NULL, NULL, m->size, m->size, scene->threads, bins, err);
+    hk_Status st =
+        bin_head((uint32_t)head->triangle_count, &hp, NULL, NULL, m->size, m->size, scene->threads, bins, err);
     if (st != HK_OK) return st;
     const int tiles = bins->tiles_x * bins->tiles_y;
 #pragma omp parallel for schedule(dynamic, 1) firstprivate(hp) num_threads(scene->threads)
@@ -200,7 +201,8 @@ static hk_Status hair_opacity_map(const hk_Scene *scene, const uint8_t *segment_
     if (!HK_RESERVE(m->proj, m->proj_cap, hair->point_count, err)) return HK_ERR_NOMEM;
     hk_RasterPoint *proj = m->proj;
 #pragma omp parallel for schedule(static) num_threads(scene->threads)
-    for (long i = 0; i < (long)hair->point_count; i++) proj[i] = hk_view_project(&m->view, hk_hair_point(hair, (uint32_t)i));
+    for (long i = 0; i < (long)hair->point_count; i++)
+        proj[i] = hk_view_project(&m->view, hk_hair_point(hair, (uint32_t)i));
     /* Each thread's fragment buffer, kept for the next picture. */
     const int threads = scene->threads;
     if (threads > m->frag_threads) {

@@ -53,17 +53,17 @@ hk_MarschnerParams hk_marschner_params_from_color(hk_Vec3 c)
      * Model for Production Path Tracing" (2016), eq. 9: the absorption that gives a
      * multiply scattered colour c at azimuthal roughness beta_n (0.3 here). */
     const double bn = 0.3;
-    const double d = 5.969 - 0.215 * bn + 2.532 * bn * bn - 10.73 * pow(bn, 3) + 5.574 * pow(bn, 4) +
-                     0.245 * pow(bn, 5);
+    const double d =
+        5.969 - 0.215 * bn + 2.532 * bn * bn - 10.73 * pow(bn, 3) + 5.574 * pow(bn, 4) + 0.245 * pow(bn, 5);
     double v[3] = {c.x, c.y, c.z};
     for (int k = 0; k < 3; k++) {
         const double x = fmin(0.999, fmax(1e-3, v[k]));
         v[k] = pow(log(x) / d, 2.0);
     }
     hk_MarschnerParams p;
-    p.eta = 1.55;                 /* Marschner Table 1 */
-    p.alpha_r = -7.0 * HK_PI / 180;  /* the cuticle's tilt: -5 to -10 degrees */
-    p.beta_r = 7.0 * HK_PI / 180;    /* 5 to 10 degrees */
+    p.eta = 1.55;                   /* Marschner Table 1 */
+    p.alpha_r = -7.0 * HK_PI / 180; /* the cuticle's tilt: -5 to -10 degrees */
+    p.beta_r = 7.0 * HK_PI / 180;   /* 5 to 10 degrees */
     p.sigma_a = hk_v3(v[0], v[1], v[2]);
     return p;
 }

@@ -74,7 +74,7 @@ static inline void hk_raster_segment(hk_RasterPoint a, hk_RasterPoint b, float w
 {
     const float drawn = width > 1.0f ? width : 1.0f;
     const float thin = width < 1.0f ? width : 1.0f; /* sub-pixel hair: coverage becomes opacity */
-    const float reach = 0.5f * drawn + 0.5f;       /* beyond this distance a pixel is not covered */
+    const float reach = 0.5f * drawn + 0.5f;        /* beyond this distance a pixel is not covered */
     const float dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
     if (!(len2 > 1e-12f) || !(thin > 0.0f)) return;
     const float inv_len2 = 1.0f / len2, inv_len = sqrtf(inv_len2);
@@ -100,8 +100,8 @@ static inline void hk_raster_segment(hk_RasterPoint a, hk_RasterPoint b, float w
         if (n0 < lo_minor) n0 = lo_minor;
         if (n1 > hi_minor - 1) n1 = hi_minor - 1;
         for (int n = n0; n <= n1; n++) {
-            if (closed && closed[x_major ? (n - clip.y0) * HK_TILE + (m - clip.x0)
-                                         : (m - clip.y0) * HK_TILE + (n - clip.x0)])
+            if (closed &&
+                closed[x_major ? (n - clip.y0) * HK_TILE + (m - clip.x0) : (m - clip.y0) * HK_TILE + (n - clip.x0)])
                 continue;
             const float cx = x_major ? cm : (float)n + 0.5f, cy = x_major ? (float)n + 0.5f : cm;
             const float px = cx - a.x, py = cy - a.y;

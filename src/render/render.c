@@ -43,8 +43,8 @@ hk_RenderDef hk_default_render_def(void)
 hk_Status hk_render_check_options(const hk_RenderDef *o, hk_Error *err)
 {
     if (o->width < 8 || o->height < 8 || o->width > 16384 || o->height > 16384)
-        return hk_error_set(err, HK_ERR_INVALID, "picture size %dx%d: each side must be 8 to 16384 pixels",
-                            o->width, o->height);
+        return hk_error_set(err, HK_ERR_INVALID, "picture size %dx%d: each side must be 8 to 16384 pixels", o->width,
+                            o->height);
     if (o->shadows && (o->shadow_map_size < 16 || o->shadow_map_size > 8192))
         return hk_error_set(err, HK_ERR_INVALID, "shadow map size %d: must be 16 to 8192", o->shadow_map_size);
     if (o->shadows && (o->opacity_layers < 1 || o->opacity_layers > HK_MAX_OPACITY_LAYERS))
@@ -97,8 +97,11 @@ hk_Status hk_scene_bounds(hk_Scene *sc, hk_Error *err)
     int nonfinite = 0;
     /* Without branches: a point that is not finite makes the box meaningless, but the
      * picture is refused then, and the point is looked for below. */
-#pragma omp parallel for schedule(static) reduction(min : lx, ly, lz) reduction(max : hx, hy, hz) \
-    reduction(| : nonfinite) num_threads(sc->threads)
+#pragma omp parallel for schedule(static) reduction(min                                                                \
+                                                    : lx, ly, lz) reduction(max                                        \
+                                                                            : hx, hy, hz) reduction(|                  \
+                                                                                                    : nonfinite)       \
+    num_threads(sc->threads)
     for (long i = 0; i < (long)h->point_count; i++) {
         const float x = pts[3 * i], y = pts[3 * i + 1], z = pts[3 * i + 2];
         nonfinite |= !(x - x == 0.0f) | !(y - y == 0.0f) | !(z - z == 0.0f); /* NaN for NaN and infinities */
@@ -122,9 +125,8 @@ hk_Status hk_scene_bounds(hk_Scene *sc, hk_Error *err)
     return HK_OK;
 }
 
-hk_Status hk_render_fit_camera(const hk_HairFile *hair, const hk_Mesh *head,
-                               const hk_RenderDef *opt, hk_Vec3 *target, double *distance,
-                               hk_Error *err)
+hk_Status hk_render_fit_camera(const hk_HairFile *hair, const hk_Mesh *head, const hk_RenderDef *opt, hk_Vec3 *target,
+                               double *distance, hk_Error *err)
 {
     const hk_RenderDef defaults = hk_default_render_def();
     if (!opt) opt = &defaults;
@@ -132,8 +134,18 @@ hk_Status hk_render_fit_camera(const hk_HairFile *hair, const hk_Mesh *head,
     if (st != HK_OK) return st;
     hk_RenderDef fit = *opt;
     fit.camera_distance = 0.0;
-    hk_Scene sc = {hair, head && head->triangle_count > 0 ? head : NULL, NULL, &fit, hk_v3_zero(), hk_v3_zero(),
-                   hk_v3_zero(), 0.0, 0, NULL, 0.0, hk_render_threads(opt)};
+    hk_Scene sc = {hair,
+                   head && head->triangle_count > 0 ? head : NULL,
+                   NULL,
+                   &fit,
+                   hk_v3_zero(),
+                   hk_v3_zero(),
+                   hk_v3_zero(),
+                   0.0,
+                   0,
+                   NULL,
+                   0.0,
+                   hk_render_threads(opt)};
     if ((st = hk_scene_bounds(&sc, err)) != HK_OK) return st;
     const hk_View cam = hk_camera_frame(&sc);
     *target = cam.target;

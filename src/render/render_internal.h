@@ -16,12 +16,12 @@
 /* A projection onto an image: perspective (a camera) or orthographic (the light). */
 typedef struct hk_View {
     int perspective;
-    hk_Vec3 origin;            /* eye (perspective) or centre of the map (orthographic) */
+    hk_Vec3 origin;             /* eye (perspective) or centre of the map (orthographic) */
     hk_Vec3 right, up, forward; /* orthonormal; forward points into the picture */
-    double focal;              /* pixels per unit at depth 1 (perspective) or per unit */
-    double depth_offset;       /* orthographic: added to the depth to keep it positive */
+    double focal;               /* pixels per unit at depth 1 (perspective) or per unit */
+    double depth_offset;        /* orthographic: added to the depth to keep it positive */
     int width, height;
-    hk_Vec3 target;            /* camera: the point looked at, at `distance` from origin */
+    hk_Vec3 target; /* camera: the point looked at, at `distance` from origin */
     double distance;
 } hk_View;
 
@@ -74,8 +74,8 @@ int hk_triangle_box(const hk_RasterPoint v[3], int image_w, int image_h, hk_Rect
  * (clamped to 0 and above: the bits of a positive float order as integers). */
 typedef struct hk_DepthOrder {
     uint32_t n, sorted, bucket;
-    int shift;                /* the byte of the keys the buckets are by */
-    uint32_t start[257];      /* bucket b is order[start[b] .. start[b + 1]) */
+    int shift;           /* the byte of the keys the buckets are by */
+    uint32_t start[257]; /* bucket b is order[start[b] .. start[b + 1]) */
     uint32_t *order, *keys, *key_tmp, *order_tmp;
 } hk_DepthOrder;
 void hk_depth_order_begin(hk_DepthOrder *d, uint32_t n, const float *depth, const uint32_t *value, uint32_t *order,
@@ -129,8 +129,7 @@ typedef struct hk_TileBins {
  * steps (tile_bins.c): the arrays for item_count items and `ranges` ranges (counts
  * zeroed); the offsets from the counts, and the entries' arrays (with keys when
  * `keys`); the tiles ordered busiest first. On failure the bins are freed. */
-hk_Status hk_tile_bins_begin(uint32_t item_count, int width, int height, hk_TileBins *bins, int ranges,
-                             hk_Error *err);
+hk_Status hk_tile_bins_begin(uint32_t item_count, int width, int height, hk_TileBins *bins, int ranges, hk_Error *err);
 hk_Status hk_tile_bins_offsets(hk_TileBins *bins, int ranges, int keys, hk_Error *err);
 void hk_tile_bins_end(hk_TileBins *bins);
 void hk_tile_bins_free(hk_TileBins *bins);
@@ -149,12 +148,12 @@ static inline hk_Rect hk_tile_rect(const hk_TileBins *b, int tile, int width, in
 typedef struct hk_LightMaps {
     hk_View view;
     int size, layers;
-    double texel;                         /* scene units per texel */
+    double texel;                           /* scene units per texel */
     float layer_end[HK_MAX_OPACITY_LAYERS]; /* end of layer k behind z0 (scene units) */
-    float *head_depth;                    /* size^2; +inf where the head is not */
-    float *hair_z0;                       /* size^2; depth where the hair begins, +inf: none */
-    float *opacity;                       /* size^2 * layers: opacity accumulated up to the
-                                             end of each layer */
+    float *head_depth;                      /* size^2; +inf where the head is not */
+    float *hair_z0;                         /* size^2; depth where the hair begins, +inf: none */
+    float *opacity;                         /* size^2 * layers: opacity accumulated up to the
+                                               end of each layer */
     /* Kept from one build to the next: the maps' capacities, and the work space (the
      * points in the light's view and their bins, head then hair; each thread's
      * fragments). */
@@ -171,9 +170,9 @@ typedef struct hk_Scene {
     const hk_Mesh *head;
     const hk_Visuality *vis;
     const hk_RenderDef *opt;
-    hk_Vec3 light_dir;   /* unit, towards the light */
-    hk_Vec3 lo, hi;      /* bounding box of hair and head */
-    double thickness;    /* strand diameter (scene units) when the file has no array */
+    hk_Vec3 light_dir; /* unit, towards the light */
+    hk_Vec3 lo, hi;    /* bounding box of hair and head */
+    double thickness;  /* strand diameter (scene units) when the file has no array */
     uint32_t segment_count;
     /* Where a point's diameter comes from, chosen once (hk_scene_thickness): the
      * file's array, or else one value (the options' or the file's). Read for every
@@ -259,8 +258,8 @@ typedef struct hk_HairShader {
     /* The states of this picture's vertices: a new picture takes two new values, so
      * that the states need no clearing (the earlier pictures' values mean new). */
     uint32_t busy, done;
-    uint32_t *strand_of; /* the strand of each vertex, unless strand_length */
-    uint32_t strand_length; /* points of every strand when they all have as many, else 0 */
+    uint32_t *strand_of;              /* the strand of each vertex, unless strand_length */
+    uint32_t strand_length;           /* points of every strand when they all have as many, else 0 */
     size_t colour_cap, strand_of_cap; /* kept from picture to picture */
 } hk_HairShader;
 hk_Status hk_hair_shader_init(hk_HairShader *s, const hk_Scene *scene, const uint8_t *segment_start,

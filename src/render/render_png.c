@@ -35,8 +35,10 @@ static void byte_thresholds(float at[256])
         uint32_t lo = 0, hi = one; /* byte(lo) < k <= byte(hi) */
         while (hi - lo > 1) {
             const uint32_t mid = lo + (hi - lo) / 2;
-            if (srgb_byte(float_of(mid)) >= k) hi = mid;
-            else lo = mid;
+            if (srgb_byte(float_of(mid)) >= k)
+                hi = mid;
+            else
+                lo = mid;
         }
         at[k] = float_of(hi);
     }

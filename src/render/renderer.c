@@ -16,18 +16,18 @@
 #include "tile_bins_inline.h"
 
 struct hk_Renderer {
-    uint8_t *seg;               /* segment starts */
-    hk_RasterPoint *proj;       /* hair points on the picture */
-    hk_RasterPoint *head_proj;  /* head vertices on the picture */
-    float *near;                /* each segment's nearer depth on the picture */
+    uint8_t *seg;              /* segment starts */
+    hk_RasterPoint *proj;      /* hair points on the picture */
+    hk_RasterPoint *head_proj; /* head vertices on the picture */
+    float *near;               /* each segment's nearer depth on the picture */
     size_t seg_cap, proj_cap, head_proj_cap, near_cap;
     hk_HairShader shader;
     hk_LightMaps maps;
     hk_TileBins hair_bins, head_bins;
     hk_Canvas picture;
-    size_t picture_cap;         /* pixels */
-    hk_TileBase *bases;         /* the head under each tile */
-    float *cull;                /* each tile's depth beyond which the head hides all hair */
+    size_t picture_cap; /* pixels */
+    hk_TileBase *bases; /* the head under each tile */
+    float *cull;        /* each tile's depth beyond which the head hides all hair */
     size_t bases_cap, cull_cap;
     /* each thread's work space for the tiles */
     hk_TileHead **tile_head;
@@ -180,8 +180,18 @@ static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *he
     vis_linear.ambient = hk_srgb_to_linear(vis->ambient);
     vis_linear.diffuse = hk_srgb_to_linear(vis->diffuse);
     vis_linear.specular = hk_srgb_to_linear(vis->specular);
-    hk_Scene sc = {hair, head && head->triangle_count > 0 ? head : NULL, &vis_linear, opt, hk_v3_zero(), hk_v3_zero(),
-                   hk_v3_zero(), 0.0, 0, NULL, 0.0, hk_render_threads(opt)};
+    hk_Scene sc = {hair,
+                   head && head->triangle_count > 0 ? head : NULL,
+                   &vis_linear,
+                   opt,
+                   hk_v3_zero(),
+                   hk_v3_zero(),
+                   hk_v3_zero(),
+                   0.0,
+                   0,
+                   NULL,
+                   0.0,
+                   hk_render_threads(opt)};
     sc.light_dir = hk_v3_normalize(direction(opt->light_azimuth_deg, opt->light_elevation_deg));
     hk_Status st = hk_scene_bounds(&sc, err);
     if (st != HK_OK) return st;
@@ -201,7 +211,8 @@ static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *he
     hk_RasterPoint *proj = r->proj, *head_proj = r->head_proj;
     float *near = r->near;
 #pragma omp parallel for schedule(static) num_threads(sc.threads)
-    for (long i = 0; i < (long)hair->point_count; i++) proj[i] = hk_view_project(&cam, hk_hair_point(hair, (uint32_t)i));
+    for (long i = 0; i < (long)hair->point_count; i++)
+        proj[i] = hk_view_project(&cam, hk_hair_point(hair, (uint32_t)i));
     /* What the tiles sort their segments by, copied into the bins next to the
      * segments (read there in order, rather than from scattered points by every
      * tile). */
@@ -211,14 +222,15 @@ static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *he
 #pragma omp parallel for schedule(static) num_threads(sc.threads)
     for (long i = 0; i < (long)hair->point_count; i++)
         near[i] = seg[i] ? (proj[i].z < proj[i + 1].z ? proj[i].z : proj[i + 1].z) : 0.0f;
-    for (int i = 0; sc.head && i < sc.head->vertex_count; i++) head_proj[i] = hk_view_project(&cam, sc.head->positions[i]);
+    for (int i = 0; sc.head && i < sc.head->vertex_count; i++)
+        head_proj[i] = hk_view_project(&cam, sc.head->positions[i]);
     if ((st = hk_hair_shader_init(&r->shader, &sc, r->seg, opt->shadows ? &r->maps : NULL, &cam, err)) != HK_OK)
         return st;
     const double t2 = omp_get_wtime();
     if (sc.head) {
         BoxCtx hb = {&sc, head_proj, NULL, sc.head->triangles, opt->width, opt->height};
-        if ((st = bin_triangles((uint32_t)sc.head->triangle_count, &hb, NULL, NULL,
-                                opt->width, opt->height, sc.threads, &r->head_bins, err)) != HK_OK)
+        if ((st = bin_triangles((uint32_t)sc.head->triangle_count, &hb, NULL, NULL, opt->width, opt->height, sc.threads,
+                                &r->head_bins, err)) != HK_OK)
             return st;
     }
     hk_TileBins layout;
@@ -230,16 +242,16 @@ static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *he
         !HK_RESERVE(r->bases, r->bases_cap, tiles, err) || !HK_RESERVE(r->cull, r->cull_cap, tiles, err))
         return HK_ERR_NOMEM;
     r->picture.width = opt->width, r->picture.height = opt->height;
-    const hk_TileInput in = {&sc, &cam, opt->shadows ? &r->maps : NULL, proj, &r->shader, &r->hair_bins,
-                             head_proj, sc.head ? &r->head_bins : NULL, &layout};
+    const hk_TileInput in = {&sc,           &cam,      opt->shadows ? &r->maps : NULL, proj,   &r->shader,
+                             &r->hair_bins, head_proj, sc.head ? &r->head_bins : NULL, &layout};
     draw_head(r, &in);
     /* A tile's segments are drawn nearest first (by their nearer depth), so those at or
      * beyond the tile's cull depth come last, after every segment that can be seen:
      * leaving them out of the bins leaves the picture as it was (the bytes), and on a
      * full head the hair behind the head is a large part of the tiles' entries. */
     BoxCtx box = {&sc, proj, r->seg, NULL, opt->width, opt->height};
-    if ((st = bin_segments(hair->point_count, &box, near, r->cull, opt->width, opt->height, sc.threads,
-                           &r->hair_bins, err)) != HK_OK)
+    if ((st = bin_segments(hair->point_count, &box, near, r->cull, opt->width, opt->height, sc.threads, &r->hair_bins,
+                           err)) != HK_OK)
         return st;
     if ((st = draw_tiles(r, &in, stats, err)) != HK_OK) return st;
     stats->seconds_light = t1 - t0;
@@ -264,8 +276,8 @@ hk_Status hk_renderer_draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mes
     return st;
 }
 
-hk_Status hk_render(const hk_HairFile *hair, const hk_Mesh *head, const hk_Visuality *vis,
-                    const hk_RenderDef *opt, hk_Canvas *out, hk_RenderStats *stats, hk_Error *err)
+hk_Status hk_render(const hk_HairFile *hair, const hk_Mesh *head, const hk_Visuality *vis, const hk_RenderDef *opt,
+                    hk_Canvas *out, hk_RenderStats *stats, hk_Error *err)
 {
     out->rgb = NULL, out->width = out->height = 0;
     hk_Renderer *r;

@@ -17,13 +17,13 @@ hk_Vec3 hk_shade_kajiya_kay(hk_Vec3 t, hk_Vec3 l, hk_Vec3 e, const hk_Visuality 
 /* Parameters of the Marschner model (Marschner, Jensen, Cammarano, Worley, Hanrahan,
  * "Light Scattering from Human Hair Fibers", SIGGRAPH 2003). */
 typedef struct hk_MarschnerParams {
-    double eta;        /* refractive index of the fibre, 1.55 */
-    double alpha_r;    /* longitudinal shift of the R lobe (radians), about -7 degrees;
-                          TT is shifted by -alpha_r / 2, TRT by -3 alpha_r / 2 */
-    double beta_r;     /* longitudinal width of the R lobe (radians), about 7 degrees;
-                          TT: beta_r / 2, TRT: 2 beta_r */
-    hk_Vec3 sigma_a;   /* absorption coefficient of the fibre interior per unit of
-                          fibre diameter, per colour channel */
+    double eta;      /* refractive index of the fibre, 1.55 */
+    double alpha_r;  /* longitudinal shift of the R lobe (radians), about -7 degrees;
+                        TT is shifted by -alpha_r / 2, TRT by -3 alpha_r / 2 */
+    double beta_r;   /* longitudinal width of the R lobe (radians), about 7 degrees;
+                        TT: beta_r / 2, TRT: 2 beta_r */
+    hk_Vec3 sigma_a; /* absorption coefficient of the fibre interior per unit of
+                        fibre diameter, per colour channel */
 } hk_MarschnerParams;
 
 /* Default parameters with sigma_a chosen so that the hair's colour is about `diffuse`
@@ -45,8 +45,8 @@ void hk_marschner_lobes(hk_Vec3 t, hk_Vec3 l, hk_Vec3 e, const hk_MarschnerParam
  * Scattering in Hair" (SIGGRAPH 2008). Density factors of the paper (§4, fitted there to
  * path-traced hair): d_f scales the light forward-scattered to a fibre through the
  * others, d_b the light backscattered by its neighbours. */
-#define HK_DUAL_DF 0.7
-#define HK_DUAL_DB 0.7
+#define HK_DUAL_DF    0.7
+#define HK_DUAL_DB    0.7
 #define HK_DUAL_THETA 18 /* incidences tabulated: theta_i = -90 + 10 (k + 1/2) degrees */
 
 /* What the dual scattering approximation needs of a fibre at one incidence theta_i

@@ -6,9 +6,9 @@
 #include <math.h>
 
 typedef struct View {
-    int h, v;          /* world axes shown horizontally and vertically */
-    int drop;          /* world axis along the line of sight */
-    double ox;         /* panel's left edge in pixels */
+    int h, v;  /* world axes shown horizontally and vertically */
+    int drop;  /* world axis along the line of sight */
+    double ox; /* panel's left edge in pixels */
 } View;
 
 typedef struct Frame {
@@ -62,16 +62,15 @@ static int pixel(double v, int lo, int hi)
 
 /* Silhouette of an ellipsoid x^T A x <= 1 seen along world axis `drop`: the Schur
  * complement B = A_pp - A_pk A_kp / A_kk is the projected ellipse's matrix. */
-static void ellipsoid_silhouette(hk_Canvas *c, const Frame *f, const View *v, const hk_Shape *s,
-                                 double extra, hk_Vec3 fill, double fill_alpha, hk_Vec3 line, double width)
+static void ellipsoid_silhouette(hk_Canvas *c, const Frame *f, const View *v, const hk_Shape *s, double extra,
+                                 hk_Vec3 fill, double fill_alpha, hk_Vec3 line, double width)
 {
     double a[3][3] = {{0}};
     for (int j = 0; j < 3; j++) {
         double r = hk_v3_get(s->half, j) + extra;
         if (!(r > 0.0)) return;
         for (int p = 0; p < 3; p++)
-            for (int q = 0; q < 3; q++)
-                a[p][q] += hk_v3_get(s->axis[j], p) * hk_v3_get(s->axis[j], q) / (r * r);
+            for (int q = 0; q < 3; q++) a[p][q] += hk_v3_get(s->axis[j], p) * hk_v3_get(s->axis[j], q) / (r * r);
     }
     const int h = v->h, vv = v->v, k = v->drop;
     const double b00 = a[h][h] - a[h][k] * a[k][h] / a[k][k];
@@ -108,8 +107,8 @@ static void ellipsoid_silhouette(hk_Canvas *c, const Frame *f, const View *v, co
     }
 }
 
-static void cuboid_outline(hk_Canvas *c, const Frame *f, const View *v, const hk_Shape *s, double extra,
-                           hk_Vec3 line, double width)
+static void cuboid_outline(hk_Canvas *c, const Frame *f, const View *v, const hk_Shape *s, double extra, hk_Vec3 line,
+                           double width)
 {
     hk_Vec3 corner[8];
     for (int i = 0; i < 8; i++) {
@@ -155,9 +154,8 @@ static void draw_grid(hk_Canvas *c, const Frame *f, const View *v)
     }
 }
 
-hk_Status hk_plot_strands_png(const char *path, int width, int height, const hk_PlotStrand *strands,
-                              int strand_count, const hk_Shape *shapes, int shape_count,
-                              double envelope_alpha, hk_Error *err)
+hk_Status hk_plot_strands_png(const char *path, int width, int height, const hk_PlotStrand *strands, int strand_count,
+                              const hk_Shape *shapes, int shape_count, double envelope_alpha, hk_Error *err)
 {
     hk_Canvas canvas;
     hk_Status st = hk_canvas_alloc(width, height, hk_v3(1, 1, 1), &canvas, err);
@@ -171,7 +169,8 @@ hk_Status hk_plot_strands_png(const char *path, int width, int height, const hk_
         grow(&f, hk_v3_add(shapes[s].centre, e));
         grow(&f, hk_v3_sub(shapes[s].centre, e));
     }
-    if (f.lo[0] > f.hi[0]) for (int i = 0; i < 3; i++) f.lo[i] = -0.1, f.hi[i] = 0.1;
+    if (f.lo[0] > f.hi[0])
+        for (int i = 0; i < 3; i++) f.lo[i] = -0.1, f.hi[i] = 0.1;
     f.height = height;
     f.panel_w = width / 2;
     f.margin = 0.06 * fmin(f.panel_w, height);

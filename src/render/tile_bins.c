@@ -25,8 +25,7 @@ static void order_heavy_first(hk_TileBins *bins, size_t tiles, uint64_t *work)
     for (size_t t = 0; t < tiles; t++) bins->heavy[t] = (uint32_t)(work[t] & UINT32_MAX);
 }
 
-hk_Status hk_tile_bins_begin(uint32_t item_count, int width, int height, hk_TileBins *bins, int ranges,
-                             hk_Error *err)
+hk_Status hk_tile_bins_begin(uint32_t item_count, int width, int height, hk_TileBins *bins, int ranges, hk_Error *err)
 {
     bins->tiles_x = (width + HK_TILE - 1) / HK_TILE;
     bins->tiles_y = (height + HK_TILE - 1) / HK_TILE;

@@ -32,72 +32,72 @@
  * and the tiles read the boxes again to find which of their blocks a segment covers.
  * (A macro rather than a function taking box_of: OpenMP outlines the parallel loop
  * before anything is inlined, so a pointer passed in stayed a call per item.) */
-#define HK_TILE_BINS_BUILD(name, box_of)                                                                      \
+#define HK_TILE_BINS_BUILD(name, box_of)                                                                               \
     /* Items lo .. hi - 1 (their tiles' counts or places in c). Everything in locals,    \
      * which the stores cannot change: read through the shared data of OpenMP's loop,     \
-     * they were loaded again for every item. */                                         \
-    static inline __attribute__((always_inline)) void name##_range(                                           \
-        uint32_t lo, uint32_t hi, void *user, const float *key, const float *cull, hk_TileBox *boxes,          \
-        uint32_t *items, float *keys, int tiles_x, uint64_t *c, int fill)                                      \
-    {                                                                                                         \
-        for (uint32_t i = lo; i < hi; i++) {                                                                  \
-            hk_TileBox *b = &boxes[i];                                                                        \
-            if (!fill) {                                                                                      \
-                hk_Rect box;                                                                                  \
-                if (box_of(user, i, &box))                                                                    \
-                    b->x0 = (uint16_t)box.x0, b->y0 = (uint16_t)box.y0, b->x1 = (uint16_t)box.x1,             \
-                    b->y1 = (uint16_t)box.y1;                                                                 \
-                else                                                                                          \
-                    b->x0 = b->y0 = b->x1 = b->y1 = 0; /* empty: x1 <= x0 */                                  \
-            }                                                                                                 \
-            const hk_TileBox r = *b;                                                                          \
-            if (r.x1 <= r.x0) continue;                                                                       \
-            const float k = key ? key[i] : 0.0f;                                                              \
-            const unsigned tx0 = r.x0 / HK_TILE, tx1 = (r.x1 - 1u) / HK_TILE;                                \
-            const unsigned ty0 = r.y0 / HK_TILE, ty1 = (r.y1 - 1u) / HK_TILE;                                \
-            for (unsigned ty = ty0; ty <= ty1; ty++)                                                          \
-                for (unsigned tx = tx0; tx <= tx1; tx++) {                                                    \
-                    const size_t t = (size_t)ty * (size_t)tiles_x + tx;                                       \
-                    if (cull && k >= cull[t]) continue;                                                       \
-                    if (fill) {                                                                               \
-                        const uint64_t at = c[t]++;                                                           \
-                        if (key) keys[at] = k;                                                                \
-                        items[at] = i;                                                                        \
-                    } else {                                                                                  \
-                        c[t]++;                                                                               \
-                    }                                                                                         \
-                }                                                                                             \
-        }                                                                                                     \
-    }                                                                                                         \
-    static void name##_ranges(uint32_t item_count, void *user, const float *key, const float *cull,         \
-                              hk_TileBins *bins, int ranges, uint64_t *at, int fill)                         \
-    {                                                                                                         \
-        const size_t tiles = (size_t)bins->tiles_x * (size_t)bins->tiles_y;                                   \
-        const int tiles_x = bins->tiles_x;                                                                    \
-        hk_TileBox *boxes = bins->boxes;                                                                      \
-        uint32_t *items = bins->items;                                                                        \
-        float *keys = bins->keys;                                                                             \
-        _Pragma("omp parallel for schedule(static, 1) num_threads(ranges)")                                  \
-        for (int g = 0; g < ranges; g++) {                                                                    \
-            const uint32_t lo = (uint32_t)((uint64_t)item_count * (uint64_t)g / (uint64_t)ranges);                                \
-            const uint32_t hi = (uint32_t)((uint64_t)item_count * (uint64_t)(g + 1) / (uint64_t)ranges);                          \
-            uint64_t *c = at + (size_t)g * tiles;                                                             \
-            if (fill)                                                                                         \
-                name##_range(lo, hi, user, key, cull, boxes, items, keys, tiles_x, c, 1);                     \
-            else                                                                                              \
-                name##_range(lo, hi, user, key, cull, boxes, items, keys, tiles_x, c, 0);                     \
-        }                                                                                                     \
-    }                                                                                                         \
-    static hk_Status name(uint32_t item_count, void *user, const float *key, const float *cull, int width,   \
-                          int height, int ranges, hk_TileBins *bins, hk_Error *err)                           \
-    {                                                                                                         \
-        hk_Status st = hk_tile_bins_begin(item_count, width, height, bins, ranges, err);                      \
-        if (st != HK_OK) return st;                                                                           \
-        name##_ranges(item_count, user, key, cull, bins, ranges, bins->count, 0);                             \
-        if ((st = hk_tile_bins_offsets(bins, ranges, key != NULL, err)) != HK_OK) return st;                  \
-        name##_ranges(item_count, user, key, cull, bins, ranges, bins->count, 1);                             \
-        hk_tile_bins_end(bins);                                                                               \
-        return HK_OK;                                                                                         \
+     * they were loaded again for every item. */                             \
+    static inline __attribute__((always_inline)) void name##_range(                                                    \
+        uint32_t lo, uint32_t hi, void *user, const float *key, const float *cull, hk_TileBox *boxes, uint32_t *items, \
+        float *keys, int tiles_x, uint64_t *c, int fill)                                                               \
+    {                                                                                                                  \
+        for (uint32_t i = lo; i < hi; i++) {                                                                           \
+            hk_TileBox *b = &boxes[i];                                                                                 \
+            if (!fill) {                                                                                               \
+                hk_Rect box;                                                                                           \
+                if (box_of(user, i, &box))                                                                             \
+                    b->x0 = (uint16_t)box.x0, b->y0 = (uint16_t)box.y0, b->x1 = (uint16_t)box.x1,                      \
+                    b->y1 = (uint16_t)box.y1;                                                                          \
+                else                                                                                                   \
+                    b->x0 = b->y0 = b->x1 = b->y1 = 0; /* empty: x1 <= x0 */                                           \
+            }                                                                                                          \
+            const hk_TileBox r = *b;                                                                                   \
+            if (r.x1 <= r.x0) continue;                                                                                \
+            const float k = key ? key[i] : 0.0f;                                                                       \
+            const unsigned tx0 = r.x0 / HK_TILE, tx1 = (r.x1 - 1u) / HK_TILE;                                          \
+            const unsigned ty0 = r.y0 / HK_TILE, ty1 = (r.y1 - 1u) / HK_TILE;                                          \
+            for (unsigned ty = ty0; ty <= ty1; ty++)                                                                   \
+                for (unsigned tx = tx0; tx <= tx1; tx++) {                                                             \
+                    const size_t t = (size_t)ty * (size_t)tiles_x + tx;                                                \
+                    if (cull && k >= cull[t]) continue;                                                                \
+                    if (fill) {                                                                                        \
+                        const uint64_t at = c[t]++;                                                                    \
+                        if (key) keys[at] = k;                                                                         \
+                        items[at] = i;                                                                                 \
+                    } else {                                                                                           \
+                        c[t]++;                                                                                        \
+                    }                                                                                                  \
+                }                                                                                                      \
+        }                                                                                                              \
+    }                                                                                                                  \
+    static void name##_ranges(uint32_t item_count, void *user, const float *key, const float *cull, hk_TileBins *bins, \
+                              int ranges, uint64_t *at, int fill)                                                      \
+    {                                                                                                                  \
+        const size_t tiles = (size_t)bins->tiles_x * (size_t)bins->tiles_y;                                            \
+        const int tiles_x = bins->tiles_x;                                                                             \
+        hk_TileBox *boxes = bins->boxes;                                                                               \
+        uint32_t *items = bins->items;                                                                                 \
+        float *keys = bins->keys;                                                                                      \
+        _Pragma("omp parallel for schedule(static, 1) num_threads(ranges)") for (int g = 0; g < ranges; g++)           \
+        {                                                                                                              \
+            const uint32_t lo = (uint32_t)((uint64_t)item_count * (uint64_t)g / (uint64_t)ranges);                     \
+            const uint32_t hi = (uint32_t)((uint64_t)item_count * (uint64_t)(g + 1) / (uint64_t)ranges);               \
+            uint64_t *c = at + (size_t)g * tiles;                                                                      \
+            if (fill)                                                                                                  \
+                name##_range(lo, hi, user, key, cull, boxes, items, keys, tiles_x, c, 1);                              \
+            else                                                                                                       \
+                name##_range(lo, hi, user, key, cull, boxes, items, keys, tiles_x, c, 0);                              \
+        }                                                                                                              \
+    }                                                                                                                  \
+    static hk_Status name(uint32_t item_count, void *user, const float *key, const float *cull, int width, int height, \
+                          int ranges, hk_TileBins *bins, hk_Error *err)                                                \
+    {                                                                                                                  \
+        hk_Status st = hk_tile_bins_begin(item_count, width, height, bins, ranges, err);                               \
+        if (st != HK_OK) return st;                                                                                    \
+        name##_ranges(item_count, user, key, cull, bins, ranges, bins->count, 0);                                      \
+        if ((st = hk_tile_bins_offsets(bins, ranges, key != NULL, err)) != HK_OK) return st;                           \
+        name##_ranges(item_count, user, key, cull, bins, ranges, bins->count, 1);                                      \
+        hk_tile_bins_end(bins);                                                                                        \
+        return HK_OK;                                                                                                  \
     }
 
 #endif

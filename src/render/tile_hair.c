@@ -14,9 +14,9 @@
 #include "raster_inline.h"
 #include "render_internal.h"
 
-#define NPX (HK_TILE * HK_TILE)
-#define SATURATED (1.0f / 1024.0f)
-#define NONE UINT32_MAX
+#define NPX          (HK_TILE * HK_TILE)
+#define SATURATED    (1.0f / 1024.0f)
+#define NONE         UINT32_MAX
 #define SETTLE_BATCH 64 /* segments between two saturation checks */
 
 /* A fragment in two records: what settling walks, from pixel to pixel's list (12
@@ -34,7 +34,7 @@ typedef struct Fragment {
 /* The segment being drawn. */
 typedef struct Segment {
     hk_RasterPoint a, b;
-    uint32_t first; /* index of its first point */
+    uint32_t first;     /* index of its first point */
     float ca[3], cb[3]; /* colours, fetched at its first fragment kept */
 } Segment;
 
@@ -144,8 +144,7 @@ HK_FRAGMENT_INLINE void hair_fragment(void *user, int x, int y, float t, float a
     }
     if (!w->coloured) fetch_colours(w);
     const hk_HairFile *h = w->hair;
-    if (h->transparency)
-        alpha *= 1.0f - ((1.0f - t) * h->transparency[s->first] + t * h->transparency[s->first + 1]);
+    if (h->transparency) alpha *= 1.0f - ((1.0f - t) * h->transparency[s->first] + t * h->transparency[s->first + 1]);
     Fragment *f = &w->frag[w->count];
     Pending *q = &w->pend[w->count];
     q->z = z, q->a = alpha > 1.0f ? 1.0f : alpha, f->pixel = p;

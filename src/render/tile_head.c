@@ -92,4 +92,3 @@ float hk_tile_head(const hk_TileInput *in, int tile, hk_TileHead *w, hk_TileBase
     }
     return farthest < FLT_MAX ? farthest : HUGE_VALF;
 }
-

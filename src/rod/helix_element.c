@@ -15,8 +15,8 @@ hk_Mat3 hk_helix_rotation(const double c[HK_CN_COUNT], hk_Vec3 phi)
     return r;
 }
 
-void hk_helix_term(const double c[HK_CN_COUNT], int m, double alpha, hk_Vec3 phi, hk_Vec3 w,
-                   int order, hk_HelixTerm *out)
+void hk_helix_term(const double c[HK_CN_COUNT], int m, double alpha, hk_Vec3 phi, hk_Vec3 w, int order,
+                   hk_HelixTerm *out)
 {
     const double cm = c[m], cm1 = c[m + 1];
     const double x = hk_v3_dot(phi, phi), pw = hk_v3_dot(phi, w);
@@ -119,8 +119,7 @@ hk_Vec3 hk_element_offset_begin(hk_Vec3 k, double u, double c[HK_CN_COUNT])
     return hk_v3_scale(t.value, u);
 }
 
-void hk_element_offset_derivs(hk_Vec3 k, double u, const double c[HK_CN_COUNT], hk_Mat3 *dd,
-                              hk_Vec3 d2d[3][3])
+void hk_element_offset_derivs(hk_Vec3 k, double u, const double c[HK_CN_COUNT], hk_Mat3 *dd, hk_Vec3 d2d[3][3])
 {
     hk_HelixTerm t;
     hk_helix_term(c, 2, 1.0, hk_v3_scale(k, u), hk_v3_unit(0), d2d ? 2 : 1, &t);

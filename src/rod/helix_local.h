@@ -32,8 +32,8 @@ typedef struct hk_HelixTerm {
 
 /* order 0: value; 1: value and jac; 2: also hess. c from hk_helix_cn(phi . phi).
  * Requires m + 5 <= HK_CN_COUNT - 1 + 1 for order 2 (m <= 3). */
-void hk_helix_term(const double c[HK_CN_COUNT], int m, double alpha, hk_Vec3 phi, hk_Vec3 w,
-                   int order, hk_HelixTerm *out);
+void hk_helix_term(const double c[HK_CN_COUNT], int m, double alpha, hk_Vec3 phi, hk_Vec3 w, int order,
+                   hk_HelixTerm *out);
 
 /* Rotation exp([phi]x) from the c_n of x = |phi|^2. */
 hk_Mat3 hk_helix_rotation(const double c[HK_CN_COUNT], hk_Vec3 phi);
@@ -41,14 +41,14 @@ hk_Mat3 hk_helix_rotation(const double c[HK_CN_COUNT], hk_Vec3 phi);
 /* Element quantities at arc length u for curvature/twist k, in the element's own
  * frame, with derivatives with respect to k (not phi). */
 typedef struct hk_ElementLocal {
-    hk_Mat3 rot;        /* exp(u [k]x) */
-    hk_Mat3 lam;        /* Lambda(u; k): column b is the world-rate of rotation per unit k_b */
-    hk_Mat3 dlam[3];    /* dlam[b].m[i][a] = d (Lambda e_b)_i / d k_a   (order >= 2 only) */
-    hk_Mat3 dd;         /* dd.m[i][a] = d d_i / d k_a (order >= 1); d = column 0 of lam */
-    hk_Vec3 d2d[3][3];  /* d^2 d / d k_a d k_b (order >= 2) */
-    hk_Vec3 g;          /* g(u; k) (with_g only) */
-    hk_Mat3 dg;         /* d g / d k (with_g, order >= 1) */
-    hk_Vec3 d2g[3][3];  /* d^2 g / d k_a d k_b (with_g, order >= 2) */
+    hk_Mat3 rot;       /* exp(u [k]x) */
+    hk_Mat3 lam;       /* Lambda(u; k): column b is the world-rate of rotation per unit k_b */
+    hk_Mat3 dlam[3];   /* dlam[b].m[i][a] = d (Lambda e_b)_i / d k_a   (order >= 2 only) */
+    hk_Mat3 dd;        /* dd.m[i][a] = d d_i / d k_a (order >= 1); d = column 0 of lam */
+    hk_Vec3 d2d[3][3]; /* d^2 d / d k_a d k_b (order >= 2) */
+    hk_Vec3 g;         /* g(u; k) (with_g only) */
+    hk_Mat3 dg;        /* d g / d k (with_g, order >= 1) */
+    hk_Vec3 d2g[3][3]; /* d^2 g / d k_a d k_b (with_g, order >= 2) */
 } hk_ElementLocal;
 
 /* order 0: rot, column 0 of lam (the offset d), and g; 1: all of lam, dd (and dg);
@@ -64,7 +64,6 @@ hk_Vec3 hk_element_offset(hk_Vec3 k, double u, hk_Mat3 *dd, hk_Vec3 d2d[3][3]);
  * derivatives: hk_element_offset_begin fills c and returns d;
  * hk_element_offset_derivs then reuses c. */
 hk_Vec3 hk_element_offset_begin(hk_Vec3 k, double u, double c[HK_CN_COUNT]);
-void hk_element_offset_derivs(hk_Vec3 k, double u, const double c[HK_CN_COUNT], hk_Mat3 *dd,
-                              hk_Vec3 d2d[3][3]);
+void hk_element_offset_derivs(hk_Vec3 k, double u, const double c[HK_CN_COUNT], hk_Mat3 *dd, hk_Vec3 d2d[3][3]);
 
 #endif

@@ -19,32 +19,29 @@
 #include "rod/rod_internal.h"
 
 struct hk_StrandWorkspace {
-    int n;                   /* elements of the strand this workspace was made for */
-    double length;           /* its length */
-    double collision_step;   /* env->collision_step it was made for */
+    int n;                 /* elements of the strand this workspace was made for */
+    double length;         /* its length */
+    double collision_step; /* env->collision_step it was made for */
     int sample_count;
-    double sample_weight;    /* arc length represented by one collision sample */
-    int *elem_first_sample;  /* n + 1 entries: samples of element P are [first[P], first[P+1]) */
-    double *sample_u;        /* offset of each sample in its element */
-    hk_Vec3 *pos;            /* node positions, n + 1 */
-    hk_Mat3 *frame;          /* node frames, n + 1 */
-    hk_ElementLocal *local;  /* per element closed forms */
+    double sample_weight;   /* arc length represented by one collision sample */
+    int *elem_first_sample; /* n + 1 entries: samples of element P are [first[P], first[P+1]) */
+    double *sample_u;       /* offset of each sample in its element */
+    hk_Vec3 *pos;           /* node positions, n + 1 */
+    hk_Mat3 *frame;         /* node frames, n + 1 */
+    hk_ElementLocal *local; /* per element closed forms */
     /* per collision sample, valid where active[i] */
     unsigned char *active;
-    hk_Vec3 *sp, *sf;        /* position, weighted gradient of the penalty density */
-    hk_Mat3 *sa, *sd;        /* weighted Hessian of the density, world dp/dk of own element */
-    hk_Vec3 (*sd2)[3][3];    /* d2p/dk2 of own element, in the element's start frame */
-    hk_Vec3 *sfl;            /* sf in the element's start frame */
-    double *xi, *y;          /* Hessian: 6-vectors per coordinate */
+    hk_Vec3 *sp, *sf;     /* position, weighted gradient of the penalty density */
+    hk_Mat3 *sa, *sd;     /* weighted Hessian of the density, world dp/dk of own element */
+    hk_Vec3 (*sd2)[3][3]; /* d2p/dk2 of own element, in the element's start frame */
+    hk_Vec3 *sfl;         /* sf in the element's start frame */
+    double *xi, *y;       /* Hessian: 6-vectors per coordinate */
 };
 
 /* The default environment: no shapes, no collisions (what a NULL env means). */
 static const hk_StrandEnvDef no_env = {NULL, 0, 0.0, 0.0};
 
-hk_StrandEnvDef hk_default_strand_env_def(void)
-{
-    return no_env;
-}
+hk_StrandEnvDef hk_default_strand_env_def(void) { return no_env; }
 
 int hk_strand_collision_sample_count(const hk_SuperHelix *sh, const hk_StrandEnvDef *env)
 {
@@ -56,8 +53,8 @@ int hk_strand_collision_sample_count(const hk_SuperHelix *sh, const hk_StrandEnv
     return (int)m;
 }
 
-hk_Status hk_strand_workspace_create(const hk_SuperHelix *sh, const hk_StrandEnvDef *env,
-                                     hk_StrandWorkspace **out, hk_Error *err)
+hk_Status hk_strand_workspace_create(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, hk_StrandWorkspace **out,
+                                     hk_Error *err)
 {
     *out = NULL;
     if (!env) env = &no_env;
@@ -84,8 +81,8 @@ hk_Status hk_strand_workspace_create(const hk_SuperHelix *sh, const hk_StrandEnv
     ws->sfl = hk_alloc_array(sn, sizeof(hk_Vec3), err);
     ws->xi = hk_alloc_array((size_t)n * 3 * 6, sizeof(double), err);
     ws->y = hk_alloc_array((size_t)n * 3 * 6, sizeof(double), err);
-    if (!ws->elem_first_sample || !ws->sample_u || !ws->pos || !ws->frame || !ws->local ||
-        !ws->active || !ws->sp || !ws->sf || !ws->sa || !ws->sd || !ws->sd2 || !ws->sfl || !ws->xi || !ws->y) {
+    if (!ws->elem_first_sample || !ws->sample_u || !ws->pos || !ws->frame || !ws->local || !ws->active || !ws->sp ||
+        !ws->sf || !ws->sa || !ws->sd || !ws->sd2 || !ws->sfl || !ws->xi || !ws->y) {
         hk_strand_workspace_destroy(ws);
         return HK_ERR_NOMEM;
     }
@@ -150,8 +147,8 @@ static int near_shapes(const hk_StrandEnvDef *env, hk_Vec3 centre, double radius
     return 0;
 }
 
-static double collisions(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, const double *q,
-                         int order, hk_StrandWorkspace *ws, double *max_depth)
+static double collisions(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, const double *q, int order,
+                         hk_StrandWorkspace *ws, double *max_depth)
 {
     double energy = 0.0;
     const double w = ws->sample_weight;
@@ -213,9 +210,9 @@ static double collisions(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, co
 static void add_contact_stiffness(double c[6][6], hk_Vec3 p, const hk_Mat3 *a)
 {
     const hk_Mat3 px = hk_m3_skew(p);
-    const hk_Mat3 pa = hk_m3_mul(&px, a);   /* [p]x A */
+    const hk_Mat3 pa = hk_m3_mul(&px, a);    /* [p]x A */
     const hk_Mat3 pap = hk_m3_mul(&pa, &px); /* [p]x A [p]x */
-    const hk_Mat3 ap = hk_m3_mul(a, &px);   /* A [p]x */
+    const hk_Mat3 ap = hk_m3_mul(a, &px);    /* A [p]x */
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++) {
             c[i][j] -= pap.m[i][j];
@@ -245,8 +242,8 @@ static hk_Vec3 moment_op(const hk_Mat3 *s, double trace, hk_Vec3 w)
     return hk_v3_madd(hk_m3_mul_v3(s, w), w, -trace);
 }
 
-double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, const double *q,
-                        hk_StrandWorkspace *ws, double *grad, double *hess, hk_StrandEnergy *parts)
+double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, const double *q, hk_StrandWorkspace *ws,
+                        double *grad, double *hess, hk_StrandEnergy *parts)
 {
     if (!env) env = &no_env;
     const int n = sh->n, dim = 3 * n;
@@ -271,8 +268,8 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
     const hk_Vec3 fg = hk_v3_scale(sh->material.gravity, -sh->material.mass_per_length);
     double e_gravity = 0.0;
     for (int p = 0; p < n; p++) {
-        hk_Vec3 integral = hk_v3_add(hk_v3_scale(ws->pos[p], sh->length[p]),
-                                     hk_m3_mul_v3(&ws->frame[p], ws->local[p].g));
+        hk_Vec3 integral =
+            hk_v3_add(hk_v3_scale(ws->pos[p], sh->length[p]), hk_m3_mul_v3(&ws->frame[p], ws->local[p].g));
         e_gravity += hk_v3_dot(fg, integral);
     }
 
@@ -367,8 +364,7 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
         }
 
         /* Fold element p's own load into the accumulators. */
-        const hk_Vec3 integral = hk_v3_add(hk_v3_scale(ws->pos[p], sh->length[p]),
-                                           hk_m3_mul_v3(r, el->g));
+        const hk_Vec3 integral = hk_v3_add(hk_v3_scale(ws->pos[p], sh->length[p]), hk_m3_mul_v3(r, el->g));
         force = hk_v3_madd(force, fg, sh->length[p]);
         moment = hk_v3_add(moment, hk_v3_cross(integral, fg));
         if (hess) {
@@ -409,8 +405,8 @@ int hk_strand_workspace_contact(const hk_StrandWorkspace *ws, int i, hk_Vec3 *gr
     return 1;
 }
 
-double hk_strand_max_penetration(const hk_SuperHelix *sh, const hk_StrandEnvDef *env,
-                                 const double *q, hk_StrandWorkspace *ws)
+double hk_strand_max_penetration(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, const double *q,
+                                 hk_StrandWorkspace *ws)
 {
     if (ws->sample_count == 0) return 0.0;
     if (!env) env = &no_env;

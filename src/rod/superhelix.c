@@ -6,8 +6,8 @@
 
 #include "helix_local.h"
 
-hk_RodMaterial hk_rod_material(double radius1, double radius2, double young, double poisson,
-                               double density, hk_Vec3 gravity)
+hk_RodMaterial hk_rod_material(double radius1, double radius2, double young, double poisson, double density,
+                               hk_Vec3 gravity)
 {
     const double a = radius1, b = radius2, pi = HK_PI;
     hk_RodMaterial m;
@@ -28,8 +28,7 @@ hk_RodMaterial hk_rod_material(double radius1, double radius2, double young, dou
     return m;
 }
 
-void hk_helix_natural_curvature(double helix_radius, double helix_step, double *tau,
-                                double *kappa1)
+void hk_helix_natural_curvature(double helix_radius, double helix_step, double *tau, double *kappa1)
 {
     /* Exact helix r(t) = (r_h cos t, r_h sin t, c t), c = Delta_h / 2 pi: curvature
      * r_h / (r_h^2 + c^2), torsion c / (r_h^2 + c^2). The paper's 1/r_h and
@@ -61,12 +60,10 @@ hk_Status hk_superhelix_create(int n, const double *lengths, hk_SuperHelix **out
 {
     *out = NULL;
     if (n < 1 || n > HK_MAX_ELEMENTS)
-        return hk_error_set(err, HK_ERR_INVALID, "a strand needs 1 to %d elements, got %d",
-                            HK_MAX_ELEMENTS, n);
+        return hk_error_set(err, HK_ERR_INVALID, "a strand needs 1 to %d elements, got %d", HK_MAX_ELEMENTS, n);
     for (int i = 0; i < n; i++)
         if (!(lengths[i] > 0.0) || !isfinite(lengths[i]))
-            return hk_error_set(err, HK_ERR_INVALID, "element %d has length %g, must be > 0", i + 1,
-                                lengths[i]);
+            return hk_error_set(err, HK_ERR_INVALID, "element %d has length %g, must be > 0", i + 1, lengths[i]);
     hk_SuperHelix *sh = hk_calloc_array(1, sizeof *sh, err);
     if (!sh) return err ? err->code : HK_ERR_NOMEM;
     /* One block for the per-element arrays: length, s_start (n + 1), q, q_rest. */
@@ -117,8 +114,7 @@ double hk_strand_def_length(const hk_StrandDef *def)
     return s;
 }
 
-hk_Status hk_superhelix_from_def(const hk_StrandDef *def, hk_Vec3 root, hk_Vec3 dir, hk_SuperHelix **out,
-                                 hk_Error *err)
+hk_Status hk_superhelix_from_def(const hk_StrandDef *def, hk_Vec3 root, hk_Vec3 dir, hk_SuperHelix **out, hk_Error *err)
 {
     if (!(hk_v3_norm(dir) > 0.0) || !hk_v3_isfinite(dir))
         return hk_error_set(err, HK_ERR_INVALID, "root direction must be a non-zero vector");
@@ -127,8 +123,8 @@ hk_Status hk_superhelix_from_def(const hk_StrandDef *def, hk_Vec3 root, hk_Vec3 
     hk_SuperHelix *sh = *out;
     sh->root = root;
     sh->root_frame = hk_root_frame(dir);
-    sh->material = hk_rod_material(def->radius1, def->radius2, def->young, def->poisson,
-                                   def->density, hk_v3_scale(def->gravity_dir, def->gravity));
+    sh->material = hk_rod_material(def->radius1, def->radius2, def->young, def->poisson, def->density,
+                                   hk_v3_scale(def->gravity_dir, def->gravity));
     double tau, kappa1;
     hk_helix_natural_curvature(def->helix_radius, def->helix_step, &tau, &kappa1);
     hk_superhelix_set_uniform_rest(sh, tau, kappa1, 0.0);
@@ -177,8 +173,7 @@ void hk_superhelix_nodes(const hk_SuperHelix *sh, const double *q, hk_Vec3 *pos,
 }
 
 /* Pose at offset u into element i whose start pose is (r, p). */
-static void element_pose(const double *q, int i, double u, const hk_Mat3 *r, hk_Vec3 p,
-                         hk_Vec3 *pos, hk_Mat3 *frame)
+static void element_pose(const double *q, int i, double u, const hk_Mat3 *r, hk_Vec3 p, hk_Vec3 *pos, hk_Mat3 *frame)
 {
     hk_ElementLocal el;
     hk_element_local(element_k(q, i), u, 0, 0, &el);
@@ -186,8 +181,7 @@ static void element_pose(const double *q, int i, double u, const hk_Mat3 *r, hk_
     if (frame) *frame = hk_m3_mul(r, &el.rot);
 }
 
-void hk_superhelix_eval(const hk_SuperHelix *sh, const double *q, double s, hk_Vec3 *pos,
-                        hk_Mat3 *frame)
+void hk_superhelix_eval(const hk_SuperHelix *sh, const double *q, double s, hk_Vec3 *pos, hk_Mat3 *frame)
 {
     if (!q) q = sh->q;
     if (!(s > 0.0)) s = 0.0;
@@ -224,8 +218,8 @@ int hk_superhelix_sample_count(const hk_SuperHelix *sh, double step)
     return count;
 }
 
-void hk_superhelix_sample(const hk_SuperHelix *sh, const double *q, double step, double *s,
-                          hk_Vec3 *pos, hk_Vec3 *tangent)
+void hk_superhelix_sample(const hk_SuperHelix *sh, const double *q, double step, double *s, hk_Vec3 *pos,
+                          hk_Vec3 *tangent)
 {
     if (!q) q = sh->q;
     const int count = hk_superhelix_sample_count(sh, step);

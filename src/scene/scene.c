@@ -73,7 +73,8 @@ static hk_Status load_part(hk_Scene *s, unsigned part, const char *setup_path, h
     case HK_SCENE_WICK:
         if (!setup->wick_model) return hk_error_set(err, HK_ERR_PARSE, "%s: no WickModel", setup_path);
         return hk_mesh_load(setup->wick_model, &s->wick, err);
-    default: return HK_OK;
+    default:
+        return HK_OK;
     }
 }
 
@@ -93,10 +94,17 @@ static void drop_part(hk_Scene *s, unsigned part)
         hk_free(s->head_field);
         s->head_field = NULL;
         break;
-    case HK_SCENE_VISUALITY: s->visuality = hk_default_visuality(); break;
-    case HK_SCENE_HEAD: hk_mesh_free(&s->head); break;
-    case HK_SCENE_WICK: hk_mesh_free(&s->wick); break;
-    default: break;
+    case HK_SCENE_VISUALITY:
+        s->visuality = hk_default_visuality();
+        break;
+    case HK_SCENE_HEAD:
+        hk_mesh_free(&s->head);
+        break;
+    case HK_SCENE_WICK:
+        hk_mesh_free(&s->wick);
+        break;
+    default:
+        break;
     }
 }
 
@@ -136,8 +144,8 @@ hk_Status hk_scene_load(const char *setup_path, unsigned parts, hk_Scene *out, h
     return st;
 }
 
-hk_Status hk_scene_hair(const hk_Scene *s, const hk_GroomDef *options, hk_HairFile *hair,
-                        hk_SceneHairReport *report, hk_Error *err)
+hk_Status hk_scene_hair(const hk_Scene *s, const hk_GroomDef *options, hk_HairFile *hair, hk_SceneHairReport *report,
+                        hk_Error *err)
 {
     hk_SceneHairReport local;
     if (!report) report = &local;
@@ -150,8 +158,9 @@ hk_Status hk_scene_hair(const hk_Scene *s, const hk_GroomDef *options, hk_HairFi
         st = hk_hair_read(s->setup.load_file, HK_HAIR_FORMAT_AUTO, hair, err);
     } else {
         if ((s->parts & HK_SCENE_GROOMING) != HK_SCENE_GROOMING)
-            return hk_error_set(err, HK_ERR_INVALID, "scene: growing the hair needs the scene loaded with "
-                                                     "HK_SCENE_GROOMING");
+            return hk_error_set(err, HK_ERR_INVALID,
+                                "scene: growing the hair needs the scene loaded with "
+                                "HK_SCENE_GROOMING");
         hk_Groom groom;
         memset(&groom, 0, sizeof groom);
         /* hk_groom_grow checks the same; here the message can name the files. */
@@ -174,8 +183,8 @@ hk_Status hk_scene_hair(const hk_Scene *s, const hk_GroomDef *options, hk_HairFi
     return st;
 }
 
-hk_Status hk_scene_render(const hk_Scene *s, const hk_HairFile *hair, const hk_RenderDef *options,
-                          hk_Canvas *out, hk_RenderStats *stats, hk_Error *err)
+hk_Status hk_scene_render(const hk_Scene *s, const hk_HairFile *hair, const hk_RenderDef *options, hk_Canvas *out,
+                          hk_RenderStats *stats, hk_Error *err)
 {
     const hk_RenderDef defaults = hk_default_render_def();
     return hk_render(hair, s->head.vertex_count > 0 ? &s->head : NULL, &s->visuality, options ? options : &defaults,

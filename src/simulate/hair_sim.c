@@ -13,9 +13,9 @@
 #include "sim_internal.h"
 
 struct hk_HairSim {
-    hk_Hairstyle style;       /* own copy */
+    hk_Hairstyle style; /* own copy */
     hk_HairSimDef options;
-    hk_Shape *shapes;            /* own copy (head space) */
+    hk_Shape *shapes; /* own copy (head space) */
     int shape_count;
     int guide_count, points;
     hk_SuperHelix **strand;
@@ -24,13 +24,13 @@ struct hk_HairSim {
     hk_HairContacts *contacts;
     hk_ContactSolve *contact_solve; /* the contacts' impulses, solved over all guides */
     int sample_count;
-    double *sample_s;            /* sample_count arc lengths, shared by all guides */
+    double *sample_s;                 /* sample_count arc lengths, shared by all guides */
     hk_Vec3 *sample_pos, *sample_vel; /* guide_count x sample_count */
-    hk_StrandSamples *samples;   /* guide_count views of the above */
-    hk_RigidState head;          /* the head's pose at the end of the last step: the
-                                    guides are in world space, the shapes in head space */
-    double longest;              /* imported guides: the longest (m); 0: grown guides,
-                                    all of the hairstyle's length */
+    hk_StrandSamples *samples;        /* guide_count views of the above */
+    hk_RigidState head;               /* the head's pose at the end of the last step: the
+                                         guides are in world space, the shapes in head space */
+    double longest;                   /* imported guides: the longest (m); 0: grown guides,
+                                         all of the hairstyle's length */
 };
 
 /* Length of hair whose weight a guide-guide contact pushes with at full overlap. */
@@ -76,7 +76,8 @@ static hk_HairSimDef sim_def(const hk_Hairstyle *style, double length)
     const double mass = style->strand.density * HK_PI * style->strand.radius1 * style->strand.radius2 *
                         fmin(length, HK_CONTACT_HAIR_LENGTH);
     o.contacts.distance = 0.0025;
-    o.contacts.stiffness = 1.0 * mass * (style->strand.gravity > 0.0 ? style->strand.gravity : 9.81) / o.contacts.distance;
+    o.contacts.stiffness =
+        1.0 * mass * (style->strand.gravity > 0.0 ? style->strand.gravity : 9.81) / o.contacts.distance;
     o.contacts.damping = 2.0 * sqrt(o.contacts.stiffness * 0.25 * mass);
     o.contacts.friction = 0.2 * o.contacts.damping;
     /* Guides side by side are held along their length: with one pair at their closest
@@ -88,7 +89,10 @@ static hk_HairSimDef sim_def(const hk_Hairstyle *style, double length)
     return o;
 }
 
-hk_HairSimDef hk_hair_sim_def_for(const hk_Hairstyle *style) { return sim_def(style, hk_strand_def_length(&style->strand)); }
+hk_HairSimDef hk_hair_sim_def_for(const hk_Hairstyle *style)
+{
+    return sim_def(style, hk_strand_def_length(&style->strand));
+}
 
 hk_HairSimDef hk_default_hair_sim_def(void)
 {
@@ -145,13 +149,13 @@ static hk_Status make_guides(hk_HairSim *sim, const hk_Follicles *f, hk_Error *e
     hk_FirstError first;
     hk_first_error_init(&first);
     long done = 0;
-    #pragma omp parallel for schedule(dynamic, 2) num_threads(sim_threads(sim))
+#pragma omp parallel for schedule(dynamic, 2) num_threads(sim_threads(sim))
     for (int i = 0; i < f->count; i++) {
         if (hk_first_error_skip(&first, i)) continue;
         hk_Error e;
         if (make_guide(sim, f, i, &e) != HK_OK) hk_first_error_record(&first, i, &e);
         long d;
-        #pragma omp atomic capture
+#pragma omp atomic capture
         d = ++done;
         if (sim->options.progress && omp_get_thread_num() == 0)
             sim->options.progress(sim->options.progress_user, "guides", (double)d / f->count);
@@ -175,7 +179,8 @@ static hk_Status make_contacts(hk_HairSim *sim, hk_Error *err)
     for (int j = 0; j < sim->sample_count; j++) sim->sample_s[j] = len * j / (sim->sample_count - 1);
     for (int i = 0; i < sim->guide_count; i++) {
         const size_t o = (size_t)i * (size_t)sim->sample_count;
-        sim->samples[i] = (hk_StrandSamples){sim->sample_count, sim->sample_s, sim->sample_pos + o, sim->sample_vel + o};
+        sim->samples[i] =
+            (hk_StrandSamples){sim->sample_count, sim->sample_s, sim->sample_pos + o, sim->sample_vel + o};
     }
     /* The contacts' threads follow the simulation's unless they are set. */
     hk_HairContactDef params = sim->options.contacts;
@@ -185,9 +190,8 @@ static hk_Status make_contacts(hk_HairSim *sim, hk_Error *err)
     return st;
 }
 
-hk_Status hk_hair_sim_create(const hk_Hairstyle *style, const hk_Shape *shapes, int shape_count,
-                             const hk_Mesh *wick, const hk_HairSimDef *options, hk_HairSim **out,
-                             hk_Error *err)
+hk_Status hk_hair_sim_create(const hk_Hairstyle *style, const hk_Shape *shapes, int shape_count, const hk_Mesh *wick,
+                             const hk_HairSimDef *options, hk_HairSim **out, hk_Error *err)
 {
     *out = NULL;
     hk_HairSim *sim = hk_calloc_array(1, sizeof *sim, err);
@@ -198,8 +202,10 @@ hk_Status hk_hair_sim_create(const hk_Hairstyle *style, const hk_Shape *shapes, 
     hk_Status st = hk_hairstyle_copy(style, &sim->style, err);
     if (st == HK_OK && shape_count > 0) {
         sim->shapes = hk_alloc_array((size_t)shape_count, sizeof(hk_Shape), err);
-        if (!sim->shapes) st = HK_ERR_NOMEM;
-        else memcpy(sim->shapes, shapes, (size_t)shape_count * sizeof(hk_Shape));
+        if (!sim->shapes)
+            st = HK_ERR_NOMEM;
+        else
+            memcpy(sim->shapes, shapes, (size_t)shape_count * sizeof(hk_Shape));
         sim->shape_count = shape_count;
     }
     if (st == HK_OK) st = hk_follicles_from_wick(wick, &f, err);
@@ -257,8 +263,10 @@ hk_Status hk_hair_sim_create_imported(const hk_Hairstyle *style, const hk_Shape 
     hk_Status st = hk_hairstyle_copy(style, &sim->style, err);
     if (st == HK_OK && shape_count > 0) {
         sim->shapes = hk_alloc_array((size_t)shape_count, sizeof(hk_Shape), err);
-        if (!sim->shapes) st = HK_ERR_NOMEM;
-        else memcpy(sim->shapes, shapes, (size_t)shape_count * sizeof(hk_Shape));
+        if (!sim->shapes)
+            st = HK_ERR_NOMEM;
+        else
+            memcpy(sim->shapes, shapes, (size_t)shape_count * sizeof(hk_Shape));
         sim->shape_count = shape_count;
     }
     if (st == HK_OK) {
@@ -270,7 +278,7 @@ hk_Status hk_hair_sim_create_imported(const hk_Hairstyle *style, const hk_Shape 
     if (st == HK_OK) {
         hk_FirstError first;
         hk_first_error_init(&first);
-        #pragma omp parallel for schedule(dynamic, 2) num_threads(sim_threads(sim))
+#pragma omp parallel for schedule(dynamic, 2) num_threads(sim_threads(sim))
         for (int i = 0; i < groom->guide_count; i++) {
             hk_Error e;
             if (import_guide(sim, groom->guide[i], i, &e) != HK_OK) hk_first_error_record(&first, i, &e);
@@ -290,7 +298,10 @@ hk_Status hk_hair_sim_create_imported(const hk_Hairstyle *style, const hk_Shape 
     return HK_OK;
 }
 
-const hk_SuperHelix *const *hk_hair_sim_strands(const hk_HairSim *sim) { return (const hk_SuperHelix *const *)sim->strand; }
+const hk_SuperHelix *const *hk_hair_sim_strands(const hk_HairSim *sim)
+{
+    return (const hk_SuperHelix *const *)sim->strand;
+}
 
 void hk_hair_sim_set_threads(hk_HairSim *sim, int threads)
 {
@@ -356,16 +367,15 @@ static hk_Status advance_frame(hk_HairSim *sim, hk_HeadStateFn head_fn, void *us
     return st;
 }
 
-hk_Status hk_hair_sim_advance(hk_HairSim *sim, const hk_HeadMotion *motion, double t, double dt,
-                              hk_HairSimStats *stats, hk_Error *err)
+hk_Status hk_hair_sim_advance(hk_HairSim *sim, const hk_HeadMotion *motion, double t, double dt, hk_HairSimStats *stats,
+                              hk_Error *err)
 {
     if (!(dt > 0.0) || !isfinite(dt) || !isfinite(t))
         return hk_error_set(err, HK_ERR_INVALID, "advancing from t = %g by %g s", t, dt);
     return advance_frame(sim, motion ? head_state : NULL, (void *)motion, t, dt, stats, err);
 }
 
-hk_Status hk_hair_sim_settle(hk_HairSim *sim, const hk_RigidState *head, double seconds, double dt,
-                             hk_Error *err)
+hk_Status hk_hair_sim_settle(hk_HairSim *sim, const hk_RigidState *head, double seconds, double dt, hk_Error *err)
 {
     if (!(dt > 0.0) || !isfinite(dt) || !(seconds >= 0.0) || seconds / dt > 1e7)
         return hk_error_set(err, HK_ERR_INVALID, "settling %g s in steps of %g s", seconds, dt);
@@ -410,7 +420,7 @@ hk_SettleDef hk_default_settle_def(void)
 /* The guides' tips, world space. */
 static void guide_tips(hk_HairSim *sim, hk_Vec3 *tip)
 {
-    #pragma omp parallel for schedule(static) num_threads(sim_threads(sim))
+#pragma omp parallel for schedule(static) num_threads(sim_threads(sim))
     for (int i = 0; i < sim->guide_count; i++) {
         const hk_SuperHelix *sh = sim->strand[i];
         const double end = sh->s_start[sh->n - 1] + sh->length[sh->n - 1];
@@ -418,8 +428,8 @@ static void guide_tips(hk_HairSim *sim, hk_Vec3 *tip)
     }
 }
 
-hk_Status hk_hair_sim_settle_until_still(hk_HairSim *sim, const hk_RigidState *head, double dt,
-                                         const hk_SettleDef *o, hk_SettleReport *report, hk_Error *err)
+hk_Status hk_hair_sim_settle_until_still(hk_HairSim *sim, const hk_RigidState *head, double dt, const hk_SettleDef *o,
+                                         hk_SettleReport *report, hk_Error *err)
 {
     const hk_SettleDef def = hk_default_settle_def();
     if (!o) o = &def;
@@ -445,7 +455,8 @@ hk_Status hk_hair_sim_settle_until_still(hk_HairSim *sim, const hk_RigidState *h
         steps++;
         guide_tips(sim, after);
         fastest = 0.0;
-        for (int i = 0; i < sim->guide_count; i++) fastest = fmax(fastest, hk_v3_norm(hk_v3_sub(after[i], before[i])) / dt);
+        for (int i = 0; i < sim->guide_count; i++)
+            fastest = fmax(fastest, hk_v3_norm(hk_v3_sub(after[i], before[i])) / dt);
         resting = fastest <= o->rest_speed ? resting + 1 : 0;
         hk_Vec3 *swap = before; /* this step's end is the next one's start */
         before = after, after = swap;
@@ -485,7 +496,7 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
     hk_RigidState head_end = hk_rigid_identity();
     if (head_fn) head_fn(user, t + dt, &head_end);
     if (sim->contacts) {
-        #pragma omp parallel for schedule(static) num_threads(threads)
+#pragma omp parallel for schedule(static) num_threads(threads)
         for (int i = 0; i < sim->guide_count; i++) {
             const size_t o = (size_t)i * (size_t)sim->sample_count;
             hk_strand_dynamics_points(sim->dyn[i], &head, sim->sample_s, sim->sample_count, sim->sample_pos + o,
@@ -497,8 +508,8 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
         if (st == HK_OK && !coupled) local.contacts = hk_hair_contacts_contact_count(sim->contacts);
         if (st == HK_OK && coupled) {
             hk_ContactSolveStats cstats;
-            st = hk_contact_solve(sim->contact_solve, sim->contacts, sim->dyn, sim->guide_count, &head_end, dt,
-                                  &cstats, err);
+            st = hk_contact_solve(sim->contact_solve, sim->contacts, sim->dyn, sim->guide_count, &head_end, dt, &cstats,
+                                  err);
             local.contacts = cstats.pushing;
             local.sticking = cstats.sticking;
             local.contact_sweeps = cstats.sweeps;
@@ -510,8 +521,7 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
     hk_FirstError first;
     hk_first_error_init(&first);
     if (st == HK_OK) {
-        #pragma omp parallel for schedule(dynamic, 4) reduction(+ : substeps, body, recovered, iterations) \
-            num_threads(threads)
+#pragma omp parallel for schedule(dynamic, 4) reduction(+ : substeps, body, recovered, iterations) num_threads(threads)
         for (int i = 0; i < sim->guide_count; i++) {
             int count = 0, taken = 0;
             hk_Error e;
@@ -535,8 +545,7 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
                  * must not stop the head: it is left where it was at t, at rest
                  * relative to the head, then advanced once more (counted in
                  * stats->recovered; the next frames go on from there). */
-                memset(hk_strand_dynamics_velocity(sim->dyn[i]), 0,
-                       sizeof(double) * 3 * (size_t)sim->strand[i]->n);
+                memset(hk_strand_dynamics_velocity(sim->dyn[i]), 0, sizeof(double) * 3 * (size_t)sim->strand[i]->n);
                 recovered++;
                 int again = 0;
                 gst = hk_strand_dynamics_advance(sim->dyn[i], head_fn, user, t, dt, forces, count, &again, &e);
@@ -554,8 +563,10 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
     if (st == HK_OK && first.index >= 0)
         st = hk_error_set(err, first.error.code, "guide %ld at t = %.4g s: %s", first.index, t, first.error.message);
     if (st == HK_OK) {
-        if (head_fn) head_fn(user, t + dt, &sim->head);
-        else sim->head = hk_rigid_identity();
+        if (head_fn)
+            head_fn(user, t + dt, &sim->head);
+        else
+            sim->head = hk_rigid_identity();
     }
     local.substeps = substeps;
     local.iterations = iterations + predicted;
@@ -568,7 +579,7 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
 
 void hk_hair_sim_guides(const hk_HairSim *sim, double *out)
 {
-    #pragma omp parallel for schedule(static) num_threads(sim_threads(sim))
+#pragma omp parallel for schedule(static) num_threads(sim_threads(sim))
     for (int i = 0; i < sim->guide_count; i++) {
         hk_Vec3 buf[512], *p = sim->points <= 512 ? buf : hk_alloc_array((size_t)sim->points, sizeof(hk_Vec3), NULL);
         if (!p) continue;
@@ -583,8 +594,8 @@ void hk_hair_sim_guides(const hk_HairSim *sim, double *out)
     }
 }
 
-hk_Status hk_hair_sim_groom(const hk_HairSim *sim, const hk_Mesh *wick, const hk_GroomDef *go,
-                            hk_Groom *g, hk_Error *err)
+hk_Status hk_hair_sim_groom(const hk_HairSim *sim, const hk_Mesh *wick, const hk_GroomDef *go, hk_Groom *g,
+                            hk_Error *err)
 {
     memset(g, 0, sizeof *g);
     g->points_per_strand = sim->points;

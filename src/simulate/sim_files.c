@@ -91,8 +91,9 @@ int hk_sim_make_video(const char *dir, double fps)
     const pid_t pid = fork();
     if (pid < 0) return -1;
     if (pid == 0) {
-        char *const args[] = {"ffmpeg", "-y", "-loglevel", "error", "-framerate", rate, "-i", pattern,
-                              "-pix_fmt", "yuv420p", "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-f", "mp4", tmp, NULL};
+        char *const args[] = {"ffmpeg", "-y",    "-loglevel", "error",   "-framerate", rate,
+                              "-i",     pattern, "-pix_fmt",  "yuv420p", "-vf",        "pad=ceil(iw/2)*2:ceil(ih/2)*2",
+                              "-f",     "mp4",   tmp,         NULL};
         execvp("ffmpeg", args);
         _exit(127); /* not installed */
     }

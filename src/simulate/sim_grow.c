@@ -21,8 +21,8 @@ hk_RigidState hk_sim_head_pose(const hk_HeadMotion *motion, double t)
 }
 
 hk_Status hk_sim_interpolate_posed(const hk_Hairstyle *style, const hk_Shape *shapes, int shape_count,
-                                   const hk_RigidState *head, const hk_Mesh *wick, const hk_GroomDef *go,
-                                   hk_Groom *g, hk_Error *err)
+                                   const hk_RigidState *head, const hk_Mesh *wick, const hk_GroomDef *go, hk_Groom *g,
+                                   hk_Error *err)
 {
     hk_Shape *posed = NULL;
     if (shape_count > 0) {
@@ -36,8 +36,8 @@ hk_Status hk_sim_interpolate_posed(const hk_Hairstyle *style, const hk_Shape *sh
 }
 
 hk_Status hk_sim_grow_hair(const hk_Hairstyle *style, const hk_Shape *shapes, int shape_count,
-                           const hk_RigidState *head, const hk_Mesh *wick, uint64_t seed, int threads,
-                           int guides_only, int reuse, hk_Groom *g, hk_HairFile *out, hk_Error *err)
+                           const hk_RigidState *head, const hk_Mesh *wick, uint64_t seed, int threads, int guides_only,
+                           int reuse, hk_Groom *g, hk_HairFile *out, hk_Error *err)
 {
     hk_Status st = HK_OK;
     if (!guides_only) {

@@ -20,8 +20,8 @@ hk_RigidState hk_sim_head_pose(const hk_HeadMotion *motion, double t);
  * is (hk_shapes_posed): world-space guides give world-space strands, kept out of the
  * body where it is now. */
 hk_Status hk_sim_interpolate_posed(const hk_Hairstyle *style, const hk_Shape *shapes, int shape_count,
-                                   const hk_RigidState *head, const hk_Mesh *wick, const hk_GroomDef *go,
-                                   hk_Groom *g, hk_Error *err);
+                                   const hk_RigidState *head, const hk_Mesh *wick, const hk_GroomDef *go, hk_Groom *g,
+                                   hk_Error *err);
 
 /* The groom's cyHair data (guides, then interpolated strands unless guides_only) from
  * the rounded guides in g (g->guides, guide_count, points_per_strand set), the strands
@@ -29,8 +29,8 @@ hk_Status hk_sim_interpolate_posed(const hk_Hairstyle *style, const hk_Shape *sh
  * reuse: out holds an earlier frame's hair (or is zeroed), whose arrays are reused
  * (hk_groom_to_hair_again); else out is filled anew. */
 hk_Status hk_sim_grow_hair(const hk_Hairstyle *style, const hk_Shape *shapes, int shape_count,
-                           const hk_RigidState *head, const hk_Mesh *wick, uint64_t seed, int threads,
-                           int guides_only, int reuse, hk_Groom *g, hk_HairFile *out, hk_Error *err);
+                           const hk_RigidState *head, const hk_Mesh *wick, uint64_t seed, int threads, int guides_only,
+                           int reuse, hk_Groom *g, hk_HairFile *out, hk_Error *err);
 
 /* ffmpeg -framerate F -i DIR/frame_%04d.png ... DIR/hair.mp4 when ffmpeg is on the
  * PATH: 1 made, 0 not installed, -1 ffmpeg failed. */

@@ -74,8 +74,8 @@ static hk_Status load_inputs(const hk_SimulationManifest *m, const char *manifes
         changed = setup->collision;
     if (changed)
         st = hk_error_set(err, HK_ERR_INVALID,
-                          "%s has changed since the simulation (%s): its frames cannot be grown again exactly",
-                          changed, manifest_path);
+                          "%s has changed since the simulation (%s): its frames cannot be grown again exactly", changed,
+                          manifest_path);
     if (st == HK_OK) st = hk_scene_load_parts(&in->scene, HK_SCENE_GROOMING, err);
     if (st == HK_OK) st = load_motion(m, manifest_path, in, err);
     return st;
@@ -130,7 +130,8 @@ hk_Status hk_simulation_rebuild(const char *dir, long frame, int threads, hk_Hai
     if (st == HK_OK) {
         /* the body where the head was at this frame, as the run posed it */
         const hk_RigidState head = hk_sim_head_pose(in.motion, hk_sim_frame_time(frame, m.fps));
-        st = hk_sim_grow_hair(&in.scene.style, in.scene.shapes, in.scene.shape_count, &head, &in.scene.wick, m.seed, threads, 0, 0, &g, out, err);
+        st = hk_sim_grow_hair(&in.scene.style, in.scene.shapes, in.scene.shape_count, &head, &in.scene.wick, m.seed,
+                              threads, 0, 0, &g, out, err);
     }
     hk_groom_free(&g);
     inputs_free(&in);

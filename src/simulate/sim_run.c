@@ -56,9 +56,9 @@ typedef struct FrameJob {
     hk_Mesh moved;         /* the head where it is at the frame */
     long k;
     double t;
-    int threads;           /* OpenMP threads of the job */
-    int busy;              /* started and not yet collected */
-    int threaded;          /* on a thread of its own */
+    int threads;  /* OpenMP threads of the job */
+    int busy;     /* started and not yet collected */
+    int threaded; /* on a thread of its own */
     pthread_t thread;
     hk_Status st;
     hk_Error err;
@@ -69,18 +69,18 @@ typedef struct FrameJob {
 typedef struct Run {
     const char *dir;
     const hk_SimRunDef *o;
-    hk_Scene scene;       /* the setup and every part of it */
+    hk_Scene scene; /* the setup and every part of it */
     hk_HairSim *sim;
-    hk_RenderDef ro;  /* the camera fixed at frame 0 */
-    hk_Groom groom;       /* the guides being stepped (guides array only) */
-    int imported;         /* the setup's ImportFile: guides of an import, every strand
-                             rebuilt from them (hk_imported_groom_strands) */
+    hk_RenderDef ro; /* the camera fixed at frame 0 */
+    hk_Groom groom;  /* the guides being stepped (guides array only) */
+    int imported;    /* the setup's ImportFile: guides of an import, every strand
+                        rebuilt from them (hk_imported_groom_strands) */
     hk_ImportedGroom import;
-    hk_HairFile strands;  /* imported: the frame's strands, in input order */
+    hk_HairFile strands; /* imported: the frame's strands, in input order */
     FrameJob jobs[MAX_AT_ONCE];
-    int threads;          /* the run's threads (options, or OpenMP's default) */
-    int at_once;          /* jobs in use */
-    double t_frames;      /* when the first frame began */
+    int threads;     /* the run's threads (options, or OpenMP's default) */
+    int at_once;     /* jobs in use */
+    double t_frames; /* when the first frame began */
     hk_SimProgress p;
 } Run;
 
@@ -166,8 +166,7 @@ static hk_Status prepare_folder(Run *r, hk_Error *err)
     if (mkdir(r->dir, 0777) != 0 && errno != EEXIST)
         return hk_error_set(err, HK_ERR_IO, "%s: cannot make the folder: %s", r->dir, strerror(errno));
     struct stat s;
-    if (stat(r->dir, &s) != 0 || !S_ISDIR(s.st_mode))
-        return hk_error_set(err, HK_ERR_IO, "%s: not a folder", r->dir);
+    if (stat(r->dir, &s) != 0 || !S_ISDIR(s.st_mode)) return hk_error_set(err, HK_ERR_IO, "%s: not a folder", r->dir);
     return hk_simulation_clean_folder(r->dir, &r->p.removed, err);
 }
 
@@ -188,12 +187,14 @@ static hk_Status write_manifest(Run *r, const char *setup_path, hk_Error *err)
     m.full_hair = r->o->full_hair;
     hk_Status st = hk_file_fingerprint(r->scene.setup.hairstyle, &m.hairstyle_hash, err);
     /* an import has no wick: its frames are written whole (hk_simulation_rebuild refuses it) */
-    if (st == HK_OK && r->scene.setup.wick_model) st = hk_file_fingerprint(r->scene.setup.wick_model, &m.wick_hash, err);
+    if (st == HK_OK && r->scene.setup.wick_model)
+        st = hk_file_fingerprint(r->scene.setup.wick_model, &m.wick_hash, err);
     m.has_collision = r->scene.setup.collision != NULL;
     if (st == HK_OK && m.has_collision) st = hk_file_fingerprint(r->scene.setup.collision, &m.collision_hash, err);
     /* The motion poses the body of every frame: made again by the rebuild. */
-    const hk_HeadMotionSource src = r->o->motion ? hk_head_motion_source(r->o->motion)
-                                                 : (hk_HeadMotionSource){"still", 0.0, 1.0, hk_default_head_pivot(), NULL};
+    const hk_HeadMotionSource src = r->o->motion
+                                        ? hk_head_motion_source(r->o->motion)
+                                        : (hk_HeadMotionSource){"still", 0.0, 1.0, hk_default_head_pivot(), NULL};
     char script[32] = "";
     if (src.script) snprintf(script, sizeof script, "%s", src.script);
     m.motion_script = src.script ? script : NULL;
@@ -204,8 +205,10 @@ static hk_Status write_manifest(Run *r, const char *setup_path, hk_Error *err)
     m.motion_pivot[2] = src.pivot.z;
     if (st == HK_OK && src.file) {
         m.motion_file = realpath(src.file, NULL);
-        if (!m.motion_file) st = hk_error_set(err, HK_ERR_IO, "%s: %s", src.file, strerror(errno));
-        else st = hk_file_fingerprint(src.file, &m.motion_hash, err);
+        if (!m.motion_file)
+            st = hk_error_set(err, HK_ERR_IO, "%s: %s", src.file, strerror(errno));
+        else
+            st = hk_file_fingerprint(src.file, &m.motion_hash, err);
     }
     char path[4096];
     if (st == HK_OK && snprintf(path, sizeof path, "%s/%s", r->dir, HK_SIMULATION_FILE_NAME) >= (int)sizeof path)
@@ -253,13 +256,12 @@ static hk_Status create_sim(Run *r, hk_Error *err)
     if (st != HK_OK) return st;
     r->groom.points_per_strand = hk_hair_sim_points_per_strand(r->sim);
     r->groom.guide_count = hk_hair_sim_guide_count(r->sim);
-    r->groom.guides = hk_alloc_array((size_t)r->groom.guide_count * (size_t)r->groom.points_per_strand,
-                                     3 * sizeof(double), err);
+    r->groom.guides =
+        hk_alloc_array((size_t)r->groom.guide_count * (size_t)r->groom.points_per_strand, 3 * sizeof(double), err);
     return r->groom.guides ? HK_OK : HK_ERR_NOMEM;
 }
 
-static hk_Status save_hair(Run *r, const hk_HairFile *hair, const char *stem, long k, long long *bytes,
-                           hk_Error *err)
+static hk_Status save_hair(Run *r, const hk_HairFile *hair, const char *stem, long k, long long *bytes, hk_Error *err)
 {
     char path[4096];
     hk_Status st = hk_simulation_frame_path(path, sizeof path, r->dir, stem, k, "hair", err);
@@ -317,8 +319,8 @@ static void *frame_job(void *arg)
     const hk_SimRunDef *o = r->o;
     double t0 = omp_get_wtime();
     const hk_RigidState head = hk_sim_head_pose(o->motion, j->t);
-    j->st = hk_sim_grow_hair(&r->scene.style, r->scene.shapes, r->scene.shape_count, &head, &r->scene.wick, o->seed, j->threads, 0, 1,
-                             &j->groom, &j->hair, &j->err);
+    j->st = hk_sim_grow_hair(&r->scene.style, r->scene.shapes, r->scene.shape_count, &head, &r->scene.wick, o->seed,
+                             j->threads, 0, 1, &j->groom, &j->hair, &j->err);
     j->seconds_regrow += omp_get_wtime() - t0;
     if (j->st == HK_OK && o->full_hair) {
         t0 = omp_get_wtime();
@@ -362,7 +364,8 @@ static hk_Status collect(Run *r, FrameJob *j, int report, hk_Error *err)
 static hk_Status write_imported_frame(Run *r, long k, double t, hk_Error *err)
 {
     double t0 = omp_get_wtime();
-    hk_Status st = hk_imported_groom_strands(&r->import, hk_hair_sim_strands(r->sim), r->threads, r->strands.points, err);
+    hk_Status st =
+        hk_imported_groom_strands(&r->import, hk_hair_sim_strands(r->sim), r->threads, r->strands.points, err);
     double t1 = omp_get_wtime();
     r->p.seconds_regrow += t1 - t0;
     if (st == HK_OK) st = save_hair(r, &r->strands, "frame", k, &r->p.bytes, err);
@@ -476,8 +479,8 @@ hk_Status hk_simulation_run(const char *setup_path, const char *dir, const hk_Si
     r.at_once = threads >= MAX_AT_ONCE && !r.imported ? MAX_AT_ONCE : 1;
     const int job_threads = threads / r.at_once;
     /* While frames are drawn, the steps take the threads the jobs leave (at least one). */
-    const int step_threads = r.at_once > 1 ? (threads > r.at_once * job_threads ? threads - r.at_once * job_threads : 1)
-                                           : threads;
+    const int step_threads =
+        r.at_once > 1 ? (threads > r.at_once * job_threads ? threads - r.at_once * job_threads : 1) : threads;
     if (st == HK_OK) st = prepare_folder(&r, err);
     if (st == HK_OK) st = create_sim(&r, err);
     if (st == HK_OK) st = write_manifest(&r, setup_path, err);

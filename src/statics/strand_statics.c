@@ -48,10 +48,7 @@ hk_RosenbrockDef hk_rosenbrock_def_for(const hk_StrandDef *def)
     return o;
 }
 
-const char *hk_solver_name(hk_SolverKind kind)
-{
-    return kind == HK_SOLVER_ROSENBROCK ? "rosenbrock" : "newton";
-}
+const char *hk_solver_name(hk_SolverKind kind) { return kind == HK_SOLVER_ROSENBROCK ? "rosenbrock" : "newton"; }
 
 int hk_solver_from_name(const char *name)
 {
@@ -72,9 +69,8 @@ static double energy_scale(const hk_SuperHelix *sh)
     return bend + sh->material.mass_per_length * hk_v3_norm(sh->material.gravity) * len * len;
 }
 
-hk_Status hk_statics_solve(hk_SuperHelix *sh, const hk_StrandEnvDef *env,
-                           const hk_StaticsDef *options, hk_MinimizeResult *result,
-                           hk_Error *err)
+hk_Status hk_statics_solve(hk_SuperHelix *sh, const hk_StrandEnvDef *env, const hk_StaticsDef *options,
+                           hk_MinimizeResult *result, hk_Error *err)
 {
     const hk_StrandEnvDef no_env = hk_default_strand_env_def();
     const hk_StaticsDef defaults = hk_default_statics_def();

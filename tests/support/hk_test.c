@@ -62,23 +62,21 @@ const char *hk_test_write_text(const char *name, const char *text)
     return hk_test_write_file(name, text, strlen(text));
 }
 
-void hk_assert_near_impl(double a, double b, double tol, const char *as, const char *bs,
-                         const char *file, int line)
+void hk_assert_near_impl(double a, double b, double tol, const char *as, const char *bs, const char *file, int line)
 {
     if (!(fabs(a - b) <= tol)) {
-        print_error("%s = %.17g and %s = %.17g differ by %.3g > %.3g\n", as, a, bs, b, fabs(a - b),
-                    tol);
+        print_error("%s = %.17g and %s = %.17g differ by %.3g > %.3g\n", as, a, bs, b, fabs(a - b), tol);
         _fail(file, line);
     }
 }
 
-void hk_assert_rel_impl(double a, double b, double rtol, double floor, const char *as,
-                        const char *bs, const char *file, int line)
+void hk_assert_rel_impl(double a, double b, double rtol, double floor, const char *as, const char *bs, const char *file,
+                        int line)
 {
     double scale = fmax(fmax(fabs(a), fabs(b)), floor);
     if (!(fabs(a - b) <= rtol * scale)) {
-        print_error("%s = %.17g and %s = %.17g: relative difference %.3g > %.3g\n", as, a, bs, b,
-                    fabs(a - b) / scale, rtol);
+        print_error("%s = %.17g and %s = %.17g: relative difference %.3g > %.3g\n", as, a, bs, b, fabs(a - b) / scale,
+                    rtol);
         _fail(file, line);
     }
 }
@@ -100,8 +98,8 @@ double hk_test_uniform(void)
     return (double)(state >> 11) / 9007199254740992.0;
 }
 
-size_t hk_test_mutate(char *buf, size_t len, size_t cap, const char *plausible,
-                      const char *const *junk, int junk_count, unsigned long long *state)
+size_t hk_test_mutate(char *buf, size_t len, size_t cap, const char *plausible, const char *const *junk, int junk_count,
+                      unsigned long long *state)
 {
     unsigned long long x = *state;
     x ^= x << 13, x ^= x >> 7, x ^= x << 17;
@@ -109,10 +107,15 @@ size_t hk_test_mutate(char *buf, size_t len, size_t cap, const char *plausible,
     if (len == 0) return 0;
     size_t at = (size_t)(x % len);
     switch ((x >> 20) % 5) {
-    case 0: buf[at] = (char)(x >> 32); return len;                             /* any byte */
-    case 1: return at;                                                          /* truncate */
-    case 2: buf[at] = plausible[(x >> 40) % strlen(plausible)]; return len;    /* plausible byte */
-    case 3: {                                                                   /* insert junk */
+    case 0:
+        buf[at] = (char)(x >> 32);
+        return len; /* any byte */
+    case 1:
+        return at; /* truncate */
+    case 2:
+        buf[at] = plausible[(x >> 40) % strlen(plausible)];
+        return len; /* plausible byte */
+    case 3: {       /* insert junk */
         const char *j = junk[(x >> 44) % (unsigned)junk_count];
         size_t jl = strlen(j);
         if (len + jl > cap) return len;
@@ -120,7 +123,7 @@ size_t hk_test_mutate(char *buf, size_t len, size_t cap, const char *plausible,
         memcpy(buf + at, j, jl);
         return len + jl;
     }
-    default: {                                                                  /* delete a span */
+    default: { /* delete a span */
         size_t span = (size_t)((x >> 50) % 24);
         if (at + span > len) span = len - at;
         memmove(buf + at, buf + at + span, len - at - span);

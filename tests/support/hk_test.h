@@ -37,18 +37,15 @@ const char *hk_test_shared_path(const char *name);
 
 /* |a - b| <= tol; prints both values and the tolerance when it fails. */
 #define hk_assert_near(a, b, tol) hk_assert_near_impl((a), (b), (tol), #a, #b, __FILE__, __LINE__)
-void hk_assert_near_impl(double a, double b, double tol, const char *as, const char *bs,
-                         const char *file, int line);
+void hk_assert_near_impl(double a, double b, double tol, const char *as, const char *bs, const char *file, int line);
 
 /* |a - b| <= rtol * max(|a|, |b|, floor). */
-#define hk_assert_rel(a, b, rtol, floor) \
-    hk_assert_rel_impl((a), (b), (rtol), (floor), #a, #b, __FILE__, __LINE__)
-void hk_assert_rel_impl(double a, double b, double rtol, double floor, const char *as,
-                        const char *bs, const char *file, int line);
+#define hk_assert_rel(a, b, rtol, floor) hk_assert_rel_impl((a), (b), (rtol), (floor), #a, #b, __FILE__, __LINE__)
+void hk_assert_rel_impl(double a, double b, double rtol, double floor, const char *as, const char *bs, const char *file,
+                        int line);
 
 /* Asserts that `haystack` contains `needle`, printing both when not. */
-#define hk_assert_contains(haystack, needle) \
-    hk_assert_contains_impl((haystack), (needle), __FILE__, __LINE__)
+#define hk_assert_contains(haystack, needle) hk_assert_contains_impl((haystack), (needle), __FILE__, __LINE__)
 void hk_assert_contains_impl(const char *haystack, const char *needle, const char *file, int line);
 
 /* Deterministic uniform numbers in [0, 1) (xorshift64), for reproducible test data. */
@@ -58,7 +55,7 @@ double hk_test_uniform(void);
  * byte or with one of `plausible`, truncate, insert one of the `junk` strings, or
  * delete a span. `state` is a xorshift64 state (non-zero). Returns the new length,
  * never more than cap. */
-size_t hk_test_mutate(char *buf, size_t len, size_t cap, const char *plausible,
-                      const char *const *junk, int junk_count, unsigned long long *state);
+size_t hk_test_mutate(char *buf, size_t len, size_t cap, const char *plausible, const char *const *junk, int junk_count,
+                      unsigned long long *state);
 
 #endif
