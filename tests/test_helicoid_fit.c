@@ -11,6 +11,7 @@
 #include "hairkit/hair_formats.h"
 #include "hairkit/hairfile.h"
 #include "hairkit/helicoid_fit.h"
+#include "hairkit/helicoid_hair.h"
 
 static double rnd(double lo, double hi) { return lo + (hi - lo) * hk_test_uniform(); }
 
@@ -193,6 +194,65 @@ static void test_reconstruction(void **state)
     assert_true(with_common < with_own);
 }
 
+/* A reconstruction knows every strand's own length (the capture gives it) and rebuilds
+ * each strand at that length, not at its guides' blended one. A tuft whose neighbouring
+ * strands have lengths from 8 to 24 cm at random (as layered cuts do): every rebuilt strand
+ * must be its own length to within a tracing step, which a blend of the neighbours'
+ * lengths misses by centimetres. */
+static void test_reconstruct_own_lengths(void **state)
+{
+    (void)state;
+    enum { STRANDS = 60, POINTS = 25 };
+    hk_PHelicoid guides[4];
+    for (int i = 0; i < 4; i++) {
+        memset(&guides[i], 0, sizeof guides[i]);
+        guides[i].root = hk_v3(0.02 * (i % 2) - 0.01, 0.0, 0.02 * (i / 2) - 0.01);
+        guides[i].frame = hk_m3_from_cols(hk_v3(0, -1, 0), hk_v3(1, 0, 0), hk_v3(0, 0, 1));
+        guides[i].piece_count = 1;
+        guides[i].k[0] = (hk_Helicoid){rnd(5, 15), rnd(-2, 2), rnd(-4, 4), 0.0};
+        guides[i].length[0] = 0.2;
+    }
+    uint32_t counts[STRANDS];
+    for (int i = 0; i < STRANDS; i++) counts[i] = POINTS;
+    hk_HairFile hair = {0}, out = {0};
+    assert_int_equal(hk_hair_alloc(&hair, STRANDS, counts, NULL), HK_OK);
+    double own[STRANDS];
+    for (int i = 0; i < STRANDS; i++) {
+        hk_PHelicoid h;
+        const hk_Vec3 root = hk_v3(rnd(-0.01, 0.01), 0.0, rnd(-0.01, 0.01));
+        assert_int_equal(hk_phelicoid_interpolate(guides, 4, root, NULL, 3.0, &h, NULL), HK_OK);
+        h.length[0] = rnd(0.08, 0.24);
+        hk_Vec3 p[POINTS];
+        assert_int_equal(hk_phelicoid_trace(&h, h.length[0] / (POINTS - 1), NULL, NULL, p, NULL, NULL), HK_OK);
+        own[i] = 0.0;
+        for (int k = 0; k < POINTS; k++) {
+            float *q = hair.points + 3 * (size_t)(hair.first_point[i] + (uint32_t)k);
+            q[0] = (float)p[k].x, q[1] = (float)p[k].y, q[2] = (float)p[k].z;
+            if (k) own[i] += hk_v3_dist(p[k], p[k - 1]);
+        }
+    }
+    const double step = 0.002;
+    hk_HelicoidReconstruction report;
+    hk_Error err;
+    if (hk_helicoid_reconstruct(&hair, 10, NULL, 3.0, step, 1, 1, NULL, NULL, &out, &report, &err) != HK_OK)
+        fail_msg("%s", err.message);
+    assert_int_equal(out.strand_count, STRANDS);
+    double worst = 0.0;
+    for (int i = 0; i < STRANDS; i++) {
+        double length = 0.0;
+        for (uint32_t k = out.first_point[i] + 1; k < out.first_point[i + 1]; k++) {
+            const float *a = out.points + 3 * (size_t)(k - 1), *b = a + 3;
+            length += hk_v3_dist(hk_v3(a[0], a[1], a[2]), hk_v3(b[0], b[1], b[2]));
+        }
+        worst = fmax(worst, fabs(length - own[i]));
+    }
+    print_message("  %d strands of 8-24 cm rebuilt from %ld: lengths within %.2g mm of their own, mean error %.2g mm\n",
+                  STRANDS, report.fitted, 1e3 * worst, 1e3 * report.mean_error);
+    assert_true(worst <= step);
+    hk_hair_free(&hair);
+    hk_hair_free(&out);
+}
+
 /* A p-helicoid of three pieces at the origin. */
 static hk_PHelicoid three_pieces(hk_Mat3 frame, const hk_Helicoid *k, const double *length)
 {
@@ -339,6 +399,7 @@ int main(void)
         cmocka_unit_test(test_single_pieces_nelder_mead),
         cmocka_unit_test(test_two_pieces),
         cmocka_unit_test(test_reconstruction),
+        cmocka_unit_test(test_reconstruct_own_lengths),
         cmocka_unit_test(test_fit_is_a_curve),
         cmocka_unit_test(test_lift_off_layouts),
         cmocka_unit_test(test_bad_input),

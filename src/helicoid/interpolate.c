@@ -161,7 +161,7 @@ static void averaged_quat(const hk_PHelicoid *guides, const hk_Vec3 *normals, hk
 
 /* Pass 2: the weighted sums, normalised. Frames as in averaged_quat. */
 static void blend(const hk_PHelicoid *guides, const hk_Vec3 *normals, int guide_count, hk_Vec3 x, hk_Vec3 n,
-                  int nearest, double dmin, int max_pieces, double power, hk_PHelicoid *out)
+                  int nearest, double dmin, int max_pieces, double power, double own_length, hk_PHelicoid *out)
 {
     hk_PHelicoid r;
     memset(&r, 0, sizeof r);
@@ -193,33 +193,45 @@ static void blend(const hk_PHelicoid *guides, const hk_Vec3 *normals, int guide_
         }
     }
 
-    int pieces = (int)floor(nsum / wsum + 0.5);
-    pieces = pieces < 1 ? 1 : (pieces > max_pieces ? max_pieces : pieces);
-    r.piece_count = pieces;
-    double later = 0.0;
-    for (int j = 0; j < pieces; j++) {
+    for (int j = 0; j < max_pieces; j++) {
         r.k[j].kt /= wsum;
         r.k[j].kn /= wsum;
         r.k[j].kb /= wsum;
         r.k[j].alpha /= wsum;
         r.length[j] /= wsum;
-        if (j > 0) later += r.length[j];
     }
+    int pieces;
+    if (own_length > 0.0) {
+        /* A strand whose own length is known (a reconstruction of a capture) keeps the
+         * blend's pieces at their blended lengths, so that piece j covers the stretch of hair
+         * the guides' pieces j do (the fits' common layout), and ends at its own length: the
+         * pieces past it dropped, the last one cut, or the last of all max_pieces extended.
+         * Stretching every piece in proportion instead turned curved pieces into coils. */
+        double along = 0.0;
+        for (pieces = 0; pieces < max_pieces && along < own_length; pieces++) along += r.length[pieces];
+        r.length[pieces - 1] += own_length - along;
+    } else {
+        pieces = (int)floor(nsum / wsum + 0.5);
+        pieces = pieces < 1 ? 1 : (pieces > max_pieces ? max_pieces : pieces);
+        double later = 0.0;
+        for (int j = 1; j < pieces; j++) later += r.length[j];
+        /* Total length sum w_i L_i and first piece sum w_i L_i1 as in §4.2. The paper makes
+         * the later pieces equal; here they keep the proportions of their interpolated
+         * lengths, which is the same when the guides' later pieces are equal and otherwise
+         * keeps the strand next to a guide equal to that guide (equal pieces would not be). */
+        const double total = lsum / wsum, rest = total - r.length[0];
+        if (pieces == 1) {
+            r.length[0] = total;
+        } else if (rest > 1e-9 * total && later > 0.0) {
+            for (int j = 1; j < pieces; j++) r.length[j] *= rest / later;
+        } else {
+            for (int j = 0; j < pieces; j++) r.length[j] = total / pieces;
+        }
+    }
+    r.piece_count = pieces;
     for (int j = pieces; j < max_pieces; j++) {
         memset(&r.k[j], 0, sizeof r.k[j]);
         r.length[j] = 0.0;
-    }
-    /* Total length sum w_i L_i and first piece sum w_i L_i1 as in §4.2. The paper makes the
-     * later pieces equal; here they keep the proportions of their interpolated lengths, which
-     * is the same when the guides' later pieces are equal and otherwise keeps the strand next
-     * to a guide equal to that guide (equal pieces would not be). */
-    const double total = lsum / wsum, rest = total - r.length[0];
-    if (pieces == 1) {
-        r.length[0] = total;
-    } else if (rest > 1e-9 * total && later > 0.0) {
-        for (int j = 1; j < pieces; j++) r.length[j] *= rest / later;
-    } else {
-        for (int j = 0; j < pieces; j++) r.length[j] = total / pieces;
     }
 
     /* The weighted sum is never zero: it has a component >= w_nearest along qref. */
@@ -247,7 +259,7 @@ hk_Status hk_phelicoid_interpolate(const hk_PHelicoid *guides, int guide_count, 
         hk_phelicoid_canonical(out);
         return HK_OK;
     }
-    blend(guides, NULL, guide_count, x, n, nearest, dmin, max_pieces, power, out);
+    blend(guides, NULL, guide_count, x, n, nearest, dmin, max_pieces, power, 0.0, out);
     if (normal) out->frame = keep_outside(&out->frame, n);
     return HK_OK;
 }
@@ -278,7 +290,26 @@ hk_Status hk_phelicoid_interpolate_on_surface(const hk_PHelicoid *guides, const 
         hk_phelicoid_canonical(out);
         return HK_OK;
     }
-    blend(guides, guide_normals, guide_count, x, n, nearest, dmin, max_pieces, power, out);
+    blend(guides, guide_normals, guide_count, x, n, nearest, dmin, max_pieces, power, 0.0, out);
     out->frame = lift_off_surface(&out->frame, n, min_elevation);
+    return HK_OK;
+}
+
+hk_Status hk_phelicoid_interpolate_to_length(const hk_PHelicoid *guides, int guide_count, hk_Vec3 x, double length,
+                                             double power, hk_PHelicoid *out, hk_Error *err)
+{
+    hk_Status st = check_args(guides, guide_count, x, power, out, err);
+    if (st == HK_OK && !(length > 0.0 && isfinite(length)))
+        st = hk_error_set(err, HK_ERR_INVALID, "helicoid interpolation: length %g", length);
+    int nearest, max_pieces;
+    double dmin;
+    if (st == HK_OK) st = nearest_guide(guides, guide_count, x, &nearest, &dmin, &max_pieces, err);
+    if (st != HK_OK) return st;
+    if (dmin == 0.0) {
+        *out = guides[nearest]; /* as hk_phelicoid_interpolate: the guide itself */
+        hk_phelicoid_canonical(out);
+        return HK_OK;
+    }
+    blend(guides, NULL, guide_count, x, hk_v3_zero(), nearest, dmin, max_pieces, power, length, out);
     return HK_OK;
 }
