@@ -133,6 +133,11 @@ void hk_cli_transform_help(FILE *out, int hair, int head);
  * file's units (metres when `metres`, else guessed from the extent), says so on stderr
  * and returns 1; 0 otherwise. */
 int hk_cli_fine_hair(const char *cmd, const hk_HairFile *hair, double diameter, int metres, hk_RenderDef *ro);
+/* For commands that take hair in metres: when the groom's extent suggests millimetres or
+ * centimetres (hk_hair_guess_meters_per_unit), says so on stderr with the `hairkit
+ * convert` that fixes it, and returns 1; 0 otherwise. Only a warning: a groom may be
+ * that large or small on purpose. */
+int hk_cli_warn_units(const char *cmd, const char *path, const hk_HairFile *hair);
 
 /* ---- head motion options (motion_options.c) ---- */
 enum { HK_OPT_MOTION = 1100, HK_OPT_AMPLITUDE, HK_OPT_FREQUENCY };

@@ -47,7 +47,8 @@ int hk_helicoid_cli_fit(const hk_HelicoidArgs *a)
 {
     hk_Error err;
     hk_HairFile hair;
-    if (hk_hair_load(a->input, &hair, &err) != HK_OK) return hk_cli_fail(CMD, &err);
+    if (hk_hair_read(a->input, HK_HAIR_FORMAT_AUTO, &hair, &err) != HK_OK) return hk_cli_fail(CMD, &err);
+    hk_cli_warn_units(CMD, a->input, &hair);
     hk_HelicoidSet set;
     long *idx = NULL;
     hk_HelicoidFitReport *rep = NULL;
@@ -98,7 +99,8 @@ int hk_helicoid_cli_reconstruct(const hk_HelicoidArgs *a)
     hk_Error err;
     hk_HairFile hair, out;
     memset(&out, 0, sizeof out);
-    if (hk_hair_load(a->input, &hair, &err) != HK_OK) return hk_cli_fail(CMD, &err);
+    if (hk_hair_read(a->input, HK_HAIR_FORMAT_AUTO, &hair, &err) != HK_OK) return hk_cli_fail(CMD, &err);
+    hk_cli_warn_units(CMD, a->input, &hair);
     hk_CurveFitDef opt = fit_options(a);
     if (!a->pieces_given && !(a->piece_length > 0.0)) { /* the library's layout for reconstructions */
         opt.piece_length = HK_RECONSTRUCT_PIECE_LENGTH;

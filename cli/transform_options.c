@@ -77,3 +77,14 @@ int hk_cli_fine_hair(const char *cmd, const hk_HairFile *hair, double diameter, 
             metres ? "" : " (units guessed from the extent; --scale gives them)");
     return 1;
 }
+
+int hk_cli_warn_units(const char *cmd, const char *path, const hk_HairFile *hair)
+{
+    const double per_unit = hk_hair_guess_meters_per_unit(hair);
+    if (per_unit == 1.0) return 0;
+    fprintf(stderr,
+            "hairkit %s: %s: warning: the groom spans %.3g units, which looks like %s (hairkit works in metres): "
+            "'hairkit convert %s OUT.hair --scale %g' first if it is\n",
+            cmd, path, hk_hair_extent(hair), per_unit == 0.01 ? "centimetres" : "millimetres", path, per_unit);
+    return 1;
+}

@@ -34,6 +34,15 @@ expect 0 "$hk" helicoid fit "$tmp/curly.hair" -o "$tmp/fit.txt" --quiet
 grep -q '^# strands=1 mean_error_m=' "$tmp/out" || fail "no summary line: $(tail -n 1 "$tmp/out")"
 awk -F'[= ]' '/^# strands/ { exit !($5 < 0.002) }' "$tmp/out" || fail "fit error over 2 mm: $(tail -n 1 "$tmp/out")"
 expect 0 "$hk" helicoid trace "$tmp/fit.txt" -o "$tmp/refit.hair" --quiet
+grep -q "looks like" "$tmp/err" && fail "a unit warning on a groom in metres: $(cat "$tmp/err")"
+# any hair format hairkit reads (the points are copied exactly: the same fit), and a
+# warning with the fix when the extent looks like centimetres (a strand of 8.7 cm written in cm; issue 17)
+expect 0 "$hk" convert "$tmp/curly.hair" "$tmp/curly.obj" --quiet
+expect 0 "$hk" helicoid fit "$tmp/curly.obj" -o "$tmp/fit_obj.txt" --quiet
+cmp -s "$tmp/fit.txt" "$tmp/fit_obj.txt" || fail "the fit of the same strand read from OBJ differs"
+expect 0 "$hk" convert "$tmp/curly.hair" "$tmp/curly_cm.obj" --scale 100 --quiet
+expect 0 "$hk" helicoid fit "$tmp/curly_cm.obj" -o "$tmp/fit_cm.txt" --max-pieces 1 --quiet
+contains "$tmp/err" "curly_cm.obj: warning: .*looks like centimetres.*--scale 0.01"
 # the paper's Nelder-Mead, and a fixed layout of 4 pieces
 expect 0 "$hk" helicoid fit "$tmp/curly.hair" -o "$tmp/fit_nm.txt" --method nelder-mead --quiet
 awk -F'[= ]' '/^# strands/ { exit !($5 < 0.002) }' "$tmp/out" || fail "nelder-mead fit over 2 mm: $(tail -n 1 "$tmp/out")"
