@@ -53,6 +53,9 @@ int hk_bench_follicles(FILE *out, const hk_BenchOptions *options);
 /* Generalized helicoids: interpolating 90,000 hairs, fits per second of 30-vertex
  * strands, reconstruction error of a tuft from one strand in ten; 1 and 2 threads. */
 int hk_bench_helicoid(FILE *out, const hk_BenchOptions *options);
+/* The same on real grooms (bench_helicoid_real.c): fits of Sintel, Bangs and Curly
+ * (../shared/hair-data; skipped when absent) and Sintel rebuilt from one strand in ten. */
+int hk_bench_helicoid_real(FILE *out, const hk_BenchOptions *options);
 
 /* Hair file input and output: the Sintel TressFX groom to .hair (../shared/hair-data;
  * skipped when absent), and 1 million strands of 32 points written and read as .hair

@@ -202,5 +202,5 @@ int hk_bench_helicoid(FILE *out, const hk_BenchOptions *options)
         fprintf(out, "  %-32s %10.3g %15.3g %20.2f\n", layouts[l].name, mean, worst, seconds);
     }
     fprintf(out, "\n");
-    return 0;
+    return hk_bench_helicoid_real(out, options);
 }

@@ -236,8 +236,15 @@ contains "$tmp/err" "bad.txt:3"
 expect 1 "$hk" helicoid fit "$tmp/bad.txt" -o "$tmp/x.txt"
 [ -e "$tmp/x.hair" ] && fail "output written despite an error"
 
-# the benchmark runs (its figures are not checked)
-expect 0 "$hk" bench helicoid --quick
+# the benchmark runs (its figures are not checked), with rows of the real grooms when
+# ../shared/hair-data is there and a line saying they are skipped when it is not
+expect 0 "$hk" bench helicoid --quick --root "$src"
 contains "$tmp/out" "fits/s"
+if [ -f "$src/../shared/hair-data/SOURCES.md" ]; then
+    contains "$tmp/out" "^  Bangs_100.hair  *10 "
+    contains "$tmp/out" "helicoid reconstruction of Bangs_100.hair"
+else
+    contains "$tmp/out" "Bangs_100.hair  *skipped"
+fi
 
 finish helicoid
