@@ -242,8 +242,9 @@ static void blend(const hk_PHelicoid *guides, const hk_Vec3 *normals, int guide_
     *out = r;
 }
 
-hk_Status hk_phelicoid_interpolate(const hk_PHelicoid *guides, int guide_count, hk_Vec3 x, const hk_Vec3 *normal,
-                                   double power, hk_PHelicoid *out, hk_Error *err)
+/* hk_phelicoid_interpolate, with the strand's own length when own_length > 0. */
+static hk_Status interpolate_plain(const hk_PHelicoid *guides, int guide_count, hk_Vec3 x, const hk_Vec3 *normal,
+                                   double power, double own_length, hk_PHelicoid *out, hk_Error *err)
 {
     hk_Status st = check_args(guides, guide_count, x, power, out, err);
     hk_Vec3 n = hk_v3_zero();
@@ -259,9 +260,15 @@ hk_Status hk_phelicoid_interpolate(const hk_PHelicoid *guides, int guide_count, 
         hk_phelicoid_canonical(out);
         return HK_OK;
     }
-    blend(guides, NULL, guide_count, x, n, nearest, dmin, max_pieces, power, 0.0, out);
+    blend(guides, NULL, guide_count, x, n, nearest, dmin, max_pieces, power, own_length, out);
     if (normal) out->frame = keep_outside(&out->frame, n);
     return HK_OK;
+}
+
+hk_Status hk_phelicoid_interpolate(const hk_PHelicoid *guides, int guide_count, hk_Vec3 x, const hk_Vec3 *normal,
+                                   double power, hk_PHelicoid *out, hk_Error *err)
+{
+    return interpolate_plain(guides, guide_count, x, normal, power, 0.0, out, err);
 }
 
 hk_Status hk_phelicoid_interpolate_on_surface(const hk_PHelicoid *guides, const hk_Vec3 *guide_normals, int guide_count,
@@ -298,18 +305,7 @@ hk_Status hk_phelicoid_interpolate_on_surface(const hk_PHelicoid *guides, const 
 hk_Status hk_phelicoid_interpolate_to_length(const hk_PHelicoid *guides, int guide_count, hk_Vec3 x, double length,
                                              double power, hk_PHelicoid *out, hk_Error *err)
 {
-    hk_Status st = check_args(guides, guide_count, x, power, out, err);
-    if (st == HK_OK && !(length > 0.0 && isfinite(length)))
-        st = hk_error_set(err, HK_ERR_INVALID, "helicoid interpolation: length %g", length);
-    int nearest, max_pieces;
-    double dmin;
-    if (st == HK_OK) st = nearest_guide(guides, guide_count, x, &nearest, &dmin, &max_pieces, err);
-    if (st != HK_OK) return st;
-    if (dmin == 0.0) {
-        *out = guides[nearest]; /* as hk_phelicoid_interpolate: the guide itself */
-        hk_phelicoid_canonical(out);
-        return HK_OK;
-    }
-    blend(guides, NULL, guide_count, x, hk_v3_zero(), nearest, dmin, max_pieces, power, length, out);
-    return HK_OK;
+    if (!(length > 0.0 && isfinite(length)))
+        return hk_error_set(err, HK_ERR_INVALID, "helicoid interpolation: length %g", length);
+    return interpolate_plain(guides, guide_count, x, NULL, power, length, out, err);
 }
