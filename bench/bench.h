@@ -30,8 +30,9 @@ int hk_bench_groom(FILE *out, const hk_BenchOptions *options);
 /* Rendering the default head at 1920 x 1080 with shadows, 1 and 2 threads. */
 int hk_bench_render(FILE *out, const hk_BenchOptions *options);
 
-/* Dynamics: steps per second of one strand (dense and O(N) solvers, N = 5, 10, 20)
- * and frames per second of 201 guides on a shaking head, 1 and 2 threads. */
+/* Dynamics: steps per second of one strand (dense and O(N) solvers, N = 5 to 40)
+ * and frames per second of 201 guides on a shaking head, 1 and 2 threads for N = 10,
+ * 2 threads for N = 20 and 40. */
 int hk_bench_dynamics(FILE *out, const hk_BenchOptions *options);
 
 /* Stability matrix of single strands (bench_stability.c): hair types and lengths 5 cm to

@@ -52,6 +52,21 @@ typedef struct Slot {
     int record; /* 2 pair + side */
 } Slot;
 
+/* The parts of a pair's contact law that depend on its Delassus block w (and gamma, mu,
+ * the viscous coefficient) alone, the same for every visit of a solve: the
+ * elimination of the sticking (or viscous) system, the normal block's Schur complement
+ * and its eigen-decomposition. Computed once per pair and step instead of at every
+ * visit, by the same operations, so that the impulses are the same bits. */
+typedef struct LawParts {
+    double upper[3][3];  /* the sticking system's matrix as the elimination leaves it */
+    double factor[3][3]; /* factor[r][c]: the multiple of row c taken from row r */
+    int pivot[3];        /* the row swapped with row c at column c */
+    int regular;         /* 0: the system is singular (solve3 fails) */
+    double den, r[2];    /* 1 + gamma w00, and gamma (w01, w02) / den */
+    double e[2];         /* the eigenvalues of the tangential block's Schur complement */
+    double v0[2], v1[2]; /* and eigenvectors */
+} LawParts;
+
 typedef struct PairState {
     int slot[2];        /* slots of point a (strand i) and point b (strand j) */
     hk_Vec3 basis[3];   /* n (from b to a), t1, t2 */
@@ -60,7 +75,9 @@ typedef struct PairState {
     hk_Vec3 free;       /* relative velocity in the basis at the strands' free velocities */
     hk_Vec3 lambda;     /* impulse on a in the basis during the solve, in world space after */
     int key[4];         /* (i, a, j, b): warm start from the last step's same pair */
-    int ready;          /* w is set (both points' responses are) */
+    int ready;          /* w is set (both points' responses are), and with it law */
+    LawParts law;       /* what the pair's law takes from w alone */
+    double nu;          /* the multiplier of its friction's disc at its last visit (disc_qp) */
 } PairState;
 
 /* A growable array: its items and how many it has room for. */
@@ -105,6 +122,7 @@ struct hk_ContactSolve {
     Buffer active;           /* int per pair: the pushing pairs of the last full sweep */
     int old_count;
     hk_StrandDynamics **dyn; /* the strands of the solve under way */
+    double mu, viscous;      /* its friction coefficient and viscous friction (times the step) */
 };
 
 hk_Status hk_contact_solve_create(int strand_count, hk_ContactSolve **out, hk_Error *err)
@@ -339,110 +357,158 @@ static void answer_lazily(hk_ContactSolve *cs, int s, int x)
         memset(yt, 0, 3 * dim_of(cs, s) * sizeof(double));
 }
 
-/* Solves the 3 x 3 system a x = b by Gaussian elimination with partial pivoting;
- * 0 when singular. */
-static int solve3(double a[3][3], double b[3], double x[3])
+/* Gaussian elimination with partial pivoting of the 3 x 3 matrix a into lp (upper,
+ * factor, pivot, regular): the part of solving a x = b that does not depend on b. */
+static void eliminate3(double a[3][3], LawParts *lp)
 {
+    lp->regular = 0;
+    memset(lp->factor, 0, sizeof lp->factor);
     for (int c = 0; c < 3; c++) {
         int piv = c;
         for (int r = c + 1; r < 3; r++)
             if (fabs(a[r][c]) > fabs(a[piv][c])) piv = r;
-        if (!(fabs(a[piv][c]) > 0.0)) return 0;
-        if (piv != c) {
+        lp->pivot[c] = piv;
+        if (!(fabs(a[piv][c]) > 0.0)) return;
+        if (piv != c)
             for (int k = 0; k < 3; k++) {
                 const double t = a[c][k];
                 a[c][k] = a[piv][k], a[piv][k] = t;
             }
+        for (int r = c + 1; r < 3; r++) {
+            const double f = a[r][c] / a[c][c];
+            lp->factor[r][c] = f;
+            for (int k = c; k < 3; k++) a[r][k] -= f * a[c][k];
+        }
+    }
+    memcpy(lp->upper, a, sizeof lp->upper);
+    lp->regular = 1;
+}
+
+/* Solves a x = b with a eliminated by eliminate3 (b is overwritten): the operations on
+ * b of the whole elimination, in its order; 0 when singular or not finite. */
+static int solve_eliminated3(const LawParts *lp, double b[3], double x[3])
+{
+    if (!lp->regular) return 0;
+    for (int c = 0; c < 3; c++) {
+        const int piv = lp->pivot[c];
+        if (piv != c) {
             const double t = b[c];
             b[c] = b[piv], b[piv] = t;
         }
-        for (int r = c + 1; r < 3; r++) {
-            const double f = a[r][c] / a[c][c];
-            for (int k = c; k < 3; k++) a[r][k] -= f * a[c][k];
-            b[r] -= f * b[c];
-        }
+        for (int r = c + 1; r < 3; r++) b[r] -= lp->factor[r][c] * b[c];
     }
     for (int r = 2; r >= 0; r--) {
         double v = b[r];
-        for (int k = r + 1; k < 3; k++) v -= a[r][k] * x[k];
-        x[r] = v / a[r][r];
+        for (int k = r + 1; k < 3; k++) v -= lp->upper[r][k] * x[k];
+        x[r] = v / lp->upper[r][r];
     }
     return isfinite(x[0]) && isfinite(x[1]) && isfinite(x[2]);
 }
 
-/* min over |y| <= s of 1/2 y^T a y + g . y for a symmetric positive definite 2 x 2 a:
- * the unconstrained minimiser when it lies in the disc, else the boundary point where
- * (a + nu I) y = -g with nu > 0 (the trust-region problem, Moré and Sorensen 1983),
- * nu found by Newton's iteration on 1/|y(nu)| - 1/s, which is concave and increasing
- * in nu, so that the iteration from nu = 0 climbs to the root without overshooting. */
-static void disc_qp(const double a[2][2], const double g[2], double s, double y[2])
+/* The eigen-decomposition of the symmetric 2 x 2 a = sum e_i v_i v_i^T into lp. */
+static void eigen2(const double a[2][2], LawParts *lp)
 {
-    y[0] = y[1] = 0.0;
-    if (!(s > 0.0)) return;
-    /* Eigen-decomposition of a: a = sum e_i v_i v_i^T. */
     const double m = 0.5 * (a[0][0] + a[1][1]), dd = 0.5 * (a[0][0] - a[1][1]);
     const double rad = sqrt(dd * dd + a[0][1] * a[0][1]);
-    const double e[2] = {m + rad, m - rad};
-    if (!(e[1] > 0.0)) return;
-    double v0[2];
+    lp->e[0] = m + rad, lp->e[1] = m - rad;
     if (rad > 0.0) {
         const double c = dd / rad, sn = a[0][1] / rad; /* cos 2t, sin 2t */
         const double ct = sqrt(0.5 * (1.0 + c)), st = sqrt(0.5 * (1.0 - c));
-        v0[0] = ct, v0[1] = sn >= 0.0 ? st : -st;
+        lp->v0[0] = ct, lp->v0[1] = sn >= 0.0 ? st : -st;
     } else {
-        v0[0] = 1.0, v0[1] = 0.0;
+        lp->v0[0] = 1.0, lp->v0[1] = 0.0;
     }
-    const double v1[2] = {-v0[1], v0[0]};
+    lp->v1[0] = -lp->v0[1], lp->v1[1] = lp->v0[0];
+}
+
+/* min over |y| <= s of 1/2 y^T a y + g . y for the symmetric 2 x 2 a decomposed in lp
+ * (eigen2), positive definite: the unconstrained minimiser when it lies in the disc,
+ * else the boundary point where (a + nu I) y = -g with nu > 0 (the trust-region
+ * problem, Moré and Sorensen 1983), nu found by Newton's iteration on
+ * phi(nu) = 1/|y(nu)| - 1/s, which is concave and increasing in nu: from the left of
+ * its root the iteration climbs to it without overshooting, from the right its first
+ * step lands left of it (clamped at 0). *nu enters as the start (the pair's nu of its
+ * last visit: the bound and g change little from one sweep to the next; on
+ * examples/guides200 the loop then runs 3.5 times a solve on the edge instead of 4.5
+ * from 0) and leaves as the root (0 inside the disc). y = 0 when a is not positive
+ * definite. */
+static void disc_qp(const LawParts *lp, const double g[2], double s, double y[2], double *nu_io)
+{
+    y[0] = y[1] = 0.0;
+    const double start = *nu_io > 0.0 ? *nu_io : 0.0;
+    *nu_io = 0.0;
+    if (!(s > 0.0)) return;
+    const double *e = lp->e, *v0 = lp->v0, *v1 = lp->v1;
+    if (!(e[1] > 0.0)) return;
     const double b[2] = {-(v0[0] * g[0] + v0[1] * g[1]), -(v1[0] * g[0] + v1[1] * g[1])};
-    double nu = 0.0;
-    for (int it = 0; it < 30; it++) {
-        const double c0 = b[0] / (e[0] + nu), c1 = b[1] / (e[1] + nu);
-        const double norm = sqrt(c0 * c0 + c1 * c1);
-        if (norm <= s * (1.0 + 1e-12)) break;
-        /* d|y|/dnu = -(c0^2 / (e0 + nu) + c1^2 / (e1 + nu)) / |y| */
-        const double slope = (c0 * c0 / (e[0] + nu) + c1 * c1 / (e[1] + nu)) / norm;
-        const double phi = 1.0 / norm - 1.0 / s, dphi = slope / (norm * norm);
-        if (!(dphi > 0.0)) break;
-        nu -= phi / dphi;
-        if (!(nu >= 0.0)) nu = 0.0;
-        if (fabs(phi) * s < 1e-12) break;
+    double c0 = b[0] / e[0], c1 = b[1] / e[1], nu = 0.0;
+    if (!(sqrt(c0 * c0 + c1 * c1) <= s * (1.0 + 1e-12))) { /* outside the disc: on its edge */
+        nu = start;
+        for (int it = 0; it < 30; it++) {
+            /* phi / phi' = (1/|y| - 1/s) |y|^3 / q = |y|^2 (1 - |y|/s) / q with
+             * q = c0^2 / (e0 + nu) + c1^2 / (e1 + nu) (-d|y|/dnu = q / |y|): one
+             * division on the chain besides the two reciprocals. */
+            const double i0 = 1.0 / (e[0] + nu), i1 = 1.0 / (e[1] + nu);
+            c0 = b[0] * i0, c1 = b[1] * i1;
+            const double norm2 = c0 * c0 + c1 * c1, norm = sqrt(norm2);
+            if (fabs(norm - s) <= 1e-12 * s) break;
+            const double q = c0 * c0 * i0 + c1 * c1 * i1;
+            if (!(q > 0.0)) break;
+            nu -= norm2 * (1.0 - norm / s) / q;
+            if (!(nu >= 0.0)) nu = 0.0;
+        }
+        c0 = b[0] / (e[0] + nu), c1 = b[1] / (e[1] + nu);
     }
-    const double c0 = b[0] / (e[0] + nu), c1 = b[1] / (e[1] + nu);
+    *nu_io = nu;
     y[0] = c0 * v0[0] + c1 * v1[0];
     y[1] = c0 * v0[1] + c1 * v1[1];
     const double norm = sqrt(y[0] * y[0] + y[1] * y[1]);
     if (norm > s) y[0] *= s / norm, y[1] *= s / norm; /* rounding */
 }
 
+/* The parts of a pair's contact law that depend on w alone (LawParts). */
+static void law_parts(double w[3][3], double gamma, double mu, double viscous, LawParts *lp)
+{
+    const double e = mu > 0.0 ? 0.0 : 1.0, f = mu > 0.0 ? 1.0 : viscous;
+    double a[3][3] = {{1.0 + gamma * w[0][0], gamma * w[0][1], gamma * w[0][2]},
+                      {f * w[1][0], e + f * w[1][1], f * w[1][2]},
+                      {f * w[2][0], f * w[2][1], e + f * w[2][2]}};
+    eliminate3(a, lp);
+    lp->den = 1.0 + gamma * w[0][0];
+    lp->r[0] = gamma * w[0][1] / lp->den, lp->r[1] = gamma * w[0][2] / lp->den;
+    const double *r = lp->r;
+    const double schur[2][2] = {{w[1][1] - w[1][0] * r[0], w[1][2] - w[1][0] * r[1]},
+                                {w[2][1] - w[2][0] * r[0], w[2][2] - w[2][0] * r[1]}};
+    eigen2(schur, lp);
+}
+
 /* The contact law of one pair in its basis (0: normal, 1 and 2: tangents): the impulse
  * lam given u0, the relative velocity at the step's end without this pair's impulse,
- * and w, the pair's Delassus block (u = u0 + w lam). Normal law: lam_0 = max(0, beta -
- * gamma u_0), i.e. lam minimises 1/2 lam^T (w + diag(1/gamma, 0, 0)) lam + (u0 -
- * beta/gamma e_0) . lam over lam_0 >= 0. Tangentially, mu > 0: Coulomb with the bound
- * s = mu lam_0 of the pair's last iterate (a Tresca problem per sweep, convex, whose
- * bound follows the normal impulse from sweep to sweep): the contact sticks (u_1 = u_2
- * = 0) when that needs at most s, else the friction is on the disc's edge, both found
- * exactly (the edge by one trust-region problem on the normal block's Schur
- * complement). mu = 0: the viscous lam_t = -viscous u_t.
+ * and w, the pair's Delassus block (u = u0 + w lam; lp its parts, law_parts). Normal
+ * law: lam_0 = max(0, beta - gamma u_0), i.e. lam minimises 1/2 lam^T (w + diag(1/gamma,
+ * 0, 0)) lam + (u0 - beta/gamma e_0) . lam over lam_0 >= 0. Tangentially, mu > 0:
+ * Coulomb with the bound s = mu lam_0 of the pair's last iterate (a Tresca problem per
+ * sweep, convex, whose bound follows the normal impulse from sweep to sweep): the
+ * contact sticks (u_1 = u_2 = 0) when that needs at most s, else the friction is on the
+ * disc's edge, both found exactly (the edge by one trust-region problem on the normal
+ * block's Schur complement). mu = 0: the viscous lam_t = -viscous u_t.
  * Returns 2 when it sticks, 1 when it pushes otherwise, 0 when it does not push. */
-static int contact_law(double w[3][3], const double u0[3], double beta, double gamma, double mu, double viscous,
-                       double bound, double lam[3])
+static int contact_law(double w[3][3], const LawParts *lp, const double u0[3], double beta, double gamma, double mu,
+                       double viscous, double bound, double lam[3], double *nu)
 {
     const double free_push = beta - gamma * u0[0];
     if (mu > 0.0 || viscous > 0.0) {
         /* Sticking (mu > 0) or viscous, with the normal law, as one linear system. */
-        const double e = mu > 0.0 ? 0.0 : 1.0, f = mu > 0.0 ? 1.0 : viscous;
-        double a[3][3] = {{1.0 + gamma * w[0][0], gamma * w[0][1], gamma * w[0][2]},
-                          {f * w[1][0], e + f * w[1][1], f * w[1][2]},
-                          {f * w[2][0], f * w[2][1], e + f * w[2][2]}};
+        const double f = mu > 0.0 ? 1.0 : viscous;
         double b[3] = {free_push, -f * u0[1], -f * u0[2]}, x[3];
-        if (solve3(a, b, x) && x[0] > 0.0 && (mu == 0.0 || x[1] * x[1] + x[2] * x[2] <= mu * mu * x[0] * x[0])) {
+        if (solve_eliminated3(lp, b, x) && x[0] > 0.0 &&
+            (mu == 0.0 || x[1] * x[1] + x[2] * x[2] <= mu * mu * x[0] * x[0])) {
             memcpy(lam, x, sizeof x);
             return mu > 0.0 ? 2 : 1;
         }
     }
     if (!(mu > 0.0) || !(bound > 0.0)) {
-        lam[0] = free_push / (1.0 + gamma * w[0][0]);
+        lam[0] = free_push / lp->den;
         lam[1] = lam[2] = 0.0;
         if (!(lam[0] > 0.0)) return lam[0] = 0.0, 0;
         return 1;
@@ -452,13 +518,11 @@ static int contact_law(double w[3][3], const double u0[3], double beta, double g
      * quadratic over the disc; when that n is positive the pair is the minimiser of the
      * whole convex problem (it is over n of any sign), else the minimiser has n = 0:
      * no push, no friction. */
-    const double den = 1.0 + gamma * w[0][0], n0 = free_push / den;
-    const double r[2] = {gamma * w[0][1] / den, gamma * w[0][2] / den};
-    const double schur[2][2] = {{w[1][1] - w[1][0] * r[0], w[1][2] - w[1][0] * r[1]},
-                                {w[2][1] - w[2][0] * r[0], w[2][2] - w[2][0] * r[1]}};
+    const double n0 = free_push / lp->den;
+    const double *r = lp->r;
     const double g[2] = {u0[1] + w[1][0] * n0, u0[2] + w[2][0] * n0};
     double t[2];
-    disc_qp(schur, g, bound, t);
+    disc_qp(lp, g, bound, t, nu);
     const double n = n0 - r[0] * t[0] - r[1] * t[1];
     if (!(n > 0.0)) {
         lam[0] = lam[1] = lam[2] = 0.0;
@@ -540,6 +604,7 @@ static void pair_block(hk_ContactSolve *cs, PairState *ps, const int strand[2])
         for (int r = 0; r < 3; r++)
             for (int q = 0; q < 3; q++) ps->w[r][q] += e[r][q];
     }
+    law_parts(ps->w, ps->gamma, cs->mu, cs->viscous, &ps->law);
     ps->ready = 1;
 }
 
@@ -577,6 +642,7 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
         ps->gamma = h * h * p->stiffness + h * p->damping;
         ps->lambda = hk_v3_zero();
         ps->ready = 0;
+        ps->nu = 0.0;
         ps->free = in_basis(ps->basis, hk_v3_sub(vel[ps->slot[0]], vel[ps->slot[1]]));
         const int strand[2] = {hp->i, hp->j};
         for (int side = 0; side < 2; side++) /* (beyond the support J stays zero) */
@@ -654,7 +720,8 @@ static int visit(hk_ContactSolve *cs, const hk_HairContacts *contacts, int k, do
     const double lo[3] = {ps->lambda.x, ps->lambda.y, ps->lambda.z};
     double u0[3] = {u.x, u.y, u.z}, lam[3] = {lo[0], lo[1], lo[2]};
     for (int r = 0; r < 3; r++) u0[r] -= ps->w[r][0] * lo[0] + ps->w[r][1] * lo[1] + ps->w[r][2] * lo[2];
-    const int law = contact_law(ps->w, u0, ps->beta, ps->gamma, mu, viscous, mu * (lo[0] > 0.0 ? lo[0] : 0.0), lam);
+    const int law = contact_law(ps->w, &ps->law, u0, ps->beta, ps->gamma, mu, viscous, mu * (lo[0] > 0.0 ? lo[0] : 0.0),
+                                lam, &ps->nu);
     const hk_Vec3 next = hk_v3(lam[0], lam[1], lam[2]);
     const hk_Vec3 delta = hk_v3_sub(next, ps->lambda);
     ps->lambda = next;
@@ -682,6 +749,8 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
         return st;
     }
     cs->dyn = dyn;
+    const double mu = contacts->p.friction_coefficient, viscous = dt * contacts->p.friction;
+    cs->mu = mu, cs->viscous = viscous;
 #pragma omp parallel for schedule(dynamic, 2) num_threads(threads)
     for (int s = 0; s < strand_count; s++) predict(cs, dyn[s], s, head_end, dt);
     prepare_pairs(cs, contacts, dt);
@@ -696,7 +765,6 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
         if (answered[pairs[k].slot[0]] == ANSWERED && answered[pairs[k].slot[1]] == ANSWERED)
             pair_block(cs, &pairs[k], strand);
     }
-    const double mu = contacts->p.friction_coefficient, viscous = dt * contacts->p.friction;
     for (int k = 0; k < n; k++) { /* the warm start's share */
         const int strand[2] = {contacts->pairs[k].i, contacts->pairs[k].j};
         if (hk_v3_norm2(pairs[k].lambda) > 0.0) apply_change(cs, &pairs[k], strand, pairs[k].lambda);
