@@ -48,7 +48,8 @@ install: build
 
 # ASAN_CC=clang builds the sanitized tests with clang (whose UBSan checks more, e.g.
 # offsets applied to null pointers); the default is the system's cc.
-asan: deps
+asan:
+	@bash scripts/install-deps.sh $(if $(filter clang%,$(ASAN_CC)),--fuzz)
 	@$(if $(ASAN_CC),CC=$(ASAN_CC)) cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DHK_SANITIZE=ON \
 		$(CMAKE_FLAGS) > $(ASAN_BUILD).configure.log 2>&1 || { cat $(ASAN_BUILD).configure.log; exit 1; }
 	@cmake --build $(ASAN_BUILD) -j $(JOBS)
