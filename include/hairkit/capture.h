@@ -120,6 +120,10 @@ typedef struct hk_GroomImportDef {
                                      attached to (m; default 0.001) */
     hk_RodMaterial material;      /* of every strand (default: 40 um radius, 3 GPa,
                                      Poisson 0.48, 1300 kg/m^3, gravity 9.81 down y) */
+    double collision_step;        /* CollisionStep of the body's penalty in the inverse (m;
+                                     default 0.005, the hairstyle's default): it must be
+                                     the simulation's, whose contact samples are the
+                                     statics' (hk_strand_collision_sample_count) */
     hk_SuperHelixFitDef fit;      /* hk_default_superhelix_fit_def */
     hk_InverseStaticsDef inverse; /* hk_default_inverse_statics_def */
     hk_ProgressFn progress;       /* may be NULL: stages "push out", "fit" */

@@ -28,6 +28,7 @@ hk_GroomImportDef hk_default_groom_import_def(void)
     d.seed = 1;
     d.threads = 0;
     d.station_step = 0.001;
+    d.collision_step = hk_default_strand_def().collision_step;
     d.material = hk_rod_material(4e-5, 4e-5, 3e9, 0.48, 1300.0, hk_v3(0.0, -9.81, 0.0));
     d.fit = hk_default_superhelix_fit_def();
     d.inverse = hk_default_inverse_statics_def();
@@ -129,6 +130,11 @@ static hk_Status make_guide(const hk_ImportedGroom *g, int strand, const hk_Shap
     hk_StrandEnvDef env = hk_default_strand_env_def();
     env.shapes = body;
     env.shape_count = body_count;
+    /* The samples the simulation's body contacts use (hk_hair_sim_create_imported: the
+     * hairstyle's CollisionStep, envelope level 0): with no step the inverse saw no
+     * head at all, and a guide whose samples lie in the head's penalty started out of
+     * equilibrium by that force (Sintel's guides 5 and 17, docs/capture.md). */
+    env.collision_step = d->collision_step;
     return hk_statics_invert(*out, body_count > 0 ? &env : NULL, &d->inverse, &res->inv, err);
 }
 
