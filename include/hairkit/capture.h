@@ -163,7 +163,10 @@ typedef struct hk_GroomImportReport {
     double drift_max; /* the largest drift of a settled guide (m) */
     int unfollowed;   /* settled guides farther than HK_IMPORT_MAX_DRIFT: followed
                          by no strand */
-    double seconds_push, seconds_choose, seconds_fit, seconds_attach;
+    double seconds_push, seconds_choose, seconds_fit, seconds_attach; /* wall time of each stage */
+    double task_seconds_fit, task_seconds_inverse;                    /* CPU time of the fit-and-inverse stage
+                                                                         (seconds_fit): the guides' fits and
+                                                                         inversions, summed over all threads */
 } hk_GroomImportReport;
 
 /* The guides and attachments of `hair` (metres, y up: scale it first), with the body

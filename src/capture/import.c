@@ -115,6 +115,7 @@ static void attach_strand(hk_ImportedGroom *g, int i, const int *guide_of_strand
 typedef struct GuideResult {
     hk_SuperHelixFitReport fit;
     hk_InverseStaticsReport inv;
+    double seconds_fit, seconds_inverse; /* CPU time of this guide's task */
 } GuideResult;
 
 static hk_Status make_guide(const hk_ImportedGroom *g, int strand, const hk_Shape *body, int body_count,
@@ -124,7 +125,10 @@ static hk_Status make_guide(const hk_ImportedGroom *g, int strand, const hk_Shap
     hk_Vec3 *p = hk_alloc_array(np, sizeof *p, err);
     if (!p) return HK_ERR_NOMEM;
     for (uint32_t j = 0; j < np; j++) p[j] = point_of(g->points, first + j);
+    const double t0 = hk_thread_cpu_seconds();
     hk_Status st = hk_superhelix_fit(p, (int)np, &d->material, &d->fit, out, &res->fit, err);
+    const double t1 = hk_thread_cpu_seconds();
+    res->seconds_fit = t1 - t0;
     hk_free(p);
     if (st != HK_OK) return hk_error_set(err, st, "strand %d: %s", strand, err->message);
     hk_StrandEnvDef env = hk_default_strand_env_def();
@@ -135,7 +139,9 @@ static hk_Status make_guide(const hk_ImportedGroom *g, int strand, const hk_Shap
      * head at all, and a guide whose samples lie in the head's penalty started out of
      * equilibrium by that force (Sintel's guides 5 and 17, docs/capture.md). */
     env.collision_step = d->collision_step;
-    return hk_statics_invert(*out, body_count > 0 ? &env : NULL, &d->inverse, &res->inv, err);
+    st = hk_statics_invert(*out, body_count > 0 ? &env : NULL, &d->inverse, &res->inv, err);
+    res->seconds_inverse = hk_thread_cpu_seconds() - t1;
+    return st;
 }
 
 static int threads_of(int t) { return t > 0 ? t : omp_get_max_threads(); }
@@ -259,6 +265,8 @@ hk_Status hk_groom_import(const hk_HairFile *hair, const hk_Shape *body, int bod
         for (int c = 0; c < k; c++) {
             sum += res[c].fit.mean_error;
             elements += res[c].fit.elements;
+            report->task_seconds_fit += res[c].seconds_fit;
+            report->task_seconds_inverse += res[c].seconds_inverse;
             report->fit_worst = fmax(report->fit_worst, res[c].fit.mean_error);
             report->fit_max = fmax(report->fit_max, res[c].fit.max_error);
             if (!res[c].inv.stable) report->unstable++;
