@@ -63,4 +63,9 @@ int hk_bench_helicoid_real(FILE *out, const hk_BenchOptions *options);
  * against stdio writing and reading the same bytes. */
 int hk_bench_io(FILE *out, const hk_BenchOptions *options);
 
+/* Importing a groom (bench_import.c): the Sintel groom of ../shared/hair-data (skipped
+ * when absent) imported with 300 guides, the time of each stage, then its still-head
+ * drift from the capture after 2 s. */
+int hk_bench_import(FILE *out, const hk_BenchOptions *options);
+
 #endif

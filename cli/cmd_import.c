@@ -143,9 +143,9 @@ int hk_cmd_import(int argc, char **argv)
                     g->settled, 1e3 * g->drift_max, g->unfollowed, 1e3 * HK_IMPORT_MAX_DRIFT);
         fprintf(stderr,
                 "\n  time: %.2f s (read %.2f, head field %.2f, push out %.2f, guides %.2f, fit and inverse "
-                "%.2f, attach %.2f, write %.2f)\n",
+                "%.2f [CPU: fits %.2f, inversions %.2f], attach %.2f, write %.2f)\n",
                 r.seconds, r.seconds_read, r.seconds_field, g->seconds_push, g->seconds_choose, g->seconds_fit,
-                g->seconds_attach, r.seconds_write);
+                g->task_seconds_fit, g->task_seconds_inverse, g->seconds_attach, r.seconds_write);
     }
     return HK_EXIT_OK;
 }

@@ -120,6 +120,10 @@ typedef struct hk_GroomImportDef {
                                      attached to (m; default 0.001) */
     hk_RodMaterial material;      /* of every strand (default: 40 um radius, 3 GPa,
                                      Poisson 0.48, 1300 kg/m^3, gravity 9.81 down y) */
+    double collision_step;        /* CollisionStep of the body's penalty in the inverse (m;
+                                     default 0.005, the hairstyle's default): it must be
+                                     the simulation's, whose contact samples are the
+                                     statics' (hk_strand_collision_sample_count) */
     hk_SuperHelixFitDef fit;      /* hk_default_superhelix_fit_def */
     hk_InverseStaticsDef inverse; /* hk_default_inverse_statics_def */
     hk_ProgressFn progress;       /* may be NULL: stages "push out", "fit" */
@@ -159,7 +163,10 @@ typedef struct hk_GroomImportReport {
     double drift_max; /* the largest drift of a settled guide (m) */
     int unfollowed;   /* settled guides farther than HK_IMPORT_MAX_DRIFT: followed
                          by no strand */
-    double seconds_push, seconds_choose, seconds_fit, seconds_attach;
+    double seconds_push, seconds_choose, seconds_fit, seconds_attach; /* wall time of each stage */
+    double task_seconds_fit, task_seconds_inverse;                    /* CPU time of the fit-and-inverse stage
+                                                                         (seconds_fit): the guides' fits and
+                                                                         inversions, summed over all threads */
 } hk_GroomImportReport;
 
 /* The guides and attachments of `hair` (metres, y up: scale it first), with the body

@@ -28,6 +28,7 @@ hk_GroomImportDef hk_default_groom_import_def(void)
     d.seed = 1;
     d.threads = 0;
     d.station_step = 0.001;
+    d.collision_step = hk_default_strand_def().collision_step;
     d.material = hk_rod_material(4e-5, 4e-5, 3e9, 0.48, 1300.0, hk_v3(0.0, -9.81, 0.0));
     d.fit = hk_default_superhelix_fit_def();
     d.inverse = hk_default_inverse_statics_def();
@@ -114,6 +115,7 @@ static void attach_strand(hk_ImportedGroom *g, int i, const int *guide_of_strand
 typedef struct GuideResult {
     hk_SuperHelixFitReport fit;
     hk_InverseStaticsReport inv;
+    double seconds_fit, seconds_inverse; /* CPU time of this guide's task */
 } GuideResult;
 
 static hk_Status make_guide(const hk_ImportedGroom *g, int strand, const hk_Shape *body, int body_count,
@@ -123,13 +125,23 @@ static hk_Status make_guide(const hk_ImportedGroom *g, int strand, const hk_Shap
     hk_Vec3 *p = hk_alloc_array(np, sizeof *p, err);
     if (!p) return HK_ERR_NOMEM;
     for (uint32_t j = 0; j < np; j++) p[j] = point_of(g->points, first + j);
+    const double t0 = hk_thread_cpu_seconds();
     hk_Status st = hk_superhelix_fit(p, (int)np, &d->material, &d->fit, out, &res->fit, err);
+    const double t1 = hk_thread_cpu_seconds();
+    res->seconds_fit = t1 - t0;
     hk_free(p);
     if (st != HK_OK) return hk_error_set(err, st, "strand %d: %s", strand, err->message);
     hk_StrandEnvDef env = hk_default_strand_env_def();
     env.shapes = body;
     env.shape_count = body_count;
-    return hk_statics_invert(*out, body_count > 0 ? &env : NULL, &d->inverse, &res->inv, err);
+    /* The samples the simulation's body contacts use (hk_hair_sim_create_imported: the
+     * hairstyle's CollisionStep, envelope level 0): with no step the inverse saw no
+     * head at all, and a guide whose samples lie in the head's penalty started out of
+     * equilibrium by that force (Sintel's guides 5 and 17, docs/capture.md). */
+    env.collision_step = d->collision_step;
+    st = hk_statics_invert(*out, body_count > 0 ? &env : NULL, &d->inverse, &res->inv, err);
+    res->seconds_inverse = hk_thread_cpu_seconds() - t1;
+    return st;
 }
 
 static int threads_of(int t) { return t > 0 ? t : omp_get_max_threads(); }
@@ -253,6 +265,8 @@ hk_Status hk_groom_import(const hk_HairFile *hair, const hk_Shape *body, int bod
         for (int c = 0; c < k; c++) {
             sum += res[c].fit.mean_error;
             elements += res[c].fit.elements;
+            report->task_seconds_fit += res[c].seconds_fit;
+            report->task_seconds_inverse += res[c].seconds_inverse;
             report->fit_worst = fmax(report->fit_worst, res[c].fit.mean_error);
             report->fit_max = fmax(report->fit_max, res[c].fit.max_error);
             if (!res[c].inv.stable) report->unstable++;

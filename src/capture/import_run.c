@@ -89,7 +89,8 @@ static hk_Status path_in(char *buf, size_t size, const char *dir, const char *na
 }
 
 /* DIR/hairstyle.txt and the material it gives. */
-static hk_Status write_hairstyle(const hk_ImportRunDef *d, hk_RodMaterial *material, hk_Error *err)
+static hk_Status write_hairstyle(const hk_ImportRunDef *d, hk_RodMaterial *material, double *collision_step,
+                                 hk_Error *err)
 {
     char path[4096];
     hk_Status st = path_in(path, sizeof path, d->dir, "hairstyle.txt", err);
@@ -109,6 +110,7 @@ static hk_Status write_hairstyle(const hk_ImportRunDef *d, hk_RodMaterial *mater
         const hk_StrandDef *s = &style.strand;
         *material = hk_rod_material(s->radius1, s->radius2, s->young, s->poisson, s->density,
                                     hk_v3_scale(s->gravity_dir, s->gravity));
+        *collision_step = s->collision_step;
     }
     hk_hairstyle_free(&style);
     return st;
@@ -124,7 +126,7 @@ hk_Status hk_import_run(const hk_ImportRunDef *def, hk_ImportRunReport *report, 
     if (mkdir(def->dir, 0777) != 0 && errno != EEXIST)
         return hk_error_set(err, HK_ERR_IO, "%s: cannot make the folder: %s", def->dir, strerror(errno));
     hk_GroomImportDef gd = def->groom;
-    hk_Status st = write_hairstyle(def, &gd.material, err);
+    hk_Status st = write_hairstyle(def, &gd.material, &gd.collision_step, err);
     if (st != HK_OK) return st;
 
     hk_HairFile hair;

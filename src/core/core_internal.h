@@ -48,5 +48,6 @@ hk_Status hk_first_error_status(const hk_FirstError *fe, hk_Error *err);
 /* Seconds on a monotonic clock (CLOCK_MONOTONIC) from an arbitrary origin: for timings
  * and progress reports, never for results.*/
 double hk_seconds_now(void);
+double hk_thread_cpu_seconds(void); /* CPU time of the calling thread (s) */
 
 #endif /* HK_CORE_INTERNAL_H */
