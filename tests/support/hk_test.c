@@ -1,31 +1,27 @@
 /* Shared helpers for the cmocka tests (see hk_test.h). */
+#define _XOPEN_SOURCE 700 /* nftw */
 #include "hk_test.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <dirent.h>
+#include <ftw.h>
 #include <unistd.h>
 
 static char tmpdir[256];
 
-/* Removes the private folder and the files the test put in it (one level deep). */
-static void remove_tmpdir(void)
+/* Removes one entry of the private folder, deepest first (nftw). */
+static int remove_entry(const char *path, const struct stat *st, int flag, struct FTW *ftw)
 {
-    DIR *d = opendir(tmpdir);
-    if (d) {
-        struct dirent *e;
-        char path[600];
-        while ((e = readdir(d)) != NULL) {
-            if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
-            snprintf(path, sizeof path, "%s/%s", tmpdir, e->d_name);
-            unlink(path);
-        }
-        closedir(d);
-    }
-    rmdir(tmpdir);
+    (void)st, (void)flag, (void)ftw;
+    remove(path);
+    return 0;
 }
+
+/* Removes the private folder and everything the test put in it, folders too (a
+ * simulation's frame folder was left behind in /tmp by every run). */
+static void remove_tmpdir(void) { nftw(tmpdir, remove_entry, 16, FTW_DEPTH | FTW_PHYS); }
 
 const char *hk_test_tmpdir(void)
 {
