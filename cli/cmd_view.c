@@ -25,7 +25,10 @@ enum {
     OPT_SIMULATE,
     OPT_FPS,
     OPT_PREROLL,
-    OPT_NO_CONTACTS
+    OPT_NO_CONTACTS,
+    OPT_GUIDES_ONLY,
+    OPT_SHOW_WICK,
+    OPT_SHOW_SHAPES
 };
 
 static void usage(FILE *out)
@@ -54,6 +57,9 @@ static void usage(FILE *out)
                  "  --head-vert F, --head-frag F, --hair-vert F, --hair-frag F\n"
                  "                     GLSL files replacing the built-in shaders (as the setup\n"
                  "                     keys HeadVert, HeadFrag, HairVert, HairFrag)\n"
+                 "  --guides-only, --show-wick, --show-shapes\n"
+                 "                     start with the guides alone, the wick, the collision shapes\n"
+                 "                     shown (keys G, W, C; a setup file's)\n"
                  "live dynamics (a setup file that grows its hair):\n"
                  "  --simulate         simulate the guides from the start and regrow the head every\n"
                  "                     step, as 'hairkit simulate' (headless: one step a frame)\n"
@@ -73,6 +79,7 @@ typedef struct ViewArgs {
     const char *shader[4];
     long frames;
     int quiet, simulate;
+    int show[3]; /* guides only, the wick, the collision shapes (keys G, W, C) */
     hk_LiveSimDef live;
     hk_CliMotion motion;
     hk_RenderDef ro;
@@ -101,6 +108,9 @@ static int parse(int argc, char **argv, ViewArgs *a)
         {"fps", required_argument, NULL, OPT_FPS},
         {"preroll", required_argument, NULL, OPT_PREROLL},
         {"no-contacts", no_argument, NULL, OPT_NO_CONTACTS},
+        {"guides-only", no_argument, NULL, OPT_GUIDES_ONLY},
+        {"show-wick", no_argument, NULL, OPT_SHOW_WICK},
+        {"show-shapes", no_argument, NULL, OPT_SHOW_SHAPES},
         {"quiet", no_argument, NULL, 'q'},
         {"help", no_argument, NULL, 'h'},
         HK_CLI_MOTION_LONG_OPTIONS,
@@ -167,6 +177,11 @@ static int parse(int argc, char **argv, ViewArgs *a)
             break;
         case OPT_NO_CONTACTS:
             a->live.hair_contacts = 0;
+            break;
+        case OPT_GUIDES_ONLY:
+        case OPT_SHOW_WICK:
+        case OPT_SHOW_SHAPES:
+            a->show[c - OPT_GUIDES_ONLY] = 1;
             break;
         case OPT_HEAD_VERT:
         case OPT_HEAD_FRAG:
@@ -268,6 +283,7 @@ static int view(ViewArgs *a)
         in.screenshot = a->screenshot;
         in.quiet = a->quiet;
         in.simulate = a->simulate;
+        in.guides_only = a->show[0], in.show_wick = a->show[1], in.show_shapes = a->show[2];
         in.live = a->live;
         in.motion = motion;
         status = hk_viewer_run(&in);

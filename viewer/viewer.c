@@ -155,6 +155,7 @@ static int run(hk_Viewer *v)
     if (!hk_gl_hair_create(&v->hair, v->hair_now, v->guide_count) || !hk_gl_head_create(&v->head, in->head) ||
         !hk_gl_head_create(&v->wick, in->scene ? &in->scene->wick : NULL) || !hk_viewer_shapes_update(v, NULL))
         return 0;
+    v->hair_dirty = 0; /* just uploaded */
     if (!hk_gl_light_maps_create(&v->maps, in->render.shadow_map_size) ||
         !hk_gl_target_create(&v->target, in->render.width, in->render.height, 4)) {
         fprintf(stderr, "hairkit view: the OpenGL driver cannot make the viewer's framebuffers\n");
@@ -219,7 +220,7 @@ int hk_viewer_run_measured(const hk_ViewerInput *in, hk_ViewerFigures *figures)
     v.figures = figures;
     v.hair_now = in->hair;
     v.guide_count = in->guide_count;
-    v.show_wick = 0, v.show_shapes = 0;
+    v.guides_only = in->guides_only, v.show_wick = in->show_wick, v.show_shapes = in->show_shapes;
     int ok = !in->simulate || hk_viewer_live_start(&v);
     ok = ok && setup_scene(&v) && open_window(&v);
     if (ok) {

@@ -20,7 +20,8 @@ typedef struct hk_ViewerInput {
     hk_Visuality visuality; /* colours as the files give them (sRGB) */
     hk_RenderDef render;    /* size, view, light, shading, shadows, shadow map, thickness */
     const char *shader[HK_VIEW_SHADER_COUNT];
-    int guide_count; /* the hair's first strands that are guides (0: none known) */
+    int guide_count;                         /* the hair's first strands that are guides (0: none known) */
+    int guides_only, show_wick, show_shapes; /* the toggles' first state */
     /* Live dynamics (a setup's scene only): the scene (loaded with HK_SCENE_ALL) whose
      * guides are simulated (NULL: none), simulated from the start (`simulate`) or when
      * the key asks, with these options, under the head motion (NULL: still). */
