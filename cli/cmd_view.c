@@ -2,6 +2,7 @@
  * Parses the options, reads the hair and the head as `render` and `run` do, and hands
  * them to hk_viewer_run; built without HK_VIEWER it says so. */
 #include <getopt.h>
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -28,7 +29,8 @@ enum {
     OPT_NO_CONTACTS,
     OPT_GUIDES_ONLY,
     OPT_SHOW_WICK,
-    OPT_SHOW_SHAPES
+    OPT_SHOW_SHAPES,
+    OPT_DRAG
 };
 
 static void usage(FILE *out)
@@ -66,7 +68,9 @@ static void usage(FILE *out)
                  "  --fps F            steps per simulated second; the step is 1/F (default 30)\n"
                  "  --preroll auto|S   settle the hair before time 0: auto (default) at least 1 s,\n"
                  "                     then until at rest, at most 5 s; S: exactly S seconds\n"
-                 "  --no-contacts      no guide-guide interactions\n");
+                 "  --no-contacts      no guide-guide interactions\n"
+                 "  --drag DX,DY       as a Shift + left drag of DX, DY pixels before the first step\n"
+                 "                     (the head moved across the view; with --simulate)\n");
     hk_cli_motion_options_help(out);
     hk_cli_transform_help(out, 1, 1);
     hk_cli_render_options_help(out);
@@ -80,6 +84,8 @@ typedef struct ViewArgs {
     long frames;
     int quiet, simulate;
     int show[3]; /* guides only, the wick, the collision shapes (keys G, W, C) */
+    double drag[2];
+    int dragged;
     hk_LiveSimDef live;
     hk_CliMotion motion;
     hk_RenderDef ro;
@@ -111,6 +117,7 @@ static int parse(int argc, char **argv, ViewArgs *a)
         {"guides-only", no_argument, NULL, OPT_GUIDES_ONLY},
         {"show-wick", no_argument, NULL, OPT_SHOW_WICK},
         {"show-shapes", no_argument, NULL, OPT_SHOW_SHAPES},
+        {"drag", required_argument, NULL, OPT_DRAG},
         {"quiet", no_argument, NULL, 'q'},
         {"help", no_argument, NULL, 'h'},
         HK_CLI_MOTION_LONG_OPTIONS,
@@ -178,6 +185,12 @@ static int parse(int argc, char **argv, ViewArgs *a)
         case OPT_NO_CONTACTS:
             a->live.hair_contacts = 0;
             break;
+        case OPT_DRAG:
+            if (!hk_cli_parse_pair(optarg, &a->drag[0], &a->drag[1]) || fabs(a->drag[0]) > 1e4 ||
+                fabs(a->drag[1]) > 1e4)
+                return hk_cli_usage_error(CMD, "--drag expects DX,DY in pixels, got '%s'", optarg);
+            a->dragged = 1;
+            break;
         case OPT_GUIDES_ONLY:
         case OPT_SHOW_WICK:
         case OPT_SHOW_SHAPES:
@@ -204,6 +217,7 @@ static int parse(int argc, char **argv, ViewArgs *a)
     if (a->screenshot && !a->frames) a->frames = 1;
     if (a->simulate && !is_setup(a->input))
         return hk_cli_usage_error(CMD, "--simulate needs a setup file (SETUP.txt), got '%s'", a->input);
+    if (a->dragged && !a->simulate) return hk_cli_usage_error(CMD, "--drag needs --simulate");
     if (a->simulate && (a->head_tf.given || a->hair_tf.given))
         return hk_cli_usage_error(CMD, "--simulate moves the setup's own head and shapes: no --scale, --up, "
                                        "--head-scale or --head-up");
@@ -283,6 +297,7 @@ static int view(ViewArgs *a)
         in.screenshot = a->screenshot;
         in.quiet = a->quiet;
         in.simulate = a->simulate;
+        in.drag[0] = a->drag[0], in.drag[1] = a->drag[1];
         in.guides_only = a->show[0], in.show_wick = a->show[1], in.show_shapes = a->show[2];
         in.live = a->live;
         in.motion = motion;

@@ -165,6 +165,7 @@ static int run(hk_Viewer *v)
     const double start = hk_seconds_now();
     hk_viewer_watch_start(v, start);
     if (in->simulate) hk_viewer_live_play(v, 1, start);
+    if (in->drag[0] != 0.0 || in->drag[1] != 0.0) hk_viewer_live_drag(v, in->drag[0], in->drag[1], v->target.height);
     double t0 = start, first = -1.0;
     int frames = 0, counted = 0;
     while (!glfwWindowShouldClose(v->window)) {

@@ -29,6 +29,7 @@ typedef struct hk_ViewerInput {
     int simulate;
     hk_LiveSimDef live;
     const hk_HeadMotion *motion;
+    double drag[2];         /* pixels: a drag of the head before the first step (headless tests) */
     int frames;             /* > 0: headless, draw this many frames, then stop */
     const char *screenshot; /* with frames: the last frame written here (PNG) */
     int quiet;

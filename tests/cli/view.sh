@@ -83,6 +83,12 @@ cmp -s "$tmp/still.png" "$tmp/still1.png" || fail "a simulated picture depends o
 expect 0 "$hk" view "$tmp/sim/setup.txt" --width 160 --height 120 --frames 2 --simulate --preroll 0
 contains "$tmp/err" "201 guides solved"
 contains "$tmp/err" "simulated 0.07 s (2 steps"
+# The head dragged 30 pixels to the right before the first step (as Shift + left drag):
+# head and hair move across the picture (measured 31% of the pixels against the still).
+expect 0 "$hk" view "${sim[@]}" --frames 10 --screenshot "$tmp/drag.png" --simulate --preroll 0 --drag 30,0
+masks "$tmp/still.png" "$tmp/drag.png" 0.1 over
+expect 2 "$hk" view "${sim[@]}" --drag 30,0
+contains "$tmp/err" "--drag needs --simulate"
 # The toggles' first state: guides alone cover fewer pixels, the shapes' outlines more.
 expect 0 "$hk" view "${sim[@]}" --frames 1 --screenshot "$tmp/guides.png" --guides-only
 masks "$tmp/static.png" "$tmp/guides.png" 0.02 over
