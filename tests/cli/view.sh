@@ -102,6 +102,10 @@ contains "$tmp/err" "Load true"
 expect 1 "$hk" view "${sim[@]}" --frames 1 --simulate --motion wobble
 contains "$tmp/err" "unknown motion 'wobble'"
 
+# The benchmark without a display says so and measures nothing (its figures: docs/viewer.md).
+expect 0 env -u DISPLAY -u WAYLAND_DISPLAY "$hk" bench view --quick
+contains "$tmp/out" "view: skipped: no display"
+
 # A shader that does not compile: the file and the line the compiler names.
 {
     echo "#version 330 core"
