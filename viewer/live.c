@@ -18,6 +18,17 @@
  * then runs slower than real time rather than ever further behind. */
 #define HK_MAX_STEPS_A_FRAME 2
 
+/* Room for the hair and the head in motion: the light's maps and the depth range cover
+ * the scene's sphere, made 30% larger once (a still scene keeps its tighter maps). */
+void hk_viewer_live_room(hk_Viewer *v)
+{
+    if (v->roomy || !(v->radius > 0.0)) return;
+    v->roomy = 1;
+    v->radius *= 1.3;
+    v->orbit.radius = v->home.radius = v->radius;
+    v->maps_stale = 1;
+}
+
 static int live_create(hk_Viewer *v)
 {
     const hk_ViewerInput *in = v->in;
@@ -41,6 +52,7 @@ static int live_create(hk_Viewer *v)
     v->hair_now = hk_live_sim_hair(v->live);
     v->guide_count = hk_live_sim_guide_count(v->live);
     v->hair_dirty = v->head_dirty = 1;
+    hk_viewer_live_room(v);
     return 1;
 }
 

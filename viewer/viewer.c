@@ -38,9 +38,6 @@ static int setup_scene(hk_Viewer *v)
     if (!(lo.x <= hi.x)) lo = hi = hk_v3(0, 0, 0);
     v->centre = hk_v3_scale(hk_v3_add(lo, hi), 0.5);
     v->radius = fmax(0.5 * hk_v3_norm(hk_v3_sub(hi, lo)), 1e-3);
-    /* room for the hair and the head in motion: the light's maps and the depth range
-     * cover this sphere */
-    if (in->scene && in->scene->wick.vertex_count) v->radius *= 1.3;
     hk_Error err;
     hk_Vec3 target;
     double distance;
@@ -52,6 +49,7 @@ static int setup_scene(hk_Viewer *v)
     v->orbit.distance = distance, v->orbit.target = target;
     v->orbit.fov = r->fov_deg, v->orbit.radius = v->radius;
     v->home = v->orbit;
+    if (v->live) hk_viewer_live_room(v);
     v->light_azimuth = r->light_azimuth_deg, v->light_elevation = r->light_elevation_deg;
     v->shadows = r->shadows, v->shading = r->shading == HK_SHADING_MARSCHNER, v->show_head = 1;
     v->maps_stale = 1;

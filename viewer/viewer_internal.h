@@ -42,6 +42,7 @@ typedef struct hk_Viewer {
     double play_wall;    /* wall time when playing last started (interactive) */
     long play_steps;     /* steps done then */
     double step_seconds; /* wall time of the last step and regrowth */
+    int roomy;           /* the scene's sphere made larger for motion */
     /* files watched for changes (watch.c) */
     double watch_wall;
     long long watched[HK_VIEW_SHADER_COUNT + 1];
@@ -78,6 +79,8 @@ void hk_viewer_live_play(hk_Viewer *v, int playing, double now);
 /* The head dragged by (dx, dy) pixels across the view. */
 void hk_viewer_live_drag(hk_Viewer *v, double dx, double dy, int height);
 void hk_viewer_live_free(hk_Viewer *v);
+/* The scene's sphere made larger for the hair in motion (once). */
+void hk_viewer_live_room(hk_Viewer *v);
 
 /* Shader and hairstyle files changed on disk, polled once a second (watch.c): shaders
  * compiled again, the hairstyle solved again. 0 on a failure that must stop a headless
