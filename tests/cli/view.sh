@@ -83,6 +83,11 @@ cmp -s "$tmp/still.png" "$tmp/still1.png" || fail "a simulated picture depends o
 expect 0 "$hk" view "$tmp/sim/setup.txt" --width 160 --height 120 --frames 2 --simulate --preroll 0
 contains "$tmp/err" "201 guides solved"
 contains "$tmp/err" "simulated 0.07 s (2 steps"
+# A head motion file, as hairkit simulate takes it: the head nods (measured 6.6% of the
+# pixels against the still head after 10 steps).
+expect 0 "$hk" view "${sim[@]}" --frames 10 --screenshot "$tmp/file.png" --simulate --preroll 0 \
+    --motion "$src/examples/motions/nod-and-shake.txt"
+masks "$tmp/still.png" "$tmp/file.png" 0.01 over
 # The head dragged 30 pixels to the right before the first step (as Shift + left drag):
 # head and hair move across the picture (measured 31% of the pixels against the still).
 expect 0 "$hk" view "${sim[@]}" --frames 10 --screenshot "$tmp/drag.png" --simulate --preroll 0 --drag 30,0
