@@ -35,6 +35,10 @@ int hk_bench_render(FILE *out, const hk_BenchOptions *options);
  * 2 threads for N = 20 and 40. */
 int hk_bench_dynamics(FILE *out, const hk_BenchOptions *options);
 
+/* The viewer headless (bench_view.c): frames per second of the default head with and
+ * without shadows and of examples/guides200 simulated live; the GL renderer named. */
+int hk_bench_view(FILE *out, const hk_BenchOptions *options);
+
 /* Stability matrix of single strands (bench_stability.c): hair types and lengths 5 cm to
  * 1.5 m, still and moving heads, dt = 1/24 and 1/30 s, TR-BDF2 and linear Euler. */
 int hk_bench_stability(FILE *out, const hk_BenchOptions *options);

@@ -37,6 +37,8 @@ int hk_cmd_view(int argc, char **argv);
 int hk_cli_parse_vec3(const char *text, hk_Vec3 *out);
 /* Whole-string finite number; returns 0 otherwise. */
 int hk_cli_parse_double(const char *text, double *out);
+/* "A,B": two finite numbers separated by a comma; 0 when malformed. */
+int hk_cli_parse_pair(const char *text, double *a, double *b);
 /* Whole-string integer in [lo, hi]; returns 0 otherwise. */
 int hk_cli_parse_int(const char *text, long lo, long hi, long *out);
 

@@ -27,6 +27,7 @@ static const Bench benches[] = {
      "helicoids: 90,000 hairs interpolated, fits/s of 30-vertex strands, reconstruction"},
     {"follicles", hk_bench_follicles,
      "thin-plate fit of 500..2000 points; follicles sampled on the wick, 1 and 2 threads"},
+    {"view", hk_bench_view, "hairkit view headless: default head with/without shadows, guides200 live (frames/s)"},
     {"io", hk_bench_io, "Sintel .tfx -> .hair; 1M strands x 32 points .hair read and written against stdio"},
     {"import", hk_bench_import,
      "Sintel groom imported with 300 guides: time of each stage; the still-head drift after 2 s"},

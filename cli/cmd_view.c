@@ -2,10 +2,13 @@
  * Parses the options, reads the hair and the head as `render` and `run` do, and hands
  * them to hk_viewer_run; built without HK_VIEWER it says so. */
 #include <getopt.h>
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "cli.h"
+#include "hairkit/live_sim.h"
+#include "hairkit/motion.h"
 #include "hairkit/scene.h"
 #ifdef HK_HAVE_VIEWER
 #include "viewer/viewer.h"
@@ -13,7 +16,22 @@
 
 static const char *const CMD = "view";
 
-enum { OPT_FRAMES = 1300, OPT_SCREENSHOT, OPT_HEAD_VERT, OPT_HEAD_FRAG, OPT_HAIR_VERT, OPT_HAIR_FRAG };
+enum {
+    OPT_FRAMES = 1300,
+    OPT_SCREENSHOT,
+    OPT_HEAD_VERT,
+    OPT_HEAD_FRAG,
+    OPT_HAIR_VERT,
+    OPT_HAIR_FRAG,
+    OPT_SIMULATE,
+    OPT_FPS,
+    OPT_PREROLL,
+    OPT_NO_CONTACTS,
+    OPT_GUIDES_ONLY,
+    OPT_SHOW_WICK,
+    OPT_SHOW_SHAPES,
+    OPT_DRAG
+};
 
 static void usage(FILE *out)
 {
@@ -27,8 +45,11 @@ static void usage(FILE *out)
                  "does; any other file is hair in a format hairkit reads, as 'hairkit render'.\n"
                  "--view, --light, --width and --height frame the picture as 'render' does.\n"
                  "Mouse: left drag turns, right drag moves, wheel zooms, L + left drag moves the\n"
-                 "light. Keys: arrows turn, + - zoom, S shadows, M shading, H head, R reset,\n"
-                 "P screenshot, F5 reload shaders, Esc quits (docs/viewer.md).\n"
+                 "light, Shift + left drag moves the head (live dynamics). Keys: arrows turn,\n"
+                 "+ - zoom, S shadows, M shading, H head, G guides only, W wick, C collision\n"
+                 "shapes, Space play/pause the dynamics, N one step, Backspace back to time 0,\n"
+                 "R camera reset, P screenshot, F5 reload shaders, Esc quits (docs/viewer.md).\n"
+                 "Shader files and the hairstyle file are read again when they change.\n"
                  "\n"
                  "options:\n"
                  "  --head FILE        the head mesh, OBJ or PLY (with a hair file; optional)\n"
@@ -37,7 +58,20 @@ static void usage(FILE *out)
                  "  --screenshot FILE  the last frame as a PNG (with --frames; alone: one frame)\n"
                  "  --head-vert F, --head-frag F, --hair-vert F, --hair-frag F\n"
                  "                     GLSL files replacing the built-in shaders (as the setup\n"
-                 "                     keys HeadVert, HeadFrag, HairVert, HairFrag)\n");
+                 "                     keys HeadVert, HeadFrag, HairVert, HairFrag)\n"
+                 "  --guides-only, --show-wick, --show-shapes\n"
+                 "                     start with the guides alone, the wick, the collision shapes\n"
+                 "                     shown (keys G, W, C; a setup file's)\n"
+                 "live dynamics (a setup file that grows its hair):\n"
+                 "  --simulate         simulate the guides from the start and regrow the head every\n"
+                 "                     step, as 'hairkit simulate' (headless: one step a frame)\n"
+                 "  --fps F            steps per simulated second; the step is 1/F (default 30)\n"
+                 "  --preroll auto|S   settle the hair before time 0: auto (default) at least 1 s,\n"
+                 "                     then until at rest, at most 5 s; S: exactly S seconds\n"
+                 "  --no-contacts      no guide-guide interactions\n"
+                 "  --drag DX,DY       as a Shift + left drag of DX, DY pixels before the first step\n"
+                 "                     (the head moved across the view; with --simulate)\n");
+    hk_cli_motion_options_help(out);
     hk_cli_transform_help(out, 1, 1);
     hk_cli_render_options_help(out);
     fprintf(out, "  --quiet            no summary on stderr\n"
@@ -48,10 +82,21 @@ typedef struct ViewArgs {
     const char *input, *head_path, *vis_path, *screenshot;
     const char *shader[4];
     long frames;
-    int quiet;
+    int quiet, simulate;
+    int show[3]; /* guides only, the wick, the collision shapes (keys G, W, C) */
+    double drag[2];
+    int dragged;
+    hk_LiveSimDef live;
+    hk_CliMotion motion;
     hk_RenderDef ro;
     hk_CliTransform hair_tf, head_tf;
 } ViewArgs;
+
+static int is_setup(const char *path)
+{
+    const size_t n = strlen(path);
+    return n > 4 && !strcmp(path + n - 4, ".txt");
+}
 
 /* Returns -1 to go on, else the exit status. */
 static int parse(int argc, char **argv, ViewArgs *a)
@@ -65,8 +110,17 @@ static int parse(int argc, char **argv, ViewArgs *a)
         {"head-frag", required_argument, NULL, OPT_HEAD_FRAG},
         {"hair-vert", required_argument, NULL, OPT_HAIR_VERT},
         {"hair-frag", required_argument, NULL, OPT_HAIR_FRAG},
+        {"simulate", no_argument, NULL, OPT_SIMULATE},
+        {"fps", required_argument, NULL, OPT_FPS},
+        {"preroll", required_argument, NULL, OPT_PREROLL},
+        {"no-contacts", no_argument, NULL, OPT_NO_CONTACTS},
+        {"guides-only", no_argument, NULL, OPT_GUIDES_ONLY},
+        {"show-wick", no_argument, NULL, OPT_SHOW_WICK},
+        {"show-shapes", no_argument, NULL, OPT_SHOW_SHAPES},
+        {"drag", required_argument, NULL, OPT_DRAG},
         {"quiet", no_argument, NULL, 'q'},
         {"help", no_argument, NULL, 'h'},
+        HK_CLI_MOTION_LONG_OPTIONS,
         HK_CLI_RENDER_LONG_OPTIONS,
         HK_CLI_HAIR_TRANSFORM_LONG_OPTIONS,
         HK_CLI_HEAD_TRANSFORM_LONG_OPTIONS,
@@ -76,6 +130,11 @@ static int parse(int argc, char **argv, ViewArgs *a)
     optind = 1;
     opterr = 0;
     while ((c = getopt_long(argc, argv, ":h", options, NULL)) != -1) {
+        if (HK_CLI_IS_MOTION_OPTION(c)) {
+            const int rc = hk_cli_motion_option(CMD, c, optarg, &a->motion);
+            if (rc) return rc;
+            continue;
+        }
         if (HK_CLI_IS_RENDER_OPTION(c)) {
             const int rc = hk_cli_render_option(CMD, c, optarg, &a->ro);
             if (rc) return rc;
@@ -106,6 +165,37 @@ static int parse(int argc, char **argv, ViewArgs *a)
         case OPT_SCREENSHOT:
             a->screenshot = optarg;
             break;
+        case OPT_SIMULATE:
+            a->simulate = 1;
+            break;
+        case OPT_FPS:
+            if (!hk_cli_parse_double(optarg, &a->live.fps) || !(a->live.fps >= 1.0 && a->live.fps <= 100000.0))
+                return hk_cli_usage_error(CMD, "--fps expects a number from 1 to 100000, got '%s'", optarg);
+            break;
+        case OPT_PREROLL:
+            if (!strcmp(optarg, "auto")) {
+                const hk_LiveSimDef def = hk_default_live_sim_def();
+                a->live.preroll = def.preroll, a->live.preroll_max = def.preroll_max;
+                break;
+            }
+            if (!hk_cli_parse_double(optarg, &a->live.preroll) || !(a->live.preroll >= 0.0 && a->live.preroll <= 100.0))
+                return hk_cli_usage_error(CMD, "--preroll expects auto or seconds in [0, 100], got '%s'", optarg);
+            a->live.preroll_max = a->live.preroll; /* exactly, as hairkit simulate */
+            break;
+        case OPT_NO_CONTACTS:
+            a->live.hair_contacts = 0;
+            break;
+        case OPT_DRAG:
+            if (!hk_cli_parse_pair(optarg, &a->drag[0], &a->drag[1]) || fabs(a->drag[0]) > 1e4 ||
+                fabs(a->drag[1]) > 1e4)
+                return hk_cli_usage_error(CMD, "--drag expects DX,DY in pixels, got '%s'", optarg);
+            a->dragged = 1;
+            break;
+        case OPT_GUIDES_ONLY:
+        case OPT_SHOW_WICK:
+        case OPT_SHOW_SHAPES:
+            a->show[c - OPT_GUIDES_ONLY] = 1;
+            break;
         case OPT_HEAD_VERT:
         case OPT_HEAD_FRAG:
         case OPT_HAIR_VERT:
@@ -125,18 +215,19 @@ static int parse(int argc, char **argv, ViewArgs *a)
     if (optind + 1 < argc) return hk_cli_usage_error(CMD, "unexpected argument '%s'", argv[optind + 1]);
     a->input = argv[optind];
     if (a->screenshot && !a->frames) a->frames = 1;
+    if (a->simulate && !is_setup(a->input))
+        return hk_cli_usage_error(CMD, "--simulate needs a setup file (SETUP.txt), got '%s'", a->input);
+    if (a->dragged && !a->simulate) return hk_cli_usage_error(CMD, "--drag needs --simulate");
+    if (a->simulate && (a->head_tf.given || a->hair_tf.given))
+        return hk_cli_usage_error(CMD, "--simulate moves the setup's own head and shapes: no --scale, --up, "
+                                       "--head-scale or --head-up");
     return -1;
 }
 
-static int is_setup(const char *path)
-{
-    const size_t n = strlen(path);
-    return n > 4 && !strcmp(path + n - 4, ".txt");
-}
 
 #ifdef HK_HAVE_VIEWER
 /* The scene of a setup file: its hair grown or loaded, head, colours, shaders. */
-static hk_Status load_setup(ViewArgs *a, hk_Scene *scene, hk_HairFile *hair, hk_Error *err)
+static hk_Status load_setup(ViewArgs *a, hk_Scene *scene, hk_HairFile *hair, int *guides, hk_Error *err)
 {
     if (a->head_path || a->vis_path)
         return hk_error_set(err, HK_ERR_INVALID, "--head and --visuality are for a hair file; %s names its own",
@@ -146,12 +237,20 @@ static hk_Status load_setup(ViewArgs *a, hk_Scene *scene, hk_HairFile *hair, hk_
     if (scene->head.vertex_count) st = hk_cli_transform_mesh(&a->head_tf, scene->setup.head_model, &scene->head, err);
     if (st == HK_OK && scene->wick.vertex_count)
         st = hk_cli_transform_mesh(&a->head_tf, scene->setup.wick_model, &scene->wick, err);
+    if (st == HK_OK && a->simulate && scene->setup.load)
+        return hk_error_set(err, HK_ERR_INVALID,
+                            "%s: Load true: --simulate grows its guides from HairstyleInfo and WickModel and cannot "
+                            "simulate the hair of LoadFile (%s); set Load false",
+                            a->input, scene->setup.load_file);
     hk_SceneHairReport report;
+    memset(&report, 0, sizeof report);
     hk_GroomDef go = hk_default_groom_def();
-    if (st == HK_OK) st = hk_scene_hair(scene, &go, hair, &report, err);
-    if (st == HK_OK && !report.grown) st = hk_cli_transform_hair(&a->hair_tf, hair, err);
-    if (st == HK_OK && !a->quiet) hk_cli_report_scene_hair(CMD, &scene->setup, hair, &report);
-    if (st == HK_OK && !report.grown)
+    /* simulated: the live simulation grows the hair */
+    if (st == HK_OK && !a->simulate) st = hk_scene_hair(scene, &go, hair, &report, err);
+    *guides = report.grown ? report.guides : 0;
+    if (st == HK_OK && !report.grown && !a->simulate) st = hk_cli_transform_hair(&a->hair_tf, hair, err);
+    if (st == HK_OK && !a->quiet && !a->simulate) hk_cli_report_scene_hair(CMD, &scene->setup, hair, &report);
+    if (st == HK_OK && !report.grown && !a->simulate)
         hk_cli_fine_hair(CMD, hair, HK_HUMAN_HAIR_DIAMETER, a->hair_tf.scale != 1.0, &a->ro);
     const char *setup_shader[4] = {scene->setup.head_vert, scene->setup.head_frag, scene->setup.hair_vert,
                                    scene->setup.hair_frag};
@@ -171,12 +270,15 @@ static int view(ViewArgs *a)
     hk_ViewerInput in;
     memset(&in, 0, sizeof in);
     in.visuality = hk_default_visuality();
-    hk_Status st;
-    if (is_setup(a->input)) {
-        st = load_setup(a, &scene, &hair, &err);
+    hk_HeadMotion *motion = NULL;
+    hk_Status st = HK_OK;
+    if (a->simulate || strcmp(a->motion.spec, "still") != 0) st = hk_cli_motion_create(&a->motion, &motion, &err);
+    if (st == HK_OK && is_setup(a->input)) {
+        st = load_setup(a, &scene, &hair, &in.guide_count, &err);
         in.visuality = scene.visuality;
         in.head = &scene.head;
-    } else {
+        in.scene = &scene;
+    } else if (st == HK_OK) {
         if (a->head_tf.given && !a->head_path) return hk_cli_usage_error(CMD, "--head-scale and --head-up need --head");
         st = hk_hair_read(a->input, HK_HAIR_FORMAT_AUTO, &hair, &err);
         if (st == HK_OK) st = hk_cli_transform_hair(&a->hair_tf, &hair, &err);
@@ -194,10 +296,16 @@ static int view(ViewArgs *a)
         in.frames = (int)a->frames;
         in.screenshot = a->screenshot;
         in.quiet = a->quiet;
+        in.simulate = a->simulate;
+        in.drag[0] = a->drag[0], in.drag[1] = a->drag[1];
+        in.guides_only = a->show[0], in.show_wick = a->show[1], in.show_shapes = a->show[2];
+        in.live = a->live;
+        in.motion = motion;
         status = hk_viewer_run(&in);
     } else {
         hk_cli_fail(CMD, &err);
     }
+    hk_head_motion_destroy(motion);
     hk_mesh_free(&head);
     hk_hair_free(&hair);
     hk_scene_free(&scene);
@@ -212,6 +320,8 @@ int hk_cmd_view(int argc, char **argv)
     a.ro = hk_default_render_def();
     a.hair_tf = hk_cli_default_transform();
     a.head_tf = hk_cli_default_transform();
+    a.motion = hk_cli_default_motion();
+    a.live = hk_default_live_sim_def();
     const int rc = parse(argc, argv, &a);
     if (rc >= 0) return rc;
 #ifdef HK_HAVE_VIEWER

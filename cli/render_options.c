@@ -20,8 +20,7 @@ void hk_cli_render_options_help(FILE *out)
                  "                     70 um when the file's is not a hair's)\n");
 }
 
-/* Parses "a,b" into two finite numbers. */
-static int parse_pair(const char *text, double *a, double *b)
+int hk_cli_parse_pair(const char *text, double *a, double *b)
 {
     char first[64];
     const char *comma = strchr(text, ',');
@@ -64,7 +63,7 @@ int hk_cli_render_option(const char *cmd, int option, const char *value, hk_Rend
         return 0;
     case HK_OPT_VIEW:
     case HK_OPT_LIGHT:
-        if (!parse_pair(value, &a, &b) || b < -90.0 || b > 90.0)
+        if (!hk_cli_parse_pair(value, &a, &b) || b < -90.0 || b > 90.0)
             return hk_cli_usage_error(cmd, "--%s expects AZIMUTH,ELEVATION in degrees (elevation -90 to 90), got '%s'",
                                       option == HK_OPT_VIEW ? "view" : "light", value);
         if (option == HK_OPT_VIEW)

@@ -18,7 +18,9 @@ int hk_viewer_load_programs(hk_Viewer *v)
     if (v->hair_program) glDeleteProgram(v->hair_program);
     v->head_program = head;
     v->hair_program = hair;
-    return 1;
+    /* the outlines' program is the built-in one only */
+    if (!v->line_program) v->line_program = hk_gl_program(NULL, "line.vert", NULL, "line.frag");
+    return v->line_program != 0;
 }
 
 static void common_uniforms(const hk_Viewer *v, GLuint p, const hk_OrbitFrame *f, hk_Vec3 light)
@@ -40,7 +42,8 @@ void hk_viewer_draw(hk_Viewer *v)
     const hk_Vec3 light = hk_view_direction(v->light_azimuth, v->light_elevation);
     if (v->maps_stale && v->shadows) {
         const double layer = r->layer_size > 0.0 ? r->layer_size : 0.002;
-        hk_gl_light_maps_draw(&v->maps, &v->hair, &v->head, light, v->centre, v->radius, v->thickness, layer);
+        hk_gl_light_maps_draw(&v->maps, &v->hair, &v->head, light, v->centre, v->radius, v->thickness, layer,
+                              v->guides_only);
         v->maps_stale = 0;
     }
     hk_gl_target_begin(&v->target, r->background_top, r->background_bottom);
@@ -52,6 +55,27 @@ void hk_viewer_draw(hk_Viewer *v)
         common_uniforms(v, v->head_program, &f, light);
         hk_gl_uniform3f(v->head_program, "SkinColor", r->skin.x, r->skin.y, r->skin.z);
         hk_gl_head_draw(&v->head);
+    }
+    /* The wick (the scalp mesh the guides grow from, Lansink 2010 §4.1.3) as a green
+     * wireframe, lit as the head, unshadowed. */
+    if (v->show_wick && v->wick.indices) {
+        glUseProgram(v->head_program);
+        common_uniforms(v, v->head_program, &f, light);
+        hk_gl_uniform1i(v->head_program, "Shadows", 0);
+        hk_gl_uniform3f(v->head_program, "SkinColor", 0.05, 0.6, 0.1);
+        glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+        glEnable(GL_POLYGON_OFFSET_LINE);
+        glPolygonOffset(-1.0f, -1.0f);
+        hk_gl_head_draw(&v->wick);
+        glDisable(GL_POLYGON_OFFSET_LINE);
+        glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    }
+    if (v->show_shapes && v->shapes.vertices) {
+        glUseProgram(v->line_program);
+        hk_gl_uniform_mat4(v->line_program, "ViewMatrix", f.view.m);
+        hk_gl_uniform_mat4(v->line_program, "ProjectionMatrix", f.projection.m);
+        hk_gl_uniform3f(v->line_program, "LineColor", 0.0, 0.45, 0.9);
+        hk_gl_lines_draw(&v->shapes);
     }
     /* The hair: tested against the head's depth, not written (each strand a fraction of
      * a pixel, blended over what is behind it). */
@@ -69,7 +93,7 @@ void hk_viewer_draw(hk_Viewer *v)
     glDepthMask(GL_FALSE);
     glEnable(GL_BLEND);
     glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-    hk_gl_hair_draw(&v->hair);
+    hk_gl_hair_draw(&v->hair, v->guides_only);
     glDisable(GL_BLEND);
     glDepthMask(GL_TRUE);
     hk_gl_target_end(&v->target);

@@ -53,7 +53,7 @@ int hk_gl_light_maps_create(hk_GlLightMaps *m, int size)
 }
 
 void hk_gl_light_maps_draw(hk_GlLightMaps *m, const hk_GlHair *hair, const hk_GlHead *head, hk_Vec3 light,
-                           hk_Vec3 centre, double radius, double thickness, double layer_size)
+                           hk_Vec3 centre, double radius, double thickness, double layer_size, int guides_only)
 {
     /* An orthographic view along the light: x, y across it, depth increasing away from
      * the light, all mapped to [0, 1] over the scene's sphere. */
@@ -83,7 +83,7 @@ void hk_gl_light_maps_draw(hk_GlLightMaps *m, const hk_GlHair *hair, const hk_Gl
     glDisable(GL_POLYGON_OFFSET_FILL);
     glBindFramebuffer(GL_FRAMEBUFFER, m->fbo_hair);
     glClear(GL_DEPTH_BUFFER_BIT);
-    hk_gl_hair_draw(hair);
+    hk_gl_hair_draw(hair, guides_only);
 
     /* Every hair fragment adds its opacity, a hair's share of a texel, to the layers. */
     glBindFramebuffer(GL_FRAMEBUFFER, m->fbo_opacity);
@@ -100,7 +100,7 @@ void hk_gl_light_maps_draw(hk_GlLightMaps *m, const hk_GlHair *hair, const hk_Gl
     glActiveTexture(GL_TEXTURE1);
     glBindTexture(GL_TEXTURE_2D, m->hair_depth);
     hk_gl_uniform1i(m->opacity_program, "HairDepth", 1);
-    hk_gl_hair_draw(hair);
+    hk_gl_hair_draw(hair, guides_only);
     glActiveTexture(GL_TEXTURE0);
 
     glDisable(GL_BLEND);

@@ -23,7 +23,7 @@ int hk_gl_light_maps_create(hk_GlLightMaps *m, int size);
  * sphere (centre, radius) holding the scene; hair of diameter `thickness`; layers of
  * `layer_size` metres, each twice as deep as the one before. */
 void hk_gl_light_maps_draw(hk_GlLightMaps *m, const hk_GlHair *hair, const hk_GlHead *head, hk_Vec3 light,
-                           hk_Vec3 centre, double radius, double thickness, double layer_size);
+                           hk_Vec3 centre, double radius, double thickness, double layer_size, int guides_only);
 /* Binds the maps to texture units 1 (HairDepth), 2 (OpacityMap), 3 (HeadDepth) and sets
  * those uniforms, LightMatrix and LayerEnd of `program` (in use). */
 void hk_gl_light_maps_bind(const hk_GlLightMaps *m, GLuint program);

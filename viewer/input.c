@@ -2,6 +2,7 @@
 #include <math.h>
 #include <stdio.h>
 
+#include "core/core_internal.h"
 #include "viewer/viewer_internal.h"
 
 static hk_Viewer *of(GLFWwindow *w) { return (hk_Viewer *)glfwGetWindowUserPointer(w); }
@@ -9,14 +10,17 @@ static hk_Viewer *of(GLFWwindow *w) { return (hk_Viewer *)glfwGetWindowUserPoint
 static void on_button(GLFWwindow *w, int button, int action, int mods)
 {
     hk_Viewer *v = of(w);
-    (void)mods;
     if (action == GLFW_RELEASE) {
         v->dragging = 0;
         return;
     }
     glfwGetCursorPos(w, &v->mouse_x, &v->mouse_y);
     const int light = glfwGetKey(w, GLFW_KEY_L) == GLFW_PRESS;
-    if (button == GLFW_MOUSE_BUTTON_LEFT)
+    if (button == GLFW_MOUSE_BUTTON_LEFT && (mods & GLFW_MOD_SHIFT)) {
+        /* the head, simulated from now on if it was not */
+        if (!v->live) hk_viewer_live_play(v, 1, hk_seconds_now());
+        v->dragging = v->live ? 4 : 0;
+    } else if (button == GLFW_MOUSE_BUTTON_LEFT)
         v->dragging = light ? 3 : 1;
     else if (button == GLFW_MOUSE_BUTTON_RIGHT || button == GLFW_MOUSE_BUTTON_MIDDLE)
         v->dragging = 2;
@@ -40,6 +44,9 @@ static void on_move(GLFWwindow *w, double x, double y)
         v->light_azimuth = fmod(v->light_azimuth + 0.4 * dx, 360.0);
         v->light_elevation = fmin(89.0, fmax(-89.0, v->light_elevation - 0.4 * dy));
         v->maps_stale = 1;
+        break;
+    case 4:
+        hk_viewer_live_drag(v, dx, dy, win_h);
         break;
     default:
         break;
@@ -91,6 +98,26 @@ static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods)
         break;
     case GLFW_KEY_H:
         v->show_head = !v->show_head;
+        break;
+    case GLFW_KEY_G:
+        v->guides_only = !v->guides_only;
+        v->maps_stale = 1;
+        break;
+    case GLFW_KEY_W:
+        v->show_wick = !v->show_wick;
+        break;
+    case GLFW_KEY_C:
+        v->show_shapes = !v->show_shapes;
+        break;
+    case GLFW_KEY_SPACE:
+        hk_viewer_live_play(v, !v->playing, hk_seconds_now());
+        break;
+    case GLFW_KEY_N:
+        /* one step, paused */
+        if (hk_viewer_live_start(v)) v->playing = 0, v->step_once = 1;
+        break;
+    case GLFW_KEY_BACKSPACE:
+        if (!hk_viewer_live_reset(v)) glfwSetWindowShouldClose(w, GLFW_TRUE);
         break;
     case GLFW_KEY_F5:
         if (hk_viewer_load_programs(v)) fprintf(stderr, "hairkit view: shaders reloaded\n");

@@ -30,9 +30,9 @@ static int setup_scene(hk_Viewer *v)
     const hk_ViewerInput *in = v->in;
     const hk_RenderDef *r = &in->render;
     hk_Vec3 lo = hk_v3(1e300, 1e300, 1e300), hi = hk_v3(-1e300, -1e300, -1e300);
-    const float *pts = in->hair->points;
-    for (uint32_t i = 0; i < in->hair->point_count; i++)
-        grow(&lo, &hi, hk_v3(pts[3 * i], pts[3 * i + 1], pts[3 * i + 2]));
+    const hk_HairFile *hair = v->hair_now;
+    const float *pts = hair->points;
+    for (uint32_t i = 0; i < hair->point_count; i++) grow(&lo, &hi, hk_v3(pts[3 * i], pts[3 * i + 1], pts[3 * i + 2]));
     const int head_n = in->head ? in->head->vertex_count : 0;
     for (int i = 0; i < head_n; i++) grow(&lo, &hi, in->head->positions[i]);
     if (!(lo.x <= hi.x)) lo = hi = hk_v3(0, 0, 0);
@@ -41,7 +41,7 @@ static int setup_scene(hk_Viewer *v)
     hk_Error err;
     hk_Vec3 target;
     double distance;
-    if (hk_render_fit_camera(in->hair, head_n ? in->head : NULL, r, &target, &distance, &err) != HK_OK) {
+    if (hk_render_fit_camera(hair, head_n ? in->head : NULL, r, &target, &distance, &err) != HK_OK) {
         fprintf(stderr, "hairkit view: %s\n", err.message);
         return 0;
     }
@@ -49,10 +49,11 @@ static int setup_scene(hk_Viewer *v)
     v->orbit.distance = distance, v->orbit.target = target;
     v->orbit.fov = r->fov_deg, v->orbit.radius = v->radius;
     v->home = v->orbit;
+    if (v->live) hk_viewer_live_room(v);
     v->light_azimuth = r->light_azimuth_deg, v->light_elevation = r->light_elevation_deg;
     v->shadows = r->shadows, v->shading = r->shading == HK_SHADING_MARSCHNER, v->show_head = 1;
     v->maps_stale = 1;
-    v->thickness = r->hair_thickness > 0.0 ? r->hair_thickness : in->hair->default_thickness;
+    v->thickness = r->hair_thickness > 0.0 ? r->hair_thickness : hair->default_thickness;
     if (!(v->thickness > 0.0)) v->thickness = 7e-5;
     v->colours = in->visuality;
     v->colours.ambient = linear(in->visuality.ambient);
@@ -89,19 +90,37 @@ static int open_window(hk_Viewer *v)
     return 1;
 }
 
-/* Frames per second and the counts: on stderr when headless (the first frame, which
- * uploads the buffers and draws the light's maps, apart), in the title otherwise. */
-static void report(const hk_Viewer *v, int frames, double seconds, double first)
+/* The simulated time, in the title and the headless summary. */
+static int live_status(const hk_Viewer *v, char *buf, size_t size)
 {
-    char line[320];
-    const int n =
-        snprintf(line, sizeof line, "hairkit view: %d strands, %ld points; ", (int)v->hair.strands, v->hair.points);
+    if (!v->live) return snprintf(buf, size, "%s", "");
+    return snprintf(buf, size, "; simulated %.2f s (%ld steps, %s, last %.0f ms)", hk_live_sim_time(v->live),
+                    hk_live_sim_steps(v->live), v->playing ? "playing" : "paused", 1e3 * v->step_seconds);
+}
+
+/* Frames per second and the counts: on stderr when headless (the first frame, which
+ * uploads the buffers and draws the light's maps, apart), in the title otherwise (the
+ * overlay: no text is drawn in the picture). */
+static void report(hk_Viewer *v, int frames, double seconds, double first)
+{
+    char line[512];
+    int n = snprintf(line, sizeof line, "hairkit view: %d strands%s, %ld points; ",
+                     v->guides_only && v->hair.guides ? (int)v->hair.guides : (int)v->hair.strands,
+                     v->guides_only && v->hair.guides ? " (guides)" : "", v->hair.points);
+    const char *renderer = (const char *)glGetString(GL_RENDERER);
+    const double fps = seconds > 0.0 && frames > 0 ? frames / seconds : 0.0;
     if (first >= 0.0)
-        snprintf(line + n, sizeof line - (size_t)n, "first frame %.2f s, then %.2f frames/s (%s)", first,
-                 seconds > 0.0 && frames > 0 ? frames / seconds : 0.0, (const char *)glGetString(GL_RENDERER));
+        n += snprintf(line + n, sizeof line - (size_t)n, "first frame %.2f s, then %.2f frames/s (%s)", first, fps,
+                      renderer);
     else
-        snprintf(line + n, sizeof line - (size_t)n, "%.1f frames/s (%s)", seconds > 0.0 ? frames / seconds : 0.0,
-                 (const char *)glGetString(GL_RENDERER));
+        n += snprintf(line + n, sizeof line - (size_t)n, "%.1f frames/s (%s)", fps, renderer);
+    live_status(v, line + n, sizeof line - (size_t)n);
+    if (v->figures) {
+        v->figures->first_seconds = first, v->figures->frames_per_second = fps, v->figures->frames = frames;
+        v->figures->strands = v->hair.strands, v->figures->points = v->hair.points;
+        v->figures->simulated = v->live ? hk_live_sim_time(v->live) : 0.0;
+        snprintf(v->figures->renderer, sizeof v->figures->renderer, "%s", renderer ? renderer : "?");
+    }
     if (v->in->frames > 0) {
         if (!v->in->quiet) fprintf(stderr, "%s\n", line);
     } else {
@@ -109,11 +128,32 @@ static void report(const hk_Viewer *v, int frames, double seconds, double first)
     }
 }
 
+/* What changed since the last frame uploaded: the hair, the head where it moved. */
+static int upload(hk_Viewer *v)
+{
+    if (v->hair_dirty) {
+        if (!hk_gl_hair_update(&v->hair, v->hair_now, v->guide_count)) return 0;
+        v->hair_dirty = 0, v->maps_stale = 1;
+    }
+    if (v->head_dirty) {
+        const hk_RigidState pose = v->live ? hk_live_sim_head(v->live) : hk_rigid_identity();
+        const hk_Scene *sc = v->in->scene;
+        if (!hk_gl_head_pose(&v->head, v->in->head, &pose)) return 0;
+        if (sc && !hk_gl_head_pose(&v->wick, &sc->wick, &pose)) return 0;
+        if (!hk_viewer_shapes_update(v, &pose)) return 0;
+        v->head_dirty = 0, v->maps_stale = 1;
+    }
+    return 1;
+}
+
 static int run(hk_Viewer *v)
 {
     const hk_ViewerInput *in = v->in;
     if (!hk_viewer_load_programs(v)) return 0;
-    if (!hk_gl_hair_create(&v->hair, in->hair) || !hk_gl_head_create(&v->head, in->head)) return 0;
+    if (!hk_gl_hair_create(&v->hair, v->hair_now, v->guide_count) || !hk_gl_head_create(&v->head, in->head) ||
+        !hk_gl_head_create(&v->wick, in->scene ? &in->scene->wick : NULL) || !hk_viewer_shapes_update(v, NULL))
+        return 0;
+    v->hair_dirty = 0; /* just uploaded */
     if (!hk_gl_light_maps_create(&v->maps, in->render.shadow_map_size) ||
         !hk_gl_target_create(&v->target, in->render.width, in->render.height, 4)) {
         fprintf(stderr, "hairkit view: the OpenGL driver cannot make the viewer's framebuffers\n");
@@ -121,6 +161,9 @@ static int run(hk_Viewer *v)
     }
     hk_viewer_input_install(v);
     const double start = hk_seconds_now();
+    hk_viewer_watch_start(v, start);
+    if (in->simulate) hk_viewer_live_play(v, 1, start);
+    if (in->drag[0] != 0.0 || in->drag[1] != 0.0) hk_viewer_live_drag(v, in->drag[0], in->drag[1], v->target.height);
     double t0 = start, first = -1.0;
     int frames = 0, counted = 0;
     while (!glfwWindowShouldClose(v->window)) {
@@ -130,6 +173,8 @@ static int run(hk_Viewer *v)
             hk_gl_target_destroy(&v->target);
             if (!hk_gl_target_create(&v->target, fw, fh, 4)) return 0;
         }
+        if (!hk_viewer_watch(v, hk_seconds_now()) || !hk_viewer_live_update(v, hk_seconds_now()) || !upload(v))
+            return 0;
         hk_viewer_draw(v);
         if (in->frames == 0) hk_gl_target_present(&v->target, fw, fh);
         glfwSwapBuffers(v->window);
@@ -158,20 +203,42 @@ static int run(hk_Viewer *v)
     return 1;
 }
 
-int hk_viewer_run(const hk_ViewerInput *in)
+int hk_viewer_set_hair(hk_Viewer *v, const hk_HairFile *hair, int guide_count)
+{
+    v->hair_now = hair;
+    v->guide_count = guide_count;
+    v->hair_dirty = 1;
+    return 1;
+}
+
+int hk_viewer_run_measured(const hk_ViewerInput *in, hk_ViewerFigures *figures)
 {
     hk_Viewer v;
     memset(&v, 0, sizeof v);
     v.in = in;
-    if (!setup_scene(&v) || !open_window(&v)) return 1;
-    const int ok = run(&v);
-    if (v.head_program) glDeleteProgram(v.head_program);
-    if (v.hair_program) glDeleteProgram(v.hair_program);
-    hk_gl_hair_destroy(&v.hair);
-    hk_gl_head_destroy(&v.head);
-    hk_gl_light_maps_destroy(&v.maps);
-    hk_gl_target_destroy(&v.target);
-    glfwDestroyWindow(v.window);
-    glfwTerminate();
+    v.figures = figures;
+    v.hair_now = in->hair;
+    v.guide_count = in->guide_count;
+    v.guides_only = in->guides_only, v.show_wick = in->show_wick, v.show_shapes = in->show_shapes;
+    int ok = !in->simulate || hk_viewer_live_start(&v);
+    ok = ok && setup_scene(&v) && open_window(&v);
+    if (ok) {
+        ok = run(&v);
+        if (v.head_program) glDeleteProgram(v.head_program);
+        if (v.hair_program) glDeleteProgram(v.hair_program);
+        if (v.line_program) glDeleteProgram(v.line_program);
+        hk_gl_hair_destroy(&v.hair);
+        hk_gl_head_destroy(&v.head);
+        hk_gl_head_destroy(&v.wick);
+        hk_gl_lines_destroy(&v.shapes);
+        hk_gl_light_maps_destroy(&v.maps);
+        hk_gl_target_destroy(&v.target);
+        glfwDestroyWindow(v.window);
+        glfwTerminate();
+    }
+    hk_viewer_live_free(&v);
+    hk_hair_free(&v.own_hair);
     return ok ? 0 : 1;
 }
+
+int hk_viewer_run(const hk_ViewerInput *in) { return hk_viewer_run_measured(in, NULL); }

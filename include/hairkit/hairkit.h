@@ -22,6 +22,7 @@
 #include "hairkit/helicoid_hair.h"
 #include "hairkit/image.h"
 #include "hairkit/io.h"
+#include "hairkit/live_sim.h"
 #include "hairkit/mesh.h"
 #include "hairkit/motion.h"
 #include "hairkit/optimize.h"

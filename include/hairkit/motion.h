@@ -94,6 +94,25 @@ HK_API hk_HeadMotionSource hk_head_motion_source(const hk_HeadMotion *m);
 /* Number of keyframes of a motion file; 0 for a scripted motion. */
 HK_API int hk_head_motion_key_count(const hk_HeadMotion *m);
 
+/* A head moved by an interactive input (`hairkit view`, dragging the head): the motion
+ * `base` (NULL: still; it must outlive this one) followed by a translation d(t) added to
+ * its position, x -> R x + T + d. d follows a target point as a critically damped spring
+ * of rate `rate` (1/s, > 0): with e = d - target, e'' = -2 rate e' - rate^2 e, solved in
+ * closed form, e(t) = (e0 + (v0 + rate e0) s) exp(-rate s) with s = t - t0, so that the
+ * head's velocity is continuous when the target jumps and its acceleration, which the
+ * dynamics needs (Bertails et al. 2006 §3.4: the roots are clamped to the head), is
+ * exact. d starts at rest at the origin, target 0. hk_head_motion_source gives the
+ * script "follow" and the base's pivot. */
+HK_API hk_Status hk_head_motion_follow(const hk_HeadMotion *base, double rate, hk_HeadMotion **out, hk_Error *err);
+
+/* From time t on, d heads for `target` (m, world), starting from where it is at t and
+ * as fast (times before t are no longer those of the earlier target). Does nothing to a
+ * motion not made by hk_head_motion_follow. */
+HK_API void hk_head_motion_follow_target(hk_HeadMotion *m, double t, hk_Vec3 target);
+
+/* d back at rest at the origin, target 0 (a simulation started again from t = 0). */
+HK_API void hk_head_motion_follow_reset(hk_HeadMotion *m);
+
 /* Releases a motion; safe on NULL. */
 HK_API void hk_head_motion_destroy(hk_HeadMotion *m);
 

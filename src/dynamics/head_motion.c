@@ -126,6 +126,10 @@ void hk_head_motion_eval(const hk_HeadMotion *m, double t, hk_RigidState *out)
         hk_motion_keys_eval(m, t, out);
         return;
     }
+    if (m->kind == HK_MOTION_FOLLOW) {
+        hk_motion_follow_eval(m, t, out);
+        return;
+    }
     if (m->kind == HK_MOTION_STILL) return;
     double g[3];
     scripted_profile(m, t, g);
@@ -145,6 +149,7 @@ void hk_head_motion_eval(const hk_HeadMotion *m, double t, hk_RigidState *out)
 
 double hk_head_motion_duration(const hk_HeadMotion *m)
 {
+    if (m->kind == HK_MOTION_FOLLOW) return m->base ? hk_head_motion_duration(m->base) : INFINITY;
     if (m->kind != HK_MOTION_KEYS) return INFINITY;
     const double last = m->times[m->key_count - 1];
     return last > 0.0 ? last : 0.0;

@@ -10,7 +10,9 @@ typedef enum hk_MotionKind {
     HK_MOTION_STILL,
     HK_MOTION_ROTATE,    /* scripted rotation about `axis` through the pivot */
     HK_MOTION_TRANSLATE, /* scripted translation along `axis` */
-    HK_MOTION_KEYS       /* keyframes of a motion file */
+    HK_MOTION_KEYS,      /* keyframes of a motion file */
+    HK_MOTION_FOLLOW     /* a base motion moved by a translation that follows a target
+                            (head_follow.c) */
 } hk_MotionKind;
 
 /* Channels of a keyframe: translation (m), then rotation vector (rad). */
@@ -34,7 +36,16 @@ struct hk_HeadMotion {
     int key_count;
     double *times;
     double *knots;
+    /* Follow: the base motion (NULL: still) plus the offset d(t) = target + e(t), e the
+     * critically damped spring's error since follow_t0 (head_follow.c). */
+    const hk_HeadMotion *base;
+    double follow_rate; /* omega (1/s) */
+    double follow_t0;
+    hk_Vec3 follow_target, follow_e0, follow_v0;
 };
+
+/* The rigid state of a follow motion at t (head_follow.c). */
+void hk_motion_follow_eval(const hk_HeadMotion *m, double t, hk_RigidState *out);
 
 /* R = exp([r]x) and, for r(t) with derivatives dr and ddr, the world angular velocity
  * omega (dR/dt = [omega]x R) and its derivative alpha. Smooth for every r, no

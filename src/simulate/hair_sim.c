@@ -594,6 +594,8 @@ void hk_hair_sim_guides(const hk_HairSim *sim, double *out)
     }
 }
 
+hk_RigidState hk_sim_head_now(const hk_HairSim *sim) { return sim->head; }
+
 hk_Status hk_hair_sim_groom(const hk_HairSim *sim, const hk_Mesh *wick, const hk_GroomDef *go, hk_Groom *g,
                             hk_Error *err)
 {

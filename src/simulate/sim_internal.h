@@ -16,6 +16,9 @@ double hk_sim_frame_time(long frame, double fps);
 /* The head's rigid state at time t (motion NULL: at rest). */
 hk_RigidState hk_sim_head_pose(const hk_HeadMotion *motion, double t);
 
+/* Where the last step left the head (at rest before the first). */
+hk_RigidState hk_sim_head_now(const hk_HairSim *sim);
+
 /* hk_groom_interpolate_guides with the body shapes (head space) posed where the head
  * is (hk_shapes_posed): world-space guides give world-space strands, kept out of the
  * body where it is now. */
