@@ -30,6 +30,8 @@ enum {
     OPT_GUIDES_ONLY,
     OPT_SHOW_WICK,
     OPT_SHOW_SHAPES,
+    OPT_OVERLAY,
+    OPT_NO_OVERLAY,
     OPT_DRAG
 };
 
@@ -47,7 +49,7 @@ static void usage(FILE *out)
                  "Mouse: left drag turns, right drag moves, wheel zooms, L + left drag moves the\n"
                  "light, Shift + left drag moves the head (live dynamics). Keys: arrows turn,\n"
                  "+ - zoom, S shadows, M shading, H head, G guides only, W wick, C collision\n"
-                 "shapes, Space play/pause the dynamics, N one step, Backspace back to time 0,\n"
+                 "shapes, O overlay, Space play/pause the dynamics, N one step, Backspace back to time 0,\n"
                  "R camera reset, P screenshot, F5 reload shaders, Esc quits (docs/viewer.md).\n"
                  "Shader files and the hairstyle file are read again when they change.\n"
                  "\n"
@@ -62,6 +64,9 @@ static void usage(FILE *out)
                  "  --guides-only, --show-wick, --show-shapes\n"
                  "                     start with the guides alone, the wick, the collision shapes\n"
                  "                     shown (keys G, W, C; a setup file's)\n"
+                 "  --overlay, --no-overlay\n"
+                 "                     frames per second and counts drawn in the picture's top left\n"
+                 "                     corner, or not (key O; default: on in a window, off headless)\n"
                  "live dynamics (a setup file that grows its hair):\n"
                  "  --simulate         simulate the guides from the start and regrow the head every\n"
                  "                     step, as 'hairkit simulate' (headless: one step a frame)\n"
@@ -84,6 +89,7 @@ typedef struct ViewArgs {
     long frames;
     int quiet, simulate;
     int show[3]; /* guides only, the wick, the collision shapes (keys G, W, C) */
+    int overlay; /* -1: on in a window, off headless */
     double drag[2];
     int dragged;
     hk_LiveSimDef live;
@@ -117,6 +123,8 @@ static int parse(int argc, char **argv, ViewArgs *a)
         {"guides-only", no_argument, NULL, OPT_GUIDES_ONLY},
         {"show-wick", no_argument, NULL, OPT_SHOW_WICK},
         {"show-shapes", no_argument, NULL, OPT_SHOW_SHAPES},
+        {"overlay", no_argument, NULL, OPT_OVERLAY},
+        {"no-overlay", no_argument, NULL, OPT_NO_OVERLAY},
         {"drag", required_argument, NULL, OPT_DRAG},
         {"quiet", no_argument, NULL, 'q'},
         {"help", no_argument, NULL, 'h'},
@@ -195,6 +203,10 @@ static int parse(int argc, char **argv, ViewArgs *a)
         case OPT_SHOW_WICK:
         case OPT_SHOW_SHAPES:
             a->show[c - OPT_GUIDES_ONLY] = 1;
+            break;
+        case OPT_OVERLAY:
+        case OPT_NO_OVERLAY:
+            a->overlay = c == OPT_OVERLAY;
             break;
         case OPT_HEAD_VERT:
         case OPT_HEAD_FRAG:
@@ -299,6 +311,8 @@ static int view(ViewArgs *a)
         in.simulate = a->simulate;
         in.drag[0] = a->drag[0], in.drag[1] = a->drag[1];
         in.guides_only = a->show[0], in.show_wick = a->show[1], in.show_shapes = a->show[2];
+        /* off headless: the screenshots of the tests stay the picture alone */
+        in.overlay = a->overlay >= 0 ? a->overlay : a->frames == 0;
         in.live = a->live;
         in.motion = motion;
         status = hk_viewer_run(&in);
@@ -322,6 +336,7 @@ int hk_cmd_view(int argc, char **argv)
     a.head_tf = hk_cli_default_transform();
     a.motion = hk_cli_default_motion();
     a.live = hk_default_live_sim_def();
+    a.overlay = -1;
     const int rc = parse(argc, argv, &a);
     if (rc >= 0) return rc;
 #ifdef HK_HAVE_VIEWER

@@ -3,10 +3,13 @@
  * (hk_default_render_def: background_top to background_bottom, row by row) by more than
  * THRESHOLD 8-bit levels in some channel (default 12). Prints the foreground fraction of
  * each picture and the fraction of pixels that are foreground in one only
- * (tests/cli/view.sh: the viewer frames the same hair as the CPU renderer). */
+ * (tests/cli/view.sh: the viewer frames the same hair as the CPU renderer).
+ * mask_diff --box W,H A.png B.png: the pixels whose bytes differ at all, inside the
+ * picture's top left W x H pixels and outside (view.sh: the text overlay's corner). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "hairkit/image.h"
 #include "hairkit/render.h"
@@ -17,10 +20,34 @@ static double encode(double c)
     return 255.0 * (c <= 0.0031308 ? 12.92 * c : 1.055 * pow(c, 1.0 / 2.4) - 0.055);
 }
 
+/* Pixels differing in any byte, in the top left box and outside it. */
+static void box_diff(const uint8_t *a, const uint8_t *b, int w, int h, int box_w, int box_h)
+{
+    long inside = 0, outside = 0;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            const size_t at = 3 * ((size_t)y * (size_t)w + (size_t)x);
+            if (a[at] == b[at] && a[at + 1] == b[at + 1] && a[at + 2] == b[at + 2]) continue;
+            if (x < box_w && y < box_h)
+                inside++;
+            else
+                outside++;
+        }
+    printf("inside %ld outside %ld\n", inside, outside);
+}
+
 int main(int argc, char **argv)
 {
+    int box_w = -1, box_h = -1;
+    if (argc > 2 && !strcmp(argv[1], "--box")) {
+        if (sscanf(argv[2], "%d,%d", &box_w, &box_h) != 2 || box_w < 0 || box_h < 0) {
+            fprintf(stderr, "mask_diff: --box expects W,H in pixels, got '%s'\n", argv[2]);
+            return 2;
+        }
+        argv += 2, argc -= 2;
+    }
     if (argc < 3) {
-        fprintf(stderr, "usage: mask_diff A.png B.png [THRESHOLD]\n");
+        fprintf(stderr, "usage: mask_diff [--box W,H] A.png B.png [THRESHOLD]\n");
         return 2;
     }
     const double threshold = argc > 3 ? atof(argv[3]) : 12.0;
@@ -35,6 +62,12 @@ int main(int argc, char **argv)
     if (w[0] != w[1] || h[0] != h[1]) {
         fprintf(stderr, "mask_diff: sizes differ: %dx%d and %dx%d\n", w[0], h[0], w[1], h[1]);
         return 1;
+    }
+    if (box_w >= 0) {
+        box_diff(rgb[0], rgb[1], w[0], h[0], box_w, box_h);
+        hk_free(rgb[0]);
+        hk_free(rgb[1]);
+        return 0;
     }
     const hk_RenderDef o = hk_default_render_def();
     long cover[2] = {0, 0}, differ = 0;

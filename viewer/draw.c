@@ -96,6 +96,7 @@ void hk_viewer_draw(hk_Viewer *v)
     hk_gl_hair_draw(&v->hair, v->guides_only);
     glDisable(GL_BLEND);
     glDepthMask(GL_TRUE);
+    if (v->show_overlay) hk_gl_overlay_draw(&v->overlay, v->overlay_text, v->target.width, v->target.height);
     hk_gl_target_end(&v->target);
 }
 

@@ -109,6 +109,9 @@ static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods)
     case GLFW_KEY_C:
         v->show_shapes = !v->show_shapes;
         break;
+    case GLFW_KEY_O:
+        v->show_overlay = !v->show_overlay;
+        break;
     case GLFW_KEY_SPACE:
         hk_viewer_live_play(v, !v->playing, hk_seconds_now());
         break;

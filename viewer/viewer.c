@@ -98,17 +98,42 @@ static int live_status(const hk_Viewer *v, char *buf, size_t size)
                     hk_live_sim_steps(v->live), v->playing ? "playing" : "paused", 1e3 * v->step_seconds);
 }
 
+/* The strands drawn: the guides alone (G) or all. */
+static int shown_strands(const hk_Viewer *v, const char **what)
+{
+    const int guides = v->guides_only && v->hair.guides;
+    *what = guides ? " (guides)" : "";
+    return guides ? (int)v->hair.guides : (int)v->hair.strands;
+}
+
+/* The overlay's lines: frames per second, the counts, and when simulating the
+ * simulated time and playing or paused. */
+static void overlay_text(hk_Viewer *v)
+{
+    char *buf = v->overlay_text;
+    const size_t size = sizeof v->overlay_text;
+    const char *what;
+    const int strands = shown_strands(v, &what);
+    int n = v->fps > 0.0 ? snprintf(buf, size, "%.*f frames/s", v->fps < 10.0 ? 2 : 1, v->fps)
+                         : snprintf(buf, size, "- frames/s");
+    n += snprintf(buf + n, size - (size_t)n, "\n%d strands%s\n%ld points", strands, what, v->hair.points);
+    if (v->live)
+        snprintf(buf + n, size - (size_t)n, "\nsimulated %.2f s\n%s", hk_live_sim_time(v->live),
+                 v->playing ? "playing" : "paused");
+}
+
 /* Frames per second and the counts: on stderr when headless (the first frame, which
- * uploads the buffers and draws the light's maps, apart), in the title otherwise (the
- * overlay: no text is drawn in the picture). */
+ * uploads the buffers and draws the light's maps, apart), in the title otherwise (and
+ * in the overlay drawn in the picture, key O). */
 static void report(hk_Viewer *v, int frames, double seconds, double first)
 {
     char line[512];
-    int n = snprintf(line, sizeof line, "hairkit view: %d strands%s, %ld points; ",
-                     v->guides_only && v->hair.guides ? (int)v->hair.guides : (int)v->hair.strands,
-                     v->guides_only && v->hair.guides ? " (guides)" : "", v->hair.points);
+    const char *what;
+    const int strands = shown_strands(v, &what);
+    int n = snprintf(line, sizeof line, "hairkit view: %d strands%s, %ld points; ", strands, what, v->hair.points);
     const char *renderer = (const char *)glGetString(GL_RENDERER);
     const double fps = seconds > 0.0 && frames > 0 ? frames / seconds : 0.0;
+    if (first < 0.0) v->fps = fps;
     if (first >= 0.0)
         n += snprintf(line + n, sizeof line - (size_t)n, "first frame %.2f s, then %.2f frames/s (%s)", first, fps,
                       renderer);
@@ -155,8 +180,9 @@ static int run(hk_Viewer *v)
         return 0;
     v->hair_dirty = 0; /* just uploaded */
     if (!hk_gl_light_maps_create(&v->maps, in->render.shadow_map_size) ||
-        !hk_gl_target_create(&v->target, in->render.width, in->render.height, 4)) {
-        fprintf(stderr, "hairkit view: the OpenGL driver cannot make the viewer's framebuffers\n");
+        !hk_gl_target_create(&v->target, in->render.width, in->render.height, 4) ||
+        !hk_gl_overlay_create(&v->overlay)) {
+        fprintf(stderr, "hairkit view: the OpenGL driver cannot make the viewer's framebuffers or its text overlay\n");
         return 0;
     }
     hk_viewer_input_install(v);
@@ -175,6 +201,7 @@ static int run(hk_Viewer *v)
         }
         if (!hk_viewer_watch(v, hk_seconds_now()) || !hk_viewer_live_update(v, hk_seconds_now()) || !upload(v))
             return 0;
+        if (v->show_overlay) overlay_text(v);
         hk_viewer_draw(v);
         if (in->frames == 0) hk_gl_target_present(&v->target, fw, fh);
         glfwSwapBuffers(v->window);
@@ -186,6 +213,7 @@ static int run(hk_Viewer *v)
             counted = 0;
         }
         const double now = hk_seconds_now();
+        if (in->frames > 0 && counted > 0 && now > t0) v->fps = counted / (now - t0);
         if (in->frames > 0 && frames >= in->frames) {
             glFinish();
             report(v, counted, hk_seconds_now() - t0, first);
@@ -220,6 +248,7 @@ int hk_viewer_run_measured(const hk_ViewerInput *in, hk_ViewerFigures *figures)
     v.hair_now = in->hair;
     v.guide_count = in->guide_count;
     v.guides_only = in->guides_only, v.show_wick = in->show_wick, v.show_shapes = in->show_shapes;
+    v.show_overlay = in->overlay;
     int ok = !in->simulate || hk_viewer_live_start(&v);
     ok = ok && setup_scene(&v) && open_window(&v);
     if (ok) {
@@ -233,6 +262,7 @@ int hk_viewer_run_measured(const hk_ViewerInput *in, hk_ViewerFigures *figures)
         hk_gl_lines_destroy(&v.shapes);
         hk_gl_light_maps_destroy(&v.maps);
         hk_gl_target_destroy(&v.target);
+        hk_gl_overlay_destroy(&v.overlay);
         glfwDestroyWindow(v.window);
         glfwTerminate();
     }

@@ -22,6 +22,7 @@ typedef struct hk_ViewerInput {
     const char *shader[HK_VIEW_SHADER_COUNT];
     int guide_count;                         /* the hair's first strands that are guides (0: none known) */
     int guides_only, show_wick, show_shapes; /* the toggles' first state */
+    int overlay;                             /* the text overlay (key O) shown at first */
     /* Live dynamics (a setup's scene only): the scene (loaded with HK_SCENE_ALL) whose
      * guides are simulated (NULL: none), simulated from the start (`simulate`) or when
      * the key asks, with these options, under the head motion (NULL: still). */

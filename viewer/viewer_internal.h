@@ -9,6 +9,7 @@
 
 #include "viewer/gl_geometry.h"
 #include "viewer/gl_light_maps.h"
+#include "viewer/gl_overlay.h"
 #include "viewer/gl_target.h"
 #include "viewer/orbit.h"
 #include "viewer/viewer.h"
@@ -48,6 +49,11 @@ typedef struct hk_Viewer {
     long long watched[HK_VIEW_SHADER_COUNT + 1];
     hk_GlLightMaps maps;
     hk_GlTarget target;
+    /* the text overlay (gl_overlay.h): what it says, refreshed before each frame */
+    hk_GlOverlay overlay;
+    int show_overlay;
+    double fps; /* frames per second measured last (0: not yet) */
+    char overlay_text[256];
     /* input */
     double mouse_x, mouse_y;
     int dragging;    /* 0 none, 1 orbit, 2 pan, 3 light, 4 the head */

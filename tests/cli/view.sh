@@ -33,6 +33,15 @@ light_scene "$scene"
 expect 0 "$hk" run "$scene/setup.txt" -o "$tmp/run.png" --width 160 --height 120 --hair "$tmp/h.hair" --quiet
 head=(--head "$src/assets/head.obj" --visuality "$scene/visuality.txt")
 
+# pixels whose bytes differ inside the top left W,H box ($3) and outside: at least $4 inside, none outside
+corner() {
+    local out
+    out=$("$mask_diff" --box "$3" "$1" "$2") || { fail "mask_diff --box $3 $1 $2"; return; }
+    set -- "$1" "$2" "$3" "$4" $out
+    [ "$8" = 0 ] || fail "$1 and $2 differ outside the top left $3 pixels: $5 $6 $7 $8"
+    [ "$6" -ge "$4" ] || fail "$1 and $2 differ in under $4 pixels of the top left $3: $5 $6 $7 $8"
+}
+
 # the fraction of pixels covered by one picture only must stay under $3 (or over, with "over")
 masks() {
     local out
@@ -52,6 +61,19 @@ contains "$tmp/err" "wrote $tmp/view.png (160x120)"
 # Same framing as the CPU renderer: at most 1% of the pixels covered by one picture
 # only (measured: 0.2%); a camera turned by 10 degrees gives 2%, -35 instead of 35 7.5%.
 masks "$tmp/run.png" "$tmp/view.png" 0.01
+# The text overlay (off headless unless asked): on the third frame, three lines of at
+# most 14 glyphs of 6 x 8 pixels (the rate of the second frame, "12.3 frames/s", the
+# strands, the points) on a backing with a margin of 2 pixels: within the top left
+# 88 x 27 pixels, at least the backing of 13 glyphs (82 x 27 = 2214 pixels) differs, the
+# rest of the picture is the same bytes as without it.
+expect 0 "$hk" view "$tmp/h.hair" "${head[@]}" --width 160 --height 120 --frames 3 --screenshot "$tmp/text.png" \
+    --overlay --quiet
+expect 0 "$hk" view "$tmp/h.hair" "${head[@]}" --width 160 --height 120 --frames 3 --screenshot "$tmp/notext.png" \
+    --quiet
+corner "$tmp/notext.png" "$tmp/text.png" 88,27 2214
+expect 0 "$hk" view "$tmp/h.hair" "${head[@]}" --width 160 --height 120 --frames 3 --screenshot "$tmp/text0.png" \
+    --overlay --no-overlay --quiet
+cmp -s "$tmp/notext.png" "$tmp/text0.png" || fail "--no-overlay draws text"
 expect 0 "$hk" view "$tmp/h.hair" "${head[@]}" --width 160 --height 120 --frames 1 --screenshot "$tmp/turned.png" \
     --view -35,12 --quiet
 masks "$tmp/run.png" "$tmp/turned.png" 0.03 over
@@ -80,6 +102,13 @@ masks "$tmp/still.png" "$tmp/shake.png" 0.01 over
 expect 0 env OMP_NUM_THREADS=1 "$hk" view "${sim[@]}" --frames 10 --screenshot "$tmp/still1.png" --simulate \
     --preroll 0
 cmp -s "$tmp/still.png" "$tmp/still1.png" || fail "a simulated picture depends on the threads"
+# Simulating, the overlay has two lines more ("simulated 0.30 s", "playing"): the top
+# left 100 x 43 pixels (16 glyphs, 5 lines; measured: all 4300 differ), beyond the 27
+# rows of three lines.
+expect 0 "$hk" view "${sim[@]}" --frames 10 --screenshot "$tmp/simtext.png" --simulate --preroll 0 --overlay
+corner "$tmp/still.png" "$tmp/simtext.png" 100,43 4000
+"$mask_diff" --box 100,27 "$tmp/still.png" "$tmp/simtext.png" | grep -q "outside 0$" &&
+    fail "the overlay has no lines for the simulation"
 expect 0 "$hk" view "$tmp/sim/setup.txt" --width 160 --height 120 --frames 2 --simulate --preroll 0
 contains "$tmp/err" "201 guides solved"
 contains "$tmp/err" "simulated 0.07 s (2 steps"
