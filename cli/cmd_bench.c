@@ -35,7 +35,7 @@ static const Bench benches[] = {
 
 static void usage(FILE *out)
 {
-    fprintf(out, "usage: hairkit bench [NAME...] [--quick] [--min-time SECONDS]\n"
+    fprintf(out, "usage: hairkit bench [NAME...] [--quick] [--min-time SECONDS] [--root DIR]\n"
                  "\n"
                  "Runs benchmarks and prints their figures side by side (all of them when no\n"
                  "NAME is given). Timings are wall-clock on this machine.\n"
@@ -51,6 +51,9 @@ static void usage(FILE *out)
                  "                     'io' and 'import' read DIR/../shared/hair-data when it\n"
                  "                     is there)\n"
                  "  -h, --help         this help\n");
+    HK_CLI_EXAMPLES(out, "# Newton against the thesis's Rosenbrock on one strand", "hairkit bench statics",
+                    "# the renderer, each figure measured for at least 2 s", "hairkit bench render --min-time 2",
+                    "# a smoke run of two benchmarks (figures not meaningful)", "hairkit bench groom io --quick");
 }
 
 int hk_cmd_bench(int argc, char **argv)
@@ -84,14 +87,16 @@ int hk_cmd_bench(int argc, char **argv)
         case ':':
             return hk_cli_usage_error("bench", "option '%s' needs a value", argv[optind - 1]);
         default:
-            return hk_cli_usage_error("bench", "unknown option '%s'", argv[optind - 1]);
+            return hk_cli_unknown_option("bench", options, argv[optind - 1]);
         }
     }
     if (bo.quick) bo.min_seconds = 0.0;
+    const char *names[sizeof benches / sizeof *benches];
+    for (size_t b = 0; b < sizeof benches / sizeof *benches; b++) names[b] = benches[b].name;
     for (int i = optind; i < argc; i++) {
         int found = 0;
         for (size_t b = 0; b < sizeof benches / sizeof *benches; b++) found |= !strcmp(argv[i], benches[b].name);
-        if (!found) return hk_cli_usage_error("bench", "unknown benchmark '%s'", argv[i]);
+        if (!found) return hk_cli_unknown_name("bench", "benchmark", argv[i], names, sizeof names / sizeof *names);
     }
     int rc = HK_EXIT_OK;
     for (size_t b = 0; b < sizeof benches / sizeof *benches; b++) {

@@ -76,6 +76,10 @@ static void usage(FILE *out)
     hk_cli_render_options_help(out);
     fprintf(out, "  --quiet            no summary on stderr\n"
                  "  -h, --help         this help\n");
+    HK_CLI_EXAMPLES(out, "hairkit view examples/default/setup.txt",
+                    "hairkit view examples/coupe3/setup.txt --view 180,10 --light 90,30",
+                    "# headless: ten frames drawn, the last one saved",
+                    "hairkit view examples/default/setup.txt --frames 10 --screenshot shot.png --width 640 --height 480");
 }
 
 typedef struct ViewArgs {
@@ -208,7 +212,7 @@ static int parse(int argc, char **argv, ViewArgs *a)
         case ':':
             return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
         default:
-            return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
+            return hk_cli_unknown_option(CMD, options, argv[optind - 1]);
         }
     }
     if (optind >= argc) return hk_cli_usage_error(CMD, "missing SETUP.txt or HAIR file");
