@@ -123,6 +123,8 @@ int hk_cmd_convert(int argc, char **argv)
     if (def.ascii && to != HK_HAIR_FORMAT_PLY)
         return hk_cli_usage_error(CMD, "--ascii is for PLY output, not %s", hk_hair_format_name(to));
     def.format = to;
+    const int out_rc = hk_cli_output_file(CMD, "OUT", out, NULL);
+    if (out_rc) return out_rc;
 
     hk_Error err;
     hk_HairFile hair;

@@ -79,6 +79,10 @@ int hk_cmd_groom(int argc, char **argv)
     if (optind >= argc) return hk_cli_usage_error(CMD, "missing SETUP file");
     if (optind + 1 < argc) return hk_cli_usage_error(CMD, "unexpected argument '%s'", argv[optind + 1]);
     const char *setup_path = argv[optind];
+    if (output) {
+        const int rc = hk_cli_output_file(CMD, "-o", output, NULL);
+        if (rc) return rc;
+    }
 
     hk_Error err;
     hk_Scene scene;

@@ -122,9 +122,9 @@ static void usage(FILE *out, int which)
         HK_CLI_EXAMPLES(out,
                         "hairkit helicoid interpolate examples/helicoid/guides.txt --surface assets/wick.obj -o "
                         "long.hair",
-                        "# one strand per follicle, follicles 5 mm apart over the scalp",
+                        "# one strand per follicle, follicles 8 mm apart over the scalp",
                         "hairkit helicoid interpolate examples/helicoid/guides.txt --surface assets/wick.obj "
-                        "--follicles 0.005 --head assets/head.obj -o follicles.hair",
+                        "--follicles 0.008 --head assets/head.obj -o follicles.hair",
                         "hairkit render long.hair --head assets/head.obj -o long.png");
         break;
     case FIT:
@@ -328,6 +328,8 @@ static int parse_args(int argc, char **argv, hk_HelicoidArgs *a)
                                   "--root-piece is the first piece of a --piece-length layout: give --piece-length");
     if (a->head && !(a->follicles > 0.0))
         return hk_cli_usage_error(CMD, "--head is fitted with the wick by --follicles: give --follicles SPACING");
+    if ((rc = hk_cli_output_file(CMD, "-o", a->output, NULL))) return rc;
+    if (a->params && (rc = hk_cli_output_file(CMD, "--params", a->params, NULL))) return rc;
     return 0;
 }
 

@@ -121,6 +121,8 @@ int hk_cmd_import(int argc, char **argv)
     if (!d.head) return hk_cli_usage_error(CMD, "missing --head MESH (the collider)");
     if (!d.dir) return hk_cli_usage_error(CMD, "missing -o DIR");
     d.hair = argv[optind];
+    const int out_rc = hk_cli_output_folder(CMD, "-o", d.dir);
+    if (out_rc) return out_rc;
     d.scale = hair_tf.scale, d.up = hair_tf.up;
     d.head_scale = head_tf.scale, d.head_up = head_tf.up;
     hk_CliProgress progress = {!quiet && hk_cli_stderr_is_tty(), "", -1};

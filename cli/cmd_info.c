@@ -23,8 +23,8 @@ static void usage(FILE *out)
                  "options:\n"
                  "  --from F           format of FILE (hair, tfx, usc, ply, obj, usda)\n"
                  "  -h, --help         this help\n");
-    HK_CLI_EXAMPLES(out, "hairkit groom examples/coupe4/setup.txt -o coupe4.hair", "hairkit info coupe4.hair",
-                    "# a PLY in millimetres: info hints at the units",
+    HK_CLI_EXAMPLES(out, "hairkit groom examples/coupe4/setup.txt -o coupe4.hair",
+                    "# a PLY in millimetres: info says so from its extent",
                     "hairkit convert coupe4.hair coupe4.ply --scale 1000", "hairkit info coupe4.ply");
 }
 

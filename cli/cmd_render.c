@@ -105,6 +105,8 @@ int hk_cmd_render(int argc, char **argv)
     if (head_tf.given && !head_path) return hk_cli_usage_error(CMD, "--head-scale and --head-up need --head");
     if (optind + 1 < argc) return hk_cli_usage_error(CMD, "unexpected argument '%s'", argv[optind + 1]);
     if (!output) return hk_cli_usage_error(CMD, "no output: give -o OUT.png");
+    const int out_rc = hk_cli_output_file(CMD, "-o", output, ".png");
+    if (out_rc) return out_rc;
     hk_Error err;
     hk_HairFile hair;
     hk_Mesh head = {0, 0, NULL, NULL, NULL};

@@ -113,6 +113,9 @@ int hk_cmd_run(int argc, char **argv)
     if (optind >= argc) return hk_cli_usage_error(CMD, "missing SETUP file");
     if (optind + 1 < argc) return hk_cli_usage_error(CMD, "unexpected argument '%s'", argv[optind + 1]);
     if (!output) return hk_cli_usage_error(CMD, "no output: give -o OUT.png");
+    int out_rc = hk_cli_output_file(CMD, "-o", output, ".png");
+    if (!out_rc && hair_out) out_rc = hk_cli_output_file(CMD, "--hair", hair_out, NULL);
+    if (out_rc) return out_rc;
 
     hk_Error err;
     hk_Scene scene;

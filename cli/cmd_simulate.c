@@ -211,7 +211,7 @@ static int parse_args(int argc, char **argv, SimArgs *a)
         if (optind < argc) return hk_cli_usage_error(CMD, "--rebuild takes no SETUP file, got '%s'", argv[optind]);
         if (a->frame < 0) return hk_cli_usage_error(CMD, "give the frame to rebuild: --frame K");
         if (!a->dir) return hk_cli_usage_error(CMD, "no output file: give -o OUT.hair");
-        return 0;
+        return hk_cli_output_file(CMD, "-o", a->dir, NULL);
     }
     if (a->frame >= 0) return hk_cli_usage_error(CMD, "--frame goes with --rebuild DIR");
     if (a->run.guides_only && a->run.full_hair)
@@ -221,6 +221,7 @@ static int parse_args(int argc, char **argv, SimArgs *a)
     if (!a->frames) return hk_cli_usage_error(CMD, "give the number of frames: --frames N");
     if (!(a->fps > 0.0)) return hk_cli_usage_error(CMD, "give the frame rate: --fps F");
     if (!a->dir) return hk_cli_usage_error(CMD, "no output folder: give -o DIR");
+    if ((rc = hk_cli_output_folder(CMD, "-o", a->dir))) return rc;
     a->setup = argv[optind];
     a->run.frames = a->frames;
     a->run.fps = a->fps;

@@ -196,6 +196,9 @@ static int parse_args(int argc, char **argv, StrandArgs *a)
     if (optind >= argc) return hk_cli_usage_error(CMD, "missing HAIRSTYLE file");
     if (optind + 1 < argc) return hk_cli_usage_error(CMD, "unexpected argument '%s'", argv[optind + 1]);
     a->hairstyle = argv[optind];
+    int rc;
+    if (a->plot && (rc = hk_cli_output_file(CMD, "--plot", a->plot, ".png"))) return rc;
+    if (a->sim.tip_csv && (rc = hk_cli_output_file(CMD, "--tip-csv", a->sim.tip_csv, NULL))) return rc;
     return 0;
 }
 
