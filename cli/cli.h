@@ -67,8 +67,7 @@ const char *hk_cli_nearest(const char *word, const char *const *names, size_t co
 int hk_cli_unknown_option(const char *cmd, const struct option *options, const char *arg);
 /* "unknown WHAT 'word' (did you mean NAME?)", or the list of names when none is near;
  * returns HK_EXIT_USAGE. */
-int hk_cli_unknown_name(const char *cmd, const char *what, const char *word, const char *const *names,
-                        size_t count);
+int hk_cli_unknown_name(const char *cmd, const char *what, const char *word, const char *const *names, size_t count);
 
 /* ---- output paths, checked before the work (cli_outputs.c) ---- */
 /* -o FILE and the like: refused (usage error, exit 2) when it is a folder, when its

@@ -62,8 +62,8 @@ int hk_cli_output_folder(const char *cmd, const char *option, const char *dir)
     struct stat s;
     if (stat(dir, &s) == 0) {
         if (!S_ISDIR(s.st_mode))
-            return hk_cli_usage_error(cmd, "%s %s: is a file, not a folder (%s writes a folder of files)", option,
-                                      dir, cmd);
+            return hk_cli_usage_error(cmd, "%s %s: is a file, not a folder (%s writes a folder of files)", option, dir,
+                                      cmd);
     } else {
         for (size_t i = 0; i < sizeof file_extensions / sizeof *file_extensions; i++)
             if (has_extension(dir, file_extensions[i]))

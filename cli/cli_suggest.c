@@ -60,8 +60,7 @@ int hk_cli_unknown_option(const char *cmd, const struct option *options, const c
     return hk_cli_usage_error(cmd, "unknown option '%s'", arg);
 }
 
-int hk_cli_unknown_name(const char *cmd, const char *what, const char *word, const char *const *names,
-                        size_t count)
+int hk_cli_unknown_name(const char *cmd, const char *what, const char *word, const char *const *names, size_t count)
 {
     char list[512] = "";
     for (size_t i = 0; i < count; i++) {

@@ -53,8 +53,8 @@ static void usage(FILE *out)
                  "  -h, --help         this help\n");
     HK_CLI_EXAMPLES(out, "# Newton against the thesis's Rosenbrock on one strand", "hairkit bench statics",
                     "# the helicoid fitter, each figure measured for at least 2 s",
-                    "hairkit bench curvefit --min-time 2",
-                    "# a smoke run of two benchmarks (figures not meaningful)", "hairkit bench groom io --quick");
+                    "hairkit bench curvefit --min-time 2", "# a smoke run of two benchmarks (figures not meaningful)",
+                    "hairkit bench groom io --quick");
 }
 
 int hk_cmd_bench(int argc, char **argv)

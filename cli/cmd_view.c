@@ -76,10 +76,11 @@ static void usage(FILE *out)
     hk_cli_render_options_help(out);
     fprintf(out, "  --quiet            no summary on stderr\n"
                  "  -h, --help         this help\n");
-    HK_CLI_EXAMPLES(out, "hairkit view examples/coupe4/setup.txt",
-                    "hairkit view examples/coupe3/setup.txt --view 180,10 --light 90,30",
-                    "# headless: ten frames drawn, the last one saved",
-                    "hairkit view examples/coupe4/setup.txt --frames 10 --screenshot shot.png --width 640 --height 480");
+    HK_CLI_EXAMPLES(
+        out, "hairkit view examples/coupe4/setup.txt",
+        "hairkit view examples/coupe3/setup.txt --view 180,10 --light 90,30",
+        "# headless: ten frames drawn, the last one saved",
+        "hairkit view examples/coupe4/setup.txt --frames 10 --screenshot shot.png --width 640 --height 480");
 }
 
 typedef struct ViewArgs {
