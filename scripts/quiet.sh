@@ -18,15 +18,26 @@ shift 2
 mkdir -p "$(dirname "$log")"
 log="$(cd "$(dirname "$log")" && pwd)/$(basename "$log")"
 start=$SECONDS
-(cd "$dir" && "$@") 2>&1 | tee "$log" | awk -v label="$label" '
-    # a quarter is shown once, when first reached
-    function show(fraction, text,    q) {
-        q = int(4 * fraction + 1e-9)
-        if (q > shown) { printf "%s: %s\n", label, text; fflush(); shown = q }
-    }
-    /^\[ *[0-9]+%\]/ { p = $0; sub(/^\[ */, "", p); sub(/%.*/, "", p); show(p / 100, p "%") }
-    /^ *[0-9]+\/[0-9]+ Test +#/ { split($1, n, "/"); if (n[2] > 0) show(n[1] / n[2], n[1] " of " n[2] " tests done") }
-'
+# Progress read line by line in bash: awk (mawk) buffers its input from a pipe and
+# would show the quarters late.
+progress() {
+    local shown=0 line q text
+    while IFS= read -r line; do
+        q=0
+        if [[ $line =~ ^\[\ *([0-9]+)%\] ]]; then
+            q=$((BASH_REMATCH[1] * 4 / 100))
+            text="${BASH_REMATCH[1]}%"
+        elif [[ $line =~ ^\ *([0-9]+)/([0-9]+)\ Test\ +# ]] && [ "${BASH_REMATCH[2]}" -gt 0 ]; then
+            q=$((BASH_REMATCH[1] * 4 / BASH_REMATCH[2]))
+            text="${BASH_REMATCH[1]} of ${BASH_REMATCH[2]} tests done"
+        fi
+        if [ "$q" -gt "$shown" ]; then
+            echo "$label: $text"
+            shown=$q
+        fi
+    done
+}
+(cd "$dir" && "$@") 2>&1 | tee "$log" | progress
 rc=$?
 if [ "$rc" -ne 0 ]; then
     echo "$label: FAILED (exit $rc); the output without its progress lines:"

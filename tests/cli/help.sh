@@ -30,9 +30,18 @@ elif ! command -v xvfb-run > /dev/null 2>&1; then
     echo "help: view examples not run: xvfb-run is not installed"
 fi
 
+# Under the sanitizers (`make asan` sets ASAN_OPTIONS) a full head takes minutes: the
+# helps are checked there, their examples run by `make test` only.
+run_examples=1
+if [ -n "${ASAN_OPTIONS:-}" ]; then
+    run_examples=0
+    echo "help: examples not run under the sanitizers (a full head is too slow there); make test runs them"
+fi
+
 # run_example DIR LINE: the example as documented above, in DIR.
 run_example() {
     local dir=$1 line=$2
+    [ "$run_examples" -eq 1 ] || return 0
     line=$(echo "$line" | sed -E 's/--frames [0-9]+/--frames 2/')
     local prefix=""
     case "$line" in
