@@ -24,7 +24,7 @@ int hk_bench_render(FILE *out, const hk_BenchOptions *options)
      * pass over every segment) shows as the floor of the small picture. */
     static const int full_sizes[][2] = {{64, 48}, {640, 480}, {1920, 1080}};
     static const int quick_sizes[][2] = {{64, 48}, {320, 180}};
-    const int (*sizes)[2] = options->quick ? quick_sizes : full_sizes;
+    const int(*sizes)[2] = options->quick ? quick_sizes : full_sizes;
     const int size_count = options->quick ? 2 : 3;
     fprintf(out, "render: examples/default, %u strands, %u points, Kajiya-Kay, deep opacity shadows\n",
             hair.strand_count, hair.point_count);

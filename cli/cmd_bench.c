@@ -15,7 +15,8 @@ typedef struct Bench {
 static const Bench benches[] = {
     {"statics", hk_bench_statics, "Super-Helix statics: Newton vs the thesis's Rosenbrock, N = 5..40"},
     {"groom", hk_bench_groom, "grooming examples/default with 1 and 2 threads"},
-    {"render", hk_bench_render, "rendering examples/default at 64x48, 640x480, 1920x1080 with shadows, 1 and 2 threads"},
+    {"render", hk_bench_render,
+     "rendering examples/default at 64x48, 640x480, 1920x1080 with shadows, 1 and 2 threads"},
     {"dynamics", hk_bench_dynamics,
      "one strand's steps/s (dense and O(N)); 201 guides' frames/s, 1 and 2 threads, N = 10, 20, 40"},
     {"stability", hk_bench_stability,
