@@ -28,17 +28,21 @@ all: build
 deps:
 	@bash scripts/install-deps.sh
 
+# The build and the tests show a few lines of progress; their whole output goes to
+# $(BUILD)/build.log and $(BUILD)/test.log and is shown when they fail (scripts/quiet.sh).
 build: deps
 	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS) > $(BUILD).configure.log 2>&1 || \
 		{ cat $(BUILD).configure.log; exit 1; }
-	@cmake --build $(BUILD) -j $(JOBS)
+	@bash scripts/quiet.sh build $(BUILD)/build.log cmake --build $(BUILD) -j $(JOBS)
+	@echo "build: made $(HAIRKIT) (try $(HAIRKIT) --help)"
 
 demo: build
-	$(HAIRKIT) run examples/default/setup.txt -o demo.png
-	@echo "demo: wrote demo.png (the default head: about 124,000 strands grown and rendered)"
+	@$(HAIRKIT) run examples/default/setup.txt -o demo.png
+	@echo "demo: made $(CURDIR)/demo.png (the default head: about 124,000 strands grown and rendered)"
 
 test: build
-	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+	@bash scripts/quiet.sh -C $(BUILD) test $(BUILD)/test.log ctest --output-on-failure -j $(JOBS)
+	@sed -n "/tests passed/,\$$p" $(BUILD)/test.log | grep -vE "^$$|^Label Time|sec\*proc" | sed "s/^/test: /"
 
 bench: build
 	$(HAIRKIT) bench

@@ -15,7 +15,10 @@
 #include "hairkit/scene.h"
 #include "hairkit/vecmath.h"
 
-/* Exit codes: 0 success, 1 failure (bad input file, I/O, numerics), 2 usage error. */
+/* Exit codes, one rule for every command (README, "Exit codes"): 0 success; 1 bad input
+ * data or a failed computation (a file that cannot be read or parsed, numerics, I/O
+ * during the work); 2 a bad command line (unknown options, bad values, output paths of
+ * the wrong kind), always said before any long work starts. */
 #define HK_EXIT_OK    0
 #define HK_EXIT_FAIL  1
 #define HK_EXIT_USAGE 2
@@ -52,6 +55,40 @@ int hk_cli_fail(const char *cmd, const hk_Error *err);
 /* Prints "hairkit <cmd>: <formatted>" and "Try 'hairkit <cmd> --help'." and returns
  * HK_EXIT_USAGE. */
 int hk_cli_usage_error(const char *cmd, const char *fmt, ...) HK_PRINTF_LIKE(2, 3);
+
+/* ---- did you mean (cli_suggest.c) ---- */
+struct option;
+/* Levenshtein distance of two names (SIZE_MAX beyond 64 characters). */
+size_t hk_cli_edit_distance(const char *a, const char *b);
+/* The name nearest to `word`, or NULL when none is within max(2, len/3) edits. */
+const char *hk_cli_nearest(const char *word, const char *const *names, size_t count);
+/* The usage error of an unknown option `arg` (argv's word), naming the nearest long
+ * option of the getopt_long table: "unknown option '--frams' (did you mean --frames?)". */
+int hk_cli_unknown_option(const char *cmd, const struct option *options, const char *arg);
+/* "unknown WHAT 'word' (did you mean NAME?)", or the list of names when none is near;
+ * returns HK_EXIT_USAGE. */
+int hk_cli_unknown_name(const char *cmd, const char *what, const char *word, const char *const *names, size_t count);
+
+/* ---- output paths, checked before the work (cli_outputs.c) ---- */
+/* -o FILE and the like: refused (usage error, exit 2) when it is a folder, when its
+ * folder is missing or not writable, or when `extension` (e.g. ".png"; NULL: any) is
+ * not its ending. A FIFO or a character device is accepted whatever its name.
+ * 0 when it may be written, else HK_EXIT_USAGE. */
+int hk_cli_output_file(const char *cmd, const char *option, const char *path, const char *extension);
+/* -o DIR of commands that write a folder of files: made with its parents (mkdir -p);
+ * refused when it is a file, when it is named like a file hairkit writes (head.hair)
+ * and does not exist, or when it cannot be made or written. 0 or HK_EXIT_USAGE. */
+int hk_cli_output_folder(const char *cmd, const char *option, const char *dir);
+
+/* The section that ends every --help: "examples (...):" and one command a line, run
+ * from the repository root on the bundled examples; lines starting with '#' explain
+ * the next. tests/cli/help.sh runs every one of them, so that they cannot drift. */
+void hk_cli_examples(FILE *out, const char *const *lines, size_t count);
+#define HK_CLI_EXAMPLES(out, ...)                                                                                      \
+    do {                                                                                                               \
+        static const char *const hk_examples_[] = {__VA_ARGS__};                                                       \
+        hk_cli_examples(out, hk_examples_, sizeof hk_examples_ / sizeof *hk_examples_);                                \
+    } while (0)
 
 /* Whether progress and summaries may go to stderr (a terminal and not --quiet). */
 int hk_cli_stderr_is_tty(void);

@@ -130,3 +130,9 @@ int hk_cli_seed_option(const char *cmd, const char *value, uint64_t *out)
     *out = v;
     return 0;
 }
+
+void hk_cli_examples(FILE *out, const char *const *lines, size_t count)
+{
+    fprintf(out, "\nexamples (from the hairkit folder, on its bundled examples):\n");
+    for (size_t i = 0; i < count; i++) fprintf(out, "  %s\n", lines[i]);
+}

@@ -15,7 +15,8 @@ typedef struct Bench {
 static const Bench benches[] = {
     {"statics", hk_bench_statics, "Super-Helix statics: Newton vs the thesis's Rosenbrock, N = 5..40"},
     {"groom", hk_bench_groom, "grooming examples/default with 1 and 2 threads"},
-    {"render", hk_bench_render, "rendering examples/default at 1920x1080 with shadows, 1 and 2 threads"},
+    {"render", hk_bench_render,
+     "rendering examples/default at 64x48, 640x480, 1920x1080 with shadows, 1 and 2 threads"},
     {"dynamics", hk_bench_dynamics,
      "one strand's steps/s (dense and O(N)); 201 guides' frames/s, 1 and 2 threads, N = 10, 20, 40"},
     {"stability", hk_bench_stability,
@@ -35,7 +36,7 @@ static const Bench benches[] = {
 
 static void usage(FILE *out)
 {
-    fprintf(out, "usage: hairkit bench [NAME...] [--quick] [--min-time SECONDS]\n"
+    fprintf(out, "usage: hairkit bench [NAME...] [--quick] [--min-time SECONDS] [--root DIR]\n"
                  "\n"
                  "Runs benchmarks and prints their figures side by side (all of them when no\n"
                  "NAME is given). Timings are wall-clock on this machine.\n"
@@ -51,6 +52,10 @@ static void usage(FILE *out)
                  "                     'io' and 'import' read DIR/../shared/hair-data when it\n"
                  "                     is there)\n"
                  "  -h, --help         this help\n");
+    HK_CLI_EXAMPLES(out, "# Newton against the thesis's Rosenbrock on one strand", "hairkit bench statics",
+                    "# the helicoid fitter, each figure measured for at least 2 s",
+                    "hairkit bench curvefit --min-time 2", "# a smoke run of two benchmarks (figures not meaningful)",
+                    "hairkit bench groom io --quick");
 }
 
 int hk_cmd_bench(int argc, char **argv)
@@ -84,14 +89,16 @@ int hk_cmd_bench(int argc, char **argv)
         case ':':
             return hk_cli_usage_error("bench", "option '%s' needs a value", argv[optind - 1]);
         default:
-            return hk_cli_usage_error("bench", "unknown option '%s'", argv[optind - 1]);
+            return hk_cli_unknown_option("bench", options, argv[optind - 1]);
         }
     }
     if (bo.quick) bo.min_seconds = 0.0;
+    const char *names[sizeof benches / sizeof *benches];
+    for (size_t b = 0; b < sizeof benches / sizeof *benches; b++) names[b] = benches[b].name;
     for (int i = optind; i < argc; i++) {
         int found = 0;
         for (size_t b = 0; b < sizeof benches / sizeof *benches; b++) found |= !strcmp(argv[i], benches[b].name);
-        if (!found) return hk_cli_usage_error("bench", "unknown benchmark '%s'", argv[i]);
+        if (!found) return hk_cli_unknown_name("bench", "benchmark", argv[i], names, sizeof names / sizeof *names);
     }
     int rc = HK_EXIT_OK;
     for (size_t b = 0; b < sizeof benches / sizeof *benches; b++) {

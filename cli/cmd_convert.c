@@ -43,6 +43,11 @@ static void usage(FILE *out)
                  "  --ascii            PLY output in ASCII (default binary little-endian)\n"
                  "  --quiet            no summary on stderr\n"
                  "  -h, --help         this help\n");
+    HK_CLI_EXAMPLES(out, "hairkit groom examples/coupe4/setup.txt -o coupe4.hair",
+                    "# TressFX wants the same number of points in every strand",
+                    "hairkit convert coupe4.hair coupe4.tfx --points 16",
+                    "# millimetres, z up, ASCII PLY (as CT2Hair writes)",
+                    "hairkit convert coupe4.hair coupe4.ply --scale 1000 --up -z --ascii");
 }
 
 enum { OPT_FROM = 1, OPT_TO, OPT_SCALE, OPT_UP, OPT_POINTS, OPT_ASCII, OPT_QUIET };
@@ -105,7 +110,7 @@ int hk_cmd_convert(int argc, char **argv)
         case ':':
             return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
         default:
-            return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
+            return hk_cli_unknown_option(CMD, options, argv[optind - 1]);
         }
     }
     if (optind >= argc) return hk_cli_usage_error(CMD, "missing IN and OUT files");
@@ -118,6 +123,8 @@ int hk_cmd_convert(int argc, char **argv)
     if (def.ascii && to != HK_HAIR_FORMAT_PLY)
         return hk_cli_usage_error(CMD, "--ascii is for PLY output, not %s", hk_hair_format_name(to));
     def.format = to;
+    const int out_rc = hk_cli_output_file(CMD, "OUT", out, NULL);
+    if (out_rc) return out_rc;
 
     hk_Error err;
     hk_HairFile hair;

@@ -30,6 +30,10 @@ static void usage(FILE *out)
                  "  --threads N        threads to use (default: all cores)\n"
                  "  --quiet            no progress bar (shown on a terminal) or summary on stderr\n"
                  "  -h, --help         this help\n");
+    HK_CLI_EXAMPLES(out, "hairkit groom examples/default/setup.txt -o head.hair",
+                    "# the same bytes with one thread as with all of them",
+                    "hairkit groom examples/coupe4/setup.txt -o coupe4.hair --seed 7 --threads 1",
+                    "hairkit info coupe4.hair");
 }
 
 int hk_cmd_groom(int argc, char **argv)
@@ -69,12 +73,16 @@ int hk_cmd_groom(int argc, char **argv)
         case ':':
             return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
         default:
-            return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
+            return hk_cli_unknown_option(CMD, options, argv[optind - 1]);
         }
     }
     if (optind >= argc) return hk_cli_usage_error(CMD, "missing SETUP file");
     if (optind + 1 < argc) return hk_cli_usage_error(CMD, "unexpected argument '%s'", argv[optind + 1]);
     const char *setup_path = argv[optind];
+    if (output) {
+        const int rc = hk_cli_output_file(CMD, "-o", output, NULL);
+        if (rc) return rc;
+    }
 
     hk_Error err;
     hk_Scene scene;

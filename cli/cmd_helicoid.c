@@ -17,68 +17,134 @@
 
 static const char *const CMD = HK_HELICOID_CMD;
 
-static void usage(FILE *out)
+/* The actions, each with its synopsis and what it does: `hairkit helicoid ACTION --help`
+ * prints its own, `hairkit helicoid --help` all of them. */
+enum { TRACE = 1, INTERPOLATE = 2, FIT = 4, RECONSTRUCT = 8, ALL = 15 };
+typedef struct Action {
+    const char *name;
+    int bit;
+    const char *synopsis, *summary;
+} Action;
+static const Action actions[] = {
+    {"trace", TRACE, "trace FILE.txt -o OUT.hair [--step S] [--seed N] [options]\n",
+     "  trace        p-helicoid strands of a helicoid file (docs/file-formats.md), with\n"
+     "               their waviness and wisps, as a .hair file\n"},
+    {"interpolate", INTERPOLATE,
+     "interpolate GUIDES.txt --surface MESH.obj -o OUT.hair\n"
+     "               [--density D | --count N | --follicles SPACING [--head HEAD.obj]]\n"
+     "               [--power P] [--seed N] [--params OUT.txt] [options]\n",
+     "  interpolate  new strands rooted on a surface mesh (area-uniform random roots,\n"
+     "               or follicles with --follicles), each the inverse-distance blend of\n"
+     "               the file's guides (paper 4.1-4.3), their root frames averaged\n"
+     "               relative to the surface normal so that every strand leaves it\n"},
+    {"fit", FIT,
+     "fit IN.hair -o OUT.txt [--tolerance M] [--lambda L]\n"
+     "               [--max-pieces N | --pieces N | --piece-length L [--root-piece R]]\n"
+     "               [--method lm|nelder-mead] [options]\n",
+     "  fit          a p-helicoid for every strand of a .hair file (paper 5; docs/\n"
+     "               helicoid-fitting.md); prints the error of every strand and in\n"
+     "               all (mean leash of the Frechet coupling); writes a helicoid file\n"},
+    {"reconstruct", RECONSTRUCT,
+     "reconstruct IN.hair -o OUT.hair [--every K] [--power P]\n"
+     "               [--pieces N | --piece-length L [--root-piece R]] [options]\n",
+     "  reconstruct  fits every K-th strand of a .hair file and interpolates all the\n"
+     "               others from them at their roots (paper 5.4); prints the error\n"},
+};
+#define ACTION_COUNT (sizeof actions / sizeof *actions)
+
+/* Every option's help and the actions it is for. */
+static const struct {
+    int actions;
+    const char *text;
+} option_help[] = {
+    {ALL, "  -o, --output FILE  the file to write\n"},
+    {ALL, "  --step S           tracing step in metres (default: the file's Step, or 2 mm)\n"},
+    {INTERPOLATE, "  --surface MESH     OBJ or PLY mesh the interpolated roots lie on\n"
+                  "                     (e.g. assets/wick.obj)\n"},
+    {INTERPOLATE, "  --density D        interpolated strands per cm^2 of the surface (default 100)\n"},
+    {INTERPOLATE, "  --count N          or exactly N interpolated strands\n"},
+    {INTERPOLATE, "  --follicles D      or one strand per follicle, follicles D metres apart spread\n"
+                  "                     by repelling particles over an implicit surface fitted to the\n"
+                  "                     --surface mesh (the wick) and the head around it (paper 4.3,\n"
+                  "                     docs/follicle-sampling.md); 0.005 gives about 2,300 on\n"
+                  "                     assets/wick.obj in a second or two, 0.003 about 6,400\n"
+                  "                     in ten; the time grows as 1 / D^2 or faster\n"},
+    {INTERPOLATE, "  --head MESH        with --follicles: the head mesh, whose vertices near the\n"
+                  "                     wick are fitted too (e.g. assets/head.obj; optional)\n"},
+    {INTERPOLATE | RECONSTRUCT, "  --power P          inverse-distance power (default 3, the paper's)\n"},
+    {INTERPOLATE, "  --params FILE      also write the interpolated strands as a helicoid file\n"},
+    {FIT | RECONSTRUCT, "  --tolerance M      accept a fit when its mean leash (normalised Frechet\n"
+                        "                     coupling) is below M metres (default 0.0002)\n"},
+    {FIT | RECONSTRUCT, "  --lambda L         regularisation of eq. 5 (default 1e-7)\n"},
+    {FIT | RECONSTRUCT, "  --max-pieces N     pieces per fitted strand (default 16)\n"},
+    {FIT | RECONSTRUCT, "  --pieces N         exactly N pieces of equal length on every strand, the same\n"
+                        "                     layout for all (default: split where each strand needs it;\n"
+                        "                     reconstruct: --piece-length 0.03 --root-piece 0.01, since\n"
+                        "                     fits are blended piece by piece)\n"},
+    {FIT | RECONSTRUCT, "  --piece-length L   or pieces L metres long from the root (the same stretch of\n"
+                        "                     hair for piece j on strands of any length; the last piece\n"
+                        "                     takes what is left)\n"},
+    {FIT | RECONSTRUCT, "  --root-piece R     with --piece-length: the first piece R metres long (a lift\n"
+                        "                     off the scalp); default L\n"},
+    {FIT | RECONSTRUCT, "  --method M         lm: Levenberg-Marquardt on point distances (default, fast);\n"
+                        "                     nelder-mead: the paper's, on the Frechet coupling (slow)\n"},
+    {RECONSTRUCT, "  --every K          reconstruct: fit one strand in K (default 10)\n"},
+    {ALL, "  --seed N           random seed (default 1)\n"},
+    {ALL, "  --threads N        threads (default: all cores); results do not depend on it\n"},
+    {ALL, "  --quiet            no summary on stderr\n"},
+    {ALL, "  -h, --help         this help\n"},
+};
+
+/* The help of one action (`which`), or of all of them (ALL). */
+static void usage(FILE *out, int which)
 {
-    fprintf(out, "usage: hairkit helicoid trace FILE.txt -o OUT.hair [--step S]\n"
-                 "       hairkit helicoid interpolate GUIDES.txt --surface MESH.obj -o OUT.hair\n"
-                 "               [--density D | --count N | --follicles SPACING [--head HEAD.obj]]\n"
-                 "               [--power P] [--seed N] [--params OUT.txt]\n"
-                 "       hairkit helicoid fit IN.hair -o OUT.txt [--tolerance M] [--lambda L]\n"
-                 "               [--max-pieces N | --pieces N | --piece-length L [--root-piece R]]\n"
-                 "               [--method lm|nelder-mead]\n"
-                 "       hairkit helicoid reconstruct IN.hair -o OUT.hair [--every K] [--power P]\n"
-                 "               [--pieces N | --piece-length L [--root-piece R]] [fit options]\n"
-                 "\n"
-                 "Generalized helicoids (Piuze, Kry, Siddiqi; docs/helicoids.md):\n"
-                 "  trace        p-helicoid strands of a helicoid file (docs/file-formats.md), with\n"
-                 "               their waviness and wisps, as a .hair file\n"
-                 "  interpolate  new strands rooted on a surface mesh (area-uniform random roots,\n"
-                 "               or follicles with --follicles), each the inverse-distance blend of\n"
-                 "               the file's guides (paper 4.1-4.3), their root frames averaged\n"
-                 "               relative to the surface normal so that every strand leaves it\n"
-                 "  fit          a p-helicoid for every strand of a .hair file (paper 5; docs/\n"
-                 "               helicoid-fitting.md); prints the error of every strand and in\n"
-                 "               all (mean leash of the Frechet coupling); writes a helicoid file\n"
-                 "  reconstruct  fits every K-th strand of a .hair file and interpolates all the\n"
-                 "               others from them at their roots (paper 5.4); prints the error\n"
-                 "\n"
-                 "options:\n"
-                 "  -o, --output FILE  the file to write\n"
-                 "  --step S           tracing step in metres (default: the file's Step, or 2 mm)\n"
-                 "  --surface MESH     OBJ or PLY mesh the interpolated roots lie on\n"
-                 "                     (e.g. assets/wick.obj)\n"
-                 "  --density D        interpolated strands per cm^2 of the surface (default 100)\n"
-                 "  --count N          or exactly N interpolated strands\n"
-                 "  --follicles D      or one strand per follicle, follicles D metres apart spread\n"
-                 "                     by repelling particles over an implicit surface fitted to the\n"
-                 "                     --surface mesh (the wick) and the head around it (paper 4.3,\n"
-                 "                     docs/follicle-sampling.md); 0.005 gives about 2,300 on\n"
-                 "                     assets/wick.obj in a second or two, 0.003 about 6,400\n"
-                 "                     in ten; the time grows as 1 / D^2 or faster\n"
-                 "  --head MESH        with --follicles: the head mesh, whose vertices near the\n"
-                 "                     wick are fitted too (e.g. assets/head.obj; optional)\n"
-                 "  --power P          inverse-distance power (default 3, the paper's)\n"
-                 "  --params FILE      also write the interpolated strands as a helicoid file\n"
-                 "  --tolerance M      accept a fit when its mean leash (normalised Frechet\n"
-                 "                     coupling) is below M metres (default 0.0002)\n"
-                 "  --lambda L         regularisation of eq. 5 (default 1e-7)\n"
-                 "  --max-pieces N     pieces per fitted strand (default 16)\n"
-                 "  --pieces N         exactly N pieces of equal length on every strand, the same\n"
-                 "                     layout for all (default: split where each strand needs it;\n"
-                 "                     reconstruct: --piece-length 0.03 --root-piece 0.01, since\n"
-                 "                     fits are blended piece by piece)\n"
-                 "  --piece-length L   or pieces L metres long from the root (the same stretch of\n"
-                 "                     hair for piece j on strands of any length; the last piece\n"
-                 "                     takes what is left)\n"
-                 "  --root-piece R     with --piece-length: the first piece R metres long (a lift\n"
-                 "                     off the scalp); default L\n"
-                 "  --method M         lm: Levenberg-Marquardt on point distances (default, fast);\n"
-                 "                     nelder-mead: the paper's, on the Frechet coupling (slow)\n"
-                 "  --every K          reconstruct: fit one strand in K (default 10)\n"
-                 "  --seed N           random seed (default 1)\n"
-                 "  --threads N        threads (default: all cores); results do not depend on it\n"
-                 "  --quiet            no summary on stderr\n"
-                 "  -h, --help         this help\n");
+    int first = 1;
+    for (size_t i = 0; i < ACTION_COUNT; i++) {
+        if (!(actions[i].bit & which)) continue;
+        fprintf(out, "%s hairkit helicoid %s", first ? "usage:" : "      ", actions[i].synopsis);
+        first = 0;
+    }
+    fprintf(out, "\nGeneralized helicoids (Piuze, Kry, Siddiqi; docs/helicoids.md):\n");
+    for (size_t i = 0; i < ACTION_COUNT; i++)
+        if (actions[i].bit & which) fputs(actions[i].summary, out);
+    if (which == ALL) fprintf(out, "'hairkit helicoid ACTION --help' shows one action's options.\n");
+    fprintf(out, "\noptions:\n");
+    for (size_t i = 0; i < sizeof option_help / sizeof *option_help; i++)
+        if (option_help[i].actions & which) fputs(option_help[i].text, out);
+    switch (which) {
+    case TRACE:
+        HK_CLI_EXAMPLES(out, "hairkit helicoid trace examples/helicoid/curly.txt -o curly.hair",
+                        "# a finer step along the strands",
+                        "hairkit helicoid trace examples/helicoid/wisp.txt -o wisp.hair --step 0.001",
+                        "hairkit render curly.hair -o curly.png");
+        break;
+    case INTERPOLATE:
+        HK_CLI_EXAMPLES(out,
+                        "hairkit helicoid interpolate examples/helicoid/guides.txt --surface assets/wick.obj -o "
+                        "long.hair",
+                        "# one strand per follicle, follicles 8 mm apart over the scalp",
+                        "hairkit helicoid interpolate examples/helicoid/guides.txt --surface assets/wick.obj "
+                        "--follicles 0.008 --head assets/head.obj -o follicles.hair",
+                        "hairkit render long.hair --head assets/head.obj -o long.png");
+        break;
+    case FIT:
+        HK_CLI_EXAMPLES(out, "hairkit helicoid trace examples/helicoid/wavy.txt -o wavy.hair",
+                        "hairkit helicoid fit wavy.hair -o wavy-fit.txt",
+                        "# the fitted helicoids traced back into strands",
+                        "hairkit helicoid trace wavy-fit.txt -o wavy-again.hair");
+        break;
+    case RECONSTRUCT:
+        HK_CLI_EXAMPLES(out,
+                        "hairkit helicoid interpolate examples/helicoid/guides.txt --surface assets/wick.obj "
+                        "--count 500 -o long.hair",
+                        "# fit one strand in ten, interpolate the others from them",
+                        "hairkit helicoid reconstruct long.hair -o rebuilt.hair --every 10");
+        break;
+    default:
+        HK_CLI_EXAMPLES(out, "hairkit helicoid trace examples/helicoid/curly.txt -o curly.hair",
+                        "hairkit helicoid fit curly.hair -o curly-fit.txt", "hairkit helicoid fit --help");
+        break;
+    }
 }
 
 static int parse_args(int argc, char **argv, hk_HelicoidArgs *a)
@@ -136,13 +202,17 @@ static int parse_args(int argc, char **argv, hk_HelicoidArgs *a)
     a->method = HK_CURVEFIT_LEAST_SQUARES;
     if (argc < 2) return hk_cli_usage_error(CMD, "missing action: trace, interpolate, fit or reconstruct");
     if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
-        usage(stdout);
+        usage(stdout, ALL);
         return -1;
     }
     a->action = argv[1];
-    if (strcmp(a->action, "trace") && strcmp(a->action, "interpolate") && strcmp(a->action, "fit") &&
-        strcmp(a->action, "reconstruct"))
-        return hk_cli_usage_error(CMD, "unknown action '%s' (trace, interpolate, fit, reconstruct)", a->action);
+    int which = 0;
+    const char *names[ACTION_COUNT];
+    for (size_t i = 0; i < ACTION_COUNT; i++) {
+        names[i] = actions[i].name;
+        if (!strcmp(a->action, actions[i].name)) which = actions[i].bit;
+    }
+    if (!which) return hk_cli_unknown_name(CMD, "action", a->action, names, ACTION_COUNT);
     optind = 2;
     opterr = 0;
     int c, rc;
@@ -231,12 +301,12 @@ static int parse_args(int argc, char **argv, hk_HelicoidArgs *a)
             a->quiet = 1;
             break;
         case 'h':
-            usage(stdout);
+            usage(stdout, which);
             return -1;
         case ':':
             return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
         default:
-            return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
+            return hk_cli_unknown_option(CMD, options, argv[optind - 1]);
         }
     }
     if (optind >= argc) return hk_cli_usage_error(CMD, "%s: missing input file", a->action);
@@ -258,6 +328,8 @@ static int parse_args(int argc, char **argv, hk_HelicoidArgs *a)
                                   "--root-piece is the first piece of a --piece-length layout: give --piece-length");
     if (a->head && !(a->follicles > 0.0))
         return hk_cli_usage_error(CMD, "--head is fitted with the wick by --follicles: give --follicles SPACING");
+    if ((rc = hk_cli_output_file(CMD, "-o", a->output, NULL))) return rc;
+    if (a->params && (rc = hk_cli_output_file(CMD, "--params", a->params, NULL))) return rc;
     return 0;
 }
 

@@ -39,6 +39,12 @@ static void usage(FILE *out)
                  "  --seed N           the first guide of the sampling (default 1)\n"
                  "  --quiet            no progress and summary on stderr\n"
                  "  -h, --help         this help\n");
+    HK_CLI_EXAMPLES(out, "# 500 long strands on the default head's scalp, made by helicoids",
+                    "hairkit helicoid interpolate examples/helicoid/guides.txt --surface assets/wick.obj --count 500 "
+                    "-o long.hair",
+                    "hairkit import long.hair --head assets/head.obj -o imported",
+                    "hairkit simulate imported/setup.txt --frames 30 --fps 30 --motion nod --guides-only -o "
+                    "imported/frames");
 }
 
 enum { OPT_HEAD = 1, OPT_GUIDES, OPT_ELEMENTS, OPT_HAIRSTYLE, OPT_THREADS, OPT_SEED, OPT_QUIET };
@@ -107,7 +113,7 @@ int hk_cmd_import(int argc, char **argv)
         case ':':
             return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
         default:
-            return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
+            return hk_cli_unknown_option(CMD, options, argv[optind - 1]);
         }
     }
     if (optind >= argc) return hk_cli_usage_error(CMD, "missing the HAIR file");
@@ -115,6 +121,8 @@ int hk_cmd_import(int argc, char **argv)
     if (!d.head) return hk_cli_usage_error(CMD, "missing --head MESH (the collider)");
     if (!d.dir) return hk_cli_usage_error(CMD, "missing -o DIR");
     d.hair = argv[optind];
+    const int out_rc = hk_cli_output_folder(CMD, "-o", d.dir);
+    if (out_rc) return out_rc;
     d.scale = hair_tf.scale, d.up = hair_tf.up;
     d.head_scale = head_tf.scale, d.head_up = head_tf.up;
     hk_CliProgress progress = {!quiet && hk_cli_stderr_is_tty(), "", -1};

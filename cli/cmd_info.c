@@ -1,6 +1,7 @@
 /* hairkit info: what a hair file holds (strands, points, lengths, bounding box), in any
  * format hairkit reads, with a hint at the units. */
 #include <float.h>
+#include <getopt.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -9,18 +10,36 @@
 #include "hairkit/hair_formats.h"
 #include "hairkit/hairfile.h"
 
+static void usage(FILE *out)
+{
+    fprintf(out, "usage: hairkit info FILE [--from F]\n\n"
+                 "Prints the number of strands and points, the strand lengths (min, mean, max),\n"
+                 "the bounding box, the arrays present and the information field of a hair file\n"
+                 "in any format hairkit reads (.hair, .tfx, .data, .ply, .obj, .usda; --from names\n"
+                 "the format when the extension does not), and a hint at its units: hairkit works\n"
+                 "in metres, and an extent of hundreds suggests millimetres (hairkit convert\n"
+                 "--scale 0.001).\n"
+                 "\n"
+                 "options:\n"
+                 "  --from F           format of FILE (hair, tfx, usc, ply, obj, usda)\n"
+                 "  -h, --help         this help\n");
+    HK_CLI_EXAMPLES(out, "hairkit groom examples/coupe4/setup.txt -o coupe4.hair",
+                    "# a PLY in millimetres: info says so from its extent",
+                    "hairkit convert coupe4.hair coupe4.ply --scale 1000", "hairkit info coupe4.ply");
+}
+
 int hk_cmd_info(int argc, char **argv)
 {
-    if (argc == 2 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h"))) {
-        printf("usage: hairkit info FILE [--from F]\n\n"
-               "Prints the number of strands and points, the strand lengths (min, mean, max),\n"
-               "the bounding box, the arrays present and the information field of a hair file\n"
-               "in any format hairkit reads (.hair, .tfx, .data, .ply, .obj, .usda; --from names\n"
-               "the format when the extension does not), and a hint at its units: hairkit works\n"
-               "in metres, and an extent of hundreds suggests millimetres (hairkit convert\n"
-               "--scale 0.001).\n");
-        return HK_EXIT_OK;
-    }
+    static const struct option options[] = {
+        {"from", required_argument, NULL, 'f'},
+        {"help", no_argument, NULL, 'h'},
+        {NULL, 0, NULL, 0},
+    };
+    for (int i = 1; i < argc; i++)
+        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
+            usage(stdout);
+            return HK_EXIT_OK;
+        }
     hk_HairFormat format = HK_HAIR_FORMAT_AUTO;
     const char *path = NULL;
     for (int i = 1; i < argc; i++) {
@@ -37,7 +56,7 @@ int hk_cmd_info(int argc, char **argv)
                                           argv[i] + 7);
             format = (hk_HairFormat)f;
         } else if (argv[i][0] == '-' && argv[i][1]) {
-            return hk_cli_usage_error("info", "unknown option '%s'", argv[i]);
+            return hk_cli_unknown_option("info", options, argv[i]);
         } else if (path) {
             return hk_cli_usage_error("info", "expected exactly one FILE");
         } else {

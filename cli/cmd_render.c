@@ -10,8 +10,8 @@ static const char *const CMD = "render";
 
 static void usage(FILE *out)
 {
-    fprintf(out, "usage: hairkit render HAIR.hair -o OUT.png [--head HEAD.obj] [--visuality V.txt]\n"
-                 "                      [--no-shadows] [--width W --height H] [options]\n"
+    fprintf(out, "usage: hairkit render HAIR -o OUT.png [--head HEAD.obj] [--visuality V.txt]\n"
+                 "                      [--width W --height H] [options]\n"
                  "\n"
                  "Renders hair strands on the CPU: Kajiya-Kay (or Marschner) shading,\n"
                  "self-shadowing with deep opacity maps, exact transparency of the sub-pixel\n"
@@ -33,6 +33,11 @@ static void usage(FILE *out)
                  "                     depend on it\n"
                  "  --quiet            no summary on stderr\n"
                  "  -h, --help         this help\n");
+    HK_CLI_EXAMPLES(out, "hairkit groom examples/default/setup.txt -o head.hair",
+                    "hairkit render head.hair --head assets/head.obj --visuality examples/default/visuality.txt -o "
+                    "head.png",
+                    "# the hair alone, from the left, with Marschner's shading",
+                    "hairkit render head.hair -o side.png --view -90,10 --shading marschner --width 640 --height 480");
 }
 
 int hk_cmd_render(int argc, char **argv)
@@ -93,13 +98,15 @@ int hk_cmd_render(int argc, char **argv)
         case ':':
             return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
         default:
-            return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
+            return hk_cli_unknown_option(CMD, options, argv[optind - 1]);
         }
     }
     if (optind >= argc) return hk_cli_usage_error(CMD, "missing HAIR file");
     if (head_tf.given && !head_path) return hk_cli_usage_error(CMD, "--head-scale and --head-up need --head");
     if (optind + 1 < argc) return hk_cli_usage_error(CMD, "unexpected argument '%s'", argv[optind + 1]);
     if (!output) return hk_cli_usage_error(CMD, "no output: give -o OUT.png");
+    const int out_rc = hk_cli_output_file(CMD, "-o", output, ".png");
+    if (out_rc) return out_rc;
     hk_Error err;
     hk_HairFile hair;
     hk_Mesh head = {0, 0, NULL, NULL, NULL};

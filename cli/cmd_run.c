@@ -13,7 +13,7 @@ static const char *const CMD = "run";
 
 static void usage(FILE *out)
 {
-    fprintf(out, "usage: hairkit run SETUP.txt -o OUT.png [--width W --height H] [options]\n"
+    fprintf(out, "usage: hairkit run SETUP.txt -o OUT.png [--hair OUT.hair] [--width W --height H] [options]\n"
                  "\n"
                  "The main job: reads a setup file (thesis Appendix B), grows the hair (guides\n"
                  "solved as Super-Helices under gravity and the collision shapes, then the\n"
@@ -38,6 +38,11 @@ static void usage(FILE *out)
                  "                     depend on it\n"
                  "  --quiet            no progress or summary on stderr\n"
                  "  -h, --help         this help\n");
+    HK_CLI_EXAMPLES(out, "hairkit run examples/default/setup.txt -o head.png",
+                    "# a thesis coupe, smaller, with Marschner's shading",
+                    "hairkit run examples/coupe2/setup.txt -o coupe2.png --width 640 --height 480 --shading marschner",
+                    "# from behind, the hair also kept for 'hairkit render'",
+                    "hairkit run examples/default/setup.txt -o back.png --view 180,10 --hair head.hair");
 }
 
 int hk_cmd_run(int argc, char **argv)
@@ -102,12 +107,15 @@ int hk_cmd_run(int argc, char **argv)
         case ':':
             return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
         default:
-            return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
+            return hk_cli_unknown_option(CMD, options, argv[optind - 1]);
         }
     }
     if (optind >= argc) return hk_cli_usage_error(CMD, "missing SETUP file");
     if (optind + 1 < argc) return hk_cli_usage_error(CMD, "unexpected argument '%s'", argv[optind + 1]);
     if (!output) return hk_cli_usage_error(CMD, "no output: give -o OUT.png");
+    int out_rc = hk_cli_output_file(CMD, "-o", output, ".png");
+    if (!out_rc && hair_out) out_rc = hk_cli_output_file(CMD, "--hair", hair_out, NULL);
+    if (out_rc) return out_rc;
 
     hk_Error err;
     hk_Scene scene;

@@ -68,6 +68,13 @@ static void usage(FILE *out)
                  "  --quiet            no progress or summary on stderr (otherwise a bar with the\n"
                  "                     time left on a terminal, else a line every few seconds)\n"
                  "  -h, --help         this help\n");
+    HK_CLI_EXAMPLES(out, "# 3 s of a shaking head: frames of guides and pictures in out/",
+                    "hairkit simulate examples/guides200/setup.txt --frames 90 --fps 30 --motion shake -o out",
+                    "# every strand of frame 1 again, grown from its guides",
+                    "hairkit simulate --rebuild out --frame 1 -o frame1.hair",
+                    "# a quick preview: the guides only, moved by a motion file",
+                    "hairkit simulate examples/guides200/setup.txt --frames 60 --fps 30 --guides-only --motion "
+                    "examples/motions/nod-and-shake.txt -o preview");
 }
 
 typedef struct SimArgs {
@@ -197,14 +204,14 @@ static int parse_args(int argc, char **argv, SimArgs *a)
         case ':':
             return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
         default:
-            return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
+            return hk_cli_unknown_option(CMD, options, argv[optind - 1]);
         }
     }
     if (a->rebuild) {
         if (optind < argc) return hk_cli_usage_error(CMD, "--rebuild takes no SETUP file, got '%s'", argv[optind]);
         if (a->frame < 0) return hk_cli_usage_error(CMD, "give the frame to rebuild: --frame K");
         if (!a->dir) return hk_cli_usage_error(CMD, "no output file: give -o OUT.hair");
-        return 0;
+        return hk_cli_output_file(CMD, "-o", a->dir, NULL);
     }
     if (a->frame >= 0) return hk_cli_usage_error(CMD, "--frame goes with --rebuild DIR");
     if (a->run.guides_only && a->run.full_hair)
@@ -214,6 +221,7 @@ static int parse_args(int argc, char **argv, SimArgs *a)
     if (!a->frames) return hk_cli_usage_error(CMD, "give the number of frames: --frames N");
     if (!(a->fps > 0.0)) return hk_cli_usage_error(CMD, "give the frame rate: --fps F");
     if (!a->dir) return hk_cli_usage_error(CMD, "no output folder: give -o DIR");
+    if ((rc = hk_cli_output_folder(CMD, "-o", a->dir))) return rc;
     a->setup = argv[optind];
     a->run.frames = a->frames;
     a->run.fps = a->fps;

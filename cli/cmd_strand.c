@@ -15,7 +15,8 @@ static const char *const CMD = "strand";
 
 static void usage(FILE *out)
 {
-    fprintf(out, "usage: hairkit strand HAIRSTYLE.txt [options]\n"
+    fprintf(out, "usage: hairkit strand HAIRSTYLE.txt [--collision FILE] [--root X,Y,Z] [--dir X,Y,Z]\n"
+                 "                      [--plot FILE.png] [--simulate T [--dt DT]] [options]\n"
                  "\n"
                  "Finds the rest shape of one hair strand (a Super-Helix) under gravity and\n"
                  "collision penalties by minimising its energy, and prints it.\n"
@@ -57,6 +58,12 @@ static void usage(FILE *out)
                  "iterations counts the steps of DT, evaluations the evaluations of the forces\n"
                  "(Newton iterations, with the splits of fast motion), and the solver is\n"
                  "dynamics-linear or dynamics-dense.\n");
+    HK_CLI_EXAMPLES(out, "# a curly strand over the head's ellipsoid, drawn from the side and the front",
+                    "hairkit strand examples/strand/curly.txt --collision examples/strand/head.txt --root "
+                    "0.04,0.137,0.03 --dir 1,0.6,0.3 --plot strand.png",
+                    "hairkit strand examples/strand/straight.txt --solver rosenbrock",
+                    "# 2 s of motion from rest on a nodding head, the tip's path in a CSV",
+                    "hairkit strand examples/strand/wavy.txt --simulate 2 --motion nod --tip-csv tip.csv");
 }
 
 typedef struct StrandArgs {
@@ -179,7 +186,7 @@ static int parse_args(int argc, char **argv, StrandArgs *a)
         case ':':
             return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
         default:
-            return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
+            return hk_cli_unknown_option(CMD, options, argv[optind - 1]);
         }
     }
     if (dynamics_option && !a->sim.enabled)
@@ -189,6 +196,9 @@ static int parse_args(int argc, char **argv, StrandArgs *a)
     if (optind >= argc) return hk_cli_usage_error(CMD, "missing HAIRSTYLE file");
     if (optind + 1 < argc) return hk_cli_usage_error(CMD, "unexpected argument '%s'", argv[optind + 1]);
     a->hairstyle = argv[optind];
+    int rc;
+    if (a->plot && (rc = hk_cli_output_file(CMD, "--plot", a->plot, ".png"))) return rc;
+    if (a->sim.tip_csv && (rc = hk_cli_output_file(CMD, "--tip-csv", a->sim.tip_csv, NULL))) return rc;
     return 0;
 }
 

@@ -81,6 +81,11 @@ static void usage(FILE *out)
     hk_cli_render_options_help(out);
     fprintf(out, "  --quiet            no summary on stderr\n"
                  "  -h, --help         this help\n");
+    HK_CLI_EXAMPLES(
+        out, "hairkit view examples/coupe4/setup.txt",
+        "hairkit view examples/coupe3/setup.txt --view 180,10 --light 90,30",
+        "# headless: ten frames drawn, the last one saved",
+        "hairkit view examples/coupe4/setup.txt --frames 10 --screenshot shot.png --width 640 --height 480");
 }
 
 typedef struct ViewArgs {
@@ -220,12 +225,16 @@ static int parse(int argc, char **argv, ViewArgs *a)
         case ':':
             return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
         default:
-            return hk_cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
+            return hk_cli_unknown_option(CMD, options, argv[optind - 1]);
         }
     }
     if (optind >= argc) return hk_cli_usage_error(CMD, "missing SETUP.txt or HAIR file");
     if (optind + 1 < argc) return hk_cli_usage_error(CMD, "unexpected argument '%s'", argv[optind + 1]);
     a->input = argv[optind];
+    if (a->screenshot) {
+        const int rc = hk_cli_output_file(CMD, "--screenshot", a->screenshot, ".png");
+        if (rc) return rc;
+    }
     if (a->screenshot && !a->frames) a->frames = 1;
     if (a->simulate && !is_setup(a->input))
         return hk_cli_usage_error(CMD, "--simulate needs a setup file (SETUP.txt), got '%s'", a->input);

@@ -32,7 +32,8 @@ static void print_help(FILE *out)
             "hairkit %s - natural hair: Super-Helix statics and dynamics, grooming, rendering, helicoids\n"
             "\n"
             "usage: hairkit COMMAND [ARGS...]\n"
-            "       hairkit COMMAND --help\n"
+            "       hairkit COMMAND --help | hairkit help COMMAND [SUBCOMMAND]\n"
+            "       hairkit --version\n"
             "\n"
             "commands:\n",
             hk_version());
@@ -42,7 +43,14 @@ static void print_help(FILE *out)
                  "Units are SI (metres, pascals, kg/m^3); y is up and gravity points along -y.\n"
                  "Input files are the thesis's text files; hair is read and written as cyHair .hair,\n"
                  "TressFX .tfx, USC-HairSalon .data, PLY, OBJ polylines and USD ascii\n"
-                 "(docs/file-formats.md).\n");
+                 "(docs/file-formats.md).\n"
+                 "\n"
+                 "Exit codes: 0 success, 1 bad input data or a failed computation, 2 a bad\n"
+                 "command line (options, values, output paths), said before any long work.\n");
+    HK_CLI_EXAMPLES(out, "# grow the default head (about 124,000 strands) and draw it",
+                    "hairkit run examples/default/setup.txt -o head.png",
+                    "# the rest shape of one strand, drawn from the side and the front",
+                    "hairkit strand examples/strand/curly.txt --plot strand.png", "hairkit help simulate");
 }
 
 int main(int argc, char **argv)
@@ -55,11 +63,19 @@ int main(int argc, char **argv)
     }
     if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h") || !strcmp(argv[1], "help")) {
         if (argc > 2 && strcmp(argv[1], "help") == 0) {
-            for (size_t i = 0; i < sizeof commands / sizeof *commands; i++)
+            const char *names[sizeof commands / sizeof *commands];
+            for (size_t i = 0; i < sizeof commands / sizeof *commands; i++) {
+                names[i] = commands[i].name;
                 if (!strcmp(argv[2], commands[i].name)) {
-                    char *sub[] = {argv[2], "--help", NULL};
-                    return commands[i].run(2, sub);
+                    /* "hairkit help helicoid fit": the subcommand's own help. */
+                    char *sub[] = {argv[2], argc > 3 ? argv[3] : "--help", "--help", NULL};
+                    return commands[i].run(argc > 3 ? 3 : 2, sub);
                 }
+            }
+            const char *nearest = hk_cli_nearest(argv[2], names, sizeof names / sizeof *names);
+            fprintf(stderr, "hairkit: no command '%s'%s%s%s\nTry 'hairkit --help'.\n", argv[2],
+                    nearest ? " (did you mean " : "", nearest ? nearest : "", nearest ? "?)" : "");
+            return HK_EXIT_USAGE;
         }
         print_help(stdout);
         return HK_EXIT_OK;
@@ -68,8 +84,15 @@ int main(int argc, char **argv)
         printf("hairkit %s\n", hk_version());
         return HK_EXIT_OK;
     }
-    for (size_t i = 0; i < sizeof commands / sizeof *commands; i++)
+    const char *names[sizeof commands / sizeof *commands];
+    for (size_t i = 0; i < sizeof commands / sizeof *commands; i++) {
         if (!strcmp(argv[1], commands[i].name)) return commands[i].run(argc - 1, argv + 1);
-    fprintf(stderr, "hairkit: unknown command '%s'\nTry 'hairkit --help'.\n", argv[1]);
+        names[i] = commands[i].name;
+    }
+    const char *nearest = hk_cli_nearest(argv[1], names, sizeof names / sizeof *names);
+    if (nearest)
+        fprintf(stderr, "hairkit: unknown command '%s' (did you mean %s?)\nTry 'hairkit --help'.\n", argv[1], nearest);
+    else
+        fprintf(stderr, "hairkit: unknown command '%s'\nTry 'hairkit --help'.\n", argv[1]);
     return HK_EXIT_USAGE;
 }

@@ -1,6 +1,7 @@
 /* --motion and its amplitude and frequency, shared by hairkit strand --simulate and
  * hairkit simulate: a scripted head motion by name, or a head motion file. */
 #include <string.h>
+#include <unistd.h>
 
 #include "cli.h"
 #include "hairkit/motion.h"
@@ -25,6 +26,10 @@ int hk_cli_motion_option(const char *cmd, int option, const char *value, hk_CliM
     double v;
     switch (option) {
     case HK_OPT_MOTION:
+        /* A bare word that is neither a scripted motion nor a file was meant as a
+         * motion's name: a bad value (exit 2), said before the settling. */
+        if (!is_scripted(value) && !strchr(value, '/') && !strchr(value, '.') && access(value, F_OK) != 0)
+            return hk_cli_unknown_name(cmd, "motion", value, scripted, sizeof scripted / sizeof scripted[0]);
         m->spec = value;
         return 0;
     case HK_OPT_AMPLITUDE:

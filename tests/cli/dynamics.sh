@@ -53,11 +53,11 @@ contains "$tmp/err" "1e8 steps"
 printf 'Pivot 0 0 0\n0 0 0 0 1 0 0 0\n0 0 0 0 1 0 0 10\n' > "$tmp/motion.txt"
 expect 1 "$hk" strand "$wavy" --simulate 0.1 --motion "$tmp/motion.txt"
 contains "$tmp/err" "motion.txt:3"
-expect 1 "$hk" strand "$wavy" --simulate 0.1 --motion nodd
+expect 2 "$hk" strand "$wavy" --simulate 0.1 --motion nodd
 contains "$tmp/err" "unknown motion 'nodd'"
 expect 1 "$hk" strand "$wavy" --simulate 0.1 --motion "$tmp/none.txt"
 contains "$tmp/err" "none.txt"
-expect 1 "$hk" strand "$wavy" --simulate 0.1 --tip-csv "$tmp/no/such/dir/tip.csv"
+expect 2 "$hk" strand "$wavy" --simulate 0.1 --tip-csv "$tmp/no/such/dir/tip.csv"
 [ -s "$tmp/out" ] && fail "output written despite an error"
 sed 's/^Young .*/Young 1e9\nInternalFriction -1/' "$wavy" > "$tmp/bad.txt"
 expect 1 "$hk" strand "$tmp/bad.txt" --simulate 0.1

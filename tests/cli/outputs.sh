@@ -49,7 +49,7 @@ else
 fi
 
 # A folder: refused, untouched.
-expect 1 "$hk" groom "$scene/setup.txt" -o "$tmp/real" --quiet
+expect 2 "$hk" groom "$scene/setup.txt" -o "$tmp/real" --quiet
 contains "$tmp/err" "real: is a folder, not a file"
 [ -d "$tmp/real" ] || fail "the folder was replaced"
 no_temporaries "after -o on links, a FIFO and a folder"

@@ -7,7 +7,7 @@ source "$(dirname "$0")/lib/common.sh"
 png() { [ "$(head -c 4 "$1" | od -An -c | tr -d ' ')" = "211PNG" ] || fail "$1 is not a PNG"; }
 
 expect 0 "$hk" render --help
-contains "$tmp/out" "usage: hairkit render HAIR.hair -o OUT.png"
+contains "$tmp/out" "usage: hairkit render HAIR -o OUT.png"
 expect 0 "$hk" run --help
 contains "$tmp/out" "usage: hairkit run SETUP.txt -o OUT.png"
 expect 2 "$hk" render

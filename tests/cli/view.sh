@@ -133,7 +133,8 @@ expect 2 "$hk" view "$tmp/h.hair" --simulate
 contains "$tmp/err" "--simulate needs a setup file"
 expect 1 "$hk" view "$tmp/loaded/setup.txt" --frames 1 --simulate
 contains "$tmp/err" "Load true"
-expect 1 "$hk" view "${sim[@]}" --frames 1 --simulate --motion wobble
+# A motion that names nothing is a bad command line (README, "The command line"): 2.
+expect 2 "$hk" view "${sim[@]}" --frames 1 --simulate --motion wobble
 contains "$tmp/err" "unknown motion 'wobble'"
 
 # The benchmark without a display says so and measures nothing (its figures: docs/viewer.md).
