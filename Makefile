@@ -51,7 +51,8 @@ install: build
 	cmake --install $(BUILD) --prefix "$(PREFIX)"
 
 # ASAN_CC=clang builds the sanitized tests with clang (whose UBSan checks more, e.g.
-# offsets applied to null pointers); the default is the system's cc.
+# offsets applied to null pointers); the default is the system's cc. ASAN_CTEST_ARGS
+# (default: none, every test) are given to ctest, e.g. "-LE validation".
 asan:
 	@bash scripts/install-deps.sh $(if $(filter clang%,$(ASAN_CC)),--fuzz)
 	@$(if $(ASAN_CC),CC=$(ASAN_CC)) cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DHK_SANITIZE=ON \
@@ -59,7 +60,7 @@ asan:
 	@cmake --build $(ASAN_BUILD) -j $(JOBS)
 	@cd $(ASAN_BUILD) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
 		LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp \
-		UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ctest --output-on-failure -j $(JOBS)
+		UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ctest --output-on-failure -j $(JOBS) $(ASAN_CTEST_ARGS)
 
 # New inputs that find new code go to $(FUZZ_BUILD)/corpus/NAME (tests/fuzz/corpus/NAME
 # holds the seeds); a crash stops with its input saved as $(FUZZ_BUILD)/crash-... Not
