@@ -2,6 +2,7 @@
  * and prints progress; the work is hk_simulation_run and hk_simulation_rebuild
  * (src/simulate/sim_run.c, sim_rebuild.c). */
 #include <getopt.h>
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -221,6 +222,14 @@ static int parse_args(int argc, char **argv, SimArgs *a)
     if (!a->frames) return hk_cli_usage_error(CMD, "give the number of frames: --frames N");
     if (!(a->fps > 0.0)) return hk_cli_usage_error(CMD, "give the frame rate: --fps F");
     if (!a->dir) return hk_cli_usage_error(CMD, "no output folder: give -o DIR");
+    /* A setup that cannot be read fails before the output folder is made (it left an
+     * empty one behind); the same message and exit code as when loading it. */
+    FILE *setup = fopen(argv[optind], "r");
+    if (!setup) {
+        fprintf(stderr, "hairkit %s: %s: cannot open: %s\n", CMD, argv[optind], strerror(errno));
+        return HK_EXIT_FAIL;
+    }
+    fclose(setup);
     if ((rc = hk_cli_output_folder(CMD, "-o", a->dir))) return rc;
     a->setup = argv[optind];
     a->run.frames = a->frames;
@@ -248,16 +257,14 @@ static void on_progress(void *user, const hk_SimProgress *p)
         if (!pr->lines && !pr->bar.enabled) return;
         if (p->removed)
             fprintf(stderr, "hairkit %s: removed %d files of an earlier run from %s\n", CMD, p->removed, pr->dir);
-        if (p->preroll_at_rest || p->preroll == 0.0)
-            fprintf(stderr,
-                    "hairkit %s: %d guides of %d elements at rest after %.2f s of settling (set up in %.2f s); %ld "
-                    "frames\n",
-                    CMD, p->guides, p->elements, p->preroll, p->seconds_setup, p->frames);
+        char elements[48];
+        if (p->elements_min < p->elements)
+            snprintf(elements, sizeof elements, "%d to %d elements", p->elements_min, p->elements);
         else
-            fprintf(stderr,
-                    "hairkit %s: %d guides of %d elements still moving after %.2f s of settling (set up in %.2f s); "
-                    "%ld frames\n",
-                    CMD, p->guides, p->elements, p->preroll, p->seconds_setup, p->frames);
+            snprintf(elements, sizeof elements, "%d element%s", p->elements, p->elements == 1 ? "" : "s");
+        fprintf(stderr, "hairkit %s: %d guides of %s %s after %.2f s of settling (set up in %.2f s); %ld frames\n", CMD,
+                p->guides, elements, p->preroll_at_rest || p->preroll == 0.0 ? "at rest" : "still moving", p->preroll,
+                p->seconds_setup, p->frames);
         pr->last_line = hk_seconds_now();
         return;
     }

@@ -142,7 +142,8 @@ HK_API hk_Status hk_hair_sim_groom(const hk_HairSim *sim, const hk_Mesh *wick, c
 
 typedef struct hk_SimProgress {
     long frame, frames;   /* frames written so far (0: the hair is at rest, none yet), in all */
-    int guides, elements; /* per guide */
+    int guides, elements; /* elements: per guide, the most of any guide */
+    int elements_min;     /* the fewest of any guide (an import's guides differ) */
     double seconds_setup; /* loading, the guides' statics and the preroll */
     double preroll;       /* seconds of hair time settled before frame 0 */
     int preroll_at_rest;  /* 1: the guides came to rest within preroll_max */

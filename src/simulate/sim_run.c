@@ -486,7 +486,13 @@ hk_Status hk_simulation_run(const char *setup_path, const char *dir, const hk_Si
     if (st == HK_OK) st = write_manifest(&r, setup_path, err);
     if (st == HK_OK) {
         r.p.guides = hk_hair_sim_guide_count(r.sim);
-        r.p.elements = r.scene.style.strand.element_count;
+        /* An import's guides each have their own N (hk_superhelix_fit): the range. */
+        const hk_SuperHelix *const *strands = hk_hair_sim_strands(r.sim);
+        r.p.elements = r.p.elements_min = r.p.guides > 0 ? strands[0]->n : 0;
+        for (int g = 1; g < r.p.guides; g++) {
+            if (strands[g]->n > r.p.elements) r.p.elements = strands[g]->n;
+            if (strands[g]->n < r.p.elements_min) r.p.elements_min = strands[g]->n;
+        }
         r.p.seconds_setup = omp_get_wtime() - t_start;
         r.p.frames_at_once = options->guides_only ? 1 : r.at_once;
         if (options->progress) options->progress(options->progress_user, &r.p);

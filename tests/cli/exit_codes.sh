@@ -72,5 +72,9 @@ expect 0 "$hk" simulate "$scene/setup.txt" --frames 1 --fps 30 --guides-only --p
 printf 'HairstyleInfo nowhere.txt\n' > "$tmp/bad-setup.txt"
 expect 1 "$hk" groom "$tmp/bad-setup.txt" -o "$tmp/x.hair"
 expect 1 "$hk" info "$tmp/pics/x.PNG"
+# a setup that cannot be read: 1, and no empty output folder left behind
+expect 1 "$hk" simulate "$tmp/no-such-setup.txt" --frames 2 --fps 30 -o "$tmp/never/made"
+contains "$tmp/err" "no-such-setup.txt: cannot open"
+[ -e "$tmp/never" ] && fail "simulate made its output folder for a setup it cannot read"
 
 finish exit_codes
