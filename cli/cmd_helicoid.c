@@ -38,17 +38,19 @@ static const Action actions[] = {
      "               the file's guides (paper 4.1-4.3), their root frames averaged\n"
      "               relative to the surface normal so that every strand leaves it\n"},
     {"fit", FIT,
-     "fit IN.hair -o OUT.txt [--tolerance M] [--lambda L]\n"
+     "fit HAIR -o OUT.txt [--tolerance M] [--lambda L]\n"
      "               [--max-pieces N | --pieces N | --piece-length L [--root-piece R]]\n"
      "               [--method lm|nelder-mead] [options]\n",
-     "  fit          a p-helicoid for every strand of a .hair file (paper 5; docs/\n"
-     "               helicoid-fitting.md); prints the error of every strand and in\n"
-     "               all (mean leash of the Frechet coupling); writes a helicoid file\n"},
+     "  fit          a p-helicoid for every strand of HAIR, in metres and any hair\n"
+     "               format hairkit reads (paper 5; docs/helicoid-fitting.md); prints\n"
+     "               the error of every strand and in all (mean leash of the Frechet\n"
+     "               coupling); writes a helicoid file\n"},
     {"reconstruct", RECONSTRUCT,
-     "reconstruct IN.hair -o OUT.hair [--every K] [--power P]\n"
+     "reconstruct HAIR -o OUT.hair [--every K] [--power P]\n"
      "               [--pieces N | --piece-length L [--root-piece R]] [options]\n",
-     "  reconstruct  fits every K-th strand of a .hair file and interpolates all the\n"
-     "               others from them at their roots (paper 5.4); prints the error\n"},
+     "  reconstruct  fits every K-th strand of HAIR (any format, metres) and\n"
+     "               interpolates all the others from them at their roots, each at\n"
+     "               its own length (paper 5.4); prints the error\n"},
 };
 #define ACTION_COUNT (sizeof actions / sizeof *actions)
 
