@@ -110,7 +110,7 @@ HK_API hk_Status hk_statics_invert(hk_SuperHelix *sh, const hk_StrandEnvDef *env
 #define HK_MAX_IMPORT_STRANDS 10000000
 /* Largest imported-guides text file read or written: above the 16 MiB of hand-written
  * input files (HK_MAX_INPUT_FILE_BYTES), as it grows with the groom (every one of
- * Sintel's 11,400 strands a guide of about 13 elements takes 27 MB). */
+ * Sintel's 11,400 strands a guide takes 24 MB). */
 #define HK_MAX_IMPORT_FILE_BYTES ((long)256 << 20)
 #define HK_IMPORT_MAX_DRIFT      1e-3 /* a guide settled farther from its capture is followed by no strand (m) */
 
