@@ -4,7 +4,8 @@
  *   strands, every strand when K >= the strands; the same bytes for 1 and 2 threads;
  * - at rest the rebuilt strands are their captured floats exactly; guides moved
  *   rigidly move the strands rigidly;
- * - the file round trip is exact, and bad files are refused naming the line;
+ * - the file round trip is exact, also past the 16 MiB of hand-written input files, and
+ *   bad files are refused naming the line;
  * - a still simulation of the import stays at the capture. */
 #include "hk_test.h"
 
@@ -223,6 +224,60 @@ static void test_file(void **state)
     free_groom(&h);
 }
 
+/* A groom whose guides file is larger than the 16 MiB of a hand-written input file
+ * (every strand of a large capture a guide, or very many strands) reads back: the
+ * import's own limit, HK_MAX_IMPORT_FILE_BYTES, applies. The strands here repeat the
+ * test groom's 150 until the Attach lines alone pass 16 MiB. */
+static void test_large_file(void **state)
+{
+    (void)state;
+    hk_HairFile h;
+    make_groom(&h);
+    hk_ImportedGroom g, big, back;
+    hk_GroomImportReport r;
+    import(&h, 9, 2, &g, &r);
+    const int copies = 1700; /* 255,000 strands: Attach lines of about 70 bytes */
+    big = g;
+    big.strand_count = g.strand_count * copies;
+    const size_t per = g.first_point[g.strand_count];
+    big.first_point = malloc(sizeof(uint32_t) * ((size_t)big.strand_count + 1));
+    big.points = malloc(3 * sizeof(float) * per * (size_t)copies);
+    big.attach_guide = malloc(sizeof(int) * HK_IMPORT_ATTACH * (size_t)big.strand_count);
+    big.attach_weight = malloc(sizeof(double) * HK_IMPORT_ATTACH * (size_t)big.strand_count);
+    assert_true(big.first_point && big.points && big.attach_guide && big.attach_weight);
+    for (int c = 0; c < copies; c++) {
+        memcpy(big.points + 3 * per * (size_t)c, g.points, 3 * sizeof(float) * per);
+        memcpy(big.attach_guide + HK_IMPORT_ATTACH * (size_t)(c * g.strand_count), g.attach_guide,
+               sizeof(int) * HK_IMPORT_ATTACH * (size_t)g.strand_count);
+        memcpy(big.attach_weight + HK_IMPORT_ATTACH * (size_t)(c * g.strand_count), g.attach_weight,
+               sizeof(double) * HK_IMPORT_ATTACH * (size_t)g.strand_count);
+        for (int i = 0; i < g.strand_count; i++)
+            big.first_point[c * g.strand_count + i] = (uint32_t)(per * (size_t)c) + g.first_point[i];
+    }
+    big.first_point[big.strand_count] = (uint32_t)(per * (size_t)copies);
+    char dir[] = "/tmp/hk_test_import_XXXXXX", path[256], spath[256];
+    assert_non_null(mkdtemp(dir));
+    snprintf(path, sizeof path, "%s/guides.txt", dir);
+    snprintf(spath, sizeof spath, "%s/strands.hair", dir);
+    hk_Error err;
+    assert_int_equal(hk_imported_groom_save(path, "strands.hair", &big, &err), HK_OK);
+    FILE *fp = fopen(path, "rb");
+    assert_non_null(fp);
+    assert_int_equal(fseek(fp, 0, SEEK_END), 0);
+    const long size = ftell(fp);
+    fclose(fp);
+    assert_true(size > HK_MAX_INPUT_FILE_BYTES && size <= HK_MAX_IMPORT_FILE_BYTES);
+    if (hk_imported_groom_load(path, &back, &err) != HK_OK) fail_msg("%s", err.message);
+    assert_same_groom(&big, &back);
+    hk_imported_groom_free(&back);
+    unlink(path);
+    unlink(spath);
+    rmdir(dir);
+    free(big.first_point), free(big.points), free(big.attach_guide), free(big.attach_weight);
+    hk_imported_groom_free(&g);
+    free_groom(&h);
+}
+
 /* Still head, no preroll: the strands rebuilt from the guides in motion stay at the
  * capture (the inverse statics made it the rest). */
 static void test_still_simulation(void **state)
@@ -335,6 +390,7 @@ int main(void)
         cmocka_unit_test(test_guides_and_threads),
         cmocka_unit_test(test_rest_exact_and_rigid),
         cmocka_unit_test(test_file),
+        cmocka_unit_test(test_large_file),
         cmocka_unit_test(test_still_simulation),
         cmocka_unit_test(test_resting_on_body),
     };

@@ -108,7 +108,11 @@ HK_API hk_Status hk_statics_invert(hk_SuperHelix *sh, const hk_StrandEnvDef *env
 
 #define HK_IMPORT_ATTACH      3 /* guides each strand follows */
 #define HK_MAX_IMPORT_STRANDS 10000000
-#define HK_IMPORT_MAX_DRIFT   1e-3 /* a guide settled farther from its capture is followed by no strand (m) */
+/* Largest imported-guides text file read or written: above the 16 MiB of hand-written
+ * input files (HK_MAX_INPUT_FILE_BYTES), as it grows with the groom (every one of
+ * Sintel's 11,400 strands a guide takes 24 MB). */
+#define HK_MAX_IMPORT_FILE_BYTES ((long)256 << 20)
+#define HK_IMPORT_MAX_DRIFT      1e-3 /* a guide settled farther from its capture is followed by no strand (m) */
 
 typedef struct hk_GroomImportDef {
     int guides;                   /* K; 0 (default): one guide per 75 strands, at least one;
@@ -194,8 +198,9 @@ HK_API hk_Status hk_imported_groom_strands(const hk_ImportedGroom *g, const hk_S
                                            int threads, float *out, hk_Error *err);
 
 /* The imported-guides file (docs/file-formats.md, "Imported guides"): text, versioned,
- * doubles with 17 digits; the captured strands in a .hair file beside it (strands_file,
- * relative to the guides file's folder). Written atomically. */
+ * doubles with 17 digits, at most HK_MAX_IMPORT_FILE_BYTES (save refuses a larger one
+ * and leaves nothing at path); the captured strands in a .hair file beside it
+ * (strands_file, relative to the guides file's folder). Written atomically. */
 HK_API hk_Status hk_imported_groom_save(const char *path, const char *strands_file, const hk_ImportedGroom *g,
                                         hk_Error *err);
 HK_API hk_Status hk_imported_groom_load(const char *path, hk_ImportedGroom *out, hk_Error *err);

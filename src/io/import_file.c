@@ -111,6 +111,14 @@ hk_Status hk_imported_groom_save(const char *path, const char *strands_file, con
         hk_outfile_abort(&of);
         return hk_error_set(err, HK_ERR_IO, "%s: cannot write", path);
     }
+    const long size = ftell(fp);
+    if (size > HK_MAX_IMPORT_FILE_BYTES) { /* the reader would refuse it */
+        hk_outfile_abort(&of);
+        return hk_error_set(err, HK_ERR_INVALID,
+                            "%s: %d guides and %d strands take %ld bytes, more than the %ld an imported-guides file "
+                            "may have (fewer guides: --guides)",
+                            path, g->guide_count, g->strand_count, size, HK_MAX_IMPORT_FILE_BYTES);
+    }
     return hk_outfile_commit(&of, err);
 }
 
@@ -193,7 +201,7 @@ hk_Status hk_imported_groom_load(const char *path, hk_ImportedGroom *out, hk_Err
 {
     memset(out, 0, sizeof *out);
     hk_KeyFile kf;
-    hk_Status st = hk_keyfile_read(path, &kf, err);
+    hk_Status st = hk_keyfile_read_limited(path, HK_MAX_IMPORT_FILE_BYTES, &kf, err);
     if (st != HK_OK) return st;
     hk_ImportedGroom *g = out;
     long version = 0, strands = 0, guides = 0;

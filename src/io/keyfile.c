@@ -29,16 +29,16 @@ hk_Status hk_keyfile_error(const hk_KeyFile *kf, int line, hk_Status code, hk_Er
 
 /* ---- Reading ------------------------------------------------------------------------ */
 
-static hk_Status too_large(const char *path, hk_Error *err)
+static hk_Status too_large(const char *path, long max_bytes, hk_Error *err)
 {
     return hk_error_set(err, HK_ERR_PARSE, "%s: file is larger than the %ld bytes allowed for an input file", path,
-                        HK_MAX_INPUT_FILE_BYTES);
+                        max_bytes);
 }
 
 /* Reads the whole file into a NUL-terminated buffer. open() with O_NONBLOCK, so that
  * a FIFO without a writer is refused instead of hanging; the size is checked before
  * allocating and again while reading (the file may grow, /proc files report 0). */
-static hk_Status read_all(const char *path, char **text, size_t *size, hk_Error *err)
+static hk_Status read_all(const char *path, long max_bytes, char **text, size_t *size, hk_Error *err)
 {
     int fd = open(path, O_RDONLY | O_NOCTTY | O_NONBLOCK);
     if (fd < 0) return hk_error_set(err, HK_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
@@ -50,20 +50,20 @@ static hk_Status read_all(const char *path, char **text, size_t *size, hk_Error 
         st = hk_error_set(err, HK_ERR_IO, "%s: is a folder, not a file", path);
     else if (!S_ISREG(sb.st_mode))
         st = hk_error_set(err, HK_ERR_IO, "%s: not a regular file", path);
-    else if (sb.st_size > HK_MAX_INPUT_FILE_BYTES)
-        st = too_large(path, err);
+    else if (sb.st_size > max_bytes)
+        st = too_large(path, max_bytes, err);
     if (st != HK_OK) {
         close(fd);
         return st;
     }
-    const size_t limit = (size_t)HK_MAX_INPUT_FILE_BYTES;
+    const size_t limit = (size_t)max_bytes;
     size_t cap = (size_t)sb.st_size + 2, len = 0; /* +1 to see growth, +1 for the NUL */
     if (cap < 256) cap = 256;
     char *buf = hk_alloc_array(cap, 1, err);
     while (buf) {
         if (len + 1 == cap) {
             if (len > limit) {
-                st = too_large(path, err);
+                st = too_large(path, max_bytes, err);
                 break;
             }
             size_t grown = cap > limit / 2 ? limit + 2 : cap * 2;
@@ -86,7 +86,7 @@ static hk_Status read_all(const char *path, char **text, size_t *size, hk_Error 
     }
     close(fd);
     if (!buf) return HK_ERR_NOMEM;
-    if (st == HK_OK && len > limit) st = too_large(path, err);
+    if (st == HK_OK && len > limit) st = too_large(path, max_bytes, err);
     if (st == HK_OK && len == 0) st = hk_error_set(err, HK_ERR_PARSE, "%s: file is empty", path);
     if (st != HK_OK) {
         hk_free(buf);
@@ -178,6 +178,11 @@ static hk_Status tokenize_error(const hk_KeyFile *kf, int line, int code, hk_Err
 
 hk_Status hk_keyfile_read(const char *path, hk_KeyFile *kf, hk_Error *err)
 {
+    return hk_keyfile_read_limited(path, HK_MAX_INPUT_FILE_BYTES, kf, err);
+}
+
+hk_Status hk_keyfile_read_limited(const char *path, long max_bytes, hk_KeyFile *kf, hk_Error *err)
+{
     memset(kf, 0, sizeof *kf);
     size_t n = strlen(path);
     kf->path = hk_alloc_array(n + 1, 1, err);
@@ -185,7 +190,7 @@ hk_Status hk_keyfile_read(const char *path, hk_KeyFile *kf, hk_Error *err)
     memcpy(kf->path, path, n + 1);
 
     size_t size = 0;
-    hk_Status st = read_all(path, &kf->text, &size, err);
+    hk_Status st = read_all(path, max_bytes, &kf->text, &size, err);
     if (st == HK_OK) st = check_text(path, (const unsigned char *)kf->text, size, err);
     if (st != HK_OK) {
         hk_keyfile_free(kf);

@@ -30,6 +30,10 @@ typedef struct hk_KeyFile {
  * quote glued to other text (HK_ERR_PARSE). On error kf holds nothing to free. */
 hk_Status hk_keyfile_read(const char *path, hk_KeyFile *kf, hk_Error *err);
 
+/* The same with another size limit (bytes): for the
+ * files hairkit writes itself whose size grows with the hair (imported guides). */
+hk_Status hk_keyfile_read_limited(const char *path, long max_bytes, hk_KeyFile *kf, hk_Error *err);
+
 /* Releases what hk_keyfile_read allocated; safe on a zeroed or freed kf. */
 void hk_keyfile_free(hk_KeyFile *kf);
 
