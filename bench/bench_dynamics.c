@@ -173,8 +173,8 @@ int hk_bench_dynamics(FILE *out, const hk_BenchOptions *options)
     for (int run = 0; run < run_count && !rc; run++) {
         const hk_Hairstyle cut = with_elements(&style, runs[run].n, lengths);
         HeadRun r;
-        if (head_run(&cut, sc.shapes, sc.shape_count, &wick, runs[run].threads, run < 3 ? frames : long_frames,
-                     runs[run].trbdf2, &r) != 0) {
+        if (head_run(&cut, sc.collision.shapes, sc.collision.count, &wick, runs[run].threads,
+                     run < 3 ? frames : long_frames, runs[run].trbdf2, &r) != 0) {
             rc = 1;
             break;
         }

@@ -15,8 +15,8 @@ int hk_bench_groom(FILE *out, const hk_BenchOptions *options)
     hk_Scene sc;
     if (hk_bench_scene_load(options, "default", "groom", HK_SCENE_GROOMING, &sc)) return 1;
     const hk_Hairstyle style = sc.style;
-    const hk_Shape *shapes = sc.shapes;
-    const int shape_count = sc.shape_count;
+    const hk_Shape *shapes = sc.collision.shapes;
+    const int shape_count = sc.collision.count;
     const hk_Mesh wick = sc.wick;
     hk_Error err;
     fprintf(out, "groom: examples/default (%d guides, %.0f hairs/cm^2 on %.0f cm^2 of scalp)\n", wick.vertex_count,

@@ -61,7 +61,8 @@ static int still_drift(FILE *out, const char *setup, int frames, hk_Error *err)
     const double t0 = hk_seconds_now();
     int ok = hk_scene_load(setup, HK_SCENE_HAIRSTYLE | HK_SCENE_COLLISION | HK_SCENE_HEAD, &scene, err) == HK_OK;
     ok = ok && scene.setup.import_file && hk_imported_groom_load(scene.setup.import_file, &g, err) == HK_OK;
-    ok = ok && hk_hair_sim_create_imported(&scene.style, scene.shapes, scene.shape_count, &g, NULL, &sim, err) == HK_OK;
+    ok = ok && hk_hair_sim_create_imported(&scene.style, scene.collision.shapes, scene.collision.count, &g, NULL, &sim,
+                                           err) == HK_OK;
     const double t1 = hk_seconds_now();
     long recovered = 0;
     for (int k = 0; ok && k < frames; k++) {

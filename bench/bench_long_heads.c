@@ -82,7 +82,7 @@ static void run_row(const hk_BenchOptions *options, const hk_Scene *sc, const hk
     const double dt = 1.0 / frame_rate;
     const hk_HairSimDef o = hk_hair_sim_def_for(style);
     if (make_motion(options, motion_name, &motion, &err) != HK_OK ||
-        hk_hair_sim_create(style, sc->shapes, sc->shape_count, &sc->wick, &o, &sim, &err) != HK_OK ||
+        hk_hair_sim_create(style, sc->collision.shapes, sc->collision.count, &sc->wick, &o, &sim, &err) != HK_OK ||
         hk_hair_sim_settle(sim, NULL, settle, dt, &err) != HK_OK) {
         snprintf(r->error, sizeof r->error, "%.150s", err.message);
         goto done;

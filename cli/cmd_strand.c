@@ -220,8 +220,7 @@ int hk_cmd_strand(int argc, char **argv)
 
     hk_Error err;
     hk_Hairstyle def;
-    hk_Shape *shapes = NULL;
-    int shape_count = 0;
+    hk_CollisionSet collision = {0};
     hk_SuperHelix *sh = NULL;
     hk_StrandWorkspace *ws = NULL;
     double *s = NULL;
@@ -229,7 +228,7 @@ int hk_cmd_strand(int argc, char **argv)
     int status = HK_EXIT_FAIL;
 
     if (hk_hairstyle_load(a.hairstyle, &def, &err) != HK_OK) return hk_cli_fail(CMD, &err);
-    if (a.collision && hk_collision_load(a.collision, &shapes, &shape_count, &err) != HK_OK) {
+    if (a.collision && hk_collision_load(a.collision, &collision, &err) != HK_OK) {
         hk_cli_fail(CMD, &err);
         goto done;
     }
@@ -238,14 +237,14 @@ int hk_cmd_strand(int argc, char **argv)
         goto done;
     }
     hk_StrandEnvDef env = hk_default_strand_env_def();
-    env.shapes = shapes;
-    env.shape_count = shape_count;
+    env.shapes = collision.shapes;
+    env.shape_count = collision.count;
     env.envelope_alpha = a.envelope;
     env.collision_step = def.strand.collision_step;
 
     if (a.sim.enabled) {
         a.sim.quiet = a.quiet;
-        status = hk_cli_strand_simulate(CMD, &a.sim, &def, sh, &env, a.plot, shapes, shape_count);
+        status = hk_cli_strand_simulate(CMD, &a.sim, &def, sh, &env, a.plot, collision.shapes, collision.count);
         goto done;
     }
 
@@ -275,7 +274,8 @@ int hk_cmd_strand(int argc, char **argv)
     hk_superhelix_sample(sh, NULL, def.strand.visuality_step, s, p, NULL);
     if (a.plot) {
         hk_PlotStrand ps = {p, count, {0.45, 0.22, 0.05}};
-        if (hk_plot_strands_png(a.plot, 1200, 600, &ps, 1, shapes, shape_count, a.envelope, &err) != HK_OK) {
+        if (hk_plot_strands_png(a.plot, 1200, 600, &ps, 1, collision.shapes, collision.count, a.envelope, &err) !=
+            HK_OK) {
             hk_cli_fail(CMD, &err);
             goto done;
         }
@@ -289,7 +289,7 @@ int hk_cmd_strand(int argc, char **argv)
         fprintf(stderr, "hairkit strand: %d elements, L = %.4g m, %s: %d iterations, %ld evaluations, %.3g ms%s\n",
                 sh->n, sh->total_length, hk_solver_name(a.solver), res.iterations, res.evaluations, 1e3 * seconds,
                 res.converged ? "" : " (stopped by its limit before converging)");
-        if (shape_count > 0)
+        if (collision.count > 0)
             fprintf(stderr, "hairkit strand: deepest collision sample %.3g m inside the envelopes\n",
                     hk_strand_max_penetration(sh, &env, sh->q, ws));
     }
@@ -299,7 +299,7 @@ done:
     hk_free(p);
     hk_strand_workspace_destroy(ws);
     hk_superhelix_destroy(sh);
-    hk_free(shapes);
+    hk_collision_free(&collision);
     hk_hairstyle_free(&def);
     return status;
 }

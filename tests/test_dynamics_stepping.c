@@ -234,14 +234,13 @@ static void test_violent_motion_completes(void **state)
     (void)state;
     const char *names[3] = {"shake", "jump", "sway"};
     const double amplitude[3] = {90.0, 0.1, 0.2}, frequency[3] = {3.0, 5.0, 4.0};
-    hk_Shape *shapes = NULL;
-    int shape_count = 0;
+    hk_CollisionSet collision = {0};
     hk_Error err;
-    assert_int_equal(hk_collision_load(HK_SOURCE_DIR "/examples/strand/head.txt", &shapes, &shape_count, &err), HK_OK);
+    assert_int_equal(hk_collision_load(HK_SOURCE_DIR "/examples/strand/head.txt", &collision, &err), HK_OK);
     for (int m = 0; m < 3; m++) {
         hk_Hairstyle def;
         hk_StrandEnvDef body;
-        hk_SuperHelix *sh = hk_test_strand_on_head("wavy", shapes, shape_count, &def, &body);
+        hk_SuperHelix *sh = hk_test_strand_on_head("wavy", collision.shapes, collision.count, &def, &body);
         hk_DynamicsDef p = def.dynamics;
         hk_StrandDynamics *d = NULL;
         hk_HeadMotion *motion = NULL;
@@ -255,7 +254,7 @@ static void test_violent_motion_completes(void **state)
         hk_superhelix_destroy(sh);
         hk_hairstyle_free(&def);
     }
-    hk_free(shapes);
+    hk_collision_free(&collision);
 }
 
 int main(void)

@@ -553,17 +553,16 @@ static void test_appendix_b_hair_stable_on_a_shaking_head(void **state)
 {
     (void)state;
     const char *types[4] = {"straight", "wavy", "curly", "fuzzy"};
-    hk_Shape *shapes = NULL;
-    int shape_count = 0;
+    hk_CollisionSet collision = {0};
     hk_Error err;
-    assert_int_equal(hk_collision_load(HK_SOURCE_DIR "/examples/strand/head.txt", &shapes, &shape_count, &err), HK_OK);
+    assert_int_equal(hk_collision_load(HK_SOURCE_DIR "/examples/strand/head.txt", &collision, &err), HK_OK);
     hk_HeadMotion *shake = NULL;
     assert_int_equal(hk_head_motion_scripted("shake", 40.0, 1.5, hk_default_head_pivot(), &shake, &err), HK_OK);
     for (int k = 0; k < 4; k++) {
         /* from the statics rest shape, as a groomed head starts */
         hk_Hairstyle def;
         hk_StrandEnvDef body;
-        hk_SuperHelix *sh = hk_test_strand_on_head(types[k], shapes, shape_count, &def, &body);
+        hk_SuperHelix *sh = hk_test_strand_on_head(types[k], collision.shapes, collision.count, &def, &body);
         hk_DynamicsDef p = def.dynamics;
         hk_StrandDynamics *d = NULL;
         assert_int_equal(hk_strand_dynamics_create(sh, &p, &body, &d, &err), HK_OK);
@@ -590,7 +589,7 @@ static void test_appendix_b_hair_stable_on_a_shaking_head(void **state)
         hk_hairstyle_free(&def);
     }
     hk_head_motion_destroy(shake);
-    hk_free(shapes);
+    hk_collision_free(&collision);
 }
 
 int main(void)

@@ -66,25 +66,24 @@ static int setup(void **state)
     Scene *sc = calloc(1, sizeof *sc);
     assert_non_null(sc);
     hk_Hairstyle style;
-    hk_Shape *shapes = NULL;
-    int shape_count = 0;
+    hk_CollisionSet collision = {0};
     hk_Mesh wick;
     hk_Error err;
     assert_int_equal(hk_hairstyle_load(HK_SOURCE_DIR "/examples/default/hairstyle.txt", &style, &err), HK_OK);
-    assert_int_equal(hk_collision_load(HK_SOURCE_DIR "/examples/default/collision.txt", &shapes, &shape_count, &err),
-                     HK_OK);
+    assert_int_equal(hk_collision_load(HK_SOURCE_DIR "/examples/default/collision.txt", &collision, &err), HK_OK);
     assert_int_equal(hk_visuality_load(HK_SOURCE_DIR "/examples/default/visuality.txt", &sc->vis, &err), HK_OK);
     assert_int_equal(hk_obj_load(HK_SOURCE_DIR "/assets/wick-200.obj", &wick, &err), HK_OK);
     assert_int_equal(hk_obj_load(HK_SOURCE_DIR "/assets/head.obj", &sc->head, &err), HK_OK);
     style.interpolation.hair_density = 30.0;
     hk_GroomDef o = hk_default_groom_def();
     hk_Groom g;
-    assert_int_equal(hk_groom_grow(&style.strand, &style.interpolation, shapes, shape_count, &wick, &o, &g, &err),
-                     HK_OK);
+    assert_int_equal(
+        hk_groom_grow(&style.strand, &style.interpolation, collision.shapes, collision.count, &wick, &o, &g, &err),
+        HK_OK);
     assert_int_equal(hk_groom_to_hair(&g, &style.strand, &sc->hair, &err), HK_OK);
     hk_groom_free(&g);
     hk_mesh_free(&wick);
-    hk_free(shapes);
+    hk_collision_free(&collision);
     hk_hairstyle_free(&style);
     *state = sc;
     return 0;

@@ -63,12 +63,10 @@ static Head *grow_head(void)
 {
     Head *h = calloc(1, sizeof *h);
     assert_non_null(h);
-    hk_Shape *shapes = NULL;
-    int shape_count = 0;
+    hk_CollisionSet collision = {0};
     hk_Error err;
     assert_int_equal(hk_hairstyle_load(HK_SOURCE_DIR "/examples/default/hairstyle.txt", &h->style, &err), HK_OK);
-    assert_int_equal(hk_collision_load(HK_SOURCE_DIR "/examples/default/collision.txt", &shapes, &shape_count, &err),
-                     HK_OK);
+    assert_int_equal(hk_collision_load(HK_SOURCE_DIR "/examples/default/collision.txt", &collision, &err), HK_OK);
     assert_int_equal(hk_obj_load(HK_SOURCE_DIR "/assets/wick.obj", &h->wick, &err), HK_OK);
     h->style.interpolation.hair_density = 50.0;
     h->style.interpolation.max_tip_distance = 0.0; /* the plain blend */
@@ -77,12 +75,12 @@ static Head *grow_head(void)
                 !h->style.interpolation.stray_hairs);
     hk_GroomDef o = hk_default_groom_def();
     o.keep_outside = 0;
-    assert_int_equal(
-        hk_groom_grow(&h->style.strand, &h->style.interpolation, shapes, shape_count, &h->wick, &o, &h->g, &err),
-        HK_OK);
+    assert_int_equal(hk_groom_grow(&h->style.strand, &h->style.interpolation, collision.shapes, collision.count,
+                                   &h->wick, &o, &h->g, &err),
+                     HK_OK);
     assert_true(h->g.strand_count > 20000 && h->g.points_per_strand == 41);
     for (int j = 0; j < 41; j++) h->profile[j] = pow(j / 40.0, h->style.interpolation.clump_profile);
-    hk_free(shapes);
+    hk_collision_free(&collision);
     return h;
 }
 

@@ -21,8 +21,9 @@
 
 typedef struct Head {
     hk_Hairstyle style;
-    hk_Shape *shapes, *body;
-    int shape_count, body_count;
+    hk_CollisionSet collision;
+    hk_Shape *body;
+    int body_count;
     hk_Mesh wick;
     hk_Groom groom; /* grown once (the guides' statics is the slow part), 1 thread */
 } Head;
@@ -35,19 +36,19 @@ static int load_head(void **state)
     Head *h = &head;
     hk_Error err;
     assert_int_equal(hk_hairstyle_load(HK_SOURCE_DIR "/examples/default/hairstyle.txt", &h->style, &err), HK_OK);
-    assert_int_equal(
-        hk_collision_load(HK_SOURCE_DIR "/examples/default/collision.txt", &h->shapes, &h->shape_count, &err), HK_OK);
+    assert_int_equal(hk_collision_load(HK_SOURCE_DIR "/examples/default/collision.txt", &h->collision, &err), HK_OK);
     assert_int_equal(hk_obj_load(HK_SOURCE_DIR "/assets/wick.obj", &h->wick, &err), HK_OK);
     /* A fifth of the hair (about 25,000 strands): the same triangles and guides, enough
      * points to measure 0.05 %, quick under the sanitizers. */
     h->style.interpolation.hair_density = 50.0;
-    assert_int_equal(hk_groom_body_shapes(h->shapes, h->shape_count, &h->body, &h->body_count, &err), HK_OK);
+    assert_int_equal(hk_groom_body_shapes(h->collision.shapes, h->collision.count, &h->body, &h->body_count, &err),
+                     HK_OK);
     /* The head, the face and the neck; the sphere before the face is styling. */
     assert_int_equal(h->body_count, 3);
     hk_GroomDef o = hk_default_groom_def();
     o.threads = 1;
-    assert_int_equal(hk_groom_grow(&h->style.strand, &h->style.interpolation, h->shapes, h->shape_count, &h->wick, &o,
-                                   &h->groom, &err),
+    assert_int_equal(hk_groom_grow(&h->style.strand, &h->style.interpolation, h->collision.shapes, h->collision.count,
+                                   &h->wick, &o, &h->groom, &err),
                      HK_OK);
     assert_true(h->groom.strand_count > 20000);
     *state = h;
@@ -59,7 +60,7 @@ static int free_head(void **state)
     Head *h = *state;
     hk_groom_free(&h->groom);
     hk_hairstyle_free(&h->style);
-    hk_free(h->shapes);
+    hk_collision_free(&h->collision);
     hk_free(h->body);
     hk_mesh_free(&h->wick);
     return 0;
@@ -82,8 +83,9 @@ static void regrow(const Head *h, int keep_outside, int threads, double sag, hk_
     o.keep_outside = keep_outside;
     o.threads = threads;
     hk_Error err;
-    assert_int_equal(
-        hk_groom_interpolate_guides(&h->style.interpolation, h->shapes, h->shape_count, &h->wick, &o, g, &err), HK_OK);
+    assert_int_equal(hk_groom_interpolate_guides(&h->style.interpolation, h->collision.shapes, h->collision.count,
+                                                 &h->wick, &o, g, &err),
+                     HK_OK);
 }
 
 static double depth_at(const Head *h, const float *p)

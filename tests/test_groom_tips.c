@@ -30,19 +30,18 @@ static void test_tips_near_their_guides(void **state)
 {
     (void)state;
     hk_Hairstyle style;
-    hk_Shape *shapes = NULL;
-    int shape_count = 0;
+    hk_CollisionSet collision = {0};
     hk_Mesh wick;
     hk_Error err;
     assert_int_equal(hk_hairstyle_load(HK_SOURCE_DIR "/examples/default/hairstyle.txt", &style, &err), HK_OK);
-    assert_int_equal(hk_collision_load(HK_SOURCE_DIR "/examples/default/collision.txt", &shapes, &shape_count, &err),
-                     HK_OK);
+    assert_int_equal(hk_collision_load(HK_SOURCE_DIR "/examples/default/collision.txt", &collision, &err), HK_OK);
     assert_int_equal(hk_obj_load(HK_SOURCE_DIR "/assets/wick.obj", &wick, &err), HK_OK);
     style.interpolation.hair_density = 50.0; /* about 25,000 strands */
     hk_GroomDef o = hk_default_groom_def();
     hk_Groom g;
-    assert_int_equal(hk_groom_grow(&style.strand, &style.interpolation, shapes, shape_count, &wick, &o, &g, &err),
-                     HK_OK);
+    assert_int_equal(
+        hk_groom_grow(&style.strand, &style.interpolation, collision.shapes, collision.count, &wick, &o, &g, &err),
+        HK_OK);
     assert_true(g.strand_count > 20000);
     const int n = g.points_per_strand;
     long far = 0;
@@ -60,7 +59,7 @@ static void test_tips_near_their_guides(void **state)
                   g.strand_count, far, 100.0 * farthest);
     assert_int_equal(far, 0);
     hk_groom_free(&g);
-    hk_free(shapes);
+    hk_collision_free(&collision);
     hk_mesh_free(&wick);
     hk_hairstyle_free(&style);
 }

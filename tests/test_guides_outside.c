@@ -30,8 +30,9 @@ static void head_state(void *user, double t, hk_RigidState *out) { hk_head_motio
 /* The guides at rest, solved once for every motion. */
 typedef struct Head {
     hk_Hairstyle style;
-    hk_Shape *shapes, body[8];
-    int shape_count, body_count;
+    hk_CollisionSet collision;
+    hk_Shape body[8];
+    int body_count;
     hk_Mesh wick;
     hk_Follicles f;
     hk_SuperHelix *guide[GUIDES_MAX];
@@ -48,21 +49,20 @@ static int setup(void **state)
     hk_Error err;
     Head *h = &head;
     assert_int_equal(hk_hairstyle_load(HK_SOURCE_DIR "/examples/guides200/hairstyle.txt", &h->style, &err), HK_OK);
-    assert_int_equal(
-        hk_collision_load(HK_SOURCE_DIR "/examples/default/collision.txt", &h->shapes, &h->shape_count, &err), HK_OK);
+    assert_int_equal(hk_collision_load(HK_SOURCE_DIR "/examples/default/collision.txt", &h->collision, &err), HK_OK);
     assert_int_equal(hk_obj_load(HK_SOURCE_DIR "/assets/wick-200.obj", &h->wick, &err), HK_OK);
     assert_int_equal(hk_follicles_from_wick(&h->wick, &h->f, &err), HK_OK);
     assert_true(h->f.count <= GUIDES_MAX);
-    for (int k = 0; k < h->shape_count && h->body_count < 8; k++)
-        if (!h->shapes[k].styling) h->body[h->body_count++] = h->shapes[k];
+    for (int k = 0; k < h->collision.count && h->body_count < 8; k++)
+        if (!h->collision.shapes[k].styling) h->body[h->body_count++] = h->collision.shapes[k];
     assert_int_equal(h->body_count, 3); /* cranium, face and jaw, neck */
     for (int i = 0; i < h->f.count; i++) {
         /* as hair_sim.c's make_guide: the statics rest shape with its follicle's envelope */
         assert_int_equal(hk_superhelix_from_def(&h->style.strand, h->f.position[i], h->f.normal[i], &h->guide[i], &err),
                          HK_OK);
         hk_StrandEnvDef env = hk_default_strand_env_def();
-        env.shapes = h->shapes;
-        env.shape_count = h->shape_count;
+        env.shapes = h->collision.shapes;
+        env.shape_count = h->collision.count;
         env.envelope_alpha = h->f.alpha[i];
         env.collision_step = h->style.strand.collision_step;
         hk_StaticsDef so = hk_default_statics_def();
@@ -87,7 +87,7 @@ static int teardown(void **state)
     }
     hk_follicles_free(&h->f);
     hk_mesh_free(&h->wick);
-    hk_free(h->shapes);
+    hk_collision_free(&h->collision);
     hk_hairstyle_free(&h->style);
     return 0;
 }
@@ -111,8 +111,8 @@ static double deepest_in_motion(const char *motion, int frames)
         sh->root = h->root[i]; /* head space: the dynamics takes its root pose from here */
         sh->root_frame = h->frame[i];
         hk_StrandEnvDef env = hk_default_strand_env_def();
-        env.shapes = h->shapes;
-        env.shape_count = h->shape_count;
+        env.shapes = h->collision.shapes;
+        env.shape_count = h->collision.count;
         env.envelope_alpha = h->f.alpha[i];
         env.collision_step = h->style.strand.collision_step;
         hk_StrandDynamics *d = NULL;

@@ -22,8 +22,7 @@
 
 typedef struct Scene {
     hk_Hairstyle style;
-    hk_Shape *shapes;
-    int shape_count;
+    hk_CollisionSet collision;
     hk_Mesh wick;
 } Scene;
 
@@ -31,15 +30,14 @@ static void load_scene(Scene *s)
 {
     hk_Error err;
     assert_int_equal(hk_hairstyle_load(HK_SOURCE_DIR "/examples/guides200/hairstyle.txt", &s->style, &err), HK_OK);
-    assert_int_equal(
-        hk_collision_load(HK_SOURCE_DIR "/examples/default/collision.txt", &s->shapes, &s->shape_count, &err), HK_OK);
+    assert_int_equal(hk_collision_load(HK_SOURCE_DIR "/examples/default/collision.txt", &s->collision, &err), HK_OK);
     assert_int_equal(hk_obj_load(HK_SOURCE_DIR "/assets/wick-200.obj", &s->wick, &err), HK_OK);
 }
 
 static void free_scene(Scene *s)
 {
     hk_hairstyle_free(&s->style);
-    hk_free(s->shapes);
+    hk_collision_free(&s->collision);
     hk_mesh_free(&s->wick);
 }
 
@@ -60,7 +58,8 @@ static void test_still_head_keeps_rest_shape(void **state)
     o.hair_contacts = 0; /* the statics knows no guide-guide contacts */
     hk_HairSim *sim = NULL;
     hk_Error err;
-    assert_int_equal(hk_hair_sim_create(&sc.style, sc.shapes, sc.shape_count, &sc.wick, &o, &sim, &err), HK_OK);
+    assert_int_equal(hk_hair_sim_create(&sc.style, sc.collision.shapes, sc.collision.count, &sc.wick, &o, &sim, &err),
+                     HK_OK);
     assert_int_equal(hk_hair_sim_guide_count(sim), 201);
     double *rest = guides_now(sim);
     for (int f = 0; f < 30; f++)
@@ -85,15 +84,16 @@ static double shaking_depth(int substeps, double *reach_out)
     hk_HairSim *sim = NULL;
     hk_HeadMotion *shake = NULL;
     hk_Error err;
-    assert_int_equal(hk_hair_sim_create(&sc.style, sc.shapes, sc.shape_count, &sc.wick, &o, &sim, &err), HK_OK);
+    assert_int_equal(hk_hair_sim_create(&sc.style, sc.collision.shapes, sc.collision.count, &sc.wick, &o, &sim, &err),
+                     HK_OK);
     assert_int_equal(hk_head_motion_scripted("shake", 40.0, 1.5, hk_default_head_pivot(), &shake, &err), HK_OK);
     const int points = hk_hair_sim_points_per_strand(sim);
     /* The head itself: the collision file's stiff shapes (its soft face sphere, penalty
      * 0.01, only keeps hair off the face and may be entered). */
     hk_Shape hard[8];
     int hard_count = 0;
-    for (int k = 0; k < sc.shape_count && hard_count < 8; k++)
-        if (sc.shapes[k].penalty >= 1.0) hard[hard_count++] = sc.shapes[k];
+    for (int k = 0; k < sc.collision.count && hard_count < 8; k++)
+        if (sc.collision.shapes[k].penalty >= 1.0) hard[hard_count++] = sc.collision.shapes[k];
     assert_true(hard_count >= 3);
     double deepest = 0.0, fastest = 0.0;
     int contacts = 0;
@@ -165,7 +165,8 @@ static void run_frames(const Scene *sc, int threads, double **guides, hk_Groom *
     hk_HairSim *sim = NULL;
     hk_HeadMotion *nod = NULL;
     hk_Error err;
-    assert_int_equal(hk_hair_sim_create(&sc->style, sc->shapes, sc->shape_count, &sc->wick, &o, &sim, &err), HK_OK);
+    assert_int_equal(
+        hk_hair_sim_create(&sc->style, sc->collision.shapes, sc->collision.count, &sc->wick, &o, &sim, &err), HK_OK);
     assert_int_equal(hk_head_motion_scripted("nod", 30.0, 2.0, hk_default_head_pivot(), &nod, &err), HK_OK);
     assert_int_equal(hk_hair_sim_settle(sim, NULL, 0.1, 1.0 / 30.0, &err), HK_OK);
     for (int f = 0; f < 6; f++)
@@ -186,8 +187,8 @@ static void assert_points_outside(const Scene *sc, const hk_RigidState *head, co
 {
     hk_Shape body[8];
     int body_count = 0;
-    for (int k = 0; k < sc->shape_count && body_count < 8; k++)
-        if (!sc->shapes[k].styling) body[body_count++] = sc->shapes[k];
+    for (int k = 0; k < sc->collision.count && body_count < 8; k++)
+        if (!sc->collision.shapes[k].styling) body[body_count++] = sc->collision.shapes[k];
     long over = 0;
     double deepest = 0.0;
     for (long s = 0; s < strands; s++)
@@ -316,15 +317,16 @@ static void test_bad_input(void **state)
     hk_HairSim *sim = NULL;
     hk_Error err;
     o.dynamics.air_drag = -1.0;
-    assert_int_equal(hk_hair_sim_create(&sc.style, sc.shapes, sc.shape_count, &sc.wick, &o, &sim, &err),
+    assert_int_equal(hk_hair_sim_create(&sc.style, sc.collision.shapes, sc.collision.count, &sc.wick, &o, &sim, &err),
                      HK_ERR_INVALID);
     assert_null(sim);
     o = hk_hair_sim_def_for(&sc.style);
     o.contacts.distance = 0.0;
-    assert_int_equal(hk_hair_sim_create(&sc.style, sc.shapes, sc.shape_count, &sc.wick, &o, &sim, &err),
+    assert_int_equal(hk_hair_sim_create(&sc.style, sc.collision.shapes, sc.collision.count, &sc.wick, &o, &sim, &err),
                      HK_ERR_INVALID);
     o = hk_hair_sim_def_for(&sc.style);
-    assert_int_equal(hk_hair_sim_create(&sc.style, sc.shapes, sc.shape_count, &sc.wick, &o, &sim, &err), HK_OK);
+    assert_int_equal(hk_hair_sim_create(&sc.style, sc.collision.shapes, sc.collision.count, &sc.wick, &o, &sim, &err),
+                     HK_OK);
     assert_int_equal(hk_hair_sim_settle(sim, NULL, 1.0, 0.0, &err), HK_ERR_INVALID);
     assert_int_equal(hk_hair_sim_advance(sim, NULL, 0.0, -1.0, NULL, &err), HK_ERR_INVALID);
     hk_hair_sim_destroy(sim);

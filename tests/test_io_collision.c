@@ -10,6 +10,7 @@
 
 #include "collide/collide_internal.h"
 #include "hairkit/io.h"
+#include "io/io_internal.h"
 
 /* Lansink 2010 Appendix B, "Collision Info", as printed ("Elipsoid"). */
 static const char *const thesis_collision = "\n"
@@ -31,18 +32,36 @@ static const char *const coupe_collision =
     "Ellipsoid\t0.04\t10.0\t-0.001 +0.068 +0.010\t0.080 0.080 0.110\t1 0 0 0 1 0 0 0 1\n"
     "Sphere\t0.15\t0.01\t+0.000 +0.033 +0.165\t0.080\n";
 
-/* Loads `text`; fails the test unless it succeeds with `want` shapes. */
+/* The set load_ok read last (released by the next load_ok or hk_collision_free). */
+static hk_CollisionSet loaded;
+
+/* Loads `text`; fails the test unless it succeeds with `want` shapes, which it returns. */
 static hk_Shape *load_ok(const char *text, int want)
 {
-    hk_Shape *s = NULL;
-    int n = -1;
+    hk_collision_free(&loaded);
     hk_Error err;
-    hk_Status st = hk_collision_load(hk_test_write_text("collision.txt", text), &s, &n, &err);
+    hk_Status st = hk_collision_load(hk_test_write_text("collision.txt", text), &loaded, &err);
     if (st != HK_OK) print_error("%s\n", err.message);
     assert_int_equal(st, HK_OK);
-    assert_int_equal(n, want);
-    if (want == 0) assert_null(s);
-    return s;
+    assert_int_equal(loaded.count, want);
+    if (want == 0) assert_null(loaded.shapes);
+    return loaded.shapes;
+}
+
+/* A set to be overwritten by the loader: garbage in every field. */
+static hk_CollisionSet garbage_set(void)
+{
+    hk_CollisionSet set;
+    memset(&set, 0x5a, sizeof set);
+    return set;
+}
+
+static void assert_empty(const hk_CollisionSet *set)
+{
+    assert_null(set->shapes);
+    assert_int_equal(set->count, 0);
+    assert_null(set->fields);
+    assert_int_equal(set->field_count, 0);
 }
 
 static void assert_vec(hk_Vec3 v, double x, double y, double z, double tol)
@@ -71,7 +90,7 @@ static void test_thesis_sample(void **state)
     assert_vec(s[1].centre, 0.0, 0.04, 0.16, 0);
     assert_vec(s[1].half, 0.10, 0.10, 0.10, 0);
     assert_vec(s[1].axis[2], 0, 0, 1, 0);
-    hk_free(s);
+    hk_collision_free(&loaded);
 
     s = load_ok(coupe_collision, 2);
     assert_int_equal(s[0].kind, HK_SHAPE_ELLIPSOID);
@@ -79,7 +98,7 @@ static void test_thesis_sample(void **state)
     hk_assert_near(s[1].volume, 0.15, 0);
     assert_vec(s[1].centre, 0.0, 0.033, 0.165, 0);
     hk_assert_near(s[1].half.x, 0.08, 0);
-    hk_free(s);
+    hk_collision_free(&loaded);
 }
 
 static void test_spellings_and_layout(void **state)
@@ -106,7 +125,7 @@ static void test_spellings_and_layout(void **state)
     assert_vec(s[3].axis[1], 0, 1, 0, 0);
     assert_vec(s[3].axis[2], 1, 0, 0, 0);
     hk_assert_near(hk_shape_bound(&s[3]), sqrt(0.01 + 0.04 + 0.09), 1e-15);
-    hk_free(s);
+    hk_collision_free(&loaded);
 
     /* Tilted axes, slightly off orthogonal but within 1e-3; huge and tiny axes. */
     const double c = cos(0.3), sn = sin(0.3);
@@ -122,7 +141,7 @@ static void test_spellings_and_layout(void **state)
     assert_vec(s[1].axis[0], sqrt(0.5), sqrt(0.5), 0, 1e-15);
     assert_vec(s[1].axis[1], -sqrt(0.5), sqrt(0.5), 0, 1e-15);
     assert_vec(s[1].axis[2], 0, 0, 1, 0);
-    hk_free(s);
+    hk_collision_free(&loaded);
 
     /* Comments and blanks only: valid, no shapes. */
     load_ok("# nothing\n\n   \t\n", 0);
@@ -132,11 +151,10 @@ static void test_spellings_and_layout(void **state)
 /* Loading the file fails with `code` at `line`, with `phrase`, and returns nothing. */
 static void expect_error_in(const char *path, hk_Status code, int line, const char *phrase)
 {
-    hk_Shape *s = (hk_Shape *)&s; /* garbage the loader must overwrite */
-    int n = -1;
+    hk_CollisionSet set = garbage_set();
     hk_Error err;
     err.message[0] = '\0';
-    hk_Status st = hk_collision_load(path, &s, &n, &err);
+    hk_Status st = hk_collision_load(path, &set, &err);
     if (st != code) print_error("status %d (wanted %d), message '%s'\n", st, code, err.message);
     assert_int_equal(st, code);
     char prefix[700];
@@ -149,8 +167,7 @@ static void expect_error_in(const char *path, hk_Status code, int line, const ch
         fail();
     }
     hk_assert_contains(err.message, phrase);
-    assert_null(s);
-    assert_int_equal(n, 0);
+    assert_empty(&set);
 }
 
 static void expect_error(const char *text, hk_Status code, int line, const char *phrase)
@@ -166,7 +183,7 @@ static void test_roles(void **state)
     hk_Shape *s = load_ok(thesis_collision, 2);
     assert_int_equal(s[0].styling, 0);
     assert_int_equal(s[1].styling, 0);
-    hk_free(s);
+    hk_collision_free(&loaded);
     s = load_ok("Ellipsoid 0.01 10 0 0 0 1 1 1 1 0 0 0 1 0 0 0 1 Body\n"
                 "Sphere 0.05 0.01 0 0.04 0.15 0.095 Styling # before the face\n"
                 "cuboid 0 1 0 0 0 1 2 3 1 0 0 0 1 0 0 0 1 STYLING\n"
@@ -178,7 +195,7 @@ static void test_roles(void **state)
     assert_int_equal(s[2].styling, 1);
     assert_int_equal(s[2].kind, HK_SHAPE_CUBOID);
     assert_int_equal(s[3].styling, 0);
-    hk_free(s);
+    hk_collision_free(&loaded);
     expect_error("Sphere 0 1 0 0 0 1 Style\n", HK_ERR_PARSE, 1,
                  "unknown role 'Style' after the Sphere's numbers (expected Body or Styling)");
     /* A role does not stand in for a missing number. */
@@ -211,7 +228,7 @@ static void test_count_and_number_errors(void **state)
     expect_error("Cuboid 0 1 0 0 0 1 1 1 1 0 0 0 1 0 0 0 -inf\n", HK_ERR_PARSE, 1,
                  "'-inf' is not a finite number (value 17");
     expect_error("Sphere 0 1 0 0 0 1\nBox 1 2\n", HK_ERR_PARSE, 2,
-                 "unknown shape 'Box' (expected Sphere, Ellipsoid or Cuboid)");
+                 "unknown shape 'Box' (expected Sphere, Ellipsoid, Cuboid or Mesh)");
     expect_error("Spheres 0 1 0 0 0 1\n", HK_ERR_PARSE, 1, "unknown shape 'Spheres'");
     expect_error("Young 1e9\n", HK_ERR_PARSE, 1, "unknown shape 'Young'");
 }
@@ -266,8 +283,8 @@ static void test_shape_limit(void **state)
     char *p = text;
     p += sprintf(p, "# many\n");
     for (int i = 0; i < HK_MAX_SHAPES; i++) p += sprintf(p, "%s", line);
-    hk_Shape *s = load_ok(text, HK_MAX_SHAPES);
-    hk_free(s);
+    load_ok(text, HK_MAX_SHAPES);
+    hk_collision_free(&loaded);
     sprintf(p, "%s", line);
     expect_error(text, HK_ERR_INVALID, HK_MAX_SHAPES + 2, "more than 10000 collision shapes");
     free(text);
@@ -276,13 +293,11 @@ static void test_shape_limit(void **state)
 static void test_files(void **state)
 {
     (void)state;
-    hk_Shape *s = (hk_Shape *)&s;
-    int n = -1;
+    hk_CollisionSet set = garbage_set();
     hk_Error err;
-    assert_int_equal(hk_collision_load("/nonexistent/collision.txt", &s, &n, &err), HK_ERR_IO);
+    assert_int_equal(hk_collision_load("/nonexistent/collision.txt", &set, &err), HK_ERR_IO);
     hk_assert_contains(err.message, "/nonexistent/collision.txt: cannot open");
-    assert_null(s);
-    assert_int_equal(n, 0);
+    assert_empty(&set);
     expect_error_in(hk_test_write_text("empty.txt", ""), HK_ERR_PARSE, 0, "file is empty");
     static const char bin[] = "Sphere 0 1 0 0 0 1\r\n\x89PNG\r\n\x1a\n";
     expect_error_in(hk_test_write_file("head.png", bin, sizeof bin - 1), HK_ERR_PARSE, 0,
@@ -290,9 +305,10 @@ static void test_files(void **state)
     expect_error_in(hk_test_write_text("hairstyle.txt", "# hairstyle\nYoung 1e9\n"), HK_ERR_PARSE, 2,
                     "unknown shape 'Young'");
     /* A NULL hk_Error is allowed. */
-    assert_int_equal(hk_collision_load(hk_test_write_text("c.txt", "Sphere 0 -1 0 0 0 1\n"), &s, &n, NULL),
+    set = garbage_set();
+    assert_int_equal(hk_collision_load(hk_test_write_text("c.txt", "Sphere 0 -1 0 0 0 1\n"), &set, NULL),
                      HK_ERR_INVALID);
-    assert_null(s);
+    assert_empty(&set);
 }
 
 /* Mutated copies of the sample: loads never crash, accepted shapes are sane, refusals
@@ -314,11 +330,12 @@ static void test_fuzz(void **state)
         for (int e = 0; e < edits; e++)
             len = hk_test_mutate(buf, len, sizeof buf, " \t\n#\"-.e0123456789", junk, 12, &x);
         const char *path = hk_test_write_file("fuzz_collision.txt", buf, len);
-        hk_Shape *s = (hk_Shape *)&s;
-        int n = -1;
+        hk_CollisionSet set = garbage_set();
         hk_Error err;
         err.message[0] = '\0';
-        hk_Status st = hk_collision_load(path, &s, &n, &err);
+        hk_Status st = hk_collision_load(path, &set, &err);
+        const hk_Shape *s = set.shapes;
+        const int n = set.count;
         if (st == HK_OK) {
             assert_true(n >= 0 && n <= HK_MAX_SHAPES);
             for (int i = 0; i < n; i++) {
@@ -330,19 +347,103 @@ static void test_fuzz(void **state)
                     for (int b = a + 1; b < 3; b++) assert_true(fabs(hk_v3_dot(s[i].axis[a], s[i].axis[b])) <= 1e-3);
                 }
             }
-            hk_free(s);
+            hk_collision_free(&set);
             accepted++;
         } else {
             assert_true(st == HK_ERR_PARSE || st == HK_ERR_INVALID);
             assert_true(strncmp(err.message, path, strlen(path)) == 0);
             assert_true(strlen(err.message) > strlen(path) + 3);
-            assert_null(s);
-            assert_int_equal(n, 0);
+            assert_empty(&set);
             rejected++;
         }
     }
     print_message("collision fuzz: %d rejected, %d accepted\n", rejected, accepted);
     assert_true(rejected > 500 && accepted > 100);
+}
+
+/* A closed tetrahedron of 2 cm (a small collider: its field is quick to build). */
+static const char *const tetra_obj = "v 0 0 0\nv 0.02 0 0\nv 0 0.02 0\nv 0 0 0.02\n"
+                                     "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+
+/* Mesh lines (a hairkit addition): the mesh named relative to the collision file,
+ * its field a body shape in the line's place; Scale, Up and the role; then every
+ * error names the collision file and the line. */
+static void test_mesh_lines(void **state)
+{
+    (void)state;
+    hk_test_write_text("tetra.obj", tetra_obj);
+    hk_Shape *s = load_ok("Sphere 0 1 0 0 0 1\n"
+                          "Mesh 0.01 10 tetra.obj   # relative to this file\n"
+                          "mesh -0.002 5 \"tetra.obj\" 10 +z Styling\n"
+                          "Cuboid 0 1 0 0 0 1 2 3 1 0 0 0 1 0 0 0 1\n",
+                          4);
+    assert_int_equal(s[0].kind, HK_SHAPE_SPHERE);
+    assert_int_equal(s[1].kind, HK_SHAPE_FIELD);
+    assert_int_equal(s[2].kind, HK_SHAPE_FIELD);
+    assert_int_equal(s[3].kind, HK_SHAPE_CUBOID);
+    assert_int_equal(loaded.field_count, 2);
+    assert_ptr_equal(s[1].field, loaded.fields[0]);
+    assert_ptr_equal(s[2].field, loaded.fields[1]);
+    hk_assert_near(s[1].volume, 0.01, 0);
+    hk_assert_near(s[1].penalty, 10.0, 0);
+    assert_int_equal(s[1].styling, 0);
+    hk_assert_near(s[2].volume, -0.002, 0);
+    assert_int_equal(s[2].styling, 1);
+    /* inside the tetrahedron near its corner: dent > 0; far away: < 0 */
+    assert_true(hk_shape_dent(&s[1], hk_v3(0.002, 0.002, 0.002), NULL, NULL) > 0.0);
+    assert_true(hk_shape_dent(&s[1], hk_v3(0.05, 0.05, 0.05), NULL, NULL) < 0.0);
+    /* Scale 10 and Up +z: (x, y, z) -> 10 (x, z, -y), the corner (0, 0.02, 0) at
+     * (0, 0, -0.2) and (0, 0, 0.02) at (0, 0.2, 0). */
+    assert_true(hk_shape_dent(&s[2], hk_v3(0.01, 0.01, -0.01), NULL, NULL) > 0.0);
+    assert_true(hk_shape_dent(&s[2], hk_v3(0.01, -0.01, 0.01), NULL, NULL) < 0.0);
+    hk_collision_free(&loaded);
+
+    hk_test_write_text("flat.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n");
+    hk_test_write_text("broken.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n");
+    expect_error("Sphere 0 1 0 0 0 1\nMesh 0 10 nowhere.obj\n", HK_ERR_IO, 2, "nowhere.obj: cannot open");
+    expect_error("Mesh 0 10 .\n", HK_ERR_IO, 1, "not a regular file");
+    expect_error("Mesh 0 10 broken.obj\n", HK_ERR_PARSE, 1, "broken.obj:4: index out of range in face corner '7'");
+    expect_error("Mesh 0 10 flat.obj\n", HK_ERR_PARSE, 1, "no faces in this OBJ file");
+    hk_test_write_text("flat.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                   "property float z\nelement face 0\nproperty list uchar int vertex_indices\n"
+                                   "end_header\n0 0 0\n1 0 0\n0 1 0\n");
+    expect_error("Mesh 0 10 flat.ply\n", HK_ERR_PARSE, 1, "no faces in this PLY file");
+    expect_error("Mesh 0 10\n", HK_ERR_PARSE, 1, "expected 'Mesh Volume Penalty PATH [Scale [Up]]");
+    expect_error("Mesh 0 10 tetra.obj 1 +y Body extra\n", HK_ERR_PARSE, 1, "got 7 values");
+    expect_error("Mesh zero 10 tetra.obj\n", HK_ERR_PARSE, 1, "'zero' is not a finite number (value 1 of 'Mesh')");
+    expect_error("Mesh 0 -1 tetra.obj\n", HK_ERR_INVALID, 1, "Penalty must be >= 0, got -1");
+    expect_error("Mesh 0 10 tetra.obj 0\n", HK_ERR_INVALID, 1, "Scale must be a number > 0, got '0'");
+    expect_error("Mesh 0 10 tetra.obj 1e-3x +z\n", HK_ERR_INVALID, 1, "Scale must be a number > 0, got '1e-3x'");
+    expect_error("Mesh 0 10 tetra.obj Stylng\n", HK_ERR_INVALID, 1, "unknown role 'Stylng' after the mesh's path");
+    expect_error("Mesh 0 10 tetra.obj 1 up\n", HK_ERR_INVALID, 1, "unknown up axis 'up'");
+    /* a mesh that would leave the coordinates hairkit reads */
+    expect_error("Mesh 0 10 tetra.obj 1e9\n", HK_ERR_INVALID, 1, "Mesh: ");
+    /* a mistake on a later line is told before any field is built */
+    expect_error("Mesh 0 10 nowhere.obj\nSphere 0 1 0 0 0\n", HK_ERR_PARSE, 2, "expected 6 numbers");
+}
+
+/* A simulation's CollisionHash covers the meshes a collision file names: the file's
+ * own fingerprint when it names none, another when a mesh it names changes. */
+static void test_mesh_fingerprint(void **state)
+{
+    (void)state;
+    hk_Error err;
+    uint64_t plain = 0, with_file = 0, a = 0, b = 0;
+    const char *path = hk_test_write_text("plain.txt", "Sphere 0 1 0 0 0 1\n");
+    assert_int_equal(hk_collision_fingerprint(path, &plain, &err), HK_OK);
+    assert_int_equal(hk_file_fingerprint(path, &with_file, &err), HK_OK);
+    assert_true(plain == with_file);
+    hk_test_write_text("tetra.obj", tetra_obj);
+    path = hk_test_write_text("meshes.txt", "Sphere 0 1 0 0 0 1\nMesh 0 10 tetra.obj\n");
+    assert_int_equal(hk_collision_fingerprint(path, &a, &err), HK_OK);
+    assert_int_equal(hk_file_fingerprint(path, &with_file, &err), HK_OK);
+    assert_true(a != with_file);
+    hk_test_write_text("tetra.obj", "# moved\n"); /* the same collision file, another mesh */
+    assert_int_equal(hk_collision_fingerprint(path, &b, &err), HK_OK);
+    assert_true(a != b);
+    path = hk_test_write_text("gone.txt", "Mesh 0 10 gone.obj\n");
+    assert_int_equal(hk_collision_fingerprint(path, &b, &err), HK_ERR_IO);
+    hk_assert_contains(err.message, "gone.obj: cannot read");
 }
 
 int main(void)
@@ -356,6 +457,8 @@ int main(void)
         cmocka_unit_test(test_files),
         cmocka_unit_test(test_fuzz),
         cmocka_unit_test(test_roles),
+        cmocka_unit_test(test_mesh_lines),
+        cmocka_unit_test(test_mesh_fingerprint),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

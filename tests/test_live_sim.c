@@ -51,7 +51,8 @@ static void test_live_is_simulate(void **state)
     hk_HairSimDef so = hk_hair_sim_def_for(&sc.style);
     so.threads = 2;
     hk_HairSim *sim = NULL;
-    assert_int_equal(hk_hair_sim_create(&sc.style, sc.shapes, sc.shape_count, &sc.wick, &so, &sim, &err), HK_OK);
+    assert_int_equal(hk_hair_sim_create(&sc.style, sc.collision.shapes, sc.collision.count, &sc.wick, &so, &sim, &err),
+                     HK_OK);
     const uint32_t strands = hk_live_sim_hair(live)->strand_count;
     assert_int_equal(hk_live_sim_guide_count(live), 201);
     assert_true(strands > 1500);

@@ -54,8 +54,7 @@ static void back_of(const hk_Mesh *wick, double z_max, hk_Mesh *out)
 
 typedef struct LongHead {
     hk_Hairstyle style; /* guides200's, 1 m in 20 elements */
-    hk_Shape *shapes;
-    int shape_count;
+    hk_CollisionSet collision;
     hk_Mesh wick, back;
 } LongHead;
 
@@ -63,11 +62,9 @@ static void long_head_load(LongHead *h)
 {
     hk_Error err;
     h->style = hk_default_hairstyle();
-    h->shapes = NULL;
-    h->shape_count = 0;
+    h->collision = (hk_CollisionSet){0};
     assert_int_equal(hk_hairstyle_load(HK_SOURCE_DIR "/examples/guides200/hairstyle.txt", &h->style, &err), HK_OK);
-    assert_int_equal(
-        hk_collision_load(HK_SOURCE_DIR "/examples/default/collision.txt", &h->shapes, &h->shape_count, &err), HK_OK);
+    assert_int_equal(hk_collision_load(HK_SOURCE_DIR "/examples/default/collision.txt", &h->collision, &err), HK_OK);
     assert_int_equal(hk_obj_load(HK_SOURCE_DIR "/assets/wick-200.obj", &h->wick, &err), HK_OK);
     back_of(&h->wick, -0.03, &h->back);
     double *lengths = hk_alloc_array(20, sizeof(double), NULL);
@@ -81,7 +78,7 @@ static void long_head_load(LongHead *h)
 static void long_head_free(LongHead *h)
 {
     hk_hairstyle_free(&h->style);
-    hk_free(h->shapes);
+    hk_collision_free(&h->collision);
     hk_mesh_free(&h->wick);
     free(h->back.positions), free(h->back.normals), free(h->back.triangles);
 }
@@ -98,7 +95,8 @@ static ShakeResult shake_head(const LongHead *h, const hk_HairSimDef *o)
     hk_Error err;
     hk_HairSim *sim = NULL;
     ShakeResult r = {0, 0, 0, 0, 0.0, 0.0};
-    assert_int_equal(hk_hair_sim_create(&h->style, h->shapes, h->shape_count, &h->back, o, &sim, &err), HK_OK);
+    assert_int_equal(hk_hair_sim_create(&h->style, h->collision.shapes, h->collision.count, &h->back, o, &sim, &err),
+                     HK_OK);
     r.guides = hk_hair_sim_guide_count(sim);
     const int points = hk_hair_sim_points_per_strand(sim);
     double *before = malloc(sizeof(double) * 3 * (size_t)points * (size_t)r.guides);

@@ -278,11 +278,11 @@ static void test_head(void **state)
     assert_int_equal(plain.dynamics.integrator, mine.dynamics.integrator);
 
     hk_Groom g = {0};
-    assert_int_equal(hk_groom_grow(&scene.style.strand, &scene.style.interpolation, scene.shapes, scene.shape_count,
-                                   &scene.wick, NULL, &g, &err),
+    assert_int_equal(hk_groom_grow(&scene.style.strand, &scene.style.interpolation, scene.collision.shapes,
+                                   scene.collision.count, &scene.wick, NULL, &g, &err),
                      HK_OK);
-    assert_int_equal(hk_groom_interpolate_guides(&scene.style.interpolation, scene.shapes, scene.shape_count,
-                                                 &scene.wick, NULL, &g, &err),
+    assert_int_equal(hk_groom_interpolate_guides(&scene.style.interpolation, scene.collision.shapes,
+                                                 scene.collision.count, &scene.wick, NULL, &g, &err),
                      HK_OK);
     hk_groom_free(&g);
 

@@ -20,7 +20,7 @@ static void test_parts(void **state)
     assert_int_equal(s.parts, 0u);
     assert_int_equal(s.head.vertex_count, 0);
     assert_int_equal(s.wick.vertex_count, 0);
-    assert_int_equal(s.shape_count, 0);
+    assert_int_equal(s.collision.count, 0);
     assert_string_equal(s.setup_path, setup);
     assert_int_equal(hk_scene_load_parts(&s, HK_SCENE_RENDERING, &err), HK_OK);
     assert_true(s.head.vertex_count > 0);
@@ -28,7 +28,7 @@ static void test_parts(void **state)
     assert_int_equal(hk_scene_load_parts(&s, HK_SCENE_HAIR, &err), HK_OK); /* Load false: grooming */
     assert_int_equal(s.parts, (unsigned)HK_SCENE_ALL);
     assert_int_equal(s.wick.vertex_count, 201); /* assets/wick-200.obj */
-    assert_true(s.shape_count > 0);
+    assert_true(s.collision.count > 0);
     hk_assert_near(s.style.interpolation.hair_density, 4.0, 0.0); /* hk_test_light_setup's hairstyle */
     hk_scene_free(&s);
     hk_scene_free(&s); /* freeing twice is harmless: the scene is empty after the first */
@@ -92,8 +92,9 @@ static void test_same_as_pieces(void **state)
     assert_int_equal(report.guides, 201);
     assert_int_equal((uint32_t)(report.guides + report.strands), a.strand_count);
     hk_Groom g;
-    assert_int_equal(
-        hk_groom_grow(&s.style.strand, &s.style.interpolation, s.shapes, s.shape_count, &s.wick, &go, &g, &err), HK_OK);
+    assert_int_equal(hk_groom_grow(&s.style.strand, &s.style.interpolation, s.collision.shapes, s.collision.count,
+                                   &s.wick, &go, &g, &err),
+                     HK_OK);
     assert_int_equal(hk_groom_to_hair(&g, &s.style.strand, &b, &err), HK_OK);
     assert_int_equal(a.point_count, b.point_count);
     assert_memory_equal(a.points, b.points, sizeof(float) * 3 * a.point_count);
@@ -132,11 +133,49 @@ static void test_same_as_pieces(void **state)
     hk_scene_free(&s);
 }
 
+/* A collision file's Mesh line and the setup's HeadCollider: both fields belong to the
+ * scene's collision set, in that order (the file's shapes, then the head's), and go
+ * with it; a Mesh line that cannot be read fails the collision part with its file and
+ * line. */
+static void test_collision_meshes(void **state)
+{
+    (void)state;
+    hk_test_write_text("tetra.obj", "v 0 0 0\nv 0.02 0 0\nv 0 0.02 0\nv 0 0 0.02\n"
+                                    "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+    hk_test_write_text("meshes.txt", "Sphere 0 1 0 0 0 1\nMesh 0.01 10 tetra.obj Styling\n");
+    const char *path = hk_test_write_text("meshsetup.txt", "Load true\nLoadFile tetra.obj\n"
+                                                           "CollisionInfo meshes.txt\nHeadModel tetra.obj\n"
+                                                           "HeadCollider 0 5\n");
+    hk_Scene s;
+    hk_Error err;
+    assert_int_equal(hk_scene_load(path, HK_SCENE_COLLISION, &s, &err), HK_OK);
+    assert_int_equal(s.collision.count, 3);
+    assert_int_equal(s.collision.field_count, 2);
+    assert_int_equal(s.collision.shapes[0].kind, HK_SHAPE_SPHERE);
+    assert_ptr_equal(s.collision.shapes[1].field, s.collision.fields[0]);
+    assert_ptr_equal(s.collision.shapes[2].field, s.collision.fields[1]);
+    assert_int_equal(s.collision.shapes[1].styling, 1);
+    assert_int_equal(s.collision.shapes[2].styling, 0);
+    hk_assert_near(s.collision.shapes[1].penalty, 10.0, 0.0);
+    hk_assert_near(s.collision.shapes[2].penalty, 5.0, 0.0);
+    hk_scene_free(&s);
+
+    hk_test_write_text("meshes.txt", "Sphere 0 1 0 0 0 1\nMesh 0.01 10 nowhere.obj\n");
+    assert_int_equal(hk_scene_load(path, 0, &s, &err), HK_OK);
+    assert_int_equal(hk_scene_load_parts(&s, HK_SCENE_COLLISION, &err), HK_ERR_IO);
+    hk_assert_contains(err.message, "meshes.txt:2: Mesh: ");
+    hk_assert_contains(err.message, "nowhere.obj: cannot open");
+    assert_int_equal(s.collision.count, 0);
+    assert_int_equal(s.parts, 0u);
+    hk_scene_free(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_parts),
         cmocka_unit_test(test_errors),
+        cmocka_unit_test(test_collision_meshes),
         cmocka_unit_test(test_same_as_pieces),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -54,18 +54,16 @@ static void tips(const hk_HairSim *sim, double *all, hk_Vec3 *out)
 static Stillness still_head(double mu, double max_settle, int frames)
 {
     hk_Hairstyle style = hk_default_hairstyle();
-    hk_Shape *shapes = NULL;
-    int shape_count = 0;
+    hk_CollisionSet collision = {0};
     hk_Mesh wick;
     hk_Error err;
     assert_int_equal(hk_hairstyle_load(HK_SOURCE_DIR "/examples/guides200/hairstyle.txt", &style, &err), HK_OK);
-    assert_int_equal(hk_collision_load(HK_SOURCE_DIR "/examples/default/collision.txt", &shapes, &shape_count, &err),
-                     HK_OK);
+    assert_int_equal(hk_collision_load(HK_SOURCE_DIR "/examples/default/collision.txt", &collision, &err), HK_OK);
     assert_int_equal(hk_obj_load(HK_SOURCE_DIR "/assets/wick-200.obj", &wick, &err), HK_OK);
     hk_HairSimDef o = hk_hair_sim_def_for(&style);
     o.contacts.friction_coefficient = mu;
     hk_HairSim *sim = NULL;
-    assert_int_equal(hk_hair_sim_create(&style, shapes, shape_count, &wick, &o, &sim, &err), HK_OK);
+    assert_int_equal(hk_hair_sim_create(&style, collision.shapes, collision.count, &wick, &o, &sim, &err), HK_OK);
     const int g = hk_hair_sim_guide_count(sim), p = hk_hair_sim_points_per_strand(sim);
     double *all = malloc((size_t)g * (size_t)p * 3 * sizeof(double));
     hk_Vec3 *start = malloc((size_t)g * sizeof(hk_Vec3)), *prev = malloc((size_t)g * sizeof(hk_Vec3)),
@@ -102,7 +100,7 @@ static Stillness still_head(double mu, double max_settle, int frames)
     free(all), free(start), free(prev), free(now), free(drift);
     hk_hair_sim_destroy(sim);
     hk_hairstyle_free(&style);
-    hk_free(shapes);
+    hk_collision_free(&collision);
     hk_mesh_free(&wick);
     return out;
 }

@@ -50,13 +50,14 @@ int main(int argc, char **argv)
         return 2;
     }
     hk_Error err;
-    hk_Shape *shapes = NULL;
-    int n = 0, body = 0;
-    if (hk_collision_load(argv[1], &shapes, &n, &err) != HK_OK) {
+    hk_CollisionSet collision;
+    if (hk_collision_load(argv[1], &collision, &err) != HK_OK) {
         fprintf(stderr, "hair_depth: %s\n", err.message);
         return 1;
     }
-    for (int i = 0; i < n; i++)
+    hk_Shape *shapes = collision.shapes;
+    int body = 0;
+    for (int i = 0; i < collision.count; i++)
         if (!shapes[i].styling) shapes[body++] = shapes[i];
     int first = 2;
     hk_HeadMotion *motion = NULL;
@@ -137,7 +138,7 @@ int main(int argc, char **argv)
         print("strands", &all_strands);
     }
     hk_free(previous);
-    hk_free(shapes);
+    hk_collision_free(&collision);
     hk_head_motion_destroy(motion);
     return 0;
 }

@@ -18,10 +18,9 @@ int main(int argc, char **argv)
     }
     hk_Error err;
     hk_HairFile hair;
-    hk_Shape *shapes = NULL;
-    int shape_count = 0;
+    hk_CollisionSet collision = {0};
     if (hk_hair_load(argv[1], &hair, &err) != HK_OK) goto fail_early;
-    if (argc >= 4 && hk_collision_load(argv[3], &shapes, &shape_count, &err) != HK_OK) goto fail;
+    if (argc >= 4 && hk_collision_load(argv[3], &collision, &err) != HK_OK) goto fail;
     long max = argc >= 5 ? strtol(argv[4], NULL, 10) : 401;
     int n = (int)(max > 0 && max < (long)hair.strand_count ? max : (long)hair.strand_count);
     hk_PlotStrand *plot = hk_alloc_array((size_t)n, sizeof *plot, &err);
@@ -46,16 +45,16 @@ int main(int argc, char **argv)
         plot[s].count = (int)hk_hair_strand_points(&hair, (uint32_t)s);
         plot[s].color = hk_v3(0.55 - 0.35 * t, 0.30 - 0.10 * t, 0.10 + 0.55 * t); /* low: brown, top: blue */
     }
-    hk_Status st = hk_plot_strands_png(argv[2], 800, 400, plot, n, shapes, shape_count, 0.0, &err);
+    hk_Status st = hk_plot_strands_png(argv[2], 800, 400, plot, n, collision.shapes, collision.count, 0.0, &err);
     hk_free(plot);
     hk_free(points);
     if (st != HK_OK) goto fail;
     hk_hair_free(&hair);
-    hk_free(shapes);
+    hk_collision_free(&collision);
     return 0;
 fail:
     hk_hair_free(&hair);
-    hk_free(shapes);
+    hk_collision_free(&collision);
 fail_early:
     fprintf(stderr, "plot_hair: %s\n", err.message);
     return 1;

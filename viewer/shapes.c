@@ -53,8 +53,8 @@ static float *outline(const hk_Shape *s, float *out)
 int hk_viewer_shapes_update(hk_Viewer *v, const hk_RigidState *pose)
 {
     const hk_Scene *sc = v->in->scene;
-    if (!sc || sc->shape_count <= 0) return 1;
-    const int n = sc->shape_count, per_shape = 3 * ELLIPSE_SEGMENTS * 2; /* vertices, the most of a shape */
+    if (!sc || sc->collision.count <= 0) return 1;
+    const int n = sc->collision.count, per_shape = 3 * ELLIPSE_SEGMENTS * 2; /* vertices, the most of a shape */
     hk_Shape *posed = malloc((size_t)n * sizeof *posed);
     float *xyz = malloc((size_t)n * (size_t)per_shape * 3 * sizeof *xyz);
     if (!posed || !xyz) {
@@ -64,7 +64,7 @@ int hk_viewer_shapes_update(hk_Viewer *v, const hk_RigidState *pose)
         return 0;
     }
     const hk_RigidState rest = hk_rigid_identity();
-    hk_shapes_posed(sc->shapes, n, pose ? pose : &rest, posed);
+    hk_shapes_posed(sc->collision.shapes, n, pose ? pose : &rest, posed);
     float *end = xyz;
     for (int i = 0; i < n; i++) end = outline(&posed[i], end);
     hk_gl_lines_set(&v->shapes, xyz, (int)((end - xyz) / 3));

@@ -27,8 +27,7 @@ int main(int argc, char **argv)
     }
     hk_Hairstyle style = hk_default_hairstyle();
     hk_Visuality colours = hk_default_visuality();
-    hk_Shape *shapes = NULL; /* the collision shapes (body envelopes) */
-    int shape_count = 0;
+    hk_CollisionSet collision = {0}; /* the collision shapes (body envelopes) */
     hk_Mesh wick = {0}, head = {0};
     hk_Groom groom = {0};
     hk_HairFile hair = {0};
@@ -42,7 +41,7 @@ int main(int argc, char **argv)
         if (!(style.interpolation.hair_density > 0))
             st = hk_error_set(&err, HK_ERR_INVALID, "bad density '%s'", argv[3]);
     }
-    if (st == HK_OK && setup.collision) st = hk_collision_load(setup.collision, &shapes, &shape_count, &err);
+    if (st == HK_OK && setup.collision) st = hk_collision_load(setup.collision, &collision, &err);
     if (st == HK_OK && setup.visuality) st = hk_visuality_load(setup.visuality, &colours, &err);
     if (st == HK_OK) st = hk_obj_load(setup.wick_model, &wick, &err);
     if (st == HK_OK && setup.head_model) st = hk_obj_load(setup.head_model, &head, &err);
@@ -52,7 +51,8 @@ int main(int argc, char **argv)
      * interpolated between the guides; then the whole groom as cyHair data. */
     hk_GroomDef grow = hk_default_groom_def();
     if (st == HK_OK)
-        st = hk_groom_grow(&style.strand, &style.interpolation, shapes, shape_count, &wick, &grow, &groom, &err);
+        st = hk_groom_grow(&style.strand, &style.interpolation, collision.shapes, collision.count, &wick, &grow, &groom,
+                           &err);
     if (st == HK_OK) st = hk_groom_to_hair(&groom, &style.strand, &hair, &err);
 
     /* Render over the head (Kajiya-Kay shading, deep opacity shadows) and save. */
@@ -72,7 +72,7 @@ int main(int argc, char **argv)
     hk_groom_free(&groom);
     hk_mesh_free(&head);
     hk_mesh_free(&wick);
-    hk_free(shapes);
+    hk_collision_free(&collision);
     hk_hairstyle_free(&style);
     hk_setup_free(&setup);
     return st == HK_OK ? 0 : 1;

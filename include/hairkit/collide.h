@@ -59,6 +59,30 @@ HK_API hk_Shape hk_shape_cuboid(hk_Vec3 centre, hk_Vec3 half_dims, const hk_Vec3
  * borrowed. */
 HK_API hk_Shape hk_shape_field(const hk_DistanceField *field, double volume, double penalty);
 
+/* A set of collision shapes with the distance fields its mesh shapes borrow: data
+ * (docs/library.md), made by hk_collision_load (a collision file) or filled by
+ * hk_collision_add_mesh, released with hk_collision_free. The set owns what it made:
+ * the shapes array and every field in `fields`; copies of its shapes (hk_shapes_posed,
+ * a simulation's) borrow the fields and must not outlive it. A zeroed set is empty. */
+typedef struct hk_CollisionSet {
+    hk_Shape *shapes; /* count shapes, in head space */
+    int count;
+    hk_DistanceField **fields; /* field_count fields, each allocated alone so that adding a
+                                  mesh never moves the ones the shapes point to */
+    int field_count;
+} hk_CollisionSet;
+
+/* Appends a mesh as a body shape: its signed distance field (hk_distance_field_build
+ * with def; NULL: the defaults, a 2 mm grid in metres) becomes set's and the shape
+ * hk_shape_field(field, volume, penalty) is added after the others. The mesh is not
+ * kept. On error the set is unchanged. The collision files' `Mesh` lines and a setup's
+ * `HeadCollider` both come here (docs/file-formats.md). */
+HK_API hk_Status hk_collision_add_mesh(hk_CollisionSet *set, const hk_Mesh *mesh, const hk_DistanceFieldDef *def,
+                                       double volume, double penalty, hk_Error *err);
+
+/* Releases the shapes and the fields; the set is left empty. Safe on a zeroed or freed set. */
+HK_API void hk_collision_free(hk_CollisionSet *set);
+
 /* The shapes (head space) where the head's rigid state puts them: out[i] is shapes[i]
  * with its centre at R c + T and its axes turned by R (the rest unchanged). Body shapes
  * move with the head, world-space strands do not (docs/grooming.md). out[count] may not

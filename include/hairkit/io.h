@@ -60,10 +60,15 @@ HK_API hk_Status hk_hairstyle_copy(const hk_Hairstyle *src, hk_Hairstyle *dst, h
  *   Sphere    Volume Penalty Cx Cy Cz Radius
  *   Ellipsoid Volume Penalty Cx Cy Cz A B C Ux Uy Uz Vx Vy Vz Wx Wy Wz   (alias Elipsoid)
  *   Cuboid    Volume Penalty Cx Cy Cz A B C Ux Uy Uz Vx Vy Vz Wx Wy Wz
- * Axes are normalised; they must be mutually orthogonal within 1e-3. On success
- * *shapes is an array of *count shapes to be released with hk_free (NULL when the
- * file lists none). */
-HK_API hk_Status hk_collision_load(const char *path, hk_Shape **shapes, int *count, hk_Error *err);
+ *   Mesh      Volume Penalty PATH [Scale [Up]]                       (a hairkit addition)
+ * each with an optional last word Body or Styling. Axes are normalised; they must be
+ * mutually orthogonal within 1e-3. A Mesh line names an OBJ or PLY file relative to the
+ * collision file; the mesh, multiplied by Scale (default 1) and turned so that its Up
+ * axis (default +y) is +y, becomes a signed distance field (hk_collision_add_mesh, the
+ * default 2 mm grid), built after every line has been read. On success *out holds the
+ * shapes in file order (free with hk_collision_free); on error it is empty and err says
+ * file:line and what is wrong. */
+HK_API hk_Status hk_collision_load(const char *path, hk_CollisionSet *out, hk_Error *err);
 
 /* Visuality Info (thesis Appendix B): colours of the Kajiya-Kay hair shader. */
 typedef struct hk_Visuality {

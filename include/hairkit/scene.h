@@ -42,11 +42,9 @@ typedef struct hk_Scene {
     hk_Setup setup;
     unsigned parts; /* hk_ScenePart bits read (HK_SCENE_HAIR resolved) */
     hk_Hairstyle style;
-    hk_Shape *shapes;             /* the collision file's shapes, in head space, then the
-                                     head's field when the setup says HeadCollider */
-    hk_DistanceField *head_field; /* HeadCollider: the HeadModel's field (2 mm grid), which
-                                     the last shape borrows; NULL otherwise */
-    int shape_count;
+    hk_CollisionSet collision; /* the collision file's shapes, in head space, then the
+                                  HeadModel's field (2 mm grid) when the setup says
+                                  HeadCollider; the set owns the fields of its meshes */
     hk_Visuality visuality;
     hk_Mesh head; /* vertex_count 0 when there is none */
     hk_Mesh wick;

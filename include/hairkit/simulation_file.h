@@ -32,8 +32,9 @@ typedef struct hk_SimulationManifest {
     /* HairstyleHash, WickHash: FNV-1a 64 of the bytes of the two files the regrowth
      * reads, so that a rebuild after either changed is refused, not silently different */
     uint64_t hairstyle_hash, wick_hash;
-    /* CollisionHash: the same of the setup's collision file (has_collision 0: the setup
-     * has none), whose body shapes the hair is kept out of */
+    /* CollisionHash: the same of the setup's collision file, continued over the meshes
+     * its Mesh lines name (has_collision 0: the setup has none), whose body shapes the
+     * hair is kept out of */
     int has_collision;
     uint64_t collision_hash;
     /* The head's motion, which poses the body at frame k (t = k / Fps): either

@@ -133,8 +133,7 @@ hk_Status hk_import_run(const hk_ImportRunDef *def, hk_ImportRunReport *report, 
     memset(&hair, 0, sizeof hair);
     hk_Mesh head;
     memset(&head, 0, sizeof head);
-    hk_DistanceField field;
-    memset(&field, 0, sizeof field);
+    hk_CollisionSet body = {0};
     hk_ImportedGroom g;
     memset(&g, 0, sizeof g);
     hk_Error sub;
@@ -152,19 +151,13 @@ hk_Status hk_import_run(const hk_ImportRunDef *def, hk_ImportRunReport *report, 
     report->seconds_read = t1 - t0;
     report->points = hair.point_count;
     report->head_triangles = head.triangle_count;
-    hk_Shape body;
-    int body_count = 0;
     if (st == HK_OK && def->head) {
-        st = hk_distance_field_build(&head, NULL, &field, err);
-        if (st == HK_OK) {
-            body = hk_shape_field(&field, def->collider_volume, def->collider_penalty);
-            body_count = 1;
-            memcpy(report->field_size, field.size, sizeof field.size);
-        }
+        st = hk_collision_add_mesh(&body, &head, NULL, def->collider_volume, def->collider_penalty, err);
+        if (st == HK_OK) memcpy(report->field_size, body.fields[0]->size, sizeof report->field_size);
     }
     const double t2 = hk_seconds_now();
     report->seconds_field = t2 - t1;
-    if (st == HK_OK) st = hk_groom_import(&hair, body_count ? &body : NULL, body_count, &gd, &g, &report->groom, err);
+    if (st == HK_OK) st = hk_groom_import(&hair, body.shapes, body.count, &gd, &g, &report->groom, err);
     const double t3 = hk_seconds_now();
     char path[4096];
     if (st == HK_OK && def->head) {
@@ -191,7 +184,7 @@ hk_Status hk_import_run(const hk_ImportRunDef *def, hk_ImportRunReport *report, 
     report->seconds_write = hk_seconds_now() - t3;
     report->seconds = hk_seconds_now() - t0;
     hk_imported_groom_free(&g);
-    hk_distance_field_free(&field);
+    hk_collision_free(&body);
     hk_mesh_free(&head);
     hk_hair_free(&hair);
     return st;

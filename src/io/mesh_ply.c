@@ -12,6 +12,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "hairkit/mesh.h"
 #include "ply.h"
@@ -250,6 +251,12 @@ hk_Status hk_mesh_load(const char *path, hk_Mesh *mesh, hk_Error *err)
     if (!path) {
         memset(mesh, 0, sizeof *mesh);
         return hk_error_set(err, HK_ERR_INVALID, "no mesh file name");
+    }
+    /* A device or a FIFO (a collision file may name any path) would be read without end. */
+    struct stat sb;
+    if (stat(path, &sb) == 0 && !S_ISREG(sb.st_mode)) {
+        memset(mesh, 0, sizeof *mesh);
+        return hk_error_set(err, HK_ERR_IO, "%s: not a regular file", path);
     }
     if (ends_with_ply(path) || starts_with_ply(path)) return hk_ply_mesh_load(path, mesh, err);
     return hk_obj_load(path, mesh, err);

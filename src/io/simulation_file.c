@@ -57,11 +57,11 @@ void hk_simulation_manifest_free(hk_SimulationManifest *m)
     memset(m, 0, sizeof *m);
 }
 
-hk_Status hk_file_fingerprint(const char *path, uint64_t *out, hk_Error *err)
+hk_Status hk_file_fingerprint_more(const char *path, uint64_t *hash, hk_Error *err)
 {
     FILE *fp = fopen(path, "rb");
     if (!fp) return hk_error_set(err, HK_ERR_IO, "%s: cannot read: %s", path, strerror(errno));
-    uint64_t h = 0xcbf29ce484222325ull;
+    uint64_t h = *hash;
     unsigned char buf[65536];
     size_t n;
     while ((n = fread(buf, 1, sizeof buf, fp)) > 0)
@@ -69,8 +69,14 @@ hk_Status hk_file_fingerprint(const char *path, uint64_t *out, hk_Error *err)
     const int bad = ferror(fp);
     fclose(fp);
     if (bad) return hk_error_set(err, HK_ERR_IO, "%s: read error", path);
-    *out = h;
+    *hash = h;
     return HK_OK;
+}
+
+hk_Status hk_file_fingerprint(const char *path, uint64_t *out, hk_Error *err)
+{
+    *out = 0xcbf29ce484222325ull; /* FNV-1a 64's offset basis */
+    return hk_file_fingerprint_more(path, out, err);
 }
 
 /* 1 to 16 hex digits, nothing else. */

@@ -19,9 +19,7 @@ void hk_scene_free(hk_Scene *s)
     if (!s) return;
     hk_mesh_free(&s->wick);
     hk_mesh_free(&s->head);
-    hk_free(s->shapes);
-    if (s->head_field) hk_distance_field_free(s->head_field);
-    hk_free(s->head_field);
+    hk_collision_free(&s->collision);
     hk_hairstyle_free(&s->style);
     hk_setup_free(&s->setup);
     hk_free(s->setup_path);
@@ -29,27 +27,16 @@ void hk_scene_free(hk_Scene *s)
 }
 
 /* HeadCollider: the HeadModel's signed distance field appended to the shapes as a body
- * shape (docs/file-formats.md, "Setup file"). */
+ * shape (docs/file-formats.md, "Setup file"), as a collision file's Mesh line is. */
 static hk_Status add_head_collider(hk_Scene *s, hk_Error *err)
 {
     hk_Mesh head;
     hk_Status st = hk_mesh_load(s->setup.head_model, &head, err);
-    if (st != HK_OK) return st;
-    s->head_field = hk_calloc_array(1, sizeof *s->head_field, err);
-    hk_Shape *more = hk_alloc_array((size_t)s->shape_count + 1, sizeof *more, err);
-    if (!s->head_field || !more) st = HK_ERR_NOMEM;
-    if (st == HK_OK) st = hk_distance_field_build(&head, NULL, s->head_field, err);
+    if (st == HK_OK)
+        st = hk_collision_add_mesh(&s->collision, &head, NULL, s->setup.head_collider_volume,
+                                   s->setup.head_collider_penalty, err);
     hk_mesh_free(&head);
-    if (st != HK_OK) {
-        hk_free(more);
-        return st;
-    }
-    if (s->shape_count > 0) memcpy(more, s->shapes, (size_t)s->shape_count * sizeof *more);
-    more[s->shape_count] = hk_shape_field(s->head_field, s->setup.head_collider_volume, s->setup.head_collider_penalty);
-    hk_free(s->shapes);
-    s->shapes = more;
-    s->shape_count++;
-    return HK_OK;
+    return st;
 }
 
 /* The part of the scene bit `part` names: its file in the setup, and where it goes. */
@@ -63,7 +50,7 @@ static hk_Status load_part(hk_Scene *s, unsigned part, const char *setup_path, h
         s->style = hk_default_hairstyle();
         return hk_hairstyle_load(setup->hairstyle, &s->style, err);
     case HK_SCENE_COLLISION: {
-        hk_Status st = setup->collision ? hk_collision_load(setup->collision, &s->shapes, &s->shape_count, err) : HK_OK;
+        hk_Status st = setup->collision ? hk_collision_load(setup->collision, &s->collision, err) : HK_OK;
         return st == HK_OK && setup->head_collider ? add_head_collider(s, err) : st;
     }
     case HK_SCENE_VISUALITY:
@@ -87,12 +74,7 @@ static void drop_part(hk_Scene *s, unsigned part)
         s->style = hk_default_hairstyle();
         break;
     case HK_SCENE_COLLISION:
-        hk_free(s->shapes);
-        s->shapes = NULL;
-        s->shape_count = 0;
-        if (s->head_field) hk_distance_field_free(s->head_field);
-        hk_free(s->head_field);
-        s->head_field = NULL;
+        hk_collision_free(&s->collision);
         break;
     case HK_SCENE_VISUALITY:
         s->visuality = hk_default_visuality();
@@ -168,8 +150,8 @@ hk_Status hk_scene_hair(const hk_Scene *s, const hk_GroomDef *options, hk_HairFi
         st = hk_groom_check_size(&s->style.strand, &s->style.interpolation, &s->wick, options, NULL, &sub);
         if (st != HK_OK)
             return hk_error_set(err, st, "%s, %s: %s", s->setup.hairstyle, s->setup.wick_model, sub.message);
-        st = hk_groom_grow(&s->style.strand, &s->style.interpolation, s->shapes, s->shape_count, &s->wick, options,
-                           &groom, err);
+        st = hk_groom_grow(&s->style.strand, &s->style.interpolation, s->collision.shapes, s->collision.count, &s->wick,
+                           options, &groom, err);
         if (st == HK_OK) st = hk_groom_to_hair(&groom, &s->style.strand, hair, err);
         report->grown = st == HK_OK;
         report->guides = groom.guide_count;

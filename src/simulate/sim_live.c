@@ -37,8 +37,8 @@ static hk_Status regrow(hk_LiveSim *s, hk_Error *err)
     const hk_Scene *sc = s->scene;
     hk_hair_sim_guides(s->sim, s->groom.guides);
     const hk_RigidState head = hk_live_sim_head(s);
-    return hk_sim_grow_hair(&sc->style, sc->shapes, sc->shape_count, &head, &sc->wick, s->options.seed, s->threads,
-                            s->options.guides_only, 1, &s->groom, &s->hair, err);
+    return hk_sim_grow_hair(&sc->style, sc->collision.shapes, sc->collision.count, &head, &sc->wick, s->options.seed,
+                            s->threads, s->options.guides_only, 1, &s->groom, &s->hair, err);
 }
 
 hk_Status hk_live_sim_create(const hk_Scene *scene, const hk_LiveSimDef *options, hk_LiveSim **out, hk_Error *err)
@@ -62,8 +62,8 @@ hk_Status hk_live_sim_create(const hk_Scene *scene, const hk_LiveSimDef *options
     hk_HairSimDef so = hk_hair_sim_def_for(&scene->style);
     so.threads = s->threads;
     so.hair_contacts = o->hair_contacts;
-    hk_Status st =
-        hk_hair_sim_create(&scene->style, scene->shapes, scene->shape_count, &scene->wick, &so, &s->sim, err);
+    hk_Status st = hk_hair_sim_create(&scene->style, scene->collision.shapes, scene->collision.count, &scene->wick, &so,
+                                      &s->sim, err);
     if (st == HK_OK && (o->preroll > 0.0 || o->preroll_max > 0.0)) {
         /* As hairkit simulate: the groomed rest shape ignores guide-guide contacts, which
          * push neighbouring guides apart at first (hk_hair_sim_settle). */

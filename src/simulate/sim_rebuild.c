@@ -25,12 +25,19 @@ static void inputs_free(Inputs *in)
     hk_head_motion_destroy(in->motion);
 }
 
+typedef hk_Status (*Fingerprint)(const char *path, uint64_t *out, hk_Error *err);
+
 /* 1 if the file's fingerprint differs from the manifest's (or it cannot be read). */
-static int changed_since(const char *path, uint64_t hash, hk_Status *st, hk_Error *err)
+static int changed_since_by(Fingerprint fingerprint, const char *path, uint64_t hash, hk_Status *st, hk_Error *err)
 {
     uint64_t h = 0;
-    *st = hk_file_fingerprint(path, &h, err);
+    *st = fingerprint(path, &h, err);
     return *st == HK_OK && h != hash;
+}
+
+static int changed_since(const char *path, uint64_t hash, hk_Status *st, hk_Error *err)
+{
+    return changed_since_by(hk_file_fingerprint, path, hash, st, err);
 }
 
 static hk_Status load_motion(const hk_SimulationManifest *m, const char *manifest_path, Inputs *in, hk_Error *err)
@@ -70,7 +77,8 @@ static hk_Status load_inputs(const hk_SimulationManifest *m, const char *manifes
         changed = setup->wick_model;
     if (st == HK_OK && !changed && !setup->collision != !m->has_collision)
         changed = setup->collision ? setup->collision : m->setup;
-    if (st == HK_OK && !changed && setup->collision && changed_since(setup->collision, m->collision_hash, &st, err))
+    if (st == HK_OK && !changed && setup->collision &&
+        changed_since_by(hk_collision_fingerprint, setup->collision, m->collision_hash, &st, err))
         changed = setup->collision;
     if (changed)
         st = hk_error_set(err, HK_ERR_INVALID,
@@ -130,8 +138,8 @@ hk_Status hk_simulation_rebuild(const char *dir, long frame, int threads, hk_Hai
     if (st == HK_OK) {
         /* the body where the head was at this frame, as the run posed it */
         const hk_RigidState head = hk_sim_head_pose(in.motion, hk_sim_frame_time(frame, m.fps));
-        st = hk_sim_grow_hair(&in.scene.style, in.scene.shapes, in.scene.shape_count, &head, &in.scene.wick, m.seed,
-                              threads, 0, 0, &g, out, err);
+        st = hk_sim_grow_hair(&in.scene.style, in.scene.collision.shapes, in.scene.collision.count, &head,
+                              &in.scene.wick, m.seed, threads, 0, 0, &g, out, err);
     }
     hk_groom_free(&g);
     inputs_free(&in);

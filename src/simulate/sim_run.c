@@ -190,7 +190,7 @@ static hk_Status write_manifest(Run *r, const char *setup_path, hk_Error *err)
     if (st == HK_OK && r->scene.setup.wick_model)
         st = hk_file_fingerprint(r->scene.setup.wick_model, &m.wick_hash, err);
     m.has_collision = r->scene.setup.collision != NULL;
-    if (st == HK_OK && m.has_collision) st = hk_file_fingerprint(r->scene.setup.collision, &m.collision_hash, err);
+    if (st == HK_OK && m.has_collision) st = hk_collision_fingerprint(r->scene.setup.collision, &m.collision_hash, err);
     /* The motion poses the body of every frame: made again by the rebuild. */
     const hk_HeadMotionSource src = r->o->motion
                                         ? hk_head_motion_source(r->o->motion)
@@ -239,10 +239,10 @@ static hk_Status create_sim(Run *r, hk_Error *err)
     }
     so.progress = o->statics_progress;
     so.progress_user = o->statics_user;
-    hk_Status st = r->imported ? hk_hair_sim_create_imported(&r->scene.style, r->scene.shapes, r->scene.shape_count,
-                                                             &r->import, &so, &r->sim, err)
-                               : hk_hair_sim_create(&r->scene.style, r->scene.shapes, r->scene.shape_count,
-                                                    &r->scene.wick, &so, &r->sim, err);
+    hk_Status st = r->imported ? hk_hair_sim_create_imported(&r->scene.style, r->scene.collision.shapes,
+                                                             r->scene.collision.count, &r->import, &so, &r->sim, err)
+                               : hk_hair_sim_create(&r->scene.style, r->scene.collision.shapes,
+                                                    r->scene.collision.count, &r->scene.wick, &so, &r->sim, err);
     if (st == HK_OK && (o->preroll > 0.0 || o->preroll_max > 0.0)) {
         const hk_RigidState pose = hk_sim_head_pose(o->motion, 0.0);
         hk_SettleDef settle = hk_default_settle_def();
@@ -319,8 +319,8 @@ static void *frame_job(void *arg)
     const hk_SimRunDef *o = r->o;
     double t0 = omp_get_wtime();
     const hk_RigidState head = hk_sim_head_pose(o->motion, j->t);
-    j->st = hk_sim_grow_hair(&r->scene.style, r->scene.shapes, r->scene.shape_count, &head, &r->scene.wick, o->seed,
-                             j->threads, 0, 1, &j->groom, &j->hair, &j->err);
+    j->st = hk_sim_grow_hair(&r->scene.style, r->scene.collision.shapes, r->scene.collision.count, &head,
+                             &r->scene.wick, o->seed, j->threads, 0, 1, &j->groom, &j->hair, &j->err);
     j->seconds_regrow += omp_get_wtime() - t0;
     if (j->st == HK_OK && o->full_hair) {
         t0 = omp_get_wtime();
