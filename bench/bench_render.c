@@ -1,6 +1,7 @@
 /* Benchmark of the renderer (thesis 004 §4.1.5-4.1.6 on the CPU): the default head of
  * examples/default groomed once, then rendered at 64 x 48, 640 x 480 and 1920 x 1080
- * with deep opacity shadows, with 1 and 2 threads, the passes side by side. */
+ * with deep opacity shadows, with 1 and 2 threads, the passes side by side, and the
+ * texels a side of the light's maps each size gets (hk_render_shadow_map_texels). */
 #include <omp.h>
 #include <stdio.h>
 #include <string.h>
@@ -28,7 +29,7 @@ int hk_bench_render(FILE *out, const hk_BenchOptions *options)
     const int size_count = options->quick ? 2 : 3;
     fprintf(out, "render: examples/default, %u strands, %u points, Kajiya-Kay, deep opacity shadows\n",
             hair.strand_count, hair.point_count);
-    fprintf(out, "  picture    threads  light maps (s)  camera (s)  head+hair (s)   total (s)  hair fragments\n");
+    fprintf(out, "  picture    threads  map  light maps (s)  camera (s)  head+hair (s)   total (s)  hair fragments\n");
     for (int z = 0; z < size_count; z++) {
         const int width = sizes[z][0], height = sizes[z][1];
         double total[3] = {0, 0, 0};
@@ -54,8 +55,9 @@ int hk_bench_render(FILE *out, const hk_BenchOptions *options)
             total[threads] = best_total;
             char picture[24];
             snprintf(picture, sizeof picture, "%dx%d", width, height);
-            fprintf(out, "  %-10s %7d %15.3f %11.3f %14.3f %11.3f %15lld\n", picture, threads, best.seconds_light,
-                    best.seconds_camera, best.seconds_hair, best_total, best.hair_fragments);
+            fprintf(out, "  %-10s %7d %4d %15.3f %11.3f %14.3f %11.3f %15lld\n", picture, threads,
+                    hk_render_shadow_map_texels(&ro), best.seconds_light, best.seconds_camera, best.seconds_hair,
+                    best_total, best.hair_fragments);
         }
         fprintf(out, "  %dx%d: speed-up with 2 threads %.2fx\n", width, height, total[1] / total[2]);
     }

@@ -79,6 +79,10 @@ int hk_cli_output_file(const char *cmd, const char *option, const char *path, co
  * refused when it is a file, when it is named like a file hairkit writes (head.hair)
  * and does not exist, or when it cannot be made or written. 0 or HK_EXIT_USAGE. */
 int hk_cli_output_folder(const char *cmd, const char *option, const char *dir);
+/* The setup's SaveFile ('Save true'), checked as -o FILE is, once the setup is read and
+ * before the hair is grown: 0 when the setup does not save or the file may be written,
+ * else HK_EXIT_USAGE. */
+int hk_cli_setup_save_file(const char *cmd, const hk_Scene *scene);
 
 /* The section that ends every --help: "examples (...):" and one command a line, run
  * from the repository root on the bundled examples; lines starting with '#' explain

@@ -91,3 +91,11 @@ int hk_cli_output_folder(const char *cmd, const char *option, const char *dir)
         return hk_cli_usage_error(cmd, "%s %s: cannot write in this folder (%s)", option, dir, strerror(errno));
     return 0;
 }
+
+int hk_cli_setup_save_file(const char *cmd, const hk_Scene *scene)
+{
+    if (!scene->setup.save || !scene->setup.save_file) return 0;
+    char option[4200];
+    snprintf(option, sizeof option, "%s: SaveFile", scene->setup_path ? scene->setup_path : "the setup");
+    return hk_cli_output_file(cmd, option, scene->setup.save_file, NULL);
+}

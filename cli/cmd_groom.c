@@ -91,6 +91,12 @@ int hk_cmd_groom(int argc, char **argv)
         hk_scene_free(&scene);
         return hk_cli_usage_error(CMD, "no output: give -o OUT.hair (or 'Save true' in the setup)");
     }
+    /* SaveFile is written after the growing: a path that cannot be written is said now. */
+    const int save_rc = hk_cli_setup_save_file(CMD, &scene);
+    if (save_rc) {
+        hk_scene_free(&scene);
+        return save_rc;
+    }
     hk_CliProgress progress = {!quiet && hk_cli_stderr_is_tty(), "", -1};
     go.progress = hk_cli_progress;
     go.progress_user = &progress;

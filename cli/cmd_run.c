@@ -133,6 +133,12 @@ int hk_cmd_run(int argc, char **argv)
      * long work. */
     hk_Status st = hk_scene_load(argv[optind], HK_SCENE_RENDERING | HK_SCENE_HAIR, &scene, &err);
     if (st != HK_OK) return hk_cli_fail(CMD, &err);
+    /* SaveFile is written after the growing: a path that cannot be written is said now. */
+    const int save_rc = hk_cli_setup_save_file(CMD, &scene);
+    if (save_rc) {
+        hk_scene_free(&scene);
+        return save_rc;
+    }
     if (hair_tf.given && !scene.setup.load) {
         hk_scene_free(&scene);
         return hk_cli_usage_error(

@@ -15,7 +15,8 @@ void hk_cli_render_options_help(FILE *out)
                  "                     axis from the front of the face (+z) towards +x, and\n"
                  "                     elevation (default 35,12: three-quarter front)\n"
                  "  --light AZ,EL      direction of the key light, the same way (default -30,40)\n"
-                 "  --shadow-map N     texels per side of the light's maps (default 512)\n"
+                 "  --shadow-map N     texels per side of the light's maps (default: 512 from\n"
+                 "                     1200x900 up, less in proportion below, at least 64)\n"
                  "  --thickness D      strand diameter in scene units (default: the file's, or\n"
                  "                     70 um when the file's is not a hair's)\n");
 }

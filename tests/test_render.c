@@ -513,6 +513,10 @@ static void test_bad_options(void **state)
     assert_int_equal(hk_render(&h, NULL, &v, &o, &img, NULL, &err), HK_ERR_INVALID);
     hk_assert_contains(err.message, "picture size");
     o = hk_default_render_def();
+    o.shadow_map_size = 8; /* 0 is the picture's size; else 16 to 8192 */
+    assert_int_equal(hk_render(&h, NULL, &v, &o, &img, NULL, &err), HK_ERR_INVALID);
+    hk_assert_contains(err.message, "shadow map size");
+    o = hk_default_render_def();
     o.opacity_layers = 99;
     assert_int_equal(hk_render(&h, NULL, &v, &o, &img, NULL, &err), HK_ERR_INVALID);
     o = hk_default_render_def();
@@ -528,14 +532,74 @@ static void test_bad_options(void **state)
     hk_hair_free(&h);
 }
 
+/* The light's maps sized from the picture when shadow_map_size is 0 (the default;
+ * issue 18, item 4): the rule of hk_render_shadow_map_texels worked out by hand (512 x
+ * the larger of width / 1200 and height / 900, rounded up to a multiple of 32, 64 to
+ * 512), the picture drawn with the map it names, and full-size pictures the same bytes
+ * as with the 512 texels they always had. */
+static void test_shadow_map_from_picture(void **state)
+{
+    (void)state;
+    static const struct {
+        int width, height, texels;
+    } rule[] = {
+        {1200, 900, 512}, {1920, 1080, 512}, {600, 900, 512}, /* the height's scale is 1 */
+        {640, 480, 288},                                      /* 273.1 up to 288 */
+        {160, 120, 96},                                       /* 68.3 up to 96 */
+        {600, 450, 256},                                      /* exactly 256 */
+        {64, 48, 64},                                         /* 27.3: at least 64 */
+    };
+    hk_RenderDef o = hk_default_render_def();
+    assert_int_equal(o.shadow_map_size, 0);
+    for (size_t k = 0; k < sizeof rule / sizeof rule[0]; k++) {
+        o.width = rule[k].width, o.height = rule[k].height;
+        assert_int_equal(hk_render_shadow_map_texels(&o), rule[k].texels);
+    }
+    o.shadow_map_size = 300; /* given: kept */
+    assert_int_equal(hk_render_shadow_map_texels(&o), 300);
+
+    hk_HairFile h;
+    hk_Mesh ball;
+    make_scene(&h, &ball);
+    const size_t sizes[2][2] = {{160, 120}, {1200, 900}};
+    for (int z = 0; z < 2; z++) {
+        hk_Canvas automatic, given, full;
+        hk_RenderDef a = hk_default_render_def();
+        a.width = (int)sizes[z][0], a.height = (int)sizes[z][1], a.threads = 2;
+        hk_RenderDef g = a, f = a;
+        g.shadow_map_size = hk_render_shadow_map_texels(&a);
+        f.shadow_map_size = 512;
+        assert_int_equal(hk_render(&h, &ball, NULL, &a, &automatic, NULL, NULL), HK_OK);
+        assert_int_equal(hk_render(&h, &ball, NULL, &g, &given, NULL, NULL), HK_OK);
+        assert_int_equal(hk_render(&h, &ball, NULL, &f, &full, NULL, NULL), HK_OK);
+        const size_t n = 3 * sizes[z][0] * sizes[z][1] * sizeof(float);
+        assert_memory_equal(automatic.rgb, given.rgb, n);
+        if (z == 0) /* 96 texels, not 512: the shadows differ */
+            assert_memory_not_equal(automatic.rgb, full.rgb, n);
+        else /* full size: the pictures of before */
+            assert_memory_equal(automatic.rgb, full.rgb, n);
+        hk_canvas_free(&automatic);
+        hk_canvas_free(&given);
+        hk_canvas_free(&full);
+    }
+    hk_mesh_free(&ball);
+    hk_hair_free(&h);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_kajiya_kay_pixel),  cmocka_unit_test(test_shadow_from_occluder),
-        cmocka_unit_test(test_subpixel_coverage), cmocka_unit_test(test_scene_deterministic_finite_png),
-        cmocka_unit_test(test_depth_order),       cmocka_unit_test(test_fragment_key_sort),
-        cmocka_unit_test(test_renderer_reuse),    cmocka_unit_test(test_bad_options),
-        cmocka_unit_test(test_depth_order_empty), cmocka_unit_test(test_canvas_non_finite),
+        cmocka_unit_test(test_kajiya_kay_pixel),
+        cmocka_unit_test(test_shadow_from_occluder),
+        cmocka_unit_test(test_subpixel_coverage),
+        cmocka_unit_test(test_scene_deterministic_finite_png),
+        cmocka_unit_test(test_depth_order),
+        cmocka_unit_test(test_fragment_key_sort),
+        cmocka_unit_test(test_renderer_reuse),
+        cmocka_unit_test(test_bad_options),
+        cmocka_unit_test(test_depth_order_empty),
+        cmocka_unit_test(test_canvas_non_finite),
+        cmocka_unit_test(test_shadow_map_from_picture),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -179,7 +179,7 @@ static int run(hk_Viewer *v)
         !hk_gl_head_create(&v->wick, in->scene ? &in->scene->wick : NULL) || !hk_viewer_shapes_update(v, NULL))
         return 0;
     v->hair_dirty = 0; /* just uploaded */
-    if (!hk_gl_light_maps_create(&v->maps, in->render.shadow_map_size) ||
+    if (!hk_gl_light_maps_create(&v->maps, hk_render_shadow_map_texels(&in->render)) ||
         !hk_gl_target_create(&v->target, in->render.width, in->render.height, 4) ||
         !hk_gl_overlay_create(&v->overlay)) {
         fprintf(stderr, "hairkit view: the OpenGL driver cannot make the viewer's framebuffers or its text overlay\n");

@@ -51,7 +51,8 @@ typedef struct hk_RenderDef {
     double ambient_intensity;                  /* multiplies AmbientColor (thesis shader: 0.2); with dual
                                                   scattering the hair also reflects an ambient light of
                                                   twice this (the skin's) with its DiffuseColor */
-    int shadow_map_size;                       /* texels per side of the light's maps (default 512) */
+    int shadow_map_size;                       /* texels per side of the light's maps; 0 (default): from
+                                                  the picture's size (hk_render_shadow_map_texels) */
     int opacity_layers;                        /* K layers of the deep opacity map (thesis: 4) */
     double layer_size;                         /* depth of the first layer (m); layer k is 2^k times as deep
                                                   (<= 0: 2 mm) */
@@ -66,6 +67,13 @@ typedef struct hk_RenderDef {
 } hk_RenderDef;
 
 HK_API hk_RenderDef hk_default_render_def(void);
+
+/* The texels per side of the light's maps that options draws with: shadow_map_size
+ * when it is set, else the picture's: 512 at 1200 x 900 and above, and below that
+ * 512 times the larger of width / 1200 and height / 900, rounded up to a multiple of
+ * 32, at least 64 (a texel stays about as wide in pixels of the picture, so that a
+ * thumbnail does not pay for a full picture's shadows; docs/rendering.md, "Speed"). */
+HK_API int hk_render_shadow_map_texels(const hk_RenderDef *options);
 
 typedef struct hk_RenderStats {
     long long hair_fragments;  /* camera fragments kept (in front of the head) */

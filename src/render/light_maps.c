@@ -242,7 +242,7 @@ hk_Status hk_light_maps_build(const hk_Scene *scene, const uint8_t *segment_star
                               hk_RenderStats *stats, hk_Error *err)
 {
     const hk_RenderDef *o = scene->opt;
-    m->size = o->shadow_map_size;
+    m->size = hk_render_shadow_map_texels(o);
     m->layers = o->opacity_layers;
     const double first = o->layer_size > 0.0 ? o->layer_size : 0.002;
     double end = 0.0;

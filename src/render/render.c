@@ -28,7 +28,7 @@ hk_RenderDef hk_default_render_def(void)
     o.light_elevation_deg = 40.0;
     o.light_intensity = 1.0;
     o.ambient_intensity = 0.2;
-    o.shadow_map_size = 512;
+    o.shadow_map_size = 0; /* from the picture's size */
     o.opacity_layers = 4;
     o.layer_size = 0.0;
     o.scatter_floor = 0.25;
@@ -40,13 +40,33 @@ hk_RenderDef hk_default_render_def(void)
     return o;
 }
 
+/* The light's maps (deep opacity maps, Yuksel & Keyser 2008; Lansink 2010 §4.1.6) of a
+ * picture of the default 1200 x 900 have 512 texels a side, as they always had; a
+ * smaller picture gets a map as much smaller, so that a texel stays about as many of
+ * its pixels wide: shadow detail finer than a pixel does not show, and filling the
+ * 512 map (15 million fragments on the default head) was a third of a 64 x 48
+ * thumbnail's time (issue 18, item 4). Larger pictures keep 512: their pictures are
+ * those of before, and a larger map costs more than it shows (docs/rendering.md). */
+enum { FULL_MAP = 512, FULL_WIDTH = 1200, FULL_HEIGHT = 900, SMALLEST_MAP = 64, MAP_STEP = 32 };
+
+int hk_render_shadow_map_texels(const hk_RenderDef *o)
+{
+    if (o->shadow_map_size > 0) return o->shadow_map_size;
+    const double scale = fmax((double)o->width / FULL_WIDTH, (double)o->height / FULL_HEIGHT);
+    if (scale >= 1.0) return FULL_MAP;
+    const int steps = (int)ceil(FULL_MAP * scale / MAP_STEP - 1e-9);
+    const int texels = steps * MAP_STEP;
+    return texels < SMALLEST_MAP ? SMALLEST_MAP : texels;
+}
+
 hk_Status hk_render_check_options(const hk_RenderDef *o, hk_Error *err)
 {
     if (o->width < 8 || o->height < 8 || o->width > 16384 || o->height > 16384)
         return hk_error_set(err, HK_ERR_INVALID, "picture size %dx%d: each side must be 8 to 16384 pixels", o->width,
                             o->height);
-    if (o->shadows && (o->shadow_map_size < 16 || o->shadow_map_size > 8192))
-        return hk_error_set(err, HK_ERR_INVALID, "shadow map size %d: must be 16 to 8192", o->shadow_map_size);
+    if (o->shadows && o->shadow_map_size != 0 && (o->shadow_map_size < 16 || o->shadow_map_size > 8192))
+        return hk_error_set(err, HK_ERR_INVALID, "shadow map size %d: must be 16 to 8192 (or 0: from the picture)",
+                            o->shadow_map_size);
     if (o->shadows && (o->opacity_layers < 1 || o->opacity_layers > HK_MAX_OPACITY_LAYERS))
         return hk_error_set(err, HK_ERR_INVALID, "opacity layers %d: must be 1 to %d", o->opacity_layers,
                             HK_MAX_OPACITY_LAYERS);

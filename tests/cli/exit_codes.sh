@@ -52,6 +52,20 @@ expect 2 "$hk" convert "$tmp/head.hair" "$tmp/nodir/head.ply"
 expect 2 "$hk" helicoid trace "$src/examples/helicoid/curly.txt" -o "$tmp/nodir/curly.hair"
 [ -e "$tmp/nodir" ] && fail "a folder was made for an output file"
 
+# 2: the setup's SaveFile ('Save true') in a folder that does not exist, said before
+# the growing (it was written only after it), by groom without -o and by run.
+light_scene "$tmp/saving" "Save true" "SaveFile $tmp/nodir/saved.hair"
+expect 2 "$hk" groom "$tmp/saving/setup.txt"
+contains "$tmp/err" "SaveFile $tmp/nodir/saved.hair: no folder $tmp/nodir to write it in"
+no_work "groom with SaveFile in nodir"
+expect 2 "$hk" run "$tmp/saving/setup.txt" -o "$tmp/saving.png"
+no_work "run with SaveFile in nodir"
+[ -e "$tmp/saving.png" ] && fail "run drew the picture although SaveFile cannot be written"
+# ... and a SaveFile that can be written is written, without -o.
+light_scene "$tmp/saved" "Save true" "SaveFile saved.hair"
+expect 0 "$hk" groom "$tmp/saved/setup.txt" --quiet
+[ -s "$tmp/saved/saved.hair" ] || fail "groom with Save true wrote no SaveFile"
+
 # 2: simulate -o naming a file (it writes a folder of frames), before the settling.
 expect 2 "$hk" simulate "$g200" --frames 2 --fps 30 -o "$tmp/head.hair"
 contains "$tmp/err" "head.hair: is a file, not a folder"
