@@ -31,7 +31,8 @@ typedef struct FieldPoint {
 } FieldPoint;
 
 /* The field at (x, y, z) with continued psi. */
-static inline void rk4_field(const hk_Helicoid *k, double x, double y, double z, double psi, FieldPoint *f)
+static inline __attribute__((always_inline)) void rk4_field(const hk_Helicoid *k, double x, double y, double z,
+                                                            double psi, FieldPoint *f)
 {
     const double wr = 1.0 + k->kn * x - k->kt * y, wi = k->kt * x + k->kn * y;
     const double r2 = wr * wr + wi * wi;
