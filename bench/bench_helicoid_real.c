@@ -80,13 +80,24 @@ static void summarise(const hk_HelicoidFitReport *rep, long count, double *mean,
     *mean = sum / (double)count, *pieces = p / (double)count, *evaluations = e / (double)count;
 }
 
+/* Reads the groom and sizes the reports of the strands fitted (one in *every; *rep NULL
+ * when out of memory): 0, or 1 when the groom is absent or bad. */
+static int open_groom(FILE *out, const hk_BenchOptions *options, const Groom *g, hk_HairFile *hair, long *every,
+                      hk_HelicoidFitReport **rep)
+{
+    if (read_groom(out, options, g, g->file, hair)) return 1;
+    *every = options->quick ? g->quick : g->every;
+    const long n = ((long)hair->strand_count + *every - 1) / *every;
+    *rep = malloc((size_t)n * sizeof **rep);
+    return 0;
+}
+
 static void groom_row(FILE *out, const hk_BenchOptions *options, const Groom *g)
 {
     hk_HairFile hair = {0};
-    if (read_groom(out, options, g, g->file, &hair)) return;
-    const long every = options->quick ? g->quick : g->every;
-    const long n = ((long)hair.strand_count + every - 1) / every;
-    hk_HelicoidFitReport *rep = malloc((size_t)n * sizeof *rep);
+    long every;
+    hk_HelicoidFitReport *rep;
+    if (open_groom(out, options, g, &hair, &every, &rep)) return;
     long count = 0;
     const double t1 = rep ? fit_run(&hair, every, 1, rep, &count) : -1.0;
     const double t2 = rep ? fit_run(&hair, every, 2, rep, &count) : -1.0;
@@ -112,10 +123,9 @@ static const Groom grooms[] = {{"SintelHairOriginal-sintel_hair.16points.tfx", 1
 static void jacobian_rows(FILE *out, const hk_BenchOptions *options, const Groom *g)
 {
     hk_HairFile hair = {0};
-    if (read_groom(out, options, g, g->file, &hair)) return;
-    const long every = options->quick ? g->quick : g->every;
-    const long n = ((long)hair.strand_count + every - 1) / every;
-    hk_HelicoidFitReport *rep = malloc((size_t)n * sizeof *rep);
+    long every;
+    hk_HelicoidFitReport *rep;
+    if (open_groom(out, options, g, &hair, &every, &rep)) return;
     for (int derivative = 0; rep && derivative < 2; derivative++) {
         hk_CurveFitDef o = hk_default_helicoid_fit_def();
         if (!derivative) o.model_derivative = NULL;
