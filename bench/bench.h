@@ -61,6 +61,9 @@ int hk_bench_helicoid(FILE *out, const hk_BenchOptions *options);
 /* The same on real grooms (bench_helicoid_real.c): fits of Sintel, Bangs and Curly
  * (../shared/hair-data; skipped when absent) and Sintel rebuilt from one strand in ten. */
 int hk_bench_helicoid_real(FILE *out, const hk_BenchOptions *options);
+/* bench curvefit's rows on the same real grooms: the fitter with forward-difference
+ * Jacobians and with the helicoid's derivatives, one thread. */
+int hk_bench_curvefit_real(FILE *out, const hk_BenchOptions *options);
 
 /* Hair file input and output: the Sintel TressFX groom to .hair (../shared/hair-data;
  * skipped when absent), and 1 million strands of 32 points written and read as .hair

@@ -4,7 +4,8 @@
  * (kappa, tau) traced like the paper traces helicoids (forward Euler), standing in for
  * the helicoid model; the same machinery serves any model. Three sets: clean single
  * helices, clean two-piece strands (a split to find), and single helices with 0.1 mm
- * noise (the root frame has to be refined). */
+ * noise (the root frame has to be refined). Then real grooms with the helicoid model,
+ * forward-difference Jacobians against the model's derivatives (bench_helicoid_real.c). */
 #include <math.h>
 #include <omp.h>
 #include <stdint.h>
@@ -135,5 +136,5 @@ int hk_bench_curvefit(FILE *out, const hk_BenchOptions *options)
     fprintf(out, "NM: the paper's Nelder-Mead on the Frechet coupling; LM: Levenberg-Marquardt on point distances\n"
                  "target: >= 1000 fits/s on 2 cores for 30-vertex strands (the paper: about 5 per second)\n\n");
     hk_free(strands);
-    return rc;
+    return rc ? rc : hk_bench_curvefit_real(out, options);
 }

@@ -39,8 +39,10 @@ static int read_groom(FILE *out, const hk_BenchOptions *options, const Groom *g,
     return 0;
 }
 
-/* Fits strands 0, every, 2 every, ... on `threads`; the seconds, or -1 on failure. */
-static double fit_run(const hk_HairFile *hair, long every, int threads, hk_HelicoidFitReport *rep, long *count)
+/* Fits strands 0, every, 2 every, ... on `threads` with `options` (NULL: the defaults);
+ * the seconds, or -1 on failure. */
+static double fit_run_with(const hk_HairFile *hair, long every, int threads, const hk_CurveFitDef *options,
+                           hk_HelicoidFitReport *rep, long *count)
 {
     const long n = ((long)hair->strand_count + every - 1) / every;
     long *idx = malloc((size_t)n * sizeof *idx);
@@ -49,7 +51,7 @@ static double fit_run(const hk_HairFile *hair, long every, int threads, hk_Helic
     if (idx && fits) {
         for (long i = 0; i < n; i++) idx[i] = i * every;
         const double t0 = hk_seconds_now();
-        if (hk_helicoid_fit_strands(hair, idx, n, NULL, threads, NULL, NULL, fits, rep, NULL) == HK_OK)
+        if (hk_helicoid_fit_strands(hair, idx, n, options, threads, NULL, NULL, fits, rep, NULL) == HK_OK)
             seconds = hk_seconds_now() - t0;
     }
     *count = n;
@@ -58,39 +60,105 @@ static double fit_run(const hk_HairFile *hair, long every, int threads, hk_Helic
     return seconds;
 }
 
+static double fit_run(const hk_HairFile *hair, long every, int threads, hk_HelicoidFitReport *rep, long *count)
+{
+    return fit_run_with(hair, every, threads, NULL, rep, count);
+}
+
+/* Mean, worst and over-tolerance count of reports. */
+static void summarise(const hk_HelicoidFitReport *rep, long count, double *mean, double *worst, long *over,
+                      double *pieces, double *evaluations)
+{
+    const double tolerance = hk_default_helicoid_fit_def().tolerance;
+    double sum = 0.0, p = 0.0, e = 0.0;
+    *worst = 0.0, *over = 0;
+    for (long i = 0; i < count; i++) {
+        sum += rep[i].error, p += rep[i].pieces, e += (double)rep[i].evaluations;
+        *worst = rep[i].error > *worst ? rep[i].error : *worst;
+        *over += rep[i].error > tolerance;
+    }
+    *mean = sum / (double)count, *pieces = p / (double)count, *evaluations = e / (double)count;
+}
+
+/* Reads the groom and sizes the reports of the strands fitted (one in *every; *rep NULL
+ * when out of memory): 0, or 1 when the groom is absent or bad. */
+static int open_groom(FILE *out, const hk_BenchOptions *options, const Groom *g, hk_HairFile *hair, long *every,
+                      hk_HelicoidFitReport **rep)
+{
+    if (read_groom(out, options, g, g->file, hair)) return 1;
+    *every = options->quick ? g->quick : g->every;
+    const long n = ((long)hair->strand_count + *every - 1) / *every;
+    *rep = malloc((size_t)n * sizeof **rep);
+    return 0;
+}
+
 static void groom_row(FILE *out, const hk_BenchOptions *options, const Groom *g)
 {
     hk_HairFile hair = {0};
-    if (read_groom(out, options, g, g->file, &hair)) return;
-    const long every = options->quick ? g->quick : g->every;
-    const long n = ((long)hair.strand_count + every - 1) / every;
-    hk_HelicoidFitReport *rep = malloc((size_t)n * sizeof *rep);
+    long every;
+    hk_HelicoidFitReport *rep;
+    if (open_groom(out, options, g, &hair, &every, &rep)) return;
     long count = 0;
     const double t1 = rep ? fit_run(&hair, every, 1, rep, &count) : -1.0;
     const double t2 = rep ? fit_run(&hair, every, 2, rep, &count) : -1.0;
     if (t1 < 0.0 || t2 < 0.0) {
         fprintf(out, "  %-44s fitting failed\n", g->file);
     } else {
-        const double tolerance = hk_default_helicoid_fit_def().tolerance;
-        double sum = 0.0, worst = 0.0, pieces = 0.0;
-        long over = 0;
-        for (long i = 0; i < count; i++) {
-            sum += rep[i].error, pieces += rep[i].pieces;
-            worst = rep[i].error > worst ? rep[i].error : worst;
-            over += rep[i].error > tolerance;
-        }
+        double mean, worst, pieces, evaluations;
+        long over;
+        summarise(rep, count, &mean, &worst, &over, &pieces, &evaluations);
         fprintf(out, "  %-44s %6ld %9.1f %9.1f %9.3f %9.3f %6ld %7.2f\n", g->file, count, count / t1, count / t2,
-                1e3 * sum / count, 1e3 * worst, over, pieces / count);
+                1e3 * mean, 1e3 * worst, over, pieces);
     }
     free(rep);
     hk_hair_free(&hair);
 }
 
+static const Groom grooms[] = {{"SintelHairOriginal-sintel_hair.16points.tfx", 1.0, 38, 600},
+                               {"Bangs_100.hair", 0.001, 1, 10},
+                               {"Curly_100.ply", 0.001, 1, 10}};
+
+/* The fitter's Jacobians on a real groom, one thread: forward differences (param_count + 1
+ * traces each) against the helicoid's derivatives (one differentiated trace). */
+static void jacobian_rows(FILE *out, const hk_BenchOptions *options, const Groom *g)
+{
+    hk_HairFile hair = {0};
+    long every;
+    hk_HelicoidFitReport *rep;
+    if (open_groom(out, options, g, &hair, &every, &rep)) return;
+    for (int derivative = 0; rep && derivative < 2; derivative++) {
+        hk_CurveFitDef o = hk_default_helicoid_fit_def();
+        if (!derivative) o.model_derivative = NULL;
+        long count = 0;
+        const double t = fit_run_with(&hair, every, 1, &o, rep, &count);
+        if (t < 0.0) {
+            fprintf(out, "  %-44s fitting failed\n", g->file);
+            break;
+        }
+        double mean, worst, pieces, evaluations;
+        long over;
+        summarise(rep, count, &mean, &worst, &over, &pieces, &evaluations);
+        fprintf(out, "  %-44s %-11s %6ld %8.1f %9.0f %8.3f %8.3f %5ld\n", derivative ? "" : g->file,
+                derivative ? "derivative" : "differences", count, count / t, evaluations, 1e3 * mean, 1e3 * worst,
+                over);
+    }
+    free(rep);
+    hk_hair_free(&hair);
+}
+
+int hk_bench_curvefit_real(FILE *out, const hk_BenchOptions *options)
+{
+    fprintf(out, "curvefit on real grooms (../shared/hair-data, metres): helicoid fits, default options, 1 thread,\n"
+                 "  Jacobians by forward differences or by the model's derivatives (RK4 differentiated forward)\n"
+                 "  groom (one strand in k)                      jacobian    fitted   fits/s  calls/fit  mean mm "
+                 "worst mm  over\n");
+    for (size_t g = 0; g < sizeof grooms / sizeof *grooms; g++) jacobian_rows(out, options, &grooms[g]);
+    fprintf(out, "\n");
+    return 0;
+}
+
 int hk_bench_helicoid_real(FILE *out, const hk_BenchOptions *options)
 {
-    static const Groom grooms[] = {{"SintelHairOriginal-sintel_hair.16points.tfx", 1.0, 38, 600},
-                                   {"Bangs_100.hair", 0.001, 1, 10},
-                                   {"Curly_100.ply", 0.001, 1, 10}};
     fprintf(out, "helicoid fitting on real grooms (../shared/hair-data, in metres; default options):\n"
                  "  errors: mean leash of the Frechet coupling against the strand (mm); over: strands over\n"
                  "  the 0.2 mm tolerance. Issue 17: mean <= 0.25 mm, worst <= 2 mm, 200 fits/s per core\n"

@@ -10,6 +10,7 @@
 
 #include "hairkit/hair_formats.h"
 #include "hairkit/hairfile.h"
+#include "hairkit/helicoid_file.h"
 #include "hairkit/helicoid_fit.h"
 #include "hairkit/helicoid_hair.h"
 
@@ -345,6 +346,38 @@ static void test_bad_input(void **state)
     hk_helicoid_fitter_destroy(f);
 }
 
+/* The project's own curly example (examples/helicoid/curly.txt: eight pieces of 3 cm,
+ * k = (80, 0, 0, 0.4)) traced at its 0.5 mm step and fitted with the defaults: the
+ * reference is the file itself, eight pieces whose parameters the fit recovers. Issue 17
+ * asks 0.1 mm with about the pieces it was made with; a cut settled only three samples
+ * back from the longest acceptable prefix gave 16 pieces and 3.1 mm. */
+static void test_curly_example(void **state)
+{
+    (void)state;
+    hk_HelicoidSet set = {0};
+    hk_Error err;
+    assert_int_equal(hk_helicoid_file_load(HK_SOURCE_DIR "/examples/helicoid/curly.txt", &set, &err), HK_OK);
+    const hk_PHelicoid *h = &set.strands[0];
+    const int n = hk_phelicoid_point_count(h, set.step);
+    hk_Vec3 *pts = malloc((size_t)n * sizeof *pts);
+    assert_int_equal(hk_phelicoid_trace(h, set.step, NULL, NULL, pts, NULL, &err), HK_OK);
+    hk_HelicoidFitter *f = hk_helicoid_fitter_create(n, &err);
+    hk_PHelicoid fit;
+    hk_CurveFit report;
+    assert_int_equal(hk_helicoid_fit(f, pts, n, NULL, &fit, &report, &err), HK_OK);
+    print_message("  curly.txt (%d points): %d pieces, error %.2g mm\n", n, fit.piece_count, 1e3 * report.error);
+    assert_int_equal(fit.piece_count, h->piece_count);
+    assert_true(report.error <= 1e-4);
+    for (int p = 0; p < fit.piece_count; p++) {
+        assert_true(fabs(fit.length[p] - h->length[p]) <= 1e-6);
+        assert_true(fabs(fit.k[p].kt - h->k[p].kt) <= 0.01 * h->k[p].kt);
+        assert_true(fabs(fit.k[p].alpha - h->k[p].alpha) <= 0.01);
+    }
+    hk_helicoid_fitter_destroy(f);
+    free(pts);
+    hk_helicoid_set_free(&set);
+}
+
 /* Real grooms (../shared/hair-data, in metres): coarse strands that the fitter can cut only
  * in 2 pieces at their own points are fitted again resampled, and the better kept.
  * Issue 17 asks a mean error of at most 0.25 mm and a worst of at most 2 mm; the fit with
@@ -403,6 +436,7 @@ int main(void)
         cmocka_unit_test(test_fit_is_a_curve),
         cmocka_unit_test(test_lift_off_layouts),
         cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_curly_example),
         cmocka_unit_test(test_real_grooms),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

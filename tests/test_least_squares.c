@@ -23,6 +23,45 @@ static int rosenbrock(void *user, const double *x, double *r)
     return 0;
 }
 
+/* Its Jacobian, column-major: d r / d x0 = (-20 x0, -1), d r / d x1 = (10, 0). */
+static int rosenbrock_jacobian(void *user, const double *x, double *jac)
+{
+    (void)user;
+    jac[0] = -20.0 * x[0], jac[1] = -1.0, jac[2] = 10.0, jac[3] = 0.0;
+    return 0;
+}
+
+static int no_jacobian(void *user, const double *x, double *jac)
+{
+    (void)user, (void)x, (void)jac;
+    return 1;
+}
+
+/* A given Jacobian reaches the same minimum with one call per accepted point instead of
+ * the n residual calls of forward differences; a Jacobian that is not available falls
+ * back to the differences, and the result is the plain minimiser's to the bit. */
+static void test_given_jacobian(void **state)
+{
+    (void)state;
+    const double scale[2] = {1.0, 1.0};
+    double work[HK_LEAST_SQUARES_WORK(2, 2)];
+    double x[2] = {-1.2, 1.0}, y[2] = {-1.2, 1.0}, z[2] = {-1.2, 1.0};
+    Probe p = {0}, q = {0};
+    hk_MinimizeResult r, rd, rf;
+    assert_int_equal(
+        hk_least_squares_minimize_jac(2, 2, x, scale, rosenbrock, rosenbrock_jacobian, &p, NULL, work, &r, NULL),
+        HK_OK);
+    assert_true(r.converged);
+    hk_assert_near(x[0], 1.0, 1e-10);
+    hk_assert_near(x[1], 1.0, 1e-10);
+    assert_int_equal(hk_least_squares_minimize(2, 2, y, scale, rosenbrock, &q, NULL, work, &rd, NULL), HK_OK);
+    assert_true(p.calls < q.calls);
+    assert_int_equal(
+        hk_least_squares_minimize_jac(2, 2, z, scale, rosenbrock, no_jacobian, NULL, NULL, work, &rf, NULL), HK_OK);
+    assert_true(z[0] == y[0] && z[1] == y[1]);
+    print_message("  rosenbrock with its Jacobian: %ld residual calls (%ld with differences)\n", p.calls, q.calls);
+}
+
 static void test_rosenbrock(void **state)
 {
     (void)state;
@@ -194,11 +233,9 @@ static void test_bad_arguments(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_rosenbrock),
-        cmocka_unit_test(test_linear_fit),
-        cmocka_unit_test(test_exponential),
-        cmocka_unit_test(test_undefined_regions),
-        cmocka_unit_test(test_limits_and_determinism),
+        cmocka_unit_test(test_given_jacobian),    cmocka_unit_test(test_rosenbrock),
+        cmocka_unit_test(test_linear_fit),        cmocka_unit_test(test_exponential),
+        cmocka_unit_test(test_undefined_regions), cmocka_unit_test(test_limits_and_determinism),
         cmocka_unit_test(test_bad_arguments),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -99,6 +99,11 @@ HK_API hk_Status hk_nelder_mead_minimize(int n, double *x, const double *scale, 
  * step is then rejected, like one that does not lower the cost). */
 typedef int (*hk_ResidualFn)(void *user, const double *x, double *residuals);
 
+/* The Jacobian of the residuals at x: jac (m x n, column-major: column j at jac + j m)
+ * gets d r_i / d x_j; returns 0, or non-zero where it is not available (forward
+ * differences are then taken). */
+typedef int (*hk_JacobianFn)(void *user, const double *x, double *jac);
+
 typedef struct hk_LeastSquaresDef {
     long max_evaluations; /* hard limit on calls of r (>= n + 2) */
     double x_tolerance;   /* stop when every |step_j| <= x_tolerance * |scale_j| ... */
@@ -125,6 +130,13 @@ HK_API hk_Status hk_least_squares_minimize(int n, int m, double *x, const double
                                            const hk_LeastSquaresDef *options, double *work, hk_MinimizeResult *result,
                                            hk_Error *err);
 
+/* The same with the Jacobian given by jac (NULL: forward differences), called once per
+ * accepted point instead of the n traces of the differences; result->evaluations counts
+ * a call of jac as one evaluation. */
+HK_API hk_Status hk_least_squares_minimize_jac(int n, int m, double *x, const double *scale, hk_ResidualFn f,
+                                               hk_JacobianFn jac, void *user, const hk_LeastSquaresDef *options,
+                                               double *work, hk_MinimizeResult *result, hk_Error *err);
+
 /* ---- curve models ------------------------------------------------------------------- */
 
 /* A pose on a curve: position and frame. The frame's columns are the unit tangent, the
@@ -146,6 +158,17 @@ typedef struct hk_CurveStart {
  * out_points. */
 typedef int (*hk_CurveModelFn)(void *user, const double *params, const hk_CurveStart *start, double length, int count,
                                hk_Vec3 *out_points, hk_CurveStart *end);
+
+/* A model's derivatives: traces as the model does (the same points and end pose, up to
+ * rounding) and also d_points[j * count + i] = d out_points[i] / d params[j] and
+ * d_end_tangent[j] = d (column 0 of end->frame) / d params[j], the start pose held
+ * fixed (the fitter adds the start pose's own dependence on the parameters, for
+ * models that are equivariant: a start pose turned about its position turns the whole
+ * trace with it, as curves defined in their start frame are). 0 on success, non-zero
+ * where the model fails. */
+typedef int (*hk_CurveModelDerivFn)(void *user, const double *params, const hk_CurveStart *start, double length,
+                                    int count, hk_Vec3 *out_points, hk_CurveStart *end, hk_Vec3 *d_points,
+                                    hk_Vec3 *d_end_tangent);
 
 /* A model: the discrete Frenet helix, params (kappa, tau) in 1/m, traced like the paper
  * traces helicoids (forward Euler, eq. 3): each step moves length / (count - 1) along T,
@@ -251,6 +274,10 @@ typedef struct hk_CurveFitDef {
      * the estimated pose, before root_frame): tried as a starting point beside `seed`
      * and the fits of overlapping ranges. */
     void (*fragment_seed)(void *user, const hk_Vec3 *points, int count, const hk_CurveStart *start, double *params);
+    /* NULL, or the model's derivatives (hk_CurveModelDerivFn): Levenberg-Marquardt then
+     * takes its Jacobian from one differentiated trace instead of param_count + 1 traces
+     * of forward differences. The model must be equivariant (see there). */
+    hk_CurveModelDerivFn model_derivative;
     int refine_start; /* 1: a first piece that misses the tolerance in the root
                          frame is refitted with a rotation of that frame (3 more
                          Nelder-Mead parameters), for noisy captures whose first

@@ -13,7 +13,8 @@ extern "C" {
 #endif
 
 /* The fitter's defaults for hair: curvefit's (Levenberg-Marquardt, tolerance 0.2 mm) with
- * arc_length = 1 (pieces are traced at arc-length spacing); and the seed and initial steps
+ * arc_length = 1 (pieces are traced at arc-length spacing) and the model's derivatives
+ * (hk_helicoid_piece_derivative); and the seed and initial steps
  * of the helicoid parameters (k_T, k_N, k_B, alpha) for a strand of the given length:
  * straight to start, steps of a quarter turn over the strand's length. */
 HK_API hk_CurveFitDef hk_default_helicoid_fit_def(void);
@@ -39,6 +40,14 @@ HK_API hk_Status hk_helicoid_fit(hk_HelicoidFitter *f, const hk_Vec3 *points, in
  * user is the fitter. Non-zero for the refused parameters above. */
 HK_API int hk_helicoid_piece_model(void *user, const double *params, const hk_CurveStart *start, double length,
                                    int count, hk_Vec3 *out_points, hk_CurveStart *end);
+
+/* Its derivatives with respect to the params (curvefit.h, hk_CurveModelDerivFn): the
+ * piece traced by RK4 with one tangent per parameter (the model itself uses a closed form
+ * where alpha = 0: the two traces then agree to RK4's error). hk_default_helicoid_fit_def
+ * sets it as options.model_derivative (NULL: forward differences). */
+HK_API int hk_helicoid_piece_derivative(void *user, const double *params, const hk_CurveStart *start, double length,
+                                        int count, hk_Vec3 *out_points, hk_CurveStart *end, hk_Vec3 *d_points,
+                                        hk_Vec3 *d_end_tangent);
 
 #ifdef __cplusplus
 }

@@ -109,6 +109,14 @@ void hk_helicoid_piece_rk4(const hk_HelicoidPiece *pc, hk_Vec3 *p, hk_HelicoidAn
  * z = const); exact. */
 void hk_helicoid_piece_planar(const hk_HelicoidPiece *pc, hk_Vec3 *p, hk_HelicoidAngles *a, const hk_HelicoidSink *out);
 
+/* RK4 from the local origin (theta = 0) over `length` in `steps` output steps, with the
+ * derivatives of the trace with respect to k = (k_T, k_N, k_B, alpha) (piece_rk4_tangent.c):
+ * points[0..steps] local positions (the same steps and substeps as hk_helicoid_piece_rk4),
+ * d_points[j * (steps + 1) + i] = d points[i] / d k_j, end the angles at the last point
+ * and d_end_tangent[j] the derivative of its tangent E_T (local). */
+void hk_helicoid_piece_rk4_tangent(const hk_Helicoid *k, double length, int steps, hk_Vec3 *points, hk_Vec3 *d_points,
+                                   hk_HelicoidAngles *end, hk_Vec3 *d_end_tangent);
+
 /* Steps of a piece of length `length` with the largest step `step`: ceil(length / step) with a
  * 1e-12 relative tolerance; -1 when not finite or above HK_HELICOID_MAX_POINTS. */
 int hk_helicoid_piece_steps(double length, double step);

@@ -13,8 +13,8 @@
  *   gain ratio rho = (F(x) - F(x + h)) / (L(0) - L(h)),  L(0) - L(h) = h^T (mu D h - g) / 2
  *   rho > 0: accept, mu *= max(1/3, 1 - (2 rho - 1)^3), nu = 2
  *   else:    mu *= nu, nu *= 2.
- * The Jacobian is taken by forward differences (the residuals are traces of a curve
- * model, smooth in the parameters, with no derivative of their own).
+ * The Jacobian is the caller's when it has one (a curve model differentiated along its
+ * trace, helicoid_fit.c), else taken by forward differences.
  * Deterministic; allocates nothing (the caller passes the work memory). */
 #include <math.h>
 #include <string.h>
@@ -37,6 +37,7 @@ hk_LeastSquaresDef hk_default_least_squares_def(void)
 typedef struct Run {
     int n, m;
     hk_ResidualFn f;
+    hk_JacobianFn jac;
     void *user;
     long evaluations, max_evaluations;
 } Run;
@@ -60,6 +61,12 @@ static double half_norm2(const double *r, int m) { return 0.5 * hk_dot(r, r, m);
  * the model fail is tried backwards. 0 on success. */
 static int jacobian(Run *run, const double *x, const double *r, const double *scale, double *jac, double *trial)
 {
+    if (run->jac) {
+        run->evaluations++;
+        int ok = run->jac(run->user, x, jac) == 0;
+        for (size_t i = 0; ok && i < (size_t)run->n * (size_t)run->m; i++) ok = isfinite(jac[i]);
+        if (ok) return 0;
+    }
     double xt[NMAX];
     memcpy(xt, x, (size_t)run->n * sizeof(double));
     for (int j = 0; j < run->n; j++) {
@@ -126,10 +133,17 @@ hk_Status hk_least_squares_minimize(int n, int m, double *x, const double *scale
                                     const hk_LeastSquaresDef *options, double *work, hk_MinimizeResult *result,
                                     hk_Error *err)
 {
+    return hk_least_squares_minimize_jac(n, m, x, scale, f, NULL, user, options, work, result, err);
+}
+
+hk_Status hk_least_squares_minimize_jac(int n, int m, double *x, const double *scale, hk_ResidualFn f,
+                                        hk_JacobianFn jac_fn, void *user, const hk_LeastSquaresDef *options,
+                                        double *work, hk_MinimizeResult *result, hk_Error *err)
+{
     const hk_LeastSquaresDef o = options ? *options : hk_default_least_squares_def();
     hk_Status st = check_args(n, m, x, scale, f, work, options, err);
     if (st != HK_OK) return st;
-    Run run = {n, m, f, user, 0, o.max_evaluations};
+    Run run = {n, m, f, jac_fn, user, 0, o.max_evaluations};
     double *r = work, *r_new = r + m, *trial = r_new + m, *jac = trial + m;
     double a[NMAX * NMAX], l[NMAX * NMAX], g[NMAX], d[NMAX], h[NMAX], x_new[NMAX];
     hk_MinimizeResult res = {0.0, 0, 0, 0};
@@ -141,7 +155,9 @@ hk_Status hk_least_squares_minimize(int n, int m, double *x, const double *scale
     double cost = half_norm2(r, m), mu = 1e-3, nu = 2.0;
     int fresh = 0;  /* 1 when a, g hold the normal equations at x */
     int stalls = 0; /* accepted steps in a row that gained nearly nothing */
-    while (run.evaluations + n + 1 <= run.max_evaluations) {
+    /* Room for a Jacobian and a trial step. */
+    const long per_step = jac_fn ? 2 : n + 1;
+    while (run.evaluations + per_step <= run.max_evaluations) {
         if (!fresh) {
             if (jacobian(&run, x, r, scale, jac, trial) != 0) break;
             normal_equations(&run, jac, r, a, g);

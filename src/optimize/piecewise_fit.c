@@ -69,7 +69,8 @@ hk_CurveFitWorkspace *hk_curve_fit_workspace_create(int max_samples, hk_Error *e
     ws->diff = ws->prefix ? hk_alloc_array(n, sizeof(double), err) : NULL;
     ws->lsq =
         ws->diff ? hk_alloc_array(HK_LEAST_SQUARES_WORK(POLISH_PARAMS, CHAIN_RESIDUALS(n)), sizeof(double), err) : NULL;
-    if (!ws->lsq) {
+    ws->dtrace = ws->lsq ? hk_alloc_array((size_t)MAXP * n, sizeof(hk_Vec3), err) : NULL;
+    if (!ws->dtrace) {
         hk_curve_fit_workspace_destroy(ws);
         return NULL;
     }
@@ -87,6 +88,7 @@ void hk_curve_fit_workspace_destroy(hk_CurveFitWorkspace *ws)
     hk_free(ws->prefix);
     hk_free(ws->diff);
     hk_free(ws->lsq);
+    hk_free(ws->dtrace);
     hk_free(ws);
 }
 /* ---- entry points ----------------------------------------------------------------------- */

@@ -26,6 +26,7 @@ struct hk_CurveFitWorkspace {
     double *prefix;  /* coupling of growing fragments */
     double *diff;    /* bend differences */
     double *lsq;     /* Levenberg-Marquardt work memory */
+    hk_Vec3 *dtrace; /* MAXP * capacity: the trace's derivatives (model_derivative) */
 };
 
 typedef struct Piece {
