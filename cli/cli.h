@@ -129,6 +129,7 @@ enum {
     HK_OPT_VIEW,
     HK_OPT_LIGHT,
     HK_OPT_SHADOW_MAP,
+    HK_OPT_ALL_STRANDS,
     HK_OPT_THICKNESS
 };
 #define HK_CLI_RENDER_LONG_OPTIONS                                                                                     \
@@ -137,6 +138,7 @@ enum {
         {"view", required_argument, NULL, HK_OPT_VIEW}, {"light", required_argument, NULL, HK_OPT_LIGHT},              \
         {"scattering", required_argument, NULL, HK_OPT_SCATTERING},                                                    \
         {"shadow-map", required_argument, NULL, HK_OPT_SHADOW_MAP},                                                    \
+        {"all-strands", no_argument, NULL, HK_OPT_ALL_STRANDS},                                                        \
     {                                                                                                                  \
         "thickness", required_argument, NULL, HK_OPT_THICKNESS                                                         \
     }

@@ -18,7 +18,10 @@ void hk_cli_render_options_help(FILE *out)
                  "  --shadow-map N     texels per side of the light's maps (default: 512 from\n"
                  "                     1200x900 up, less in proportion below, at least 64)\n"
                  "  --thickness D      strand diameter in scene units (default: the file's, or\n"
-                 "                     70 um when the file's is not a hair's)\n");
+                 "                     70 um when the file's is not a hair's)\n"
+                 "  --all-strands      draw every strand: by default, where strands are under a\n"
+                 "                     quarter pixel wide (thumbnails), one in k is drawn k times\n"
+                 "                     as wide (the same coverage, k times faster)\n");
 }
 
 int hk_cli_parse_pair(const char *text, double *a, double *b)
@@ -45,6 +48,9 @@ int hk_cli_render_option(const char *cmd, int option, const char *value, hk_Rend
         return 0;
     case HK_OPT_NO_SHADOWS:
         o->shadows = 0;
+        return 0;
+    case HK_OPT_ALL_STRANDS:
+        o->strand_lod = 0;
         return 0;
     case HK_OPT_SHADING:
         if (!strcmp(value, "kajiya-kay") || !strcmp(value, "kajiya"))
@@ -94,4 +100,9 @@ void hk_cli_report_render(const char *cmd, const char *path, const hk_RenderDef 
             "head and hair %.2f s (%lld fragments, up to %d in a pixel)\n",
             cmd, path, o->width, o->height, s->seconds_light, s->light_fragments, s->seconds_camera, s->seconds_hair,
             s->hair_fragments, s->max_depth_complexity);
+    if (s->strand_stride > 1)
+        fprintf(stderr,
+                "hairkit %s: strands under a quarter pixel wide: one in %d drawn, %d times as wide "
+                "(--all-strands draws every one)\n",
+                cmd, s->strand_stride, s->strand_stride);
 }

@@ -65,10 +65,10 @@ static void build_maps(const hk_HairFile *h, const hk_RenderDef *o, hk_LightMaps
     sc.lo = hk_v3(-0.05, -0.02, -0.05), sc.hi = hk_v3(0.05, 0.0, 0.05);
     sc.thickness = h->default_thickness;
     sc.threads = hk_render_threads(o);
-    hk_scene_thickness(&sc);
+    hk_scene_thickness(&sc, 1);
     uint8_t *seg = malloc(h->point_count);
     assert_non_null(seg);
-    sc.segment_count = hk_segment_starts(h, seg, sc.threads);
+    sc.segment_count = hk_segment_starts(h, 1, seg, sc.threads);
     memset(m, 0, sizeof *m);
     hk_Error err;
     assert_int_equal(hk_light_maps_build(&sc, seg, m, NULL, &err), HK_OK);

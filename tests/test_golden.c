@@ -216,7 +216,8 @@ static hk_RenderDef options(hk_Shading shading, int shadows, hk_Scattering scatt
      * size since issue 18; these pictures watch the shading and the shadows, and
      * test_render the map's size). */
     o.shadow_map_size = 512;
-    o.azimuth_deg = 140.0, o.elevation_deg = 15.0;             /* from behind, on the hair */
+    o.strand_lod = 0;                              /* every strand, as stored (the level of detail: test_render) */
+    o.azimuth_deg = 140.0, o.elevation_deg = 15.0; /* from behind, on the hair */
     o.light_azimuth_deg = 160.0, o.light_elevation_deg = 40.0; /* over the camera's shoulder */
     return o;
 }

@@ -219,12 +219,12 @@ static void test_shadow_from_occluder(void **state)
     hk_RenderDef o = plain_options(96);
     o.light_azimuth_deg = 0.0, o.light_elevation_deg = 90.0;
     hk_LightMaps maps = {0};
-    hk_Scene scene = {&cover, NULL, NULL, &o, hk_v3(0, 1, 0), hk_v3_zero(), hk_v3_zero(), 0.01, 0, NULL, 0.0, 1};
+    hk_Scene scene = {&cover, NULL, NULL, &o, hk_v3(0, 1, 0), hk_v3_zero(), hk_v3_zero(), 0.01, 0, NULL, 0.0, 1, 1.0};
     assert_int_equal(hk_scene_bounds(&scene, NULL), HK_OK);
-    hk_scene_thickness(&scene);
+    hk_scene_thickness(&scene, 1);
     uint8_t *starts = malloc(cover.point_count);
     assert_non_null(starts);
-    hk_segment_starts(&cover, starts, 1);
+    hk_segment_starts(&cover, 1, starts, 1);
     assert_int_equal(hk_light_maps_build(&scene, starts, &maps, NULL, NULL), HK_OK);
     double head_visible, opacity;
     hk_light_lookup(&maps, hk_v3(0, 0, 0), &head_visible, &opacity);
@@ -586,6 +586,80 @@ static void test_shadow_map_from_picture(void **state)
     hk_hair_free(&h);
 }
 
+/* The level of detail (hk_render_strand_stride; Cook et al. 2007's stochastic
+ * simplification): the stride follows the rule the header states, recomputed here
+ * from the camera's fitted distance; every strand is drawn when asked, for a full-size
+ * picture and for few strands; a thumbnail drawn with one strand in k keeps the
+ * picture's mean brightness (the coverage is kept on average) with k times fewer
+ * fragments, and the same bytes for 1 and 2 threads. */
+static void test_strand_level_of_detail(void **state)
+{
+    (void)state;
+    hk_HairFile h;
+    const int strands = 20000;
+    make_strands(&h, strands, 8, 0.25, 2.5e-5, 0.0); /* a sheet 50 cm by 50 cm */
+    h.default_thickness = 8e-5f;
+    const struct {
+        int width, height;
+    } sizes[] = {{64, 48}, {160, 120}, {320, 240}, {1200, 900}, {4000, 3000}};
+    int strides[5];
+    for (size_t z = 0; z < 5; z++) {
+        hk_RenderDef o = hk_default_render_def();
+        o.width = sizes[z].width, o.height = sizes[z].height;
+        hk_Vec3 target;
+        double distance;
+        assert_int_equal(hk_render_fit_camera(&h, NULL, &o, &target, &distance, NULL), HK_OK);
+        const double focal = 0.5 * o.height / tan(0.5 * o.fov_deg * HK_PI / 180.0);
+        const double pixels = 8e-5 * focal / distance; /* the strand's width at the target */
+        double expected = pixels >= 0.25 ? 1.0 : fmin(fmin(floor(0.25 / pixels), 64.0), strands / 1000.0);
+        strides[z] = hk_render_strand_stride(&h, NULL, &o, NULL);
+        print_message("%dx%d: a strand %.4f pixels wide, one in %d drawn\n", o.width, o.height, pixels, strides[z]);
+        assert_int_equal(strides[z], (int)fmax(expected, 1.0));
+        o.strand_lod = 0;
+        assert_int_equal(hk_render_strand_stride(&h, NULL, &o, NULL), 1);
+    }
+    assert_true(strides[0] == 20 && strides[4] == 1); /* not vacuous: both ends of the rule */
+    /* A picture of the sheet, lit from the front, at 64 x 48. */
+    hk_RenderDef o = hk_default_render_def();
+    o.width = 64, o.height = 48;
+    o.azimuth_deg = 0.0, o.elevation_deg = 0.0, o.light_azimuth_deg = 20.0, o.light_elevation_deg = 30.0;
+    hk_RenderDef all = o;
+    all.strand_lod = 0;
+    hk_Canvas lod[2], every;
+    hk_RenderStats s_lod, s_every;
+    for (int t = 0; t < 2; t++) {
+        o.threads = t + 1;
+        assert_int_equal(hk_render(&h, NULL, NULL, &o, &lod[t], &s_lod, NULL), HK_OK);
+    }
+    assert_int_equal(hk_render(&h, NULL, NULL, &all, &every, &s_every, NULL), HK_OK);
+    const size_t n = 3 * 64 * 48;
+    assert_memory_equal(lod[0].rgb, lod[1].rgb, n * sizeof(float));
+    assert_int_equal(s_lod.strand_stride, strides[0]);
+    assert_int_equal(s_every.strand_stride, 1);
+    /* the background's pixels are the same; the hair's mean is kept */
+    double sum_lod = 0.0, sum_every = 0.0, background = 0.0;
+    for (size_t i = 0; i < n; i++) sum_lod += lod[0].rgb[i], sum_every += every.rgb[i];
+    for (size_t i = 0; i < 3; i++) background += every.rgb[i]; /* the top-left corner: background */
+    print_message("64x48: mean %.5f with one strand in %d, %.5f with every one; fragments %lld against %lld\n",
+                  sum_lod / (double)n, s_lod.strand_stride, sum_every / (double)n, s_lod.hair_fragments,
+                  s_every.hair_fragments);
+    assert_true(fabs(sum_lod - sum_every) <= 0.01 * sum_every);
+    assert_true(s_lod.hair_fragments * strides[0] <= 2 * s_every.hair_fragments);
+    assert_true(background > 0.0);
+    hk_canvas_free(&lod[0]);
+    hk_canvas_free(&lod[1]);
+    hk_canvas_free(&every);
+    /* few strands: every one drawn */
+    hk_HairFile few;
+    make_strands(&few, 1500, 8, 0.05, 6e-5, 0.0);
+    few.default_thickness = 8e-5f;
+    hk_RenderDef small = hk_default_render_def();
+    small.width = 64, small.height = 48;
+    assert_int_equal(hk_render_strand_stride(&few, NULL, &small, NULL), 1);
+    hk_hair_free(&few);
+    hk_hair_free(&h);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -600,6 +674,7 @@ int main(void)
         cmocka_unit_test(test_depth_order_empty),
         cmocka_unit_test(test_canvas_non_finite),
         cmocka_unit_test(test_shadow_map_from_picture),
+        cmocka_unit_test(test_strand_level_of_detail),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

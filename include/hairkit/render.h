@@ -62,6 +62,10 @@ typedef struct hk_RenderDef {
     double hair_thickness;                     /* strand diameter in scene units; <= 0: from the file */
     double strand_variation;                   /* each strand's brightness varies by up to this fraction
                                                   (default 0.15) */
+    int strand_lod;                            /* 1 (default): where strands are much thinner than a pixel,
+                                                  one in k of them drawn k times as wide
+                                                  (hk_render_strand_stride; docs/rendering.md, "Speed");
+                                                  0: every strand */
     hk_Vec3 background_top, background_bottom; /* vertical gradient, linear RGB */
     hk_Vec3 skin;                              /* diffuse colour of the head, linear RGB */
 } hk_RenderDef;
@@ -75,10 +79,22 @@ HK_API hk_RenderDef hk_default_render_def(void);
  * thumbnail does not pay for a full picture's shadows; docs/rendering.md, "Speed"). */
 HK_API int hk_render_shadow_map_texels(const hk_RenderDef *options);
 
+/* The level of detail a picture is drawn with (stochastic simplification, Cook,
+ * Halstead, Planck and Ryu, "Stochastic Simplification of Aggregate Detail", SIGGRAPH
+ * 2007): k >= 1, one strand in k drawn, each k times as wide, so that a pixel's hair
+ * covers as much of it on average. k = 1 unless options->strand_lod is set and a
+ * strand's projected width at the camera's target is under 1/4 pixel: then the
+ * largest k that keeps it under 1/4 (k = 1 for the default head at 1200 x 900), at most
+ * 64 and at most strands / 1000. `hair` and `head` as for hk_render. Returns 0 and sets
+ * err on bad options or non-finite points. */
+HK_API int hk_render_strand_stride(const hk_HairFile *hair, const hk_Mesh *head, const hk_RenderDef *options,
+                                   hk_Error *err);
+
 typedef struct hk_RenderStats {
     long long hair_fragments;  /* camera fragments kept (in front of the head) */
     long long light_fragments; /* fragments drawn into the deep opacity map */
     int max_depth_complexity;  /* most fragments in one pixel */
+    int strand_stride;         /* the level of detail: one strand in this many drawn */
     double seconds_light;      /* the light's maps */
     double seconds_camera;     /* framing and projecting */
     double seconds_hair;       /* head and hair, tile by tile, with the shading */

@@ -34,6 +34,7 @@ hk_RenderDef hk_default_render_def(void)
     o.scatter_floor = 0.25;
     o.hair_thickness = 0.0;
     o.strand_variation = 0.15;
+    o.strand_lod = 1;
     o.background_top = hk_v3(0.32, 0.34, 0.38);
     o.background_bottom = hk_v3(0.05, 0.05, 0.06);
     o.skin = hk_v3(0.61, 0.40, 0.28);
@@ -91,14 +92,26 @@ int hk_render_threads(const hk_RenderDef *options)
     return options->threads > 0 ? options->threads : omp_get_max_threads();
 }
 
-uint32_t hk_segment_starts(const hk_HairFile *hair, uint8_t *s, int threads)
+/* Whether strand k is among the one in `stride` drawn: by a hash of its index (the
+ * finaliser of MurmurHash3), so that the strands kept are spread over the groom
+ * whatever order its strands come in (a groom's strands often come guide by guide). */
+static int strand_drawn(uint32_t k, int stride)
+{
+    if (stride <= 1) return 1;
+    uint32_t h = k;
+    h ^= h >> 16, h *= 0x85ebca6bu, h ^= h >> 13, h *= 0xc2b2ae35u, h ^= h >> 16;
+    return h % (uint32_t)stride == 0;
+}
+
+uint32_t hk_segment_starts(const hk_HairFile *hair, int stride, uint8_t *s, int threads)
 {
     uint32_t n = 0;
 #pragma omp parallel for schedule(static) reduction(+ : n) num_threads(threads)
     for (long k = 0; k < (long)hair->strand_count; k++) {
         const uint32_t first = hair->first_point[k], end = hair->first_point[k + 1];
-        for (uint32_t i = first; i < end; i++) s[i] = i + 1 < end;
-        n += end > first ? end - first - 1 : 0;
+        const int drawn = strand_drawn((uint32_t)k, stride);
+        for (uint32_t i = first; i < end; i++) s[i] = drawn && i + 1 < end;
+        n += drawn && end > first ? end - first - 1 : 0;
     }
     for (uint32_t i = hair->first_point[hair->strand_count]; i < hair->point_count; i++) s[i] = 0;
     return n;
@@ -145,6 +158,48 @@ hk_Status hk_scene_bounds(hk_Scene *sc, hk_Error *err)
     return HK_OK;
 }
 
+/* Level of detail (hk_render_strand_stride): a strand under a quarter of a pixel wide
+ * at the camera's target is drawn as one of k, k times as wide, up to a quarter pixel;
+ * at most 64, and at least 1,000 strands kept. */
+enum { LOD_MOST = 64, LOD_FEWEST_STRANDS = 1000 };
+#define LOD_WIDTH 0.25 /* pixels */
+
+int hk_scene_strand_stride(const hk_Scene *sc, const hk_View *cam)
+{
+    if (!sc->opt->strand_lod || !(cam->distance > 0.0)) return 1;
+    /* The diameter: the one value, or the mean of the file's array over every 64th
+     * point (in order: the same bits whatever the threads). */
+    double diameter = sc->thickness_fixed;
+    if (sc->thickness_point && sc->hair->point_count > 0) {
+        double sum = 0.0;
+        long count = 0;
+        for (uint32_t i = 0; i < sc->hair->point_count; i += 64, count++) sum += sc->thickness_point[i];
+        diameter = sum / (double)count;
+    }
+    const double pixels = diameter * cam->focal / cam->distance;
+    if (!(pixels > 0.0) || pixels >= LOD_WIDTH) return 1;
+    double k = floor(LOD_WIDTH / pixels);
+    k = fmin(k, (double)LOD_MOST);
+    k = fmin(k, floor((double)sc->hair->strand_count / LOD_FEWEST_STRANDS));
+    return k > 1.0 ? (int)k : 1;
+}
+
+int hk_render_strand_stride(const hk_HairFile *hair, const hk_Mesh *head, const hk_RenderDef *opt, hk_Error *err)
+{
+    const hk_RenderDef defaults = hk_default_render_def();
+    if (!opt) opt = &defaults;
+    if (hk_render_check_options(opt, err) != HK_OK) return 0;
+    hk_Scene sc;
+    memset(&sc, 0, sizeof sc);
+    sc.hair = hair, sc.head = head && head->triangle_count > 0 ? head : NULL, sc.opt = opt;
+    sc.threads = hk_render_threads(opt);
+    if (hk_scene_bounds(&sc, err) != HK_OK) return 0;
+    sc.thickness = hair->default_thickness > 0.0f ? hair->default_thickness : 1e-3 * hk_v3_dist(sc.lo, sc.hi);
+    hk_scene_thickness(&sc, 1);
+    const hk_View cam = hk_camera_frame(&sc);
+    return hk_scene_strand_stride(&sc, &cam);
+}
+
 hk_Status hk_render_fit_camera(const hk_HairFile *hair, const hk_Mesh *head, const hk_RenderDef *opt, hk_Vec3 *target,
                                double *distance, hk_Error *err)
 {
@@ -165,7 +220,8 @@ hk_Status hk_render_fit_camera(const hk_HairFile *hair, const hk_Mesh *head, con
                    0,
                    NULL,
                    0.0,
-                   hk_render_threads(opt)};
+                   hk_render_threads(opt),
+                   1.0};
     if ((st = hk_scene_bounds(&sc, err)) != HK_OK) return st;
     const hk_View cam = hk_camera_frame(&sc);
     *target = cam.target;

@@ -182,21 +182,25 @@ typedef struct hk_Scene {
     double thickness_fixed;
     int threads; /* OpenMP threads of every parallel loop: opt->threads, or OpenMP's
                     default when that is <= 0 (hk_render_threads) */
+    /* The level of detail (hk_render_strand_stride): every diameter is multiplied by
+     * it (exactly 1 when every strand is drawn; set by hk_scene_thickness). */
+    double thickness_scale;
 } hk_Scene;
 
 /* The threads a picture is drawn with: options->threads, or OpenMP's default. */
 int hk_render_threads(const hk_RenderDef *options);
 
-static inline void hk_scene_thickness(hk_Scene *s)
+static inline void hk_scene_thickness(hk_Scene *s, int stride)
 {
     const int forced = s->opt->hair_thickness > 0.0;
     s->thickness_point = forced ? NULL : s->hair->thickness;
     s->thickness_fixed = forced ? s->opt->hair_thickness : s->thickness;
+    s->thickness_scale = (double)stride;
 }
 
 static inline double hk_hair_thickness_at(const hk_Scene *s, uint32_t point)
 {
-    return s->thickness_point ? s->thickness_point[point] : s->thickness_fixed;
+    return (s->thickness_point ? s->thickness_point[point] : s->thickness_fixed) * s->thickness_scale;
 }
 
 static inline hk_Vec3 hk_hair_point(const hk_HairFile *h, uint32_t i)
@@ -208,7 +212,11 @@ static inline hk_Vec3 hk_hair_point(const hk_HairFile *h, uint32_t i)
 /* Segment i starts at point i; valid unless i is the last point of its strand:
  * s[0 .. point_count) set to 1 where a segment starts, 0 elsewhere; returns their
  * number. */
-uint32_t hk_segment_starts(const hk_HairFile *hair, uint8_t *s, int threads);
+uint32_t hk_segment_starts(const hk_HairFile *hair, int stride, uint8_t *s, int threads);
+
+/* The level of detail of the scene seen by cam (hk_render_strand_stride); the scene's
+ * thickness must be set (hk_scene_thickness, any stride). */
+int hk_scene_strand_stride(const hk_Scene *sc, const hk_View *cam);
 
 /* hk_render's checks of its options, and the scene's bounding box (render.c). */
 hk_Status hk_render_check_options(const hk_RenderDef *o, hk_Error *err);

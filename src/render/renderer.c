@@ -191,19 +191,29 @@ static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *he
                    0,
                    NULL,
                    0.0,
-                   hk_render_threads(opt)};
+                   hk_render_threads(opt),
+                   1.0};
     sc.light_dir = hk_v3_normalize(direction(opt->light_azimuth_deg, opt->light_elevation_deg));
     hk_Status st = hk_scene_bounds(&sc, err);
     if (st != HK_OK) return st;
     sc.thickness = hair->default_thickness > 0.0f ? hair->default_thickness : 1e-3 * hk_v3_dist(sc.lo, sc.hi);
-    hk_scene_thickness(&sc);
+    hk_scene_thickness(&sc, 1);
+    const double t0 = omp_get_wtime();
+    /* The camera first (it needs only the bounds): the level of detail comes from how
+     * wide a strand is in the picture, and the light's maps draw the same strands, k
+     * times as wide (their opacity, the mean count of fibres in front, is kept on
+     * average; the picture's mean brightness moved by 0.03 % or less on the default
+     * head, docs/rendering.md "Speed"). */
+    const hk_View cam = hk_camera_frame(&sc);
+    const int stride = hk_scene_strand_stride(&sc, &cam);
+    hk_scene_thickness(&sc, stride);
+    stats->strand_stride = stride;
     if ((st = reserve_tile_work(r, sc.threads, err)) != HK_OK) return st;
     if (!HK_RESERVE(r->seg, r->seg_cap, hair->point_count, err)) return HK_ERR_NOMEM;
-    sc.segment_count = hk_segment_starts(hair, r->seg, sc.threads);
-    const double t0 = omp_get_wtime();
-    if (opt->shadows && (st = hk_light_maps_build(&sc, r->seg, &r->maps, stats, err)) != HK_OK) return st;
+    sc.segment_count = hk_segment_starts(hair, stride, r->seg, sc.threads);
     const double t1 = omp_get_wtime();
-    const hk_View cam = hk_camera_frame(&sc);
+    if (opt->shadows && (st = hk_light_maps_build(&sc, r->seg, &r->maps, stats, err)) != HK_OK) return st;
+    const double t2 = omp_get_wtime();
     if (!HK_RESERVE(r->proj, r->proj_cap, hair->point_count, err) ||
         !HK_RESERVE(r->near, r->near_cap, hair->point_count, err) ||
         (sc.head && !HK_RESERVE(r->head_proj, r->head_proj_cap, (size_t)sc.head->vertex_count, err)))
@@ -226,7 +236,7 @@ static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *he
         head_proj[i] = hk_view_project(&cam, sc.head->positions[i]);
     if ((st = hk_hair_shader_init(&r->shader, &sc, r->seg, opt->shadows ? &r->maps : NULL, &cam, err)) != HK_OK)
         return st;
-    const double t2 = omp_get_wtime();
+    const double t3 = omp_get_wtime();
     if (sc.head) {
         BoxCtx hb = {&sc, head_proj, NULL, sc.head->triangles, opt->width, opt->height};
         if ((st = bin_triangles((uint32_t)sc.head->triangle_count, &hb, NULL, NULL, opt->width, opt->height, sc.threads,
@@ -254,9 +264,9 @@ static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *he
                            err)) != HK_OK)
         return st;
     if ((st = draw_tiles(r, &in, stats, err)) != HK_OK) return st;
-    stats->seconds_light = t1 - t0;
-    stats->seconds_camera = t2 - t1;
-    stats->seconds_hair = omp_get_wtime() - t2;
+    stats->seconds_light = t2 - t1;
+    stats->seconds_camera = (t1 - t0) + (t3 - t2);
+    stats->seconds_hair = omp_get_wtime() - t3;
     return HK_OK;
 }
 
