@@ -23,10 +23,12 @@ typedef struct GuideCurve {
     int count;
 } GuideCurve;
 
-/* The point at arc length s of the curve, relative to its root. Past the end (only where a
- * trace stopped on a singular axis of its field, hk_phelicoid_trace): straight on along the
- * last segment that has a length, or along the root tangent. */
-static hk_Vec3 curve_at(const GuideCurve *c, hk_Vec3 tangent, double s)
+/* The point at arc length s of the curve, relative to its root. *segment: where the
+ * previous call ended (0 to start), for calls at growing s, each then walking on from
+ * there. Past the end (only where a trace stopped on a singular axis of its field,
+ * hk_phelicoid_trace): straight on along the last segment that has a length, or along the
+ * root tangent. */
+static hk_Vec3 curve_at(const GuideCurve *c, hk_Vec3 tangent, double s, int *segment)
 {
     const hk_Vec3 *p = c->points;
     const int n = c->count;
@@ -36,16 +38,11 @@ static hk_Vec3 curve_at(const GuideCurve *c, hk_Vec3 tangent, double s)
         const hk_Vec3 d = j > 0 ? hk_v3_scale(hk_v3_sub(p[j], p[j - 1]), 1.0 / (c->arc[j] - c->arc[j - 1])) : tangent;
         return hk_v3_madd(hk_v3_sub(p[n - 1], p[0]), d, s - c->arc[n - 1]);
     }
-    int lo = 0, hi = n - 1; /* arc[lo] <= s < arc[hi] */
-    while (hi - lo > 1) {
-        const int mid = (lo + hi) / 2;
-        if (c->arc[mid] <= s)
-            lo = mid;
-        else
-            hi = mid;
-    }
-    const double t = (s - c->arc[lo]) / (c->arc[hi] - c->arc[lo]);
-    return hk_v3_sub(hk_v3_add(hk_v3_scale(p[lo], 1.0 - t), hk_v3_scale(p[hi], t)), p[0]);
+    int k = *segment; /* then arc[k] <= s < arc[k + 1] */
+    while (k < n - 2 && c->arc[k + 1] <= s) k++;
+    *segment = k;
+    const double t = (s - c->arc[k]) / (c->arc[k + 1] - c->arc[k]);
+    return hk_v3_sub(hk_v3_madd(p[k], hk_v3_sub(p[k + 1], p[k]), t), p[0]);
 }
 
 static hk_Status trace_guide(const hk_PHelicoid *g, double longest, double step, GuideCurve *c, hk_Error *err)
@@ -120,7 +117,7 @@ static int nearest_guides(const hk_PHelicoid *guides, int count, hk_Vec3 x, int 
 static void rebuild_strand(const hk_PHelicoid *guides, const GuideCurve *curves, int guide_count, const StrandStart *st,
                            double power, int count, hk_Vec3 *out)
 {
-    int nb[HK_RECONSTRUCT_NEIGHBOURS];
+    int nb[HK_RECONSTRUCT_NEIGHBOURS], segment[HK_RECONSTRUCT_NEIGHBOURS] = {0};
     double dist[HK_RECONSTRUCT_NEIGHBOURS], w[HK_RECONSTRUCT_NEIGHBOURS];
     hk_Mat3 turn[HK_RECONSTRUCT_NEIGHBOURS];
     const int m = nearest_guides(guides, guide_count, st->root, nb, dist);
@@ -128,7 +125,8 @@ static void rebuild_strand(const hk_PHelicoid *guides, const GuideCurve *curves,
     for (int i = 0; i < m; i++) {
         const hk_Vec3 tangent = hk_m3_col(&guides[nb[i]].frame, 0);
         /* The guide's direction measured as the strand's is: its chord over the same reach. */
-        const hk_Vec3 chord = curve_at(&curves[nb[i]], tangent, st->reach);
+        int from_root = 0;
+        const hk_Vec3 chord = curve_at(&curves[nb[i]], tangent, st->reach, &from_root);
         const hk_Vec3 g = hk_v3_norm(chord) > 0.0 ? hk_v3_normalize(chord) : tangent;
         const double c = fmax(-1.0, fmin(1.0, hk_v3_dot(g, st->direction)));
         /* §4.1's weights relative to the nearest guide, (d_min / d)^power (a strand on a
@@ -155,7 +153,7 @@ static void rebuild_strand(const hk_PHelicoid *guides, const GuideCurve *curves,
         for (int i = 0; i < m; i++) {
             if (w[i] == 0.0) continue;
             const hk_Vec3 tangent = hk_m3_col(&guides[nb[i]].frame, 0);
-            const hk_Vec3 v = curve_at(&curves[nb[i]], tangent, ds * j);
+            const hk_Vec3 v = curve_at(&curves[nb[i]], tangent, ds * j, &segment[i]);
             q = hk_v3_madd(q, hk_m3_mul_v3(&turn[i], v), w[i] / wsum);
         }
         /* The blended step taken at its full length ds: the strand is its own length. */
