@@ -4,7 +4,7 @@
  * itself: each rebuilt strand against its original, the mean leash of their Fréchet
  * coupling (hk_helicoid_reconstruct's report). Issue 17 asks at most 4 mm on TressFX
  * Sintel; blending the fits' parameters (§4.2) gave 7.7 mm there, 15.7 mm on CT2Hair Bangs
- * and 13.9 mm on Curly, the blend of shapes 3.8, 10.3 and 10.5 mm
+ * and 13.9 mm on Curly, the blend of shapes 3.8, 10.5 and 10.5 mm
  * (docs/helicoid-fitting.md). */
 #include "hk_test.h"
 
