@@ -49,8 +49,9 @@ static const Action actions[] = {
      "reconstruct HAIR -o OUT.hair [--every K] [--power P]\n"
      "               [--pieces N | --piece-length L [--root-piece R]] [options]\n",
      "  reconstruct  fits every K-th strand of HAIR (any format, metres) and\n"
-     "               interpolates all the others from them at their roots, each at\n"
-     "               its own length (paper 5.4); prints the error\n"},
+     "               rebuilds every strand from its own root, root direction and\n"
+     "               length by blending the traced fits of its nearest fitted strands\n"
+     "               (paper 5.4); prints the error\n"},
 };
 #define ACTION_COUNT (sizeof actions / sizeof *actions)
 
@@ -81,8 +82,8 @@ static const struct {
     {FIT | RECONSTRUCT, "  --max-pieces N     pieces per fitted strand (default 16)\n"},
     {FIT | RECONSTRUCT, "  --pieces N         exactly N pieces of equal length on every strand, the same\n"
                         "                     layout for all (default: split where each strand needs it;\n"
-                        "                     reconstruct: --piece-length 0.03 --root-piece 0.01, since\n"
-                        "                     fits are blended piece by piece)\n"},
+                        "                     reconstruct: --piece-length 0.03 --root-piece 0.01, a\n"
+                        "                     piece of its own for the lift off the scalp)\n"},
     {FIT | RECONSTRUCT, "  --piece-length L   or pieces L metres long from the root (the same stretch of\n"
                         "                     hair for piece j on strands of any length; the last piece\n"
                         "                     takes what is left)\n"},

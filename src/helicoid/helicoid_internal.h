@@ -6,6 +6,7 @@
 
 #include <math.h>
 
+#include "hairkit/hairfile.h"
 #include "hairkit/helicoid.h"
 
 
@@ -142,14 +143,15 @@ hk_Status hk_phelicoid_trace_with(const hk_PHelicoid *h, double step, hk_Helicoi
                                   hk_Mat3 *frames, hk_HelicoidPlacement *placed, hk_Error *err);
 
 /* Unit quaternions (w, x, y, z) of rotations: for the frame averages of interpolation. */
-/* hk_phelicoid_interpolate without a normal, for a strand whose length (> 0, m) is known:
- * the guides' blend (§4.1-4.2) with that total length, its later pieces in the blend's
- * proportions. A reconstruction of a capture knows every strand's length (the issue of
- * "blended lengths 0.26-4.5 times the real one" on CT2Hair Bangs). */
-hk_Status hk_phelicoid_interpolate_to_length(const hk_PHelicoid *guides, int guide_count, hk_Vec3 x, double length,
-                                             double power, hk_PHelicoid *out, hk_Error *err);
-
 void hk_helicoid_quat_from_rotation(const hk_Mat3 *r, double q[4]);
 hk_Mat3 hk_helicoid_rotation_from_quat(const double q[4]);
+/* Rotation by `angle` (radians) about the unit axis a (Rodrigues). */
+hk_Mat3 hk_helicoid_axis_angle(hk_Vec3 a, double angle);
+
+/* Every strand of `hair` rebuilt from the fitted guides (reconstruct_blend.c, §5.4) into
+ * `out` (filled here): points `step` apart or closer, each strand at its own length, from
+ * its own root and root direction. In parallel; the same bytes whatever the threads. */
+hk_Status hk_helicoid_rebuild(const hk_HairFile *hair, const hk_PHelicoid *guides, int guide_count, double power,
+                              double step, int threads, hk_HairFile *out, hk_Error *err);
 
 #endif

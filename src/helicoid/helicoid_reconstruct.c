@@ -1,6 +1,6 @@
 /* The strands of a hair file fitted with p-helicoids, and a full head rebuilt from the
  * fits of a few of them (include/hairkit/helicoid_hair.h; Piuze, Kry and Siddiqi 2011,
- * §5 and §5.4). */
+ * §5 and §5.4; the rebuild itself in reconstruct_blend.c). */
 #include <math.h>
 #include <omp.h>
 #include <string.h>
@@ -94,37 +94,6 @@ static hk_Status compare(const hk_HairFile *a, const hk_HairFile *b, double *mea
     return HK_OK;
 }
 
-/* Every strand of the hair interpolated at its root from the fitted guides (§5.4), each
- * with its own length: the capture gives it, and the guides' blended length was 0.26 to 4.5
- * times the real one on CT2Hair Bangs (Sintel, one in ten fitted: mean error 8.5 mm with
- * blended lengths, 7.8 mm with their own; docs/helicoid-fitting.md). */
-static hk_Status interpolate_own_lengths(const hk_HairFile *hair, const hk_HelicoidSet *guides, double power,
-                                         int threads, hk_PHelicoid *out, hk_Error *err)
-{
-    hk_FirstError failed;
-    hk_first_error_init(&failed);
-    const long n = hair->strand_count;
-#pragma omp parallel for schedule(static) num_threads(threads > 0 ? threads : omp_get_max_threads())
-    for (long s = 0; s < n; s++) {
-        const uint32_t a = hair->first_point[s], b = hair->first_point[s + 1];
-        double length = 0.0;
-        for (uint32_t p = a + 1; p < b; p++) {
-            const float *u = hair->points + 3 * (size_t)(p - 1), *v = u + 3;
-            length += hk_v3_dist(hk_v3(u[0], u[1], u[2]), hk_v3(v[0], v[1], v[2]));
-        }
-        const hk_Vec3 root =
-            hk_v3(hair->points[3 * (size_t)a], hair->points[3 * (size_t)a + 1], hair->points[3 * (size_t)a + 2]);
-        hk_Error e;
-        if (hk_phelicoid_interpolate_to_length(guides->strands, guides->count, root, length, power, &out[s], &e) !=
-            HK_OK)
-            hk_first_error_record(&failed, s, &e);
-    }
-    if (failed.index >= 0)
-        return hk_error_set(err, failed.error.code, "interpolated strand %ld: %s", failed.index + 1,
-                            failed.error.message);
-    return HK_OK;
-}
-
 hk_Status hk_helicoid_reconstruct(const hk_HairFile *hair, long every, const hk_CurveFitDef *options, double power,
                                   double step, uint64_t seed, int threads, hk_ProgressFn progress, void *progress_user,
                                   hk_HairFile *out, hk_HelicoidReconstruction *report, hk_Error *err)
@@ -144,12 +113,10 @@ hk_Status hk_helicoid_reconstruct(const hk_HairFile *hair, long every, const hk_
     }
     const long n = hair->strand_count, k = (n + every - 1) / every;
     if (n < 1) return hk_error_set(err, HK_ERR_INVALID, "reconstruct: the hair has no strands");
-    hk_HelicoidSet guides, all;
+    hk_HelicoidSet guides;
     memset(&guides, 0, sizeof guides);
-    memset(&all, 0, sizeof all);
     long *idx = NULL;
     hk_Status st = hk_helicoid_set_alloc(&guides, (int)k, err);
-    if (st == HK_OK) st = hk_helicoid_set_alloc(&all, (int)n, err);
     if (st == HK_OK) {
         idx = hk_alloc_array((size_t)k, sizeof(long), err);
         if (!idx) st = HK_ERR_NOMEM;
@@ -160,9 +127,8 @@ hk_Status hk_helicoid_reconstruct(const hk_HairFile *hair, long every, const hk_
         st = hk_helicoid_fit_strands(hair, idx, k, &opt, threads, progress, progress_user, guides.strands, NULL, err);
     }
     const double t1 = hk_seconds_now();
-    if (st == HK_OK) st = interpolate_own_lengths(hair, &guides, power, threads, all.strands, err);
-    all.step = step;
-    if (st == HK_OK) st = hk_helicoid_set_trace(&all, step, seed, threads, out, err);
+    (void)seed; /* the rebuild draws nothing: no waves are added to the capture's strands */
+    if (st == HK_OK) st = hk_helicoid_rebuild(hair, guides.strands, (int)k, power, step, threads, out, err);
     const double t2 = hk_seconds_now();
     if (st == HK_OK) st = compare(hair, out, &report->mean_error, &report->max_error, err);
     if (st == HK_OK) {
@@ -173,6 +139,5 @@ hk_Status hk_helicoid_reconstruct(const hk_HairFile *hair, long every, const hk_
     }
     hk_free(idx);
     hk_helicoid_set_free(&guides);
-    hk_helicoid_set_free(&all);
     return st;
 }

@@ -161,7 +161,7 @@ static void averaged_quat(const hk_PHelicoid *guides, const hk_Vec3 *normals, hk
 
 /* Pass 2: the weighted sums, normalised. Frames as in averaged_quat. */
 static void blend(const hk_PHelicoid *guides, const hk_Vec3 *normals, int guide_count, hk_Vec3 x, hk_Vec3 n,
-                  int nearest, double dmin, int max_pieces, double power, double own_length, hk_PHelicoid *out)
+                  int nearest, double dmin, int max_pieces, double power, hk_PHelicoid *out)
 {
     hk_PHelicoid r;
     memset(&r, 0, sizeof r);
@@ -200,33 +200,21 @@ static void blend(const hk_PHelicoid *guides, const hk_Vec3 *normals, int guide_
         r.k[j].alpha /= wsum;
         r.length[j] /= wsum;
     }
-    int pieces;
-    if (own_length > 0.0) {
-        /* A strand whose own length is known (a reconstruction of a capture) keeps the
-         * blend's pieces at their blended lengths, so that piece j covers the stretch of hair
-         * the guides' pieces j do (the fits' common layout), and ends at its own length: the
-         * pieces past it dropped, the last one cut, or the last of all max_pieces extended.
-         * Stretching every piece in proportion instead turned curved pieces into coils. */
-        double along = 0.0;
-        for (pieces = 0; pieces < max_pieces && along < own_length; pieces++) along += r.length[pieces];
-        r.length[pieces - 1] += own_length - along;
+    int pieces = (int)floor(nsum / wsum + 0.5);
+    pieces = pieces < 1 ? 1 : (pieces > max_pieces ? max_pieces : pieces);
+    double later = 0.0;
+    for (int j = 1; j < pieces; j++) later += r.length[j];
+    /* Total length sum w_i L_i and first piece sum w_i L_i1 as in §4.2. The paper makes
+     * the later pieces equal; here they keep the proportions of their interpolated
+     * lengths, which is the same when the guides' later pieces are equal and otherwise
+     * keeps the strand next to a guide equal to that guide (equal pieces would not be). */
+    const double total = lsum / wsum, rest = total - r.length[0];
+    if (pieces == 1) {
+        r.length[0] = total;
+    } else if (rest > 1e-9 * total && later > 0.0) {
+        for (int j = 1; j < pieces; j++) r.length[j] *= rest / later;
     } else {
-        pieces = (int)floor(nsum / wsum + 0.5);
-        pieces = pieces < 1 ? 1 : (pieces > max_pieces ? max_pieces : pieces);
-        double later = 0.0;
-        for (int j = 1; j < pieces; j++) later += r.length[j];
-        /* Total length sum w_i L_i and first piece sum w_i L_i1 as in §4.2. The paper makes
-         * the later pieces equal; here they keep the proportions of their interpolated
-         * lengths, which is the same when the guides' later pieces are equal and otherwise
-         * keeps the strand next to a guide equal to that guide (equal pieces would not be). */
-        const double total = lsum / wsum, rest = total - r.length[0];
-        if (pieces == 1) {
-            r.length[0] = total;
-        } else if (rest > 1e-9 * total && later > 0.0) {
-            for (int j = 1; j < pieces; j++) r.length[j] *= rest / later;
-        } else {
-            for (int j = 0; j < pieces; j++) r.length[j] = total / pieces;
-        }
+        for (int j = 0; j < pieces; j++) r.length[j] = total / pieces;
     }
     r.piece_count = pieces;
     for (int j = pieces; j < max_pieces; j++) {
@@ -242,9 +230,8 @@ static void blend(const hk_PHelicoid *guides, const hk_Vec3 *normals, int guide_
     *out = r;
 }
 
-/* hk_phelicoid_interpolate, with the strand's own length when own_length > 0. */
-static hk_Status interpolate_plain(const hk_PHelicoid *guides, int guide_count, hk_Vec3 x, const hk_Vec3 *normal,
-                                   double power, double own_length, hk_PHelicoid *out, hk_Error *err)
+hk_Status hk_phelicoid_interpolate(const hk_PHelicoid *guides, int guide_count, hk_Vec3 x, const hk_Vec3 *normal,
+                                   double power, hk_PHelicoid *out, hk_Error *err)
 {
     hk_Status st = check_args(guides, guide_count, x, power, out, err);
     hk_Vec3 n = hk_v3_zero();
@@ -260,15 +247,9 @@ static hk_Status interpolate_plain(const hk_PHelicoid *guides, int guide_count, 
         hk_phelicoid_canonical(out);
         return HK_OK;
     }
-    blend(guides, NULL, guide_count, x, n, nearest, dmin, max_pieces, power, own_length, out);
+    blend(guides, NULL, guide_count, x, n, nearest, dmin, max_pieces, power, out);
     if (normal) out->frame = keep_outside(&out->frame, n);
     return HK_OK;
-}
-
-hk_Status hk_phelicoid_interpolate(const hk_PHelicoid *guides, int guide_count, hk_Vec3 x, const hk_Vec3 *normal,
-                                   double power, hk_PHelicoid *out, hk_Error *err)
-{
-    return interpolate_plain(guides, guide_count, x, normal, power, 0.0, out, err);
 }
 
 hk_Status hk_phelicoid_interpolate_on_surface(const hk_PHelicoid *guides, const hk_Vec3 *guide_normals, int guide_count,
@@ -297,15 +278,7 @@ hk_Status hk_phelicoid_interpolate_on_surface(const hk_PHelicoid *guides, const 
         hk_phelicoid_canonical(out);
         return HK_OK;
     }
-    blend(guides, guide_normals, guide_count, x, n, nearest, dmin, max_pieces, power, 0.0, out);
+    blend(guides, guide_normals, guide_count, x, n, nearest, dmin, max_pieces, power, out);
     out->frame = lift_off_surface(&out->frame, n, min_elevation);
     return HK_OK;
-}
-
-hk_Status hk_phelicoid_interpolate_to_length(const hk_PHelicoid *guides, int guide_count, hk_Vec3 x, double length,
-                                             double power, hk_PHelicoid *out, hk_Error *err)
-{
-    if (!(length > 0.0 && isfinite(length)))
-        return hk_error_set(err, HK_ERR_INVALID, "helicoid interpolation: length %g", length);
-    return interpolate_plain(guides, guide_count, x, NULL, power, length, out, err);
 }

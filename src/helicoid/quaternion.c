@@ -1,4 +1,5 @@
-/* Rotation <-> unit quaternion, for averaging root frames in interpolation (Piuze et al. 2011 §4.1).
+/* Rotation <-> unit quaternion, for averaging root frames in interpolation (Piuze et al. 2011 §4.1),
+ * and rotations about an axis (wisps' fans, reconstruction's turned guides).
  * Shepperd's method: the square root is taken of the largest of the four candidates
  * (trace or a diagonal entry), so no division by a small number happens for any rotation. */
 #include "helicoid_internal.h"
@@ -43,4 +44,12 @@ hk_Mat3 hk_helicoid_rotation_from_quat(const double q[4])
                   {2.0 * (x * y + w * z), 1.0 - 2.0 * (x * x + z * z), 2.0 * (y * z - w * x)},
                   {2.0 * (x * z - w * y), 2.0 * (y * z + w * x), 1.0 - 2.0 * (x * x + y * y)}}};
     return r;
+}
+
+hk_Mat3 hk_helicoid_axis_angle(hk_Vec3 a, double angle)
+{
+    const hk_Mat3 k = hk_m3_skew(a), k2 = hk_m3_mul(&k, &k), i = hk_m3_identity();
+    const hk_Mat3 ks = hk_m3_scale(&k, sin(angle)), k2s = hk_m3_scale(&k2, 1.0 - cos(angle));
+    hk_Mat3 r = hk_m3_add(&i, &ks);
+    return hk_m3_add(&r, &k2s);
 }

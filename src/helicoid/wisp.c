@@ -6,15 +6,6 @@
 /* Random numbers of strand j are keyed (seed, j, STREAM + c): independent of the count. */
 enum { STREAM = 0x5769 /* "Wi" */ };
 
-/* Rotation by `angle` about the unit axis a (Rodrigues). */
-static hk_Mat3 axis_angle(hk_Vec3 a, double angle)
-{
-    const hk_Mat3 k = hk_m3_skew(a), k2 = hk_m3_mul(&k, &k), i = hk_m3_identity();
-    const hk_Mat3 ks = hk_m3_scale(&k, sin(angle)), k2s = hk_m3_scale(&k2, 1.0 - cos(angle));
-    hk_Mat3 r = hk_m3_add(&i, &ks);
-    return hk_m3_add(&r, &k2s);
-}
-
 hk_Status hk_phelicoid_wisp(const hk_PHelicoid *guide, int count, double radius, double spread, uint64_t seed,
                             double step, const hk_Waviness *w, hk_Vec3 *points, hk_Error *err)
 {
@@ -60,7 +51,7 @@ hk_Status hk_phelicoid_wisp(const hk_PHelicoid *guide, int count, double radius,
              * leans away from E_T by the angle; rigid, about the strand's own root. */
             const double at = (2.0 * HK_PI) * u[3];
             const hk_Vec3 axis = hk_m3_mul_v3(q, hk_v3(0.0, cos(at), sin(at)));
-            const hk_Mat3 r = axis_angle(axis, spread * u[2]);
+            const hk_Mat3 r = hk_helicoid_axis_angle(axis, spread * u[2]);
             const hk_Vec3 c = hk_v3_add(guide->root, hk_m3_mul_v3(q, offset));
             for (int i = 0; i < n; i++) p[i] = hk_v3_add(c, hk_m3_mul_v3(&r, hk_v3_sub(p[i], c)));
         }

@@ -202,15 +202,15 @@ contains "$tmp/err" "wick.obj.*follicles, more than"
 expect 0 "$hk" helicoid reconstruct "$tmp/interp.hair" --every 5 -o "$tmp/recon.hair" --quiet
 grep -q '^# strands=500 fitted=100 ' "$tmp/out" || fail "reconstruct summary: $(cat "$tmp/out")"
 # the head example without its waves: its strands lift off the scalp by 77 degrees in
-# 8 mm. Blending their true parameters rebuilds them to 12.5 mm (docs/helicoid-fitting.md);
-# the default layout by length (a 1 cm root piece, then 3 cm) comes close, 4 equal pieces
-# (9 cm) do not
+# 8 mm. The default layout by length (a 1 cm root piece, then 3 cm) rebuilds these 600 to
+# 11 mm (docs/helicoid-fitting.md); 4 equal pieces (9 cm), whose first piece must both lift
+# off and fall, to 22 mm
 sed 's/^Waviness.*//' "$ex/guides.txt" > "$tmp/smooth.txt"
 expect 0 "$hk" helicoid interpolate "$tmp/smooth.txt" --surface "$wick" --count 600 -o "$tmp/smooth.hair" --quiet
 expect 0 "$hk" helicoid reconstruct "$tmp/smooth.hair" -o "$tmp/smooth_rebuilt.hair" --quiet
-awk -F'[= ]' '/^# strands/ { exit !($11 < 0.025) }' "$tmp/out" || fail "head rebuilt to over 25 mm: $(cat "$tmp/out")"
+awk -F'[= ]' '/^# strands/ { exit !($11 < 0.015) }' "$tmp/out" || fail "head rebuilt to over 15 mm: $(cat "$tmp/out")"
 expect 0 "$hk" helicoid reconstruct "$tmp/smooth.hair" -o "$tmp/smooth_rebuilt4.hair" --pieces 4 --quiet
-awk -F'[= ]' '/^# strands/ { exit !($11 > 0.05) }' "$tmp/out" || fail "4 equal pieces did well: $(cat "$tmp/out")"
+awk -F'[= ]' '/^# strands/ { exit !($11 > 0.015) }' "$tmp/out" || fail "4 equal pieces did well: $(cat "$tmp/out")"
 expect 2 "$hk" helicoid reconstruct "$tmp/smooth.hair" -o "$tmp/x.hair" --pieces 4 --piece-length 0.03
 contains "$tmp/err" "two layouts"
 expect 2 "$hk" helicoid fit "$tmp/smooth.hair" -o "$tmp/x.txt" --root-piece 0.01
