@@ -101,6 +101,7 @@ typedef struct ViewArgs {
     hk_CliMotion motion;
     hk_RenderDef ro;
     hk_CliTransform hair_tf, head_tf;
+    int usage_rc; /* an exit code already reported (a setup's SaveFile that cannot be written) */
 } ViewArgs;
 
 static int is_setup(const char *path)
@@ -255,6 +256,9 @@ static hk_Status load_setup(ViewArgs *a, hk_Scene *scene, hk_HairFile *hair, int
                             a->input);
     hk_Status st = hk_scene_load(a->input, HK_SCENE_RENDERING | HK_SCENE_HAIR, scene, err);
     if (st != HK_OK) return st;
+    /* SaveFile is written after the growing (and again when the viewer re-solves): a
+     * path that cannot be written is said now, as groom and run do. */
+    if ((a->usage_rc = hk_cli_setup_save_file(CMD, scene)) != 0) return HK_ERR_INVALID;
     if (scene->head.vertex_count) st = hk_cli_transform_mesh(&a->head_tf, scene->setup.head_model, &scene->head, err);
     if (st == HK_OK && scene->wick.vertex_count)
         st = hk_cli_transform_mesh(&a->head_tf, scene->setup.wick_model, &scene->wick, err);
@@ -325,6 +329,8 @@ static int view(ViewArgs *a)
         in.live = a->live;
         in.motion = motion;
         status = hk_viewer_run(&in);
+    } else if (a->usage_rc) {
+        status = a->usage_rc;
     } else {
         hk_cli_fail(CMD, &err);
     }

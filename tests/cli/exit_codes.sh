@@ -53,7 +53,7 @@ expect 2 "$hk" helicoid trace "$src/examples/helicoid/curly.txt" -o "$tmp/nodir/
 [ -e "$tmp/nodir" ] && fail "a folder was made for an output file"
 
 # 2: the setup's SaveFile ('Save true') in a folder that does not exist, said before
-# the growing (it was written only after it), by groom without -o and by run.
+# the growing (it was written only after it), by groom without -o, by run and by view.
 light_scene "$tmp/saving" "Save true" "SaveFile $tmp/nodir/saved.hair"
 expect 2 "$hk" groom "$tmp/saving/setup.txt"
 contains "$tmp/err" "SaveFile $tmp/nodir/saved.hair: no folder $tmp/nodir to write it in"
@@ -61,6 +61,12 @@ no_work "groom with SaveFile in nodir"
 expect 2 "$hk" run "$tmp/saving/setup.txt" -o "$tmp/saving.png"
 no_work "run with SaveFile in nodir"
 [ -e "$tmp/saving.png" ] && fail "run drew the picture although SaveFile cannot be written"
+# ... and by view (before the window opens: no display needed), when it is built.
+if "$hk" view --help > /dev/null 2>&1; then
+    expect 2 "$hk" view "$tmp/saving/setup.txt" --frames 1 --screenshot "$tmp/saving-view.png"
+    contains "$tmp/err" "SaveFile $tmp/nodir/saved.hair: no folder $tmp/nodir to write it in"
+    no_work "view with SaveFile in nodir"
+fi
 # ... and a SaveFile that can be written is written, without -o.
 light_scene "$tmp/saved" "Save true" "SaveFile saved.hair"
 expect 0 "$hk" groom "$tmp/saved/setup.txt" --quiet
