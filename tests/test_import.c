@@ -186,6 +186,26 @@ static void write_file(const char *path, const char *text)
     fclose(fp);
 }
 
+/* A fresh folder for an imported groom's two files (guides.txt, strands.hair). */
+typedef struct SavedFiles {
+    char dir[64], path[256], strands[256];
+} SavedFiles;
+
+static void saved_files(SavedFiles *f)
+{
+    snprintf(f->dir, sizeof f->dir, "/tmp/hk_test_import_XXXXXX");
+    assert_non_null(mkdtemp(f->dir));
+    snprintf(f->path, sizeof f->path, "%s/guides.txt", f->dir);
+    snprintf(f->strands, sizeof f->strands, "%s/strands.hair", f->dir);
+}
+
+static void remove_saved(const SavedFiles *f)
+{
+    unlink(f->path);
+    unlink(f->strands);
+    rmdir(f->dir);
+}
+
 static void test_file(void **state)
 {
     (void)state;
@@ -194,10 +214,9 @@ static void test_file(void **state)
     hk_ImportedGroom g, back;
     hk_GroomImportReport r;
     import(&h, 9, 2, &g, &r);
-    char dir[] = "/tmp/hk_test_import_XXXXXX", path[256], spath[256];
-    assert_non_null(mkdtemp(dir));
-    snprintf(path, sizeof path, "%s/guides.txt", dir);
-    snprintf(spath, sizeof spath, "%s/strands.hair", dir);
+    SavedFiles f;
+    saved_files(&f);
+    const char *path = f.path;
     hk_Error err;
     assert_int_equal(hk_imported_groom_save(path, "strands.hair", &g, &err), HK_OK);
     if (hk_imported_groom_load(path, &back, &err) != HK_OK) fail_msg("%s", err.message);
@@ -217,9 +236,7 @@ static void test_file(void **state)
                      "Lengths 0.1\nQRest 0 0 0\nQ 0 0 0\nAttach 0 0 1 -1 0 -1 0\n");
     assert_int_equal(hk_imported_groom_load(path, &back, &err), HK_ERR_INVALID);
     assert_non_null(strstr(err.message, "guides.txt:9: Frame is not a rotation"));
-    unlink(path);
-    unlink(spath);
-    rmdir(dir);
+    remove_saved(&f);
     hk_imported_groom_free(&g);
     free_groom(&h);
 }
@@ -255,10 +272,9 @@ static void test_large_file(void **state)
             big.first_point[c * g.strand_count + i] = (uint32_t)(per * (size_t)c) + g.first_point[i];
     }
     big.first_point[big.strand_count] = (uint32_t)(per * (size_t)copies);
-    char dir[] = "/tmp/hk_test_import_XXXXXX", path[256], spath[256];
-    assert_non_null(mkdtemp(dir));
-    snprintf(path, sizeof path, "%s/guides.txt", dir);
-    snprintf(spath, sizeof spath, "%s/strands.hair", dir);
+    SavedFiles f;
+    saved_files(&f);
+    const char *path = f.path;
     hk_Error err;
     assert_int_equal(hk_imported_groom_save(path, "strands.hair", &big, &err), HK_OK);
     FILE *fp = fopen(path, "rb");
@@ -270,9 +286,7 @@ static void test_large_file(void **state)
     if (hk_imported_groom_load(path, &back, &err) != HK_OK) fail_msg("%s", err.message);
     assert_same_groom(&big, &back);
     hk_imported_groom_free(&back);
-    unlink(path);
-    unlink(spath);
-    rmdir(dir);
+    remove_saved(&f);
     free(big.first_point), free(big.points), free(big.attach_guide), free(big.attach_weight);
     hk_imported_groom_free(&g);
     free_groom(&h);
