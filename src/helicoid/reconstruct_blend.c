@@ -118,7 +118,7 @@ static void rebuild_strand(const hk_PHelicoid *guides, const GuideCurve *curves,
                            double power, int count, hk_Vec3 *out)
 {
     int nb[HK_RECONSTRUCT_NEIGHBOURS], segment[HK_RECONSTRUCT_NEIGHBOURS] = {0};
-    double dist[HK_RECONSTRUCT_NEIGHBOURS], w[HK_RECONSTRUCT_NEIGHBOURS];
+    double dist[HK_RECONSTRUCT_NEIGHBOURS], w[HK_RECONSTRUCT_NEIGHBOURS], by_distance[HK_RECONSTRUCT_NEIGHBOURS];
     hk_Mat3 turn[HK_RECONSTRUCT_NEIGHBOURS];
     const int m = nearest_guides(guides, guide_count, st->root, nb, dist);
     double wsum = 0.0;
@@ -132,10 +132,8 @@ static void rebuild_strand(const hk_PHelicoid *guides, const GuideCurve *curves,
         /* §4.1's weights relative to the nearest guide, (d_min / d)^power (a strand on a
          * guide's root is that guide alone), times the likeness of the root directions:
          * across a parting, neighbours by root are not neighbours by shape. */
-        if (dist[0] == 0.0)
-            w[i] = dist[i] == 0.0;
-        else
-            w[i] = pow(dist[0] / dist[i], power) * exp(-(1.0 - c) / HK_RECONSTRUCT_DIRECTION_WIDTH);
+        by_distance[i] = dist[0] == 0.0 ? dist[i] == 0.0 : pow(dist[0] / dist[i], power);
+        w[i] = dist[0] == 0.0 ? by_distance[i] : by_distance[i] * exp(-(1.0 - c) / HK_RECONSTRUCT_DIRECTION_WIDTH);
         wsum += w[i];
         const hk_Vec3 axis = hk_v3_cross(g, st->direction);
         const double sine = hk_v3_norm(axis);
@@ -144,7 +142,7 @@ static void rebuild_strand(const hk_PHelicoid *guides, const GuideCurve *curves,
                       : hk_m3_identity();
     }
     if (!(wsum > 0.0)) /* every neighbour's direction opposite (weights underflowed) */
-        for (int i = 0; i < m; i++) wsum += w[i] = dist[0] == 0.0 ? dist[i] == 0.0 : pow(dist[0] / dist[i], power);
+        for (int i = 0; i < m; i++) wsum += w[i] = by_distance[i];
     const double ds = st->length / (count - 1);
     hk_Vec3 previous = hk_v3_zero(), direction = st->direction;
     out[0] = st->root;

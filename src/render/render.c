@@ -184,18 +184,27 @@ int hk_scene_strand_stride(const hk_Scene *sc, const hk_View *cam)
     return k > 1.0 ? (int)k : 1;
 }
 
+/* The scene the camera frames (hk_camera_frame), for the questions asked of it without
+ * drawing: options checked, bounds, the strands' width (every strand drawn). */
+static hk_Status camera_scene(const hk_HairFile *hair, const hk_Mesh *head, const hk_RenderDef *opt, hk_Scene *sc,
+                              hk_Error *err)
+{
+    hk_Status st = hk_render_check_options(opt, err);
+    if (st != HK_OK) return st;
+    memset(sc, 0, sizeof *sc);
+    sc->hair = hair, sc->head = head && head->triangle_count > 0 ? head : NULL, sc->opt = opt;
+    sc->threads = hk_render_threads(opt);
+    if ((st = hk_scene_bounds(sc, err)) != HK_OK) return st;
+    sc->thickness = hk_scene_file_thickness(sc);
+    hk_scene_thickness(sc, 1);
+    return HK_OK;
+}
+
 int hk_render_strand_stride(const hk_HairFile *hair, const hk_Mesh *head, const hk_RenderDef *opt, hk_Error *err)
 {
     const hk_RenderDef defaults = hk_default_render_def();
-    if (!opt) opt = &defaults;
-    if (hk_render_check_options(opt, err) != HK_OK) return 0;
     hk_Scene sc;
-    memset(&sc, 0, sizeof sc);
-    sc.hair = hair, sc.head = head && head->triangle_count > 0 ? head : NULL, sc.opt = opt;
-    sc.threads = hk_render_threads(opt);
-    if (hk_scene_bounds(&sc, err) != HK_OK) return 0;
-    sc.thickness = hair->default_thickness > 0.0f ? hair->default_thickness : 1e-3 * hk_v3_dist(sc.lo, sc.hi);
-    hk_scene_thickness(&sc, 1);
+    if (camera_scene(hair, head, opt ? opt : &defaults, &sc, err) != HK_OK) return 0;
     const hk_View cam = hk_camera_frame(&sc);
     return hk_scene_strand_stride(&sc, &cam);
 }
@@ -203,26 +212,12 @@ int hk_render_strand_stride(const hk_HairFile *hair, const hk_Mesh *head, const 
 hk_Status hk_render_fit_camera(const hk_HairFile *hair, const hk_Mesh *head, const hk_RenderDef *opt, hk_Vec3 *target,
                                double *distance, hk_Error *err)
 {
-    const hk_RenderDef defaults = hk_default_render_def();
-    if (!opt) opt = &defaults;
-    hk_Status st = hk_render_check_options(opt, err);
+    hk_RenderDef fit = opt ? *opt : hk_default_render_def();
+    hk_Status st = hk_render_check_options(&fit, err); /* the camera's own values too */
     if (st != HK_OK) return st;
-    hk_RenderDef fit = *opt;
     fit.camera_distance = 0.0;
-    hk_Scene sc = {hair,
-                   head && head->triangle_count > 0 ? head : NULL,
-                   NULL,
-                   &fit,
-                   hk_v3_zero(),
-                   hk_v3_zero(),
-                   hk_v3_zero(),
-                   0.0,
-                   0,
-                   NULL,
-                   0.0,
-                   hk_render_threads(opt),
-                   1.0};
-    if ((st = hk_scene_bounds(&sc, err)) != HK_OK) return st;
+    hk_Scene sc;
+    if ((st = camera_scene(hair, head, &fit, &sc, err)) != HK_OK) return st;
     const hk_View cam = hk_camera_frame(&sc);
     *target = cam.target;
     *distance = cam.distance;

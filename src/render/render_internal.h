@@ -198,6 +198,13 @@ static inline void hk_scene_thickness(hk_Scene *s, int stride)
     s->thickness_scale = (double)stride;
 }
 
+/* The strands' diameter when the file gives no array: its default, or a thousandth of
+ * the scene's box when it has none (hk_scene_bounds first). */
+static inline double hk_scene_file_thickness(const hk_Scene *s)
+{
+    return s->hair->default_thickness > 0.0f ? s->hair->default_thickness : 1e-3 * hk_v3_dist(s->lo, s->hi);
+}
+
 static inline double hk_hair_thickness_at(const hk_Scene *s, uint32_t point)
 {
     return (s->thickness_point ? s->thickness_point[point] : s->thickness_fixed) * s->thickness_scale;

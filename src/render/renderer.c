@@ -196,7 +196,7 @@ static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *he
     sc.light_dir = hk_v3_normalize(direction(opt->light_azimuth_deg, opt->light_elevation_deg));
     hk_Status st = hk_scene_bounds(&sc, err);
     if (st != HK_OK) return st;
-    sc.thickness = hair->default_thickness > 0.0f ? hair->default_thickness : 1e-3 * hk_v3_dist(sc.lo, sc.hi);
+    sc.thickness = hk_scene_file_thickness(&sc);
     hk_scene_thickness(&sc, 1);
     const double t0 = omp_get_wtime();
     /* The camera first (it needs only the bounds): the level of detail comes from how
