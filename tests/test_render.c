@@ -596,8 +596,8 @@ static void test_strand_level_of_detail(void **state)
 {
     (void)state;
     hk_HairFile h;
-    const int strands = 20000;
-    make_strands(&h, strands, 8, 0.25, 2.5e-5, 0.0); /* a sheet 50 cm by 50 cm */
+    const int strands = 100000;
+    make_strands(&h, strands, 8, 0.25, 5e-6, 0.0); /* a sheet 50 cm by 50 cm */
     h.default_thickness = 8e-5f;
     const struct {
         int width, height;
@@ -611,7 +611,7 @@ static void test_strand_level_of_detail(void **state)
         assert_int_equal(hk_render_fit_camera(&h, NULL, &o, &target, &distance, NULL), HK_OK);
         const double focal = 0.5 * o.height / tan(0.5 * o.fov_deg * HK_PI / 180.0);
         const double pixels = 8e-5 * focal / distance; /* the strand's width at the target */
-        double expected = pixels >= 0.25 ? 1.0 : fmin(fmin(floor(0.25 / pixels), 64.0), strands / 1000.0);
+        double expected = pixels >= 0.25 ? 1.0 : fmin(fmin(floor(0.25 / pixels), 64.0), floor(strands / 5000.0));
         strides[z] = hk_render_strand_stride(&h, NULL, &o, NULL);
         print_message("%dx%d: a strand %.4f pixels wide, one in %d drawn\n", o.width, o.height, pixels, strides[z]);
         assert_int_equal(strides[z], (int)fmax(expected, 1.0));
@@ -649,9 +649,9 @@ static void test_strand_level_of_detail(void **state)
     hk_canvas_free(&lod[0]);
     hk_canvas_free(&lod[1]);
     hk_canvas_free(&every);
-    /* few strands: every one drawn */
+    /* few strands (under 2 x 5,000): every one drawn */
     hk_HairFile few;
-    make_strands(&few, 1500, 8, 0.05, 6e-5, 0.0);
+    make_strands(&few, 9000, 8, 0.25, 5.5e-5, 0.0);
     few.default_thickness = 8e-5f;
     hk_RenderDef small = hk_default_render_def();
     small.width = 64, small.height = 48;

@@ -85,7 +85,7 @@ HK_API int hk_render_shadow_map_texels(const hk_RenderDef *options);
  * covers as much of it on average. k = 1 unless options->strand_lod is set and a
  * strand's projected width at the camera's target is under 1/4 pixel: then the
  * largest k that keeps it under 1/4 (k = 1 for the default head at 1200 x 900), at most
- * 64 and at most strands / 1000. `hair` and `head` as for hk_render. Returns 0 and sets
+ * 64 and at most strands / 5000. `hair` and `head` as for hk_render. Returns 0 and sets
  * err on bad options or non-finite points. */
 HK_API int hk_render_strand_stride(const hk_HairFile *hair, const hk_Mesh *head, const hk_RenderDef *options,
                                    hk_Error *err);

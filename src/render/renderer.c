@@ -202,7 +202,7 @@ static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *he
     /* The camera first (it needs only the bounds): the level of detail comes from how
      * wide a strand is in the picture, and the light's maps draw the same strands, k
      * times as wide (their opacity, the mean count of fibres in front, is kept on
-     * average; the picture's mean brightness moved by 0.03 % or less on the default
+     * average; the picture's mean brightness moved by 0.12 % or less on the default
      * head, docs/rendering.md "Speed"). */
     const hk_View cam = hk_camera_frame(&sc);
     const int stride = hk_scene_strand_stride(&sc, &cam);
