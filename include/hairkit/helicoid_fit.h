@@ -13,8 +13,10 @@ extern "C" {
 #endif
 
 /* The fitter's defaults for hair: curvefit's (Levenberg-Marquardt, tolerance 0.2 mm) with
- * arc_length = 1 (pieces are traced at arc-length spacing) and the model's derivatives
- * (hk_helicoid_piece_derivative); and the seed and initial steps
+ * arc_length = 1 (pieces are traced at arc-length spacing), the model's derivatives
+ * (hk_helicoid_piece_derivative) and max_pieces = HK_HELICOID_MAX_PIECES, so that the cap
+ * is the minimal fragment's (5 mm: a strand of length L gets at most L / 5 mm pieces); and
+ * the seed and initial steps
  * of the helicoid parameters (k_T, k_N, k_B, alpha) for a strand of the given length:
  * straight to start, steps of a quarter turn over the strand's length. */
 HK_API hk_CurveFitDef hk_default_helicoid_fit_def(void);
