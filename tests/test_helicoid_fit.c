@@ -3,6 +3,7 @@
  * reference: the parameters they were made from), single pieces and two pieces; the
  * fitted strand retraces the target; bad input is refused. */
 #include "hk_test.h"
+#include "hk_test_curves.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -437,23 +438,6 @@ static void test_curly_example(void **state)
     hk_helicoid_set_free(&set);
 }
 
-/* Mean distance from the points of a to the polyline b (each point to its nearest segment). */
-static double mean_distance_to_polyline(const hk_Vec3 *a, int na, const hk_Vec3 *b, int nb)
-{
-    double sum = 0.0;
-    for (int i = 0; i < na; i++) {
-        double best = INFINITY;
-        for (int j = 0; j + 1 < nb; j++) {
-            const hk_Vec3 d = hk_v3_sub(b[j + 1], b[j]);
-            const double dd = hk_v3_dot(d, d);
-            const double t = dd > 0.0 ? fmax(0.0, fmin(1.0, hk_v3_dot(hk_v3_sub(a[i], b[j]), d) / dd)) : 0.0;
-            best = fmin(best, hk_v3_dist(a[i], hk_v3_madd(b[j], d, t)));
-        }
-        sum += best;
-    }
-    return sum / na;
-}
-
 /* The project's wisp example (examples/helicoid/wisp.txt: a 2-piece strand of 27 cm and 256
  * more streamlines of its field from roots in a 6 mm disc, fanned out, all with eq. 4's
  * waves of 2 mm at 120 rad/m on top) traced as `helicoid trace` does and fitted with the
@@ -486,8 +470,7 @@ static void test_wisp_example(void **state)
         const int m = hk_phelicoid_point_count(&fit, step);
         hk_Vec3 *traced = malloc((size_t)m * sizeof *traced);
         assert_int_equal(hk_phelicoid_trace(&fit, step, NULL, NULL, traced, NULL, &err), HK_OK);
-        const double e = fmax(mean_distance_to_polyline(p, (int)count, traced, m),
-                              mean_distance_to_polyline(traced, m, p, (int)count));
+        const double e = hk_test_polyline_distance(p, (int)count, traced, m);
         sum += e, worst = fmax(worst, e), pieces += fit.piece_count, n++;
         free(traced);
         free(p);
