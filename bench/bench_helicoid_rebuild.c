@@ -61,23 +61,6 @@ static hk_Status make_hair(hk_HairFile *hair, long count)
     return st;
 }
 
-/* The former neighbour search: every guide scanned, the 16 nearest kept in order. */
-static int scan_nearest(const hk_Vec3 *roots, int count, hk_Vec3 x, int *index, double *dist)
-{
-    int m = 0;
-    for (int g = 0; g < count; g++) {
-        const double d = hk_v3_dist(x, roots[g]);
-        if (m == HK_RECONSTRUCT_NEIGHBOURS && !(d < dist[m - 1])) continue;
-        int i = m < HK_RECONSTRUCT_NEIGHBOURS ? m++ : m - 1;
-        for (; i > 0 && d < dist[i - 1]; i--) {
-            dist[i] = dist[i - 1];
-            index[i] = index[i - 1];
-        }
-        dist[i] = d, index[i] = g;
-    }
-    return m;
-}
-
 int hk_bench_helicoid_rebuild(FILE *out, const hk_BenchOptions *options)
 {
     const int guide_count = options->quick ? 200 : 10000;
@@ -104,7 +87,8 @@ int hk_bench_helicoid_rebuild(FILE *out, const hk_BenchOptions *options)
     double c0 = hk_thread_cpu_seconds();
     for (long s = 0; s < strands; s++) {
         const float *q = hair.points + 6 * (size_t)s;
-        const int m = scan_nearest(roots, guide_count, hk_v3(q[0], q[1], q[2]), ia, da);
+        const int m =
+            hk_nearest_by_scan(roots, guide_count, hk_v3(q[0], q[1], q[2]), HK_RECONSTRUCT_NEIGHBOURS, ia, da);
         for (int i = 0; i < m; i++) checksum_scan += (long)ia[i] * (i + 1);
     }
     const double scan_seconds = hk_thread_cpu_seconds() - c0;

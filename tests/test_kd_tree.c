@@ -1,6 +1,6 @@
-/* The k-d tree's nearest neighbours (src/core/kd_tree.c) against the brute force it
- * replaced in the reconstruction (helicoid/reconstruct_blend.c until 6 December 2026,
- * copied below as the reference): the same indices and the same distances, bit for bit,
+/* The k-d tree's nearest neighbours (src/core/kd_tree.c) against the scan it replaced in the
+ * reconstruction (helicoid/reconstruct_blend.c until 6 December 2026, kept verbatim as
+ * hk_nearest_by_scan): the same indices and the same distances, bit for bit,
  *  - on random points, with k of 1, 3, 16, the count and more than the count;
  *  - on points of a small integer lattice, with duplicates, queried at lattice points and
  *    half-way between them, where many distances tie exactly;
@@ -18,24 +18,6 @@
 
 enum { MAX_K = 64 };
 
-/* The scan of every point, verbatim from the reconstruction's former nearest_guides():
- * nearest first, a later point placed after the equal ones already kept. */
-static int brute_nearest(const hk_Vec3 *points, int count, int k, hk_Vec3 x, int *index, double *dist)
-{
-    int m = 0;
-    for (int g = 0; g < count; g++) {
-        const double d = hk_v3_dist(x, points[g]);
-        if (m == k && !(d < dist[m - 1])) continue;
-        int i = m < k ? m++ : m - 1;
-        for (; i > 0 && d < dist[i - 1]; i--) {
-            dist[i] = dist[i - 1];
-            index[i] = index[i - 1];
-        }
-        dist[i] = d, index[i] = g;
-    }
-    return m;
-}
-
 /* Every query of `queries` with every k against the brute force; returns the number of
  * queries whose k nearest held an exact tie (so that the tests can say they saw some). */
 static int check_same(const hk_Vec3 *points, int count, const hk_Vec3 *queries, int query_count)
@@ -49,7 +31,7 @@ static int check_same(const hk_Vec3 *points, int count, const hk_Vec3 *queries, 
             const int k = ks[c] < MAX_K ? ks[c] : MAX_K;
             int ia[MAX_K], ib[MAX_K];
             double da[MAX_K], db[MAX_K];
-            const int ma = brute_nearest(points, count, k, queries[q], ia, da);
+            const int ma = hk_nearest_by_scan(points, count, queries[q], k, ia, da);
             const int mb = hk_kd_tree_nearest(&tree, queries[q], k, ib, db);
             assert_int_equal(ma, mb);
             for (int i = 0; i < ma; i++) {
@@ -138,7 +120,7 @@ static void test_query_not_finite(void **state)
     for (int i = 0; i < 3; i++) {
         int ia[16], ib[16];
         double da[16], db[16];
-        assert_int_equal(brute_nearest(p, N, 16, q[i], ia, da), 16);
+        assert_int_equal(hk_nearest_by_scan(p, N, q[i], 16, ia, da), 16);
         assert_int_equal(hk_kd_tree_nearest(&tree, q[i], 16, ib, db), 16);
         for (int j = 0; j < 16; j++) {
             assert_int_equal(ia[j], ib[j]);

@@ -154,3 +154,19 @@ int hk_kd_tree_nearest(const hk_KdTree *t, hk_Vec3 x, int k, int *index, double 
     search(t, x, 0, t->count, &b);
     return b.m;
 }
+
+int hk_nearest_by_scan(const hk_Vec3 *points, int count, hk_Vec3 x, int k, int *index, double *dist)
+{
+    int m = 0;
+    for (int g = 0; g < count && k > 0; g++) {
+        const double d = hk_v3_dist(x, points[g]);
+        if (m == k && !(d < dist[m - 1])) continue;
+        int i = m < k ? m++ : m - 1;
+        for (; i > 0 && d < dist[i - 1]; i--) {
+            dist[i] = dist[i - 1];
+            index[i] = index[i - 1];
+        }
+        dist[i] = d, index[i] = g;
+    }
+    return m;
+}

@@ -27,4 +27,9 @@ void hk_kd_tree_free(hk_KdTree *tree);
  * gets what the brute force gives it (the lowest indices, its distances being NaN). */
 int hk_kd_tree_nearest(const hk_KdTree *tree, hk_Vec3 x, int k, int *index, double *dist);
 
+/* The definition the tree answers to: every point scanned in index order, the k nearest kept
+ * in a sorted list, a point placed after those at an equal distance (the reconstruction's
+ * search before the tree; kept for the tests and the benchmark to compare with). */
+int hk_nearest_by_scan(const hk_Vec3 *points, int count, hk_Vec3 x, int k, int *index, double *dist);
+
 #endif /* HK_CORE_KD_TREE_H */
