@@ -61,6 +61,12 @@ int hk_bench_helicoid(FILE *out, const hk_BenchOptions *options);
 /* The same on real grooms (bench_helicoid_real.c): fits of Sintel, Bangs and Curly
  * (../shared/hair-data; skipped when absent) and Sintel rebuilt from one strand in ten. */
 int hk_bench_helicoid_real(FILE *out, const hk_BenchOptions *options);
+/* The reconstruction's rebuild (bench_helicoid_rebuild.c): 100,000 synthetic strands from
+ * 10,000 guides, the neighbour search by a scan and by the k-d tree, 1 and 2 threads. */
+int hk_bench_helicoid_rebuild(FILE *out, const hk_BenchOptions *options);
+/* Fits of examples/helicoid/wisp.txt's wavy strands (bench_helicoid_waves.c): the plain fitter
+ * against the fit with eq. 4's waves, one thread. */
+int hk_bench_helicoid_waves(FILE *out, const hk_BenchOptions *options);
 /* bench curvefit's rows on the same real grooms: the fitter with forward-difference
  * Jacobians and with the helicoid's derivatives, one thread. */
 int hk_bench_curvefit_real(FILE *out, const hk_BenchOptions *options);

@@ -202,5 +202,6 @@ int hk_bench_helicoid(FILE *out, const hk_BenchOptions *options)
         fprintf(out, "  %-32s %10.3g %15.3g %20.2f\n", layouts[l].name, mean, worst, seconds);
     }
     fprintf(out, "\n");
+    if (hk_bench_helicoid_rebuild(out, options) != 0 || hk_bench_helicoid_waves(out, options) != 0) return 1;
     return hk_bench_helicoid_real(out, options);
 }

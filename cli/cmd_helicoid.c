@@ -79,7 +79,8 @@ static const struct {
     {FIT | RECONSTRUCT, "  --tolerance M      accept a fit when its mean leash (normalised Frechet\n"
                         "                     coupling) is below M metres (default 0.0002)\n"},
     {FIT | RECONSTRUCT, "  --lambda L         regularisation of eq. 5 (default 1e-7)\n"},
-    {FIT | RECONSTRUCT, "  --max-pieces N     pieces per fitted strand (default 16)\n"},
+    {FIT | RECONSTRUCT, "  --max-pieces N     most pieces per fitted strand (default 64; a piece is at\n"
+                        "                     least 5 mm long, so a strand gets at most one per 5 mm)\n"},
     {FIT | RECONSTRUCT, "  --pieces N         exactly N pieces of equal length on every strand, the same\n"
                         "                     layout for all (default: split where each strand needs it;\n"
                         "                     reconstruct: --piece-length 0.03 --root-piece 0.01, a\n"

@@ -3,6 +3,7 @@
  * reference: the parameters they were made from), single pieces and two pieces; the
  * fitted strand retraces the target; bad input is refused. */
 #include "hk_test.h"
+#include "hk_test_curves.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -437,6 +438,51 @@ static void test_curly_example(void **state)
     hk_helicoid_set_free(&set);
 }
 
+/* The project's wisp example (examples/helicoid/wisp.txt: a 2-piece strand of 27 cm and 256
+ * more streamlines of its field from roots in a 6 mm disc, fanned out, all with eq. 4's
+ * waves of 2 mm at 120 rad/m on top) traced as `helicoid trace` does and fitted with the
+ * defaults, every 64th strand. The reference is the traced strand itself, not the fitter's
+ * report: each fit is traced again 4 times finer and compared with it both ways (mean
+ * distance of each one's points to the other polyline, the larger). Issue 17 asks 0.1 mm;
+ * the waves are no p-helicoid and take about 9 pieces a turn, so the fits have 45 pieces,
+ * not the file's 2 (docs/helicoid-fitting.md, "Waves"); with the former cap of 16 pieces
+ * they came out 2.4 mm off. */
+static void test_wisp_example(void **state)
+{
+    (void)state;
+    hk_HelicoidSet set = {0};
+    hk_HairFile hair = {0};
+    hk_Error err;
+    assert_int_equal(hk_helicoid_file_load(HK_SOURCE_DIR "/examples/helicoid/wisp.txt", &set, &err), HK_OK);
+    assert_int_equal(hk_helicoid_set_trace(&set, set.step, 1, 1, &hair, &err), HK_OK);
+    assert_int_equal(hair.strand_count, 257);
+    hk_HelicoidFitter *f = hk_helicoid_fitter_create(4096, &err);
+    double sum = 0.0, worst = 0.0;
+    int n = 0, pieces = 0;
+    for (uint32_t s = 0; s < hair.strand_count; s += 64) {
+        const uint32_t a = hair.first_point[s], count = hair.first_point[s + 1] - a;
+        hk_Vec3 *p = malloc((size_t)count * sizeof *p);
+        for (uint32_t i = 0; i < count; i++)
+            p[i] = hk_v3(hair.points[3 * (a + i)], hair.points[3 * (a + i) + 1], hair.points[3 * (a + i) + 2]);
+        hk_PHelicoid fit;
+        assert_int_equal(hk_helicoid_fit(f, p, (int)count, NULL, &fit, NULL, &err), HK_OK);
+        const double step = hk_phelicoid_length(&fit) / (4.0 * (count - 1));
+        const int m = hk_phelicoid_point_count(&fit, step);
+        hk_Vec3 *traced = malloc((size_t)m * sizeof *traced);
+        assert_int_equal(hk_phelicoid_trace(&fit, step, NULL, NULL, traced, NULL, &err), HK_OK);
+        const double e = hk_test_polyline_distance(p, (int)count, traced, m);
+        sum += e, worst = fmax(worst, e), pieces += fit.piece_count, n++;
+        free(traced);
+        free(p);
+    }
+    print_message("  wisp.txt: %d strands, mean %.3f mm, worst %.3f mm, %.1f pieces\n", n, 1e3 * sum / n, 1e3 * worst,
+                  (double)pieces / n);
+    assert_true(sum / n <= 1e-4);
+    hk_helicoid_fitter_destroy(f);
+    hk_hair_free(&hair);
+    hk_helicoid_set_free(&set);
+}
+
 /* Real grooms (../shared/hair-data, in metres): coarse strands that the fitter can cut only
  * in 2 pieces at their own points are fitted again resampled, and the better kept.
  * Issue 17 asks a mean error of at most 0.25 mm and a worst of at most 2 mm; the fit with
@@ -497,6 +543,7 @@ int main(void)
         cmocka_unit_test(test_lift_off_layouts),
         cmocka_unit_test(test_bad_input),
         cmocka_unit_test(test_curly_example),
+        cmocka_unit_test(test_wisp_example),
         cmocka_unit_test(test_real_grooms),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

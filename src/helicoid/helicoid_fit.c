@@ -27,6 +27,14 @@ hk_CurveFitDef hk_default_helicoid_fit_def(void)
     /* Jacobians from one differentiated trace: 2 to 3 times fewer traced points than forward
      * differences for the same fits (docs/helicoid-fitting.md). */
     o.model_derivative = hk_helicoid_piece_derivative;
+    /* The cap that scales with the strand's length is the minimal fragment's (at most one
+     * piece per 5 mm); 64 only bounds strands over 32 cm. A piece's tangents all lie on one
+     * spiral phi = alpha theta of the sphere (eq. 1-2), so eq. 4's helical waves, whose
+     * tangents circle, take about 9 pieces a turn: examples/helicoid/wisp.txt (27 cm, 5
+     * turns) needs 45, and with curvefit's cap of 16 its strands came out 2.4 mm off, now
+     * 0.08 mm. No fit of Sintel, Bangs or Curly changes (none spends 16 pieces).
+     * docs/helicoid-fitting.md, "Waves". */
+    o.max_pieces = HK_HELICOID_MAX_PIECES;
     return o;
 }
 

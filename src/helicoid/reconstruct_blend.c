@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "core/core_internal.h"
+#include "core/kd_tree.h"
 #include "hairkit/helicoid_hair.h"
 #include "helicoid_internal.h"
 
@@ -95,32 +96,16 @@ static hk_Status strand_start(const hk_HairFile *hair, long s, StrandStart *out,
     return HK_OK;
 }
 
-/* The HK_RECONSTRUCT_NEIGHBOURS guides nearest to x (fewer when there are fewer), nearest
- * first; ties keep the lower index, so the choice does not depend on threads. */
-static int nearest_guides(const hk_PHelicoid *guides, int count, hk_Vec3 x, int *index, double *dist)
-{
-    int m = 0;
-    for (int g = 0; g < count; g++) {
-        const double d = hk_v3_dist(x, guides[g].root);
-        if (m == HK_RECONSTRUCT_NEIGHBOURS && !(d < dist[m - 1])) continue;
-        int i = m < HK_RECONSTRUCT_NEIGHBOURS ? m++ : m - 1;
-        for (; i > 0 && d < dist[i - 1]; i--) {
-            dist[i] = dist[i - 1];
-            index[i] = index[i - 1];
-        }
-        dist[i] = d, index[i] = g;
-    }
-    return m;
-}
-
 /* Strand s rebuilt into out[0..count): count points spaced length / (count - 1) from the root. */
-static void rebuild_strand(const hk_PHelicoid *guides, const GuideCurve *curves, int guide_count, const StrandStart *st,
-                           double power, int count, hk_Vec3 *out)
+static void rebuild_strand(const hk_PHelicoid *guides, const GuideCurve *curves, const hk_KdTree *roots,
+                           const StrandStart *st, double power, int count, hk_Vec3 *out)
 {
     int nb[HK_RECONSTRUCT_NEIGHBOURS], segment[HK_RECONSTRUCT_NEIGHBOURS] = {0};
     double dist[HK_RECONSTRUCT_NEIGHBOURS], w[HK_RECONSTRUCT_NEIGHBOURS], by_distance[HK_RECONSTRUCT_NEIGHBOURS];
     hk_Mat3 turn[HK_RECONSTRUCT_NEIGHBOURS];
-    const int m = nearest_guides(guides, guide_count, st->root, nb, dist);
+    /* The nearest guides by root, nearest first, ties to the lower index (so the choice
+     * does not depend on threads); a k-d tree, as a scan of every guide would find them. */
+    const int m = hk_kd_tree_nearest(roots, st->root, HK_RECONSTRUCT_NEIGHBOURS, nb, dist);
     double wsum = 0.0;
     for (int i = 0; i < m; i++) {
         const hk_Vec3 tangent = hk_m3_col(&guides[nb[i]].frame, 0);
@@ -162,6 +147,54 @@ static void rebuild_strand(const hk_PHelicoid *guides, const GuideCurve *curves,
     }
 }
 
+/* The k-d tree of the guides' roots, for the neighbour search. */
+static hk_Status root_tree(const hk_PHelicoid *guides, int count, hk_KdTree *tree, hk_Error *err)
+{
+    for (int g = 0; g < count; g++) {
+        const hk_Vec3 r = guides[g].root;
+        if (!(isfinite(r.x) && isfinite(r.y) && isfinite(r.z)))
+            return hk_error_set(err, HK_ERR_INVALID, "guide %d: root (%g, %g, %g) is not finite", g + 1, r.x, r.y, r.z);
+    }
+    hk_Vec3 *roots = hk_alloc_array((size_t)count, sizeof *roots, err);
+    if (!roots) return HK_ERR_NOMEM;
+    for (int g = 0; g < count; g++) roots[g] = guides[g].root;
+    const hk_Status st = hk_kd_tree_build(tree, roots, count, err);
+    hk_free(roots);
+    return st;
+}
+
+/* The strands in an order that keeps neighbours together: by their nearest guide's place in
+ * the tree (a counting sort, stable, so the order is fixed). Strands rebuilt one after
+ * another then read the same guide curves, which stay in cache: on 100,000 strands in
+ * random order from 10,000 guides this halved the rebuild (docs/helicoid-fitting.md). The
+ * order changes when each strand is computed, not what it is. */
+static long *locality_order(const hk_KdTree *roots, const StrandStart *start, long n, hk_Error *err)
+{
+    long *order = hk_alloc_array((size_t)n, sizeof *order, err);
+    long *first = order ? hk_calloc_array((size_t)roots->count + 1, sizeof *first, err) : NULL;
+    int *key = first ? hk_alloc_array((size_t)n, sizeof *key, err) : NULL;
+    int *place = key ? hk_alloc_array((size_t)roots->count, sizeof *place, err) : NULL;
+    if (place) {
+        for (int i = 0; i < roots->count; i++) place[roots->index[i]] = i;
+        for (long s = 0; s < n; s++) {
+            int nearest;
+            double d;
+            hk_kd_tree_nearest(roots, start[s].root, 1, &nearest, &d);
+            key[s] = place[nearest];
+            first[key[s] + 1]++;
+        }
+        for (int i = 0; i < roots->count; i++) first[i + 1] += first[i];
+        for (long s = 0; s < n; s++) order[first[key[s]]++] = s;
+    } else {
+        hk_free(order);
+        order = NULL;
+    }
+    hk_free(place);
+    hk_free(key);
+    hk_free(first);
+    return order;
+}
+
 hk_Status hk_helicoid_rebuild(const hk_HairFile *hair, const hk_PHelicoid *guides, int guide_count, double power,
                               double step, int threads, hk_HairFile *out, hk_Error *err)
 {
@@ -199,6 +232,11 @@ hk_Status hk_helicoid_rebuild(const hk_HairFile *hair, const hk_PHelicoid *guide
     }
     if (st == HK_OK && first.index >= 0)
         st = hk_error_set(err, first.error.code, "guide %ld: %s", first.index + 1, first.error.message);
+    hk_KdTree roots;
+    memset(&roots, 0, sizeof roots);
+    if (st == HK_OK) st = root_tree(guides, guide_count, &roots, err);
+    long *order = NULL;
+    if (st == HK_OK && !(order = locality_order(&roots, start, n, err))) st = HK_ERR_NOMEM;
     if (st == HK_OK) st = hk_hair_alloc(out, (uint32_t)n, counts, err);
     uint32_t most = 2;
     for (long s = 0; st == HK_OK && s < n; s++) most = counts[s] > most ? counts[s] : most;
@@ -209,9 +247,10 @@ hk_Status hk_helicoid_rebuild(const hk_HairFile *hair, const hk_PHelicoid *guide
             hk_Vec3 *p = hk_alloc_array(most, sizeof(hk_Vec3), &e);
             if (!p) hk_first_error_record(&first, 0, &e);
 #pragma omp for schedule(dynamic, 16)
-            for (long s = 0; s < n; s++) {
+            for (long i = 0; i < n; i++) {
+                const long s = order[i];
                 if (!p) continue;
-                rebuild_strand(guides, curves, guide_count, &start[s], power, (int)counts[s], p);
+                rebuild_strand(guides, curves, &roots, &start[s], power, (int)counts[s], p);
                 float *q = out->points + 3 * (size_t)out->first_point[s];
                 for (uint32_t j = 0; j < counts[s]; j++) {
                     q[3 * j] = (float)p[j].x, q[3 * j + 1] = (float)p[j].y, q[3 * j + 2] = (float)p[j].z;
@@ -222,6 +261,8 @@ hk_Status hk_helicoid_rebuild(const hk_HairFile *hair, const hk_PHelicoid *guide
         if (first.index >= 0) st = hk_first_error_status(&first, err);
         if (st != HK_OK) hk_hair_free(out);
     }
+    hk_free(order);
+    hk_kd_tree_free(&roots);
     for (int g = 0; curves && g < guide_count; g++) {
         hk_free(curves[g].points);
         hk_free(curves[g].arc);
