@@ -264,6 +264,18 @@ static void test_element_rates_contractions(void **state)
                         hk_assert_near(fast.rot.m[i][j], full.rot.m[i][j], 1e-15);
                     }
                 }
+                /* The velocity-only path: the same rotation, offset, Lambda kd and dd kd. */
+                hk_Mat3 rot;
+                hk_Vec3 offset, spin, slide;
+                hk_element_motion(k, u, kd, &rot, &offset, &spin, &slide);
+                const hk_Vec3 ref_lam_kd = hk_m3_mul_v3(&full.lam, kd), ref_dd_kd = hk_m3_mul_v3(&full.dd, kd);
+                const double scale_rate = u * sqrt(hk_v3_norm2(kd)) + 1e-30;
+                for (int i = 0; i < 3; i++) {
+                    hk_assert_near(hk_v3_get(offset, i), full.lam.m[i][0], 1e-15 * (u + 1e-30));
+                    hk_assert_near(hk_v3_get(spin, i), hk_v3_get(ref_lam_kd, i), 1e-14 * scale_rate);
+                    hk_assert_near(hk_v3_get(slide, i), hk_v3_get(ref_dd_kd, i), 1e-14 * scale_rate * u);
+                    for (int j = 0; j < 3; j++) hk_assert_near(rot.m[i][j], full.rot.m[i][j], 1e-15);
+                }
                 /* Finite differences along kd (step e, central; truncation ~ e^2). */
                 const double e = 1e-4 / sqrt(hk_v3_norm2(kd));
                 hk_ElementLocal ep, em;

@@ -634,15 +634,15 @@ void hk_strand_dynamics_energy(hk_StrandDynamics *d, const hk_RigidState *head, 
         for (int i = 0; i < g; i++) {
             const double u = sh->length[p] * d->gauss.node[g - 1][i];
             const double w = sh->length[p] * d->gauss.weight[g - 1][i];
-            hk_PointKinematics pk;
-            hk_point_kinematics(&node, k, kd, u, 1, &pk);
-            const hk_Mat3 b = rotary_inertia(&sh->material, &pk.k.frame, w);
-            t += 0.5 * (w * sh->material.mass_per_length * hk_v3_norm2(pk.k.vel) +
-                        hk_v3_dot(pk.k.omega, hk_m3_mul_v3(&b, pk.k.omega)));
+            hk_FrameKinematics pk;
+            hk_point_motion(&node, k, kd, u, &pk);
+            const hk_Mat3 b = rotary_inertia(&sh->material, &pk.frame, w);
+            t += 0.5 * (w * sh->material.mass_per_length * hk_v3_norm2(pk.vel) +
+                        hk_v3_dot(pk.omega, hk_m3_mul_v3(&b, pk.omega)));
         }
-        hk_PointKinematics end;
-        hk_point_kinematics(&node, k, kd, sh->length[p], 1, &end);
-        node = end.k;
+        hk_FrameKinematics end;
+        hk_point_motion(&node, k, kd, sh->length[p], &end);
+        node = end;
     }
     *kinetic = t;
 }
@@ -659,18 +659,18 @@ void hk_strand_dynamics_points(hk_StrandDynamics *d, const hk_RigidState *head, 
     for (int i = 0; i < count; i++) {
         double si = s[i];
         while (p < sh->n - 1 && si >= sh->s_start[p + 1]) {
-            hk_PointKinematics end;
-            hk_point_kinematics(&node, k_of(sh->q, p), k_of(d->v, p), sh->length[p], 1, &end);
-            node = end.k;
+            hk_FrameKinematics end;
+            hk_point_motion(&node, k_of(sh->q, p), k_of(d->v, p), sh->length[p], &end);
+            node = end;
             p++;
         }
         double u = si - sh->s_start[p];
         if (!(u >= 0.0)) u = 0.0;
         if (u > sh->length[p]) u = sh->length[p];
-        hk_PointKinematics pk;
-        hk_point_kinematics(&node, k_of(sh->q, p), k_of(d->v, p), u, 1, &pk);
-        pos[i] = pk.k.pos;
-        if (vel) vel[i] = pk.k.vel;
+        hk_FrameKinematics pk;
+        hk_point_motion(&node, k_of(sh->q, p), k_of(d->v, p), u, &pk);
+        pos[i] = pk.pos;
+        if (vel) vel[i] = pk.vel;
     }
 }
 

@@ -48,6 +48,21 @@ void hk_point_kinematics(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd,
     o->acc = hk_v3_add(acc, hk_m3_mul_v3(r, curve));
 }
 
+void hk_point_motion(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, double u, hk_FrameKinematics *out)
+{
+    hk_Mat3 rot;
+    hk_Vec3 offset, spin, slide;
+    hk_element_motion(k, u, kd, &rot, &offset, &spin, &slide);
+    const hk_Mat3 *r = &start->frame;
+    const hk_Vec3 d = hk_m3_mul_v3(r, offset);
+    out->frame = hk_m3_mul(r, &rot);
+    out->pos = hk_v3_add(start->pos, d);
+    out->omega = hk_v3_add(start->omega, hk_m3_mul_v3(r, spin));
+    out->vel = hk_v3_add(hk_v3_add(start->vel, hk_v3_cross(start->omega, d)), hk_m3_mul_v3(r, slide));
+    out->alpha = hk_v3_zero();
+    out->acc = hk_v3_zero();
+}
+
 static void add6(double *acc, hk_Vec3 ang, hk_Vec3 lin)
 {
     acc[0] += ang.x, acc[1] += ang.y, acc[2] += ang.z;

@@ -188,6 +188,23 @@ void hk_element_local_rates(hk_Vec3 k, double u, hk_Vec3 kd, hk_ElementLocal *ou
     *curve = hk_v3_scale(d2, u2 * u);
 }
 
+void hk_element_motion(hk_Vec3 k, double u, hk_Vec3 kd, hk_Mat3 *rot, hk_Vec3 *offset, hk_Vec3 *spin, hk_Vec3 *slide)
+{
+    const hk_Vec3 phi = hk_v3_scale(k, u);
+    double c[HK_CN_COUNT];
+    const double x = hk_v3_dot(phi, phi);
+    hk_helix_cn(x, c);
+    hk_ElementLocal el;
+    rotation_and_lambda(c, phi, x, u, &el);
+    *rot = el.rot;
+    *offset = hk_m3_col(&el.lam, 0);
+    *spin = hk_m3_mul_v3(&el.lam, kd);
+    /* dd kd = u^2 times h(phi; w = e0)'s derivative along kd (d/dk = u d/dphi). */
+    hk_Vec3 d1;
+    hk_helix_term_along(c, 2, 1.0, phi, hk_v3_unit(0), kd, &d1, NULL);
+    *slide = hk_v3_scale(d1, u * u);
+}
+
 hk_Vec3 hk_element_offset_begin(hk_Vec3 k, double u, double c[HK_CN_COUNT])
 {
     const hk_Vec3 phi = hk_v3_scale(k, u);

@@ -68,6 +68,11 @@ void hk_element_local(hk_Vec3 k, double u, int order, int with_g, hk_ElementLoca
  * curve = sum_ab kd_a kd_b d2d[a][b], both in the element's frame. */
 void hk_element_local_rates(hk_Vec3 k, double u, hk_Vec3 kd, hk_ElementLocal *out, hk_Vec3 *spin_rate, hk_Vec3 *curve);
 
+/* Rotation exp(u [k]x), Lambda(u; k) applied to kd and the offset's derivative along
+ * kd (dd kd), in the element's frame: what a point's velocity takes, without the
+ * Jacobians' matrices. d (column 0 of Lambda) in *offset. */
+void hk_element_motion(hk_Vec3 k, double u, hk_Vec3 kd, hk_Mat3 *rot, hk_Vec3 *offset, hk_Vec3 *spin, hk_Vec3 *slide);
+
 /* Only the offset d(u; k) and, when dd is not NULL, its Jacobian in k (order 1), and
  * when d2d is not NULL its second derivatives (order 2): the cheap path used for
  * collision samples inside an element. */
