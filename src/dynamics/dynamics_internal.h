@@ -166,6 +166,7 @@ struct hk_StrandDynamics {
     hk_StrandWorkspace *ws_body;
     double *hess, *hess_pos, *factor, *metric;
     int hess_pos_valid;
+    int geo_indefinite; /* the last G decomposed had a negative eigenvalue (positive_part) */
     /* The O(N) solver's stage that does not converge is solved again with the dense
      * matrix and the potential's Hessian (dense_fallback set for it); dense_work, hess
      * and its companions are then allocated on first use. */

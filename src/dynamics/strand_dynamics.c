@@ -482,19 +482,27 @@ static const double *positive_part(hk_StrandDynamics *d)
     const int dim = 3 * d->sh->n;
     const size_t sd = (size_t)dim;
     memcpy(d->hess_pos, d->hess, sd * sd * sizeof(double));
-    if (!hk_cholesky_factor(dim, d->hess_pos, 0.0, NULL, d->factor)) {
+    /* A positive definite G is its own positive part: one Cholesky factorisation tells,
+     * and saves the decomposition. On a head G is indefinite in nearly every step
+     * (examples/guides200: about 10 of its 30 eigenvalues negative), so the test is
+     * tried only when the guide's last G was positive (semi)definite. */
+    if (d->geo_indefinite || !hk_cholesky_factor(dim, d->hess_pos, 0.0, NULL, d->factor)) {
         double *v = d->factor, *w = d->metric, *e = d->metric + dim;
         if (hk_symmetric_eigen(dim, d->hess, w, v, e)) {
-            /* hess_pos[i][j] = sum over k of (v_ik max(w_k, 0)) v_jk, k increasing; the
-             * clamped modes add nothing and are skipped, and the sums of one row run
-             * side by side (each in its own order, so that the bits are those of one
-             * sum at a time). */
+            /* G+ = sum over the positive modes of w_k v_k v_k^T, or G minus the sum over
+             * the negative ones when they are fewer (a third of the products on a
+             * head); k increasing, and the sums of one row run side by side (each in its
+             * own order, so that the bits are those of one sum at a time). */
+            int negative = 0;
+            for (size_t k = 0; k < sd; k++) negative += w[k] < 0.0;
+            d->geo_indefinite = negative > 0;
+            const int subtract = 2 * negative < dim;
             for (size_t i = 0; i < sd; i++) {
                 double *row = d->hess_pos + i * sd;
-                for (size_t j = 0; j <= i; j++) row[j] = 0.0;
+                for (size_t j = 0; j <= i; j++) row[j] = subtract ? d->hess[i * sd + j] : 0.0;
                 for (size_t k = 0; k < sd; k++) {
-                    if (!(w[k] > 0.0)) continue;
-                    const double p = v[i * sd + k] * w[k];
+                    if (subtract ? !(w[k] < 0.0) : !(w[k] > 0.0)) continue;
+                    const double p = subtract ? -v[i * sd + k] * w[k] : v[i * sd + k] * w[k];
                     for (size_t j = 0; j <= i; j++) row[j] += p * v[j * sd + k];
                 }
                 for (size_t j = 0; j < i; j++) d->hess_pos[j * sd + i] = row[j];
