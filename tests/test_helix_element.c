@@ -231,12 +231,73 @@ static void test_element_local_scaling(void **state)
     hk_assert_near(d2d[2][1].z, el.d2d[2][1].z, 0.0);
 }
 
+/* The bias contractions of hk_element_local_rates against two references: the full
+ * order-2 element's dlam and d2d contracted term by term, and finite differences along
+ * the rates (d/de of Lambda(k + e kd) kd and d2/de2 of d(k + e kd)). */
+static void test_element_rates_contractions(void **state)
+{
+    (void)state;
+    const hk_Vec3 ks[] = {{0, 0, 0}, {1e-5, 2e-5, -1e-5}, {30, -80, 12}, {-5, 3, 40}, {200, 150, -90}};
+    const hk_Vec3 kds[] = {{1, -2, 0.5}, {0, 0, 3}, {-40, 25, 10}};
+    const double us[] = {0.0, 0.004, 0.03};
+    for (size_t t = 0; t < sizeof ks / sizeof *ks; t++)
+        for (size_t r = 0; r < sizeof kds / sizeof *kds; r++)
+            for (size_t q = 0; q < sizeof us / sizeof *us; q++) {
+                const hk_Vec3 k = ks[t], kd = kds[r];
+                const double u = us[q], kv[3] = {kd.x, kd.y, kd.z};
+                hk_ElementLocal full, fast;
+                hk_element_local(k, u, 2, 0, &full);
+                hk_Vec3 spin_rate, curve;
+                hk_element_local_rates(k, u, kd, &fast, &spin_rate, &curve);
+                hk_Vec3 ref_spin = hk_v3_zero(), ref_curve = hk_v3_zero();
+                for (int b = 0; b < 3; b++) {
+                    ref_spin = hk_v3_madd(ref_spin, hk_m3_mul_v3(&full.dlam[b], kd), kv[b]);
+                    for (int a = 0; a < 3; a++) ref_curve = hk_v3_madd(ref_curve, full.d2d[a][b], kv[a] * kv[b]);
+                }
+                const double scale_spin = u * u * hk_v3_norm2(kd) + 1e-30, scale_curve = scale_spin * u + 1e-30;
+                for (int i = 0; i < 3; i++) {
+                    hk_assert_near(hk_v3_get(spin_rate, i), hk_v3_get(ref_spin, i), 1e-13 * scale_spin);
+                    hk_assert_near(hk_v3_get(curve, i), hk_v3_get(ref_curve, i), 1e-13 * scale_curve);
+                    for (int j = 0; j < 3; j++) {
+                        hk_assert_near(fast.lam.m[i][j], full.lam.m[i][j], 1e-15 * (u + 1e-30));
+                        hk_assert_near(fast.dd.m[i][j], full.dd.m[i][j], 0.0);
+                        hk_assert_near(fast.rot.m[i][j], full.rot.m[i][j], 1e-15);
+                    }
+                }
+                /* The velocity-only path: the same rotation, offset, Lambda kd and dd kd. */
+                hk_Mat3 rot;
+                hk_Vec3 offset, spin, slide;
+                hk_element_motion(k, u, kd, &rot, &offset, &spin, &slide);
+                const hk_Vec3 ref_lam_kd = hk_m3_mul_v3(&full.lam, kd), ref_dd_kd = hk_m3_mul_v3(&full.dd, kd);
+                const double scale_rate = u * sqrt(hk_v3_norm2(kd)) + 1e-30;
+                for (int i = 0; i < 3; i++) {
+                    hk_assert_near(hk_v3_get(offset, i), full.lam.m[i][0], 1e-15 * (u + 1e-30));
+                    hk_assert_near(hk_v3_get(spin, i), hk_v3_get(ref_lam_kd, i), 1e-14 * scale_rate);
+                    hk_assert_near(hk_v3_get(slide, i), hk_v3_get(ref_dd_kd, i), 1e-14 * scale_rate * u);
+                    for (int j = 0; j < 3; j++) hk_assert_near(rot.m[i][j], full.rot.m[i][j], 1e-15);
+                }
+                /* Finite differences along kd (step e, central; truncation ~ e^2). */
+                const double e = 1e-4 / sqrt(hk_v3_norm2(kd));
+                hk_ElementLocal ep, em;
+                hk_element_local(hk_v3_madd(k, kd, e), u, 1, 0, &ep);
+                hk_element_local(hk_v3_madd(k, kd, -e), u, 1, 0, &em);
+                const hk_Vec3 fd_spin =
+                    hk_v3_scale(hk_v3_sub(hk_m3_mul_v3(&ep.lam, kd), hk_m3_mul_v3(&em.lam, kd)), 0.5 / e);
+                const hk_Vec3 fd_curve =
+                    hk_v3_scale(hk_v3_sub(hk_m3_mul_v3(&ep.dd, kd), hk_m3_mul_v3(&em.dd, kd)), 0.5 / e);
+                for (int i = 0; i < 3; i++) {
+                    hk_assert_near(hk_v3_get(spin_rate, i), hk_v3_get(fd_spin, i), 1e-7 * scale_spin);
+                    hk_assert_near(hk_v3_get(curve, i), hk_v3_get(fd_curve, i), 1e-7 * scale_curve);
+                }
+            }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_cn_against_long_double),     cmocka_unit_test(test_rotation_matches_rodrigues),
         cmocka_unit_test(test_integrals_match_quadrature), cmocka_unit_test(test_term_derivatives_fd),
-        cmocka_unit_test(test_element_local_scaling),
+        cmocka_unit_test(test_element_local_scaling),      cmocka_unit_test(test_element_rates_contractions),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

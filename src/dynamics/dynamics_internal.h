@@ -41,6 +41,10 @@ typedef struct hk_PointKinematics {
 void hk_point_kinematics(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, double u, int order,
                          hk_PointKinematics *out);
 
+/* Pose and velocities alone at offset u (hk_point_kinematics of order 1 without the
+ * Jacobians, which cost more than the rest): for points sampled along a strand. */
+void hk_point_motion(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, double u, hk_FrameKinematics *out);
+
 /* Per element terms of one step, from its own points (quadrature, contacts). The
  * spatial vectors are (angular; linear) about the world origin: a screw (w; v) moves
  * the point p by w x p + v, a wrench (m; f) is a moment about the origin and a force. */
@@ -162,6 +166,7 @@ struct hk_StrandDynamics {
     hk_StrandWorkspace *ws_body;
     double *hess, *hess_pos, *factor, *metric;
     int hess_pos_valid;
+    int geo_indefinite; /* the last G decomposed had a negative eigenvalue (positive_part) */
     /* The O(N) solver's stage that does not converge is solved again with the dense
      * matrix and the potential's Hessian (dense_fallback set for it); dense_work, hess
      * and its companions are then allocated on first use. */

@@ -482,19 +482,27 @@ static const double *positive_part(hk_StrandDynamics *d)
     const int dim = 3 * d->sh->n;
     const size_t sd = (size_t)dim;
     memcpy(d->hess_pos, d->hess, sd * sd * sizeof(double));
-    if (!hk_cholesky_factor(dim, d->hess_pos, 0.0, NULL, d->factor)) {
+    /* A positive definite G is its own positive part: one Cholesky factorisation tells,
+     * and saves the decomposition. On a head G is indefinite in nearly every step
+     * (examples/guides200: about 10 of its 30 eigenvalues negative), so the test is
+     * tried only when the guide's last G was positive (semi)definite. */
+    if (d->geo_indefinite || !hk_cholesky_factor(dim, d->hess_pos, 0.0, NULL, d->factor)) {
         double *v = d->factor, *w = d->metric, *e = d->metric + dim;
         if (hk_symmetric_eigen(dim, d->hess, w, v, e)) {
-            /* hess_pos[i][j] = sum over k of (v_ik max(w_k, 0)) v_jk, k increasing; the
-             * clamped modes add nothing and are skipped, and the sums of one row run
-             * side by side (each in its own order, so that the bits are those of one
-             * sum at a time). */
+            /* G+ = sum over the positive modes of w_k v_k v_k^T, or G minus the sum over
+             * the negative ones when they are fewer (a third of the products on a
+             * head); k increasing, and the sums of one row run side by side (each in its
+             * own order, so that the bits are those of one sum at a time). */
+            int negative = 0;
+            for (size_t k = 0; k < sd; k++) negative += w[k] < 0.0;
+            d->geo_indefinite = negative > 0;
+            const int subtract = 2 * negative < dim;
             for (size_t i = 0; i < sd; i++) {
                 double *row = d->hess_pos + i * sd;
-                for (size_t j = 0; j <= i; j++) row[j] = 0.0;
+                for (size_t j = 0; j <= i; j++) row[j] = subtract ? d->hess[i * sd + j] : 0.0;
                 for (size_t k = 0; k < sd; k++) {
-                    if (!(w[k] > 0.0)) continue;
-                    const double p = v[i * sd + k] * w[k];
+                    if (subtract ? !(w[k] < 0.0) : !(w[k] > 0.0)) continue;
+                    const double p = subtract ? -v[i * sd + k] * w[k] : v[i * sd + k] * w[k];
                     for (size_t j = 0; j <= i; j++) row[j] += p * v[j * sd + k];
                 }
                 for (size_t j = 0; j < i; j++) d->hess_pos[j * sd + i] = row[j];
@@ -634,15 +642,15 @@ void hk_strand_dynamics_energy(hk_StrandDynamics *d, const hk_RigidState *head, 
         for (int i = 0; i < g; i++) {
             const double u = sh->length[p] * d->gauss.node[g - 1][i];
             const double w = sh->length[p] * d->gauss.weight[g - 1][i];
-            hk_PointKinematics pk;
-            hk_point_kinematics(&node, k, kd, u, 1, &pk);
-            const hk_Mat3 b = rotary_inertia(&sh->material, &pk.k.frame, w);
-            t += 0.5 * (w * sh->material.mass_per_length * hk_v3_norm2(pk.k.vel) +
-                        hk_v3_dot(pk.k.omega, hk_m3_mul_v3(&b, pk.k.omega)));
+            hk_FrameKinematics pk;
+            hk_point_motion(&node, k, kd, u, &pk);
+            const hk_Mat3 b = rotary_inertia(&sh->material, &pk.frame, w);
+            t += 0.5 * (w * sh->material.mass_per_length * hk_v3_norm2(pk.vel) +
+                        hk_v3_dot(pk.omega, hk_m3_mul_v3(&b, pk.omega)));
         }
-        hk_PointKinematics end;
-        hk_point_kinematics(&node, k, kd, sh->length[p], 1, &end);
-        node = end.k;
+        hk_FrameKinematics end;
+        hk_point_motion(&node, k, kd, sh->length[p], &end);
+        node = end;
     }
     *kinetic = t;
 }
@@ -659,18 +667,18 @@ void hk_strand_dynamics_points(hk_StrandDynamics *d, const hk_RigidState *head, 
     for (int i = 0; i < count; i++) {
         double si = s[i];
         while (p < sh->n - 1 && si >= sh->s_start[p + 1]) {
-            hk_PointKinematics end;
-            hk_point_kinematics(&node, k_of(sh->q, p), k_of(d->v, p), sh->length[p], 1, &end);
-            node = end.k;
+            hk_FrameKinematics end;
+            hk_point_motion(&node, k_of(sh->q, p), k_of(d->v, p), sh->length[p], &end);
+            node = end;
             p++;
         }
         double u = si - sh->s_start[p];
         if (!(u >= 0.0)) u = 0.0;
         if (u > sh->length[p]) u = sh->length[p];
-        hk_PointKinematics pk;
-        hk_point_kinematics(&node, k_of(sh->q, p), k_of(d->v, p), u, 1, &pk);
-        pos[i] = pk.k.pos;
-        if (vel) vel[i] = pk.k.vel;
+        hk_FrameKinematics pk;
+        hk_point_motion(&node, k_of(sh->q, p), k_of(d->v, p), u, &pk);
+        pos[i] = pk.pos;
+        if (vel) vel[i] = pk.vel;
     }
 }
 

@@ -20,7 +20,11 @@ void hk_point_kinematics(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd,
                          hk_PointKinematics *out)
 {
     hk_ElementLocal el;
-    hk_element_local(k, u, order, 0, &el);
+    hk_Vec3 spin_rate = hk_v3_zero(), curve = hk_v3_zero();
+    if (order >= 2)
+        hk_element_local_rates(k, u, kd, &el, &spin_rate, &curve);
+    else
+        hk_element_local(k, u, order, 0, &el);
     const hk_Mat3 *r = &start->frame;
     const hk_Vec3 d = hk_m3_mul_v3(r, hk_m3_col(&el.lam, 0));
     out->jac = hk_m3_mul(r, &el.dd);
@@ -37,17 +41,26 @@ void hk_point_kinematics(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd,
         o->acc = hk_v3_zero();
         return;
     }
-    const double kv[3] = {kd.x, kd.y, kd.z};
-    hk_Vec3 spin_rate = hk_v3_zero(), curve = hk_v3_zero();
-    for (int b = 0; b < 3; b++) {
-        spin_rate = hk_v3_madd(spin_rate, hk_m3_mul_v3(&el.dlam[b], kd), kv[b]);
-        for (int a = 0; a < 3; a++) curve = hk_v3_madd(curve, el.d2d[a][b], kv[a] * kv[b]);
-    }
     o->alpha = hk_v3_add(hk_v3_add(start->alpha, hk_v3_cross(start->omega, spin)), hk_m3_mul_v3(r, spin_rate));
     hk_Vec3 acc = hk_v3_add(start->acc, hk_v3_cross(start->alpha, d));
     acc = hk_v3_add(acc, hk_v3_cross(start->omega, hk_v3_cross(start->omega, d)));
     acc = hk_v3_madd(acc, hk_v3_cross(start->omega, slide), 2.0);
     o->acc = hk_v3_add(acc, hk_m3_mul_v3(r, curve));
+}
+
+void hk_point_motion(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, double u, hk_FrameKinematics *out)
+{
+    hk_Mat3 rot;
+    hk_Vec3 offset, spin, slide;
+    hk_element_motion(k, u, kd, &rot, &offset, &spin, &slide);
+    const hk_Mat3 *r = &start->frame;
+    const hk_Vec3 d = hk_m3_mul_v3(r, offset);
+    out->frame = hk_m3_mul(r, &rot);
+    out->pos = hk_v3_add(start->pos, d);
+    out->omega = hk_v3_add(start->omega, hk_m3_mul_v3(r, spin));
+    out->vel = hk_v3_add(hk_v3_add(start->vel, hk_v3_cross(start->omega, d)), hk_m3_mul_v3(r, slide));
+    out->alpha = hk_v3_zero();
+    out->acc = hk_v3_zero();
 }
 
 static void add6(double *acc, hk_Vec3 ang, hk_Vec3 lin)

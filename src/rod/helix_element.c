@@ -1,5 +1,7 @@
 /* One helical element in closed form with exact first and second derivatives in its
  * curvatures and twist (Bertails et al. 2006 Appendix A, eq. 7; derivation in docs/physics.md). */
+#include <stddef.h>
+
 #include "helix_local.h"
 
 hk_Mat3 hk_helix_rotation(const double c[HK_CN_COUNT], hk_Vec3 phi)
@@ -68,6 +70,38 @@ void hk_helix_term(const double c[HK_CN_COUNT], int m, double alpha, hk_Vec3 phi
     }
 }
 
+void hk_helix_term_along(const double c[HK_CN_COUNT], int m, double alpha, hk_Vec3 phi, hk_Vec3 w, hk_Vec3 e,
+                         hk_Vec3 *d1, hk_Vec3 *d2)
+{
+    (void)alpha; /* the constant term alpha w has no derivative */
+    const double cm = c[m], cm1 = c[m + 1];
+    const double x = hk_v3_dot(phi, phi), pw = hk_v3_dot(phi, w), s = hk_v3_dot(phi, e);
+    const hk_Vec3 pxw = hk_v3_cross(phi, w), exw = hk_v3_cross(e, w);
+    const hk_Vec3 q = hk_v3_sub(hk_v3_scale(phi, pw), hk_v3_scale(w, x));
+    /* Along e, x changes at 2 s, so c_n at 2 s dc_n/dx (hk_helix_term's derivatives of
+     * c_n); Q = phi (phi . w) - x w changes at e (phi . w) + phi (e . w) - 2 s w. */
+    const double dm = -0.5 * (c[m + 1] - m * c[m + 2]);
+    const double dm1 = -0.5 * (c[m + 2] - (m + 1) * c[m + 3]);
+    const double ew = hk_v3_dot(e, w);
+    const hk_Vec3 dq = hk_v3_add(hk_v3_add(hk_v3_scale(e, pw), hk_v3_scale(phi, ew)), hk_v3_scale(w, -2.0 * s));
+    hk_Vec3 v = hk_v3_scale(pxw, 2.0 * dm * s);
+    v = hk_v3_madd(v, exw, cm);
+    v = hk_v3_madd(v, q, 2.0 * dm1 * s);
+    *d1 = hk_v3_madd(v, dq, cm1);
+    if (!d2) return;
+    /* Once more: (c_n)'' = 4 s^2 d2c_n/dx2 + 2 (e . e) dc_n/dx, (phi x w)'' = 0,
+     * Q'' = 2 e (e . w) - 2 (e . e) w. */
+    const double ddm = 0.25 * (c[m + 2] - (2 * m + 1) * c[m + 3] + m * (m + 2) * c[m + 4]);
+    const double ddm1 = 0.25 * (c[m + 3] - (2 * m + 3) * c[m + 4] + (m + 1) * (m + 3) * c[m + 5]);
+    const double ee = hk_v3_dot(e, e);
+    v = hk_v3_scale(pxw, 4.0 * ddm * s * s + 2.0 * dm * ee);
+    v = hk_v3_madd(v, exw, 4.0 * dm * s);
+    v = hk_v3_madd(v, q, 4.0 * ddm1 * s * s + 2.0 * dm1 * ee);
+    v = hk_v3_madd(v, dq, 4.0 * dm1 * s);
+    v = hk_v3_madd(v, e, 2.0 * cm1 * ew);
+    *d2 = hk_v3_madd(v, w, -2.0 * cm1 * ee);
+}
+
 static void set_col(hk_Mat3 *m, int j, hk_Vec3 v)
 {
     m->m[0][j] = v.x;
@@ -75,16 +109,39 @@ static void set_col(hk_Mat3 *m, int j, hk_Vec3 v)
     m->m[2][j] = v.z;
 }
 
+/* exp(Phi) = I + c1 Phi + c2 Phi^2 and Lambda = u (I + c2 Phi + c3 Phi^2), with
+ * Phi^2 = phi phi^T - x I: both from one outer product (x = phi . phi, c its c_n),
+ * instead of one hk_helix_term per column of Lambda. */
+static void rotation_and_lambda(const double c[HK_CN_COUNT], hk_Vec3 phi, double x, double u, hk_ElementLocal *out)
+{
+    const double pv[3] = {phi.x, phi.y, phi.z};
+    const hk_Mat3 skew = hk_m3_skew(phi);
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            const double sq = pv[i] * pv[j] - (i == j ? x : 0.0);
+            out->rot.m[i][j] = (i == j ? 1.0 : 0.0) + c[1] * skew.m[i][j] + c[2] * sq;
+            out->lam.m[i][j] = u * ((i == j ? 1.0 : 0.0) + c[2] * skew.m[i][j] + c[3] * sq);
+        }
+}
+
 void hk_element_local(hk_Vec3 k, double u, int order, int with_g, hk_ElementLocal *out)
 {
     const hk_Vec3 phi = hk_v3_scale(k, u);
     double c[HK_CN_COUNT];
-    hk_helix_cn(hk_v3_dot(phi, phi), c);
-    out->rot = hk_helix_rotation(c, phi);
+    const double x = hk_v3_dot(phi, phi);
+    hk_helix_cn(x, c);
+    const double u2 = u * u, u3 = u2 * u;
+    if (order == 1) { /* the whole of Lambda at once, and d's Jacobian */
+        rotation_and_lambda(c, phi, x, u, out);
+        hk_HelixTerm t;
+        hk_helix_term(c, 2, 1.0, phi, hk_v3_unit(0), 1, &t);
+        out->dd = hk_m3_scale(&t.jac, u2);
+    } else {
+        out->rot = hk_helix_rotation(c, phi);
+    }
 
     /* Lambda e_b = u h(phi; m = 2, alpha = 1, w = e_b); d/dk = u d/dphi. */
-    const double u2 = u * u, u3 = u2 * u;
-    for (int b = 0; b < (order > 0 ? 3 : 1); b++) {
+    for (int b = 0; b < (order == 1 ? 0 : order > 0 ? 3 : 1); b++) {
         int term_order = order >= 2 ? 2 : (b == 0 ? order : 0);
         if (b > 0 && term_order > 1) term_order = 1; /* columns 1, 2: dlam only */
         hk_HelixTerm t;
@@ -108,6 +165,44 @@ void hk_element_local(hk_Vec3 k, double u, int order, int with_g, hk_ElementLoca
             for (int i = 0; i < 3; i++)
                 for (int j = 0; j < 3; j++) out->d2g[i][j] = hk_v3_scale(t.hess[i][j], u3 * u);
     }
+}
+
+void hk_element_local_rates(hk_Vec3 k, double u, hk_Vec3 kd, hk_ElementLocal *out, hk_Vec3 *spin_rate, hk_Vec3 *curve)
+{
+    const hk_Vec3 phi = hk_v3_scale(k, u);
+    double c[HK_CN_COUNT];
+    const double x = hk_v3_dot(phi, phi);
+    hk_helix_cn(x, c);
+    rotation_and_lambda(c, phi, x, u, out);
+    hk_HelixTerm t;
+    hk_helix_term(c, 2, 1.0, phi, hk_v3_unit(0), 1, &t);
+    const double u2 = u * u;
+    out->dd = hk_m3_scale(&t.jac, u2);
+    /* Lambda e_b = u h(phi; w = e_b) is linear in w, so sum_b kd_b dlam[b] kd is u^2
+     * times h(phi; w = kd)'s derivative along kd (d/dk = u d/dphi); the offset's second
+     * derivative along kd is u^3 times h(phi; w = e0)'s. */
+    hk_Vec3 d1, d2, unused;
+    hk_helix_term_along(c, 2, 1.0, phi, kd, kd, &d1, NULL);
+    *spin_rate = hk_v3_scale(d1, u2);
+    hk_helix_term_along(c, 2, 1.0, phi, hk_v3_unit(0), kd, &unused, &d2);
+    *curve = hk_v3_scale(d2, u2 * u);
+}
+
+void hk_element_motion(hk_Vec3 k, double u, hk_Vec3 kd, hk_Mat3 *rot, hk_Vec3 *offset, hk_Vec3 *spin, hk_Vec3 *slide)
+{
+    const hk_Vec3 phi = hk_v3_scale(k, u);
+    double c[HK_CN_COUNT];
+    const double x = hk_v3_dot(phi, phi);
+    hk_helix_cn(x, c);
+    hk_ElementLocal el;
+    rotation_and_lambda(c, phi, x, u, &el);
+    *rot = el.rot;
+    *offset = hk_m3_col(&el.lam, 0);
+    *spin = hk_m3_mul_v3(&el.lam, kd);
+    /* dd kd = u^2 times h(phi; w = e0)'s derivative along kd (d/dk = u d/dphi). */
+    hk_Vec3 d1;
+    hk_helix_term_along(c, 2, 1.0, phi, hk_v3_unit(0), kd, &d1, NULL);
+    *slide = hk_v3_scale(d1, u * u);
 }
 
 hk_Vec3 hk_element_offset_begin(hk_Vec3 k, double u, double c[HK_CN_COUNT])

@@ -35,6 +35,13 @@ typedef struct hk_HelixTerm {
 void hk_helix_term(const double c[HK_CN_COUNT], int m, double alpha, hk_Vec3 phi, hk_Vec3 w, int order,
                    hk_HelixTerm *out);
 
+/* The first and second derivatives of the same h along one direction e of phi:
+ * d1 = sum_a e_a dh/dphi_a and d2 = sum_ab e_a e_b d2h/dphi_a dphi_b (d2 may be NULL).
+ * What a moving element's bias needs (the rates contracted with themselves), at the
+ * cost of one column instead of the whole Jacobian and Hessian. */
+void hk_helix_term_along(const double c[HK_CN_COUNT], int m, double alpha, hk_Vec3 phi, hk_Vec3 w, hk_Vec3 e,
+                         hk_Vec3 *d1, hk_Vec3 *d2);
+
 /* Rotation exp([phi]x) from the c_n of x = |phi|^2. */
 hk_Mat3 hk_helix_rotation(const double c[HK_CN_COUNT], hk_Vec3 phi);
 
@@ -54,6 +61,17 @@ typedef struct hk_ElementLocal {
 /* order 0: rot, column 0 of lam (the offset d), and g; 1: all of lam, dd (and dg);
  * 2: + dlam, d2d (and d2g). */
 void hk_element_local(hk_Vec3 k, double u, int order, int with_g, hk_ElementLocal *out);
+
+/* hk_element_local of order 1 (rot, lam, dd) with, for curvature rates kd, the two
+ * contractions of the order-2 derivatives that the bias acceleration takes (paper 000
+ * §3.3; dynamics/strand_kinematics.c): spin_rate = sum_b kd_b dlam[b] kd and
+ * curve = sum_ab kd_a kd_b d2d[a][b], both in the element's frame. */
+void hk_element_local_rates(hk_Vec3 k, double u, hk_Vec3 kd, hk_ElementLocal *out, hk_Vec3 *spin_rate, hk_Vec3 *curve);
+
+/* Rotation exp(u [k]x), Lambda(u; k) applied to kd and the offset's derivative along
+ * kd (dd kd), in the element's frame: what a point's velocity takes, without the
+ * Jacobians' matrices. d (column 0 of Lambda) in *offset. */
+void hk_element_motion(hk_Vec3 k, double u, hk_Vec3 kd, hk_Mat3 *rot, hk_Vec3 *offset, hk_Vec3 *spin, hk_Vec3 *slide);
 
 /* Only the offset d(u; k) and, when dd is not NULL, its Jacobian in k (order 1), and
  * when d2d is not NULL its second derivatives (order 2): the cheap path used for
