@@ -40,7 +40,7 @@ static const Action actions[] = {
     {"fit", FIT,
      "fit HAIR -o OUT.txt [--tolerance M] [--lambda L]\n"
      "               [--max-pieces N | --pieces N | --piece-length L [--root-piece R]]\n"
-     "               [--method lm|nelder-mead] [options]\n",
+     "               [--method lm|nelder-mead | --waves] [options]\n",
      "  fit          a p-helicoid for every strand of HAIR, in metres and any hair\n"
      "               format hairkit reads (paper 5; docs/helicoid-fitting.md); prints\n"
      "               the error of every strand and in all (mean leash of the Frechet\n"
@@ -92,6 +92,11 @@ static const struct {
                         "                     off the scalp); default L\n"},
     {FIT | RECONSTRUCT, "  --method M         lm: Levenberg-Marquardt on point distances (default, fast);\n"
                         "                     nelder-mead: the paper's, on the Frechet coupling (slow)\n"},
+    {FIT, "  --waves            fit each strand as a p-helicoid with waves of its own on top\n"
+          "                     (eq. 4: amplitude, frequency, phase; a Waves line in the\n"
+          "                     file): wavy strands in a few pieces instead of about 9 a\n"
+          "                     wave (docs/helicoid-fitting.md 5e); kept only where it beats\n"
+          "                     the plain fit; slower\n"},
     {RECONSTRUCT, "  --every K          reconstruct: fit one strand in K (default 10)\n"},
     {ALL, "  --seed N           random seed (default 1)\n"},
     {ALL, "  --threads N        threads (default: all cores); results do not depend on it\n"},
@@ -169,7 +174,8 @@ static int parse_args(int argc, char **argv, hk_HelicoidArgs *a)
         OPT_PIECES,
         OPT_METHOD,
         OPT_PIECE_LENGTH,
-        OPT_ROOT_PIECE
+        OPT_ROOT_PIECE,
+        OPT_WAVES
     };
     static const struct option options[] = {
         {"output", required_argument, NULL, 'o'},
@@ -190,6 +196,7 @@ static int parse_args(int argc, char **argv, hk_HelicoidArgs *a)
         {"piece-length", required_argument, NULL, OPT_PIECE_LENGTH},
         {"root-piece", required_argument, NULL, OPT_ROOT_PIECE},
         {"method", required_argument, NULL, OPT_METHOD},
+        {"waves", no_argument, NULL, OPT_WAVES},
         {"threads", required_argument, NULL, 't'},
         {"quiet", no_argument, NULL, 'q'},
         {"help", no_argument, NULL, 'h'},
@@ -291,6 +298,9 @@ static int parse_args(int argc, char **argv, hk_HelicoidArgs *a)
             else
                 return hk_cli_usage_error(CMD, "--method expects lm or nelder-mead, got '%s'", optarg);
             break;
+        case OPT_WAVES:
+            a->waves = 1;
+            break;
         case OPT_EVERY:
             if (!hk_cli_parse_int(optarg, 1, 1000000, &a->every))
                 return hk_cli_usage_error(CMD, "--every expects 1 to 1000000, got '%s'", optarg);
@@ -330,6 +340,12 @@ static int parse_args(int argc, char **argv, hk_HelicoidArgs *a)
     if (a->root_piece > 0.0 && !(a->piece_length > 0.0))
         return hk_cli_usage_error(CMD,
                                   "--root-piece is the first piece of a --piece-length layout: give --piece-length");
+    if (a->waves && strcmp(a->action, "fit"))
+        return hk_cli_usage_error(CMD, "--waves is for fit (a p-helicoid with waves of its own for every strand)");
+    if (a->waves &&
+        (a->pieces_given || a->piece_length > 0.0 || a->max_pieces_given || a->method != HK_CURVEFIT_LEAST_SQUARES))
+        return hk_cli_usage_error(CMD, "--waves chooses its own layout (the base in pieces of about 7 cm) and "
+                                       "Levenberg-Marquardt: drop --pieces, --piece-length, --max-pieces, --method");
     if (a->head && !(a->follicles > 0.0))
         return hk_cli_usage_error(CMD, "--head is fitted with the wick by --follicles: give --follicles SPACING");
     if ((rc = hk_cli_output_file(CMD, "-o", a->output, NULL))) return rc;

@@ -20,6 +20,7 @@ typedef struct hk_HelicoidArgs {
     hk_CurveFitMethod method;
     uint64_t seed;
     int threads, quiet;
+    int waves; /* fit --waves: hk_helicoid_fit_strands_wavy */
 } hk_HelicoidArgs;
 
 int hk_helicoid_cli_interpolate(const hk_HelicoidArgs *a);

@@ -12,14 +12,20 @@
 
 static const char *const CMD = HK_HELICOID_CMD;
 
-/* Fits strands idx[0..n) (hk_helicoid_fit_strands) with a progress bar on a terminal;
- * errors name the input file. */
+/* Fits strands idx[0..n) (hk_helicoid_fit_strands, or with waves not NULL
+ * hk_helicoid_fit_strands_wavy) with a progress bar on a terminal; errors name the input
+ * file. */
 static hk_Status fit_strands(const hk_HairFile *hair, const long *idx, long n, const hk_CurveFitDef *opt,
-                             const hk_HelicoidArgs *args, hk_PHelicoid *out, hk_HelicoidFitReport *report,
-                             hk_Error *err)
+                             const hk_HelicoidArgs *args, hk_PHelicoid *out, hk_Waviness *waves,
+                             hk_HelicoidFitReport *report, hk_Error *err)
 {
     hk_CliProgress bar = {hk_cli_stderr_is_tty() && !args->quiet, "", -1};
-    hk_Status st = hk_helicoid_fit_strands(hair, idx, n, opt, args->threads, hk_cli_progress, &bar, out, report, err);
+    hk_WavyFitDef wavy = hk_default_wavy_fit_def();
+    wavy.base = *opt;
+    hk_Status st =
+        waves ? hk_helicoid_fit_strands_wavy(hair, idx, n, &wavy, args->threads, hk_cli_progress, &bar, out, waves,
+                                             report, err)
+              : hk_helicoid_fit_strands(hair, idx, n, opt, args->threads, hk_cli_progress, &bar, out, report, err);
     hk_cli_progress_done(&bar);
     if (st != HK_OK) {
         const hk_Error inner = *err;
@@ -62,17 +68,20 @@ int hk_helicoid_cli_fit(const hk_HelicoidArgs *a)
     const double t0 = hk_seconds_now();
     if (st == HK_OK) {
         for (uint32_t s = 0; s < hair.strand_count; s++) idx[s] = s;
-        st = fit_strands(&hair, idx, hair.strand_count, &opt, a, set.strands, rep, &err);
+        st = fit_strands(&hair, idx, hair.strand_count, &opt, a, set.strands, a->waves ? set.waves : NULL, rep, &err);
+        for (uint32_t s = 0; a->waves && st == HK_OK && s < hair.strand_count; s++)
+            set.has_waves[s] = set.waves[s].amplitude > 0.0;
     }
     const double seconds = hk_seconds_now() - t0;
     if (st == HK_OK) st = hk_helicoid_file_save(a->output, &set, "fitted by hairkit helicoid fit", &err);
     if (st == HK_OK) {
         double sum = 0.0, worst = 0.0, fr = 0.0;
-        long pieces = 0, over = 0;
+        long pieces = 0, over = 0, waved = 0;
         printf("strand,points,pieces,error_m,frechet_m\n");
         for (uint32_t s = 0; s < hair.strand_count; s++) {
             printf("%u,%u,%d,%.6g,%.6g\n", s + 1, hair.first_point[s + 1] - hair.first_point[s], rep[s].pieces,
                    rep[s].error, rep[s].frechet);
+            waved += set.has_waves[s];
             sum += rep[s].error, worst = fmax(worst, rep[s].error), fr = fmax(fr, rep[s].frechet);
             pieces += rep[s].pieces;
             /* a strand the fitter could not bring within the tolerance (after its retry) */
@@ -85,8 +94,10 @@ int hk_helicoid_cli_fit(const hk_HelicoidArgs *a)
                     over - 10);
         const double n = hair.strand_count ? (double)hair.strand_count : 1.0;
         printf("# strands=%u mean_error_m=%.6g max_error_m=%.6g max_frechet_m=%.6g mean_pieces=%.3g "
-               "over_tolerance=%ld fits_per_second=%.1f\n",
-               hair.strand_count, sum / n, worst, fr, pieces / n, over, hair.strand_count / fmax(seconds, 1e-9));
+               "over_tolerance=%ld fits_per_second=%.1f%s",
+               hair.strand_count, sum / n, worst, fr, pieces / n, over, hair.strand_count / fmax(seconds, 1e-9),
+               a->waves ? "" : "\n");
+        if (a->waves) printf(" with_waves=%ld\n", waved);
     }
     hk_free(idx), hk_free(rep);
     hk_helicoid_set_free(&set);

@@ -94,7 +94,16 @@ int hk_helicoid_cli_interpolate(const hk_HelicoidArgs *a)
     hk_Mesh mesh;
     memset(&mesh, 0, sizeof mesh);
     if (hk_helicoid_file_load(a->input, &guides, &err) != HK_OK) return hk_cli_fail(CMD, &err);
-    hk_Status st = hk_mesh_load(a->surface, &mesh, &err);
+    hk_Status st = HK_OK;
+    /* Interpolation blends the guides' pieces (§4); waves of their own (fit --waves) have
+     * phases that do not blend. */
+    for (int g = 0; g < guides.count && st == HK_OK; g++)
+        if (guides.has_waves[g])
+            st = hk_error_set(&err, HK_ERR_INVALID,
+                              "%s: strand %d has waves of its own (Waves): interpolation blends the guides' "
+                              "pieces only; fit them without --waves, or give the file one Waviness",
+                              a->input, g + 1);
+    if (st == HK_OK) st = hk_mesh_load(a->surface, &mesh, &err);
     hk_Vec3 *roots = NULL, *normals = NULL, *gnormals = NULL;
     hk_HairFile hair;
     memset(&hair, 0, sizeof hair);

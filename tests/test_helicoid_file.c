@@ -8,7 +8,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "hairkit/hairfile.h"
 #include "hairkit/helicoid_file.h"
+#include "hairkit/helicoid_hair.h"
 
 static const char *const sample = "# two guides\n"
                                   "Step      0.001\n"
@@ -94,6 +96,51 @@ static void test_wave_jitter(void **state)
     hk_helicoid_set_free(&set);
 }
 
+/* A strand's own waves (Waves, as helicoid fit --waves writes them): read, written back
+ * to the same bytes, and traced in place of the file's Waviness - the reference being
+ * hk_phelicoid_trace with those waves given directly - while a strand without them keeps
+ * the file's. */
+static void test_own_waves(void **state)
+{
+    (void)state;
+    hk_Error err;
+    hk_HelicoidSet set, again;
+    const char *path = hk_test_write_text("waves.txt", "Step 0.002\nWaviness 0.001 100\n"
+                                                       "Strand\nRoot 0 0 0\nFrame 1 0 0  0 1 0\n"
+                                                       "Piece 10 0 0 0 0.1\nWaves 0.003 157 0.25\n"
+                                                       "Strand\nRoot 0.01 0 0\nFrame 1 0 0  0 1 0\n"
+                                                       "Piece 10 0 0 0 0.1\n");
+    assert_int_equal(hk_helicoid_file_load(path, &set, &err), HK_OK);
+    assert_int_equal(set.has_waves[0], 1);
+    assert_int_equal(set.has_waves[1], 0);
+    hk_assert_near(set.waves[0].amplitude, 0.003, 0.0);
+    hk_assert_near(set.waves[0].frequency, 157.0, 0.0);
+    hk_assert_near(set.waves[0].phase, 0.25, 0.0);
+    char saved[512];
+    snprintf(saved, sizeof saved, "%s/waves2.txt", hk_test_tmpdir());
+    assert_int_equal(hk_helicoid_file_save(saved, &set, NULL, &err), HK_OK);
+    assert_int_equal(hk_helicoid_file_load(saved, &again, &err), HK_OK);
+    assert_int_equal(again.has_waves[0], 1);
+    assert_int_equal(again.has_waves[1], 0);
+    assert_memory_equal(&again.waves[0], &set.waves[0], sizeof(hk_Waviness));
+    hk_HairFile hair;
+    assert_int_equal(hk_helicoid_set_trace(&set, 0.002, 1, 1, &hair, &err), HK_OK);
+    for (int s = 0; s < 2; s++) {
+        const int n = (int)(hair.first_point[s + 1] - hair.first_point[s]);
+        hk_Vec3 ref[64];
+        assert_true(n <= 64);
+        const hk_Waviness *w = s == 0 ? &set.waves[0] : &set.waviness; /* jitter 0: phase 0 */
+        assert_int_equal(hk_phelicoid_trace(&set.strands[s], 0.002, w, NULL, ref, NULL, &err), HK_OK);
+        for (int i = 0; i < n; i++) {
+            const float *p = hair.points + 3 * (size_t)(hair.first_point[s] + (uint32_t)i);
+            assert_true(p[0] == (float)ref[i].x && p[1] == (float)ref[i].y && p[2] == (float)ref[i].z);
+        }
+    }
+    hk_hair_free(&hair);
+    hk_helicoid_set_free(&again);
+    hk_helicoid_set_free(&set);
+}
+
 static void expect_error(const char *text, const char *where, const char *what)
 {
     hk_HelicoidSet set;
@@ -134,6 +181,13 @@ static void test_errors(void **state)
     expect_error("Waviness 0.001 3 1.5\nStrand\n", "bad.txt:1", "phase jitter in [0, 1]");
     expect_error("Waviness 0.001 3 0.5 2\nStrand\n", "bad.txt:1", "2 or 3 numbers");
     expect_error("Strand\nRoot 0 0 0\nFrame 1 0 0 0 1 0\nPiece 1 0 0 0 1\nBend 3\n", "bad.txt:5", "unknown key");
+    expect_error("Waves 0.001 100 0\nStrand\n", "bad.txt:1", "before the first Strand");
+    expect_error("Strand\nRoot 0 0 0\nFrame 1 0 0 0 1 0\nPiece 1 0 0 0 1\nWaves 0.001 100\n", "bad.txt:5", "3 numbers");
+    expect_error("Strand\nRoot 0 0 0\nFrame 1 0 0 0 1 0\nPiece 1 0 0 0 1\nWaves -0.001 100 0\n", "bad.txt:5",
+                 "Waves needs");
+    expect_error("Strand\nRoot 0 0 0\nFrame 1 0 0 0 1 0\nPiece 1 0 0 0 1\nWaves 0.001 100 inf\n", "bad.txt:5", "");
+    expect_error("Strand\nRoot 0 0 0\nFrame 1 0 0 0 1 0\nPiece 1 0 0 0 1\nWaves 0 0 0\nWaves 0 0 0\n", "bad.txt:6",
+                 "second Waves");
     /* 65 pieces */
     char buf[8192] = "Strand\nRoot 0 0 0\nFrame 1 0 0 0 1 0\n";
     for (int i = 0; i < 65; i++) strcat(buf, "Piece 1 0 0 0 0.01\n");
@@ -172,10 +226,8 @@ static void test_fuzz(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_sample),
-        cmocka_unit_test(test_errors),
-        cmocka_unit_test(test_wave_jitter),
-        cmocka_unit_test(test_fuzz),
+        cmocka_unit_test(test_sample),    cmocka_unit_test(test_errors), cmocka_unit_test(test_wave_jitter),
+        cmocka_unit_test(test_own_waves), cmocka_unit_test(test_fuzz),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

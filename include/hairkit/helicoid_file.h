@@ -21,6 +21,11 @@ typedef struct hk_HelicoidSet {
     hk_PHelicoid *strands;
     int *wisp_count; /* Wisp count radius spread, per strand (count 0: none) */
     double *wisp_radius, *wisp_spread;
+    /* Waves a b c, per strand: a strand's own waves of eq. 4 (amplitude, frequency, phase
+     * in radians), as a fit with waves finds them (hk_helicoid_fit_wavy); where
+     * has_waves[i] they replace the file's Waviness for strand i (its wisp too). */
+    unsigned char *has_waves;
+    hk_Waviness *waves;
 } hk_HelicoidSet;
 
 HK_API hk_Status hk_helicoid_file_load(const char *path, hk_HelicoidSet *out, hk_Error *err);

@@ -13,6 +13,7 @@
 #include "hairkit/hairfile.h"
 #include "hairkit/helicoid.h"
 #include "hairkit/helicoid_file.h"
+#include "hairkit/helicoid_fit.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -59,6 +60,16 @@ HK_API hk_Status hk_helicoid_fit_strands(const hk_HairFile *hair, const long *in
                                          const hk_CurveFitDef *options, int threads, hk_ProgressFn progress,
                                          void *progress_user, hk_PHelicoid *out, hk_HelicoidFitReport *reports,
                                          hk_Error *err);
+
+/* The same with hk_helicoid_fit_wavy (options NULL: hk_default_wavy_fit_def()): each
+ * strand's p-helicoid and its own waves of eq. 4 into waves[0..count) (amplitude 0 where
+ * the plain fit was as good; strands under 8 points get the plain fit of options->base).
+ * The reports' error and Fréchet distance are of the fit traced with its waves at the
+ * strand's count of points; their evaluations 0. */
+HK_API hk_Status hk_helicoid_fit_strands_wavy(const hk_HairFile *hair, const long *index, long count,
+                                              const hk_WavyFitDef *options, int threads, hk_ProgressFn progress,
+                                              void *progress_user, hk_PHelicoid *out, hk_Waviness *waves,
+                                              hk_HelicoidFitReport *reports, hk_Error *err);
 
 /* The layout of a reconstruction's fits: by length from the root, a 1 cm piece for the
  * lift off the scalp, then 3 cm pieces. On the head example (3,629 strands without waves,

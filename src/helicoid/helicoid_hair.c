@@ -53,6 +53,7 @@ hk_Status hk_helicoid_set_trace(const hk_HelicoidSet *set, double step, uint64_t
         /* the strand's wave phase: from the seed and its index, whatever the threads */
         hk_Waviness wave = set->waviness;
         wave.phase = 2.0 * HK_PI * set->wave_jitter * hk_rng_uniform(seed, WAVE_PHASE_STREAM, (uint64_t)s);
+        if (set->has_waves && set->has_waves[s]) wave = set->waves[s]; /* its own (Waves) */
         hk_Vec3 *pts = hk_alloc_array((size_t)n * (size_t)m, sizeof(hk_Vec3), &e);
         hk_Status rs = pts ? hk_phelicoid_trace(h, step, &wave, NULL, pts, NULL, &e) : HK_ERR_NOMEM;
         if (rs == HK_OK && m > 1)

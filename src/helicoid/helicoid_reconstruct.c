@@ -10,12 +10,27 @@
 #include "hairkit/helicoid_hair.h"
 #include "helicoid_internal.h"
 
-hk_Status hk_helicoid_fit_strands(const hk_HairFile *hair, const long *index, long count, const hk_CurveFitDef *options,
-                                  int threads, hk_ProgressFn progress, void *progress_user, hk_PHelicoid *out,
-                                  hk_HelicoidFitReport *reports, hk_Error *err)
+/* Normalised coupling and Fréchet distance of h traced with `wave` at the strand's own
+ * count of points against it (how hk_helicoid_fit_wavy measures its error). */
+static hk_Status traced_measures(const hk_PHelicoid *h, const hk_Waviness *wave, const hk_Vec3 *pts, int n,
+                                 hk_Vec3 *work, hk_FrechetMeasures *m, hk_Error *err)
+{
+    const double step = hk_phelicoid_length(h) / (n - 1);
+    if (hk_phelicoid_point_count(h, step) != n)
+        return hk_error_set(err, HK_ERR_NUMERIC, "the fit does not trace at the strand's spacing");
+    hk_Status st = hk_phelicoid_trace(h, step, wave, NULL, work, NULL, err);
+    if (st == HK_OK) st = hk_frechet_measures(pts, n, work, n, m, err);
+    return st;
+}
+
+/* hk_helicoid_fit_strands, and with wavy (not NULL) hk_helicoid_fit_wavy for strands of 8
+ * points or more, their waves into waves[0..count) (amplitude 0: none). */
+static hk_Status fit_strands(const hk_HairFile *hair, const long *index, long count, const hk_CurveFitDef *options,
+                             const hk_WavyFitDef *wavy, int threads, hk_ProgressFn progress, void *progress_user,
+                             hk_PHelicoid *out, hk_Waviness *waves, hk_HelicoidFitReport *reports, hk_Error *err)
 {
     const hk_CurveFitDef defaults = hk_default_helicoid_fit_def();
-    if (!options) options = &defaults;
+    if (!options) options = wavy ? &wavy->base : &defaults;
     uint32_t longest = 2;
     for (long i = 0; i < count; i++) {
         if (index[i] < 0 || index[i] >= (long)hair->strand_count)
@@ -36,22 +51,33 @@ hk_Status hk_helicoid_fit_strands(const hk_HairFile *hair, const long *index, lo
         /* room for the resampled retry of coarse strands (hk_helicoid_fit) */
         const int capacity = longest < 64 ? 4 * ((int)longest - 1) + 1 : (int)longest;
         hk_HelicoidFitter *f = hk_helicoid_fitter_create(capacity, &e);
-        hk_Vec3 *pts = hk_alloc_array(longest, sizeof(hk_Vec3), f ? &e : NULL);
+        hk_Vec3 *pts = hk_alloc_array(2 * (size_t)longest, sizeof(hk_Vec3), f ? &e : NULL);
 #pragma omp for schedule(dynamic, 4)
         for (long i = 0; i < count; i++) {
             if (hk_first_error_skip(&first, i)) continue;
             const uint32_t a = hair->first_point[index[i]], b = hair->first_point[index[i] + 1];
+            const int n = (int)(b - a);
             hk_Status st = (f && pts) ? HK_OK : HK_ERR_NOMEM;
             hk_CurveFit fit;
-            if (st == HK_OK) {
+            hk_HelicoidFitReport rep = {0.0, 0.0, 0, 0};
+            if (st == HK_OK)
                 for (uint32_t p = a; p < b; p++) {
                     const float *q = hair->points + 3 * (size_t)p;
                     pts[p - a] = hk_v3(q[0], q[1], q[2]);
                 }
-                st = hk_helicoid_fit(f, pts, (int)(b - a), options, &out[i], &fit, &e);
+            if (st == HK_OK && wavy && n >= 8) {
+                hk_FrechetMeasures m;
+                double error;
+                st = hk_helicoid_fit_wavy(f, pts, n, wavy, &out[i], &waves[i], &error, &e);
+                if (st == HK_OK) st = traced_measures(&out[i], &waves[i], pts, n, pts + longest, &m, &e);
+                if (st == HK_OK) rep = (hk_HelicoidFitReport){m.normalized, m.distance, out[i].piece_count, 0};
+            } else if (st == HK_OK) {
+                st = hk_helicoid_fit(f, pts, n, options, &out[i], &fit, &e);
+                if (waves) waves[i] = (hk_Waviness){0.0, 0.0, 0.0};
+                if (st == HK_OK) rep = (hk_HelicoidFitReport){fit.error, fit.frechet, fit.piece_count, fit.evaluations};
             }
             if (st == HK_OK && reports)
-                reports[i] = (hk_HelicoidFitReport){fit.error, fit.frechet, fit.piece_count, fit.evaluations};
+                reports[i] = rep;
             else if (st != HK_OK)
                 hk_first_error_record(&first, i, &e);
             long now;
@@ -65,6 +91,24 @@ hk_Status hk_helicoid_fit_strands(const hk_HairFile *hair, const long *index, lo
     if (first.index >= 0)
         return hk_error_set(err, first.error.code, "strand %ld: %s", index[first.index] + 1, first.error.message);
     return HK_OK;
+}
+
+hk_Status hk_helicoid_fit_strands(const hk_HairFile *hair, const long *index, long count, const hk_CurveFitDef *options,
+                                  int threads, hk_ProgressFn progress, void *progress_user, hk_PHelicoid *out,
+                                  hk_HelicoidFitReport *reports, hk_Error *err)
+{
+    return fit_strands(hair, index, count, options, NULL, threads, progress, progress_user, out, NULL, reports, err);
+}
+
+hk_Status hk_helicoid_fit_strands_wavy(const hk_HairFile *hair, const long *index, long count,
+                                       const hk_WavyFitDef *options, int threads, hk_ProgressFn progress,
+                                       void *progress_user, hk_PHelicoid *out, hk_Waviness *waves,
+                                       hk_HelicoidFitReport *reports, hk_Error *err)
+{
+    const hk_WavyFitDef defaults = hk_default_wavy_fit_def();
+    if (!waves) return hk_error_set(err, HK_ERR_INVALID, "wavy fits: no room for the waves");
+    return fit_strands(hair, index, count, NULL, options ? options : &defaults, threads, progress, progress_user, out,
+                       waves, reports, err);
 }
 
 /* Each rebuilt strand against its original: the mean leash of their Fréchet coupling. */

@@ -22,6 +22,8 @@ void hk_helicoid_set_free(hk_HelicoidSet *set)
     hk_free(set->wisp_count);
     hk_free(set->wisp_radius);
     hk_free(set->wisp_spread);
+    hk_free(set->has_waves);
+    hk_free(set->waves);
     memset(set, 0, sizeof *set);
     set->step = 0.002;
 }
@@ -37,7 +39,9 @@ hk_Status hk_helicoid_set_alloc(hk_HelicoidSet *set, int count, hk_Error *err)
     set->wisp_count = hk_calloc_array(n, sizeof *set->wisp_count, err);
     set->wisp_radius = hk_calloc_array(n, sizeof *set->wisp_radius, err);
     set->wisp_spread = hk_calloc_array(n, sizeof *set->wisp_spread, err);
-    if (!set->strands || !set->wisp_count || !set->wisp_radius || !set->wisp_spread) {
+    set->has_waves = hk_calloc_array(n, sizeof *set->has_waves, err);
+    set->waves = hk_calloc_array(n, sizeof *set->waves, err);
+    if (!set->strands || !set->wisp_count || !set->wisp_radius || !set->wisp_spread || !set->has_waves || !set->waves) {
         hk_helicoid_set_free(set);
         return HK_ERR_NOMEM;
     }
@@ -46,8 +50,8 @@ hk_Status hk_helicoid_set_alloc(hk_HelicoidSet *set, int count, hk_Error *err)
 }
 
 typedef struct Block {
-    int line;        /* of its `Strand` */
-    int root, frame; /* lines that gave them, 0 when absent */
+    int line;               /* of its `Strand` */
+    int root, frame, waves; /* lines that gave them, 0 when absent */
 } Block;
 
 /* Ends the strand opened at b: it needs a root, a frame and a piece. */
@@ -123,7 +127,7 @@ hk_Status hk_helicoid_file_load(const char *path, hk_HelicoidSet *out, hk_Error 
     if (st == HK_OK && strands == 0) st = hk_keyfile_error(&kf, 0, HK_ERR_PARSE, err, "no Strand in the file");
     if (st == HK_OK) st = hk_helicoid_set_alloc(out, strands, err);
     int current = -1, step_line = 0, wave_line = 0;
-    Block block = {0, 0, 0};
+    Block block = {0, 0, 0, 0};
     for (int i = 0; i < kf.line_count && st == HK_OK; i++) {
         const hk_KeyLine *kl = &kf.lines[i];
         hk_PHelicoid *h = current >= 0 ? &out->strands[current] : NULL;
@@ -135,7 +139,7 @@ hk_Status hk_helicoid_file_load(const char *path, hk_HelicoidSet *out, hk_Error 
             } else if (!h) {
                 current = 0;
             }
-            block = (Block){kl->line, 0, 0};
+            block = (Block){kl->line, 0, 0, 0};
         } else if (hk_key_equal(kl->key, "Step") || hk_key_equal(kl->key, "Waviness")) {
             const int is_step = hk_key_equal(kl->key, "Step");
             int *seen = is_step ? &step_line : &wave_line;
@@ -186,6 +190,22 @@ hk_Status hk_helicoid_file_load(const char *path, hk_HelicoidSet *out, hk_Error 
                 block.frame = kl->line;
         } else if (hk_key_equal(kl->key, "Piece")) {
             st = read_piece(&kf, kl, h, err);
+        } else if (hk_key_equal(kl->key, "Waves")) {
+            double v[3];
+            if (block.waves)
+                st = hk_keyfile_error(&kf, kl->line, HK_ERR_PARSE, err, "second Waves in a strand (first at line %d)",
+                                      block.waves);
+            else if ((st = hk_keyline_doubles(&kf, kl, 3, v, err)) == HK_OK) {
+                if (!(v[0] >= 0.0 && v[0] <= 1.0) || !(v[1] >= 0.0 && v[1] <= 1e6) || !(fabs(v[2]) <= 1e6))
+                    st = hk_keyfile_error(&kf, kl->line, HK_ERR_INVALID, err,
+                                          "Waves needs an amplitude in [0, 1] m, a frequency in [0, 1e6] rad/m and "
+                                          "a phase within +-1e6 rad");
+                else {
+                    out->has_waves[current] = 1;
+                    out->waves[current] = (hk_Waviness){v[0], v[1], v[2]};
+                    block.waves = kl->line;
+                }
+            }
         } else if (hk_key_equal(kl->key, "Wisp")) {
             double v[3];
             if ((st = hk_keyline_doubles(&kf, kl, 3, v, err)) == HK_OK) {
@@ -203,7 +223,7 @@ hk_Status hk_helicoid_file_load(const char *path, hk_HelicoidSet *out, hk_Error 
         } else {
             st = hk_keyfile_error(&kf, kl->line, HK_ERR_PARSE, err,
                                   "unknown key '%s' (helicoid files know Step, Waviness, Strand, Root, Frame, "
-                                  "Piece, Wisp)",
+                                  "Piece, Waves, Wisp)",
                                   kl->key);
         }
     }
@@ -235,6 +255,9 @@ hk_Status hk_helicoid_file_save(const char *path, const hk_HelicoidSet *set, con
         for (int p = 0; p < h->piece_count && ok; p++)
             ok &= fprintf(fp, "Piece %.17g %.17g %.17g %.17g %.17g\n", h->k[p].kt, h->k[p].kn, h->k[p].kb,
                           h->k[p].alpha, h->length[p]) > 0;
+        if (set->has_waves && set->has_waves[s])
+            ok &= fprintf(fp, "Waves %.17g %.17g %.17g\n", set->waves[s].amplitude, set->waves[s].frequency,
+                          set->waves[s].phase) > 0;
         if (set->wisp_count && set->wisp_count[s] > 0)
             ok &=
                 fprintf(fp, "Wisp %d %.17g %.17g\n", set->wisp_count[s], set->wisp_radius[s], set->wisp_spread[s]) > 0;

@@ -59,6 +59,26 @@ contains "$tmp/err" "drop --max-pieces"
 expect 0 "$hk" helicoid fit "$tmp/curly.hair" -o "$tmp/fit40.txt" --pieces 40 --quiet
 grep -q '^1,121,24,' "$tmp/out" || fail "--pieces 40 gave: $(sed -n 2p "$tmp/out")"
 
+# --waves: the example's wavy strand (one piece with eq. 4's waves of 3 mm at 157 rad/m)
+# fitted with waves of its own recovers them (a Waves line; without it the plain fitter
+# needs about 9 pieces a turn), and traced back it lies on the strand (the reference: the
+# example traced at its own step; docs/helicoid-fitting.md 5e)
+expect 0 "$hk" helicoid trace "$src/examples/helicoid/wavy.txt" -o "$tmp/wavy.hair" --quiet
+expect 0 "$hk" helicoid fit "$tmp/wavy.hair" -o "$tmp/wavyfit.txt" --waves --quiet
+grep -q ' with_waves=1$' "$tmp/out" || fail "--waves kept no waves: $(tail -n 1 "$tmp/out")"
+awk -F'[= ]' '/^# strands/ { exit !($5 < 0.0001) }' "$tmp/out" || fail "--waves fit over 0.1 mm: $(tail -n 1 "$tmp/out")"
+awk '/^Waves/ { found = 1; if ($2 < 0.0029 || $2 > 0.0031 || $3 < 156 || $3 > 158) exit 1 } END { exit !found }' \
+    "$tmp/wavyfit.txt" || fail "waves not recovered: $(grep '^Waves' "$tmp/wavyfit.txt")"
+[ "$(grep -c '^Piece' "$tmp/wavyfit.txt")" -le 5 ] || fail "--waves wrote $(grep -c '^Piece' "$tmp/wavyfit.txt") pieces"
+expect 0 "$hk" helicoid trace "$tmp/wavyfit.txt" -o "$tmp/wavyback.hair" --step 0.001 --quiet
+# interpolation blends pieces only: guides with waves of their own are refused
+expect 1 "$hk" helicoid interpolate "$tmp/wavyfit.txt" --surface "$src/assets/wick.obj" -o "$tmp/x.hair" --quiet
+contains "$tmp/err" "has waves of its own"
+expect 2 "$hk" helicoid reconstruct "$tmp/wavy.hair" -o "$tmp/x.hair" --waves
+contains "$tmp/err" "--waves is for fit"
+expect 2 "$hk" helicoid fit "$tmp/wavy.hair" -o "$tmp/x.txt" --waves --pieces 3
+contains "$tmp/err" "--waves chooses its own layout"
+
 # interpolate: random roots over the wick. Nine plain guides (the wavy 40 of the example
 # would make the reconstruction below slow to fit): curly at the back, straight in front
 nine="$tmp/nine.txt"
