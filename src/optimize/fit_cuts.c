@@ -311,7 +311,7 @@ static hk_Status fit_range_lsq(Fit *F, int i0, int i1, const hk_CurveStart *star
         }
         /* a seed for the fragments: on a strand that lifts off its root (test_lift_off_
          * layouts), warm starts from the shortest fragment alone led every longer one
-         * astray (ten minimal pieces, 0.21 mm; six and 0.16 mm with this seed) */
+         * astray (ten minimal pieces, 0.21 mm; three and 0.089 mm with this seed) */
         if (!hint) hint = &strand;
     }
     Piece frag;
