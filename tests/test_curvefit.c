@@ -839,6 +839,8 @@ static void test_fit_bad_input(void **state)
     EXPECT(HK_ERR_INVALID, "penalty_weight[1]", target, N, helix_model, NULL, 2, seed, scale, &o);
     o = hk_default_curve_fit_def(), o.arc_length = 2;
     EXPECT(HK_ERR_INVALID, "arc_length", target, N, helix_model, NULL, 2, seed, scale, &o);
+    o = hk_default_curve_fit_def(), o.known_to_split = 2;
+    EXPECT(HK_ERR_INVALID, "known_to_split", target, N, helix_model, NULL, 2, seed, scale, &o);
     /* Bad points. */
     hk_Vec3 bad[N];
     memcpy(bad, target, sizeof bad);

@@ -278,15 +278,19 @@ typedef struct hk_CurveFitDef {
      * takes its Jacobian from one differentiated trace instead of param_count + 1 traces
      * of forward differences. The model must be equivariant (see there). */
     hk_CurveModelDerivFn model_derivative;
-    int refine_start; /* 1: a first piece that misses the tolerance in the root
-                         frame is refitted with a rotation of that frame (3 more
-                         Nelder-Mead parameters), for noisy captures whose first
-                         points give a poor frame; 0: keep the frame as it is */
+    int refine_start;   /* 1: a first piece that misses the tolerance in the root
+                           frame is refitted with a rotation of that frame (3 more
+                           Nelder-Mead parameters), for noisy captures whose first
+                           points give a poor frame; 0: keep the frame as it is */
+    int known_to_split; /* least squares: 0 (default) fits the whole target in one piece
+                           before looking for cuts; 1: the caller knows one piece
+                           misses (a second try of a strand that did), and the cuts
+                           are searched for at once */
 } hk_CurveFitDef;
 
 /* lambda 1e-7 m, tolerance 0.2 mm, split_threshold 0.6, min_fragment_length 5 mm,
  * max_pieces 16, max_evaluations 1000, samples 0, restarts 1, param_tolerance 1e-5,
- * cost_tolerance 1e-8 m, use_start 0, refine_start 1. */
+ * cost_tolerance 1e-8 m, use_start 0, refine_start 1, known_to_split 0. */
 HK_API hk_CurveFitDef hk_default_curve_fit_def(void);
 
 typedef struct hk_CurveFit {

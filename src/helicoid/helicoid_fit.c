@@ -268,6 +268,8 @@ hk_Status hk_helicoid_fit(hk_HelicoidFitter *f, const hk_Vec3 *points, int count
         count < COARSE_POINTS && fit->error > opt.tolerance && finer <= f->capacity) {
         hk_CurveFitDef retry = opt;
         retry.samples = finer;
+        /* the strand in one piece missed at its own points: no need to try it again */
+        retry.known_to_split = 1;
         hk_PHelicoid other;
         hk_CurveFit other_fit = {0};
         hk_Error ignored;

@@ -252,17 +252,25 @@ static double start_cost(const double *x, void *user)
     return residuals(F, x, F->ws->lsq) != 0 ? INFINITY : 0.5 * hk_dot(F->ws->lsq, F->ws->lsq, residual_count(F));
 }
 
+/* Relative gain per step below which a fit's cost counts as levelled off (see below). */
+#define LEVELLED_OFF 1e-2
+
 /* The Levenberg-Marquardt settings of the fits for nx parameters: the fit's evaluation
  * budget (at least a Jacobian and a step), a step tolerance 1e-3 times the simplex's
  * (quadratic convergence gets there in a step or two), and a stop once the cost levels
- * off to 1e-6 of itself (on a target the model cannot follow exactly, sloppy directions
- * would otherwise be crawled along for hundreds of evaluations for no visible gain). */
+ * off: two accepted steps in a row that each gain less than 1% of it. On a target the
+ * model cannot follow exactly the run otherwise crawls along a sloppy valley (k_N and
+ * k_B drifting together, Piuze et al. 2011 §4b's identifiability) for dozens of steps
+ * that gain a few percent of the cost in all: on 114 Sintel strands a run took on average
+ * 55 model calls with the old stop at 1e-6 of the cost, 20 with 1e-2, for the same mean
+ * error (docs/helicoid-fitting.md §7). A clean target converges quadratically and never
+ * meets this stop before it is fitted to a micron. */
 hk_LeastSquaresDef hk_cf_least_squares_options(const Fit *F, int nx)
 {
     hk_LeastSquaresDef lo = hk_default_least_squares_def();
     lo.max_evaluations = F->opt->max_evaluations > nx + 2 ? F->opt->max_evaluations : nx + 2;
     lo.x_tolerance = 1e-3 * F->opt->param_tolerance;
-    lo.f_tolerance = 1e-6;
+    lo.f_tolerance = LEVELLED_OFF;
     return lo;
 }
 
@@ -315,8 +323,9 @@ static void pick(Fit *F, double (*cand)[MAXP + ROT], int count, double *x)
 /* Levenberg-Marquardt runs per fit at most: the best starts in the order of their cost.
  * On 100 groomed strands one run left 8 above the tolerance (largest 0.76 mm), three 4
  * (0.31 mm); a planar lift-off fitted on 3 fixed pieces ends 3.9 mm off with two runs,
- * 0.29 mm with three (test_lift_off_layouts). Clean two-piece strands cost 2.5 times
- * more with three than with one (bisection probes that miss the tolerance run all).
+ * 0.29 mm with three (test_lift_off_layouts). The cut search's probes run one
+ * (single_start, fit_cuts.c): clean two-piece strands cost 2.5 times more when their
+ * probes that miss the tolerance ran all three.
  * The root frame's refinement (rare: once per strand at most) runs all its starts: the
  * fit so far, the hints and the three quarter-turn rolls of the seed, since the roll
  * that leads to the right minimum can be any of them. With exact Jacobians the lift-off
@@ -331,10 +340,10 @@ static void pick(Fit *F, double (*cand)[MAXP + ROT], int count, double *x)
  * normalised coupling at x. Nelder-Mead (which explores by itself, and costs hundreds of
  * traces a run) starts from the best of them. Levenberg-Marquardt is local and cheap: it
  * runs from the candidates in the order of their cost until one ends within the
- * tolerance (at most MAX_STARTS), keeping the best end. On a target far from any single
- * piece (a tight lift-off bend with waviness on top) the candidates lead to different
- * minima, and the best start is not always the best end; on an easy one the first run
- * is the only one. */
+ * tolerance (at most MAX_STARTS, one for single_start), keeping the best end. On a
+ * target far from any single piece (a tight lift-off bend with waviness on top) the
+ * candidates lead to different minima, and the best start is not always the best end;
+ * on an easy one the first run is the only one. */
 static hk_Status descend(Fit *F, double (*cand)[MAXP + ROT], int count, int nx, double *x, double *error)
 {
     if (F->opt->method != HK_CURVEFIT_LEAST_SQUARES || nx == 0) {
@@ -353,7 +362,7 @@ static hk_Status descend(Fit *F, double (*cand)[MAXP + ROT], int count, int nx, 
     }
     double best = INFINITY;
     hk_Status result = HK_ERR_NUMERIC;
-    const int max_runs = F->rotating ? count : MAX_STARTS;
+    const int max_runs = F->rotating ? count : (F->single_start ? 1 : MAX_STARTS);
     for (int r = 0, runs = 0; r < count && runs < max_runs; r++) {
         const int c = order[r];
         int seen = 0;

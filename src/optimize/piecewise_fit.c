@@ -140,6 +140,8 @@ static hk_Status check_options(const hk_CurveFitDef *o, int np, hk_Error *err)
     if (o->arc_length != 0 && o->arc_length != 1) return BAD("arc_length must be 0 or 1, got %d", o->arc_length);
     if (o->refine_start != 0 && o->refine_start != 1)
         return BAD("refine_start must be 0 or 1, got %d", o->refine_start);
+    if (o->known_to_split != 0 && o->known_to_split != 1)
+        return BAD("known_to_split must be 0 or 1, got %d", o->known_to_split);
     if (o->use_start && (!hk_v3_isfinite(o->start.pos) || !frame_ok(&o->start.frame)))
         return BAD("the given start pose needs a finite position and a right-handed orthonormal frame");
     return HK_OK;

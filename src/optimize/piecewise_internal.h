@@ -61,6 +61,9 @@ typedef struct Fit {
      * by the last ROT parameters when `rotating` */
     int i0, m, rotating;
     hk_CurveStart base;
+    /* 1 while the cut search probes a fragment: one Levenberg-Marquardt run, from the best
+     * start (the last fragment that fitted), instead of up to MAX_STARTS (fit_cuts.c) */
+    int single_start;
 } Fit;
 
 /* Traces m samples of the model from `start` into out, counting the evaluation; 0 when
