@@ -253,6 +253,8 @@ static size_t block_of(const hk_ContactSolve *cs, int strand, int x)
     return cs->jac_start[strand] + (size_t)(x - cs->slot_start[strand]) * 3 * dim_of(cs, strand);
 }
 
+static size_t support_of(const hk_ContactSolve *cs, int x) { return (size_t)((const int *)cs->support.items)[x]; }
+
 /* Strand s's linearly implicit step without the guide-guide contacts: its free
  * velocity, the Jacobians J of its points (at the step's start) and their velocities
  * with v^free. How the strand answers an impulse at a point, Y^T = (A^-1 J^T)^T, is
@@ -305,6 +307,33 @@ static void reversed_rows(hk_ContactSolve *cs, int s, int x)
     }
 }
 
+/* Rows of a point's J (3 x dim, zero from column m on) turned into the basis: row r
+ * becomes basis[r] . J, each sum in hk_v3_dot's order (the same bits as it), the
+ * columns side by side (vectorised). */
+static void rows_in_basis(double *jac, size_t dim, size_t m, const hk_Vec3 basis[3])
+{
+    double *j1 = jac + dim, *j2 = jac + 2 * dim;
+    const double n0 = basis[0].x, n1 = basis[0].y, n2 = basis[0].z;
+    const double s0 = basis[1].x, s1 = basis[1].y, s2 = basis[1].z;
+    const double t0 = basis[2].x, t1 = basis[2].y, t2 = basis[2].z;
+#pragma omp simd
+    for (size_t k = 0; k < m; k++) {
+        const double c0 = jac[k], c1 = j1[k], c2 = j2[k];
+        jac[k] = n0 * c0 + n1 * c1 + n2 * c2;
+        j1[k] = s0 * c0 + s1 * c1 + s2 * c2;
+        j2[k] = t0 * c0 + t1 * c1 + t2 * c2;
+    }
+}
+
+/* Every point of strand s has its rows of J turned into its pair's basis
+ * (prepare_pairs set the bases), each just before its answer is solved for, while
+ * its rows are in the caches. (beyond the support J stays zero) */
+static void strand_rows_in_basis(hk_ContactSolve *cs, int s, int x)
+{
+    const PairState *ps = (const PairState *)cs->pairs.items + ((const Slot *)cs->slots.items)[x].record / 2;
+    rows_in_basis((double *)cs->jac.items + block_of(cs, s, x), dim_of(cs, s), support_of(cs, x), ps->basis);
+}
+
 /* Y^T of strand s's points marked wanted (answered == WANTED), a run of consecutive
  * points solved at once; Z^T of every point of a reversed strand (a triangular solve
  * over the point's support, cheap, and what even a pair that does not push needs to
@@ -318,11 +347,13 @@ static void answer_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s)
     int ok = cs->movable[s];
     if (cs->reversed[s]) { /* every point: its rows of Z^T also read its velocity change */
         for (int x = begin; x < end; x++) {
+            strand_rows_in_basis(cs, s, x);
             reversed_rows(cs, s, x);
             answered[x] = ANSWERED;
         }
         return;
     }
+    for (int x = begin; x < end; x++) strand_rows_in_basis(cs, s, x);
     for (int x = begin; ok && x < end;) {
         if (answered[x] != WANTED) {
             x++;
@@ -582,8 +613,6 @@ static const double *read_rows(const hk_ContactSolve *cs, int strand, int x)
     return (const double *)(cs->reversed[strand] ? cs->yt.items : cs->jac.items) + block_of(cs, strand, x);
 }
 
-static size_t support_of(const hk_ContactSolve *cs, int x) { return (size_t)((const int *)cs->support.items)[x]; }
-
 /* Pair ps's Delassus block in its basis, J_a Y_a + J_b Y_b (or Z_a^T Z_a + Z_b^T Z_b)
  * with both points' rows of J (and so their answers) in that basis. */
 static void pair_block(hk_ContactSolve *cs, PairState *ps, const int strand[2])
@@ -606,17 +635,6 @@ static void pair_block(hk_ContactSolve *cs, PairState *ps, const int strand[2])
     }
     law_parts(ps->w, ps->gamma, cs->mu, cs->viscous, &ps->law);
     ps->ready = 1;
-}
-
-/* Rows of a point's J (3 x dim, zero from column m on) turned into the basis: row r
- * becomes basis[r] . J. */
-static void rows_in_basis(double *jac, size_t dim, size_t m, const hk_Vec3 basis[3])
-{
-    double *j1 = jac + dim, *j2 = jac + 2 * dim;
-    for (size_t k = 0; k < m; k++) {
-        const hk_Vec3 c = hk_v3(jac[k], j1[k], j2[k]);
-        jac[k] = hk_v3_dot(basis[0], c), j1[k] = hk_v3_dot(basis[1], c), j2[k] = hk_v3_dot(basis[2], c);
-    }
 }
 
 /* Each pair's basis and normal law, and its impulse of the last step when the same
@@ -644,10 +662,6 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
         ps->ready = 0;
         ps->nu = 0.0;
         ps->free = in_basis(ps->basis, hk_v3_sub(vel[ps->slot[0]], vel[ps->slot[1]]));
-        const int strand[2] = {hp->i, hp->j};
-        for (int side = 0; side < 2; side++) /* (beyond the support J stays zero) */
-            rows_in_basis((double *)cs->jac.items + block_of(cs, strand[side], ps->slot[side]),
-                          dim_of(cs, strand[side]), support_of(cs, ps->slot[side]), ps->basis);
     }
     int o = 0;
     char *answered = cs->answered.items;
