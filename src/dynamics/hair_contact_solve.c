@@ -67,13 +67,25 @@ typedef struct LawParts {
     double v0[2], v1[2]; /* and eigenvectors */
 } LawParts;
 
+/* Where the sweeps find one of a pair's points: set once per step (prepare_pairs), so
+ * that a visit reads them from its pair instead of from the strands' offsets. */
+typedef struct PointRows {
+    const double *rows; /* its 3 rows that read its velocity change from dv: J, or Z^T */
+    const double *resp; /* its 3 rows of Y^T (or Z^T): the answer to an impulse */
+    double *dv;         /* its strand's velocity change (or w = U^T dv) */
+    int stride, m;      /* the rows' stride (3N) and support (zero from column m on) */
+} PointRows;
+
+/* The fields a sweep reads first (the idle pairs' check) come first, in one cache line. */
 typedef struct PairState {
-    int slot[2];        /* slots of point a (strand i) and point b (strand j) */
-    hk_Vec3 basis[3];   /* n (from b to a), t1, t2 */
-    double w[3][3];     /* Delassus block in the basis: B^T (J_a Y_a + J_b Y_b) B */
+    hk_Vec3 lambda;     /* impulse on a in the basis during the solve, in world space after */
     double beta, gamma; /* normal law lambda_n = max(0, beta - gamma u_n) */
     hk_Vec3 free;       /* relative velocity in the basis at the strands' free velocities */
-    hk_Vec3 lambda;     /* impulse on a in the basis during the solve, in world space after */
+    PointRows point[2]; /* point a (strand i) and point b (strand j) */
+    int strand[2];      /* i and j */
+    int slot[2];        /* slots of point a and point b */
+    hk_Vec3 basis[3];   /* n (from b to a), t1, t2 */
+    double w[3][3];     /* Delassus block in the basis: B^T (J_a Y_a + J_b Y_b) B */
     int key[4];         /* (i, a, j, b): warm start from the last step's same pair */
     int ready;          /* w is set (both points' responses are), and with it law */
     LawParts law;       /* what the pair's law takes from w alone */
@@ -606,23 +618,15 @@ static int key_cmp(const int a[4], const int b[4])
     return 0;
 }
 
-/* The rows a point's velocity change is read with from its strand's dv: J, or Z^T for a
- * reversed strand (whose dv then holds w = U^T dv). */
-static const double *read_rows(const hk_ContactSolve *cs, int strand, int x)
-{
-    return (const double *)(cs->reversed[strand] ? cs->yt.items : cs->jac.items) + block_of(cs, strand, x);
-}
-
 /* Pair ps's Delassus block in its basis, J_a Y_a + J_b Y_b (or Z_a^T Z_a + Z_b^T Z_b)
  * with both points' rows of J (and so their answers) in that basis. */
-static void pair_block(hk_ContactSolve *cs, PairState *ps, const int strand[2])
+static void pair_block(hk_ContactSolve *cs, PairState *ps)
 {
     memset(ps->w, 0, sizeof ps->w);
     for (int side = 0; side < 2; side++) {
-        const int x = ps->slot[side];
-        const size_t dim = dim_of(cs, strand[side]), m = support_of(cs, x);
-        const double *rows = read_rows(cs, strand[side], x);
-        const double *yt = (const double *)cs->yt.items + block_of(cs, strand[side], x);
+        const PointRows *pr = &ps->point[side];
+        const size_t dim = (size_t)pr->stride, m = (size_t)pr->m;
+        const double *rows = pr->rows, *yt = pr->resp;
         /* Z^T Z is symmetric to the bit (a product's factors commute, the sums run in
          * one order): its lower triangle is copied. */
         const int symmetric = rows == yt;
@@ -662,6 +666,17 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
         ps->ready = 0;
         ps->nu = 0.0;
         ps->free = in_basis(ps->basis, hk_v3_sub(vel[ps->slot[0]], vel[ps->slot[1]]));
+        ps->strand[0] = hp->i, ps->strand[1] = hp->j;
+        for (int side = 0; side < 2; side++) {
+            const int strand = ps->strand[side], x = ps->slot[side];
+            const size_t at = block_of(cs, strand, x);
+            PointRows *pr = &ps->point[side];
+            pr->resp = (const double *)cs->yt.items + at;
+            pr->rows = cs->reversed[strand] ? pr->resp : (const double *)cs->jac.items + at;
+            pr->dv = (double *)cs->dv.items + cs->dim_start[strand];
+            pr->stride = (int)dim_of(cs, strand);
+            pr->m = (int)support_of(cs, x);
+        }
     }
     int o = 0;
     char *answered = cs->answered.items;
@@ -675,62 +690,56 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
 }
 
 /* Relative velocity in the basis at the step's end of pair ps with the impulses so far. */
-static hk_Vec3 relative_velocity(const hk_ContactSolve *cs, const PairState *ps, const int strand[2])
+static hk_Vec3 relative_velocity(const PairState *ps)
 {
     hk_Vec3 u = ps->free;
     for (int side = 0; side < 2; side++) {
-        const int x = ps->slot[side];
-        const hk_Vec3 du = point_change(read_rows(cs, strand[side], x), dim_of(cs, strand[side]), support_of(cs, x),
-                                        (const double *)cs->dv.items + cs->dim_start[strand[side]]);
+        const PointRows *pr = &ps->point[side];
+        const hk_Vec3 du = point_change(pr->rows, (size_t)pr->stride, (size_t)pr->m, pr->dv);
         u = side == 0 ? hk_v3_add(u, du) : hk_v3_sub(u, du);
     }
     return u;
 }
 
 /* Its normal part alone. */
-static double normal_velocity(const hk_ContactSolve *cs, const PairState *ps, const int strand[2])
+static double normal_velocity(const PairState *ps)
 {
     double u = ps->free.x;
     for (int side = 0; side < 2; side++) {
-        const int x = ps->slot[side];
-        const double du = dot_n(read_rows(cs, strand[side], x),
-                                (const double *)cs->dv.items + cs->dim_start[strand[side]], support_of(cs, x));
+        const PointRows *pr = &ps->point[side];
+        const double du = dot_n(pr->rows, pr->dv, (size_t)pr->m);
         u += side == 0 ? du : -du;
     }
     return u;
 }
 
 /* Changes pair ps's impulse by delta (in its basis), updating both strands' dv. */
-static void apply_change(hk_ContactSolve *cs, const PairState *ps, const int strand[2], hk_Vec3 delta)
+static void apply_change(const PairState *ps, hk_Vec3 delta)
 {
     for (int side = 0; side < 2; side++) {
-        const int x = ps->slot[side];
-        add_response((double *)cs->dv.items + cs->dim_start[strand[side]],
-                     (const double *)cs->yt.items + block_of(cs, strand[side], x), dim_of(cs, strand[side]),
-                     support_of(cs, x), delta, side == 0 ? 1.0 : -1.0);
+        const PointRows *pr = &ps->point[side];
+        add_response(pr->dv, pr->resp, (size_t)pr->stride, (size_t)pr->m, delta, side == 0 ? 1.0 : -1.0);
     }
 }
 
 /* One Gauss-Seidel visit of pair k: its law given the other impulses, the strands'
  * dv updated. *change is raised to the size of the impulse's change, *size receives the
  * new impulse's size; returns the law's verdict (contact_law). */
-static int visit(hk_ContactSolve *cs, const hk_HairContacts *contacts, int k, double mu, double viscous, double *change,
-                 double *size)
+static int visit(hk_ContactSolve *cs, int k, double mu, double viscous, double *change, double *size)
 {
     PairState *ps = (PairState *)cs->pairs.items + k;
-    const int strand[2] = {contacts->pairs[k].i, contacts->pairs[k].j};
     const int idle = ps->lambda.x == 0.0 && ps->lambda.y == 0.0 && ps->lambda.z == 0.0;
     /* No impulse and a normal law that does not push: zero stays the pair's answer
      * (with no push there is no friction either), whatever w. */
-    if (idle && !(ps->beta - ps->gamma * normal_velocity(cs, ps, strand) > 0.0)) {
+    if (idle && !(ps->beta - ps->gamma * normal_velocity(ps) > 0.0)) {
         *size = 0.0;
         return 0;
     }
     if (!ps->ready) {
-        for (int side = 0; side < 2; side++) answer_lazily(cs, strand[side], ps->slot[side]);
-        pair_block(cs, ps, strand);
+        for (int side = 0; side < 2; side++) answer_lazily(cs, ps->strand[side], ps->slot[side]);
+        pair_block(cs, ps);
     }
-    const hk_Vec3 u = relative_velocity(cs, ps, strand);
+    const hk_Vec3 u = relative_velocity(ps);
     const double lo[3] = {ps->lambda.x, ps->lambda.y, ps->lambda.z};
     double u0[3] = {u.x, u.y, u.z}, lam[3] = {lo[0], lo[1], lo[2]};
     for (int r = 0; r < 3; r++) u0[r] -= ps->w[r][0] * lo[0] + ps->w[r][1] * lo[1] + ps->w[r][2] * lo[2];
@@ -740,7 +749,7 @@ static int visit(hk_ContactSolve *cs, const hk_HairContacts *contacts, int k, do
     const hk_Vec3 delta = hk_v3_sub(next, ps->lambda);
     ps->lambda = next;
     const double dl = hk_v3_norm(delta);
-    if (dl > 0.0) apply_change(cs, ps, strand, delta);
+    if (dl > 0.0) apply_change(ps, delta);
     if (dl > *change) *change = dl;
     *size = hk_v3_norm(next);
     return law;
@@ -774,15 +783,10 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
     const int n = contacts->pair_count;
     const char *answered = cs->answered.items;
 #pragma omp parallel for schedule(static) num_threads(threads)
-    for (int k = 0; k < n; k++) {
-        const int strand[2] = {contacts->pairs[k].i, contacts->pairs[k].j};
-        if (answered[pairs[k].slot[0]] == ANSWERED && answered[pairs[k].slot[1]] == ANSWERED)
-            pair_block(cs, &pairs[k], strand);
-    }
-    for (int k = 0; k < n; k++) { /* the warm start's share */
-        const int strand[2] = {contacts->pairs[k].i, contacts->pairs[k].j};
-        if (hk_v3_norm2(pairs[k].lambda) > 0.0) apply_change(cs, &pairs[k], strand, pairs[k].lambda);
-    }
+    for (int k = 0; k < n; k++)
+        if (answered[pairs[k].slot[0]] == ANSWERED && answered[pairs[k].slot[1]] == ANSWERED) pair_block(cs, &pairs[k]);
+    for (int k = 0; k < n; k++) /* the warm start's share */
+        if (hk_v3_norm2(pairs[k].lambda) > 0.0) apply_change(&pairs[k], pairs[k].lambda);
     /* Pairs that do not push (most of those between d0 and 2 d0) are visited on every
      * HK_PGS_FULL_EVERY-th sweep and the last one only; the others on every sweep. */
     int *active = cs->active.items, active_count = 0;
@@ -794,7 +798,7 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
         for (int x = 0; x < count; x++) {
             const int k = full ? x : active[x];
             double l;
-            const int law = visit(cs, contacts, k, mu, viscous, &change, &l);
+            const int law = visit(cs, k, mu, viscous, &change, &l);
             if (l > largest) largest = l;
             if (full && law > 0) active[active_count++] = k;
             if (full) local.pushing += law > 0, local.sticking += law == 2;
@@ -813,8 +817,7 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
         if (!(t > limit)) continue;
         const double f = t > 0.0 ? limit / t : 0.0;
         const hk_Vec3 next = hk_v3(l.x, f * l.y, f * l.z);
-        const int strand[2] = {contacts->pairs[k].i, contacts->pairs[k].j};
-        apply_change(cs, ps, strand, hk_v3_sub(next, ps->lambda));
+        apply_change(ps, hk_v3_sub(next, ps->lambda));
         ps->lambda = next;
     }
 /* The reversed strands' velocity changes from w = U^T dv: U^T dv = w, forward. */
