@@ -36,11 +36,13 @@ typedef struct Grid {
     hk_Vec3 *lo, *hi;            /* its box grown by d0 */
     hk_Vec3 *mid;                /* its midpoint */
     double *reach;               /* half its length plus 2 d0, grown a little for rounding */
+    size_t *seg_entry;           /* n + 1: segment e's entries are [seg_entry[e], seg_entry[e + 1]) */
     size_t entry_cap;
     int32_t *cell; /* 3 per entry: the cell's integer coordinates */
     int *entry_seg;
     uint32_t *entry_bucket;
-    Entry *sorted; /* entries by bucket */
+    Entry *sorted;  /* entries by bucket */
+    int *sorted_of; /* per place in sorted: the entry there */
     size_t table_cap;
     size_t *bucket_start; /* table size + 1 */
     int found_count;
@@ -54,6 +56,7 @@ void hk_hc_grid_free(hk_HairContacts *c)
     Grid *g = c->grid;
     if (!g) return;
     hk_free(g->seg_strand), hk_free(g->seg_index), hk_free(g->lo), hk_free(g->hi), hk_free(g->mid), hk_free(g->reach);
+    hk_free(g->seg_entry), hk_free(g->sorted_of);
     hk_free(g->cell), hk_free(g->entry_seg), hk_free(g->entry_bucket), hk_free(g->sorted);
     hk_free(g->bucket_start), hk_free(g->is_min);
     for (int t = 0; t < g->found_count; t++) hk_free(g->found[t].pairs);
@@ -66,6 +69,8 @@ static hk_Status reserve_segments(Grid *g, int n, hk_Error *err)
 {
     if (n <= g->seg_cap) return HK_OK;
     hk_free(g->seg_strand), hk_free(g->seg_index), hk_free(g->lo), hk_free(g->hi), hk_free(g->mid), hk_free(g->reach);
+    hk_free(g->seg_entry);
+    g->seg_entry = hk_alloc_array((size_t)n + 1, sizeof(size_t), err);
     g->seg_strand = hk_alloc_array((size_t)n, sizeof(int), err);
     g->seg_index = hk_alloc_array((size_t)n, sizeof(int), err);
     g->lo = hk_alloc_array((size_t)n, sizeof(hk_Vec3), err);
@@ -73,7 +78,7 @@ static hk_Status reserve_segments(Grid *g, int n, hk_Error *err)
     g->mid = hk_alloc_array((size_t)n, sizeof(hk_Vec3), err);
     g->reach = hk_alloc_array((size_t)n, sizeof(double), err);
     g->seg_cap = n;
-    if (g->seg_strand && g->seg_index && g->lo && g->hi && g->mid && g->reach) return HK_OK;
+    if (g->seg_strand && g->seg_index && g->lo && g->hi && g->mid && g->reach && g->seg_entry) return HK_OK;
     g->seg_cap = 0;
     return HK_ERR_NOMEM;
 }
@@ -81,13 +86,14 @@ static hk_Status reserve_segments(Grid *g, int n, hk_Error *err)
 static hk_Status reserve_entries(Grid *g, size_t n, size_t table, hk_Error *err)
 {
     if (n > g->entry_cap) {
-        hk_free(g->cell), hk_free(g->entry_seg), hk_free(g->entry_bucket), hk_free(g->sorted);
+        hk_free(g->cell), hk_free(g->entry_seg), hk_free(g->entry_bucket), hk_free(g->sorted), hk_free(g->sorted_of);
+        g->sorted_of = hk_alloc_array(n, sizeof(int), err);
         g->cell = hk_alloc_array(n, 3 * sizeof(int32_t), err);
         g->entry_seg = hk_alloc_array(n, sizeof(int), err);
         g->entry_bucket = hk_alloc_array(n, sizeof(uint32_t), err);
         g->sorted = hk_alloc_array(n, sizeof(Entry), err);
         g->entry_cap = n;
-        if (!g->cell || !g->entry_seg || !g->entry_bucket || !g->sorted) {
+        if (!g->cell || !g->entry_seg || !g->entry_bucket || !g->sorted || !g->sorted_of) {
             g->entry_cap = 0;
             return HK_ERR_NOMEM;
         }
@@ -285,30 +291,50 @@ hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
     while (table < 2 * entries) table *= 2;
     if (reserve_entries(g, entries, table, err) != HK_OK) return HK_ERR_NOMEM;
 
-    size_t m = 0;
-    for (e = 0; e < n; e++) {
+    /* The entries, segment by segment: each segment's count, then (in parallel, each
+     * segment into its own places) the cells it covers. */
+    const int threads = hk_hc_threads(c);
+    g->seg_entry[0] = 0;
+#pragma omp parallel for schedule(static) num_threads(threads)
+    for (int s = 0; s < n; s++) {
+        size_t cells = 1;
+        for (int ax = 0; ax < 3; ax++)
+            cells *= (size_t)(cell_of(hk_v3_get(g->hi[s], ax), hk_v3_get(gmin, ax), h) -
+                              cell_of(hk_v3_get(g->lo[s], ax), hk_v3_get(gmin, ax), h) + 1);
+        g->seg_entry[s + 1] = cells;
+    }
+    for (e = 0; e < n; e++) g->seg_entry[e + 1] += g->seg_entry[e];
+    const size_t m = g->seg_entry[n];
+#pragma omp parallel for schedule(static) num_threads(threads)
+    for (int s = 0; s < n; s++) {
         int32_t lo[3], hi[3];
         for (int ax = 0; ax < 3; ax++) {
-            lo[ax] = cell_of(hk_v3_get(g->lo[e], ax), hk_v3_get(gmin, ax), h);
-            hi[ax] = cell_of(hk_v3_get(g->hi[e], ax), hk_v3_get(gmin, ax), h);
+            lo[ax] = cell_of(hk_v3_get(g->lo[s], ax), hk_v3_get(gmin, ax), h);
+            hi[ax] = cell_of(hk_v3_get(g->hi[s], ax), hk_v3_get(gmin, ax), h);
         }
+        size_t at = g->seg_entry[s];
         for (int32_t x = lo[0]; x <= hi[0]; x++)
             for (int32_t y = lo[1]; y <= hi[1]; y++)
-                for (int32_t z = lo[2]; z <= hi[2]; z++, m++) {
-                    int32_t *cell = &g->cell[3 * m];
+                for (int32_t z = lo[2]; z <= hi[2]; z++, at++) {
+                    int32_t *cell = &g->cell[3 * at];
                     cell[0] = x, cell[1] = y, cell[2] = z;
-                    g->entry_seg[m] = e;
-                    g->entry_bucket[m] = bucket_of(cell, (uint32_t)(table - 1));
+                    g->entry_seg[at] = s;
+                    g->entry_bucket[at] = bucket_of(cell, (uint32_t)(table - 1));
                 }
     }
     /* Counting sort of the entries by bucket, stable; start[b] ends as the end of
-     * bucket b, which begins at the end of b - 1. */
+     * bucket b, which begins at the end of b - 1. The places are dealt in order, then
+     * the entries copied to them in parallel. */
     size_t *start = g->bucket_start;
     memset(start, 0, (table + 1) * sizeof *start);
     for (size_t k = 0; k < m; k++) start[g->entry_bucket[k] + 1]++;
     for (size_t k = 0; k < table; k++) start[k + 1] += start[k];
-    for (size_t k = 0; k < m; k++) {
-        Entry *en = &g->sorted[start[g->entry_bucket[k]]++];
+    for (size_t k = 0; k < m; k++) g->sorted_of[start[g->entry_bucket[k]]++] = (int)k;
+    const long entry_count = (long)m;
+#pragma omp parallel for schedule(static) num_threads(threads)
+    for (long x = 0; x < entry_count; x++) {
+        const size_t k = (size_t)g->sorted_of[x];
+        Entry *en = &g->sorted[x];
         memcpy(en->cell, &g->cell[3 * k], sizeof en->cell);
         en->seg = g->entry_seg[k];
         for (int ax = 0; ax < 3; ax++) en->first[ax] = cell_of(hk_v3_get(g->lo[en->seg], ax), hk_v3_get(gmin, ax), h);
@@ -319,7 +345,6 @@ hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
     /* Pairs of entries sharing a cell, buckets in parallel: each thread keeps its own
      * candidates; they are sorted into one order afterwards, so what a thread found
      * does not matter, only what all found. */
-    const int threads = hk_hc_threads(c);
     if (reserve_threads(g, threads, err) != HK_OK) return HK_ERR_NOMEM;
     for (int t = 0; t < threads; t++) g->found[t].count = 0;
     int failed = 0;
