@@ -20,25 +20,27 @@
  * A point belongs to one pair: its rows of J are turned into the pair's basis (normal,
  * tangents) before anything else, so that u_c, Y, the Delassus block and the impulses
  * are all in that basis and a pair that does not push is told by one row. Projected
- * Gauss-Seidel visits the pairs in their fixed order and solves each one's law given
- * the others' impulses; the sweeps stop when no impulse changed by more than
- * HK_PGS_TOLERANCE of the largest. The same pairs in the same order give the same bits
- * whatever the number of threads: only the per-strand and per-pair parts (the
- * Jacobians, the solves, the blocks) run in parallel. Sweeping groups of pairs that
- * share no strand in parallel (nested dissection of the guides) was tried: 30 % less
- * time in the sweeps, but another order settles the pile differently, and the still
- * head's test then saw up to 10 guides creep past 0.5 mm (docs/dynamics.md). So were
- * coloured sweeps (3 December 2026: units of the pairs between two guides or two
- * clusters of guides, coloured so that a colour's units share no guide and run in
- * parallel; the same bits for any number of threads, the still head's test passing):
- * no faster on 2 threads, as the colour order loses the caches' reuse of a guide's
- * consecutive pairs (docs/dynamics.md, "Contacts solved together"). */
+ * Gauss-Seidel visits the pairs in a fixed order and solves each one's law given the
+ * others' impulses; the sweeps stop when no impulse changed by more than
+ * HK_PGS_TOLERANCE of the largest. The order: the guides are split in two by a plane
+ * (hair_contact_split.h); the pairs of either side, in pair order, are swept side by
+ * side by two threads, then the pairs across the plane. The two sides share no strand,
+ * so the same pairs give the same bits whatever the number of threads. Nested
+ * dissection into 8 blocks (with a barrier per level) was tried before, when a fixed
+ * second of settling made the still head's test sensitive to the order; coloured
+ * sweeps (3 December 2026) were no faster on 2 threads, as the colour order loses the
+ * caches' reuse of a guide's consecutive pairs, and their barriers, 400 a step, made a
+ * loaded machine several times slower (docs/dynamics.md, "Contacts solved together"). */
 #include <math.h>
+#include <omp.h>
+#include <sched.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "dynamics_internal.h"
 #include "hair_contact_solve.h"
+#include "hair_contact_split.h"
 #include "hair_contacts_internal.h"
 
 #define HK_PGS_SWEEPS     20
@@ -132,6 +134,9 @@ struct hk_ContactSolve {
     Buffer screws;           /* double, 18N per strand: work of the Jacobians */
     Buffer pairs, old_pairs; /* PairState per pair, this step's and the last one's */
     Buffer active;           /* int per pair: the pushing pairs of the last full sweep */
+    Buffer order, weight;    /* int and double per pair: the sweeps' order, the split's weights */
+    Buffer roots;            /* hk_Vec3 per strand: its root, where the split reads it */
+    hk_ContactSplit split;   /* scratch of the split */
     int old_count;
     hk_StrandDynamics **dyn; /* the strands of the solve under way */
     double mu, viscous;      /* its friction coefficient and viscous friction (times the step) */
@@ -167,10 +172,11 @@ void hk_contact_solve_destroy(hk_ContactSolve *cs)
     hk_free(cs->movable);
     hk_free(cs->reversed);
     hk_free(cs->ul_start);
-    Buffer *all[] = {&cs->slots, &cs->at,     &cs->vfree,   &cs->vel,       &cs->forces,
-                     &cs->jac,   &cs->yt,     &cs->support, &cs->ul,        &cs->answered,
-                     &cs->dv,    &cs->screws, &cs->pairs,   &cs->old_pairs, &cs->active};
+    Buffer *all[] = {&cs->slots, &cs->at,        &cs->vfree,  &cs->vel,      &cs->forces, &cs->jac,
+                     &cs->yt,    &cs->support,   &cs->ul,     &cs->answered, &cs->dv,     &cs->screws,
+                     &cs->pairs, &cs->old_pairs, &cs->active, &cs->order,    &cs->weight, &cs->roots};
     for (size_t k = 0; k < sizeof all / sizeof *all; k++) hk_free(all[k]->items);
+    hk_contact_split_free(&cs->split);
     hk_free(cs);
 }
 
@@ -206,7 +212,9 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Strand
         !reserve(&cs->support, slots, sizeof(int), err) || !reserve(&cs->ul, cs->ul_start[g], sizeof(double), err) ||
         !reserve(&cs->answered, slots, sizeof(char), err) || !reserve(&cs->dv, dims, sizeof(double), err) ||
         !reserve(&cs->vfree, dims, sizeof(double), err) || !reserve(&cs->screws, 6 * dims, sizeof(double), err) ||
-        !reserve(&cs->pairs, (size_t)n, sizeof(PairState), err) || !reserve(&cs->active, (size_t)n, sizeof(int), err))
+        !reserve(&cs->pairs, (size_t)n, sizeof(PairState), err) || !reserve(&cs->active, (size_t)n, sizeof(int), err) ||
+        !reserve(&cs->order, (size_t)n, sizeof(int), err) || !reserve(&cs->weight, (size_t)n, sizeof(double), err) ||
+        !reserve(&cs->roots, (size_t)g, sizeof(hk_Vec3), err))
         return HK_ERR_NOMEM;
     Slot *slot = cs->slots.items;
     PairState *pairs = cs->pairs.items;
@@ -296,8 +304,24 @@ static void predict(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const hk_R
     memset((double *)cs->dv.items + cs->dim_start[s], 0, dim * sizeof(double));
 }
 
+/* U^T into the strict lower part of strand s's U (which the factorisation leaves
+ * unused): row i of it then holds column i of U, which reversed_rows reads. */
+static void transpose_into_lower(hk_ContactSolve *cs, int s)
+{
+    const size_t dim = dim_of(cs, s);
+    double *u = (double *)cs->ul.items + cs->ul_start[s];
+    for (size_t i = 1; i < dim; i++)
+        for (size_t k = 0; k < i; k++) u[i * dim + k] = u[k * dim + i];
+}
+
 /* Rows of Z^T = (U^-1 J^T)^T of point x of reversed strand s: U z = j by back
- * substitution from the point's support down (z is zero beyond it, as j is). */
+ * substitution from the point's support down (z is zero beyond it, as j is), by
+ * columns: once z_i is known, column i of U (row i of the lower part,
+ * transpose_into_lower) times z_i leaves the rows above it, the three right-hand sides
+ * side by side. No sum runs along a row, so the loop over the rows above is
+ * vectorised: answer_points took 4.0-4.2 ms a step by rows (each z_i the end of a chain
+ * of dependent additions), 2.9-3.2 ms so (examples/guides200 shaking, one thread, CPU
+ * time). The sums' order differs from the rows' by rounding. */
 static void reversed_rows(hk_ContactSolve *cs, int s, int x)
 {
     const size_t dim = dim_of(cs, s), at = block_of(cs, s, x);
@@ -305,17 +329,19 @@ static void reversed_rows(hk_ContactSolve *cs, int s, int x)
     const double *u = (const double *)cs->ul.items + cs->ul_start[s];
     const double *j0 = (const double *)cs->jac.items + at, *j1 = j0 + dim, *j2 = j1 + dim;
     double *z0 = (double *)cs->yt.items + at, *z1 = z0 + dim, *z2 = z1 + dim;
-    /* The three rows together: each sums in its own order as alone, while the three
-     * chains of additions overlap and share the loads of U. */
+    memcpy(z0, j0, (size_t)m * sizeof(double));
+    memcpy(z1, j1, (size_t)m * sizeof(double));
+    memcpy(z2, j2, (size_t)m * sizeof(double));
     for (int i = m - 1; i >= 0; i--) {
-        const double *ui = u + (size_t)i * dim;
-        double v0 = j0[i], v1 = j1[i], v2 = j2[i];
-        for (int k = i + 1; k < m; k++) {
-            v0 -= ui[k] * z0[k];
-            v1 -= ui[k] * z1[k];
-            v2 -= ui[k] * z2[k];
+        const double *column = u + (size_t)i * dim; /* column[k] = U[k][i] for k < i */
+        const double a0 = z0[i] / column[i], a1 = z1[i] / column[i], a2 = z2[i] / column[i];
+        z0[i] = a0, z1[i] = a1, z2[i] = a2;
+#pragma omp simd
+        for (int k = 0; k < i; k++) {
+            z0[k] -= column[k] * a0;
+            z1[k] -= column[k] * a1;
+            z2[k] -= column[k] * a2;
         }
-        z0[i] = v0 / ui[i], z1[i] = v1 / ui[i], z2[i] = v2 / ui[i];
     }
 }
 
@@ -358,6 +384,7 @@ static void answer_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s)
     char *answered = cs->answered.items;
     int ok = cs->movable[s];
     if (cs->reversed[s]) { /* every point: its rows of Z^T also read its velocity change */
+        if (end > begin) transpose_into_lower(cs, s);
         for (int x = begin; x < end; x++) {
             strand_rows_in_basis(cs, s, x);
             reversed_rows(cs, s, x);
@@ -755,6 +782,110 @@ static int visit(hk_ContactSolve *cs, int k, double mu, double viscous, double *
     return law;
 }
 
+
+/* A group of pairs in the sweeps: order[begin, end) are its pairs, active[begin, begin
+ * + active_count) those that pushed at its last full sweep (visited on every sweep). */
+typedef struct SweepGroup {
+    int begin, end, active_count;
+    int pushing, sticking;  /* at its last full sweep */
+    double change, largest; /* the largest impulse change and impulse of its last sweep */
+} SweepGroup;
+
+/* One sweep over a group's pairs: every pair on a full sweep (then its active pairs
+ * are listed again), else its active pairs. */
+static void sweep_group(hk_ContactSolve *cs, const int *order, SweepGroup *gr, int full)
+{
+    int *active = (int *)cs->active.items + gr->begin;
+    const int count = full ? gr->end - gr->begin : gr->active_count;
+    double change = 0.0, largest = 0.0;
+    if (full) gr->pushing = gr->sticking = gr->active_count = 0;
+    for (int x = 0; x < count; x++) {
+        const int k = full ? order[gr->begin + x] : active[x];
+        double l;
+        const int law = visit(cs, k, cs->mu, cs->viscous, &change, &l);
+        if (l > largest) largest = l;
+        if (full && law > 0) active[gr->active_count++] = k;
+        if (full) gr->pushing += law > 0, gr->sticking += law == 2;
+    }
+    gr->change = change, gr->largest = largest;
+}
+
+/* What the two threads of the sweeps share: a group is claimed by whichever thread
+ * comes first, so that a thread the system has not scheduled delays nothing (with a
+ * parallel region or barrier per sweep, 20 a step, a loaded machine's sweeps took
+ * several times longer: docs/dynamics.md). */
+typedef struct SweepShare {
+    atomic_int claim;    /* sweep * 4 + the groups of the two claimed so far; -1: the sweeps are over */
+    atomic_int finished; /* sweep * 4 + the groups of the two done */
+    int full;            /* the sweep is a full one (set before its claims open) */
+} SweepShare;
+
+/* Claims one of the two groups of the open sweep and sweeps it. Returns 1 when it did,
+ * 0 when both are claimed, -1 when the sweeps are over. */
+static int claim_group(hk_ContactSolve *cs, const int *order, SweepGroup group[2], SweepShare *sh)
+{
+    int word = atomic_load_explicit(&sh->claim, memory_order_acquire);
+    while (word >= 0 && (word & 3) < 2)
+        if (atomic_compare_exchange_weak_explicit(&sh->claim, &word, word + 1, memory_order_acq_rel,
+                                                  memory_order_acquire)) {
+            sweep_group(cs, order, &group[word & 3], sh->full);
+            atomic_fetch_add_explicit(&sh->finished, 1, memory_order_release);
+            return 1;
+        }
+    return word < 0 ? -1 : 0;
+}
+
+/* A wait of a few hundred cycles, then the core is given up now and then: on a
+ * machine with more runnable threads than cores the other thread needs it. */
+static void pause_for(long *spins)
+{
+    if (++*spins % 256 == 0) sched_yield();
+    for (volatile int k = 0; k < 64; k++) {}
+}
+
+/* The sweeps over the three groups: the first two (disjoint strands) by this thread and
+ * one more when side_by_side, the pairs across them by this one after both; the same
+ * bits either way. Pairs that do not push (most of those between d0 and 2 d0) are
+ * visited on every HK_PGS_FULL_EVERY-th sweep and the last one only; the others on
+ * every sweep. */
+static void run_sweeps(hk_ContactSolve *cs, const int *order, SweepGroup group[3], int side_by_side,
+                       hk_ContactSolveStats *local)
+{
+    SweepShare share; /* closed (both groups of sweep 0 taken) until the first sweep opens */
+    atomic_init(&share.claim, 2);
+    atomic_init(&share.finished, 0);
+    share.full = 1;
+#pragma omp parallel num_threads(side_by_side ? 2 : 1)
+    {
+        if (omp_get_thread_num() != 0) { /* the helper: claims what it finds open */
+            long spins = 0;
+            for (int r; (r = claim_group(cs, order, group, &share)) >= 0;)
+                if (r == 0) pause_for(&spins);
+        } else {
+            for (int sweep = 0; sweep < HK_PGS_SWEEPS; sweep++) {
+                const int full = sweep % HK_PGS_FULL_EVERY == 0 || sweep == HK_PGS_SWEEPS - 1;
+                share.full = full;
+                atomic_store_explicit(&share.finished, 4 * sweep, memory_order_relaxed);
+                atomic_store_explicit(&share.claim, 4 * sweep, memory_order_release);
+                while (claim_group(cs, order, group, &share) == 1) {}
+                long spins = 0;
+                while (atomic_load_explicit(&share.finished, memory_order_acquire) != 4 * sweep + 2) pause_for(&spins);
+                sweep_group(cs, order, &group[2], full);
+                double change = 0.0, largest = 0.0;
+                if (full) local->pushing = local->sticking = 0;
+                for (int x = 0; x < 3; x++) {
+                    change = fmax(change, group[x].change), largest = fmax(largest, group[x].largest);
+                    if (full) local->pushing += group[x].pushing, local->sticking += group[x].sticking;
+                }
+                local->sweeps = sweep + 1;
+                local->residual = largest > 0.0 ? change / largest : 0.0;
+                if (full && change <= HK_PGS_TOLERANCE * largest) break;
+            }
+            atomic_store_explicit(&share.claim, -1, memory_order_release);
+        }
+    }
+}
+
 hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts, hk_StrandDynamics **dyn,
                            int strand_count, const hk_RigidState *head_end, double dt, hk_ContactSolveStats *stats,
                            hk_Error *err)
@@ -787,26 +918,24 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
         if (answered[pairs[k].slot[0]] == ANSWERED && answered[pairs[k].slot[1]] == ANSWERED) pair_block(cs, &pairs[k]);
     for (int k = 0; k < n; k++) /* the warm start's share */
         if (hk_v3_norm2(pairs[k].lambda) > 0.0) apply_change(&pairs[k], pairs[k].lambda);
-    /* Pairs that do not push (most of those between d0 and 2 d0) are visited on every
-     * HK_PGS_FULL_EVERY-th sweep and the last one only; the others on every sweep. */
-    int *active = cs->active.items, active_count = 0;
-    for (int sweep = 0; sweep < HK_PGS_SWEEPS; sweep++) {
-        const int full = sweep % HK_PGS_FULL_EVERY == 0 || sweep == HK_PGS_SWEEPS - 1;
-        const int count = full ? n : active_count;
-        double change = 0.0, largest = 0.0;
-        if (full) local.pushing = local.sticking = 0, active_count = 0;
-        for (int x = 0; x < count; x++) {
-            const int k = full ? x : active[x];
-            double l;
-            const int law = visit(cs, k, mu, viscous, &change, &l);
-            if (l > largest) largest = l;
-            if (full && law > 0) active[active_count++] = k;
-            if (full) local.pushing += law > 0, local.sticking += law == 2;
-        }
-        local.sweeps = sweep + 1;
-        local.residual = largest > 0.0 ? change / largest : 0.0;
-        if (full && change <= HK_PGS_TOLERANCE * largest) break;
-    }
+    /* The pairs dealt to two groups of strands and the pairs across them (weighted by
+     * what a sweep spends on them: a pair that may push is visited on every sweep, at
+     * about 16 times the cost of an idle pair's check on every fourth). */
+    double *weight = cs->weight.items;
+    for (int k = 0; k < n; k++)
+        weight[k] =
+            pairs[k].beta - pairs[k].gamma * pairs[k].free.x > 0.0 || hk_v3_norm2(pairs[k].lambda) > 0.0 ? 16.0 : 1.0;
+    hk_Vec3 *roots = cs->roots.items;
+    for (int s = 0; s < strand_count; s++) roots[s] = contacts->views[s].pos[0];
+    SweepGroup group[3];
+    int bounds[4];
+    int *order = cs->order.items;
+    hk_contact_split(&cs->split, strand_count, roots, n, contacts->pairs, weight, order, bounds);
+    for (int x = 0; x < 3; x++) group[x] = (SweepGroup){bounds[x], bounds[x + 1], 0, 0, 0, 0.0, 0.0};
+    /* The first two groups share no strand: their visits touch disjoint pairs and
+     * strands, and give the same bits side by side or one after the other. */
+    const int side_by_side = threads > 1 && bounds[1] > bounds[0] && bounds[2] > bounds[1];
+    run_sweeps(cs, order, group, side_by_side, &local);
     /* The bound of the last sweep's Tresca problems lags the normal impulses by a
      * sweep: what exceeds Coulomb's cone is taken back (and from dv, which the commit
      * uses). */
