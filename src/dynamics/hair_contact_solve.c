@@ -20,25 +20,27 @@
  * A point belongs to one pair: its rows of J are turned into the pair's basis (normal,
  * tangents) before anything else, so that u_c, Y, the Delassus block and the impulses
  * are all in that basis and a pair that does not push is told by one row. Projected
- * Gauss-Seidel visits the pairs in their fixed order and solves each one's law given
- * the others' impulses; the sweeps stop when no impulse changed by more than
- * HK_PGS_TOLERANCE of the largest. The same pairs in the same order give the same bits
- * whatever the number of threads: only the per-strand and per-pair parts (the
- * Jacobians, the solves, the blocks) run in parallel. Sweeping groups of pairs that
- * share no strand in parallel (nested dissection of the guides) was tried: 30 % less
- * time in the sweeps, but another order settles the pile differently, and the still
- * head's test then saw up to 10 guides creep past 0.5 mm (docs/dynamics.md). So were
- * coloured sweeps (3 December 2026: units of the pairs between two guides or two
- * clusters of guides, coloured so that a colour's units share no guide and run in
- * parallel; the same bits for any number of threads, the still head's test passing):
- * no faster on 2 threads, as the colour order loses the caches' reuse of a guide's
- * consecutive pairs (docs/dynamics.md, "Contacts solved together"). */
+ * Gauss-Seidel visits the pairs in a fixed order and solves each one's law given the
+ * others' impulses; the sweeps stop when no impulse changed by more than
+ * HK_PGS_TOLERANCE of the largest. The order: the guides are split in two by a plane
+ * (hair_contact_split.h); the pairs of either side, in pair order, are swept side by
+ * side by two threads, then the pairs across the plane. The two sides share no strand,
+ * so the same pairs give the same bits whatever the number of threads. Nested
+ * dissection into 8 blocks (with a barrier per level) was tried before, when a fixed
+ * second of settling made the still head's test sensitive to the order; coloured
+ * sweeps (3 December 2026) were no faster on 2 threads, as the colour order loses the
+ * caches' reuse of a guide's consecutive pairs, and their barriers, 400 a step, made a
+ * loaded machine several times slower (docs/dynamics.md, "Contacts solved together"). */
 #include <math.h>
+#include <omp.h>
+#include <sched.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "dynamics_internal.h"
 #include "hair_contact_solve.h"
+#include "hair_contact_split.h"
 #include "hair_contacts_internal.h"
 
 #define HK_PGS_SWEEPS     20
@@ -67,13 +69,25 @@ typedef struct LawParts {
     double v0[2], v1[2]; /* and eigenvectors */
 } LawParts;
 
+/* Where the sweeps find one of a pair's points: set once per step (prepare_pairs), so
+ * that a visit reads them from its pair instead of from the strands' offsets. */
+typedef struct PointRows {
+    const double *rows; /* its 3 rows that read its velocity change from dv: J, or Z^T */
+    const double *resp; /* its 3 rows of Y^T (or Z^T): the answer to an impulse */
+    double *dv;         /* its strand's velocity change (or w = U^T dv) */
+    int stride, m;      /* the rows' stride (3N) and support (zero from column m on) */
+} PointRows;
+
+/* The fields a sweep reads first (the idle pairs' check) come first, in one cache line. */
 typedef struct PairState {
-    int slot[2];        /* slots of point a (strand i) and point b (strand j) */
-    hk_Vec3 basis[3];   /* n (from b to a), t1, t2 */
-    double w[3][3];     /* Delassus block in the basis: B^T (J_a Y_a + J_b Y_b) B */
+    hk_Vec3 lambda;     /* impulse on a in the basis during the solve, in world space after */
     double beta, gamma; /* normal law lambda_n = max(0, beta - gamma u_n) */
     hk_Vec3 free;       /* relative velocity in the basis at the strands' free velocities */
-    hk_Vec3 lambda;     /* impulse on a in the basis during the solve, in world space after */
+    PointRows point[2]; /* point a (strand i) and point b (strand j) */
+    int strand[2];      /* i and j */
+    int slot[2];        /* slots of point a and point b */
+    hk_Vec3 basis[3];   /* n (from b to a), t1, t2 */
+    double w[3][3];     /* Delassus block in the basis: B^T (J_a Y_a + J_b Y_b) B */
     int key[4];         /* (i, a, j, b): warm start from the last step's same pair */
     int ready;          /* w is set (both points' responses are), and with it law */
     LawParts law;       /* what the pair's law takes from w alone */
@@ -120,6 +134,9 @@ struct hk_ContactSolve {
     Buffer screws;           /* double, 18N per strand: work of the Jacobians */
     Buffer pairs, old_pairs; /* PairState per pair, this step's and the last one's */
     Buffer active;           /* int per pair: the pushing pairs of the last full sweep */
+    Buffer order, weight;    /* int and double per pair: the sweeps' order, the split's weights */
+    Buffer roots;            /* hk_Vec3 per strand: its root, where the split reads it */
+    hk_ContactSplit split;   /* scratch of the split */
     int old_count;
     hk_StrandDynamics **dyn; /* the strands of the solve under way */
     double mu, viscous;      /* its friction coefficient and viscous friction (times the step) */
@@ -155,10 +172,11 @@ void hk_contact_solve_destroy(hk_ContactSolve *cs)
     hk_free(cs->movable);
     hk_free(cs->reversed);
     hk_free(cs->ul_start);
-    Buffer *all[] = {&cs->slots, &cs->at,     &cs->vfree,   &cs->vel,       &cs->forces,
-                     &cs->jac,   &cs->yt,     &cs->support, &cs->ul,        &cs->answered,
-                     &cs->dv,    &cs->screws, &cs->pairs,   &cs->old_pairs, &cs->active};
+    Buffer *all[] = {&cs->slots, &cs->at,        &cs->vfree,  &cs->vel,      &cs->forces, &cs->jac,
+                     &cs->yt,    &cs->support,   &cs->ul,     &cs->answered, &cs->dv,     &cs->screws,
+                     &cs->pairs, &cs->old_pairs, &cs->active, &cs->order,    &cs->weight, &cs->roots};
     for (size_t k = 0; k < sizeof all / sizeof *all; k++) hk_free(all[k]->items);
+    hk_contact_split_free(&cs->split);
     hk_free(cs);
 }
 
@@ -194,7 +212,9 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Strand
         !reserve(&cs->support, slots, sizeof(int), err) || !reserve(&cs->ul, cs->ul_start[g], sizeof(double), err) ||
         !reserve(&cs->answered, slots, sizeof(char), err) || !reserve(&cs->dv, dims, sizeof(double), err) ||
         !reserve(&cs->vfree, dims, sizeof(double), err) || !reserve(&cs->screws, 6 * dims, sizeof(double), err) ||
-        !reserve(&cs->pairs, (size_t)n, sizeof(PairState), err) || !reserve(&cs->active, (size_t)n, sizeof(int), err))
+        !reserve(&cs->pairs, (size_t)n, sizeof(PairState), err) || !reserve(&cs->active, (size_t)n, sizeof(int), err) ||
+        !reserve(&cs->order, (size_t)n, sizeof(int), err) || !reserve(&cs->weight, (size_t)n, sizeof(double), err) ||
+        !reserve(&cs->roots, (size_t)g, sizeof(hk_Vec3), err))
         return HK_ERR_NOMEM;
     Slot *slot = cs->slots.items;
     PairState *pairs = cs->pairs.items;
@@ -253,6 +273,8 @@ static size_t block_of(const hk_ContactSolve *cs, int strand, int x)
     return cs->jac_start[strand] + (size_t)(x - cs->slot_start[strand]) * 3 * dim_of(cs, strand);
 }
 
+static size_t support_of(const hk_ContactSolve *cs, int x) { return (size_t)((const int *)cs->support.items)[x]; }
+
 /* Strand s's linearly implicit step without the guide-guide contacts: its free
  * velocity, the Jacobians J of its points (at the step's start) and their velocities
  * with v^free. How the strand answers an impulse at a point, Y^T = (A^-1 J^T)^T, is
@@ -282,8 +304,24 @@ static void predict(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const hk_R
     memset((double *)cs->dv.items + cs->dim_start[s], 0, dim * sizeof(double));
 }
 
+/* U^T into the strict lower part of strand s's U (which the factorisation leaves
+ * unused): row i of it then holds column i of U, which reversed_rows reads. */
+static void transpose_into_lower(hk_ContactSolve *cs, int s)
+{
+    const size_t dim = dim_of(cs, s);
+    double *u = (double *)cs->ul.items + cs->ul_start[s];
+    for (size_t i = 1; i < dim; i++)
+        for (size_t k = 0; k < i; k++) u[i * dim + k] = u[k * dim + i];
+}
+
 /* Rows of Z^T = (U^-1 J^T)^T of point x of reversed strand s: U z = j by back
- * substitution from the point's support down (z is zero beyond it, as j is). */
+ * substitution from the point's support down (z is zero beyond it, as j is), by
+ * columns: once z_i is known, column i of U (row i of the lower part,
+ * transpose_into_lower) times z_i leaves the rows above it, the three right-hand sides
+ * side by side. No sum runs along a row, so the loop over the rows above is
+ * vectorised: answer_points took 4.0-4.2 ms a step by rows (each z_i the end of a chain
+ * of dependent additions), 2.9-3.2 ms so (examples/guides200 shaking, one thread, CPU
+ * time). The sums' order differs from the rows' by rounding. */
 static void reversed_rows(hk_ContactSolve *cs, int s, int x)
 {
     const size_t dim = dim_of(cs, s), at = block_of(cs, s, x);
@@ -291,18 +329,47 @@ static void reversed_rows(hk_ContactSolve *cs, int s, int x)
     const double *u = (const double *)cs->ul.items + cs->ul_start[s];
     const double *j0 = (const double *)cs->jac.items + at, *j1 = j0 + dim, *j2 = j1 + dim;
     double *z0 = (double *)cs->yt.items + at, *z1 = z0 + dim, *z2 = z1 + dim;
-    /* The three rows together: each sums in its own order as alone, while the three
-     * chains of additions overlap and share the loads of U. */
+    memcpy(z0, j0, (size_t)m * sizeof(double));
+    memcpy(z1, j1, (size_t)m * sizeof(double));
+    memcpy(z2, j2, (size_t)m * sizeof(double));
     for (int i = m - 1; i >= 0; i--) {
-        const double *ui = u + (size_t)i * dim;
-        double v0 = j0[i], v1 = j1[i], v2 = j2[i];
-        for (int k = i + 1; k < m; k++) {
-            v0 -= ui[k] * z0[k];
-            v1 -= ui[k] * z1[k];
-            v2 -= ui[k] * z2[k];
+        const double *column = u + (size_t)i * dim; /* column[k] = U[k][i] for k < i */
+        const double a0 = z0[i] / column[i], a1 = z1[i] / column[i], a2 = z2[i] / column[i];
+        z0[i] = a0, z1[i] = a1, z2[i] = a2;
+#pragma omp simd
+        for (int k = 0; k < i; k++) {
+            z0[k] -= column[k] * a0;
+            z1[k] -= column[k] * a1;
+            z2[k] -= column[k] * a2;
         }
-        z0[i] = v0 / ui[i], z1[i] = v1 / ui[i], z2[i] = v2 / ui[i];
     }
+}
+
+/* Rows of a point's J (3 x dim, zero from column m on) turned into the basis: row r
+ * becomes basis[r] . J, each sum in hk_v3_dot's order (the same bits as it), the
+ * columns side by side (vectorised). */
+static void rows_in_basis(double *jac, size_t dim, size_t m, const hk_Vec3 basis[3])
+{
+    double *j1 = jac + dim, *j2 = jac + 2 * dim;
+    const double n0 = basis[0].x, n1 = basis[0].y, n2 = basis[0].z;
+    const double s0 = basis[1].x, s1 = basis[1].y, s2 = basis[1].z;
+    const double t0 = basis[2].x, t1 = basis[2].y, t2 = basis[2].z;
+#pragma omp simd
+    for (size_t k = 0; k < m; k++) {
+        const double c0 = jac[k], c1 = j1[k], c2 = j2[k];
+        jac[k] = n0 * c0 + n1 * c1 + n2 * c2;
+        j1[k] = s0 * c0 + s1 * c1 + s2 * c2;
+        j2[k] = t0 * c0 + t1 * c1 + t2 * c2;
+    }
+}
+
+/* Every point of strand s has its rows of J turned into its pair's basis
+ * (prepare_pairs set the bases), each just before its answer is solved for, while
+ * its rows are in the caches. (beyond the support J stays zero) */
+static void strand_rows_in_basis(hk_ContactSolve *cs, int s, int x)
+{
+    const PairState *ps = (const PairState *)cs->pairs.items + ((const Slot *)cs->slots.items)[x].record / 2;
+    rows_in_basis((double *)cs->jac.items + block_of(cs, s, x), dim_of(cs, s), support_of(cs, x), ps->basis);
 }
 
 /* Y^T of strand s's points marked wanted (answered == WANTED), a run of consecutive
@@ -317,12 +384,15 @@ static void answer_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s)
     char *answered = cs->answered.items;
     int ok = cs->movable[s];
     if (cs->reversed[s]) { /* every point: its rows of Z^T also read its velocity change */
+        if (end > begin) transpose_into_lower(cs, s);
         for (int x = begin; x < end; x++) {
+            strand_rows_in_basis(cs, s, x);
             reversed_rows(cs, s, x);
             answered[x] = ANSWERED;
         }
         return;
     }
+    for (int x = begin; x < end; x++) strand_rows_in_basis(cs, s, x);
     for (int x = begin; ok && x < end;) {
         if (answered[x] != WANTED) {
             x++;
@@ -575,25 +645,15 @@ static int key_cmp(const int a[4], const int b[4])
     return 0;
 }
 
-/* The rows a point's velocity change is read with from its strand's dv: J, or Z^T for a
- * reversed strand (whose dv then holds w = U^T dv). */
-static const double *read_rows(const hk_ContactSolve *cs, int strand, int x)
-{
-    return (const double *)(cs->reversed[strand] ? cs->yt.items : cs->jac.items) + block_of(cs, strand, x);
-}
-
-static size_t support_of(const hk_ContactSolve *cs, int x) { return (size_t)((const int *)cs->support.items)[x]; }
-
 /* Pair ps's Delassus block in its basis, J_a Y_a + J_b Y_b (or Z_a^T Z_a + Z_b^T Z_b)
  * with both points' rows of J (and so their answers) in that basis. */
-static void pair_block(hk_ContactSolve *cs, PairState *ps, const int strand[2])
+static void pair_block(hk_ContactSolve *cs, PairState *ps)
 {
     memset(ps->w, 0, sizeof ps->w);
     for (int side = 0; side < 2; side++) {
-        const int x = ps->slot[side];
-        const size_t dim = dim_of(cs, strand[side]), m = support_of(cs, x);
-        const double *rows = read_rows(cs, strand[side], x);
-        const double *yt = (const double *)cs->yt.items + block_of(cs, strand[side], x);
+        const PointRows *pr = &ps->point[side];
+        const size_t dim = (size_t)pr->stride, m = (size_t)pr->m;
+        const double *rows = pr->rows, *yt = pr->resp;
         /* Z^T Z is symmetric to the bit (a product's factors commute, the sums run in
          * one order): its lower triangle is copied. */
         const int symmetric = rows == yt;
@@ -608,15 +668,11 @@ static void pair_block(hk_ContactSolve *cs, PairState *ps, const int strand[2])
     ps->ready = 1;
 }
 
-/* Rows of a point's J (3 x dim, zero from column m on) turned into the basis: row r
- * becomes basis[r] . J. */
-static void rows_in_basis(double *jac, size_t dim, size_t m, const hk_Vec3 basis[3])
+/* A pair that may push this step: with an impulse from the last step, or whose normal
+ * law pushes at the free velocities (its lambda and free set by prepare_pairs). */
+static int may_push(const PairState *ps)
 {
-    double *j1 = jac + dim, *j2 = jac + 2 * dim;
-    for (size_t k = 0; k < m; k++) {
-        const hk_Vec3 c = hk_v3(jac[k], j1[k], j2[k]);
-        jac[k] = hk_v3_dot(basis[0], c), j1[k] = hk_v3_dot(basis[1], c), j2[k] = hk_v3_dot(basis[2], c);
-    }
+    return ps->beta - ps->gamma * ps->free.x > 0.0 || hk_v3_norm2(ps->lambda) > 0.0;
 }
 
 /* Each pair's basis and normal law, and its impulse of the last step when the same
@@ -644,10 +700,17 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
         ps->ready = 0;
         ps->nu = 0.0;
         ps->free = in_basis(ps->basis, hk_v3_sub(vel[ps->slot[0]], vel[ps->slot[1]]));
-        const int strand[2] = {hp->i, hp->j};
-        for (int side = 0; side < 2; side++) /* (beyond the support J stays zero) */
-            rows_in_basis((double *)cs->jac.items + block_of(cs, strand[side], ps->slot[side]),
-                          dim_of(cs, strand[side]), support_of(cs, ps->slot[side]), ps->basis);
+        ps->strand[0] = hp->i, ps->strand[1] = hp->j;
+        for (int side = 0; side < 2; side++) {
+            const int strand = ps->strand[side], x = ps->slot[side];
+            const size_t at = block_of(cs, strand, x);
+            PointRows *pr = &ps->point[side];
+            pr->resp = (const double *)cs->yt.items + at;
+            pr->rows = cs->reversed[strand] ? pr->resp : (const double *)cs->jac.items + at;
+            pr->dv = (double *)cs->dv.items + cs->dim_start[strand];
+            pr->stride = (int)dim_of(cs, strand);
+            pr->m = (int)support_of(cs, x);
+        }
     }
     int o = 0;
     char *answered = cs->answered.items;
@@ -655,68 +718,61 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
         PairState *ps = &pairs[k];
         while (o < cs->old_count && key_cmp(old[o].key, ps->key) < 0) o++;
         if (o < cs->old_count && key_cmp(old[o].key, ps->key) == 0) ps->lambda = in_basis(ps->basis, old[o].lambda);
-        if (ps->beta - ps->gamma * ps->free.x > 0.0 || hk_v3_norm2(ps->lambda) > 0.0)
-            answered[ps->slot[0]] = answered[ps->slot[1]] = WANTED;
+        if (may_push(ps)) answered[ps->slot[0]] = answered[ps->slot[1]] = WANTED;
     }
 }
 
 /* Relative velocity in the basis at the step's end of pair ps with the impulses so far. */
-static hk_Vec3 relative_velocity(const hk_ContactSolve *cs, const PairState *ps, const int strand[2])
+static hk_Vec3 relative_velocity(const PairState *ps)
 {
     hk_Vec3 u = ps->free;
     for (int side = 0; side < 2; side++) {
-        const int x = ps->slot[side];
-        const hk_Vec3 du = point_change(read_rows(cs, strand[side], x), dim_of(cs, strand[side]), support_of(cs, x),
-                                        (const double *)cs->dv.items + cs->dim_start[strand[side]]);
+        const PointRows *pr = &ps->point[side];
+        const hk_Vec3 du = point_change(pr->rows, (size_t)pr->stride, (size_t)pr->m, pr->dv);
         u = side == 0 ? hk_v3_add(u, du) : hk_v3_sub(u, du);
     }
     return u;
 }
 
 /* Its normal part alone. */
-static double normal_velocity(const hk_ContactSolve *cs, const PairState *ps, const int strand[2])
+static double normal_velocity(const PairState *ps)
 {
     double u = ps->free.x;
     for (int side = 0; side < 2; side++) {
-        const int x = ps->slot[side];
-        const double du = dot_n(read_rows(cs, strand[side], x),
-                                (const double *)cs->dv.items + cs->dim_start[strand[side]], support_of(cs, x));
+        const PointRows *pr = &ps->point[side];
+        const double du = dot_n(pr->rows, pr->dv, (size_t)pr->m);
         u += side == 0 ? du : -du;
     }
     return u;
 }
 
 /* Changes pair ps's impulse by delta (in its basis), updating both strands' dv. */
-static void apply_change(hk_ContactSolve *cs, const PairState *ps, const int strand[2], hk_Vec3 delta)
+static void apply_change(const PairState *ps, hk_Vec3 delta)
 {
     for (int side = 0; side < 2; side++) {
-        const int x = ps->slot[side];
-        add_response((double *)cs->dv.items + cs->dim_start[strand[side]],
-                     (const double *)cs->yt.items + block_of(cs, strand[side], x), dim_of(cs, strand[side]),
-                     support_of(cs, x), delta, side == 0 ? 1.0 : -1.0);
+        const PointRows *pr = &ps->point[side];
+        add_response(pr->dv, pr->resp, (size_t)pr->stride, (size_t)pr->m, delta, side == 0 ? 1.0 : -1.0);
     }
 }
 
 /* One Gauss-Seidel visit of pair k: its law given the other impulses, the strands'
  * dv updated. *change is raised to the size of the impulse's change, *size receives the
  * new impulse's size; returns the law's verdict (contact_law). */
-static int visit(hk_ContactSolve *cs, const hk_HairContacts *contacts, int k, double mu, double viscous, double *change,
-                 double *size)
+static int visit(hk_ContactSolve *cs, int k, double mu, double viscous, double *change, double *size)
 {
     PairState *ps = (PairState *)cs->pairs.items + k;
-    const int strand[2] = {contacts->pairs[k].i, contacts->pairs[k].j};
     const int idle = ps->lambda.x == 0.0 && ps->lambda.y == 0.0 && ps->lambda.z == 0.0;
     /* No impulse and a normal law that does not push: zero stays the pair's answer
      * (with no push there is no friction either), whatever w. */
-    if (idle && !(ps->beta - ps->gamma * normal_velocity(cs, ps, strand) > 0.0)) {
+    if (idle && !(ps->beta - ps->gamma * normal_velocity(ps) > 0.0)) {
         *size = 0.0;
         return 0;
     }
     if (!ps->ready) {
-        for (int side = 0; side < 2; side++) answer_lazily(cs, strand[side], ps->slot[side]);
-        pair_block(cs, ps, strand);
+        for (int side = 0; side < 2; side++) answer_lazily(cs, ps->strand[side], ps->slot[side]);
+        pair_block(cs, ps);
     }
-    const hk_Vec3 u = relative_velocity(cs, ps, strand);
+    const hk_Vec3 u = relative_velocity(ps);
     const double lo[3] = {ps->lambda.x, ps->lambda.y, ps->lambda.z};
     double u0[3] = {u.x, u.y, u.z}, lam[3] = {lo[0], lo[1], lo[2]};
     for (int r = 0; r < 3; r++) u0[r] -= ps->w[r][0] * lo[0] + ps->w[r][1] * lo[1] + ps->w[r][2] * lo[2];
@@ -726,10 +782,114 @@ static int visit(hk_ContactSolve *cs, const hk_HairContacts *contacts, int k, do
     const hk_Vec3 delta = hk_v3_sub(next, ps->lambda);
     ps->lambda = next;
     const double dl = hk_v3_norm(delta);
-    if (dl > 0.0) apply_change(cs, ps, strand, delta);
+    if (dl > 0.0) apply_change(ps, delta);
     if (dl > *change) *change = dl;
     *size = hk_v3_norm(next);
     return law;
+}
+
+
+/* A group of pairs in the sweeps: order[begin, end) are its pairs, active[begin, begin
+ * + active_count) those that pushed at its last full sweep (visited on every sweep). */
+typedef struct SweepGroup {
+    int begin, end, active_count;
+    int pushing, sticking;  /* at its last full sweep */
+    double change, largest; /* the largest impulse change and impulse of its last sweep */
+} SweepGroup;
+
+/* One sweep over a group's pairs: every pair on a full sweep (then its active pairs
+ * are listed again), else its active pairs. */
+static void sweep_group(hk_ContactSolve *cs, const int *order, SweepGroup *gr, int full)
+{
+    int *active = (int *)cs->active.items + gr->begin;
+    const int count = full ? gr->end - gr->begin : gr->active_count;
+    double change = 0.0, largest = 0.0;
+    if (full) gr->pushing = gr->sticking = gr->active_count = 0;
+    for (int x = 0; x < count; x++) {
+        const int k = full ? order[gr->begin + x] : active[x];
+        double l;
+        const int law = visit(cs, k, cs->mu, cs->viscous, &change, &l);
+        if (l > largest) largest = l;
+        if (full && law > 0) active[gr->active_count++] = k;
+        if (full) gr->pushing += law > 0, gr->sticking += law == 2;
+    }
+    gr->change = change, gr->largest = largest;
+}
+
+/* What the two threads of the sweeps share: a group is claimed by whichever thread
+ * comes first, so that a thread the system has not scheduled delays nothing (with a
+ * parallel region or barrier per sweep, 20 a step, a loaded machine's sweeps took
+ * several times longer: docs/dynamics.md). */
+typedef struct SweepShare {
+    atomic_int claim;    /* sweep * 4 + the groups of the two claimed so far; -1: the sweeps are over */
+    atomic_int finished; /* sweep * 4 + the groups of the two done */
+    int full;            /* the sweep is a full one (set before its claims open) */
+} SweepShare;
+
+/* Claims one of the two groups of the open sweep and sweeps it. Returns 1 when it did,
+ * 0 when both are claimed, -1 when the sweeps are over. */
+static int claim_group(hk_ContactSolve *cs, const int *order, SweepGroup group[2], SweepShare *sh)
+{
+    int word = atomic_load_explicit(&sh->claim, memory_order_acquire);
+    while (word >= 0 && (word & 3) < 2)
+        if (atomic_compare_exchange_weak_explicit(&sh->claim, &word, word + 1, memory_order_acq_rel,
+                                                  memory_order_acquire)) {
+            sweep_group(cs, order, &group[word & 3], sh->full);
+            atomic_fetch_add_explicit(&sh->finished, 1, memory_order_release);
+            return 1;
+        }
+    return word < 0 ? -1 : 0;
+}
+
+/* A wait of a few hundred cycles, then the core is given up now and then: on a
+ * machine with more runnable threads than cores the other thread needs it. */
+static void pause_for(long *spins)
+{
+    if (++*spins % 256 == 0) sched_yield();
+    for (volatile int k = 0; k < 64; k++) {}
+}
+
+/* The sweeps over the three groups: the first two (disjoint strands) by this thread and
+ * one more when side_by_side, the pairs across them by this one after both; the same
+ * bits either way. Pairs that do not push (most of those between d0 and 2 d0) are
+ * visited on every HK_PGS_FULL_EVERY-th sweep and the last one only; the others on
+ * every sweep. */
+static void run_sweeps(hk_ContactSolve *cs, const int *order, SweepGroup group[3], int side_by_side,
+                       hk_ContactSolveStats *local)
+{
+    SweepShare share; /* closed (both groups of sweep 0 taken) until the first sweep opens */
+    atomic_init(&share.claim, 2);
+    atomic_init(&share.finished, 0);
+    share.full = 1;
+#pragma omp parallel num_threads(side_by_side ? 2 : 1)
+    {
+        if (omp_get_thread_num() != 0) { /* the helper: claims what it finds open */
+            long spins = 0;
+            for (int r; (r = claim_group(cs, order, group, &share)) >= 0;)
+                if (r == 0) pause_for(&spins);
+        } else {
+            for (int sweep = 0; sweep < HK_PGS_SWEEPS; sweep++) {
+                const int full = sweep % HK_PGS_FULL_EVERY == 0 || sweep == HK_PGS_SWEEPS - 1;
+                share.full = full;
+                atomic_store_explicit(&share.finished, 4 * sweep, memory_order_relaxed);
+                atomic_store_explicit(&share.claim, 4 * sweep, memory_order_release);
+                while (claim_group(cs, order, group, &share) == 1) {}
+                long spins = 0;
+                while (atomic_load_explicit(&share.finished, memory_order_acquire) != 4 * sweep + 2) pause_for(&spins);
+                sweep_group(cs, order, &group[2], full);
+                double change = 0.0, largest = 0.0;
+                if (full) local->pushing = local->sticking = 0;
+                for (int x = 0; x < 3; x++) {
+                    change = fmax(change, group[x].change), largest = fmax(largest, group[x].largest);
+                    if (full) local->pushing += group[x].pushing, local->sticking += group[x].sticking;
+                }
+                local->sweeps = sweep + 1;
+                local->residual = largest > 0.0 ? change / largest : 0.0;
+                if (full && change <= HK_PGS_TOLERANCE * largest) break;
+            }
+            atomic_store_explicit(&share.claim, -1, memory_order_release);
+        }
+    }
 }
 
 hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts, hk_StrandDynamics **dyn,
@@ -759,36 +919,31 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
     PairState *pairs = cs->pairs.items;
     const int n = contacts->pair_count;
     const char *answered = cs->answered.items;
+    /* The blocks of the pairs that may push; the others' when a sweep first finds them
+     * pushing (visit), by the same operations: about 2,300 of 5,200 pairs on
+     * examples/guides200, where every point is answered (Z), and 300 more later. */
 #pragma omp parallel for schedule(static) num_threads(threads)
-    for (int k = 0; k < n; k++) {
-        const int strand[2] = {contacts->pairs[k].i, contacts->pairs[k].j};
-        if (answered[pairs[k].slot[0]] == ANSWERED && answered[pairs[k].slot[1]] == ANSWERED)
-            pair_block(cs, &pairs[k], strand);
-    }
-    for (int k = 0; k < n; k++) { /* the warm start's share */
-        const int strand[2] = {contacts->pairs[k].i, contacts->pairs[k].j};
-        if (hk_v3_norm2(pairs[k].lambda) > 0.0) apply_change(cs, &pairs[k], strand, pairs[k].lambda);
-    }
-    /* Pairs that do not push (most of those between d0 and 2 d0) are visited on every
-     * HK_PGS_FULL_EVERY-th sweep and the last one only; the others on every sweep. */
-    int *active = cs->active.items, active_count = 0;
-    for (int sweep = 0; sweep < HK_PGS_SWEEPS; sweep++) {
-        const int full = sweep % HK_PGS_FULL_EVERY == 0 || sweep == HK_PGS_SWEEPS - 1;
-        const int count = full ? n : active_count;
-        double change = 0.0, largest = 0.0;
-        if (full) local.pushing = local.sticking = 0, active_count = 0;
-        for (int x = 0; x < count; x++) {
-            const int k = full ? x : active[x];
-            double l;
-            const int law = visit(cs, contacts, k, mu, viscous, &change, &l);
-            if (l > largest) largest = l;
-            if (full && law > 0) active[active_count++] = k;
-            if (full) local.pushing += law > 0, local.sticking += law == 2;
-        }
-        local.sweeps = sweep + 1;
-        local.residual = largest > 0.0 ? change / largest : 0.0;
-        if (full && change <= HK_PGS_TOLERANCE * largest) break;
-    }
+    for (int k = 0; k < n; k++)
+        if (answered[pairs[k].slot[0]] == ANSWERED && answered[pairs[k].slot[1]] == ANSWERED && may_push(&pairs[k]))
+            pair_block(cs, &pairs[k]);
+    for (int k = 0; k < n; k++) /* the warm start's share */
+        if (hk_v3_norm2(pairs[k].lambda) > 0.0) apply_change(&pairs[k], pairs[k].lambda);
+    /* The pairs dealt to two groups of strands and the pairs across them (weighted by
+     * what a sweep spends on them: a pair that may push is visited on every sweep, at
+     * about 16 times the cost of an idle pair's check on every fourth). */
+    double *weight = cs->weight.items;
+    for (int k = 0; k < n; k++) weight[k] = may_push(&pairs[k]) ? 16.0 : 1.0;
+    hk_Vec3 *roots = cs->roots.items;
+    for (int s = 0; s < strand_count; s++) roots[s] = contacts->views[s].pos[0];
+    SweepGroup group[3];
+    int bounds[4];
+    int *order = cs->order.items;
+    hk_contact_split(&cs->split, strand_count, roots, n, contacts->pairs, weight, order, bounds);
+    for (int x = 0; x < 3; x++) group[x] = (SweepGroup){bounds[x], bounds[x + 1], 0, 0, 0, 0.0, 0.0};
+    /* The first two groups share no strand: their visits touch disjoint pairs and
+     * strands, and give the same bits side by side or one after the other. */
+    const int side_by_side = threads > 1 && bounds[1] > bounds[0] && bounds[2] > bounds[1];
+    run_sweeps(cs, order, group, side_by_side, &local);
     /* The bound of the last sweep's Tresca problems lags the normal impulses by a
      * sweep: what exceeds Coulomb's cone is taken back (and from dv, which the commit
      * uses). */
@@ -799,8 +954,7 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
         if (!(t > limit)) continue;
         const double f = t > 0.0 ? limit / t : 0.0;
         const hk_Vec3 next = hk_v3(l.x, f * l.y, f * l.z);
-        const int strand[2] = {contacts->pairs[k].i, contacts->pairs[k].j};
-        apply_change(cs, ps, strand, hk_v3_sub(next, ps->lambda));
+        apply_change(ps, hk_v3_sub(next, ps->lambda));
         ps->lambda = next;
     }
 /* The reversed strands' velocity changes from w = U^T dv: U^T dv = w, forward. */
