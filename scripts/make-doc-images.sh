@@ -64,4 +64,19 @@ for pair in smooth:helicoid-reconstruct-original rebuilt:helicoid-reconstruct; d
     "$hk" render "$tmp/${pair%%:*}.hair" --head assets/head.obj --visuality examples/default/visuality.txt \
         -o "docs/images/${pair#*:}.png" --width 320 --height 300 --thickness 0.0005 --quiet
 done
+# A real groom (docs/helicoid-fitting.md): the TressFX Sintel groom of ../shared/hair-data,
+# every strand fitted and traced back, and rebuilt from the fits of one strand in ten.
+data=../shared/hair-data
+if [ -f "$data/SintelHairOriginal-sintel_hair.16points.tfx" ]; then
+    sintel="$data/SintelHairOriginal-sintel_hair.16points.tfx"
+    "$hk" helicoid fit "$sintel" -o "$tmp/sintel-fit.txt" --quiet > /dev/null
+    "$hk" helicoid trace "$tmp/sintel-fit.txt" -o "$tmp/sintel-fitted.hair" --quiet
+    "$hk" helicoid reconstruct "$sintel" --every 10 -o "$tmp/sintel-rebuilt.hair" --quiet > /dev/null
+    for pair in "$sintel":original "$tmp/sintel-fitted.hair":fitted "$tmp/sintel-rebuilt.hair":rebuilt; do
+        "$hk" render "${pair%:*}" --head "$data/sintel.obj" -o "docs/images/helicoid-sintel-${pair##*:}.png" \
+            --width 320 --height 300 --thickness 0.00007 --quiet
+    done
+else
+    echo "make-doc-images: $data is absent: the Sintel pictures of docs/helicoid-fitting.md are kept as they are"
+fi
 echo "docs/images updated"
