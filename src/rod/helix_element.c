@@ -70,10 +70,9 @@ void hk_helix_term(const double c[HK_CN_COUNT], int m, double alpha, hk_Vec3 phi
     }
 }
 
-void hk_helix_term_along(const double c[HK_CN_COUNT], int m, double alpha, hk_Vec3 phi, hk_Vec3 w, hk_Vec3 e,
-                         hk_Vec3 *d1, hk_Vec3 *d2)
+void hk_helix_term_along(const double c[HK_CN_COUNT], int m, hk_Vec3 phi, hk_Vec3 w, hk_Vec3 e, hk_Vec3 *d1,
+                         hk_Vec3 *d2)
 {
-    (void)alpha; /* the constant term alpha w has no derivative */
     const double cm = c[m], cm1 = c[m + 1];
     const double x = hk_v3_dot(phi, phi), pw = hk_v3_dot(phi, w), s = hk_v3_dot(phi, e);
     const hk_Vec3 pxw = hk_v3_cross(phi, w), exw = hk_v3_cross(e, w);
@@ -84,17 +83,19 @@ void hk_helix_term_along(const double c[HK_CN_COUNT], int m, double alpha, hk_Ve
     const double dm1 = -0.5 * (c[m + 2] - (m + 1) * c[m + 3]);
     const double ew = hk_v3_dot(e, w);
     const hk_Vec3 dq = hk_v3_add(hk_v3_add(hk_v3_scale(e, pw), hk_v3_scale(phi, ew)), hk_v3_scale(w, -2.0 * s));
-    hk_Vec3 v = hk_v3_scale(pxw, 2.0 * dm * s);
-    v = hk_v3_madd(v, exw, cm);
-    v = hk_v3_madd(v, q, 2.0 * dm1 * s);
-    *d1 = hk_v3_madd(v, dq, cm1);
+    if (d1) {
+        hk_Vec3 v = hk_v3_scale(pxw, 2.0 * dm * s);
+        v = hk_v3_madd(v, exw, cm);
+        v = hk_v3_madd(v, q, 2.0 * dm1 * s);
+        *d1 = hk_v3_madd(v, dq, cm1);
+    }
     if (!d2) return;
     /* Once more: (c_n)'' = 4 s^2 d2c_n/dx2 + 2 (e . e) dc_n/dx, (phi x w)'' = 0,
      * Q'' = 2 e (e . w) - 2 (e . e) w. */
     const double ddm = 0.25 * (c[m + 2] - (2 * m + 1) * c[m + 3] + m * (m + 2) * c[m + 4]);
     const double ddm1 = 0.25 * (c[m + 3] - (2 * m + 3) * c[m + 4] + (m + 1) * (m + 3) * c[m + 5]);
     const double ee = hk_v3_dot(e, e);
-    v = hk_v3_scale(pxw, 4.0 * ddm * s * s + 2.0 * dm * ee);
+    hk_Vec3 v = hk_v3_scale(pxw, 4.0 * ddm * s * s + 2.0 * dm * ee);
     v = hk_v3_madd(v, exw, 4.0 * dm * s);
     v = hk_v3_madd(v, q, 4.0 * ddm1 * s * s + 2.0 * dm1 * ee);
     v = hk_v3_madd(v, dq, 4.0 * dm1 * s);
@@ -124,6 +125,15 @@ static void rotation_and_lambda(const double c[HK_CN_COUNT], hk_Vec3 phi, double
         }
 }
 
+/* rot, lam and dd of hk_element_local of order 1, from c = the c_n of x = phi . phi. */
+static void order_one(const double c[HK_CN_COUNT], hk_Vec3 phi, double x, double u, hk_ElementLocal *out)
+{
+    rotation_and_lambda(c, phi, x, u, out);
+    hk_HelixTerm t;
+    hk_helix_term(c, 2, 1.0, phi, hk_v3_unit(0), 1, &t);
+    out->dd = hk_m3_scale(&t.jac, u * u);
+}
+
 void hk_element_local(hk_Vec3 k, double u, int order, int with_g, hk_ElementLocal *out)
 {
     const hk_Vec3 phi = hk_v3_scale(k, u);
@@ -132,10 +142,7 @@ void hk_element_local(hk_Vec3 k, double u, int order, int with_g, hk_ElementLoca
     hk_helix_cn(x, c);
     const double u2 = u * u, u3 = u2 * u;
     if (order == 1) { /* the whole of Lambda at once, and d's Jacobian */
-        rotation_and_lambda(c, phi, x, u, out);
-        hk_HelixTerm t;
-        hk_helix_term(c, 2, 1.0, phi, hk_v3_unit(0), 1, &t);
-        out->dd = hk_m3_scale(&t.jac, u2);
+        order_one(c, phi, x, u, out);
     } else {
         out->rot = hk_helix_rotation(c, phi);
     }
@@ -173,18 +180,15 @@ void hk_element_local_rates(hk_Vec3 k, double u, hk_Vec3 kd, hk_ElementLocal *ou
     double c[HK_CN_COUNT];
     const double x = hk_v3_dot(phi, phi);
     hk_helix_cn(x, c);
-    rotation_and_lambda(c, phi, x, u, out);
-    hk_HelixTerm t;
-    hk_helix_term(c, 2, 1.0, phi, hk_v3_unit(0), 1, &t);
+    order_one(c, phi, x, u, out);
     const double u2 = u * u;
-    out->dd = hk_m3_scale(&t.jac, u2);
     /* Lambda e_b = u h(phi; w = e_b) is linear in w, so sum_b kd_b dlam[b] kd is u^2
      * times h(phi; w = kd)'s derivative along kd (d/dk = u d/dphi); the offset's second
      * derivative along kd is u^3 times h(phi; w = e0)'s. */
-    hk_Vec3 d1, d2, unused;
-    hk_helix_term_along(c, 2, 1.0, phi, kd, kd, &d1, NULL);
+    hk_Vec3 d1, d2;
+    hk_helix_term_along(c, 2, phi, kd, kd, &d1, NULL);
     *spin_rate = hk_v3_scale(d1, u2);
-    hk_helix_term_along(c, 2, 1.0, phi, hk_v3_unit(0), kd, &unused, &d2);
+    hk_helix_term_along(c, 2, phi, hk_v3_unit(0), kd, NULL, &d2);
     *curve = hk_v3_scale(d2, u2 * u);
 }
 
@@ -201,7 +205,7 @@ void hk_element_motion(hk_Vec3 k, double u, hk_Vec3 kd, hk_Mat3 *rot, hk_Vec3 *o
     *spin = hk_m3_mul_v3(&el.lam, kd);
     /* dd kd = u^2 times h(phi; w = e0)'s derivative along kd (d/dk = u d/dphi). */
     hk_Vec3 d1;
-    hk_helix_term_along(c, 2, 1.0, phi, hk_v3_unit(0), kd, &d1, NULL);
+    hk_helix_term_along(c, 2, phi, hk_v3_unit(0), kd, &d1, NULL);
     *slide = hk_v3_scale(d1, u * u);
 }
 

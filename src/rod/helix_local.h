@@ -35,12 +35,13 @@ typedef struct hk_HelixTerm {
 void hk_helix_term(const double c[HK_CN_COUNT], int m, double alpha, hk_Vec3 phi, hk_Vec3 w, int order,
                    hk_HelixTerm *out);
 
-/* The first and second derivatives of the same h along one direction e of phi:
- * d1 = sum_a e_a dh/dphi_a and d2 = sum_ab e_a e_b d2h/dphi_a dphi_b (d2 may be NULL).
+/* The first and second derivatives of the same h along one direction e of phi (alpha w,
+ * constant, has none): d1 = sum_a e_a dh/dphi_a and d2 = sum_ab e_a e_b d2h/dphi_a dphi_b
+ * (either may be NULL).
  * What a moving element's bias needs (the rates contracted with themselves), at the
  * cost of one column instead of the whole Jacobian and Hessian. */
-void hk_helix_term_along(const double c[HK_CN_COUNT], int m, double alpha, hk_Vec3 phi, hk_Vec3 w, hk_Vec3 e,
-                         hk_Vec3 *d1, hk_Vec3 *d2);
+void hk_helix_term_along(const double c[HK_CN_COUNT], int m, hk_Vec3 phi, hk_Vec3 w, hk_Vec3 e, hk_Vec3 *d1,
+                         hk_Vec3 *d2);
 
 /* Rotation exp([phi]x) from the c_n of x = |phi|^2. */
 hk_Mat3 hk_helix_rotation(const double c[HK_CN_COUNT], hk_Vec3 phi);
