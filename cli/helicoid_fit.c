@@ -94,10 +94,9 @@ int hk_helicoid_cli_fit(const hk_HelicoidArgs *a)
                     over - 10);
         const double n = hair.strand_count ? (double)hair.strand_count : 1.0;
         printf("# strands=%u mean_error_m=%.6g max_error_m=%.6g max_frechet_m=%.6g mean_pieces=%.3g "
-               "over_tolerance=%ld fits_per_second=%.1f%s",
-               hair.strand_count, sum / n, worst, fr, pieces / n, over, hair.strand_count / fmax(seconds, 1e-9),
-               a->waves ? "" : "\n");
-        if (a->waves) printf(" with_waves=%ld\n", waved);
+               "over_tolerance=%ld fits_per_second=%.1f",
+               hair.strand_count, sum / n, worst, fr, pieces / n, over, hair.strand_count / fmax(seconds, 1e-9));
+        printf(a->waves ? " with_waves=%ld\n" : "\n", waved);
     }
     hk_free(idx), hk_free(rep);
     hk_helicoid_set_free(&set);

@@ -6,6 +6,7 @@
 
 #include <math.h>
 
+#include "hairkit/curvefit.h"
 #include "hairkit/hairfile.h"
 #include "hairkit/helicoid.h"
 
@@ -147,6 +148,12 @@ void hk_helicoid_quat_from_rotation(const hk_Mat3 *r, double q[4]);
 hk_Mat3 hk_helicoid_rotation_from_quat(const double q[4]);
 /* Rotation by `angle` (radians) about the unit axis a (Rodrigues). */
 hk_Mat3 hk_helicoid_axis_angle(hk_Vec3 a, double angle);
+
+/* Normalised coupling and Fréchet distance (hk_frechet_measures) of h traced with `wave`
+ * (may be NULL) at the strand's own count of points against points[0..n), n >= 2; work
+ * holds n points. HK_ERR_NUMERIC when h does not trace to n points at that spacing. */
+hk_Status hk_helicoid_traced_measures(const hk_PHelicoid *h, const hk_Waviness *wave, const hk_Vec3 *points, int n,
+                                      hk_Vec3 *work, hk_FrechetMeasures *m, hk_Error *err);
 
 /* Every strand of `hair` rebuilt from the fitted guides (reconstruct_blend.c, §5.4) into
  * `out` (filled here): points `step` apart or closer, each strand at its own length, from

@@ -10,19 +10,6 @@
 #include "hairkit/helicoid_hair.h"
 #include "helicoid_internal.h"
 
-/* Normalised coupling and Fréchet distance of h traced with `wave` at the strand's own
- * count of points against it (how hk_helicoid_fit_wavy measures its error). */
-static hk_Status traced_measures(const hk_PHelicoid *h, const hk_Waviness *wave, const hk_Vec3 *pts, int n,
-                                 hk_Vec3 *work, hk_FrechetMeasures *m, hk_Error *err)
-{
-    const double step = hk_phelicoid_length(h) / (n - 1);
-    if (hk_phelicoid_point_count(h, step) != n)
-        return hk_error_set(err, HK_ERR_NUMERIC, "the fit does not trace at the strand's spacing");
-    hk_Status st = hk_phelicoid_trace(h, step, wave, NULL, work, NULL, err);
-    if (st == HK_OK) st = hk_frechet_measures(pts, n, work, n, m, err);
-    return st;
-}
-
 /* hk_helicoid_fit_strands, and with wavy (not NULL) hk_helicoid_fit_wavy for strands of 8
  * points or more, their waves into waves[0..count) (amplitude 0: none). */
 static hk_Status fit_strands(const hk_HairFile *hair, const long *index, long count, const hk_CurveFitDef *options,
@@ -69,7 +56,7 @@ static hk_Status fit_strands(const hk_HairFile *hair, const long *index, long co
                 hk_FrechetMeasures m;
                 double error;
                 st = hk_helicoid_fit_wavy(f, pts, n, wavy, &out[i], &waves[i], &error, &e);
-                if (st == HK_OK) st = traced_measures(&out[i], &waves[i], pts, n, pts + longest, &m, &e);
+                if (st == HK_OK) st = hk_helicoid_traced_measures(&out[i], &waves[i], pts, n, pts + longest, &m, &e);
                 if (st == HK_OK) rep = (hk_HelicoidFitReport){m.normalized, m.distance, out[i].piece_count, 0};
             } else if (st == HK_OK) {
                 st = hk_helicoid_fit(f, pts, n, options, &out[i], &fit, &e);

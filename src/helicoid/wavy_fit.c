@@ -204,15 +204,22 @@ static int polish_residuals(void *user, const double *x, double *r)
     return 0;
 }
 
+hk_Status hk_helicoid_traced_measures(const hk_PHelicoid *h, const hk_Waviness *wave, const hk_Vec3 *points, int n,
+                                      hk_Vec3 *work, hk_FrechetMeasures *m, hk_Error *err)
+{
+    const double step = hk_phelicoid_length(h) / (n - 1);
+    if (hk_phelicoid_point_count(h, step) != n)
+        return hk_error_set(err, HK_ERR_NUMERIC, "the fit does not trace at the strand's spacing");
+    hk_Status st = hk_phelicoid_trace(h, step, wave, NULL, work, NULL, err);
+    if (st == HK_OK) st = hk_frechet_measures(points, n, work, n, m, err);
+    return st;
+}
+
 /* Normalised coupling of the waved base traced at the strand's count against the strand. */
 static hk_Status waved_error(Work *w, const hk_PHelicoid *h, const hk_Waviness *wave, double *error, hk_Error *err)
 {
-    const double step = hk_phelicoid_length(h) / (w->n - 1);
-    if (hk_phelicoid_point_count(h, step) != w->n)
-        return hk_error_set(err, HK_ERR_NUMERIC, "wavy fit: the fit does not trace at the strand's spacing");
-    hk_Status st = hk_phelicoid_trace(h, step, wave, NULL, w->at, NULL, err);
     hk_FrechetMeasures m;
-    if (st == HK_OK) st = hk_frechet_measures(w->target, w->n, w->at, w->n, &m, err);
+    const hk_Status st = hk_helicoid_traced_measures(h, wave, w->target, w->n, w->at, &m, err);
     if (st == HK_OK) *error = m.normalized;
     return st;
 }
