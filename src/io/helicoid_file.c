@@ -54,6 +54,14 @@ typedef struct Block {
     int root, frame, waves; /* lines that gave them, 0 when absent */
 } Block;
 
+/* HK_OK when `name` was not given yet in the strand (first == 0), else the error that
+ * names the line of its first. */
+static hk_Status once_a_strand(const hk_KeyFile *kf, const hk_KeyLine *kl, const char *name, int first, hk_Error *err)
+{
+    if (!first) return HK_OK;
+    return hk_keyfile_error(kf, kl->line, HK_ERR_PARSE, err, "second %s in a strand (first at line %d)", name, first);
+}
+
 /* Ends the strand opened at b: it needs a root, a frame and a piece. */
 static hk_Status close_block(const hk_KeyFile *kf, const Block *b, const hk_PHelicoid *h, hk_Error *err)
 {
@@ -175,27 +183,21 @@ hk_Status hk_helicoid_file_load(const char *path, hk_HelicoidSet *out, hk_Error 
             st = hk_keyfile_error(&kf, kl->line, HK_ERR_PARSE, err, "'%s' before the first Strand", kl->key);
         } else if (hk_key_equal(kl->key, "Root")) {
             double v[3];
-            if (block.root)
-                st = hk_keyfile_error(&kf, kl->line, HK_ERR_PARSE, err, "second Root in a strand (first at line %d)",
-                                      block.root);
-            else if ((st = hk_keyline_doubles(&kf, kl, 3, v, err)) == HK_OK) {
+            if ((st = once_a_strand(&kf, kl, "Root", block.root, err)) == HK_OK &&
+                (st = hk_keyline_doubles(&kf, kl, 3, v, err)) == HK_OK) {
                 h->root = hk_v3(v[0], v[1], v[2]);
                 block.root = kl->line;
             }
         } else if (hk_key_equal(kl->key, "Frame")) {
-            if (block.frame)
-                st = hk_keyfile_error(&kf, kl->line, HK_ERR_PARSE, err, "second Frame in a strand (first at line %d)",
-                                      block.frame);
-            else if ((st = read_frame(&kf, kl, &h->frame, err)) == HK_OK)
+            if ((st = once_a_strand(&kf, kl, "Frame", block.frame, err)) == HK_OK &&
+                (st = read_frame(&kf, kl, &h->frame, err)) == HK_OK)
                 block.frame = kl->line;
         } else if (hk_key_equal(kl->key, "Piece")) {
             st = read_piece(&kf, kl, h, err);
         } else if (hk_key_equal(kl->key, "Waves")) {
             double v[3];
-            if (block.waves)
-                st = hk_keyfile_error(&kf, kl->line, HK_ERR_PARSE, err, "second Waves in a strand (first at line %d)",
-                                      block.waves);
-            else if ((st = hk_keyline_doubles(&kf, kl, 3, v, err)) == HK_OK) {
+            if ((st = once_a_strand(&kf, kl, "Waves", block.waves, err)) == HK_OK &&
+                (st = hk_keyline_doubles(&kf, kl, 3, v, err)) == HK_OK) {
                 if (!(v[0] >= 0.0 && v[0] <= 1.0) || !(v[1] >= 0.0 && v[1] <= 1e6) || !(fabs(v[2]) <= 1e6))
                     st = hk_keyfile_error(&kf, kl->line, HK_ERR_INVALID, err,
                                           "Waves needs an amplitude in [0, 1] m, a frequency in [0, 1e6] rad/m and "
