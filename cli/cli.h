@@ -56,6 +56,11 @@ int hk_cli_fail(const char *cmd, const hk_Error *err);
  * HK_EXIT_USAGE. */
 int hk_cli_usage_error(const char *cmd, const char *fmt, ...) HK_PRINTF_LIKE(2, 3);
 
+/* The one operand of a command after its options (argv[optind]): 0 when there is exactly
+ * one, else the usage error "<missing>" (e.g. "missing SETUP file") or "unexpected
+ * argument '...'". */
+int hk_cli_one_operand(const char *cmd, int argc, char *const argv[], const char *missing);
+
 /* ---- did you mean (cli_suggest.c) ---- */
 struct option;
 /* Levenshtein distance of two names (SIZE_MAX beyond 64 characters). */
@@ -65,6 +70,10 @@ const char *hk_cli_nearest(const char *word, const char *const *names, size_t co
 /* The usage error of an unknown option `arg` (argv's word), naming the nearest long
  * option of the getopt_long table: "unknown option '--frams' (did you mean --frames?)". */
 int hk_cli_unknown_option(const char *cmd, const struct option *options, const char *arg);
+/* The usage error of getopt_long's answer `c` outside a command's options (the option
+ * string begins with ':'): "option '--x' needs a value" for ':', else the unknown
+ * option's error above; argv's word is argv[optind - 1]. Returns HK_EXIT_USAGE. */
+int hk_cli_bad_option(const char *cmd, int c, const struct option *options, char *const argv[]);
 /* "unknown WHAT 'word' (did you mean NAME?)", or the list of names when none is near;
  * returns HK_EXIT_USAGE. */
 int hk_cli_unknown_name(const char *cmd, const char *what, const char *word, const char *const *names, size_t count);
@@ -156,6 +165,7 @@ enum { HK_OPT_HAIR_SCALE = 1200, HK_OPT_HAIR_UP, HK_OPT_HEAD_SCALE, HK_OPT_HEAD_
     {"scale", required_argument, NULL, HK_OPT_HAIR_SCALE}, { "up", required_argument, NULL, HK_OPT_HAIR_UP }
 #define HK_CLI_HEAD_TRANSFORM_LONG_OPTIONS                                                                             \
     {"head-scale", required_argument, NULL, HK_OPT_HEAD_SCALE}, { "head-up", required_argument, NULL, HK_OPT_HEAD_UP }
+#define HK_CLI_IS_TRANSFORM_OPTION(c) ((c) >= HK_OPT_HAIR_SCALE && (c) <= HK_OPT_HEAD_UP)
 typedef struct hk_CliTransform {
     double scale; /* 1: none */
     hk_Axis up;   /* HK_AXIS_POS_Y: none */

@@ -1,5 +1,6 @@
 /* Helpers shared by the hairkit subcommands: argument parsing and error reporting. */
 #include <errno.h>
+#include <getopt.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
@@ -66,6 +67,13 @@ int hk_cli_usage_error(const char *cmd, const char *fmt, ...)
     va_end(ap);
     fprintf(stderr, "\nTry 'hairkit %s --help'.\n", cmd);
     return HK_EXIT_USAGE;
+}
+
+int hk_cli_one_operand(const char *cmd, int argc, char *const argv[], const char *missing)
+{
+    if (optind >= argc) return hk_cli_usage_error(cmd, "%s", missing);
+    if (optind + 1 < argc) return hk_cli_usage_error(cmd, "unexpected argument '%s'", argv[optind + 1]);
+    return 0;
 }
 
 int hk_cli_stderr_is_tty(void) { return isatty(STDERR_FILENO); }

@@ -60,6 +60,13 @@ int hk_cli_unknown_option(const char *cmd, const struct option *options, const c
     return hk_cli_usage_error(cmd, "unknown option '%s'", arg);
 }
 
+int hk_cli_bad_option(const char *cmd, int c, const struct option *options, char *const argv[])
+{
+    const char *word = argv[optind - 1];
+    if (c == ':') return hk_cli_usage_error(cmd, "option '%s' needs a value", word);
+    return hk_cli_unknown_option(cmd, options, word);
+}
+
 int hk_cli_unknown_name(const char *cmd, const char *what, const char *word, const char *const *names, size_t count)
 {
     char list[512] = "";

@@ -86,10 +86,8 @@ int hk_cmd_bench(int argc, char **argv)
         case 'h':
             usage(stdout);
             return HK_EXIT_OK;
-        case ':':
-            return hk_cli_usage_error("bench", "option '%s' needs a value", argv[optind - 1]);
-        default:
-            return hk_cli_unknown_option("bench", options, argv[optind - 1]);
+        default: /* ':' (a missing value) or an unknown option */
+            return hk_cli_bad_option("bench", c, options, argv);
         }
     }
     if (bo.quick) bo.min_seconds = 0.0;

@@ -107,10 +107,8 @@ int hk_cmd_convert(int argc, char **argv)
         case 'h':
             usage(stdout);
             return HK_EXIT_OK;
-        case ':':
-            return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
-        default:
-            return hk_cli_unknown_option(CMD, options, argv[optind - 1]);
+        default: /* ':' (a missing value) or an unknown option */
+            return hk_cli_bad_option(CMD, c, options, argv);
         }
     }
     if (optind >= argc) return hk_cli_usage_error(CMD, "missing IN and OUT files");

@@ -70,14 +70,12 @@ int hk_cmd_groom(int argc, char **argv)
         case 'h':
             usage(stdout);
             return HK_EXIT_OK;
-        case ':':
-            return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
-        default:
-            return hk_cli_unknown_option(CMD, options, argv[optind - 1]);
+        default: /* ':' (a missing value) or an unknown option */
+            return hk_cli_bad_option(CMD, c, options, argv);
         }
     }
-    if (optind >= argc) return hk_cli_usage_error(CMD, "missing SETUP file");
-    if (optind + 1 < argc) return hk_cli_usage_error(CMD, "unexpected argument '%s'", argv[optind + 1]);
+    const int operand_rc = hk_cli_one_operand(CMD, argc, argv, "missing SETUP file");
+    if (operand_rc) return operand_rc;
     const char *setup_path = argv[optind];
     if (output) {
         const int rc = hk_cli_output_file(CMD, "-o", output, NULL);

@@ -317,14 +317,14 @@ static int parse_args(int argc, char **argv, hk_HelicoidArgs *a)
         case 'h':
             usage(stdout, which);
             return -1;
-        case ':':
-            return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
-        default:
-            return hk_cli_unknown_option(CMD, options, argv[optind - 1]);
+        default: /* ':' (a missing value) or an unknown option */
+            return hk_cli_bad_option(CMD, c, options, argv);
         }
     }
-    if (optind >= argc) return hk_cli_usage_error(CMD, "%s: missing input file", a->action);
-    if (optind + 1 < argc) return hk_cli_usage_error(CMD, "unexpected argument '%s'", argv[optind + 1]);
+    char missing[64];
+    snprintf(missing, sizeof missing, "%s: missing input file", a->action);
+    const int operand_rc = hk_cli_one_operand(CMD, argc, argv, missing);
+    if (operand_rc) return operand_rc;
     a->input = argv[optind];
     if (!a->output) return hk_cli_usage_error(CMD, "no output: give -o FILE");
     if (!strcmp(a->action, "interpolate") && !a->surface)

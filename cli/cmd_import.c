@@ -72,18 +72,16 @@ int hk_cmd_import(int argc, char **argv)
     optind = 1;
     opterr = 0;
     while ((c = getopt_long(argc, argv, ":ho:", options, NULL)) != -1) {
+        if (HK_CLI_IS_TRANSFORM_OPTION(c)) {
+            if ((rc = hk_cli_transforms_option(CMD, c, optarg, &hair_tf, &head_tf))) return rc;
+            continue;
+        }
         switch (c) {
         case OPT_HEAD:
             d.head = optarg;
             break;
         case 'o':
             d.dir = optarg;
-            break;
-        case HK_OPT_HAIR_SCALE:
-        case HK_OPT_HAIR_UP:
-        case HK_OPT_HEAD_SCALE:
-        case HK_OPT_HEAD_UP:
-            if ((rc = hk_cli_transforms_option(CMD, c, optarg, &hair_tf, &head_tf))) return rc;
             break;
         case OPT_GUIDES:
             if (!hk_cli_parse_int(optarg, 1, HK_MAX_IMPORT_STRANDS, &n))
@@ -110,14 +108,12 @@ int hk_cmd_import(int argc, char **argv)
         case 'h':
             usage(stdout);
             return HK_EXIT_OK;
-        case ':':
-            return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
-        default:
-            return hk_cli_unknown_option(CMD, options, argv[optind - 1]);
+        default: /* ':' (a missing value) or an unknown option */
+            return hk_cli_bad_option(CMD, c, options, argv);
         }
     }
-    if (optind >= argc) return hk_cli_usage_error(CMD, "missing the HAIR file");
-    if (optind + 1 < argc) return hk_cli_usage_error(CMD, "unexpected argument '%s'", argv[optind + 1]);
+    const int operand_rc = hk_cli_one_operand(CMD, argc, argv, "missing the HAIR file");
+    if (operand_rc) return operand_rc;
     if (!d.head) return hk_cli_usage_error(CMD, "missing --head MESH (the collider)");
     if (!d.dir) return hk_cli_usage_error(CMD, "missing -o DIR");
     d.hair = argv[optind];

@@ -66,15 +66,12 @@ int hk_cmd_render(int argc, char **argv)
             if (rc) return rc;
             continue;
         }
-        switch (c) {
-        case HK_OPT_HAIR_SCALE:
-        case HK_OPT_HAIR_UP:
-        case HK_OPT_HEAD_SCALE:
-        case HK_OPT_HEAD_UP: {
+        if (HK_CLI_IS_TRANSFORM_OPTION(c)) {
             const int rc = hk_cli_transforms_option(CMD, c, optarg, &hair_tf, &head_tf);
             if (rc) return rc;
-            break;
+            continue;
         }
+        switch (c) {
         case 'o':
             output = optarg;
             break;
@@ -95,15 +92,13 @@ int hk_cmd_render(int argc, char **argv)
         case 'h':
             usage(stdout);
             return HK_EXIT_OK;
-        case ':':
-            return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
-        default:
-            return hk_cli_unknown_option(CMD, options, argv[optind - 1]);
+        default: /* ':' (a missing value) or an unknown option */
+            return hk_cli_bad_option(CMD, c, options, argv);
         }
     }
-    if (optind >= argc) return hk_cli_usage_error(CMD, "missing HAIR file");
+    const int operand_rc = hk_cli_one_operand(CMD, argc, argv, "missing HAIR file");
+    if (operand_rc) return operand_rc;
     if (head_tf.given && !head_path) return hk_cli_usage_error(CMD, "--head-scale and --head-up need --head");
-    if (optind + 1 < argc) return hk_cli_usage_error(CMD, "unexpected argument '%s'", argv[optind + 1]);
     if (!output) return hk_cli_usage_error(CMD, "no output: give -o OUT.png");
     const int out_rc = hk_cli_output_file(CMD, "-o", output, ".png");
     if (out_rc) return out_rc;

@@ -202,10 +202,8 @@ static int parse_args(int argc, char **argv, SimArgs *a)
         case 'h':
             usage(stdout);
             return -1;
-        case ':':
-            return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
-        default:
-            return hk_cli_unknown_option(CMD, options, argv[optind - 1]);
+        default: /* ':' (a missing value) or an unknown option */
+            return hk_cli_bad_option(CMD, c, options, argv);
         }
     }
     if (a->rebuild) {
@@ -217,8 +215,8 @@ static int parse_args(int argc, char **argv, SimArgs *a)
     if (a->frame >= 0) return hk_cli_usage_error(CMD, "--frame goes with --rebuild DIR");
     if (a->run.guides_only && a->run.full_hair)
         return hk_cli_usage_error(CMD, "--full-hair and --guides-only exclude each other");
-    if (optind >= argc) return hk_cli_usage_error(CMD, "missing SETUP file");
-    if (optind + 1 < argc) return hk_cli_usage_error(CMD, "unexpected argument '%s'", argv[optind + 1]);
+    const int operand_rc = hk_cli_one_operand(CMD, argc, argv, "missing SETUP file");
+    if (operand_rc) return operand_rc;
     if (!a->frames) return hk_cli_usage_error(CMD, "give the number of frames: --frames N");
     if (!(a->fps > 0.0)) return hk_cli_usage_error(CMD, "give the frame rate: --fps F");
     if (!a->dir) return hk_cli_usage_error(CMD, "no output folder: give -o DIR");

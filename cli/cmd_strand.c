@@ -183,18 +183,16 @@ static int parse_args(int argc, char **argv, StrandArgs *a)
         case 'h':
             usage(stdout);
             return -1;
-        case ':':
-            return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
-        default:
-            return hk_cli_unknown_option(CMD, options, argv[optind - 1]);
+        default: /* ':' (a missing value) or an unknown option */
+            return hk_cli_bad_option(CMD, c, options, argv);
         }
     }
     if (dynamics_option && !a->sim.enabled)
         return hk_cli_usage_error(CMD, "--dt, --damping, --tip-csv and the motion options need --simulate T");
     if (a->sim.enabled && a->sim.duration / a->sim.dt > 1e8)
         return hk_cli_usage_error(CMD, "--simulate %g with --dt %g is more than 1e8 steps", a->sim.duration, a->sim.dt);
-    if (optind >= argc) return hk_cli_usage_error(CMD, "missing HAIRSTYLE file");
-    if (optind + 1 < argc) return hk_cli_usage_error(CMD, "unexpected argument '%s'", argv[optind + 1]);
+    const int operand_rc = hk_cli_one_operand(CMD, argc, argv, "missing HAIRSTYLE file");
+    if (operand_rc) return operand_rc;
     a->hairstyle = argv[optind];
     int rc;
     if (a->plot && (rc = hk_cli_output_file(CMD, "--plot", a->plot, ".png"))) return rc;

@@ -154,15 +154,12 @@ static int parse(int argc, char **argv, ViewArgs *a)
             if (rc) return rc;
             continue;
         }
-        switch (c) {
-        case HK_OPT_HAIR_SCALE:
-        case HK_OPT_HAIR_UP:
-        case HK_OPT_HEAD_SCALE:
-        case HK_OPT_HEAD_UP: {
+        if (HK_CLI_IS_TRANSFORM_OPTION(c)) {
             const int rc = hk_cli_transforms_option(CMD, c, optarg, &a->hair_tf, &a->head_tf);
             if (rc) return rc;
-            break;
+            continue;
         }
+        switch (c) {
         case 'H':
             a->head_path = optarg;
             break;
@@ -223,14 +220,12 @@ static int parse(int argc, char **argv, ViewArgs *a)
         case 'h':
             usage(stdout);
             return HK_EXIT_OK;
-        case ':':
-            return hk_cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
-        default:
-            return hk_cli_unknown_option(CMD, options, argv[optind - 1]);
+        default: /* ':' (a missing value) or an unknown option */
+            return hk_cli_bad_option(CMD, c, options, argv);
         }
     }
-    if (optind >= argc) return hk_cli_usage_error(CMD, "missing SETUP.txt or HAIR file");
-    if (optind + 1 < argc) return hk_cli_usage_error(CMD, "unexpected argument '%s'", argv[optind + 1]);
+    const int operand_rc = hk_cli_one_operand(CMD, argc, argv, "missing SETUP.txt or HAIR file");
+    if (operand_rc) return operand_rc;
     a->input = argv[optind];
     if (a->screenshot) {
         const int rc = hk_cli_output_file(CMD, "--screenshot", a->screenshot, ".png");
