@@ -248,7 +248,7 @@ int hk_symmetric_eigen(int n, const double *a, double *w, double *v, double *e)
  * tridiagonal form: diagonal d, off-diagonal e (e[k] couples k and k + 1). Row k keeps
  * the k-th reflector's vector right of its diagonal (its first element 1), tau[k] its
  * factor: H_k = I - tau v v^T acts on k + 1 .. n - 1 and Q = H_0 H_1 ... H_{n-3}. Only
- * the upper triangle is read and updated, along rows (the loops vectorise); p holds n
+ * the upper triangle is read and updated, along rows (the loops vectorise); p holds 2n
  * doubles. */
 static void tridiagonalise(int n, double *a, double *d, double *e, double *tau, double *p)
 {
@@ -275,14 +275,20 @@ static void tridiagonalise(int n, double *a, double *d, double *e, double *tau, 
          * its part right of the diagonal to p as a product along the row and as a
          * multiple of the row). */
         double *s = a + (size_t)(k + 1) * sn + (size_t)(k + 1);
+        /* the products along the rows go apart from p (q), and into it afterwards: a
+         * vector load of p[i] just after a scalar store there waits for the store (the
+         * reduction took 9.2 instead of 6.3 us at n = 30) */
+        double *q = p + n;
         for (int j = 0; j < m; j++) p[j] = 0.0;
         for (int i = 0; i < m; i++) {
             const double *si = s + (size_t)i * sn;
             const double vi = t * x[i];
-            p[i] += t * hk_dot(si + i + 1, x + i + 1, m - i - 1);
+            q[i] = t * hk_dot(si + i + 1, x + i + 1, m - i - 1);
 #pragma omp simd
             for (int j = i; j < m; j++) p[j] += vi * si[j];
         }
+#pragma omp simd
+        for (int j = 0; j < m; j++) p[j] += q[j];
         const double half = -0.5 * t * hk_dot(p, x, m);
 #pragma omp simd
         for (int j = 0; j < m; j++) p[j] += half * x[j];
@@ -500,7 +506,8 @@ int hk_symmetric_positive_part(int n, const double *a, double *out, double *work
     const size_t sn = (size_t)n, lanes = sn / 2 + 1;
     double *t = work, *d = t + sn * sn, *e = d + sn, *e2 = e + sn, *w = e2 + sn, *tau = w + sn;
     double *scratch = tau + sn;
-    for (size_t i = 0; i < sn * sn; i++) t[i] = a[i];
+    for (size_t i = 0; i < sn; i++) /* the upper triangle, all the reduction reads */
+        for (size_t j = i; j < sn; j++) t[i * sn + j] = a[i * sn + j];
     tridiagonalise(n, t, d, e, tau, scratch);
     double tnorm = 0.0;
     /* QL deflates at the top and converges fastest on a matrix graded with its large
