@@ -520,18 +520,22 @@ int hk_symmetric_positive_part(int n, const double *a, double *out, double *work
         if (i + 1 < n) e2[flip ? n - 2 - i : i] = e[i] * e[i];
     }
     if (!tridiagonal_eigenvalues(n, w, e2, tnorm)) return 0;
-    for (int i = 1; i < n; i++) /* ascending: the negative ones first */
-        for (int j = i; j > 0 && w[j] < w[j - 1]; j--) {
-            const double x = w[j];
-            w[j] = w[j - 1];
-            w[j - 1] = x;
-        }
     int neg = 0, pos = 0;
-    for (int i = 0; i < n; i++) neg += w[i]<0.0, pos += w[i]> 0.0;
+    for (int i = 0; i < n; i++) {
+        neg += w[i] < 0.0;
+        pos += w[i] > 0.0;
+    }
     *negative = neg;
-    /* A+ = A - sum of the negative modes when they are fewer, else the positive sum */
+    /* A+ = A - sum of the negative modes when they are fewer, else the positive sum:
+     * the fewer side's eigenvalues ascending into lambda (e2's place, free now) */
     const int subtract = 2 * neg < n, k = subtract ? neg : pos;
-    const double *lambda = subtract ? w : w + (n - pos);
+    double *lambda = e2;
+    for (int i = 0, c = 0; i < n; i++) {
+        if (!(subtract ? w[i] < 0.0 : w[i] > 0.0)) continue;
+        int j = c++;
+        for (; j > 0 && w[i] < lambda[j - 1]; j--) lambda[j] = lambda[j - 1];
+        lambda[j] = w[i];
+    }
     double *x = scratch, *xt = x + (sn + 2) * lanes;
     if (k > 0) {
         Lanes ln = {.n = n, .k = k, .shift = xt + sn * lanes};
