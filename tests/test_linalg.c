@@ -227,6 +227,11 @@ static void test_positive_part_spectra(void **state)
     }
     a[N * N - 1] = (N / 2 - 1) * 0.1 - 1.0;
     check_positive_part(N, a);
+    /* not a number: reported, as the decomposition reports no convergence */
+    a[3 * N + 5] = a[5 * N + 3] = NAN;
+    double out[N * N], work[HK_POSITIVE_PART_WORK(N)];
+    int negative = 0;
+    assert_int_equal(hk_symmetric_positive_part(N, a, out, work, &negative), 0);
 }
 
 static void test_cholesky_columns(void **state)

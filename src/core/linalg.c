@@ -519,7 +519,10 @@ int hk_symmetric_positive_part(int n, const double *a, double *out, double *work
         w[flip ? n - 1 - i : i] = d[i];
         if (i + 1 < n) e2[flip ? n - 2 - i : i] = e[i] * e[i];
     }
-    if (!tridiagonal_eigenvalues(n, w, e2, tnorm)) return 0;
+    /* not a number anywhere (fmax passes over one): no convergence, as tql2 would say */
+    double sum = 0.0;
+    for (int i = 0; i < n; i++) sum += fabs(d[i]) + fabs(e[i]);
+    if (!isfinite(sum) || !tridiagonal_eigenvalues(n, w, e2, tnorm)) return 0;
     int neg = 0, pos = 0;
     for (int i = 0; i < n; i++) {
         neg += w[i] < 0.0;
