@@ -49,33 +49,36 @@ static void test_random_symmetric(void **state)
     }
 }
 
+/* Q diag(d) Q^T, Q orthogonal from Gram-Schmidt of random columns (q: n x n work) */
+static void known_spectrum(int n, const double *d, double *q, double *a)
+{
+    for (int i = 0; i < n * n; i++) q[i] = 2.0 * hk_test_uniform() - 1.0;
+    for (int j = 0; j < n; j++) {
+        for (int k = 0; k < j; k++) {
+            double dot = 0.0;
+            for (int i = 0; i < n; i++) dot += q[i * n + j] * q[i * n + k];
+            for (int i = 0; i < n; i++) q[i * n + j] -= dot * q[i * n + k];
+        }
+        double s = 0.0;
+        for (int i = 0; i < n; i++) s += q[i * n + j] * q[i * n + j];
+        for (int i = 0; i < n; i++) q[i * n + j] /= sqrt(s);
+    }
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j <= i; j++) {
+            double s = 0.0;
+            for (int k = 0; k < n; k++) s += q[i * n + k] * d[k] * q[j * n + k];
+            a[i * n + j] = a[j * n + i] = s;
+        }
+}
+
 static void test_known_spectrum(void **state)
 {
     (void)state;
     enum { N = 12 };
     double q[N * N], a[N * N], v[N * N], w[N], e[N];
-    /* Gram-Schmidt of random columns */
-    for (int i = 0; i < N * N; i++) q[i] = 2.0 * hk_test_uniform() - 1.0;
-    for (int j = 0; j < N; j++) {
-        for (int k = 0; k < j; k++) {
-            double d = 0.0;
-            for (int i = 0; i < N; i++) d += q[i * N + j] * q[i * N + k];
-            for (int i = 0; i < N; i++) q[i * N + j] -= d * q[i * N + k];
-        }
-        double s = 0.0;
-        for (int i = 0; i < N; i++) s += q[i * N + j] * q[i * N + j];
-        for (int i = 0; i < N; i++) q[i * N + j] /= sqrt(s);
-    }
     /* eigenvalues with a repeated one, a zero and negatives */
     const double d[N] = {-3, -1e-9, 0, 0, 1e-6, 1, 1, 1, 2.5, 7, 1e3, -1e3};
-    for (int i = 0; i < N; i++)
-        for (int j = 0; j < N; j++) {
-            double s = 0.0;
-            for (int k = 0; k < N; k++) s += q[i * N + k] * d[k] * q[j * N + k];
-            a[i * N + j] = s;
-        }
-    for (int i = 0; i < N; i++)
-        for (int j = 0; j < i; j++) a[i * N + j] = a[j * N + i]; /* exactly symmetric */
+    known_spectrum(N, d, q, a);
     assert_int_equal(hk_symmetric_eigen(N, a, w, v, e), 1);
     check(N, a, w, v);
     /* same multiset of eigenvalues */
@@ -110,28 +113,6 @@ static void test_diagonal_and_zero(void **state)
     for (int i = 0; i < 4; i++) assert_true(wz[i] == 0.0);
 }
 
-
-/* Q diag(d) Q^T, Q orthogonal from Gram-Schmidt of random columns (q: n x n work) */
-static void known_spectrum(int n, const double *d, double *q, double *a)
-{
-    for (int i = 0; i < n * n; i++) q[i] = 2.0 * hk_test_uniform() - 1.0;
-    for (int j = 0; j < n; j++) {
-        for (int k = 0; k < j; k++) {
-            double dot = 0.0;
-            for (int i = 0; i < n; i++) dot += q[i * n + j] * q[i * n + k];
-            for (int i = 0; i < n; i++) q[i * n + j] -= dot * q[i * n + k];
-        }
-        double s = 0.0;
-        for (int i = 0; i < n; i++) s += q[i * n + j] * q[i * n + j];
-        for (int i = 0; i < n; i++) q[i * n + j] /= sqrt(s);
-    }
-    for (int i = 0; i < n; i++)
-        for (int j = 0; j <= i; j++) {
-            double s = 0.0;
-            for (int k = 0; k < n; k++) s += q[i * n + k] * d[k] * q[j * n + k];
-            a[i * n + j] = a[j * n + i] = s;
-        }
-}
 
 /* A+ of a against the decomposition's V max(L, 0) V^T and its definition; returns the
  * number of negative eigenvalues reported. */
