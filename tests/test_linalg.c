@@ -1,6 +1,9 @@
 /* Symmetric eigen-decomposition against its definition: A v_j = w_j v_j and V^T V = I,
  * on random matrices of every size up to 40, diagonal and rank-deficient ones, and a
  * matrix with known eigenvalues (Q diag(d) Q^T with Q from a random orthogonalisation).
+ * The positive part A+ (hk_symmetric_positive_part) against V max(L, 0) V^T from the
+ * decomposition and against what defines it: A+ positive semidefinite, A+ (A+ - A) = 0
+ * (the two parts' products vanish), on random, repeated, clustered and graded spectra.
  * Cholesky solves of many right-hand sides at once against the residual A x - b. */
 #include "hk_test.h"
 
@@ -46,33 +49,36 @@ static void test_random_symmetric(void **state)
     }
 }
 
+/* Q diag(d) Q^T, Q orthogonal from Gram-Schmidt of random columns (q: n x n work) */
+static void known_spectrum(int n, const double *d, double *q, double *a)
+{
+    for (int i = 0; i < n * n; i++) q[i] = 2.0 * hk_test_uniform() - 1.0;
+    for (int j = 0; j < n; j++) {
+        for (int k = 0; k < j; k++) {
+            double dot = 0.0;
+            for (int i = 0; i < n; i++) dot += q[i * n + j] * q[i * n + k];
+            for (int i = 0; i < n; i++) q[i * n + j] -= dot * q[i * n + k];
+        }
+        double s = 0.0;
+        for (int i = 0; i < n; i++) s += q[i * n + j] * q[i * n + j];
+        for (int i = 0; i < n; i++) q[i * n + j] /= sqrt(s);
+    }
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j <= i; j++) {
+            double s = 0.0;
+            for (int k = 0; k < n; k++) s += q[i * n + k] * d[k] * q[j * n + k];
+            a[i * n + j] = a[j * n + i] = s;
+        }
+}
+
 static void test_known_spectrum(void **state)
 {
     (void)state;
     enum { N = 12 };
     double q[N * N], a[N * N], v[N * N], w[N], e[N];
-    /* Gram-Schmidt of random columns */
-    for (int i = 0; i < N * N; i++) q[i] = 2.0 * hk_test_uniform() - 1.0;
-    for (int j = 0; j < N; j++) {
-        for (int k = 0; k < j; k++) {
-            double d = 0.0;
-            for (int i = 0; i < N; i++) d += q[i * N + j] * q[i * N + k];
-            for (int i = 0; i < N; i++) q[i * N + j] -= d * q[i * N + k];
-        }
-        double s = 0.0;
-        for (int i = 0; i < N; i++) s += q[i * N + j] * q[i * N + j];
-        for (int i = 0; i < N; i++) q[i * N + j] /= sqrt(s);
-    }
     /* eigenvalues with a repeated one, a zero and negatives */
     const double d[N] = {-3, -1e-9, 0, 0, 1e-6, 1, 1, 1, 2.5, 7, 1e3, -1e3};
-    for (int i = 0; i < N; i++)
-        for (int j = 0; j < N; j++) {
-            double s = 0.0;
-            for (int k = 0; k < N; k++) s += q[i * N + k] * d[k] * q[j * N + k];
-            a[i * N + j] = s;
-        }
-    for (int i = 0; i < N; i++)
-        for (int j = 0; j < i; j++) a[i * N + j] = a[j * N + i]; /* exactly symmetric */
+    known_spectrum(N, d, q, a);
     assert_int_equal(hk_symmetric_eigen(N, a, w, v, e), 1);
     check(N, a, w, v);
     /* same multiset of eigenvalues */
@@ -107,6 +113,107 @@ static void test_diagonal_and_zero(void **state)
     for (int i = 0; i < 4; i++) assert_true(wz[i] == 0.0);
 }
 
+
+/* A+ of a against the decomposition's V max(L, 0) V^T and its definition; returns the
+ * number of negative eigenvalues reported. */
+static int check_positive_part(int n, const double *a)
+{
+    const size_t nn = (size_t)n * (size_t)n;
+    double *pos = malloc(sizeof(double) * nn), *ref = malloc(sizeof(double) * nn);
+    double *v = malloc(sizeof(double) * nn), *w = malloc(sizeof(double) * (size_t)n);
+    double *e = malloc(sizeof(double) * (size_t)n), *work = malloc(sizeof(double) * HK_POSITIVE_PART_WORK(n));
+    int negative = -1;
+    assert_int_equal(hk_symmetric_positive_part(n, a, pos, work, &negative), 1);
+    assert_int_equal(hk_symmetric_eigen(n, a, w, v, e), 1);
+    double norm = 0.0, smallest = INFINITY;
+    int below = 0;
+    for (size_t i = 0; i < nn; i++) norm = fmax(norm, fabs(a[i]));
+    for (int k = 0; k < n; k++) below += w[k] < 0.0, smallest = fmin(smallest, fabs(w[k]));
+    /* the count is the decomposition's wherever no eigenvalue is within round-off of 0 */
+    if (smallest > 1e-10 * norm) assert_int_equal(negative, below);
+    const double tol = 1e-12 * (norm + 1e-300);
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < n; j++) {
+            double s = 0.0;
+            for (int k = 0; k < n; k++) s += w[k] > 0.0 ? v[i * n + k] * w[k] * v[j * n + k] : 0.0;
+            ref[i * n + j] = s;
+            assert_memory_equal(&pos[i * n + j], &pos[j * n + i], sizeof(double));
+            hk_assert_near(pos[i * n + j], s, tol);
+        }
+    for (int i = 0; i < n; i++) /* A+ (A+ - A) = 0 */
+        for (int j = 0; j < n; j++) {
+            double s = 0.0;
+            for (int k = 0; k < n; k++) s += pos[i * n + k] * (pos[k * n + j] - a[k * n + j]);
+            hk_assert_near(s, 0.0, 1e-12 * n * (norm * norm + 1e-300));
+        }
+    assert_int_equal(hk_symmetric_eigen(n, pos, w, v, e), 1); /* A+ >= 0 */
+    for (int k = 0; k < n; k++) assert_true(w[k] >= -tol);
+    free(pos), free(ref), free(v), free(w), free(e), free(work);
+    return negative;
+}
+
+static void test_positive_part_random(void **state)
+{
+    (void)state;
+    for (int n = 1; n <= 40; n++) {
+        double *a = malloc(sizeof(double) * (size_t)(n * n));
+        for (int i = 0; i < n; i++)
+            for (int j = 0; j <= i; j++) a[i * n + j] = a[j * n + i] = 2.0 * hk_test_uniform() - 1.0;
+        check_positive_part(n, a);
+        /* shifted: mostly negative (A+ summed from the positive modes), then mostly
+         * positive */
+        for (int i = 0; i < n; i++) a[i * n + i] -= 0.6 * sqrt(n);
+        check_positive_part(n, a);
+        for (int i = 0; i < n; i++) a[i * n + i] += 1.2 * sqrt(n);
+        check_positive_part(n, a);
+        free(a);
+    }
+}
+
+static void test_positive_part_spectra(void **state)
+{
+    (void)state;
+    enum { N = 30 };
+    double d[N], q[N * N], a[N * N];
+    /* graded as the geometric stiffness of a guide (one eigenvalue of 1, the others
+     * 1e-2 to 1e-7 of it, 10 of them negative) */
+    for (int k = 0; k < N; k++) d[k] = (k % 3 == 1 ? -1.0 : 1.0) * pow(10.0, -2.0 - 5.0 * k / (N - 1.0));
+    d[0] = 1.0;
+    known_spectrum(N, d, q, a);
+    assert_int_equal(check_positive_part(N, a), 10);
+    /* repeated negative eigenvalues, zeros, a cluster 1e-12 apart */
+    for (int k = 0; k < N; k++) d[k] = 1.0 + k;
+    d[3] = d[4] = d[5] = -2.0;
+    d[6] = d[7] = 0.0;
+    d[8] = -0.5, d[9] = -0.5 * (1.0 + 1e-12), d[10] = -0.5 * (1.0 + 2e-12);
+    d[11] = -1e-9, d[12] = -1e-9 * (1.0 + 1e-6), d[13] = 1e-9;
+    known_spectrum(N, d, q, a);
+    check_positive_part(N, a);
+    /* more negative than positive: the positive sum, with repeated positives */
+    for (int k = 0; k < N; k++) d[k] = -1.0 - k;
+    d[0] = d[1] = d[2] = 3.0;
+    d[3] = 3.0 * (1.0 + 1e-13);
+    known_spectrum(N, d, q, a);
+    assert_int_equal(check_positive_part(N, a), N - 4);
+    /* diagonal (already tridiagonal, with zero off-diagonals) and zero */
+    memset(a, 0, sizeof a);
+    check_positive_part(N, a);
+    for (int k = 0; k < N; k++) a[k * N + k] = k % 4 == 0 ? -1.0 : (k % 4 == 1 ? 1.0 : 0.25 * k);
+    check_positive_part(N, a);
+    /* tridiagonal with a split in the middle and equal blocks */
+    memset(a, 0, sizeof a);
+    for (int k = 0; k + 1 < N; k++) {
+        a[k * N + k + 1] = a[(k + 1) * N + k] = k == N / 2 - 1 ? 0.0 : 1.0;
+        a[k * N + k] = (k % (N / 2)) * 0.1 - 1.0;
+    }
+    a[N * N - 1] = (N / 2 - 1) * 0.1 - 1.0;
+    check_positive_part(N, a);
+    /* not a number: reported, as the decomposition reports no convergence */
+    a[3 * N + 5] = a[5 * N + 3] = NAN;
+    double out[N * N], work[HK_POSITIVE_PART_WORK(N)];
+    int negative = 0;
+    assert_int_equal(hk_symmetric_positive_part(N, a, out, work, &negative), 0);
+}
 
 static void test_cholesky_columns(void **state)
 {
@@ -148,10 +255,9 @@ static void test_cholesky_columns(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_random_symmetric),
-        cmocka_unit_test(test_cholesky_columns),
-        cmocka_unit_test(test_known_spectrum),
-        cmocka_unit_test(test_diagonal_and_zero),
+        cmocka_unit_test(test_random_symmetric),     cmocka_unit_test(test_cholesky_columns),
+        cmocka_unit_test(test_known_spectrum),       cmocka_unit_test(test_diagonal_and_zero),
+        cmocka_unit_test(test_positive_part_random), cmocka_unit_test(test_positive_part_spectra),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

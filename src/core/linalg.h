@@ -3,6 +3,8 @@
 #ifndef HK_CORE_LINALG_H
 #define HK_CORE_LINALG_H
 
+#include <stddef.h>
+
 /* sum a[k] b[k], k < n, with four partial sums in a fixed order (the same bytes on
  * every machine and thread count). */
 double hk_dot(const double *a, const double *b, int n);
@@ -28,5 +30,15 @@ void hk_cholesky_solve_columns(int n, const double *l, double *x, int count);
  * Householder tridiagonalisation and implicit QL (tred2/tql2). Returns 0 if the
  * iteration did not converge. */
 int hk_symmetric_eigen(int n, const double *a, double *w, double *v, double *e);
+
+/* The positive part A+ = V max(L, 0) V^T of the symmetric a (n x n, row-major) into out
+ * (n x n, symmetric to the bit), *negative the number of negative eigenvalues. The same
+ * matrix as from hk_symmetric_eigen's decomposition to round-off, at about half the cost:
+ * eigenvectors only for the fewer of the negative and positive eigenvalues. work holds
+ * HK_POSITIVE_PART_WORK(n) doubles. Returns 0 if the eigenvalue iteration did not
+ * converge (out is then not written). */
+#define HK_POSITIVE_PART_WORK(n)                                                                                       \
+    ((size_t)(n) * (size_t)(n) + 5 * (size_t)(n) + ((size_t)(n) / 2 + 1) * (7 * (size_t)(n) + 6))
+int hk_symmetric_positive_part(int n, const double *a, double *out, double *work, int *negative);
 
 #endif /* HK_CORE_LINALG_H */

@@ -161,10 +161,10 @@ struct hk_StrandDynamics {
     int anchor_capacity;
     /* HK_STIFFNESS_FULL: the potential with the body's penalty; its Hessian, then G+
      * (the positive part of the geometric stiffness, kept between refreshes); the
-     * Cholesky factor / eigenvectors; eigenvalues and work (2 x 3N) */
+     * work of G+'s computation (HK_POSITIVE_PART_WORK(3N), the Cholesky factor first) */
     hk_StrandEnvDef body_env;
     hk_StrandWorkspace *ws_body;
-    double *hess, *hess_pos, *factor, *metric;
+    double *hess, *hess_pos, *geo_work;
     int hess_pos_valid;
     int geo_indefinite; /* the last G decomposed had a negative eigenvalue (positive_part) */
     /* The O(N) solver's stage that does not converge is solved again with the dense

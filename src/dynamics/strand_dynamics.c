@@ -87,6 +87,18 @@ static int params_valid(const hk_DynamicsDef *p)
             (p->stiffness == HK_STIFFNESS_FULL && p->solver == HK_DYNAMICS_DENSE));
 }
 
+/* HK_STIFFNESS_FULL's matrices: the Hessian, G+ and the work of G+'s computation (the
+ * Cholesky test's factor, then hk_symmetric_positive_part's), in one block. */
+static int alloc_hessians(hk_StrandDynamics *d, hk_Error *err)
+{
+    const size_t dim = (size_t)(3 * d->sh->n);
+    d->hess = hk_alloc_array(2 * dim * dim + HK_POSITIVE_PART_WORK(dim), sizeof(double), err);
+    if (!d->hess) return 0;
+    d->hess_pos = d->hess + dim * dim;
+    d->geo_work = d->hess_pos + dim * dim;
+    return 1;
+}
+
 hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsDef *params, const hk_StrandEnvDef *body,
                                     hk_StrandDynamics **out, hk_Error *err)
 {
@@ -175,15 +187,10 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsDef *par
         d->body_env = hk_default_strand_env_def();
     }
     if (params->stiffness == HK_STIFFNESS_FULL) {
-        /* hess, hess_pos and factor (3N)^2 each, metric (2 x 3N: eigenvalues and work) */
-        d->hess = hk_alloc_array(3 * dim * dim + 2 * dim, sizeof(double), err);
-        if (!d->hess || hk_strand_workspace_create(sh, &d->body_env, &d->ws_body, err) != HK_OK) {
+        if (!alloc_hessians(d, err) || hk_strand_workspace_create(sh, &d->body_env, &d->ws_body, err) != HK_OK) {
             hk_strand_dynamics_destroy(d);
             return err ? err->code : HK_ERR_NOMEM;
         }
-        d->hess_pos = d->hess + dim * dim;
-        d->factor = d->hess_pos + dim * dim;
-        d->metric = d->factor + dim * dim;
     } else if (d->contact_samples > 0 && hk_strand_workspace_create(sh, &d->body_env, &d->ws_body, err) != HK_OK) {
         /* the body's penalty energy, for the energy guard of the integrator */
         hk_strand_dynamics_destroy(d);
@@ -481,35 +488,21 @@ static const double *positive_part(hk_StrandDynamics *d)
     if (d->hess_pos_valid) return d->hess_pos;
     const int dim = 3 * d->sh->n;
     const size_t sd = (size_t)dim;
-    memcpy(d->hess_pos, d->hess, sd * sd * sizeof(double));
     /* A positive definite G is its own positive part: one Cholesky factorisation tells,
      * and saves the decomposition. On a head G is indefinite in nearly every step
      * (examples/guides200: about 10 of its 30 eigenvalues negative), so the test is
      * tried only when the guide's last G was positive (semi)definite. */
-    if (d->geo_indefinite || !hk_cholesky_factor(dim, d->hess_pos, 0.0, NULL, d->factor)) {
-        double *v = d->factor, *w = d->metric, *e = d->metric + dim;
-        if (hk_symmetric_eigen(dim, d->hess, w, v, e)) {
-            /* G+ = sum over the positive modes of w_k v_k v_k^T, or G minus the sum over
-             * the negative ones when they are fewer (a third of the products on a
-             * head); k increasing, and the sums of one row run side by side (each in its
-             * own order, so that the bits are those of one sum at a time). */
-            int negative = 0;
-            for (size_t k = 0; k < sd; k++) negative += w[k] < 0.0;
+    if (!d->geo_indefinite && hk_cholesky_factor(dim, d->hess, 0.0, NULL, d->geo_work)) {
+        memcpy(d->hess_pos, d->hess, sd * sd * sizeof(double));
+    } else {
+        /* G+ = V max(L, 0) V^T, as G minus its negative modes when they are fewer (a
+         * third on a head), with the eigenvectors of the fewer side only
+         * (hk_symmetric_positive_part; the whole decomposition took twice as long). */
+        int negative = 0;
+        if (hk_symmetric_positive_part(dim, d->hess, d->hess_pos, d->geo_work, &negative))
             d->geo_indefinite = negative > 0;
-            const int subtract = 2 * negative < dim;
-            for (size_t i = 0; i < sd; i++) {
-                double *row = d->hess_pos + i * sd;
-                for (size_t j = 0; j <= i; j++) row[j] = subtract ? d->hess[i * sd + j] : 0.0;
-                for (size_t k = 0; k < sd; k++) {
-                    if (subtract ? !(w[k] < 0.0) : !(w[k] > 0.0)) continue;
-                    const double p = subtract ? -v[i * sd + k] * w[k] : v[i * sd + k] * w[k];
-                    for (size_t j = 0; j <= i; j++) row[j] += p * v[j * sd + k];
-                }
-                for (size_t j = 0; j < i; j++) d->hess_pos[j * sd + i] = row[j];
-            }
-        } else { /* no convergence (not seen): the Gauss-Newton matrix */
+        else /* no convergence (not seen): the Gauss-Newton matrix */
             memset(d->hess_pos, 0, sd * sd * sizeof(double));
-        }
     }
     d->hess_pos_valid = 1;
     return d->hess_pos;
@@ -589,16 +582,8 @@ int hk_dynamics_solve(hk_StrandDynamics *d, double ch, double *out)
 
 int hk_dynamics_dense_ready(hk_StrandDynamics *d)
 {
-    const size_t dim = (size_t)(3 * d->sh->n);
     if (!d->dense_work) d->dense_work = hk_alloc_array(HK_DENSE_WORK(d->sh->n), sizeof(double), NULL);
-    if (!d->hess) {
-        d->hess = hk_alloc_array(3 * dim * dim + 2 * dim, sizeof(double), NULL);
-        if (d->hess) {
-            d->hess_pos = d->hess + dim * dim;
-            d->factor = d->hess_pos + dim * dim;
-            d->metric = d->factor + dim * dim;
-        }
-    }
+    if (!d->hess) alloc_hessians(d, NULL);
     return d->dense_work && d->hess;
 }
 
