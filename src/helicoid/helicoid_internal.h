@@ -116,8 +116,16 @@ void hk_helicoid_piece_planar(const hk_HelicoidPiece *pc, hk_Vec3 *p, hk_Helicoi
  * points[0..steps] local positions (the same steps and substeps as hk_helicoid_piece_rk4),
  * d_points[j * (steps + 1) + i] = d points[i] / d k_j, end the angles at the last point
  * and d_end_tangent[j] the derivative of its tangent E_T (local). */
-void hk_helicoid_piece_rk4_tangent(const hk_Helicoid *k, double length, int steps, hk_Vec3 *points, hk_Vec3 *d_points,
-                                   hk_HelicoidAngles *end, hk_Vec3 *d_end_tangent);
+void hk_helicoid_piece_rk4_tangent(const hk_Helicoid *k, double length, int steps, double turn, int span,
+                                   hk_Vec3 *points, hk_Vec3 *d_points, hk_HelicoidAngles *end, hk_Vec3 *d_end_tangent);
+
+/* The same trace without derivatives (piece_rk4.c): points[0..steps] local, end the angles
+ * at the last point. span (both): with 1 the steps and substeps of hk_helicoid_piece_rk4;
+ * above 1 one RK4 step may cover up to `span` output steps where the turn bound allows
+ * it (MAX_TURN_PER_STEP over the whole step), the points inside it by cubic Hermite
+ * interpolation (rk4_field.h), for the fitter's dense samples. */
+void hk_helicoid_piece_rk4_local(const hk_Helicoid *k, double length, int steps, double turn, int span, hk_Vec3 *points,
+                                 hk_HelicoidAngles *end);
 
 /* Steps of a piece of length `length` with the largest step `step`: ceil(length / step) with a
  * 1e-12 relative tolerance; -1 when not finite or above HK_HELICOID_MAX_POINTS. */

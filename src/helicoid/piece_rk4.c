@@ -52,3 +52,52 @@ void hk_helicoid_piece_rk4(const hk_HelicoidPiece *pc, hk_Vec3 *p, hk_HelicoidAn
     *p = hk_v3(x, y, z);
     *a = a1;
 }
+
+/* One RK4 step of length h from (x, y, z, psi) with d1 the field there; on return the new
+ * state and d1 (a1) the field (angles) at it. */
+static inline void rk4_step(const hk_Helicoid *k, double h, Deriv *u, Deriv *d1, hk_HelicoidAngles *a1)
+{
+    const double h2 = 0.5 * h, h6 = h / 6.0;
+    hk_HelicoidAngles tmp;
+    const Deriv d2 = field(k, u->x + h2 * d1->x, u->y + h2 * d1->y, u->z + h2 * d1->z, u->psi + h2 * d1->psi, &tmp);
+    const Deriv d3 = field(k, u->x + h2 * d2.x, u->y + h2 * d2.y, u->z + h2 * d2.z, u->psi + h2 * d2.psi, &tmp);
+    const Deriv d4 = field(k, u->x + h * d3.x, u->y + h * d3.y, u->z + h * d3.z, u->psi + h * d3.psi, &tmp);
+    u->x += h6 * (d1->x + 2.0 * (d2.x + d3.x) + d4.x);
+    u->y += h6 * (d1->y + 2.0 * (d2.y + d3.y) + d4.y);
+    u->z += h6 * (d1->z + 2.0 * (d2.z + d3.z) + d4.z);
+    u->psi += h6 * (d1->psi + 2.0 * (d2.psi + d3.psi) + d4.psi);
+    *d1 = field(k, u->x, u->y, u->z, u->psi, a1);
+}
+
+void hk_helicoid_piece_rk4_local(const hk_Helicoid *k, double length, int steps, double turn, int span, hk_Vec3 *points,
+                                 hk_HelicoidAngles *end)
+{
+    const double step = length / steps;
+    double sa, sb;
+    hk_helicoid_turn_bound(k, &sa, &sb);
+    sa *= step / turn, sb *= step / turn;
+    Deriv u = {0.0, 0.0, 0.0, 0.0};
+    hk_HelicoidAngles a1;
+    Deriv d1 = field(k, 0.0, 0.0, 0.0, 0.0, &a1);
+    points[0] = hk_v3_zero();
+    for (int i = 0; i < steps;) {
+        const int g = rk4_span(k, u.x, u.y, sa, sb, span < steps - i ? span : steps - i);
+        if (g > 1) {
+            /* one step over g samples, the ones inside interpolated */
+            const Deriv u0 = u, f0 = d1;
+            const double h = g * step;
+            rk4_step(k, h, &u, &d1, &a1);
+            for (int q = 1; q < g; q++) {
+                const Deriv p = hermite(u0, f0, u, d1, h, (double)q / (double)g);
+                points[i + q] = hk_v3(p.x, p.y, p.z);
+            }
+            i += g;
+        } else {
+            const int sub = rk4_substeps(k, u.x, u.y, sa, sb);
+            for (int s = 0; s < sub; s++) rk4_step(k, step / sub, &u, &d1, &a1);
+            i++;
+        }
+        points[i] = hk_v3(u.x, u.y, u.z);
+    }
+    *end = a1;
+}

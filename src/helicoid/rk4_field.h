@@ -81,4 +81,30 @@ static inline int rk4_substeps(const hk_Helicoid *k, double x, double y, double 
     return n < 1.0 ? 1 : (n > MAX_SUBSTEPS ? MAX_SUBSTEPS : (int)n);
 }
 
+/* Output steps one RK4 step may span from local (x, y) (the fitter's traces, where samples
+ * are dense: a strand resampled 4 times finer turns by a few hundredths of a radian a
+ * sample): as many as the turn bound allows, at most `most`; a, b as for rk4_substeps.
+ * 1 when one output step is all the bound allows (then rk4_substeps splits it). */
+static inline int rk4_span(const hk_Helicoid *k, double x, double y, double a, double b, int most)
+{
+    if (most <= 1) return 1;
+    const double wr = 1.0 + k->kn * x - k->kt * y, wi = k->kt * x + k->kn * y, r2 = wr * wr + wi * wi;
+    const double turn = a / fmax(sqrt(r2), 1e-12) + b; /* per output step, in MAX_TURN_PER_STEP */
+    if (!(turn * (double)most > 1.0)) return most;
+    const int g = (int)(1.0 / turn);
+    return g < 1 ? 1 : g;
+}
+
+/* Cubic Hermite interpolation at fraction t of a step of length h between states u0 and
+ * u1 with derivatives f0 and f1 (RK4's dense output: error O(h^4), like the step's own,
+ * and linear in the four, so that its tangents are the interpolated tangents). */
+static inline Deriv hermite(Deriv u0, Deriv f0, Deriv u1, Deriv f1, double h, double t)
+{
+    const double t2 = t * t, t3 = t2 * t;
+    const double c0 = 2.0 * t3 - 3.0 * t2 + 1.0, c1 = h * (t3 - 2.0 * t2 + t), c2 = 1.0 - c0, c3 = h * (t3 - t2);
+    return (Deriv){c0 * u0.x + c1 * f0.x + c2 * u1.x + c3 * f1.x, c0 * u0.y + c1 * f0.y + c2 * u1.y + c3 * f1.y,
+                   c0 * u0.z + c1 * f0.z + c2 * u1.z + c3 * f1.z,
+                   c0 * u0.psi + c1 * f0.psi + c2 * u1.psi + c3 * f1.psi};
+}
+
 #endif
