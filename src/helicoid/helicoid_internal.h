@@ -119,11 +119,15 @@ void hk_helicoid_piece_planar(const hk_HelicoidPiece *pc, hk_Vec3 *p, hk_Helicoi
 void hk_helicoid_piece_rk4_tangent(const hk_Helicoid *k, double length, int steps, double turn, int span,
                                    hk_Vec3 *points, hk_Vec3 *d_points, hk_HelicoidAngles *end, hk_Vec3 *d_end_tangent);
 
-/* The same trace without derivatives (piece_rk4.c): points[0..steps] local, end the angles
- * at the last point. span (both): with 1 the steps and substeps of hk_helicoid_piece_rk4;
- * above 1 one RK4 step may cover up to `span` output steps where the turn bound allows
- * it (MAX_TURN_PER_STEP over the whole step), the points inside it by cubic Hermite
- * interpolation (rk4_field.h), for the fitter's dense samples. */
+/* turn: the most the field may turn over one RK4 step (MAX_TURN_PER_STEP for the
+ * steps of hk_helicoid_piece_rk4); span: with 1 those steps and substeps, above 1 one
+ * RK4 step may cover up to `span` output steps where the turn bound allows it over the
+ * whole step, the points inside it by cubic Hermite interpolation (rk4_field.h), for the
+ * fitter's dense samples.
+ * The same steps without derivatives, for the fitter's search (piece_rk4.c): points
+ * [0..steps] local, end the angles at the last point (theta not carried: 0). The phases
+ * e^{i k_B z} and e^{i phi} are integrated with the position instead of taken by sincos:
+ * the same curve to RK4's error, not the same bytes as the differentiated trace. */
 void hk_helicoid_piece_rk4_local(const hk_Helicoid *k, double length, int steps, double turn, int span, hk_Vec3 *points,
                                  hk_HelicoidAngles *end);
 
