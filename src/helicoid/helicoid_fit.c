@@ -156,18 +156,23 @@ int hk_helicoid_piece_model(void *user, const double *params, const hk_CurveStar
     return 0;
 }
 
-/* The derivative model traced with RK4 steps that turn the field by up to `turn`, one
- * spanning up to `span` samples (hk_helicoid_piece_rk4_tangent). */
-static int derivative_with(hk_HelicoidFitter *f, double turn, int span, const double *params,
-                           const hk_CurveStart *start, double length, int count, hk_Vec3 *out_points,
-                           hk_CurveStart *end, hk_Vec3 *d_points, hk_Vec3 *d_end_tangent)
+/* The derivative model: the standard tracer's steps differentiated, or (search) the
+ * search's phased trace (SEARCH_TURN, SEARCH_SPAN). */
+static int derivative_with(hk_HelicoidFitter *f, int search, const double *params, const hk_CurveStart *start,
+                           double length, int count, hk_Vec3 *out_points, hk_CurveStart *end, hk_Vec3 *d_points,
+                           hk_Vec3 *d_end_tangent)
 {
     hk_PHelicoid h;
     double step;
     if (model_piece(f, params, start, length, count, &h, &step) != 0) return 1;
     /* Traced in the piece's local frame from its origin, then carried to the world. */
     hk_HelicoidAngles a;
-    hk_helicoid_piece_rk4_tangent(&h.k[0], length, count - 1, turn, span, out_points, d_points, &a, d_end_tangent);
+    if (search)
+        hk_helicoid_piece_rk4_tangent_local(&h.k[0], length, count - 1, SEARCH_TURN, SEARCH_SPAN, out_points, d_points,
+                                            &a, d_end_tangent);
+    else
+        hk_helicoid_piece_rk4_tangent(&h.k[0], length, count - 1, MAX_TURN_PER_STEP, 1, out_points, d_points, &a,
+                                      d_end_tangent);
     const hk_Mat3 *q = &h.frame;
     for (int i = 0; i < 4 * count; i++) d_points[i] = hk_m3_mul_v3(q, d_points[i]);
     for (int j = 0; j < 4; j++) d_end_tangent[j] = hk_m3_mul_v3(q, d_end_tangent[j]);
@@ -177,14 +182,12 @@ static int derivative_with(hk_HelicoidFitter *f, double turn, int span, const do
 int hk_helicoid_piece_derivative(void *user, const double *params, const hk_CurveStart *start, double length, int count,
                                  hk_Vec3 *out_points, hk_CurveStart *end, hk_Vec3 *d_points, hk_Vec3 *d_end_tangent)
 {
-    return derivative_with(user, MAX_TURN_PER_STEP, 1, params, start, length, count, out_points, end, d_points,
-                           d_end_tangent);
+    return derivative_with(user, 0, params, start, length, count, out_points, end, d_points, d_end_tangent);
 }
 
 /* The search's model (SEARCH_TURN, SEARCH_SPAN; RK4 also where alpha = 0, which has a
- * closed form): the steps of search_derivative, whose Jacobian is then that of this
- * trace to RK4's error (this one carries the phases instead of taking sincos, 22 % more
- * fits a second on Curly, docs/helicoid-fitting.md §7). */
+ * closed form), the phases carried instead of taken by sincos (rk4_field.h): the same
+ * trace as search_derivative's, whose Jacobian is then this trace's. */
 static int search_model(void *user, const double *params, const hk_CurveStart *start, double length, int count,
                         hk_Vec3 *out_points, hk_CurveStart *end)
 {
@@ -200,8 +203,7 @@ static int search_model(void *user, const double *params, const hk_CurveStart *s
 static int search_derivative(void *user, const double *params, const hk_CurveStart *start, double length, int count,
                              hk_Vec3 *out_points, hk_CurveStart *end, hk_Vec3 *d_points, hk_Vec3 *d_end_tangent)
 {
-    return derivative_with(user, SEARCH_TURN, SEARCH_SPAN, params, start, length, count, out_points, end, d_points,
-                           d_end_tangent);
+    return derivative_with(user, 1, params, start, length, count, out_points, end, d_points, d_end_tangent);
 }
 
 /* The helicoid's frame at the root from the estimated Frenet frame: its initial

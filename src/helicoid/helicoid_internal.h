@@ -130,6 +130,11 @@ void hk_helicoid_piece_rk4_tangent(const hk_Helicoid *k, double length, int step
  * the same curve to RK4's error, not the same bytes as the differentiated trace. */
 void hk_helicoid_piece_rk4_local(const hk_Helicoid *k, double length, int steps, double turn, int span, hk_Vec3 *points,
                                  hk_HelicoidAngles *end);
+/* And with the derivatives, as hk_helicoid_piece_rk4_tangent's (piece_rk4_tangent.c): the
+ * same bytes as hk_helicoid_piece_rk4_local for the points and end. */
+void hk_helicoid_piece_rk4_tangent_local(const hk_Helicoid *k, double length, int steps, double turn, int span,
+                                         hk_Vec3 *points, hk_Vec3 *d_points, hk_HelicoidAngles *end,
+                                         hk_Vec3 *d_end_tangent);
 
 /* Steps of a piece of length `length` with the largest step `step`: ceil(length / step) with a
  * 1e-12 relative tolerance; -1 when not finite or above HK_HELICOID_MAX_POINTS. */

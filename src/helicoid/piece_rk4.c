@@ -53,50 +53,15 @@ void hk_helicoid_piece_rk4(const hk_HelicoidPiece *pc, hk_Vec3 *p, hk_HelicoidAn
     *a = a1;
 }
 
-/* The search's plain trace without sines and cosines: the phases e^{i k_B z} and
- * e^{i phi} carried as four more unknowns of the same RK4 (their derivatives are i k_B z'
- * and i alpha theta' times themselves, theta' = psi' + k_B z'), so that a field evaluation
- * costs a square root and a few products instead of two sincos (36 % of a fit). The same
- * curve, its own RK4 error (the phases drift from unit length by that much). */
-typedef struct Phased {
-    double x, y, z, cz, sz, cp, sp;
-} Phased;
-
-static inline Phased phased_field(const hk_Helicoid *k, const Phased *u)
-{
-    const double wr = 1.0 + k->kn * u->x - k->kt * u->y, wi = k->kt * u->x + k->kn * u->y;
-    const double r2 = wr * wr + wi * wi, ir = r2 > AXIS_R2 ? 1.0 / sqrt(r2) : 0.0;
-    /* on the axis (refused by the fitter anyway) the direction is the phase's alone */
-    const double ct = r2 > AXIS_R2 ? (wr * u->cz - wi * u->sz) * ir : u->cz;
-    const double st = r2 > AXIS_R2 ? (wi * u->cz + wr * u->sz) * ir : u->sz;
-    Phased d;
-    d.x = u->cp * ct;
-    d.y = u->cp * st;
-    d.z = u->sp;
-    const double dwr = k->kn * d.x - k->kt * d.y, dwi = k->kt * d.x + k->kn * d.y;
-    const double dz = k->kb * d.z, dt = (dwi * wr - dwr * wi) * (ir * ir) + dz;
-    d.cz = -u->sz * dz;
-    d.sz = u->cz * dz;
-    d.cp = -u->sp * (k->alpha * dt);
-    d.sp = u->cp * (k->alpha * dt);
-    return d;
-}
-
-static inline Phased phased_axpy(const Phased *u, double h, const Phased *d)
-{
-    return (Phased){u->x + h * d->x,   u->y + h * d->y,   u->z + h * d->z,  u->cz + h * d->cz,
-                    u->sz + h * d->sz, u->cp + h * d->cp, u->sp + h * d->sp};
-}
-
 static inline void phased_step(const hk_Helicoid *k, double h, Phased *u, Phased *d1)
 {
     const double h2 = 0.5 * h, h6 = h / 6.0;
     Phased t = phased_axpy(u, h2, d1);
-    const Phased d2 = phased_field(k, &t);
+    const Phased d2 = phased_eval(k, &t).d;
     t = phased_axpy(u, h2, &d2);
-    const Phased d3 = phased_field(k, &t);
+    const Phased d3 = phased_eval(k, &t).d;
     t = phased_axpy(u, h, &d3);
-    const Phased d4 = phased_field(k, &t);
+    const Phased d4 = phased_eval(k, &t).d;
     u->x += h6 * (d1->x + 2.0 * (d2.x + d3.x) + d4.x);
     u->y += h6 * (d1->y + 2.0 * (d2.y + d3.y) + d4.y);
     u->z += h6 * (d1->z + 2.0 * (d2.z + d3.z) + d4.z);
@@ -104,7 +69,7 @@ static inline void phased_step(const hk_Helicoid *k, double h, Phased *u, Phased
     u->sz += h6 * (d1->sz + 2.0 * (d2.sz + d3.sz) + d4.sz);
     u->cp += h6 * (d1->cp + 2.0 * (d2.cp + d3.cp) + d4.cp);
     u->sp += h6 * (d1->sp + 2.0 * (d2.sp + d3.sp) + d4.sp);
-    *d1 = phased_field(k, u);
+    *d1 = phased_eval(k, u).d;
 }
 
 void hk_helicoid_piece_rk4_local(const hk_Helicoid *k, double length, int steps, double turn, int span, hk_Vec3 *points,
@@ -115,7 +80,7 @@ void hk_helicoid_piece_rk4_local(const hk_Helicoid *k, double length, int steps,
     hk_helicoid_turn_bound(k, &sa, &sb);
     sa *= step / turn, sb *= step / turn;
     Phased u = {0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0};
-    Phased d1 = phased_field(k, &u);
+    Phased d1 = phased_eval(k, &u).d;
     points[0] = hk_v3_zero();
     for (int i = 0; i < steps;) {
         const int g = rk4_span(k, u.x, u.y, sa, sb, span < steps - i ? span : steps - i);
@@ -137,14 +102,7 @@ void hk_helicoid_piece_rk4_local(const hk_Helicoid *k, double length, int steps,
         }
         points[i] = hk_v3(u.x, u.y, u.z);
     }
-    /* The end's angles, the phases put back on the unit circle (the frame of eq. 2 must
-     * be a rotation); theta is not carried. */
-    const double wr = 1.0 + k->kn * u.x - k->kt * u.y, wi = k->kt * u.x + k->kn * u.y;
-    const double nz = 1.0 / hypot(u.cz, u.sz), np = 1.0 / hypot(u.cp, u.sp), ir = 1.0 / hypot(wr, wi);
-    const double cz = u.cz * nz, sz = u.sz * nz;
-    end->theta = 0.0;
-    end->ct = (wr * cz - wi * sz) * ir;
-    end->st = (wi * cz + wr * sz) * ir;
-    end->cp = u.cp * np;
-    end->sp = u.sp * np;
+    const Phased unit = phased_unit(&u, NULL, 0);
+    const PhasedPoint f = phased_eval(k, &unit);
+    *end = phased_angles(&f, &unit);
 }
