@@ -171,8 +171,7 @@ static int derivative_with(hk_HelicoidFitter *f, int search, const double *param
         hk_helicoid_piece_rk4_tangent_local(&h.k[0], length, count - 1, SEARCH_TURN, SEARCH_SPAN, out_points, d_points,
                                             &a, d_end_tangent);
     else
-        hk_helicoid_piece_rk4_tangent(&h.k[0], length, count - 1, MAX_TURN_PER_STEP, 1, out_points, d_points, &a,
-                                      d_end_tangent);
+        hk_helicoid_piece_rk4_tangent(&h.k[0], length, count - 1, out_points, d_points, &a, d_end_tangent);
     const hk_Mat3 *q = &h.frame;
     for (int i = 0; i < 4 * count; i++) d_points[i] = hk_m3_mul_v3(q, d_points[i]);
     for (int j = 0; j < 4; j++) d_end_tangent[j] = hk_m3_mul_v3(q, d_end_tangent[j]);

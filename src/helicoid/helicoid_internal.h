@@ -116,18 +116,16 @@ void hk_helicoid_piece_planar(const hk_HelicoidPiece *pc, hk_Vec3 *p, hk_Helicoi
  * points[0..steps] local positions (the same steps and substeps as hk_helicoid_piece_rk4),
  * d_points[j * (steps + 1) + i] = d points[i] / d k_j, end the angles at the last point
  * and d_end_tangent[j] the derivative of its tangent E_T (local). */
-void hk_helicoid_piece_rk4_tangent(const hk_Helicoid *k, double length, int steps, double turn, int span,
-                                   hk_Vec3 *points, hk_Vec3 *d_points, hk_HelicoidAngles *end, hk_Vec3 *d_end_tangent);
+void hk_helicoid_piece_rk4_tangent(const hk_Helicoid *k, double length, int steps, hk_Vec3 *points, hk_Vec3 *d_points,
+                                   hk_HelicoidAngles *end, hk_Vec3 *d_end_tangent);
 
-/* turn: the most the field may turn over one RK4 step (MAX_TURN_PER_STEP for the
- * steps of hk_helicoid_piece_rk4); span: with 1 those steps and substeps, above 1 one
- * RK4 step may cover up to `span` output steps where the turn bound allows it over the
- * whole step, the points inside it by cubic Hermite interpolation (rk4_field.h), for the
- * fitter's dense samples.
- * The same steps without derivatives, for the fitter's search (piece_rk4.c): points
- * [0..steps] local, end the angles at the last point (theta not carried: 0). The phases
- * e^{i k_B z} and e^{i phi} are integrated with the position instead of taken by sincos:
- * the same curve to RK4's error, not the same bytes as the differentiated trace. */
+/* The fitter's search trace (piece_rk4.c), from the local origin over `length` in `steps`
+ * output steps: points[0..steps] local, end the angles at the last point (theta not
+ * carried: 0). RK4 steps that turn the field by at most `turn` (hk_helicoid_piece_rk4:
+ * MAX_TURN_PER_STEP), one spanning up to `span` output steps where the bound allows it
+ * over the whole step, the points inside it by cubic Hermite interpolation; the phases
+ * e^{i k_B z} and e^{i phi} integrated with the position instead of taken by sincos
+ * (rk4_field.h): the same curve to RK4's error. */
 void hk_helicoid_piece_rk4_local(const hk_Helicoid *k, double length, int steps, double turn, int span, hk_Vec3 *points,
                                  hk_HelicoidAngles *end);
 /* And with the derivatives, as hk_helicoid_piece_rk4_tangent's (piece_rk4_tangent.c): the

@@ -53,6 +53,8 @@ void hk_helicoid_piece_rk4(const hk_HelicoidPiece *pc, hk_Vec3 *p, hk_HelicoidAn
     *a = a1;
 }
 
+/* One RK4 step of length h of the phased state u (rk4_field.h), d1 the field there; on
+ * return the new state and the field at it. */
 static inline void phased_step(const hk_Helicoid *k, double h, Phased *u, Phased *d1)
 {
     const double h2 = 0.5 * h, h6 = h / 6.0;
@@ -62,13 +64,7 @@ static inline void phased_step(const hk_Helicoid *k, double h, Phased *u, Phased
     const Phased d3 = phased_eval(k, &t).d;
     t = phased_axpy(u, h, &d3);
     const Phased d4 = phased_eval(k, &t).d;
-    u->x += h6 * (d1->x + 2.0 * (d2.x + d3.x) + d4.x);
-    u->y += h6 * (d1->y + 2.0 * (d2.y + d3.y) + d4.y);
-    u->z += h6 * (d1->z + 2.0 * (d2.z + d3.z) + d4.z);
-    u->cz += h6 * (d1->cz + 2.0 * (d2.cz + d3.cz) + d4.cz);
-    u->sz += h6 * (d1->sz + 2.0 * (d2.sz + d3.sz) + d4.sz);
-    u->cp += h6 * (d1->cp + 2.0 * (d2.cp + d3.cp) + d4.cp);
-    u->sp += h6 * (d1->sp + 2.0 * (d2.sp + d3.sp) + d4.sp);
+    *u = phased_sum(*u, h6, d1, &d2, &d3, &d4);
     *d1 = phased_eval(k, u).d;
 }
 

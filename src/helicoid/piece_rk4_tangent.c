@@ -75,70 +75,37 @@ static inline Deriv rk4_sum(Deriv u, double h6, Deriv d1, Deriv d2, Deriv d3, De
     return u;
 }
 
-/* One RK4 step of length h from state u with tangents du (f1, d1: the field and its
- * tangents there, on return those at the new state). */
-static inline __attribute__((always_inline)) void rk4_step_tangent(const hk_Helicoid *k, double h, Deriv *u, Deriv *du,
-                                                                   FieldPoint *f1, Deriv *d1)
-{
-    const double h2 = 0.5 * h, h6 = h / 6.0;
-    Deriv t2[4], t3[4], t4[4], d2[4], d3[4], d4[4];
-    FieldPoint f;
-    for (int j = 0; j < 4; j++) t2[j] = axpy(du[j], h2, d1[j]);
-    eval_all(k, axpy(*u, h2, f1->d), t2, &f, d2);
-    const Deriv e2 = f.d;
-    for (int j = 0; j < 4; j++) t3[j] = axpy(du[j], h2, d2[j]);
-    eval_all(k, axpy(*u, h2, e2), t3, &f, d3);
-    const Deriv e3 = f.d;
-    for (int j = 0; j < 4; j++) t4[j] = axpy(du[j], h, d3[j]);
-    eval_all(k, axpy(*u, h, e3), t4, &f, d4);
-    *u = rk4_sum(*u, h6, f1->d, e2, e3, f.d);
-    for (int j = 0; j < 4; j++) du[j] = rk4_sum(du[j], h6, d1[j], d2[j], d3[j], d4[j]);
-    eval_all(k, *u, du, f1, d1);
-}
-
-static inline void store(hk_Vec3 *points, hk_Vec3 *d_points, size_t stride, int i, Deriv u, const Deriv *du)
-{
-    points[i] = hk_v3(u.x, u.y, u.z);
-    for (int j = 0; j < 4; j++) d_points[(size_t)j * stride + (size_t)i] = hk_v3(du[j].x, du[j].y, du[j].z);
-}
-
-void hk_helicoid_piece_rk4_tangent(const hk_Helicoid *k, double length, int steps, double turn, int span,
-                                   hk_Vec3 *points, hk_Vec3 *d_points, hk_HelicoidAngles *end, hk_Vec3 *d_end_tangent)
+void hk_helicoid_piece_rk4_tangent(const hk_Helicoid *k, double length, int steps, hk_Vec3 *points, hk_Vec3 *d_points,
+                                   hk_HelicoidAngles *end, hk_Vec3 *d_end_tangent)
 {
     const double step = length / steps;
     const size_t stride = (size_t)steps + 1;
     double sa, sb;
     hk_helicoid_turn_bound(k, &sa, &sb);
-    sa *= step / turn, sb *= step / turn;
-    Deriv u = {0.0, 0.0, 0.0, 0.0}, du[4], d1[4];
+    sa *= step / MAX_TURN_PER_STEP, sb *= step / MAX_TURN_PER_STEP;
+    Deriv u = {0.0, 0.0, 0.0, 0.0}, du[4], t2[4], t3[4], t4[4], d2[4], d3[4], d4[4], d1[4];
     for (int j = 0; j < 4; j++) du[j] = u, d_points[(size_t)j * stride] = hk_v3_zero();
     points[0] = hk_v3_zero();
-    FieldPoint f1;
+    FieldPoint f1, f;
     eval_all(k, u, du, &f1, d1);
-    for (int i = 0; i < steps;) {
-        const int g = rk4_span(k, u.x, u.y, sa, sb, span < steps - i ? span : steps - i);
-        if (g > 1) {
-            /* one step over g samples, the ones inside interpolated */
-            const Deriv u0 = u, f0 = f1.d;
-            Deriv du0[4], df0[4];
-            memcpy(du0, du, sizeof du0);
-            memcpy(df0, d1, sizeof df0);
-            const double h = g * step;
-            rk4_step_tangent(k, h, &u, du, &f1, d1);
-            for (int q = 1; q < g; q++) {
-                const double t = (double)q / (double)g;
-                Deriv dq[4];
-                for (int j = 0; j < 4; j++) dq[j] = hermite(du0[j], df0[j], du[j], d1[j], h, t);
-                store(points, d_points, stride, i + q, hermite(u0, f0, u, f1.d, h, t), dq);
-            }
-            i += g;
-        } else {
-            const int sub = rk4_substeps(k, u.x, u.y, sa, sb);
-            const double h = step / sub;
-            for (int s = 0; s < sub; s++) rk4_step_tangent(k, h, &u, du, &f1, d1);
-            i++;
+    for (int i = 1; i <= steps; i++) {
+        const int sub = rk4_substeps(k, u.x, u.y, sa, sb);
+        const double h = step / sub, h2 = 0.5 * h, h6 = h / 6.0;
+        for (int s = 0; s < sub; s++) {
+            for (int j = 0; j < 4; j++) t2[j] = axpy(du[j], h2, d1[j]);
+            eval_all(k, axpy(u, h2, f1.d), t2, &f, d2);
+            const Deriv e2 = f.d;
+            for (int j = 0; j < 4; j++) t3[j] = axpy(du[j], h2, d2[j]);
+            eval_all(k, axpy(u, h2, e2), t3, &f, d3);
+            const Deriv e3 = f.d;
+            for (int j = 0; j < 4; j++) t4[j] = axpy(du[j], h, d3[j]);
+            eval_all(k, axpy(u, h, e3), t4, &f, d4);
+            u = rk4_sum(u, h6, f1.d, e2, e3, f.d);
+            for (int j = 0; j < 4; j++) du[j] = rk4_sum(du[j], h6, d1[j], d2[j], d3[j], d4[j]);
+            eval_all(k, u, du, &f1, d1);
         }
-        store(points, d_points, stride, i, u, du);
+        points[i] = hk_v3(u.x, u.y, u.z);
+        for (int j = 0; j < 4; j++) d_points[(size_t)j * stride + (size_t)i] = hk_v3(du[j].x, du[j].y, du[j].z);
     }
     *end = f1.a;
     for (int j = 0; j < 4; j++) d_end_tangent[j] = hk_v3(d1[j].x, d1[j].y, d1[j].z);
@@ -177,19 +144,6 @@ static inline __attribute__((always_inline)) Phased phased_tangent(const hk_Heli
     d.cp = -du->sp * f->p - u->sp * dp;
     d.sp = du->cp * f->p + u->cp * dp;
     return d;
-}
-
-static inline Phased phased_sum(Phased u, double h6, const Phased *d1, const Phased *d2, const Phased *d3,
-                                const Phased *d4)
-{
-    u.x += h6 * (d1->x + 2.0 * (d2->x + d3->x) + d4->x);
-    u.y += h6 * (d1->y + 2.0 * (d2->y + d3->y) + d4->y);
-    u.z += h6 * (d1->z + 2.0 * (d2->z + d3->z) + d4->z);
-    u.cz += h6 * (d1->cz + 2.0 * (d2->cz + d3->cz) + d4->cz);
-    u.sz += h6 * (d1->sz + 2.0 * (d2->sz + d3->sz) + d4->sz);
-    u.cp += h6 * (d1->cp + 2.0 * (d2->cp + d3->cp) + d4->cp);
-    u.sp += h6 * (d1->sp + 2.0 * (d2->sp + d3->sp) + d4->sp);
-    return u;
 }
 
 /* The phased field at u and its four tangents for the state tangents du. */

@@ -1,7 +1,8 @@
 /* The helicoid field as RK4 integrates it (piece_rk4.c explains the formulation: the
  * planar direction from w / |w|, the continued argument psi carried as a fourth unknown),
  * shared by the tracer and its differentiated form (piece_rk4_tangent.c), so that both
- * take the same steps and substeps. Piuze et al. 2011 §3, eq. 1-2. */
+ * take the same steps and substeps; and the fitter's search traces, coarser and with the
+ * phases carried (below). Piuze et al. 2011 §3, eq. 1-2. */
 #ifndef HK_HELICOID_RK4_FIELD_H
 #define HK_HELICOID_RK4_FIELD_H
 
@@ -154,6 +155,20 @@ static inline Phased phased_axpy(const Phased *u, double h, const Phased *d)
 {
     return (Phased){u->x + h * d->x,   u->y + h * d->y,   u->z + h * d->z,  u->cz + h * d->cz,
                     u->sz + h * d->sz, u->cp + h * d->cp, u->sp + h * d->sp};
+}
+
+/* RK4's update of u from its four stages d1..d4, h6 = h / 6. */
+static inline Phased phased_sum(Phased u, double h6, const Phased *d1, const Phased *d2, const Phased *d3,
+                                const Phased *d4)
+{
+    u.x += h6 * (d1->x + 2.0 * (d2->x + d3->x) + d4->x);
+    u.y += h6 * (d1->y + 2.0 * (d2->y + d3->y) + d4->y);
+    u.z += h6 * (d1->z + 2.0 * (d2->z + d3->z) + d4->z);
+    u.cz += h6 * (d1->cz + 2.0 * (d2->cz + d3->cz) + d4->cz);
+    u.sz += h6 * (d1->sz + 2.0 * (d2->sz + d3->sz) + d4->sz);
+    u.cp += h6 * (d1->cp + 2.0 * (d2->cp + d3->cp) + d4->cp);
+    u.sp += h6 * (d1->sp + 2.0 * (d2->sp + d3->sp) + d4->sp);
+    return u;
 }
 
 /* State u with its phases put back on the unit circle (they drift from it by RK4's
