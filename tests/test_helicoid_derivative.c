@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "hairkit/helicoid_fit.h"
+#include "helicoid/helicoid_internal.h"
 
 #define COUNT 30
 
@@ -73,6 +74,63 @@ static void test_piece_derivative_matches_differences(void **state)
     hk_helicoid_fitter_destroy(f);
 }
 
+/* The fitter's search trace (hk_helicoid_piece_rk4_local: phases carried as unknowns,
+ * RK4 steps of up to 0.5 rad over up to 4 samples) and its differentiated form
+ * (hk_helicoid_piece_rk4_tangent_local): the same points and end bytes, and derivatives
+ * that agree with central differences of the plain trace as the standard tracer's do
+ * (1e-7 of a column), except where a difference straddles a change in the plan of steps
+ * (a span or substep count switching with the parameters, where the trace jumps by its
+ * RK4 error): at most 2 columns in 160, and those within 1e-5. */
+static void test_search_trace_derivative(void **state)
+{
+    (void)state;
+    enum { STEPS = COUNT - 1 };
+    int pieces = 0, over = 0;
+    double worst = 0.0;
+    for (int t = 0; pieces < 40 && t < 1000; t++) {
+        const hk_Helicoid k = {rnd(-150, 150), rnd(-8, 8), rnd(-20, 20), rnd(0.05, 1.5) * (t % 2 ? 1 : -1)};
+        const double length = rnd(0.02, 0.1);
+        double per_w, constant;
+        hk_helicoid_turn_bound(&k, &per_w, &constant);
+        if (!((per_w + constant) * length / STEPS <= 1.0)) continue; /* the fitter's resolution rule */
+        hk_Vec3 p[COUNT], q[COUNT], dp[4 * COUNT], dt[4];
+        hk_HelicoidAngles a, b;
+        hk_helicoid_piece_rk4_local(&k, length, STEPS, 0.5, 4, p, &a);
+        hk_helicoid_piece_rk4_tangent_local(&k, length, STEPS, 0.5, 4, q, dp, &b, dt);
+        assert_memory_equal(p, q, sizeof p);
+        assert_memory_equal(&a, &b, sizeof a);
+        pieces++;
+        for (int j = 0; j < 4; j++) {
+            const double d = j == 3 ? 1e-6 : 1e-4;
+            hk_Helicoid kp = k, km = k;
+            double *xp = &kp.kt, *xm = &km.kt;
+            xp[j] += d, xm[j] -= d;
+            hk_Vec3 pa[COUNT], pb[COUNT];
+            hk_HelicoidAngles ea, eb;
+            hk_helicoid_piece_rk4_local(&kp, length, STEPS, 0.5, 4, pa, &ea);
+            hk_helicoid_piece_rk4_local(&km, length, STEPS, 0.5, 4, pb, &eb);
+            double size = 0.0, miss = 0.0;
+            for (int i = 0; i < COUNT; i++) {
+                const hk_Vec3 ref = hk_v3_scale(hk_v3_sub(pa[i], pb[i]), 0.5 / d);
+                size = fmax(size, hk_v3_norm(ref));
+                miss = fmax(miss, hk_v3_dist(ref, dp[j * COUNT + i]));
+            }
+            const hk_Vec3 ta = hk_v3(ea.cp * ea.ct, ea.cp * ea.st, ea.sp),
+                          tb = hk_v3(eb.cp * eb.ct, eb.cp * eb.st, eb.sp);
+            const hk_Vec3 ref_t = hk_v3_scale(hk_v3_sub(ta, tb), 0.5 / d);
+            assert_true(miss <= 1e-5 * size);
+            assert_true(hk_v3_dist(ref_t, dt[j]) <= 1e-5 * fmax(hk_v3_norm(ref_t), 1e-3));
+            over += miss > 1e-7 * size || hk_v3_dist(ref_t, dt[j]) > 1e-7 * fmax(hk_v3_norm(ref_t), 1e-3);
+            worst = fmax(worst, miss / size);
+        }
+    }
+    print_message("  search trace: %d pieces, d points / d k against central differences: largest miss %.2g of the "
+                  "column, %d of %d columns over 1e-7\n",
+                  pieces, worst, over, 4 * pieces);
+    assert_int_equal(pieces, 40);
+    assert_true(over <= 2);
+}
+
 /* Fits with the derivatives (the default) and with forward differences
  * (model_derivative = NULL) of strands traced from known two-piece helicoids, with the
  * root frame refined (noise on the first points): both recover the strands within the
@@ -119,6 +177,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_piece_derivative_matches_differences),
+        cmocka_unit_test(test_search_trace_derivative),
         cmocka_unit_test(test_fits_agree),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -278,6 +278,14 @@ typedef struct hk_CurveFitDef {
      * takes its Jacobian from one differentiated trace instead of param_count + 1 traces
      * of forward differences. The model must be equivariant (see there). */
     hk_CurveModelDerivFn model_derivative;
+    /* NULL, or the model the result is finished with, when `model` is a cheaper
+     * discretisation of the same curves that the search for the pieces traces: each
+     * piece found is then fitted again from its parameters with this one (one
+     * Levenberg-Marquardt run, from its predecessor's new end pose; kept when the chain
+     * comes out closer), and the output's errors and polish are this model's.
+     * final_derivative: its derivatives (NULL: differences). */
+    hk_CurveModelFn final_model;
+    hk_CurveModelDerivFn final_derivative;
     int refine_start;   /* 1: a first piece that misses the tolerance in the root
                            frame is refitted with a rotation of that frame (3 more
                            Nelder-Mead parameters), for noisy captures whose first

@@ -49,7 +49,11 @@ HK_API void hk_helicoid_fitter_destroy(hk_HelicoidFitter *f);
  * fragment's curvature (fragment_seed) and alpha weighed in the regularisation as a
  * curvature of a radian per sample (penalty_weight[3], unless the caller set it). The
  * model refuses pieces that turn more than a radian per sample or come within a tenth of
- * their singular axis (they describe no definite curve). */
+ * their singular axis (they describe no definite curve). With the default derivatives
+ * the search for the pieces traces more coarsely (RK4 steps of up to 0.5 rad, phases
+ * carried instead of sincos) and the pieces found are finished with the model below
+ * (options.final_model), which also gives the report's errors (docs/helicoid-fitting.md
+ * §7, "The search's tracer"). */
 HK_API hk_Status hk_helicoid_fit(hk_HelicoidFitter *f, const hk_Vec3 *points, int count, const hk_CurveFitDef *options,
                                  hk_PHelicoid *out, hk_CurveFit *fit, hk_Error *err);
 

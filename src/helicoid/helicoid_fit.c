@@ -6,6 +6,7 @@
 
 #include "hairkit/helicoid_fit.h"
 #include "helicoid_internal.h"
+#include "rk4_field.h"
 
 /* Least |w| a fitted piece may reach (1 at its origin): it stays at least a tenth of its
  * origin's distance away from the singular axis, where it turns at most ten times faster
@@ -13,6 +14,19 @@
 #define MIN_AXIS_W 0.1
 /* Most the field may turn between two samples at a fitted piece's origin (rad). */
 #define MAX_TURN_PER_SAMPLE 1.0
+
+/* The search's tracer (issue 17: 85 % of a fit is RK4 tracing). The search for the
+ * pieces traces with RK4 steps that turn the field by up to SEARCH_TURN instead of the
+ * standard tracer's MAX_TURN_PER_STEP (0.25 rad, within 0.5 um of the exact curve), and
+ * where the samples are dense (a strand resampled 4 times finer turns by a few
+ * hundredths of a radian a sample) one step spans up to SEARCH_SPAN samples, the ones
+ * inside it interpolated (hk_helicoid_piece_rk4_local): search_model below. The pieces
+ * found are then fitted again with the standard tracer (options.final_model, one
+ * Levenberg-Marquardt run each from the search's parameters), which also gives the
+ * reported errors: the parameters describe the curve the standard tracer draws, not the
+ * search's discretisation of it (docs/helicoid-fitting.md §7). */
+#define SEARCH_TURN 0.5
+#define SEARCH_SPAN 4
 
 struct hk_HelicoidFitter {
     int capacity;    /* points a model call may trace */
@@ -113,6 +127,21 @@ static int near_axis(const hk_PHelicoid *h, const hk_Vec3 *points, int count)
     return 0;
 }
 
+/* Carries a piece's local trace to the world and sets its end pose; 0 when finite and
+ * clear of the singular axis. */
+static int to_world(const hk_PHelicoid *h, const hk_HelicoidAngles *a, hk_Vec3 *points, int count, hk_CurveStart *end)
+{
+    const hk_Mat3 *q = &h->frame;
+    for (int i = 0; i < count; i++) points[i] = hk_v3_add(h->root, hk_m3_mul_v3(q, points[i]));
+    for (int i = 0; i < count; i++)
+        if (!hk_v3_isfinite(points[i])) return 1;
+    if (near_axis(h, points, count)) return 1;
+    const hk_Mat3 frame = hk_helicoid_frame_of(a);
+    end->pos = points[count - 1];
+    end->frame = hk_m3_mul(q, &frame);
+    return 0;
+}
+
 int hk_helicoid_piece_model(void *user, const double *params, const hk_CurveStart *start, double length, int count,
                             hk_Vec3 *out_points, hk_CurveStart *end)
 {
@@ -127,27 +156,53 @@ int hk_helicoid_piece_model(void *user, const double *params, const hk_CurveStar
     return 0;
 }
 
-int hk_helicoid_piece_derivative(void *user, const double *params, const hk_CurveStart *start, double length, int count,
-                                 hk_Vec3 *out_points, hk_CurveStart *end, hk_Vec3 *d_points, hk_Vec3 *d_end_tangent)
+/* The derivative model: the standard tracer's steps differentiated, or (search) the
+ * search's phased trace (SEARCH_TURN, SEARCH_SPAN). */
+static int derivative_with(hk_HelicoidFitter *f, int search, const double *params, const hk_CurveStart *start,
+                           double length, int count, hk_Vec3 *out_points, hk_CurveStart *end, hk_Vec3 *d_points,
+                           hk_Vec3 *d_end_tangent)
 {
-    hk_HelicoidFitter *f = user;
     hk_PHelicoid h;
     double step;
     if (model_piece(f, params, start, length, count, &h, &step) != 0) return 1;
     /* Traced in the piece's local frame from its origin, then carried to the world. */
     hk_HelicoidAngles a;
-    hk_helicoid_piece_rk4_tangent(&h.k[0], length, count - 1, out_points, d_points, &a, d_end_tangent);
+    if (search)
+        hk_helicoid_piece_rk4_tangent_local(&h.k[0], length, count - 1, SEARCH_TURN, SEARCH_SPAN, out_points, d_points,
+                                            &a, d_end_tangent);
+    else
+        hk_helicoid_piece_rk4_tangent(&h.k[0], length, count - 1, out_points, d_points, &a, d_end_tangent);
     const hk_Mat3 *q = &h.frame;
-    for (int i = 0; i < count; i++) out_points[i] = hk_v3_add(h.root, hk_m3_mul_v3(q, out_points[i]));
     for (int i = 0; i < 4 * count; i++) d_points[i] = hk_m3_mul_v3(q, d_points[i]);
     for (int j = 0; j < 4; j++) d_end_tangent[j] = hk_m3_mul_v3(q, d_end_tangent[j]);
-    for (int i = 0; i < count; i++)
-        if (!hk_v3_isfinite(out_points[i])) return 1;
-    if (near_axis(&h, out_points, count)) return 1;
-    const hk_Mat3 frame = hk_helicoid_frame_of(&a);
-    end->pos = out_points[count - 1];
-    end->frame = hk_m3_mul(q, &frame);
-    return 0;
+    return to_world(&h, &a, out_points, count, end);
+}
+
+int hk_helicoid_piece_derivative(void *user, const double *params, const hk_CurveStart *start, double length, int count,
+                                 hk_Vec3 *out_points, hk_CurveStart *end, hk_Vec3 *d_points, hk_Vec3 *d_end_tangent)
+{
+    return derivative_with(user, 0, params, start, length, count, out_points, end, d_points, d_end_tangent);
+}
+
+/* The search's model (SEARCH_TURN, SEARCH_SPAN; RK4 also where alpha = 0, which has a
+ * closed form), the phases carried instead of taken by sincos (rk4_field.h): the same
+ * trace as search_derivative's, whose Jacobian is then this trace's. */
+static int search_model(void *user, const double *params, const hk_CurveStart *start, double length, int count,
+                        hk_Vec3 *out_points, hk_CurveStart *end)
+{
+    hk_HelicoidFitter *f = user;
+    hk_PHelicoid h;
+    double step;
+    if (model_piece(f, params, start, length, count, &h, &step) != 0) return 1;
+    hk_HelicoidAngles a;
+    hk_helicoid_piece_rk4_local(&h.k[0], length, count - 1, SEARCH_TURN, SEARCH_SPAN, out_points, &a);
+    return to_world(&h, &a, out_points, count, end);
+}
+
+static int search_derivative(void *user, const double *params, const hk_CurveStart *start, double length, int count,
+                             hk_Vec3 *out_points, hk_CurveStart *end, hk_Vec3 *d_points, hk_Vec3 *d_end_tangent)
+{
+    return derivative_with(user, 1, params, start, length, count, out_points, end, d_points, d_end_tangent);
 }
 
 /* The helicoid's frame at the root from the estimated Frenet frame: its initial
@@ -227,8 +282,16 @@ static hk_Status fit_once(hk_HelicoidFitter *f, const hk_Vec3 *points, int count
             }
         }
     }
+    /* The search with the search's tracer, finished with the standard one (see above). */
+    first.final_model = hk_helicoid_piece_model;
+    first.final_derivative = opt.model_derivative;
+    if (opt.model_derivative == hk_helicoid_piece_derivative)
+        first.model_derivative = search_derivative;
+    else if (opt.model_derivative)
+        first.final_model = NULL; /* someone else's derivative: no search tracer */
     hk_Status st =
-        hk_curve_fit_piecewise_ws(f->ws, points, count, hk_helicoid_piece_model, f, 4, seed, scale, &first, fit, err);
+        hk_curve_fit_piecewise_ws(f->ws, points, count, first.final_model ? search_model : hk_helicoid_piece_model, f,
+                                  4, seed, scale, &first, fit, err);
     if (st != HK_OK) return st;
     if (fit->piece_count > HK_HELICOID_MAX_PIECES)
         return hk_error_set(err, HK_ERR_INVALID, "fit of %d pieces: at most %d", fit->piece_count,

@@ -119,6 +119,21 @@ void hk_helicoid_piece_planar(const hk_HelicoidPiece *pc, hk_Vec3 *p, hk_Helicoi
 void hk_helicoid_piece_rk4_tangent(const hk_Helicoid *k, double length, int steps, hk_Vec3 *points, hk_Vec3 *d_points,
                                    hk_HelicoidAngles *end, hk_Vec3 *d_end_tangent);
 
+/* The fitter's search trace (piece_rk4.c), from the local origin over `length` in `steps`
+ * output steps: points[0..steps] local, end the angles at the last point (theta not
+ * carried: 0). RK4 steps that turn the field by at most `turn` (hk_helicoid_piece_rk4:
+ * MAX_TURN_PER_STEP), one spanning up to `span` output steps where the bound allows it
+ * over the whole step, the points inside it by cubic Hermite interpolation; the phases
+ * e^{i k_B z} and e^{i phi} integrated with the position instead of taken by sincos
+ * (rk4_field.h): the same curve to RK4's error. */
+void hk_helicoid_piece_rk4_local(const hk_Helicoid *k, double length, int steps, double turn, int span, hk_Vec3 *points,
+                                 hk_HelicoidAngles *end);
+/* And with the derivatives, as hk_helicoid_piece_rk4_tangent's (piece_rk4_tangent.c): the
+ * same bytes as hk_helicoid_piece_rk4_local for the points and end. */
+void hk_helicoid_piece_rk4_tangent_local(const hk_Helicoid *k, double length, int steps, double turn, int span,
+                                         hk_Vec3 *points, hk_Vec3 *d_points, hk_HelicoidAngles *end,
+                                         hk_Vec3 *d_end_tangent);
+
 /* Steps of a piece of length `length` with the largest step `step`: ceil(length / step) with a
  * 1e-12 relative tolerance; -1 when not finite or above HK_HELICOID_MAX_POINTS. */
 int hk_helicoid_piece_steps(double length, double step);

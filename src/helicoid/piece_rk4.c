@@ -52,3 +52,53 @@ void hk_helicoid_piece_rk4(const hk_HelicoidPiece *pc, hk_Vec3 *p, hk_HelicoidAn
     *p = hk_v3(x, y, z);
     *a = a1;
 }
+
+/* One RK4 step of length h of the phased state u (rk4_field.h), d1 the field there; on
+ * return the new state and the field at it. */
+static inline void phased_step(const hk_Helicoid *k, double h, Phased *u, Phased *d1)
+{
+    const double h2 = 0.5 * h, h6 = h / 6.0;
+    Phased t = phased_axpy(u, h2, d1);
+    const Phased d2 = phased_eval(k, &t).d;
+    t = phased_axpy(u, h2, &d2);
+    const Phased d3 = phased_eval(k, &t).d;
+    t = phased_axpy(u, h, &d3);
+    const Phased d4 = phased_eval(k, &t).d;
+    *u = phased_sum(*u, h6, d1, &d2, &d3, &d4);
+    *d1 = phased_eval(k, u).d;
+}
+
+void hk_helicoid_piece_rk4_local(const hk_Helicoid *k, double length, int steps, double turn, int span, hk_Vec3 *points,
+                                 hk_HelicoidAngles *end)
+{
+    const double step = length / steps;
+    double sa, sb;
+    hk_helicoid_turn_bound(k, &sa, &sb);
+    sa *= step / turn, sb *= step / turn;
+    Phased u = {0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0};
+    Phased d1 = phased_eval(k, &u).d;
+    points[0] = hk_v3_zero();
+    for (int i = 0; i < steps;) {
+        const int g = rk4_span(k, u.x, u.y, sa, sb, span < steps - i ? span : steps - i);
+        if (g > 1) {
+            /* one step over g samples, the ones inside interpolated */
+            const Deriv u0 = {u.x, u.y, u.z, 0.0}, f0 = {d1.x, d1.y, d1.z, 0.0};
+            const double h = g * step;
+            phased_step(k, h, &u, &d1);
+            const Deriv u1 = {u.x, u.y, u.z, 0.0}, f1 = {d1.x, d1.y, d1.z, 0.0};
+            for (int q = 1; q < g; q++) {
+                const Deriv p = hermite(u0, f0, u1, f1, h, (double)q / (double)g);
+                points[i + q] = hk_v3(p.x, p.y, p.z);
+            }
+            i += g;
+        } else {
+            const int sub = rk4_substeps(k, u.x, u.y, sa, sb);
+            for (int s = 0; s < sub; s++) phased_step(k, step / sub, &u, &d1);
+            i++;
+        }
+        points[i] = hk_v3(u.x, u.y, u.z);
+    }
+    const Phased unit = phased_unit(&u, NULL, 0);
+    const PhasedPoint f = phased_eval(k, &unit);
+    *end = phased_angles(&f, &unit);
+}

@@ -24,12 +24,67 @@ hk_Status hk_cf_fit_fixed(Fit *F, const int *bounds, int pieces, const hk_CurveS
     return HK_OK;
 }
 
-/* ---- polishing a chain (least squares) ------------------------------------------------ */
+/* ---- finishing and polishing a chain (least squares) ---------------------------------- */
 
 /* The sample where the output's piece k ends. */
 static int piece_end(const Fit *F, int k)
 {
     return k + 1 < F->out->piece_count ? F->out->first_sample[k + 1] : F->n - 1;
+}
+
+/* The normalised coupling of the output's chain traced by F->model, or +inf. */
+static double chain_error(Fit *F)
+{
+    if (hk_cf_trace_chain(F->model, F->user, F->out, 0, F->out->piece_count, F->n - 1, F->h, &F->starts[0],
+                          F->ws->chain, &F->evaluations) != 0)
+        return INFINITY;
+    return hk_frechet_coupling_prefix(F->ws->target, F->ws->chain, F->n, F->ws->row, NULL) / (double)F->n;
+}
+
+/* Each piece fitted again with the final model, in order, from its predecessor's new end
+ * pose (the root one from the root pose the search settled, before the model's
+ * root_frame rule), by one Levenberg-Marquardt run from its parameters: they are a few
+ * microns from the final model's minimum, which a run reaches in a few steps. Kept when
+ * the chain traced by the final model comes out closer than the search's pieces do. */
+hk_Status hk_cf_finish_pieces(Fit *F)
+{
+    if (!F->opt->final_model) return HK_OK;
+    hk_CurveFit *o = F->out;
+    const hk_CurveModelFn search = F->model;
+    const hk_CurveModelDerivFn search_derivative = F->derivative;
+    F->model = F->opt->final_model;
+    F->derivative = F->opt->final_derivative;
+    const double before = chain_error(F);
+    hk_CurveFit kept = *o;
+    hk_CurveStart starts[HK_CURVEFIT_MAX_PIECES];
+    memcpy(starts, F->starts, sizeof starts);
+    hk_CurveStart pose = F->root_base;
+    hk_Status st = HK_OK;
+    F->finishing = 1;
+    for (int k = 0; k < o->piece_count && st == HK_OK; k++) {
+        const int a = o->first_sample[k], b = piece_end(F, k);
+        Piece found, piece;
+        memset(&found, 0, sizeof found);
+        memcpy(found.params, o->params[k], sizeof found.params);
+        if ((st = hk_cf_fit_piece(F, a, b, &pose, 1, &found, NULL, &piece)) != HK_OK) break;
+        memcpy(o->params[k], piece.params, sizeof o->params[k]);
+        o->piece_error[k] = piece.error;
+        o->piece_frechet[k] = piece.frechet;
+        F->starts[k] = piece.start;
+        pose = piece.end;
+    }
+    F->finishing = 0;
+    if (st != HK_OK || !(chain_error(F) <= before)) {
+        *o = kept;
+        memcpy(F->starts, starts, sizeof starts);
+        if (!isfinite(before)) {
+            /* the final model refuses the search's pieces and found none of its own:
+             * the result stays the search's, measured by its model */
+            F->model = search;
+            F->derivative = search_derivative;
+        }
+    }
+    return HK_OK;
 }
 
 /* Traces the output's pieces with the parameters x (piece after piece) into ws->chain,

@@ -211,7 +211,7 @@ static int residual_jacobian(void *user, const double *x, double *jac)
     hk_Vec3 dt[MAXP], omega[MAXP + ROT];
     hk_Vec3 *p = F->ws->trace, *dp = F->ws->dtrace;
     F->evaluations++;
-    if (F->opt->model_derivative(F->user, x, &s, F->h * (double)(m - 1), m, p, &end, dp, dt) != 0) return 1;
+    if (F->derivative(F->user, x, &s, F->h * (double)(m - 1), m, p, &end, dp, dt) != 0) return 1;
     pose_rates(F, x, &s, nx, omega);
     const double w = 1.0 / sqrt((double)m);
     const int join = has_join(F);
@@ -280,8 +280,7 @@ static hk_Status minimise_least_squares(Fit *F, int nx, double *x, const double 
     const hk_LeastSquaresDef lo = hk_cf_least_squares_options(F, nx);
     hk_MinimizeResult r;
     return hk_least_squares_minimize_jac(nx, residual_count(F), x, scale, residuals,
-                                         F->opt->model_derivative ? residual_jacobian : NULL, F, &lo, F->ws->lsq, &r,
-                                         NULL);
+                                         F->derivative ? residual_jacobian : NULL, F, &lo, F->ws->lsq, &r, NULL);
 }
 
 /* Nelder-Mead over the first nx entries of x, restarted from a converged simplex that
@@ -387,6 +386,25 @@ static hk_Status descend(Fit *F, double (*cand)[MAXP + ROT], int count, int nx, 
     return st;
 }
 
+static hk_Status make_piece(Fit *F, int i0, int i1, const hk_CurveStart *start, const double *x, Piece *piece);
+
+/* hk_cf_finish_pieces' fit of samples i0..i1 from `start`: one run from the search's
+ * parameters (found->params), at the root (refine) with the frame's rotation free as
+ * well, from none: the search settled the frame for its own tracer, and the final
+ * model's minimum may lie a few microradians away. */
+static hk_Status finish_piece(Fit *F, int i0, int i1, const hk_CurveStart *start, int refine, const Piece *found,
+                              Piece *piece)
+{
+    F->rotating = refine;
+    const int nx = F->np + (refine ? ROT : 0);
+    double x[MAXP + ROT] = {0};
+    memcpy(x, found->params, (size_t)F->np * sizeof(double));
+    hk_Status st = minimise(F, nx, x, F->scale);
+    if (st != HK_OK)
+        return hk_error_set(F->err, HK_ERR_NUMERIC, "curve fit: the final model failed on samples %d..%d", i0, i1);
+    return make_piece(F, i0, i1, start, x, piece);
+}
+
 /* Fits samples i0..i1 from `start`. Nelder-Mead starts at the best of the user's seed
  * and the hints (earlier fits of overlapping ranges, NULL when absent). With
  * refine_start and may_refine, a range at the root is first fitted in the estimated
@@ -410,6 +428,7 @@ hk_Status hk_cf_fit_piece(Fit *F, int i0, int i1, const hk_CurveStart *start, in
     for (int h = 0; h < 2; h++)
         if (hints[h]) memcpy(cand[count++], hints[h]->params, (size_t)F->np * sizeof(double));
     double x[MAXP + ROT], error;
+    if (F->finishing) return finish_piece(F, i0, i1, start, refine, hint1, piece);
     hk_Status st = descend(F, cand, count, F->np, x, &error);
     /* Least squares refines the frame already at a tenth of the tolerance: it costs a few
      * dozen traces, and the root frame's error, small at the root, is what every later
@@ -443,6 +462,13 @@ hk_Status hk_cf_fit_piece(Fit *F, int i0, int i1, const hk_CurveStart *start, in
                             "curve fit: the model failed (or gave non-finite points) for every parameter "
                             "vector tried on samples %d..%d",
                             i0, i1);
+    return make_piece(F, i0, i1, start, x, piece);
+}
+
+/* The piece of parameters x (with the root rotation after them when F->rotating) on
+ * samples i0..i1 from `start`: its poses, trace and errors. */
+static hk_Status make_piece(Fit *F, int i0, int i1, const hk_CurveStart *start, const double *x, Piece *piece)
+{
     memset(piece, 0, sizeof *piece);
     memcpy(piece->params, x, (size_t)F->np * sizeof(double));
     if (F->rotating) memcpy(piece->rot, x + F->np, sizeof piece->rot);

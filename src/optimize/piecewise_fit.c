@@ -181,6 +181,21 @@ static int fixed_layout(const Fit *F, const hk_CurveFitDef *o, int *bounds)
     return pieces;
 }
 
+/* The output's start, error and Fréchet distance: its chain traced by F->model. */
+static hk_Status measure(Fit *F)
+{
+    hk_CurveFit *out = F->out;
+    out->start = F->starts[0];
+    if (hk_cf_trace_chain(F->model, F->user, out, 0, out->piece_count, F->n - 1, F->h, &out->start, F->ws->chain,
+                          &F->evaluations) != 0)
+        return hk_error_set(F->err, HK_ERR_NUMERIC, "curve fit: the model failed re-tracing its own pieces");
+    double c, d;
+    hk_frechet_both(F->ws->target, F->n, F->ws->chain, F->n, F->ws->row, &c, &d);
+    out->error = c / (double)F->n;
+    out->frechet = d;
+    return HK_OK;
+}
+
 static int samples_for(const hk_CurveFitDef *o, int count) { return o->samples ? o->samples : count; }
 
 hk_Status hk_curve_fit_piecewise_ws(hk_CurveFitWorkspace *ws, const hk_Vec3 *target, int count, hk_CurveModelFn model,
@@ -220,6 +235,7 @@ hk_Status hk_curve_fit_piecewise_ws(hk_CurveFitWorkspace *ws, const hk_Vec3 *tar
     memset(&F, 0, sizeof F);
     F.ws = ws;
     F.model = model;
+    F.derivative = opt->model_derivative;
     F.user = user;
     F.np = param_count;
     F.seed = param_count > 0 ? seed : zero;
@@ -251,21 +267,13 @@ hk_Status hk_curve_fit_piecewise_ws(hk_CurveFitWorkspace *ws, const hk_Vec3 *tar
     } else {
         st = hk_cf_fit_range(&F, 0, n - 1, &start, opt->max_pieces, NULL, NULL, &end);
     }
-    if (st == HK_OK) {
-        out->start = F.starts[0];
-        if (hk_cf_trace_chain(model, user, out, 0, out->piece_count, n - 1, F.h, &out->start, ws->chain,
-                              &F.evaluations) != 0) {
-            st = hk_error_set(err, HK_ERR_NUMERIC, "curve fit: the model failed re-tracing its own pieces");
-        } else {
-            double c, d;
-            hk_frechet_both(ws->target, n, ws->chain, n, ws->row, &c, &d);
-            out->error = c / (double)n;
-            out->frechet = d;
-        }
-    }
+    if (st == HK_OK) st = measure(&F);
     /* Polish only a chain that misses the tolerance: its pieces each met it. */
     if (st == HK_OK && opt->method == HK_CURVEFIT_LEAST_SQUARES && out->piece_count >= 2 && out->error > opt->tolerance)
         st = hk_cf_polish_chain(&F);
+    /* The pieces finished with the final model, and measured by it (after the polish,
+     * which its traces are cheaper for; a finished chain is kept only when closer). */
+    if (st == HK_OK && opt->final_model && (st = hk_cf_finish_pieces(&F)) == HK_OK) st = measure(&F);
     out->evaluations = F.evaluations;
     if (st != HK_OK) out->piece_count = 0;
     return st;

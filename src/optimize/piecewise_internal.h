@@ -44,6 +44,7 @@ typedef struct Piece {
 typedef struct Fit {
     hk_CurveFitWorkspace *ws;
     hk_CurveModelFn model;
+    hk_CurveModelDerivFn derivative; /* of model (NULL: differences) */
     void *user;
     int np;
     const double *seed;
@@ -64,6 +65,9 @@ typedef struct Fit {
     /* 1 while the cut search probes a fragment: one Levenberg-Marquardt run, from the best
      * start (the last fragment that fitted), instead of up to MAX_STARTS (fit_cuts.c) */
     int single_start;
+    /* 1 while hk_cf_finish_pieces refits a piece from its parameters (the first hint):
+     * one run from them, at the root with the frame's rotation free from the start */
+    int finishing;
 } Fit;
 
 /* Traces m samples of the model from `start` into out, counting the evaluation; 0 when
@@ -104,6 +108,10 @@ hk_Status hk_cf_fit_range(Fit *F, int i0, int i1, const hk_CurveStart *start, in
 
 /* A fixed layout (§5.4): piece k spans samples bounds[k]..bounds[k + 1], k < pieces. */
 hk_Status hk_cf_fit_fixed(Fit *F, const int *bounds, int pieces, const hk_CurveStart *start);
+
+/* With options.final_model: the output's pieces fitted again with it (see curvefit.h);
+ * F->model is that model on return. */
+hk_Status hk_cf_finish_pieces(Fit *F);
 
 /* Refits all the output's pieces together (least squares); keeps the result, with the
  * output's start and errors, only when its coupling is lower. */
