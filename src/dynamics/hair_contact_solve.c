@@ -25,9 +25,9 @@
  * HK_PGS_TOLERANCE of the largest. The order: the guides are split in two by a plane
  * (hair_contact_split.h); the pairs of either side, in pair order, are swept side by
  * side by two threads, then the pairs across the plane, themselves in two halves side
- * by side (a second plane) and then those across both planes. The two sides share no
- * strand, nor do the two halves, so the same pairs give the same bits whatever the
- * number of threads. Nested
+ * by side (a second plane), then those across both planes in two halves side by side.
+ * The groups swept side by side share no strand, so the same pairs give the same bits
+ * whatever the number of threads. Nested
  * dissection into 8 blocks (with a barrier per level) was tried before, when a fixed
  * second of settling made the still head's test sensitive to the order; coloured
  * sweeps (3 December 2026) were no faster on 2 threads, as the colour order loses the
@@ -862,24 +862,24 @@ static void sweep_group(hk_ContactSolve *cs, const int *order, SweepGroup *gr, i
 /* What the two threads of the sweeps share: a group is claimed by whichever thread
  * comes first, so that a thread the system has not scheduled delays nothing (with a
  * parallel region or barrier per sweep, 20 a step, a loaded machine's sweeps took
- * several times longer: docs/dynamics.md). A sweep has two stages of two groups that
- * share no strand: groups 0 and 1, then 2 and 3 (hk_contact_split). */
+ * several times longer: docs/dynamics.md). A sweep has three stages of two groups
+ * that share no strand: groups 0 and 1, 2 and 3, 4 and 5 (hk_contact_split). */
 typedef struct SweepShare {
     atomic_int claim;    /* stage * 4 + the groups of the two claimed so far; -1: the sweeps are over */
     atomic_int finished; /* stage * 4 + the groups of the two done */
     int full;            /* the sweep is a full one (set before its claims open) */
 } SweepShare;
 
-/* Claims one of the two groups of the open stage (stage 2 sweep + 0 or 1: groups 0 and
- * 1 or 2 and 3) and sweeps it. Returns 1 when it did, 0 when both are claimed, -1 when
- * the sweeps are over. */
+/* Claims one of the two groups of the open stage (stage 3 sweep + p: groups 2p and
+ * 2p + 1) and sweeps it. Returns 1 when it did, 0 when both are claimed, -1 when the
+ * sweeps are over. */
 static int claim_group(hk_ContactSolve *cs, const int *order, SweepGroup group[HK_SPLIT_GROUPS], SweepShare *sh)
 {
     int word = atomic_load_explicit(&sh->claim, memory_order_acquire);
     while (word >= 0 && (word & 3) < 2)
         if (atomic_compare_exchange_weak_explicit(&sh->claim, &word, word + 1, memory_order_acq_rel,
                                                   memory_order_acquire)) {
-            sweep_group(cs, order, &group[2 * ((word >> 2) & 1) + (word & 3)], sh->full);
+            sweep_group(cs, order, &group[2 * ((word >> 2) % 3) + (word & 3)], sh->full);
             atomic_fetch_add_explicit(&sh->finished, 1, memory_order_release);
             return 1;
         }
@@ -894,11 +894,11 @@ static void pause_for(long *spins)
     for (volatile int k = 0; k < 64; k++) {}
 }
 
-/* The sweeps over the five groups: each of the two stages (groups 0 and 1, then 2 and
- * 3, each two on disjoint strands) by this thread and one more when side_by_side, the
- * last group by this one after both; the same bits either way. Pairs that do not push
- * (most of those between d0 and 2 d0) are visited on every HK_PGS_FULL_EVERY-th sweep
- * and the last one only; the others on every sweep. */
+/* The sweeps over the six groups: each of the three stages (groups 0 and 1, 2 and 3, 4
+ * and 5, each two on disjoint strands) by this thread and one more when side_by_side;
+ * the same bits either way. Pairs that do not push (most of those between d0 and 2 d0)
+ * are visited on every HK_PGS_FULL_EVERY-th sweep and the last one only; the others on
+ * every sweep. */
 static void run_sweeps(hk_ContactSolve *cs, const int *order, SweepGroup group[HK_SPLIT_GROUPS], int side_by_side,
                        hk_ContactSolveStats *local)
 {
@@ -916,7 +916,7 @@ static void run_sweeps(hk_ContactSolve *cs, const int *order, SweepGroup group[H
             for (int sweep = 0; sweep < HK_PGS_SWEEPS; sweep++) {
                 const int full = sweep % HK_PGS_FULL_EVERY == 0 || sweep == HK_PGS_SWEEPS - 1;
                 share.full = full;
-                for (int stage = 2 * sweep; stage < 2 * sweep + 2; stage++) {
+                for (int stage = 3 * sweep; stage < 3 * sweep + 3; stage++) {
                     atomic_store_explicit(&share.finished, 4 * stage, memory_order_relaxed);
                     atomic_store_explicit(&share.claim, 4 * stage, memory_order_release);
                     while (claim_group(cs, order, group, &share) == 1) {}
@@ -924,7 +924,6 @@ static void run_sweeps(hk_ContactSolve *cs, const int *order, SweepGroup group[H
                     while (atomic_load_explicit(&share.finished, memory_order_acquire) != 4 * stage + 2)
                         pause_for(&spins);
                 }
-                sweep_group(cs, order, &group[4], full);
                 double change = 0.0, largest = 0.0;
                 if (full) local->pushing = local->sticking = 0;
                 for (int x = 0; x < HK_SPLIT_GROUPS; x++) {
@@ -1000,10 +999,12 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
         apply_by_strand(cs, delta, n);
     }
     for (int x = 0; x < HK_SPLIT_GROUPS; x++) group[x] = (SweepGroup){bounds[x], bounds[x + 1], 0, 0, 0, 0.0, 0.0};
-    /* Groups 0 and 1 share no strand, nor do 2 and 3: their visits touch disjoint pairs
-     * and strands, and give the same bits side by side or one after the other. */
-    const int side_by_side = threads > 1 && ((bounds[1] > bounds[0] && bounds[2] > bounds[1]) ||
-                                             (bounds[3] > bounds[2] && bounds[4] > bounds[3]));
+    /* Groups 0 and 1 share no strand, nor do 2 and 3, nor 4 and 5: their visits touch
+     * disjoint pairs and strands, and give the same bits side by side or one after the
+     * other. */
+    int side_by_side = 0;
+    for (int x = 0; x < HK_SPLIT_GROUPS; x += 2)
+        side_by_side |= threads > 1 && bounds[x + 1] > bounds[x] && bounds[x + 2] > bounds[x + 1];
     run_sweeps(cs, order, group, side_by_side, &local);
     /* The bound of the last sweep's Tresca problems lags the normal impulses by a
      * sweep: what exceeds Coulomb's cone is taken back (and from dv, which the commit

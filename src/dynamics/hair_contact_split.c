@@ -1,8 +1,8 @@
 /* Two groups of guides that share no contact pair, for sweeping the contacts of each
  * group side by side (hair_contact_split.h). The guides of a head touch their
  * neighbours: a plane through the head leaves most pairs on one side or the other, and
- * the pairs across it are swept after both groups, those across a second plane after
- * the others, which fall in two halves again. Nested dissection (George 1973), the
+ * the pairs across it are swept after both groups: those on either side of a second
+ * plane, then those across it too, each in two halves that share no strand. Nested dissection (George 1973), the
  * cuts chosen along the world axes by the pairs' weights. */
 #include <stdlib.h>
 #include <string.h>
@@ -119,9 +119,11 @@ int hk_contact_split(hk_ContactSplit *sp, int strand_count, const hk_Vec3 *roots
         bounds[group] = fill;
         for (int k = 0; k < pair_count; k++) {
             const int i = pairs[k].i, j = pairs[k].j;
+            /* Across both planes: between the quarters (0, 0) and (1, 1), or (0, 1) and
+             * (1, 0), which share no strand. */
             const int in = sp->side[i] == sp->side[j]               ? sp->side[i]
                            : sp->cross_side[i] == sp->cross_side[j] ? 2 + sp->cross_side[i]
-                                                                    : 4;
+                                                                    : 4 + (sp->side[i] != sp->cross_side[i]);
             if (in == group) order[fill++] = k;
         }
     }

@@ -1,6 +1,5 @@
-/* The pairs of the contacts' solve dealt to two groups that share no strand and the
- * pairs between them, these again in two groups that share no strand and the rest
- * (hair_contact_solve.c sweeps each two groups side by side, then the rest;
+/* The pairs of the contacts' solve dealt to three stages of two groups that share no
+ * strand (hair_contact_solve.c sweeps each stage's two groups side by side;
  * docs/dynamics.md, "Contacts solved together"). */
 #ifndef HK_HAIR_CONTACT_SPLIT_H
 #define HK_HAIR_CONTACT_SPLIT_H
@@ -25,18 +24,19 @@ typedef struct hk_ContactSplit {
 
 void hk_contact_split_free(hk_ContactSplit *sp);
 
-#define HK_SPLIT_GROUPS 5
+#define HK_SPLIT_GROUPS 6
 
 /* Splits the strands in two by a plane across one of the world axes through their
  * roots, the axis and the plane that make the larger group's pairs plus the pairs
  * across the fewest (each pair counted with its weight), then the pairs across it by a
- * second such plane, chosen for them alone. Writes order (pair_count) with five groups
- * of pairs, each in pair order: those of the first side, of the second side, those
- * across the first plane with both strands below the second, beyond it, and those
- * across both planes; bounds[0..5] their starts and end (bounds[0] = 0, bounds[5] =
- * pair_count). Groups 0 and 1 share no strand, nor do groups 2 and 3. The same input
- * gives the same split. Returns 0 when out of memory (then every pair is in the last
- * group, in pair order). */
+ * second such plane, chosen for them alone. Writes order (pair_count) with six groups
+ * of pairs, each in pair order: those of the first side, of the second side; those
+ * across the first plane with both strands below the second, beyond it; those across
+ * both planes between the quarters (below, below) and (beyond, beyond), and between
+ * (below, beyond) and (beyond, below). bounds[0..6] are their starts and end
+ * (bounds[0] = 0, bounds[6] = pair_count). Groups 0 and 1 share no strand, nor do 2
+ * and 3, nor 4 and 5. The same input gives the same split. Returns 0 when out of
+ * memory (then every pair is in the last group, in pair order). */
 int hk_contact_split(hk_ContactSplit *sp, int strand_count, const hk_Vec3 *roots, int pair_count,
                      const hk_HcPair *pairs, const double *weight, int *order, int bounds[HK_SPLIT_GROUPS + 1]);
 
