@@ -648,11 +648,10 @@ static int key_cmp(const int a[4], const int b[4])
     return 0;
 }
 
-/* The position of key among the count keys of pairs (sorted by key_cmp, each once), -1
- * when it is not there. */
-static int find_key(const PairState *pairs, int count, const int key[4])
+/* The first of the count pairs (sorted by key_cmp) whose key is not less than key. */
+static int first_not_less(const PairState *pairs, int count, const int key[4])
 {
-    int lo = 0, hi = count; /* the first key not less than key lies in [lo, hi] */
+    int lo = 0, hi = count; /* it lies in [lo, hi] */
     while (lo < hi) {
         const int mid = lo + (hi - lo) / 2;
         if (key_cmp(pairs[mid].key, key) < 0)
@@ -660,7 +659,7 @@ static int find_key(const PairState *pairs, int count, const int key[4])
         else
             hi = mid;
     }
-    return lo < count && key_cmp(pairs[lo].key, key) == 0 ? lo : -1;
+    return lo;
 }
 
 /* Pair ps's Delassus block in its basis, J_a Y_a + J_b Y_b (or Z_a^T Z_a + Z_b^T Z_b)
@@ -694,8 +693,9 @@ static int may_push(const PairState *ps)
 }
 
 /* Each pair's basis and normal law, and its impulse of the last step when the same
- * segment pair was tracked then (the old pairs are sorted by (i, a, j, b): found by
- * bisection, each pair apart, in parallel): resting contacts start where they ended.
+ * segment pair was tracked then (pairs and old pairs are both sorted by (i, a, j, b):
+ * each thread finds its first pair's place among the old ones by bisection, then walks
+ * along both in step): resting contacts start where they ended.
  * The points of the pairs that may push, those with an impulse or whose normal law
  * pushes at the free velocities, are marked wanted: their answers are solved for in
  * parallel before the sweeps. */
@@ -706,35 +706,41 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
     const hk_HairContactDef *p = &c->p;
     const hk_Vec3 *vel = cs->vel.items;
     char *answered = cs->answered.items;
-#pragma omp parallel for schedule(static) num_threads(hk_hc_threads(c))
-    for (int k = 0; k < c->pair_count; k++) {
-        PairState *ps = &pairs[k];
-        const hk_HcPair *hp = &c->pairs[k];
-        const hk_HcContact *ct = &c->contacts[k];
-        ps->key[0] = hp->i, ps->key[1] = hp->a, ps->key[2] = hp->j, ps->key[3] = hp->b;
-        ps->basis[0] = ct->normal;
-        complete_basis(ps->basis);
-        ps->beta = h * p->stiffness * (p->distance - ct->distance);
-        ps->gamma = h * h * p->stiffness + h * p->damping;
-        ps->lambda = hk_v3_zero();
-        ps->ready = 0;
-        ps->nu = 0.0;
-        ps->free = in_basis(ps->basis, hk_v3_sub(vel[ps->slot[0]], vel[ps->slot[1]]));
-        ps->strand[0] = hp->i, ps->strand[1] = hp->j;
-        const int o = find_key(old, cs->old_count, ps->key);
-        if (o >= 0) ps->lambda = in_basis(ps->basis, old[o].lambda);
-        for (int side = 0; side < 2; side++) {
-            const int strand = ps->strand[side], x = ps->slot[side];
-            const size_t at = block_of(cs, strand, x);
-            PointRows *pr = &ps->point[side];
-            pr->resp = (const double *)cs->yt.items + at;
-            pr->rows = cs->reversed[strand] ? pr->resp : (const double *)cs->jac.items + at;
-            pr->dv = (double *)cs->dv.items + cs->dim_start[strand];
-            pr->stride = (int)dim_of(cs, strand);
-            pr->m = (int)support_of(cs, x);
+#pragma omp parallel num_threads(hk_hc_threads(c))
+    {
+        int o = 0, next = -1; /* this thread's place among the old pairs, for pair next */
+#pragma omp for schedule(static)
+        for (int k = 0; k < c->pair_count; k++) {
+            PairState *ps = &pairs[k];
+            const hk_HcPair *hp = &c->pairs[k];
+            const hk_HcContact *ct = &c->contacts[k];
+            ps->key[0] = hp->i, ps->key[1] = hp->a, ps->key[2] = hp->j, ps->key[3] = hp->b;
+            ps->basis[0] = ct->normal;
+            complete_basis(ps->basis);
+            ps->beta = h * p->stiffness * (p->distance - ct->distance);
+            ps->gamma = h * h * p->stiffness + h * p->damping;
+            ps->lambda = hk_v3_zero();
+            ps->ready = 0;
+            ps->nu = 0.0;
+            ps->free = in_basis(ps->basis, hk_v3_sub(vel[ps->slot[0]], vel[ps->slot[1]]));
+            ps->strand[0] = hp->i, ps->strand[1] = hp->j;
+            if (k != next) o = first_not_less(old, cs->old_count, ps->key);
+            while (o < cs->old_count && key_cmp(old[o].key, ps->key) < 0) o++;
+            if (o < cs->old_count && key_cmp(old[o].key, ps->key) == 0) ps->lambda = in_basis(ps->basis, old[o].lambda);
+            next = k + 1;
+            for (int side = 0; side < 2; side++) {
+                const int strand = ps->strand[side], x = ps->slot[side];
+                const size_t at = block_of(cs, strand, x);
+                PointRows *pr = &ps->point[side];
+                pr->resp = (const double *)cs->yt.items + at;
+                pr->rows = cs->reversed[strand] ? pr->resp : (const double *)cs->jac.items + at;
+                pr->dv = (double *)cs->dv.items + cs->dim_start[strand];
+                pr->stride = (int)dim_of(cs, strand);
+                pr->m = (int)support_of(cs, x);
+            }
+            /* (a point belongs to one pair: no other iteration writes these) */
+            if (may_push(ps)) answered[ps->slot[0]] = answered[ps->slot[1]] = WANTED;
         }
-        /* (a point belongs to one pair: no other iteration writes these) */
-        if (may_push(ps)) answered[ps->slot[0]] = answered[ps->slot[1]] = WANTED;
     }
 }
 
