@@ -989,19 +989,13 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
 #pragma omp for schedule(dynamic, 2)
         for (int s = 0; s < strand_count; s++) answer_points(cs, dyn[s], s);
     }
-    const char *answered = cs->answered.items;
-    /* The blocks of the pairs that may push; the others' when a sweep first finds them
-     * pushing (visit), by the same operations: about 2,300 of 5,200 pairs on
-     * examples/guides200, where every point is answered (Z), and 300 more later. */
+    /* The pairs' Delassus blocks are made when a sweep first finds them pushing
+     * (visit), side by side with the other group's. The warm start's share: */
     hk_Vec3 *delta = cs->delta.items;
 #pragma omp parallel num_threads(threads)
     {
 #pragma omp for schedule(static)
-        for (int k = 0; k < n; k++) {
-            if (answered[pairs[k].slot[0]] == ANSWERED && answered[pairs[k].slot[1]] == ANSWERED && may_push(&pairs[k]))
-                pair_block(cs, &pairs[k]);
-            delta[k] = hk_v3_norm2(pairs[k].lambda) > 0.0 ? pairs[k].lambda : hk_v3_zero(); /* the warm start */
-        }
+        for (int k = 0; k < n; k++) delta[k] = hk_v3_norm2(pairs[k].lambda) > 0.0 ? pairs[k].lambda : hk_v3_zero();
         apply_by_strand(cs, delta, n);
     }
     for (int x = 0; x < HK_SPLIT_GROUPS; x++) group[x] = (SweepGroup){bounds[x], bounds[x + 1], 0, 0, 0, 0.0, 0.0};
