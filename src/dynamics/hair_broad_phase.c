@@ -49,6 +49,8 @@ typedef struct Grid {
     Found *found; /* per thread */
     int flag_cap;
     unsigned char *is_min; /* per candidate */
+    int strand_cap;
+    int *strand_seg; /* strand_count + 1: strand s's eligible segments start at strand_seg[s] */
 } Grid;
 
 void hk_hc_grid_free(hk_HairContacts *c)
@@ -58,7 +60,7 @@ void hk_hc_grid_free(hk_HairContacts *c)
     hk_free(g->seg_strand), hk_free(g->seg_index), hk_free(g->lo), hk_free(g->hi), hk_free(g->mid), hk_free(g->reach);
     hk_free(g->seg_entry), hk_free(g->sorted_of);
     hk_free(g->cell), hk_free(g->entry_seg), hk_free(g->entry_bucket), hk_free(g->sorted);
-    hk_free(g->bucket_start), hk_free(g->is_min);
+    hk_free(g->bucket_start), hk_free(g->is_min), hk_free(g->strand_seg);
     for (int t = 0; t < g->found_count; t++) hk_free(g->found[t].pairs);
     hk_free(g->found);
     hk_free(g);
@@ -249,11 +251,24 @@ hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
     const int n = (int)n_long; /* the update bounded the total number of segments */
     if (reserve_segments(g, n, err) != HK_OK) return HK_ERR_NOMEM;
     const hk_Vec3 grow = hk_v3(d0, d0, d0);
-    hk_Vec3 gmin = hk_v3(HUGE_VAL, HUGE_VAL, HUGE_VAL), gmax = hk_v3_neg(gmin);
-    double side_sum = 0.0;
-    int e = 0;
+    /* Each strand's segments in parallel (from its first one's index), then the
+     * extent and the sum of the box sides in segment order, as before. */
+    const int threads = hk_hc_threads(c);
+    if (g->strand_cap < c->strand_count + 1) {
+        hk_free(g->strand_seg);
+        g->strand_seg = hk_alloc_array((size_t)c->strand_count + 1, sizeof(int), err);
+        g->strand_cap = g->strand_seg ? c->strand_count + 1 : 0;
+        if (!g->strand_seg) return HK_ERR_NOMEM;
+    }
+    int *first_seg = g->strand_seg;
+    first_seg[0] = 0;
+    for (int s = 0; s < c->strand_count; s++) {
+        const int segs = c->views[s].count - 1 - c->views[s].first;
+        first_seg[s + 1] = first_seg[s] + (segs > 0 ? segs : 0);
+    }
+#pragma omp parallel for schedule(static) num_threads(threads)
     for (int s = 0; s < c->strand_count; s++)
-        for (int k = c->views[s].first; k <= c->views[s].count - 2; k++, e++) {
+        for (int k = c->views[s].first, e = first_seg[s]; k <= c->views[s].count - 2; k++, e++) {
             hk_Vec3 p0, p1;
             double t0;
             hk_hc_segment_ends(&c->views[s], k, c->p.root_exclusion, &p0, &p1, &t0);
@@ -263,11 +278,16 @@ hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
             g->mid[e] = hk_v3_scale(hk_v3_add(p0, p1), 0.5);
             g->reach[e] = (0.5 * hk_v3_dist(p0, p1) + d0) * (1.0 + 1e-9);
             g->lo[e] = hk_v3_sub(lo, grow), g->hi[e] = hk_v3_add(hi, grow);
-            gmin = hk_v3(fmin(gmin.x, g->lo[e].x), fmin(gmin.y, g->lo[e].y), fmin(gmin.z, g->lo[e].z));
-            gmax = hk_v3(fmax(gmax.x, g->hi[e].x), fmax(gmax.y, g->hi[e].y), fmax(gmax.z, g->hi[e].z));
-            hk_Vec3 side = hk_v3_sub(g->hi[e], g->lo[e]);
-            side_sum += fmax(side.x, fmax(side.y, side.z));
         }
+    hk_Vec3 gmin = hk_v3(HUGE_VAL, HUGE_VAL, HUGE_VAL), gmax = hk_v3_neg(gmin);
+    double side_sum = 0.0;
+    int e = 0;
+    for (e = 0; e < n; e++) {
+        gmin = hk_v3(fmin(gmin.x, g->lo[e].x), fmin(gmin.y, g->lo[e].y), fmin(gmin.z, g->lo[e].z));
+        gmax = hk_v3(fmax(gmax.x, g->hi[e].x), fmax(gmax.y, g->hi[e].y), fmax(gmax.z, g->hi[e].z));
+        hk_Vec3 side = hk_v3_sub(g->hi[e], g->lo[e]);
+        side_sum += fmax(side.x, fmax(side.y, side.z));
+    }
     const hk_Vec3 extent = hk_v3_sub(gmax, gmin);
     const double max_extent = fmax(extent.x, fmax(extent.y, extent.z));
     if (!isfinite(max_extent) || !isfinite(side_sum))
@@ -293,7 +313,6 @@ hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
 
     /* The entries, segment by segment: each segment's count, then (in parallel, each
      * segment into its own places) the cells it covers. */
-    const int threads = hk_hc_threads(c);
     g->seg_entry[0] = 0;
 #pragma omp parallel for schedule(static) num_threads(threads)
     for (int s = 0; s < n; s++) {

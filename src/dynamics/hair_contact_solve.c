@@ -24,8 +24,10 @@
  * others' impulses; the sweeps stop when no impulse changed by more than
  * HK_PGS_TOLERANCE of the largest. The order: the guides are split in two by a plane
  * (hair_contact_split.h); the pairs of either side, in pair order, are swept side by
- * side by two threads, then the pairs across the plane. The two sides share no strand,
- * so the same pairs give the same bits whatever the number of threads. Nested
+ * side by two threads, then the pairs across the plane, themselves in two halves side
+ * by side (a second plane), then those across both planes in two halves side by side.
+ * The groups swept side by side share no strand, so the same pairs give the same bits
+ * whatever the number of threads. Nested
  * dissection into 8 blocks (with a barrier per level) was tried before, when a fixed
  * second of settling made the still head's test sensitive to the order; coloured
  * sweeps (3 December 2026) were no faster on 2 threads, as the colour order loses the
@@ -134,6 +136,7 @@ struct hk_ContactSolve {
     Buffer screws;           /* double, 18N per strand: work of the Jacobians */
     Buffer pairs, old_pairs; /* PairState per pair, this step's and the last one's */
     Buffer active;           /* int per pair: the pushing pairs of the last full sweep */
+    Buffer delta;            /* hk_Vec3 per pair: a change of its impulse (apply_by_strand) */
     Buffer order, weight;    /* int and double per pair: the sweeps' order, the split's weights */
     Buffer roots;            /* hk_Vec3 per strand: its root, where the split reads it */
     hk_ContactSplit split;   /* scratch of the split */
@@ -172,9 +175,9 @@ void hk_contact_solve_destroy(hk_ContactSolve *cs)
     hk_free(cs->movable);
     hk_free(cs->reversed);
     hk_free(cs->ul_start);
-    Buffer *all[] = {&cs->slots, &cs->at,        &cs->vfree,  &cs->vel,      &cs->forces, &cs->jac,
-                     &cs->yt,    &cs->support,   &cs->ul,     &cs->answered, &cs->dv,     &cs->screws,
-                     &cs->pairs, &cs->old_pairs, &cs->active, &cs->order,    &cs->weight, &cs->roots};
+    Buffer *all[] = {&cs->slots,   &cs->at,    &cs->vfree,    &cs->vel,   &cs->forces, &cs->jac,   &cs->yt,
+                     &cs->support, &cs->ul,    &cs->answered, &cs->dv,    &cs->screws, &cs->pairs, &cs->old_pairs,
+                     &cs->active,  &cs->order, &cs->weight,   &cs->roots, &cs->delta};
     for (size_t k = 0; k < sizeof all / sizeof *all; k++) hk_free(all[k]->items);
     hk_contact_split_free(&cs->split);
     hk_free(cs);
@@ -214,7 +217,7 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Strand
         !reserve(&cs->vfree, dims, sizeof(double), err) || !reserve(&cs->screws, 6 * dims, sizeof(double), err) ||
         !reserve(&cs->pairs, (size_t)n, sizeof(PairState), err) || !reserve(&cs->active, (size_t)n, sizeof(int), err) ||
         !reserve(&cs->order, (size_t)n, sizeof(int), err) || !reserve(&cs->weight, (size_t)n, sizeof(double), err) ||
-        !reserve(&cs->roots, (size_t)g, sizeof(hk_Vec3), err))
+        !reserve(&cs->roots, (size_t)g, sizeof(hk_Vec3), err) || !reserve(&cs->delta, (size_t)n, sizeof(hk_Vec3), err))
         return HK_ERR_NOMEM;
     Slot *slot = cs->slots.items;
     PairState *pairs = cs->pairs.items;
@@ -645,6 +648,20 @@ static int key_cmp(const int a[4], const int b[4])
     return 0;
 }
 
+/* The first of the count pairs (sorted by key_cmp) whose key is not less than key. */
+static int first_not_less(const PairState *pairs, int count, const int key[4])
+{
+    int lo = 0, hi = count; /* it lies in [lo, hi] */
+    while (lo < hi) {
+        const int mid = lo + (hi - lo) / 2;
+        if (key_cmp(pairs[mid].key, key) < 0)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
 /* Pair ps's Delassus block in its basis, J_a Y_a + J_b Y_b (or Z_a^T Z_a + Z_b^T Z_b)
  * with both points' rows of J (and so their answers) in that basis. */
 static void pair_block(hk_ContactSolve *cs, PairState *ps)
@@ -676,49 +693,54 @@ static int may_push(const PairState *ps)
 }
 
 /* Each pair's basis and normal law, and its impulse of the last step when the same
- * segment pair was tracked then (pairs and old pairs are both sorted by (i, a, j, b)):
- * resting contacts start where they ended. The points of the pairs that may push, those
- * with an impulse or whose normal law pushes at the free velocities, are marked
- * wanted: their answers are solved for in parallel before the sweeps. */
+ * segment pair was tracked then (pairs and old pairs are both sorted by (i, a, j, b):
+ * each thread finds its first pair's place among the old ones by bisection, then walks
+ * along both in step): resting contacts start where they ended.
+ * The points of the pairs that may push, those with an impulse or whose normal law
+ * pushes at the free velocities, are marked wanted: their answers are solved for in
+ * parallel before the sweeps. */
 static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double h)
 {
     PairState *pairs = cs->pairs.items;
     const PairState *old = cs->old_pairs.items;
     const hk_HairContactDef *p = &c->p;
     const hk_Vec3 *vel = cs->vel.items;
-#pragma omp parallel for schedule(static) num_threads(hk_hc_threads(c))
-    for (int k = 0; k < c->pair_count; k++) {
-        PairState *ps = &pairs[k];
-        const hk_HcPair *hp = &c->pairs[k];
-        const hk_HcContact *ct = &c->contacts[k];
-        ps->key[0] = hp->i, ps->key[1] = hp->a, ps->key[2] = hp->j, ps->key[3] = hp->b;
-        ps->basis[0] = ct->normal;
-        complete_basis(ps->basis);
-        ps->beta = h * p->stiffness * (p->distance - ct->distance);
-        ps->gamma = h * h * p->stiffness + h * p->damping;
-        ps->lambda = hk_v3_zero();
-        ps->ready = 0;
-        ps->nu = 0.0;
-        ps->free = in_basis(ps->basis, hk_v3_sub(vel[ps->slot[0]], vel[ps->slot[1]]));
-        ps->strand[0] = hp->i, ps->strand[1] = hp->j;
-        for (int side = 0; side < 2; side++) {
-            const int strand = ps->strand[side], x = ps->slot[side];
-            const size_t at = block_of(cs, strand, x);
-            PointRows *pr = &ps->point[side];
-            pr->resp = (const double *)cs->yt.items + at;
-            pr->rows = cs->reversed[strand] ? pr->resp : (const double *)cs->jac.items + at;
-            pr->dv = (double *)cs->dv.items + cs->dim_start[strand];
-            pr->stride = (int)dim_of(cs, strand);
-            pr->m = (int)support_of(cs, x);
-        }
-    }
-    int o = 0;
     char *answered = cs->answered.items;
-    for (int k = 0; k < c->pair_count; k++) {
-        PairState *ps = &pairs[k];
-        while (o < cs->old_count && key_cmp(old[o].key, ps->key) < 0) o++;
-        if (o < cs->old_count && key_cmp(old[o].key, ps->key) == 0) ps->lambda = in_basis(ps->basis, old[o].lambda);
-        if (may_push(ps)) answered[ps->slot[0]] = answered[ps->slot[1]] = WANTED;
+#pragma omp parallel num_threads(hk_hc_threads(c))
+    {
+        int o = 0, next = -1; /* this thread's place among the old pairs, for pair next */
+#pragma omp for schedule(static)
+        for (int k = 0; k < c->pair_count; k++) {
+            PairState *ps = &pairs[k];
+            const hk_HcPair *hp = &c->pairs[k];
+            const hk_HcContact *ct = &c->contacts[k];
+            ps->key[0] = hp->i, ps->key[1] = hp->a, ps->key[2] = hp->j, ps->key[3] = hp->b;
+            ps->basis[0] = ct->normal;
+            complete_basis(ps->basis);
+            ps->beta = h * p->stiffness * (p->distance - ct->distance);
+            ps->gamma = h * h * p->stiffness + h * p->damping;
+            ps->lambda = hk_v3_zero();
+            ps->ready = 0;
+            ps->nu = 0.0;
+            ps->free = in_basis(ps->basis, hk_v3_sub(vel[ps->slot[0]], vel[ps->slot[1]]));
+            ps->strand[0] = hp->i, ps->strand[1] = hp->j;
+            if (k != next) o = first_not_less(old, cs->old_count, ps->key);
+            while (o < cs->old_count && key_cmp(old[o].key, ps->key) < 0) o++;
+            if (o < cs->old_count && key_cmp(old[o].key, ps->key) == 0) ps->lambda = in_basis(ps->basis, old[o].lambda);
+            next = k + 1;
+            for (int side = 0; side < 2; side++) {
+                const int strand = ps->strand[side], x = ps->slot[side];
+                const size_t at = block_of(cs, strand, x);
+                PointRows *pr = &ps->point[side];
+                pr->resp = (const double *)cs->yt.items + at;
+                pr->rows = cs->reversed[strand] ? pr->resp : (const double *)cs->jac.items + at;
+                pr->dv = (double *)cs->dv.items + cs->dim_start[strand];
+                pr->stride = (int)dim_of(cs, strand);
+                pr->m = (int)support_of(cs, x);
+            }
+            /* (a point belongs to one pair: no other iteration writes these) */
+            if (may_push(ps)) answered[ps->slot[0]] = answered[ps->slot[1]] = WANTED;
+        }
     }
 }
 
@@ -744,6 +766,33 @@ static double normal_velocity(const PairState *ps)
         u += side == 0 ? du : -du;
     }
     return u;
+}
+
+/* The strands of thread t of nt, [*lo, *hi): consecutive blocks. */
+static void strand_block(int strand_count, int t, int nt, int *lo, int *hi)
+{
+    *lo = (int)((long)strand_count * t / nt);
+    *hi = (int)((long)strand_count * (t + 1) / nt);
+}
+
+/* To be called by every thread of a parallel region: the changes delta[k] of the
+ * impulses of pairs [0, n) added to their strands' dv, each thread walking all pairs in
+ * order and adding for its own block of strands (strand_block) only. Each strand gets
+ * its additions in pair order, as from one pass of apply_change over the pairs: the
+ * same bits whatever the number of threads. Zero changes are skipped. */
+static void apply_by_strand(hk_ContactSolve *cs, const hk_Vec3 *delta, int n)
+{
+    int lo, hi;
+    strand_block(cs->strand_count, omp_get_thread_num(), omp_get_num_threads(), &lo, &hi);
+    const PairState *pairs = cs->pairs.items;
+    for (int k = 0; k < n; k++) {
+        if (delta[k].x == 0.0 && delta[k].y == 0.0 && delta[k].z == 0.0) continue;
+        for (int side = 0; side < 2; side++) {
+            const PointRows *pr = &pairs[k].point[side];
+            if (pairs[k].strand[side] >= lo && pairs[k].strand[side] < hi)
+                add_response(pr->dv, pr->resp, (size_t)pr->stride, (size_t)pr->m, delta[k], side == 0 ? 1.0 : -1.0);
+        }
+    }
 }
 
 /* Changes pair ps's impulse by delta (in its basis), updating both strands' dv. */
@@ -819,22 +868,24 @@ static void sweep_group(hk_ContactSolve *cs, const int *order, SweepGroup *gr, i
 /* What the two threads of the sweeps share: a group is claimed by whichever thread
  * comes first, so that a thread the system has not scheduled delays nothing (with a
  * parallel region or barrier per sweep, 20 a step, a loaded machine's sweeps took
- * several times longer: docs/dynamics.md). */
+ * several times longer: docs/dynamics.md). A sweep has three stages of two groups
+ * that share no strand: groups 0 and 1, 2 and 3, 4 and 5 (hk_contact_split). */
 typedef struct SweepShare {
-    atomic_int claim;    /* sweep * 4 + the groups of the two claimed so far; -1: the sweeps are over */
-    atomic_int finished; /* sweep * 4 + the groups of the two done */
+    atomic_int claim;    /* stage * 4 + the groups of the two claimed so far; -1: the sweeps are over */
+    atomic_int finished; /* stage * 4 + the groups of the two done */
     int full;            /* the sweep is a full one (set before its claims open) */
 } SweepShare;
 
-/* Claims one of the two groups of the open sweep and sweeps it. Returns 1 when it did,
- * 0 when both are claimed, -1 when the sweeps are over. */
-static int claim_group(hk_ContactSolve *cs, const int *order, SweepGroup group[2], SweepShare *sh)
+/* Claims one of the two groups of the open stage (stage 3 sweep + p: groups 2p and
+ * 2p + 1) and sweeps it. Returns 1 when it did, 0 when both are claimed, -1 when the
+ * sweeps are over. */
+static int claim_group(hk_ContactSolve *cs, const int *order, SweepGroup group[HK_SPLIT_GROUPS], SweepShare *sh)
 {
     int word = atomic_load_explicit(&sh->claim, memory_order_acquire);
     while (word >= 0 && (word & 3) < 2)
         if (atomic_compare_exchange_weak_explicit(&sh->claim, &word, word + 1, memory_order_acq_rel,
                                                   memory_order_acquire)) {
-            sweep_group(cs, order, &group[word & 3], sh->full);
+            sweep_group(cs, order, &group[2 * ((word >> 2) % 3) + (word & 3)], sh->full);
             atomic_fetch_add_explicit(&sh->finished, 1, memory_order_release);
             return 1;
         }
@@ -849,15 +900,15 @@ static void pause_for(long *spins)
     for (volatile int k = 0; k < 64; k++) {}
 }
 
-/* The sweeps over the three groups: the first two (disjoint strands) by this thread and
- * one more when side_by_side, the pairs across them by this one after both; the same
- * bits either way. Pairs that do not push (most of those between d0 and 2 d0) are
- * visited on every HK_PGS_FULL_EVERY-th sweep and the last one only; the others on
+/* The sweeps over the six groups: each of the three stages (groups 0 and 1, 2 and 3, 4
+ * and 5, each two on disjoint strands) by this thread and one more when side_by_side;
+ * the same bits either way. Pairs that do not push (most of those between d0 and 2 d0)
+ * are visited on every HK_PGS_FULL_EVERY-th sweep and the last one only; the others on
  * every sweep. */
-static void run_sweeps(hk_ContactSolve *cs, const int *order, SweepGroup group[3], int side_by_side,
+static void run_sweeps(hk_ContactSolve *cs, const int *order, SweepGroup group[HK_SPLIT_GROUPS], int side_by_side,
                        hk_ContactSolveStats *local)
 {
-    SweepShare share; /* closed (both groups of sweep 0 taken) until the first sweep opens */
+    SweepShare share; /* closed (both groups of stage 0 taken) until the first sweep opens */
     atomic_init(&share.claim, 2);
     atomic_init(&share.finished, 0);
     share.full = 1;
@@ -871,15 +922,17 @@ static void run_sweeps(hk_ContactSolve *cs, const int *order, SweepGroup group[3
             for (int sweep = 0; sweep < HK_PGS_SWEEPS; sweep++) {
                 const int full = sweep % HK_PGS_FULL_EVERY == 0 || sweep == HK_PGS_SWEEPS - 1;
                 share.full = full;
-                atomic_store_explicit(&share.finished, 4 * sweep, memory_order_relaxed);
-                atomic_store_explicit(&share.claim, 4 * sweep, memory_order_release);
-                while (claim_group(cs, order, group, &share) == 1) {}
-                long spins = 0;
-                while (atomic_load_explicit(&share.finished, memory_order_acquire) != 4 * sweep + 2) pause_for(&spins);
-                sweep_group(cs, order, &group[2], full);
+                for (int stage = 3 * sweep; stage < 3 * sweep + 3; stage++) {
+                    atomic_store_explicit(&share.finished, 4 * stage, memory_order_relaxed);
+                    atomic_store_explicit(&share.claim, 4 * stage, memory_order_release);
+                    while (claim_group(cs, order, group, &share) == 1) {}
+                    long spins = 0;
+                    while (atomic_load_explicit(&share.finished, memory_order_acquire) != 4 * stage + 2)
+                        pause_for(&spins);
+                }
                 double change = 0.0, largest = 0.0;
                 if (full) local->pushing = local->sticking = 0;
-                for (int x = 0; x < 3; x++) {
+                for (int x = 0; x < HK_SPLIT_GROUPS; x++) {
                     change = fmax(change, group[x].change), largest = fmax(largest, group[x].largest);
                     if (full) local->pushing += group[x].pushing, local->sticking += group[x].sticking;
                 }
@@ -914,73 +967,93 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
 #pragma omp parallel for schedule(dynamic, 2) num_threads(threads)
     for (int s = 0; s < strand_count; s++) predict(cs, dyn[s], s, head_end, dt);
     prepare_pairs(cs, contacts, dt);
-#pragma omp parallel for schedule(dynamic, 2) num_threads(threads)
-    for (int s = 0; s < strand_count; s++) answer_points(cs, dyn[s], s);
     PairState *pairs = cs->pairs.items;
     const int n = contacts->pair_count;
-    const char *answered = cs->answered.items;
-    /* The blocks of the pairs that may push; the others' when a sweep first finds them
-     * pushing (visit), by the same operations: about 2,300 of 5,200 pairs on
-     * examples/guides200, where every point is answered (Z), and 300 more later. */
-#pragma omp parallel for schedule(static) num_threads(threads)
-    for (int k = 0; k < n; k++)
-        if (answered[pairs[k].slot[0]] == ANSWERED && answered[pairs[k].slot[1]] == ANSWERED && may_push(&pairs[k]))
-            pair_block(cs, &pairs[k]);
-    for (int k = 0; k < n; k++) /* the warm start's share */
-        if (hk_v3_norm2(pairs[k].lambda) > 0.0) apply_change(&pairs[k], pairs[k].lambda);
-    /* The pairs dealt to two groups of strands and the pairs across them (weighted by
-     * what a sweep spends on them: a pair that may push is visited on every sweep, at
-     * about 16 times the cost of an idle pair's check on every fourth). */
-    double *weight = cs->weight.items;
-    for (int k = 0; k < n; k++) weight[k] = may_push(&pairs[k]) ? 16.0 : 1.0;
-    hk_Vec3 *roots = cs->roots.items;
-    for (int s = 0; s < strand_count; s++) roots[s] = contacts->views[s].pos[0];
-    SweepGroup group[3];
-    int bounds[4];
+    SweepGroup group[HK_SPLIT_GROUPS];
+    int bounds[HK_SPLIT_GROUPS + 1];
     int *order = cs->order.items;
-    hk_contact_split(&cs->split, strand_count, roots, n, contacts->pairs, weight, order, bounds);
-    for (int x = 0; x < 3; x++) group[x] = (SweepGroup){bounds[x], bounds[x + 1], 0, 0, 0, 0.0, 0.0};
-    /* The first two groups share no strand: their visits touch disjoint pairs and
-     * strands, and give the same bits side by side or one after the other. */
-    const int side_by_side = threads > 1 && bounds[1] > bounds[0] && bounds[2] > bounds[1];
+#pragma omp parallel num_threads(threads)
+    {
+        /* The pairs dealt to the groups of the sweeps (weighted by what a sweep spends
+         * on them: a pair that may push is visited on every sweep, at about 16 times
+         * the cost of an idle pair's check on every fourth), by one thread while the
+         * others start on the answers: it reads only the pairs' strands and laws. */
+#pragma omp single nowait
+        {
+            double *weight = cs->weight.items;
+            for (int k = 0; k < n; k++) weight[k] = may_push(&pairs[k]) ? 16.0 : 1.0;
+            hk_Vec3 *roots = cs->roots.items;
+            for (int s = 0; s < strand_count; s++) roots[s] = contacts->views[s].pos[0];
+            hk_contact_split(&cs->split, strand_count, roots, n, contacts->pairs, weight, order, bounds);
+        }
+#pragma omp for schedule(dynamic, 2)
+        for (int s = 0; s < strand_count; s++) answer_points(cs, dyn[s], s);
+    }
+    /* The pairs' Delassus blocks are made when a sweep first finds them pushing
+     * (visit), side by side with the other group's. The warm start's share: */
+    hk_Vec3 *delta = cs->delta.items;
+#pragma omp parallel num_threads(threads)
+    {
+#pragma omp for schedule(static)
+        for (int k = 0; k < n; k++) delta[k] = hk_v3_norm2(pairs[k].lambda) > 0.0 ? pairs[k].lambda : hk_v3_zero();
+        apply_by_strand(cs, delta, n);
+    }
+    for (int x = 0; x < HK_SPLIT_GROUPS; x++) group[x] = (SweepGroup){bounds[x], bounds[x + 1], 0, 0, 0, 0.0, 0.0};
+    /* Groups 0 and 1 share no strand, nor do 2 and 3, nor 4 and 5: their visits touch
+     * disjoint pairs and strands, and give the same bits side by side or one after the
+     * other. */
+    int side_by_side = 0;
+    for (int x = 0; x < HK_SPLIT_GROUPS; x += 2)
+        side_by_side |= threads > 1 && bounds[x + 1] > bounds[x] && bounds[x + 2] > bounds[x + 1];
     run_sweeps(cs, order, group, side_by_side, &local);
     /* The bound of the last sweep's Tresca problems lags the normal impulses by a
      * sweep: what exceeds Coulomb's cone is taken back (and from dv, which the commit
      * uses). */
-    for (int k = 0; mu > 0.0 && k < n; k++) {
-        PairState *ps = &pairs[k];
-        const hk_Vec3 l = ps->lambda;
-        const double t = sqrt(l.y * l.y + l.z * l.z), limit = mu * (l.x > 0.0 ? l.x : 0.0);
-        if (!(t > limit)) continue;
-        const double f = t > 0.0 ? limit / t : 0.0;
-        const hk_Vec3 next = hk_v3(l.x, f * l.y, f * l.z);
-        apply_change(ps, hk_v3_sub(next, ps->lambda));
-        ps->lambda = next;
-    }
-/* The reversed strands' velocity changes from w = U^T dv: U^T dv = w, forward. */
-#pragma omp parallel for schedule(static) num_threads(threads)
-    for (int g = 0; g < strand_count; g++) {
-        if (!cs->reversed[g]) continue;
-        const size_t dim = dim_of(cs, g);
-        const double *u = (const double *)cs->ul.items + cs->ul_start[g];
-        double *v = (double *)cs->dv.items + cs->dim_start[g];
-        for (size_t i = 0; i < dim; i++) {
-            double x = v[i];
-            for (size_t k = 0; k < i; k++) x -= u[k * dim + i] * v[k];
-            v[i] = x / u[i * dim + i];
-        }
-    }
-/* The impulses in world space, as forces held over the step. */
-#pragma omp parallel for schedule(static) num_threads(threads)
-    for (int k = 0; k < n; k++) pairs[k].lambda = from_basis(pairs[k].basis, pairs[k].lambda);
     hk_PointForce *forces = cs->forces.items;
     const Slot *slot = cs->slots.items;
-    for (int x = 0; x < cs->slot_start[strand_count]; x++) {
-        const PairState *ps = &pairs[slot[x].record / 2];
-        const double sign = slot[x].record % 2 == 0 ? 1.0 : -1.0;
-        forces[x].s = slot[x].s;
-        forces[x].force = hk_v3_scale(ps->lambda, sign / dt);
-        forces[x].stiffness = forces[x].damping = hk_m3_zero();
+    const int slots = cs->slot_start[strand_count];
+#pragma omp parallel num_threads(threads)
+    {
+#pragma omp for schedule(static)
+        for (int k = 0; k < n; k++) {
+            PairState *ps = &pairs[k];
+            const hk_Vec3 l = ps->lambda;
+            const double t = sqrt(l.y * l.y + l.z * l.z), limit = mu * (l.x > 0.0 ? l.x : 0.0);
+            delta[k] = hk_v3_zero();
+            if (!(mu > 0.0 && t > limit)) continue;
+            const double f = t > 0.0 ? limit / t : 0.0;
+            const hk_Vec3 next = hk_v3(l.x, f * l.y, f * l.z);
+            delta[k] = hk_v3_sub(next, ps->lambda);
+            ps->lambda = next;
+        }
+        apply_by_strand(cs, delta, n);
+        /* The reversed strands' velocity changes from w = U^T dv: U^T dv = w, forward;
+         * each thread its own block of strands, whose dv it has just completed. */
+        int lo, hi;
+        strand_block(strand_count, omp_get_thread_num(), omp_get_num_threads(), &lo, &hi);
+        for (int g = lo; g < hi; g++) {
+            if (!cs->reversed[g]) continue;
+            const size_t dim = dim_of(cs, g);
+            const double *u = (const double *)cs->ul.items + cs->ul_start[g];
+            double *v = (double *)cs->dv.items + cs->dim_start[g];
+            for (size_t i = 0; i < dim; i++) {
+                double x = v[i];
+                for (size_t k = 0; k < i; k++) x -= u[k * dim + i] * v[k];
+                v[i] = x / u[i * dim + i];
+            }
+        }
+        /* The impulses in world space, as forces held over the step, then in the pairs
+         * (for the next step's warm start). */
+#pragma omp for schedule(static)
+        for (int x = 0; x < slots; x++) {
+            const PairState *ps = &pairs[slot[x].record / 2];
+            const double sign = slot[x].record % 2 == 0 ? 1.0 : -1.0;
+            forces[x].s = slot[x].s;
+            forces[x].force = hk_v3_scale(from_basis(ps->basis, ps->lambda), sign / dt);
+            forces[x].stiffness = forces[x].damping = hk_m3_zero();
+        }
+#pragma omp for schedule(static)
+        for (int k = 0; k < n; k++) pairs[k].lambda = from_basis(pairs[k].basis, pairs[k].lambda);
     }
     /* Kept for the warm start of the next step. */
     Buffer swap = cs->old_pairs;

@@ -1,8 +1,9 @@
 /* Two groups of guides that share no contact pair, for sweeping the contacts of each
  * group side by side (hair_contact_split.h). The guides of a head touch their
  * neighbours: a plane through the head leaves most pairs on one side or the other, and
- * the pairs across it are swept after both groups. Nested dissection (George 1973)
- * cut once, the cut chosen along the world axes by the pairs' weights. */
+ * the pairs across it are swept after both groups: those on either side of a second
+ * plane, then those across it too, each in two halves that share no strand. Nested dissection (George 1973), the
+ * cuts chosen along the world axes by the pairs' weights. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -11,7 +12,8 @@
 
 void hk_contact_split_free(hk_ContactSplit *sp)
 {
-    hk_free(sp->rank), hk_free(sp->sorted), hk_free(sp->below), hk_free(sp->above), hk_free(sp->side);
+    hk_free(sp->rank), hk_free(sp->sorted), hk_free(sp->below), hk_free(sp->above), hk_free(sp->side),
+        hk_free(sp->cross_side);
     memset(sp, 0, sizeof *sp);
 }
 
@@ -25,7 +27,8 @@ static int reserve(hk_ContactSplit *sp, int strand_count)
     sp->below = hk_alloc_array(g + 1, sizeof(double), NULL);
     sp->above = hk_alloc_array(g + 1, sizeof(double), NULL);
     sp->side = hk_alloc_array(g, sizeof(int), NULL);
-    if (!sp->rank || !sp->sorted || !sp->below || !sp->above || !sp->side) {
+    sp->cross_side = hk_alloc_array(g, sizeof(int), NULL);
+    if (!sp->rank || !sp->sorted || !sp->below || !sp->above || !sp->side || !sp->cross_side) {
         hk_contact_split_free(sp);
         return 0;
     }
@@ -49,17 +52,15 @@ static void rank_along(hk_ContactSplit *sp, int strand_count, const hk_Vec3 *roo
     for (int r = 0; r < strand_count; r++) sp->rank[sp->sorted[r].strand] = r;
 }
 
-int hk_contact_split(hk_ContactSplit *sp, int strand_count, const hk_Vec3 *roots, int pair_count,
-                     const hk_HcPair *pairs, const double *weight, int *order, int bounds[4])
+/* The axis and the plane across it (the strands ranked t and beyond along it on the
+ * far side) that make the heavier side's pairs plus the pairs across the plane weigh
+ * least, over the pairs list[0, count) (every pair when list is NULL). Returns 0 when
+ * there is no plane (one strand). */
+static int best_plane(hk_ContactSplit *sp, int g, const hk_Vec3 *roots, const hk_HcPair *pairs, const double *weight,
+                      const int *list, int count, int *axis_out, int *t_out)
 {
-    const int g = strand_count;
-    bounds[0] = bounds[1] = bounds[2] = 0, bounds[3] = pair_count;
-    if (!reserve(sp, g)) {
-        for (int k = 0; k < pair_count; k++) order[k] = k;
-        return 0;
-    }
     double best_cost = HUGE_VAL;
-    int best_axis = -1, best_t = 0;
+    *axis_out = -1, *t_out = 0;
     for (int axis = 0; axis < 3; axis++) {
         rank_along(sp, g, roots, axis);
         /* below[t]: the pairs with both strands ranked below t (the first group when
@@ -67,7 +68,8 @@ int hk_contact_split(hk_ContactSplit *sp, int strand_count, const hk_Vec3 *roots
         memset(sp->below, 0, (size_t)(g + 1) * sizeof(double));
         memset(sp->above, 0, (size_t)(g + 1) * sizeof(double));
         double total = 0.0;
-        for (int k = 0; k < pair_count; k++) {
+        for (int x = 0; x < count; x++) {
+            const int k = list ? list[x] : x;
             const int a = sp->rank[pairs[k].i], b = sp->rank[pairs[k].j];
             const int lo = a < b ? a : b, hi = a < b ? b : a;
             sp->below[hi + 1] += weight[k]; /* counted from t = hi + 1 on */
@@ -79,24 +81,51 @@ int hk_contact_split(hk_ContactSplit *sp, int strand_count, const hk_Vec3 *roots
         for (int t = 1; t < g; t++) {
             const double across = total - sp->below[t] - sp->above[t];
             const double cost = (sp->below[t] > sp->above[t] ? sp->below[t] : sp->above[t]) + across;
-            if (cost < best_cost) best_cost = cost, best_axis = axis, best_t = t;
+            if (cost < best_cost) best_cost = cost, *axis_out = axis, *t_out = t;
         }
     }
-    if (best_axis < 0) { /* one strand: no split */
-        for (int k = 0; k < pair_count; k++) order[k] = k;
-        return 1;
+    return *axis_out >= 0;
+}
+
+/* side[s] of every strand for the plane (axis, t): 0 below it, 1 beyond. */
+static void sides_of(hk_ContactSplit *sp, int g, const hk_Vec3 *roots, int axis, int t, int *side)
+{
+    rank_along(sp, g, roots, axis);
+    for (int s = 0; s < g; s++) side[s] = sp->rank[s] >= t;
+}
+
+int hk_contact_split(hk_ContactSplit *sp, int strand_count, const hk_Vec3 *roots, int pair_count,
+                     const hk_HcPair *pairs, const double *weight, int *order, int bounds[HK_SPLIT_GROUPS + 1])
+{
+    const int g = strand_count;
+    for (int x = 0; x < HK_SPLIT_GROUPS; x++) bounds[x] = 0;
+    bounds[HK_SPLIT_GROUPS] = pair_count;
+    int axis, t;
+    if (!reserve(sp, g) || !best_plane(sp, g, roots, pairs, weight, NULL, pair_count, &axis, &t)) {
+        for (int k = 0; k < pair_count; k++) order[k] = k; /* all in the last group */
+        return sp->strand_cap >= g;
     }
-    rank_along(sp, g, roots, best_axis);
-    for (int s = 0; s < g; s++) sp->side[s] = sp->rank[s] >= best_t;
+    sides_of(sp, g, roots, axis, t, sp->side);
+    /* The pairs across the first plane, in pair order, for the second plane. */
+    int cross = 0;
+    for (int k = 0; k < pair_count; k++)
+        if (sp->side[pairs[k].i] != sp->side[pairs[k].j]) order[cross++] = k;
+    if (best_plane(sp, g, roots, pairs, weight, order, cross, &axis, &t))
+        sides_of(sp, g, roots, axis, t, sp->cross_side);
+    else
+        memset(sp->cross_side, 0, (size_t)g * sizeof(int));
     int fill = 0;
-    for (int group = 0; group < 3; group++) {
+    for (int group = 0; group < HK_SPLIT_GROUPS; group++) {
         bounds[group] = fill;
         for (int k = 0; k < pair_count; k++) {
-            const int a = sp->side[pairs[k].i], b = sp->side[pairs[k].j];
-            const int in = a != b ? 2 : a;
+            const int i = pairs[k].i, j = pairs[k].j;
+            /* Across both planes: between the quarters (0, 0) and (1, 1), or (0, 1) and
+             * (1, 0), which share no strand. */
+            const int in = sp->side[i] == sp->side[j]               ? sp->side[i]
+                           : sp->cross_side[i] == sp->cross_side[j] ? 2 + sp->cross_side[i]
+                                                                    : 4 + (sp->side[i] != sp->cross_side[i]);
             if (in == group) order[fill++] = k;
         }
     }
-    bounds[3] = fill;
     return 1;
 }

@@ -1,6 +1,6 @@
-/* The pairs of the contacts' solve dealt to two groups that share no strand and the
- * pairs between them (hair_contact_solve.c sweeps the two groups side by side, then
- * the pairs between them; docs/dynamics.md, "Contacts solved together"). */
+/* The pairs of the contacts' solve dealt to three stages of two groups that share no
+ * strand (hair_contact_solve.c sweeps each stage's two groups side by side;
+ * docs/dynamics.md, "Contacts solved together"). */
 #ifndef HK_HAIR_CONTACT_SPLIT_H
 #define HK_HAIR_CONTACT_SPLIT_H
 
@@ -19,18 +19,25 @@ typedef struct hk_ContactSplit {
     double *below;       /* strand_count + 1: weight of the pairs whose strands both rank below t */
     double *above;       /* strand_count + 1: ... both at t or above */
     int *side;           /* strand_count: 0 or 1 for the split chosen */
+    int *cross_side;     /* strand_count: 0 or 1 for the second plane, of the pairs across the first */
 } hk_ContactSplit;
 
 void hk_contact_split_free(hk_ContactSplit *sp);
 
+#define HK_SPLIT_GROUPS 6
+
 /* Splits the strands in two by a plane across one of the world axes through their
  * roots, the axis and the plane that make the larger group's pairs plus the pairs
- * across the fewest (each pair counted with its weight): writes order (pair_count)
- * with the first group's pairs, the second's, then those across, each in pair order,
- * and bounds[0..3] their starts and end (bounds[0] = 0, bounds[3] = pair_count).
- * The same input gives the same split. Returns 0 when out of memory (then every pair
- * is in the third group, in pair order). */
+ * across the fewest (each pair counted with its weight), then the pairs across it by a
+ * second such plane, chosen for them alone. Writes order (pair_count) with six groups
+ * of pairs, each in pair order: those of the first side, of the second side; those
+ * across the first plane with both strands below the second, beyond it; those across
+ * both planes between the quarters (below, below) and (beyond, beyond), and between
+ * (below, beyond) and (beyond, below). bounds[0..6] are their starts and end
+ * (bounds[0] = 0, bounds[6] = pair_count). Groups 0 and 1 share no strand, nor do 2
+ * and 3, nor 4 and 5. The same input gives the same split. Returns 0 when out of
+ * memory (then every pair is in the last group, in pair order). */
 int hk_contact_split(hk_ContactSplit *sp, int strand_count, const hk_Vec3 *roots, int pair_count,
-                     const hk_HcPair *pairs, const double *weight, int *order, int bounds[4]);
+                     const hk_HcPair *pairs, const double *weight, int *order, int bounds[HK_SPLIT_GROUPS + 1]);
 
 #endif
