@@ -154,8 +154,9 @@ typedef struct hk_CurveStart {
  * `end` (never NULL), the pose the next piece of a p-helicoid starts from (§3.4, §5.3).
  * Tracing more points at the same spacing must reproduce the same leading points.
  * Returns 0 on success, non-zero when the parameters are unusable (the fit treats that
- * as an infinitely bad fit). Must be deterministic and thread-safe for distinct
- * out_points. */
+ * as an infinitely bad fit). Must be deterministic (a function of its arguments and
+ * `user` alone: the fitter copies a recent trace of the same arguments instead of calling
+ * it again) and thread-safe for distinct out_points. */
 typedef int (*hk_CurveModelFn)(void *user, const double *params, const hk_CurveStart *start, double length, int count,
                                hk_Vec3 *out_points, hk_CurveStart *end);
 

@@ -131,7 +131,11 @@ static inline __attribute__((always_inline)) PhasedPoint phased_eval(const hk_He
     f.wr = 1.0 + k->kn * u->x - k->kt * u->y, f.wi = k->kt * u->x + k->kn * u->y;
     const double r2 = f.wr * f.wr + f.wi * f.wi;
     f.off_axis = r2 > AXIS_R2;
-    f.ir = f.off_axis ? 1.0 / sqrt(r2) : 0.0;
+    /* 1 / |w| as sqrt(r2) / r2: the square root and the division run side by side
+     * instead of one after the other (the search's trace is bound by their latency,
+     * docs/helicoid-fitting.md §7) */
+    const double inv_r2 = f.off_axis ? 1.0 / r2 : 0.0;
+    f.ir = f.off_axis ? sqrt(r2) * inv_r2 : 0.0;
     /* on the axis (refused by the fitter anyway) the direction is the phase's alone */
     f.ct = f.off_axis ? (f.wr * u->cz - f.wi * u->sz) * f.ir : u->cz;
     f.st = f.off_axis ? (f.wi * u->cz + f.wr * u->sz) * f.ir : u->sz;
@@ -142,7 +146,7 @@ static inline __attribute__((always_inline)) PhasedPoint phased_eval(const hk_He
     f.dwr = k->kn * d->x - k->kt * d->y, f.dwi = k->kt * d->x + k->kn * d->y;
     f.num = f.dwi * f.wr - f.dwr * f.wi;
     f.q = k->kb * d->z;
-    f.th = f.num * (f.ir * f.ir) + f.q;
+    f.th = f.num * inv_r2 + f.q;
     f.p = k->alpha * f.th;
     d->cz = -u->sz * f.q;
     d->sz = u->cz * f.q;

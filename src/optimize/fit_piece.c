@@ -49,12 +49,56 @@ static int trace_finite(const hk_Vec3 *pts, int m, const hk_CurveStart *end)
     return 1;
 }
 
-/* Traces m samples from `start`; 0 when the model succeeded with finite output. */
+/* The remembered trace of these arguments (the fit's model and spacing), or NULL. The
+ * key is compared bit for bit: a model is deterministic (hk_CurveModelFn), so a hit
+ * gives the bytes a new call would. */
+static const TraceEntry *cached_trace(const Fit *F, const double *params, const hk_CurveStart *start, int m)
+{
+    for (int k = 0; k < TRACE_CACHE; k++) {
+        const TraceEntry *e = &F->ws->cache[k];
+        if (e->model == F->model && e->m == m && !memcmp(e->params, params, (size_t)F->np * sizeof(double)) &&
+            !memcmp(&e->start, start, sizeof *start))
+            return e;
+    }
+    return NULL;
+}
+
+/* Remembers a trace in place of the oldest. */
+static void remember_trace(Fit *F, const double *params, const hk_CurveStart *start, int m, const hk_Vec3 *out,
+                           const hk_CurveStart *end, int status)
+{
+    hk_CurveFitWorkspace *ws = F->ws;
+    const int k = ws->next;
+    ws->next = (k + 1) % TRACE_CACHE;
+    TraceEntry *e = &ws->cache[k];
+    e->model = F->model;
+    memcpy(e->params, params, (size_t)F->np * sizeof(double));
+    e->start = *start;
+    e->m = m;
+    e->status = status;
+    if (status) return; /* a failed trace's points and pose are never read */
+    e->end = *end;
+    memcpy(ws->cache_points + (size_t)k * (size_t)ws->capacity, out, (size_t)m * sizeof(hk_Vec3));
+}
+
+/* Traces m samples from `start`; 0 when the model succeeded with finite output. A trace
+ * of the same arguments as one of the last TRACE_CACHE is copied instead (and not
+ * counted as a model call). */
 int hk_cf_trace(Fit *F, const double *params, const hk_CurveStart *start, int m, hk_Vec3 *out, hk_CurveStart *end)
 {
+    const TraceEntry *e = cached_trace(F, params, start, m);
+    if (e && e->status) return e->status;
+    if (e) {
+        const size_t k = (size_t)(e - F->ws->cache);
+        memcpy(out, F->ws->cache_points + k * (size_t)F->ws->capacity, (size_t)m * sizeof(hk_Vec3));
+        *end = e->end;
+        return e->status;
+    }
     F->evaluations++;
-    if (F->model(F->user, params, start, F->h * (double)(m - 1), m, out, end) != 0) return 1;
-    return !trace_finite(out, m, end);
+    int status = F->model(F->user, params, start, F->h * (double)(m - 1), m, out, end) != 0;
+    if (!status) status = !trace_finite(out, m, end);
+    remember_trace(F, params, start, m, out, end, status);
+    return status;
 }
 
 /* The weight of parameter j in the regularisation (options.penalty_weight, 0 = 1). */

@@ -70,7 +70,8 @@ hk_CurveFitWorkspace *hk_curve_fit_workspace_create(int max_samples, hk_Error *e
     ws->lsq =
         ws->diff ? hk_alloc_array(HK_LEAST_SQUARES_WORK(POLISH_PARAMS, CHAIN_RESIDUALS(n)), sizeof(double), err) : NULL;
     ws->dtrace = ws->lsq ? hk_alloc_array((size_t)MAXP * n, sizeof(hk_Vec3), err) : NULL;
-    if (!ws->dtrace) {
+    ws->cache_points = ws->dtrace ? hk_alloc_array((size_t)TRACE_CACHE * n, sizeof(hk_Vec3), err) : NULL;
+    if (!ws->cache_points) {
         hk_curve_fit_workspace_destroy(ws);
         return NULL;
     }
@@ -89,6 +90,7 @@ void hk_curve_fit_workspace_destroy(hk_CurveFitWorkspace *ws)
     hk_free(ws->diff);
     hk_free(ws->lsq);
     hk_free(ws->dtrace);
+    hk_free(ws->cache_points);
     hk_free(ws);
 }
 /* ---- entry points ----------------------------------------------------------------------- */
@@ -230,6 +232,8 @@ hk_Status hk_curve_fit_piecewise_ws(hk_CurveFitWorkspace *ws, const hk_Vec3 *tar
     hk_CurveStart start = opt->start;
     if (!opt->use_start && (st = hk_curve_estimate_start(ws->target, n, &start, err)) != HK_OK) return st;
 
+    /* the remembered traces are of another target's spacing and model */
+    for (int k = 0; k < TRACE_CACHE; k++) ws->cache[k].model = NULL;
     double zero[MAXP] = {0};
     Fit F;
     memset(&F, 0, sizeof F);

@@ -16,6 +16,22 @@
 #define POLISH_PARAMS      HK_LEAST_SQUARES_MAX_PARAMS
 #define CHAIN_RESIDUALS(n) (3 * (size_t)(n) + POLISH_PARAMS)
 
+/* Plain traces remembered by hk_cf_trace (fit_piece.c). The fits trace the same
+ * arguments again and again: the candidates' costs then the Levenberg-Marquardt run from
+ * the best of them, the run's last step then its cost and the piece made of it
+ * (docs/helicoid-fitting.md §7: on Curly's strands of 16-32 points 17 % of the traced
+ * points repeat one of the last 8 traces, 19 % one of the last 64). */
+#define TRACE_CACHE 8
+
+typedef struct TraceEntry {
+    hk_CurveModelFn model; /* NULL: empty */
+    double params[MAXP];
+    hk_CurveStart start;
+    int m;
+    int status; /* hk_cf_trace's result */
+    hk_CurveStart end;
+} TraceEntry;
+
 struct hk_CurveFitWorkspace {
     int capacity;
     hk_Vec3 *target; /* the resampled target */
@@ -27,6 +43,11 @@ struct hk_CurveFitWorkspace {
     double *diff;    /* bend differences */
     double *lsq;     /* Levenberg-Marquardt work memory */
     hk_Vec3 *dtrace; /* MAXP * capacity: the trace's derivatives (model_derivative) */
+    /* the last TRACE_CACHE traces (emptied by each fit), their points TRACE_CACHE *
+     * capacity; `next` the entry replaced next */
+    TraceEntry cache[TRACE_CACHE];
+    hk_Vec3 *cache_points;
+    int next;
 };
 
 typedef struct Piece {
