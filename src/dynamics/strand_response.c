@@ -41,22 +41,22 @@ void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head
         double u = s[i] - sh->s_start[p];
         if (!(u >= 0.0)) u = 0.0;
         if (u > sh->length[p]) u = sh->length[p];
-        hk_PointKinematics pk;
-        hk_point_kinematics(&node, k_at(sh->q, p), k_at(rates, p), u, 1, &pk);
-        if (pos) pos[i] = pk.k.pos;
-        if (vel) vel[i] = pk.k.vel;
+        hk_Vec3 x, xv;
+        hk_Mat3 own; /* the point's own element's Jacobian */
+        hk_point_jacobian(&node, k_at(sh->q, p), k_at(rates, p), u, &x, &xv, &own);
+        if (pos) pos[i] = x;
+        if (vel) vel[i] = xv;
         if (element) element[i] = p;
         double *row[3] = {jac + (size_t)(3 * i) * (size_t)dim, jac + (size_t)(3 * i + 1) * (size_t)dim,
                           jac + (size_t)(3 * i + 2) * (size_t)dim};
         for (int r = 0; r < 3; r++) memset(row[r], 0, (size_t)dim * sizeof(double));
-        const hk_Vec3 x = pk.k.pos;
         for (int c = 0; c < 3 * p; c++) {
             const double *z = screws + 6 * c;
             const hk_Vec3 col = hk_v3_add(hk_v3_cross(hk_v3(z[0], z[1], z[2]), x), hk_v3(z[3], z[4], z[5]));
             row[0][c] = col.x, row[1][c] = col.y, row[2][c] = col.z;
         }
         for (int b = 0; b < 3; b++) {
-            const hk_Vec3 col = hk_m3_col(&pk.jac, b);
+            const hk_Vec3 col = hk_m3_col(&own, b);
             row[0][3 * p + b] = col.x, row[1][3 * p + b] = col.y, row[2][3 * p + b] = col.z;
         }
     }
