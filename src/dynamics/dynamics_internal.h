@@ -286,7 +286,7 @@ int hk_dynamics_reverse_factor(const hk_StrandDynamics *d, double *u);
  * count blocks of 3 x 3N (row-major: d pos / d q'), pos and vel (may be NULL) the world
  * positions and the velocities with the generalized velocities `rates` and the head's
  * state head (the root's motion), element (may be NULL) the element each lies on.
- * screws: 18 N doubles of work. */
+ * screws: 18 N doubles of work (the screws of the elements' ends, component by component). */
 void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head, const double *rates, const double *s,
                                  int count, double *screws, double *jac, hk_Vec3 *pos, hk_Vec3 *vel, int *element);
 
