@@ -142,6 +142,24 @@ static void test_point_kinematics_match_finite_differences(void **state)
             const hk_Vec3 dp = hk_v3_scale(hk_v3_sub(op, om), 0.5 / e);
             hk_assert_near(hk_v3_dist(dp, hk_m3_col(&c->jac, b)), 0.0, 1e-9 * u);
         }
+        /* The point-only paths give the full paths' position, velocity and Jacobian bit
+         * for bit (the contacts' points and the detection's samples use them). */
+        const hk_FrameKinematics start = motion_at(&m, 0.0);
+        hk_PointKinematics full;
+        hk_FrameKinematics motion;
+        hk_point_kinematics(&start, k0, kd, u, 1, &full);
+        hk_point_motion(&start, k0, kd, u, &motion);
+        hk_Vec3 pos, pvel, pos2, vel2;
+        hk_Mat3 jac;
+        hk_point_jacobian(&start, k0, kd, u, &pos, &pvel, &jac);
+        hk_point_velocity(&start, k0, kd, u, &pos2, &vel2);
+        for (int i = 0; i < 3; i++) {
+            hk_assert_near(hk_v3_get(pos, i), hk_v3_get(full.k.pos, i), 0.0);
+            hk_assert_near(hk_v3_get(pvel, i), hk_v3_get(full.k.vel, i), 0.0);
+            hk_assert_near(hk_v3_get(pos2, i), hk_v3_get(motion.pos, i), 0.0);
+            hk_assert_near(hk_v3_get(vel2, i), hk_v3_get(motion.vel, i), 0.0);
+            for (int j = 0; j < 3; j++) hk_assert_near(jac.m[i][j], full.jac.m[i][j], 0.0);
+        }
     }
 }
 

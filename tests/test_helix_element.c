@@ -292,12 +292,61 @@ static void test_element_rates_contractions(void **state)
             }
 }
 
+static double largest_entry(const hk_Mat3 *m)
+{
+    double big = 0.0;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) big = fmax(big, fabs(m->m[i][j]));
+    return big;
+}
+
+/* The elements' terms along e0 (the offset's and g's Jacobians, written out for w = e0)
+ * against hk_helix_term's general w, and the point-only path (hk_element_slide) against
+ * hk_element_motion bit for bit. */
+static void test_e0_terms_against_general(void **state)
+{
+    (void)state;
+    const hk_Vec3 ks[] = {{0, 0, 0}, {1e-5, 2e-5, -1e-5}, {30, -80, 12}, {-5, 3, 40}, {200, 150, -90}};
+    const double us[] = {0.0, 0.004, 0.03};
+    const hk_Vec3 kd = {-40, 25, 10};
+    for (size_t t = 0; t < sizeof ks / sizeof *ks; t++)
+        for (size_t q = 0; q < sizeof us / sizeof *us; q++) {
+            const double u = us[q];
+            const hk_Vec3 phi = hk_v3_scale(ks[t], u);
+            double c[HK_CN_COUNT];
+            hk_helix_cn(hk_v3_dot(phi, phi), c);
+            hk_HelixTerm d, g;
+            hk_helix_term(c, 2, 1.0, phi, hk_v3_unit(0), 1, &d);
+            hk_helix_term(c, 3, 0.5, phi, hk_v3_unit(0), 1, &g);
+            const hk_Mat3 ref_dd = hk_m3_scale(&d.jac, u * u), ref_dg = hk_m3_scale(&g.jac, u * u * u);
+            hk_ElementLocal el;
+            hk_element_local(ks[t], u, 1, 1, &el);
+            const double tol_dd = 1e-15 * largest_entry(&ref_dd), tol_dg = 1e-15 * largest_entry(&ref_dg);
+            for (int i = 0; i < 3; i++) {
+                hk_assert_near(hk_v3_get(el.g, i), hk_v3_get(g.value, i) * u * u, 1e-16 * u * u);
+                for (int j = 0; j < 3; j++) {
+                    hk_assert_near(el.dd.m[i][j], ref_dd.m[i][j], tol_dd);
+                    hk_assert_near(el.dg.m[i][j], ref_dg.m[i][j], tol_dg);
+                }
+            }
+            hk_Mat3 rot;
+            hk_Vec3 offset, spin, slide, offset2, slide2;
+            hk_element_motion(ks[t], u, kd, &rot, &offset, &spin, &slide);
+            hk_element_slide(ks[t], u, kd, &offset2, &slide2);
+            for (int i = 0; i < 3; i++) {
+                hk_assert_near(hk_v3_get(offset2, i), hk_v3_get(offset, i), 0.0);
+                hk_assert_near(hk_v3_get(slide2, i), hk_v3_get(slide, i), 0.0);
+            }
+        }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_cn_against_long_double),     cmocka_unit_test(test_rotation_matches_rodrigues),
         cmocka_unit_test(test_integrals_match_quadrature), cmocka_unit_test(test_term_derivatives_fd),
         cmocka_unit_test(test_element_local_scaling),      cmocka_unit_test(test_element_rates_contractions),
+        cmocka_unit_test(test_e0_terms_against_general),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -45,6 +45,15 @@ void hk_point_kinematics(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd,
  * Jacobians, which cost more than the rest): for points sampled along a strand. */
 void hk_point_motion(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, double u, hk_FrameKinematics *out);
 
+/* Position and velocity alone at offset u (hk_point_motion's, the same bits), without
+ * the frame and its rates: for points that start nothing beyond them. vel may be NULL. */
+void hk_point_velocity(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, double u, hk_Vec3 *pos, hk_Vec3 *vel);
+
+/* Position, velocity and the Jacobian d pos / d k_P alone (hk_point_kinematics of
+ * order 1's, the same bits), without the frame and the rotation's Jacobian. */
+void hk_point_jacobian(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, double u, hk_Vec3 *pos, hk_Vec3 *vel,
+                       hk_Mat3 *jac);
+
 /* Per element terms of one step, from its own points (quadrature, contacts). The
  * spatial vectors are (angular; linear) about the world origin: a screw (w; v) moves
  * the point p by w x p + v, a wrench (m; f) is a moment about the origin and a force. */
@@ -277,7 +286,7 @@ int hk_dynamics_reverse_factor(const hk_StrandDynamics *d, double *u);
  * count blocks of 3 x 3N (row-major: d pos / d q'), pos and vel (may be NULL) the world
  * positions and the velocities with the generalized velocities `rates` and the head's
  * state head (the root's motion), element (may be NULL) the element each lies on.
- * screws: 18 N doubles of work. */
+ * screws: 18 N doubles of work (the screws of the elements' ends, component by component). */
 void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head, const double *rates, const double *s,
                                  int count, double *screws, double *jac, hk_Vec3 *pos, hk_Vec3 *vel, int *element);
 

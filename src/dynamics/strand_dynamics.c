@@ -660,10 +660,7 @@ void hk_strand_dynamics_points(hk_StrandDynamics *d, const hk_RigidState *head, 
         double u = si - sh->s_start[p];
         if (!(u >= 0.0)) u = 0.0;
         if (u > sh->length[p]) u = sh->length[p];
-        hk_FrameKinematics pk;
-        hk_point_motion(&node, k_of(sh->q, p), k_of(d->v, p), u, &pk);
-        pos[i] = pk.pos;
-        if (vel) vel[i] = pk.vel;
+        hk_point_velocity(&node, k_of(sh->q, p), k_of(d->v, p), u, &pos[i], vel ? &vel[i] : NULL);
     }
 }
 

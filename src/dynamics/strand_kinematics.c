@@ -63,6 +63,27 @@ void hk_point_motion(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, dou
     out->acc = hk_v3_zero();
 }
 
+void hk_point_velocity(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, double u, hk_Vec3 *pos, hk_Vec3 *vel)
+{
+    hk_Vec3 offset, slide;
+    hk_element_slide(k, u, kd, &offset, &slide);
+    const hk_Mat3 *r = &start->frame;
+    const hk_Vec3 d = hk_m3_mul_v3(r, offset);
+    *pos = hk_v3_add(start->pos, d);
+    if (vel) *vel = hk_v3_add(hk_v3_add(start->vel, hk_v3_cross(start->omega, d)), hk_m3_mul_v3(r, slide));
+}
+
+void hk_point_jacobian(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, double u, hk_Vec3 *pos, hk_Vec3 *vel,
+                       hk_Mat3 *jac)
+{
+    hk_Mat3 dd;
+    const hk_Mat3 *r = &start->frame;
+    const hk_Vec3 d = hk_m3_mul_v3(r, hk_element_offset(k, u, &dd, NULL));
+    *jac = hk_m3_mul(r, &dd);
+    *pos = hk_v3_add(start->pos, d);
+    *vel = hk_v3_add(hk_v3_add(start->vel, hk_v3_cross(start->omega, d)), hk_m3_mul_v3(jac, kd));
+}
+
 static void add6(double *acc, hk_Vec3 ang, hk_Vec3 lin)
 {
     acc[0] += ang.x, acc[1] += ang.y, acc[2] += ang.z;

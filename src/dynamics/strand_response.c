@@ -32,8 +32,8 @@ void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head
             for (int b = 0; b < 3; b++) { /* as hk_element_terms_set_screw */
                 const hk_Vec3 w = hk_m3_col(&end.jac_rot, b);
                 const hk_Vec3 t = hk_v3_add(hk_m3_col(&end.jac, b), hk_v3_cross(end.k.pos, w));
-                double *x = screws + 18 * p + 6 * b;
-                x[0] = w.x, x[1] = w.y, x[2] = w.z, x[3] = t.x, x[4] = t.y, x[5] = t.z;
+                const double z[6] = {w.x, w.y, w.z, t.x, t.y, t.z};
+                for (int r = 0; r < 6; r++) screws[(size_t)r * (size_t)dim + (size_t)(3 * p + b)] = z[r];
             }
             node = end.k;
             p++;
@@ -41,22 +41,30 @@ void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head
         double u = s[i] - sh->s_start[p];
         if (!(u >= 0.0)) u = 0.0;
         if (u > sh->length[p]) u = sh->length[p];
-        hk_PointKinematics pk;
-        hk_point_kinematics(&node, k_at(sh->q, p), k_at(rates, p), u, 1, &pk);
-        if (pos) pos[i] = pk.k.pos;
-        if (vel) vel[i] = pk.k.vel;
+        hk_Vec3 x, xv;
+        hk_Mat3 own; /* the point's own element's Jacobian */
+        hk_point_jacobian(&node, k_at(sh->q, p), k_at(rates, p), u, &x, &xv, &own);
+        if (pos) pos[i] = x;
+        if (vel) vel[i] = xv;
         if (element) element[i] = p;
         double *row[3] = {jac + (size_t)(3 * i) * (size_t)dim, jac + (size_t)(3 * i + 1) * (size_t)dim,
                           jac + (size_t)(3 * i + 2) * (size_t)dim};
-        for (int r = 0; r < 3; r++) memset(row[r], 0, (size_t)dim * sizeof(double));
-        const hk_Vec3 x = pk.k.pos;
+        const int beyond = 3 * p + 3; /* the columns beyond the point's element are zero */
+        for (int r = 0; r < 3; r++) memset(row[r] + beyond, 0, (size_t)(dim - beyond) * sizeof(double));
+        /* Column c is w_c x x + t_c (hk_v3_cross's products, the same bits), with the
+         * screws' components in rows of their own so that the loops vectorise. */
+        const double *restrict wx = screws, *restrict wy = wx + dim, *restrict wz = wy + dim;
+        const double *restrict tx = wz + dim, *restrict ty = tx + dim, *restrict tz = ty + dim;
+        double *restrict r0 = row[0], *restrict r1 = row[1], *restrict r2 = row[2];
+        const double px = x.x, py = x.y, pz = x.z;
+#pragma omp simd
         for (int c = 0; c < 3 * p; c++) {
-            const double *z = screws + 6 * c;
-            const hk_Vec3 col = hk_v3_add(hk_v3_cross(hk_v3(z[0], z[1], z[2]), x), hk_v3(z[3], z[4], z[5]));
-            row[0][c] = col.x, row[1][c] = col.y, row[2][c] = col.z;
+            r0[c] = (wy[c] * pz - wz[c] * py) + tx[c];
+            r1[c] = (wz[c] * px - wx[c] * pz) + ty[c];
+            r2[c] = (wx[c] * py - wy[c] * px) + tz[c];
         }
         for (int b = 0; b < 3; b++) {
-            const hk_Vec3 col = hk_m3_col(&pk.jac, b);
+            const hk_Vec3 col = hk_m3_col(&own, b);
             row[0][3 * p + b] = col.x, row[1][3 * p + b] = col.y, row[2][3 * p + b] = col.z;
         }
     }

@@ -125,13 +125,38 @@ static void rotation_and_lambda(const double c[HK_CN_COUNT], hk_Vec3 phi, double
         }
 }
 
+/* hk_helix_term of order 0 or 1 for w = e0, the centreline's and g's direction (x =
+ * phi . phi), with its Jacobian scaled by `scale`: with w = e0, phi x w = (0, phi_2,
+ * -phi_1), Q = phi phi_0 - x e0 and d Q / d phi_j = e_j phi_0 + phi delta_j0 - 2 phi_j e0,
+ * so that the Jacobian is the outer product a phi^T (a = 2 dc_m/dx (phi x e0) +
+ * 2 dc_{m+1}/dx Q - 2 c_{m+1} e0) plus c_{m+1} (phi_0 I + phi e0^T) plus c_m's
+ * constant [e_j x e0] columns: a dozen products instead of hk_helix_term's general w. */
+static hk_Vec3 helix_term_e0(const double c[HK_CN_COUNT], int m, double alpha, hk_Vec3 phi, double x, double scale,
+                             hk_Mat3 *jac)
+{
+    const double cm = c[m], cm1 = c[m + 1];
+    const double p[3] = {phi.x, phi.y, phi.z};
+    const double q[3] = {p[0] * p[0] - x, p[1] * p[0], p[2] * p[0]};
+    const hk_Vec3 value = hk_v3(alpha + cm1 * q[0], cm * p[2] + cm1 * q[1], -cm * p[1] + cm1 * q[2]);
+    if (!jac) return value;
+    const double dm = -0.5 * (c[m + 1] - m * c[m + 2]);
+    const double dm1 = -0.5 * (c[m + 2] - (m + 1) * c[m + 3]);
+    const double a[3] = {scale * (2.0 * dm1 * q[0] - 2.0 * cm1), scale * (2.0 * dm * p[2] + 2.0 * dm1 * q[1]),
+                         scale * (-2.0 * dm * p[1] + 2.0 * dm1 * q[2])};
+    const double diag = scale * cm1 * p[0], side = scale * cm;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) jac->m[i][j] = a[i] * p[j] + (i == j ? diag : 0.0);
+    for (int i = 0; i < 3; i++) jac->m[i][0] += scale * cm1 * p[i];
+    jac->m[2][1] -= side; /* e1 x e0 = -e2 */
+    jac->m[1][2] += side; /* e2 x e0 = e1 */
+    return value;
+}
+
 /* rot, lam and dd of hk_element_local of order 1, from c = the c_n of x = phi . phi. */
 static void order_one(const double c[HK_CN_COUNT], hk_Vec3 phi, double x, double u, hk_ElementLocal *out)
 {
     rotation_and_lambda(c, phi, x, u, out);
-    hk_HelixTerm t;
-    hk_helix_term(c, 2, 1.0, phi, hk_v3_unit(0), 1, &t);
-    out->dd = hk_m3_scale(&t.jac, u * u);
+    helix_term_e0(c, 2, 1.0, phi, x, u * u, &out->dd);
 }
 
 void hk_element_local(hk_Vec3 k, double u, int order, int with_g, hk_ElementLocal *out)
@@ -143,27 +168,27 @@ void hk_element_local(hk_Vec3 k, double u, int order, int with_g, hk_ElementLoca
     const double u2 = u * u, u3 = u2 * u;
     if (order == 1) { /* the whole of Lambda at once, and d's Jacobian */
         order_one(c, phi, x, u, out);
-    } else {
+    } else { /* d = Lambda e0 = u h(phi; m = 2, alpha = 1, w = e0); d/dk = u d/dphi */
         out->rot = hk_helix_rotation(c, phi);
+        set_col(&out->lam, 0, hk_v3_scale(helix_term_e0(c, 2, 1.0, phi, x, u2, order >= 2 ? &out->dd : NULL), u));
     }
-
-    /* Lambda e_b = u h(phi; m = 2, alpha = 1, w = e_b); d/dk = u d/dphi. */
-    for (int b = 0; b < (order == 1 ? 0 : order > 0 ? 3 : 1); b++) {
-        int term_order = order >= 2 ? 2 : (b == 0 ? order : 0);
-        if (b > 0 && term_order > 1) term_order = 1; /* columns 1, 2: dlam only */
+    /* Order 2: the other columns Lambda e_b = u h(phi; w = e_b) with their Jacobians,
+     * and d's second derivatives. */
+    for (int b = 0; b < (order >= 2 ? 3 : 0); b++) {
         hk_HelixTerm t;
-        hk_helix_term(c, 2, 1.0, phi, hk_v3_unit(b), term_order, &t);
-        set_col(&out->lam, b, hk_v3_scale(t.value, u));
-        if (b == 0 && order >= 1) out->dd = hk_m3_scale(&t.jac, u2);
-        if (order >= 2) {
+        hk_helix_term(c, 2, 1.0, phi, hk_v3_unit(b), b == 0 ? 2 : 1, &t);
+        if (b == 0) {
+            out->dlam[0] = out->dd;
+            for (int i = 0; i < 3; i++)
+                for (int j = 0; j < 3; j++) out->d2d[i][j] = hk_v3_scale(t.hess[i][j], u3);
+        } else {
+            set_col(&out->lam, b, hk_v3_scale(t.value, u));
             out->dlam[b] = hk_m3_scale(&t.jac, u2);
-            if (b == 0)
-                for (int i = 0; i < 3; i++)
-                    for (int j = 0; j < 3; j++) out->d2d[i][j] = hk_v3_scale(t.hess[i][j], u3);
         }
     }
-    if (with_g) {
-        /* g = u^2 h(phi; m = 3, alpha = 1/2, w = e0). */
+    if (with_g && order <= 1) { /* g = u^2 h(phi; m = 3, alpha = 1/2, w = e0) */
+        out->g = hk_v3_scale(helix_term_e0(c, 3, 0.5, phi, x, u3, order == 1 ? &out->dg : NULL), u2);
+    } else if (with_g) {
         hk_HelixTerm t;
         hk_helix_term(c, 3, 0.5, phi, hk_v3_unit(0), order > 2 ? 2 : order, &t);
         out->g = hk_v3_scale(t.value, u2);
@@ -209,33 +234,42 @@ void hk_element_motion(hk_Vec3 k, double u, hk_Vec3 kd, hk_Mat3 *rot, hk_Vec3 *o
     *slide = hk_v3_scale(d1, u * u);
 }
 
+void hk_element_slide(hk_Vec3 k, double u, hk_Vec3 kd, hk_Vec3 *offset, hk_Vec3 *slide)
+{
+    const hk_Vec3 phi = hk_v3_scale(k, u);
+    double c[HK_CN_COUNT];
+    const double x = hk_v3_dot(phi, phi);
+    hk_helix_cn(x, c);
+    *offset = hk_v3_scale(helix_term_e0(c, 2, 1.0, phi, x, 0.0, NULL), u);
+    hk_Vec3 d1; /* as hk_element_motion's slide */
+    hk_helix_term_along(c, 2, phi, hk_v3_unit(0), kd, &d1, NULL);
+    *slide = hk_v3_scale(d1, u * u);
+}
+
 hk_Vec3 hk_element_offset_begin(hk_Vec3 k, double u, double c[HK_CN_COUNT])
 {
     const hk_Vec3 phi = hk_v3_scale(k, u);
-    hk_helix_cn(hk_v3_dot(phi, phi), c);
-    hk_HelixTerm t;
-    hk_helix_term(c, 2, 1.0, phi, hk_v3_unit(0), 0, &t);
-    return hk_v3_scale(t.value, u);
+    const double x = hk_v3_dot(phi, phi);
+    hk_helix_cn(x, c);
+    return hk_v3_scale(helix_term_e0(c, 2, 1.0, phi, x, 0.0, NULL), u);
 }
 
 void hk_element_offset_derivs(hk_Vec3 k, double u, const double c[HK_CN_COUNT], hk_Mat3 *dd, hk_Vec3 d2d[3][3])
 {
-    hk_HelixTerm t;
-    hk_helix_term(c, 2, 1.0, hk_v3_scale(k, u), hk_v3_unit(0), d2d ? 2 : 1, &t);
+    const hk_Vec3 phi = hk_v3_scale(k, u);
     const double u2 = u * u;
-    if (dd) *dd = hk_m3_scale(&t.jac, u2);
-    if (d2d)
-        for (int i = 0; i < 3; i++)
-            for (int j = 0; j < 3; j++) d2d[i][j] = hk_v3_scale(t.hess[i][j], u2 * u);
+    if (dd) helix_term_e0(c, 2, 1.0, phi, hk_v3_dot(phi, phi), u2, dd);
+    if (!d2d) return;
+    hk_HelixTerm t;
+    hk_helix_term(c, 2, 1.0, phi, hk_v3_unit(0), 2, &t);
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) d2d[i][j] = hk_v3_scale(t.hess[i][j], u2 * u);
 }
 
 hk_Vec3 hk_element_offset(hk_Vec3 k, double u, hk_Mat3 *dd, hk_Vec3 d2d[3][3])
 {
     double c[HK_CN_COUNT];
     const hk_Vec3 d = hk_element_offset_begin(k, u, c);
-    if (dd || d2d) {
-        hk_Mat3 tmp;
-        hk_element_offset_derivs(k, u, c, dd ? dd : &tmp, d2d);
-    }
+    if (dd || d2d) hk_element_offset_derivs(k, u, c, dd, d2d);
     return d;
 }

@@ -74,6 +74,10 @@ void hk_element_local_rates(hk_Vec3 k, double u, hk_Vec3 kd, hk_ElementLocal *ou
  * Jacobians' matrices. d (column 0 of Lambda) in *offset. */
 void hk_element_motion(hk_Vec3 k, double u, hk_Vec3 kd, hk_Mat3 *rot, hk_Vec3 *offset, hk_Vec3 *spin, hk_Vec3 *slide);
 
+/* hk_element_motion's offset and slide alone (the same bits), without the rotation and
+ * Lambda: what a point's position and velocity take inside its element. */
+void hk_element_slide(hk_Vec3 k, double u, hk_Vec3 kd, hk_Vec3 *offset, hk_Vec3 *slide);
+
 /* Only the offset d(u; k) and, when dd is not NULL, its Jacobian in k (order 1), and
  * when d2d is not NULL its second derivatives (order 2): the cheap path used for
  * collision samples inside an element. */

@@ -175,10 +175,14 @@ void hk_superhelix_nodes(const hk_SuperHelix *sh, const double *q, hk_Vec3 *pos,
 /* Pose at offset u into element i whose start pose is (r, p). */
 static void element_pose(const double *q, int i, double u, const hk_Mat3 *r, hk_Vec3 p, hk_Vec3 *pos, hk_Mat3 *frame)
 {
+    if (!frame) { /* the offset alone (the same bits as the element's), without its rotation */
+        if (pos) *pos = hk_v3_add(p, hk_m3_mul_v3(r, hk_element_offset(element_k(q, i), u, NULL, NULL)));
+        return;
+    }
     hk_ElementLocal el;
     hk_element_local(element_k(q, i), u, 0, 0, &el);
     if (pos) *pos = hk_v3_add(p, hk_m3_mul_v3(r, hk_m3_col(&el.lam, 0)));
-    if (frame) *frame = hk_m3_mul(r, &el.rot);
+    *frame = hk_m3_mul(r, &el.rot);
 }
 
 void hk_superhelix_eval(const hk_SuperHelix *sh, const double *q, double s, hk_Vec3 *pos, hk_Mat3 *frame)
