@@ -170,15 +170,14 @@ static inline __attribute__((always_inline)) void cols_to(const PhasedCols *c, P
 {
     for (int p = 0; p < 2; p++)
         for (int e = 0; e < 2; e++)
-            du[2 * p + e] = (Phased){c->x[p][e],  c->y[p][e],  c->z[p][e], c->cz[p][e],
-                                     c->sz[p][e], c->cp[p][e], c->sp[p][e]};
+            du[2 * p + e] =
+                (Phased){c->x[p][e], c->y[p][e], c->z[p][e], c->cz[p][e], c->sz[p][e], c->cp[p][e], c->sp[p][e]};
 }
 
 /* phased_tangent for all four columns, pairwise (the parameter directions as unit pairs:
  * a zero times a finite value is kept, as phased_tangent's constant-folded form keeps it). */
-static inline __attribute__((always_inline)) void phased_tangent_cols(const hk_Helicoid *k, const PhasedPoint *f,
-                                                                      const Phased *u, const PhasedCols *du,
-                                                                      PhasedCols *dd)
+static inline __attribute__((always_inline)) void
+phased_tangent_cols(const hk_Helicoid *k, const PhasedPoint *f, const Phased *u, const PhasedCols *du, PhasedCols *dd)
 {
     static const Pair dkt[2] = {{1.0, 0.0}, {0.0, 0.0}}, dkn[2] = {{0.0, 1.0}, {0.0, 0.0}};
     static const Pair dkb[2] = {{0.0, 0.0}, {1.0, 0.0}}, dal[2] = {{0.0, 0.0}, {0.0, 1.0}};
