@@ -146,36 +146,118 @@ static inline __attribute__((always_inline)) Phased phased_tangent(const hk_Heli
     return d;
 }
 
+/* The four tangent columns side by side, two to a vector register: the differentiated
+ * search trace is bound by the arithmetic of its four columns (docs/helicoid-fitting.md
+ * §7), which the compiler does not pair by itself at -O2 with the columns as separate
+ * structures. Element-wise IEEE operations in the same order as phased_tangent's: the
+ * same bits. Column pair c holds parameters 2c and 2c + 1. */
+typedef double Pair __attribute__((vector_size(16)));
+typedef struct PhasedCols {
+    Pair x[2], y[2], z[2], cz[2], sz[2], cp[2], sp[2];
+} PhasedCols;
+
+static inline __attribute__((always_inline)) void cols_from(const Phased *du, PhasedCols *c)
+{
+    for (int p = 0; p < 2; p++) {
+        const Phased *a = &du[2 * p], *b = &du[2 * p + 1];
+        c->x[p] = (Pair){a->x, b->x}, c->y[p] = (Pair){a->y, b->y}, c->z[p] = (Pair){a->z, b->z};
+        c->cz[p] = (Pair){a->cz, b->cz}, c->sz[p] = (Pair){a->sz, b->sz};
+        c->cp[p] = (Pair){a->cp, b->cp}, c->sp[p] = (Pair){a->sp, b->sp};
+    }
+}
+
+static inline __attribute__((always_inline)) void cols_to(const PhasedCols *c, Phased *du)
+{
+    for (int p = 0; p < 2; p++)
+        for (int e = 0; e < 2; e++)
+            du[2 * p + e] =
+                (Phased){c->x[p][e], c->y[p][e], c->z[p][e], c->cz[p][e], c->sz[p][e], c->cp[p][e], c->sp[p][e]};
+}
+
+/* phased_tangent for all four columns, pairwise (the parameter directions as unit pairs:
+ * a zero times a finite value is kept, as phased_tangent's constant-folded form keeps it). */
+static inline __attribute__((always_inline)) void
+phased_tangent_cols(const hk_Helicoid *k, const PhasedPoint *f, const Phased *u, const PhasedCols *du, PhasedCols *dd)
+{
+    static const Pair dkt[2] = {{1.0, 0.0}, {0.0, 0.0}}, dkn[2] = {{0.0, 1.0}, {0.0, 0.0}};
+    static const Pair dkb[2] = {{0.0, 0.0}, {1.0, 0.0}}, dal[2] = {{0.0, 0.0}, {0.0, 1.0}};
+    const double wr = f->wr, wi = f->wi, ir = f->ir;
+    for (int p = 0; p < 2; p++) {
+        const Pair dwr = dkn[p] * u->x + k->kn * du->x[p] - dkt[p] * u->y - k->kt * du->y[p];
+        const Pair dwi = dkt[p] * u->x + k->kt * du->x[p] + dkn[p] * u->y + k->kn * du->y[p];
+        Pair dct = du->cz[p], dst = du->sz[p], dir = {0.0, 0.0};
+        if (f->off_axis) {
+            dir = -(wr * dwr + wi * dwi) * ir * ir * ir;
+            dct = (dwr * u->cz + wr * du->cz[p] - dwi * u->sz - wi * du->sz[p]) * ir + (wr * u->cz - wi * u->sz) * dir;
+            dst = (dwi * u->cz + wi * du->cz[p] + dwr * u->sz + wr * du->sz[p]) * ir + (wi * u->cz + wr * u->sz) * dir;
+        }
+        const Pair dx = du->cp[p] * f->ct + u->cp * dct;
+        const Pair dy = du->cp[p] * f->st + u->cp * dst;
+        const Pair dz = du->sp[p];
+        const Pair ddwr = dkn[p] * f->d.x + k->kn * dx - dkt[p] * f->d.y - k->kt * dy;
+        const Pair ddwi = dkt[p] * f->d.x + k->kt * dx + dkn[p] * f->d.y + k->kn * dy;
+        const Pair dnum = ddwi * wr + f->dwi * dwr - ddwr * wi - f->dwr * dwi;
+        const Pair dq = dkb[p] * f->d.z + k->kb * dz;
+        const Pair dth = dnum * (ir * ir) + f->num * 2.0 * ir * dir + dq;
+        const Pair dp = dal[p] * f->th + k->alpha * dth;
+        dd->x[p] = dx, dd->y[p] = dy, dd->z[p] = dz;
+        dd->cz[p] = -du->sz[p] * f->q - u->sz * dq;
+        dd->sz[p] = du->cz[p] * f->q + u->cz * dq;
+        dd->cp[p] = -du->sp[p] * f->p - u->sp * dp;
+        dd->sp[p] = du->cp[p] * f->p + u->cp * dp;
+    }
+}
+
 /* The phased field at u and its four tangents for the state tangents du. */
 static inline __attribute__((always_inline)) PhasedPoint phased_all(const hk_Helicoid *k, const Phased *u,
-                                                                    const Phased *du, Phased *dd)
+                                                                    const PhasedCols *du, PhasedCols *dd)
 {
     const PhasedPoint f = phased_eval(k, u);
-    dd[0] = phased_tangent(k, &f, u, &du[0], 0);
-    dd[1] = phased_tangent(k, &f, u, &du[1], 1);
-    dd[2] = phased_tangent(k, &f, u, &du[2], 2);
-    dd[3] = phased_tangent(k, &f, u, &du[3], 3);
+    phased_tangent_cols(k, &f, u, du, dd);
     return f;
 }
+
+static inline __attribute__((always_inline)) PhasedCols cols_axpy(const PhasedCols *u, double h, const PhasedCols *d)
+{
+    PhasedCols r;
+    for (int p = 0; p < 2; p++) {
+        r.x[p] = u->x[p] + h * d->x[p], r.y[p] = u->y[p] + h * d->y[p], r.z[p] = u->z[p] + h * d->z[p];
+        r.cz[p] = u->cz[p] + h * d->cz[p], r.sz[p] = u->sz[p] + h * d->sz[p];
+        r.cp[p] = u->cp[p] + h * d->cp[p], r.sp[p] = u->sp[p] + h * d->sp[p];
+    }
+    return r;
+}
+
+#define COLS_SUM(m) u->m[p] += h6 * (d1->m[p] + 2.0 * (d2->m[p] + d3->m[p]) + d4->m[p])
+/* phased_sum for the columns */
+static inline __attribute__((always_inline)) void cols_sum(PhasedCols *u, double h6, const PhasedCols *d1,
+                                                           const PhasedCols *d2, const PhasedCols *d3,
+                                                           const PhasedCols *d4)
+{
+    for (int p = 0; p < 2; p++) {
+        COLS_SUM(x), COLS_SUM(y), COLS_SUM(z), COLS_SUM(cz), COLS_SUM(sz), COLS_SUM(cp), COLS_SUM(sp);
+    }
+}
+#undef COLS_SUM
 
 /* One RK4 step of length h of the phased state u and its tangents du (d1, dd1: the field
  * and its tangents there; on return those at the new state). */
 static inline __attribute__((always_inline)) void phased_step_tangent(const hk_Helicoid *k, double h, Phased *u,
-                                                                      Phased *du, Phased *d1, Phased *dd1)
+                                                                      PhasedCols *du, Phased *d1, PhasedCols *dd1)
 {
     const double h2 = 0.5 * h, h6 = h / 6.0;
-    Phased t[4], dd2[4], dd3[4], dd4[4];
-    for (int j = 0; j < 4; j++) t[j] = phased_axpy(&du[j], h2, &dd1[j]);
+    PhasedCols t, dd2, dd3, dd4;
+    t = cols_axpy(du, h2, dd1);
     Phased v = phased_axpy(u, h2, d1);
-    const Phased d2 = phased_all(k, &v, t, dd2).d;
-    for (int j = 0; j < 4; j++) t[j] = phased_axpy(&du[j], h2, &dd2[j]);
+    const Phased d2 = phased_all(k, &v, &t, &dd2).d;
+    t = cols_axpy(du, h2, &dd2);
     v = phased_axpy(u, h2, &d2);
-    const Phased d3 = phased_all(k, &v, t, dd3).d;
-    for (int j = 0; j < 4; j++) t[j] = phased_axpy(&du[j], h, &dd3[j]);
+    const Phased d3 = phased_all(k, &v, &t, &dd3).d;
+    t = cols_axpy(du, h, &dd3);
     v = phased_axpy(u, h, &d3);
-    const Phased d4 = phased_all(k, &v, t, dd4).d;
+    const Phased d4 = phased_all(k, &v, &t, &dd4).d;
     *u = phased_sum(*u, h6, d1, &d2, &d3, &d4);
-    for (int j = 0; j < 4; j++) du[j] = phased_sum(du[j], h6, &dd1[j], &dd2[j], &dd3[j], &dd4[j]);
+    cols_sum(du, h6, dd1, &dd2, &dd3, &dd4);
     *d1 = phased_all(k, u, du, dd1).d;
 }
 
@@ -197,10 +279,15 @@ void hk_helicoid_piece_rk4_tangent_local(const hk_Helicoid *k, double length, in
     double sa, sb;
     hk_helicoid_turn_bound(k, &sa, &sb);
     sa *= step / turn, sb *= step / turn;
+    /* the tangents as columns (duc, ddc) for the steps, as structures (du, dd1) for the
+     * output */
     Phased u = {0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0}, du[4], d1, dd1[4];
     for (int j = 0; j < 4; j++) du[j] = (Phased){0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
     phased_store(points, d_points, stride, 0, &u, du);
-    d1 = phased_all(k, &u, du, dd1).d;
+    PhasedCols duc, ddc;
+    cols_from(du, &duc);
+    d1 = phased_all(k, &u, &duc, &ddc).d;
+    cols_to(&ddc, dd1);
     for (int i = 0; i < steps;) {
         const int g = rk4_span(k, u.x, u.y, sa, sb, span < steps - i ? span : steps - i);
         if (g > 1) {
@@ -210,7 +297,9 @@ void hk_helicoid_piece_rk4_tangent_local(const hk_Helicoid *k, double length, in
             memcpy(du0, du, sizeof du0);
             memcpy(df0, dd1, sizeof df0);
             const double h = g * step;
-            phased_step_tangent(k, h, &u, du, &d1, dd1);
+            phased_step_tangent(k, h, &u, &duc, &d1, &ddc);
+            cols_to(&duc, du);
+            cols_to(&ddc, dd1);
             for (int q = 1; q < g; q++) {
                 const double t = (double)q / (double)g;
                 const Deriv p = hermite(position(&u0), position(&f0), position(&u), position(&d1), h, t);
@@ -225,7 +314,9 @@ void hk_helicoid_piece_rk4_tangent_local(const hk_Helicoid *k, double length, in
         } else {
             const int sub = rk4_substeps(k, u.x, u.y, sa, sb);
             const double h = step / sub;
-            for (int s = 0; s < sub; s++) phased_step_tangent(k, h, &u, du, &d1, dd1);
+            for (int s = 0; s < sub; s++) phased_step_tangent(k, h, &u, &duc, &d1, &ddc);
+            cols_to(&duc, du);
+            cols_to(&ddc, dd1);
             i++;
         }
         phased_store(points, d_points, stride, i, &u, du);
