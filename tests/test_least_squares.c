@@ -120,9 +120,9 @@ static void test_linear_fit(void **state)
 }
 
 /* gain_tolerance: from a start a micro-unit off the straight line's minimum (its cost
- * stays the scatter's), the next step's predicted gain is ~1e-12 of the cost, so a run
- * with gain_tolerance 1e-6 stops after the Jacobian with x untouched, while the default
- * (0) takes the step. */
+ * stays the scatter's), the next step's predicted gain is a minute fraction of the cost
+ * (the offset squared against the scatter), so a run with gain_tolerance 1e-6 stops
+ * after the Jacobian with x untouched, while the default (0) takes the step. */
 static void test_gain_tolerance(void **state)
 {
     (void)state;
