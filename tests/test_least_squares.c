@@ -119,6 +119,33 @@ static void test_linear_fit(void **state)
     assert_true(r.f > 0.01); /* the data do scatter: the minimum is not zero */
 }
 
+/* gain_tolerance: from a start a micro-unit off the straight line's minimum (its cost
+ * stays the scatter's), the next step's predicted gain is a minute fraction of the cost
+ * (the offset squared against the scatter), so a run with gain_tolerance 1e-6 stops
+ * after the Jacobian with x untouched, while the default (0) takes the step. */
+static void test_gain_tolerance(void **state)
+{
+    (void)state;
+    double x0[2] = {0.0, 0.0};
+    const double scale[2] = {1.0, 1.0};
+    double work[HK_LEAST_SQUARES_WORK(2, LINE_N)];
+    hk_MinimizeResult r0, r1;
+    assert_int_equal(hk_least_squares_minimize(2, LINE_N, x0, scale, line_residuals, NULL, NULL, work, &r0, NULL),
+                     HK_OK);
+    const double start[2] = {x0[0], x0[1] + 1e-6};
+    double x[2] = {start[0], start[1]}, y[2] = {start[0], start[1]};
+    hk_LeastSquaresDef o = hk_default_least_squares_def();
+    assert_int_equal(hk_least_squares_minimize(2, LINE_N, x, scale, line_residuals, NULL, &o, work, &r0, NULL), HK_OK);
+    o.gain_tolerance = 1e-6;
+    assert_int_equal(hk_least_squares_minimize(2, LINE_N, y, scale, line_residuals, NULL, &o, work, &r1, NULL), HK_OK);
+    assert_true(r1.converged);
+    assert_int_equal(r1.iterations, 0);
+    assert_memory_equal(y, start, sizeof y);
+    assert_true(r0.iterations > 0);
+    assert_true(r1.evaluations < r0.evaluations);
+    hk_assert_rel(r1.f, r0.f, 1e-9, 0); /* what it skipped was worth nothing */
+}
+
 /* y = c exp(-k t) + d sampled exactly at (c, k, d) = (2.5, 1.3, 0.4), from a far start
  * with badly scaled parameters. */
 static int exponential(void *user, const double *x, double *r)
@@ -228,6 +255,9 @@ static void test_bad_arguments(void **state)
     o = hk_default_least_squares_def();
     o.x_tolerance = NAN;
     assert_int_equal(hk_least_squares_minimize(2, 2, x, scale, rosenbrock, NULL, &o, work, NULL, &err), HK_ERR_INVALID);
+    o = hk_default_least_squares_def();
+    o.gain_tolerance = -1.0;
+    assert_int_equal(hk_least_squares_minimize(2, 2, x, scale, rosenbrock, NULL, &o, work, NULL, &err), HK_ERR_INVALID);
 }
 
 int main(void)
@@ -236,7 +266,7 @@ int main(void)
         cmocka_unit_test(test_given_jacobian),    cmocka_unit_test(test_rosenbrock),
         cmocka_unit_test(test_linear_fit),        cmocka_unit_test(test_exponential),
         cmocka_unit_test(test_undefined_regions), cmocka_unit_test(test_limits_and_determinism),
-        cmocka_unit_test(test_bad_arguments),
+        cmocka_unit_test(test_bad_arguments),     cmocka_unit_test(test_gain_tolerance),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -105,14 +105,17 @@ typedef int (*hk_ResidualFn)(void *user, const double *x, double *residuals);
 typedef int (*hk_JacobianFn)(void *user, const double *x, double *jac);
 
 typedef struct hk_LeastSquaresDef {
-    long max_evaluations; /* hard limit on calls of r (>= n + 2) */
-    double x_tolerance;   /* stop when every |step_j| <= x_tolerance * |scale_j| ... */
-    double f_tolerance;   /* ... or two accepted steps in a row each lowered the cost by
-                             <= f_tolerance * cost ... */
-    double g_tolerance;   /* ... or max_j |g_j scale_j| <= g_tolerance * cost (g = J^T r) */
+    long max_evaluations;  /* hard limit on calls of r (>= n + 2) */
+    double x_tolerance;    /* stop when every |step_j| <= x_tolerance * |scale_j| ... */
+    double f_tolerance;    /* ... or two accepted steps in a row each lowered the cost by
+                              <= f_tolerance * cost ... */
+    double g_tolerance;    /* ... or max_j |g_j scale_j| <= g_tolerance * cost (g = J^T r) ... */
+    double gain_tolerance; /* ... or the next step's predicted gain (the damped linear
+                              model's) is <= gain_tolerance * cost (0: never) */
 } hk_LeastSquaresDef;
 
-/* 400 evaluations, x_tolerance 1e-10, f_tolerance 1e-12, g_tolerance 1e-14. */
+/* 400 evaluations, x_tolerance 1e-10, f_tolerance 1e-12, g_tolerance 1e-14,
+ * gain_tolerance 0. */
 HK_API hk_LeastSquaresDef hk_default_least_squares_def(void);
 
 /* Doubles of work memory for n parameters and m residuals. */
@@ -284,7 +287,9 @@ typedef struct hk_CurveFitDef {
      * piece found is then fitted again from its parameters with this one (one
      * Levenberg-Marquardt run, from its predecessor's new end pose; kept when the chain
      * comes out closer), and the output's errors and polish are this model's.
-     * final_derivative: its derivatives (NULL: differences). */
+     * final_derivative: its derivatives, or those of a close approximation such as
+     * `model`'s (they only steer the runs' steps; the residuals are final_model's;
+     * NULL: differences). */
     hk_CurveModelFn final_model;
     hk_CurveModelDerivFn final_derivative;
     int refine_start;   /* 1: a first piece that misses the tolerance in the root

@@ -285,8 +285,12 @@ static hk_Status fit_once(hk_HelicoidFitter *f, const hk_Vec3 *points, int count
     /* The search with the search's tracer, finished with the standard one (see above). */
     first.final_model = hk_helicoid_piece_model;
     first.final_derivative = opt.model_derivative;
+    /* The finishing's Jacobians from the search's cheaper differentiated trace too: they
+     * only steer its steps, whose residuals and kept errors are the standard tracer's, and
+     * the two tracers' columns differ by microns (Curly's fits moved by 0.08 um at most;
+     * docs/helicoid-fitting.md §7). */
     if (opt.model_derivative == hk_helicoid_piece_derivative)
-        first.model_derivative = search_derivative;
+        first.model_derivative = first.final_derivative = search_derivative;
     else if (opt.model_derivative)
         first.final_model = NULL; /* someone else's derivative: no search tracer */
     hk_Status st =

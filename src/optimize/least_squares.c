@@ -31,6 +31,7 @@ hk_LeastSquaresDef hk_default_least_squares_def(void)
     o.x_tolerance = 1e-10;
     o.f_tolerance = 1e-12;
     o.g_tolerance = 1e-14;
+    o.gain_tolerance = 0.0;
     return o;
 }
 
@@ -123,7 +124,7 @@ static hk_Status check_args(int n, int m, const double *x, const double *scale, 
             return hk_error_set(err, HK_ERR_INVALID, "least squares: scale[%d] must be finite and non-zero", j);
     }
     if (o && (o->max_evaluations < n + 2 || !(o->x_tolerance >= 0.0) || !(o->f_tolerance >= 0.0) ||
-              !(o->g_tolerance >= 0.0)))
+              !(o->g_tolerance >= 0.0) || !(o->gain_tolerance >= 0.0)))
         return hk_error_set(err, HK_ERR_INVALID,
                             "least squares: options need max_evaluations >= n + 2 and tolerances >= 0");
     return HK_OK;
@@ -189,7 +190,10 @@ hk_Status hk_least_squares_minimize_jac(int n, int m, double *x, const double *s
             x_new[j] = x[j] + h[j];
             predicted += 0.5 * h[j] * (mu * d[j] * h[j] - g[j]);
         }
-        if (small) {
+        /* A step predicted to gain next to nothing: from a start already at the minimum
+         * (a refit from a nearby model's fit) its trial is as often rejected at rounding
+         * level, and each rejection costs an evaluation and a stronger damping. */
+        if (small || predicted <= o.gain_tolerance * cost) {
             res.converged = 1;
             break;
         }
