@@ -472,6 +472,8 @@ hk_Status hk_cf_fit_piece(Fit *F, int i0, int i1, const hk_CurveStart *start, in
     F->m = i1 - i0 + 1;
     F->base = *start;
     F->rotating = 0;
+    /* a finishing run starts from the search's piece alone: no candidates */
+    if (F->finishing) return finish_piece(F, i0, i1, start, refine, hint1, piece);
     double cand[6][MAXP + ROT];
     int count = 0;
     memset(cand, 0, sizeof cand);
@@ -481,7 +483,6 @@ hk_Status hk_cf_fit_piece(Fit *F, int i0, int i1, const hk_CurveStart *start, in
     for (int h = 0; h < 2; h++)
         if (hints[h]) memcpy(cand[count++], hints[h]->params, (size_t)F->np * sizeof(double));
     double x[MAXP + ROT], error;
-    if (F->finishing) return finish_piece(F, i0, i1, start, refine, hint1, piece);
     hk_Status st = descend(F, cand, count, F->np, x, &error);
     /* Least squares refines the frame already at a tenth of the tolerance: it costs a few
      * dozen traces, and the root frame's error, small at the root, is what every later
