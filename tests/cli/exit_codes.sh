@@ -97,4 +97,18 @@ expect 1 "$hk" simulate "$tmp/no-such-setup.txt" --frames 2 --fps 30 -o "$tmp/ne
 contains "$tmp/err" "no-such-setup.txt: cannot open"
 [ -e "$tmp/never" ] && fail "simulate made its output folder for a setup it cannot read"
 
+# 2: the operands (hk_cli_one_operand, hk_cli_bad_option): none, one too many, an option
+# without its value; said before any work, for each command that takes one operand.
+for cmd in groom run simulate strand render import view; do
+    expect 2 "$hk" $cmd
+    contains "$tmp/err" "hairkit $cmd: missing"
+    expect 2 "$hk" $cmd "$scene/setup.txt" extra
+    contains "$tmp/err" "hairkit $cmd: unexpected argument 'extra'"
+done
+expect 2 "$hk" helicoid fit
+contains "$tmp/err" "fit: missing input file"
+expect 2 "$hk" simulate "$g200" --frames
+contains "$tmp/err" "option '--frames' needs a value"
+
 finish exit_codes
+
