@@ -471,8 +471,8 @@ static void apply_reflectors(int n, const double *a, const double *tau, int k, d
 
 /* The lower triangle of out (and the diagonal) = base + sum_q c[q] x_q x_q^T (base: a,
  * or zero if a is NULL; x_q the k rows of x, n long), then mirrored to the upper
- * triangle (symmetric to the bit). Two rows of out at a time, two columns to a pair,
- * each entry's sum taken in registers over q in order; b holds 4k doubles (the rows'
+ * triangle (symmetric to the bit). Two rows of out at a time, four columns (two
+ * pairs) at a time, each entry's sum taken in registers over q in order; b holds 4k doubles (the rows'
  * factors c[q] x_q[i], paired). */
 static void add_rank_k(int n, const double *a, int k, const double *c, const double *x, double *out, double *b)
 {
@@ -485,20 +485,38 @@ static void add_rank_k(int n, const double *a, int k, const double *c, const dou
             store_pair(b + 4 * q + 2, splat(c[q] * xq[i1]));
         }
         double *r0 = out + (size_t)i * sn, *r1 = out + (size_t)i1 * sn;
+        const double *a0 = a ? a + (size_t)i * sn : NULL, *a1 = a ? a + (size_t)i1 * sn : NULL;
+        const Pair zero = {0.0, 0.0};
         int j = 0;
+        for (; j + 3 <= i1 && j + 3 < n; j += 4) { /* four columns: x's loads shared */
+            Pair s00 = a ? load_pair(a0 + j) : zero, s01 = a ? load_pair(a0 + j + 2) : zero;
+            Pair s10 = a ? load_pair(a1 + j) : zero, s11 = a ? load_pair(a1 + j + 2) : zero;
+            for (int q = 0; q < k; q++) {
+                const double *xq = x + (size_t)q * sn + (size_t)j;
+                const Pair xa = load_pair(xq), xb = load_pair(xq + 2), b0 = load_pair(b + 4 * q),
+                           b1 = load_pair(b + 4 * q + 2);
+                s00 += b0 * xa;
+                s01 += b0 * xb;
+                s10 += b1 * xa;
+                s11 += b1 * xb;
+            }
+            store_pair(r1 + j, s10);
+            store_pair(r1 + j + 2, s11);
+            store_pair(r0 + j, s00);     /* row i's columns may reach past its diagonal: */
+            store_pair(r0 + j + 2, s01); /* the mirroring below writes them over */
+        }
         for (; j + 1 <= i1 && j + 1 < n; j += 2) {
-            Pair s0 = a ? load_pair(a + (size_t)i * sn + (size_t)j) : (Pair){0.0, 0.0};
-            Pair s1 = a ? load_pair(a + (size_t)i1 * sn + (size_t)j) : (Pair){0.0, 0.0};
+            Pair s0 = a ? load_pair(a0 + j) : zero, s1 = a ? load_pair(a1 + j) : zero;
             for (int q = 0; q < k; q++) {
                 const Pair xj = load_pair(x + (size_t)q * sn + (size_t)j);
                 s0 += load_pair(b + 4 * q) * xj;
                 s1 += load_pair(b + 4 * q + 2) * xj;
             }
-            store_pair(r1 + j, s1); /* row i's pair may reach past its diagonal: */
-            store_pair(r0 + j, s0); /* the mirroring below writes it over */
+            store_pair(r1 + j, s1);
+            store_pair(r0 + j, s0);
         }
         if (j <= i1) { /* n odd: the last column */
-            double s0 = a ? a[(size_t)i * sn + (size_t)j] : 0.0, s1 = a ? a[(size_t)i1 * sn + (size_t)j] : 0.0;
+            double s0 = a ? a0[j] : 0.0, s1 = a ? a1[j] : 0.0;
             for (int q = 0; q < k; q++) {
                 const double xj = x[(size_t)q * sn + (size_t)j];
                 s0 += b[4 * q] * xj;
@@ -518,7 +536,7 @@ int hk_symmetric_positive_part(int n, const double *a, double *out, double *work
     double *t = work, *d = t + sn * sn, *e = d + sn, *e2 = e + sn, *w = e2 + sn, *tau = w + sn;
     double *scratch = tau + sn;
     for (size_t i = 0; i < sn; i++) /* the upper triangle, all the reduction reads */
-        for (size_t j = i; j < sn; j++) t[i * sn + j] = a[i * sn + j];
+        memcpy(t + i * sn + i, a + i * sn + i, (sn - i) * sizeof *t);
     tridiagonalise(n, t, d, e, tau, scratch);
     double tnorm = 0.0;
     /* QL deflates at the top and converges fastest on a matrix graded with its large
