@@ -407,51 +407,52 @@ static void lanes_eigenvectors(Lanes *ln, const double *d, const double *e, cons
     }
 }
 
-/* y -= tau (v . y) v for one or two rows y (y1 NULL: one), v and the rows m long: the
- * product along v and the multiple of it (LAPACK's dlarf), the two rows sharing the
- * loads of v. first: the rows' index of y[0]; the pairs start at an even index, so that
- * each is loaded where the last reflector stored it whole (a load across two stores
- * waits for both: the loop took twice as long so). */
-static inline __attribute__((always_inline)) void reflect_rows(const double *v, int m, double tau, int first,
-                                                               double *y0, double *y1)
+/* y -= tau (v . y) v for rows rows of y (1, 2 or 4, row stride sn), v and the rows m
+ * long: the product along v and the multiple of it (LAPACK's dlarf), the rows sharing
+ * the loads of v. first: the rows' index of y[0]; the pairs start at an even index, so
+ * that each is loaded where the last reflector stored it whole (a load across two
+ * stores waits for both: the loop took twice as long so). */
+static inline __attribute__((always_inline)) void reflect_rows(const double *v, int m, double tau, int first, double *y,
+                                                               size_t sn, int rows)
 {
-    const int i0 = first & 1; /* an odd first element alone */
-    Pair s0 = {0.0, 0.0}, s1 = {0.0, 0.0};
+    double *y0 = y, *y1 = y + sn, *y2 = y1 + sn, *y3 = y2 + sn;
+    const int i0 = first & 1, last = i0 + ((m - i0) & ~1); /* the elements left alone */
+    Pair s0 = {0.0, 0.0}, s1 = s0, s2 = s0, s3 = s0;
     for (int i = i0; i + 2 <= m; i += 2) {
         const Pair vi = load_pair(v + i);
         s0 += vi * load_pair(y0 + i);
-        if (y1) s1 += vi * load_pair(y1 + i);
+        if (rows > 1) s1 += vi * load_pair(y1 + i);
+        if (rows > 2) {
+            s2 += vi * load_pair(y2 + i);
+            s3 += vi * load_pair(y3 + i);
+        }
     }
-    double f0 = s0[0] + s0[1], f1 = s1[0] + s1[1];
-    const int last = i0 + ((m - i0) & ~1); /* the element left after the pairs, if any */
-    if (i0) {
-        f0 += v[0] * y0[0];
-        if (y1) f1 += v[0] * y1[0];
+    double f[4] = {s0[0] + s0[1], s1[0] + s1[1], s2[0] + s2[1], s3[0] + s3[1]};
+    for (int c = 0; c < rows; c++) {
+        const double *yc = y + (size_t)c * sn;
+        if (i0) f[c] += v[0] * yc[0];
+        if (last < m) f[c] += v[last] * yc[last];
+        f[c] *= tau;
     }
-    if (last < m) {
-        f0 += v[last] * y0[last];
-        if (y1) f1 += v[last] * y1[last];
-    }
-    f0 *= tau;
-    f1 *= tau;
-    const Pair g0 = splat(f0), g1 = splat(f1);
+    const Pair g0 = splat(f[0]), g1 = splat(f[1]), g2 = splat(f[2]), g3 = splat(f[3]);
     for (int i = i0; i + 2 <= m; i += 2) {
         const Pair vi = load_pair(v + i);
         store_pair(y0 + i, load_pair(y0 + i) - g0 * vi);
-        if (y1) store_pair(y1 + i, load_pair(y1 + i) - g1 * vi);
+        if (rows > 1) store_pair(y1 + i, load_pair(y1 + i) - g1 * vi);
+        if (rows > 2) {
+            store_pair(y2 + i, load_pair(y2 + i) - g2 * vi);
+            store_pair(y3 + i, load_pair(y3 + i) - g3 * vi);
+        }
     }
-    if (i0) {
-        y0[0] -= f0 * v[0];
-        if (y1) y1[0] -= f1 * v[0];
-    }
-    if (last < m) {
-        y0[last] -= f0 * v[last];
-        if (y1) y1[last] -= f1 * v[last];
+    for (int c = 0; c < rows; c++) {
+        double *yc = y + (size_t)c * sn;
+        if (i0) yc[0] -= f[c] * v[0];
+        if (last < m) yc[last] -= f[c] * v[last];
     }
 }
 
 /* x = Q x for the k rows of x (k x n), Q = H_0 ... H_{n-3} from tridiagonalise: the
- * reflectors from the last (LAPACK dormtr), each on all rows, two at a time: a row's
+ * reflectors from the last (LAPACK dormtr), each on all rows, four at a time: a row's
  * product waits for its last multiple, the other rows' work fills the wait. */
 static void apply_reflectors(int n, const double *a, const double *tau, int k, double *x)
 {
@@ -460,12 +461,14 @@ static void apply_reflectors(int n, const double *a, const double *tau, int k, d
         if (tau[r] == 0.0) continue;
         const double *v = a + (size_t)r * sn + (size_t)r + 1;
         const int m = n - r - 1;
+        double *y = x + (size_t)r + 1;
         int j = 0;
-        for (; j + 1 < k; j += 2) {
-            double *y0 = x + (size_t)j * sn + (size_t)r + 1;
-            reflect_rows(v, m, tau[r], r + 1, y0, y0 + sn);
+        for (; j + 3 < k; j += 4) reflect_rows(v, m, tau[r], r + 1, y + (size_t)j * sn, sn, 4);
+        if (j + 1 < k) {
+            reflect_rows(v, m, tau[r], r + 1, y + (size_t)j * sn, sn, 2);
+            j += 2;
         }
-        if (j < k) reflect_rows(v, m, tau[r], r + 1, x + (size_t)j * sn + (size_t)r + 1, NULL);
+        if (j < k) reflect_rows(v, m, tau[r], r + 1, y + (size_t)j * sn, sn, 1);
     }
 }
 
