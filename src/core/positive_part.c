@@ -12,68 +12,203 @@
 #include "core/linalg.h"
 
 #include <float.h>
+#include <limits.h>
 #include <math.h>
 #include <stddef.h>
+#include <string.h>
 
 /* sqrt(a^2 + b^2) as linalg.c's QL takes it, without libm's hypot (several times slower,
  * and not needed: the matrices here hold physical values far from overflow). */
 static double hypot2(double a, double b) { return sqrt(a * a + b * b); }
 
 
+/* Two doubles in one SSE2 register (GCC's vector extension, as in
+ * src/helicoid/piece_rk4_tangent.c): the kernels below pair a row's elements by hand,
+ * which -O2 does not do by itself for loops of unknown length and alignment (and
+ * hk_dot's out-of-line call per row cost as much as the row's arithmetic). Loads and
+ * stores through memcpy: unaligned, as the rows of a triangle start anywhere. */
+typedef double Pair __attribute__((vector_size(16)));
+typedef long long Bits __attribute__((vector_size(16))); /* a Pair's bits, for masks */
+
+static inline Pair load_pair(const double *p)
+{
+    Pair r;
+    memcpy(&r, p, sizeof r);
+    return r;
+}
+
+static inline void store_pair(double *p, Pair v) { memcpy(p, &v, sizeof v); }
+
+static inline Pair splat(double a) { return (Pair){a, a}; }
+
+/* y -= f x (x NULL: y as it is), then sum z[i] y[i], i < n, of the new y, in one pass
+ * (z may be y): two pairs of partial sums (their chains overlap) in a fixed order, the
+ * same bytes on every machine and thread count. */
+static inline __attribute__((always_inline)) double sub_then_dot(double *y, double f, const double *x, const double *z,
+                                                                 int n)
+{
+    const Pair fp = splat(f);
+    Pair s0 = {0.0, 0.0}, s1 = {0.0, 0.0};
+    int i = 0;
+    for (; i + 4 <= n; i += 4) {
+        Pair y0 = load_pair(y + i), y1 = load_pair(y + i + 2);
+        if (x) {
+            y0 -= fp * load_pair(x + i);
+            y1 -= fp * load_pair(x + i + 2);
+            store_pair(y + i, y0);
+            store_pair(y + i + 2, y1);
+        }
+        s0 += load_pair(z + i) * y0;
+        s1 += load_pair(z + i + 2) * y1;
+    }
+    if (i + 2 <= n) {
+        Pair y0 = load_pair(y + i);
+        if (x) {
+            y0 -= fp * load_pair(x + i);
+            store_pair(y + i, y0);
+        }
+        s0 += load_pair(z + i) * y0;
+        i += 2;
+    }
+    s0 += s1;
+    double r = s0[0] + s0[1];
+    if (i < n) {
+        if (x) y[i] -= f * x[i];
+        r += z[i] * y[i];
+    }
+    return r;
+}
+
+/* One pass over the symmetric m x m block B of which the upper triangle is kept (row
+ * stride sn), two rows at a time: B -= v w^T + w v^T if v (LAPACK dsyr2), then y = B u
+ * with the rows as updated if u (dsymv's upper-triangle loop: each row's part right of
+ * the diagonal block gives its product with u, y's row element, and its multiple of u's
+ * row element, y's column elements by symmetry). The reduction's next product runs on
+ * the rows its step has just updated (tridiagonalise): a pass over S a step instead of
+ * two. The rows pair up from the first, so that the columns right of a pair start at
+ * the same parity in every pair: y's pairs are always loaded where they were stored
+ * whole (a load across two stores would wait for both). */
+static inline __attribute__((always_inline)) void block_pass(int m, double *b, size_t sn, const double *v,
+                                                             const double *w, const double *u, double *y)
+{
+    if (u)
+        for (int j = 0; j < m; j++) y[j] = 0.0;
+    int i = 0;
+    for (; i + 1 < m; i += 2) {
+        double *b0 = b + (size_t)i * sn, *b1 = b0 + sn;
+        const double v0 = v ? v[i] : 0.0, v1 = v ? v[i + 1] : 0.0, w0 = v ? w[i] : 0.0, w1 = v ? w[i + 1] : 0.0;
+        const double u0 = u ? u[i] : 0.0, u1 = u ? u[i + 1] : 0.0;
+        const Pair av0 = splat(v0), av1 = splat(v1), aw0 = splat(w0), aw1 = splat(w1);
+        const Pair a0 = splat(u0), a1 = splat(u1);
+        if (v) {
+            b0[i] -= v0 * w0 + w0 * v0;
+            b0[i + 1] -= v0 * w[i + 1] + w0 * v[i + 1];
+            b1[i + 1] -= v1 * w1 + w1 * v1;
+        }
+        Pair dot0 = {0.0, 0.0}, dot1 = {0.0, 0.0};
+        int j = i + 2;
+        for (; j + 1 < m; j += 2) {
+            Pair x0 = load_pair(b0 + j), x1 = load_pair(b1 + j);
+            if (v) {
+                const Pair vj = load_pair(v + j), wj = load_pair(w + j);
+                x0 -= av0 * wj + aw0 * vj;
+                x1 -= av1 * wj + aw1 * vj;
+                store_pair(b0 + j, x0);
+                store_pair(b1 + j, x1);
+            }
+            if (u) {
+                const Pair uj = load_pair(u + j);
+                dot0 += x0 * uj;
+                dot1 += x1 * uj;
+                store_pair(y + j, load_pair(y + j) + (a0 * x0 + a1 * x1));
+            }
+        }
+        if (v && j < m) { /* m odd: the last column */
+            b0[j] -= v0 * w[j] + w0 * v[j];
+            b1[j] -= v1 * w[j] + w1 * v[j];
+        }
+        if (u) {
+            double r0 = dot0[0] + dot0[1], r1 = dot1[0] + dot1[1];
+            if (j < m) {
+                r0 += b0[j] * u[j];
+                r1 += b1[j] * u[j];
+                y[j] += u0 * b0[j] + u1 * b1[j];
+            }
+            y[i] += (b0[i] * u0 + b0[i + 1] * u1) + r0;
+            y[i + 1] += (b0[i + 1] * u0 + b1[i + 1] * u1) + r1;
+        }
+    }
+    if (i < m) {
+        double *bi = b + (size_t)i * sn + (size_t)i;
+        if (v) *bi -= v[i] * w[i] + w[i] * v[i];
+        if (u) y[i] += *bi * u[i];
+    }
+}
+
+/* The Householder reflector H = I - tau v v^T with H x = (beta, 0, ..., 0) for the m
+ * elements x (LAPACK dlarfg): v into x (its first element 1), beta into *e. Returns 0
+ * if x is already reduced (H = I, tau 0). */
+static int make_reflector(double *x, int m, double *e, double *tau)
+{
+    const double alpha = x[0], xx = hk_dot(x + 1, x + 1, m - 1);
+    x[0] = 1.0;
+    if (xx == 0.0) {
+        *e = alpha;
+        *tau = 0.0;
+        return 0;
+    }
+    const double beta = alpha >= 0.0 ? -sqrt(alpha * alpha + xx) : sqrt(alpha * alpha + xx);
+    const double scale = 1.0 / (alpha - beta);
+    *e = beta;
+    *tau = (beta - alpha) / beta;
+    for (int i = 1; i < m; i++) x[i] *= scale;
+    return 1;
+}
+
 /* Householder reduction of the symmetric a (full storage, row-major, overwritten) to
  * tridiagonal form: diagonal d, off-diagonal e (e[k] couples k and k + 1). Row k keeps
  * the k-th reflector's vector right of its diagonal (its first element 1), tau[k] its
  * factor: H_k = I - tau v v^T acts on k + 1 .. n - 1 and Q = H_0 H_1 ... H_{n-3}. Only
- * the upper triangle is read and updated, along rows (the loops vectorise); p holds 2n
- * doubles. */
+ * the upper triangle is read and updated, along rows; p holds 2n doubles. */
 static void tridiagonalise(int n, double *a, double *d, double *e, double *tau, double *p)
 {
     const size_t sn = (size_t)n;
+    double *q = p + n;
+    int have = n > 2 && make_reflector(a + 1, n - 1, &e[0], &tau[0]), ready = 0;
     for (int k = 0; k + 2 < n; k++) {
-        double *row = a + (size_t)k * sn, *x = row + k + 1;
-        const int m = n - k - 1;
-        const double alpha = x[0], xx = hk_dot(x + 1, x + 1, m - 1);
+        double *row = a + (size_t)k * sn, *x = row + k + 1, *s = x + sn; /* S: the trailing block */
+        const int m = n - k - 1, next = k + 3 < n;                       /* next: another reflector follows */
         d[k] = row[k];
-        if (xx == 0.0) { /* already reduced: H = I */
-            e[k] = alpha;
-            tau[k] = 0.0;
-            x[0] = 1.0;
+        if (!have) { /* H = I: S stays */
+            if (next) have = make_reflector(s + 1, m - 1, &e[k + 1], &tau[k + 1]);
+            ready = 0;
             continue;
         }
-        const double beta = alpha >= 0.0 ? -sqrt(alpha * alpha + xx) : sqrt(alpha * alpha + xx);
-        const double t = (beta - alpha) / beta, scale = 1.0 / (alpha - beta);
-        e[k] = beta;
-        tau[k] = t;
-        x[0] = 1.0;
-        for (int i = 1; i < m; i++) x[i] *= scale;
-        /* p = tau S v, then w = p - (tau/2)(p . v) v and S -= v w^T + w v^T (S the
-         * trailing block, of which the upper triangle is kept: each of its rows gives
-         * its part right of the diagonal to p as a product along the row and as a
-         * multiple of the row). */
-        double *s = a + (size_t)(k + 1) * sn + (size_t)(k + 1);
-        /* the products along the rows go apart from p (q), and into it afterwards: a
-         * vector load of p[i] just after a scalar store there waits for the store (the
-         * reduction took 9.2 instead of 6.3 us at n = 30) */
-        double *q = p + n;
-        for (int j = 0; j < m; j++) p[j] = 0.0;
-        for (int i = 0; i < m; i++) {
-            const double *si = s + (size_t)i * sn;
-            const double vi = t * x[i];
-            q[i] = t * hk_dot(si + i + 1, x + i + 1, m - i - 1);
+        /* p = tau S v, then w = p - (tau/2)(p . v) v and S -= v w^T + w v^T (dsytd2's
+         * steps; S v is ready when the last step's pass took it) */
+        if (!ready) block_pass(m, s, sn, NULL, NULL, x, p);
+        const double t = tau[k];
 #pragma omp simd
-            for (int j = i; j < m; j++) p[j] += vi * si[j];
-        }
-#pragma omp simd
-        for (int j = 0; j < m; j++) p[j] += q[j];
+        for (int j = 0; j < m; j++) p[j] *= t;
         const double half = -0.5 * t * hk_dot(p, x, m);
 #pragma omp simd
         for (int j = 0; j < m; j++) p[j] += half * x[j];
-        for (int i = 0; i < m; i++) {
-            const double vi = x[i], wi = p[i];
-            double *si = s + (size_t)i * sn;
-#pragma omp simd
-            for (int j = i; j < m; j++) si[j] -= vi * p[j] + wi * x[j];
+        if (!next) {
+            block_pass(m, s, sn, x, p, NULL, NULL);
+            continue;
         }
+        /* S's first row first: it gives the next reflector, which the pass over the
+         * rest of S takes its product with */
+        for (int j = 0; j < m; j++) s[j] -= x[0] * p[j] + p[0] * x[j];
+        have = make_reflector(s + 1, m - 1, &e[k + 1], &tau[k + 1]);
+        if (have)
+            block_pass(m - 1, s + sn + 1, sn, x + 1, p + 1, s + 1, q);
+        else
+            block_pass(m - 1, s + sn + 1, sn, x + 1, p + 1, NULL, NULL);
+        ready = have;
+        double *swap = p;
+        p = q;
+        q = swap;
     }
     if (n >= 2) {
         d[n - 2] = a[(sn - 2) * sn + sn - 2];
@@ -132,100 +267,117 @@ static int tridiagonal_eigenvalues(int n, double *d, double *e2, double tnorm)
 }
 
 /* Lanes of the inverse iteration: k eigenvectors of the tridiagonal matrix (d, e) side
- * by side, row i of an n x k block holding their i-th elements. */
+ * by side, row i of an n x w block holding their i-th elements, two lanes to a pair (w:
+ * k rounded up to even; an odd k's last pair holds a spare lane, started at zero). */
 typedef struct {
-    int n, k;
-    double *shift;             /* k: the eigenvalues, kept apart within a cluster */
-    double *mult, *swap, *inv; /* n x k: the factors of T - shift I, by rows */
-    double *up1, *up2;         /* n x k: U's first and second superdiagonals */
-    double *carry0, *carry1;   /* k: the row being eliminated */
+    int n, k, w;
+    double *shift;             /* w: the eigenvalues, kept apart within a cluster */
+    double *mult, *swap, *inv; /* n x w: the factors of T - shift I, by rows (swap: a
+                                * row interchange, as all bits set, else 0) */
+    double *up1, *up2;         /* n x w: U's first and second superdiagonals */
+    double *carry0, *carry1;   /* w: the row being eliminated */
     int *cluster;              /* k: the first lane of the lane's cluster */
 } Lanes;
+
+static inline Pair abs_pair(Pair p) { return (Pair)((Bits)p & (Bits){LLONG_MAX, LLONG_MAX}); }
+
+/* m ? a : b for each element (m's elements all bits set or none, as comparisons give). */
+static inline Pair pick(Bits m, Pair a, Pair b) { return (Pair)(((Bits)a & m) | ((Bits)b & ~m)); }
 
 /* T - shift I = P L U for every lane at once, Gaussian elimination with partial pivoting
  * (LAPACK dlagtf); a pivot smaller than tol is taken as +-tol (dlagts), as T - lambda I
  * is singular to working precision by design. The lanes' chains are independent: the
- * loop over them fills the latency of each one's division. */
+ * loop over them fills the latency of each one's division, two divisions to an
+ * instruction. */
 static void lanes_factor(const Lanes *ln, const double *d, const double *e, double tol)
 {
-    const int n = ln->n, k = ln->k;
+    const int n = ln->n, w = ln->w;
+    const Pair ptol = splat(tol), zero = {0.0, 0.0}, one = {1.0, 1.0};
     double *c0 = ln->carry0, *c1 = ln->carry1;
-    for (int j = 0; j < k; j++) {
+    for (int j = 0; j < w; j++) {
         c0[j] = d[0] - ln->shift[j];
         c1[j] = n > 1 ? e[0] : 0.0;
     }
     for (int i = 0; i < n; i++) {
-        const double b = i + 1 < n ? e[i] : 0.0, b1 = i + 2 < n ? e[i + 1] : 0.0;
-        const double di = i + 1 < n ? d[i + 1] : 0.0;
-        const size_t o = (size_t)i * (size_t)k;
-        for (int j = 0; j < k; j++) {
-            const double a1 = di - ln->shift[j];
-            const int sw = fabs(b) > fabs(c0[j]);
-            double p = sw ? b : c0[j];
-            if (fabs(p) < tol) p = p >= 0.0 ? tol : -tol;
-            const double inv = 1.0 / p, m = (sw ? c0[j] : b) * inv;
-            const double u1 = sw ? a1 : c1[j], u2 = sw ? b1 : 0.0;
-            const double n0 = (sw ? c1[j] : a1) - m * u1, n1 = (sw ? 0.0 : b1) - m * u2;
-            ln->mult[o + (size_t)j] = m;
-            ln->swap[o + (size_t)j] = sw;
-            ln->inv[o + (size_t)j] = inv;
-            ln->up1[o + (size_t)j] = i + 1 < n ? u1 : 0.0;
-            ln->up2[o + (size_t)j] = i + 2 < n ? u2 : 0.0;
-            c0[j] = n0;
-            c1[j] = n1;
+        const Pair b = splat(i + 1 < n ? e[i] : 0.0), b1 = splat(i + 2 < n ? e[i + 1] : 0.0);
+        const Pair di = splat(i + 1 < n ? d[i + 1] : 0.0);
+        const size_t o = (size_t)i * (size_t)w;
+        for (int j = 0; j < w; j += 2) {
+            const Pair c0j = load_pair(c0 + j), c1j = load_pair(c1 + j), a1 = di - load_pair(ln->shift + j);
+            const Bits sw = abs_pair(b) > abs_pair(c0j);
+            Pair p = pick(sw, b, c0j);
+            p = pick(abs_pair(p) < ptol, pick(p >= zero, ptol, -ptol), p);
+            const Pair inv = one / p, m = pick(sw, c0j, b) * inv;
+            const Pair u1 = pick(sw, a1, c1j), u2 = pick(sw, b1, zero);
+            store_pair(c0 + j, pick(sw, c1j, a1) - m * u1);
+            store_pair(c1 + j, pick(sw, zero, b1) - m * u2);
+            store_pair(ln->mult + o + j, m);
+            store_pair(ln->swap + o + j, (Pair)sw);
+            store_pair(ln->inv + o + j, inv);
+            store_pair(ln->up1 + o + j, i + 1 < n ? u1 : zero);
+            store_pair(ln->up2 + o + j, i + 2 < n ? u2 : zero);
         }
     }
 }
 
-/* x = (T - shift I)^-1 x for every lane (x: n + 2 rows of k, the last two zero). */
+/* x = (T - shift I)^-1 x for every lane (x: n + 2 rows of w, the last two zero). */
 static void lanes_solve(const Lanes *ln, double *x)
 {
-    const int n = ln->n, k = ln->k;
-    const size_t sk = (size_t)k;
-    for (int i = 0; i + 1 < n; i++) {
-        double *xi = x + (size_t)i * sk, *xn = xi + sk;
-        const double *m = ln->mult + (size_t)i * sk, *sw = ln->swap + (size_t)i * sk;
-        for (int j = 0; j < k; j++) {
-            const double top = sw[j] != 0.0 ? xn[j] : xi[j], bottom = sw[j] != 0.0 ? xi[j] : xn[j];
-            xi[j] = top;
-            xn[j] = bottom - m[j] * top;
+    const int n = ln->n, w = ln->w;
+    const size_t sw = (size_t)w;
+    for (int i = 0; i + 1 < n; i++) { /* the interchanges and L */
+        double *xi = x + (size_t)i * sw, *xn = xi + sw;
+        const double *m = ln->mult + (size_t)i * sw, *swap = ln->swap + (size_t)i * sw;
+        for (int j = 0; j < w; j += 2) {
+            const Bits swj = (Bits)load_pair(swap + j);
+            const Pair x0 = load_pair(xi + j), x1 = load_pair(xn + j), top = pick(swj, x1, x0);
+            store_pair(xi + j, top);
+            store_pair(xn + j, pick(swj, x0, x1) - load_pair(m + j) * top);
         }
     }
-    for (int i = n - 1; i >= 0; i--) {
-        double *xi = x + (size_t)i * sk;
-        const double *x1 = xi + sk, *x2 = x1 + sk;
-        const double *u1 = ln->up1 + (size_t)i * sk, *u2 = ln->up2 + (size_t)i * sk, *inv = ln->inv + (size_t)i * sk;
-        for (int j = 0; j < k; j++) xi[j] = (xi[j] - u1[j] * x1[j] - u2[j] * x2[j]) * inv[j];
+    for (int i = n - 1; i >= 0; i--) { /* U */
+        double *xi = x + (size_t)i * sw;
+        const double *x1 = xi + sw, *x2 = x1 + sw;
+        const size_t o = (size_t)i * sw;
+        const double *u1 = ln->up1 + o, *u2 = ln->up2 + o, *inv = ln->inv + o;
+        for (int j = 0; j < w; j += 2)
+            store_pair(xi + j, (load_pair(xi + j) - load_pair(u1 + j) * load_pair(x1 + j) -
+                                load_pair(u2 + j) * load_pair(x2 + j)) *
+                                   load_pair(inv + j));
     }
 }
 
 /* Lane j of x scaled to unit length after made orthogonal to the earlier lanes of its
  * cluster (modified Gram-Schmidt, dstein's way to keep close eigenvalues' vectors
  * apart). The lanes are copied out to rows of t (k x n) for it, so that the products
- * run along memory. */
-static void lanes_orthonormalise(const Lanes *ln, double *x, double *t)
+ * run along memory, and back to x when another solve follows (back). */
+static void lanes_orthonormalise(const Lanes *ln, double *x, double *t, int back)
 {
     const int n = ln->n, k = ln->k;
-    const size_t sk = (size_t)k, sn = (size_t)n;
+    const size_t sk = (size_t)k, sn = (size_t)n, sw = (size_t)ln->w;
     for (size_t i = 0; i < sn; i++)
-        for (size_t j = 0; j < sk; j++) t[j * sn + i] = x[i * sk + j];
+        for (size_t j = 0; j < sk; j++) t[j * sn + i] = x[i * sw + j];
     for (int j = 0; j < k; j++) {
+        /* each pass takes off the last vector's part and finds the next one's (the
+         * last pass: the length), the same operations as one pass for each */
         double *tj = t + (size_t)j * sn;
-        for (int q = ln->cluster[j]; q < j; q++) {
-            const double *tq = t + (size_t)q * sn, f = hk_dot(tq, tj, n);
-#pragma omp simd
-            for (int i = 0; i < n; i++) tj[i] -= f * tq[i];
+        const int q0 = ln->cluster[j];
+        double f = sub_then_dot(tj, 0.0, NULL, t + (size_t)q0 * sn, n);
+        for (int q = q0; q < j; q++) {
+            const double *tq = t + (size_t)q * sn;
+            f = sub_then_dot(tj, f, tq, q + 1 < j ? tq + sn : tj, n);
         }
-        const double scale = 1.0 / sqrt(hk_dot(tj, tj, n));
+        const double scale = 1.0 / sqrt(f);
 #pragma omp simd
         for (int i = 0; i < n; i++) tj[i] *= scale;
     }
-    for (size_t i = 0; i < sn; i++)
-        for (size_t j = 0; j < sk; j++) x[i * sk + j] = t[j * sn + i];
+    if (back)
+        for (size_t i = 0; i < sn; i++)
+            for (size_t j = 0; j < sk; j++) x[i * sw + j] = t[j * sn + i];
 }
 
-/* The eigenvectors of T (d, e) for the k eigenvalues lambda (ascending) into x (n + 2
- * rows of k) by inverse iteration: three solves from a fixed pseudo-random start, which
+/* The eigenvectors of T (d, e) for the k eigenvalues lambda (ascending) into the rows of
+ * t (k x n; x: n + 2 rows of k, the lanes' work) by inverse iteration: three solves from a fixed pseudo-random start, which
  * leave of the other eigenvalues' components (eps tnorm / gap)^3, gaps within a cluster
  * (closer than 1e-3 tnorm, dstein's bound) handled by the Gram-Schmidt step. */
 static void lanes_eigenvectors(Lanes *ln, const double *d, const double *e, const double *lambda, double tnorm,
@@ -239,42 +391,146 @@ static void lanes_eigenvectors(Lanes *ln, const double *d, const double *e, cons
         ln->shift[j] = s;
         ln->cluster[j] = j > 0 && lambda[j] - lambda[j - 1] <= close ? ln->cluster[j - 1] : j;
     }
+    if (ln->w > k) ln->shift[k] = ln->shift[k - 1]; /* the spare lane: finite factors */
     lanes_factor(ln, d, e, DBL_EPSILON * tnorm);
+    const size_t sw = (size_t)ln->w;
     unsigned state = 12345u;
-    for (size_t i = 0; i < (size_t)n * (size_t)k; i++) {
-        state = state * 1664525u + 1013904223u;
-        x[i] = (double)(state >> 8) / 16777216.0 - 0.5;
-    }
-    for (size_t i = (size_t)n * (size_t)k; i < (size_t)(n + 2) * (size_t)k; i++) x[i] = 0.0;
+    for (size_t i = 0; i < (size_t)n; i++)
+        for (size_t j = 0; j < sw; j++) {
+            if (j < (size_t)k) state = state * 1664525u + 1013904223u;
+            x[i * sw + j] = j < (size_t)k ? (double)(state >> 8) / 16777216.0 - 0.5 : 0.0;
+        }
+    for (size_t i = (size_t)n * sw; i < (size_t)(n + 2) * sw; i++) x[i] = 0.0;
     for (int pass = 0; pass < 3; pass++) {
         lanes_solve(ln, x);
-        lanes_orthonormalise(ln, x, t);
+        lanes_orthonormalise(ln, x, t, pass < 2);
     }
 }
 
-/* y = Q x for the k lanes of x, Q = H_0 ... H_{n-3} from tridiagonalise. */
-static void apply_reflectors(int n, const double *a, const double *tau, int k, double *x, double *s)
+/* y -= tau (v . y) v for rows rows of y (1, 2 or 4, row stride sn), v and the rows m
+ * long: the product along v and the multiple of it (LAPACK's dlarf), the rows sharing
+ * the loads of v. first: the rows' index of y[0]; the pairs start at an even index, so
+ * that each is loaded where the last reflector stored it whole (a load across two
+ * stores waits for both: the loop took twice as long so). */
+static inline __attribute__((always_inline)) void reflect_rows(const double *v, int m, double tau, int first, double *y,
+                                                               size_t sn, int rows)
 {
-    const size_t sn = (size_t)n, sk = (size_t)k;
+    double *y0 = y, *y1 = y + sn, *y2 = y1 + sn, *y3 = y2 + sn;
+    const int i0 = first & 1, last = i0 + ((m - i0) & ~1); /* the elements left alone */
+    Pair s0 = {0.0, 0.0}, s1 = s0, s2 = s0, s3 = s0;
+    for (int i = i0; i + 2 <= m; i += 2) {
+        const Pair vi = load_pair(v + i);
+        s0 += vi * load_pair(y0 + i);
+        if (rows > 1) s1 += vi * load_pair(y1 + i);
+        if (rows > 2) {
+            s2 += vi * load_pair(y2 + i);
+            s3 += vi * load_pair(y3 + i);
+        }
+    }
+    double f[4] = {s0[0] + s0[1], s1[0] + s1[1], s2[0] + s2[1], s3[0] + s3[1]};
+    for (int c = 0; c < rows; c++) {
+        const double *yc = y + (size_t)c * sn;
+        if (i0) f[c] += v[0] * yc[0];
+        if (last < m) f[c] += v[last] * yc[last];
+        f[c] *= tau;
+    }
+    const Pair g0 = splat(f[0]), g1 = splat(f[1]), g2 = splat(f[2]), g3 = splat(f[3]);
+    for (int i = i0; i + 2 <= m; i += 2) {
+        const Pair vi = load_pair(v + i);
+        store_pair(y0 + i, load_pair(y0 + i) - g0 * vi);
+        if (rows > 1) store_pair(y1 + i, load_pair(y1 + i) - g1 * vi);
+        if (rows > 2) {
+            store_pair(y2 + i, load_pair(y2 + i) - g2 * vi);
+            store_pair(y3 + i, load_pair(y3 + i) - g3 * vi);
+        }
+    }
+    for (int c = 0; c < rows; c++) {
+        double *yc = y + (size_t)c * sn;
+        if (i0) yc[0] -= f[c] * v[0];
+        if (last < m) yc[last] -= f[c] * v[last];
+    }
+}
+
+/* x = Q x for the k rows of x (k x n), Q = H_0 ... H_{n-3} from tridiagonalise: the
+ * reflectors from the last (LAPACK dormtr), each on all rows, four at a time: a row's
+ * product waits for its last multiple, the other rows' work fills the wait. */
+static void apply_reflectors(int n, const double *a, const double *tau, int k, double *x)
+{
+    const size_t sn = (size_t)n;
     for (int r = n - 3; r >= 0; r--) {
         if (tau[r] == 0.0) continue;
         const double *v = a + (size_t)r * sn + (size_t)r + 1;
         const int m = n - r - 1;
-        double *xr = x + (size_t)(r + 1) * sk;
-        for (size_t j = 0; j < sk; j++) s[j] = 0.0;
-        for (int i = 0; i < m; i++) {
-            const double vi = v[i], *xi = xr + (size_t)i * sk;
-#pragma omp simd
-            for (size_t j = 0; j < sk; j++) s[j] += vi * xi[j];
+        double *y = x + (size_t)r + 1;
+        int j = 0;
+        for (; j + 3 < k; j += 4) reflect_rows(v, m, tau[r], r + 1, y + (size_t)j * sn, sn, 4);
+        if (j + 1 < k) {
+            reflect_rows(v, m, tau[r], r + 1, y + (size_t)j * sn, sn, 2);
+            j += 2;
         }
-        for (size_t j = 0; j < sk; j++) s[j] *= tau[r];
-        for (int i = 0; i < m; i++) {
-            const double vi = v[i];
-            double *xi = xr + (size_t)i * sk;
-#pragma omp simd
-            for (size_t j = 0; j < sk; j++) xi[j] -= vi * s[j];
+        if (j < k) reflect_rows(v, m, tau[r], r + 1, y + (size_t)j * sn, sn, 1);
+    }
+}
+
+/* The lower triangle of out (and the diagonal) = base + sum_q c[q] x_q x_q^T (base: a,
+ * or zero if a is NULL; x_q the k rows of x, n long), then mirrored to the upper
+ * triangle (symmetric to the bit). Two rows of out at a time, four columns (two
+ * pairs) at a time, each entry's sum taken in registers over q in order; b holds 4k doubles (the rows'
+ * factors c[q] x_q[i], paired). */
+static void add_rank_k(int n, const double *a, int k, const double *c, const double *x, double *out, double *b)
+{
+    const size_t sn = (size_t)n;
+    for (int i = 0; i < n; i += 2) {
+        const int i1 = i + 1 < n ? i + 1 : i; /* n odd: the last row twice */
+        for (int q = 0; q < k; q++) {
+            const double *xq = x + (size_t)q * sn;
+            store_pair(b + 4 * q, splat(c[q] * xq[i]));
+            store_pair(b + 4 * q + 2, splat(c[q] * xq[i1]));
+        }
+        double *r0 = out + (size_t)i * sn, *r1 = out + (size_t)i1 * sn;
+        const double *a0 = a ? a + (size_t)i * sn : NULL, *a1 = a ? a + (size_t)i1 * sn : NULL;
+        const Pair zero = {0.0, 0.0};
+        int j = 0;
+        for (; j + 3 <= i1 && j + 3 < n; j += 4) { /* four columns: x's loads shared */
+            Pair s00 = a ? load_pair(a0 + j) : zero, s01 = a ? load_pair(a0 + j + 2) : zero;
+            Pair s10 = a ? load_pair(a1 + j) : zero, s11 = a ? load_pair(a1 + j + 2) : zero;
+            for (int q = 0; q < k; q++) {
+                const double *xq = x + (size_t)q * sn + (size_t)j;
+                const Pair xa = load_pair(xq), xb = load_pair(xq + 2), b0 = load_pair(b + 4 * q),
+                           b1 = load_pair(b + 4 * q + 2);
+                s00 += b0 * xa;
+                s01 += b0 * xb;
+                s10 += b1 * xa;
+                s11 += b1 * xb;
+            }
+            store_pair(r1 + j, s10);
+            store_pair(r1 + j + 2, s11);
+            store_pair(r0 + j, s00);     /* row i's columns may reach past its diagonal: */
+            store_pair(r0 + j + 2, s01); /* the mirroring below writes them over */
+        }
+        for (; j + 1 <= i1 && j + 1 < n; j += 2) {
+            Pair s0 = a ? load_pair(a0 + j) : zero, s1 = a ? load_pair(a1 + j) : zero;
+            for (int q = 0; q < k; q++) {
+                const Pair xj = load_pair(x + (size_t)q * sn + (size_t)j);
+                s0 += load_pair(b + 4 * q) * xj;
+                s1 += load_pair(b + 4 * q + 2) * xj;
+            }
+            store_pair(r1 + j, s1);
+            store_pair(r0 + j, s0);
+        }
+        if (j <= i1) { /* n odd: the last column */
+            double s0 = a ? a0[j] : 0.0, s1 = a ? a1[j] : 0.0;
+            for (int q = 0; q < k; q++) {
+                const double xj = x[(size_t)q * sn + (size_t)j];
+                s0 += b[4 * q] * xj;
+                s1 += b[4 * q + 2] * xj;
+            }
+            r1[j] = s1;
+            if (j <= i) r0[j] = s0;
         }
     }
+    for (size_t i = 0; i < sn; i++)
+        for (size_t j = 0; j < i; j++) out[j * sn + i] = out[i * sn + j];
 }
 
 int hk_symmetric_positive_part(int n, const double *a, double *out, double *work, int *negative)
@@ -283,7 +539,7 @@ int hk_symmetric_positive_part(int n, const double *a, double *out, double *work
     double *t = work, *d = t + sn * sn, *e = d + sn, *e2 = e + sn, *w = e2 + sn, *tau = w + sn;
     double *scratch = tau + sn;
     for (size_t i = 0; i < sn; i++) /* the upper triangle, all the reduction reads */
-        for (size_t j = i; j < sn; j++) t[i * sn + j] = a[i * sn + j];
+        memcpy(t + i * sn + i, a + i * sn + i, (sn - i) * sizeof *t);
     tridiagonalise(n, t, d, e, tau, scratch);
     double tnorm = 0.0;
     /* QL deflates at the top and converges fastest on a matrix graded with its large
@@ -317,7 +573,7 @@ int hk_symmetric_positive_part(int n, const double *a, double *out, double *work
     }
     double *x = scratch, *xt = x + (sn + 2) * lanes;
     if (k > 0) {
-        Lanes ln = {.n = n, .k = k, .shift = xt + sn * lanes};
+        Lanes ln = {.n = n, .k = k, .w = (k + 1) & ~1, .shift = xt + sn * lanes};
         ln.mult = ln.shift + lanes;
         ln.swap = ln.mult + sn * lanes;
         ln.inv = ln.swap + sn * lanes;
@@ -327,20 +583,10 @@ int hk_symmetric_positive_part(int n, const double *a, double *out, double *work
         ln.carry1 = ln.carry0 + lanes;
         ln.cluster = (int *)(ln.carry1 + lanes);
         lanes_eigenvectors(&ln, d, e, lambda, tnorm, x, xt);
-        apply_reflectors(n, t, tau, k, x, ln.carry0);
-        for (int j = 0; j < k; j++) /* transposed, so that the sums below run along rows */
-            for (size_t i = 0; i < sn; i++) xt[(size_t)j * sn + i] = x[i * (size_t)k + (size_t)j];
+        apply_reflectors(n, t, tau, k, xt);
     }
-    for (size_t i = 0; i < sn; i++) {
-        double *row = out + i * sn;
-        for (size_t j = 0; j <= i; j++) row[j] = subtract ? a[i * sn + j] : 0.0;
-        for (int q = 0; q < k; q++) {
-            const double *vq = xt + (size_t)q * sn;
-            const double p = subtract ? -lambda[q] * vq[i] : lambda[q] * vq[i];
-#pragma omp simd
-            for (size_t j = 0; j <= i; j++) row[j] += p * vq[j];
-        }
-        for (size_t j = 0; j < i; j++) out[j * sn + i] = row[j];
-    }
+    if (subtract)
+        for (int q = 0; q < k; q++) lambda[q] = -lambda[q];
+    add_rank_k(n, subtract ? a : NULL, k, lambda, xt, out, x);
     return 1;
 }
