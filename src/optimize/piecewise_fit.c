@@ -71,7 +71,8 @@ hk_CurveFitWorkspace *hk_curve_fit_workspace_create(int max_samples, hk_Error *e
         ws->diff ? hk_alloc_array(HK_LEAST_SQUARES_WORK(POLISH_PARAMS, CHAIN_RESIDUALS(n)), sizeof(double), err) : NULL;
     ws->dtrace = ws->lsq ? hk_alloc_array((size_t)MAXP * n, sizeof(hk_Vec3), err) : NULL;
     ws->cache_points = ws->dtrace ? hk_alloc_array((size_t)TRACE_CACHE * n, sizeof(hk_Vec3), err) : NULL;
-    if (!ws->cache_points) {
+    ws->ref_points = ws->cache_points ? hk_alloc_array(n, sizeof(hk_Vec3), err) : NULL;
+    if (!ws->ref_points) {
         hk_curve_fit_workspace_destroy(ws);
         return NULL;
     }
@@ -91,6 +92,7 @@ void hk_curve_fit_workspace_destroy(hk_CurveFitWorkspace *ws)
     hk_free(ws->lsq);
     hk_free(ws->dtrace);
     hk_free(ws->cache_points);
+    hk_free(ws->ref_points);
     hk_free(ws);
 }
 /* ---- entry points ----------------------------------------------------------------------- */

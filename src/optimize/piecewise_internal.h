@@ -32,6 +32,15 @@ typedef struct TraceEntry {
     hk_CurveStart end;
 } TraceEntry;
 
+/* The polish's last chain traced with parameters that are not a Jacobian column's (see
+ * trace_params, fit_chain.c): its parameters, each piece's start and end pose; its points
+ * in hk_CurveFitWorkspace.ref_points. pieces = 0: empty. */
+typedef struct ChainRef {
+    int pieces;
+    double x[POLISH_PARAMS];
+    hk_CurveStart start[HK_CURVEFIT_MAX_PIECES], end[HK_CURVEFIT_MAX_PIECES];
+} ChainRef;
+
 struct hk_CurveFitWorkspace {
     int capacity;
     hk_Vec3 *target; /* the resampled target */
@@ -48,6 +57,8 @@ struct hk_CurveFitWorkspace {
     TraceEntry cache[TRACE_CACHE];
     hk_Vec3 *cache_points;
     int next;
+    ChainRef ref;
+    hk_Vec3 *ref_points; /* capacity */
 };
 
 typedef struct Piece {
