@@ -74,7 +74,9 @@ hk_Status hk_cf_finish_pieces(Fit *F)
         pose = piece.end;
     }
     F->finishing = 0;
-    if (st != HK_OK || !(chain_error(F) <= before)) {
+    const double after = st == HK_OK ? chain_error(F) : INFINITY;
+    F->chain_traced = st == HK_OK && after <= before && isfinite(after); /* measure() reuses it */
+    if (st != HK_OK || !(after <= before)) {
         *o = kept;
         memcpy(F->starts, starts, sizeof starts);
         if (!isfinite(before)) {

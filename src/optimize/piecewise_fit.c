@@ -190,8 +190,11 @@ static hk_Status measure(Fit *F)
 {
     hk_CurveFit *out = F->out;
     out->start = F->starts[0];
-    if (hk_cf_trace_chain(F->model, F->user, out, 0, out->piece_count, F->n - 1, F->h, &out->start, F->ws->chain,
-                          &F->evaluations) != 0)
+    /* the finished chain was traced by the finishing's last check, from the same start */
+    const int traced = F->chain_traced;
+    F->chain_traced = 0;
+    if (!traced && hk_cf_trace_chain(F->model, F->user, out, 0, out->piece_count, F->n - 1, F->h, &out->start,
+                                     F->ws->chain, &F->evaluations) != 0)
         return hk_error_set(F->err, HK_ERR_NUMERIC, "curve fit: the model failed re-tracing its own pieces");
     double c, d;
     hk_frechet_both(F->ws->target, F->n, F->ws->chain, F->n, F->ws->row, &c, &d);

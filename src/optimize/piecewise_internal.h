@@ -100,6 +100,9 @@ typedef struct Fit {
     /* 1 while hk_cf_finish_pieces refits a piece from its parameters (the first hint):
      * one run from them, at the root with the frame's rotation free from the start */
     int finishing;
+    /* 1 when ws->chain holds the output's chain as measure() traces it (hk_cf_finish_pieces
+     * kept the chain it last traced) */
+    int chain_traced;
 } Fit;
 
 /* Traces m samples of the model from `start` into out, counting the evaluation; 0 when
