@@ -149,13 +149,13 @@ void hk_helicoid_piece_rk4_local(const hk_Helicoid *k, double length, int steps,
         const int g = rk4_span(k, u.x, u.y, sa, sb, span < steps - i ? span : steps - i);
         if (g > 1) {
             /* one step over g samples, the ones inside interpolated */
-            const Deriv u0 = {u.x, u.y, u.z, 0.0}, f0 = {d1.x, d1.y, d1.z, 0.0};
+            const hk_Vec3 u0 = hk_v3(u.x, u.y, u.z), f0 = hk_v3(d1.x, d1.y, d1.z);
             const double h = g * step;
             phased_step(k, h, &u, &d1);
-            const Deriv u1 = {u.x, u.y, u.z, 0.0}, f1 = {d1.x, d1.y, d1.z, 0.0};
+            const hk_Vec3 u1 = hk_v3(u.x, u.y, u.z), f1 = hk_v3(d1.x, d1.y, d1.z);
             for (int q = 1; q < g; q++) {
-                const Deriv p = hermite(u0, f0, u1, f1, h, (double)q / (double)g);
-                points[i + q] = hk_v3(p.x, p.y, p.z);
+                const Hermite c = hermite(h, (double)q / (double)g);
+                points[i + q] = hermite_point(&c, u0, f0, u1, f1);
             }
             i += g;
         } else {

@@ -270,14 +270,31 @@ static inline __attribute__((always_inline)) void phased_step_tangent(const hk_H
     *d1 = phased_all(k, u, du, dd1).d;
 }
 
+/* Sample i's point of u and derivatives of the columns du. */
 static inline void phased_store(hk_Vec3 *points, hk_Vec3 *d_points, size_t stride, int i, const Phased *u,
-                                const Phased *du)
+                                const PhasedCols *du)
 {
     points[i] = hk_v3(u->x, u->y, u->z);
-    for (int j = 0; j < 4; j++) d_points[(size_t)j * stride + (size_t)i] = hk_v3(du[j].x, du[j].y, du[j].z);
+    for (int p = 0; p < 2; p++)
+        for (int e = 0; e < 2; e++)
+            d_points[(size_t)(2 * p + e) * stride + (size_t)i] = hk_v3(du->x[p][e], du->y[p][e], du->z[p][e]);
 }
 
-static inline Deriv position(const Phased *u) { return (Deriv){u->x, u->y, u->z, 0.0}; }
+static inline hk_Vec3 position(const Phased *u) { return hk_v3(u->x, u->y, u->z); }
+
+/* Sample i's derivatives interpolated in the columns (hermite_point's sums, pairwise). */
+static inline void cols_hermite_store(const Hermite *c, const PhasedCols *u0, const PhasedCols *f0,
+                                      const PhasedCols *u1, const PhasedCols *f1, hk_Vec3 *d_points, size_t stride,
+                                      int i)
+{
+    const Pair c0 = {c->c0, c->c0}, c1 = {c->c1, c->c1}, c2 = {c->c2, c->c2}, c3 = {c->c3, c->c3};
+    for (int p = 0; p < 2; p++) {
+        const Pair x = c0 * u0->x[p] + c1 * f0->x[p] + c2 * u1->x[p] + c3 * f1->x[p];
+        const Pair y = c0 * u0->y[p] + c1 * f0->y[p] + c2 * u1->y[p] + c3 * f1->y[p];
+        const Pair z = c0 * u0->z[p] + c1 * f0->z[p] + c2 * u1->z[p] + c3 * f1->z[p];
+        for (int e = 0; e < 2; e++) d_points[(size_t)(2 * p + e) * stride + (size_t)i] = hk_v3(x[e], y[e], z[e]);
+    }
+}
 
 void hk_helicoid_piece_rk4_tangent_local(const hk_Helicoid *k, double length, int steps, double turn, int span,
                                          hk_Vec3 *points, hk_Vec3 *d_points, hk_HelicoidAngles *end,
@@ -288,48 +305,36 @@ void hk_helicoid_piece_rk4_tangent_local(const hk_Helicoid *k, double length, in
     double sa, sb;
     hk_helicoid_turn_bound(k, &sa, &sb);
     sa *= step / turn, sb *= step / turn;
-    /* the tangents as columns (duc, ddc) for the steps, as structures (du, dd1) for the
-     * output */
-    Phased u = {0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0}, du[4], d1, dd1[4];
+    /* the tangents as columns (duc, ddc), as structures (du) for the end pose */
+    Phased u = {0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0}, du[4], d1;
     for (int j = 0; j < 4; j++) du[j] = (Phased){0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-    phased_store(points, d_points, stride, 0, &u, du);
     PhasedCols duc, ddc;
     cols_from(du, &duc);
+    phased_store(points, d_points, stride, 0, &u, &duc);
     d1 = phased_all(k, &u, &duc, &ddc).d;
-    cols_to(&ddc, dd1);
     for (int i = 0; i < steps;) {
         const int g = rk4_span(k, u.x, u.y, sa, sb, span < steps - i ? span : steps - i);
         if (g > 1) {
             /* one step over g samples, the ones inside interpolated */
             const Phased u0 = u, f0 = d1;
-            Phased du0[4], df0[4];
-            memcpy(du0, du, sizeof du0);
-            memcpy(df0, dd1, sizeof df0);
+            const PhasedCols du0 = duc, df0 = ddc;
             const double h = g * step;
             phased_step_tangent(k, h, &u, &duc, &d1, &ddc);
-            cols_to(&duc, du);
-            cols_to(&ddc, dd1);
             for (int q = 1; q < g; q++) {
-                const double t = (double)q / (double)g;
-                const Deriv p = hermite(position(&u0), position(&f0), position(&u), position(&d1), h, t);
-                points[i + q] = hk_v3(p.x, p.y, p.z);
-                for (int j = 0; j < 4; j++) {
-                    const Deriv dp =
-                        hermite(position(&du0[j]), position(&df0[j]), position(&du[j]), position(&dd1[j]), h, t);
-                    d_points[(size_t)j * stride + (size_t)(i + q)] = hk_v3(dp.x, dp.y, dp.z);
-                }
+                const Hermite c = hermite(h, (double)q / (double)g);
+                points[i + q] = hermite_point(&c, position(&u0), position(&f0), position(&u), position(&d1));
+                cols_hermite_store(&c, &du0, &df0, &duc, &ddc, d_points, stride, i + q);
             }
             i += g;
         } else {
             const int sub = rk4_substeps(k, u.x, u.y, sa, sb);
             const double h = step / sub;
             for (int s = 0; s < sub; s++) phased_step_tangent(k, h, &u, &duc, &d1, &ddc);
-            cols_to(&duc, du);
-            cols_to(&ddc, dd1);
             i++;
         }
-        phased_store(points, d_points, stride, i, &u, du);
+        phased_store(points, d_points, stride, i, &u, &duc);
     }
+    cols_to(&duc, du);
     /* The end pose from unit phases (hk_helicoid_piece_rk4_local), its tangent's
      * derivatives those of that pose. */
     const Phased unit = phased_unit(&u, du, 4);
