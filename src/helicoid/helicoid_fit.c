@@ -32,6 +32,9 @@ struct hk_HelicoidFitter {
     int capacity;    /* points a model call may trace */
     hk_Mat3 *frames; /* their frames, for the end pose */
     hk_CurveFitWorkspace *ws;
+    /* root_roll's last alpha (bits) and the cosine and sine of its roll; rolled: 1 when set */
+    double roll_alpha, roll_c, roll_s;
+    int rolled;
 };
 
 hk_CurveFitDef hk_default_helicoid_fit_def(void)
@@ -219,8 +222,15 @@ static int search_derivative(void *user, const double *params, const hk_CurveSta
  * follows alpha, and a fit started in the Frenet frame can reach every helicoid. */
 static void root_roll(void *user, const double *params, hk_CurveStart *start)
 {
-    (void)user;
-    const double roll = -atan(params[3]), c = cos(roll), sn = sin(roll);
+    /* The fitter asks for the same alpha again and again (the pose's rates in the other
+     * parameters, the residuals of a step that keeps it): its roll's arctangent, cosine
+     * and sine are remembered, the same bits. */
+    hk_HelicoidFitter *f = user;
+    if (!f->rolled || memcmp(&f->roll_alpha, &params[3], sizeof(double)) != 0) {
+        const double roll = -atan(params[3]);
+        f->roll_alpha = params[3], f->roll_c = cos(roll), f->roll_s = sin(roll), f->rolled = 1;
+    }
+    const double c = f->roll_c, sn = f->roll_s;
     const hk_Vec3 t = hk_m3_col(&start->frame, 0), n = hk_m3_col(&start->frame, 1), b = hk_m3_col(&start->frame, 2);
     const hk_Vec3 n2 = hk_v3_add(hk_v3_scale(n, c), hk_v3_scale(b, sn));
     start->frame = hk_m3_from_cols(t, n2, hk_v3_cross(t, n2));
