@@ -277,9 +277,18 @@ static int residual_jacobian(void *user, const double *x, double *jac)
     }
     for (int j = 0; j < nx; j++) {
         double *col = jac + (size_t)j * (size_t)rows;
+        /* A parameter the pose does not turn with (the curvatures, under a root_frame
+         * rule of alpha alone) adds a turn of exactly zero: left out, which changes no
+         * value (a zero's sign at most). */
+        const int still = j < np && omega[j].x == 0.0 && omega[j].y == 0.0 && omega[j].z == 0.0;
         for (int i = 0; i < m; i++) {
-            hk_Vec3 d = hk_v3_cross(omega[j], hk_v3_sub(p[i], s.pos));
-            if (j < np) d = hk_v3_add(d, dp[(size_t)j * (size_t)m + (size_t)i]);
+            hk_Vec3 d;
+            if (still) {
+                d = dp[(size_t)j * (size_t)m + (size_t)i];
+            } else {
+                d = hk_v3_cross(omega[j], hk_v3_sub(p[i], s.pos));
+                if (j < np) d = hk_v3_add(d, dp[(size_t)j * (size_t)m + (size_t)i]);
+            }
             col[3 * i] = w * d.x;
             col[3 * i + 1] = w * d.y;
             col[3 * i + 2] = w * d.z;
