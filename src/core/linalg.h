@@ -9,6 +9,9 @@
  * every machine and thread count). */
 double hk_dot(const double *a, const double *b, int n);
 
+/* *ab = hk_dot(a, b, n) and *ac = hk_dot(a, c, n), the same bits, in one pass over a. */
+void hk_dot2(const double *a, const double *b, const double *c, int n, double *ab, double *ac);
+
 /* Cholesky factor of the symmetric matrix a + shift * diag(d) (d may be NULL: identity)
  * into the lower triangle of l (n x n; the strict upper triangle is left alone). Only
  * the lower triangle of a is read, each entry before l's is written there: l may be a

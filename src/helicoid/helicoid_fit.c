@@ -32,6 +32,9 @@ struct hk_HelicoidFitter {
     int capacity;    /* points a model call may trace */
     hk_Mat3 *frames; /* their frames, for the end pose */
     hk_CurveFitWorkspace *ws;
+    /* root_roll's last alpha (bits) and the cosine and sine of its roll; rolled: 1 when set */
+    double roll_alpha, roll_c, roll_s;
+    int rolled;
 };
 
 hk_CurveFitDef hk_default_helicoid_fit_def(void)
@@ -94,7 +97,8 @@ static int model_piece(const hk_HelicoidFitter *f, const double *params, const h
                        int count, hk_PHelicoid *h, double *step)
 {
     if (count < 2 || count > f->capacity || !(length > 0.0)) return 1;
-    memset(h, 0, sizeof *h);
+    /* One piece: only its entries are set (and read by the tracers and the checks); a
+     * whole hk_PHelicoid cleared was 1 % of a fit's instructions. */
     h->root = start->pos;
     h->frame = start->frame;
     h->piece_count = 1;
@@ -112,30 +116,36 @@ static int model_piece(const hk_HelicoidFitter *f, const double *params, const h
     return hk_phelicoid_point_count(h, *step) != count;
 }
 
-/* 0 when no point of the trace comes near the field's singular axis w = 0. A piece that
- * does turns there at |k_N + i k_T| / |w|, and its phi = alpha theta depends on how
- * often the trace winds round the axis: parameters that lead there describe no definite
- * curve (a finer trace of them differs by centimetres), so the fit may not use them. */
+/* 1 when the point l (in the piece's local frame, origin at its root) is near the
+ * field's singular axis w = 0. A piece that passes there turns at |k_N + i k_T| / |w|,
+ * and its phi = alpha theta depends on how often the trace winds round the axis:
+ * parameters that lead there describe no definite curve (a finer trace of them differs
+ * by centimetres), so the fit may not use them. */
+static int near_axis_at(const hk_Helicoid *k, hk_Vec3 l)
+{
+    const double wr = 1.0 + k->kn * l.x - k->kt * l.y, wi = k->kt * l.x + k->kn * l.y;
+    return wr * wr + wi * wi < MIN_AXIS_W * MIN_AXIS_W;
+}
+
+/* 1 when a point of the trace (world points) comes near the singular axis. */
 static int near_axis(const hk_PHelicoid *h, const hk_Vec3 *points, int count)
 {
-    const hk_Helicoid *k = &h->k[0];
-    for (int i = 1; i < count; i++) {
-        const hk_Vec3 l = hk_m3_tmul_v3(&h->frame, hk_v3_sub(points[i], h->root));
-        const double wr = 1.0 + k->kn * l.x - k->kt * l.y, wi = k->kt * l.x + k->kn * l.y;
-        if (wr * wr + wi * wi < MIN_AXIS_W * MIN_AXIS_W) return 1;
-    }
+    for (int i = 1; i < count; i++)
+        if (near_axis_at(&h->k[0], hk_m3_tmul_v3(&h->frame, hk_v3_sub(points[i], h->root)))) return 1;
     return 0;
 }
 
 /* Carries a piece's local trace to the world and sets its end pose; 0 when finite and
- * clear of the singular axis. */
+ * clear of the singular axis (checked on the local points, before they are carried: the
+ * same test without taking them back from the world). */
 static int to_world(const hk_PHelicoid *h, const hk_HelicoidAngles *a, hk_Vec3 *points, int count, hk_CurveStart *end)
 {
     const hk_Mat3 *q = &h->frame;
+    for (int i = 1; i < count; i++)
+        if (near_axis_at(&h->k[0], points[i])) return 1;
     for (int i = 0; i < count; i++) points[i] = hk_v3_add(h->root, hk_m3_mul_v3(q, points[i]));
     for (int i = 0; i < count; i++)
         if (!hk_v3_isfinite(points[i])) return 1;
-    if (near_axis(h, points, count)) return 1;
     const hk_Mat3 frame = hk_helicoid_frame_of(a);
     end->pos = points[count - 1];
     end->frame = hk_m3_mul(q, &frame);
@@ -212,8 +222,15 @@ static int search_derivative(void *user, const double *params, const hk_CurveSta
  * follows alpha, and a fit started in the Frenet frame can reach every helicoid. */
 static void root_roll(void *user, const double *params, hk_CurveStart *start)
 {
-    (void)user;
-    const double roll = -atan(params[3]), c = cos(roll), sn = sin(roll);
+    /* The fitter asks for the same alpha again and again (the pose's rates in the other
+     * parameters, the residuals of a step that keeps it): its roll's arctangent, cosine
+     * and sine are remembered, the same bits. */
+    hk_HelicoidFitter *f = user;
+    if (!f->rolled || memcmp(&f->roll_alpha, &params[3], sizeof(double)) != 0) {
+        const double roll = -atan(params[3]);
+        f->roll_alpha = params[3], f->roll_c = cos(roll), f->roll_s = sin(roll), f->rolled = 1;
+    }
+    const double c = f->roll_c, sn = f->roll_s;
     const hk_Vec3 t = hk_m3_col(&start->frame, 0), n = hk_m3_col(&start->frame, 1), b = hk_m3_col(&start->frame, 2);
     const hk_Vec3 n2 = hk_v3_add(hk_v3_scale(n, c), hk_v3_scale(b, sn));
     start->frame = hk_m3_from_cols(t, n2, hk_v3_cross(t, n2));

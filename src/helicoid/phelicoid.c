@@ -10,8 +10,10 @@ static int frame_is_rotation(const hk_Mat3 *q)
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++)
             if (!isfinite(q->m[i][j])) return 0;
+    /* Q^T Q is symmetric (a . b and b . a are the same products summed in the same
+     * order): its upper triangle decides */
     for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++) {
+        for (int j = i; j < 3; j++) {
             const hk_Vec3 a = hk_m3_col(q, i), b = hk_m3_col(q, j);
             if (fabs(hk_v3_dot(a, b) - (i == j)) > FRAME_TOLERANCE) return 0;
         }

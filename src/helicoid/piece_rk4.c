@@ -53,19 +53,86 @@ void hk_helicoid_piece_rk4(const hk_HelicoidPiece *pc, hk_Vec3 *p, hk_HelicoidAn
     *a = a1;
 }
 
+/* ---- the search's plain step in pairs --------------------------------------------------
+ * The phased state (rk4_field.h) as the pairs (x, y), (cos, sin k_B z), (cos, sin phi) and
+ * z, in GCC's two-lane vectors (as piece_rk4_tangent.c's columns): the plain search trace
+ * is a quarter of a fit's instructions, and in scalar code the compiler spilled most of
+ * its seven unknowns between the stages. The operations are phased_eval's, phased_axpy's
+ * and phased_sum's, lane by lane in the same order: a - b as a + (-b), x as x + (-0),
+ * both exact, so the trace is the same bits as theirs (and as the differentiated trace's
+ * points). */
+typedef double Pair __attribute__((vector_size(16)));
+typedef struct PairState {
+    Pair xy, czsz, cpsp;
+    double z;
+} PairState;
+
+static inline Pair splat(double a) { return (Pair){a, a}; }
+
+/* phased_eval(k, u).d */
+static inline __attribute__((always_inline)) PairState pair_field(const hk_Helicoid *k, const PairState *u)
+{
+    const Pair kx = {k->kn, k->kt}, ky = {-k->kt, k->kn};
+    /* (w_r, w_i) = (1 + k_N x - k_T y, k_T x + k_N y) */
+    const Pair w = (kx * splat(u->xy[0]) + (Pair){1.0, -0.0}) + ky * splat(u->xy[1]);
+    const Pair ww = w * w;
+    const double r2 = ww[0] + ww[1];
+    const int off_axis = r2 > AXIS_R2;
+    const double inv_r2 = off_axis ? 1.0 / r2 : 0.0;
+    /* (cos, sin theta) = w e^{i k_B z} / |w|, on the axis the phase's alone */
+    Pair t = u->czsz;
+    if (off_axis) {
+        const double ir = sqrt(r2) * inv_r2;
+        t = (w * splat(u->czsz[0]) + (Pair){-w[1], w[0]} * splat(u->czsz[1])) * splat(ir);
+    }
+    PairState d;
+    d.xy = splat(u->cpsp[0]) * t;
+    d.z = u->cpsp[1];
+    const Pair dw = kx * splat(d.xy[0]) + ky * splat(d.xy[1]);
+    const Pair c = dw * (Pair){w[1], w[0]};
+    const double q = k->kb * d.z, th = (c[1] - c[0]) * inv_r2 + q, p = k->alpha * th;
+    d.czsz = (Pair){-u->czsz[1], u->czsz[0]} * splat(q);
+    d.cpsp = (Pair){-u->cpsp[1], u->cpsp[0]} * splat(p);
+    return d;
+}
+
+static inline PairState pair_axpy(const PairState *u, double h, const PairState *d)
+{
+    const Pair hh = splat(h);
+    return (PairState){u->xy + hh * d->xy, u->czsz + hh * d->czsz, u->cpsp + hh * d->cpsp, u->z + h * d->z};
+}
+
+static inline PairState pair_of(const Phased *u)
+{
+    return (PairState){{u->x, u->y}, {u->cz, u->sz}, {u->cp, u->sp}, u->z};
+}
+
+static inline Phased phased_of(const PairState *u)
+{
+    return (Phased){u->xy[0], u->xy[1], u->z, u->czsz[0], u->czsz[1], u->cpsp[0], u->cpsp[1]};
+}
+
 /* One RK4 step of length h of the phased state u (rk4_field.h), d1 the field there; on
- * return the new state and the field at it. */
+ * return the new state and the field at it (phased_eval's, phased_axpy's and
+ * phased_sum's step, in pairs). */
 static inline void phased_step(const hk_Helicoid *k, double h, Phased *u, Phased *d1)
 {
     const double h2 = 0.5 * h, h6 = h / 6.0;
-    Phased t = phased_axpy(u, h2, d1);
-    const Phased d2 = phased_eval(k, &t).d;
-    t = phased_axpy(u, h2, &d2);
-    const Phased d3 = phased_eval(k, &t).d;
-    t = phased_axpy(u, h, &d3);
-    const Phased d4 = phased_eval(k, &t).d;
-    *u = phased_sum(*u, h6, d1, &d2, &d3, &d4);
-    *d1 = phased_eval(k, u).d;
+    PairState v = pair_of(u), e1 = pair_of(d1);
+    PairState t = pair_axpy(&v, h2, &e1);
+    const PairState e2 = pair_field(k, &t);
+    t = pair_axpy(&v, h2, &e2);
+    const PairState e3 = pair_field(k, &t);
+    t = pair_axpy(&v, h, &e3);
+    const PairState e4 = pair_field(k, &t);
+    const Pair h6p = splat(h6), two = splat(2.0);
+    v.xy += h6p * (e1.xy + two * (e2.xy + e3.xy) + e4.xy);
+    v.czsz += h6p * (e1.czsz + two * (e2.czsz + e3.czsz) + e4.czsz);
+    v.cpsp += h6p * (e1.cpsp + two * (e2.cpsp + e3.cpsp) + e4.cpsp);
+    v.z += h6 * (e1.z + 2.0 * (e2.z + e3.z) + e4.z);
+    e1 = pair_field(k, &v);
+    *u = phased_of(&v);
+    *d1 = phased_of(&e1);
 }
 
 void hk_helicoid_piece_rk4_local(const hk_Helicoid *k, double length, int steps, double turn, int span, hk_Vec3 *points,
@@ -82,13 +149,13 @@ void hk_helicoid_piece_rk4_local(const hk_Helicoid *k, double length, int steps,
         const int g = rk4_span(k, u.x, u.y, sa, sb, span < steps - i ? span : steps - i);
         if (g > 1) {
             /* one step over g samples, the ones inside interpolated */
-            const Deriv u0 = {u.x, u.y, u.z, 0.0}, f0 = {d1.x, d1.y, d1.z, 0.0};
+            const hk_Vec3 u0 = hk_v3(u.x, u.y, u.z), f0 = hk_v3(d1.x, d1.y, d1.z);
             const double h = g * step;
             phased_step(k, h, &u, &d1);
-            const Deriv u1 = {u.x, u.y, u.z, 0.0}, f1 = {d1.x, d1.y, d1.z, 0.0};
+            const hk_Vec3 u1 = hk_v3(u.x, u.y, u.z), f1 = hk_v3(d1.x, d1.y, d1.z);
             for (int q = 1; q < g; q++) {
-                const Deriv p = hermite(u0, f0, u1, f1, h, (double)q / (double)g);
-                points[i + q] = hk_v3(p.x, p.y, p.z);
+                const Hermite c = hermite(h, (double)q / (double)g);
+                points[i + q] = hermite_point(&c, u0, f0, u1, f1);
             }
             i += g;
         } else {

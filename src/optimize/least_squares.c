@@ -89,14 +89,25 @@ static int jacobian(Run *run, const double *x, const double *r, const double *sc
     return 0;
 }
 
-/* a = J^T J (n x n, row-major), g = J^T r, with fixed-order dot products. */
+/* a = J^T J (n x n, row-major), g = J^T r, with fixed-order dot products (two at a time
+ * where they share a column: hk_dot2, the same bits as hk_dot). */
 static void normal_equations(const Run *run, const double *jac, const double *r, double *a, double *g)
 {
     const int n = run->n, m = run->m;
     for (int j = 0; j < n; j++) {
         const double *cj = jac + (size_t)j * (size_t)m;
-        g[j] = hk_dot(cj, r, m);
-        for (int k = 0; k <= j; k++) a[j * n + k] = a[k * n + j] = hk_dot(cj, jac + (size_t)k * (size_t)m, m);
+        int k = 0;
+        for (; k + 1 <= j; k += 2) {
+            hk_dot2(cj, jac + (size_t)k * (size_t)m, jac + (size_t)(k + 1) * (size_t)m, m, &a[j * n + k],
+                    &a[j * n + k + 1]);
+            a[k * n + j] = a[j * n + k];
+            a[(k + 1) * n + j] = a[j * n + k + 1];
+        }
+        if (k == j) {
+            hk_dot2(cj, cj, r, m, &a[j * n + j], &g[j]);
+        } else {
+            g[j] = hk_dot(cj, r, m);
+        }
     }
 }
 

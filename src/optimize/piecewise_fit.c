@@ -71,7 +71,8 @@ hk_CurveFitWorkspace *hk_curve_fit_workspace_create(int max_samples, hk_Error *e
         ws->diff ? hk_alloc_array(HK_LEAST_SQUARES_WORK(POLISH_PARAMS, CHAIN_RESIDUALS(n)), sizeof(double), err) : NULL;
     ws->dtrace = ws->lsq ? hk_alloc_array((size_t)MAXP * n, sizeof(hk_Vec3), err) : NULL;
     ws->cache_points = ws->dtrace ? hk_alloc_array((size_t)TRACE_CACHE * n, sizeof(hk_Vec3), err) : NULL;
-    if (!ws->cache_points) {
+    ws->ref_points = ws->cache_points ? hk_alloc_array(n, sizeof(hk_Vec3), err) : NULL;
+    if (!ws->ref_points) {
         hk_curve_fit_workspace_destroy(ws);
         return NULL;
     }
@@ -91,6 +92,7 @@ void hk_curve_fit_workspace_destroy(hk_CurveFitWorkspace *ws)
     hk_free(ws->lsq);
     hk_free(ws->dtrace);
     hk_free(ws->cache_points);
+    hk_free(ws->ref_points);
     hk_free(ws);
 }
 /* ---- entry points ----------------------------------------------------------------------- */
@@ -188,8 +190,11 @@ static hk_Status measure(Fit *F)
 {
     hk_CurveFit *out = F->out;
     out->start = F->starts[0];
-    if (hk_cf_trace_chain(F->model, F->user, out, 0, out->piece_count, F->n - 1, F->h, &out->start, F->ws->chain,
-                          &F->evaluations) != 0)
+    /* the finished chain was traced by the finishing's last check, from the same start */
+    const int traced = F->chain_traced;
+    F->chain_traced = 0;
+    if (!traced && hk_cf_trace_chain(F->model, F->user, out, 0, out->piece_count, F->n - 1, F->h, &out->start,
+                                     F->ws->chain, &F->evaluations) != 0)
         return hk_error_set(F->err, HK_ERR_NUMERIC, "curve fit: the model failed re-tracing its own pieces");
     double c, d;
     hk_frechet_both(F->ws->target, F->n, F->ws->chain, F->n, F->ws->row, &c, &d);

@@ -32,6 +32,15 @@ typedef struct TraceEntry {
     hk_CurveStart end;
 } TraceEntry;
 
+/* The polish's last chain traced with parameters that are not a Jacobian column's (see
+ * trace_params, fit_chain.c): its parameters, each piece's start and end pose; its points
+ * in hk_CurveFitWorkspace.ref_points. pieces = 0: empty. */
+typedef struct ChainRef {
+    int pieces;
+    double x[POLISH_PARAMS];
+    hk_CurveStart start[HK_CURVEFIT_MAX_PIECES], end[HK_CURVEFIT_MAX_PIECES];
+} ChainRef;
+
 struct hk_CurveFitWorkspace {
     int capacity;
     hk_Vec3 *target; /* the resampled target */
@@ -48,6 +57,8 @@ struct hk_CurveFitWorkspace {
     TraceEntry cache[TRACE_CACHE];
     hk_Vec3 *cache_points;
     int next;
+    ChainRef ref;
+    hk_Vec3 *ref_points; /* capacity */
 };
 
 typedef struct Piece {
@@ -89,6 +100,9 @@ typedef struct Fit {
     /* 1 while hk_cf_finish_pieces refits a piece from its parameters (the first hint):
      * one run from them, at the root with the frame's rotation free from the start */
     int finishing;
+    /* 1 when ws->chain holds the output's chain as measure() traces it (hk_cf_finish_pieces
+     * kept the chain it last traced) */
+    int chain_traced;
 } Fit;
 
 /* Traces m samples of the model from `start` into out, counting the evaluation; 0 when
