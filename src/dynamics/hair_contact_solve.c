@@ -49,7 +49,9 @@
 #define HK_PGS_FULL_EVERY 4
 #define HK_PGS_TOLERANCE  1e-4
 
-enum { UNANSWERED = 0, WANTED = 1, ANSWERED = 2 }; /* a point's Y^T */
+/* A point's Y^T (or Z^T): NORMAL_ONLY, a reversed strand's point with row 0 of Z^T
+ * alone (normal_row). */
+enum { UNANSWERED = 0, WANTED = 1, ANSWERED = 2, NORMAL_ONLY = 3 };
 
 typedef struct Slot {
     double s;
@@ -317,28 +319,33 @@ static void transpose_into_lower(hk_ContactSolve *cs, int s)
         for (size_t k = 0; k < i; k++) u[i * dim + k] = u[k * dim + i];
 }
 
-/* Rows of Z^T = (U^-1 J^T)^T of point x of reversed strand s: U z = j by back
- * substitution from the point's support down (z is zero beyond it, as j is), by
- * columns: once z_i is known, column i of U (row i of the lower part,
- * transpose_into_lower) times z_i leaves the rows above it, the three right-hand sides
- * side by side. No sum runs along a row, so the loop over the rows above is
- * vectorised: answer_points took 4.0-4.2 ms a step by rows (each z_i the end of a chain
- * of dependent additions), 2.9-3.2 ms so (examples/guides200 shaking, one thread, CPU
- * time). The sums' order differs from the rows' by rounding. */
-static void reversed_rows(hk_ContactSolve *cs, int s, int x)
+/* Back substitution U z = j for up to three right-hand sides side by side (rows: 3
+ * for z0, z1, z2; 2 for z0, z1; 1 for z0), each solved by the same operations in the
+ * same order whatever the others: a row solved alone has the bits it has solved with
+ * the others (reversed_rows). */
+static void back_substitute(const double *u, size_t dim, int m, double *z0, double *z1, double *z2, int rows)
 {
-    const size_t dim = dim_of(cs, s), at = block_of(cs, s, x);
-    const int m = ((const int *)cs->support.items)[x];
-    const double *u = (const double *)cs->ul.items + cs->ul_start[s];
-    const double *j0 = (const double *)cs->jac.items + at, *j1 = j0 + dim, *j2 = j1 + dim;
-    double *z0 = (double *)cs->yt.items + at, *z1 = z0 + dim, *z2 = z1 + dim;
-    memcpy(z0, j0, (size_t)m * sizeof(double));
-    memcpy(z1, j1, (size_t)m * sizeof(double));
-    memcpy(z2, j2, (size_t)m * sizeof(double));
     for (int i = m - 1; i >= 0; i--) {
         const double *column = u + (size_t)i * dim; /* column[k] = U[k][i] for k < i */
-        const double a0 = z0[i] / column[i], a1 = z1[i] / column[i], a2 = z2[i] / column[i];
-        z0[i] = a0, z1[i] = a1, z2[i] = a2;
+        const double a0 = z0[i] / column[i];
+        z0[i] = a0;
+        if (rows == 1) {
+#pragma omp simd
+            for (int k = 0; k < i; k++) z0[k] -= column[k] * a0;
+            continue;
+        }
+        const double a1 = z1[i] / column[i];
+        z1[i] = a1;
+        if (rows == 2) {
+#pragma omp simd
+            for (int k = 0; k < i; k++) {
+                z0[k] -= column[k] * a0;
+                z1[k] -= column[k] * a1;
+            }
+            continue;
+        }
+        const double a2 = z2[i] / column[i];
+        z2[i] = a2;
 #pragma omp simd
         for (int k = 0; k < i; k++) {
             z0[k] -= column[k] * a0;
@@ -346,6 +353,25 @@ static void reversed_rows(hk_ContactSolve *cs, int s, int x)
             z2[k] -= column[k] * a2;
         }
     }
+}
+
+/* Rows first..2 of Z^T = (U^-1 J^T)^T of point x of reversed strand s (its rows of J
+ * in the basis): U z = j by back substitution from the point's support down (z is
+ * zero beyond it, as j is), by columns: once z_i is known, column i of U (row i of the
+ * lower part, transpose_into_lower) times z_i leaves the rows above it, the
+ * right-hand sides side by side. No sum runs along a row, so the loop over the rows
+ * above is vectorised: answer_points took 4.0-4.2 ms a step by rows (each z_i the end
+ * of a chain of dependent additions), 2.9-3.2 ms so (examples/guides200 shaking, one
+ * thread, CPU time). The sums' order differs from the rows' by rounding. */
+static void reversed_rows(hk_ContactSolve *cs, int s, int x, int first)
+{
+    const size_t dim = dim_of(cs, s), at = block_of(cs, s, x);
+    const int m = ((const int *)cs->support.items)[x];
+    const double *u = (const double *)cs->ul.items + cs->ul_start[s];
+    const double *j = (const double *)cs->jac.items + at;
+    double *z = (double *)cs->yt.items + at;
+    for (int r = first; r < 3; r++) memcpy(z + (size_t)r * dim, j + (size_t)r * dim, (size_t)m * sizeof(double));
+    back_substitute(u, dim, m, z + (size_t)first * dim, z + (size_t)(first + 1) * dim, z + 2 * dim, 3 - first);
 }
 
 /* Rows of a point's J (3 x dim, zero from column m on) turned into the basis: row r
@@ -366,6 +392,24 @@ static void rows_in_basis(double *jac, size_t dim, size_t m, const hk_Vec3 basis
     }
 }
 
+/* Row 0 of Z^T of point x of reversed strand s alone, what the idle check of a pair
+ * that may not push reads (normal_velocity): the normal's row of J (rows_in_basis's
+ * expression, the same bits) solved for, J itself left in world axes for the rest
+ * (complete_answer). Rows 1 and 2 cost two thirds of a point's answer, and most
+ * pairs never push. */
+static void normal_row(hk_ContactSolve *cs, int s, int x)
+{
+    const PairState *ps = (const PairState *)cs->pairs.items + ((const Slot *)cs->slots.items)[x].record / 2;
+    const size_t dim = dim_of(cs, s), at = block_of(cs, s, x);
+    const int m = ((const int *)cs->support.items)[x];
+    const double *j0 = (const double *)cs->jac.items + at, *j1 = j0 + dim, *j2 = j1 + dim;
+    double *z0 = (double *)cs->yt.items + at;
+    const double n0 = ps->basis[0].x, n1 = ps->basis[0].y, n2 = ps->basis[0].z;
+#pragma omp simd
+    for (int k = 0; k < m; k++) z0[k] = n0 * j0[k] + n1 * j1[k] + n2 * j2[k];
+    back_substitute((const double *)cs->ul.items + cs->ul_start[s], dim, m, z0, NULL, NULL, 1);
+}
+
 /* Every point of strand s has its rows of J turned into its pair's basis
  * (prepare_pairs set the bases), each just before its answer is solved for, while
  * its rows are in the caches. (beyond the support J stays zero) */
@@ -376,9 +420,10 @@ static void strand_rows_in_basis(hk_ContactSolve *cs, int s, int x)
 }
 
 /* Y^T of strand s's points marked wanted (answered == WANTED), a run of consecutive
- * points solved at once; Z^T of every point of a reversed strand (a triangular solve
- * over the point's support, cheap, and what even a pair that does not push needs to
- * read its velocity: J dv = Z^T w). A strand whose
+ * points solved at once; Z^T of every wanted point of a reversed strand (a triangular
+ * solve over the point's support), and row 0 of it of the others (what a pair that
+ * does not push needs to read its normal velocity: J dv = Z^T w; the rest when it
+ * comes to push, answer_lazily). A strand whose
  * matrix does not answer becomes immovable: all its points answer zero (nothing has
  * used them yet). */
 static void answer_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s)
@@ -389,9 +434,14 @@ static void answer_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s)
     if (cs->reversed[s]) { /* every point: its rows of Z^T also read its velocity change */
         if (end > begin) transpose_into_lower(cs, s);
         for (int x = begin; x < end; x++) {
-            strand_rows_in_basis(cs, s, x);
-            reversed_rows(cs, s, x);
-            answered[x] = ANSWERED;
+            if (answered[x] == WANTED) {
+                strand_rows_in_basis(cs, s, x);
+                reversed_rows(cs, s, x, 0);
+                answered[x] = ANSWERED;
+            } else {
+                normal_row(cs, s, x);
+                answered[x] = NORMAL_ONLY;
+            }
         }
         return;
     }
@@ -423,7 +473,13 @@ static void answer_lazily(hk_ContactSolve *cs, int s, int x)
 {
     char *answered = cs->answered.items;
     if (answered[x] == ANSWERED) return;
-    answered[x] = ANSWERED; /* (a reversed strand's points all are, by answer_points) */
+    if (answered[x] == NORMAL_ONLY) { /* a reversed strand's: its rows 1 and 2 of Z^T */
+        strand_rows_in_basis(cs, s, x);
+        reversed_rows(cs, s, x, 1);
+        answered[x] = ANSWERED;
+        return;
+    }
+    answered[x] = ANSWERED;
     const size_t at = block_of(cs, s, x);
     double *yt = (double *)cs->yt.items + at;
     if (!cs->movable[s] || !hk_dynamics_resolve_rows(cs->dyn[s], (const double *)cs->jac.items + at, 3, yt))
