@@ -32,6 +32,17 @@ hk_HcStrand hk_hc_strand_view(const hk_StrandSamples *in, double root_exclusion)
  * starts on the full segment (*t0 in [0, 1), 0 unless k is the clipped first one). */
 void hk_hc_segment_ends(const hk_HcStrand *st, int k, double root_exclusion, hk_Vec3 *p0, hk_Vec3 *p1, double *t0);
 
+/* The part of a segment that takes part in contacts, as hk_hc_segment_ends gives it. */
+typedef struct hk_HcEnds {
+    hk_Vec3 p0, p1;
+    double t0;
+} hk_HcEnds;
+
+/* Squared distance of two segments' parts (x of strand si, y of strand sj), with the
+ * parameters of the closest points on the full segments: hk_hc_pair_distance2 for
+ * ends found once (the broad phase measures each segment against several). */
+double hk_hc_ends_distance2(const hk_HcEnds *x, const hk_HcEnds *y, double *u, double *v);
+
 /* Squared distance of segment a of strand si and segment b of strand sj (both taking
  * part), with the parameters of the closest points on the full segments. Always
  * evaluated in this argument order, so that the same pair gives the same bits. */

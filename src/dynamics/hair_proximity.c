@@ -41,14 +41,10 @@ void hk_hc_segment_ends(const hk_HcStrand *st, int k, double root_exclusion, hk_
 double hk_hc_pair_distance2(const hk_HcStrand *si, int a, const hk_HcStrand *sj, int b, double root_exclusion,
                             double *u, double *v)
 {
-    hk_Vec3 p0, p1, q0, q1;
-    double ta, tb, uc, vc;
-    hk_hc_segment_ends(si, a, root_exclusion, &p0, &p1, &ta);
-    hk_hc_segment_ends(sj, b, root_exclusion, &q0, &q1, &tb);
-    const double d2 = hk_segment_closest(p0, p1, q0, q1, &uc, &vc);
-    *u = ta + uc * (1.0 - ta);
-    *v = tb + vc * (1.0 - tb);
-    return d2;
+    hk_HcEnds x, y;
+    hk_hc_segment_ends(si, a, root_exclusion, &x.p0, &x.p1, &x.t0);
+    hk_hc_segment_ends(sj, b, root_exclusion, &y.p0, &y.p1, &y.t0);
+    return hk_hc_ends_distance2(&x, &y, u, v);
 }
 
 hk_HcMetric hk_hc_metric(const hk_HairContactDef *p)
