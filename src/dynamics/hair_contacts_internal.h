@@ -123,6 +123,9 @@ struct hk_HairContacts {
     hk_HcPair *candidates;
     int candidate_count, candidate_cap;
 
+    /* The pairs' geometry only (hk_hc_set_geometry_only): no penalty forces, no lists. */
+    int geometry_only;
+
     /* Test and benchmark hooks. */
     long distance_evaluations; /* segment-pair distances computed by the last update */
     int last_update_rescanned;
@@ -133,6 +136,13 @@ int hk_hc_threads(const hk_HairContacts *c);
 
 /* Changes the threads of the next updates (the hair simulation's own change). */
 void hk_hc_set_threads(hk_HairContacts *c, int threads);
+
+/* With on = 1 the next updates find the pairs and their geometry (points, s, distance,
+ * normal, active) but no penalty forces: hk_hair_contacts_forces then lists none and
+ * the pairs' force indices are -1. The hair simulation's solve (hair_contact_solve.h)
+ * takes the geometry alone; the penalty forces and their sorted lists were 0.4 % of
+ * a frame there (examples/guides200 shaking). */
+void hk_hc_set_geometry_only(hk_HairContacts *c, int on);
 
 /* Appends a pair (growing the array); 0 and err filled when out of memory. */
 int hk_hc_push_pair(hk_HcPair **array, int *count, int *cap, const hk_HcPair *p, hk_Error *err);
