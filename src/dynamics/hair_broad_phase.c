@@ -338,8 +338,11 @@ hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
      * at least the extent / 2^20 so that cell coordinates fit; doubled while long
      * segments would make the entries more than 8 per segment on average. */
     double h = fmax(1.5 * side_sum / n, max_extent / 1048576.0);
-    for (int tries = 0; tries < 64 && covered_cells(g, n, gmin, h) > 8.0 * n + 1024.0; tries++) h *= 2.0;
-    const double entries_d = covered_cells(g, n, gmin, h);
+    double entries_d = covered_cells(g, n, gmin, h);
+    for (int tries = 0; tries < 64 && entries_d > 8.0 * n + 1024.0; tries++) {
+        h *= 2.0;
+        entries_d = covered_cells(g, n, gmin, h);
+    }
     if (entries_d > 8.0 * n + 1024.0) /* cannot happen: h >= every box side gives <= 8 */
         return hk_error_set(err, HK_ERR_NUMERIC, "hair contacts: no usable grid for the broad phase");
     const size_t entries = (size_t)entries_d;
