@@ -147,6 +147,9 @@ void hk_hc_set_geometry_only(hk_HairContacts *c, int on);
 /* Appends a pair (growing the array); 0 and err filled when out of memory. */
 int hk_hc_push_pair(hk_HcPair **array, int *count, int *cap, const hk_HcPair *p, hk_Error *err);
 
+/* Appends n pairs at once, the same way. */
+int hk_hc_append_pairs(hk_HcPair **array, int *count, int *cap, const hk_HcPair *p, int n, hk_Error *err);
+
 /* Sorts pairs[0..n) by (i, a, j, b): counting sort on the global index of the
  * segment (i, a), then the short runs by (j, b). O(segments + pairs). Until the next
  * sort, hk_hc_run gives the run [*begin, *end) of the pairs of segment (i, a). */

@@ -113,14 +113,15 @@ long hk_hc_walk(const hk_HcStrand *si, const hk_HcStrand *sj, const hk_HcMetric 
     return evaluations;
 }
 
-int hk_hc_push_pair(hk_HcPair **array, int *count, int *cap, const hk_HcPair *p, hk_Error *err)
+int hk_hc_append_pairs(hk_HcPair **array, int *count, int *cap, const hk_HcPair *p, int n, hk_Error *err)
 {
-    if (*count == *cap) {
-        if (*cap > (1 << 29)) {
+    if (n > *cap - *count) {
+        if (n > (1 << 29) - *count) {
             hk_error_set(err, HK_ERR_NOMEM, "more than %d hair-hair pairs", 1 << 29);
             return 0;
         }
         int new_cap = *cap < 64 ? 64 : 2 * *cap;
+        while (new_cap - *count < n) new_cap *= 2;
         hk_HcPair *grown = hk_alloc_array((size_t)new_cap, sizeof *grown, err);
         if (!grown) return 0;
         if (*count > 0) memcpy(grown, *array, (size_t)*count * sizeof *grown);
@@ -128,6 +129,14 @@ int hk_hc_push_pair(hk_HcPair **array, int *count, int *cap, const hk_HcPair *p,
         *array = grown;
         *cap = new_cap;
     }
+    if (n > 0) memcpy(*array + *count, p, (size_t)n * sizeof *p);
+    *count += n;
+    return 1;
+}
+
+int hk_hc_push_pair(hk_HcPair **array, int *count, int *cap, const hk_HcPair *p, hk_Error *err)
+{
+    if (*count >= *cap) return hk_hc_append_pairs(array, count, cap, p, 1, err);
     (*array)[(*count)++] = *p;
     return 1;
 }
