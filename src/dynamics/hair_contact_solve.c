@@ -53,10 +53,8 @@
  * alone (normal_row). */
 enum { UNANSWERED = 0, WANTED = 1, ANSWERED = 2, NORMAL_ONLY = 3 };
 
-typedef struct Slot {
-    double s;
-    int record; /* 2 pair + side */
-} Slot;
+/* A point: at its s, index 2 pair + side. */
+typedef hk_HcKey Slot;
 
 /* The parts of a pair's contact law that depend on its Delassus block w (and gamma, mu,
  * the viscous coefficient) alone, the same for every visit of a solve: the
@@ -187,27 +185,6 @@ void hk_contact_solve_destroy(hk_ContactSolve *cs)
     hk_free(cs);
 }
 
-/* Slot a before slot b: by s, then by record (a total order: any sort gives it). */
-static int slot_before(const Slot *a, const Slot *b) { return a->s < b->s || (a->s == b->s && a->record < b->record); }
-
-/* Sorts a strand's slots, a few dozen, dealt by segment (layout): only the points on
- * one segment can be out of order, and an insertion sort puts them in order in about
- * a pass. qsort took 0.87 million instructions a step, an insertion sort of the points
- * in pair order 0.61, of the points by segment 0.17, the dealing 0.08 more
- * (examples/guides200 shaking). */
-static void sort_slots(Slot *slot, int count)
-{
-    for (int x = 1; x < count; x++) {
-        const Slot key = slot[x];
-        int y = x - 1;
-        while (y >= 0 && slot_before(&key, &slot[y])) {
-            slot[y + 1] = slot[y];
-            y--;
-        }
-        slot[y + 1] = key;
-    }
-}
-
 /* Sizes the arrays and deals the pairs' points to the strands, each strand's sorted by
  * s (the order its Jacobians are walked in and its forces listed in). */
 static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_StrandDynamics **dyn, hk_Error *err)
@@ -238,7 +215,11 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Strand
         !reserve(&cs->roots, (size_t)g, sizeof(hk_Vec3), err) || !reserve(&cs->delta, (size_t)n, sizeof(hk_Vec3), err))
         return HK_ERR_NOMEM;
     /* The points dealt by (strand, segment), a counting sort on the segment's global
-     * index (offset[strand] + segment): strand by strand as slot_start has them. */
+     * index (offset[strand] + segment): strand by strand as slot_start has them, and
+     * each strand's nearly sorted by s for hk_hc_sort_keys (only the points on one
+     * segment can be out of order). qsort took 0.87 million instructions a step, an
+     * insertion sort of the points in pair order 0.61, of the points so 0.17, the
+     * dealing 0.08 more (examples/guides200 shaking). */
     long segments = 0;
     for (int s = 0; s < g; s++) segments += c->views[s].count - 1;
     if (!reserve(&cs->segment_place, (size_t)(segments + g + 1), sizeof(int), err)) return HK_ERR_NOMEM;
@@ -258,8 +239,8 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Strand
         const int at[2] = {offset[hp->i] + hp->a, offset[hp->j] + hp->b};
         for (int side = 0; side < 2; side++) {
             Slot *sl = &slot[place[at[side]]++];
-            sl->s = c->contacts[k].s[side];
-            sl->record = 2 * k + side;
+            sl->at = c->contacts[k].s[side];
+            sl->index = 2 * k + side;
         }
     }
 /* Each strand's points alone: a pair's slot[0] and slot[1] are set by the loops of
@@ -267,10 +248,10 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Strand
 #pragma omp parallel for schedule(dynamic, 8) num_threads(hk_hc_threads(c))
     for (int s = 0; s < g; s++) {
         const int begin = cs->slot_start[s], count = cs->slot_start[s + 1] - begin;
-        sort_slots(slot + begin, count);
+        hk_hc_sort_keys(slot + begin, count);
         for (int x = begin; x < begin + count; x++) {
-            pairs[slot[x].record / 2].slot[slot[x].record % 2] = x;
-            ((double *)cs->at.items)[x] = slot[x].s;
+            pairs[slot[x].index / 2].slot[slot[x].index % 2] = x;
+            ((double *)cs->at.items)[x] = slot[x].at;
         }
     }
     return HK_OK;
@@ -428,7 +409,7 @@ static void rows_in_basis(double *jac, size_t dim, size_t m, const hk_Vec3 basis
  * pairs never push. */
 static void normal_row(hk_ContactSolve *cs, int s, int x)
 {
-    const PairState *ps = (const PairState *)cs->pairs.items + ((const Slot *)cs->slots.items)[x].record / 2;
+    const PairState *ps = (const PairState *)cs->pairs.items + ((const Slot *)cs->slots.items)[x].index / 2;
     const size_t dim = dim_of(cs, s), at = block_of(cs, s, x);
     const int m = ((const int *)cs->support.items)[x];
     const double *j0 = (const double *)cs->jac.items + at, *j1 = j0 + dim, *j2 = j1 + dim;
@@ -444,7 +425,7 @@ static void normal_row(hk_ContactSolve *cs, int s, int x)
  * its rows are in the caches. (beyond the support J stays zero) */
 static void strand_rows_in_basis(hk_ContactSolve *cs, int s, int x)
 {
-    const PairState *ps = (const PairState *)cs->pairs.items + ((const Slot *)cs->slots.items)[x].record / 2;
+    const PairState *ps = (const PairState *)cs->pairs.items + ((const Slot *)cs->slots.items)[x].index / 2;
     rows_in_basis((double *)cs->jac.items + block_of(cs, s, x), dim_of(cs, s), support_of(cs, x), ps->basis);
 }
 
@@ -469,7 +450,7 @@ static void answer_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s)
         for (int x = begin; x < end; x++) {
             /* Only the warm-started pairs' impulses act before a sweep finds them
              * pushing (apply_by_strand); the others' rows wait for that. */
-            if (answered[x] == WANTED && hk_v3_norm2(pairs[slot[x].record / 2].lambda) > 0.0) {
+            if (answered[x] == WANTED && hk_v3_norm2(pairs[slot[x].index / 2].lambda) > 0.0) {
                 strand_rows_in_basis(cs, s, x);
                 reversed_rows(cs, s, x, 0);
                 answered[x] = ANSWERED;
@@ -1137,9 +1118,9 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
          * (for the next step's warm start). */
 #pragma omp for schedule(static)
         for (int x = 0; x < slots; x++) {
-            const PairState *ps = &pairs[slot[x].record / 2];
-            const double sign = slot[x].record % 2 == 0 ? 1.0 : -1.0;
-            forces[x].s = slot[x].s;
+            const PairState *ps = &pairs[slot[x].index / 2];
+            const double sign = slot[x].index % 2 == 0 ? 1.0 : -1.0;
+            forces[x].s = slot[x].at;
             forces[x].force = hk_v3_scale(from_basis(ps->basis, ps->lambda), sign / dt);
             forces[x].stiffness = forces[x].damping = hk_m3_zero();
         }

@@ -36,18 +36,6 @@ static int reserve(hk_ContactSplit *sp, int strand_count)
     return 1;
 }
 
-static int key_cmp(const void *x, const void *y)
-{
-    const hk_SplitKey *a = x, *b = y;
-    if (a->at != b->at) return a->at < b->at ? -1 : 1;
-    return (a->strand > b->strand) - (a->strand < b->strand);
-}
-
-static int key_before(const hk_SplitKey *a, const hk_SplitKey *b)
-{
-    return a->at < b->at || (a->at == b->at && a->strand < b->strand);
-}
-
 /* sp->rank of the strands along each axis: by the root's coordinate, then by index (a
  * total order, so that any sort gives it), once a split. The roots turn with the
  * head, a degree or two a step: the last split's order, its coordinates renewed, is
@@ -58,23 +46,13 @@ static void rank_axes(hk_ContactSplit *sp, int g, const hk_Vec3 *roots)
     const int kept = sp->sorted_count == g;
     for (int axis = 0; axis < 3; axis++) {
         hk_SplitKey *sorted = sp->sorted + (size_t)axis * (size_t)g;
-        if (!kept) {
+        if (!kept)
             for (int s = 0; s < g; s++) sorted[s] = (hk_SplitKey){hk_v3_get(roots[s], axis), s};
-            qsort(sorted, (size_t)g, sizeof *sorted, key_cmp);
-        } else {
-            for (int r = 0; r < g; r++) sorted[r].at = hk_v3_get(roots[sorted[r].strand], axis);
-            for (int x = 1; x < g; x++) {
-                const hk_SplitKey key = sorted[x];
-                int y = x - 1;
-                while (y >= 0 && key_before(&key, &sorted[y])) {
-                    sorted[y + 1] = sorted[y];
-                    y--;
-                }
-                sorted[y + 1] = key;
-            }
-        }
+        else
+            for (int r = 0; r < g; r++) sorted[r].at = hk_v3_get(roots[sorted[r].index], axis);
+        hk_hc_sort_keys(sorted, g);
         int *rank = sp->rank + (size_t)axis * (size_t)g;
-        for (int r = 0; r < g; r++) rank[sorted[r].strand] = r;
+        for (int r = 0; r < g; r++) rank[sorted[r].index] = r;
     }
     sp->sorted_count = g;
 }

@@ -6,10 +6,8 @@
 
 #include "hair_contacts_internal.h"
 
-typedef struct hk_SplitKey {
-    double at; /* the root's coordinate */
-    int strand;
-} hk_SplitKey;
+/* A strand along an axis: at its root's coordinate, index the strand. */
+typedef hk_HcKey hk_SplitKey;
 
 /* Scratch of hk_contact_split, kept between steps. */
 typedef struct hk_ContactSplit {

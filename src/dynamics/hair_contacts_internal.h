@@ -144,6 +144,18 @@ void hk_hc_set_threads(hk_HairContacts *c, int threads);
  * a frame there (examples/guides200 shaking). */
 void hk_hc_set_geometry_only(hk_HairContacts *c, int on);
 
+/* A value and an index, sorted by (at, index): a total order, so that any sort gives
+ * the same result. */
+typedef struct hk_HcKey {
+    double at;
+    int index;
+} hk_HcKey;
+
+/* Sorts keys[0, n) by (at, index) by insertion: about linear on keys nearly in order
+ * (the contact solve's points dealt by segment, the split's roots as the last step
+ * left them). */
+void hk_hc_sort_keys(hk_HcKey *keys, int n);
+
 /* Appends a pair (growing the array); 0 and err filled when out of memory. */
 int hk_hc_push_pair(hk_HcPair **array, int *count, int *cap, const hk_HcPair *p, hk_Error *err);
 

@@ -113,6 +113,19 @@ long hk_hc_walk(const hk_HcStrand *si, const hk_HcStrand *sj, const hk_HcMetric 
     return evaluations;
 }
 
+void hk_hc_sort_keys(hk_HcKey *keys, int n)
+{
+    for (int x = 1; x < n; x++) {
+        const hk_HcKey key = keys[x];
+        int y = x - 1;
+        while (y >= 0 && (key.at < keys[y].at || (key.at == keys[y].at && key.index < keys[y].index))) {
+            keys[y + 1] = keys[y];
+            y--;
+        }
+        keys[y + 1] = key;
+    }
+}
+
 int hk_hc_append_pairs(hk_HcPair **array, int *count, int *cap, const hk_HcPair *p, int n, hk_Error *err)
 {
     if (n > *cap - *count) {
