@@ -402,12 +402,12 @@ static void rows_in_basis(double *jac, size_t dim, size_t m, const hk_Vec3 basis
     }
 }
 
-/* Row 0 of Z^T of point x of reversed strand s alone, what the idle check of a pair
- * that may not push reads (normal_velocity): the normal's row of J (rows_in_basis's
- * expression, the same bits) solved for, J itself left in world axes for the rest
- * (complete_answer). Rows 1 and 2 cost two thirds of a point's answer, and most
- * pairs never push. */
-static void normal_row(hk_ContactSolve *cs, int s, int x)
+/* The right-hand side of row 0 of Z^T of point x of reversed strand s alone, what the
+ * idle check of a pair that may not push reads (normal_velocity): the normal's row of
+ * J (rows_in_basis's expression, the same bits), J itself left in world axes for the
+ * rest (answer_lazily). Rows 1 and 2 cost two thirds of a point's answer, and most
+ * pairs never push. Returns the row, to be solved for (answer_points). */
+static double *normal_row(hk_ContactSolve *cs, int s, int x)
 {
     const PairState *ps = (const PairState *)cs->pairs.items + ((const Slot *)cs->slots.items)[x].index / 2;
     const size_t dim = dim_of(cs, s), at = block_of(cs, s, x);
@@ -417,7 +417,7 @@ static void normal_row(hk_ContactSolve *cs, int s, int x)
     const double n0 = ps->basis[0].x, n1 = ps->basis[0].y, n2 = ps->basis[0].z;
 #pragma omp simd
     for (int k = 0; k < m; k++) z0[k] = n0 * j0[k] + n1 * j1[k] + n2 * j2[k];
-    back_substitute((const double *)cs->ul.items + cs->ul_start[s], dim, m, z0, NULL, NULL, 1);
+    return z0;
 }
 
 /* Every point of strand s has its rows of J turned into its pair's basis
@@ -447,17 +447,32 @@ static void answer_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s)
         if (end > begin) transpose_into_lower(cs, s);
         const PairState *pairs = cs->pairs.items;
         const Slot *slot = cs->slots.items;
-        for (int x = begin; x < end; x++) {
-            /* Only the warm-started pairs' impulses act before a sweep finds them
-             * pushing (apply_by_strand); the others' rows wait for that. */
+        const int *support = cs->support.items;
+        const double *u = (const double *)cs->ul.items + cs->ul_start[s];
+        /* Only the warm-started pairs' impulses act before a sweep finds them pushing
+         * (apply_by_strand); the others' rows wait for that. */
+        for (int x = begin; x < end; x++)
             if (answered[x] == WANTED && hk_v3_norm2(pairs[slot[x].index / 2].lambda) > 0.0) {
                 strand_rows_in_basis(cs, s, x);
                 reversed_rows(cs, s, x, 0);
                 answered[x] = ANSWERED;
-            } else {
-                normal_row(cs, s, x);
+            }
+        /* The other points' normal rows, up to three consecutive ones of the same
+         * support solved side by side: a back substitution is a chain of divisions,
+         * each waiting for the last, and one row alone took as long as three. */
+        for (int x = begin; x < end;) {
+            if (answered[x] == ANSWERED) {
+                x++;
+                continue;
+            }
+            const int m = support[x];
+            double *z[3] = {NULL, NULL, NULL};
+            int rows = 0;
+            for (; x < end && rows < 3 && answered[x] != ANSWERED && support[x] == m; x++) {
+                z[rows++] = normal_row(cs, s, x);
                 answered[x] = NORMAL_ONLY;
             }
+            back_substitute(u, dim_of(cs, s), m, z[0], z[1], z[2], rows);
         }
         return;
     }
