@@ -59,6 +59,7 @@ static void pair_contact(const hk_HairContacts *c, const hk_HcPair *p, hk_HcCont
     out->normal = n;
     if (!(d < pr->distance)) return;
     out->active = 1;
+    if (c->geometry_only) return;
     const hk_Vec3 w = hk_v3_sub(velocity_at(si, p->a, p->u), velocity_at(sj, p->b, p->v));
     const double wn = hk_v3_dot(w, n);
     const double fn = pr->stiffness * (pr->distance - d) - pr->damping * wn;
@@ -112,6 +113,10 @@ hk_Status hk_hc_forces(hk_HairContacts *c, hk_Error *err)
             c->force_start[c->pairs[k].i + 1]++;
             c->force_start[c->pairs[k].j + 1]++;
         }
+    if (c->geometry_only) {
+        memset(c->force_start, 0, (size_t)(g + 1) * sizeof *c->force_start);
+        return HK_OK;
+    }
     for (int s = 0; s < g; s++) c->force_start[s + 1] += c->force_start[s];
     const int total = c->force_start[g];
     if (total > c->force_cap || total > c->force_key_cap) {

@@ -49,12 +49,12 @@
 #define HK_PGS_FULL_EVERY 4
 #define HK_PGS_TOLERANCE  1e-4
 
-enum { UNANSWERED = 0, WANTED = 1, ANSWERED = 2 }; /* a point's Y^T */
+/* A point's Y^T (or Z^T): NORMAL_ONLY, a reversed strand's point with row 0 of Z^T
+ * alone (normal_row). */
+enum { UNANSWERED = 0, WANTED = 1, ANSWERED = 2, NORMAL_ONLY = 3 };
 
-typedef struct Slot {
-    double s;
-    int record; /* 2 pair + side */
-} Slot;
+/* A point: at its s, index 2 pair + side. */
+typedef hk_HcKey Slot;
 
 /* The parts of a pair's contact law that depend on its Delassus block w (and gamma, mu,
  * the viscous coefficient) alone, the same for every visit of a solve: the
@@ -139,6 +139,7 @@ struct hk_ContactSolve {
     Buffer delta;            /* hk_Vec3 per pair: a change of its impulse (apply_by_strand) */
     Buffer order, weight;    /* int and double per pair: the sweeps' order, the split's weights */
     Buffer roots;            /* hk_Vec3 per strand: its root, where the split reads it */
+    Buffer segment_place;    /* int per strand and per segment + 1: dealing the points (layout) */
     hk_ContactSplit split;   /* scratch of the split */
     int old_count;
     hk_StrandDynamics **dyn; /* the strands of the solve under way */
@@ -175,19 +176,13 @@ void hk_contact_solve_destroy(hk_ContactSolve *cs)
     hk_free(cs->movable);
     hk_free(cs->reversed);
     hk_free(cs->ul_start);
-    Buffer *all[] = {&cs->slots,   &cs->at,    &cs->vfree,    &cs->vel,   &cs->forces, &cs->jac,   &cs->yt,
-                     &cs->support, &cs->ul,    &cs->answered, &cs->dv,    &cs->screws, &cs->pairs, &cs->old_pairs,
-                     &cs->active,  &cs->order, &cs->weight,   &cs->roots, &cs->delta};
+    Buffer *all[] = {&cs->slots, &cs->at,     &cs->vfree,   &cs->vel,       &cs->forces,
+                     &cs->jac,   &cs->yt,     &cs->support, &cs->ul,        &cs->answered,
+                     &cs->dv,    &cs->screws, &cs->pairs,   &cs->old_pairs, &cs->active,
+                     &cs->order, &cs->weight, &cs->roots,   &cs->delta,     &cs->segment_place};
     for (size_t k = 0; k < sizeof all / sizeof *all; k++) hk_free(all[k]->items);
     hk_contact_split_free(&cs->split);
     hk_free(cs);
-}
-
-static int slot_cmp(const void *x, const void *y)
-{
-    const Slot *a = x, *b = y;
-    if (a->s != b->s) return a->s < b->s ? -1 : 1;
-    return (a->record > b->record) - (a->record < b->record);
 }
 
 /* Sizes the arrays and deals the pairs' points to the strands, each strand's sorted by
@@ -219,16 +214,33 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Strand
         !reserve(&cs->order, (size_t)n, sizeof(int), err) || !reserve(&cs->weight, (size_t)n, sizeof(double), err) ||
         !reserve(&cs->roots, (size_t)g, sizeof(hk_Vec3), err) || !reserve(&cs->delta, (size_t)n, sizeof(hk_Vec3), err))
         return HK_ERR_NOMEM;
+    /* The points dealt by (strand, segment), a counting sort on the segment's global
+     * index (offset[strand] + segment): strand by strand as slot_start has them, and
+     * each strand's nearly sorted by s for hk_hc_sort_keys (only the points on one
+     * segment can be out of order). qsort took 0.87 million instructions a step, an
+     * insertion sort of the points in pair order 0.61, of the points so 0.17, the
+     * dealing 0.08 more (examples/guides200 shaking). */
+    long segments = 0;
+    for (int s = 0; s < g; s++) segments += c->views[s].count - 1;
+    if (!reserve(&cs->segment_place, (size_t)(segments + g + 1), sizeof(int), err)) return HK_ERR_NOMEM;
+    int *offset = cs->segment_place.items, *place = offset + g;
+    long acc = 0;
+    for (int s = 0; s < g; s++) offset[s] = (int)acc, acc += c->views[s].count - 1;
+    memset(place, 0, (size_t)(segments + 1) * sizeof(int));
+    for (int k = 0; k < n; k++) {
+        place[offset[c->pairs[k].i] + c->pairs[k].a + 1]++;
+        place[offset[c->pairs[k].j] + c->pairs[k].b + 1]++;
+    }
+    for (long x = 0; x < segments; x++) place[x + 1] += place[x];
     Slot *slot = cs->slots.items;
     PairState *pairs = cs->pairs.items;
-    int *fill = cs->movable; /* borrowed for the fill positions */
-    memcpy(fill, cs->slot_start, (size_t)g * sizeof(int));
     for (int k = 0; k < n; k++) {
-        const int strand[2] = {c->pairs[k].i, c->pairs[k].j};
+        const hk_HcPair *hp = &c->pairs[k];
+        const int at[2] = {offset[hp->i] + hp->a, offset[hp->j] + hp->b};
         for (int side = 0; side < 2; side++) {
-            Slot *sl = &slot[fill[strand[side]]++];
-            sl->s = c->contacts[k].s[side];
-            sl->record = 2 * k + side;
+            Slot *sl = &slot[place[at[side]]++];
+            sl->at = c->contacts[k].s[side];
+            sl->index = 2 * k + side;
         }
     }
 /* Each strand's points alone: a pair's slot[0] and slot[1] are set by the loops of
@@ -236,10 +248,10 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Strand
 #pragma omp parallel for schedule(dynamic, 8) num_threads(hk_hc_threads(c))
     for (int s = 0; s < g; s++) {
         const int begin = cs->slot_start[s], count = cs->slot_start[s + 1] - begin;
-        if (count > 1) qsort(slot + begin, (size_t)count, sizeof(Slot), slot_cmp);
+        hk_hc_sort_keys(slot + begin, count);
         for (int x = begin; x < begin + count; x++) {
-            pairs[slot[x].record / 2].slot[slot[x].record % 2] = x;
-            ((double *)cs->at.items)[x] = slot[x].s;
+            pairs[slot[x].index / 2].slot[slot[x].index % 2] = x;
+            ((double *)cs->at.items)[x] = slot[x].at;
         }
     }
     return HK_OK;
@@ -317,28 +329,33 @@ static void transpose_into_lower(hk_ContactSolve *cs, int s)
         for (size_t k = 0; k < i; k++) u[i * dim + k] = u[k * dim + i];
 }
 
-/* Rows of Z^T = (U^-1 J^T)^T of point x of reversed strand s: U z = j by back
- * substitution from the point's support down (z is zero beyond it, as j is), by
- * columns: once z_i is known, column i of U (row i of the lower part,
- * transpose_into_lower) times z_i leaves the rows above it, the three right-hand sides
- * side by side. No sum runs along a row, so the loop over the rows above is
- * vectorised: answer_points took 4.0-4.2 ms a step by rows (each z_i the end of a chain
- * of dependent additions), 2.9-3.2 ms so (examples/guides200 shaking, one thread, CPU
- * time). The sums' order differs from the rows' by rounding. */
-static void reversed_rows(hk_ContactSolve *cs, int s, int x)
+/* Back substitution U z = j for up to three right-hand sides side by side (rows: 3
+ * for z0, z1, z2; 2 for z0, z1; 1 for z0), each solved by the same operations in the
+ * same order whatever the others: a row solved alone has the bits it has solved with
+ * the others (reversed_rows). */
+static void back_substitute(const double *u, size_t dim, int m, double *z0, double *z1, double *z2, int rows)
 {
-    const size_t dim = dim_of(cs, s), at = block_of(cs, s, x);
-    const int m = ((const int *)cs->support.items)[x];
-    const double *u = (const double *)cs->ul.items + cs->ul_start[s];
-    const double *j0 = (const double *)cs->jac.items + at, *j1 = j0 + dim, *j2 = j1 + dim;
-    double *z0 = (double *)cs->yt.items + at, *z1 = z0 + dim, *z2 = z1 + dim;
-    memcpy(z0, j0, (size_t)m * sizeof(double));
-    memcpy(z1, j1, (size_t)m * sizeof(double));
-    memcpy(z2, j2, (size_t)m * sizeof(double));
     for (int i = m - 1; i >= 0; i--) {
         const double *column = u + (size_t)i * dim; /* column[k] = U[k][i] for k < i */
-        const double a0 = z0[i] / column[i], a1 = z1[i] / column[i], a2 = z2[i] / column[i];
-        z0[i] = a0, z1[i] = a1, z2[i] = a2;
+        const double a0 = z0[i] / column[i];
+        z0[i] = a0;
+        if (rows == 1) {
+#pragma omp simd
+            for (int k = 0; k < i; k++) z0[k] -= column[k] * a0;
+            continue;
+        }
+        const double a1 = z1[i] / column[i];
+        z1[i] = a1;
+        if (rows == 2) {
+#pragma omp simd
+            for (int k = 0; k < i; k++) {
+                z0[k] -= column[k] * a0;
+                z1[k] -= column[k] * a1;
+            }
+            continue;
+        }
+        const double a2 = z2[i] / column[i];
+        z2[i] = a2;
 #pragma omp simd
         for (int k = 0; k < i; k++) {
             z0[k] -= column[k] * a0;
@@ -346,6 +363,25 @@ static void reversed_rows(hk_ContactSolve *cs, int s, int x)
             z2[k] -= column[k] * a2;
         }
     }
+}
+
+/* Rows first..2 of Z^T = (U^-1 J^T)^T of point x of reversed strand s (its rows of J
+ * in the basis): U z = j by back substitution from the point's support down (z is
+ * zero beyond it, as j is), by columns: once z_i is known, column i of U (row i of the
+ * lower part, transpose_into_lower) times z_i leaves the rows above it, the
+ * right-hand sides side by side. No sum runs along a row, so the loop over the rows
+ * above is vectorised: answer_points took 4.0-4.2 ms a step by rows (each z_i the end
+ * of a chain of dependent additions), 2.9-3.2 ms so (examples/guides200 shaking, one
+ * thread, CPU time). The sums' order differs from the rows' by rounding. */
+static void reversed_rows(hk_ContactSolve *cs, int s, int x, int first)
+{
+    const size_t dim = dim_of(cs, s), at = block_of(cs, s, x);
+    const int m = ((const int *)cs->support.items)[x];
+    const double *u = (const double *)cs->ul.items + cs->ul_start[s];
+    const double *j = (const double *)cs->jac.items + at;
+    double *z = (double *)cs->yt.items + at;
+    for (int r = first; r < 3; r++) memcpy(z + (size_t)r * dim, j + (size_t)r * dim, (size_t)m * sizeof(double));
+    back_substitute(u, dim, m, z + (size_t)first * dim, z + (size_t)(first + 1) * dim, z + 2 * dim, 3 - first);
 }
 
 /* Rows of a point's J (3 x dim, zero from column m on) turned into the basis: row r
@@ -366,19 +402,40 @@ static void rows_in_basis(double *jac, size_t dim, size_t m, const hk_Vec3 basis
     }
 }
 
+/* The right-hand side of row 0 of Z^T of point x of reversed strand s alone, what the
+ * idle check of a pair that may not push reads (normal_velocity): the normal's row of
+ * J (rows_in_basis's expression, the same bits), J itself left in world axes for the
+ * rest (answer_lazily). Rows 1 and 2 cost two thirds of a point's answer, and most
+ * pairs never push. Returns the row, to be solved for (answer_points). */
+static double *normal_row(hk_ContactSolve *cs, int s, int x)
+{
+    const PairState *ps = (const PairState *)cs->pairs.items + ((const Slot *)cs->slots.items)[x].index / 2;
+    const size_t dim = dim_of(cs, s), at = block_of(cs, s, x);
+    const int m = ((const int *)cs->support.items)[x];
+    const double *j0 = (const double *)cs->jac.items + at, *j1 = j0 + dim, *j2 = j1 + dim;
+    double *z0 = (double *)cs->yt.items + at;
+    const double n0 = ps->basis[0].x, n1 = ps->basis[0].y, n2 = ps->basis[0].z;
+#pragma omp simd
+    for (int k = 0; k < m; k++) z0[k] = n0 * j0[k] + n1 * j1[k] + n2 * j2[k];
+    return z0;
+}
+
 /* Every point of strand s has its rows of J turned into its pair's basis
  * (prepare_pairs set the bases), each just before its answer is solved for, while
  * its rows are in the caches. (beyond the support J stays zero) */
 static void strand_rows_in_basis(hk_ContactSolve *cs, int s, int x)
 {
-    const PairState *ps = (const PairState *)cs->pairs.items + ((const Slot *)cs->slots.items)[x].record / 2;
+    const PairState *ps = (const PairState *)cs->pairs.items + ((const Slot *)cs->slots.items)[x].index / 2;
     rows_in_basis((double *)cs->jac.items + block_of(cs, s, x), dim_of(cs, s), support_of(cs, x), ps->basis);
 }
 
 /* Y^T of strand s's points marked wanted (answered == WANTED), a run of consecutive
- * points solved at once; Z^T of every point of a reversed strand (a triangular solve
- * over the point's support, cheap, and what even a pair that does not push needs to
- * read its velocity: J dv = Z^T w). A strand whose
+ * points solved at once; Z^T of a reversed strand's points of the pairs with an
+ * impulse from the last step (a triangular solve over the point's support), and row 0
+ * of it of the others (what a pair that does not push needs to read its normal
+ * velocity: J dv = Z^T w; the rest when a sweep finds it pushing, answer_lazily: on
+ * examples/guides200 shaking, of 3,700 wanted points a step 2,200 had an impulse,
+ * and 730 more came to push). A strand whose
  * matrix does not answer becomes immovable: all its points answer zero (nothing has
  * used them yet). */
 static void answer_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s)
@@ -388,10 +445,34 @@ static void answer_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s)
     int ok = cs->movable[s];
     if (cs->reversed[s]) { /* every point: its rows of Z^T also read its velocity change */
         if (end > begin) transpose_into_lower(cs, s);
-        for (int x = begin; x < end; x++) {
-            strand_rows_in_basis(cs, s, x);
-            reversed_rows(cs, s, x);
-            answered[x] = ANSWERED;
+        const PairState *pairs = cs->pairs.items;
+        const Slot *slot = cs->slots.items;
+        const int *support = cs->support.items;
+        const double *u = (const double *)cs->ul.items + cs->ul_start[s];
+        /* Only the warm-started pairs' impulses act before a sweep finds them pushing
+         * (apply_by_strand); the others' rows wait for that. */
+        for (int x = begin; x < end; x++)
+            if (answered[x] == WANTED && hk_v3_norm2(pairs[slot[x].index / 2].lambda) > 0.0) {
+                strand_rows_in_basis(cs, s, x);
+                reversed_rows(cs, s, x, 0);
+                answered[x] = ANSWERED;
+            }
+        /* The other points' normal rows, up to three consecutive ones of the same
+         * support solved side by side: a back substitution is a chain of divisions,
+         * each waiting for the last, and one row alone took as long as three. */
+        for (int x = begin; x < end;) {
+            if (answered[x] == ANSWERED) {
+                x++;
+                continue;
+            }
+            const int m = support[x];
+            double *z[3] = {NULL, NULL, NULL};
+            int rows = 0;
+            for (; x < end && rows < 3 && answered[x] != ANSWERED && support[x] == m; x++) {
+                z[rows++] = normal_row(cs, s, x);
+                answered[x] = NORMAL_ONLY;
+            }
+            back_substitute(u, dim_of(cs, s), m, z[0], z[1], z[2], rows);
         }
         return;
     }
@@ -423,7 +504,13 @@ static void answer_lazily(hk_ContactSolve *cs, int s, int x)
 {
     char *answered = cs->answered.items;
     if (answered[x] == ANSWERED) return;
-    answered[x] = ANSWERED; /* (a reversed strand's points all are, by answer_points) */
+    if (answered[x] == NORMAL_ONLY) { /* a reversed strand's: its rows 1 and 2 of Z^T */
+        strand_rows_in_basis(cs, s, x);
+        reversed_rows(cs, s, x, 1);
+        answered[x] = ANSWERED;
+        return;
+    }
+    answered[x] = ANSWERED;
     const size_t at = block_of(cs, s, x);
     double *yt = (double *)cs->yt.items + at;
     if (!cs->movable[s] || !hk_dynamics_resolve_rows(cs->dyn[s], (const double *)cs->jac.items + at, 3, yt))
@@ -1046,9 +1133,9 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
          * (for the next step's warm start). */
 #pragma omp for schedule(static)
         for (int x = 0; x < slots; x++) {
-            const PairState *ps = &pairs[slot[x].record / 2];
-            const double sign = slot[x].record % 2 == 0 ? 1.0 : -1.0;
-            forces[x].s = slot[x].s;
+            const PairState *ps = &pairs[slot[x].index / 2];
+            const double sign = slot[x].index % 2 == 0 ? 1.0 : -1.0;
+            forces[x].s = slot[x].at;
             forces[x].force = hk_v3_scale(from_basis(ps->basis, ps->lambda), sign / dt);
             forces[x].stiffness = forces[x].damping = hk_m3_zero();
         }

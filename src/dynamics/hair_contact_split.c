@@ -22,8 +22,8 @@ static int reserve(hk_ContactSplit *sp, int strand_count)
     if (strand_count <= sp->strand_cap) return 1;
     hk_contact_split_free(sp);
     const size_t g = (size_t)strand_count;
-    sp->rank = hk_alloc_array(g, sizeof(int), NULL);
-    sp->sorted = hk_alloc_array(g, sizeof *sp->sorted, NULL);
+    sp->rank = hk_alloc_array(3 * g, sizeof(int), NULL);
+    sp->sorted = hk_alloc_array(3 * g, sizeof *sp->sorted, NULL);
     sp->below = hk_alloc_array(g + 1, sizeof(double), NULL);
     sp->above = hk_alloc_array(g + 1, sizeof(double), NULL);
     sp->side = hk_alloc_array(g, sizeof(int), NULL);
@@ -36,33 +36,38 @@ static int reserve(hk_ContactSplit *sp, int strand_count)
     return 1;
 }
 
-static int key_cmp(const void *x, const void *y)
+/* sp->rank of the strands along each axis: by the root's coordinate, then by index (a
+ * total order, so that any sort gives it), once a split. The roots turn with the
+ * head, a degree or two a step: the last split's order, its coordinates renewed, is
+ * nearly sorted and an insertion sort finishes it in a pass or two (with 8 qsorts a
+ * split took 0.51 million instructions a step, so 0.35; examples/guides200 shaking). */
+static void rank_axes(hk_ContactSplit *sp, int g, const hk_Vec3 *roots)
 {
-    const hk_SplitKey *a = x, *b = y;
-    if (a->at != b->at) return a->at < b->at ? -1 : 1;
-    return (a->strand > b->strand) - (a->strand < b->strand);
-}
-
-/* sp->rank of the strands along an axis: by the root's coordinate, then by index (a
- * total order, so that any sort gives it). */
-static void rank_along(hk_ContactSplit *sp, int strand_count, const hk_Vec3 *roots, int axis)
-{
-    for (int s = 0; s < strand_count; s++) sp->sorted[s] = (hk_SplitKey){hk_v3_get(roots[s], axis), s};
-    qsort(sp->sorted, (size_t)strand_count, sizeof *sp->sorted, key_cmp);
-    for (int r = 0; r < strand_count; r++) sp->rank[sp->sorted[r].strand] = r;
+    const int kept = sp->sorted_count == g;
+    for (int axis = 0; axis < 3; axis++) {
+        hk_SplitKey *sorted = sp->sorted + (size_t)axis * (size_t)g;
+        if (!kept)
+            for (int s = 0; s < g; s++) sorted[s] = (hk_SplitKey){hk_v3_get(roots[s], axis), s};
+        else
+            for (int r = 0; r < g; r++) sorted[r].at = hk_v3_get(roots[sorted[r].index], axis);
+        hk_hc_sort_keys(sorted, g);
+        int *rank = sp->rank + (size_t)axis * (size_t)g;
+        for (int r = 0; r < g; r++) rank[sorted[r].index] = r;
+    }
+    sp->sorted_count = g;
 }
 
 /* The axis and the plane across it (the strands ranked t and beyond along it on the
  * far side) that make the heavier side's pairs plus the pairs across the plane weigh
  * least, over the pairs list[0, count) (every pair when list is NULL). Returns 0 when
  * there is no plane (one strand). */
-static int best_plane(hk_ContactSplit *sp, int g, const hk_Vec3 *roots, const hk_HcPair *pairs, const double *weight,
-                      const int *list, int count, int *axis_out, int *t_out)
+static int best_plane(hk_ContactSplit *sp, int g, const hk_HcPair *pairs, const double *weight, const int *list,
+                      int count, int *axis_out, int *t_out)
 {
     double best_cost = HUGE_VAL;
     *axis_out = -1, *t_out = 0;
     for (int axis = 0; axis < 3; axis++) {
-        rank_along(sp, g, roots, axis);
+        const int *rank = sp->rank + (size_t)axis * (size_t)g;
         /* below[t]: the pairs with both strands ranked below t (the first group when
          * the plane passes before rank t), above[t]: both at t or beyond. */
         memset(sp->below, 0, (size_t)(g + 1) * sizeof(double));
@@ -70,7 +75,7 @@ static int best_plane(hk_ContactSplit *sp, int g, const hk_Vec3 *roots, const hk
         double total = 0.0;
         for (int x = 0; x < count; x++) {
             const int k = list ? list[x] : x;
-            const int a = sp->rank[pairs[k].i], b = sp->rank[pairs[k].j];
+            const int a = rank[pairs[k].i], b = rank[pairs[k].j];
             const int lo = a < b ? a : b, hi = a < b ? b : a;
             sp->below[hi + 1] += weight[k]; /* counted from t = hi + 1 on */
             sp->above[lo] += weight[k];     /* counted up to t = lo */
@@ -88,10 +93,10 @@ static int best_plane(hk_ContactSplit *sp, int g, const hk_Vec3 *roots, const hk
 }
 
 /* side[s] of every strand for the plane (axis, t): 0 below it, 1 beyond. */
-static void sides_of(hk_ContactSplit *sp, int g, const hk_Vec3 *roots, int axis, int t, int *side)
+static void sides_of(const hk_ContactSplit *sp, int g, int axis, int t, int *side)
 {
-    rank_along(sp, g, roots, axis);
-    for (int s = 0; s < g; s++) side[s] = sp->rank[s] >= t;
+    const int *rank = sp->rank + (size_t)axis * (size_t)g;
+    for (int s = 0; s < g; s++) side[s] = rank[s] >= t;
 }
 
 int hk_contact_split(hk_ContactSplit *sp, int strand_count, const hk_Vec3 *roots, int pair_count,
@@ -101,17 +106,18 @@ int hk_contact_split(hk_ContactSplit *sp, int strand_count, const hk_Vec3 *roots
     for (int x = 0; x < HK_SPLIT_GROUPS; x++) bounds[x] = 0;
     bounds[HK_SPLIT_GROUPS] = pair_count;
     int axis, t;
-    if (!reserve(sp, g) || !best_plane(sp, g, roots, pairs, weight, NULL, pair_count, &axis, &t)) {
+    if (reserve(sp, g)) rank_axes(sp, g, roots);
+    if (sp->strand_cap < g || !best_plane(sp, g, pairs, weight, NULL, pair_count, &axis, &t)) {
         for (int k = 0; k < pair_count; k++) order[k] = k; /* all in the last group */
         return sp->strand_cap >= g;
     }
-    sides_of(sp, g, roots, axis, t, sp->side);
+    sides_of(sp, g, axis, t, sp->side);
     /* The pairs across the first plane, in pair order, for the second plane. */
     int cross = 0;
     for (int k = 0; k < pair_count; k++)
         if (sp->side[pairs[k].i] != sp->side[pairs[k].j]) order[cross++] = k;
-    if (best_plane(sp, g, roots, pairs, weight, order, cross, &axis, &t))
-        sides_of(sp, g, roots, axis, t, sp->cross_side);
+    if (best_plane(sp, g, pairs, weight, order, cross, &axis, &t))
+        sides_of(sp, g, axis, t, sp->cross_side);
     else
         memset(sp->cross_side, 0, (size_t)g * sizeof(int));
     int fill = 0;

@@ -6,16 +6,15 @@
 
 #include "hair_contacts_internal.h"
 
-typedef struct hk_SplitKey {
-    double at; /* the root's coordinate */
-    int strand;
-} hk_SplitKey;
+/* A strand along an axis: at its root's coordinate, index the strand. */
+typedef hk_HcKey hk_SplitKey;
 
 /* Scratch of hk_contact_split, kept between steps. */
 typedef struct hk_ContactSplit {
     int strand_cap;
-    int *rank;           /* strand_count: the strand's place along the axis tried */
-    hk_SplitKey *sorted; /* strand_count: the strands along it */
+    int *rank;           /* 3 x strand_count: the strands' places along each axis */
+    hk_SplitKey *sorted; /* 3 x strand_count: the strands along each axis */
+    int sorted_count;    /* the strands in sorted at the last split (0: none) */
     double *below;       /* strand_count + 1: weight of the pairs whose strands both rank below t */
     double *above;       /* strand_count + 1: ... both at t or above */
     int *side;           /* strand_count: 0 or 1 for the split chosen */

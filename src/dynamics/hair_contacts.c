@@ -78,6 +78,8 @@ int hk_hc_threads(const hk_HairContacts *c) { return c->p.threads > 0 ? c->p.thr
 
 void hk_hc_set_threads(hk_HairContacts *c, int threads) { c->p.threads = threads; }
 
+void hk_hc_set_geometry_only(hk_HairContacts *c, int on) { c->geometry_only = on; }
+
 hk_Status hk_hair_contacts_create(int strand_count, const hk_HairContactDef *p, hk_HairContacts **out, hk_Error *err)
 {
     if (!out) return hk_error_set(err, HK_ERR_INVALID, "hair contacts: no output pointer");

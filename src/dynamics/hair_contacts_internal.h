@@ -32,6 +32,17 @@ hk_HcStrand hk_hc_strand_view(const hk_StrandSamples *in, double root_exclusion)
  * starts on the full segment (*t0 in [0, 1), 0 unless k is the clipped first one). */
 void hk_hc_segment_ends(const hk_HcStrand *st, int k, double root_exclusion, hk_Vec3 *p0, hk_Vec3 *p1, double *t0);
 
+/* The part of a segment that takes part in contacts, as hk_hc_segment_ends gives it. */
+typedef struct hk_HcEnds {
+    hk_Vec3 p0, p1;
+    double t0;
+} hk_HcEnds;
+
+/* Squared distance of two segments' parts (x of strand si, y of strand sj), with the
+ * parameters of the closest points on the full segments: hk_hc_pair_distance2 for
+ * ends found once (the broad phase measures each segment against several). */
+double hk_hc_ends_distance2(const hk_HcEnds *x, const hk_HcEnds *y, double *u, double *v);
+
 /* Squared distance of segment a of strand si and segment b of strand sj (both taking
  * part), with the parameters of the closest points on the full segments. Always
  * evaluated in this argument order, so that the same pair gives the same bits. */
@@ -112,6 +123,9 @@ struct hk_HairContacts {
     hk_HcPair *candidates;
     int candidate_count, candidate_cap;
 
+    /* The pairs' geometry only (hk_hc_set_geometry_only): no penalty forces, no lists. */
+    int geometry_only;
+
     /* Test and benchmark hooks. */
     long distance_evaluations; /* segment-pair distances computed by the last update */
     int last_update_rescanned;
@@ -123,8 +137,30 @@ int hk_hc_threads(const hk_HairContacts *c);
 /* Changes the threads of the next updates (the hair simulation's own change). */
 void hk_hc_set_threads(hk_HairContacts *c, int threads);
 
+/* With on = 1 the next updates find the pairs and their geometry (points, s, distance,
+ * normal, active) but no penalty forces: hk_hair_contacts_forces then lists none and
+ * the pairs' force indices are -1. The hair simulation's solve (hair_contact_solve.h)
+ * takes the geometry alone; the penalty forces and their sorted lists were 0.4 % of
+ * a frame there (examples/guides200 shaking). */
+void hk_hc_set_geometry_only(hk_HairContacts *c, int on);
+
+/* A value and an index, sorted by (at, index): a total order, so that any sort gives
+ * the same result. */
+typedef struct hk_HcKey {
+    double at;
+    int index;
+} hk_HcKey;
+
+/* Sorts keys[0, n) by (at, index) by insertion: about linear on keys nearly in order
+ * (the contact solve's points dealt by segment, the split's roots as the last step
+ * left them). */
+void hk_hc_sort_keys(hk_HcKey *keys, int n);
+
 /* Appends a pair (growing the array); 0 and err filled when out of memory. */
 int hk_hc_push_pair(hk_HcPair **array, int *count, int *cap, const hk_HcPair *p, hk_Error *err);
+
+/* Appends n pairs at once, the same way. */
+int hk_hc_append_pairs(hk_HcPair **array, int *count, int *cap, const hk_HcPair *p, int n, hk_Error *err);
 
 /* Sorts pairs[0..n) by (i, a, j, b): counting sort on the global index of the
  * segment (i, a), then the short runs by (j, b). O(segments + pairs). Until the next

@@ -41,14 +41,10 @@ void hk_hc_segment_ends(const hk_HcStrand *st, int k, double root_exclusion, hk_
 double hk_hc_pair_distance2(const hk_HcStrand *si, int a, const hk_HcStrand *sj, int b, double root_exclusion,
                             double *u, double *v)
 {
-    hk_Vec3 p0, p1, q0, q1;
-    double ta, tb, uc, vc;
-    hk_hc_segment_ends(si, a, root_exclusion, &p0, &p1, &ta);
-    hk_hc_segment_ends(sj, b, root_exclusion, &q0, &q1, &tb);
-    const double d2 = hk_segment_closest(p0, p1, q0, q1, &uc, &vc);
-    *u = ta + uc * (1.0 - ta);
-    *v = tb + vc * (1.0 - tb);
-    return d2;
+    hk_HcEnds x, y;
+    hk_hc_segment_ends(si, a, root_exclusion, &x.p0, &x.p1, &x.t0);
+    hk_hc_segment_ends(sj, b, root_exclusion, &y.p0, &y.p1, &y.t0);
+    return hk_hc_ends_distance2(&x, &y, u, v);
 }
 
 hk_HcMetric hk_hc_metric(const hk_HairContactDef *p)
@@ -117,14 +113,28 @@ long hk_hc_walk(const hk_HcStrand *si, const hk_HcStrand *sj, const hk_HcMetric 
     return evaluations;
 }
 
-int hk_hc_push_pair(hk_HcPair **array, int *count, int *cap, const hk_HcPair *p, hk_Error *err)
+void hk_hc_sort_keys(hk_HcKey *keys, int n)
 {
-    if (*count == *cap) {
-        if (*cap > (1 << 29)) {
+    for (int x = 1; x < n; x++) {
+        const hk_HcKey key = keys[x];
+        int y = x - 1;
+        while (y >= 0 && (key.at < keys[y].at || (key.at == keys[y].at && key.index < keys[y].index))) {
+            keys[y + 1] = keys[y];
+            y--;
+        }
+        keys[y + 1] = key;
+    }
+}
+
+int hk_hc_append_pairs(hk_HcPair **array, int *count, int *cap, const hk_HcPair *p, int n, hk_Error *err)
+{
+    if (n > *cap - *count) {
+        if (n > (1 << 29) - *count) {
             hk_error_set(err, HK_ERR_NOMEM, "more than %d hair-hair pairs", 1 << 29);
             return 0;
         }
         int new_cap = *cap < 64 ? 64 : 2 * *cap;
+        while (new_cap - *count < n) new_cap *= 2;
         hk_HcPair *grown = hk_alloc_array((size_t)new_cap, sizeof *grown, err);
         if (!grown) return 0;
         if (*count > 0) memcpy(grown, *array, (size_t)*count * sizeof *grown);
@@ -132,6 +142,14 @@ int hk_hc_push_pair(hk_HcPair **array, int *count, int *cap, const hk_HcPair *p,
         *array = grown;
         *cap = new_cap;
     }
+    if (n > 0) memcpy(*array + *count, p, (size_t)n * sizeof *p);
+    *count += n;
+    return 1;
+}
+
+int hk_hc_push_pair(hk_HcPair **array, int *count, int *cap, const hk_HcPair *p, hk_Error *err)
+{
+    if (*count >= *cap) return hk_hc_append_pairs(array, count, cap, p, 1, err);
     (*array)[(*count)++] = *p;
     return 1;
 }

@@ -53,3 +53,12 @@ double hk_segment_closest(hk_Vec3 p0, hk_Vec3 p1, hk_Vec3 q0, hk_Vec3 q1, double
     *v = cv[best];
     return best_d2;
 }
+
+double hk_hc_ends_distance2(const hk_HcEnds *x, const hk_HcEnds *y, double *u, double *v)
+{
+    double uc, vc;
+    const double d2 = hk_segment_closest(x->p0, x->p1, y->p0, y->p1, &uc, &vc);
+    *u = x->t0 + uc * (1.0 - x->t0);
+    *v = y->t0 + vc * (1.0 - y->t0);
+    return d2;
+}

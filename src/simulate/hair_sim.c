@@ -502,6 +502,7 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
             hk_strand_dynamics_points(sim->dyn[i], &head, sim->sample_s, sim->sample_count, sim->sample_pos + o,
                                       sim->sample_vel + o);
         }
+        hk_hc_set_geometry_only(sim->contacts, coupled); /* the solve takes no penalty forces */
         st = hk_hair_contacts_update(sim->contacts, sim->samples, sim->guide_count, err);
         local.contact_pairs = hk_hair_contacts_pair_count(sim->contacts);
         for (int i = 0; i < sim->guide_count; i++) predicted -= hk_strand_dynamics_stats(sim->dyn[i]).iterations;
