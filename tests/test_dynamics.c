@@ -310,7 +310,7 @@ static void test_linear_solve_residual(void **state)
         rhs[i] = rnd(-1, 1);
     }
     assert_int_equal(hk_terms_solve_linear(N, terms, extra, rhs, x, work), 1);
-    hk_terms_assemble(N, terms, mass);
+    hk_terms_assemble(N, terms, mass, work);
     /* the O(N) product agrees with the assembled matrix */
     hk_terms_multiply(N, terms, extra, rhs, prod, work);
     for (int i = 0; i < DIM; i++) {

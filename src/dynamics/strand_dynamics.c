@@ -164,7 +164,7 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsDef *par
         d->entry_count = d->contact_samples + 1;
         const size_t ec = (size_t)d->entry_count;
         d->entry_s = hk_alloc_array(ec + 2 * dim, sizeof(double), err);
-        d->entry_pos[0] = hk_alloc_array(2 * ec, sizeof(hk_Vec3), err);
+        d->entry_pos[0] = hk_alloc_array(2 * ec + 2 * ((size_t)n + 1), sizeof(hk_Vec3), err);
         /* the tip's penalty: the body shapes only (tip_contact.c) */
         d->tip_shapes = hk_alloc_array((size_t)body->shape_count, sizeof(hk_Shape), err);
         if (!d->entry_s || !d->entry_pos[0] || !d->tip_shapes) {
@@ -176,6 +176,8 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsDef *par
         d->entry_q[0] = d->entry_s + ec;
         d->entry_q[1] = d->entry_q[0] + dim;
         d->entry_pos[1] = d->entry_pos[0] + ec;
+        d->entry_nodes[0] = d->entry_pos[1] + ec;
+        d->entry_nodes[1] = d->entry_nodes[0] + n + 1;
         d->tip = d->contact;
         d->tip.shapes = d->tip_shapes;
         d->tip.shape_count = 0;
@@ -432,10 +434,11 @@ void hk_dynamics_head_space_nodes(hk_StrandDynamics *d, const double *q, hk_Vec3
     restore_world_pose(d, world);
 }
 
-void hk_dynamics_head_space_points(hk_StrandDynamics *d, const double *q, const double *s, int count, hk_Vec3 *points)
+void hk_dynamics_head_space_walk(hk_StrandDynamics *d, const double *q, const double *s, int count, hk_Vec3 *points,
+                                 hk_Vec3 *nodes)
 {
     const RootPose world = use_head_space(d);
-    hk_superhelix_points(d->sh, q, s, count, points);
+    hk_superhelix_points_nodes(d->sh, q, s, count, points, nodes);
     restore_world_pose(d, world);
 }
 
@@ -666,10 +669,12 @@ void hk_strand_dynamics_points(hk_StrandDynamics *d, const hk_RigidState *head, 
 
 hk_Status hk_strand_dynamics_mass_matrix(hk_StrandDynamics *d, double *mass, hk_Error *err)
 {
-    (void)err;
+    double *scratch = hk_alloc_array(HK_ASSEMBLE_WORK(d->sh->n), sizeof(double), err);
+    if (!scratch) return HK_ERR_NOMEM;
     const hk_RigidState still = hk_rigid_identity();
     hk_strand_dynamics_place(d, &still);
     sweep(d, &still, NULL, 0, 0.0, NULL, SWEEP_MASS);
-    hk_terms_assemble(d->sh->n, d->terms, mass);
+    hk_terms_assemble(d->sh->n, d->terms, mass, scratch);
+    hk_free(scratch);
     return HK_OK;
 }

@@ -438,15 +438,21 @@ static double largest_travel(hk_StrandDynamics *d)
 {
     if (d->contact.shape_count == 0) return 0.0;
     hk_SuperHelix *sh = d->sh;
-    hk_Vec3 before[HK_TRAVEL_NODES + 1], after[HK_TRAVEL_NODES + 1];
+    hk_Vec3 before_buf[HK_TRAVEL_NODES + 1], after_buf[HK_TRAVEL_NODES + 1];
+    const hk_Vec3 *before = before_buf, *after = after_buf;
     int n = sh->n;
-    if (n <= HK_TRAVEL_NODES) {
-        hk_dynamics_head_space_nodes(d, d->saved, before);
-        hk_dynamics_head_space_nodes(d, sh->q, after);
+    if (n <= HK_TRAVEL_NODES && d->contact_samples > 0) {
+        /* the nodes of the walk that the entry check takes (contact_entry.c): the
+         * saved state's are cached from the step that ended there */
+        before = hk_dynamics_entry_nodes(d, d->saved);
+        after = hk_dynamics_entry_nodes(d, sh->q);
+    } else if (n <= HK_TRAVEL_NODES) {
+        hk_dynamics_head_space_nodes(d, d->saved, before_buf);
+        hk_dynamics_head_space_nodes(d, sh->q, after_buf);
     } else { /* long strands: the tip alone */
         n = 1;
-        before[1] = hk_dynamics_head_space_tip(d, d->saved);
-        after[1] = hk_dynamics_head_space_tip(d, sh->q);
+        before_buf[1] = hk_dynamics_head_space_tip(d, d->saved);
+        after_buf[1] = hk_dynamics_head_space_tip(d, sh->q);
     }
     double travel = 0.0;
     for (int i = 1; i <= n; i++) {

@@ -15,6 +15,7 @@
 
 #include <string.h>
 
+#include "core/linalg.h"
 #include "helix_local.h"
 #include "rod/rod_internal.h"
 
@@ -35,7 +36,8 @@ struct hk_StrandWorkspace {
     hk_Mat3 *sa, *sd;     /* weighted Hessian of the density, world dp/dk of own element */
     hk_Vec3 (*sd2)[3][3]; /* d2p/dk2 of own element, in the element's start frame */
     hk_Vec3 *sfl;         /* sf in the element's start frame */
-    double *xi, *y;       /* Hessian: 6-vectors per coordinate */
+    double *xi;           /* Hessian: the screws xi_a, stored transposed (6 rows of 3N) */
+    double *y;            /* Hessian: the 6-vectors Y_b, per coordinate */
 };
 
 /* The default environment: no shapes, no collisions (what a NULL env means). */
@@ -252,8 +254,10 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
 
     /* Elastic energy: constant curvature per element integrates exactly (§4.1.1.3.1). */
     double e_elastic = 0.0;
-    if (grad) memset(grad, 0, (size_t)dim * sizeof(double));
-    if (hess) memset(hess, 0, (size_t)dim * (size_t)dim * sizeof(double));
+    /* Of the Hessian only the diagonal blocks are cleared: the final loop writes every
+     * entry of the others. */
+    for (int p = 0; p < n && hess; p++)
+        for (int i = 0; i < 3; i++) memset(hess + (size_t)(3 * p + i) * (size_t)dim + 3 * p, 0, 3 * sizeof(double));
     for (int p = 0; p < n; p++)
         for (int i = 0; i < 3; i++) {
             const double kl = sh->material.stiffness[i] * sh->length[p];
@@ -294,14 +298,15 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
         const hk_Vec3 r1 = ws->pos[p + 1];
         const int s0 = ws->elem_first_sample[p], s1 = ws->elem_first_sample[p + 1];
         hk_Vec3 omega[3], t[3], dgw[3];
+        double xi[3][6];
         for (int b = 0; b < 3; b++) {
             omega[b] = hk_m3_mul_v3(r, hk_m3_col(&el->lam, b));
             t[b] = hk_m3_mul_v3(r, hk_m3_col(&el->dd, b));
             dgw[b] = hk_m3_mul_v3(r, hk_m3_col(&el->dg, b));
             const hk_Vec3 v = hk_v3_add(t[b], hk_v3_cross(r1, omega[b]));
-            double *xi = ws->xi + (size_t)(3 * p + b) * 6;
-            xi[0] = omega[b].x, xi[1] = omega[b].y, xi[2] = omega[b].z;
-            xi[3] = v.x, xi[4] = v.y, xi[5] = v.z;
+            xi[b][0] = omega[b].x, xi[b][1] = omega[b].y, xi[b][2] = omega[b].z;
+            xi[b][3] = v.x, xi[b][4] = v.y, xi[b][5] = v.z;
+            for (int e = 0; e < 6; e++) ws->xi[(size_t)e * (size_t)dim + (size_t)(3 * p + b)] = xi[b][e];
             double gb = hk_v3_dot(omega[b], moment) + hk_v3_dot(v, force) + hk_v3_dot(fg, dgw[b]);
             for (int i = s0; i < s1; i++)
                 if (ws->active[i]) gb += hk_v3_dot(ws->sf[i], hk_m3_col(&ws->sd[i], b));
@@ -317,8 +322,7 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
             const hk_Vec3 arm_moment = hk_v3_sub(moment, hk_v3_cross(r1, force));
             double cxi[3][6];
             for (int b = 0; b < 3; b++) {
-                const double *xib = ws->xi + (size_t)(3 * p + b) * 6;
-                mat6_mul_vec(stiff, xib, cxi[b]);
+                mat6_mul_vec(stiff, xi[b], cxi[b]);
                 /* Y_b: coupling of coordinate b with every earlier coordinate a through
                  * H_ab = xi_a . Y_b (rotation of b's displacement field by a, plus the
                  * contact stiffness seen through both). */
@@ -349,7 +353,7 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
                     h += hk_v3_dot(omega[b], moment_op(&s, trs, omega[a]));
                     h += hk_v3_dot(force_local, el->d2d[a][b]);
                     h += hk_v3_dot(fg_local, el->d2g[a][b]);
-                    h += dot6(ws->xi + (size_t)(3 * p + a) * 6, cxi[b]);
+                    h += dot6(xi[a], cxi[b]);
                     for (int i = s0; i < s1; i++) {
                         if (!ws->active[i]) continue;
                         const hk_Vec3 ja = hk_m3_col(&ws->sd[i], a), jb = hk_m3_col(&ws->sd[i], b);
@@ -384,14 +388,17 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
     }
 
     if (hess) {
-        /* Off-diagonal blocks: a in an earlier element than b. */
+        /* Off-diagonal blocks: a in an earlier element than b, H_ab = xi_a . Y_b, row b
+         * at once over a (the screws stored transposed), then mirrored. 0.0 + h: the
+         * bits of a sum into a cleared matrix (-0 turns +0). */
         for (int b = 3; b < dim; b++) {
-            const double *yb = ws->y + (size_t)b * 6;
+            double *row = hess + (size_t)b * (size_t)dim;
             const int first_b = (b / 3) * 3;
+            hk_dot6_columns(ws->y + (size_t)b * 6, ws->xi, (size_t)dim, first_b, row);
             for (int a = 0; a < first_b; a++) {
-                const double h = dot6(ws->xi + (size_t)a * 6, yb);
-                hess[(size_t)a * (size_t)dim + (size_t)b] += h;
-                hess[(size_t)b * (size_t)dim + (size_t)a] += h;
+                const double h = 0.0 + row[a];
+                row[a] = h;
+                hess[(size_t)a * (size_t)dim + (size_t)b] = h;
             }
         }
     }
