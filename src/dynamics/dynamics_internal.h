@@ -41,6 +41,11 @@ typedef struct hk_PointKinematics {
 void hk_point_kinematics(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, double u, int order,
                          hk_PointKinematics *out);
 
+/* hk_point_kinematics of order 2 at the offsets u[0] and u[1] at once (two lanes of
+ * vector arithmetic), out[i] for u[i]: the same bits. */
+void hk_point_kinematics2(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, const double u[2],
+                          hk_PointKinematics out[2]);
+
 /* Pose and velocities alone at offset u (hk_point_kinematics of order 1 without the
  * Jacobians, which cost more than the rest): for points sampled along a strand. */
 void hk_point_motion(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, double u, hk_FrameKinematics *out);
@@ -49,10 +54,20 @@ void hk_point_motion(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, dou
  * the frame and its rates: for points that start nothing beyond them. vel may be NULL. */
 void hk_point_velocity(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, double u, hk_Vec3 *pos, hk_Vec3 *vel);
 
+/* hk_point_velocity at the offsets u[0] and u[1] at once (two lanes), pos[i] and vel[i]
+ * (vel may be NULL) for u[i]: the same bits. */
+void hk_point_velocity2(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, const double u[2], hk_Vec3 pos[2],
+                        hk_Vec3 *vel);
+
 /* Position, velocity and the Jacobian d pos / d k_P alone (hk_point_kinematics of
  * order 1's, the same bits), without the frame and the rotation's Jacobian. */
 void hk_point_jacobian(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, double u, hk_Vec3 *pos, hk_Vec3 *vel,
                        hk_Mat3 *jac);
+
+/* hk_point_jacobian at the offsets u[0] and u[1] at once (two lanes), entry i for u[i]:
+ * the same bits. */
+void hk_point_jacobian2(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, const double u[2], hk_Vec3 pos[2],
+                        hk_Vec3 vel[2], hk_Mat3 jac[2]);
 
 /* Per element terms of one step, from its own points (quadrature, contacts). The
  * spatial vectors are (angular; linear) about the world origin: a screw (w; v) moves
