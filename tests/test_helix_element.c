@@ -355,6 +355,20 @@ static void test_two_lanes_bit_for_bit(void **state)
     const double us[] = {0.0, 0.004, 0.03};
     const hk_Vec3 kd = {-40, 25, 10};
     const size_t nk = sizeof ks / sizeof *ks, nu = sizeof us / sizeof *us;
+    const double xs[] = {0.0, 1e-12, 0.3, 0.9999999999999999, 1.0, 1.5, 27.0, 400.0};
+    const size_t nx = sizeof xs / sizeof *xs;
+    for (size_t a = 0; a < nx; a++)
+        for (size_t b = 0; b < nx; b++) { /* both lanes below 1, one, neither */
+            hk_Lanes c[HK_CN_COUNT];
+            double ca[HK_CN_COUNT], cb[HK_CN_COUNT];
+            hk_helix_cn_x2((hk_Lanes){xs[a], xs[b]}, c);
+            hk_helix_cn(xs[a], ca);
+            hk_helix_cn(xs[b], cb);
+            for (int n = 0; n < HK_CN_COUNT; n++) {
+                const double la = c[n][0], lb = c[n][1];
+                assert_true(memcmp(&la, &ca[n], sizeof la) == 0 && memcmp(&lb, &cb[n], sizeof lb) == 0);
+            }
+        }
     for (size_t t = 0; t < nk; t++)
         for (size_t q = 0; q < nu; q++) {
             const hk_Vec3 k2[2] = {ks[t], ks[(t + 2) % nk]};

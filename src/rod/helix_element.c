@@ -252,15 +252,6 @@ static void helix_term_along_x2(const hk_Lanes c[HK_CN_COUNT], hk_Vec3x2 phi, hk
     *d2 = madd_x2(v, w, lanes(-2.0) * cm1 * ee);
 }
 
-/* hk_helix_cn of each lane's x (its branches differ from lane to lane). */
-static void helix_cn_x2(hk_Lanes x, hk_Lanes c[HK_CN_COUNT])
-{
-    double c0[HK_CN_COUNT], c1[HK_CN_COUNT];
-    hk_helix_cn(x[0], c0);
-    hk_helix_cn(x[1], c1);
-    for (int n = 0; n < HK_CN_COUNT; n++) c[n] = (hk_Lanes){c0[n], c1[n]};
-}
-
 /* helix_term_e0 lane by lane (jac may be NULL). */
 static hk_Vec3x2 helix_term_e0_x2(const hk_Lanes c[HK_CN_COUNT], int m, double alpha, hk_Vec3x2 phi, hk_Lanes x,
                                   hk_Lanes scale, hk_Mat3x2 *jac)
@@ -290,7 +281,7 @@ void hk_element_local_rates2(hk_Vec3 k, const double u[2], hk_Vec3 kd, hk_Elemen
     const hk_Vec3x2 phi = scale_x2(lanes3(k), ul);
     const hk_Lanes x = dot_x2(phi, phi);
     hk_Lanes c[HK_CN_COUNT];
-    helix_cn_x2(x, c);
+    hk_helix_cn_x2(x, c);
     /* rotation_and_lambda */
     const hk_Lanes pv[3] = {phi.x, phi.y, phi.z}, zero = lanes(0.0), one = lanes(1.0);
     const hk_Lanes skew[3][3] = {{zero, -phi.z, phi.y}, {phi.z, zero, -phi.x}, {-phi.y, phi.x, zero}};
@@ -317,7 +308,7 @@ void hk_element_slide2(hk_Vec3 k, const double u[2], hk_Vec3 kd, hk_Vec3x2 *offs
     const hk_Vec3x2 phi = scale_x2(lanes3(k), ul);
     const hk_Lanes x = dot_x2(phi, phi);
     hk_Lanes c[HK_CN_COUNT];
-    helix_cn_x2(x, c);
+    hk_helix_cn_x2(x, c);
     /* helix_term_e0's value for m = 2, alpha = 1 */
     const hk_Lanes q0 = phi.x * phi.x - x, q1 = phi.y * phi.x, q2 = phi.z * phi.x;
     const hk_Vec3x2 value = {lanes(1.0) + c[3] * q0, c[2] * phi.z + c[3] * q1, -c[2] * phi.y + c[3] * q2};
@@ -425,7 +416,7 @@ void hk_element_local_order2(const hk_Vec3 k[2], const double u[2], hk_ElementLo
                            (hk_Lanes){k[0].z, k[1].z} * ul};
     const hk_Lanes x = dot_x2(phi, phi);
     hk_Lanes c[HK_CN_COUNT];
-    helix_cn_x2(x, c);
+    hk_helix_cn_x2(x, c);
     const hk_Lanes u2 = ul * ul, u3 = u2 * ul;
     const hk_Mat3x2 rot = helix_rotation_x2(c, phi);
     hk_Mat3x2 dd, jac[3], gjac;
@@ -456,7 +447,7 @@ void hk_element_offset2(hk_Vec3 k, const double u[2], hk_Vec3x2 *offset, hk_Mat3
     const hk_Vec3x2 phi = scale_x2(lanes3(k), ul);
     const hk_Lanes x = dot_x2(phi, phi);
     hk_Lanes c[HK_CN_COUNT];
-    helix_cn_x2(x, c);
+    hk_helix_cn_x2(x, c);
     *offset = scale_x2(helix_term_e0_x2(c, 2, 1.0, phi, x, ul * ul, dd), ul);
 }
 
@@ -466,7 +457,7 @@ void hk_element_offset_derivs2(hk_Vec3 k, const double u[2], hk_Mat3 dd[2], hk_V
     const hk_Vec3x2 phi = scale_x2(lanes3(k), ul);
     const hk_Lanes x = dot_x2(phi, phi);
     hk_Lanes c[HK_CN_COUNT];
-    helix_cn_x2(x, c);
+    hk_helix_cn_x2(x, c);
     hk_Mat3x2 jac;
     helix_term_e0_x2(c, 2, 1.0, phi, x, u2, &jac);
     dd[0] = lane_m3(&jac, 0);

@@ -129,6 +129,10 @@ static inline hk_Mat3 lane_m3(const hk_Mat3x2 *a, int l)
     return o;
 }
 
+/* hk_helix_cn of each lane's x, the same bits (both below 1, the common case inside an
+ * element, in the lanes; otherwise lane by lane, whose branches differ). */
+void hk_helix_cn_x2(hk_Lanes x, hk_Lanes c[HK_CN_COUNT]);
+
 /* What hk_element_local_rates gives (rot, lam, dd, spin_rate, curve), for the offsets
  * u[0] and u[1] of one element at once, lane i for u[i]: the same bits. */
 typedef struct hk_ElementRates2 {
