@@ -310,7 +310,7 @@ static void test_linear_solve_residual(void **state)
         rhs[i] = rnd(-1, 1);
     }
     assert_int_equal(hk_terms_solve_linear(N, terms, extra, rhs, x, work), 1);
-    hk_terms_assemble(N, terms, mass);
+    hk_terms_assemble(N, terms, mass, work);
     /* the O(N) product agrees with the assembled matrix */
     hk_terms_multiply(N, terms, extra, rhs, prod, work);
     for (int i = 0; i < DIM; i++) {
@@ -426,6 +426,42 @@ static void test_body_friction_blend(void **state)
     assert_int_equal(hk_body_contact_friction(&bc, &still, pos, hk_v3(1, 0, 0), tangent, hk_v3_zero(), &pf), 0);
 }
 
+/* The two-point paths of the sweeps (two offsets of one element at once, two lanes of
+ * vector arithmetic) against the one-point ones, bit for bit. */
+static void test_point_pairs_bit_for_bit(void **state)
+{
+    (void)state;
+    hk_FrameKinematics start;
+    start.frame = hk_root_frame(hk_v3(0.3, -0.5, 0.8));
+    start.pos = hk_v3(0.01, 0.12, -0.03);
+    start.omega = hk_v3(2.0, -1.0, 0.5);
+    start.vel = hk_v3(0.3, 0.1, -0.2);
+    start.alpha = hk_v3(-7.0, 3.0, 11.0);
+    start.acc = hk_v3(1.0, -9.81, 0.4);
+    const hk_Vec3 ks[] = {{0, 0, 0}, {30, -80, 12}, {200, 150, -90}};
+    const hk_Vec3 kd = {-40, 25, 10};
+    const double u[2] = {0.0043, 0.0191};
+    for (size_t t = 0; t < sizeof ks / sizeof *ks; t++) {
+        hk_PointKinematics pair[2], one;
+        hk_point_kinematics2(&start, ks[t], kd, u, pair);
+        hk_Vec3 pos[2], vel[2], jpos[2], jvel[2];
+        hk_Mat3 jac[2];
+        hk_point_velocity2(&start, ks[t], kd, u, pos, vel);
+        hk_point_jacobian2(&start, ks[t], kd, u, jpos, jvel, jac);
+        for (int l = 0; l < 2; l++) {
+            hk_point_kinematics(&start, ks[t], kd, u[l], 2, &one);
+            assert_true(memcmp(&pair[l], &one, sizeof one) == 0);
+            hk_Vec3 p1, v1;
+            hk_Mat3 j1;
+            hk_point_velocity(&start, ks[t], kd, u[l], &p1, &v1);
+            assert_true(memcmp(&pos[l], &p1, sizeof p1) == 0 && memcmp(&vel[l], &v1, sizeof v1) == 0);
+            hk_point_jacobian(&start, ks[t], kd, u[l], &p1, &v1, &j1);
+            assert_true(memcmp(&jpos[l], &p1, sizeof p1) == 0 && memcmp(&jvel[l], &v1, sizeof v1) == 0);
+            assert_true(memcmp(&jac[l], &j1, sizeof j1) == 0);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -436,6 +472,7 @@ int main(void)
         cmocka_unit_test(test_linear_and_dense_agree),
         cmocka_unit_test(test_body_friction_blend),
         cmocka_unit_test(test_body_stiffness_of_overlapping_shapes),
+        cmocka_unit_test(test_point_pairs_bit_for_bit),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

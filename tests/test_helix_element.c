@@ -5,6 +5,7 @@
 #include "hk_test.h"
 
 #include <math.h>
+#include <string.h>
 
 #include "rod/helix_local.h"
 
@@ -340,13 +341,81 @@ static void test_e0_terms_against_general(void **state)
         }
 }
 
+static int same_vec(hk_Vec3 a, hk_Vec3 b) { return memcmp(&a, &b, sizeof a) == 0; }
+static int same_mat(const hk_Mat3 *a, const hk_Mat3 *b) { return memcmp(a, b, sizeof *a) == 0; }
+
+/* The two-lane paths (two offsets or two elements at once) against the scalar ones, bit
+ * for bit, signed zeros included: each lane must repeat the scalar operations in their
+ * order. Lanes take different curvatures, offsets and branches of c_n (x below and
+ * above 1). */
+static void test_two_lanes_bit_for_bit(void **state)
+{
+    (void)state;
+    const hk_Vec3 ks[] = {{0, 0, 0}, {1e-5, 2e-5, -1e-5}, {30, -80, 12}, {-5, 3, 40}, {200, 150, -90}};
+    const double us[] = {0.0, 0.004, 0.03};
+    const hk_Vec3 kd = {-40, 25, 10};
+    const size_t nk = sizeof ks / sizeof *ks, nu = sizeof us / sizeof *us;
+    const double xs[] = {0.0, 1e-12, 0.3, 0.9999999999999999, 1.0, 1.5, 27.0, 400.0};
+    const size_t nx = sizeof xs / sizeof *xs;
+    for (size_t a = 0; a < nx; a++)
+        for (size_t b = 0; b < nx; b++) { /* both lanes below 1, one, neither */
+            hk_Lanes c[HK_CN_COUNT];
+            double ca[HK_CN_COUNT], cb[HK_CN_COUNT];
+            hk_helix_cn_x2((hk_Lanes){xs[a], xs[b]}, c);
+            hk_helix_cn(xs[a], ca);
+            hk_helix_cn(xs[b], cb);
+            for (int n = 0; n < HK_CN_COUNT; n++) {
+                const double la = c[n][0], lb = c[n][1];
+                assert_true(memcmp(&la, &ca[n], sizeof la) == 0 && memcmp(&lb, &cb[n], sizeof lb) == 0);
+            }
+        }
+    for (size_t t = 0; t < nk; t++)
+        for (size_t q = 0; q < nu; q++) {
+            const hk_Vec3 k2[2] = {ks[t], ks[(t + 2) % nk]};
+            const double u[2] = {us[q], us[(q + 1) % nu]};
+            hk_ElementLocal pair[2], one;
+            hk_element_local_order2(k2, u, pair);
+            hk_ElementRates2 rates;
+            hk_element_local_rates2(ks[t], u, kd, &rates);
+            hk_Vec3x2 offset, slide, offset_only, offset_dd;
+            hk_Mat3x2 dd;
+            hk_element_slide2(ks[t], u, kd, &offset, &slide);
+            hk_element_slide2(ks[t], u, kd, &offset_only, NULL);
+            hk_element_offset2(ks[t], u, &offset_dd, &dd);
+            hk_Mat3 dd2[2];
+            hk_Vec3 d2d0[3][3], d2d1[3][3];
+            hk_element_offset_derivs2(ks[t], u, dd2, d2d0, d2d1);
+            for (int l = 0; l < 2; l++) {
+                hk_element_local(k2[l], u[l], 2, 1, &one);
+                assert_true(memcmp(&pair[l], &one, sizeof one) == 0);
+                hk_ElementLocal el;
+                hk_Vec3 spin_rate, curve;
+                hk_element_local_rates(ks[t], u[l], kd, &el, &spin_rate, &curve);
+                const hk_Mat3 rot = lane_m3(&rates.rot, l), lam = lane_m3(&rates.lam, l), rdd = lane_m3(&rates.dd, l);
+                assert_true(same_mat(&rot, &el.rot) && same_mat(&lam, &el.lam) && same_mat(&rdd, &el.dd));
+                assert_true(same_vec(lane_v3(rates.spin_rate, l), spin_rate));
+                assert_true(same_vec(lane_v3(rates.curve, l), curve));
+                hk_Vec3 o, sl;
+                hk_element_slide(ks[t], u[l], kd, &o, &sl);
+                assert_true(same_vec(lane_v3(offset, l), o) && same_vec(lane_v3(slide, l), sl));
+                assert_true(same_vec(lane_v3(offset_only, l), o));
+                hk_Mat3 ref_dd;
+                hk_Vec3 ref_d2d[3][3];
+                assert_true(same_vec(lane_v3(offset_dd, l), hk_element_offset(ks[t], u[l], &ref_dd, ref_d2d)));
+                const hk_Mat3 odd = lane_m3(&dd, l);
+                assert_true(same_mat(&odd, &ref_dd) && same_mat(&dd2[l], &ref_dd));
+                assert_true(memcmp(l == 0 ? d2d0 : d2d1, ref_d2d, sizeof ref_d2d) == 0);
+            }
+        }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_cn_against_long_double),     cmocka_unit_test(test_rotation_matches_rodrigues),
         cmocka_unit_test(test_integrals_match_quadrature), cmocka_unit_test(test_term_derivatives_fd),
         cmocka_unit_test(test_element_local_scaling),      cmocka_unit_test(test_element_rates_contractions),
-        cmocka_unit_test(test_e0_terms_against_general),
+        cmocka_unit_test(test_e0_terms_against_general),   cmocka_unit_test(test_two_lanes_bit_for_bit),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -12,6 +12,12 @@ double hk_dot(const double *a, const double *b, int n);
 /* *ab = hk_dot(a, b, n) and *ac = hk_dot(a, c, n), the same bits, in one pass over a. */
 void hk_dot2(const double *a, const double *b, const double *c, int n, double *ab, double *ac);
 
+/* out[j] = x[0] yt[j] + x[1] yt[stride + j] + ... + x[5] yt[5 stride + j] for j < count,
+ * summed left to right as a plain 6-term dot product of x with column j of the 6 x count
+ * matrix yt (row stride `stride`): the same bits as that dot product, for several j at
+ * once (the loop over j vectorises). One row of X^T Y with Y stored transposed. */
+void hk_dot6_columns(const double x[6], const double *yt, size_t stride, int count, double *out);
+
 /* Cholesky factor of the symmetric matrix a + shift * diag(d) (d may be NULL: identity)
  * into the lower triangle of l (n x n; the strict upper triangle is left alone). Only
  * the lower triangle of a is read, each entry before l's is written there: l may be a

@@ -17,24 +17,29 @@
 #include "collide/collide_internal.h"
 #include "dynamics_internal.h"
 
-/* Head-space positions of the samples and the tip for coordinates q: a step's end is
- * the next step's start, and a split step starts where it did, so the two last states
- * are kept (half the cost of the check). */
-static const hk_Vec3 *points_at(hk_StrandDynamics *d, const double *q)
+/* The cache slot of the head-space positions of the samples, the tip and the nodes for
+ * coordinates q: a step's end is the next step's start, and a split step starts where
+ * it did, so the two last states are kept (half the cost of the check; the nodes, for
+ * the step's largest travel, come from the same walk). */
+static int slot_of(hk_StrandDynamics *d, const double *q)
 {
     const size_t bytes = (size_t)(3 * d->sh->n) * sizeof(double);
     for (int k = 0; k < 2; k++)
         if (d->entry_valid[k] && memcmp(d->entry_q[k], q, bytes) == 0) {
             d->entry_next = 1 - k; /* keep this one */
-            return d->entry_pos[k];
+            return k;
         }
     const int k = d->entry_next;
     memcpy(d->entry_q[k], q, bytes);
-    hk_dynamics_head_space_points(d, q, d->entry_s, d->entry_count, d->entry_pos[k]);
+    hk_dynamics_head_space_walk(d, q, d->entry_s, d->entry_count, d->entry_pos[k], d->entry_nodes[k]);
     d->entry_valid[k] = 1;
     d->entry_next = 1 - k;
-    return d->entry_pos[k];
+    return k;
 }
+
+static const hk_Vec3 *points_at(hk_StrandDynamics *d, const double *q) { return d->entry_pos[slot_of(d, q)]; }
+
+const hk_Vec3 *hk_dynamics_entry_nodes(hk_StrandDynamics *d, const double *q) { return d->entry_nodes[slot_of(d, q)]; }
 
 double hk_dynamics_largest_entry(hk_StrandDynamics *d, const double *before, const double *after)
 {

@@ -41,6 +41,11 @@ typedef struct hk_PointKinematics {
 void hk_point_kinematics(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, double u, int order,
                          hk_PointKinematics *out);
 
+/* hk_point_kinematics of order 2 at the offsets u[0] and u[1] at once (two lanes of
+ * vector arithmetic), out[i] for u[i]: the same bits. */
+void hk_point_kinematics2(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, const double u[2],
+                          hk_PointKinematics out[2]);
+
 /* Pose and velocities alone at offset u (hk_point_kinematics of order 1 without the
  * Jacobians, which cost more than the rest): for points sampled along a strand. */
 void hk_point_motion(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, double u, hk_FrameKinematics *out);
@@ -49,10 +54,20 @@ void hk_point_motion(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, dou
  * the frame and its rates: for points that start nothing beyond them. vel may be NULL. */
 void hk_point_velocity(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, double u, hk_Vec3 *pos, hk_Vec3 *vel);
 
+/* hk_point_velocity at the offsets u[0] and u[1] at once (two lanes), pos[i] and vel[i]
+ * (vel may be NULL) for u[i]: the same bits. */
+void hk_point_velocity2(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, const double u[2], hk_Vec3 pos[2],
+                        hk_Vec3 *vel);
+
 /* Position, velocity and the Jacobian d pos / d k_P alone (hk_point_kinematics of
  * order 1's, the same bits), without the frame and the rotation's Jacobian. */
 void hk_point_jacobian(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, double u, hk_Vec3 *pos, hk_Vec3 *vel,
                        hk_Mat3 *jac);
+
+/* hk_point_jacobian at the offsets u[0] and u[1] at once (two lanes), entry i for u[i]:
+ * the same bits. */
+void hk_point_jacobian2(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, const double u[2], hk_Vec3 pos[2],
+                        hk_Vec3 vel[2], hk_Mat3 jac[2]);
 
 /* Per element terms of one step, from its own points (quadrature, contacts). The
  * spatial vectors are (angular; linear) about the world origin: a screw (w; v) moves
@@ -83,9 +98,10 @@ void hk_element_terms_set_screw(hk_ElementTerms *t, const hk_PointKinematics *en
 void hk_terms_generalized_force(int n, const hk_ElementTerms *terms, double *out);
 
 /* Solves (M + diag(extra)) x = rhs where M is the effective mass the terms describe:
- * dense assembly and Cholesky (work: HK_DENSE_WORK(n) doubles) or the O(n) recursion
- * (work: HK_LINEAR_WORK(n) doubles). Returns 0 if the system is not positive definite. */
-#define HK_DENSE_WORK(n)  ((size_t)18 * (size_t)(n) * (size_t)(n))
+ * dense assembly and Cholesky (work: HK_DENSE_WORK(n) doubles: the matrix, its factor
+ * and the assembly's scratch) or the O(n) recursion (work: HK_LINEAR_WORK(n) doubles).
+ * Returns 0 if the system is not positive definite. */
+#define HK_DENSE_WORK(n)  ((size_t)18 * (size_t)(n) * (size_t)(n) + HK_ASSEMBLE_WORK(n))
 #define HK_LINEAR_WORK(n) ((size_t)21 * (size_t)(n))
 /* dense: geo (may be NULL) is a further symmetric 3n x 3n matrix added times scale. */
 int hk_terms_solve_dense(int n, const hk_ElementTerms *terms, const double *extra, const double *geo, double scale,
@@ -97,8 +113,10 @@ int hk_terms_solve_linear(int n, const hk_ElementTerms *terms, const double *ext
 void hk_terms_multiply(int n, const hk_ElementTerms *terms, const double *extra, const double *x, double *out,
                        double *screws);
 
-/* Dense effective mass matrix (9 n^2 values, row-major) of the terms. */
-void hk_terms_assemble(int n, const hk_ElementTerms *terms, double *mass);
+/* Dense effective mass matrix (9 n^2 values, row-major) of the terms; scratch holds
+ * HK_ASSEMBLE_WORK(n) doubles. */
+#define HK_ASSEMBLE_WORK(n) ((size_t)18 * (size_t)(n))
+void hk_terms_assemble(int n, const hk_ElementTerms *terms, double *mass, double *scratch);
 
 /* Body contact of one sample (paper 000 §4.2) at world position pos moving at vel, the
  * hair's tangent there, the head in state head: the penalty force of the shapes (head
@@ -183,10 +201,11 @@ struct hk_StrandDynamics {
     double *dense_work;
     /* contact_entry.c: the collision samples' arc lengths and the tip's (entry_count),
      * and their head-space positions for the coordinates of two recent states (a
-     * step's end is the next one's start): slot k holds entry_q[k] (3N) and
-     * entry_pos[k] (entry_count), valid when entry_valid[k] */
+     * step's end is the next one's start): slot k holds entry_q[k] (3N),
+     * entry_pos[k] (entry_count) and the nodes of the same walk entry_nodes[k] (N + 1,
+     * for the step's largest travel), valid when entry_valid[k] */
     double *entry_s, *entry_q[2];
-    hk_Vec3 *entry_pos[2];
+    hk_Vec3 *entry_pos[2], *entry_nodes[2];
     int entry_count, entry_valid[2], entry_next;
     long evaluations; /* evaluations of the forces, to refresh G+ every few */
     hk_DynamicsStats stats;
@@ -213,8 +232,9 @@ void hk_dynamics_head_space_nodes(hk_StrandDynamics *d, const double *q, hk_Vec3
 hk_Vec3 hk_dynamics_head_space_tip(hk_StrandDynamics *d, const double *q);
 
 /* The strand's points at the arc lengths s[0..count) (ascending) for coordinates q, in
- * head space. */
-void hk_dynamics_head_space_points(hk_StrandDynamics *d, const double *q, const double *s, int count, hk_Vec3 *points);
+ * head space, and its nodes (N + 1; may be NULL) from the same walk. */
+void hk_dynamics_head_space_walk(hk_StrandDynamics *d, const double *q, const double *s, int count, hk_Vec3 *points,
+                                 hk_Vec3 *nodes);
 
 /* The tip's body contact (tip_contact.c), the tip's kinematics given: fills pf and
  * returns 1 when the tip is inside a body shape. */
@@ -230,6 +250,11 @@ double hk_dynamics_tip_energy(hk_StrandDynamics *d, const double *q);
  * before: what the linearly implicit Euler step, which sees the contacts of its start,
  * lets in unopposed (contact_entry.c). 0 when none. */
 double hk_dynamics_largest_entry(hk_StrandDynamics *d, const double *before, const double *after);
+
+/* The strand's head-space nodes (N + 1) for coordinates q, from the cache of
+ * hk_dynamics_largest_entry (filled for q when absent): the same bits as
+ * hk_dynamics_head_space_nodes. Only with collision samples (contact_samples > 0). */
+const hk_Vec3 *hk_dynamics_entry_nodes(hk_StrandDynamics *d, const double *q);
 
 /* Kinetic plus potential energy with the body's penalty (the energy that the motion
  * conserves on a still head without friction); *kinetic (may be NULL) its kinetic part. */

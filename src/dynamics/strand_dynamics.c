@@ -164,7 +164,7 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsDef *par
         d->entry_count = d->contact_samples + 1;
         const size_t ec = (size_t)d->entry_count;
         d->entry_s = hk_alloc_array(ec + 2 * dim, sizeof(double), err);
-        d->entry_pos[0] = hk_alloc_array(2 * ec, sizeof(hk_Vec3), err);
+        d->entry_pos[0] = hk_alloc_array(2 * ec + 2 * ((size_t)n + 1), sizeof(hk_Vec3), err);
         /* the tip's penalty: the body shapes only (tip_contact.c) */
         d->tip_shapes = hk_alloc_array((size_t)body->shape_count, sizeof(hk_Shape), err);
         if (!d->entry_s || !d->entry_pos[0] || !d->tip_shapes) {
@@ -176,6 +176,8 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsDef *par
         d->entry_q[0] = d->entry_s + ec;
         d->entry_q[1] = d->entry_q[0] + dim;
         d->entry_pos[1] = d->entry_pos[0] + ec;
+        d->entry_nodes[0] = d->entry_pos[1] + ec;
+        d->entry_nodes[1] = d->entry_nodes[0] + n + 1;
         d->tip = d->contact;
         d->tip.shapes = d->tip_shapes;
         d->tip.shape_count = 0;
@@ -348,25 +350,36 @@ static void sweep(hk_StrandDynamics *d, const hk_RigidState *head, const hk_Poin
         const hk_Vec3 k = k_of(sh->q, p), kd = k_of(d->v, p), xp = x ? k_of(x, p) : hk_v3_zero();
         const double len = sh->length[p];
         const int g = gauss_count(d, p);
+        hk_PointKinematics pair[2], end;
+        int end_known = 0;
         for (int i = 0; i < g; i++) {
             const double u = len * d->gauss.node[g - 1][i], w = len * d->gauss.weight[g - 1][i];
-            hk_PointKinematics pk;
-            hk_point_kinematics(&node, k, kd, u, mode == SWEEP_STEP ? 2 : 1, &pk);
-            const hk_Mat3 b = rotary_inertia(mat, &pk.k.frame, w);
+            /* A step's points two at a time; an odd last one with the element's end, which
+             * starts the next element (the same bits as on its own). */
+            if (mode == SWEEP_STEP && i % 2 == 0) {
+                end_known = i + 1 == g;
+                const double uu[2] = {u, end_known ? len : len * d->gauss.node[g - 1][i + 1]};
+                hk_point_kinematics2(&node, k, kd, uu, pair);
+                if (end_known) end = pair[1];
+            } else if (mode != SWEEP_STEP) {
+                hk_point_kinematics(&node, k, kd, u, 1, &pair[0]);
+            }
+            const hk_PointKinematics *pk = &pair[mode == SWEEP_STEP ? i % 2 : 0];
+            const hk_Mat3 b = rotary_inertia(mat, &pk->k.frame, w);
             hk_Vec3 f = hk_v3_zero(), tau = hk_v3_zero();
             if (mode == SWEEP_STEP) {
                 /* Inertial forces of the bias acceleration and the air drag (eq. 5a). */
-                f = hk_v3_scale(hk_v3_add(hk_v3_scale(pk.k.acc, rho_s), hk_v3_scale(pk.k.vel, nu)), -w);
+                f = hk_v3_scale(hk_v3_add(hk_v3_scale(pk->k.acc, rho_s), hk_v3_scale(pk->k.vel, nu)), -w);
                 /* Euler's equations of the section: I w' + w x I w. */
-                const hk_Vec3 iw = hk_m3_mul_v3(&b, pk.k.omega);
-                tau = hk_v3_neg(hk_v3_add(hk_m3_mul_v3(&b, pk.k.alpha), hk_v3_cross(pk.k.omega, iw)));
+                const hk_Vec3 iw = hk_m3_mul_v3(&b, pk->k.omega);
+                tau = hk_v3_neg(hk_v3_add(hk_m3_mul_v3(&b, pk->k.alpha), hk_v3_cross(pk->k.omega, iw)));
                 if (x) { /* the stage's inertia, M x / ch, as loads of this point */
-                    const RateChain r = rate_at(&rate, node.pos, &pk, xp);
+                    const RateChain r = rate_at(&rate, node.pos, pk, xp);
                     f = hk_v3_madd(f, r.vel, -rho_s * w * inv_ch);
                     tau = hk_v3_sub(tau, hk_v3_scale(hk_m3_mul_v3(&b, r.omega), inv_ch));
                 }
             }
-            hk_element_terms_add_quadrature(t, pk.k.pos, (rho_s + ch * nu) * w, &b, &pk.jac, &pk.jac_rot, f, tau);
+            hk_element_terms_add_quadrature(t, pk->k.pos, (rho_s + ch * nu) * w, &b, &pk->jac, &pk->jac_rot, f, tau);
         }
         const double s_end = sh->s_start[p + 1];
         const int last = p == n - 1;
@@ -391,8 +404,7 @@ static void sweep(hk_StrandDynamics *d, const hk_RigidState *head, const hk_Poin
             hk_point_kinematics(&node, k, kd, u, 1, &pk);
             add_point_force(t, &pk, &forces[fi], ch, &d->anchor_pos[fi], &d->anchor_vel[fi], euler ? head : NULL);
         }
-        hk_PointKinematics end;
-        hk_point_kinematics(&node, k, kd, len, mode == SWEEP_STEP ? 2 : 1, &end);
+        if (!end_known) hk_point_kinematics(&node, k, kd, len, mode == SWEEP_STEP ? 2 : 1, &end);
         hk_PointForce tip;
         if (last && mode == SWEEP_STEP && hk_dynamics_tip_contact(d, head, &end, &tip)) {
             d->contact_count++;
@@ -432,10 +444,11 @@ void hk_dynamics_head_space_nodes(hk_StrandDynamics *d, const double *q, hk_Vec3
     restore_world_pose(d, world);
 }
 
-void hk_dynamics_head_space_points(hk_StrandDynamics *d, const double *q, const double *s, int count, hk_Vec3 *points)
+void hk_dynamics_head_space_walk(hk_StrandDynamics *d, const double *q, const double *s, int count, hk_Vec3 *points,
+                                 hk_Vec3 *nodes)
 {
     const RootPose world = use_head_space(d);
-    hk_superhelix_points(d->sh, q, s, count, points);
+    hk_superhelix_points_nodes(d->sh, q, s, count, points, nodes);
     restore_world_pose(d, world);
 }
 
@@ -657,19 +670,30 @@ void hk_strand_dynamics_points(hk_StrandDynamics *d, const hk_RigidState *head, 
             node = end;
             p++;
         }
-        double u = si - sh->s_start[p];
-        if (!(u >= 0.0)) u = 0.0;
-        if (u > sh->length[p]) u = sh->length[p];
-        hk_point_velocity(&node, k_of(sh->q, p), k_of(d->v, p), u, &pos[i], vel ? &vel[i] : NULL);
+        /* with the next point when it lies in the same element: two at a time */
+        const int pair = i + 1 < count && !(p < sh->n - 1 && s[i + 1] >= sh->s_start[p + 1]);
+        double u[2];
+        for (int j = 0; j <= pair; j++) {
+            u[j] = s[i + j] - sh->s_start[p];
+            if (!(u[j] >= 0.0)) u[j] = 0.0;
+            if (u[j] > sh->length[p]) u[j] = sh->length[p];
+        }
+        if (pair)
+            hk_point_velocity2(&node, k_of(sh->q, p), k_of(d->v, p), u, &pos[i], vel ? &vel[i] : NULL);
+        else
+            hk_point_velocity(&node, k_of(sh->q, p), k_of(d->v, p), u[0], &pos[i], vel ? &vel[i] : NULL);
+        i += pair;
     }
 }
 
 hk_Status hk_strand_dynamics_mass_matrix(hk_StrandDynamics *d, double *mass, hk_Error *err)
 {
-    (void)err;
+    double *scratch = hk_alloc_array(HK_ASSEMBLE_WORK(d->sh->n), sizeof(double), err);
+    if (!scratch) return HK_ERR_NOMEM;
     const hk_RigidState still = hk_rigid_identity();
     hk_strand_dynamics_place(d, &still);
     sweep(d, &still, NULL, 0, 0.0, NULL, SWEEP_MASS);
-    hk_terms_assemble(d->sh->n, d->terms, mass);
+    hk_terms_assemble(d->sh->n, d->terms, mass, scratch);
+    hk_free(scratch);
     return HK_OK;
 }

@@ -340,13 +340,19 @@ int hk_dynamics_euler_delta(hk_StrandDynamics *d, const hk_RigidState *head, con
     const int n = sh->n, dim = 3 * n;
     hk_dynamics_evaluate(d, head, forces, force_count, h, NULL);
     const int full = d->params.stiffness == HK_STIFFNESS_FULL;
-    double *geo_v = d->x; /* G+ v */
-    const double *geo = full ? hk_dynamics_geometric_positive(d) : NULL;
-    for (int i = 0; i < dim; i++) {
-        double g = 0.0;
-        if (full)
-            for (int j = 0; j < dim; j++) g += geo[(size_t)i * (size_t)dim + (size_t)j] * d->v[j];
-        geo_v[i] = g;
+    double *restrict geo_v = d->x; /* G+ v */
+    memset(geo_v, 0, (size_t)dim * sizeof(double));
+    if (full) {
+        /* G+ is symmetric to the bit (its rows are its columns), so row j of G+ times
+         * v_j added for j = 0, 1, ... gives every entry of G+ v its sum in the order of
+         * row i . v, the same bits, with the loop over i contiguous (vectorised). */
+        const double *geo = hk_dynamics_geometric_positive(d);
+        for (int j = 0; j < dim; j++) {
+            const double *restrict row = geo + (size_t)j * (size_t)dim;
+            const double vj = d->v[j];
+#pragma omp simd
+            for (int i = 0; i < dim; i++) geo_v[i] += row[i] * vj;
+        }
     }
     for (int j = 0; j < dim; j++) {
         const double kl = sh->material.stiffness[j % 3] * sh->length[j / 3];
@@ -438,15 +444,21 @@ static double largest_travel(hk_StrandDynamics *d)
 {
     if (d->contact.shape_count == 0) return 0.0;
     hk_SuperHelix *sh = d->sh;
-    hk_Vec3 before[HK_TRAVEL_NODES + 1], after[HK_TRAVEL_NODES + 1];
+    hk_Vec3 before_buf[HK_TRAVEL_NODES + 1], after_buf[HK_TRAVEL_NODES + 1];
+    const hk_Vec3 *before = before_buf, *after = after_buf;
     int n = sh->n;
-    if (n <= HK_TRAVEL_NODES) {
-        hk_dynamics_head_space_nodes(d, d->saved, before);
-        hk_dynamics_head_space_nodes(d, sh->q, after);
+    if (n <= HK_TRAVEL_NODES && d->contact_samples > 0) {
+        /* the nodes of the walk that the entry check takes (contact_entry.c): the
+         * saved state's are cached from the step that ended there */
+        before = hk_dynamics_entry_nodes(d, d->saved);
+        after = hk_dynamics_entry_nodes(d, sh->q);
+    } else if (n <= HK_TRAVEL_NODES) {
+        hk_dynamics_head_space_nodes(d, d->saved, before_buf);
+        hk_dynamics_head_space_nodes(d, sh->q, after_buf);
     } else { /* long strands: the tip alone */
         n = 1;
-        before[1] = hk_dynamics_head_space_tip(d, d->saved);
-        after[1] = hk_dynamics_head_space_tip(d, sh->q);
+        before_buf[1] = hk_dynamics_head_space_tip(d, d->saved);
+        after_buf[1] = hk_dynamics_head_space_tip(d, sh->q);
     }
     double travel = 0.0;
     for (int i = 1; i <= n; i++) {

@@ -48,6 +48,37 @@ void hk_point_kinematics(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd,
     o->acc = hk_v3_add(acc, hk_m3_mul_v3(r, curve));
 }
 
+void hk_point_kinematics2(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, const double u[2],
+                          hk_PointKinematics out[2])
+{
+    hk_ElementRates2 el;
+    hk_element_local_rates2(k, u, kd, &el);
+    /* hk_point_kinematics of order 2, lane by lane */
+    const hk_Mat3 *r = &start->frame;
+    const hk_Vec3x2 d = mul_v3_x2(r, col_x2(&el.lam, 0));
+    const hk_Mat3x2 jac = mul_m3_x2(r, &el.dd), jac_rot = mul_m3_x2(r, &el.lam), frame = mul_m3_x2(r, &el.rot);
+    const hk_Vec3x2 spin = mul_x2_v3(&jac_rot, kd), slide = mul_x2_v3(&jac, kd);
+    const hk_Vec3x2 omega0 = lanes3(start->omega), alpha0 = lanes3(start->alpha);
+    const hk_Vec3x2 pos = add_x2(lanes3(start->pos), d), omega = add_x2(omega0, spin);
+    const hk_Vec3x2 vel = add_x2(add_x2(lanes3(start->vel), cross_x2(omega0, d)), slide);
+    const hk_Vec3x2 alpha = add_x2(add_x2(alpha0, cross_x2(omega0, spin)), mul_v3_x2(r, el.spin_rate));
+    hk_Vec3x2 acc = add_x2(lanes3(start->acc), cross_x2(alpha0, d));
+    acc = add_x2(acc, cross_x2(omega0, cross_x2(omega0, d)));
+    acc = madd_x2(acc, cross_x2(omega0, slide), lanes(2.0));
+    acc = add_x2(acc, mul_v3_x2(r, el.curve));
+    for (int l = 0; l < 2; l++) {
+        hk_FrameKinematics *o = &out[l].k;
+        out[l].jac = lane_m3(&jac, l);
+        out[l].jac_rot = lane_m3(&jac_rot, l);
+        o->frame = lane_m3(&frame, l);
+        o->pos = lane_v3(pos, l);
+        o->omega = lane_v3(omega, l);
+        o->vel = lane_v3(vel, l);
+        o->alpha = lane_v3(alpha, l);
+        o->acc = lane_v3(acc, l);
+    }
+}
+
 void hk_point_motion(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, double u, hk_FrameKinematics *out)
 {
     hk_Mat3 rot;
@@ -73,6 +104,21 @@ void hk_point_velocity(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, d
     if (vel) *vel = hk_v3_add(hk_v3_add(start->vel, hk_v3_cross(start->omega, d)), hk_m3_mul_v3(r, slide));
 }
 
+void hk_point_velocity2(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, const double u[2], hk_Vec3 pos[2],
+                        hk_Vec3 *vel)
+{
+    hk_Vec3x2 offset, slide;
+    hk_element_slide2(k, u, kd, &offset, vel ? &slide : NULL);
+    const hk_Mat3 *r = &start->frame;
+    const hk_Vec3x2 d = mul_v3_x2(r, offset), p = add_x2(lanes3(start->pos), d);
+    pos[0] = lane_v3(p, 0);
+    pos[1] = lane_v3(p, 1);
+    if (!vel) return;
+    const hk_Vec3x2 v = add_x2(add_x2(lanes3(start->vel), cross_x2(lanes3(start->omega), d)), mul_v3_x2(r, slide));
+    vel[0] = lane_v3(v, 0);
+    vel[1] = lane_v3(v, 1);
+}
+
 void hk_point_jacobian(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, double u, hk_Vec3 *pos, hk_Vec3 *vel,
                        hk_Mat3 *jac)
 {
@@ -82,6 +128,24 @@ void hk_point_jacobian(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, d
     *jac = hk_m3_mul(r, &dd);
     *pos = hk_v3_add(start->pos, d);
     *vel = hk_v3_add(hk_v3_add(start->vel, hk_v3_cross(start->omega, d)), hk_m3_mul_v3(jac, kd));
+}
+
+void hk_point_jacobian2(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, const double u[2], hk_Vec3 pos[2],
+                        hk_Vec3 vel[2], hk_Mat3 jac[2])
+{
+    hk_Vec3x2 offset;
+    hk_Mat3x2 dd;
+    hk_element_offset2(k, u, &offset, &dd);
+    const hk_Mat3 *r = &start->frame;
+    const hk_Vec3x2 d = mul_v3_x2(r, offset);
+    const hk_Mat3x2 j = mul_m3_x2(r, &dd);
+    const hk_Vec3x2 p = add_x2(lanes3(start->pos), d);
+    const hk_Vec3x2 v = add_x2(add_x2(lanes3(start->vel), cross_x2(lanes3(start->omega), d)), mul_x2_v3(&j, kd));
+    for (int l = 0; l < 2; l++) {
+        pos[l] = lane_v3(p, l);
+        vel[l] = lane_v3(v, l);
+        jac[l] = lane_m3(&j, l);
+    }
 }
 
 static void add6(double *acc, hk_Vec3 ang, hk_Vec3 lin)

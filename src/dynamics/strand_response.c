@@ -24,7 +24,9 @@ void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head
     const int n = sh->n, dim = 3 * n;
     hk_strand_dynamics_place(d, head);
     hk_FrameKinematics node = hk_dynamics_root_kinematics(d, head);
-    int p = 0;
+    int p = 0, ahead = 0; /* ahead: point i was computed with point i - 1 */
+    hk_Vec3 pair_pos[2], pair_vel[2];
+    hk_Mat3 pair_jac[2];
     for (int i = 0; i < count; i++) {
         while (p < n - 1 && s[i] >= sh->s_start[p + 1]) {
             hk_PointKinematics end;
@@ -38,12 +40,28 @@ void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head
             node = end.k;
             p++;
         }
-        double u = s[i] - sh->s_start[p];
-        if (!(u >= 0.0)) u = 0.0;
-        if (u > sh->length[p]) u = sh->length[p];
         hk_Vec3 x, xv;
         hk_Mat3 own; /* the point's own element's Jacobian */
-        hk_point_jacobian(&node, k_at(sh->q, p), k_at(rates, p), u, &x, &xv, &own);
+        if (ahead) {
+            x = pair_pos[1], xv = pair_vel[1], own = pair_jac[1];
+            ahead = 0;
+        } else {
+            /* with the next point when it lies in the same element: two at a time */
+            const int pair = i + 1 < count && !(p < n - 1 && s[i + 1] >= sh->s_start[p + 1]);
+            double u[2];
+            for (int j = 0; j <= pair; j++) {
+                u[j] = s[i + j] - sh->s_start[p];
+                if (!(u[j] >= 0.0)) u[j] = 0.0;
+                if (u[j] > sh->length[p]) u[j] = sh->length[p];
+            }
+            if (pair) {
+                hk_point_jacobian2(&node, k_at(sh->q, p), k_at(rates, p), u, pair_pos, pair_vel, pair_jac);
+                x = pair_pos[0], xv = pair_vel[0], own = pair_jac[0];
+                ahead = 1;
+            } else {
+                hk_point_jacobian(&node, k_at(sh->q, p), k_at(rates, p), u[0], &x, &xv, &own);
+            }
+        }
         if (pos) pos[i] = x;
         if (vel) vel[i] = xv;
         if (element) element[i] = p;

@@ -31,9 +31,15 @@ static void mul66(double m[6][6], const double *x, double *out)
     for (int i = 0; i < 6; i++) out[i] = dot6(m[i], x);
 }
 
-void hk_terms_assemble(int n, const hk_ElementTerms *terms, double *mass)
+void hk_terms_assemble(int n, const hk_ElementTerms *terms, double *mass, double *scratch)
 {
     const size_t dim = (size_t)3 * (size_t)n;
+    /* The screws xi_a transposed (6 rows of 3n), so that row b's products xi_a . Y_b
+     * are taken for every earlier a at once (hk_dot6_columns: the same bits as dot6). */
+    double *xt = scratch;
+    for (int p = 0; p < n; p++)
+        for (int b = 0; b < 3; b++)
+            for (int r = 0; r < 6; r++) xt[(size_t)r * dim + (size_t)(3 * p + b)] = terms[p].xi[b][r];
     double beyond[6][6];
     memset(beyond, 0, sizeof beyond);
     for (int p = n - 1; p >= 0; p--) {
@@ -43,11 +49,9 @@ void hk_terms_assemble(int n, const hk_ElementTerms *terms, double *mass)
             double sxi[6], y[6];
             mul66(beyond, t->xi[b], sxi);
             for (int i = 0; i < 6; i++) y[i] = t->coupling[b][i] + sxi[i];
-            for (int a = 0; a < 3 * p; a++) {
-                const double m = dot6(terms[a / 3].xi[a % 3], y);
-                mass[(size_t)a * dim + ib] = m;
-                mass[ib * dim + (size_t)a] = m;
-            }
+            double *row = mass + ib * dim;
+            hk_dot6_columns(y, xt, dim, 3 * p, row);
+            for (int a = 0; a < 3 * p; a++) mass[(size_t)a * dim + ib] = row[a];
             for (int a = 0; a <= b; a++) { /* mirrored: exactly symmetric */
                 const size_t ia = (size_t)(3 * p + a);
                 mass[ia * dim + ib] = mass[ib * dim + ia] = t->mass[a][b] + dot6(t->xi[a], sxi);
@@ -64,7 +68,7 @@ int hk_terms_solve_dense(int n, const hk_ElementTerms *terms, const double *extr
     const int dim = 3 * n;
     const size_t count = (size_t)dim * (size_t)dim;
     double *mass = work, *factor = work + count;
-    hk_terms_assemble(n, terms, mass);
+    hk_terms_assemble(n, terms, mass, work + 2 * count);
     if (geo)
         for (size_t i = 0; i < count; i++) mass[i] += scale * geo[i];
     if (!hk_cholesky_factor(dim, mass, 1.0, extra, factor)) return 0;

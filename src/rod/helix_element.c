@@ -217,6 +217,258 @@ void hk_element_local_rates(hk_Vec3 k, double u, hk_Vec3 kd, hk_ElementLocal *ou
     *curve = hk_v3_scale(d2, u2 * u);
 }
 
+/* ---- two offsets at once (hk_element_local_rates2) ---- */
+
+
+/* hk_helix_term_along for m = 2, lane by lane (the same operations in the same order). */
+static void helix_term_along_x2(const hk_Lanes c[HK_CN_COUNT], hk_Vec3x2 phi, hk_Vec3x2 w, hk_Vec3x2 e, hk_Vec3x2 *d1,
+                                hk_Vec3x2 *d2)
+{
+    const hk_Lanes cm = c[2], cm1 = c[3];
+    const hk_Lanes x = dot_x2(phi, phi), pw = dot_x2(phi, w), s = dot_x2(phi, e);
+    const hk_Vec3x2 pxw = cross_x2(phi, w), exw = cross_x2(e, w);
+    const hk_Vec3x2 q0 = scale_x2(phi, pw), q1 = scale_x2(w, x);
+    const hk_Vec3x2 q = {q0.x - q1.x, q0.y - q1.y, q0.z - q1.z};
+    const hk_Lanes dm = lanes(-0.5) * (c[3] - lanes(2.0) * c[4]);
+    const hk_Lanes dm1 = lanes(-0.5) * (c[4] - lanes(3.0) * c[5]);
+    const hk_Lanes ew = dot_x2(e, w);
+    const hk_Vec3x2 a = scale_x2(e, pw), b = scale_x2(phi, ew), g = scale_x2(w, lanes(-2.0) * s);
+    const hk_Vec3x2 dq = {(a.x + b.x) + g.x, (a.y + b.y) + g.y, (a.z + b.z) + g.z};
+    if (d1) {
+        hk_Vec3x2 v = scale_x2(pxw, lanes(2.0) * dm * s);
+        v = madd_x2(v, exw, cm);
+        v = madd_x2(v, q, lanes(2.0) * dm1 * s);
+        *d1 = madd_x2(v, dq, cm1);
+    }
+    if (!d2) return;
+    const hk_Lanes ddm = lanes(0.25) * (c[4] - lanes(5.0) * c[5] + lanes(8.0) * c[6]);
+    const hk_Lanes ddm1 = lanes(0.25) * (c[5] - lanes(7.0) * c[6] + lanes(15.0) * c[7]);
+    const hk_Lanes ee = dot_x2(e, e);
+    hk_Vec3x2 v = scale_x2(pxw, lanes(4.0) * ddm * s * s + lanes(2.0) * dm * ee);
+    v = madd_x2(v, exw, lanes(4.0) * dm * s);
+    v = madd_x2(v, q, lanes(4.0) * ddm1 * s * s + lanes(2.0) * dm1 * ee);
+    v = madd_x2(v, dq, lanes(4.0) * dm1 * s);
+    v = madd_x2(v, e, lanes(2.0) * cm1 * ew);
+    *d2 = madd_x2(v, w, lanes(-2.0) * cm1 * ee);
+}
+
+/* helix_term_e0 lane by lane (jac may be NULL). */
+static hk_Vec3x2 helix_term_e0_x2(const hk_Lanes c[HK_CN_COUNT], int m, double alpha, hk_Vec3x2 phi, hk_Lanes x,
+                                  hk_Lanes scale, hk_Mat3x2 *jac)
+{
+    const hk_Lanes cm = c[m], cm1 = c[m + 1], zero = lanes(0.0);
+    const hk_Lanes p[3] = {phi.x, phi.y, phi.z};
+    const hk_Lanes q[3] = {p[0] * p[0] - x, p[1] * p[0], p[2] * p[0]};
+    const hk_Vec3x2 value = {lanes(alpha) + cm1 * q[0], cm * p[2] + cm1 * q[1], -cm * p[1] + cm1 * q[2]};
+    if (!jac) return value;
+    const hk_Lanes dm = lanes(-0.5) * (c[m + 1] - lanes((double)m) * c[m + 2]);
+    const hk_Lanes dm1 = lanes(-0.5) * (c[m + 2] - lanes((double)(m + 1)) * c[m + 3]);
+    const hk_Lanes a[3] = {scale * (lanes(2.0) * dm1 * q[0] - lanes(2.0) * cm1),
+                           scale * (lanes(2.0) * dm * p[2] + lanes(2.0) * dm1 * q[1]),
+                           scale * (lanes(-2.0) * dm * p[1] + lanes(2.0) * dm1 * q[2])};
+    const hk_Lanes diag = scale * cm1 * p[0], side = scale * cm;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) jac->m[i][j] = a[i] * p[j] + (i == j ? diag : zero);
+    for (int i = 0; i < 3; i++) jac->m[i][0] += scale * cm1 * p[i];
+    jac->m[2][1] -= side;
+    jac->m[1][2] += side;
+    return value;
+}
+
+void hk_element_local_rates2(hk_Vec3 k, const double u[2], hk_Vec3 kd, hk_ElementRates2 *out)
+{
+    const hk_Lanes ul = {u[0], u[1]};
+    const hk_Vec3x2 phi = scale_x2(lanes3(k), ul);
+    const hk_Lanes x = dot_x2(phi, phi);
+    hk_Lanes c[HK_CN_COUNT];
+    hk_helix_cn_x2(x, c);
+    /* rotation_and_lambda */
+    const hk_Lanes pv[3] = {phi.x, phi.y, phi.z}, zero = lanes(0.0), one = lanes(1.0);
+    const hk_Lanes skew[3][3] = {{zero, -phi.z, phi.y}, {phi.z, zero, -phi.x}, {-phi.y, phi.x, zero}};
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            const hk_Lanes sq = pv[i] * pv[j] - (i == j ? x : zero);
+            out->rot.m[i][j] = (i == j ? one : zero) + c[1] * skew[i][j] + c[2] * sq;
+            out->lam.m[i][j] = ul * ((i == j ? one : zero) + c[2] * skew[i][j] + c[3] * sq);
+        }
+    const hk_Lanes scale = ul * ul;
+    helix_term_e0_x2(c, 2, 1.0, phi, x, scale, &out->dd);
+    /* hk_element_local_rates' two contractions */
+    const hk_Vec3x2 kdl = lanes3(kd), e0 = {one, zero, zero};
+    hk_Vec3x2 d1, d2;
+    helix_term_along_x2(c, phi, kdl, kdl, &d1, NULL);
+    out->spin_rate = scale_x2(d1, scale);
+    helix_term_along_x2(c, phi, e0, kdl, NULL, &d2);
+    out->curve = scale_x2(d2, scale * ul);
+}
+
+void hk_element_slide2(hk_Vec3 k, const double u[2], hk_Vec3 kd, hk_Vec3x2 *offset, hk_Vec3x2 *slide)
+{
+    const hk_Lanes ul = {u[0], u[1]};
+    const hk_Vec3x2 phi = scale_x2(lanes3(k), ul);
+    const hk_Lanes x = dot_x2(phi, phi);
+    hk_Lanes c[HK_CN_COUNT];
+    hk_helix_cn_x2(x, c);
+    /* helix_term_e0's value for m = 2, alpha = 1 */
+    const hk_Lanes q0 = phi.x * phi.x - x, q1 = phi.y * phi.x, q2 = phi.z * phi.x;
+    const hk_Vec3x2 value = {lanes(1.0) + c[3] * q0, c[2] * phi.z + c[3] * q1, -c[2] * phi.y + c[3] * q2};
+    *offset = scale_x2(value, ul);
+    if (!slide) return;
+    const hk_Vec3x2 e0 = {lanes(1.0), lanes(0.0), lanes(0.0)};
+    hk_Vec3x2 d1;
+    helix_term_along_x2(c, phi, e0, lanes3(kd), &d1, NULL);
+    *slide = scale_x2(d1, ul * ul);
+}
+
+/* hk_helix_term lane by lane for w a basis vector e_wi (the same operations, with its
+ * zero and unit components, in the same order). */
+static void helix_term_x2(const hk_Lanes c[HK_CN_COUNT], int m, double alpha, hk_Vec3x2 phi, int wi, int order,
+                          hk_Vec3x2 *value, hk_Mat3x2 *jac, hk_Vec3x2 hess[3][3])
+{
+    const hk_Vec3x2 w = lanes3(hk_v3_unit(wi));
+    const hk_Lanes cm = c[m], cm1 = c[m + 1];
+    const hk_Lanes x = dot_x2(phi, phi), pw = dot_x2(phi, w);
+    const hk_Vec3x2 pxw = cross_x2(phi, w);
+    const hk_Vec3x2 q0 = scale_x2(phi, pw), q1 = scale_x2(w, x);
+    const hk_Vec3x2 q = {q0.x - q1.x, q0.y - q1.y, q0.z - q1.z};
+    *value = add_x2(scale_x2(w, lanes(alpha)), add_x2(scale_x2(pxw, cm), scale_x2(q, cm1)));
+    if (order < 1) return;
+    const hk_Lanes dm = lanes(-0.5) * (c[m + 1] - lanes((double)m) * c[m + 2]);
+    const hk_Lanes dm1 = lanes(-0.5) * (c[m + 2] - lanes((double)(m + 1)) * c[m + 3]);
+    const hk_Lanes ph[3] = {phi.x, phi.y, phi.z}, wv[3] = {w.x, w.y, w.z};
+    hk_Vec3x2 exw[3], dq[3];
+    for (int j = 0; j < 3; j++) {
+        const hk_Vec3x2 ej = lanes3(hk_v3_unit(j));
+        exw[j] = cross_x2(ej, w);
+        const hk_Vec3x2 a = scale_x2(phi, wv[j]), b = scale_x2(w, lanes(2.0) * ph[j]);
+        dq[j] = add_x2(scale_x2(ej, pw), (hk_Vec3x2){a.x - b.x, a.y - b.y, a.z - b.z});
+        hk_Vec3x2 col = scale_x2(pxw, lanes(2.0) * dm * ph[j]);
+        col = madd_x2(col, exw[j], cm);
+        col = madd_x2(col, q, lanes(2.0) * dm1 * ph[j]);
+        col = madd_x2(col, dq[j], cm1);
+        jac->m[0][j] = col.x;
+        jac->m[1][j] = col.y;
+        jac->m[2][j] = col.z;
+    }
+    if (order < 2) return;
+    const hk_Lanes ddm =
+        lanes(0.25) * (c[m + 2] - lanes((double)(2 * m + 1)) * c[m + 3] + lanes((double)(m * (m + 2))) * c[m + 4]);
+    const hk_Lanes ddm1 = lanes(0.25) * (c[m + 3] - lanes((double)(2 * m + 3)) * c[m + 4] +
+                                         lanes((double)((m + 1) * (m + 3))) * c[m + 5]);
+    for (int a = 0; a < 3; a++) {
+        for (int b = a; b < 3; b++) {
+            const hk_Lanes dab = lanes(a == b ? 1.0 : 0.0);
+            hk_Vec3x2 v = scale_x2(pxw, lanes(4.0) * ddm * ph[a] * ph[b] + lanes(2.0) * dm * dab);
+            v = madd_x2(v, exw[a], lanes(2.0) * dm * ph[b]);
+            v = madd_x2(v, exw[b], lanes(2.0) * dm * ph[a]);
+            v = madd_x2(v, q, lanes(4.0) * ddm1 * ph[a] * ph[b] + lanes(2.0) * dm1 * dab);
+            v = madd_x2(v, dq[a], lanes(2.0) * dm1 * ph[b]);
+            v = madd_x2(v, dq[b], lanes(2.0) * dm1 * ph[a]);
+            v = madd_x2(v, lanes3(hk_v3_unit(a)), cm1 * wv[b]);
+            v = madd_x2(v, lanes3(hk_v3_unit(b)), cm1 * wv[a]);
+            v = madd_x2(v, w, lanes(-2.0) * cm1 * dab);
+            hess[a][b] = v;
+            hess[b][a] = v;
+        }
+    }
+}
+
+/* hk_helix_rotation lane by lane. */
+static hk_Mat3x2 helix_rotation_x2(const hk_Lanes c[HK_CN_COUNT], hk_Vec3x2 phi)
+{
+    const hk_Lanes x = dot_x2(phi, phi), zero = lanes(0.0);
+    const hk_Lanes p[3] = {phi.x, phi.y, phi.z};
+    const hk_Lanes s[3][3] = {{zero, -phi.z, phi.y}, {phi.z, zero, -phi.x}, {-phi.y, phi.x, zero}};
+    hk_Mat3x2 r;
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++) r.m[i][j] = c[1] * s[i][j] + c[2] * (p[i] * p[j]);
+        r.m[i][i] += lanes(1.0) - c[2] * x;
+    }
+    return r;
+}
+
+static void set_lane_col(hk_Mat3 *m, int j, hk_Vec3x2 v, int l)
+{
+    m->m[0][j] = v.x[l];
+    m->m[1][j] = v.y[l];
+    m->m[2][j] = v.z[l];
+}
+
+/* d[i][j] = h[i][j] s, lane l */
+static void lane_scaled_hess(hk_Vec3 d[3][3], hk_Vec3x2 h[3][3], hk_Lanes s, int l)
+{
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) d[i][j] = lane_v3(scale_x2(h[i][j], s), l);
+}
+
+static hk_Mat3 lane_scaled(const hk_Mat3x2 *a, hk_Lanes s, int l)
+{
+    hk_Mat3x2 o;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) o.m[i][j] = a->m[i][j] * s;
+    return lane_m3(&o, l);
+}
+
+void hk_element_local_order2(const hk_Vec3 k[2], const double u[2], hk_ElementLocal out[2])
+{
+    const hk_Lanes ul = {u[0], u[1]};
+    const hk_Vec3x2 phi = {(hk_Lanes){k[0].x, k[1].x} * ul, (hk_Lanes){k[0].y, k[1].y} * ul,
+                           (hk_Lanes){k[0].z, k[1].z} * ul};
+    const hk_Lanes x = dot_x2(phi, phi);
+    hk_Lanes c[HK_CN_COUNT];
+    hk_helix_cn_x2(x, c);
+    const hk_Lanes u2 = ul * ul, u3 = u2 * ul;
+    const hk_Mat3x2 rot = helix_rotation_x2(c, phi);
+    hk_Mat3x2 dd, jac[3], gjac;
+    const hk_Vec3x2 d = scale_x2(helix_term_e0_x2(c, 2, 1.0, phi, x, u2, &dd), ul);
+    hk_Vec3x2 value[3], hess[3][3], g, ghess[3][3];
+    for (int b = 0; b < 3; b++) helix_term_x2(c, 2, 1.0, phi, b, b == 0 ? 2 : 1, &value[b], &jac[b], hess);
+    helix_term_x2(c, 3, 0.5, phi, 0, 2, &g, &gjac, ghess);
+    for (int l = 0; l < 2; l++) {
+        hk_ElementLocal *o = &out[l];
+        o->rot = lane_m3(&rot, l);
+        set_lane_col(&o->lam, 0, d, l);
+        o->dd = lane_m3(&dd, l);
+        o->dlam[0] = o->dd;
+        lane_scaled_hess(o->d2d, hess, u3, l);
+        for (int b = 1; b < 3; b++) {
+            set_lane_col(&o->lam, b, scale_x2(value[b], ul), l);
+            o->dlam[b] = lane_scaled(&jac[b], u2, l);
+        }
+        o->g = lane_v3(scale_x2(g, u2), l);
+        o->dg = lane_scaled(&gjac, u3, l);
+        lane_scaled_hess(o->d2g, ghess, u3 * ul, l);
+    }
+}
+
+void hk_element_offset2(hk_Vec3 k, const double u[2], hk_Vec3x2 *offset, hk_Mat3x2 *dd)
+{
+    const hk_Lanes ul = {u[0], u[1]};
+    const hk_Vec3x2 phi = scale_x2(lanes3(k), ul);
+    const hk_Lanes x = dot_x2(phi, phi);
+    hk_Lanes c[HK_CN_COUNT];
+    hk_helix_cn_x2(x, c);
+    *offset = scale_x2(helix_term_e0_x2(c, 2, 1.0, phi, x, ul * ul, dd), ul);
+}
+
+void hk_element_offset_derivs2(hk_Vec3 k, const double u[2], hk_Mat3 dd[2], hk_Vec3 d2d0[3][3], hk_Vec3 d2d1[3][3])
+{
+    const hk_Lanes ul = {u[0], u[1]}, u2 = ul * ul;
+    const hk_Vec3x2 phi = scale_x2(lanes3(k), ul);
+    const hk_Lanes x = dot_x2(phi, phi);
+    hk_Lanes c[HK_CN_COUNT];
+    hk_helix_cn_x2(x, c);
+    hk_Mat3x2 jac;
+    helix_term_e0_x2(c, 2, 1.0, phi, x, u2, &jac);
+    dd[0] = lane_m3(&jac, 0);
+    dd[1] = lane_m3(&jac, 1);
+    if (!d2d0) return;
+    hk_Vec3x2 value, hess[3][3];
+    helix_term_x2(c, 2, 1.0, phi, 0, 2, &value, &jac, hess);
+    lane_scaled_hess(d2d0, hess, u2 * ul, 0);
+    lane_scaled_hess(d2d1, hess, u2 * ul, 1);
+}
+
 void hk_element_motion(hk_Vec3 k, double u, hk_Vec3 kd, hk_Mat3 *rot, hk_Vec3 *offset, hk_Vec3 *spin, hk_Vec3 *slide)
 {
     const hk_Vec3 phi = hk_v3_scale(k, u);

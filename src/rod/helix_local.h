@@ -69,6 +69,96 @@ void hk_element_local(hk_Vec3 k, double u, int order, int with_g, hk_ElementLoca
  * curve = sum_ab kd_a kd_b d2d[a][b], both in the element's frame. */
 void hk_element_local_rates(hk_Vec3 k, double u, hk_Vec3 kd, hk_ElementLocal *out, hk_Vec3 *spin_rate, hk_Vec3 *curve);
 
+/* Two lanes of doubles (a GCC vector extension, as in helicoid/piece_rk4_tangent.c):
+ * two points of one element at once, each lane with the scalar code's operations in
+ * their order, hence its bits (no contraction into fused multiply-adds: the build has
+ * none, docs/library.md). */
+typedef double hk_Lanes __attribute__((vector_size(16)));
+typedef struct hk_Vec3x2 {
+    hk_Lanes x, y, z;
+} hk_Vec3x2;
+typedef struct hk_Mat3x2 {
+    hk_Lanes m[3][3];
+} hk_Mat3x2;
+
+/* hairkit/vecmath.h's operations on two lanes, each lane's the same bits as theirs. */
+static inline hk_Lanes lanes(double s) { return (hk_Lanes){s, s}; }
+static inline hk_Vec3x2 lanes3(hk_Vec3 v) { return (hk_Vec3x2){lanes(v.x), lanes(v.y), lanes(v.z)}; }
+static inline hk_Lanes dot_x2(hk_Vec3x2 a, hk_Vec3x2 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static inline hk_Vec3x2 cross_x2(hk_Vec3x2 a, hk_Vec3x2 b)
+{
+    return (hk_Vec3x2){a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+static inline hk_Vec3x2 scale_x2(hk_Vec3x2 a, hk_Lanes s) { return (hk_Vec3x2){a.x * s, a.y * s, a.z * s}; }
+static inline hk_Vec3x2 madd_x2(hk_Vec3x2 a, hk_Vec3x2 b, hk_Lanes s)
+{
+    return (hk_Vec3x2){a.x + s * b.x, a.y + s * b.y, a.z + s * b.z};
+}
+static inline hk_Vec3x2 add_x2(hk_Vec3x2 a, hk_Vec3x2 b) { return (hk_Vec3x2){a.x + b.x, a.y + b.y, a.z + b.z}; }
+/* r v for a matrix common to both lanes */
+static inline hk_Vec3x2 mul_v3_x2(const hk_Mat3 *r, hk_Vec3x2 v)
+{
+    hk_Lanes o[3];
+    for (int i = 0; i < 3; i++) o[i] = lanes(r->m[i][0]) * v.x + lanes(r->m[i][1]) * v.y + lanes(r->m[i][2]) * v.z;
+    return (hk_Vec3x2){o[0], o[1], o[2]};
+}
+/* a v for a vector common to both lanes */
+static inline hk_Vec3x2 mul_x2_v3(const hk_Mat3x2 *a, hk_Vec3 v)
+{
+    hk_Lanes o[3];
+    for (int i = 0; i < 3; i++) o[i] = a->m[i][0] * lanes(v.x) + a->m[i][1] * lanes(v.y) + a->m[i][2] * lanes(v.z);
+    return (hk_Vec3x2){o[0], o[1], o[2]};
+}
+/* r b for a matrix r common to both lanes */
+static inline hk_Mat3x2 mul_m3_x2(const hk_Mat3 *r, const hk_Mat3x2 *b)
+{
+    hk_Mat3x2 o;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            o.m[i][j] =
+                lanes(r->m[i][0]) * b->m[0][j] + lanes(r->m[i][1]) * b->m[1][j] + lanes(r->m[i][2]) * b->m[2][j];
+    return o;
+}
+static inline hk_Vec3x2 col_x2(const hk_Mat3x2 *a, int j) { return (hk_Vec3x2){a->m[0][j], a->m[1][j], a->m[2][j]}; }
+static inline hk_Vec3 lane_v3(hk_Vec3x2 v, int i) { return hk_v3(v.x[i], v.y[i], v.z[i]); }
+static inline hk_Mat3 lane_m3(const hk_Mat3x2 *a, int l)
+{
+    hk_Mat3 o;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) o.m[i][j] = a->m[i][j][l];
+    return o;
+}
+
+/* hk_helix_cn of each lane's x, the same bits (both below 1, the common case inside an
+ * element, in the lanes; otherwise lane by lane, whose branches differ). */
+void hk_helix_cn_x2(hk_Lanes x, hk_Lanes c[HK_CN_COUNT]);
+
+/* What hk_element_local_rates gives (rot, lam, dd, spin_rate, curve), for the offsets
+ * u[0] and u[1] of one element at once, lane i for u[i]: the same bits. */
+typedef struct hk_ElementRates2 {
+    hk_Mat3x2 rot, lam, dd;
+    hk_Vec3x2 spin_rate, curve;
+} hk_ElementRates2;
+void hk_element_local_rates2(hk_Vec3 k, const double u[2], hk_Vec3 kd, hk_ElementRates2 *out);
+
+/* hk_element_local of order 2 with g for two elements at once, out[i] for the
+ * curvatures k[i] at u[i]: the same bits, lane by lane. */
+void hk_element_local_order2(const hk_Vec3 k[2], const double u[2], hk_ElementLocal out[2]);
+
+/* hk_element_offset with its Jacobian dd (not NULL) for the offsets u[0] and u[1] of one
+ * element at once: the same bits, lane by lane. */
+void hk_element_offset2(hk_Vec3 k, const double u[2], hk_Vec3x2 *offset, hk_Mat3x2 *dd);
+
+/* hk_element_offset_derivs (from hk_element_offset_begin's c) for the offsets u[0] and
+ * u[1] of one element at once: dd[i] and, when d2d0 is not NULL, the second
+ * derivatives into d2d0 and d2d1; the same bits, lane by lane. */
+void hk_element_offset_derivs2(hk_Vec3 k, const double u[2], hk_Mat3 dd[2], hk_Vec3 d2d0[3][3], hk_Vec3 d2d1[3][3]);
+
+/* hk_element_slide's offset and slide (slide may be NULL: the offset alone, which is
+ * also hk_element_offset's) for the offsets u[0] and u[1] of one element at once: the
+ * same bits, lane by lane. */
+void hk_element_slide2(hk_Vec3 k, const double u[2], hk_Vec3 kd, hk_Vec3x2 *offset, hk_Vec3x2 *slide);
+
 /* Rotation exp(u [k]x), Lambda(u; k) applied to kd and the offset's derivative along
  * kd (dd kd), in the element's frame: what a point's velocity takes, without the
  * Jacobians' matrices. d (column 0 of Lambda) in *offset. */

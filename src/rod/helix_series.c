@@ -83,3 +83,25 @@ void hk_helix_cn(double x, double c[HK_CN_COUNT])
     for (int n = HK_CN_COUNT - 1; n >= first; n--)
         c[n] = n + 2 < HK_CN_COUNT ? inv_fact[n] - x * c[n + 2] : cn_series(x, n);
 }
+
+void hk_helix_cn_x2(hk_Lanes x, hk_Lanes c[HK_CN_COUNT])
+{
+    if (!(x[0] < 1.0 && x[1] < 1.0)) { /* each lane its own branches */
+        double c0[HK_CN_COUNT], c1[HK_CN_COUNT];
+        hk_helix_cn(x[0], c0);
+        hk_helix_cn(x[1], c1);
+        for (int n = 0; n < HK_CN_COUNT; n++) c[n] = (hk_Lanes){c0[n], c1[n]};
+        return;
+    }
+    /* Both below 1: hk_helix_cn's series of 8 terms for the two highest orders and its
+     * downward recurrence for the others, the same operations in both lanes. */
+    for (int n = HK_CN_COUNT - 1; n >= 0; n--) {
+        if (n + 2 < HK_CN_COUNT) {
+            c[n] = lanes(inv_fact[n]) - x * c[n + 2];
+            continue;
+        }
+        hk_Lanes sum = lanes(inv_fact[2 * 7 + n]);
+        for (int k = 6; k >= 0; k--) sum = lanes(inv_fact[2 * k + n]) - x * sum;
+        c[n] = sum;
+    }
+}

@@ -14,4 +14,10 @@
  * normal force here instead of evaluating the shapes again. */
 int hk_strand_workspace_contact(const hk_StrandWorkspace *ws, int i, hk_Vec3 *grad);
 
+/* hk_superhelix_points that also gives the node positions (N + 1) of the same walk,
+ * the same bits as hk_superhelix_nodes': one walk for both (the dynamics' step
+ * acceptance, contact_entry.c). */
+void hk_superhelix_points_nodes(const hk_SuperHelix *sh, const double *q, const double *s, int count, hk_Vec3 *pos,
+                                hk_Vec3 *nodes);
+
 #endif /* HK_ROD_INTERNAL_H */

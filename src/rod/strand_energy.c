@@ -15,6 +15,7 @@
 
 #include <string.h>
 
+#include "core/linalg.h"
 #include "helix_local.h"
 #include "rod/rod_internal.h"
 
@@ -35,7 +36,8 @@ struct hk_StrandWorkspace {
     hk_Mat3 *sa, *sd;     /* weighted Hessian of the density, world dp/dk of own element */
     hk_Vec3 (*sd2)[3][3]; /* d2p/dk2 of own element, in the element's start frame */
     hk_Vec3 *sfl;         /* sf in the element's start frame */
-    double *xi, *y;       /* Hessian: 6-vectors per coordinate */
+    double *xi;           /* Hessian: the screws xi_a, stored transposed (6 rows of 3N) */
+    double *y;            /* Hessian: the 6-vectors Y_b, per coordinate */
 };
 
 /* The default environment: no shapes, no collisions (what a NULL env means). */
@@ -128,8 +130,16 @@ static void forward(const hk_SuperHelix *sh, const double *q, int order, hk_Stra
     ws->frame[0] = sh->root_frame;
     ws->pos[0] = sh->root;
     for (int p = 0; p < sh->n; p++) {
-        hk_ElementLocal *el = &ws->local[p];
-        hk_element_local(k_of(q, p), sh->length[p], order, 1, el);
+        if (order == 2 && p + 1 < sh->n) { /* two elements at a time, the same bits */
+            const hk_Vec3 k[2] = {k_of(q, p), k_of(q, p + 1)};
+            hk_element_local_order2(k, &sh->length[p], &ws->local[p]);
+            p++;
+        } else {
+            hk_element_local(k_of(q, p), sh->length[p], order, 1, &ws->local[p]);
+        }
+    }
+    for (int p = 0; p < sh->n; p++) {
+        const hk_ElementLocal *el = &ws->local[p];
         ws->pos[p + 1] = hk_v3_add(ws->pos[p], hk_m3_mul_v3(&ws->frame[p], hk_m3_col(&el->lam, 0)));
         ws->frame[p + 1] = hk_m3_mul(&ws->frame[p], &el->rot);
     }
@@ -145,6 +155,27 @@ static int near_shapes(const hk_StrandEnvDef *env, hk_Vec3 centre, double radius
         if (hk_v3_norm2(hk_v3_sub(centre, sh->centre)) <= reach * reach) return 1;
     }
     return 0;
+}
+
+/* The offset's Jacobian in world axes (sd) and, for order 2, its second derivatives in
+ * the element's frame (sd2) of the touching samples i and j of the element with
+ * coordinates k and start frame r; j < 0: i alone. Two at once in two lanes, the same
+ * bits. */
+static void sample_derivatives(hk_StrandWorkspace *ws, hk_Vec3 k, const hk_Mat3 *r, int order, int i, int j)
+{
+    if (j < 0) {
+        double c[HK_CN_COUNT];
+        hk_element_offset_begin(k, ws->sample_u[i], c);
+        hk_Mat3 dd;
+        hk_element_offset_derivs(k, ws->sample_u[i], c, &dd, order >= 2 ? ws->sd2[i] : NULL);
+        ws->sd[i] = hk_m3_mul(r, &dd);
+        return;
+    }
+    const double u[2] = {ws->sample_u[i], ws->sample_u[j]};
+    hk_Mat3 dd[2];
+    hk_element_offset_derivs2(k, u, dd, order >= 2 ? ws->sd2[i] : NULL, order >= 2 ? ws->sd2[j] : NULL);
+    ws->sd[i] = hk_m3_mul(r, &dd[0]);
+    ws->sd[j] = hk_m3_mul(r, &dd[1]);
 }
 
 static double collisions(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, const double *q, int order,
@@ -167,6 +198,7 @@ static double collisions(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, co
         if (s1 - s0 > 1) hk_element_local(k, w, 0, 0, &step);
         hk_Mat3 rot = at.rot;
         hk_Vec3 d = hk_m3_col(&at.lam, 0);
+        int held = -1; /* a touching sample whose derivatives wait for the next one's */
         for (int i = s0; i < s1; i++) {
             if (i > s0) {
                 d = hk_v3_add(d, hk_m3_mul_v3(&rot, hk_m3_col(&step.lam, 0)));
@@ -188,20 +220,19 @@ static double collisions(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, co
             ws->active[i] = 1;
             ws->sp[i] = pt;
             ws->sf[i] = hk_v3_scale(g, w);
-            const double u = ws->sample_u[i];
-            double c[HK_CN_COUNT];
-            hk_element_offset_begin(k, u, c);
-            hk_Mat3 dd;
-            hk_Vec3 d2d[3][3];
-            hk_element_offset_derivs(k, u, c, &dd, order >= 2 ? d2d : NULL);
-            ws->sd[i] = hk_m3_mul(r, &dd);
             if (order >= 2) {
                 ws->sa[i] = hk_m3_scale(&h, w);
                 ws->sfl[i] = hk_m3_tmul_v3(r, ws->sf[i]);
-                for (int a = 0; a < 3; a++)
-                    for (int b = 0; b < 3; b++) ws->sd2[i][a][b] = d2d[a][b];
             }
+            /* the offset's derivatives two samples at a time */
+            if (held < 0) {
+                held = i;
+                continue;
+            }
+            sample_derivatives(ws, k, r, order, held, i);
+            held = -1;
         }
+        if (held >= 0) sample_derivatives(ws, k, r, order, held, -1);
     }
     return energy;
 }
@@ -252,8 +283,10 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
 
     /* Elastic energy: constant curvature per element integrates exactly (§4.1.1.3.1). */
     double e_elastic = 0.0;
-    if (grad) memset(grad, 0, (size_t)dim * sizeof(double));
-    if (hess) memset(hess, 0, (size_t)dim * (size_t)dim * sizeof(double));
+    /* Of the Hessian only the diagonal blocks are cleared: the final loop writes every
+     * entry of the others. */
+    for (int p = 0; p < n && hess; p++)
+        for (int i = 0; i < 3; i++) memset(hess + (size_t)(3 * p + i) * (size_t)dim + 3 * p, 0, 3 * sizeof(double));
     for (int p = 0; p < n; p++)
         for (int i = 0; i < 3; i++) {
             const double kl = sh->material.stiffness[i] * sh->length[p];
@@ -294,14 +327,15 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
         const hk_Vec3 r1 = ws->pos[p + 1];
         const int s0 = ws->elem_first_sample[p], s1 = ws->elem_first_sample[p + 1];
         hk_Vec3 omega[3], t[3], dgw[3];
+        double xi[3][6];
         for (int b = 0; b < 3; b++) {
             omega[b] = hk_m3_mul_v3(r, hk_m3_col(&el->lam, b));
             t[b] = hk_m3_mul_v3(r, hk_m3_col(&el->dd, b));
             dgw[b] = hk_m3_mul_v3(r, hk_m3_col(&el->dg, b));
             const hk_Vec3 v = hk_v3_add(t[b], hk_v3_cross(r1, omega[b]));
-            double *xi = ws->xi + (size_t)(3 * p + b) * 6;
-            xi[0] = omega[b].x, xi[1] = omega[b].y, xi[2] = omega[b].z;
-            xi[3] = v.x, xi[4] = v.y, xi[5] = v.z;
+            xi[b][0] = omega[b].x, xi[b][1] = omega[b].y, xi[b][2] = omega[b].z;
+            xi[b][3] = v.x, xi[b][4] = v.y, xi[b][5] = v.z;
+            for (int e = 0; e < 6; e++) ws->xi[(size_t)e * (size_t)dim + (size_t)(3 * p + b)] = xi[b][e];
             double gb = hk_v3_dot(omega[b], moment) + hk_v3_dot(v, force) + hk_v3_dot(fg, dgw[b]);
             for (int i = s0; i < s1; i++)
                 if (ws->active[i]) gb += hk_v3_dot(ws->sf[i], hk_m3_col(&ws->sd[i], b));
@@ -316,13 +350,14 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
             const double trs = hk_m3_trace(&s);
             const hk_Vec3 arm_moment = hk_v3_sub(moment, hk_v3_cross(r1, force));
             double cxi[3][6];
+            hk_Vec3 turned[3]; /* (S - tr S I) omega_b, for Y_b and the diagonal block */
+            for (int b = 0; b < 3; b++) turned[b] = moment_op(&s, trs, omega[b]);
             for (int b = 0; b < 3; b++) {
-                const double *xib = ws->xi + (size_t)(3 * p + b) * 6;
-                mat6_mul_vec(stiff, xib, cxi[b]);
+                mat6_mul_vec(stiff, xi[b], cxi[b]);
                 /* Y_b: coupling of coordinate b with every earlier coordinate a through
                  * H_ab = xi_a . Y_b (rotation of b's displacement field by a, plus the
                  * contact stiffness seen through both). */
-                hk_Vec3 z = hk_v3_add(moment_op(&s, trs, omega[b]), hk_v3_cross(t[b], force));
+                hk_Vec3 z = hk_v3_add(turned[b], hk_v3_cross(t[b], force));
                 z = hk_v3_add(z, hk_v3_cross(dgw[b], fg));
                 double y[6];
                 memcpy(y, cxi[b], sizeof y);
@@ -346,10 +381,10 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
             for (int a = 0; a < 3; a++) {
                 for (int b = a; b < 3; b++) {
                     double h = hk_v3_dot(hk_m3_col(&el->dlam[b], a), arm_local);
-                    h += hk_v3_dot(omega[b], moment_op(&s, trs, omega[a]));
+                    h += hk_v3_dot(omega[b], turned[a]);
                     h += hk_v3_dot(force_local, el->d2d[a][b]);
                     h += hk_v3_dot(fg_local, el->d2g[a][b]);
-                    h += dot6(ws->xi + (size_t)(3 * p + a) * 6, cxi[b]);
+                    h += dot6(xi[a], cxi[b]);
                     for (int i = s0; i < s1; i++) {
                         if (!ws->active[i]) continue;
                         const hk_Vec3 ja = hk_m3_col(&ws->sd[i], a), jb = hk_m3_col(&ws->sd[i], b);
@@ -384,14 +419,17 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
     }
 
     if (hess) {
-        /* Off-diagonal blocks: a in an earlier element than b. */
+        /* Off-diagonal blocks: a in an earlier element than b, H_ab = xi_a . Y_b, row b
+         * at once over a (the screws stored transposed), then mirrored. 0.0 + h: the
+         * bits of a sum into a cleared matrix (-0 turns +0). */
         for (int b = 3; b < dim; b++) {
-            const double *yb = ws->y + (size_t)b * 6;
+            double *row = hess + (size_t)b * (size_t)dim;
             const int first_b = (b / 3) * 3;
+            hk_dot6_columns(ws->y + (size_t)b * 6, ws->xi, (size_t)dim, first_b, row);
             for (int a = 0; a < first_b; a++) {
-                const double h = dot6(ws->xi + (size_t)a * 6, yb);
-                hess[(size_t)a * (size_t)dim + (size_t)b] += h;
-                hess[(size_t)b * (size_t)dim + (size_t)a] += h;
+                const double h = 0.0 + row[a];
+                row[a] = h;
+                hess[(size_t)a * (size_t)dim + (size_t)b] = h;
             }
         }
     }

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "helix_local.h"
+#include "rod/rod_internal.h"
 
 hk_RodMaterial hk_rod_material(double radius1, double radius2, double young, double poisson, double density,
                                hk_Vec3 gravity)
@@ -197,17 +198,50 @@ void hk_superhelix_eval(const hk_SuperHelix *sh, const double *q, double s, hk_V
     element_pose(q, i, s - sh->s_start[i], &r, p, pos, frame);
 }
 
-void hk_superhelix_points(const hk_SuperHelix *sh, const double *q, const double *s, int count, hk_Vec3 *pos)
+/* s clamped to [0, L] */
+static double clamp_s(const hk_SuperHelix *sh, double s)
+{
+    return s > 0.0 ? (s < sh->total_length ? s : sh->total_length) : 0.0;
+}
+
+void hk_superhelix_points_nodes(const hk_SuperHelix *sh, const double *q, const double *s, int count, hk_Vec3 *pos,
+                                hk_Vec3 *nodes)
 {
     if (!q) q = sh->q;
     hk_Mat3 r = sh->root_frame;
     hk_Vec3 p = sh->root;
     int elem = 0;
+    if (nodes) nodes[0] = p;
     for (int j = 0; j < count; j++) {
-        const double sj = s[j] > 0.0 ? (s[j] < sh->total_length ? s[j] : sh->total_length) : 0.0;
-        while (elem < sh->n - 1 && sj >= sh->s_start[elem + 1]) advance_element(sh, q, elem++, &r, &p);
+        const double sj = clamp_s(sh, s[j]);
+        while (elem < sh->n - 1 && sj >= sh->s_start[elem + 1]) {
+            advance_element(sh, q, elem++, &r, &p);
+            if (nodes) nodes[elem] = p;
+        }
+        /* with the next point when it lies in the same element: two at a time */
+        const double next = j + 1 < count ? clamp_s(sh, s[j + 1]) : 0.0;
+        if (j + 1 < count && !(elem < sh->n - 1 && next >= sh->s_start[elem + 1])) {
+            const double u[2] = {sj - sh->s_start[elem], next - sh->s_start[elem]};
+            hk_Vec3x2 offset;
+            hk_element_slide2(element_k(q, elem), u, hk_v3_zero(), &offset, NULL);
+            const hk_Vec3x2 x = add_x2(lanes3(p), mul_v3_x2(&r, offset));
+            pos[j] = lane_v3(x, 0);
+            pos[++j] = lane_v3(x, 1);
+            continue;
+        }
         element_pose(q, elem, sj - sh->s_start[elem], &r, p, &pos[j], NULL);
     }
+    if (!nodes) return;
+    /* the nodes beyond the last point: the same walk as hk_superhelix_nodes */
+    while (elem < sh->n) {
+        advance_element(sh, q, elem++, &r, &p);
+        nodes[elem] = p;
+    }
+}
+
+void hk_superhelix_points(const hk_SuperHelix *sh, const double *q, const double *s, int count, hk_Vec3 *pos)
+{
+    hk_superhelix_points_nodes(sh, q, s, count, pos, NULL);
 }
 
 int hk_superhelix_sample_count(const hk_SuperHelix *sh, double step)
