@@ -447,18 +447,18 @@ static double largest_travel(hk_StrandDynamics *d)
     hk_Vec3 before_buf[HK_TRAVEL_NODES + 1], after_buf[HK_TRAVEL_NODES + 1];
     const hk_Vec3 *before = before_buf, *after = after_buf;
     int n = sh->n;
-    if (n <= HK_TRAVEL_NODES && d->contact_samples > 0) {
+    if (n > HK_TRAVEL_NODES) { /* long strands: the tip alone */
+        n = 1;
+        before_buf[1] = hk_dynamics_head_space_tip(d, d->saved);
+        after_buf[1] = hk_dynamics_head_space_tip(d, sh->q);
+    } else if (d->contact_samples > 0) {
         /* the nodes of the walk that the entry check takes (contact_entry.c): the
          * saved state's are cached from the step that ended there */
         before = hk_dynamics_entry_nodes(d, d->saved);
         after = hk_dynamics_entry_nodes(d, sh->q);
-    } else if (n <= HK_TRAVEL_NODES) {
+    } else {
         hk_dynamics_head_space_nodes(d, d->saved, before_buf);
         hk_dynamics_head_space_nodes(d, sh->q, after_buf);
-    } else { /* long strands: the tip alone */
-        n = 1;
-        before_buf[1] = hk_dynamics_head_space_tip(d, d->saved);
-        after_buf[1] = hk_dynamics_head_space_tip(d, sh->q);
     }
     double travel = 0.0;
     for (int i = 1; i <= n; i++) {

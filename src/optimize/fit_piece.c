@@ -224,6 +224,13 @@ static int residual_count(const Fit *F) { return 3 * F->m + F->np + (has_join(F)
  * d frame / d x_j = [omega_j]x frame, so omega_j = (1/2) sum_c f_c x df_c over the
  * frame's columns f_c. Central differences of start_pose (no trace). Zero when the pose
  * does not depend on the parameters (a piece away from the root, its frame unrefined). */
+/* start_pose of xt, which differs from the x that `turned` was made for in entry j
+ * alone: a model parameter (j < np) leaves the root rotation as it is, turned once. */
+static hk_CurveStart moved_pose(const Fit *F, const hk_CurveStart *turned, const double *xt, int j)
+{
+    return j < F->np ? ruled_pose(F, *turned, xt, F->i0 == 0) : start_pose(F, &F->base, xt, F->rotating, F->i0 == 0);
+}
+
 static void pose_rates(const Fit *F, const double *x, const hk_CurveStart *s, int nx, hk_Vec3 *omega)
 {
     const int at_root = F->i0 == 0 && F->opt->root_frame;
@@ -231,16 +238,13 @@ static void pose_rates(const Fit *F, const double *x, const hk_CurveStart *s, in
     if (!at_root && !F->rotating) return;
     double xt[MAXP + ROT];
     memcpy(xt, x, (size_t)nx * sizeof(double));
-    /* the model's parameters (j < np) leave the root rotation as it is: turned once */
     const hk_CurveStart turned = F->rotating ? rotated(&F->base, x + F->np) : F->base;
     for (int j = 0; j < nx; j++) {
         const double d = POSE_STEP * (fabs(x[j]) > 1.0 ? fabs(x[j]) : 1.0);
         xt[j] = x[j] + d;
-        const hk_CurveStart a =
-            j < F->np ? ruled_pose(F, turned, xt, F->i0 == 0) : start_pose(F, &F->base, xt, F->rotating, F->i0 == 0);
+        const hk_CurveStart a = moved_pose(F, &turned, xt, j);
         xt[j] = x[j] - d;
-        const hk_CurveStart b =
-            j < F->np ? ruled_pose(F, turned, xt, F->i0 == 0) : start_pose(F, &F->base, xt, F->rotating, F->i0 == 0);
+        const hk_CurveStart b = moved_pose(F, &turned, xt, j);
         xt[j] = x[j];
         hk_Vec3 w = hk_v3_zero();
         for (int c = 0; c < 3; c++) {
