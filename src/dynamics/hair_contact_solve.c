@@ -142,9 +142,15 @@ struct hk_ContactSolve {
     Buffer segment_place;    /* int per strand and per segment + 1: dealing the points (layout) */
     hk_ContactSplit split;   /* scratch of the split */
     int old_count;
+    int opened;              /* hk_contact_solve_open sized the strands' arrays for the next solve */
     hk_StrandDynamics **dyn; /* the strands of the solve under way */
     double mu, viscous;      /* its friction coefficient and viscous friction (times the step) */
 };
+
+static size_t dim_of(const hk_ContactSolve *cs, int strand)
+{
+    return cs->dim_start[strand + 1] - cs->dim_start[strand];
+}
 
 hk_Status hk_contact_solve_create(int strand_count, hk_ContactSolve **out, hk_Error *err)
 {
@@ -186,8 +192,9 @@ void hk_contact_solve_destroy(hk_ContactSolve *cs)
 }
 
 /* Sizes the arrays and deals the pairs' points to the strands, each strand's sorted by
- * s (the order its Jacobians are walked in and its forces listed in). */
-static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_StrandDynamics **dyn, hk_Error *err)
+ * s (the order its Jacobians are walked in and its forces listed in). The strands'
+ * own arrays are sized (hk_contact_solve_open). */
+static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Error *err)
 {
     const int g = cs->strand_count, n = c->pair_count;
     memset(cs->slot_start, 0, (size_t)(g + 1) * sizeof(int));
@@ -195,21 +202,16 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Strand
         cs->slot_start[c->pairs[k].i + 1]++;
         cs->slot_start[c->pairs[k].j + 1]++;
     }
-    cs->dim_start[0] = cs->jac_start[0] = cs->ul_start[0] = 0;
+    cs->jac_start[0] = 0;
     for (int s = 0; s < g; s++) {
-        const size_t dim = (size_t)(3 * dyn[s]->sh->n);
-        cs->dim_start[s + 1] = cs->dim_start[s] + dim;
-        cs->ul_start[s + 1] = cs->ul_start[s] + (cs->slot_start[s + 1] > 0 ? dim * dim : 0);
-        cs->jac_start[s + 1] = cs->jac_start[s] + (size_t)cs->slot_start[s + 1] * 3 * dim;
+        cs->jac_start[s + 1] = cs->jac_start[s] + (size_t)cs->slot_start[s + 1] * 3 * dim_of(cs, s);
         cs->slot_start[s + 1] += cs->slot_start[s];
     }
-    const size_t slots = (size_t)cs->slot_start[g], dims = cs->dim_start[g], jacs = cs->jac_start[g];
+    const size_t slots = (size_t)cs->slot_start[g], jacs = cs->jac_start[g];
     if (!reserve(&cs->slots, slots, sizeof(Slot), err) || !reserve(&cs->at, slots, sizeof(double), err) ||
         !reserve(&cs->vel, slots, sizeof(hk_Vec3), err) || !reserve(&cs->forces, slots, sizeof(hk_PointForce), err) ||
         !reserve(&cs->jac, jacs, sizeof(double), err) || !reserve(&cs->yt, jacs, sizeof(double), err) ||
-        !reserve(&cs->support, slots, sizeof(int), err) || !reserve(&cs->ul, cs->ul_start[g], sizeof(double), err) ||
-        !reserve(&cs->answered, slots, sizeof(char), err) || !reserve(&cs->dv, dims, sizeof(double), err) ||
-        !reserve(&cs->vfree, dims, sizeof(double), err) || !reserve(&cs->screws, 6 * dims, sizeof(double), err) ||
+        !reserve(&cs->support, slots, sizeof(int), err) || !reserve(&cs->answered, slots, sizeof(char), err) ||
         !reserve(&cs->pairs, (size_t)n, sizeof(PairState), err) || !reserve(&cs->active, (size_t)n, sizeof(int), err) ||
         !reserve(&cs->order, (size_t)n, sizeof(int), err) || !reserve(&cs->weight, (size_t)n, sizeof(double), err) ||
         !reserve(&cs->roots, (size_t)g, sizeof(hk_Vec3), err) || !reserve(&cs->delta, (size_t)n, sizeof(hk_Vec3), err))
@@ -277,11 +279,6 @@ static double dot_n(const double *a, const double *b, size_t n)
     return s;
 }
 
-static size_t dim_of(const hk_ContactSolve *cs, int strand)
-{
-    return cs->dim_start[strand + 1] - cs->dim_start[strand];
-}
-
 /* The 3 x 3N block of point x of strand `strand` in jac and yt. */
 static size_t block_of(const hk_ContactSolve *cs, int strand, int x)
 {
@@ -291,24 +288,33 @@ static size_t block_of(const hk_ContactSolve *cs, int strand, int x)
 static size_t support_of(const hk_ContactSolve *cs, int x) { return (size_t)((const int *)cs->support.items)[x]; }
 
 /* Strand s's linearly implicit step without the guide-guide contacts: its free
- * velocity, the Jacobians J of its points (at the step's start) and their velocities
- * with v^free. How the strand answers an impulse at a point, Y^T = (A^-1 J^T)^T, is
- * found later and only for the points of pairs that may push (answer_points,
- * answer_lazily). A strand whose matrix does not answer (not positive definite) is
- * held immovable for the contacts (Y = 0, its velocity as it is); its own step then
- * decides. */
-static void predict(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const hk_RigidState *head_end, double h)
+ * velocity and, for the dense solver, its matrix factored as U U^T (reversed). A
+ * strand whose matrix does not answer (not positive definite) is held immovable for
+ * the contacts (Y = 0, its velocity as it is); its own step then decides. This needs
+ * the strand alone, not the pairs: hair_sim.c runs it while one thread finds the pairs
+ * (hk_contact_solve_predict). */
+static void predict_free(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const hk_RigidState *head_end, double h)
 {
-    const int begin = cs->slot_start[s], count = cs->slot_start[s + 1] - begin;
-    cs->movable[s] = cs->reversed[s] = 0; /* (layout borrowed movable) */
-    if (count == 0) return;
     const size_t dim = dim_of(cs, s);
     double *vfree = (double *)cs->vfree.items + cs->dim_start[s];
-    double *jac = (double *)cs->jac.items + cs->jac_start[s];
     const double *v = hk_strand_dynamics_velocity(d);
     cs->movable[s] = hk_dynamics_euler_delta(d, head_end, NULL, 0, h);
     cs->reversed[s] = cs->movable[s] && hk_dynamics_reverse_factor(d, (double *)cs->ul.items + cs->ul_start[s]);
     for (size_t k = 0; k < dim; k++) vfree[k] = v[k] + (cs->movable[s] ? d->delta[k] : 0.0);
+    memset((double *)cs->dv.items + cs->dim_start[s], 0, dim * sizeof(double));
+}
+
+/* The Jacobians J of strand s's points (at the step's start) and their velocities
+ * with v^free, once the pairs are known (layout). How the strand answers an impulse
+ * at a point, Y^T = (A^-1 J^T)^T, is found later and only for the points of pairs
+ * that may push (answer_points, answer_lazily). */
+static void predict_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const hk_RigidState *head_end)
+{
+    const int begin = cs->slot_start[s], count = cs->slot_start[s + 1] - begin;
+    if (count == 0) return;
+    const size_t dim = dim_of(cs, s);
+    const double *vfree = (const double *)cs->vfree.items + cs->dim_start[s];
+    double *jac = (double *)cs->jac.items + cs->jac_start[s];
     int *support = (int *)cs->support.items + begin;
     hk_dynamics_point_jacobians(d, head_end, vfree, (const double *)cs->at.items + begin, count,
                                 (double *)cs->screws.items + 6 * cs->dim_start[s], jac, NULL,
@@ -316,7 +322,6 @@ static void predict(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const hk_R
     /* Each point's support: the columns of the elements up to its own. */
     for (int x = 0; x < count; x++) support[x] = cs->reversed[s] ? 3 * (support[x] + 1) : (int)dim;
     memset((char *)cs->answered.items + begin, 0, (size_t)count);
-    memset((double *)cs->dv.items + cs->dim_start[s], 0, dim * sizeof(double));
 }
 
 /* U^T into the strict lower part of strand s's U (which the factorisation leaves
@@ -1032,19 +1037,60 @@ static void run_sweeps(hk_ContactSolve *cs, const int *order, SweepGroup group[H
     }
 }
 
+hk_Status hk_contact_solve_open(hk_ContactSolve *cs, hk_StrandDynamics **dyn, int strand_count, hk_Error *err)
+{
+    cs->opened = 0;
+    if (strand_count != cs->strand_count)
+        return hk_error_set(err, HK_ERR_INVALID, "contact solve: %d strands, expected %d", strand_count,
+                            cs->strand_count);
+    cs->dim_start[0] = cs->ul_start[0] = 0;
+    for (int s = 0; s < strand_count; s++) {
+        const size_t dim = (size_t)(3 * dyn[s]->sh->n);
+        cs->dim_start[s + 1] = cs->dim_start[s] + dim;
+        cs->ul_start[s + 1] = cs->ul_start[s] + dim * dim;
+    }
+    const size_t dims = cs->dim_start[strand_count];
+    if (!reserve(&cs->ul, cs->ul_start[strand_count], sizeof(double), err) ||
+        !reserve(&cs->dv, dims, sizeof(double), err) || !reserve(&cs->vfree, dims, sizeof(double), err) ||
+        !reserve(&cs->screws, 6 * dims, sizeof(double), err))
+        return HK_ERR_NOMEM;
+    memset(cs->movable, 0, (size_t)strand_count * sizeof(int));
+    memset(cs->reversed, 0, (size_t)strand_count * sizeof(int));
+    cs->opened = 1;
+    return HK_OK;
+}
+
+void hk_contact_solve_predict(hk_ContactSolve *cs, hk_StrandDynamics *d, int strand, const hk_RigidState *head_end,
+                              double dt)
+{
+    if (cs->opened && strand >= 0 && strand < cs->strand_count) predict_free(cs, d, strand, head_end, dt);
+}
+
 hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts, hk_StrandDynamics **dyn,
                            int strand_count, const hk_RigidState *head_end, double dt, hk_ContactSolveStats *stats,
                            hk_Error *err)
 {
     hk_ContactSolveStats local = {0, 0, 0, 0.0};
-    if (strand_count != cs->strand_count || contacts->strand_count != strand_count)
+    if (strand_count != cs->strand_count || contacts->strand_count != strand_count || !(dt > 0.0) || !isfinite(dt)) {
+        cs->opened = 0;
+        memset(cs->movable, 0, (size_t)cs->strand_count * sizeof(int)); /* nothing to commit */
+        if (!(dt > 0.0) || !isfinite(dt)) return hk_error_set(err, HK_ERR_INVALID, "contact solve: step %g s", dt);
         return hk_error_set(err, HK_ERR_INVALID, "contact solve: %d strands, expected %d", strand_count,
                             cs->strand_count);
-    if (!(dt > 0.0) || !isfinite(dt)) return hk_error_set(err, HK_ERR_INVALID, "contact solve: step %g s", dt);
+    }
     const int threads = hk_hc_threads(contacts);
-    hk_Status st = layout(cs, contacts, dyn, err);
+    hk_Status st = HK_OK;
+    if (!cs->opened) {
+        st = hk_contact_solve_open(cs, dyn, strand_count, err);
+        if (st != HK_OK) return st;
+#pragma omp parallel for schedule(dynamic, 2) num_threads(threads)
+        for (int s = 0; s < strand_count; s++) predict_free(cs, dyn[s], s, head_end, dt);
+    }
+    cs->opened = 0;
+    st = layout(cs, contacts, err);
     if (st != HK_OK) {
         memset(cs->slot_start, 0, (size_t)(strand_count + 1) * sizeof(int));
+        memset(cs->movable, 0, (size_t)strand_count * sizeof(int));
         cs->old_count = 0;
         return st;
     }
@@ -1052,7 +1098,7 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
     const double mu = contacts->p.friction_coefficient, viscous = dt * contacts->p.friction;
     cs->mu = mu, cs->viscous = viscous;
 #pragma omp parallel for schedule(dynamic, 2) num_threads(threads)
-    for (int s = 0; s < strand_count; s++) predict(cs, dyn[s], s, head_end, dt);
+    for (int s = 0; s < strand_count; s++) predict_points(cs, dyn[s], s, head_end);
     prepare_pairs(cs, contacts, dt);
     PairState *pairs = cs->pairs.items;
     const int n = contacts->pair_count;
@@ -1166,8 +1212,8 @@ const hk_PointForce *hk_contact_solve_forces(const hk_ContactSolve *cs, int stra
 int hk_contact_solve_commit(hk_ContactSolve *cs, hk_StrandDynamics *d, int strand, const hk_RigidState *head_end,
                             double dt)
 {
-    if (strand < 0 || strand >= cs->strand_count || cs->slot_start[strand + 1] == cs->slot_start[strand] ||
-        cs->movable[strand] != 1 || d->params.integrator != HK_INTEGRATOR_LINEAR_EULER)
+    if (strand < 0 || strand >= cs->strand_count || cs->movable[strand] != 1 ||
+        d->params.integrator != HK_INTEGRATOR_LINEAR_EULER)
         return 0;
     const size_t dim = dim_of(cs, strand);
     double *v = (double *)cs->vfree.items + cs->dim_start[strand];
