@@ -64,8 +64,10 @@ typedef struct Grid {
     int flag_cap;
     unsigned char *is_min; /* per candidate */
     int strand_cap;
-    int *strand_seg; /* strand_count + 1: strand s's eligible segments start at strand_seg[s] */
-    int *seg_order;  /* the segments by the slab of their box's low x, then by index */
+    int *strand_seg;    /* strand_count + 1: strand s's eligible segments start at strand_seg[s] */
+    int *seg_order;     /* the segments by the slab of their box's low x, then by index */
+    int32_t *seg_cells; /* 6 per segment: the cells of its box's low and high corners */
+    int32_t *seg_slab;  /* 2 per segment: the slabs of its box's low and high x */
     size_t slab_cap;
     int *slab_start; /* slabs + 1 */
 } Grid;
@@ -78,7 +80,7 @@ void hk_hc_grid_free(hk_HairContacts *c)
     hk_free(g->ends), hk_free(g->seg_entry), hk_free(g->sorted_of);
     hk_free(g->cell), hk_free(g->entry_seg), hk_free(g->entry_bucket), hk_free(g->sorted);
     hk_free(g->bucket_start), hk_free(g->is_min), hk_free(g->strand_seg), hk_free(g->seg_order);
-    hk_free(g->slab_start);
+    hk_free(g->slab_start), hk_free(g->seg_cells), hk_free(g->seg_slab);
     for (int t = 0; t < g->found_count; t++) hk_free(g->found[t].pairs);
     hk_free(g->found);
     hk_free(g);
@@ -89,7 +91,9 @@ static hk_Status reserve_segments(Grid *g, int n, hk_Error *err)
 {
     if (n <= g->seg_cap) return HK_OK;
     hk_free(g->seg_strand), hk_free(g->seg_index), hk_free(g->lo), hk_free(g->hi), hk_free(g->mid), hk_free(g->reach);
-    hk_free(g->ends), hk_free(g->seg_entry), hk_free(g->seg_order);
+    hk_free(g->ends), hk_free(g->seg_entry), hk_free(g->seg_order), hk_free(g->seg_cells), hk_free(g->seg_slab);
+    g->seg_cells = hk_alloc_array((size_t)n, 6 * sizeof(int32_t), err);
+    g->seg_slab = hk_alloc_array((size_t)n, 2 * sizeof(int32_t), err);
     g->seg_order = hk_alloc_array((size_t)n, sizeof(int), err);
     g->seg_entry = hk_alloc_array((size_t)n + 1, sizeof(size_t), err);
     g->seg_strand = hk_alloc_array((size_t)n, sizeof(int), err);
@@ -101,7 +105,7 @@ static hk_Status reserve_segments(Grid *g, int n, hk_Error *err)
     g->ends = hk_alloc_array((size_t)n, sizeof(hk_HcEnds), err);
     g->seg_cap = n;
     if (g->seg_strand && g->seg_index && g->lo && g->hi && g->mid && g->reach && g->ends && g->seg_entry &&
-        g->seg_order)
+        g->seg_cells && g->seg_slab && g->seg_order)
         return HK_OK;
     g->seg_cap = 0;
     return HK_ERR_NOMEM;
@@ -190,21 +194,29 @@ static hk_Status order_segments(Grid *g, int n, double origin, double top, doubl
     memset(start, 0, (slabs + 1) * sizeof *start);
     for (int e = 0; e < n; e++) start[slab_of(g->lo[e].x, origin, w) + 1]++;
     for (size_t k = 0; k < slabs; k++) start[k + 1] += start[k];
-    for (int e = 0; e < n; e++) g->seg_order[start[slab_of(g->lo[e].x, origin, w)]++] = e;
+    for (int e = 0; e < n; e++) {
+        int32_t *slab = &g->seg_slab[2 * e];
+        slab[0] = slab_of(g->lo[e].x, origin, w), slab[1] = slab_of(g->hi[e].x, origin, w);
+        g->seg_order[start[slab[0]]++] = e;
+    }
     *width = w;
     return HK_OK;
 }
 
-/* Cells covered by every box for the cell size h (as a double: it may be huge). */
-static double covered_cells(const Grid *g, int n, hk_Vec3 origin, double h)
+/* Cells covered by every box for the cell size h (as a double: it may be huge); the
+ * cells of each box's corners go to g->seg_cells, for the last h tried. */
+static double covered_cells(Grid *g, int n, hk_Vec3 origin, double h)
 {
     double total = 0.0;
     for (int e = 0; e < n; e++) {
-        double cells = 1.0;
-        for (int ax = 0; ax < 3; ax++)
-            cells *= (double)(cell_of(hk_v3_get(g->hi[e], ax), hk_v3_get(origin, ax), h) -
-                              cell_of(hk_v3_get(g->lo[e], ax), hk_v3_get(origin, ax), h) + 1);
-        total += cells;
+        int32_t *cells = &g->seg_cells[6 * e];
+        double count = 1.0;
+        for (int ax = 0; ax < 3; ax++) {
+            cells[ax] = cell_of(hk_v3_get(g->lo[e], ax), hk_v3_get(origin, ax), h);
+            cells[3 + ax] = cell_of(hk_v3_get(g->hi[e], ax), hk_v3_get(origin, ax), h);
+            count *= (double)(cells[3 + ax] - cells[ax] + 1);
+        }
+        total += count;
     }
     return total;
 }
@@ -416,21 +428,15 @@ hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
     g->seg_entry[0] = 0;
 #pragma omp parallel for schedule(static) num_threads(threads)
     for (int s = 0; s < n; s++) {
-        size_t cells = 1;
-        for (int ax = 0; ax < 3; ax++)
-            cells *= (size_t)(cell_of(hk_v3_get(g->hi[s], ax), hk_v3_get(gmin, ax), h) -
-                              cell_of(hk_v3_get(g->lo[s], ax), hk_v3_get(gmin, ax), h) + 1);
-        g->seg_entry[s + 1] = cells;
+        const int32_t *cells = &g->seg_cells[6 * s];
+        g->seg_entry[s + 1] =
+            (size_t)(cells[3] - cells[0] + 1) * (size_t)(cells[4] - cells[1] + 1) * (size_t)(cells[5] - cells[2] + 1);
     }
     for (e = 0; e < n; e++) g->seg_entry[e + 1] += g->seg_entry[e];
     const size_t m = g->seg_entry[n];
 #pragma omp parallel for schedule(static) num_threads(threads)
     for (int s = 0; s < n; s++) {
-        int32_t lo[3], hi[3];
-        for (int ax = 0; ax < 3; ax++) {
-            lo[ax] = cell_of(hk_v3_get(g->lo[s], ax), hk_v3_get(gmin, ax), h);
-            hi[ax] = cell_of(hk_v3_get(g->hi[s], ax), hk_v3_get(gmin, ax), h);
-        }
+        const int32_t *lo = &g->seg_cells[6 * s], *hi = lo + 3;
         size_t at = g->seg_entry[s];
         for (int32_t x = lo[0]; x <= hi[0]; x++)
             for (int32_t y = lo[1]; y <= hi[1]; y++)
@@ -465,10 +471,11 @@ hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
         memcpy(en->cell, &g->cell[3 * k], sizeof en->cell);
         en->seg = g->entry_seg[k];
         const hk_Vec3 lo = g->lo[en->seg], hi = g->hi[en->seg];
-        en->starts = (cell_of(lo.x, gmin.x, h) == en->cell[0]) | (cell_of(lo.y, gmin.y, h) == en->cell[1]) << 1 |
-                     (cell_of(lo.z, gmin.z, h) == en->cell[2]) << 2;
+        const int32_t *low_cell = &g->seg_cells[6 * en->seg];
+        en->starts =
+            (low_cell[0] == en->cell[0]) | (low_cell[1] == en->cell[1]) << 1 | (low_cell[2] == en->cell[2]) << 2;
         en->strand = g->seg_strand[en->seg];
-        en->x_lo = slab_of(lo.x, gmin.x, slab), en->x_hi = slab_of(hi.x, gmin.x, slab);
+        en->x_lo = g->seg_slab[2 * en->seg], en->x_hi = g->seg_slab[2 * en->seg + 1];
         en->low[0] = (V2){lo.x, lo.y}, en->low[1] = (V2){lo.z, -hi.x}, en->low[2] = (V2){-hi.y, -hi.z};
         en->high[0] = (V2){hi.x, hi.y}, en->high[1] = (V2){hi.z, -lo.x}, en->high[2] = (V2){-lo.y, -lo.z};
     }
