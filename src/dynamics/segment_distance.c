@@ -19,7 +19,11 @@ static double dist2_at(hk_Vec3 p0, hk_Vec3 d1, hk_Vec3 q0, hk_Vec3 d2, double u,
     return hk_v3_norm2(hk_v3_sub(hk_v3_madd(p0, d1, u), hk_v3_madd(q0, d2, v)));
 }
 
-double hk_segment_closest(hk_Vec3 p0, hk_Vec3 p1, hk_Vec3 q0, hk_Vec3 q1, double *u, double *v)
+/* hk_segment_closest's body, inlined into both its callers: the broad phase measures
+ * through hk_hc_ends_distance2, and the call with four vectors by value cost ~20 % of
+ * a measure (~120 instructions; examples/guides200 shaking, 24,000 a step). */
+static inline __attribute__((always_inline)) double closest(hk_Vec3 p0, hk_Vec3 p1, hk_Vec3 q0, hk_Vec3 q1, double *u,
+                                                            double *v)
 {
     const hk_Vec3 d1 = hk_v3_sub(p1, p0), d2 = hk_v3_sub(q1, q0), r = hk_v3_sub(p0, q0);
     const double a = hk_v3_dot(d1, d1), e = hk_v3_dot(d2, d2), b = hk_v3_dot(d1, d2);
@@ -54,10 +58,15 @@ double hk_segment_closest(hk_Vec3 p0, hk_Vec3 p1, hk_Vec3 q0, hk_Vec3 q1, double
     return best_d2;
 }
 
+double hk_segment_closest(hk_Vec3 p0, hk_Vec3 p1, hk_Vec3 q0, hk_Vec3 q1, double *u, double *v)
+{
+    return closest(p0, p1, q0, q1, u, v);
+}
+
 double hk_hc_ends_distance2(const hk_HcEnds *x, const hk_HcEnds *y, double *u, double *v)
 {
     double uc, vc;
-    const double d2 = hk_segment_closest(x->p0, x->p1, y->p0, y->p1, &uc, &vc);
+    const double d2 = closest(x->p0, x->p1, y->p0, y->p1, &uc, &vc);
     *u = x->t0 + uc * (1.0 - x->t0);
     *v = y->t0 + vc * (1.0 - y->t0);
     return d2;
