@@ -11,7 +11,6 @@
 #include <string.h>
 
 #include "dynamics_internal.h"
-#include "core/linalg.h"
 
 static hk_Vec3 k_at(const double *q, int p) { return hk_v3(q[3 * p], q[3 * p + 1], q[3 * p + 2]); }
 
@@ -88,7 +87,7 @@ void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head
     }
 }
 
-/* The Cholesky factor the last dense solve left after its assembled matrix
+/* The factor U (A = U U^T) the last dense solve left after its assembled matrix
  * (hk_terms_solve_dense), or NULL when the matrix is the O(N) solver's. */
 static const double *dense_factor(const hk_StrandDynamics *d)
 {
@@ -97,29 +96,11 @@ static const double *dense_factor(const hk_StrandDynamics *d)
     return d->params.solver == HK_DYNAMICS_DENSE ? d->work + sd * sd : NULL;
 }
 
-/* Reversing the unknowns' order of an n x n matrix turns entry (i, k) into
- * (n - 1 - i, n - 1 - k): in row-major storage, the array read backwards. The factor
- * A = U U^T is then L L^T of the reversed matrix, read backwards. */
-static void reverse_array(double *x, size_t count)
-{
-    for (size_t i = 0, j = count - 1; i < j; i++, j--) {
-        const double t = x[i];
-        x[i] = x[j];
-        x[j] = t;
-    }
-}
-
 int hk_dynamics_reverse_factor(const hk_StrandDynamics *d, double *u)
 {
     if (d->dense_fallback || d->params.solver != HK_DYNAMICS_DENSE) return 0;
-    const int dim = 3 * d->sh->n;
-    const size_t sd = (size_t)dim;
-    const double *a = d->work; /* as assembled by hk_terms_solve_dense, without the diagonal extra */
-    double extra[3 * HK_MAX_ELEMENTS];
-    for (size_t k = 0; k < sd * sd; k++) u[k] = a[sd * sd - 1 - k];
-    for (int j = 0; j < dim; j++) extra[j] = d->extra[dim - 1 - j];
-    if (!hk_cholesky_factor(dim, u, 1.0, extra, u)) return 0;
-    reverse_array(u, sd * sd);
+    const size_t sd = (size_t)(3 * d->sh->n);
+    memcpy(u, dense_factor(d), sd * sd * sizeof(double));
     return 1;
 }
 
@@ -129,7 +110,7 @@ int hk_dynamics_resolve(hk_StrandDynamics *d, const double *rhs, double *out)
     if (out != rhs) memcpy(out, rhs, (size_t)dim * sizeof(double));
     const double *factor = dense_factor(d);
     if (factor) {
-        hk_cholesky_solve(dim, factor, out);
+        hk_upper_solve(dim, factor, out);
         return 1;
     }
     return hk_terms_solve_linear(n, d->terms, d->extra, out, out, d->work);
@@ -137,20 +118,8 @@ int hk_dynamics_resolve(hk_StrandDynamics *d, const double *rhs, double *out)
 
 int hk_dynamics_resolve_rows(hk_StrandDynamics *d, const double *rhs, int count, double *out)
 {
-    const int n = d->sh->n, dim = 3 * n;
-    const size_t sd = (size_t)dim, sc = (size_t)count;
-    const double *factor = dense_factor(d);
-    double *columns = factor && count >= 2 ? hk_alloc_array(sd * sc, sizeof(double), NULL) : NULL;
-    if (!columns) { /* one by one: the O(N) solver, one row, or out of memory */
-        for (int r = 0; r < count; r++)
-            if (!hk_dynamics_resolve(d, rhs + (size_t)r * sd, out + (size_t)r * sd)) return 0;
-        return 1;
-    }
-    for (size_t r = 0; r < sc; r++)
-        for (size_t k = 0; k < sd; k++) columns[k * sc + r] = rhs[r * sd + k];
-    hk_cholesky_solve_columns(dim, factor, columns, count);
-    for (size_t r = 0; r < sc; r++)
-        for (size_t k = 0; k < sd; k++) out[r * sd + k] = columns[k * sc + r];
-    hk_free(columns);
+    const size_t sd = (size_t)(3 * d->sh->n);
+    for (int r = 0; r < count; r++)
+        if (!hk_dynamics_resolve(d, rhs + (size_t)r * sd, out + (size_t)r * sd)) return 0;
     return 1;
 }
