@@ -315,18 +315,22 @@ hk_FrameKinematics hk_dynamics_root_kinematics(const hk_StrandDynamics *d, const
 int hk_dynamics_resolve_rows(hk_StrandDynamics *d, const double *rhs, int count, double *out);
 
 /* The matrix A of the last successful hk_dynamics_euler_delta as A = U U^T with U
- * upper triangular (3N x 3N, row-major; its strict lower part overwritten): a copy of
- * the factor its dense solve took (hk_upper_cholesky). Returns 0 without a dense matrix
- * (the O(N) solver or its dense fallback). */
+ * upper triangular (3N x 3N, row-major), a copy of the factor its dense solve took
+ * (hk_upper_cholesky), with U^T in its strict lower part: row i there holds column i of
+ * U, contiguous for the contacts' back substitutions (hair_contact_solve.c). Returns 0
+ * without a dense matrix (the O(N) solver or its dense fallback). */
 int hk_dynamics_reverse_factor(const hk_StrandDynamics *d, double *u);
 
 /* Jacobians of `count` points at the sorted arc lengths s for the current q: jac holds
- * count blocks of 3 x 3N (row-major: d pos / d q'), pos and vel (may be NULL) the world
+ * count blocks of 3 x 3N (row-major: d pos / d q'), or with packed of 3 x 3(p + 1) for
+ * a point on element p (its columns up to its element's, beyond which its rows are
+ * zero), each block right after the last; pos and vel (may be NULL) the world
  * positions and the velocities with the generalized velocities `rates` and the head's
  * state head (the root's motion), element (may be NULL) the element each lies on.
  * screws: 18 N doubles of work (the screws of the elements' ends, component by component). */
 void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head, const double *rates, const double *s,
-                                 int count, double *screws, double *jac, hk_Vec3 *pos, hk_Vec3 *vel, int *element);
+                                 int count, double *screws, double *jac, int packed, hk_Vec3 *pos, hk_Vec3 *vel,
+                                 int *element);
 
 /* The generalized mass matrix M(q) (3N x 3N, row-major), assembled densely, for tests
  * and diagnostics. */

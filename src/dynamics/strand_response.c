@@ -15,7 +15,8 @@
 static hk_Vec3 k_at(const double *q, int p) { return hk_v3(q[3 * p], q[3 * p + 1], q[3 * p + 2]); }
 
 void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head, const double *rates, const double *s,
-                                 int count, double *screws, double *jac, hk_Vec3 *pos, hk_Vec3 *vel, int *element)
+                                 int count, double *screws, double *jac, int packed, hk_Vec3 *pos, hk_Vec3 *vel,
+                                 int *element)
 {
     const hk_RigidState still = hk_rigid_identity();
     if (!head) head = &still;
@@ -64,10 +65,12 @@ void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head
         if (pos) pos[i] = x;
         if (vel) vel[i] = xv;
         if (element) element[i] = p;
-        double *row[3] = {jac + (size_t)(3 * i) * (size_t)dim, jac + (size_t)(3 * i + 1) * (size_t)dim,
-                          jac + (size_t)(3 * i + 2) * (size_t)dim};
         const int beyond = 3 * p + 3; /* the columns beyond the point's element are zero */
-        for (int r = 0; r < 3; r++) memset(row[r] + beyond, 0, (size_t)(dim - beyond) * sizeof(double));
+        const size_t stride = (size_t)(packed ? beyond : dim);
+        double *row[3] = {jac, jac + stride, jac + 2 * stride};
+        jac += 3 * stride;
+        if (!packed)
+            for (int r = 0; r < 3; r++) memset(row[r] + beyond, 0, (size_t)(dim - beyond) * sizeof(double));
         /* Column c is w_c x x + t_c (hk_v3_cross's products, the same bits), with the
          * screws' components in rows of their own so that the loops vectorise. */
         const double *restrict wx = screws, *restrict wy = wx + dim, *restrict wz = wy + dim;
@@ -100,7 +103,11 @@ int hk_dynamics_reverse_factor(const hk_StrandDynamics *d, double *u)
 {
     if (d->dense_fallback || d->params.solver != HK_DYNAMICS_DENSE) return 0;
     const size_t sd = (size_t)(3 * d->sh->n);
-    memcpy(u, dense_factor(d), sd * sd * sizeof(double));
+    const double *f = dense_factor(d);
+    for (size_t i = 0; i < sd; i++) {
+        for (size_t k = 0; k < i; k++) u[i * sd + k] = f[k * sd + i];
+        memcpy(u + i * sd + i, f + i * sd + i, (sd - i) * sizeof(double));
+    }
     return 1;
 }
 
