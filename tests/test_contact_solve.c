@@ -144,7 +144,25 @@ static void test_point_jacobians_match_finite_differences(void **state)
     double *jac = malloc(sizeof(double) * 9 * udim), *screws = malloc(sizeof(double) * 6 * udim);
     double *rates = calloc(udim, sizeof(double));
     hk_Vec3 pos[3];
-    hk_dynamics_point_jacobians(d, NULL, rates, s, 3, screws, jac, pos, NULL, NULL);
+    int element[3];
+    hk_dynamics_point_jacobians(d, NULL, rates, s, 3, screws, jac, 0, pos, NULL, element);
+    /* packed: each point's columns up to its element's, the same bits, blocks one after
+     * another */
+    double *packed = malloc(sizeof(double) * 9 * udim);
+    hk_dynamics_point_jacobians(d, NULL, rates, s, 3, screws, packed, 1, NULL, NULL, NULL);
+    const double *block = packed;
+    for (int i = 0; i < 3; i++) {
+        const size_t m = (size_t)(3 * element[i] + 3);
+        assert_true(m <= udim);
+        for (int r = 0; r < 3; r++) {
+            const double *row = jac + (size_t)(3 * i + r) * udim;
+            assert_memory_equal(block + (size_t)r * m, row, m * sizeof(double));
+            for (size_t c = m; c < udim; c++) assert_true(row[c] == 0.0);
+        }
+        block += 3 * m;
+    }
+    assert_true(element[0] < element[2]); /* blocks of two sizes at least */
+    free(packed);
     const double e = 1e-7;
     double worst = 0.0;
     for (int c = 0; c < dim; c++) {

@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/linalg.h"
 #include "dynamics/dynamics_internal.h"
 #include "hairkit/dynamics.h"
 #include "rod/helix_local.h"
@@ -331,6 +332,46 @@ static void test_linear_solve_residual(void **state)
     assert_true(sqrt(rnorm) <= 1e-11 * sqrt(bnorm));
 }
 
+/* The dense solve's factor A = U U^T (hk_upper_cholesky) is Cholesky's factorisation
+ * of the reversed matrix read backwards, to the bit (the contacts' solve relies on its
+ * rows stopping at a point's element, the step's own solve on the same factor), and
+ * hk_upper_solve solves with it; sizes with every remainder of the four partial sums. */
+static void test_upper_cholesky_is_the_reversed_factor(void **state)
+{
+    (void)state;
+    enum { MAX = 33 };
+    for (int n = 29; n <= MAX; n++) {
+        const size_t sn = (size_t)n, count = sn * sn;
+        double b[MAX * MAX], a[MAX * MAX], rev[MAX * MAX], u[MAX * MAX], extra[MAX], rextra[MAX];
+        double x[MAX], rhs[MAX];
+        for (size_t k = 0; k < count; k++) b[k] = rnd(-1, 1);
+        for (size_t i = 0; i < sn; i++) /* B B^T: positive semi-definite, symmetric to the bit */
+            for (size_t j = 0; j <= i; j++) {
+                double v = 0.0;
+                for (size_t k = 0; k < sn; k++) v += b[i * sn + k] * b[j * sn + k];
+                a[i * sn + j] = a[j * sn + i] = v;
+            }
+        for (int j = 0; j < n; j++) extra[j] = rnd(0.01, 0.1), rhs[j] = x[j] = rnd(-1, 1);
+        for (size_t k = 0; k < count; k++) rev[k] = a[count - 1 - k];
+        for (int j = 0; j < n; j++) rextra[j] = extra[n - 1 - j];
+        assert_int_equal(hk_cholesky_factor(n, rev, 1.0, rextra, rev), 1);
+        assert_int_equal(hk_upper_cholesky(n, a, extra, u), 1);
+        for (size_t i = 0; i < sn; i++)
+            for (size_t j = i; j < sn; j++)
+                assert_memory_equal(&u[i * sn + j], &rev[count - 1 - (i * sn + j)], sizeof(double));
+        hk_upper_solve(n, u, x);
+        double rnorm = 0.0, bnorm = 0.0;
+        for (size_t i = 0; i < sn; i++) {
+            double r = extra[i] * x[i] - rhs[i];
+            for (size_t j = 0; j < sn; j++) r += a[i * sn + j] * x[j];
+            rnorm += r * r, bnorm += rhs[i] * rhs[i];
+        }
+        assert_true(sqrt(rnorm) <= 1e-9 * sqrt(bnorm));
+    }
+    double indefinite[4] = {1.0, 2.0, 2.0, 1.0}, f[4], none[2] = {0.0, 0.0};
+    assert_int_equal(hk_upper_cholesky(2, indefinite, none, f), 0);
+}
+
 /* Gauss-Newton stiffness of a point inside two overlapping shapes, a stiff sphere and a
  * soft one with a wide envelope (the head and the styling sphere before the face): it
  * is the sum over the shapes, w sum_i k_i n_i n_i^T with n_i the spheres' unit normals
@@ -469,6 +510,7 @@ int main(void)
         cmocka_unit_test(test_point_kinematics_match_finite_differences),
         cmocka_unit_test(test_mass_matrix_gives_kinetic_energy),
         cmocka_unit_test(test_linear_solve_residual),
+        cmocka_unit_test(test_upper_cholesky_is_the_reversed_factor),
         cmocka_unit_test(test_linear_and_dense_agree),
         cmocka_unit_test(test_body_friction_blend),
         cmocka_unit_test(test_body_stiffness_of_overlapping_shapes),

@@ -98,9 +98,10 @@ void hk_element_terms_set_screw(hk_ElementTerms *t, const hk_PointKinematics *en
 void hk_terms_generalized_force(int n, const hk_ElementTerms *terms, double *out);
 
 /* Solves (M + diag(extra)) x = rhs where M is the effective mass the terms describe:
- * dense assembly and Cholesky (work: HK_DENSE_WORK(n) doubles: the matrix, its factor
- * and the assembly's scratch) or the O(n) recursion (work: HK_LINEAR_WORK(n) doubles).
- * Returns 0 if the system is not positive definite. */
+ * dense assembly and Cholesky as A = U U^T, U upper triangular (hk_upper_cholesky; work:
+ * HK_DENSE_WORK(n) doubles: the matrix, geo added to its upper triangle only, U and the
+ * assembly's scratch) or the O(n) recursion (work: HK_LINEAR_WORK(n) doubles). Returns 0 if the system is not positive
+ * definite. */
 #define HK_DENSE_WORK(n)  ((size_t)18 * (size_t)(n) * (size_t)(n) + HK_ASSEMBLE_WORK(n))
 #define HK_LINEAR_WORK(n) ((size_t)21 * (size_t)(n))
 /* dense: geo (may be NULL) is a further symmetric 3n x 3n matrix added times scale. */
@@ -108,6 +109,19 @@ int hk_terms_solve_dense(int n, const hk_ElementTerms *terms, const double *extr
                          const double *rhs, double *x, double *work);
 int hk_terms_solve_linear(int n, const hk_ElementTerms *terms, const double *extra, const double *rhs, double *x,
                           double *work);
+
+/* Cholesky's factorisation with the unknowns in reverse order: the symmetric a +
+ * diag(extra) (n x n, row-major; its upper triangle read) as U U^T with U upper
+ * triangular, into u's upper triangle (u's strict lower part is left alone; u may be
+ * a). The same bits as hk_cholesky_factor(n, a reversed, 1.0, extra reversed) read
+ * backwards. A point's rows of J are zero beyond its own element, and so are its rows of
+ * U^-1 J^T, which the contacts' solve uses (hair_contact_solve.c); the step's own solve
+ * takes the same factor, so that a strand's matrix is factored once a step. Returns 0 if
+ * the matrix is not numerically positive definite. */
+int hk_upper_cholesky(int n, const double *a, const double *extra, double *u);
+
+/* Solves U U^T x = b in place (x holds b on entry) with hk_upper_cholesky's factor. */
+void hk_upper_solve(int n, const double *u, double *x);
 
 /* out = (M + diag(extra)) x in O(n) (two sweeps; screws: 6 n doubles of work). */
 void hk_terms_multiply(int n, const hk_ElementTerms *terms, const double *extra, const double *x, double *out,
@@ -295,25 +309,28 @@ int hk_dynamics_resolve(hk_StrandDynamics *d, const double *rhs, double *out);
 hk_FrameKinematics hk_dynamics_root_kinematics(const hk_StrandDynamics *d, const hk_RigidState *head);
 
 /* hk_dynamics_resolve for `count` right-hand sides, the rows of rhs (count x 3N), into
- * the rows of out; the dense factor is used for all of them at once. Returns 0 if it
- * cannot. */
+ * the rows of out, one by one (the contacts' solve takes the dense solver's strands by
+ * their reversed factor, hk_dynamics_reverse_factor: this is for the O(N) solver and
+ * the dense fallback). Returns 0 if it cannot. */
 int hk_dynamics_resolve_rows(hk_StrandDynamics *d, const double *rhs, int count, double *out);
 
-/* The matrix A of the last hk_dynamics_euler_delta as A = U U^T with U upper triangular
- * (3N x 3N, row-major; its strict lower part overwritten): Cholesky's factorisation
- * with the unknowns in reverse order. A point's rows of J are zero beyond its own
- * element, and so are its rows of U^-1 J^T, which is what the contacts' solve uses
- * (hair_contact_solve.c). Returns 0 without a dense matrix (the O(N) solver) or when A
- * is not positive definite. */
+/* The matrix A of the last successful hk_dynamics_euler_delta as A = U U^T with U
+ * upper triangular (3N x 3N, row-major), a copy of the factor its dense solve took
+ * (hk_upper_cholesky), with U^T in its strict lower part: row i there holds column i of
+ * U, contiguous for the contacts' back substitutions (hair_contact_solve.c). Returns 0
+ * without a dense matrix (the O(N) solver or its dense fallback). */
 int hk_dynamics_reverse_factor(const hk_StrandDynamics *d, double *u);
 
 /* Jacobians of `count` points at the sorted arc lengths s for the current q: jac holds
- * count blocks of 3 x 3N (row-major: d pos / d q'), pos and vel (may be NULL) the world
+ * count blocks of 3 x 3N (row-major: d pos / d q'), or with packed of 3 x 3(p + 1) for
+ * a point on element p (its columns up to its element's, beyond which its rows are
+ * zero), each block right after the last; pos and vel (may be NULL) the world
  * positions and the velocities with the generalized velocities `rates` and the head's
  * state head (the root's motion), element (may be NULL) the element each lies on.
  * screws: 18 N doubles of work (the screws of the elements' ends, component by component). */
 void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head, const double *rates, const double *s,
-                                 int count, double *screws, double *jac, hk_Vec3 *pos, hk_Vec3 *vel, int *element);
+                                 int count, double *screws, double *jac, int packed, hk_Vec3 *pos, hk_Vec3 *vel,
+                                 int *element);
 
 /* The generalized mass matrix M(q) (3N x 3N, row-major), assembled densely, for tests
  * and diagnostics. */

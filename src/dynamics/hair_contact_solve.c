@@ -50,7 +50,7 @@
 #define HK_PGS_TOLERANCE  1e-4
 
 /* A point's Y^T (or Z^T): NORMAL_ONLY, a reversed strand's point with row 0 of Z^T
- * alone (normal_row). */
+ * alone, its rows 1 and 2 those of J in the basis (answer_points). */
 enum { UNANSWERED = 0, WANTED = 1, ANSWERED = 2, NORMAL_ONLY = 3 };
 
 /* A point: at its s, index 2 pair + side. */
@@ -77,7 +77,7 @@ typedef struct PointRows {
     const double *rows; /* its 3 rows that read its velocity change from dv: J, or Z^T */
     const double *resp; /* its 3 rows of Y^T (or Z^T): the answer to an impulse */
     double *dv;         /* its strand's velocity change (or w = U^T dv) */
-    int stride, m;      /* the rows' stride (3N) and support (zero from column m on) */
+    int stride, m;      /* the rows' stride and support (zero from column m on): both m */
 } PointRows;
 
 /* The fields a sweep reads first (the idle pairs' check) come first, in one cache line. */
@@ -126,9 +126,11 @@ struct hk_ContactSolve {
     Buffer at;               /* double per point: its s, as the Jacobians take them */
     Buffer vel;              /* hk_Vec3 per point: its velocity with v^free */
     Buffer forces;           /* hk_PointForce per point */
-    Buffer jac, yt;          /* double, 3 x 3N per point: rows of J and of Y^T = (A^-1 J^T)^T,
-                                or of Z^T = (U^-1 J^T)^T for a reversed strand */
+    Buffer jac, yt;          /* double, 3 x m per point (m its support): rows of J and of
+                                Y^T = (A^-1 J^T)^T; a reversed strand's rows of J, then of
+                                Z^T = (U^-1 J^T)^T, in yt alone (predict_points) */
     Buffer support;          /* int per point: its rows of J are zero from this column on */
+    Buffer block;            /* size_t per point: where its 3 rows start in jac and yt */
     Buffer ul;               /* double: the reversed strands' U */
     Buffer answered;         /* char per point: its rows of Y^T are set */
     Buffer dv;               /* double, 3N per strand: the velocity change of the impulses */
@@ -182,10 +184,10 @@ void hk_contact_solve_destroy(hk_ContactSolve *cs)
     hk_free(cs->movable);
     hk_free(cs->reversed);
     hk_free(cs->ul_start);
-    Buffer *all[] = {&cs->slots, &cs->at,     &cs->vfree,   &cs->vel,       &cs->forces,
-                     &cs->jac,   &cs->yt,     &cs->support, &cs->ul,        &cs->answered,
-                     &cs->dv,    &cs->screws, &cs->pairs,   &cs->old_pairs, &cs->active,
-                     &cs->order, &cs->weight, &cs->roots,   &cs->delta,     &cs->segment_place};
+    Buffer *all[] = {
+        &cs->slots,   &cs->at,    &cs->vfree,    &cs->vel,   &cs->forces, &cs->jac,           &cs->yt,
+        &cs->support, &cs->ul,    &cs->answered, &cs->dv,    &cs->screws, &cs->pairs,         &cs->old_pairs,
+        &cs->active,  &cs->order, &cs->weight,   &cs->roots, &cs->delta,  &cs->segment_place, &cs->block};
     for (size_t k = 0; k < sizeof all / sizeof *all; k++) hk_free(all[k]->items);
     hk_contact_split_free(&cs->split);
     hk_free(cs);
@@ -212,8 +214,9 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Error 
         !reserve(&cs->vel, slots, sizeof(hk_Vec3), err) || !reserve(&cs->forces, slots, sizeof(hk_PointForce), err) ||
         !reserve(&cs->jac, jacs, sizeof(double), err) || !reserve(&cs->yt, jacs, sizeof(double), err) ||
         !reserve(&cs->support, slots, sizeof(int), err) || !reserve(&cs->answered, slots, sizeof(char), err) ||
-        !reserve(&cs->pairs, (size_t)n, sizeof(PairState), err) || !reserve(&cs->active, (size_t)n, sizeof(int), err) ||
-        !reserve(&cs->order, (size_t)n, sizeof(int), err) || !reserve(&cs->weight, (size_t)n, sizeof(double), err) ||
+        !reserve(&cs->block, slots, sizeof(size_t), err) || !reserve(&cs->pairs, (size_t)n, sizeof(PairState), err) ||
+        !reserve(&cs->active, (size_t)n, sizeof(int), err) || !reserve(&cs->order, (size_t)n, sizeof(int), err) ||
+        !reserve(&cs->weight, (size_t)n, sizeof(double), err) ||
         !reserve(&cs->roots, (size_t)g, sizeof(hk_Vec3), err) || !reserve(&cs->delta, (size_t)n, sizeof(hk_Vec3), err))
         return HK_ERR_NOMEM;
     /* The points dealt by (strand, segment), a counting sort on the segment's global
@@ -279,11 +282,8 @@ static double dot_n(const double *a, const double *b, size_t n)
     return s;
 }
 
-/* The 3 x 3N block of point x of strand `strand` in jac and yt. */
-static size_t block_of(const hk_ContactSolve *cs, int strand, int x)
-{
-    return cs->jac_start[strand] + (size_t)(x - cs->slot_start[strand]) * 3 * dim_of(cs, strand);
-}
+/* Where point x's 3 rows (of stride its support) start in jac and yt. */
+static size_t block_of(const hk_ContactSolve *cs, int x) { return ((const size_t *)cs->block.items)[x]; }
 
 static size_t support_of(const hk_ContactSolve *cs, int x) { return (size_t)((const int *)cs->support.items)[x]; }
 
@@ -314,79 +314,100 @@ static void predict_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, con
     if (count == 0) return;
     const size_t dim = dim_of(cs, s);
     const double *vfree = (const double *)cs->vfree.items + cs->dim_start[s];
-    double *jac = (double *)cs->jac.items + cs->jac_start[s];
+    /* A reversed strand's rows of J go to yt, where its rows of Z^T are solved for in
+     * place (answer_points): one array less to write and read. Its points' blocks are
+     * packed, 3 rows of their support each (the columns of the elements up to their
+     * own; beyond it J and Z are zero), each after the last: 18.3 of 30 columns on
+     * average (examples/guides200 shaking), so that a point's rows of Z^T take 440
+     * bytes, not 720 spread over 3 rows and, with J apart, 1,440. */
+    const int reversed = cs->reversed[s];
+    double *rows = (double *)(reversed ? cs->yt.items : cs->jac.items) + cs->jac_start[s];
     int *support = (int *)cs->support.items + begin;
     hk_dynamics_point_jacobians(d, head_end, vfree, (const double *)cs->at.items + begin, count,
-                                (double *)cs->screws.items + 6 * cs->dim_start[s], jac, NULL,
+                                (double *)cs->screws.items + 6 * cs->dim_start[s], rows, reversed, NULL,
                                 (hk_Vec3 *)cs->vel.items + begin, support);
-    /* Each point's support: the columns of the elements up to its own. */
-    for (int x = 0; x < count; x++) support[x] = cs->reversed[s] ? 3 * (support[x] + 1) : (int)dim;
+    size_t *block = (size_t *)cs->block.items + begin, at = cs->jac_start[s];
+    for (int x = 0; x < count; x++) {
+        support[x] = reversed ? 3 * (support[x] + 1) : (int)dim;
+        block[x] = at;
+        at += 3 * (size_t)support[x];
+    }
     memset((char *)cs->answered.items + begin, 0, (size_t)count);
 }
 
-/* U^T into the strict lower part of strand s's U (which the factorisation leaves
- * unused): row i of it then holds column i of U, which reversed_rows reads. */
-static void transpose_into_lower(hk_ContactSolve *cs, int s)
+/* Unknowns i and j = i - 1 of one right-hand side z: *a = z_i, then z_j less column
+ * i's share, *b = z_j (back_substitute). */
+static inline void two_pivots(double *z, const double *ci, const double *cj, int i, double *a, double *b)
 {
-    const size_t dim = dim_of(cs, s);
-    double *u = (double *)cs->ul.items + cs->ul_start[s];
-    for (size_t i = 1; i < dim; i++)
-        for (size_t k = 0; k < i; k++) u[i * dim + k] = u[k * dim + i];
+    const int j = i - 1;
+    *a = z[i] / ci[i];
+    z[i] = *a;
+    z[j] -= ci[j] * *a;
+    *b = z[j] / cj[j];
+    z[j] = *b;
 }
 
 /* Back substitution U z = j for up to three right-hand sides side by side (rows: 3
  * for z0, z1, z2; 2 for z0, z1; 1 for z0), each solved by the same operations in the
  * same order whatever the others: a row solved alone has the bits it has solved with
- * the others (reversed_rows). */
+ * the others (reversed_rows). Columns i and i - 1 are taken in one pass over the
+ * entries above them, z_k = (z_k - U_ki z_i) - U_k,i-1 z_i-1: the two subtractions one
+ * column at a time makes, in their order (the same bits), with z loaded and stored
+ * once for both and half the loops' overhead (callgrind, head driver on
+ * examples/guides200 shaking, 8 frames: back_substitute 106.7 -> 78.8 million
+ * instructions). */
 static void back_substitute(const double *u, size_t dim, int m, double *z0, double *z1, double *z2, int rows)
 {
-    for (int i = m - 1; i >= 0; i--) {
-        const double *column = u + (size_t)i * dim; /* column[k] = U[k][i] for k < i */
-        const double a0 = z0[i] / column[i];
-        z0[i] = a0;
+    int i = m - 1;
+    for (; i >= 1; i -= 2) {
+        const int j = i - 1;
+        const double *ci = u + (size_t)i * dim, *cj = u + (size_t)j * dim; /* ci[k] = U[k][i] for k < i */
+        double a0, b0, a1, b1, a2, b2;
+        two_pivots(z0, ci, cj, i, &a0, &b0);
         if (rows == 1) {
 #pragma omp simd
-            for (int k = 0; k < i; k++) z0[k] -= column[k] * a0;
+            for (int k = 0; k < j; k++) z0[k] = (z0[k] - ci[k] * a0) - cj[k] * b0;
             continue;
         }
-        const double a1 = z1[i] / column[i];
-        z1[i] = a1;
+        two_pivots(z1, ci, cj, i, &a1, &b1);
         if (rows == 2) {
 #pragma omp simd
-            for (int k = 0; k < i; k++) {
-                z0[k] -= column[k] * a0;
-                z1[k] -= column[k] * a1;
+            for (int k = 0; k < j; k++) {
+                z0[k] = (z0[k] - ci[k] * a0) - cj[k] * b0;
+                z1[k] = (z1[k] - ci[k] * a1) - cj[k] * b1;
             }
             continue;
         }
-        const double a2 = z2[i] / column[i];
-        z2[i] = a2;
+        two_pivots(z2, ci, cj, i, &a2, &b2);
 #pragma omp simd
-        for (int k = 0; k < i; k++) {
-            z0[k] -= column[k] * a0;
-            z1[k] -= column[k] * a1;
-            z2[k] -= column[k] * a2;
+        for (int k = 0; k < j; k++) {
+            z0[k] = (z0[k] - ci[k] * a0) - cj[k] * b0;
+            z1[k] = (z1[k] - ci[k] * a1) - cj[k] * b1;
+            z2[k] = (z2[k] - ci[k] * a2) - cj[k] * b2;
         }
+    }
+    if (i == 0) { /* the first unknown, when m is odd */
+        z0[0] /= u[0];
+        if (rows > 1) z1[0] /= u[0];
+        if (rows > 2) z2[0] /= u[0];
     }
 }
 
-/* Rows first..2 of Z^T = (U^-1 J^T)^T of point x of reversed strand s (its rows of J
- * in the basis): U z = j by back substitution from the point's support down (z is
- * zero beyond it, as j is), by columns: once z_i is known, column i of U (row i of the
- * lower part, transpose_into_lower) times z_i leaves the rows above it, the
- * right-hand sides side by side. No sum runs along a row, so the loop over the rows
+/* Rows first..2 of Z^T = (U^-1 J^T)^T of point x of reversed strand s, in place of its
+ * rows of J in the basis (in yt): U z = j by back substitution from the point's support
+ * down (z is zero beyond it, as j is), by columns: once z_i is known, column i of U
+ * (row i of the lower part, hk_dynamics_reverse_factor) times z_i leaves the rows above
+ * it, the right-hand sides side by side. No sum runs along a row, so the loop over the rows
  * above is vectorised: answer_points took 4.0-4.2 ms a step by rows (each z_i the end
  * of a chain of dependent additions), 2.9-3.2 ms so (examples/guides200 shaking, one
  * thread, CPU time). The sums' order differs from the rows' by rounding. */
 static void reversed_rows(hk_ContactSolve *cs, int s, int x, int first)
 {
-    const size_t dim = dim_of(cs, s), at = block_of(cs, s, x);
     const int m = ((const int *)cs->support.items)[x];
+    const size_t sm = (size_t)m;
     const double *u = (const double *)cs->ul.items + cs->ul_start[s];
-    const double *j = (const double *)cs->jac.items + at;
-    double *z = (double *)cs->yt.items + at;
-    for (int r = first; r < 3; r++) memcpy(z + (size_t)r * dim, j + (size_t)r * dim, (size_t)m * sizeof(double));
-    back_substitute(u, dim, m, z + (size_t)first * dim, z + (size_t)(first + 1) * dim, z + 2 * dim, 3 - first);
+    double *z = (double *)cs->yt.items + block_of(cs, x);
+    back_substitute(u, dim_of(cs, s), m, z + (size_t)first * sm, z + (size_t)(first + 1) * sm, z + 2 * sm, 3 - first);
 }
 
 /* Rows of a point's J (3 x dim, zero from column m on) turned into the basis: row r
@@ -407,31 +428,14 @@ static void rows_in_basis(double *jac, size_t dim, size_t m, const hk_Vec3 basis
     }
 }
 
-/* The right-hand side of row 0 of Z^T of point x of reversed strand s alone, what the
- * idle check of a pair that may not push reads (normal_velocity): the normal's row of
- * J (rows_in_basis's expression, the same bits), J itself left in world axes for the
- * rest (answer_lazily). Rows 1 and 2 cost two thirds of a point's answer, and most
- * pairs never push. Returns the row, to be solved for (answer_points). */
-static double *normal_row(hk_ContactSolve *cs, int s, int x)
-{
-    const PairState *ps = (const PairState *)cs->pairs.items + ((const Slot *)cs->slots.items)[x].index / 2;
-    const size_t dim = dim_of(cs, s), at = block_of(cs, s, x);
-    const int m = ((const int *)cs->support.items)[x];
-    const double *j0 = (const double *)cs->jac.items + at, *j1 = j0 + dim, *j2 = j1 + dim;
-    double *z0 = (double *)cs->yt.items + at;
-    const double n0 = ps->basis[0].x, n1 = ps->basis[0].y, n2 = ps->basis[0].z;
-#pragma omp simd
-    for (int k = 0; k < m; k++) z0[k] = n0 * j0[k] + n1 * j1[k] + n2 * j2[k];
-    return z0;
-}
-
-/* Every point of strand s has its rows of J turned into its pair's basis
- * (prepare_pairs set the bases), each just before its answer is solved for, while
- * its rows are in the caches. (beyond the support J stays zero) */
+/* Point x of strand s has its rows of J (in yt for a reversed strand) turned into its
+ * pair's basis (prepare_pairs set the bases), just before its answer is solved for,
+ * while its rows are in the caches. (beyond the support J stays zero) */
 static void strand_rows_in_basis(hk_ContactSolve *cs, int s, int x)
 {
     const PairState *ps = (const PairState *)cs->pairs.items + ((const Slot *)cs->slots.items)[x].index / 2;
-    rows_in_basis((double *)cs->jac.items + block_of(cs, s, x), dim_of(cs, s), support_of(cs, x), ps->basis);
+    const size_t m = support_of(cs, x);
+    rows_in_basis((double *)(cs->reversed[s] ? cs->yt.items : cs->jac.items) + block_of(cs, x), m, m, ps->basis);
 }
 
 /* Y^T of strand s's points marked wanted (answered == WANTED), a run of consecutive
@@ -440,7 +444,7 @@ static void strand_rows_in_basis(hk_ContactSolve *cs, int s, int x)
  * of it of the others (what a pair that does not push needs to read its normal
  * velocity: J dv = Z^T w; the rest when a sweep finds it pushing, answer_lazily: on
  * examples/guides200 shaking, of 3,700 wanted points a step 2,200 had an impulse,
- * and 730 more came to push). A strand whose
+ * and 730 more came to push), their rows 1 and 2 left in the basis for that. A strand whose
  * matrix does not answer becomes immovable: all its points answer zero (nothing has
  * used them yet). */
 static void answer_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s)
@@ -449,7 +453,6 @@ static void answer_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s)
     char *answered = cs->answered.items;
     int ok = cs->movable[s];
     if (cs->reversed[s]) { /* every point: its rows of Z^T also read its velocity change */
-        if (end > begin) transpose_into_lower(cs, s);
         const PairState *pairs = cs->pairs.items;
         const Slot *slot = cs->slots.items;
         const int *support = cs->support.items;
@@ -474,7 +477,8 @@ static void answer_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s)
             double *z[3] = {NULL, NULL, NULL};
             int rows = 0;
             for (; x < end && rows < 3 && answered[x] != ANSWERED && support[x] == m; x++) {
-                z[rows++] = normal_row(cs, s, x);
+                strand_rows_in_basis(cs, s, x);
+                z[rows++] = (double *)cs->yt.items + block_of(cs, x);
                 answered[x] = NORMAL_ONLY;
             }
             back_substitute(u, dim_of(cs, s), m, z[0], z[1], z[2], rows);
@@ -489,7 +493,7 @@ static void answer_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s)
         }
         int run = x;
         while (run < end && answered[run] == WANTED) answered[run++] = ANSWERED;
-        const size_t at = block_of(cs, s, x);
+        const size_t at = block_of(cs, x); /* rows of 3N, the run's blocks one after another */
         ok =
             hk_dynamics_resolve_rows(d, (const double *)cs->jac.items + at, 3 * (run - x), (double *)cs->yt.items + at);
         x = run;
@@ -510,13 +514,12 @@ static void answer_lazily(hk_ContactSolve *cs, int s, int x)
     char *answered = cs->answered.items;
     if (answered[x] == ANSWERED) return;
     if (answered[x] == NORMAL_ONLY) { /* a reversed strand's: its rows 1 and 2 of Z^T */
-        strand_rows_in_basis(cs, s, x);
         reversed_rows(cs, s, x, 1);
         answered[x] = ANSWERED;
         return;
     }
     answered[x] = ANSWERED;
-    const size_t at = block_of(cs, s, x);
+    const size_t at = block_of(cs, x);
     double *yt = (double *)cs->yt.items + at;
     if (!cs->movable[s] || !hk_dynamics_resolve_rows(cs->dyn[s], (const double *)cs->jac.items + at, 3, yt))
         memset(yt, 0, 3 * dim_of(cs, s) * sizeof(double));
@@ -822,13 +825,12 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
             next = k + 1;
             for (int side = 0; side < 2; side++) {
                 const int strand = ps->strand[side], x = ps->slot[side];
-                const size_t at = block_of(cs, strand, x);
+                const size_t at = block_of(cs, x);
                 PointRows *pr = &ps->point[side];
                 pr->resp = (const double *)cs->yt.items + at;
                 pr->rows = cs->reversed[strand] ? pr->resp : (const double *)cs->jac.items + at;
                 pr->dv = (double *)cs->dv.items + cs->dim_start[strand];
-                pr->stride = (int)dim_of(cs, strand);
-                pr->m = (int)support_of(cs, x);
+                pr->m = pr->stride = (int)support_of(cs, x);
             }
             /* (a point belongs to one pair: no other iteration writes these) */
             if (may_push(ps)) answered[ps->slot[0]] = answered[ps->slot[1]] = WANTED;

@@ -11,12 +11,12 @@
 #include <string.h>
 
 #include "dynamics_internal.h"
-#include "core/linalg.h"
 
 static hk_Vec3 k_at(const double *q, int p) { return hk_v3(q[3 * p], q[3 * p + 1], q[3 * p + 2]); }
 
 void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head, const double *rates, const double *s,
-                                 int count, double *screws, double *jac, hk_Vec3 *pos, hk_Vec3 *vel, int *element)
+                                 int count, double *screws, double *jac, int packed, hk_Vec3 *pos, hk_Vec3 *vel,
+                                 int *element)
 {
     const hk_RigidState still = hk_rigid_identity();
     if (!head) head = &still;
@@ -65,10 +65,12 @@ void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head
         if (pos) pos[i] = x;
         if (vel) vel[i] = xv;
         if (element) element[i] = p;
-        double *row[3] = {jac + (size_t)(3 * i) * (size_t)dim, jac + (size_t)(3 * i + 1) * (size_t)dim,
-                          jac + (size_t)(3 * i + 2) * (size_t)dim};
         const int beyond = 3 * p + 3; /* the columns beyond the point's element are zero */
-        for (int r = 0; r < 3; r++) memset(row[r] + beyond, 0, (size_t)(dim - beyond) * sizeof(double));
+        const size_t stride = (size_t)(packed ? beyond : dim);
+        double *row[3] = {jac, jac + stride, jac + 2 * stride};
+        jac += 3 * stride;
+        if (!packed)
+            for (int r = 0; r < 3; r++) memset(row[r] + beyond, 0, (size_t)(dim - beyond) * sizeof(double));
         /* Column c is w_c x x + t_c (hk_v3_cross's products, the same bits), with the
          * screws' components in rows of their own so that the loops vectorise. */
         const double *restrict wx = screws, *restrict wy = wx + dim, *restrict wz = wy + dim;
@@ -88,7 +90,7 @@ void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head
     }
 }
 
-/* The Cholesky factor the last dense solve left after its assembled matrix
+/* The factor U (A = U U^T) the last dense solve left after its assembled matrix
  * (hk_terms_solve_dense), or NULL when the matrix is the O(N) solver's. */
 static const double *dense_factor(const hk_StrandDynamics *d)
 {
@@ -97,29 +99,15 @@ static const double *dense_factor(const hk_StrandDynamics *d)
     return d->params.solver == HK_DYNAMICS_DENSE ? d->work + sd * sd : NULL;
 }
 
-/* Reversing the unknowns' order of an n x n matrix turns entry (i, k) into
- * (n - 1 - i, n - 1 - k): in row-major storage, the array read backwards. The factor
- * A = U U^T is then L L^T of the reversed matrix, read backwards. */
-static void reverse_array(double *x, size_t count)
-{
-    for (size_t i = 0, j = count - 1; i < j; i++, j--) {
-        const double t = x[i];
-        x[i] = x[j];
-        x[j] = t;
-    }
-}
-
 int hk_dynamics_reverse_factor(const hk_StrandDynamics *d, double *u)
 {
     if (d->dense_fallback || d->params.solver != HK_DYNAMICS_DENSE) return 0;
-    const int dim = 3 * d->sh->n;
-    const size_t sd = (size_t)dim;
-    const double *a = d->work; /* as assembled by hk_terms_solve_dense, without the diagonal extra */
-    double extra[3 * HK_MAX_ELEMENTS];
-    for (size_t k = 0; k < sd * sd; k++) u[k] = a[sd * sd - 1 - k];
-    for (int j = 0; j < dim; j++) extra[j] = d->extra[dim - 1 - j];
-    if (!hk_cholesky_factor(dim, u, 1.0, extra, u)) return 0;
-    reverse_array(u, sd * sd);
+    const size_t sd = (size_t)(3 * d->sh->n);
+    const double *f = dense_factor(d);
+    for (size_t i = 0; i < sd; i++) {
+        for (size_t k = 0; k < i; k++) u[i * sd + k] = f[k * sd + i];
+        memcpy(u + i * sd + i, f + i * sd + i, (sd - i) * sizeof(double));
+    }
     return 1;
 }
 
@@ -129,7 +117,7 @@ int hk_dynamics_resolve(hk_StrandDynamics *d, const double *rhs, double *out)
     if (out != rhs) memcpy(out, rhs, (size_t)dim * sizeof(double));
     const double *factor = dense_factor(d);
     if (factor) {
-        hk_cholesky_solve(dim, factor, out);
+        hk_upper_solve(dim, factor, out);
         return 1;
     }
     return hk_terms_solve_linear(n, d->terms, d->extra, out, out, d->work);
@@ -137,20 +125,8 @@ int hk_dynamics_resolve(hk_StrandDynamics *d, const double *rhs, double *out)
 
 int hk_dynamics_resolve_rows(hk_StrandDynamics *d, const double *rhs, int count, double *out)
 {
-    const int n = d->sh->n, dim = 3 * n;
-    const size_t sd = (size_t)dim, sc = (size_t)count;
-    const double *factor = dense_factor(d);
-    double *columns = factor && count >= 2 ? hk_alloc_array(sd * sc, sizeof(double), NULL) : NULL;
-    if (!columns) { /* one by one: the O(N) solver, one row, or out of memory */
-        for (int r = 0; r < count; r++)
-            if (!hk_dynamics_resolve(d, rhs + (size_t)r * sd, out + (size_t)r * sd)) return 0;
-        return 1;
-    }
-    for (size_t r = 0; r < sc; r++)
-        for (size_t k = 0; k < sd; k++) columns[k * sc + r] = rhs[r * sd + k];
-    hk_cholesky_solve_columns(dim, factor, columns, count);
-    for (size_t r = 0; r < sc; r++)
-        for (size_t k = 0; k < sd; k++) out[r * sd + k] = columns[k * sc + r];
-    hk_free(columns);
+    const size_t sd = (size_t)(3 * d->sh->n);
+    for (int r = 0; r < count; r++)
+        if (!hk_dynamics_resolve(d, rhs + (size_t)r * sd, out + (size_t)r * sd)) return 0;
     return 1;
 }
