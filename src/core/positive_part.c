@@ -309,7 +309,8 @@ typedef struct {
     double *mult, *swap, *inv; /* n x w: the factors of T - shift I, by rows (swap: a
                                 * row interchange, as all bits set, else 0) */
     double *up1, *up2;         /* n x w: U's first and second superdiagonals */
-    double *carry0, *carry1;   /* w: the row being eliminated */
+    double *carry0, *carry1;   /* w: the row being eliminated (then carry0: the lanes'
+                                * products in lanes_orthonormalise) */
     int *cluster;              /* k: the first lane of the lane's cluster */
 } Lanes;
 
@@ -381,29 +382,41 @@ static void lanes_solve(const Lanes *ln, double *x)
     }
 }
 
+/* v scaled to unit length, f its squared length. */
+static inline void unit_length(double *v, double f, int n)
+{
+    const double scale = 1.0 / sqrt(f);
+#pragma omp simd
+    for (int i = 0; i < n; i++) v[i] *= scale;
+}
+
 /* Lane j of x scaled to unit length after made orthogonal to the earlier lanes of its
  * cluster (modified Gram-Schmidt, dstein's way to keep close eigenvalues' vectors
  * apart). The lanes are copied out to rows of t (k x n) for it, so that the products
- * run along memory, and back to x when another solve follows (back). */
-static void lanes_orthonormalise(const Lanes *ln, double *x, double *t, int back)
+ * run along memory, and back to x when another solve follows (back). f: k doubles.
+ * Each lane's operations are those of MGS lane by lane (each pass takes off one earlier
+ * vector's part and finds the next one's product, the last pass the length), taken
+ * right-looking: as soon as vector q + 1 is final, the later lanes of the cluster take
+ * off vector q's part and find q + 1's. Their passes are independent of one another, so
+ * that their chains overlap, where lane by lane each pass waited on the last (the same
+ * bits). */
+static void lanes_orthonormalise(const Lanes *ln, double *x, double *t, double *f, int back)
 {
     const int n = ln->n, k = ln->k;
     const size_t sk = (size_t)k, sn = (size_t)n, sw = (size_t)ln->w;
     for (size_t i = 0; i < sn; i++)
         for (size_t j = 0; j < sk; j++) t[j * sn + i] = x[i * sw + j];
-    for (int j = 0; j < k; j++) {
-        /* each pass takes off the last vector's part and finds the next one's (the
-         * last pass: the length), the same operations as one pass for each */
-        double *tj = t + (size_t)j * sn;
-        const int q0 = ln->cluster[j];
-        double f = sub_then_dot(tj, 0.0, NULL, t + (size_t)q0 * sn, n);
-        for (int q = q0; q < j; q++) {
+    for (int a = 0, b; a < k; a = b) { /* the cluster a .. b - 1 */
+        for (b = a + 1; b < k && ln->cluster[b] == a;) b++;
+        double *ta = t + (size_t)a * sn;
+        unit_length(ta, sub_then_dot(ta, 0.0, NULL, ta, n), n);
+        for (int j = a + 1; j < b; j++) f[j] = sub_then_dot(t + (size_t)j * sn, 0.0, NULL, ta, n);
+        for (int q = a; q + 1 < b; q++) {
             const double *tq = t + (size_t)q * sn;
-            f = sub_then_dot(tj, f, tq, q + 1 < j ? tq + sn : tj, n);
+            double *next = t + (size_t)(q + 1) * sn;
+            unit_length(next, sub_then_dot(next, f[q + 1], tq, next, n), n);
+            for (int j = q + 2; j < b; j++) f[j] = sub_then_dot(t + (size_t)j * sn, f[j], tq, next, n);
         }
-        const double scale = 1.0 / sqrt(f);
-#pragma omp simd
-        for (int i = 0; i < n; i++) tj[i] *= scale;
     }
     if (back)
         for (size_t i = 0; i < sn; i++)
@@ -437,7 +450,7 @@ static void lanes_eigenvectors(Lanes *ln, const double *d, const double *e, cons
     for (size_t i = (size_t)n * sw; i < (size_t)(n + 2) * sw; i++) x[i] = 0.0;
     for (int pass = 0; pass < 3; pass++) {
         lanes_solve(ln, x);
-        lanes_orthonormalise(ln, x, t, pass < 2);
+        lanes_orthonormalise(ln, x, t, ln->carry0, pass < 2);
     }
 }
 
