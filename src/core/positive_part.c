@@ -382,6 +382,29 @@ static void lanes_solve(const Lanes *ln, double *x)
     }
 }
 
+/* dst[c][r] = src[r][c] for the rows x cols block src (row strides ss, ds): 2 x 2
+ * blocks, two rows' pairs loaded and interleaved into two columns' pairs (element by
+ * element, each a scattered store, the copies took a tenth of G+'s time). */
+static void transpose(const double *src, size_t ss, size_t rows, size_t cols, double *dst, size_t ds)
+{
+    size_t r = 0;
+    for (; r + 2 <= rows; r += 2) {
+        const double *s0 = src + r * ss, *s1 = s0 + ss;
+        size_t c = 0;
+        for (; c + 2 <= cols; c += 2) {
+            const Pair a = load_pair(s0 + c), b = load_pair(s1 + c);
+            store_pair(dst + c * ds + r, (Pair){a[0], b[0]});
+            store_pair(dst + (c + 1) * ds + r, (Pair){a[1], b[1]});
+        }
+        if (c < cols) {
+            dst[c * ds + r] = s0[c];
+            dst[c * ds + r + 1] = s1[c];
+        }
+    }
+    if (r < rows)
+        for (size_t c = 0; c < cols; c++) dst[c * ds + r] = src[r * ss + c];
+}
+
 /* v scaled to unit length, f its squared length. */
 static inline void unit_length(double *v, double f, int n)
 {
@@ -404,8 +427,7 @@ static void lanes_orthonormalise(const Lanes *ln, double *x, double *t, double *
 {
     const int n = ln->n, k = ln->k;
     const size_t sk = (size_t)k, sn = (size_t)n, sw = (size_t)ln->w;
-    for (size_t i = 0; i < sn; i++)
-        for (size_t j = 0; j < sk; j++) t[j * sn + i] = x[i * sw + j];
+    transpose(x, sw, sn, sk, t, sn);
     for (int a = 0, b; a < k; a = b) { /* the cluster a .. b - 1 */
         for (b = a + 1; b < k && ln->cluster[b] == a;) b++;
         double *ta = t + (size_t)a * sn;
@@ -418,9 +440,7 @@ static void lanes_orthonormalise(const Lanes *ln, double *x, double *t, double *
             for (int j = q + 2; j < b; j++) f[j] = sub_then_dot(t + (size_t)j * sn, f[j], tq, next, n);
         }
     }
-    if (back)
-        for (size_t i = 0; i < sn; i++)
-            for (size_t j = 0; j < sk; j++) x[i * sw + j] = t[j * sn + i];
+    if (back) transpose(t, sn, sk, sn, x, sw);
 }
 
 /* The eigenvectors of T (d, e) for the k eigenvalues lambda (ascending) into the rows of
