@@ -787,6 +787,28 @@ static int may_push(const PairState *ps)
     return ps->beta - ps->gamma * ps->free.x > 0.0 || hk_v3_norm2(ps->lambda) > 0.0;
 }
 
+/* What the sweeps of a step spend on pair ps, in instructions, from what prepare_pairs
+ * knows of it: with an impulse from the last step it pushes on nearly every sweep (19 of
+ * 20 visits) and makes its Delassus block once; pushing at the free velocities alone,
+ * it comes to push on 2.5 visits of 20 (the others' impulses hold it off) and is
+ * checked idle on 5.5; else it is checked idle on every fourth sweep and the last (6)
+ * and pushes on 0.3. A visit that pushes costs about 700 + 15 (m_a + m_b)
+ * instructions (its law, then its relative velocity and both strands' changes over
+ * its points' supports m), an idle check 40 + 4.6 (m_a + m_b), a block 1,400 and, for
+ * a pair that was not expected to push, its points' answers 5,200 more (callgrind and
+ * the visits counted over 105 steps of examples/guides200 shaking, 6 December 2026).
+ * The weights before, 16 for a pair that may push and 1 otherwise, weighed the second
+ * kind as the first: the first stage's two groups then cost 1,695 and 1,872 million
+ * instructions over those steps, by this model on the visits counted; now 1,777 and
+ * 1,761 (docs/dynamics.md, "Weights from the sweeps' costs"). */
+static double sweep_cost(const PairState *ps)
+{
+    const double m = ps->point[0].m + ps->point[1].m;
+    if (hk_v3_norm2(ps->lambda) > 0.0) return 14400.0 + 280.0 * m;
+    if (ps->beta - ps->gamma * ps->free.x > 0.0) return 3500.0 + 63.0 * m;
+    return 700.0 + 32.0 * m;
+}
+
 /* Each pair's basis and normal law, and its impulse of the last step when the same
  * segment pair was tracked then (pairs and old pairs are both sorted by (i, a, j, b):
  * each thread finds its first pair's place among the old ones by bisection, then walks
@@ -1109,14 +1131,13 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
     int *order = cs->order.items;
 #pragma omp parallel num_threads(threads)
     {
-        /* The pairs dealt to the groups of the sweeps (weighted by what a sweep spends
-         * on them: a pair that may push is visited on every sweep, at about 16 times
-         * the cost of an idle pair's check on every fourth), by one thread while the
-         * others start on the answers: it reads only the pairs' strands and laws. */
+        /* The pairs dealt to the groups of the sweeps (weighted by what the sweeps
+         * spend on them, sweep_cost), by one thread while the others start on the
+         * answers: it reads only the pairs' strands and laws. */
 #pragma omp single nowait
         {
             double *weight = cs->weight.items;
-            for (int k = 0; k < n; k++) weight[k] = may_push(&pairs[k]) ? 16.0 : 1.0;
+            for (int k = 0; k < n; k++) weight[k] = sweep_cost(&pairs[k]);
             hk_Vec3 *roots = cs->roots.items;
             for (int s = 0; s < strand_count; s++) roots[s] = contacts->views[s].pos[0];
             hk_contact_split(&cs->split, strand_count, roots, n, contacts->pairs, weight, order, bounds);
