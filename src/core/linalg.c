@@ -90,31 +90,6 @@ void hk_cholesky_solve(int n, const double *l, double *x)
     }
 }
 
-void hk_cholesky_solve_columns(int n, const double *l, double *x, int count)
-{
-    const size_t sn = (size_t)n, sc = (size_t)count;
-    for (size_t i = 0; i < sn; i++) {
-        double *xi = x + i * sc;
-        for (size_t k = 0; k < i; k++) {
-            const double lik = l[i * sn + k];
-            const double *xk = x + k * sc;
-            for (size_t r = 0; r < sc; r++) xi[r] -= lik * xk[r];
-        }
-        const double inv = 1.0 / l[i * sn + i];
-        for (size_t r = 0; r < sc; r++) xi[r] *= inv;
-    }
-    for (size_t i = sn; i-- > 0;) {
-        double *xi = x + i * sc;
-        for (size_t k = i + 1; k < sn; k++) {
-            const double lki = l[k * sn + i];
-            const double *xk = x + k * sc;
-            for (size_t r = 0; r < sc; r++) xi[r] -= lki * xk[r];
-        }
-        const double inv = 1.0 / l[i * sn + i];
-        for (size_t r = 0; r < sc; r++) xi[r] *= inv;
-    }
-}
-
 /* ---- symmetric eigen-decomposition ------------------------------------------------
  * Householder reduction to tridiagonal form, then the implicit QL iteration with
  * Wilkinson-like shifts (Wilkinson & Reinsch, Handbook for Automatic Computation II,

@@ -28,12 +28,6 @@ int hk_cholesky_factor(int n, const double *a, double shift, const double *d, do
 /* Solves L L^T x = b in place (x holds b on entry) with the factor from above. */
 void hk_cholesky_solve(int n, const double *l, double *x);
 
-/* The same for `count` right-hand sides at once, the columns of x (n x count,
- * row-major): each row of L is read once for all of them, and the inner loops run
- * along the rows of x (several times faster than count single solves for count of a few
- * tens; the sums are taken in another order, so results differ in the last bits). */
-void hk_cholesky_solve_columns(int n, const double *l, double *x, int count);
-
 /* Eigen-decomposition of the symmetric matrix a (n x n, row-major): eigenvalues w (n,
  * unordered) and eigenvectors as the columns of v (n x n); e is n doubles of work.
  * Householder tridiagonalisation and implicit QL (tred2/tql2). Returns 0 if the
