@@ -77,7 +77,7 @@ typedef struct PointRows {
     const double *rows; /* its 3 rows that read its velocity change from dv: J, or Z^T */
     const double *resp; /* its 3 rows of Y^T (or Z^T): the answer to an impulse */
     double *dv;         /* its strand's velocity change (or w = U^T dv) */
-    int stride, m;      /* the rows' stride and support (zero from column m on): both m */
+    int m;              /* its support (zero from column m on), also the rows' stride */
 } PointRows;
 
 /* The fields a sweep reads first (the idle pairs' check) come first, in one cache line. */
@@ -710,22 +710,22 @@ static hk_Vec3 from_basis(const hk_Vec3 basis[3], hk_Vec3 x)
     return hk_v3_madd(hk_v3_madd(hk_v3_scale(basis[0], x.x), basis[1], x.y), basis[2], x.z);
 }
 
-/* v += sign * Y lam for the point whose Y^T rows are yt (3 rows of stride dim, zero
- * from column m on). */
-static void add_response(double *v, const double *yt, size_t dim, size_t m, hk_Vec3 lam, double sign)
+/* v += sign * Y lam for the point whose Y^T rows are yt (3 rows of its support m,
+ * packed). */
+static void add_response(double *v, const double *yt, size_t m, hk_Vec3 lam, double sign)
 {
     const double l0 = sign * lam.x, l1 = sign * lam.y, l2 = sign * lam.z;
-    const double *y1 = yt + dim, *y2 = yt + 2 * dim;
+    const double *y1 = yt + m, *y2 = yt + 2 * m;
 #pragma omp simd
     for (size_t k = 0; k < m; k++) v[k] += yt[k] * l0 + y1[k] * l1 + y2[k] * l2;
 }
 
-/* J dv for the point whose J rows are jac (3 rows of stride dim, zero from column m
- * on); the three sums interleaved. (The order of the sums is the vectoriser's, the
- * same on every run of the same build.) */
-static hk_Vec3 point_change(const double *jac, size_t dim, size_t m, const double *dv)
+/* J dv for the point whose J rows are jac (3 rows of its support m, packed); the three
+ * sums interleaved. (The order of the sums is the vectoriser's, the same on every run
+ * of the same build.) */
+static hk_Vec3 point_change(const double *jac, size_t m, const double *dv)
 {
-    const double *j1 = jac + dim, *j2 = jac + 2 * dim;
+    const double *j1 = jac + m, *j2 = jac + 2 * m;
     double a0 = 0.0, a1 = 0.0, a2 = 0.0;
 #pragma omp simd reduction(+ : a0, a1, a2)
     for (size_t k = 0; k < m; k++) {
@@ -764,7 +764,7 @@ static void pair_block(hk_ContactSolve *cs, PairState *ps)
     memset(ps->w, 0, sizeof ps->w);
     for (int side = 0; side < 2; side++) {
         const PointRows *pr = &ps->point[side];
-        const size_t dim = (size_t)pr->stride, m = (size_t)pr->m;
+        const size_t m = (size_t)pr->m;
         const double *rows = pr->rows, *yt = pr->resp;
         /* Z^T Z is symmetric to the bit (a product's factors commute, the sums run in
          * one order): its lower triangle is copied. */
@@ -772,7 +772,7 @@ static void pair_block(hk_ContactSolve *cs, PairState *ps)
         double e[3][3];
         for (int r = 0; r < 3; r++)
             for (int q = 0; q < 3; q++)
-                e[r][q] = symmetric && q < r ? e[q][r] : dot_n(rows + (size_t)r * dim, yt + (size_t)q * dim, m);
+                e[r][q] = symmetric && q < r ? e[q][r] : dot_n(rows + (size_t)r * m, yt + (size_t)q * m, m);
         for (int r = 0; r < 3; r++)
             for (int q = 0; q < 3; q++) ps->w[r][q] += e[r][q];
     }
@@ -780,12 +780,15 @@ static void pair_block(hk_ContactSolve *cs, PairState *ps)
     ps->ready = 1;
 }
 
+/* Pair ps has an impulse from the last step (its warm start, set by prepare_pairs). */
+static int has_impulse(const PairState *ps) { return hk_v3_norm2(ps->lambda) > 0.0; }
+
+/* Pair ps's normal law pushes at the free velocities (its free set by prepare_pairs). */
+static int pushes_free(const PairState *ps) { return ps->beta - ps->gamma * ps->free.x > 0.0; }
+
 /* A pair that may push this step: with an impulse from the last step, or whose normal
- * law pushes at the free velocities (its lambda and free set by prepare_pairs). */
-static int may_push(const PairState *ps)
-{
-    return ps->beta - ps->gamma * ps->free.x > 0.0 || hk_v3_norm2(ps->lambda) > 0.0;
-}
+ * law pushes at the free velocities. */
+static int may_push(const PairState *ps) { return pushes_free(ps) || has_impulse(ps); }
 
 /* What the sweeps of a step spend on pair ps, in instructions, from what prepare_pairs
  * knows of it: with an impulse from the last step it pushes on nearly every sweep (19 of
@@ -804,8 +807,8 @@ static int may_push(const PairState *ps)
 static double sweep_cost(const PairState *ps)
 {
     const double m = ps->point[0].m + ps->point[1].m;
-    if (hk_v3_norm2(ps->lambda) > 0.0) return 14400.0 + 280.0 * m;
-    if (ps->beta - ps->gamma * ps->free.x > 0.0) return 3500.0 + 63.0 * m;
+    if (has_impulse(ps)) return 14400.0 + 280.0 * m;
+    if (pushes_free(ps)) return 3500.0 + 63.0 * m;
     return 700.0 + 32.0 * m;
 }
 
@@ -852,7 +855,7 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
                 pr->resp = (const double *)cs->yt.items + at;
                 pr->rows = cs->reversed[strand] ? pr->resp : (const double *)cs->jac.items + at;
                 pr->dv = (double *)cs->dv.items + cs->dim_start[strand];
-                pr->m = pr->stride = (int)support_of(cs, x);
+                pr->m = (int)support_of(cs, x);
             }
             /* (a point belongs to one pair: no other iteration writes these) */
             if (may_push(ps)) answered[ps->slot[0]] = answered[ps->slot[1]] = WANTED;
@@ -866,7 +869,7 @@ static hk_Vec3 relative_velocity(const PairState *ps)
     hk_Vec3 u = ps->free;
     for (int side = 0; side < 2; side++) {
         const PointRows *pr = &ps->point[side];
-        const hk_Vec3 du = point_change(pr->rows, (size_t)pr->stride, (size_t)pr->m, pr->dv);
+        const hk_Vec3 du = point_change(pr->rows, (size_t)pr->m, pr->dv);
         u = side == 0 ? hk_v3_add(u, du) : hk_v3_sub(u, du);
     }
     return u;
@@ -906,7 +909,7 @@ static void apply_by_strand(hk_ContactSolve *cs, const hk_Vec3 *delta, int n)
         for (int side = 0; side < 2; side++) {
             const PointRows *pr = &pairs[k].point[side];
             if (pairs[k].strand[side] >= lo && pairs[k].strand[side] < hi)
-                add_response(pr->dv, pr->resp, (size_t)pr->stride, (size_t)pr->m, delta[k], side == 0 ? 1.0 : -1.0);
+                add_response(pr->dv, pr->resp, (size_t)pr->m, delta[k], side == 0 ? 1.0 : -1.0);
         }
     }
 }
@@ -916,7 +919,7 @@ static void apply_change(const PairState *ps, hk_Vec3 delta)
 {
     for (int side = 0; side < 2; side++) {
         const PointRows *pr = &ps->point[side];
-        add_response(pr->dv, pr->resp, (size_t)pr->stride, (size_t)pr->m, delta, side == 0 ? 1.0 : -1.0);
+        add_response(pr->dv, pr->resp, (size_t)pr->m, delta, side == 0 ? 1.0 : -1.0);
     }
 }
 
@@ -1095,12 +1098,14 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
                            hk_Error *err)
 {
     hk_ContactSolveStats local = {0, 0, 0, 0.0};
-    if (strand_count != cs->strand_count || contacts->strand_count != strand_count || !(dt > 0.0) || !isfinite(dt)) {
+    const int bad_count = strand_count != cs->strand_count || contacts->strand_count != strand_count;
+    if (bad_count || !(dt > 0.0) || !isfinite(dt)) {
         cs->opened = 0;
         memset(cs->movable, 0, (size_t)cs->strand_count * sizeof(int)); /* nothing to commit */
-        if (!(dt > 0.0) || !isfinite(dt)) return hk_error_set(err, HK_ERR_INVALID, "contact solve: step %g s", dt);
-        return hk_error_set(err, HK_ERR_INVALID, "contact solve: %d strands, expected %d", strand_count,
-                            cs->strand_count);
+        if (bad_count)
+            return hk_error_set(err, HK_ERR_INVALID, "contact solve: %d strands, expected %d", strand_count,
+                                cs->strand_count);
+        return hk_error_set(err, HK_ERR_INVALID, "contact solve: step %g s", dt);
     }
     const int threads = hk_hc_threads(contacts);
     hk_Status st = HK_OK;

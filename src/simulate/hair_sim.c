@@ -506,10 +506,11 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
         for (int i = 0; i < sim->guide_count; i++) predicted -= hk_strand_dynamics_stats(sim->dyn[i]).iterations;
         if (coupled && threads > 1) {
             /* The pairs by one thread while the others (and then it) find every guide's
-             * step without the contacts, which needs the guide alone: the broad phase's
-             * loops gained 1.4 times on two threads, the guides' steps 1.9; side by side
-             * the step before the sweeps took 9.8 instead of 11.2 ms (examples/guides200
-             * shaking, N = 10). The pairs are the same whatever the threads. */
+             * step without the contacts, which needs the guide alone: the contacts'
+             * update gained 1.48 times on two threads, the guides' steps 1.92; one after
+             * the other they took 11.2 ms a frame on two threads (examples/guides200
+             * shaking, N = 10, omp_get_wtime), side by side 8.7-9.5 ms (with the cheaper
+             * broad phase that came after). The pairs are the same whatever the threads. */
             st = hk_contact_solve_open(sim->contact_solve, sim->dyn, sim->guide_count, err);
             hk_Status update_st = HK_OK;
             hk_Error update_err;
