@@ -64,6 +64,7 @@ expect 0 "$hk" bench statics --quick
 contains "$tmp/out" "newton"
 expect 0 "$hk" bench dynamics --quick --root "$src"
 contains "$tmp/out" "frames/s"
+contains "$tmp/out" "N = 10 on 2 threads, ms a frame in each of 2 runs"
 expect 0 "$hk" bench stability --quick --root "$src"
 contains "$tmp/out" "still, undamped"
 contains "$tmp/out" "linear Euler"
