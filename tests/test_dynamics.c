@@ -359,6 +359,15 @@ static void test_upper_cholesky_is_the_reversed_factor(void **state)
         for (size_t i = 0; i < sn; i++)
             for (size_t j = i; j < sn; j++)
                 assert_memory_equal(&u[i * sn + j], &rev[count - 1 - (i * sn + j)], sizeof(double));
+        /* only the lower triangle is read: the same factor with the strict upper one
+         * not a number, in place (u may be a) */
+        double lower[MAX * MAX];
+        memcpy(lower, a, count * sizeof(double));
+        for (size_t i = 0; i < sn; i++)
+            for (size_t j = i + 1; j < sn; j++) lower[i * sn + j] = NAN;
+        assert_int_equal(hk_upper_cholesky(n, lower, extra, lower), 1);
+        for (size_t i = 0; i < sn; i++)
+            for (size_t j = i; j < sn; j++) assert_memory_equal(&lower[i * sn + j], &u[i * sn + j], sizeof(double));
         hk_upper_solve(n, u, x);
         double rnorm = 0.0, bnorm = 0.0;
         for (size_t i = 0; i < sn; i++) {

@@ -99,19 +99,20 @@ void hk_terms_generalized_force(int n, const hk_ElementTerms *terms, double *out
 
 /* Solves (M + diag(extra)) x = rhs where M is the effective mass the terms describe:
  * dense assembly and Cholesky as A = U U^T, U upper triangular (hk_upper_cholesky; work:
- * HK_DENSE_WORK(n) doubles: the matrix, geo added to its upper triangle only, U and the
+ * HK_DENSE_WORK(n) doubles: the matrix's lower triangle, geo added to it, U and the
  * assembly's scratch) or the O(n) recursion (work: HK_LINEAR_WORK(n) doubles). Returns 0 if the system is not positive
  * definite. */
 #define HK_DENSE_WORK(n)  ((size_t)18 * (size_t)(n) * (size_t)(n) + HK_ASSEMBLE_WORK(n))
 #define HK_LINEAR_WORK(n) ((size_t)21 * (size_t)(n))
-/* dense: geo (may be NULL) is a further symmetric 3n x 3n matrix added times scale. */
+/* dense: geo (may be NULL) is a further symmetric 3n x 3n matrix added times scale
+ * (its lower triangle read). */
 int hk_terms_solve_dense(int n, const hk_ElementTerms *terms, const double *extra, const double *geo, double scale,
                          const double *rhs, double *x, double *work);
 int hk_terms_solve_linear(int n, const hk_ElementTerms *terms, const double *extra, const double *rhs, double *x,
                           double *work);
 
 /* Cholesky's factorisation with the unknowns in reverse order: the symmetric a +
- * diag(extra) (n x n, row-major; its upper triangle read) as U U^T with U upper
+ * diag(extra) (n x n, row-major; its lower triangle read) as U U^T with U upper
  * triangular, into u's upper triangle (u's strict lower part is left alone; u may be
  * a). The same bits as hk_cholesky_factor(n, a reversed, 1.0, extra reversed) read
  * backwards. A point's rows of J are zero beyond its own element, and so are its rows of

@@ -36,7 +36,11 @@ static void mul66(double m[6][6], const double *x, double *out)
     for (int i = 0; i < 6; i++) out[i] = dot6(m[i], x);
 }
 
-void hk_terms_assemble(int n, const hk_ElementTerms *terms, double *mass, double *scratch)
+/* The lower triangle and diagonal of the effective mass matrix, by rows: the
+ * factorisation reads no more (hk_upper_cholesky). Mirroring each row into its column,
+ * strided stores over the whole matrix, was a sixth of the assembly's instructions
+ * (examples/guides200 shaking). */
+static void assemble_lower(int n, const hk_ElementTerms *terms, double *mass, double *scratch)
 {
     const size_t dim = (size_t)3 * (size_t)n;
     /* The screws xi_a transposed (6 rows of 3n), so that row b's products xi_a . Y_b
@@ -56,15 +60,19 @@ void hk_terms_assemble(int n, const hk_ElementTerms *terms, double *mass, double
             for (int i = 0; i < 6; i++) y[i] = t->coupling[b][i] + sxi[i];
             double *row = mass + ib * dim;
             hk_dot6_columns(y, xt, dim, 3 * p, row);
-            for (int a = 0; a < 3 * p; a++) mass[(size_t)a * dim + ib] = row[a];
-            for (int a = 0; a <= b; a++) { /* mirrored: exactly symmetric */
-                const size_t ia = (size_t)(3 * p + a);
-                mass[ia * dim + ib] = mass[ib * dim + ia] = t->mass[a][b] + dot6(t->xi[a], sxi);
-            }
+            for (int a = 0; a <= b; a++) row[3 * p + a] = t->mass[a][b] + dot6(t->xi[a], sxi);
         }
         for (int i = 0; i < 6; i++)
             for (int j = 0; j < 6; j++) beyond[i][j] += t->inertia[i][j];
     }
+}
+
+void hk_terms_assemble(int n, const hk_ElementTerms *terms, double *mass, double *scratch)
+{
+    const size_t dim = (size_t)3 * (size_t)n;
+    assemble_lower(n, terms, mass, scratch);
+    for (size_t i = 0; i < dim; i++) /* mirrored: exactly symmetric */
+        for (size_t j = 0; j < i; j++) mass[j * dim + i] = mass[i * dim + j];
 }
 
 /* sum over k < n of a[-k] b[-k]: hk_cholesky_factor's dot product (core/linalg.c:
@@ -94,10 +102,11 @@ int hk_upper_cholesky(int n, const double *a, const double *extra, double *u)
 {
     const size_t sn = (size_t)n;
     /* Row j of U from column j on is row n - 1 - j of the reversed matrix's L read
-     * backwards: its dot products run from the rows' ends. */
+     * backwards: its dot products run from the rows' ends. a's lower triangle is read,
+     * along row j (a[j][i] = a[i][j]). */
     for (int j = n - 1; j >= 0; j--) {
         const size_t jj = (size_t)j * sn + (size_t)j;
-        const double *uj = u + (size_t)j * sn + (sn - 1);
+        const double *uj = u + (size_t)j * sn + (sn - 1), *aj = a + (size_t)j * sn;
         const int len = n - 1 - j;
         const double diag = a[jj] + extra[j] - dot4_down(uj, uj, len);
         /* as hk_cholesky_factor: a pivot this small against the diagonal means the
@@ -108,7 +117,7 @@ int hk_upper_cholesky(int n, const double *a, const double *extra, double *u)
         u[jj] = ujj;
         for (int i = j - 1; i >= 0; i--) {
             const size_t ij = (size_t)i * sn + (size_t)j;
-            u[ij] = (a[ij] - dot4_down(u + (size_t)i * sn + (sn - 1), uj, len)) / ujj;
+            u[ij] = (aj[i] - dot4_down(u + (size_t)i * sn + (sn - 1), uj, len)) / ujj;
         }
     }
     return 1;
@@ -137,13 +146,13 @@ int hk_terms_solve_dense(int n, const hk_ElementTerms *terms, const double *extr
     const int dim = 3 * n;
     const size_t count = (size_t)dim * (size_t)dim;
     double *mass = work, *factor = work + count;
-    hk_terms_assemble(n, terms, mass, work + 2 * count);
-    if (geo) /* the upper triangle, which the factorisation reads */
+    assemble_lower(n, terms, mass, work + 2 * count);
+    if (geo) /* the lower triangle, which the factorisation reads */
         for (size_t i = 0; i < (size_t)dim; i++) {
             double *restrict row = mass + i * (size_t)dim;
             const double *restrict g = geo + i * (size_t)dim;
 #pragma omp simd
-            for (size_t k = i; k < (size_t)dim; k++) row[k] += scale * g[k];
+            for (size_t k = 0; k <= i; k++) row[k] += scale * g[k];
         }
     if (!hk_upper_cholesky(dim, mass, extra, factor)) return 0;
     memcpy(x, rhs, (size_t)dim * sizeof(double));

@@ -321,6 +321,7 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
     hk_Mat3 second = hk_m3_zero();
     double stiff[6][6];
     memset(stiff, 0, sizeof stiff);
+    int stiff_zero = 1; /* no touching sample beyond yet: stiff is all +0 */
     for (int p = n - 1; p >= 0; p--) {
         const hk_ElementLocal *el = &ws->local[p];
         const hk_Mat3 *r = &ws->frame[p];
@@ -353,7 +354,11 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
             hk_Vec3 turned[3]; /* (S - tr S I) omega_b, for Y_b and the diagonal block */
             for (int b = 0; b < 3; b++) turned[b] = moment_op(&s, trs, omega[b]);
             for (int b = 0; b < 3; b++) {
-                mat6_mul_vec(stiff, xi[b], cxi[b]);
+                /* C xi is +0 to the bit while C is (sums of 0 xi_j from +0), xi finite */
+                if (stiff_zero)
+                    memset(cxi[b], 0, sizeof cxi[b]);
+                else
+                    mat6_mul_vec(stiff, xi[b], cxi[b]);
                 /* Y_b: coupling of coordinate b with every earlier coordinate a through
                  * H_ab = xi_a . Y_b (rotation of b's displacement field by a, plus the
                  * contact stiffness seen through both). */
@@ -414,6 +419,7 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
                 const hk_Mat3 o = hk_m3_outer(ws->sp[i], ws->sf[i]);
                 second = hk_m3_add(&second, &o);
                 add_contact_stiffness(stiff, ws->sp[i], &ws->sa[i]);
+                stiff_zero = 0;
             }
         }
     }
