@@ -553,14 +553,21 @@ hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
     }
     c->distance_evaluations += evaluations;
     if (failed) return hk_error_set(err, HK_ERR_NOMEM, "hair contacts: out of memory in the broad phase");
-    for (int t = 0; t < threads; t++)
+    /* The first thread's candidates take the place of c->candidates (empty) instead
+     * of a copy, the others' are appended: the same order (15.6 million instructions
+     * of memcpy in 8 frames of examples/guides200 shaking on one thread). */
+    hk_HcPair *const emptied = c->candidates;
+    const int emptied_cap = c->candidate_cap;
+    c->candidates = g->found[0].pairs, c->candidate_count = g->found[0].count, c->candidate_cap = g->found[0].cap;
+    g->found[0].pairs = emptied, g->found[0].count = 0, g->found[0].cap = emptied_cap;
+    for (int t = 1; t < threads; t++)
         if (!hk_hc_append_pairs(&c->candidates, &c->candidate_count, &c->candidate_cap, g->found[t].pairs,
                                 g->found[t].count, err))
             return HK_ERR_NOMEM;
 
     /* Pairs: the candidates that are local minima, found by looking their neighbours
      * up among the candidates (sorted, so the pairs come out sorted too). */
-    hk_Status st = hk_hc_sort(c, c->candidates, c->candidate_count, err);
+    hk_Status st = hk_hc_sort(c, &c->candidates, &c->candidate_cap, c->candidate_count, err);
     if (st != HK_OK) return st;
     if (c->p.along) {
         /* Per segment a of strand i and strand j, the closest of its candidates (the
