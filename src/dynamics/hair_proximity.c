@@ -147,12 +147,6 @@ int hk_hc_append_pairs(hk_HcPair **array, int *count, int *cap, const hk_HcPair 
     return 1;
 }
 
-int hk_hc_push_pair(hk_HcPair **array, int *count, int *cap, const hk_HcPair *p, hk_Error *err)
-{
-    if (*count >= *cap) return hk_hc_append_pairs(array, count, cap, p, 1, err);
-    (*array)[(*count)++] = *p;
-    return 1;
-}
 
 static int grow_ints(int **array, int *cap, int need, hk_Error *err)
 {
@@ -165,8 +159,9 @@ static int grow_ints(int **array, int *cap, int need, hk_Error *err)
     return 1;
 }
 
-hk_Status hk_hc_sort(hk_HairContacts *c, hk_HcPair *pairs, int n, hk_Error *err)
+hk_Status hk_hc_sort(hk_HairContacts *c, hk_HcPair **sorted, int *cap, int n, hk_Error *err)
 {
+    const hk_HcPair *pairs = *sorted;
     /* Global index of the segment (i, a): offsets of the strands' segments. */
     const int g = c->strand_count;
     long total = 0;
@@ -203,7 +198,11 @@ hk_Status hk_hc_sort(hk_HairContacts *c, hk_HcPair *pairs, int n, hk_Error *err)
             tmp[y + 1] = key;
         }
     }
-    if (n > 0) memcpy(pairs, tmp, (size_t)n * sizeof *pairs);
+    /* The buffers trade places instead of a copy back (13.9 million instructions of
+     * memcpy in 8 frames of examples/guides200 shaking). */
+    c->pairs_tmp = *sorted, *sorted = tmp;
+    const int tmp_cap = c->pairs_tmp_cap;
+    c->pairs_tmp_cap = *cap, *cap = tmp_cap;
     return HK_OK;
 }
 
@@ -216,7 +215,7 @@ void hk_hc_run(const hk_HairContacts *c, int i, int a, int *begin, int *end)
 
 hk_Status hk_hc_sort_unique(hk_HairContacts *c, hk_Error *err)
 {
-    hk_Status st = hk_hc_sort(c, c->pairs, c->pair_count, err);
+    hk_Status st = hk_hc_sort(c, &c->pairs, &c->pair_cap, c->pair_count, err);
     if (st != HK_OK) return st;
     int out = 0;
     for (int k = 0; k < c->pair_count; k++) {
