@@ -145,6 +145,9 @@ struct hk_ContactSolve {
     hk_ContactSplit split;   /* scratch of the split */
     int old_count;
     int opened;              /* hk_contact_solve_open sized the strands' arrays for the next solve */
+    int laid_out;            /* hk_contact_solve_layout dealt the next solve's points */
+    int prepared;            /* hk_contact_solve_prepare set the next solve's pairs */
+    char *pointed;           /* per strand: its points' Jacobians are set (predict_points) */
     hk_StrandDynamics **dyn; /* the strands of the solve under way */
     double mu, viscous;      /* its friction coefficient and viscous friction (times the step) */
 };
@@ -167,7 +170,9 @@ hk_Status hk_contact_solve_create(int strand_count, hk_ContactSolve **out, hk_Er
     cs->movable = hk_calloc_array((size_t)strand_count, sizeof(int), err);
     cs->reversed = hk_calloc_array((size_t)strand_count, sizeof(int), err);
     cs->ul_start = hk_calloc_array((size_t)strand_count + 1, sizeof(size_t), err);
-    if (!cs->slot_start || !cs->dim_start || !cs->jac_start || !cs->movable || !cs->reversed || !cs->ul_start) {
+    cs->pointed = hk_calloc_array((size_t)strand_count, sizeof(char), err);
+    if (!cs->slot_start || !cs->dim_start || !cs->jac_start || !cs->movable || !cs->reversed || !cs->ul_start ||
+        !cs->pointed) {
         hk_contact_solve_destroy(cs);
         return HK_ERR_NOMEM;
     }
@@ -184,6 +189,7 @@ void hk_contact_solve_destroy(hk_ContactSolve *cs)
     hk_free(cs->movable);
     hk_free(cs->reversed);
     hk_free(cs->ul_start);
+    hk_free(cs->pointed);
     Buffer *all[] = {
         &cs->slots,   &cs->at,    &cs->vfree,    &cs->vel,   &cs->forces, &cs->jac,           &cs->yt,
         &cs->support, &cs->ul,    &cs->answered, &cs->dv,    &cs->screws, &cs->pairs,         &cs->old_pairs,
@@ -193,9 +199,10 @@ void hk_contact_solve_destroy(hk_ContactSolve *cs)
     hk_free(cs);
 }
 
-/* Sizes the arrays and deals the pairs' points to the strands, each strand's sorted by
- * s (the order its Jacobians are walked in and its forces listed in). The strands'
- * own arrays are sized (hk_contact_solve_open). */
+/* Sizes the arrays and deals the pairs' points to the strands, each strand's nearly
+ * sorted by s (sort_points finishes, strand by strand). The strands' own arrays are
+ * sized (hk_contact_solve_open). One thread: it runs beside the strands' steps
+ * without the contacts (hair_sim.c), which touch none of its arrays. */
 static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Error *err)
 {
     const int g = cs->strand_count, n = c->pair_count;
@@ -238,7 +245,6 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Error 
     }
     for (long x = 0; x < segments; x++) place[x + 1] += place[x];
     Slot *slot = cs->slots.items;
-    PairState *pairs = cs->pairs.items;
     for (int k = 0; k < n; k++) {
         const hk_HcPair *hp = &c->pairs[k];
         const int at[2] = {offset[hp->i] + hp->a, offset[hp->j] + hp->b};
@@ -248,18 +254,24 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Error 
             sl->index = 2 * k + side;
         }
     }
-/* Each strand's points alone: a pair's slot[0] and slot[1] are set by the loops of
- * its two strands. */
-#pragma omp parallel for schedule(dynamic, 8) num_threads(hk_hc_threads(c))
-    for (int s = 0; s < g; s++) {
-        const int begin = cs->slot_start[s], count = cs->slot_start[s + 1] - begin;
-        hk_hc_sort_keys(slot + begin, count);
-        for (int x = begin; x < begin + count; x++) {
-            pairs[slot[x].index / 2].slot[slot[x].index % 2] = x;
-            ((double *)cs->at.items)[x] = slot[x].at;
-        }
-    }
+    memset(cs->pointed, 0, (size_t)g);
     return HK_OK;
+}
+
+/* Strand s's points sorted by s (the order its Jacobians are walked in and its forces
+ * listed in), each pair told where its point on s went: the strand's share of the
+ * layout, done with its Jacobians (predict_points) by whichever thread takes the
+ * strand. A pair's slot[0] and slot[1] are set by its two strands. */
+static void sort_points(hk_ContactSolve *cs, int s)
+{
+    Slot *slot = cs->slots.items;
+    PairState *pairs = cs->pairs.items;
+    const int begin = cs->slot_start[s], count = cs->slot_start[s + 1] - begin;
+    hk_hc_sort_keys(slot + begin, count);
+    for (int x = begin; x < begin + count; x++) {
+        pairs[slot[x].index / 2].slot[slot[x].index % 2] = x;
+        ((double *)cs->at.items)[x] = slot[x].at;
+    }
 }
 
 /* Unit vectors t1, t2 completing n = basis[0] to a right-handed orthonormal basis,
@@ -310,6 +322,9 @@ static void predict_free(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const
  * that may push (answer_points, answer_lazily). */
 static void predict_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const hk_RigidState *head_end)
 {
+    if (cs->pointed[s]) return;
+    cs->pointed[s] = 1;
+    sort_points(cs, s);
     const int begin = cs->slot_start[s], count = cs->slot_start[s + 1] - begin;
     if (count == 0) return;
     const size_t dim = dim_of(cs, s);
@@ -826,7 +841,8 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
     const hk_HairContactDef *p = &c->p;
     const hk_Vec3 *vel = cs->vel.items;
     char *answered = cs->answered.items;
-#pragma omp parallel num_threads(hk_hc_threads(c))
+    /* To be called by every thread of a team (or by one thread alone): the pairs are
+     * shared among them. */
     {
         int o = 0, next = -1; /* this thread's place among the old pairs, for pair next */
 #pragma omp for schedule(static)
@@ -861,6 +877,8 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
             if (may_push(ps)) answered[ps->slot[0]] = answered[ps->slot[1]] = WANTED;
         }
     }
+#pragma omp single nowait
+    cs->prepared = 1; /* read after the team's end */
 }
 
 /* Relative velocity in the basis at the step's end of pair ps with the impulses so far. */
@@ -1093,42 +1111,84 @@ void hk_contact_solve_predict(hk_ContactSolve *cs, hk_StrandDynamics *d, int str
     if (cs->opened && strand >= 0 && strand < cs->strand_count) predict_free(cs, d, strand, head_end, dt);
 }
 
+/* Nothing of a solve under way is kept: no strand to commit, the next solve starts
+ * afresh. */
+static void drop_solve(hk_ContactSolve *cs)
+{
+    cs->opened = cs->laid_out = cs->prepared = 0;
+    memset(cs->movable, 0, (size_t)cs->strand_count * sizeof(int));
+}
+
+/* HK_OK when a solve of strand_count strands over dt with these contacts can be made,
+ * else the error (and the solve under way dropped). */
+static hk_Status check_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts, int strand_count, double dt,
+                             hk_Error *err)
+{
+    const int bad_count = strand_count != cs->strand_count || contacts->strand_count != strand_count;
+    if (!bad_count && dt > 0.0 && isfinite(dt)) return HK_OK;
+    drop_solve(cs);
+    if (bad_count)
+        return hk_error_set(err, HK_ERR_INVALID, "contact solve: %d strands, expected %d", strand_count,
+                            cs->strand_count);
+    return hk_error_set(err, HK_ERR_INVALID, "contact solve: step %g s", dt);
+}
+
+hk_Status hk_contact_solve_layout(hk_ContactSolve *cs, const hk_HairContacts *contacts, hk_StrandDynamics **dyn,
+                                  int strand_count, double dt, hk_Error *err)
+{
+    hk_Status st = check_solve(cs, contacts, strand_count, dt, err);
+    if (st == HK_OK && !cs->opened) st = hk_error_set(err, HK_ERR_INVALID, "contact solve: laid out before opened");
+    if (st == HK_OK) st = layout(cs, contacts, err);
+    if (st != HK_OK) {
+        memset(cs->slot_start, 0, (size_t)(cs->strand_count + 1) * sizeof(int));
+        drop_solve(cs);
+        cs->old_count = 0;
+        return st;
+    }
+    cs->dyn = dyn;
+    cs->mu = contacts->p.friction_coefficient, cs->viscous = dt * contacts->p.friction;
+    cs->laid_out = 1;
+    cs->prepared = 0;
+    return HK_OK;
+}
+
+void hk_contact_solve_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int strand, const hk_RigidState *head_end)
+{
+    if (strand >= 0 && strand < cs->strand_count) predict_points(cs, d, strand, head_end);
+}
+
+void hk_contact_solve_prepare(hk_ContactSolve *cs, const hk_HairContacts *contacts, double dt)
+{
+    prepare_pairs(cs, contacts, dt);
+}
+
 hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts, hk_StrandDynamics **dyn,
                            int strand_count, const hk_RigidState *head_end, double dt, hk_ContactSolveStats *stats,
                            hk_Error *err)
 {
     hk_ContactSolveStats local = {0, 0, 0, 0.0};
-    const int bad_count = strand_count != cs->strand_count || contacts->strand_count != strand_count;
-    if (bad_count || !(dt > 0.0) || !isfinite(dt)) {
-        cs->opened = 0;
-        memset(cs->movable, 0, (size_t)cs->strand_count * sizeof(int)); /* nothing to commit */
-        if (bad_count)
-            return hk_error_set(err, HK_ERR_INVALID, "contact solve: %d strands, expected %d", strand_count,
-                                cs->strand_count);
-        return hk_error_set(err, HK_ERR_INVALID, "contact solve: step %g s", dt);
-    }
+    hk_Status st = check_solve(cs, contacts, strand_count, dt, err);
+    if (st != HK_OK) return st;
     const int threads = hk_hc_threads(contacts);
-    hk_Status st = HK_OK;
-    if (!cs->opened) {
+    /* What the caller has not staged before (hk_contact_solve_open to _prepare): */
+    if (!cs->laid_out && !cs->opened) {
         st = hk_contact_solve_open(cs, dyn, strand_count, err);
         if (st != HK_OK) return st;
 #pragma omp parallel for schedule(dynamic, 2) num_threads(threads)
         for (int s = 0; s < strand_count; s++) predict_free(cs, dyn[s], s, head_end, dt);
     }
-    cs->opened = 0;
-    st = layout(cs, contacts, err);
-    if (st != HK_OK) {
-        memset(cs->slot_start, 0, (size_t)(strand_count + 1) * sizeof(int));
-        memset(cs->movable, 0, (size_t)strand_count * sizeof(int));
-        cs->old_count = 0;
-        return st;
+    if (!cs->laid_out) st = hk_contact_solve_layout(cs, contacts, dyn, strand_count, dt, err);
+    if (st != HK_OK) return st;
+    if (!cs->prepared) {
+#pragma omp parallel num_threads(threads)
+        {
+#pragma omp for schedule(dynamic, 2)
+            for (int s = 0; s < strand_count; s++) predict_points(cs, dyn[s], s, head_end);
+            prepare_pairs(cs, contacts, dt);
+        }
     }
-    cs->dyn = dyn;
-    const double mu = contacts->p.friction_coefficient, viscous = dt * contacts->p.friction;
-    cs->mu = mu, cs->viscous = viscous;
-#pragma omp parallel for schedule(dynamic, 2) num_threads(threads)
-    for (int s = 0; s < strand_count; s++) predict_points(cs, dyn[s], s, head_end);
-    prepare_pairs(cs, contacts, dt);
+    cs->opened = cs->laid_out = cs->prepared = 0;
+    const double mu = cs->mu;
     PairState *pairs = cs->pairs.items;
     const int n = contacts->pair_count;
     SweepGroup group[HK_SPLIT_GROUPS];

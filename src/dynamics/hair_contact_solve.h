@@ -58,6 +58,21 @@ hk_Status hk_contact_solve_open(hk_ContactSolve *cs, hk_StrandDynamics **dyn, in
 void hk_contact_solve_predict(hk_ContactSolve *cs, hk_StrandDynamics *d, int strand, const hk_RigidState *head_end,
                               double dt);
 
+/* The solve's work before the sweeps, staged by the caller in its own parallel region
+ * (hair_sim.c: one region a step for the pairs, the strands' steps and this, instead
+ * of four). Once the pairs are found (hk_hair_contacts_update) and the solve opened:
+ * hk_contact_solve_layout deals the pairs' points to the strands (one thread; the
+ * strands' predictions may go on beside it); then hk_contact_solve_points once per
+ * strand, on any thread, after the strand's hk_contact_solve_predict (a second call
+ * does nothing); then, when every strand's points are done, hk_contact_solve_prepare
+ * by every thread of a team (or one thread alone). The hk_contact_solve that follows
+ * (same contacts, dyn, head_end and dt) does whatever of this was not done, with the
+ * same bits either way. A failed layout drops the solve under way. */
+hk_Status hk_contact_solve_layout(hk_ContactSolve *cs, const hk_HairContacts *contacts, hk_StrandDynamics **dyn,
+                                  int strand_count, double dt, hk_Error *err);
+void hk_contact_solve_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int strand, const hk_RigidState *head_end);
+void hk_contact_solve_prepare(hk_ContactSolve *cs, const hk_HairContacts *contacts, double dt);
+
 /* The result as point forces on strand `strand`, sorted by s (impulse / dt; no
  * linearisation), until the next solve. */
 const hk_PointForce *hk_contact_solve_forces(const hk_ContactSolve *cs, int strand, int *count);

@@ -3,6 +3,7 @@
  * regrown from the guides per frame. */
 #include <math.h>
 #include <omp.h>
+#include <stdatomic.h>
 #include <string.h>
 
 #include "core/core_internal.h"
@@ -470,6 +471,60 @@ hk_Status hk_hair_sim_settle_until_still(hk_HairSim *sim, const hk_RigidState *h
     return st;
 }
 
+/* Guide i's contact samples (positions and velocities) with the head in pose head. */
+static void sample_guide(hk_HairSim *sim, int i, const hk_RigidState *head)
+{
+    const size_t o = (size_t)i * (size_t)sim->sample_count;
+    hk_strand_dynamics_points(sim->dyn[i], head, sim->sample_s, sim->sample_count, sim->sample_pos + o,
+                              sim->sample_vel + o);
+}
+
+/* The pairs found by one thread while the others (and then it) find every guide's step
+ * without the contacts, which needs the guide alone: the contacts' update gained 1.48
+ * times on two threads, the guides' steps 1.92; one after the other they took 11.2 ms
+ * a frame on two threads (examples/guides200 shaking, N = 10, omp_get_wtime), side by
+ * side 8.7-9.5 ms (with the cheaper broad phase that came after). The pairs are the
+ * same whatever the threads. The thread of the pairs then deals their points to the
+ * guides (the solve's layout), and the guides stepped after that get their points'
+ * Jacobians at once, their state still in the cache; the rest, and the pairs' laws,
+ * follow in the same parallel region (hk_contact_solve_layout to _prepare). */
+static hk_Status overlapped_step(hk_HairSim *sim, const hk_RigidState *head_end, double dt, int threads, hk_Error *err)
+{
+    hk_ContactSolve *cs = sim->contact_solve;
+    hk_Status update_st = HK_OK, layout_st = HK_OK;
+    hk_Error update_err;
+    const int contact_threads = hk_hc_threads(sim->contacts);
+    atomic_int laid_out;
+    atomic_init(&laid_out, 0);
+#pragma omp parallel num_threads(threads)
+    {
+#pragma omp single nowait
+        {
+            hk_hc_set_threads(sim->contacts, 1);
+            update_st = hk_hair_contacts_update(sim->contacts, sim->samples, sim->guide_count, &update_err);
+            hk_hc_set_threads(sim->contacts, contact_threads);
+            if (update_st == HK_OK)
+                layout_st = hk_contact_solve_layout(cs, sim->contacts, sim->dyn, sim->guide_count, dt, &update_err);
+            atomic_store_explicit(&laid_out, update_st == HK_OK && layout_st == HK_OK, memory_order_release);
+        }
+#pragma omp for schedule(dynamic, 2)
+        for (int i = 0; i < sim->guide_count; i++) {
+            hk_contact_solve_predict(cs, sim->dyn[i], i, head_end, dt);
+            if (atomic_load_explicit(&laid_out, memory_order_acquire))
+                hk_contact_solve_points(cs, sim->dyn[i], i, head_end);
+        }
+        /* (the for's barrier: the layout is over, and laid_out the same for all) */
+        if (atomic_load_explicit(&laid_out, memory_order_relaxed)) {
+#pragma omp for schedule(dynamic, 8)
+            for (int i = 0; i < sim->guide_count; i++) hk_contact_solve_points(cs, sim->dyn[i], i, head_end);
+            hk_contact_solve_prepare(cs, sim->contacts, dt);
+        }
+    }
+    const hk_Status st = update_st != HK_OK ? update_st : layout_st;
+    if (st != HK_OK && err) *err = update_err;
+    return st;
+}
+
 static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, double t, double dt,
                          hk_HairSimStats *stats, hk_Error *err)
 {
@@ -497,42 +552,12 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
     if (head_fn) head_fn(user, t + dt, &head_end);
     if (sim->contacts) {
 #pragma omp parallel for schedule(static) num_threads(threads)
-        for (int i = 0; i < sim->guide_count; i++) {
-            const size_t o = (size_t)i * (size_t)sim->sample_count;
-            hk_strand_dynamics_points(sim->dyn[i], &head, sim->sample_s, sim->sample_count, sim->sample_pos + o,
-                                      sim->sample_vel + o);
-        }
+        for (int i = 0; i < sim->guide_count; i++) sample_guide(sim, i, &head);
         hk_hc_set_geometry_only(sim->contacts, coupled); /* the solve takes no penalty forces */
         for (int i = 0; i < sim->guide_count; i++) predicted -= hk_strand_dynamics_stats(sim->dyn[i]).iterations;
         if (coupled && threads > 1) {
-            /* The pairs by one thread while the others (and then it) find every guide's
-             * step without the contacts, which needs the guide alone: the contacts'
-             * update gained 1.48 times on two threads, the guides' steps 1.92; one after
-             * the other they took 11.2 ms a frame on two threads (examples/guides200
-             * shaking, N = 10, omp_get_wtime), side by side 8.7-9.5 ms (with the cheaper
-             * broad phase that came after). The pairs are the same whatever the threads. */
             st = hk_contact_solve_open(sim->contact_solve, sim->dyn, sim->guide_count, err);
-            hk_Status update_st = HK_OK;
-            hk_Error update_err;
-            const int contact_threads = hk_hc_threads(sim->contacts);
-            if (st == HK_OK) {
-#pragma omp parallel num_threads(threads)
-                {
-#pragma omp single nowait
-                    {
-                        hk_hc_set_threads(sim->contacts, 1);
-                        update_st = hk_hair_contacts_update(sim->contacts, sim->samples, sim->guide_count, &update_err);
-                        hk_hc_set_threads(sim->contacts, contact_threads);
-                    }
-#pragma omp for schedule(dynamic, 2)
-                    for (int i = 0; i < sim->guide_count; i++)
-                        hk_contact_solve_predict(sim->contact_solve, sim->dyn[i], i, &head_end, dt);
-                }
-                if (update_st != HK_OK) {
-                    st = update_st;
-                    if (err) *err = update_err;
-                }
-            }
+            if (st == HK_OK) st = overlapped_step(sim, &head_end, dt, threads, err);
         } else {
             st = hk_hair_contacts_update(sim->contacts, sim->samples, sim->guide_count, err);
         }
