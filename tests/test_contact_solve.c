@@ -5,7 +5,8 @@
  *    own linearly implicit step with the solved impulses as point forces
  *    (hk_strand_dynamics_advance), which evaluates everything afresh;
  *  - the solve's work staged by the caller (hk_contact_solve_open to _prepare, as
- *    hair_sim.c does beside the contacts' update) gives the bits of the solve alone;
+ *    hair_sim.c does beside the contacts' update, and _sweep then _finish) gives the
+ *    bits of the solve alone;
  *  - the point Jacobians agree with finite differences of the points' positions;
  *  - the forces are equal and opposite, and the friction stays in Coulomb's cone. */
 #include "hk_test.h"
@@ -68,7 +69,8 @@ static void world_free(World *w)
     hk_contact_solve_destroy(w->solve);
 }
 
-static void world_solve(World *w, double h, hk_ContactSolveStats *stats)
+/* The pairs of the strands' state now. */
+static void world_pairs(World *w)
 {
     hk_Error err;
     hk_StrandSamples ss[STRANDS];
@@ -77,6 +79,12 @@ static void world_solve(World *w, double h, hk_ContactSolveStats *stats)
         ss[i] = (hk_StrandSamples){SAMPLES, w->s, w->pos[i], w->vel[i]};
     }
     assert_int_equal(hk_hair_contacts_update(w->contacts, ss, STRANDS, &err), HK_OK);
+}
+
+static void world_solve(World *w, double h, hk_ContactSolveStats *stats)
+{
+    hk_Error err;
+    world_pairs(w);
     const hk_RigidState still = hk_rigid_identity();
     assert_int_equal(hk_contact_solve(w->solve, w->contacts, w->d, STRANDS, &still, h, stats, &err), HK_OK);
 }
@@ -84,17 +92,12 @@ static void world_solve(World *w, double h, hk_ContactSolveStats *stats)
 /* world_solve with the solve's work staged as hair_sim.c does: two threads, one
  * laying out the points while the other predicts the strands, each strand's points
  * after its prediction once the layout is known, the rest and the pairs' laws in the
- * same region. When `late` is set, strand 1's points and the laws are left to the
- * solve. */
+ * same region; after the sweeps the solve finished by a team of two. When `late` is
+ * set, strand 1's points and the laws are left to the solve. */
 static void world_solve_staged(World *w, double h, int late, hk_ContactSolveStats *stats)
 {
     hk_Error err;
-    hk_StrandSamples ss[STRANDS];
-    for (int i = 0; i < STRANDS; i++) {
-        hk_strand_dynamics_points(w->d[i], NULL, w->s, SAMPLES, w->pos[i], w->vel[i]);
-        ss[i] = (hk_StrandSamples){SAMPLES, w->s, w->pos[i], w->vel[i]};
-    }
-    assert_int_equal(hk_hair_contacts_update(w->contacts, ss, STRANDS, &err), HK_OK);
+    world_pairs(w);
     const hk_RigidState still = hk_rigid_identity();
     assert_int_equal(hk_contact_solve_open(w->solve, w->d, STRANDS, &err), HK_OK);
     atomic_int laid_out;
@@ -119,7 +122,9 @@ static void world_solve_staged(World *w, double h, int late, hk_ContactSolveStat
         }
     }
     assert_int_equal(layout_st, HK_OK);
-    assert_int_equal(hk_contact_solve(w->solve, w->contacts, w->d, STRANDS, &still, h, stats, &err), HK_OK);
+    assert_int_equal(hk_contact_solve_sweep(w->solve, w->contacts, w->d, STRANDS, &still, h, stats, &err), HK_OK);
+#pragma omp parallel num_threads(2)
+    hk_contact_solve_finish(w->solve);
 }
 
 static hk_HairContactDef params(void)
@@ -129,13 +134,19 @@ static hk_HairContactDef params(void)
     return cp;
 }
 
+/* Two worlds alike, each with the contacts of params(). */
+static void twin_worlds(World *a, World *b)
+{
+    const hk_HairContactDef cp = params();
+    world_make(a, &cp);
+    world_make(b, &cp);
+}
+
 static void test_commit_matches_the_step_with_forces(void **state)
 {
     (void)state;
-    const hk_HairContactDef cp = params();
     World a, b;
-    world_make(&a, &cp);
-    world_make(&b, &cp);
+    twin_worlds(&a, &b);
     const double h = 1.0 / 30.0;
     int pushing = 0;
     hk_Error err;
@@ -177,10 +188,8 @@ static void test_commit_matches_the_step_with_forces(void **state)
 static void test_staged_solve_gives_the_same_bits(void **state)
 {
     (void)state;
-    const hk_HairContactDef cp = params();
     World a, b;
-    world_make(&a, &cp);
-    world_make(&b, &cp);
+    twin_worlds(&a, &b);
     const double h = 1.0 / 30.0;
     const hk_RigidState still = hk_rigid_identity();
     int pushing = 0;

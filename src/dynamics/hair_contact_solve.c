@@ -144,6 +144,10 @@ struct hk_ContactSolve {
     Buffer segment_place;    /* int per strand and per segment + 1: dealing the points (layout) */
     hk_ContactSplit split;   /* scratch of the split */
     int old_count;
+    int solved_count;        /* the pairs of the last solve swept (hk_contact_solve_sweep) */
+    int last_count;          /* ... once finished, their impulses in world space (warm start of
+                                the next layout); -1: no solve to keep */
+    double dt;               /* the step of the solve under way */
     int opened;              /* hk_contact_solve_open sized the strands' arrays for the next solve */
     int laid_out;            /* hk_contact_solve_layout dealt the next solve's points */
     int prepared;            /* hk_contact_solve_prepare set the next solve's pairs */
@@ -171,6 +175,7 @@ hk_Status hk_contact_solve_create(int strand_count, hk_ContactSolve **out, hk_Er
     cs->reversed = hk_calloc_array((size_t)strand_count, sizeof(int), err);
     cs->ul_start = hk_calloc_array((size_t)strand_count + 1, sizeof(size_t), err);
     cs->pointed = hk_calloc_array((size_t)strand_count, sizeof(char), err);
+    cs->last_count = -1;
     if (!cs->slot_start || !cs->dim_start || !cs->jac_start || !cs->movable || !cs->reversed || !cs->ul_start ||
         !cs->pointed) {
         hk_contact_solve_destroy(cs);
@@ -206,6 +211,14 @@ void hk_contact_solve_destroy(hk_ContactSolve *cs)
 static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Error *err)
 {
     const int g = cs->strand_count, n = c->pair_count;
+    /* The last solve's pairs, finished, become the old ones of the warm start. */
+    if (cs->last_count >= 0) {
+        Buffer swap = cs->old_pairs;
+        cs->old_pairs = cs->pairs;
+        cs->pairs = swap;
+        cs->old_count = cs->last_count;
+        cs->last_count = -1;
+    }
     memset(cs->slot_start, 0, (size_t)(g + 1) * sizeof(int));
     for (int k = 0; k < n; k++) {
         cs->slot_start[c->pairs[k].i + 1]++;
@@ -1162,9 +1175,9 @@ void hk_contact_solve_prepare(hk_ContactSolve *cs, const hk_HairContacts *contac
     prepare_pairs(cs, contacts, dt);
 }
 
-hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts, hk_StrandDynamics **dyn,
-                           int strand_count, const hk_RigidState *head_end, double dt, hk_ContactSolveStats *stats,
-                           hk_Error *err)
+hk_Status hk_contact_solve_sweep(hk_ContactSolve *cs, const hk_HairContacts *contacts, hk_StrandDynamics **dyn,
+                                 int strand_count, const hk_RigidState *head_end, double dt,
+                                 hk_ContactSolveStats *stats, hk_Error *err)
 {
     hk_ContactSolveStats local = {0, 0, 0, 0.0};
     hk_Status st = check_solve(cs, contacts, strand_count, dt, err);
@@ -1188,7 +1201,7 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
         }
     }
     cs->opened = cs->laid_out = cs->prepared = 0;
-    const double mu = cs->mu;
+
     PairState *pairs = cs->pairs.items;
     const int n = contacts->pair_count;
     SweepGroup group[HK_SPLIT_GROUPS];
@@ -1227,13 +1240,25 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
     for (int x = 0; x < HK_SPLIT_GROUPS; x += 2)
         side_by_side |= threads > 1 && bounds[x + 1] > bounds[x] && bounds[x + 2] > bounds[x + 1];
     run_sweeps(cs, order, group, side_by_side, &local);
+    cs->solved_count = n;
+    cs->dt = dt;
+    if (stats) *stats = local;
+    return HK_OK;
+}
+
+void hk_contact_solve_finish(hk_ContactSolve *cs)
+{
+    const int strand_count = cs->strand_count, n = cs->solved_count;
+    const double mu = cs->mu, dt = cs->dt;
+    PairState *pairs = cs->pairs.items;
+    hk_Vec3 *delta = cs->delta.items;
     /* The bound of the last sweep's Tresca problems lags the normal impulses by a
      * sweep: what exceeds Coulomb's cone is taken back (and from dv, which the commit
      * uses). */
     hk_PointForce *forces = cs->forces.items;
     const Slot *slot = cs->slots.items;
     const int slots = cs->slot_start[strand_count];
-#pragma omp parallel num_threads(threads)
+    /* To be called by every thread of a team (or by one thread alone). */
     {
 #pragma omp for schedule(static)
         for (int k = 0; k < n; k++) {
@@ -1273,15 +1298,22 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
             forces[x].force = hk_v3_scale(from_basis(ps->basis, ps->lambda), sign / dt);
             forces[x].stiffness = forces[x].damping = hk_m3_zero();
         }
-#pragma omp for schedule(static)
+#pragma omp for schedule(static) nowait
         for (int k = 0; k < n; k++) pairs[k].lambda = from_basis(pairs[k].basis, pairs[k].lambda);
     }
-    /* Kept for the warm start of the next step. */
-    Buffer swap = cs->old_pairs;
-    cs->old_pairs = cs->pairs;
-    cs->pairs = swap;
-    cs->old_count = n;
-    if (stats) *stats = local;
+    /* Kept for the warm start of the next step (read after the team's end). */
+#pragma omp single nowait
+    cs->last_count = n;
+}
+
+hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts, hk_StrandDynamics **dyn,
+                           int strand_count, const hk_RigidState *head_end, double dt, hk_ContactSolveStats *stats,
+                           hk_Error *err)
+{
+    const hk_Status st = hk_contact_solve_sweep(cs, contacts, dyn, strand_count, head_end, dt, stats, err);
+    if (st != HK_OK) return st;
+#pragma omp parallel num_threads(hk_hc_threads(contacts))
+    hk_contact_solve_finish(cs);
     return HK_OK;
 }
 

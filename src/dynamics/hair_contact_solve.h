@@ -48,6 +48,17 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
                            int strand_count, const hk_RigidState *head_end, double dt, hk_ContactSolveStats *stats,
                            hk_Error *err);
 
+/* hk_contact_solve in two: the impulses (hk_contact_solve_sweep), then what the
+ * strands take from them (hk_contact_solve_finish: the impulses brought into Coulomb's
+ * cone, the strands' velocity changes, the forces), called by every thread of a team
+ * (or one thread alone) before any hk_contact_solve_forces or _commit: hair_sim.c
+ * finishes in the region of its commits. The next solve starts warm from the last
+ * one finished. */
+hk_Status hk_contact_solve_sweep(hk_ContactSolve *cs, const hk_HairContacts *contacts, hk_StrandDynamics **dyn,
+                                 int strand_count, const hk_RigidState *head_end, double dt,
+                                 hk_ContactSolveStats *stats, hk_Error *err);
+void hk_contact_solve_finish(hk_ContactSolve *cs);
+
 /* A strand's step without the contacts needs the strand alone, not the pairs: the
  * simulation finds it for every strand while one thread finds the pairs (the contacts'
  * update gained 1.48 times on two threads, the strands' steps 1.92).

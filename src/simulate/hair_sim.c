@@ -471,6 +471,53 @@ hk_Status hk_hair_sim_settle_until_still(hk_HairSim *sim, const hk_RigidState *h
     return st;
 }
 
+/* What a guide's step took: its substeps, 1 when it had to be recovered, the
+ * evaluations. */
+typedef struct GuideStep {
+    int taken, recovered;
+    long iterations;
+} GuideStep;
+
+/* Guide i's step from t to t + dt: the contacts' solve's (coupled) when it can take it,
+ * else its own with the contacts' forces; an error goes to first. */
+static GuideStep step_guide(hk_HairSim *sim, int i, hk_HeadStateFn head_fn, void *user, double t, double dt,
+                            int coupled, const hk_RigidState *head_end, hk_FirstError *first)
+{
+    GuideStep out = {0, 0, 0};
+    int count = 0;
+    hk_Error e;
+    hk_PointForce buffer[64], *own = NULL;
+    const hk_PointForce *forces = NULL;
+    if (sim->contacts && coupled)
+        forces = hk_contact_solve_forces(sim->contact_solve, i, &count);
+    else if (sim->contacts)
+        forces = penalty_forces(sim->contacts, i, buffer, 64, &own, &count);
+    const long before = hk_strand_dynamics_stats(sim->dyn[i]).iterations;
+    hk_Status gst = HK_OK;
+    if (count > 0 && !forces)
+        gst = hk_error_set(&e, HK_ERR_NOMEM, "out of memory for %d contact forces", count);
+    else if (sim->contacts && coupled && hk_contact_solve_commit(sim->contact_solve, sim->dyn[i], i, head_end, dt))
+        out.taken = 1; /* the solve's step, as advance would have taken it */
+    else
+        gst = hk_strand_dynamics_advance(sim->dyn[i], head_fn, user, t, dt, forces, count, &out.taken, &e);
+    if (gst == HK_ERR_NUMERIC) {
+        /* One guide that cannot be advanced, even split down to dt / 2^max_depth,
+         * must not stop the head: it is left where it was at t, at rest
+         * relative to the head, then advanced once more (counted in
+         * stats->recovered; the next frames go on from there). */
+        memset(hk_strand_dynamics_velocity(sim->dyn[i]), 0, sizeof(double) * 3 * (size_t)sim->strand[i]->n);
+        out.recovered = 1;
+        int again = 0;
+        gst = hk_strand_dynamics_advance(sim->dyn[i], head_fn, user, t, dt, forces, count, &again, &e);
+        if (gst == HK_ERR_NUMERIC) gst = HK_OK; /* held at rest relative to the head */
+        out.taken += again;
+    }
+    out.iterations = hk_strand_dynamics_stats(sim->dyn[i]).iterations - before;
+    if (gst != HK_OK) hk_first_error_record(first, i, &e);
+    hk_free(own);
+    return out;
+}
+
 /* Guide i's contact samples (positions and velocities) with the head in pose head. */
 static void sample_guide(hk_HairSim *sim, int i, const hk_RigidState *head)
 {
@@ -548,6 +595,7 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
     const int coupled = sim->options.dynamics.integrator == HK_INTEGRATOR_LINEAR_EULER;
     hk_Status st = HK_OK;
     long predicted = 0; /* evaluations of the contacts' solve */
+    int swept = 0;      /* the solve's impulses are found, to be finished with the commits */
     hk_RigidState head_end = hk_rigid_identity();
     if (head_fn) head_fn(user, t + dt, &head_end);
     if (sim->contacts) {
@@ -565,8 +613,9 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
         if (st == HK_OK && !coupled) local.contacts = hk_hair_contacts_contact_count(sim->contacts);
         if (st == HK_OK && coupled) {
             hk_ContactSolveStats cstats;
-            st = hk_contact_solve(sim->contact_solve, sim->contacts, sim->dyn, sim->guide_count, &head_end, dt, &cstats,
-                                  err);
+            st = hk_contact_solve_sweep(sim->contact_solve, sim->contacts, sim->dyn, sim->guide_count, &head_end, dt,
+                                        &cstats, err);
+            swept = st == HK_OK;
             local.contacts = cstats.pushing;
             local.sticking = cstats.sticking;
             local.contact_sweeps = cstats.sweeps;
@@ -578,43 +627,17 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
     hk_FirstError first;
     hk_first_error_init(&first);
     if (st == HK_OK) {
-#pragma omp parallel for schedule(dynamic, 4) reduction(+ : substeps, body, recovered, iterations) num_threads(threads)
-        for (int i = 0; i < sim->guide_count; i++) {
-            int count = 0, taken = 0;
-            hk_Error e;
-            hk_PointForce buffer[64], *own = NULL;
-            const hk_PointForce *forces = NULL;
-            if (sim->contacts && coupled)
-                forces = hk_contact_solve_forces(sim->contact_solve, i, &count);
-            else if (sim->contacts)
-                forces = penalty_forces(sim->contacts, i, buffer, 64, &own, &count);
-            const long before = hk_strand_dynamics_stats(sim->dyn[i]).iterations;
-            hk_Status gst = HK_OK;
-            if (count > 0 && !forces)
-                gst = hk_error_set(&e, HK_ERR_NOMEM, "out of memory for %d contact forces", count);
-            else if (sim->contacts && coupled &&
-                     hk_contact_solve_commit(sim->contact_solve, sim->dyn[i], i, &head_end, dt))
-                taken = 1; /* the solve's step, as advance would have taken it */
-            else
-                gst = hk_strand_dynamics_advance(sim->dyn[i], head_fn, user, t, dt, forces, count, &taken, &e);
-            if (gst == HK_ERR_NUMERIC) {
-                /* One guide that cannot be advanced, even split down to dt / 2^max_depth,
-                 * must not stop the head: it is left where it was at t, at rest
-                 * relative to the head, then advanced once more (counted in
-                 * stats->recovered; the next frames go on from there). */
-                memset(hk_strand_dynamics_velocity(sim->dyn[i]), 0, sizeof(double) * 3 * (size_t)sim->strand[i]->n);
-                recovered++;
-                int again = 0;
-                gst = hk_strand_dynamics_advance(sim->dyn[i], head_fn, user, t, dt, forces, count, &again, &e);
-                if (gst == HK_ERR_NUMERIC) gst = HK_OK; /* held at rest relative to the head */
-                taken += again;
+        /* The solve finished (its forces and the guides' velocity changes) in the
+         * region of the commits: one parallel region less a step. */
+#pragma omp parallel reduction(+ : substeps, body, recovered, iterations) num_threads(threads)
+        {
+            if (swept) hk_contact_solve_finish(sim->contact_solve);
+#pragma omp for schedule(dynamic, 4)
+            for (int i = 0; i < sim->guide_count; i++) {
+                const GuideStep g = step_guide(sim, i, head_fn, user, t, dt, coupled, &head_end, &first);
+                substeps += g.taken, recovered += g.recovered, iterations += g.iterations;
+                body += hk_strand_dynamics_contact_count(sim->dyn[i]);
             }
-
-            iterations += hk_strand_dynamics_stats(sim->dyn[i]).iterations - before;
-            if (gst != HK_OK) hk_first_error_record(&first, i, &e);
-            substeps += taken;
-            body += hk_strand_dynamics_contact_count(sim->dyn[i]);
-            hk_free(own);
         }
     }
     if (st == HK_OK && first.index >= 0)
