@@ -28,6 +28,8 @@ struct hk_HairSim {
     double *sample_s;                 /* sample_count arc lengths, shared by all guides */
     hk_Vec3 *sample_pos, *sample_vel; /* guide_count x sample_count */
     hk_StrandSamples *samples;        /* guide_count views of the above */
+    int sampled;                      /* the samples are the guides' now, with the head in */
+    hk_RigidState sampled_head;       /* this pose (taken at the end of the last step) */
     hk_RigidState head;               /* the head's pose at the end of the last step: the
                                          guides are in world space, the shapes in head space */
     double longest;                   /* imported guides: the longest (m); 0: grown guides,
@@ -599,8 +601,13 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
     hk_RigidState head_end = hk_rigid_identity();
     if (head_fn) head_fn(user, t + dt, &head_end);
     if (sim->contacts) {
+        /* The samples at t: those the last step took at its end when the head is where
+         * it was then (to the bit), else taken now. */
+        if (!sim->sampled || memcmp(&head, &sim->sampled_head, sizeof head) != 0) {
 #pragma omp parallel for schedule(static) num_threads(threads)
-        for (int i = 0; i < sim->guide_count; i++) sample_guide(sim, i, &head);
+            for (int i = 0; i < sim->guide_count; i++) sample_guide(sim, i, &head);
+        }
+        sim->sampled = 0;
         hk_hc_set_geometry_only(sim->contacts, coupled); /* the solve takes no penalty forces */
         for (int i = 0; i < sim->guide_count; i++) predicted -= hk_strand_dynamics_stats(sim->dyn[i]).iterations;
         if (coupled && threads > 1) {
@@ -637,6 +644,10 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
                 const GuideStep g = step_guide(sim, i, head_fn, user, t, dt, coupled, &head_end, &first);
                 substeps += g.taken, recovered += g.recovered, iterations += g.iterations;
                 body += hk_strand_dynamics_contact_count(sim->dyn[i]);
+                /* The next step's samples of the guide, at its state and the head's pose
+                 * at t + dt (where its step placed it), while both are in the cache: the
+                 * next step takes them when its head is in that pose. */
+                if (sim->contacts) sample_guide(sim, i, &head_end);
             }
         }
     }
@@ -647,6 +658,8 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
             head_fn(user, t + dt, &sim->head);
         else
             sim->head = hk_rigid_identity();
+        sim->sampled = sim->contacts != NULL;
+        sim->sampled_head = head_end;
     }
     local.substeps = substeps;
     local.iterations = iterations + predicted;
