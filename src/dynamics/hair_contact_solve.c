@@ -1201,7 +1201,6 @@ hk_Status hk_contact_solve_sweep(hk_ContactSolve *cs, const hk_HairContacts *con
         }
     }
     cs->opened = cs->laid_out = cs->prepared = 0;
-
     PairState *pairs = cs->pairs.items;
     const int n = contacts->pair_count;
     SweepGroup group[HK_SPLIT_GROUPS];
