@@ -4,11 +4,16 @@
  *    (hk_contact_solve_commit) must give the state a second method gives: the strand's
  *    own linearly implicit step with the solved impulses as point forces
  *    (hk_strand_dynamics_advance), which evaluates everything afresh;
+ *  - the solve's work staged by the caller (hk_contact_solve_open to _prepare, as
+ *    hair_sim.c does beside the contacts' update, and _sweep then _finish) gives the
+ *    bits of the solve alone;
  *  - the point Jacobians agree with finite differences of the points' positions;
  *  - the forces are equal and opposite, and the friction stays in Coulomb's cone. */
 #include "hk_test.h"
 
 #include <math.h>
+#include <omp.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -64,7 +69,8 @@ static void world_free(World *w)
     hk_contact_solve_destroy(w->solve);
 }
 
-static void world_solve(World *w, double h, hk_ContactSolveStats *stats)
+/* The pairs of the strands' state now. */
+static void world_pairs(World *w)
 {
     hk_Error err;
     hk_StrandSamples ss[STRANDS];
@@ -73,8 +79,52 @@ static void world_solve(World *w, double h, hk_ContactSolveStats *stats)
         ss[i] = (hk_StrandSamples){SAMPLES, w->s, w->pos[i], w->vel[i]};
     }
     assert_int_equal(hk_hair_contacts_update(w->contacts, ss, STRANDS, &err), HK_OK);
+}
+
+static void world_solve(World *w, double h, hk_ContactSolveStats *stats)
+{
+    hk_Error err;
+    world_pairs(w);
     const hk_RigidState still = hk_rigid_identity();
     assert_int_equal(hk_contact_solve(w->solve, w->contacts, w->d, STRANDS, &still, h, stats, &err), HK_OK);
+}
+
+/* world_solve with the solve's work staged as hair_sim.c does: two threads, one
+ * laying out the points while the other predicts the strands, each strand's points
+ * after its prediction once the layout is known, the rest and the pairs' laws in the
+ * same region; after the sweeps the solve finished by a team of two. When `late` is
+ * set, strand 1's points and the laws are left to the solve. */
+static void world_solve_staged(World *w, double h, int late, hk_ContactSolveStats *stats)
+{
+    hk_Error err;
+    world_pairs(w);
+    const hk_RigidState still = hk_rigid_identity();
+    assert_int_equal(hk_contact_solve_open(w->solve, w->d, STRANDS, &err), HK_OK);
+    atomic_int laid_out;
+    atomic_init(&laid_out, 0);
+    hk_Status layout_st = HK_OK;
+#pragma omp parallel num_threads(2)
+    {
+#pragma omp single nowait
+        {
+            layout_st = hk_contact_solve_layout(w->solve, w->contacts, w->d, STRANDS, h, &err);
+            atomic_store(&laid_out, 1);
+        }
+#pragma omp for schedule(dynamic, 1)
+        for (int i = 0; i < STRANDS; i++) {
+            hk_contact_solve_predict(w->solve, w->d[i], i, &still, h);
+            if (atomic_load(&laid_out) && !(late && i == 1)) hk_contact_solve_points(w->solve, w->d[i], i, &still);
+        }
+        if (!late) {
+#pragma omp for schedule(dynamic, 1)
+            for (int i = 0; i < STRANDS; i++) hk_contact_solve_points(w->solve, w->d[i], i, &still);
+            hk_contact_solve_prepare(w->solve, w->contacts, h);
+        }
+    }
+    assert_int_equal(layout_st, HK_OK);
+    assert_int_equal(hk_contact_solve_sweep(w->solve, w->contacts, w->d, STRANDS, &still, h, stats, &err), HK_OK);
+#pragma omp parallel num_threads(2)
+    hk_contact_solve_finish(w->solve);
 }
 
 static hk_HairContactDef params(void)
@@ -84,13 +134,19 @@ static hk_HairContactDef params(void)
     return cp;
 }
 
+/* Two worlds alike, each with the contacts of params(). */
+static void twin_worlds(World *a, World *b)
+{
+    const hk_HairContactDef cp = params();
+    world_make(a, &cp);
+    world_make(b, &cp);
+}
+
 static void test_commit_matches_the_step_with_forces(void **state)
 {
     (void)state;
-    const hk_HairContactDef cp = params();
     World a, b;
-    world_make(&a, &cp);
-    world_make(&b, &cp);
+    twin_worlds(&a, &b);
     const double h = 1.0 / 30.0;
     int pushing = 0;
     hk_Error err;
@@ -121,6 +177,41 @@ static void test_commit_matches_the_step_with_forces(void **state)
         }
         if (worst > 1e-9 * scale + 1e-12) print_message("step %d worst %g scale %g\n", step, worst, scale);
         assert_true(worst <= 1e-9 * scale + 1e-12);
+    }
+    print_message("%d pairs pushed over 40 steps\n", pushing);
+    assert_true(pushing > 20);
+    world_free(&a);
+    world_free(&b);
+}
+
+/* The staged solve and the solve alone: the same forces, the same steps, to the bit. */
+static void test_staged_solve_gives_the_same_bits(void **state)
+{
+    (void)state;
+    World a, b;
+    twin_worlds(&a, &b);
+    const double h = 1.0 / 30.0;
+    const hk_RigidState still = hk_rigid_identity();
+    int pushing = 0;
+    for (int step = 0; step < 40; step++) {
+        hk_ContactSolveStats sa, sb;
+        world_solve(&a, h, &sa);
+        world_solve_staged(&b, h, step % 3 == 2, &sb);
+        assert_int_equal(sa.pushing, sb.pushing);
+        assert_int_equal(sa.sweeps, sb.sweeps);
+        pushing += sa.pushing;
+        for (int i = 0; i < STRANDS; i++) {
+            int na = 0, nb = 0;
+            const hk_PointForce *fa = hk_contact_solve_forces(a.solve, i, &na);
+            const hk_PointForce *fb = hk_contact_solve_forces(b.solve, i, &nb);
+            assert_int_equal(na, nb);
+            if (na > 0) assert_memory_equal(fa, fb, (size_t)na * sizeof *fa);
+            assert_int_equal(hk_contact_solve_commit(a.solve, a.d[i], i, &still, h),
+                             hk_contact_solve_commit(b.solve, b.d[i], i, &still, h));
+            assert_memory_equal(a.sh[i]->q, b.sh[i]->q, 3 * (size_t)a.sh[i]->n * sizeof(double));
+            assert_memory_equal(hk_strand_dynamics_velocity(a.d[i]), hk_strand_dynamics_velocity(b.d[i]),
+                                3 * (size_t)a.sh[i]->n * sizeof(double));
+        }
     }
     print_message("%d pairs pushed over 40 steps\n", pushing);
     assert_true(pushing > 20);
@@ -235,6 +326,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_point_jacobians_match_finite_differences),
         cmocka_unit_test(test_commit_matches_the_step_with_forces),
+        cmocka_unit_test(test_staged_solve_gives_the_same_bits),
         cmocka_unit_test(test_forces_opposite_and_in_the_cone),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -144,7 +144,14 @@ struct hk_ContactSolve {
     Buffer segment_place;    /* int per strand and per segment + 1: dealing the points (layout) */
     hk_ContactSplit split;   /* scratch of the split */
     int old_count;
+    int solved_count;        /* the pairs of the last solve swept (hk_contact_solve_sweep) */
+    int last_count;          /* ... once finished, their impulses in world space (warm start of
+                                the next layout); -1: no solve to keep */
+    double dt;               /* the step of the solve under way */
     int opened;              /* hk_contact_solve_open sized the strands' arrays for the next solve */
+    int laid_out;            /* hk_contact_solve_layout dealt the next solve's points */
+    int prepared;            /* hk_contact_solve_prepare set the next solve's pairs */
+    char *pointed;           /* per strand: its points' Jacobians are set (predict_points) */
     hk_StrandDynamics **dyn; /* the strands of the solve under way */
     double mu, viscous;      /* its friction coefficient and viscous friction (times the step) */
 };
@@ -167,7 +174,10 @@ hk_Status hk_contact_solve_create(int strand_count, hk_ContactSolve **out, hk_Er
     cs->movable = hk_calloc_array((size_t)strand_count, sizeof(int), err);
     cs->reversed = hk_calloc_array((size_t)strand_count, sizeof(int), err);
     cs->ul_start = hk_calloc_array((size_t)strand_count + 1, sizeof(size_t), err);
-    if (!cs->slot_start || !cs->dim_start || !cs->jac_start || !cs->movable || !cs->reversed || !cs->ul_start) {
+    cs->pointed = hk_calloc_array((size_t)strand_count, sizeof(char), err);
+    cs->last_count = -1;
+    if (!cs->slot_start || !cs->dim_start || !cs->jac_start || !cs->movable || !cs->reversed || !cs->ul_start ||
+        !cs->pointed) {
         hk_contact_solve_destroy(cs);
         return HK_ERR_NOMEM;
     }
@@ -184,6 +194,7 @@ void hk_contact_solve_destroy(hk_ContactSolve *cs)
     hk_free(cs->movable);
     hk_free(cs->reversed);
     hk_free(cs->ul_start);
+    hk_free(cs->pointed);
     Buffer *all[] = {
         &cs->slots,   &cs->at,    &cs->vfree,    &cs->vel,   &cs->forces, &cs->jac,           &cs->yt,
         &cs->support, &cs->ul,    &cs->answered, &cs->dv,    &cs->screws, &cs->pairs,         &cs->old_pairs,
@@ -193,12 +204,21 @@ void hk_contact_solve_destroy(hk_ContactSolve *cs)
     hk_free(cs);
 }
 
-/* Sizes the arrays and deals the pairs' points to the strands, each strand's sorted by
- * s (the order its Jacobians are walked in and its forces listed in). The strands'
- * own arrays are sized (hk_contact_solve_open). */
+/* Sizes the arrays and deals the pairs' points to the strands, each strand's nearly
+ * sorted by s (sort_points finishes, strand by strand). The strands' own arrays are
+ * sized (hk_contact_solve_open). One thread: it runs beside the strands' steps
+ * without the contacts (hair_sim.c), which touch none of its arrays. */
 static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Error *err)
 {
     const int g = cs->strand_count, n = c->pair_count;
+    /* The last solve's pairs, finished, become the old ones of the warm start. */
+    if (cs->last_count >= 0) {
+        Buffer swap = cs->old_pairs;
+        cs->old_pairs = cs->pairs;
+        cs->pairs = swap;
+        cs->old_count = cs->last_count;
+        cs->last_count = -1;
+    }
     memset(cs->slot_start, 0, (size_t)(g + 1) * sizeof(int));
     for (int k = 0; k < n; k++) {
         cs->slot_start[c->pairs[k].i + 1]++;
@@ -238,7 +258,6 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Error 
     }
     for (long x = 0; x < segments; x++) place[x + 1] += place[x];
     Slot *slot = cs->slots.items;
-    PairState *pairs = cs->pairs.items;
     for (int k = 0; k < n; k++) {
         const hk_HcPair *hp = &c->pairs[k];
         const int at[2] = {offset[hp->i] + hp->a, offset[hp->j] + hp->b};
@@ -248,18 +267,24 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Error 
             sl->index = 2 * k + side;
         }
     }
-/* Each strand's points alone: a pair's slot[0] and slot[1] are set by the loops of
- * its two strands. */
-#pragma omp parallel for schedule(dynamic, 8) num_threads(hk_hc_threads(c))
-    for (int s = 0; s < g; s++) {
-        const int begin = cs->slot_start[s], count = cs->slot_start[s + 1] - begin;
-        hk_hc_sort_keys(slot + begin, count);
-        for (int x = begin; x < begin + count; x++) {
-            pairs[slot[x].index / 2].slot[slot[x].index % 2] = x;
-            ((double *)cs->at.items)[x] = slot[x].at;
-        }
-    }
+    memset(cs->pointed, 0, (size_t)g);
     return HK_OK;
+}
+
+/* Strand s's points sorted by s (the order its Jacobians are walked in and its forces
+ * listed in), each pair told where its point on s went: the strand's share of the
+ * layout, done with its Jacobians (predict_points) by whichever thread takes the
+ * strand. A pair's slot[0] and slot[1] are set by its two strands. */
+static void sort_points(hk_ContactSolve *cs, int s)
+{
+    Slot *slot = cs->slots.items;
+    PairState *pairs = cs->pairs.items;
+    const int begin = cs->slot_start[s], count = cs->slot_start[s + 1] - begin;
+    hk_hc_sort_keys(slot + begin, count);
+    for (int x = begin; x < begin + count; x++) {
+        pairs[slot[x].index / 2].slot[slot[x].index % 2] = x;
+        ((double *)cs->at.items)[x] = slot[x].at;
+    }
 }
 
 /* Unit vectors t1, t2 completing n = basis[0] to a right-handed orthonormal basis,
@@ -310,6 +335,9 @@ static void predict_free(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const
  * that may push (answer_points, answer_lazily). */
 static void predict_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const hk_RigidState *head_end)
 {
+    if (cs->pointed[s]) return;
+    cs->pointed[s] = 1;
+    sort_points(cs, s);
     const int begin = cs->slot_start[s], count = cs->slot_start[s + 1] - begin;
     if (count == 0) return;
     const size_t dim = dim_of(cs, s);
@@ -826,7 +854,8 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
     const hk_HairContactDef *p = &c->p;
     const hk_Vec3 *vel = cs->vel.items;
     char *answered = cs->answered.items;
-#pragma omp parallel num_threads(hk_hc_threads(c))
+    /* To be called by every thread of a team (or by one thread alone): the pairs are
+     * shared among them. */
     {
         int o = 0, next = -1; /* this thread's place among the old pairs, for pair next */
 #pragma omp for schedule(static)
@@ -861,6 +890,8 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
             if (may_push(ps)) answered[ps->slot[0]] = answered[ps->slot[1]] = WANTED;
         }
     }
+#pragma omp single nowait
+    cs->prepared = 1; /* read after the team's end */
 }
 
 /* Relative velocity in the basis at the step's end of pair ps with the impulses so far. */
@@ -1093,42 +1124,83 @@ void hk_contact_solve_predict(hk_ContactSolve *cs, hk_StrandDynamics *d, int str
     if (cs->opened && strand >= 0 && strand < cs->strand_count) predict_free(cs, d, strand, head_end, dt);
 }
 
-hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts, hk_StrandDynamics **dyn,
-                           int strand_count, const hk_RigidState *head_end, double dt, hk_ContactSolveStats *stats,
-                           hk_Error *err)
+/* Nothing of a solve under way is kept: no strand to commit, the next solve starts
+ * afresh. */
+static void drop_solve(hk_ContactSolve *cs)
+{
+    cs->opened = cs->laid_out = cs->prepared = 0;
+    memset(cs->movable, 0, (size_t)cs->strand_count * sizeof(int));
+}
+
+/* HK_OK when a solve of strand_count strands over dt with these contacts can be made,
+ * else the error (and the solve under way dropped). */
+static hk_Status check_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts, int strand_count, double dt,
+                             hk_Error *err)
+{
+    const int bad_count = strand_count != cs->strand_count || contacts->strand_count != strand_count;
+    if (!bad_count && dt > 0.0 && isfinite(dt)) return HK_OK;
+    drop_solve(cs);
+    if (bad_count)
+        return hk_error_set(err, HK_ERR_INVALID, "contact solve: %d strands, expected %d", strand_count,
+                            cs->strand_count);
+    return hk_error_set(err, HK_ERR_INVALID, "contact solve: step %g s", dt);
+}
+
+hk_Status hk_contact_solve_layout(hk_ContactSolve *cs, const hk_HairContacts *contacts, hk_StrandDynamics **dyn,
+                                  int strand_count, double dt, hk_Error *err)
+{
+    hk_Status st = check_solve(cs, contacts, strand_count, dt, err);
+    if (st == HK_OK && !cs->opened) st = hk_error_set(err, HK_ERR_INVALID, "contact solve: laid out before opened");
+    if (st == HK_OK) st = layout(cs, contacts, err);
+    if (st != HK_OK) {
+        memset(cs->slot_start, 0, (size_t)(cs->strand_count + 1) * sizeof(int));
+        drop_solve(cs);
+        cs->old_count = 0;
+        return st;
+    }
+    cs->dyn = dyn;
+    cs->mu = contacts->p.friction_coefficient, cs->viscous = dt * contacts->p.friction;
+    cs->laid_out = 1;
+    cs->prepared = 0;
+    return HK_OK;
+}
+
+void hk_contact_solve_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int strand, const hk_RigidState *head_end)
+{
+    if (strand >= 0 && strand < cs->strand_count) predict_points(cs, d, strand, head_end);
+}
+
+void hk_contact_solve_prepare(hk_ContactSolve *cs, const hk_HairContacts *contacts, double dt)
+{
+    prepare_pairs(cs, contacts, dt);
+}
+
+hk_Status hk_contact_solve_sweep(hk_ContactSolve *cs, const hk_HairContacts *contacts, hk_StrandDynamics **dyn,
+                                 int strand_count, const hk_RigidState *head_end, double dt,
+                                 hk_ContactSolveStats *stats, hk_Error *err)
 {
     hk_ContactSolveStats local = {0, 0, 0, 0.0};
-    const int bad_count = strand_count != cs->strand_count || contacts->strand_count != strand_count;
-    if (bad_count || !(dt > 0.0) || !isfinite(dt)) {
-        cs->opened = 0;
-        memset(cs->movable, 0, (size_t)cs->strand_count * sizeof(int)); /* nothing to commit */
-        if (bad_count)
-            return hk_error_set(err, HK_ERR_INVALID, "contact solve: %d strands, expected %d", strand_count,
-                                cs->strand_count);
-        return hk_error_set(err, HK_ERR_INVALID, "contact solve: step %g s", dt);
-    }
+    hk_Status st = check_solve(cs, contacts, strand_count, dt, err);
+    if (st != HK_OK) return st;
     const int threads = hk_hc_threads(contacts);
-    hk_Status st = HK_OK;
-    if (!cs->opened) {
+    /* What the caller has not staged before (hk_contact_solve_open to _prepare): */
+    if (!cs->laid_out && !cs->opened) {
         st = hk_contact_solve_open(cs, dyn, strand_count, err);
         if (st != HK_OK) return st;
 #pragma omp parallel for schedule(dynamic, 2) num_threads(threads)
         for (int s = 0; s < strand_count; s++) predict_free(cs, dyn[s], s, head_end, dt);
     }
-    cs->opened = 0;
-    st = layout(cs, contacts, err);
-    if (st != HK_OK) {
-        memset(cs->slot_start, 0, (size_t)(strand_count + 1) * sizeof(int));
-        memset(cs->movable, 0, (size_t)strand_count * sizeof(int));
-        cs->old_count = 0;
-        return st;
+    if (!cs->laid_out) st = hk_contact_solve_layout(cs, contacts, dyn, strand_count, dt, err);
+    if (st != HK_OK) return st;
+    if (!cs->prepared) {
+#pragma omp parallel num_threads(threads)
+        {
+#pragma omp for schedule(dynamic, 2)
+            for (int s = 0; s < strand_count; s++) predict_points(cs, dyn[s], s, head_end);
+            prepare_pairs(cs, contacts, dt);
+        }
     }
-    cs->dyn = dyn;
-    const double mu = contacts->p.friction_coefficient, viscous = dt * contacts->p.friction;
-    cs->mu = mu, cs->viscous = viscous;
-#pragma omp parallel for schedule(dynamic, 2) num_threads(threads)
-    for (int s = 0; s < strand_count; s++) predict_points(cs, dyn[s], s, head_end);
-    prepare_pairs(cs, contacts, dt);
+    cs->opened = cs->laid_out = cs->prepared = 0;
     PairState *pairs = cs->pairs.items;
     const int n = contacts->pair_count;
     SweepGroup group[HK_SPLIT_GROUPS];
@@ -1167,13 +1239,25 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
     for (int x = 0; x < HK_SPLIT_GROUPS; x += 2)
         side_by_side |= threads > 1 && bounds[x + 1] > bounds[x] && bounds[x + 2] > bounds[x + 1];
     run_sweeps(cs, order, group, side_by_side, &local);
+    cs->solved_count = n;
+    cs->dt = dt;
+    if (stats) *stats = local;
+    return HK_OK;
+}
+
+void hk_contact_solve_finish(hk_ContactSolve *cs)
+{
+    const int strand_count = cs->strand_count, n = cs->solved_count;
+    const double mu = cs->mu, dt = cs->dt;
+    PairState *pairs = cs->pairs.items;
+    hk_Vec3 *delta = cs->delta.items;
     /* The bound of the last sweep's Tresca problems lags the normal impulses by a
      * sweep: what exceeds Coulomb's cone is taken back (and from dv, which the commit
      * uses). */
     hk_PointForce *forces = cs->forces.items;
     const Slot *slot = cs->slots.items;
     const int slots = cs->slot_start[strand_count];
-#pragma omp parallel num_threads(threads)
+    /* To be called by every thread of a team (or by one thread alone). */
     {
 #pragma omp for schedule(static)
         for (int k = 0; k < n; k++) {
@@ -1213,15 +1297,22 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
             forces[x].force = hk_v3_scale(from_basis(ps->basis, ps->lambda), sign / dt);
             forces[x].stiffness = forces[x].damping = hk_m3_zero();
         }
-#pragma omp for schedule(static)
+#pragma omp for schedule(static) nowait
         for (int k = 0; k < n; k++) pairs[k].lambda = from_basis(pairs[k].basis, pairs[k].lambda);
     }
-    /* Kept for the warm start of the next step. */
-    Buffer swap = cs->old_pairs;
-    cs->old_pairs = cs->pairs;
-    cs->pairs = swap;
-    cs->old_count = n;
-    if (stats) *stats = local;
+    /* Kept for the warm start of the next step (read after the team's end). */
+#pragma omp single nowait
+    cs->last_count = n;
+}
+
+hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts, hk_StrandDynamics **dyn,
+                           int strand_count, const hk_RigidState *head_end, double dt, hk_ContactSolveStats *stats,
+                           hk_Error *err)
+{
+    const hk_Status st = hk_contact_solve_sweep(cs, contacts, dyn, strand_count, head_end, dt, stats, err);
+    if (st != HK_OK) return st;
+#pragma omp parallel num_threads(hk_hc_threads(contacts))
+    hk_contact_solve_finish(cs);
     return HK_OK;
 }
 

@@ -48,6 +48,17 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
                            int strand_count, const hk_RigidState *head_end, double dt, hk_ContactSolveStats *stats,
                            hk_Error *err);
 
+/* hk_contact_solve in two: the impulses (hk_contact_solve_sweep), then what the
+ * strands take from them (hk_contact_solve_finish: the impulses brought into Coulomb's
+ * cone, the strands' velocity changes, the forces), called by every thread of a team
+ * (or one thread alone) before any hk_contact_solve_forces or _commit: hair_sim.c
+ * finishes in the region of its commits. The next solve starts warm from the last
+ * one finished. */
+hk_Status hk_contact_solve_sweep(hk_ContactSolve *cs, const hk_HairContacts *contacts, hk_StrandDynamics **dyn,
+                                 int strand_count, const hk_RigidState *head_end, double dt,
+                                 hk_ContactSolveStats *stats, hk_Error *err);
+void hk_contact_solve_finish(hk_ContactSolve *cs);
+
 /* A strand's step without the contacts needs the strand alone, not the pairs: the
  * simulation finds it for every strand while one thread finds the pairs (the contacts'
  * update gained 1.48 times on two threads, the strands' steps 1.92).
@@ -57,6 +68,21 @@ hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts,
 hk_Status hk_contact_solve_open(hk_ContactSolve *cs, hk_StrandDynamics **dyn, int strand_count, hk_Error *err);
 void hk_contact_solve_predict(hk_ContactSolve *cs, hk_StrandDynamics *d, int strand, const hk_RigidState *head_end,
                               double dt);
+
+/* The solve's work before the sweeps, staged by the caller in its own parallel region
+ * (hair_sim.c: one region a step for the pairs, the strands' steps and this, instead
+ * of four). Once the pairs are found (hk_hair_contacts_update) and the solve opened:
+ * hk_contact_solve_layout deals the pairs' points to the strands (one thread; the
+ * strands' predictions may go on beside it); then hk_contact_solve_points once per
+ * strand, on any thread, after the strand's hk_contact_solve_predict (a second call
+ * does nothing); then, when every strand's points are done, hk_contact_solve_prepare
+ * by every thread of a team (or one thread alone). The hk_contact_solve that follows
+ * (same contacts, dyn, head_end and dt) does whatever of this was not done, with the
+ * same bits either way. A failed layout drops the solve under way. */
+hk_Status hk_contact_solve_layout(hk_ContactSolve *cs, const hk_HairContacts *contacts, hk_StrandDynamics **dyn,
+                                  int strand_count, double dt, hk_Error *err);
+void hk_contact_solve_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int strand, const hk_RigidState *head_end);
+void hk_contact_solve_prepare(hk_ContactSolve *cs, const hk_HairContacts *contacts, double dt);
 
 /* The result as point forces on strand `strand`, sorted by s (impulse / dt; no
  * linearisation), until the next solve. */

@@ -3,6 +3,7 @@
  * regrown from the guides per frame. */
 #include <math.h>
 #include <omp.h>
+#include <stdatomic.h>
 #include <string.h>
 
 #include "core/core_internal.h"
@@ -27,6 +28,8 @@ struct hk_HairSim {
     double *sample_s;                 /* sample_count arc lengths, shared by all guides */
     hk_Vec3 *sample_pos, *sample_vel; /* guide_count x sample_count */
     hk_StrandSamples *samples;        /* guide_count views of the above */
+    int sampled;                      /* the samples are the guides' now, with the head in */
+    hk_RigidState sampled_head;       /* this pose (taken at the end of the last step) */
     hk_RigidState head;               /* the head's pose at the end of the last step: the
                                          guides are in world space, the shapes in head space */
     double longest;                   /* imported guides: the longest (m); 0: grown guides,
@@ -470,6 +473,107 @@ hk_Status hk_hair_sim_settle_until_still(hk_HairSim *sim, const hk_RigidState *h
     return st;
 }
 
+/* What a guide's step took: its substeps, 1 when it had to be recovered, the
+ * evaluations. */
+typedef struct GuideStep {
+    int taken, recovered;
+    long iterations;
+} GuideStep;
+
+/* Guide i's step from t to t + dt: the contacts' solve's (coupled) when it can take it,
+ * else its own with the contacts' forces; an error goes to first. */
+static GuideStep step_guide(hk_HairSim *sim, int i, hk_HeadStateFn head_fn, void *user, double t, double dt,
+                            int coupled, const hk_RigidState *head_end, hk_FirstError *first)
+{
+    GuideStep out = {0, 0, 0};
+    int count = 0;
+    hk_Error e;
+    hk_PointForce buffer[64], *own = NULL;
+    const hk_PointForce *forces = NULL;
+    if (sim->contacts && coupled)
+        forces = hk_contact_solve_forces(sim->contact_solve, i, &count);
+    else if (sim->contacts)
+        forces = penalty_forces(sim->contacts, i, buffer, 64, &own, &count);
+    const long before = hk_strand_dynamics_stats(sim->dyn[i]).iterations;
+    hk_Status gst = HK_OK;
+    if (count > 0 && !forces)
+        gst = hk_error_set(&e, HK_ERR_NOMEM, "out of memory for %d contact forces", count);
+    else if (sim->contacts && coupled && hk_contact_solve_commit(sim->contact_solve, sim->dyn[i], i, head_end, dt))
+        out.taken = 1; /* the solve's step, as advance would have taken it */
+    else
+        gst = hk_strand_dynamics_advance(sim->dyn[i], head_fn, user, t, dt, forces, count, &out.taken, &e);
+    if (gst == HK_ERR_NUMERIC) {
+        /* One guide that cannot be advanced, even split down to dt / 2^max_depth,
+         * must not stop the head: it is left where it was at t, at rest
+         * relative to the head, then advanced once more (counted in
+         * stats->recovered; the next frames go on from there). */
+        memset(hk_strand_dynamics_velocity(sim->dyn[i]), 0, sizeof(double) * 3 * (size_t)sim->strand[i]->n);
+        out.recovered = 1;
+        int again = 0;
+        gst = hk_strand_dynamics_advance(sim->dyn[i], head_fn, user, t, dt, forces, count, &again, &e);
+        if (gst == HK_ERR_NUMERIC) gst = HK_OK; /* held at rest relative to the head */
+        out.taken += again;
+    }
+    out.iterations = hk_strand_dynamics_stats(sim->dyn[i]).iterations - before;
+    if (gst != HK_OK) hk_first_error_record(first, i, &e);
+    hk_free(own);
+    return out;
+}
+
+/* Guide i's contact samples (positions and velocities) with the head in pose head. */
+static void sample_guide(hk_HairSim *sim, int i, const hk_RigidState *head)
+{
+    const size_t o = (size_t)i * (size_t)sim->sample_count;
+    hk_strand_dynamics_points(sim->dyn[i], head, sim->sample_s, sim->sample_count, sim->sample_pos + o,
+                              sim->sample_vel + o);
+}
+
+/* The pairs found by one thread while the others (and then it) find every guide's step
+ * without the contacts, which needs the guide alone: the contacts' update gained 1.48
+ * times on two threads, the guides' steps 1.92; one after the other they took 11.2 ms
+ * a frame on two threads (examples/guides200 shaking, N = 10, omp_get_wtime), side by
+ * side 8.7-9.5 ms (with the cheaper broad phase that came after). The pairs are the
+ * same whatever the threads. The thread of the pairs then deals their points to the
+ * guides (the solve's layout), and the guides stepped after that get their points'
+ * Jacobians at once, their state still in the cache; the rest, and the pairs' laws,
+ * follow in the same parallel region (hk_contact_solve_layout to _prepare). */
+static hk_Status overlapped_step(hk_HairSim *sim, const hk_RigidState *head_end, double dt, int threads, hk_Error *err)
+{
+    hk_ContactSolve *cs = sim->contact_solve;
+    hk_Status update_st = HK_OK, layout_st = HK_OK;
+    hk_Error update_err;
+    const int contact_threads = hk_hc_threads(sim->contacts);
+    atomic_int laid_out;
+    atomic_init(&laid_out, 0);
+#pragma omp parallel num_threads(threads)
+    {
+#pragma omp single nowait
+        {
+            hk_hc_set_threads(sim->contacts, 1);
+            update_st = hk_hair_contacts_update(sim->contacts, sim->samples, sim->guide_count, &update_err);
+            hk_hc_set_threads(sim->contacts, contact_threads);
+            if (update_st == HK_OK)
+                layout_st = hk_contact_solve_layout(cs, sim->contacts, sim->dyn, sim->guide_count, dt, &update_err);
+            atomic_store_explicit(&laid_out, update_st == HK_OK && layout_st == HK_OK, memory_order_release);
+        }
+#pragma omp for schedule(dynamic, 2)
+        for (int i = 0; i < sim->guide_count; i++) {
+            hk_contact_solve_predict(cs, sim->dyn[i], i, head_end, dt);
+            if (atomic_load_explicit(&laid_out, memory_order_acquire))
+                hk_contact_solve_points(cs, sim->dyn[i], i, head_end);
+        }
+        /* (the for's barrier: the layout is over, and laid_out the same for all) */
+        if (atomic_load_explicit(&laid_out, memory_order_relaxed)) {
+#pragma omp for schedule(dynamic, 8)
+            for (int i = 0; i < sim->guide_count; i++) hk_contact_solve_points(cs, sim->dyn[i], i, head_end);
+            hk_contact_solve_prepare(cs, sim->contacts, dt);
+        }
+    }
+    const hk_Status st = update_st != HK_OK ? update_st : layout_st;
+    if (st != HK_OK && err) *err = update_err;
+    return st;
+}
+
 static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, double t, double dt,
                          hk_HairSimStats *stats, hk_Error *err)
 {
@@ -493,46 +597,22 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
     const int coupled = sim->options.dynamics.integrator == HK_INTEGRATOR_LINEAR_EULER;
     hk_Status st = HK_OK;
     long predicted = 0; /* evaluations of the contacts' solve */
+    int swept = 0;      /* the solve's impulses are found, to be finished with the commits */
     hk_RigidState head_end = hk_rigid_identity();
     if (head_fn) head_fn(user, t + dt, &head_end);
     if (sim->contacts) {
+        /* The samples at t: those the last step took at its end when the head is where
+         * it was then (to the bit), else taken now. */
+        if (!sim->sampled || memcmp(&head, &sim->sampled_head, sizeof head) != 0) {
 #pragma omp parallel for schedule(static) num_threads(threads)
-        for (int i = 0; i < sim->guide_count; i++) {
-            const size_t o = (size_t)i * (size_t)sim->sample_count;
-            hk_strand_dynamics_points(sim->dyn[i], &head, sim->sample_s, sim->sample_count, sim->sample_pos + o,
-                                      sim->sample_vel + o);
+            for (int i = 0; i < sim->guide_count; i++) sample_guide(sim, i, &head);
         }
+        sim->sampled = 0;
         hk_hc_set_geometry_only(sim->contacts, coupled); /* the solve takes no penalty forces */
         for (int i = 0; i < sim->guide_count; i++) predicted -= hk_strand_dynamics_stats(sim->dyn[i]).iterations;
         if (coupled && threads > 1) {
-            /* The pairs by one thread while the others (and then it) find every guide's
-             * step without the contacts, which needs the guide alone: the contacts'
-             * update gained 1.48 times on two threads, the guides' steps 1.92; one after
-             * the other they took 11.2 ms a frame on two threads (examples/guides200
-             * shaking, N = 10, omp_get_wtime), side by side 8.7-9.5 ms (with the cheaper
-             * broad phase that came after). The pairs are the same whatever the threads. */
             st = hk_contact_solve_open(sim->contact_solve, sim->dyn, sim->guide_count, err);
-            hk_Status update_st = HK_OK;
-            hk_Error update_err;
-            const int contact_threads = hk_hc_threads(sim->contacts);
-            if (st == HK_OK) {
-#pragma omp parallel num_threads(threads)
-                {
-#pragma omp single nowait
-                    {
-                        hk_hc_set_threads(sim->contacts, 1);
-                        update_st = hk_hair_contacts_update(sim->contacts, sim->samples, sim->guide_count, &update_err);
-                        hk_hc_set_threads(sim->contacts, contact_threads);
-                    }
-#pragma omp for schedule(dynamic, 2)
-                    for (int i = 0; i < sim->guide_count; i++)
-                        hk_contact_solve_predict(sim->contact_solve, sim->dyn[i], i, &head_end, dt);
-                }
-                if (update_st != HK_OK) {
-                    st = update_st;
-                    if (err) *err = update_err;
-                }
-            }
+            if (st == HK_OK) st = overlapped_step(sim, &head_end, dt, threads, err);
         } else {
             st = hk_hair_contacts_update(sim->contacts, sim->samples, sim->guide_count, err);
         }
@@ -540,8 +620,9 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
         if (st == HK_OK && !coupled) local.contacts = hk_hair_contacts_contact_count(sim->contacts);
         if (st == HK_OK && coupled) {
             hk_ContactSolveStats cstats;
-            st = hk_contact_solve(sim->contact_solve, sim->contacts, sim->dyn, sim->guide_count, &head_end, dt, &cstats,
-                                  err);
+            st = hk_contact_solve_sweep(sim->contact_solve, sim->contacts, sim->dyn, sim->guide_count, &head_end, dt,
+                                        &cstats, err);
+            swept = st == HK_OK;
             local.contacts = cstats.pushing;
             local.sticking = cstats.sticking;
             local.contact_sweeps = cstats.sweeps;
@@ -553,43 +634,21 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
     hk_FirstError first;
     hk_first_error_init(&first);
     if (st == HK_OK) {
-#pragma omp parallel for schedule(dynamic, 4) reduction(+ : substeps, body, recovered, iterations) num_threads(threads)
-        for (int i = 0; i < sim->guide_count; i++) {
-            int count = 0, taken = 0;
-            hk_Error e;
-            hk_PointForce buffer[64], *own = NULL;
-            const hk_PointForce *forces = NULL;
-            if (sim->contacts && coupled)
-                forces = hk_contact_solve_forces(sim->contact_solve, i, &count);
-            else if (sim->contacts)
-                forces = penalty_forces(sim->contacts, i, buffer, 64, &own, &count);
-            const long before = hk_strand_dynamics_stats(sim->dyn[i]).iterations;
-            hk_Status gst = HK_OK;
-            if (count > 0 && !forces)
-                gst = hk_error_set(&e, HK_ERR_NOMEM, "out of memory for %d contact forces", count);
-            else if (sim->contacts && coupled &&
-                     hk_contact_solve_commit(sim->contact_solve, sim->dyn[i], i, &head_end, dt))
-                taken = 1; /* the solve's step, as advance would have taken it */
-            else
-                gst = hk_strand_dynamics_advance(sim->dyn[i], head_fn, user, t, dt, forces, count, &taken, &e);
-            if (gst == HK_ERR_NUMERIC) {
-                /* One guide that cannot be advanced, even split down to dt / 2^max_depth,
-                 * must not stop the head: it is left where it was at t, at rest
-                 * relative to the head, then advanced once more (counted in
-                 * stats->recovered; the next frames go on from there). */
-                memset(hk_strand_dynamics_velocity(sim->dyn[i]), 0, sizeof(double) * 3 * (size_t)sim->strand[i]->n);
-                recovered++;
-                int again = 0;
-                gst = hk_strand_dynamics_advance(sim->dyn[i], head_fn, user, t, dt, forces, count, &again, &e);
-                if (gst == HK_ERR_NUMERIC) gst = HK_OK; /* held at rest relative to the head */
-                taken += again;
+        /* The solve finished (its forces and the guides' velocity changes) in the
+         * region of the commits: one parallel region less a step. */
+#pragma omp parallel reduction(+ : substeps, body, recovered, iterations) num_threads(threads)
+        {
+            if (swept) hk_contact_solve_finish(sim->contact_solve);
+#pragma omp for schedule(dynamic, 4)
+            for (int i = 0; i < sim->guide_count; i++) {
+                const GuideStep g = step_guide(sim, i, head_fn, user, t, dt, coupled, &head_end, &first);
+                substeps += g.taken, recovered += g.recovered, iterations += g.iterations;
+                body += hk_strand_dynamics_contact_count(sim->dyn[i]);
+                /* The next step's samples of the guide, at its state and the head's pose
+                 * at t + dt (where its step placed it), while both are in the cache: the
+                 * next step takes them when its head is in that pose. */
+                if (sim->contacts) sample_guide(sim, i, &head_end);
             }
-
-            iterations += hk_strand_dynamics_stats(sim->dyn[i]).iterations - before;
-            if (gst != HK_OK) hk_first_error_record(&first, i, &e);
-            substeps += taken;
-            body += hk_strand_dynamics_contact_count(sim->dyn[i]);
-            hk_free(own);
         }
     }
     if (st == HK_OK && first.index >= 0)
@@ -599,6 +658,8 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
             head_fn(user, t + dt, &sim->head);
         else
             sim->head = hk_rigid_identity();
+        sim->sampled = sim->contacts != NULL;
+        sim->sampled_head = head_end;
     }
     local.substeps = substeps;
     local.iterations = iterations + predicted;
