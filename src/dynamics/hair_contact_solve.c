@@ -472,6 +472,9 @@ static void strand_rows_in_basis(hk_ContactSolve *cs, int s, int x)
     rows_in_basis((double *)(cs->reversed[s] ? cs->yt.items : cs->jac.items) + block_of(cs, x), m, m, ps->basis);
 }
 
+/* Pair ps has an impulse from the last step (its warm start, set by prepare_pairs). */
+static int has_impulse(const PairState *ps) { return hk_v3_norm2(ps->lambda) > 0.0; }
+
 /* Y^T of strand s's points marked wanted (answered == WANTED), a run of consecutive
  * points solved at once; Z^T of a reversed strand's points of the pairs with an
  * impulse from the last step (a triangular solve over the point's support), and row 0
@@ -494,7 +497,7 @@ static void answer_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s)
         /* Only the warm-started pairs' impulses act before a sweep finds them pushing
          * (apply_by_strand); the others' rows wait for that. */
         for (int x = begin; x < end; x++)
-            if (answered[x] == WANTED && hk_v3_norm2(pairs[slot[x].index / 2].lambda) > 0.0) {
+            if (answered[x] == WANTED && has_impulse(&pairs[slot[x].index / 2])) {
                 strand_rows_in_basis(cs, s, x);
                 reversed_rows(cs, s, x, 0);
                 answered[x] = ANSWERED;
@@ -813,9 +816,6 @@ static void pair_block(hk_ContactSolve *cs, PairState *ps)
     law_parts(ps->w, ps->gamma, cs->mu, cs->viscous, &ps->law);
     ps->ready = 1;
 }
-
-/* Pair ps has an impulse from the last step (its warm start, set by prepare_pairs). */
-static int has_impulse(const PairState *ps) { return hk_v3_norm2(ps->lambda) > 0.0; }
 
 /* Pair ps's normal law pushes at the free velocities (its free set by prepare_pairs). */
 static int pushes_free(const PairState *ps) { return ps->beta - ps->gamma * ps->free.x > 0.0; }
@@ -1234,7 +1234,7 @@ hk_Status hk_contact_solve_sweep(hk_ContactSolve *cs, const hk_HairContacts *con
 #pragma omp parallel num_threads(threads)
     {
 #pragma omp for schedule(static)
-        for (int k = 0; k < n; k++) delta[k] = hk_v3_norm2(pairs[k].lambda) > 0.0 ? pairs[k].lambda : hk_v3_zero();
+        for (int k = 0; k < n; k++) delta[k] = has_impulse(&pairs[k]) ? pairs[k].lambda : hk_v3_zero();
         apply_by_strand(cs, delta, n);
     }
     for (int x = 0; x < HK_SPLIT_GROUPS; x++) group[x] = (SweepGroup){bounds[x], bounds[x + 1], 0, 0, 0, 0.0, 0.0};
