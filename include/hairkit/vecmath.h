@@ -99,7 +99,9 @@ static inline hk_Vec3 hk_m3_tmul_v3(const hk_Mat3 *a, hk_Vec3 v)
 static inline hk_Mat3 hk_m3_mul(const hk_Mat3 *a, const hk_Mat3 *b)
 {
     hk_Mat3 r;
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
         for (int j = 0; j < 3; j++)
             r.m[i][j] = a->m[i][0] * b->m[0][j] + a->m[i][1] * b->m[1][j] + a->m[i][2] * b->m[2][j];
     return r;
@@ -107,21 +109,27 @@ static inline hk_Mat3 hk_m3_mul(const hk_Mat3 *a, const hk_Mat3 *b)
 static inline hk_Mat3 hk_m3_transpose(const hk_Mat3 *a)
 {
     hk_Mat3 r;
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
         for (int j = 0; j < 3; j++) r.m[i][j] = a->m[j][i];
     return r;
 }
 static inline hk_Mat3 hk_m3_add(const hk_Mat3 *a, const hk_Mat3 *b)
 {
     hk_Mat3 r;
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
         for (int j = 0; j < 3; j++) r.m[i][j] = a->m[i][j] + b->m[i][j];
     return r;
 }
 static inline hk_Mat3 hk_m3_scale(const hk_Mat3 *a, double s)
 {
     hk_Mat3 r;
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
         for (int j = 0; j < 3; j++) r.m[i][j] = a->m[i][j] * s;
     return r;
 }

@@ -256,7 +256,9 @@ static hk_Mat3 rotary_inertia(const hk_RodMaterial *m, const hk_Mat3 *frame, dou
     const hk_Vec3 n0 = hk_m3_col(frame, 0), n2 = hk_m3_col(frame, 2);
     const double a[3] = {n0.x, n0.y, n0.z}, c[3] = {n2.x, n2.y, n2.z};
     hk_Mat3 out;
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
         for (int j = 0; j < 3; j++) out.m[i][j] = (i == j ? i1 : 0.0) + d0 * a[i] * a[j] + d2 * c[i] * c[j];
     return out;
 }

@@ -66,6 +66,7 @@ void hk_point_kinematics2(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd
     acc = add_x2(acc, cross_x2(omega0, cross_x2(omega0, d)));
     acc = madd_x2(acc, cross_x2(omega0, slide), lanes(2.0));
     acc = add_x2(acc, mul_v3_x2(r, el.curve));
+#pragma GCC unroll 2
     for (int l = 0; l < 2; l++) {
         hk_FrameKinematics *o = &out[l].k;
         out[l].jac = lane_m3(&jac, l);
@@ -141,6 +142,7 @@ void hk_point_jacobian2(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, 
     const hk_Mat3x2 j = mul_m3_x2(r, &dd);
     const hk_Vec3x2 p = add_x2(lanes3(start->pos), d);
     const hk_Vec3x2 v = add_x2(add_x2(lanes3(start->vel), cross_x2(lanes3(start->omega), d)), mul_x2_v3(&j, kd));
+#pragma GCC unroll 2
     for (int l = 0; l < 2; l++) {
         pos[l] = lane_v3(p, l);
         vel[l] = lane_v3(v, l);
@@ -162,7 +164,9 @@ void hk_element_terms_add(hk_ElementTerms *t, hk_Vec3 p, const hk_Mat3 *a, const
     const hk_Mat3 px = hk_m3_skew(p);
     const hk_Mat3 pa = hk_m3_mul(&px, a);
     const hk_Mat3 pap = hk_m3_mul(&pa, &px);
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
         for (int j = 0; j < 3; j++) {
             t->inertia[i][j] -= pap.m[i][j] - (b ? b->m[i][j] : 0.0);
             t->inertia[i][j + 3] += pa.m[i][j];
@@ -170,6 +174,7 @@ void hk_element_terms_add(hk_ElementTerms *t, hk_Vec3 p, const hk_Mat3 *a, const
             t->inertia[i + 3][j + 3] += a->m[i][j];
         }
     hk_Vec3 aj[3], bj[3];
+#pragma GCC unroll 3
     for (int c = 0; c < 3; c++) {
         const hk_Vec3 jc = hk_m3_col(jac, c);
         aj[c] = hk_m3_mul_v3(a, jc);
@@ -179,7 +184,9 @@ void hk_element_terms_add(hk_ElementTerms *t, hk_Vec3 p, const hk_Mat3 *a, const
         t->load[c] += hk_v3_dot(jc, f);
         if (jac_rot) t->load[c] += hk_v3_dot(hk_m3_col(jac_rot, c), tau);
     }
+#pragma GCC unroll 3
     for (int c = 0; c < 3; c++)
+#pragma GCC unroll 3
         for (int e = 0; e < 3; e++) {
             double m = hk_v3_dot(hk_m3_col(jac, c), aj[e]);
             if (b) m += hk_v3_dot(hk_m3_col(jac_rot, c), bj[e]);
@@ -195,14 +202,18 @@ void hk_element_terms_add_quadrature(hk_ElementTerms *t, hk_Vec3 p, double a, co
      * [p]x], [-[p]x, I]], without the 3x3 products. */
     const double pp = hk_v3_dot(p, p), pv[3] = {p.x, p.y, p.z};
     const hk_Mat3 px = hk_m3_skew(p);
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
         for (int j = 0; j < 3; j++) {
             t->inertia[i][j] += a * ((i == j ? pp : 0.0) - pv[i] * pv[j]) + b->m[i][j];
             t->inertia[i][j + 3] += a * px.m[i][j];
             t->inertia[j + 3][i] += a * px.m[i][j];
         }
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++) t->inertia[i + 3][i + 3] += a;
     hk_Vec3 aj[3], bj[3];
+#pragma GCC unroll 3
     for (int c = 0; c < 3; c++) {
         const hk_Vec3 jc = hk_m3_col(jac, c), wc = hk_m3_col(jac_rot, c);
         aj[c] = hk_v3_scale(jc, a);
@@ -210,7 +221,9 @@ void hk_element_terms_add_quadrature(hk_ElementTerms *t, hk_Vec3 p, double a, co
         add6(t->coupling[c], hk_v3_add(hk_v3_cross(p, aj[c]), bj[c]), aj[c]);
         t->load[c] += hk_v3_dot(jc, f) + hk_v3_dot(wc, tau);
     }
+#pragma GCC unroll 3
     for (int c = 0; c < 3; c++)
+#pragma GCC unroll 3
         for (int e = 0; e < 3; e++)
             t->mass[c][e] += hk_v3_dot(hk_m3_col(jac, c), aj[e]) + hk_v3_dot(hk_m3_col(jac_rot, c), bj[e]);
     add6(t->wrench, hk_v3_add(hk_v3_cross(p, f), tau), f);
@@ -220,6 +233,7 @@ void hk_element_terms_set_screw(hk_ElementTerms *t, const hk_PointKinematics *en
 {
     /* Changing k_P b rotates everything beyond the end r_{P+1} by w_b and moves it by
      * t_b: p moves by w_b x (p - r_{P+1}) + t_b = w_b x p + (t_b + r_{P+1} x w_b). */
+#pragma GCC unroll 3
     for (int b = 0; b < 3; b++) {
         const hk_Vec3 w = hk_m3_col(&end->jac_rot, b);
         const hk_Vec3 v = hk_v3_add(hk_m3_col(&end->jac, b), hk_v3_cross(end->k.pos, w));
@@ -238,7 +252,9 @@ void hk_terms_generalized_force(int n, const hk_ElementTerms *terms, double *out
     double beyond[6] = {0, 0, 0, 0, 0, 0};
     for (int p = n - 1; p >= 0; p--) {
         const hk_ElementTerms *t = &terms[p];
+#pragma GCC unroll 3
         for (int b = 0; b < 3; b++) out[3 * p + b] = t->load[b] + dot6(t->xi[b], beyond);
+#pragma GCC unroll 6
         for (int i = 0; i < 6; i++) beyond[i] += t->wrench[i];
     }
 }

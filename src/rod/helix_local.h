@@ -99,6 +99,7 @@ static inline hk_Vec3x2 add_x2(hk_Vec3x2 a, hk_Vec3x2 b) { return (hk_Vec3x2){a.
 static inline hk_Vec3x2 mul_v3_x2(const hk_Mat3 *r, hk_Vec3x2 v)
 {
     hk_Lanes o[3];
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++) o[i] = lanes(r->m[i][0]) * v.x + lanes(r->m[i][1]) * v.y + lanes(r->m[i][2]) * v.z;
     return (hk_Vec3x2){o[0], o[1], o[2]};
 }
@@ -106,6 +107,7 @@ static inline hk_Vec3x2 mul_v3_x2(const hk_Mat3 *r, hk_Vec3x2 v)
 static inline hk_Vec3x2 mul_x2_v3(const hk_Mat3x2 *a, hk_Vec3 v)
 {
     hk_Lanes o[3];
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++) o[i] = a->m[i][0] * lanes(v.x) + a->m[i][1] * lanes(v.y) + a->m[i][2] * lanes(v.z);
     return (hk_Vec3x2){o[0], o[1], o[2]};
 }
@@ -113,7 +115,9 @@ static inline hk_Vec3x2 mul_x2_v3(const hk_Mat3x2 *a, hk_Vec3 v)
 static inline hk_Mat3x2 mul_m3_x2(const hk_Mat3 *r, const hk_Mat3x2 *b)
 {
     hk_Mat3x2 o;
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
         for (int j = 0; j < 3; j++)
             o.m[i][j] =
                 lanes(r->m[i][0]) * b->m[0][j] + lanes(r->m[i][1]) * b->m[1][j] + lanes(r->m[i][2]) * b->m[2][j];
@@ -124,7 +128,9 @@ static inline hk_Vec3 lane_v3(hk_Vec3x2 v, int i) { return hk_v3(v.x[i], v.y[i],
 static inline hk_Mat3 lane_m3(const hk_Mat3x2 *a, int l)
 {
     hk_Mat3 o;
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
         for (int j = 0; j < 3; j++) o.m[i][j] = a->m[i][j][l];
     return o;
 }
