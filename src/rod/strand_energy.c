@@ -244,7 +244,9 @@ static void add_contact_stiffness(double c[6][6], hk_Vec3 p, const hk_Mat3 *a)
     const hk_Mat3 pa = hk_m3_mul(&px, a);    /* [p]x A */
     const hk_Mat3 pap = hk_m3_mul(&pa, &px); /* [p]x A [p]x */
     const hk_Mat3 ap = hk_m3_mul(a, &px);    /* A [p]x */
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
         for (int j = 0; j < 3; j++) {
             c[i][j] -= pap.m[i][j];
             c[i][j + 3] += pa.m[i][j];
@@ -255,8 +257,10 @@ static void add_contact_stiffness(double c[6][6], hk_Vec3 p, const hk_Mat3 *a)
 
 static void mat6_mul_vec(double c[6][6], const double *x, double *out)
 {
+#pragma GCC unroll 6
     for (int i = 0; i < 6; i++) {
         double s = 0.0;
+#pragma GCC unroll 6
         for (int j = 0; j < 6; j++) s += c[i][j] * x[j];
         out[i] = s;
     }
@@ -286,8 +290,10 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
     /* Of the Hessian only the diagonal blocks are cleared: the final loop writes every
      * entry of the others. */
     for (int p = 0; p < n && hess; p++)
+#pragma GCC unroll 3
         for (int i = 0; i < 3; i++) memset(hess + (size_t)(3 * p + i) * (size_t)dim + 3 * p, 0, 3 * sizeof(double));
     for (int p = 0; p < n; p++)
+#pragma GCC unroll 3
         for (int i = 0; i < 3; i++) {
             const double kl = sh->material.stiffness[i] * sh->length[p];
             const double dq = q[3 * p + i] - sh->q_rest[3 * p + i];
@@ -329,6 +335,7 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
         const int s0 = ws->elem_first_sample[p], s1 = ws->elem_first_sample[p + 1];
         hk_Vec3 omega[3], t[3], dgw[3];
         double xi[3][6];
+#pragma GCC unroll 3
         for (int b = 0; b < 3; b++) {
             omega[b] = hk_m3_mul_v3(r, hk_m3_col(&el->lam, b));
             t[b] = hk_m3_mul_v3(r, hk_m3_col(&el->dd, b));
@@ -336,6 +343,7 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
             const hk_Vec3 v = hk_v3_add(t[b], hk_v3_cross(r1, omega[b]));
             xi[b][0] = omega[b].x, xi[b][1] = omega[b].y, xi[b][2] = omega[b].z;
             xi[b][3] = v.x, xi[b][4] = v.y, xi[b][5] = v.z;
+#pragma GCC unroll 6
             for (int e = 0; e < 6; e++) ws->xi[(size_t)e * (size_t)dim + (size_t)(3 * p + b)] = xi[b][e];
             double gb = hk_v3_dot(omega[b], moment) + hk_v3_dot(v, force) + hk_v3_dot(fg, dgw[b]);
             for (int i = s0; i < s1; i++)
@@ -346,13 +354,17 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
         if (hess) {
             /* S = sum (p - r1) f^T beyond; tr S = sum (p - r1) . f. */
             hk_Mat3 s = hk_m3_outer(r1, force);
+#pragma GCC unroll 3
             for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
                 for (int j = 0; j < 3; j++) s.m[i][j] = second.m[i][j] - s.m[i][j];
             const double trs = hk_m3_trace(&s);
             const hk_Vec3 arm_moment = hk_v3_sub(moment, hk_v3_cross(r1, force));
             double cxi[3][6];
             hk_Vec3 turned[3]; /* (S - tr S I) omega_b, for Y_b and the diagonal block */
+#pragma GCC unroll 3
             for (int b = 0; b < 3; b++) turned[b] = moment_op(&s, trs, omega[b]);
+#pragma GCC unroll 3
             for (int b = 0; b < 3; b++) {
                 /* C xi is +0 to the bit while C is (sums of 0 xi_j from +0), xi finite */
                 if (stiff_zero)
@@ -383,7 +395,9 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
              * element's start frame once, instead of rotating every derivative. */
             const hk_Vec3 arm_local = hk_m3_tmul_v3(r, arm_moment);
             const hk_Vec3 force_local = hk_m3_tmul_v3(r, force), fg_local = hk_m3_tmul_v3(r, fg);
+#pragma GCC unroll 3
             for (int a = 0; a < 3; a++) {
+#pragma GCC unroll 3
                 for (int b = a; b < 3; b++) {
                     double h = hk_v3_dot(hk_m3_col(&el->dlam[b], a), arm_local);
                     h += hk_v3_dot(omega[b], turned[a]);
