@@ -32,6 +32,9 @@ struct hk_StrandWorkspace {
     hk_ElementLocal *local; /* per element closed forms */
     /* per collision sample, valid where active[i] */
     unsigned char *active;
+    /* the active samples in order, element P's at touch[first_touch[P] .. first_touch[P
+     * + 1]): the derivatives' passes over an element visit these alone */
+    int *touch, *first_touch;
     hk_Vec3 *sp, *sf;     /* position, weighted gradient of the penalty density */
     hk_Mat3 *sa, *sd;     /* weighted Hessian of the density, world dp/dk of own element */
     hk_Vec3 (*sd2)[3][3]; /* d2p/dk2 of own element, in the element's start frame */
@@ -75,6 +78,8 @@ hk_Status hk_strand_workspace_create(const hk_SuperHelix *sh, const hk_StrandEnv
     ws->frame = hk_alloc_array((size_t)n + 1, sizeof(hk_Mat3), err);
     ws->local = hk_alloc_array((size_t)n, sizeof(hk_ElementLocal), err);
     ws->active = hk_calloc_array(sn, 1, err); /* no contact before the first call */
+    ws->touch = hk_alloc_array(sn, sizeof(int), err);
+    ws->first_touch = hk_calloc_array((size_t)n + 1, sizeof(int), err);
     ws->sp = hk_alloc_array(sn, sizeof(hk_Vec3), err);
     ws->sf = hk_alloc_array(sn, sizeof(hk_Vec3), err);
     ws->sa = hk_alloc_array(sn, sizeof(hk_Mat3), err);
@@ -83,8 +88,8 @@ hk_Status hk_strand_workspace_create(const hk_SuperHelix *sh, const hk_StrandEnv
     ws->sfl = hk_alloc_array(sn, sizeof(hk_Vec3), err);
     ws->xi = hk_alloc_array((size_t)n * 3 * 6, sizeof(double), err);
     ws->y = hk_alloc_array((size_t)n * 3 * 6, sizeof(double), err);
-    if (!ws->elem_first_sample || !ws->sample_u || !ws->pos || !ws->frame || !ws->local || !ws->active || !ws->sp ||
-        !ws->sf || !ws->sa || !ws->sd || !ws->sd2 || !ws->sfl || !ws->xi || !ws->y) {
+    if (!ws->elem_first_sample || !ws->sample_u || !ws->pos || !ws->frame || !ws->local || !ws->active || !ws->touch ||
+        !ws->first_touch || !ws->sp || !ws->sf || !ws->sa || !ws->sd || !ws->sd2 || !ws->sfl || !ws->xi || !ws->y) {
         hk_strand_workspace_destroy(ws);
         return HK_ERR_NOMEM;
     }
@@ -111,6 +116,8 @@ void hk_strand_workspace_destroy(hk_StrandWorkspace *ws)
     hk_free(ws->frame);
     hk_free(ws->local);
     hk_free(ws->active);
+    hk_free(ws->touch);
+    hk_free(ws->first_touch);
     hk_free(ws->sp);
     hk_free(ws->sf);
     hk_free(ws->sa);
@@ -183,8 +190,10 @@ static double collisions(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, co
 {
     double energy = 0.0;
     const double w = ws->sample_weight;
+    int touching = 0;
     for (int p = 0; p < sh->n; p++) {
         const int s0 = ws->elem_first_sample[p], s1 = ws->elem_first_sample[p + 1];
+        ws->first_touch[p] = touching;
         for (int i = s0; i < s1; i++) ws->active[i] = 0;
         /* Broad phase: an inextensible element stays within its length of its start. */
         if (s0 == s1 || !near_shapes(env, ws->pos[p], sh->length[p])) continue;
@@ -218,6 +227,7 @@ static double collisions(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, co
             energy += w * e;
             if (order < 1) continue;
             ws->active[i] = 1;
+            ws->touch[touching++] = i;
             ws->sp[i] = pt;
             ws->sf[i] = hk_v3_scale(g, w);
             if (order >= 2) {
@@ -234,6 +244,7 @@ static double collisions(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, co
         }
         if (held >= 0) sample_derivatives(ws, k, r, order, held, -1);
     }
+    ws->first_touch[sh->n] = touching;
     return energy;
 }
 
@@ -332,7 +343,7 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
         const hk_ElementLocal *el = &ws->local[p];
         const hk_Mat3 *r = &ws->frame[p];
         const hk_Vec3 r1 = ws->pos[p + 1];
-        const int s0 = ws->elem_first_sample[p], s1 = ws->elem_first_sample[p + 1];
+        const int *touch = ws->touch + ws->first_touch[p], touches = ws->first_touch[p + 1] - ws->first_touch[p];
         hk_Vec3 omega[3], t[3], dgw[3];
         double xi[3][6];
 #pragma GCC unroll 3
@@ -346,8 +357,10 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
 #pragma GCC unroll 6
             for (int e = 0; e < 6; e++) ws->xi[(size_t)e * (size_t)dim + (size_t)(3 * p + b)] = xi[b][e];
             double gb = hk_v3_dot(omega[b], moment) + hk_v3_dot(v, force) + hk_v3_dot(fg, dgw[b]);
-            for (int i = s0; i < s1; i++)
-                if (ws->active[i]) gb += hk_v3_dot(ws->sf[i], hk_m3_col(&ws->sd[i], b));
+            for (int m = 0; m < touches; m++) {
+                const int i = touch[m];
+                gb += hk_v3_dot(ws->sf[i], hk_m3_col(&ws->sd[i], b));
+            }
             grad[3 * p + b] += gb;
         }
 
@@ -378,8 +391,8 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
                 z = hk_v3_add(z, hk_v3_cross(dgw[b], fg));
                 double y[6];
                 memcpy(y, cxi[b], sizeof y);
-                for (int i = s0; i < s1; i++) {
-                    if (!ws->active[i]) continue;
+                for (int m = 0; m < touches; m++) {
+                    const int i = touch[m];
                     const hk_Vec3 jb = hk_m3_col(&ws->sd[i], b);
                     z = hk_v3_add(z, hk_v3_cross(jb, ws->sf[i]));
                     const hk_Vec3 aj = hk_m3_mul_v3(&ws->sa[i], jb);
@@ -404,8 +417,8 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
                     h += hk_v3_dot(force_local, el->d2d[a][b]);
                     h += hk_v3_dot(fg_local, el->d2g[a][b]);
                     h += dot6(xi[a], cxi[b]);
-                    for (int i = s0; i < s1; i++) {
-                        if (!ws->active[i]) continue;
+                    for (int m = 0; m < touches; m++) {
+                        const int i = touch[m];
                         const hk_Vec3 ja = hk_m3_col(&ws->sd[i], a), jb = hk_m3_col(&ws->sd[i], b);
                         h += hk_v3_dot(ws->sfl[i], ws->sd2[i][a][b]);
                         h += hk_v3_dot(ja, hk_m3_mul_v3(&ws->sa[i], jb));
@@ -425,8 +438,8 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
             const hk_Mat3 o = hk_m3_outer(integral, fg);
             second = hk_m3_add(&second, &o);
         }
-        for (int i = s0; i < s1; i++) {
-            if (!ws->active[i]) continue;
+        for (int m = 0; m < touches; m++) {
+            const int i = touch[m];
             force = hk_v3_add(force, ws->sf[i]);
             moment = hk_v3_add(moment, hk_v3_cross(ws->sp[i], ws->sf[i]));
             if (hess) {
