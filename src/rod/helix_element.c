@@ -235,8 +235,9 @@ void hk_element_local_rates(hk_Vec3 k, double u, hk_Vec3 kd, hk_ElementLocal *ou
 
 
 /* hk_helix_term_along for m = 2, lane by lane (the same operations in the same order). */
-static void helix_term_along_x2(const hk_Lanes c[HK_CN_COUNT], hk_Vec3x2 phi, hk_Vec3x2 w, hk_Vec3x2 e, hk_Vec3x2 *d1,
-                                hk_Vec3x2 *d2)
+static inline __attribute__((always_inline)) void helix_term_along_x2(const hk_Lanes c[HK_CN_COUNT], hk_Vec3x2 phi,
+                                                                      hk_Vec3x2 w, hk_Vec3x2 e, hk_Vec3x2 *d1,
+                                                                      hk_Vec3x2 *d2)
 {
     const hk_Lanes cm = c[2], cm1 = c[3];
     const hk_Lanes x = dot_x2(phi, phi), pw = dot_x2(phi, w), s = dot_x2(phi, e);
@@ -267,8 +268,9 @@ static void helix_term_along_x2(const hk_Lanes c[HK_CN_COUNT], hk_Vec3x2 phi, hk
 }
 
 /* helix_term_e0 lane by lane (jac may be NULL). */
-static hk_Vec3x2 helix_term_e0_x2(const hk_Lanes c[HK_CN_COUNT], int m, double alpha, hk_Vec3x2 phi, hk_Lanes x,
-                                  hk_Lanes scale, hk_Mat3x2 *jac)
+static inline __attribute__((always_inline)) hk_Vec3x2 helix_term_e0_x2(const hk_Lanes c[HK_CN_COUNT], int m,
+                                                                        double alpha, hk_Vec3x2 phi, hk_Lanes x,
+                                                                        hk_Lanes scale, hk_Mat3x2 *jac)
 {
     const hk_Lanes cm = c[m], cm1 = c[m + 1], zero = lanes(0.0);
     const hk_Lanes p[3] = {phi.x, phi.y, phi.z};
@@ -341,8 +343,9 @@ void hk_element_slide2(hk_Vec3 k, const double u[2], hk_Vec3 kd, hk_Vec3x2 *offs
 
 /* hk_helix_term lane by lane for w a basis vector e_wi (the same operations, with its
  * zero and unit components, in the same order). */
-static void helix_term_x2(const hk_Lanes c[HK_CN_COUNT], int m, double alpha, hk_Vec3x2 phi, int wi, int order,
-                          hk_Vec3x2 *value, hk_Mat3x2 *jac, hk_Vec3x2 hess[3][3])
+static inline __attribute__((always_inline)) void helix_term_x2(const hk_Lanes c[HK_CN_COUNT], int m, double alpha,
+                                                                hk_Vec3x2 phi, int wi, int order, hk_Vec3x2 *value,
+                                                                hk_Mat3x2 *jac, hk_Vec3x2 hess[3][3])
 {
     const hk_Vec3x2 w = lanes3(hk_v3_unit(wi));
     const hk_Lanes cm = c[m], cm1 = c[m + 1];
@@ -419,7 +422,8 @@ static void set_lane_col(hk_Mat3 *m, int j, hk_Vec3x2 v, int l)
 }
 
 /* d[i][j] = h[i][j] s, lane l */
-static void lane_scaled_hess(hk_Vec3 d[3][3], hk_Vec3x2 h[3][3], hk_Lanes s, int l)
+static inline __attribute__((always_inline)) void lane_scaled_hess(hk_Vec3 d[3][3], hk_Vec3x2 h[3][3], hk_Lanes s,
+                                                                   int l)
 {
 #pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
