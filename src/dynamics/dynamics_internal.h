@@ -91,6 +91,12 @@ void hk_element_terms_add(hk_ElementTerms *t, hk_Vec3 p, const hk_Mat3 *a, const
 void hk_element_terms_add_quadrature(hk_ElementTerms *t, hk_Vec3 p, double a, const hk_Mat3 *b, const hk_Mat3 *jac,
                                      const hk_Mat3 *jac_rot, hk_Vec3 f, hk_Vec3 tau);
 
+/* hk_element_terms_add_quadrature for the two points pk[0] and pk[1] (their pos, jac and
+ * jac_rot) with a[l], b[l], f[l] and tau[l], in two lanes: the same bits as the two
+ * calls, point 0's first. */
+void hk_element_terms_add_quadrature2(hk_ElementTerms *t, const hk_PointKinematics pk[2], const double a[2],
+                                      const hk_Mat3 b[2], const hk_Vec3 f[2], const hk_Vec3 tau[2]);
+
 /* Fills t->xi from the element's end point (its Jacobians at u = l_P). */
 void hk_element_terms_set_screw(hk_ElementTerms *t, const hk_PointKinematics *end);
 

@@ -354,6 +354,10 @@ static void sweep(hk_StrandDynamics *d, const hk_RigidState *head, const hk_Poin
         const int g = gauss_count(d, p);
         hk_PointKinematics pair[2], end;
         int end_known = 0;
+        /* a pair's first point's a, b, f and tau, added with the second's */
+        double aq[2];
+        hk_Mat3 bq[2];
+        hk_Vec3 fq[2], tauq[2];
         for (int i = 0; i < g; i++) {
             const double u = len * d->gauss.node[g - 1][i], w = len * d->gauss.weight[g - 1][i];
             /* A step's points two at a time; an odd last one with the element's end, which
@@ -381,7 +385,14 @@ static void sweep(hk_StrandDynamics *d, const hk_RigidState *head, const hk_Poin
                     tau = hk_v3_sub(tau, hk_v3_scale(hk_m3_mul_v3(&b, r.omega), inv_ch));
                 }
             }
-            hk_element_terms_add_quadrature(t, pk->k.pos, (rho_s + ch * nu) * w, &b, &pk->jac, &pk->jac_rot, f, tau);
+            const double a = (rho_s + ch * nu) * w;
+            if (mode == SWEEP_STEP && !end_known) { /* two Gauss points, in two lanes */
+                const int l = i % 2;
+                aq[l] = a, bq[l] = b, fq[l] = f, tauq[l] = tau;
+                if (l == 1) hk_element_terms_add_quadrature2(t, pair, aq, bq, fq, tauq);
+                continue;
+            }
+            hk_element_terms_add_quadrature(t, pk->k.pos, a, &b, &pk->jac, &pk->jac_rot, f, tau);
         }
         const double s_end = sh->s_start[p + 1];
         const int last = p == n - 1;

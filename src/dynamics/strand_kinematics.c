@@ -229,6 +229,90 @@ void hk_element_terms_add_quadrature(hk_ElementTerms *t, hk_Vec3 p, double a, co
     add6(t->wrench, hk_v3_add(hk_v3_cross(p, f), tau), f);
 }
 
+/* *x += v[0], then += v[1]: two points' terms in the order of two calls. */
+static inline void add_lanes(double *x, hk_Lanes v) { *x = (*x + v[0]) + v[1]; }
+
+/* add_lanes of v to x[0] and of w to x[1], both in one vector sum. */
+static inline void add_lanes_pair(double *x, hk_Lanes v, hk_Lanes w)
+{
+    hk_Lanes s;
+    memcpy(&s, x, sizeof s);
+    s = (s + (hk_Lanes){v[0], w[0]}) + (hk_Lanes){v[1], w[1]};
+    memcpy(x, &s, sizeof s);
+}
+
+static inline hk_Vec3x2 lanes_v3(hk_Vec3 a, hk_Vec3 b) { return (hk_Vec3x2){{a.x, b.x}, {a.y, b.y}, {a.z, b.z}}; }
+
+static inline hk_Vec3x2 lanes_col(const hk_Mat3 *a, const hk_Mat3 *b, int j)
+{
+    return lanes_v3(hk_m3_col(a, j), hk_m3_col(b, j));
+}
+
+void hk_element_terms_add_quadrature2(hk_ElementTerms *t, const hk_PointKinematics pk[2], const double a[2],
+                                      const hk_Mat3 b[2], const hk_Vec3 f[2], const hk_Vec3 tau[2])
+{
+    /* hk_element_terms_add_quadrature's terms, point l in lane l (the same operations),
+     * each then added as the two calls would add it, two neighbouring entries at once. */
+    const hk_Lanes al = {a[0], a[1]}, zero = lanes(0.0);
+    const hk_Vec3x2 p = lanes_v3(pk[0].k.pos, pk[1].k.pos);
+    const hk_Lanes pp = dot_x2(p, p), pv[3] = {p.x, p.y, p.z};
+    const hk_Lanes px[3][3] = {{zero, -p.z, p.y}, {p.z, zero, -p.x}, {-p.y, p.x, zero}};
+    hk_Lanes bl[3][3], apx[3][3];
+#pragma GCC unroll 3
+    for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
+        for (int j = 0; j < 3; j++) {
+            bl[i][j] = (hk_Lanes){b[0].m[i][j], b[1].m[i][j]};
+            apx[i][j] = al * px[i][j];
+        }
+#pragma GCC unroll 3
+    for (int i = 0; i < 3; i++) {
+        hk_Lanes row[3];
+#pragma GCC unroll 3
+        for (int j = 0; j < 3; j++) row[j] = al * ((i == j ? pp : zero) - pv[i] * pv[j]) + bl[i][j];
+        double *r = t->inertia[i], *s = t->inertia[i + 3];
+        add_lanes_pair(r, row[0], row[1]);
+        add_lanes_pair(r + 2, row[2], apx[i][0]);
+        add_lanes_pair(r + 4, apx[i][1], apx[i][2]);
+        /* row i + 3: [i + 3][j] += a px[j][i], and a on the diagonal */
+        add_lanes_pair(s, apx[0][i], apx[1][i]);
+        add_lanes(s + 2, apx[2][i]);
+        add_lanes(s + 3 + i, al);
+    }
+    const hk_Vec3x2 fl = lanes_v3(f[0], f[1]), taul = lanes_v3(tau[0], tau[1]);
+    hk_Vec3x2 jc[3], wc[3], aj[3], bj[3];
+    hk_Lanes load[3];
+#pragma GCC unroll 3
+    for (int c = 0; c < 3; c++) {
+        jc[c] = lanes_col(&pk[0].jac, &pk[1].jac, c);
+        wc[c] = lanes_col(&pk[0].jac_rot, &pk[1].jac_rot, c);
+        aj[c] = scale_x2(jc[c], al);
+        bj[c] = (hk_Vec3x2){bl[0][0] * wc[c].x + bl[0][1] * wc[c].y + bl[0][2] * wc[c].z,
+                            bl[1][0] * wc[c].x + bl[1][1] * wc[c].y + bl[1][2] * wc[c].z,
+                            bl[2][0] * wc[c].x + bl[2][1] * wc[c].y + bl[2][2] * wc[c].z};
+        const hk_Vec3x2 ang = add_x2(cross_x2(p, aj[c]), bj[c]);
+        add_lanes_pair(t->coupling[c], ang.x, ang.y);
+        add_lanes_pair(t->coupling[c] + 2, ang.z, aj[c].x);
+        add_lanes_pair(t->coupling[c] + 4, aj[c].y, aj[c].z);
+        load[c] = dot_x2(jc[c], fl) + dot_x2(wc[c], taul);
+    }
+    add_lanes_pair(t->load, load[0], load[1]);
+    add_lanes(t->load + 2, load[2]);
+    hk_Lanes mass[9];
+#pragma GCC unroll 3
+    for (int c = 0; c < 3; c++)
+#pragma GCC unroll 3
+        for (int e = 0; e < 3; e++) mass[3 * c + e] = dot_x2(jc[c], aj[e]) + dot_x2(wc[c], bj[e]);
+    double *m = &t->mass[0][0];
+#pragma GCC unroll 4
+    for (int k = 0; k < 8; k += 2) add_lanes_pair(m + k, mass[k], mass[k + 1]);
+    add_lanes(m + 8, mass[8]);
+    const hk_Vec3x2 moment = add_x2(cross_x2(p, fl), taul);
+    add_lanes_pair(t->wrench, moment.x, moment.y);
+    add_lanes_pair(t->wrench + 2, moment.z, fl.x);
+    add_lanes_pair(t->wrench + 4, fl.y, fl.z);
+}
+
 void hk_element_terms_set_screw(hk_ElementTerms *t, const hk_PointKinematics *end)
 {
     /* Changing k_P b rotates everything beyond the end r_{P+1} by w_b and moves it by
