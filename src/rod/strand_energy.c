@@ -459,6 +459,7 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
             double *row = hess + (size_t)b * (size_t)dim;
             const int first_b = (b / 3) * 3;
             hk_dot6_columns(ws->y + (size_t)b * 6, ws->xi, (size_t)dim, first_b, row);
+#pragma GCC unroll 3
             for (int a = 0; a < first_b; a++) {
                 const double h = 0.0 + row[a];
                 row[a] = h;
