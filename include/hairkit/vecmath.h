@@ -96,6 +96,8 @@ static inline hk_Vec3 hk_m3_tmul_v3(const hk_Mat3 *a, hk_Vec3 v)
                  a->m[0][1] * v.x + a->m[1][1] * v.y + a->m[2][1] * v.z,
                  a->m[0][2] * v.x + a->m[1][2] * v.y + a->m[2][2] * v.z);
 }
+/* The 3 x 3 loops carry `#pragma GCC unroll`: GCC 12's -O2 keeps them rolled; written out
+ * they are the same operations in the same order (the same bits), without the counters. */
 static inline hk_Mat3 hk_m3_mul(const hk_Mat3 *a, const hk_Mat3 *b)
 {
     hk_Mat3 r;

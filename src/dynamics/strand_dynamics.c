@@ -248,7 +248,7 @@ static int gauss_count(const hk_StrandDynamics *d, int p)
 
 /* Rotary inertia of the section in world axes: sum_i I_i n_i n_i^T, written as
  * I_1 (the identity) + (I_0 - I_1) n0 n0^T + (I_2 - I_1) n2 n2^T since the n_i are
- * orthonormal. */
+ * orthonormal. (Unrolled: -O2 kept the loops, and their i == j test, rolled.) */
 static hk_Mat3 rotary_inertia(const hk_RodMaterial *m, const hk_Mat3 *frame, double weight)
 {
     const double i1 = weight * m->rotary_inertia[1], d0 = weight * m->rotary_inertia[0] - i1,

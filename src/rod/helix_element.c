@@ -1,5 +1,11 @@
 /* One helical element in closed form with exact first and second derivatives in its
- * curvatures and twist (Bertails et al. 2006 Appendix A, eq. 7; derivation in docs/physics.md). */
+ * curvatures and twist (Bertails et al. 2006 Appendix A, eq. 7; derivation in docs/physics.md).
+ *
+ * GCC 12's -O2 keeps most of the small loops here rolled (a counter, and tests such as
+ * i == j made at run time); `#pragma GCC unroll` writes them out, the same operations
+ * in the same order, so the same bits (docs/dynamics.md, "Speed", 6 December 2026,
+ * night). The two-lane helpers are always inlined for the same reason: as calls,
+ * their lanes went through the stack. */
 #include <stddef.h>
 
 #include "helix_local.h"

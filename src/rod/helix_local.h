@@ -81,7 +81,8 @@ typedef struct hk_Mat3x2 {
     hk_Lanes m[3][3];
 } hk_Mat3x2;
 
-/* hairkit/vecmath.h's operations on two lanes, each lane's the same bits as theirs. */
+/* hairkit/vecmath.h's operations on two lanes, each lane's the same bits as theirs (their
+ * loops unrolled as vecmath.h's are: the same operations, without the counters). */
 static inline hk_Lanes lanes(double s) { return (hk_Lanes){s, s}; }
 static inline hk_Vec3x2 lanes3(hk_Vec3 v) { return (hk_Vec3x2){lanes(v.x), lanes(v.y), lanes(v.z)}; }
 static inline hk_Lanes dot_x2(hk_Vec3x2 a, hk_Vec3x2 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }

@@ -9,7 +9,12 @@
  * (energy gradient in p) and M its moment about the origin, accumulated from the tip.
  * Second derivatives add the second moment S0 = sum p f^T (rotations of lever arms),
  * the 6x6 contact stiffness C = sum B^T A B, and per element the second derivatives
- * of the element's closed form. Derivation: docs/physics.md. */
+ * of the element's closed form. Derivation: docs/physics.md.
+ *
+ * GCC 12's -O2 keeps most of the small loops here rolled (a counter, and tests such as
+ * i == j made at run time); `#pragma GCC unroll` writes them out, the same operations
+ * in the same order, so the same bits (docs/dynamics.md, "Speed", 6 December 2026,
+ * night). */
 #include "collide/collide_internal.h"
 #include "hairkit/rod.h"
 
@@ -32,8 +37,8 @@ struct hk_StrandWorkspace {
     hk_ElementLocal *local; /* per element closed forms */
     /* per collision sample, valid where active[i] */
     unsigned char *active;
-    /* the active samples in order, element P's at touch[first_touch[P] .. first_touch[P
-     * + 1]): the derivatives' passes over an element visit these alone */
+    /* the active samples in order (element P's from touch[first_touch[P]] to before
+     * touch[first_touch[P + 1]]): the backward pass visits these alone */
     int *touch, *first_touch;
     hk_Vec3 *sp, *sf;     /* position, weighted gradient of the penalty density */
     hk_Mat3 *sa, *sd;     /* weighted Hessian of the density, world dp/dk of own element */
