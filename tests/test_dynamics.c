@@ -509,6 +509,15 @@ static void test_point_pairs_bit_for_bit(void **state)
             hk_point_jacobian(&start, ks[t], kd, u[l], &p1, &v1, &j1);
             assert_true(memcmp(&jpos[l], &p1, sizeof p1) == 0 && memcmp(&jvel[l], &v1, sizeof v1) == 0);
             assert_true(memcmp(&jac[l], &j1, sizeof j1) == 0);
+            /* a body contact's pair: order 1's position, velocity, Jacobian, tangent */
+            hk_PointKinematics contact[2], first;
+            hk_point_contact2(&start, ks[t], kd, u, contact);
+            hk_point_kinematics(&start, ks[t], kd, u[l], 1, &first);
+            const hk_Vec3 n0 = hk_m3_col(&contact[l].k.frame, 0), n1 = hk_m3_col(&first.k.frame, 0);
+            assert_true(memcmp(&contact[l].k.pos, &first.k.pos, sizeof(hk_Vec3)) == 0);
+            assert_true(memcmp(&contact[l].k.vel, &first.k.vel, sizeof(hk_Vec3)) == 0);
+            assert_true(memcmp(&contact[l].jac, &first.jac, sizeof(hk_Mat3)) == 0);
+            assert_true(memcmp(&n0, &n1, sizeof n0) == 0);
         }
         /* the pair's quadrature terms into an element's sums that already hold some
          * (their signs mixed), against the same two points added one at a time */

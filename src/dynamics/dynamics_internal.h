@@ -69,6 +69,12 @@ void hk_point_jacobian(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, d
 void hk_point_jacobian2(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, const double u[2], hk_Vec3 pos[2],
                         hk_Vec3 vel[2], hk_Mat3 jac[2]);
 
+/* hk_point_kinematics of order 1 at the offsets u[0] and u[1] at once (two lanes), only
+ * what a body contact's friction takes: k.pos, k.vel, jac and column 0 of k.frame (the
+ * tangent), the same bits; the other fields are left alone. */
+void hk_point_contact2(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, const double u[2],
+                       hk_PointKinematics out[2]);
+
 /* Per element terms of one step, from its own points (quadrature, contacts). The
  * spatial vectors are (angular; linear) about the world origin: a screw (w; v) moves
  * the point p by w x p + v, a wrench (m; f) is a moment about the origin and a force. */

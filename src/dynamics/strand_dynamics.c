@@ -287,28 +287,33 @@ static void add_point_force(hk_ElementTerms *t, const hk_PointKinematics *pk, co
 }
 
 /* Body contact of collision sample `sample`, at offset u into the element that starts
- * at node (coordinates k, rates kd): fills pk and pf and returns 1 when the sample
- * touches a shape. With the full stiffness the penalty's normal force is in the
- * potential's gradient already (full_potential, evaluated at the same samples just
- * before): its evaluation tells which samples touch and their penalty gradients, from
- * which the friction alone is added here. With the Gauss-Newton stiffness the penalty
- * is evaluated here, normal force and friction. */
+ * at node (coordinates k, rates kd), with the Gauss-Newton stiffness: fills pk and pf
+ * and returns 1 when the sample touches a shape (the penalty's normal force and its
+ * friction). With the full stiffness the potential's evaluation (full_potential, just
+ * before) tells which samples touch and their penalty gradients, and the sweep adds
+ * their friction alone (add_friction). */
 static int body_contact(const hk_StrandDynamics *d, const hk_RigidState *head, const hk_FrameKinematics *node,
-                        hk_Vec3 k, hk_Vec3 kd, double u, int sample, hk_PointKinematics *pk, hk_PointForce *pf)
+                        hk_Vec3 k, hk_Vec3 kd, double u, hk_PointKinematics *pk, hk_PointForce *pf)
 {
-    if (d->params.stiffness == HK_STIFFNESS_FULL) {
-        hk_Vec3 g; /* head space, as full_potential evaluates it */
-        if (!hk_strand_workspace_contact(d->ws_body, sample, &g)) return 0;
-        hk_point_kinematics(node, k, kd, u, 1, pk);
-        return hk_body_contact_friction(&d->contact, head, pk->k.pos, pk->k.vel, hk_m3_col(&pk->k.frame, 0),
-                                        hk_m3_mul_v3(&head->rot, g), pf);
-    }
     double c[HK_CN_COUNT];
     const hk_Vec3 pos = hk_v3_add(node->pos, hk_m3_mul_v3(&node->frame, hk_element_offset_begin(k, u, c)));
     const hk_Vec3 x = hk_m3_tmul_v3(&head->rot, hk_v3_sub(pos, head->trans));
     if (!(hk_collision_depth(d->contact.shapes, d->contact.shape_count, d->contact.envelope_alpha, x) > 0.0)) return 0;
     hk_point_kinematics(node, k, kd, u, 1, pk);
     return hk_body_contact_force(&d->contact, head, pk->k.pos, pk->k.vel, hk_m3_col(&pk->k.frame, 0), pf);
+}
+
+/* HK_STIFFNESS_FULL: the friction of the touching sample whose kinematics pk has (pos,
+ * vel, jac, the tangent) and whose penalty gradient in head space is g, added to t. */
+static void add_friction(hk_StrandDynamics *d, const hk_RigidState *head, hk_ElementTerms *t,
+                         const hk_PointKinematics *pk, hk_Vec3 g, double ch)
+{
+    hk_PointForce pf;
+    if (!hk_body_contact_friction(&d->contact, head, pk->k.pos, pk->k.vel, hk_m3_col(&pk->k.frame, 0),
+                                  hk_m3_mul_v3(&head->rot, g), &pf))
+        return;
+    d->contact_count++;
+    add_point_force(t, pk, &pf, ch, NULL, NULL, d->params.integrator == HK_INTEGRATOR_LINEAR_EULER ? head : NULL);
 }
 
 /* Velocity of a point and of its frame when the coordinates move at rates x and the
@@ -342,6 +347,7 @@ static void sweep(hk_StrandDynamics *d, const hk_RigidState *head, const hk_Poin
     const double cw = d->contact.weight;
     const double inv_ch = x && ch > 0.0 ? 1.0 / ch : 0.0;
     const int euler = d->params.integrator == HK_INTEGRATOR_LINEAR_EULER;
+    const int full = d->params.stiffness == HK_STIFFNESS_FULL;
     memset(d->terms, 0, (size_t)n * sizeof(hk_ElementTerms));
     hk_FrameKinematics node = hk_dynamics_root_kinematics(d, head);
     RateChain rate = {hk_v3_zero(), hk_v3_zero()};
@@ -396,13 +402,40 @@ static void sweep(hk_StrandDynamics *d, const hk_RigidState *head, const hk_Poin
         }
         const double s_end = sh->s_start[p + 1];
         const int last = p == n - 1;
-        /* Body contacts at the collision samples of this element. */
-        for (; mode == SWEEP_STEP && sample < d->contact_samples; sample++) {
+        /* Body contacts at the collision samples of this element. With the full
+         * stiffness the potential told which touch: their kinematics two at a time,
+         * their forces added in the order of the samples. */
+        if (mode == SWEEP_STEP && full) {
+            int held = -1;
+            hk_Vec3 held_g = hk_v3_zero();
+            for (; sample < d->contact_samples; sample++) {
+                const double s = (sample + 0.5) * cw;
+                if (!last && s >= s_end) break;
+                hk_Vec3 grad;
+                if (!hk_strand_workspace_contact(d->ws_body, sample, &grad)) continue;
+                if (held < 0) {
+                    held = sample, held_g = grad;
+                    continue;
+                }
+                hk_PointKinematics pk[2];
+                const double uu[2] = {(held + 0.5) * cw - sh->s_start[p], s - sh->s_start[p]};
+                hk_point_contact2(&node, k, kd, uu, pk);
+                add_friction(d, head, t, &pk[0], held_g, ch);
+                add_friction(d, head, t, &pk[1], grad, ch);
+                held = -1;
+            }
+            if (held >= 0) { /* the element's last one, alone */
+                hk_PointKinematics pk;
+                hk_point_kinematics(&node, k, kd, (held + 0.5) * cw - sh->s_start[p], 1, &pk);
+                add_friction(d, head, t, &pk, held_g, ch);
+            }
+        }
+        for (; mode == SWEEP_STEP && !full && sample < d->contact_samples; sample++) {
             const double s = (sample + 0.5) * cw;
             if (!last && s >= s_end) break;
             hk_PointKinematics pk;
             hk_PointForce pf;
-            if (!body_contact(d, head, &node, k, kd, s - sh->s_start[p], sample, &pk, &pf)) continue;
+            if (!body_contact(d, head, &node, k, kd, s - sh->s_start[p], &pk, &pf)) continue;
             d->contact_count++;
             add_point_force(t, &pk, &pf, ch, NULL, NULL, euler ? head : NULL);
         }

@@ -141,7 +141,7 @@ void hk_point_jacobian2(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, 
 {
     hk_Vec3x2 offset;
     hk_Mat3x2 dd;
-    hk_element_offset2(k, u, &offset, &dd);
+    hk_element_offset2(k, u, &offset, &dd, NULL);
     const hk_Mat3 *r = &start->frame;
     const hk_Vec3x2 d = mul_v3_x2(r, offset);
     const hk_Mat3x2 j = mul_m3_x2(r, &dd);
@@ -152,6 +152,26 @@ void hk_point_jacobian2(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, 
         pos[l] = lane_v3(p, l);
         vel[l] = lane_v3(v, l);
         jac[l] = lane_m3(&j, l);
+    }
+}
+
+void hk_point_contact2(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, const double u[2],
+                       hk_PointKinematics out[2])
+{
+    hk_Vec3x2 offset, tangent;
+    hk_Mat3x2 dd;
+    hk_element_offset2(k, u, &offset, &dd, &tangent);
+    const hk_Mat3 *r = &start->frame;
+    const hk_Vec3x2 d = mul_v3_x2(r, offset), n0 = mul_v3_x2(r, tangent);
+    const hk_Mat3x2 j = mul_m3_x2(r, &dd);
+    const hk_Vec3x2 p = add_x2(lanes3(start->pos), d);
+    const hk_Vec3x2 v = add_x2(add_x2(lanes3(start->vel), cross_x2(lanes3(start->omega), d)), mul_x2_v3(&j, kd));
+#pragma GCC unroll 2
+    for (int l = 0; l < 2; l++) {
+        out[l].k.pos = lane_v3(p, l);
+        out[l].k.vel = lane_v3(v, l);
+        out[l].jac = lane_m3(&j, l);
+        out[l].k.frame.m[0][0] = n0.x[l], out[l].k.frame.m[1][0] = n0.y[l], out[l].k.frame.m[2][0] = n0.z[l];
     }
 }
 

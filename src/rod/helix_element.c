@@ -482,7 +482,7 @@ void hk_element_local_order2(const hk_Vec3 k[2], const double u[2], hk_ElementLo
     }
 }
 
-void hk_element_offset2(hk_Vec3 k, const double u[2], hk_Vec3x2 *offset, hk_Mat3x2 *dd)
+void hk_element_offset2(hk_Vec3 k, const double u[2], hk_Vec3x2 *offset, hk_Mat3x2 *dd, hk_Vec3x2 *tangent)
 {
     const hk_Lanes ul = {u[0], u[1]};
     const hk_Vec3x2 phi = scale_x2(lanes3(k), ul);
@@ -490,6 +490,12 @@ void hk_element_offset2(hk_Vec3 k, const double u[2], hk_Vec3x2 *offset, hk_Mat3
     hk_Lanes c[HK_CN_COUNT];
     hk_helix_cn_x2(x, c);
     *offset = scale_x2(helix_term_e0_x2(c, 2, 1.0, phi, x, ul * ul, dd), ul);
+    if (!tangent) return;
+    /* column 0 of rotation_and_lambda's rotation, its operations */
+    const hk_Lanes zero = lanes(0.0), one = lanes(1.0);
+    tangent->x = (one + c[1] * zero) + c[2] * (phi.x * phi.x - x);
+    tangent->y = (zero + c[1] * phi.z) + c[2] * (phi.y * phi.x - zero);
+    tangent->z = (zero + c[1] * -phi.y) + c[2] * (phi.z * phi.x - zero);
 }
 
 void hk_element_offset_derivs2(hk_Vec3 k, const double u[2], hk_Mat3 dd[2], hk_Vec3 d2d0[3][3], hk_Vec3 d2d1[3][3])

@@ -153,8 +153,9 @@ void hk_element_local_rates2(hk_Vec3 k, const double u[2], hk_Vec3 kd, hk_Elemen
 void hk_element_local_order2(const hk_Vec3 k[2], const double u[2], hk_ElementLocal out[2]);
 
 /* hk_element_offset with its Jacobian dd (not NULL) for the offsets u[0] and u[1] of one
- * element at once: the same bits, lane by lane. */
-void hk_element_offset2(hk_Vec3 k, const double u[2], hk_Vec3x2 *offset, hk_Mat3x2 *dd);
+ * element at once: the same bits, lane by lane; with tangent (may be NULL) column 0 of
+ * the rotation exp(u [k]x), hk_element_local's bits. */
+void hk_element_offset2(hk_Vec3 k, const double u[2], hk_Vec3x2 *offset, hk_Mat3x2 *dd, hk_Vec3x2 *tangent);
 
 /* hk_element_offset_derivs (from hk_element_offset_begin's c) for the offsets u[0] and
  * u[1] of one element at once: dd[i] and, when d2d0 is not NULL, the second
