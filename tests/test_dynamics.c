@@ -477,7 +477,8 @@ static void test_body_friction_blend(void **state)
 }
 
 /* The two-point paths of the sweeps (two offsets of one element at once, two lanes of
- * vector arithmetic) against the one-point ones, bit for bit. */
+ * vector arithmetic) against the one-point ones, bit for bit, and so the two Gauss
+ * points' sums into the element's terms. */
 static void test_point_pairs_bit_for_bit(void **state)
 {
     (void)state;
@@ -508,7 +509,31 @@ static void test_point_pairs_bit_for_bit(void **state)
             hk_point_jacobian(&start, ks[t], kd, u[l], &p1, &v1, &j1);
             assert_true(memcmp(&jpos[l], &p1, sizeof p1) == 0 && memcmp(&jvel[l], &v1, sizeof v1) == 0);
             assert_true(memcmp(&jac[l], &j1, sizeof j1) == 0);
+            /* a body contact's pair: order 1's position, velocity, Jacobian, tangent */
+            hk_PointKinematics contact[2], first;
+            hk_point_contact2(&start, ks[t], kd, u, contact);
+            hk_point_kinematics(&start, ks[t], kd, u[l], 1, &first);
+            const hk_Vec3 n0 = hk_m3_col(&contact[l].k.frame, 0), n1 = hk_m3_col(&first.k.frame, 0);
+            assert_true(memcmp(&contact[l].k.pos, &first.k.pos, sizeof(hk_Vec3)) == 0);
+            assert_true(memcmp(&contact[l].k.vel, &first.k.vel, sizeof(hk_Vec3)) == 0);
+            assert_true(memcmp(&contact[l].jac, &first.jac, sizeof(hk_Mat3)) == 0);
+            assert_true(memcmp(&n0, &n1, sizeof n0) == 0);
         }
+        /* the pair's quadrature terms into an element's sums that already hold some
+         * (their signs mixed), against the same two points added one at a time */
+        hk_ElementTerms lanes, alone;
+        double *sums = &lanes.xi[0][0];
+        for (size_t i = 0; i < sizeof lanes / sizeof(double); i++) sums[i] = 1e-3 * (double)(i % 7) - 2e-3;
+        alone = lanes;
+        const double a[2] = {3.1e-4, 7.3e-5};
+        const hk_Mat3 b[2] = {{{{2e-9, 1e-10, -3e-10}, {1e-10, 5e-9, 2e-10}, {-3e-10, 2e-10, 4e-9}}},
+                              {{{7e-9, -2e-10, 1e-10}, {-2e-10, 3e-9, 5e-10}, {1e-10, 5e-10, 6e-9}}}};
+        const hk_Vec3 f[2] = {{0.3, -1.2, 0.05}, {-0.7, 0.2, 1.1}}, tau[2] = {{1e-6, -2e-6, 3e-7}, {-5e-7, 4e-6, 1e-6}};
+        hk_element_terms_add_quadrature2(&lanes, pair, a, b, f, tau);
+        for (int l = 0; l < 2; l++)
+            hk_element_terms_add_quadrature(&alone, pair[l].k.pos, a[l], &b[l], &pair[l].jac, &pair[l].jac_rot, f[l],
+                                            tau[l]);
+        assert_true(memcmp(&lanes, &alone, sizeof alone) == 0);
     }
 }
 

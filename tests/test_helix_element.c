@@ -377,11 +377,11 @@ static void test_two_lanes_bit_for_bit(void **state)
             hk_element_local_order2(k2, u, pair);
             hk_ElementRates2 rates;
             hk_element_local_rates2(ks[t], u, kd, &rates);
-            hk_Vec3x2 offset, slide, offset_only, offset_dd;
+            hk_Vec3x2 offset, slide, offset_only, offset_dd, tangent;
             hk_Mat3x2 dd;
             hk_element_slide2(ks[t], u, kd, &offset, &slide);
             hk_element_slide2(ks[t], u, kd, &offset_only, NULL);
-            hk_element_offset2(ks[t], u, &offset_dd, &dd);
+            hk_element_offset2(ks[t], u, &offset_dd, &dd, &tangent);
             hk_Mat3 dd2[2];
             hk_Vec3 d2d0[3][3], d2d1[3][3];
             hk_element_offset_derivs2(ks[t], u, dd2, d2d0, d2d1);
@@ -393,6 +393,7 @@ static void test_two_lanes_bit_for_bit(void **state)
                 hk_element_local_rates(ks[t], u[l], kd, &el, &spin_rate, &curve);
                 const hk_Mat3 rot = lane_m3(&rates.rot, l), lam = lane_m3(&rates.lam, l), rdd = lane_m3(&rates.dd, l);
                 assert_true(same_mat(&rot, &el.rot) && same_mat(&lam, &el.lam) && same_mat(&rdd, &el.dd));
+                assert_true(same_vec(lane_v3(tangent, l), hk_m3_col(&el.rot, 0)));
                 assert_true(same_vec(lane_v3(rates.spin_rate, l), spin_rate));
                 assert_true(same_vec(lane_v3(rates.curve, l), curve));
                 hk_Vec3 o, sl;

@@ -96,10 +96,14 @@ static inline hk_Vec3 hk_m3_tmul_v3(const hk_Mat3 *a, hk_Vec3 v)
                  a->m[0][1] * v.x + a->m[1][1] * v.y + a->m[2][1] * v.z,
                  a->m[0][2] * v.x + a->m[1][2] * v.y + a->m[2][2] * v.z);
 }
+/* The 3 x 3 loops carry `#pragma GCC unroll`: GCC 12's -O2 keeps them rolled; written out
+ * they are the same operations in the same order (the same bits), without the counters. */
 static inline hk_Mat3 hk_m3_mul(const hk_Mat3 *a, const hk_Mat3 *b)
 {
     hk_Mat3 r;
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
         for (int j = 0; j < 3; j++)
             r.m[i][j] = a->m[i][0] * b->m[0][j] + a->m[i][1] * b->m[1][j] + a->m[i][2] * b->m[2][j];
     return r;
@@ -107,21 +111,27 @@ static inline hk_Mat3 hk_m3_mul(const hk_Mat3 *a, const hk_Mat3 *b)
 static inline hk_Mat3 hk_m3_transpose(const hk_Mat3 *a)
 {
     hk_Mat3 r;
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
         for (int j = 0; j < 3; j++) r.m[i][j] = a->m[j][i];
     return r;
 }
 static inline hk_Mat3 hk_m3_add(const hk_Mat3 *a, const hk_Mat3 *b)
 {
     hk_Mat3 r;
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
         for (int j = 0; j < 3; j++) r.m[i][j] = a->m[i][j] + b->m[i][j];
     return r;
 }
 static inline hk_Mat3 hk_m3_scale(const hk_Mat3 *a, double s)
 {
     hk_Mat3 r;
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
         for (int j = 0; j < 3; j++) r.m[i][j] = a->m[i][j] * s;
     return r;
 }

@@ -1,4 +1,6 @@
-/* Collision shapes' penetration depth and envelope penalty, exact derivatives (Lansink 2010 §4.1.2). */
+/* Collision shapes' penetration depth and envelope penalty, exact derivatives (Lansink 2010 §4.1.2).
+ * The 3-loops carry `#pragma GCC unroll`: -O2 keeps them rolled; written out they are
+ * the same operations (the same bits) without the counters and run-time i == j tests. */
 #include <float.h>
 
 #include "collide/collide_internal.h"
@@ -38,7 +40,9 @@ static double sphere_dent(const hk_Shape *s, hk_Vec3 d, double q2, hk_Vec3 *grad
     const hk_Vec3 n = hk_v3_scale(d, iq);
     if (grad) *grad = hk_v3_neg(n);
     if (hess) /* d2(-|d|) = -(I - n n^T) / |d| */
+#pragma GCC unroll 3
         for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
             for (int j = 0; j < 3; j++) hess->m[i][j] = (hk_v3_get(n, i) * hk_v3_get(n, j) - (i == j)) * iq;
     return r - q;
 }
@@ -81,6 +85,7 @@ static double ellipsoid_dent(const hk_Shape *s, hk_Vec3 d, double q2, hk_Vec3 *g
     const double iq = 1.0 / q;
     const hk_Vec3 n = hk_v3_scale(d, iq);
     double inv2[3], ml[3], sn = 0.0;
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++) {
         const double a = hk_v3_get(s->half, i);
         inv2[i] = 1.0 / (a * a);
@@ -100,9 +105,12 @@ static double ellipsoid_dent(const hk_Shape *s, hk_Vec3 d, double q2, hk_Vec3 *g
     if (hess) {
         const double nv[3] = {n.x, n.y, n.z}, gv[3] = {g.x, g.y, g.z};
         const double iq2 = iq * iq, iR = 1.0 / R;
+#pragma GCC unroll 3
         for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
             for (int j = i; j < 3; j++) {
                 double aij = 0.0; /* (A)_ij */
+#pragma GCC unroll 3
                 for (int k = 0; k < 3; k++) aij += inv2[k] * hk_v3_get(s->axis[k], i) * hk_v3_get(s->axis[k], j);
                 const double hr =
                     ((i == j) * R - R3 * aij - 2.0 * (nv[i] * gv[j] + gv[i] * nv[j]) + 3.0 * gv[i] * gv[j] * iR) * iq2;
@@ -121,6 +129,7 @@ static double cuboid_dent(const hk_Shape *s, hk_Vec3 d, hk_Vec3 *grad, hk_Mat3 *
     int best = 0;
     double pb = hk_v3_dot(d, s->axis[0]);
     double dent = s->half.x - fabs(pb);
+#pragma GCC unroll 2
     for (int i = 1; i < 3; i++) {
         const double pi = hk_v3_dot(d, s->axis[i]);
         const double di = hk_v3_get(s->half, i) - fabs(pi);
@@ -208,7 +217,9 @@ double hk_shape_penalty(const hk_Shape *shape, double alpha, hk_Vec3 p, hk_Vec3 
     if (grad) *grad = hk_v3_madd(*grad, g, kphi);
     if (hess) {
         const double gv[3] = {g.x, g.y, g.z};
+#pragma GCC unroll 3
         for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
             for (int j = 0; j < 3; j++) hess->m[i][j] += k * gv[i] * gv[j] + (hp ? kphi * h.m[i][j] : 0.0);
     }
     return 0.5 * kphi * phi;
@@ -235,6 +246,7 @@ static int clearly_outside(const hk_Shape *s, hk_Vec3 d, double q2)
         return q2 > s->half.x * s->half.x * (1.0 + 1e-9);
     case HK_SHAPE_ELLIPSOID: {
         double r2 = 0.0;
+#pragma GCC unroll 3
         for (int i = 0; i < 3; i++) {
             const double u = hk_v3_dot(d, s->axis[i]) / hk_v3_get(s->half, i);
             r2 += u * u;

@@ -69,6 +69,12 @@ void hk_point_jacobian(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, d
 void hk_point_jacobian2(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, const double u[2], hk_Vec3 pos[2],
                         hk_Vec3 vel[2], hk_Mat3 jac[2]);
 
+/* hk_point_kinematics of order 1 at the offsets u[0] and u[1] at once (two lanes), only
+ * what a body contact's friction takes: k.pos, k.vel, jac and column 0 of k.frame (the
+ * tangent), the same bits; the other fields are left alone. */
+void hk_point_contact2(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, const double u[2],
+                       hk_PointKinematics out[2]);
+
 /* Per element terms of one step, from its own points (quadrature, contacts). The
  * spatial vectors are (angular; linear) about the world origin: a screw (w; v) moves
  * the point p by w x p + v, a wrench (m; f) is a moment about the origin and a force. */
@@ -90,6 +96,12 @@ void hk_element_terms_add(hk_ElementTerms *t, hk_Vec3 p, const hk_Mat3 *a, const
 /* The same for a quadrature point, whose translational mass matrix is a I. */
 void hk_element_terms_add_quadrature(hk_ElementTerms *t, hk_Vec3 p, double a, const hk_Mat3 *b, const hk_Mat3 *jac,
                                      const hk_Mat3 *jac_rot, hk_Vec3 f, hk_Vec3 tau);
+
+/* hk_element_terms_add_quadrature for the two points pk[0] and pk[1] (their pos, jac and
+ * jac_rot) with a[l], b[l], f[l] and tau[l], in two lanes: the same bits as the two
+ * calls, point 0's first. */
+void hk_element_terms_add_quadrature2(hk_ElementTerms *t, const hk_PointKinematics pk[2], const double a[2],
+                                      const hk_Mat3 b[2], const hk_Vec3 f[2], const hk_Vec3 tau[2]);
 
 /* Fills t->xi from the element's end point (its Jacobians at u = l_P). */
 void hk_element_terms_set_screw(hk_ElementTerms *t, const hk_PointKinematics *end);

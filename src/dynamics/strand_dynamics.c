@@ -248,7 +248,7 @@ static int gauss_count(const hk_StrandDynamics *d, int p)
 
 /* Rotary inertia of the section in world axes: sum_i I_i n_i n_i^T, written as
  * I_1 (the identity) + (I_0 - I_1) n0 n0^T + (I_2 - I_1) n2 n2^T since the n_i are
- * orthonormal. */
+ * orthonormal. (Unrolled: -O2 kept the loops, and their i == j test, rolled.) */
 static hk_Mat3 rotary_inertia(const hk_RodMaterial *m, const hk_Mat3 *frame, double weight)
 {
     const double i1 = weight * m->rotary_inertia[1], d0 = weight * m->rotary_inertia[0] - i1,
@@ -256,7 +256,9 @@ static hk_Mat3 rotary_inertia(const hk_RodMaterial *m, const hk_Mat3 *frame, dou
     const hk_Vec3 n0 = hk_m3_col(frame, 0), n2 = hk_m3_col(frame, 2);
     const double a[3] = {n0.x, n0.y, n0.z}, c[3] = {n2.x, n2.y, n2.z};
     hk_Mat3 out;
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
         for (int j = 0; j < 3; j++) out.m[i][j] = (i == j ? i1 : 0.0) + d0 * a[i] * a[j] + d2 * c[i] * c[j];
     return out;
 }
@@ -285,28 +287,33 @@ static void add_point_force(hk_ElementTerms *t, const hk_PointKinematics *pk, co
 }
 
 /* Body contact of collision sample `sample`, at offset u into the element that starts
- * at node (coordinates k, rates kd): fills pk and pf and returns 1 when the sample
- * touches a shape. With the full stiffness the penalty's normal force is in the
- * potential's gradient already (full_potential, evaluated at the same samples just
- * before): its evaluation tells which samples touch and their penalty gradients, from
- * which the friction alone is added here. With the Gauss-Newton stiffness the penalty
- * is evaluated here, normal force and friction. */
+ * at node (coordinates k, rates kd), with the Gauss-Newton stiffness: fills pk and pf
+ * and returns 1 when the sample touches a shape (the penalty's normal force and its
+ * friction). With the full stiffness the potential's evaluation (full_potential, just
+ * before) tells which samples touch and their penalty gradients, and the sweep adds
+ * their friction alone (add_friction). */
 static int body_contact(const hk_StrandDynamics *d, const hk_RigidState *head, const hk_FrameKinematics *node,
-                        hk_Vec3 k, hk_Vec3 kd, double u, int sample, hk_PointKinematics *pk, hk_PointForce *pf)
+                        hk_Vec3 k, hk_Vec3 kd, double u, hk_PointKinematics *pk, hk_PointForce *pf)
 {
-    if (d->params.stiffness == HK_STIFFNESS_FULL) {
-        hk_Vec3 g; /* head space, as full_potential evaluates it */
-        if (!hk_strand_workspace_contact(d->ws_body, sample, &g)) return 0;
-        hk_point_kinematics(node, k, kd, u, 1, pk);
-        return hk_body_contact_friction(&d->contact, head, pk->k.pos, pk->k.vel, hk_m3_col(&pk->k.frame, 0),
-                                        hk_m3_mul_v3(&head->rot, g), pf);
-    }
     double c[HK_CN_COUNT];
     const hk_Vec3 pos = hk_v3_add(node->pos, hk_m3_mul_v3(&node->frame, hk_element_offset_begin(k, u, c)));
     const hk_Vec3 x = hk_m3_tmul_v3(&head->rot, hk_v3_sub(pos, head->trans));
     if (!(hk_collision_depth(d->contact.shapes, d->contact.shape_count, d->contact.envelope_alpha, x) > 0.0)) return 0;
     hk_point_kinematics(node, k, kd, u, 1, pk);
     return hk_body_contact_force(&d->contact, head, pk->k.pos, pk->k.vel, hk_m3_col(&pk->k.frame, 0), pf);
+}
+
+/* HK_STIFFNESS_FULL: the friction of the touching sample whose kinematics pk has (pos,
+ * vel, jac, the tangent) and whose penalty gradient in head space is g, added to t. */
+static void add_friction(hk_StrandDynamics *d, const hk_RigidState *head, hk_ElementTerms *t,
+                         const hk_PointKinematics *pk, hk_Vec3 g, double ch)
+{
+    hk_PointForce pf;
+    if (!hk_body_contact_friction(&d->contact, head, pk->k.pos, pk->k.vel, hk_m3_col(&pk->k.frame, 0),
+                                  hk_m3_mul_v3(&head->rot, g), &pf))
+        return;
+    d->contact_count++;
+    add_point_force(t, pk, &pf, ch, NULL, NULL, d->params.integrator == HK_INTEGRATOR_LINEAR_EULER ? head : NULL);
 }
 
 /* Velocity of a point and of its frame when the coordinates move at rates x and the
@@ -340,6 +347,7 @@ static void sweep(hk_StrandDynamics *d, const hk_RigidState *head, const hk_Poin
     const double cw = d->contact.weight;
     const double inv_ch = x && ch > 0.0 ? 1.0 / ch : 0.0;
     const int euler = d->params.integrator == HK_INTEGRATOR_LINEAR_EULER;
+    const int full = d->params.stiffness == HK_STIFFNESS_FULL;
     memset(d->terms, 0, (size_t)n * sizeof(hk_ElementTerms));
     hk_FrameKinematics node = hk_dynamics_root_kinematics(d, head);
     RateChain rate = {hk_v3_zero(), hk_v3_zero()};
@@ -352,6 +360,10 @@ static void sweep(hk_StrandDynamics *d, const hk_RigidState *head, const hk_Poin
         const int g = gauss_count(d, p);
         hk_PointKinematics pair[2], end;
         int end_known = 0;
+        /* a pair's first point's a, b, f and tau, added with the second's */
+        double aq[2];
+        hk_Mat3 bq[2];
+        hk_Vec3 fq[2], tauq[2];
         for (int i = 0; i < g; i++) {
             const double u = len * d->gauss.node[g - 1][i], w = len * d->gauss.weight[g - 1][i];
             /* A step's points two at a time; an odd last one with the element's end, which
@@ -379,17 +391,51 @@ static void sweep(hk_StrandDynamics *d, const hk_RigidState *head, const hk_Poin
                     tau = hk_v3_sub(tau, hk_v3_scale(hk_m3_mul_v3(&b, r.omega), inv_ch));
                 }
             }
-            hk_element_terms_add_quadrature(t, pk->k.pos, (rho_s + ch * nu) * w, &b, &pk->jac, &pk->jac_rot, f, tau);
+            const double a = (rho_s + ch * nu) * w;
+            if (mode == SWEEP_STEP && !end_known) { /* two Gauss points, in two lanes */
+                const int l = i % 2;
+                aq[l] = a, bq[l] = b, fq[l] = f, tauq[l] = tau;
+                if (l == 1) hk_element_terms_add_quadrature2(t, pair, aq, bq, fq, tauq);
+                continue;
+            }
+            hk_element_terms_add_quadrature(t, pk->k.pos, a, &b, &pk->jac, &pk->jac_rot, f, tau);
         }
         const double s_end = sh->s_start[p + 1];
         const int last = p == n - 1;
-        /* Body contacts at the collision samples of this element. */
-        for (; mode == SWEEP_STEP && sample < d->contact_samples; sample++) {
+        /* Body contacts at the collision samples of this element. With the full
+         * stiffness the potential told which touch: their kinematics two at a time,
+         * their forces added in the order of the samples. */
+        if (mode == SWEEP_STEP && full) {
+            int held = -1;
+            hk_Vec3 held_g = hk_v3_zero();
+            for (; sample < d->contact_samples; sample++) {
+                const double s = (sample + 0.5) * cw;
+                if (!last && s >= s_end) break;
+                hk_Vec3 grad;
+                if (!hk_strand_workspace_contact(d->ws_body, sample, &grad)) continue;
+                if (held < 0) {
+                    held = sample, held_g = grad;
+                    continue;
+                }
+                hk_PointKinematics pk[2];
+                const double uu[2] = {(held + 0.5) * cw - sh->s_start[p], s - sh->s_start[p]};
+                hk_point_contact2(&node, k, kd, uu, pk);
+                add_friction(d, head, t, &pk[0], held_g, ch);
+                add_friction(d, head, t, &pk[1], grad, ch);
+                held = -1;
+            }
+            if (held >= 0) { /* the element's last one, alone */
+                hk_PointKinematics pk;
+                hk_point_kinematics(&node, k, kd, (held + 0.5) * cw - sh->s_start[p], 1, &pk);
+                add_friction(d, head, t, &pk, held_g, ch);
+            }
+        }
+        for (; mode == SWEEP_STEP && !full && sample < d->contact_samples; sample++) {
             const double s = (sample + 0.5) * cw;
             if (!last && s >= s_end) break;
             hk_PointKinematics pk;
             hk_PointForce pf;
-            if (!body_contact(d, head, &node, k, kd, s - sh->s_start[p], sample, &pk, &pf)) continue;
+            if (!body_contact(d, head, &node, k, kd, s - sh->s_start[p], &pk, &pf)) continue;
             d->contact_count++;
             add_point_force(t, &pk, &pf, ch, NULL, NULL, euler ? head : NULL);
         }

@@ -1,5 +1,11 @@
 /* One helical element in closed form with exact first and second derivatives in its
- * curvatures and twist (Bertails et al. 2006 Appendix A, eq. 7; derivation in docs/physics.md). */
+ * curvatures and twist (Bertails et al. 2006 Appendix A, eq. 7; derivation in docs/physics.md).
+ *
+ * GCC 12's -O2 keeps most of the small loops here rolled (a counter, and tests such as
+ * i == j made at run time); `#pragma GCC unroll` writes them out, the same operations
+ * in the same order, so the same bits (docs/dynamics.md, "Speed", 6 December 2026,
+ * night). The two-lane helpers are always inlined for the same reason: as calls,
+ * their lanes went through the stack. */
 #include <stddef.h>
 
 #include "helix_local.h"
@@ -10,7 +16,9 @@ hk_Mat3 hk_helix_rotation(const double c[HK_CN_COUNT], hk_Vec3 phi)
     double x = hk_v3_dot(phi, phi);
     hk_Mat3 r = hk_m3_outer(phi, phi);
     hk_Mat3 s = hk_m3_skew(phi);
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++) {
+#pragma GCC unroll 3
         for (int j = 0; j < 3; j++) r.m[i][j] = c[1] * s.m[i][j] + c[2] * r.m[i][j];
         r.m[i][i] += 1.0 - c[2] * x;
     }
@@ -33,6 +41,7 @@ void hk_helix_term(const double c[HK_CN_COUNT], int m, double alpha, hk_Vec3 phi
     const double dm1 = -0.5 * (c[m + 2] - (m + 1) * c[m + 3]);
     const double ph[3] = {phi.x, phi.y, phi.z}, wv[3] = {w.x, w.y, w.z};
     hk_Vec3 exw[3], dq[3];
+#pragma GCC unroll 3
     for (int j = 0; j < 3; j++) {
         hk_Vec3 ej = hk_v3_unit(j);
         exw[j] = hk_v3_cross(ej, w);
@@ -51,7 +60,9 @@ void hk_helix_term(const double c[HK_CN_COUNT], int m, double alpha, hk_Vec3 phi
     /* d2c_n/dx2 = (c_{n+2} - (2n+1) c_{n+3} + n (n+2) c_{n+4}) / 4 */
     const double ddm = 0.25 * (c[m + 2] - (2 * m + 1) * c[m + 3] + m * (m + 2) * c[m + 4]);
     const double ddm1 = 0.25 * (c[m + 3] - (2 * m + 3) * c[m + 4] + (m + 1) * (m + 3) * c[m + 5]);
+#pragma GCC unroll 3
     for (int a = 0; a < 3; a++) {
+#pragma GCC unroll 3
         for (int b = a; b < 3; b++) {
             const double dab = a == b ? 1.0 : 0.0;
             hk_Vec3 v = hk_v3_scale(pxw, 4.0 * ddm * ph[a] * ph[b] + 2.0 * dm * dab);
@@ -117,7 +128,9 @@ static void rotation_and_lambda(const double c[HK_CN_COUNT], hk_Vec3 phi, double
 {
     const double pv[3] = {phi.x, phi.y, phi.z};
     const hk_Mat3 skew = hk_m3_skew(phi);
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
         for (int j = 0; j < 3; j++) {
             const double sq = pv[i] * pv[j] - (i == j ? x : 0.0);
             out->rot.m[i][j] = (i == j ? 1.0 : 0.0) + c[1] * skew.m[i][j] + c[2] * sq;
@@ -144,8 +157,11 @@ static hk_Vec3 helix_term_e0(const double c[HK_CN_COUNT], int m, double alpha, h
     const double a[3] = {scale * (2.0 * dm1 * q[0] - 2.0 * cm1), scale * (2.0 * dm * p[2] + 2.0 * dm1 * q[1]),
                          scale * (-2.0 * dm * p[1] + 2.0 * dm1 * q[2])};
     const double diag = scale * cm1 * p[0], side = scale * cm;
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
         for (int j = 0; j < 3; j++) jac->m[i][j] = a[i] * p[j] + (i == j ? diag : 0.0);
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++) jac->m[i][0] += scale * cm1 * p[i];
     jac->m[2][1] -= side; /* e1 x e0 = -e2 */
     jac->m[1][2] += side; /* e2 x e0 = e1 */
@@ -179,7 +195,9 @@ void hk_element_local(hk_Vec3 k, double u, int order, int with_g, hk_ElementLoca
         hk_helix_term(c, 2, 1.0, phi, hk_v3_unit(b), b == 0 ? 2 : 1, &t);
         if (b == 0) {
             out->dlam[0] = out->dd;
+#pragma GCC unroll 3
             for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
                 for (int j = 0; j < 3; j++) out->d2d[i][j] = hk_v3_scale(t.hess[i][j], u3);
         } else {
             set_col(&out->lam, b, hk_v3_scale(t.value, u));
@@ -194,7 +212,9 @@ void hk_element_local(hk_Vec3 k, double u, int order, int with_g, hk_ElementLoca
         out->g = hk_v3_scale(t.value, u2);
         if (order >= 1) out->dg = hk_m3_scale(&t.jac, u3);
         if (order >= 2)
+#pragma GCC unroll 3
             for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
                 for (int j = 0; j < 3; j++) out->d2g[i][j] = hk_v3_scale(t.hess[i][j], u3 * u);
     }
 }
@@ -221,8 +241,9 @@ void hk_element_local_rates(hk_Vec3 k, double u, hk_Vec3 kd, hk_ElementLocal *ou
 
 
 /* hk_helix_term_along for m = 2, lane by lane (the same operations in the same order). */
-static void helix_term_along_x2(const hk_Lanes c[HK_CN_COUNT], hk_Vec3x2 phi, hk_Vec3x2 w, hk_Vec3x2 e, hk_Vec3x2 *d1,
-                                hk_Vec3x2 *d2)
+static inline __attribute__((always_inline)) void helix_term_along_x2(const hk_Lanes c[HK_CN_COUNT], hk_Vec3x2 phi,
+                                                                      hk_Vec3x2 w, hk_Vec3x2 e, hk_Vec3x2 *d1,
+                                                                      hk_Vec3x2 *d2)
 {
     const hk_Lanes cm = c[2], cm1 = c[3];
     const hk_Lanes x = dot_x2(phi, phi), pw = dot_x2(phi, w), s = dot_x2(phi, e);
@@ -253,8 +274,9 @@ static void helix_term_along_x2(const hk_Lanes c[HK_CN_COUNT], hk_Vec3x2 phi, hk
 }
 
 /* helix_term_e0 lane by lane (jac may be NULL). */
-static hk_Vec3x2 helix_term_e0_x2(const hk_Lanes c[HK_CN_COUNT], int m, double alpha, hk_Vec3x2 phi, hk_Lanes x,
-                                  hk_Lanes scale, hk_Mat3x2 *jac)
+static inline __attribute__((always_inline)) hk_Vec3x2 helix_term_e0_x2(const hk_Lanes c[HK_CN_COUNT], int m,
+                                                                        double alpha, hk_Vec3x2 phi, hk_Lanes x,
+                                                                        hk_Lanes scale, hk_Mat3x2 *jac)
 {
     const hk_Lanes cm = c[m], cm1 = c[m + 1], zero = lanes(0.0);
     const hk_Lanes p[3] = {phi.x, phi.y, phi.z};
@@ -267,8 +289,11 @@ static hk_Vec3x2 helix_term_e0_x2(const hk_Lanes c[HK_CN_COUNT], int m, double a
                            scale * (lanes(2.0) * dm * p[2] + lanes(2.0) * dm1 * q[1]),
                            scale * (lanes(-2.0) * dm * p[1] + lanes(2.0) * dm1 * q[2])};
     const hk_Lanes diag = scale * cm1 * p[0], side = scale * cm;
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
         for (int j = 0; j < 3; j++) jac->m[i][j] = a[i] * p[j] + (i == j ? diag : zero);
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++) jac->m[i][0] += scale * cm1 * p[i];
     jac->m[2][1] -= side;
     jac->m[1][2] += side;
@@ -285,7 +310,9 @@ void hk_element_local_rates2(hk_Vec3 k, const double u[2], hk_Vec3 kd, hk_Elemen
     /* rotation_and_lambda */
     const hk_Lanes pv[3] = {phi.x, phi.y, phi.z}, zero = lanes(0.0), one = lanes(1.0);
     const hk_Lanes skew[3][3] = {{zero, -phi.z, phi.y}, {phi.z, zero, -phi.x}, {-phi.y, phi.x, zero}};
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
         for (int j = 0; j < 3; j++) {
             const hk_Lanes sq = pv[i] * pv[j] - (i == j ? x : zero);
             out->rot.m[i][j] = (i == j ? one : zero) + c[1] * skew[i][j] + c[2] * sq;
@@ -322,8 +349,9 @@ void hk_element_slide2(hk_Vec3 k, const double u[2], hk_Vec3 kd, hk_Vec3x2 *offs
 
 /* hk_helix_term lane by lane for w a basis vector e_wi (the same operations, with its
  * zero and unit components, in the same order). */
-static void helix_term_x2(const hk_Lanes c[HK_CN_COUNT], int m, double alpha, hk_Vec3x2 phi, int wi, int order,
-                          hk_Vec3x2 *value, hk_Mat3x2 *jac, hk_Vec3x2 hess[3][3])
+static inline __attribute__((always_inline)) void helix_term_x2(const hk_Lanes c[HK_CN_COUNT], int m, double alpha,
+                                                                hk_Vec3x2 phi, int wi, int order, hk_Vec3x2 *value,
+                                                                hk_Mat3x2 *jac, hk_Vec3x2 hess[3][3])
 {
     const hk_Vec3x2 w = lanes3(hk_v3_unit(wi));
     const hk_Lanes cm = c[m], cm1 = c[m + 1];
@@ -337,6 +365,7 @@ static void helix_term_x2(const hk_Lanes c[HK_CN_COUNT], int m, double alpha, hk
     const hk_Lanes dm1 = lanes(-0.5) * (c[m + 2] - lanes((double)(m + 1)) * c[m + 3]);
     const hk_Lanes ph[3] = {phi.x, phi.y, phi.z}, wv[3] = {w.x, w.y, w.z};
     hk_Vec3x2 exw[3], dq[3];
+#pragma GCC unroll 3
     for (int j = 0; j < 3; j++) {
         const hk_Vec3x2 ej = lanes3(hk_v3_unit(j));
         exw[j] = cross_x2(ej, w);
@@ -355,7 +384,9 @@ static void helix_term_x2(const hk_Lanes c[HK_CN_COUNT], int m, double alpha, hk
         lanes(0.25) * (c[m + 2] - lanes((double)(2 * m + 1)) * c[m + 3] + lanes((double)(m * (m + 2))) * c[m + 4]);
     const hk_Lanes ddm1 = lanes(0.25) * (c[m + 3] - lanes((double)(2 * m + 3)) * c[m + 4] +
                                          lanes((double)((m + 1) * (m + 3))) * c[m + 5]);
+#pragma GCC unroll 3
     for (int a = 0; a < 3; a++) {
+#pragma GCC unroll 3
         for (int b = a; b < 3; b++) {
             const hk_Lanes dab = lanes(a == b ? 1.0 : 0.0);
             hk_Vec3x2 v = scale_x2(pxw, lanes(4.0) * ddm * ph[a] * ph[b] + lanes(2.0) * dm * dab);
@@ -380,7 +411,9 @@ static hk_Mat3x2 helix_rotation_x2(const hk_Lanes c[HK_CN_COUNT], hk_Vec3x2 phi)
     const hk_Lanes p[3] = {phi.x, phi.y, phi.z};
     const hk_Lanes s[3][3] = {{zero, -phi.z, phi.y}, {phi.z, zero, -phi.x}, {-phi.y, phi.x, zero}};
     hk_Mat3x2 r;
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++) {
+#pragma GCC unroll 3
         for (int j = 0; j < 3; j++) r.m[i][j] = c[1] * s[i][j] + c[2] * (p[i] * p[j]);
         r.m[i][i] += lanes(1.0) - c[2] * x;
     }
@@ -395,16 +428,21 @@ static void set_lane_col(hk_Mat3 *m, int j, hk_Vec3x2 v, int l)
 }
 
 /* d[i][j] = h[i][j] s, lane l */
-static void lane_scaled_hess(hk_Vec3 d[3][3], hk_Vec3x2 h[3][3], hk_Lanes s, int l)
+static inline __attribute__((always_inline)) void lane_scaled_hess(hk_Vec3 d[3][3], hk_Vec3x2 h[3][3], hk_Lanes s,
+                                                                   int l)
 {
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
         for (int j = 0; j < 3; j++) d[i][j] = lane_v3(scale_x2(h[i][j], s), l);
 }
 
 static hk_Mat3 lane_scaled(const hk_Mat3x2 *a, hk_Lanes s, int l)
 {
     hk_Mat3x2 o;
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
         for (int j = 0; j < 3; j++) o.m[i][j] = a->m[i][j] * s;
     return lane_m3(&o, l);
 }
@@ -422,8 +460,10 @@ void hk_element_local_order2(const hk_Vec3 k[2], const double u[2], hk_ElementLo
     hk_Mat3x2 dd, jac[3], gjac;
     const hk_Vec3x2 d = scale_x2(helix_term_e0_x2(c, 2, 1.0, phi, x, u2, &dd), ul);
     hk_Vec3x2 value[3], hess[3][3], g, ghess[3][3];
+#pragma GCC unroll 3
     for (int b = 0; b < 3; b++) helix_term_x2(c, 2, 1.0, phi, b, b == 0 ? 2 : 1, &value[b], &jac[b], hess);
     helix_term_x2(c, 3, 0.5, phi, 0, 2, &g, &gjac, ghess);
+#pragma GCC unroll 2
     for (int l = 0; l < 2; l++) {
         hk_ElementLocal *o = &out[l];
         o->rot = lane_m3(&rot, l);
@@ -431,6 +471,7 @@ void hk_element_local_order2(const hk_Vec3 k[2], const double u[2], hk_ElementLo
         o->dd = lane_m3(&dd, l);
         o->dlam[0] = o->dd;
         lane_scaled_hess(o->d2d, hess, u3, l);
+#pragma GCC unroll 2
         for (int b = 1; b < 3; b++) {
             set_lane_col(&o->lam, b, scale_x2(value[b], ul), l);
             o->dlam[b] = lane_scaled(&jac[b], u2, l);
@@ -441,7 +482,7 @@ void hk_element_local_order2(const hk_Vec3 k[2], const double u[2], hk_ElementLo
     }
 }
 
-void hk_element_offset2(hk_Vec3 k, const double u[2], hk_Vec3x2 *offset, hk_Mat3x2 *dd)
+void hk_element_offset2(hk_Vec3 k, const double u[2], hk_Vec3x2 *offset, hk_Mat3x2 *dd, hk_Vec3x2 *tangent)
 {
     const hk_Lanes ul = {u[0], u[1]};
     const hk_Vec3x2 phi = scale_x2(lanes3(k), ul);
@@ -449,6 +490,12 @@ void hk_element_offset2(hk_Vec3 k, const double u[2], hk_Vec3x2 *offset, hk_Mat3
     hk_Lanes c[HK_CN_COUNT];
     hk_helix_cn_x2(x, c);
     *offset = scale_x2(helix_term_e0_x2(c, 2, 1.0, phi, x, ul * ul, dd), ul);
+    if (!tangent) return;
+    /* column 0 of rotation_and_lambda's rotation, its operations */
+    const hk_Lanes zero = lanes(0.0), one = lanes(1.0);
+    tangent->x = (one + c[1] * zero) + c[2] * (phi.x * phi.x - x);
+    tangent->y = (zero + c[1] * phi.z) + c[2] * (phi.y * phi.x - zero);
+    tangent->z = (zero + c[1] * -phi.y) + c[2] * (phi.z * phi.x - zero);
 }
 
 void hk_element_offset_derivs2(hk_Vec3 k, const double u[2], hk_Mat3 dd[2], hk_Vec3 d2d0[3][3], hk_Vec3 d2d1[3][3])
@@ -514,7 +561,9 @@ void hk_element_offset_derivs(hk_Vec3 k, double u, const double c[HK_CN_COUNT], 
     if (!d2d) return;
     hk_HelixTerm t;
     hk_helix_term(c, 2, 1.0, phi, hk_v3_unit(0), 2, &t);
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
         for (int j = 0; j < 3; j++) d2d[i][j] = hk_v3_scale(t.hess[i][j], u2 * u);
 }
 

@@ -81,7 +81,8 @@ typedef struct hk_Mat3x2 {
     hk_Lanes m[3][3];
 } hk_Mat3x2;
 
-/* hairkit/vecmath.h's operations on two lanes, each lane's the same bits as theirs. */
+/* hairkit/vecmath.h's operations on two lanes, each lane's the same bits as theirs (their
+ * loops unrolled as vecmath.h's are: the same operations, without the counters). */
 static inline hk_Lanes lanes(double s) { return (hk_Lanes){s, s}; }
 static inline hk_Vec3x2 lanes3(hk_Vec3 v) { return (hk_Vec3x2){lanes(v.x), lanes(v.y), lanes(v.z)}; }
 static inline hk_Lanes dot_x2(hk_Vec3x2 a, hk_Vec3x2 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
@@ -99,6 +100,7 @@ static inline hk_Vec3x2 add_x2(hk_Vec3x2 a, hk_Vec3x2 b) { return (hk_Vec3x2){a.
 static inline hk_Vec3x2 mul_v3_x2(const hk_Mat3 *r, hk_Vec3x2 v)
 {
     hk_Lanes o[3];
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++) o[i] = lanes(r->m[i][0]) * v.x + lanes(r->m[i][1]) * v.y + lanes(r->m[i][2]) * v.z;
     return (hk_Vec3x2){o[0], o[1], o[2]};
 }
@@ -106,6 +108,7 @@ static inline hk_Vec3x2 mul_v3_x2(const hk_Mat3 *r, hk_Vec3x2 v)
 static inline hk_Vec3x2 mul_x2_v3(const hk_Mat3x2 *a, hk_Vec3 v)
 {
     hk_Lanes o[3];
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++) o[i] = a->m[i][0] * lanes(v.x) + a->m[i][1] * lanes(v.y) + a->m[i][2] * lanes(v.z);
     return (hk_Vec3x2){o[0], o[1], o[2]};
 }
@@ -113,7 +116,9 @@ static inline hk_Vec3x2 mul_x2_v3(const hk_Mat3x2 *a, hk_Vec3 v)
 static inline hk_Mat3x2 mul_m3_x2(const hk_Mat3 *r, const hk_Mat3x2 *b)
 {
     hk_Mat3x2 o;
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
         for (int j = 0; j < 3; j++)
             o.m[i][j] =
                 lanes(r->m[i][0]) * b->m[0][j] + lanes(r->m[i][1]) * b->m[1][j] + lanes(r->m[i][2]) * b->m[2][j];
@@ -124,7 +129,9 @@ static inline hk_Vec3 lane_v3(hk_Vec3x2 v, int i) { return hk_v3(v.x[i], v.y[i],
 static inline hk_Mat3 lane_m3(const hk_Mat3x2 *a, int l)
 {
     hk_Mat3 o;
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
         for (int j = 0; j < 3; j++) o.m[i][j] = a->m[i][j][l];
     return o;
 }
@@ -146,8 +153,9 @@ void hk_element_local_rates2(hk_Vec3 k, const double u[2], hk_Vec3 kd, hk_Elemen
 void hk_element_local_order2(const hk_Vec3 k[2], const double u[2], hk_ElementLocal out[2]);
 
 /* hk_element_offset with its Jacobian dd (not NULL) for the offsets u[0] and u[1] of one
- * element at once: the same bits, lane by lane. */
-void hk_element_offset2(hk_Vec3 k, const double u[2], hk_Vec3x2 *offset, hk_Mat3x2 *dd);
+ * element at once: the same bits, lane by lane; with tangent (may be NULL) column 0 of
+ * the rotation exp(u [k]x), hk_element_local's bits. */
+void hk_element_offset2(hk_Vec3 k, const double u[2], hk_Vec3x2 *offset, hk_Mat3x2 *dd, hk_Vec3x2 *tangent);
 
 /* hk_element_offset_derivs (from hk_element_offset_begin's c) for the offsets u[0] and
  * u[1] of one element at once: dd[i] and, when d2d0 is not NULL, the second

@@ -52,13 +52,21 @@ static const double inv_fact[41] = {
 /* Series sum_k (-x)^k / (2k+n)! by Horner's rule with a fixed number of terms chosen
  * from x; called only where the terms decrease from the first one (x < (n-1) n / 2
  * for the orders n >= 7 it serves, or x < 1), so it does not cancel. Truncation is
- * below 1e-16 of c_n in the whole range (x < 28, terms up to (-x)^15 / (30+n)!). */
-static double cn_series(double x, int n)
+ * below 1e-16 of c_n in the whole range (x < 28, terms up to (-x)^15 / (30+n)!).
+ * Each count of terms is its own call of horner, whose loop then unrolls completely
+ * (the same operations). */
+static inline double horner(double x, int n, int terms)
 {
-    const int terms = x < 1.0 ? 8 : (x < 8.0 ? 12 : 16);
     double sum = inv_fact[2 * (terms - 1) + n];
+#pragma GCC unroll 16
     for (int k = terms - 2; k >= 0; k--) sum = inv_fact[2 * k + n] - x * sum;
     return sum;
+}
+
+static double cn_series(double x, int n)
+{
+    if (x < 1.0) return horner(x, n, 8);
+    return x < 8.0 ? horner(x, n, 12) : horner(x, n, 16);
 }
 
 void hk_helix_cn(double x, double c[HK_CN_COUNT])
@@ -80,8 +88,9 @@ void hk_helix_cn(double x, double c[HK_CN_COUNT])
             first++;
         }
     }
-    for (int n = HK_CN_COUNT - 1; n >= first; n--)
-        c[n] = n + 2 < HK_CN_COUNT ? inv_fact[n] - x * c[n + 2] : cn_series(x, n);
+    for (int n = HK_CN_COUNT - 1; n >= first && n + 2 >= HK_CN_COUNT; n--) c[n] = cn_series(x, n);
+#pragma GCC unroll 7
+    for (int n = HK_CN_COUNT - 3; n >= first; n--) c[n] = inv_fact[n] - x * c[n + 2];
 }
 
 void hk_helix_cn_x2(hk_Lanes x, hk_Lanes c[HK_CN_COUNT])
@@ -90,17 +99,20 @@ void hk_helix_cn_x2(hk_Lanes x, hk_Lanes c[HK_CN_COUNT])
         double c0[HK_CN_COUNT], c1[HK_CN_COUNT];
         hk_helix_cn(x[0], c0);
         hk_helix_cn(x[1], c1);
+#pragma GCC unroll 9
         for (int n = 0; n < HK_CN_COUNT; n++) c[n] = (hk_Lanes){c0[n], c1[n]};
         return;
     }
     /* Both below 1: hk_helix_cn's series of 8 terms for the two highest orders and its
      * downward recurrence for the others, the same operations in both lanes. */
+#pragma GCC unroll 9
     for (int n = HK_CN_COUNT - 1; n >= 0; n--) {
         if (n + 2 < HK_CN_COUNT) {
             c[n] = lanes(inv_fact[n]) - x * c[n + 2];
             continue;
         }
         hk_Lanes sum = lanes(inv_fact[2 * 7 + n]);
+#pragma GCC unroll 7
         for (int k = 6; k >= 0; k--) sum = lanes(inv_fact[2 * k + n]) - x * sum;
         c[n] = sum;
     }

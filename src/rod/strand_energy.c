@@ -9,7 +9,12 @@
  * (energy gradient in p) and M its moment about the origin, accumulated from the tip.
  * Second derivatives add the second moment S0 = sum p f^T (rotations of lever arms),
  * the 6x6 contact stiffness C = sum B^T A B, and per element the second derivatives
- * of the element's closed form. Derivation: docs/physics.md. */
+ * of the element's closed form. Derivation: docs/physics.md.
+ *
+ * GCC 12's -O2 keeps most of the small loops here rolled (a counter, and tests such as
+ * i == j made at run time); `#pragma GCC unroll` writes them out, the same operations
+ * in the same order, so the same bits (docs/dynamics.md, "Speed", 6 December 2026,
+ * night). */
 #include "collide/collide_internal.h"
 #include "hairkit/rod.h"
 
@@ -32,6 +37,9 @@ struct hk_StrandWorkspace {
     hk_ElementLocal *local; /* per element closed forms */
     /* per collision sample, valid where active[i] */
     unsigned char *active;
+    /* the active samples in order (element P's from touch[first_touch[P]] to before
+     * touch[first_touch[P + 1]]): the backward pass visits these alone */
+    int *touch, *first_touch;
     hk_Vec3 *sp, *sf;     /* position, weighted gradient of the penalty density */
     hk_Mat3 *sa, *sd;     /* weighted Hessian of the density, world dp/dk of own element */
     hk_Vec3 (*sd2)[3][3]; /* d2p/dk2 of own element, in the element's start frame */
@@ -75,6 +83,8 @@ hk_Status hk_strand_workspace_create(const hk_SuperHelix *sh, const hk_StrandEnv
     ws->frame = hk_alloc_array((size_t)n + 1, sizeof(hk_Mat3), err);
     ws->local = hk_alloc_array((size_t)n, sizeof(hk_ElementLocal), err);
     ws->active = hk_calloc_array(sn, 1, err); /* no contact before the first call */
+    ws->touch = hk_alloc_array(sn, sizeof(int), err);
+    ws->first_touch = hk_calloc_array((size_t)n + 1, sizeof(int), err);
     ws->sp = hk_alloc_array(sn, sizeof(hk_Vec3), err);
     ws->sf = hk_alloc_array(sn, sizeof(hk_Vec3), err);
     ws->sa = hk_alloc_array(sn, sizeof(hk_Mat3), err);
@@ -83,8 +93,8 @@ hk_Status hk_strand_workspace_create(const hk_SuperHelix *sh, const hk_StrandEnv
     ws->sfl = hk_alloc_array(sn, sizeof(hk_Vec3), err);
     ws->xi = hk_alloc_array((size_t)n * 3 * 6, sizeof(double), err);
     ws->y = hk_alloc_array((size_t)n * 3 * 6, sizeof(double), err);
-    if (!ws->elem_first_sample || !ws->sample_u || !ws->pos || !ws->frame || !ws->local || !ws->active || !ws->sp ||
-        !ws->sf || !ws->sa || !ws->sd || !ws->sd2 || !ws->sfl || !ws->xi || !ws->y) {
+    if (!ws->elem_first_sample || !ws->sample_u || !ws->pos || !ws->frame || !ws->local || !ws->active || !ws->touch ||
+        !ws->first_touch || !ws->sp || !ws->sf || !ws->sa || !ws->sd || !ws->sd2 || !ws->sfl || !ws->xi || !ws->y) {
         hk_strand_workspace_destroy(ws);
         return HK_ERR_NOMEM;
     }
@@ -111,6 +121,8 @@ void hk_strand_workspace_destroy(hk_StrandWorkspace *ws)
     hk_free(ws->frame);
     hk_free(ws->local);
     hk_free(ws->active);
+    hk_free(ws->touch);
+    hk_free(ws->first_touch);
     hk_free(ws->sp);
     hk_free(ws->sf);
     hk_free(ws->sa);
@@ -183,8 +195,10 @@ static double collisions(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, co
 {
     double energy = 0.0;
     const double w = ws->sample_weight;
+    int touching = 0;
     for (int p = 0; p < sh->n; p++) {
         const int s0 = ws->elem_first_sample[p], s1 = ws->elem_first_sample[p + 1];
+        ws->first_touch[p] = touching;
         for (int i = s0; i < s1; i++) ws->active[i] = 0;
         /* Broad phase: an inextensible element stays within its length of its start. */
         if (s0 == s1 || !near_shapes(env, ws->pos[p], sh->length[p])) continue;
@@ -218,6 +232,7 @@ static double collisions(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, co
             energy += w * e;
             if (order < 1) continue;
             ws->active[i] = 1;
+            ws->touch[touching++] = i;
             ws->sp[i] = pt;
             ws->sf[i] = hk_v3_scale(g, w);
             if (order >= 2) {
@@ -234,6 +249,7 @@ static double collisions(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, co
         }
         if (held >= 0) sample_derivatives(ws, k, r, order, held, -1);
     }
+    ws->first_touch[sh->n] = touching;
     return energy;
 }
 
@@ -244,7 +260,9 @@ static void add_contact_stiffness(double c[6][6], hk_Vec3 p, const hk_Mat3 *a)
     const hk_Mat3 pa = hk_m3_mul(&px, a);    /* [p]x A */
     const hk_Mat3 pap = hk_m3_mul(&pa, &px); /* [p]x A [p]x */
     const hk_Mat3 ap = hk_m3_mul(a, &px);    /* A [p]x */
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
         for (int j = 0; j < 3; j++) {
             c[i][j] -= pap.m[i][j];
             c[i][j + 3] += pa.m[i][j];
@@ -255,8 +273,10 @@ static void add_contact_stiffness(double c[6][6], hk_Vec3 p, const hk_Mat3 *a)
 
 static void mat6_mul_vec(double c[6][6], const double *x, double *out)
 {
+#pragma GCC unroll 6
     for (int i = 0; i < 6; i++) {
         double s = 0.0;
+#pragma GCC unroll 6
         for (int j = 0; j < 6; j++) s += c[i][j] * x[j];
         out[i] = s;
     }
@@ -286,8 +306,10 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
     /* Of the Hessian only the diagonal blocks are cleared: the final loop writes every
      * entry of the others. */
     for (int p = 0; p < n && hess; p++)
+#pragma GCC unroll 3
         for (int i = 0; i < 3; i++) memset(hess + (size_t)(3 * p + i) * (size_t)dim + 3 * p, 0, 3 * sizeof(double));
     for (int p = 0; p < n; p++)
+#pragma GCC unroll 3
         for (int i = 0; i < 3; i++) {
             const double kl = sh->material.stiffness[i] * sh->length[p];
             const double dq = q[3 * p + i] - sh->q_rest[3 * p + i];
@@ -326,9 +348,10 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
         const hk_ElementLocal *el = &ws->local[p];
         const hk_Mat3 *r = &ws->frame[p];
         const hk_Vec3 r1 = ws->pos[p + 1];
-        const int s0 = ws->elem_first_sample[p], s1 = ws->elem_first_sample[p + 1];
+        const int *touch = ws->touch + ws->first_touch[p], touches = ws->first_touch[p + 1] - ws->first_touch[p];
         hk_Vec3 omega[3], t[3], dgw[3];
         double xi[3][6];
+#pragma GCC unroll 3
         for (int b = 0; b < 3; b++) {
             omega[b] = hk_m3_mul_v3(r, hk_m3_col(&el->lam, b));
             t[b] = hk_m3_mul_v3(r, hk_m3_col(&el->dd, b));
@@ -336,23 +359,30 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
             const hk_Vec3 v = hk_v3_add(t[b], hk_v3_cross(r1, omega[b]));
             xi[b][0] = omega[b].x, xi[b][1] = omega[b].y, xi[b][2] = omega[b].z;
             xi[b][3] = v.x, xi[b][4] = v.y, xi[b][5] = v.z;
+#pragma GCC unroll 6
             for (int e = 0; e < 6; e++) ws->xi[(size_t)e * (size_t)dim + (size_t)(3 * p + b)] = xi[b][e];
             double gb = hk_v3_dot(omega[b], moment) + hk_v3_dot(v, force) + hk_v3_dot(fg, dgw[b]);
-            for (int i = s0; i < s1; i++)
-                if (ws->active[i]) gb += hk_v3_dot(ws->sf[i], hk_m3_col(&ws->sd[i], b));
+            for (int m = 0; m < touches; m++) {
+                const int i = touch[m];
+                gb += hk_v3_dot(ws->sf[i], hk_m3_col(&ws->sd[i], b));
+            }
             grad[3 * p + b] += gb;
         }
 
         if (hess) {
             /* S = sum (p - r1) f^T beyond; tr S = sum (p - r1) . f. */
             hk_Mat3 s = hk_m3_outer(r1, force);
+#pragma GCC unroll 3
             for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
                 for (int j = 0; j < 3; j++) s.m[i][j] = second.m[i][j] - s.m[i][j];
             const double trs = hk_m3_trace(&s);
             const hk_Vec3 arm_moment = hk_v3_sub(moment, hk_v3_cross(r1, force));
             double cxi[3][6];
             hk_Vec3 turned[3]; /* (S - tr S I) omega_b, for Y_b and the diagonal block */
+#pragma GCC unroll 3
             for (int b = 0; b < 3; b++) turned[b] = moment_op(&s, trs, omega[b]);
+#pragma GCC unroll 3
             for (int b = 0; b < 3; b++) {
                 /* C xi is +0 to the bit while C is (sums of 0 xi_j from +0), xi finite */
                 if (stiff_zero)
@@ -366,8 +396,8 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
                 z = hk_v3_add(z, hk_v3_cross(dgw[b], fg));
                 double y[6];
                 memcpy(y, cxi[b], sizeof y);
-                for (int i = s0; i < s1; i++) {
-                    if (!ws->active[i]) continue;
+                for (int m = 0; m < touches; m++) {
+                    const int i = touch[m];
                     const hk_Vec3 jb = hk_m3_col(&ws->sd[i], b);
                     z = hk_v3_add(z, hk_v3_cross(jb, ws->sf[i]));
                     const hk_Vec3 aj = hk_m3_mul_v3(&ws->sa[i], jb);
@@ -383,15 +413,17 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
              * element's start frame once, instead of rotating every derivative. */
             const hk_Vec3 arm_local = hk_m3_tmul_v3(r, arm_moment);
             const hk_Vec3 force_local = hk_m3_tmul_v3(r, force), fg_local = hk_m3_tmul_v3(r, fg);
+#pragma GCC unroll 3
             for (int a = 0; a < 3; a++) {
+#pragma GCC unroll 3
                 for (int b = a; b < 3; b++) {
                     double h = hk_v3_dot(hk_m3_col(&el->dlam[b], a), arm_local);
                     h += hk_v3_dot(omega[b], turned[a]);
                     h += hk_v3_dot(force_local, el->d2d[a][b]);
                     h += hk_v3_dot(fg_local, el->d2g[a][b]);
                     h += dot6(xi[a], cxi[b]);
-                    for (int i = s0; i < s1; i++) {
-                        if (!ws->active[i]) continue;
+                    for (int m = 0; m < touches; m++) {
+                        const int i = touch[m];
                         const hk_Vec3 ja = hk_m3_col(&ws->sd[i], a), jb = hk_m3_col(&ws->sd[i], b);
                         h += hk_v3_dot(ws->sfl[i], ws->sd2[i][a][b]);
                         h += hk_v3_dot(ja, hk_m3_mul_v3(&ws->sa[i], jb));
@@ -411,8 +443,8 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
             const hk_Mat3 o = hk_m3_outer(integral, fg);
             second = hk_m3_add(&second, &o);
         }
-        for (int i = s0; i < s1; i++) {
-            if (!ws->active[i]) continue;
+        for (int m = 0; m < touches; m++) {
+            const int i = touch[m];
             force = hk_v3_add(force, ws->sf[i]);
             moment = hk_v3_add(moment, hk_v3_cross(ws->sp[i], ws->sf[i]));
             if (hess) {
@@ -432,6 +464,7 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
             double *row = hess + (size_t)b * (size_t)dim;
             const int first_b = (b / 3) * 3;
             hk_dot6_columns(ws->y + (size_t)b * 6, ws->xi, (size_t)dim, first_b, row);
+#pragma GCC unroll 3
             for (int a = 0; a < first_b; a++) {
                 const double h = 0.0 + row[a];
                 row[a] = h;
