@@ -37,26 +37,72 @@ static inline void store_pair(double *p, Pair v) { memcpy(p, &v, sizeof v); }
 
 static inline Pair splat(double a) { return (Pair){a, a}; }
 
+/* Four doubles (GCC's vector extension again): one AVX register where the caller is
+ * compiled for AVX (hk_symmetric_positive_part's AVX path, below), two SSE2 registers
+ * otherwise, the same operations element by element either way (no FMA: a product and
+ * a sum round as two), so that both paths give the same bits. No Quad crosses a call:
+ * the helpers are always inlined (hence -Wpsabi's note on the ABI is moot and
+ * silenced), and those that take one are macros (GCC notes a Quad parameter whatever
+ * the pragma says). */
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+typedef double Quad __attribute__((vector_size(32)));
+
+static inline __attribute__((always_inline)) Quad load_quad(const double *p)
+{
+    Quad r;
+    memcpy(&r, p, sizeof r);
+    return r;
+}
+
+static inline __attribute__((always_inline)) Quad splat4(double a) { return (Quad){a, a, a, a}; }
+
+#define STORE_QUAD(p, v)                                                                                               \
+    do {                                                                                                               \
+        const Quad stored_ = (v);                                                                                      \
+        memcpy((p), &stored_, sizeof stored_);                                                                         \
+    } while (0)
+
+/* The Quad variable q's first and last two elements. */
+#define LOW_PAIR(q)  __builtin_shufflevector((q), (q), 0, 1)
+#define HIGH_PAIR(q) __builtin_shufflevector((q), (q), 2, 3)
+
 /* y -= f x (x NULL: y as it is), then sum z[i] y[i], i < n, of the new y, in one pass
  * (z may be y): two pairs of partial sums (their chains overlap) in a fixed order, the
- * same bytes on every machine and thread count. */
+ * same bytes on every machine and thread count. wide (a constant where inlined: the
+ * other branch is compiled out): the two pairs as one Quad, the same operations. */
 static inline __attribute__((always_inline)) double sub_then_dot(double *y, double f, const double *x, const double *z,
-                                                                 int n)
+                                                                 int n, int wide)
 {
     const Pair fp = splat(f);
     Pair s0 = {0.0, 0.0}, s1 = {0.0, 0.0};
     int i = 0;
-    for (; i + 4 <= n; i += 4) {
-        Pair y0 = load_pair(y + i), y1 = load_pair(y + i + 2);
-        if (x) {
-            y0 -= fp * load_pair(x + i);
-            y1 -= fp * load_pair(x + i + 2);
-            store_pair(y + i, y0);
-            store_pair(y + i + 2, y1);
+    if (wide) {
+        const Quad fq = splat4(f);
+        Quad s = {0.0, 0.0, 0.0, 0.0};
+        for (; i + 4 <= n; i += 4) {
+            Quad y4 = load_quad(y + i);
+            if (x) {
+                y4 -= fq * load_quad(x + i);
+                STORE_QUAD(y + i, y4);
+            }
+            s += load_quad(z + i) * y4;
         }
-        s0 += load_pair(z + i) * y0;
-        s1 += load_pair(z + i + 2) * y1;
-    }
+        s0 = LOW_PAIR(s);
+        s1 = HIGH_PAIR(s);
+    } else
+        for (; i + 4 <= n; i += 4) {
+            Pair y0 = load_pair(y + i), y1 = load_pair(y + i + 2);
+            if (x) {
+                y0 -= fp * load_pair(x + i);
+                y1 -= fp * load_pair(x + i + 2);
+                store_pair(y + i, y0);
+                store_pair(y + i + 2, y1);
+            }
+            s0 += load_pair(z + i) * y0;
+            s1 += load_pair(z + i + 2) * y1;
+        }
     if (i + 2 <= n) {
         Pair y0 = load_pair(y + i);
         if (x) {
@@ -85,7 +131,7 @@ static inline __attribute__((always_inline)) double sub_then_dot(double *y, doub
  * the same parity in every pair: y's pairs are always loaded where they were stored
  * whole (a load across two stores would wait for both). */
 static inline __attribute__((always_inline)) void block_pass(int m, double *b, size_t sn, const double *v,
-                                                             const double *w, const double *u, double *y)
+                                                             const double *w, const double *u, double *y, int wide)
 {
     if (u)
         for (int j = 0; j < m; j++) y[j] = 0.0;
@@ -96,6 +142,8 @@ static inline __attribute__((always_inline)) void block_pass(int m, double *b, s
         const double u0 = u ? u[i] : 0.0, u1 = u ? u[i + 1] : 0.0;
         const Pair av0 = splat(v0), av1 = splat(v1), aw0 = splat(w0), aw1 = splat(w1);
         const Pair a0 = splat(u0), a1 = splat(u1);
+        const Quad qv0 = splat4(v0), qv1 = splat4(v1), qw0 = splat4(w0), qw1 = splat4(w1);
+        const Quad qu0 = splat4(u0), qu1 = splat4(u1);
         if (v) {
             b0[i] -= v0 * w0 + w0 * v0;
             b0[i + 1] -= v0 * w[i + 1] + w0 * v[i + 1];
@@ -103,7 +151,27 @@ static inline __attribute__((always_inline)) void block_pass(int m, double *b, s
         }
         Pair dot0 = {0.0, 0.0}, dot1 = {0.0, 0.0};
         int j = i + 2;
-        for (; j + 1 < m; j += 2) {
+        while (j + 1 < m) {
+            if (wide && !(j & 3) && j + 3 < m) { /* four columns; the pairs' sums in order */
+                Quad x0 = load_quad(b0 + j), x1 = load_quad(b1 + j);
+                if (v) {
+                    const Quad vj = load_quad(v + j), wj = load_quad(w + j);
+                    x0 -= qv0 * wj + qw0 * vj;
+                    x1 -= qv1 * wj + qw1 * vj;
+                    STORE_QUAD(b0 + j, x0);
+                    STORE_QUAD(b1 + j, x1);
+                }
+                if (u) {
+                    const Quad uj = load_quad(u + j), p0 = x0 * uj, p1 = x1 * uj;
+                    dot0 += LOW_PAIR(p0);
+                    dot0 += HIGH_PAIR(p0);
+                    dot1 += LOW_PAIR(p1);
+                    dot1 += HIGH_PAIR(p1);
+                    STORE_QUAD(y + j, load_quad(y + j) + (qu0 * x0 + qu1 * x1));
+                }
+                j += 4;
+                continue;
+            }
             Pair x0 = load_pair(b0 + j), x1 = load_pair(b1 + j);
             if (v) {
                 const Pair vj = load_pair(v + j), wj = load_pair(w + j);
@@ -118,6 +186,7 @@ static inline __attribute__((always_inline)) void block_pass(int m, double *b, s
                 dot1 += x1 * uj;
                 store_pair(y + j, load_pair(y + j) + (a0 * x0 + a1 * x1));
             }
+            j += 2;
         }
         if (v && j < m) { /* m odd: the last column */
             b0[j] -= v0 * w[j] + w0 * v[j];
@@ -144,7 +213,7 @@ static inline __attribute__((always_inline)) void block_pass(int m, double *b, s
 /* The Householder reflector H = I - tau v v^T with H x = (beta, 0, ..., 0) for the m
  * elements x (LAPACK dlarfg): v into x (its first element 1), beta into *e. Returns 0
  * if x is already reduced (H = I, tau 0). */
-static int make_reflector(double *x, int m, double *e, double *tau)
+static inline __attribute__((always_inline)) int make_reflector(double *x, int m, double *e, double *tau)
 {
     const double alpha = x[0], xx = hk_dot(x + 1, x + 1, m - 1);
     x[0] = 1.0;
@@ -166,7 +235,8 @@ static int make_reflector(double *x, int m, double *e, double *tau)
  * the k-th reflector's vector right of its diagonal (its first element 1), tau[k] its
  * factor: H_k = I - tau v v^T acts on k + 1 .. n - 1 and Q = H_0 H_1 ... H_{n-3}. Only
  * the upper triangle is read and updated, along rows; p holds 2n doubles. */
-static void tridiagonalise(int n, double *a, double *d, double *e, double *tau, double *p)
+static inline __attribute__((always_inline)) void tridiagonalise(int n, double *a, double *d, double *e, double *tau,
+                                                                 double *p, int wide)
 {
     const size_t sn = (size_t)n;
     double *q = p + n;
@@ -182,7 +252,7 @@ static void tridiagonalise(int n, double *a, double *d, double *e, double *tau, 
         }
         /* p = tau S v, then w = p - (tau/2)(p . v) v and S -= v w^T + w v^T (dsytd2's
          * steps; S v is ready when the last step's pass took it) */
-        if (!ready) block_pass(m, s, sn, NULL, NULL, x, p);
+        if (!ready) block_pass(m, s, sn, NULL, NULL, x, p, wide);
         const double t = tau[k];
 #pragma omp simd
         for (int j = 0; j < m; j++) p[j] *= t;
@@ -190,17 +260,19 @@ static void tridiagonalise(int n, double *a, double *d, double *e, double *tau, 
 #pragma omp simd
         for (int j = 0; j < m; j++) p[j] += half * x[j];
         if (!next) {
-            block_pass(m, s, sn, x, p, NULL, NULL);
+            block_pass(m, s, sn, x, p, NULL, NULL, wide);
             continue;
         }
         /* S's first row first: it gives the next reflector, which the pass over the
          * rest of S takes its product with */
-        for (int j = 0; j < m; j++) s[j] -= x[0] * p[j] + p[0] * x[j];
+        const double x0 = x[0], p0 = p[0];
+#pragma omp simd
+        for (int j = 0; j < m; j++) s[j] -= x0 * p[j] + p0 * x[j];
         have = make_reflector(s + 1, m - 1, &e[k + 1], &tau[k + 1]);
         if (have)
-            block_pass(m - 1, s + sn + 1, sn, x + 1, p + 1, s + 1, q);
+            block_pass(m - 1, s + sn + 1, sn, x + 1, p + 1, s + 1, q, wide);
         else
-            block_pass(m - 1, s + sn + 1, sn, x + 1, p + 1, NULL, NULL);
+            block_pass(m - 1, s + sn + 1, sn, x + 1, p + 1, NULL, NULL, wide);
         ready = have;
         double *swap = p;
         p = q;
@@ -239,7 +311,7 @@ static void tridiagonalise(int n, double *a, double *d, double *e, double *tau, 
  *   (e2 / g^2) u_{i-1} over u, without the cancellation of u - 1).
  * Three divisions a step, none on a chain: the eigenvalues of the head's guides' G
  * (N = 10) in 0.65 of tqlrat's time, within 2e-15 tnorm of tqlrat's. */
-static int tridiagonal_eigenvalues(int n, double *d, double *e2, double tnorm)
+static inline __attribute__((always_inline)) int tridiagonal_eigenvalues(int n, double *d, double *e2, double tnorm)
 {
     if (n == 0) return 1;
     /* T scaled by 2^-ex: tnorm in [1, 2) (ex bounded so that 2^-2ex is a double) */
@@ -265,6 +337,7 @@ static int tridiagonal_eigenvalues(int n, double *d, double *e2, double tnorm)
             const double g0 = d[l], half = 0.5 * (d[l + 1] - g0), r0 = sqrt(half * half + e2[l]);
             d[l] = e2[l] / (half + (half >= 0.0 ? r0 : -r0));
             const double shift = g0 - d[l];
+#pragma omp simd
             for (int i = l + 1; i < n; i++) d[i] -= shift;
             f += shift;
             double g = d[m] != 0.0 ? d[m] : b, h = g, s = 0.0, u = 1.0, n1 = g, n2 = 1.0;
@@ -324,7 +397,8 @@ static inline Pair pick(Bits m, Pair a, Pair b) { return (Pair)(((Bits)a & m) | 
  * is singular to working precision by design. The lanes' chains are independent: the
  * loop over them fills the latency of each one's division, two divisions to an
  * instruction. */
-static void lanes_factor(const Lanes *ln, const double *d, const double *e, double tol)
+static inline __attribute__((always_inline)) void lanes_factor(const Lanes *ln, const double *d, const double *e,
+                                                               double tol)
 {
     const int n = ln->n, w = ln->w;
     const Pair ptol = splat(tol), zero = {0.0, 0.0}, one = {1.0, 1.0};
@@ -356,7 +430,7 @@ static void lanes_factor(const Lanes *ln, const double *d, const double *e, doub
 }
 
 /* x = (T - shift I)^-1 x for every lane (x: n + 2 rows of w, the last two zero). */
-static void lanes_solve(const Lanes *ln, double *x)
+static inline __attribute__((always_inline)) void lanes_solve(const Lanes *ln, double *x)
 {
     const int n = ln->n, w = ln->w;
     const size_t sw = (size_t)w;
@@ -385,7 +459,8 @@ static void lanes_solve(const Lanes *ln, double *x)
 /* dst[c][r] = src[r][c] for the rows x cols block src (row strides ss, ds): 2 x 2
  * blocks, two rows' pairs loaded and interleaved into two columns' pairs (element by
  * element, each a scattered store, the copies took a tenth of G+'s time). */
-static void transpose(const double *src, size_t ss, size_t rows, size_t cols, double *dst, size_t ds)
+static inline __attribute__((always_inline)) void transpose(const double *src, size_t ss, size_t rows, size_t cols,
+                                                            double *dst, size_t ds)
 {
     size_t r = 0;
     for (; r + 2 <= rows; r += 2) {
@@ -423,7 +498,8 @@ static inline void unit_length(double *v, double f, int n)
  * off vector q's part and find q + 1's. Their passes are independent of one another, so
  * that their chains overlap, where lane by lane each pass waited on the last (the same
  * bits). */
-static void lanes_orthonormalise(const Lanes *ln, double *x, double *t, double *f, int back)
+static inline __attribute__((always_inline)) void lanes_orthonormalise(const Lanes *ln, double *x, double *t, double *f,
+                                                                       int back, int wide)
 {
     const int n = ln->n, k = ln->k;
     const size_t sk = (size_t)k, sn = (size_t)n, sw = (size_t)ln->w;
@@ -431,13 +507,13 @@ static void lanes_orthonormalise(const Lanes *ln, double *x, double *t, double *
     for (int a = 0, b; a < k; a = b) { /* the cluster a .. b - 1 */
         for (b = a + 1; b < k && ln->cluster[b] == a;) b++;
         double *ta = t + (size_t)a * sn;
-        unit_length(ta, sub_then_dot(ta, 0.0, NULL, ta, n), n);
-        for (int j = a + 1; j < b; j++) f[j] = sub_then_dot(t + (size_t)j * sn, 0.0, NULL, ta, n);
+        unit_length(ta, sub_then_dot(ta, 0.0, NULL, ta, n, wide), n);
+        for (int j = a + 1; j < b; j++) f[j] = sub_then_dot(t + (size_t)j * sn, 0.0, NULL, ta, n, wide);
         for (int q = a; q + 1 < b; q++) {
             const double *tq = t + (size_t)q * sn;
             double *next = t + (size_t)(q + 1) * sn;
-            unit_length(next, sub_then_dot(next, f[q + 1], tq, next, n), n);
-            for (int j = q + 2; j < b; j++) f[j] = sub_then_dot(t + (size_t)j * sn, f[j], tq, next, n);
+            unit_length(next, sub_then_dot(next, f[q + 1], tq, next, n, wide), n);
+            for (int j = q + 2; j < b; j++) f[j] = sub_then_dot(t + (size_t)j * sn, f[j], tq, next, n, wide);
         }
     }
     if (back) transpose(t, sn, sk, sn, x, sw);
@@ -447,8 +523,9 @@ static void lanes_orthonormalise(const Lanes *ln, double *x, double *t, double *
  * t (k x n; x: n + 2 rows of k, the lanes' work) by inverse iteration: three solves from a fixed pseudo-random start, which
  * leave of the other eigenvalues' components (eps tnorm / gap)^3, gaps within a cluster
  * (closer than 1e-3 tnorm, dstein's bound) handled by the Gram-Schmidt step. */
-static void lanes_eigenvectors(Lanes *ln, const double *d, const double *e, const double *lambda, double tnorm,
-                               double *x, double *t)
+static inline __attribute__((always_inline)) void lanes_eigenvectors(Lanes *ln, const double *d, const double *e,
+                                                                     const double *lambda, double tnorm, double *x,
+                                                                     double *t, int wide)
 {
     const int n = ln->n, k = ln->k;
     const double apart = 10.0 * DBL_EPSILON * tnorm, close = 1e-3 * tnorm;
@@ -470,7 +547,7 @@ static void lanes_eigenvectors(Lanes *ln, const double *d, const double *e, cons
     for (size_t i = (size_t)n * sw; i < (size_t)(n + 2) * sw; i++) x[i] = 0.0;
     for (int pass = 0; pass < 3; pass++) {
         lanes_solve(ln, x);
-        lanes_orthonormalise(ln, x, t, ln->carry0, pass < 2);
+        lanes_orthonormalise(ln, x, t, ln->carry0, pass < 2, wide);
     }
 }
 
@@ -480,12 +557,31 @@ static void lanes_eigenvectors(Lanes *ln, const double *d, const double *e, cons
  * that each is loaded where the last reflector stored it whole (a load across two
  * stores waits for both: the loop took twice as long so). */
 static inline __attribute__((always_inline)) void reflect_rows(const double *v, int m, double tau, int first, double *y,
-                                                               size_t sn, int rows)
+                                                               size_t sn, int rows, int wide)
 {
     double *y0 = y, *y1 = y + sn, *y2 = y1 + sn, *y3 = y2 + sn;
     const int i0 = first & 1, last = i0 + ((m - i0) & ~1); /* the elements left alone */
     Pair s0 = {0.0, 0.0}, s1 = s0, s2 = s0, s3 = s0;
-    for (int i = i0; i + 2 <= m; i += 2) {
+    for (int i = i0; i + 2 <= m;) {
+        if (wide && !((first + i) & 3) && i + 4 <= m) { /* four elements; the pairs' sums in order */
+            const Quad vi = load_quad(v + i), p0 = vi * load_quad(y0 + i);
+            s0 += LOW_PAIR(p0);
+            s0 += HIGH_PAIR(p0);
+            if (rows > 1) {
+                const Quad p1 = vi * load_quad(y1 + i);
+                s1 += LOW_PAIR(p1);
+                s1 += HIGH_PAIR(p1);
+            }
+            if (rows > 2) {
+                const Quad p2 = vi * load_quad(y2 + i), p3 = vi * load_quad(y3 + i);
+                s2 += LOW_PAIR(p2);
+                s2 += HIGH_PAIR(p2);
+                s3 += LOW_PAIR(p3);
+                s3 += HIGH_PAIR(p3);
+            }
+            i += 4;
+            continue;
+        }
         const Pair vi = load_pair(v + i);
         s0 += vi * load_pair(y0 + i);
         if (rows > 1) s1 += vi * load_pair(y1 + i);
@@ -493,6 +589,7 @@ static inline __attribute__((always_inline)) void reflect_rows(const double *v, 
             s2 += vi * load_pair(y2 + i);
             s3 += vi * load_pair(y3 + i);
         }
+        i += 2;
     }
     double f[4] = {s0[0] + s0[1], s1[0] + s1[1], s2[0] + s2[1], s3[0] + s3[1]};
     for (int c = 0; c < rows; c++) {
@@ -502,7 +599,19 @@ static inline __attribute__((always_inline)) void reflect_rows(const double *v, 
         f[c] *= tau;
     }
     const Pair g0 = splat(f[0]), g1 = splat(f[1]), g2 = splat(f[2]), g3 = splat(f[3]);
-    for (int i = i0; i + 2 <= m; i += 2) {
+    const Quad h0 = splat4(f[0]), h1 = splat4(f[1]), h2 = splat4(f[2]), h3 = splat4(f[3]);
+    for (int i = i0; i + 2 <= m;) {
+        if (wide && !((first + i) & 3) && i + 4 <= m) {
+            const Quad vi = load_quad(v + i);
+            STORE_QUAD(y0 + i, load_quad(y0 + i) - h0 * vi);
+            if (rows > 1) STORE_QUAD(y1 + i, load_quad(y1 + i) - h1 * vi);
+            if (rows > 2) {
+                STORE_QUAD(y2 + i, load_quad(y2 + i) - h2 * vi);
+                STORE_QUAD(y3 + i, load_quad(y3 + i) - h3 * vi);
+            }
+            i += 4;
+            continue;
+        }
         const Pair vi = load_pair(v + i);
         store_pair(y0 + i, load_pair(y0 + i) - g0 * vi);
         if (rows > 1) store_pair(y1 + i, load_pair(y1 + i) - g1 * vi);
@@ -510,6 +619,7 @@ static inline __attribute__((always_inline)) void reflect_rows(const double *v, 
             store_pair(y2 + i, load_pair(y2 + i) - g2 * vi);
             store_pair(y3 + i, load_pair(y3 + i) - g3 * vi);
         }
+        i += 2;
     }
     for (int c = 0; c < rows; c++) {
         double *yc = y + (size_t)c * sn;
@@ -521,7 +631,8 @@ static inline __attribute__((always_inline)) void reflect_rows(const double *v, 
 /* x = Q x for the k rows of x (k x n), Q = H_0 ... H_{n-3} from tridiagonalise: the
  * reflectors from the last (LAPACK dormtr), each on all rows, four at a time: a row's
  * product waits for its last multiple, the other rows' work fills the wait. */
-static void apply_reflectors(int n, const double *a, const double *tau, int k, double *x)
+static inline __attribute__((always_inline)) void apply_reflectors(int n, const double *a, const double *tau, int k,
+                                                                   double *x, int wide)
 {
     const size_t sn = (size_t)n;
     for (int r = n - 3; r >= 0; r--) {
@@ -530,21 +641,22 @@ static void apply_reflectors(int n, const double *a, const double *tau, int k, d
         const int m = n - r - 1;
         double *y = x + (size_t)r + 1;
         int j = 0;
-        for (; j + 3 < k; j += 4) reflect_rows(v, m, tau[r], r + 1, y + (size_t)j * sn, sn, 4);
+        for (; j + 3 < k; j += 4) reflect_rows(v, m, tau[r], r + 1, y + (size_t)j * sn, sn, 4, wide);
         if (j + 1 < k) {
-            reflect_rows(v, m, tau[r], r + 1, y + (size_t)j * sn, sn, 2);
+            reflect_rows(v, m, tau[r], r + 1, y + (size_t)j * sn, sn, 2, wide);
             j += 2;
         }
-        if (j < k) reflect_rows(v, m, tau[r], r + 1, y + (size_t)j * sn, sn, 1);
+        if (j < k) reflect_rows(v, m, tau[r], r + 1, y + (size_t)j * sn, sn, 1, wide);
     }
 }
 
 /* The lower triangle of out (and the diagonal) = base + sum_q c[q] x_q x_q^T (base: a,
  * or zero if a is NULL; x_q the k rows of x, n long), then mirrored to the upper
  * triangle (symmetric to the bit). Two rows of out at a time, four columns (two
- * pairs) at a time, each entry's sum taken in registers over q in order; b holds 4k doubles (the rows'
- * factors c[q] x_q[i], paired). */
-static void add_rank_k(int n, const double *a, int k, const double *c, const double *x, double *out, double *b)
+ * pairs) at a time, or wide eight (two Quads), each entry's sum taken in registers over
+ * q in order; b holds 4k doubles (the rows' factors c[q] x_q[i], paired). */
+static inline __attribute__((always_inline)) void add_rank_k(int n, const double *a, int k, const double *c,
+                                                             const double *x, double *out, double *b, int wide)
 {
     const size_t sn = (size_t)n;
     for (int i = 0; i < n; i += 2) {
@@ -557,7 +669,34 @@ static void add_rank_k(int n, const double *a, int k, const double *c, const dou
         double *r0 = out + (size_t)i * sn, *r1 = out + (size_t)i1 * sn;
         const double *a0 = a ? a + (size_t)i * sn : NULL, *a1 = a ? a + (size_t)i1 * sn : NULL;
         const Pair zero = {0.0, 0.0};
+        const Quad zero4 = {0.0, 0.0, 0.0, 0.0};
         int j = 0;
+        for (; wide && j + 7 <= i1 && j + 7 < n; j += 8) { /* eight columns: x's loads shared */
+            Quad s00 = a ? load_quad(a0 + j) : zero4, s01 = a ? load_quad(a0 + j + 4) : zero4;
+            Quad s10 = a ? load_quad(a1 + j) : zero4, s11 = a ? load_quad(a1 + j + 4) : zero4;
+            for (int q = 0; q < k; q++) {
+                const double *xq = x + (size_t)q * sn + (size_t)j;
+                const Quad xa = load_quad(xq), xb = load_quad(xq + 4), b0 = splat4(b[4 * q]), b1 = splat4(b[4 * q + 2]);
+                s00 += b0 * xa;
+                s01 += b0 * xb;
+                s10 += b1 * xa;
+                s11 += b1 * xb;
+            }
+            STORE_QUAD(r1 + j, s10);
+            STORE_QUAD(r1 + j + 4, s11);
+            STORE_QUAD(r0 + j, s00);     /* row i's columns may reach past its diagonal: */
+            STORE_QUAD(r0 + j + 4, s01); /* the mirroring below writes them over */
+        }
+        for (; wide && j + 3 <= i1 && j + 3 < n; j += 4) {
+            Quad s0 = a ? load_quad(a0 + j) : zero4, s1 = a ? load_quad(a1 + j) : zero4;
+            for (int q = 0; q < k; q++) {
+                const Quad xj = load_quad(x + (size_t)q * sn + (size_t)j);
+                s0 += splat4(b[4 * q]) * xj;
+                s1 += splat4(b[4 * q + 2]) * xj;
+            }
+            STORE_QUAD(r1 + j, s1);
+            STORE_QUAD(r0 + j, s0);
+        }
         for (; j + 3 <= i1 && j + 3 < n; j += 4) { /* four columns: x's loads shared */
             Pair s00 = a ? load_pair(a0 + j) : zero, s01 = a ? load_pair(a0 + j + 2) : zero;
             Pair s10 = a ? load_pair(a1 + j) : zero, s11 = a ? load_pair(a1 + j + 2) : zero;
@@ -572,8 +711,8 @@ static void add_rank_k(int n, const double *a, int k, const double *c, const dou
             }
             store_pair(r1 + j, s10);
             store_pair(r1 + j + 2, s11);
-            store_pair(r0 + j, s00);     /* row i's columns may reach past its diagonal: */
-            store_pair(r0 + j + 2, s01); /* the mirroring below writes them over */
+            store_pair(r0 + j, s00);
+            store_pair(r0 + j + 2, s01);
         }
         for (; j + 1 <= i1 && j + 1 < n; j += 2) {
             Pair s0 = a ? load_pair(a0 + j) : zero, s1 = a ? load_pair(a1 + j) : zero;
@@ -600,14 +739,17 @@ static void add_rank_k(int n, const double *a, int k, const double *c, const dou
         for (size_t j = 0; j < i; j++) out[j * sn + i] = out[i * sn + j];
 }
 
-int hk_symmetric_positive_part(int n, const double *a, double *out, double *work, int *negative)
+/* hk_symmetric_positive_part, compiled twice below (every function it calls above is
+ * always inlined into it): for AVX and for the baseline (SSE2). */
+static inline __attribute__((always_inline)) int positive_part(int n, const double *a, double *out, double *work,
+                                                               int *negative, int wide)
 {
     const size_t sn = (size_t)n, lanes = sn / 2 + 1;
     double *t = work, *d = t + sn * sn, *e = d + sn, *e2 = e + sn, *w = e2 + sn, *tau = w + sn;
     double *scratch = tau + sn;
     for (size_t i = 0; i < sn; i++) /* the upper triangle, all the reduction reads */
         memcpy(t + i * sn + i, a + i * sn + i, (sn - i) * sizeof *t);
-    tridiagonalise(n, t, d, e, tau, scratch);
+    tridiagonalise(n, t, d, e, tau, scratch, wide);
     double tnorm = 0.0;
     /* QL deflates at the top and converges fastest on a matrix graded with its large
      * entries at the bottom (LAPACK dsterf chooses between QL and QR so); G is largest
@@ -649,11 +791,39 @@ int hk_symmetric_positive_part(int n, const double *a, double *out, double *work
         ln.carry0 = ln.up2 + sn * lanes;
         ln.carry1 = ln.carry0 + lanes;
         ln.cluster = (int *)(ln.carry1 + lanes);
-        lanes_eigenvectors(&ln, d, e, lambda, tnorm, x, xt);
-        apply_reflectors(n, t, tau, k, xt);
+        lanes_eigenvectors(&ln, d, e, lambda, tnorm, x, xt, wide);
+        apply_reflectors(n, t, tau, k, xt, wide);
     }
     if (subtract)
         for (int q = 0; q < k; q++) lambda[q] = -lambda[q];
-    add_rank_k(n, subtract ? a : NULL, k, lambda, xt, out, x);
+    add_rank_k(n, subtract ? a : NULL, k, lambda, xt, out, x, wide);
     return 1;
+}
+
+/* The AVX path: Quad's arithmetic in one register, half the instructions of the SSE2
+ * path in the O(n^3) kernels; no FMA (target "avx" only), so that the bits are the
+ * baseline's. Chosen at run time: the build stays portable (no -march). */
+__attribute__((target("avx"))) static int positive_part_avx(int n, const double *a, double *out, double *work,
+                                                            int *negative)
+{
+    return positive_part(n, a, out, work, negative, 1);
+}
+
+static int positive_part_sse2(int n, const double *a, double *out, double *work, int *negative)
+{
+    return positive_part(n, a, out, work, negative, 0);
+}
+
+static int avx_allowed = 1; /* hk_positive_part_allow_avx */
+
+int hk_positive_part_allow_avx(int allow)
+{
+    avx_allowed = allow;
+    return __builtin_cpu_supports("avx");
+}
+
+int hk_symmetric_positive_part(int n, const double *a, double *out, double *work, int *negative)
+{
+    if (avx_allowed && __builtin_cpu_supports("avx")) return positive_part_avx(n, a, out, work, negative);
+    return positive_part_sse2(n, a, out, work, negative);
 }
