@@ -130,6 +130,33 @@ static inline __attribute__((always_inline)) double sub_then_dot(double *y, doub
  * two. The rows pair up from the first, so that the columns right of a pair start at
  * the same parity in every pair: y's pairs are always loaded where they were stored
  * whole (a load across two stores would wait for both). */
+/* block_pass's two rows b0, b1 (i, i + 1): the splats of their elements of v, w and u,
+ * and the pairs of partial sums of their products with u. */
+typedef struct {
+    double *b0, *b1;
+    Pair v0, v1, w0, w1, u0, u1, dot0, dot1;
+} RowPair;
+
+/* block_pass on the columns j, j + 1 of the rows r. */
+static inline __attribute__((always_inline)) void row_pair_step(RowPair *r, int j, const double *v, const double *w,
+                                                                const double *u, double *y)
+{
+    Pair x0 = load_pair(r->b0 + j), x1 = load_pair(r->b1 + j);
+    if (v) {
+        const Pair vj = load_pair(v + j), wj = load_pair(w + j);
+        x0 -= r->v0 * wj + r->w0 * vj;
+        x1 -= r->v1 * wj + r->w1 * vj;
+        store_pair(r->b0 + j, x0);
+        store_pair(r->b1 + j, x1);
+    }
+    if (u) {
+        const Pair uj = load_pair(u + j);
+        r->dot0 += x0 * uj;
+        r->dot1 += x1 * uj;
+        store_pair(y + j, load_pair(y + j) + (r->u0 * x0 + r->u1 * x1));
+    }
+}
+
 static inline __attribute__((always_inline)) void block_pass(int m, double *b, size_t sn, const double *v,
                                                              const double *w, const double *u, double *y, int wide)
 {
@@ -140,19 +167,26 @@ static inline __attribute__((always_inline)) void block_pass(int m, double *b, s
         double *b0 = b + (size_t)i * sn, *b1 = b0 + sn;
         const double v0 = v ? v[i] : 0.0, v1 = v ? v[i + 1] : 0.0, w0 = v ? w[i] : 0.0, w1 = v ? w[i + 1] : 0.0;
         const double u0 = u ? u[i] : 0.0, u1 = u ? u[i + 1] : 0.0;
-        const Pair av0 = splat(v0), av1 = splat(v1), aw0 = splat(w0), aw1 = splat(w1);
-        const Pair a0 = splat(u0), a1 = splat(u1);
-        const Quad qv0 = splat4(v0), qv1 = splat4(v1), qw0 = splat4(w0), qw1 = splat4(w1);
-        const Quad qu0 = splat4(u0), qu1 = splat4(u1);
+        RowPair r = {b0, b1, splat(v0), splat(v1), splat(w0), splat(w1), splat(u0), splat(u1), {0.0, 0.0}, {0.0, 0.0}};
         if (v) {
             b0[i] -= v0 * w0 + w0 * v0;
             b0[i + 1] -= v0 * w[i + 1] + w0 * v[i + 1];
             b1[i + 1] -= v1 * w1 + w1 * v1;
         }
-        Pair dot0 = {0.0, 0.0}, dot1 = {0.0, 0.0};
+        /* the columns right of the diagonal block by pairs, or wide four at a time
+         * from the first multiple of 4 (j is even), q0 .. q1 */
         int j = i + 2;
-        while (j + 1 < m) {
-            if (wide && !(j & 3) && j + 3 < m) { /* four columns; the pairs' sums in order */
+        const int end = j + ((m - j) & ~1);
+        int q0 = j, q1 = j;
+        if (wide) {
+            q0 = j + (j & 2) < end ? j + (j & 2) : end;
+            q1 = q0 + ((end - q0) & ~3);
+        }
+        for (; j < q0; j += 2) row_pair_step(&r, j, v, w, u, y);
+        if (q0 < q1) {
+            const Quad qv0 = splat4(v0), qv1 = splat4(v1), qw0 = splat4(w0), qw1 = splat4(w1);
+            const Quad qu0 = splat4(u0), qu1 = splat4(u1);
+            for (; j < q1; j += 4) { /* the pairs' sums in the same order */
                 Quad x0 = load_quad(b0 + j), x1 = load_quad(b1 + j);
                 if (v) {
                     const Quad vj = load_quad(v + j), wj = load_quad(w + j);
@@ -163,37 +197,21 @@ static inline __attribute__((always_inline)) void block_pass(int m, double *b, s
                 }
                 if (u) {
                     const Quad uj = load_quad(u + j), p0 = x0 * uj, p1 = x1 * uj;
-                    dot0 += LOW_PAIR(p0);
-                    dot0 += HIGH_PAIR(p0);
-                    dot1 += LOW_PAIR(p1);
-                    dot1 += HIGH_PAIR(p1);
+                    r.dot0 += LOW_PAIR(p0);
+                    r.dot0 += HIGH_PAIR(p0);
+                    r.dot1 += LOW_PAIR(p1);
+                    r.dot1 += HIGH_PAIR(p1);
                     STORE_QUAD(y + j, load_quad(y + j) + (qu0 * x0 + qu1 * x1));
                 }
-                j += 4;
-                continue;
             }
-            Pair x0 = load_pair(b0 + j), x1 = load_pair(b1 + j);
-            if (v) {
-                const Pair vj = load_pair(v + j), wj = load_pair(w + j);
-                x0 -= av0 * wj + aw0 * vj;
-                x1 -= av1 * wj + aw1 * vj;
-                store_pair(b0 + j, x0);
-                store_pair(b1 + j, x1);
-            }
-            if (u) {
-                const Pair uj = load_pair(u + j);
-                dot0 += x0 * uj;
-                dot1 += x1 * uj;
-                store_pair(y + j, load_pair(y + j) + (a0 * x0 + a1 * x1));
-            }
-            j += 2;
         }
+        for (; j < end; j += 2) row_pair_step(&r, j, v, w, u, y);
         if (v && j < m) { /* m odd: the last column */
             b0[j] -= v0 * w[j] + w0 * v[j];
             b1[j] -= v1 * w[j] + w1 * v[j];
         }
         if (u) {
-            double r0 = dot0[0] + dot0[1], r1 = dot1[0] + dot1[1];
+            double r0 = r.dot0[0] + r.dot0[1], r1 = r.dot1[0] + r.dot1[1];
             if (j < m) {
                 r0 += b0[j] * u[j];
                 r1 += b1[j] * u[j];
@@ -210,12 +228,25 @@ static inline __attribute__((always_inline)) void block_pass(int m, double *b, s
     }
 }
 
+/* hk_dot(a, b, n) to the bit: wide, inline, its partial sums s0..s3 (the indices mod 4)
+ * as one Quad, the remainder into s0, then (s0 + s1) + (s2 + s3). */
+static inline __attribute__((always_inline)) double dot(const double *a, const double *b, int n, int wide)
+{
+    if (!wide) return hk_dot(a, b, n);
+    Quad s = {0.0, 0.0, 0.0, 0.0};
+    int k = 0;
+    for (; k + 4 <= n; k += 4) s += load_quad(a + k) * load_quad(b + k);
+    double s0 = s[0];
+    for (; k < n; k++) s0 += a[k] * b[k];
+    return (s0 + s[1]) + (s[2] + s[3]);
+}
+
 /* The Householder reflector H = I - tau v v^T with H x = (beta, 0, ..., 0) for the m
  * elements x (LAPACK dlarfg): v into x (its first element 1), beta into *e. Returns 0
  * if x is already reduced (H = I, tau 0). */
-static inline __attribute__((always_inline)) int make_reflector(double *x, int m, double *e, double *tau)
+static inline __attribute__((always_inline)) int make_reflector(double *x, int m, double *e, double *tau, int wide)
 {
-    const double alpha = x[0], xx = hk_dot(x + 1, x + 1, m - 1);
+    const double alpha = x[0], xx = dot(x + 1, x + 1, m - 1, wide);
     x[0] = 1.0;
     if (xx == 0.0) {
         *e = alpha;
@@ -226,6 +257,7 @@ static inline __attribute__((always_inline)) int make_reflector(double *x, int m
     const double scale = 1.0 / (alpha - beta);
     *e = beta;
     *tau = (beta - alpha) / beta;
+#pragma omp simd
     for (int i = 1; i < m; i++) x[i] *= scale;
     return 1;
 }
@@ -240,13 +272,13 @@ static inline __attribute__((always_inline)) void tridiagonalise(int n, double *
 {
     const size_t sn = (size_t)n;
     double *q = p + n;
-    int have = n > 2 && make_reflector(a + 1, n - 1, &e[0], &tau[0]), ready = 0;
+    int have = n > 2 && make_reflector(a + 1, n - 1, &e[0], &tau[0], wide), ready = 0;
     for (int k = 0; k + 2 < n; k++) {
         double *row = a + (size_t)k * sn, *x = row + k + 1, *s = x + sn; /* S: the trailing block */
         const int m = n - k - 1, next = k + 3 < n;                       /* next: another reflector follows */
         d[k] = row[k];
         if (!have) { /* H = I: S stays */
-            if (next) have = make_reflector(s + 1, m - 1, &e[k + 1], &tau[k + 1]);
+            if (next) have = make_reflector(s + 1, m - 1, &e[k + 1], &tau[k + 1], wide);
             ready = 0;
             continue;
         }
@@ -256,7 +288,7 @@ static inline __attribute__((always_inline)) void tridiagonalise(int n, double *
         const double t = tau[k];
 #pragma omp simd
         for (int j = 0; j < m; j++) p[j] *= t;
-        const double half = -0.5 * t * hk_dot(p, x, m);
+        const double half = -0.5 * t * dot(p, x, m, wide);
 #pragma omp simd
         for (int j = 0; j < m; j++) p[j] += half * x[j];
         if (!next) {
@@ -268,7 +300,7 @@ static inline __attribute__((always_inline)) void tridiagonalise(int n, double *
         const double x0 = x[0], p0 = p[0];
 #pragma omp simd
         for (int j = 0; j < m; j++) s[j] -= x0 * p[j] + p0 * x[j];
-        have = make_reflector(s + 1, m - 1, &e[k + 1], &tau[k + 1]);
+        have = make_reflector(s + 1, m - 1, &e[k + 1], &tau[k + 1], wide);
         if (have)
             block_pass(m - 1, s + sn + 1, sn, x + 1, p + 1, s + 1, q, wide);
         else
@@ -555,76 +587,90 @@ static inline __attribute__((always_inline)) void lanes_eigenvectors(Lanes *ln, 
  * long: the product along v and the multiple of it (LAPACK's dlarf), the rows sharing
  * the loads of v. first: the rows' index of y[0]; the pairs start at an even index, so
  * that each is loaded where the last reflector stored it whole (a load across two
- * stores waits for both: the loop took twice as long so). */
+ * stores waits for both: the loop took twice as long so); wide, four elements at a
+ * time from an index multiple of 4 on, for the same reason, the products summed by
+ * pairs in the same order. */
+/* reflect_rows' products of the elements i, i + 1 of its rows with v's. */
+static inline __attribute__((always_inline)) void rows_dot_pair(const double *v, double *const *yc, int i, int rows,
+                                                                Pair *s)
+{
+    const Pair vi = load_pair(v + i);
+    s[0] += vi * load_pair(yc[0] + i);
+    if (rows > 1) s[1] += vi * load_pair(yc[1] + i);
+    if (rows > 2) {
+        s[2] += vi * load_pair(yc[2] + i);
+        s[3] += vi * load_pair(yc[3] + i);
+    }
+}
+
+/* reflect_rows' update of the elements i, i + 1 of its rows (their factors g). */
+static inline __attribute__((always_inline)) void rows_sub_pair(const double *v, double *const *yc, int i, int rows,
+                                                                const Pair *g)
+{
+    const Pair vi = load_pair(v + i);
+    store_pair(yc[0] + i, load_pair(yc[0] + i) - g[0] * vi);
+    if (rows > 1) store_pair(yc[1] + i, load_pair(yc[1] + i) - g[1] * vi);
+    if (rows > 2) {
+        store_pair(yc[2] + i, load_pair(yc[2] + i) - g[2] * vi);
+        store_pair(yc[3] + i, load_pair(yc[3] + i) - g[3] * vi);
+    }
+}
+
 static inline __attribute__((always_inline)) void reflect_rows(const double *v, int m, double tau, int first, double *y,
                                                                size_t sn, int rows, int wide)
 {
-    double *y0 = y, *y1 = y + sn, *y2 = y1 + sn, *y3 = y2 + sn;
+    double *const yc[4] = {y, y + sn, y + 2 * sn, y + 3 * sn};
     const int i0 = first & 1, last = i0 + ((m - i0) & ~1); /* the elements left alone */
-    Pair s0 = {0.0, 0.0}, s1 = s0, s2 = s0, s3 = s0;
-    for (int i = i0; i + 2 <= m;) {
-        if (wide && !((first + i) & 3) && i + 4 <= m) { /* four elements; the pairs' sums in order */
-            const Quad vi = load_quad(v + i), p0 = vi * load_quad(y0 + i);
-            s0 += LOW_PAIR(p0);
-            s0 += HIGH_PAIR(p0);
-            if (rows > 1) {
-                const Quad p1 = vi * load_quad(y1 + i);
-                s1 += LOW_PAIR(p1);
-                s1 += HIGH_PAIR(p1);
-            }
-            if (rows > 2) {
-                const Quad p2 = vi * load_quad(y2 + i), p3 = vi * load_quad(y3 + i);
-                s2 += LOW_PAIR(p2);
-                s2 += HIGH_PAIR(p2);
-                s3 += LOW_PAIR(p3);
-                s3 += HIGH_PAIR(p3);
-            }
-            i += 4;
-            continue;
-        }
-        const Pair vi = load_pair(v + i);
-        s0 += vi * load_pair(y0 + i);
-        if (rows > 1) s1 += vi * load_pair(y1 + i);
-        if (rows > 2) {
-            s2 += vi * load_pair(y2 + i);
-            s3 += vi * load_pair(y3 + i);
-        }
-        i += 2;
+    int q0 = i0, q1 = i0;                                  /* the quads: q0 .. q1 */
+    if (wide) {
+        q0 = i0 + ((first + i0) & 2) < last ? i0 + ((first + i0) & 2) : last;
+        q1 = q0 + ((last - q0) & ~3);
     }
-    double f[4] = {s0[0] + s0[1], s1[0] + s1[1], s2[0] + s2[1], s3[0] + s3[1]};
+    Pair s[4] = {{0.0, 0.0}, {0.0, 0.0}, {0.0, 0.0}, {0.0, 0.0}};
+    int i = i0;
+    for (; i < q0; i += 2) rows_dot_pair(v, yc, i, rows, s);
+    for (; i < q1; i += 4) {
+        const Quad vi = load_quad(v + i), p0 = vi * load_quad(yc[0] + i);
+        s[0] += LOW_PAIR(p0);
+        s[0] += HIGH_PAIR(p0);
+        if (rows > 1) {
+            const Quad p1 = vi * load_quad(yc[1] + i);
+            s[1] += LOW_PAIR(p1);
+            s[1] += HIGH_PAIR(p1);
+        }
+        if (rows > 2) {
+            const Quad p2 = vi * load_quad(yc[2] + i), p3 = vi * load_quad(yc[3] + i);
+            s[2] += LOW_PAIR(p2);
+            s[2] += HIGH_PAIR(p2);
+            s[3] += LOW_PAIR(p3);
+            s[3] += HIGH_PAIR(p3);
+        }
+    }
+    for (; i < last; i += 2) rows_dot_pair(v, yc, i, rows, s);
+    double f[4] = {s[0][0] + s[0][1], s[1][0] + s[1][1], s[2][0] + s[2][1], s[3][0] + s[3][1]};
     for (int c = 0; c < rows; c++) {
-        const double *yc = y + (size_t)c * sn;
-        if (i0) f[c] += v[0] * yc[0];
-        if (last < m) f[c] += v[last] * yc[last];
+        if (i0) f[c] += v[0] * yc[c][0];
+        if (last < m) f[c] += v[last] * yc[c][last];
         f[c] *= tau;
     }
-    const Pair g0 = splat(f[0]), g1 = splat(f[1]), g2 = splat(f[2]), g3 = splat(f[3]);
-    const Quad h0 = splat4(f[0]), h1 = splat4(f[1]), h2 = splat4(f[2]), h3 = splat4(f[3]);
-    for (int i = i0; i + 2 <= m;) {
-        if (wide && !((first + i) & 3) && i + 4 <= m) {
+    const Pair g[4] = {splat(f[0]), splat(f[1]), splat(f[2]), splat(f[3])};
+    for (i = i0; i < q0; i += 2) rows_sub_pair(v, yc, i, rows, g);
+    if (q0 < q1) {
+        const Quad h0 = splat4(f[0]), h1 = splat4(f[1]), h2 = splat4(f[2]), h3 = splat4(f[3]);
+        for (; i < q1; i += 4) {
             const Quad vi = load_quad(v + i);
-            STORE_QUAD(y0 + i, load_quad(y0 + i) - h0 * vi);
-            if (rows > 1) STORE_QUAD(y1 + i, load_quad(y1 + i) - h1 * vi);
+            STORE_QUAD(yc[0] + i, load_quad(yc[0] + i) - h0 * vi);
+            if (rows > 1) STORE_QUAD(yc[1] + i, load_quad(yc[1] + i) - h1 * vi);
             if (rows > 2) {
-                STORE_QUAD(y2 + i, load_quad(y2 + i) - h2 * vi);
-                STORE_QUAD(y3 + i, load_quad(y3 + i) - h3 * vi);
+                STORE_QUAD(yc[2] + i, load_quad(yc[2] + i) - h2 * vi);
+                STORE_QUAD(yc[3] + i, load_quad(yc[3] + i) - h3 * vi);
             }
-            i += 4;
-            continue;
         }
-        const Pair vi = load_pair(v + i);
-        store_pair(y0 + i, load_pair(y0 + i) - g0 * vi);
-        if (rows > 1) store_pair(y1 + i, load_pair(y1 + i) - g1 * vi);
-        if (rows > 2) {
-            store_pair(y2 + i, load_pair(y2 + i) - g2 * vi);
-            store_pair(y3 + i, load_pair(y3 + i) - g3 * vi);
-        }
-        i += 2;
     }
+    for (; i < last; i += 2) rows_sub_pair(v, yc, i, rows, g);
     for (int c = 0; c < rows; c++) {
-        double *yc = y + (size_t)c * sn;
-        if (i0) yc[0] -= f[c] * v[0];
-        if (last < m) yc[last] -= f[c] * v[last];
+        if (i0) yc[c][0] -= f[c] * v[0];
+        if (last < m) yc[c][last] -= f[c] * v[last];
     }
 }
 
