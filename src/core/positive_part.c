@@ -44,7 +44,11 @@ static inline Pair splat(double a) { return (Pair){a, a}; }
  * the helpers are always inlined (hence -Wpsabi's note on the ABI is moot and
  * silenced), and those that take one are macros (GCC notes a Quad parameter whatever
  * the pragma says). */
-#if defined(__GNUC__) && !defined(__clang__)
+#if defined(__clang__)
+#if __has_warning("-Wpsabi")
+#pragma clang diagnostic ignored "-Wpsabi"
+#endif
+#elif defined(__GNUC__)
 #pragma GCC diagnostic ignored "-Wpsabi"
 #endif
 typedef double Quad __attribute__((vector_size(32)));
@@ -571,11 +575,14 @@ static inline __attribute__((always_inline)) void lanes_eigenvectors(Lanes *ln, 
     lanes_factor(ln, d, e, DBL_EPSILON * tnorm);
     const size_t sw = (size_t)ln->w;
     unsigned state = 12345u;
-    for (size_t i = 0; i < (size_t)n; i++)
-        for (size_t j = 0; j < sw; j++) {
-            if (j < (size_t)k) state = state * 1664525u + 1013904223u;
-            x[i * sw + j] = j < (size_t)k ? (double)(state >> 8) / 16777216.0 - 0.5 : 0.0;
+    for (size_t i = 0; i < (size_t)n; i++) {
+        double *xi = x + i * sw;
+        for (size_t j = 0; j < (size_t)k; j++) {
+            state = state * 1664525u + 1013904223u;
+            xi[j] = (double)(state >> 8) / 16777216.0 - 0.5;
         }
+        for (size_t j = (size_t)k; j < sw; j++) xi[j] = 0.0;
+    }
     for (size_t i = (size_t)n * sw; i < (size_t)(n + 2) * sw; i++) x[i] = 0.0;
     for (int pass = 0; pass < 3; pass++) {
         lanes_solve(ln, x);
@@ -698,7 +705,7 @@ static inline __attribute__((always_inline)) void apply_reflectors(int n, const 
 
 /* The lower triangle of out (and the diagonal) = base + sum_q c[q] x_q x_q^T (base: a,
  * or zero if a is NULL; x_q the k rows of x, n long), then mirrored to the upper
- * triangle (symmetric to the bit). Two rows of out at a time, four columns (two
+ * triangle (symmetric to the bit) in 2 x 2 blocks. Two rows of out at a time, four columns (two
  * pairs) at a time, or wide eight (two Quads), each entry's sum taken in registers over
  * q in order; b holds 4k doubles (the rows' factors c[q] x_q[i], paired). */
 static inline __attribute__((always_inline)) void add_rank_k(int n, const double *a, int k, const double *c,
@@ -781,8 +788,10 @@ static inline __attribute__((always_inline)) void add_rank_k(int n, const double
             if (j <= i) r0[j] = s0;
         }
     }
-    for (size_t i = 0; i < sn; i++)
-        for (size_t j = 0; j < i; j++) out[j * sn + i] = out[i * sn + j];
+    for (size_t i = 0; i < sn; i += 2) { /* rows i, i + 1 left of the diagonal to columns i, i + 1 */
+        transpose(out + i * sn, sn, i + 1 < sn ? 2 : 1, i, out + i, sn);
+        if (i + 1 < sn) out[i * sn + i + 1] = out[(i + 1) * sn + i];
+    }
 }
 
 /* hk_symmetric_positive_part, compiled twice below (every function it calls above is
