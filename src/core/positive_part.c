@@ -7,7 +7,9 @@
  * square root and a division per rotation), T's eigenvectors for the fewer side only,
  * by inverse iteration all at once (LAPACK dstein, the eigenvectors side by side so
  * that their independent chains overlap), Q applied to them, and A+ = A - sum over the
- * negative modes of w v v^T (or the sum over the positive ones, when fewer). */
+ * negative modes of w v v^T (or the sum over the positive ones, when fewer). Compiled
+ * twice, for AVX and for SSE2, the same bits either way (hk_symmetric_positive_part at
+ * the end). */
 
 #include "core/linalg.h"
 
@@ -125,15 +127,6 @@ static inline __attribute__((always_inline)) double sub_then_dot(double *y, doub
     return r;
 }
 
-/* One pass over the symmetric m x m block B of which the upper triangle is kept (row
- * stride sn), two rows at a time: B -= v w^T + w v^T if v (LAPACK dsyr2), then y = B u
- * with the rows as updated if u (dsymv's upper-triangle loop: each row's part right of
- * the diagonal block gives its product with u, y's row element, and its multiple of u's
- * row element, y's column elements by symmetry). The reduction's next product runs on
- * the rows its step has just updated (tridiagonalise): a pass over S a step instead of
- * two. The rows pair up from the first, so that the columns right of a pair start at
- * the same parity in every pair: y's pairs are always loaded where they were stored
- * whole (a load across two stores would wait for both). */
 /* block_pass's two rows b0, b1 (i, i + 1): the splats of their elements of v, w and u,
  * and the pairs of partial sums of their products with u. */
 typedef struct {
@@ -161,6 +154,17 @@ static inline __attribute__((always_inline)) void row_pair_step(RowPair *r, int 
     }
 }
 
+/* One pass over the symmetric m x m block B of which the upper triangle is kept (row
+ * stride sn), two rows at a time: B -= v w^T + w v^T if v (LAPACK dsyr2), then y = B u
+ * with the rows as updated if u (dsymv's upper-triangle loop: each row's part right of
+ * the diagonal block gives its product with u, y's row element, and its multiple of u's
+ * row element, y's column elements by symmetry). The reduction's next product runs on
+ * the rows its step has just updated (tridiagonalise): a pass over S a step instead of
+ * two. The rows pair up from the first, so that the columns right of a pair start at
+ * the same parity in every pair: y's pairs are always loaded where they were stored
+ * whole (a load across two stores would wait for both); wide, four columns at a time
+ * from a multiple of 4 on, for the same reason, each row's products summed by pairs in
+ * order. */
 static inline __attribute__((always_inline)) void block_pass(int m, double *b, size_t sn, const double *v,
                                                              const double *w, const double *u, double *y, int wide)
 {
@@ -705,9 +709,10 @@ static inline __attribute__((always_inline)) void apply_reflectors(int n, const 
 
 /* The lower triangle of out (and the diagonal) = base + sum_q c[q] x_q x_q^T (base: a,
  * or zero if a is NULL; x_q the k rows of x, n long), then mirrored to the upper
- * triangle (symmetric to the bit) in 2 x 2 blocks. Two rows of out at a time, four columns (two
- * pairs) at a time, or wide eight (two Quads), each entry's sum taken in registers over
- * q in order; b holds 4k doubles (the rows' factors c[q] x_q[i], paired). */
+ * triangle (symmetric to the bit) in 2 x 2 blocks. Two rows of out at a time, four
+ * columns at a time (two pairs, or wide one Quad; row i's may reach past its diagonal,
+ * which the mirroring writes over), each entry's sum taken in registers over q in
+ * order; b holds 4k doubles (the rows' factors c[q] x_q[i], paired). */
 static inline __attribute__((always_inline)) void add_rank_k(int n, const double *a, int k, const double *c,
                                                              const double *x, double *out, double *b, int wide)
 {
@@ -724,22 +729,6 @@ static inline __attribute__((always_inline)) void add_rank_k(int n, const double
         const Pair zero = {0.0, 0.0};
         const Quad zero4 = {0.0, 0.0, 0.0, 0.0};
         int j = 0;
-        for (; wide && j + 7 <= i1 && j + 7 < n; j += 8) { /* eight columns: x's loads shared */
-            Quad s00 = a ? load_quad(a0 + j) : zero4, s01 = a ? load_quad(a0 + j + 4) : zero4;
-            Quad s10 = a ? load_quad(a1 + j) : zero4, s11 = a ? load_quad(a1 + j + 4) : zero4;
-            for (int q = 0; q < k; q++) {
-                const double *xq = x + (size_t)q * sn + (size_t)j;
-                const Quad xa = load_quad(xq), xb = load_quad(xq + 4), b0 = splat4(b[4 * q]), b1 = splat4(b[4 * q + 2]);
-                s00 += b0 * xa;
-                s01 += b0 * xb;
-                s10 += b1 * xa;
-                s11 += b1 * xb;
-            }
-            STORE_QUAD(r1 + j, s10);
-            STORE_QUAD(r1 + j + 4, s11);
-            STORE_QUAD(r0 + j, s00);     /* row i's columns may reach past its diagonal: */
-            STORE_QUAD(r0 + j + 4, s01); /* the mirroring below writes them over */
-        }
         for (; wide && j + 3 <= i1 && j + 3 < n; j += 4) {
             Quad s0 = a ? load_quad(a0 + j) : zero4, s1 = a ? load_quad(a1 + j) : zero4;
             for (int q = 0; q < k; q++) {
