@@ -844,9 +844,10 @@ static inline __attribute__((always_inline)) int positive_part(int n, const doub
     return 1;
 }
 
-/* The AVX path: Quad's arithmetic in one register, half the instructions of the SSE2
- * path in the O(n^3) kernels; no FMA (target "avx" only), so that the bits are the
- * baseline's. Chosen at run time: the build stays portable (no -march). */
+/* The AVX path: a Quad's arithmetic in one register (the kernels along rows and lanes
+ * with a fifth to a third fewer instructions, 186 against 230 thousand a call for a
+ * head's G, 30 x 30); no FMA (target "avx" only), so that the bits are the baseline's.
+ * Chosen at run time: the build stays portable (no -march). */
 __attribute__((target("avx"))) static int positive_part_avx(int n, const double *a, double *out, double *work,
                                                             int *negative)
 {
