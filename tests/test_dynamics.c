@@ -5,7 +5,8 @@
  *  - the mass matrix gives back the kinetic energy computed from point velocities
  *    (1/2 v^T M v = T for any v), is symmetric and positive definite;
  *  - the O(N) recursion and the dense Cholesky solve the same step to rounding;
- *  - body friction follows the cosine blend of paper 000 §4.2 and never pushes. */
+ *  - body friction follows the cosine blend of paper 000 §4.2 and never pushes;
+ *  - the positive part's AVX and SSE2 paths give a strand's steps the same bytes. */
 #include "hk_test.h"
 
 #include <math.h>
@@ -537,6 +538,73 @@ static void test_point_pairs_bit_for_bit(void **state)
     }
 }
 
+/* A copy of the strand a (the same elements, material, root and coordinates). */
+static hk_SuperHelix *strand_copy(const hk_SuperHelix *a)
+{
+    hk_SuperHelix *b = NULL;
+    hk_Error err;
+    assert_int_equal(hk_superhelix_create(a->n, a->length, &b, &err), HK_OK);
+    b->material = a->material;
+    b->root = a->root;
+    b->root_frame = a->root_frame;
+    memcpy(b->q, a->q, sizeof(double) * (size_t)(3 * a->n));
+    memcpy(b->q_rest, a->q_rest, sizeof(double) * (size_t)(3 * a->n));
+    return b;
+}
+
+/* The positive part's AVX and SSE2 paths (hk_symmetric_positive_part) on the matrices
+ * a strand's steps really decompose: a curly strand of N = 10 (30 x 30, as a guide of
+ * the bench's head) with the full stiffness, refreshed every step, on a moving head.
+ * Each step's matrix gives the same bytes on both paths, with negative eigenvalues in
+ * most steps (the eigenvector path runs), and the whole run gives the same bytes. */
+static void test_positive_part_paths_on_strand(void **state)
+{
+    (void)state;
+    if (!hk_positive_part_allow_avx(1)) {
+        print_message("no AVX on this machine: nothing to compare\n");
+        return;
+    }
+    const int n = 10, dim = 3 * n, steps = 20;
+    hk_SuperHelix *a = curly_strand(n), *b = strand_copy(a);
+    hk_DynamicsDef p = hk_default_dynamics_def();
+    p.integrator = HK_INTEGRATOR_LINEAR_EULER;
+    p.solver = HK_DYNAMICS_DENSE;
+    p.stiffness = HK_STIFFNESS_FULL;
+    p.hessian_interval = 1;
+    hk_StrandDynamics *da = NULL, *db = NULL;
+    hk_Error err;
+    assert_int_equal(hk_strand_dynamics_create(a, &p, NULL, &da, &err), HK_OK);
+    assert_int_equal(hk_strand_dynamics_create(b, &p, NULL, &db, &err), HK_OK);
+    hk_RigidState head = hk_rigid_identity();
+    head.omega = hk_v3(0.5, -1.0, 2.0);
+    head.alpha = hk_v3(3.0, 1.0, -2.0);
+    double *avx = malloc(sizeof(double) * (size_t)(dim * dim)), *sse2 = malloc(sizeof(double) * (size_t)(dim * dim));
+    double *work = malloc(sizeof(double) * HK_POSITIVE_PART_WORK(dim));
+    int indefinite = 0;
+    for (int step = 0; step < steps; step++) {
+        hk_positive_part_allow_avx(1);
+        assert_int_equal(hk_strand_dynamics_step(da, &head, NULL, 0, 1.0 / 30, &err), HK_OK);
+        int neg_avx = -1, neg_sse2 = -2;
+        assert_int_equal(hk_symmetric_positive_part(dim, da->hess, avx, work, &neg_avx), 1);
+        hk_positive_part_allow_avx(0);
+        assert_int_equal(hk_strand_dynamics_step(db, &head, NULL, 0, 1.0 / 30, &err), HK_OK);
+        assert_int_equal(hk_symmetric_positive_part(dim, da->hess, sse2, work, &neg_sse2), 1);
+        assert_int_equal(neg_avx, neg_sse2);
+        assert_memory_equal(avx, sse2, sizeof(double) * (size_t)(dim * dim));
+        indefinite += neg_avx > 0;
+    }
+    hk_positive_part_allow_avx(1);
+    print_message("curly N = 10: %d of %d steps' matrices indefinite\n", indefinite, steps);
+    assert_true(indefinite >= steps / 2);
+    assert_memory_equal(a->q, b->q, sizeof(double) * (size_t)dim);
+    assert_memory_equal(hk_strand_dynamics_velocity(da), hk_strand_dynamics_velocity(db), sizeof(double) * (size_t)dim);
+    free(avx), free(sse2), free(work);
+    hk_strand_dynamics_destroy(da);
+    hk_strand_dynamics_destroy(db);
+    hk_superhelix_destroy(a);
+    hk_superhelix_destroy(b);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -549,6 +617,7 @@ int main(void)
         cmocka_unit_test(test_body_friction_blend),
         cmocka_unit_test(test_body_stiffness_of_overlapping_shapes),
         cmocka_unit_test(test_point_pairs_bit_for_bit),
+        cmocka_unit_test(test_positive_part_paths_on_strand),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

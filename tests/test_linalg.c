@@ -3,7 +3,8 @@
  * matrix with known eigenvalues (Q diag(d) Q^T with Q from a random orthogonalisation).
  * The positive part A+ (hk_symmetric_positive_part) against V max(L, 0) V^T from the
  * decomposition and against what defines it: A+ positive semidefinite, A+ (A+ - A) = 0
- * (the two parts' products vanish), on random, repeated, clustered and graded spectra.
+ * (the two parts' products vanish), on random, repeated, clustered and graded spectra;
+ * its AVX path against its SSE2 path, bit for bit.
  * Cholesky factors (also in place, bit for bit) and solves against the residual A x - b. */
 #include "hk_test.h"
 
@@ -252,12 +253,70 @@ static void test_cholesky_solves(void **state)
     }
 }
 
+/* hk_symmetric_positive_part's AVX path against its SSE2 path, the same bytes: the
+ * AVX kernels do each element's operations in the SSE2 kernels' order (no FMA), so
+ * any difference is a bug, not round-off. Returns 0 where the machine has no AVX
+ * (nothing to compare). */
+static int paths_agree(int n, const double *a)
+{
+    if (!hk_positive_part_allow_avx(1)) return 0;
+    const size_t nn = (size_t)n * (size_t)n;
+    double *avx = malloc(sizeof(double) * nn), *sse2 = malloc(sizeof(double) * nn);
+    double *work = malloc(sizeof(double) * HK_POSITIVE_PART_WORK(n));
+    int neg_avx = -1, neg_sse2 = -2;
+    assert_int_equal(hk_symmetric_positive_part(n, a, avx, work, &neg_avx), 1);
+    hk_positive_part_allow_avx(0);
+    assert_int_equal(hk_symmetric_positive_part(n, a, sse2, work, &neg_sse2), 1);
+    hk_positive_part_allow_avx(1);
+    assert_int_equal(neg_avx, neg_sse2);
+    assert_memory_equal(avx, sse2, sizeof(double) * nn);
+    free(avx), free(sse2), free(work);
+    return 1;
+}
+
+/* Every size to 40 (odd and even, every alignment of the kernels' four-wide steps),
+ * either side the fewer, and spectra graded as a guide's G at the sizes of N = 10,
+ * 20 and 40. */
+static void test_positive_part_paths_same_bits(void **state)
+{
+    (void)state;
+    if (!hk_positive_part_allow_avx(1)) {
+        print_message("no AVX on this machine: the SSE2 path alone (the other tests)\n");
+        return;
+    }
+    for (int n = 1; n <= 40; n++) {
+        double *a = malloc(sizeof(double) * (size_t)(n * n));
+        for (int i = 0; i < n; i++)
+            for (int j = 0; j <= i; j++) a[i * n + j] = a[j * n + i] = 2.0 * hk_test_uniform() - 1.0;
+        for (int shift = 0; shift < 3; shift++) {
+            for (int i = 0; i < n; i++) a[i * n + i] += (shift == 1 ? -0.6 : shift == 2 ? 1.2 : 0.0) * sqrt(n);
+            assert_true(paths_agree(n, a));
+        }
+        free(a);
+    }
+    const int sizes[3] = {30, 60, 120};
+    for (int s = 0; s < 3; s++) {
+        const int n = sizes[s];
+        double *d = malloc(sizeof(double) * (size_t)n), *q = malloc(sizeof(double) * (size_t)(n * n));
+        double *a = malloc(sizeof(double) * (size_t)(n * n));
+        for (int k = 0; k < n; k++) d[k] = (k % 3 == 1 ? -1.0 : 1.0) * pow(10.0, -2.0 - 5.0 * k / (n - 1.0));
+        d[0] = 1.0;
+        known_spectrum(n, d, q, a);
+        assert_true(paths_agree(n, a));
+        free(d), free(q), free(a);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_random_symmetric),     cmocka_unit_test(test_cholesky_solves),
-        cmocka_unit_test(test_known_spectrum),       cmocka_unit_test(test_diagonal_and_zero),
-        cmocka_unit_test(test_positive_part_random), cmocka_unit_test(test_positive_part_spectra),
+        cmocka_unit_test(test_random_symmetric),
+        cmocka_unit_test(test_cholesky_solves),
+        cmocka_unit_test(test_known_spectrum),
+        cmocka_unit_test(test_diagonal_and_zero),
+        cmocka_unit_test(test_positive_part_random),
+        cmocka_unit_test(test_positive_part_spectra),
+        cmocka_unit_test(test_positive_part_paths_same_bits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

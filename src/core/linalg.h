@@ -44,4 +44,9 @@ int hk_symmetric_eigen(int n, const double *a, double *w, double *v, double *e);
     ((size_t)(n) * (size_t)(n) + 5 * (size_t)(n) + ((size_t)(n) / 2 + 1) * (7 * (size_t)(n) + 6))
 int hk_symmetric_positive_part(int n, const double *a, double *out, double *work, int *negative);
 
+/* Lets hk_symmetric_positive_part take its AVX path (allow nonzero, the default) or
+ * keeps it on the baseline SSE2 path (0), for the tests that compare the two bit for
+ * bit; returns whether this machine has AVX. Not thread-safe: for tests only. */
+int hk_positive_part_allow_avx(int allow);
+
 #endif /* HK_CORE_LINALG_H */
