@@ -290,8 +290,7 @@ static void point_rows(World *w, const hk_RigidState *head, const double *rates,
     const double s[3] = {0.013, 0.1, 0.2};
     assert_true(3 * w->sh[1]->n <= 90);
     memset(out, 0, sizeof *out);
-    hk_dynamics_point_jacobians(w->d[1], head, rates, s, 3, out->screws, out->jac, 0, out->pos, out->vel,
-                                out->element);
+    hk_dynamics_point_jacobians(w->d[1], head, rates, s, 3, out->screws, out->jac, 0, out->pos, out->vel, out->element);
 }
 
 /* The points' Jacobians take the elements' ends from the step's sweep when the state is

@@ -127,7 +127,8 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsDef *par
     d->ends = hk_alloc_array((size_t)n, sizeof(hk_EndPose), err);
     const int dense = params->solver == HK_DYNAMICS_DENSE;
     d->work = hk_alloc_array(dense ? HK_DENSE_WORK(n) : HK_LINEAR_WORK(n), sizeof(double), err);
-    if (!d->v || !d->terms || !d->ends || !d->work || hk_strand_workspace_create(sh, &d->potential_env, &d->ws, err) != HK_OK) {
+    if (!d->v || !d->terms || !d->ends || !d->work ||
+        hk_strand_workspace_create(sh, &d->potential_env, &d->ws, err) != HK_OK) {
         hk_strand_dynamics_destroy(d);
         return err ? err->code : HK_ERR_NOMEM;
     }
