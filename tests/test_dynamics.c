@@ -477,7 +477,8 @@ static void test_body_friction_blend(void **state)
 }
 
 /* The two-point paths of the sweeps (two offsets of one element at once, two lanes of
- * vector arithmetic) against the one-point ones, bit for bit. */
+ * vector arithmetic) against the one-point ones, bit for bit; and an end from its
+ * known pose (hk_end_kinematics) against the whole kinematics. */
 static void test_point_pairs_bit_for_bit(void **state)
 {
     (void)state;
@@ -508,6 +509,14 @@ static void test_point_pairs_bit_for_bit(void **state)
             hk_point_jacobian(&start, ks[t], kd, u[l], &p1, &v1, &j1);
             assert_true(memcmp(&jpos[l], &p1, sizeof p1) == 0 && memcmp(&jvel[l], &v1, sizeof v1) == 0);
             assert_true(memcmp(&jac[l], &j1, sizeof j1) == 0);
+            /* an element's end taken from the pose that the sweep (order 2, rates kd)
+             * found, with other rates (the contacts' free velocity): order 1's bits */
+            const hk_EndPose pose = {pair[l].k.frame, pair[l].jac, pair[l].jac_rot, pair[l].k.pos};
+            const hk_Vec3 other = {15, -60, 35};
+            hk_PointKinematics reused, fresh;
+            hk_end_kinematics(&start, &pose, other, &reused);
+            hk_point_kinematics(&start, ks[t], other, u[l], 1, &fresh);
+            assert_true(memcmp(&reused, &fresh, sizeof fresh) == 0);
         }
     }
 }
