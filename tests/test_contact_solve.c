@@ -7,7 +7,8 @@
  *  - the solve's work staged by the caller (hk_contact_solve_open to _prepare, as
  *    hair_sim.c does beside the contacts' update, and _sweep then _finish) gives the
  *    bits of the solve alone;
- *  - the point Jacobians agree with finite differences of the points' positions;
+ *  - the point Jacobians agree with finite differences of the points' positions, and
+ *    those taken with the ends of the step's sweep are the bits of a fresh walk;
  *  - the forces are equal and opposite, and the friction stays in Coulomb's cone. */
 #include "hk_test.h"
 
@@ -276,6 +277,70 @@ static void test_point_jacobians_match_finite_differences(void **state)
     world_free(&w);
 }
 
+/* The contact points' Jacobians, velocities and screws of strand 1 of world w at its
+ * state now, with the head in state head and the rates given. */
+typedef struct PointRows {
+    double jac[9 * 90], screws[6 * 90];
+    hk_Vec3 pos[3], vel[3];
+    int element[3];
+} PointRows;
+
+static void point_rows(World *w, const hk_RigidState *head, const double *rates, PointRows *out)
+{
+    const double s[3] = {0.013, 0.1, 0.2};
+    assert_true(3 * w->sh[1]->n <= 90);
+    memset(out, 0, sizeof *out);
+    hk_dynamics_point_jacobians(w->d[1], head, rates, s, 3, out->screws, out->jac, 0, out->pos, out->vel, out->element);
+}
+
+/* The points' Jacobians take the elements' ends from the step's sweep when the state is
+ * the one it swept (hk_dynamics_end_poses): the same bits as a strand that never swept,
+ * which walks them afresh; and a state changed since (q moved from outside, the root
+ * placed with another head pose) must walk afresh too: with the stale ends the
+ * Jacobians would differ. */
+static void test_point_jacobians_reuse_only_the_swept_state(void **state)
+{
+    (void)state;
+    World a, b; /* a sweeps, b never does */
+    twin_worlds(&a, &b);
+    hk_SuperHelix *sa = a.sh[1], *sb = b.sh[1];
+    const int dim = 3 * sa->n;
+    for (int k = 0; k < dim; k++) sa->q[k] = sb->q[k] += 0.5 * sin(3.0 * k); /* bent, twisted */
+    hk_RigidState head = hk_rigid_identity(), other = hk_rigid_identity();
+    head.rot = hk_root_frame(hk_v3(0.3, 1.0, 0.2));
+    head.trans = hk_v3(0.01, -0.02, 0.03);
+    head.vel = hk_v3(0.1, 0.0, -0.2);
+    head.omega = hk_v3(0.5, 1.0, -0.3);
+    other.rot = hk_root_frame(hk_v3(0.31, 1.0, 0.2));
+    double rates[90];
+    for (int k = 0; k < dim; k++) rates[k] = cos(2.0 * k);
+    static PointRows ra, rb, before;
+    /* the same state as the sweep's: the ends reused */
+    assert_true(hk_dynamics_euler_delta(a.d[1], &head, NULL, 0, 1.0 / 30.0));
+    assert_non_null(hk_dynamics_end_poses(a.d[1]));
+    assert_null(hk_dynamics_end_poses(b.d[1]));
+    point_rows(&a, &head, rates, &ra);
+    point_rows(&b, &head, rates, &rb);
+    assert_memory_equal(&ra, &rb, sizeof ra);
+    before = ra;
+    /* q changed from outside after the sweep (by enough to move the ends' rows) */
+    sa->q[4] += 1e-3, sb->q[4] += 1e-3;
+    assert_null(hk_dynamics_end_poses(a.d[1]));
+    point_rows(&a, &head, rates, &ra);
+    point_rows(&b, &head, rates, &rb);
+    assert_memory_equal(&ra, &rb, sizeof ra);
+    assert_true(memcmp(ra.screws, before.screws, sizeof ra.screws) != 0);
+    /* swept with one head pose, the points taken with another */
+    assert_true(hk_dynamics_euler_delta(a.d[1], &head, NULL, 0, 1.0 / 30.0));
+    assert_non_null(hk_dynamics_end_poses(a.d[1]));
+    point_rows(&a, &other, rates, &ra);
+    point_rows(&b, &other, rates, &rb);
+    assert_memory_equal(&ra, &rb, sizeof ra);
+    assert_true(memcmp(ra.screws, before.screws, sizeof ra.screws) != 0);
+    world_free(&a);
+    world_free(&b);
+}
+
 static void test_forces_opposite_and_in_the_cone(void **state)
 {
     (void)state;
@@ -325,6 +390,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_point_jacobians_match_finite_differences),
+        cmocka_unit_test(test_point_jacobians_reuse_only_the_swept_state),
         cmocka_unit_test(test_commit_matches_the_step_with_forces),
         cmocka_unit_test(test_staged_solve_gives_the_same_bits),
         cmocka_unit_test(test_forces_opposite_and_in_the_cone),

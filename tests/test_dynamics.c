@@ -479,7 +479,8 @@ static void test_body_friction_blend(void **state)
 
 /* The two-point paths of the sweeps (two offsets of one element at once, two lanes of
  * vector arithmetic) against the one-point ones, bit for bit, and so the two Gauss
- * points' sums into the element's terms. */
+ * points' sums into the element's terms; and an end from its known pose
+ * (hk_end_kinematics) against the whole kinematics. */
 static void test_point_pairs_bit_for_bit(void **state)
 {
     (void)state;
@@ -519,6 +520,14 @@ static void test_point_pairs_bit_for_bit(void **state)
             assert_true(memcmp(&contact[l].k.vel, &first.k.vel, sizeof(hk_Vec3)) == 0);
             assert_true(memcmp(&contact[l].jac, &first.jac, sizeof(hk_Mat3)) == 0);
             assert_true(memcmp(&n0, &n1, sizeof n0) == 0);
+            /* an element's end taken from the pose that the sweep (order 2, rates kd)
+             * found, with other rates (the contacts' free velocity): order 1's bits */
+            const hk_EndPose pose = {pair[l].k.frame, pair[l].jac, pair[l].jac_rot, pair[l].k.pos};
+            const hk_Vec3 other = {15, -60, 35};
+            hk_PointKinematics reused, fresh;
+            hk_end_kinematics(&start, &pose, other, &reused);
+            hk_point_kinematics(&start, ks[t], other, u[l], 1, &fresh);
+            assert_true(memcmp(&reused, &fresh, sizeof fresh) == 0);
         }
         /* the pair's quadrature terms into an element's sums that already hold some
          * (their signs mixed), against the same two points added one at a time */

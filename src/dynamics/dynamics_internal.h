@@ -41,6 +41,20 @@ typedef struct hk_PointKinematics {
 void hk_point_kinematics(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, double u, int order,
                          hk_PointKinematics *out);
 
+/* What hk_point_kinematics gives at an element's end that the rates do not change: the
+ * end's pose and its Jacobians, for the coordinates and root pose of the walk that
+ * reached it. */
+typedef struct hk_EndPose {
+    hk_Mat3 frame, jac, jac_rot;
+    hk_Vec3 pos;
+} hk_EndPose;
+
+/* hk_point_kinematics of order 1 at the end of the element that starts at `start`, its
+ * pose known, for rates kd: the same bits (the offset R_P d it adds to the start is
+ * column 0 of jac_rot = R_P Lambda, the same products), without the element's closed
+ * forms. */
+void hk_end_kinematics(const hk_FrameKinematics *start, const hk_EndPose *pose, hk_Vec3 kd, hk_PointKinematics *out);
+
 /* hk_point_kinematics of order 2 at the offsets u[0] and u[1] at once (two lanes of
  * vector arithmetic), out[i] for u[i]: the same bits. */
 void hk_point_kinematics2(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, const double u[2],
@@ -234,6 +248,16 @@ struct hk_StrandDynamics {
     double *entry_s, *entry_q[2];
     hk_Vec3 *entry_pos[2], *entry_nodes[2];
     int entry_count, entry_valid[2], entry_next;
+    /* The element ends' poses of the last sweep (strand_dynamics.c), which the contact
+     * points' Jacobians at the same state walk to again (strand_response.c): they hold
+     * for the coordinates ends_q (3N) and the root pose ends_root, ends_frame, which
+     * hk_dynamics_end_poses compares with the strand's (whatever changed q or placed
+     * the root makes them stale; the elements' lengths are fixed at creation). */
+    hk_EndPose *ends;
+    double *ends_q;
+    hk_Vec3 ends_root;
+    hk_Mat3 ends_frame;
+    int ends_valid;
     long evaluations; /* evaluations of the forces, to refresh G+ every few */
     hk_DynamicsStats stats;
     hk_ElementTerms *terms;
@@ -248,6 +272,10 @@ struct hk_StrandDynamics {
  * residual). ch = 0 (x NULL): the plain mass matrix and f. */
 void hk_dynamics_evaluate(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces, int force_count,
                           double ch, const double *x);
+
+/* The element ends' poses (N) of the last sweep when they hold for the strand's
+ * coordinates and root pose now, else NULL. */
+const hk_EndPose *hk_dynamics_end_poses(const hk_StrandDynamics *d);
 
 /* Solves (iteration matrix) out = d->rhs after hk_dynamics_evaluate with the same ch;
  * returns 0 if the system is not positive definite. */

@@ -60,6 +60,7 @@ void hk_strand_dynamics_destroy(hk_StrandDynamics *d)
     hk_free(d->shapes);
     hk_free(d->v);
     hk_free(d->terms);
+    hk_free(d->ends);
     hk_free(d->work);
     hk_free(d->anchor_pos);
     hk_free(d->anchor_vel);
@@ -121,11 +122,13 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsDef *par
     d->potential_env = hk_default_strand_env_def();
     hk_gauss_table_init(&d->gauss);
     /* One block for the 3N vectors (struct hk_StrandDynamics). */
-    d->v = hk_calloc_array((22 + 2 * HK_ANDERSON_DEPTH + 2) * dim, sizeof(double), err);
+    d->v = hk_calloc_array((23 + 2 * HK_ANDERSON_DEPTH + 2) * dim, sizeof(double), err);
     d->terms = hk_alloc_array((size_t)n, sizeof(hk_ElementTerms), err);
+    d->ends = hk_alloc_array((size_t)n, sizeof(hk_EndPose), err);
     const int dense = params->solver == HK_DYNAMICS_DENSE;
     d->work = hk_alloc_array(dense ? HK_DENSE_WORK(n) : HK_LINEAR_WORK(n), sizeof(double), err);
-    if (!d->v || !d->terms || !d->work || hk_strand_workspace_create(sh, &d->potential_env, &d->ws, err) != HK_OK) {
+    if (!d->v || !d->terms || !d->ends || !d->work ||
+        hk_strand_workspace_create(sh, &d->potential_env, &d->ws, err) != HK_OK) {
         hk_strand_dynamics_destroy(d);
         return err ? err->code : HK_ERR_NOMEM;
     }
@@ -140,6 +143,7 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsDef *par
     d->prev_vg = next + 7 * dim;
     d->start_guess = next + 8 * dim;
     d->mixing = next + 9 * dim; /* (2 HK_ANDERSON_DEPTH + 2) x 3N */
+    d->ends_q = d->mixing + (2 * HK_ANDERSON_DEPTH + 2) * dim;
     if (body && body->shape_count > 0 && body->collision_step > 0.0) {
         d->shapes = hk_alloc_array((size_t)body->shape_count, sizeof(hk_Shape), err);
         if (!d->shapes) {
@@ -457,9 +461,24 @@ static void sweep(hk_StrandDynamics *d, const hk_RigidState *head, const hk_Poin
             add_point_force(t, &end, &tip, ch, NULL, NULL, euler ? head : NULL);
         }
         hk_element_terms_set_screw(t, &end);
+        d->ends[p] = (hk_EndPose){end.k.frame, end.jac, end.jac_rot, end.k.pos};
         if (x) rate = rate_at(&rate, node.pos, &end, xp);
         node = end.k;
     }
+    /* the ends' poses hold for this state (hk_dynamics_end_poses) */
+    memcpy(d->ends_q, sh->q, (size_t)(3 * n) * sizeof(double));
+    d->ends_root = sh->root;
+    d->ends_frame = sh->root_frame;
+    d->ends_valid = 1;
+}
+
+const hk_EndPose *hk_dynamics_end_poses(const hk_StrandDynamics *d)
+{
+    const hk_SuperHelix *sh = d->sh;
+    const int same = d->ends_valid && memcmp(d->ends_q, sh->q, (size_t)(3 * sh->n) * sizeof(double)) == 0 &&
+                     memcmp(&d->ends_root, &sh->root, sizeof sh->root) == 0 &&
+                     memcmp(&d->ends_frame, &sh->root_frame, sizeof sh->root_frame) == 0;
+    return same ? d->ends : NULL;
 }
 
 /* The strand's root pose moved to head space (where the body's shapes are) for a

@@ -53,6 +53,22 @@ void hk_point_kinematics(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd,
     o->acc = hk_v3_add(acc, hk_m3_mul_v3(r, curve));
 }
 
+void hk_end_kinematics(const hk_FrameKinematics *start, const hk_EndPose *pose, hk_Vec3 kd, hk_PointKinematics *out)
+{
+    /* hk_point_kinematics of order 1, the element's closed forms already applied */
+    const hk_Vec3 d = hk_m3_col(&pose->jac_rot, 0);
+    out->jac = pose->jac;
+    out->jac_rot = pose->jac_rot;
+    hk_FrameKinematics *o = &out->k;
+    o->frame = pose->frame;
+    o->pos = pose->pos;
+    const hk_Vec3 spin = hk_m3_mul_v3(&out->jac_rot, kd), slide = hk_m3_mul_v3(&out->jac, kd);
+    o->omega = hk_v3_add(start->omega, spin);
+    o->vel = hk_v3_add(hk_v3_add(start->vel, hk_v3_cross(start->omega, d)), slide);
+    o->alpha = hk_v3_zero();
+    o->acc = hk_v3_zero();
+}
+
 void hk_point_kinematics2(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, const double u[2],
                           hk_PointKinematics out[2])
 {

@@ -24,13 +24,20 @@ void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head
     const int n = sh->n, dim = 3 * n;
     hk_strand_dynamics_place(d, head);
     hk_FrameKinematics node = hk_dynamics_root_kinematics(d, head);
+    /* The elements' ends as the step's sweep found them at this state (the contacts'
+     * solve takes the points right after the free step, hair_contact_solve.c): their
+     * closed forms are not evaluated again. */
+    const hk_EndPose *ends = hk_dynamics_end_poses(d);
     int p = 0, ahead = 0; /* ahead: point i was computed with point i - 1 */
     hk_Vec3 pair_pos[2], pair_vel[2];
     hk_Mat3 pair_jac[2];
     for (int i = 0; i < count; i++) {
         while (p < n - 1 && s[i] >= sh->s_start[p + 1]) {
             hk_PointKinematics end;
-            hk_point_kinematics(&node, k_at(sh->q, p), k_at(rates, p), sh->length[p], 1, &end);
+            if (ends)
+                hk_end_kinematics(&node, &ends[p], k_at(rates, p), &end);
+            else
+                hk_point_kinematics(&node, k_at(sh->q, p), k_at(rates, p), sh->length[p], 1, &end);
             for (int b = 0; b < 3; b++) { /* as hk_element_terms_set_screw */
                 const hk_Vec3 w = hk_m3_col(&end.jac_rot, b);
                 const hk_Vec3 t = hk_v3_add(hk_m3_col(&end.jac, b), hk_v3_cross(end.k.pos, w));
