@@ -606,19 +606,25 @@ static void eliminate3(double a[3][3], LawParts *lp)
 static int solve_eliminated3(const LawParts *lp, double b[3], double x[3])
 {
     if (!lp->regular) return 0;
-    for (int c = 0; c < 3; c++) {
+    /* Written out with the packed places (upper_at, factor_at) as constants: as loops the
+     * places were computed at every visit (22 million more instructions in the sweeps of
+     * the head driver's settling and 8 frames, callgrind). Column 2 has no swap nor row
+     * below it. The same operations in the same order as the elimination's loops. */
+    const double *f = lp->factor, *u = lp->upper;
+    for (int c = 0; c < 2; c++) {
         const int piv = lp->pivot[c];
         if (piv != c) {
             const double t = b[c];
             b[c] = b[piv], b[piv] = t;
         }
-        for (int r = c + 1; r < 3; r++) b[r] -= lp->factor[factor_at(r, c)] * b[c];
+        if (c == 0)
+            b[1] -= f[0] * b[0], b[2] -= f[1] * b[0];
+        else
+            b[2] -= f[2] * b[1];
     }
-    for (int r = 2; r >= 0; r--) {
-        double v = b[r];
-        for (int k = r + 1; k < 3; k++) v -= lp->upper[upper_at(r, k)] * x[k];
-        x[r] = v / lp->upper[upper_at(r, r)];
-    }
+    x[2] = b[2] / u[5];
+    x[1] = (b[1] - u[4] * x[2]) / u[3];
+    x[0] = (b[0] - u[1] * x[1] - u[2] * x[2]) / u[0];
     return isfinite(x[0]) && isfinite(x[1]) && isfinite(x[2]);
 }
 
