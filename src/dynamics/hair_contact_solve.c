@@ -1046,8 +1046,9 @@ static void prefetch_rows(const PairState *ps)
  * are listed again), else its active pairs. A visit is a chain (the strands' dv, the
  * relative velocity, the law, the new dv) that waits on its loads: the pair two ahead
  * is asked for, and the rows of the next one, whose fields came with the last ask
- * (the sweeps' CPU time on one thread about a quarter less on examples/guides200
- * shaking, docs/dynamics.md, "The sweeps' balance counted"). */
+ * (the sweeps' CPU time on one thread about 15 % less on examples/guides200
+ * shaking, measured beside other jobs: docs/dynamics.md, "The sweeps' balance
+ * counted"). */
 static void sweep_group(hk_ContactSolve *cs, const int *order, SweepGroup *gr, int full)
 {
     int *active = (int *)cs->active.items + gr->begin;
