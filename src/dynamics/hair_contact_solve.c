@@ -36,6 +36,7 @@
 #include <math.h>
 #include <omp.h>
 #include <sched.h>
+#include <stddef.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
@@ -68,14 +69,20 @@ typedef hk_HcKey Slot;
  * and its eigen-decomposition. Computed once per pair and step instead of at every
  * visit, by the same operations, so that the impulses are the same bits. */
 typedef struct LawParts {
-    double upper[3][3];  /* the sticking system's matrix as the elimination leaves it */
-    double factor[3][3]; /* factor[r][c]: the multiple of row c taken from row r */
-    int pivot[3];        /* the row swapped with row c at column c */
-    int regular;         /* 0: the system is singular (solve3 fails) */
-    double den, r[2];    /* 1 + gamma w00, and gamma (w01, w02) / den */
-    double e[2];         /* the eigenvalues of the tangential block's Schur complement */
-    double v0[2], v1[2]; /* and eigenvectors */
+    double upper[6];  /* the sticking system's matrix as the elimination leaves it: its
+                         upper triangle by rows (upper_at) */
+    double factor[3]; /* the multiples of row c taken from row r > c (factor_at) */
+    double den, r[2]; /* 1 + gamma w00, and gamma (w01, w02) / den */
+    double e[2];      /* the eigenvalues of the tangential block's Schur complement */
+    double v0[2];     /* and the first eigenvector (the second is (-v0[1], v0[0])) */
+    char pivot[3];    /* the row swapped with row c at column c */
+    char regular;     /* 0: the system is singular (solve3 fails) */
 } LawParts;
+
+/* Where LawParts keeps entry (r, k), k >= r, of the eliminated matrix, and the factor
+ * of row r > c at column c. */
+static inline int upper_at(int r, int k) { return 3 * r - r * (r - 1) / 2 + k - r; }
+static inline int factor_at(int r, int c) { return r + c - 1; }
 
 /* Where the sweeps find one of a pair's points: set once per step (prepare_pairs), so
  * that a visit reads them from its pair instead of from the strands' offsets. */
@@ -86,20 +93,25 @@ typedef struct PointRows {
     int m;              /* its support (zero from column m on), also the rows' stride */
 } PointRows;
 
-/* The fields a sweep reads first (the idle pairs' check) come first, in one cache line. */
+/* The fields a sweep reads first (the idle pairs' check) come first, in two cache
+ * lines, then those a visit that pushes reads, then those it does not read: a visit
+ * touches 348 of the 456 bytes. (With the law's parts in full and the basis and keys
+ * among them a pair took 552 bytes, all read by a visit that pushes; the pairs' fields
+ * were a third of the sweeps' first-level cache misses, callgrind's cache model on
+ * examples/guides200 shaking.) */
 typedef struct PairState {
     hk_Vec3 lambda;     /* impulse on a in the basis during the solve, in world space after */
     double beta, gamma; /* normal law lambda_n = max(0, beta - gamma u_n) */
     hk_Vec3 free;       /* relative velocity in the basis at the strands' free velocities */
     PointRows point[2]; /* point a (strand i) and point b (strand j) */
+    double w[3][3];     /* Delassus block in the basis: B^T (J_a Y_a + J_b Y_b) B */
+    double nu;          /* the multiplier of its friction's disc at its last visit (disc_qp) */
+    LawParts law;       /* what the pair's law takes from w alone */
+    int ready;          /* w is set (both points' responses are), and with it law */
     int strand[2];      /* i and j */
     int slot[2];        /* slots of point a and point b */
-    hk_Vec3 basis[3];   /* n (from b to a), t1, t2 */
-    double w[3][3];     /* Delassus block in the basis: B^T (J_a Y_a + J_b Y_b) B */
     int key[4];         /* (i, a, j, b): warm start from the last step's same pair */
-    int ready;          /* w is set (both points' responses are), and with it law */
-    LawParts law;       /* what the pair's law takes from w alone */
-    double nu;          /* the multiplier of its friction's disc at its last visit (disc_qp) */
+    hk_Vec3 basis[3];   /* n (from b to a), t1, t2 */
 } PairState;
 
 /* A growable array: its items and how many it has room for. */
@@ -572,7 +584,7 @@ static void eliminate3(double a[3][3], LawParts *lp)
         int piv = c;
         for (int r = c + 1; r < 3; r++)
             if (fabs(a[r][c]) > fabs(a[piv][c])) piv = r;
-        lp->pivot[c] = piv;
+        lp->pivot[c] = (char)piv;
         if (!(fabs(a[piv][c]) > 0.0)) return;
         if (piv != c)
             for (int k = 0; k < 3; k++) {
@@ -581,11 +593,12 @@ static void eliminate3(double a[3][3], LawParts *lp)
             }
         for (int r = c + 1; r < 3; r++) {
             const double f = a[r][c] / a[c][c];
-            lp->factor[r][c] = f;
+            lp->factor[factor_at(r, c)] = f;
             for (int k = c; k < 3; k++) a[r][k] -= f * a[c][k];
         }
     }
-    memcpy(lp->upper, a, sizeof lp->upper);
+    for (int r = 0; r < 3; r++)
+        for (int k = r; k < 3; k++) lp->upper[upper_at(r, k)] = a[r][k];
     lp->regular = 1;
 }
 
@@ -594,19 +607,25 @@ static void eliminate3(double a[3][3], LawParts *lp)
 static int solve_eliminated3(const LawParts *lp, double b[3], double x[3])
 {
     if (!lp->regular) return 0;
-    for (int c = 0; c < 3; c++) {
+    /* Written out with the packed places (upper_at, factor_at) as constants: as loops the
+     * places were computed at every visit (22 million more instructions in the sweeps of
+     * the head driver's settling and 8 frames, callgrind). Column 2 has no swap nor row
+     * below it. The same operations in the same order as the elimination's loops. */
+    const double *f = lp->factor, *u = lp->upper;
+    for (int c = 0; c < 2; c++) {
         const int piv = lp->pivot[c];
         if (piv != c) {
             const double t = b[c];
             b[c] = b[piv], b[piv] = t;
         }
-        for (int r = c + 1; r < 3; r++) b[r] -= lp->factor[r][c] * b[c];
+        if (c == 0)
+            b[1] -= f[0] * b[0], b[2] -= f[1] * b[0];
+        else
+            b[2] -= f[2] * b[1];
     }
-    for (int r = 2; r >= 0; r--) {
-        double v = b[r];
-        for (int k = r + 1; k < 3; k++) v -= lp->upper[r][k] * x[k];
-        x[r] = v / lp->upper[r][r];
-    }
+    x[2] = b[2] / u[5];
+    x[1] = (b[1] - u[4] * x[2]) / u[3];
+    x[0] = (b[0] - u[1] * x[1] - u[2] * x[2]) / u[0];
     return isfinite(x[0]) && isfinite(x[1]) && isfinite(x[2]);
 }
 
@@ -623,7 +642,6 @@ static void eigen2(const double a[2][2], LawParts *lp)
     } else {
         lp->v0[0] = 1.0, lp->v0[1] = 0.0;
     }
-    lp->v1[0] = -lp->v0[1], lp->v1[1] = lp->v0[0];
 }
 
 /* min over |y| <= s of 1/2 y^T a y + g . y for the symmetric 2 x 2 a decomposed in lp
@@ -643,7 +661,7 @@ static void disc_qp(const LawParts *lp, const double g[2], double s, double y[2]
     const double start = *nu_io > 0.0 ? *nu_io : 0.0;
     *nu_io = 0.0;
     if (!(s > 0.0)) return;
-    const double *e = lp->e, *v0 = lp->v0, *v1 = lp->v1;
+    const double *e = lp->e, *v0 = lp->v0, v1[2] = {-v0[1], v0[0]};
     if (!(e[1] > 0.0)) return;
     const double b[2] = {-(v0[0] * g[0] + v0[1] * g[1]), -(v1[0] * g[0] + v1[1] * g[1])};
     double c0 = b[0] / e[0], c1 = b[1] / e[1], nu = 0.0;
@@ -837,7 +855,11 @@ static int may_push(const PairState *ps) { return pushes_free(ps) || has_impulse
  * The weights before, 16 for a pair that may push and 1 otherwise, weighed the second
  * kind as the first: the first stage's two groups then cost 1,695 and 1,872 million
  * instructions over those steps, by this model on the visits counted; now 1,777 and
- * 1,761 (docs/dynamics.md, "Weights from the sweeps' costs"). */
+ * 1,761 (docs/dynamics.md, "Weights from the sweeps' costs"). Counted again with 21
+ * sweeps and the idle checks on 3 of them, the three kinds cost about 15,050 + 294 m,
+ * 2,460 + 58 m and 620 + 19 m; weighed so, the slower group of each stage summed over a
+ * solve is 52.38 % of the work instead of 52.44 %, too little to change the order for
+ * (docs/dynamics.md, "The sweeps' balance counted"). */
 static double sweep_cost(const PairState *ps)
 {
     const double m = ps->point[0].m + ps->point[1].m;
@@ -1002,16 +1024,43 @@ typedef struct SweepGroup {
     double change, largest; /* the largest impulse change and impulse of its last sweep */
 } SweepGroup;
 
+/* Asks for the bytes [0, n) from p in the caches ahead of their use (a hint: nothing
+ * is read, nothing changes but the time). */
+static void prefetch_bytes(const void *p, size_t n)
+{
+    const char *c = p;
+    for (size_t b = 0; b < n; b += 64) __builtin_prefetch(c + b);
+    if (n > 0) __builtin_prefetch(c + n - 1);
+}
+
+/* What a visit of pair ps reads from memory (visit): its own fields up to those the
+ * sweeps do not read (PairState), and its points' three rows. */
+static void prefetch_pair(const PairState *ps) { prefetch_bytes(ps, offsetof(PairState, strand)); }
+static void prefetch_rows(const PairState *ps)
+{
+    for (int side = 0; side < 2; side++)
+        prefetch_bytes(ps->point[side].rows, 3 * (size_t)ps->point[side].m * sizeof(double));
+}
+
 /* One sweep over a group's pairs: every pair on a full sweep (then its active pairs
- * are listed again), else its active pairs. */
+ * are listed again), else its active pairs. A visit is a chain (the strands' dv, the
+ * relative velocity, the law, the new dv) that waits on its loads: the pair two ahead
+ * is asked for, and the rows of the next one, whose fields came with the last ask
+ * (the sweeps' CPU time on one thread about 15 % less on examples/guides200
+ * shaking, measured beside other jobs: docs/dynamics.md, "The sweeps' balance
+ * counted"). */
 static void sweep_group(hk_ContactSolve *cs, const int *order, SweepGroup *gr, int full)
 {
     int *active = (int *)cs->active.items + gr->begin;
     const int count = full ? gr->end - gr->begin : gr->active_count;
+    const int *list = full ? order + gr->begin : active; /* (active is rewritten behind x) */
+    const PairState *pairs = cs->pairs.items;
     double change = 0.0, largest = 0.0;
     if (full) gr->pushing = gr->sticking = gr->active_count = 0;
     for (int x = 0; x < count; x++) {
-        const int k = full ? order[gr->begin + x] : active[x];
+        const int k = list[x];
+        if (x + 2 < count) prefetch_pair(&pairs[list[x + 2]]);
+        if (x + 1 < count) prefetch_rows(&pairs[list[x + 1]]);
         double l;
         const int law = visit(cs, k, cs->mu, cs->viscous, &change, &l);
         if (l > largest) largest = l;
