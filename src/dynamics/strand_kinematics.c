@@ -152,17 +152,30 @@ void hk_point_jacobian(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, d
     *vel = hk_v3_add(hk_v3_add(start->vel, hk_v3_cross(start->omega, d)), hk_m3_mul_v3(jac, kd));
 }
 
-void hk_point_jacobian2(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, const double u[2], hk_Vec3 pos[2],
-                        hk_Vec3 vel[2], hk_Mat3 jac[2])
+/* Two points of an element at once (two lanes): their positions p, velocities v and
+ * Jacobians j, and with tangent non-NULL column 0 of their frames (the tangent) in
+ * world axes: the work hk_point_jacobian2 and hk_point_contact2 share. */
+static inline __attribute__((always_inline)) void offset_motion2(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd,
+                                                                 const double u[2], hk_Vec3x2 *p, hk_Vec3x2 *v,
+                                                                 hk_Mat3x2 *j, hk_Vec3x2 *tangent)
 {
     hk_Vec3x2 offset;
     hk_Mat3x2 dd;
-    hk_element_offset2(k, u, &offset, &dd, NULL);
+    hk_element_offset2(k, u, &offset, &dd, tangent);
     const hk_Mat3 *r = &start->frame;
     const hk_Vec3x2 d = mul_v3_x2(r, offset);
-    const hk_Mat3x2 j = mul_m3_x2(r, &dd);
-    const hk_Vec3x2 p = add_x2(lanes3(start->pos), d);
-    const hk_Vec3x2 v = add_x2(add_x2(lanes3(start->vel), cross_x2(lanes3(start->omega), d)), mul_x2_v3(&j, kd));
+    if (tangent) *tangent = mul_v3_x2(r, *tangent);
+    *j = mul_m3_x2(r, &dd);
+    *p = add_x2(lanes3(start->pos), d);
+    *v = add_x2(add_x2(lanes3(start->vel), cross_x2(lanes3(start->omega), d)), mul_x2_v3(j, kd));
+}
+
+void hk_point_jacobian2(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, const double u[2], hk_Vec3 pos[2],
+                        hk_Vec3 vel[2], hk_Mat3 jac[2])
+{
+    hk_Vec3x2 p, v;
+    hk_Mat3x2 j;
+    offset_motion2(start, k, kd, u, &p, &v, &j, NULL);
 #pragma GCC unroll 2
     for (int l = 0; l < 2; l++) {
         pos[l] = lane_v3(p, l);
@@ -174,14 +187,9 @@ void hk_point_jacobian2(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, 
 void hk_point_contact2(const hk_FrameKinematics *start, hk_Vec3 k, hk_Vec3 kd, const double u[2],
                        hk_PointKinematics out[2])
 {
-    hk_Vec3x2 offset, tangent;
-    hk_Mat3x2 dd;
-    hk_element_offset2(k, u, &offset, &dd, &tangent);
-    const hk_Mat3 *r = &start->frame;
-    const hk_Vec3x2 d = mul_v3_x2(r, offset), n0 = mul_v3_x2(r, tangent);
-    const hk_Mat3x2 j = mul_m3_x2(r, &dd);
-    const hk_Vec3x2 p = add_x2(lanes3(start->pos), d);
-    const hk_Vec3x2 v = add_x2(add_x2(lanes3(start->vel), cross_x2(lanes3(start->omega), d)), mul_x2_v3(&j, kd));
+    hk_Vec3x2 p, v, n0;
+    hk_Mat3x2 j;
+    offset_motion2(start, k, kd, u, &p, &v, &j, &n0);
 #pragma GCC unroll 2
     for (int l = 0; l < 2; l++) {
         out[l].k.pos = lane_v3(p, l);
