@@ -94,8 +94,40 @@ static inline double dot4_down(const double *a, const double *b, int n)
         s32 += a32 * b32;
     }
     double s0 = s10[1];
-    for (; k < n; k++) s0 += a[-k] * b[-k];
+    const int rest = n - k; /* at most three terms, written out (see dot4_down_pair) */
+    if (rest > 0) s0 += a[-k] * b[-k];
+    if (rest > 1) s0 += a[-k - 1] * b[-k - 1];
+    if (rest > 2) s0 += a[-k - 2] * b[-k - 2];
     return (s0 + s10[0]) + (s32[1] + s32[0]);
+}
+
+/* dot4_down(a, b, n) and dot4_down(c, b, n) at once, b's loads shared: each product
+ * takes the same operations in the same order as alone (the same bits). The remainder,
+ * at most three terms, is written out: as a loop its counter and branch cost as much as
+ * its products (hk_upper_cholesky's rows of 3N = 30 leave a remainder in three of four
+ * rows). */
+static inline void dot4_down_pair(const double *a, const double *c, const double *b, int n, double *ab, double *cb)
+{
+    typedef double Pair __attribute__((vector_size(16)));
+    Pair s10 = {0.0, 0.0}, s32 = s10, t10 = s10, t32 = s10;
+    int k = 0;
+    for (; k + 4 <= n; k += 4) {
+        Pair a10, c10, b10, a32, c32, b32;
+        memcpy(&b10, b - k - 1, sizeof b10), memcpy(&b32, b - k - 3, sizeof b32);
+        memcpy(&a10, a - k - 1, sizeof a10), memcpy(&a32, a - k - 3, sizeof a32);
+        memcpy(&c10, c - k - 1, sizeof c10), memcpy(&c32, c - k - 3, sizeof c32);
+        s10 += a10 * b10;
+        s32 += a32 * b32;
+        t10 += c10 * b10;
+        t32 += c32 * b32;
+    }
+    double s0 = s10[1], t0 = t10[1];
+    const int rest = n - k;
+    if (rest > 0) s0 += a[-k] * b[-k], t0 += c[-k] * b[-k];
+    if (rest > 1) s0 += a[-k - 1] * b[-k - 1], t0 += c[-k - 1] * b[-k - 1];
+    if (rest > 2) s0 += a[-k - 2] * b[-k - 2], t0 += c[-k - 2] * b[-k - 2];
+    *ab = (s0 + s10[0]) + (s32[1] + s32[0]);
+    *cb = (t0 + t10[0]) + (t32[1] + t32[0]);
 }
 
 int hk_upper_cholesky(int n, const double *a, const double *extra, double *u)
@@ -115,10 +147,15 @@ int hk_upper_cholesky(int n, const double *a, const double *extra, double *u)
         if (!(diag > 1e-13 * ref) || !isfinite(diag)) return 0;
         const double ujj = sqrt(diag);
         u[jj] = ujj;
-        for (int i = j - 1; i >= 0; i--) {
-            const size_t ij = (size_t)i * sn + (size_t)j;
-            u[ij] = (aj[i] - dot4_down(u + (size_t)i * sn + (sn - 1), uj, len)) / ujj;
+        int i = j - 1;
+        for (; i >= 1; i -= 2) { /* rows i and i - 1 share uj's loads */
+            const double *ui = u + (size_t)i * sn + (sn - 1);
+            double di, dk;
+            dot4_down_pair(ui, ui - sn, uj, len, &di, &dk);
+            u[(size_t)i * sn + (size_t)j] = (aj[i] - di) / ujj;
+            u[(size_t)(i - 1) * sn + (size_t)j] = (aj[i - 1] - dk) / ujj;
         }
+        if (i == 0) u[j] = (aj[0] - dot4_down(u + (sn - 1), uj, len)) / ujj;
     }
     return 1;
 }
