@@ -337,11 +337,10 @@ static void test_linear_solve_residual(void **state)
  * of the reversed matrix read backwards, to the bit (the contacts' solve relies on its
  * rows stopping at a point's element, the step's own solve on the same factor), and
  * hk_upper_solve solves with it; sizes with every remainder of the four partial sums. */
-static void test_upper_cholesky_is_the_reversed_factor(void **state)
+static void upper_cholesky_is_the_reversed_factor(void)
 {
-    (void)state;
     enum { MAX = 33 };
-    for (int n = 29; n <= MAX; n++) {
+    for (int n = 1; n <= MAX; n++) {
         const size_t sn = (size_t)n, count = sn * sn;
         double b[MAX * MAX], a[MAX * MAX], rev[MAX * MAX], u[MAX * MAX], extra[MAX], rextra[MAX];
         double x[MAX], rhs[MAX];
@@ -380,6 +379,17 @@ static void test_upper_cholesky_is_the_reversed_factor(void **state)
     }
     double indefinite[4] = {1.0, 2.0, 2.0, 1.0}, f[4], none[2] = {0.0, 0.0};
     assert_int_equal(hk_upper_cholesky(2, indefinite, none, f), 0);
+}
+
+/* Both paths, AVX's where the CPU has it and the baseline's, on every size from 1 (the
+ * column's rows taken two at a time leave an odd one in every other column). */
+static void test_upper_cholesky_is_the_reversed_factor(void **state)
+{
+    (void)state;
+    if (hk_upper_cholesky_allow_avx(1)) upper_cholesky_is_the_reversed_factor();
+    hk_upper_cholesky_allow_avx(0);
+    upper_cholesky_is_the_reversed_factor();
+    hk_upper_cholesky_allow_avx(1);
 }
 
 /* Gauss-Newton stiffness of a point inside two overlapping shapes, a stiff sphere and a
