@@ -17,6 +17,9 @@ void hk_dot2(const double *a, const double *b, const double *c, int n, double *a
  * matrix yt (row stride `stride`): the same bits as that dot product, for several j at
  * once (the loop over j vectorises). One row of X^T Y with Y stored transposed. */
 void hk_dot6_columns(const double x[6], const double *yt, size_t stride, int count, double *out);
+/* Whether hk_dot6_columns may take its AVX path where the CPU has it (the default); tests
+ * compare the two. Returns whether the CPU has AVX. */
+int hk_dot6_columns_allow_avx(int allow);
 
 /* Cholesky factor of the symmetric matrix a + shift * diag(d) (d may be NULL: identity)
  * into the lower triangle of l (n x n; the strict upper triangle is left alone). Only
