@@ -386,10 +386,10 @@ static void upper_cholesky_is_the_reversed_factor(void)
 static void test_upper_cholesky_is_the_reversed_factor(void **state)
 {
     (void)state;
-    if (hk_upper_cholesky_allow_avx(1)) upper_cholesky_is_the_reversed_factor();
-    hk_upper_cholesky_allow_avx(0);
+    if (hk_avx_paths_allow(1)) upper_cholesky_is_the_reversed_factor();
+    hk_avx_paths_allow(0);
     upper_cholesky_is_the_reversed_factor();
-    hk_upper_cholesky_allow_avx(1);
+    hk_avx_paths_allow(1);
 }
 
 /* Gauss-Newton stiffness of a point inside two overlapping shapes, a stiff sphere and a

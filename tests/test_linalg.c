@@ -317,9 +317,9 @@ static void test_dot6_columns_same_bits(void **state)
     double yt[6 * STRIDE], x[6], out[MAX + 1];
     for (int k = 0; k < 6 * STRIDE; k++) yt[k] = 2.0 * hk_test_uniform() - 1.0;
     for (int k = 0; k < 6; k++) x[k] = 2.0 * hk_test_uniform() - 1.0;
-    const int avx = hk_dot6_columns_allow_avx(1);
+    const int avx = hk_avx_paths_allow(1);
     for (int path = avx ? 0 : 1; path < 2; path++) {
-        hk_dot6_columns_allow_avx(path == 0);
+        hk_avx_paths_allow(path == 0);
         for (size_t stride = MAX; stride <= STRIDE; stride += STRIDE - MAX)
             for (int count = 0; count <= MAX; count++) {
                 out[count] = 7.0; /* not written */
@@ -332,7 +332,7 @@ static void test_dot6_columns_same_bits(void **state)
                 assert_true(out[count] == 7.0);
             }
     }
-    hk_dot6_columns_allow_avx(1);
+    hk_avx_paths_allow(1);
 }
 
 int main(void)

@@ -59,8 +59,8 @@ static inline __attribute__((always_inline)) void dot6_columns(const double x[6]
 }
 
 /* On AVX four columns a vector instead of two: each column's sum is its own lane's, in
- * the same order (no FMA: target "avx" only), so the bits are the baseline's. Chosen at
- * run time, as the positive part's. */
+ * the same order (no FMA: target "avx" only), so the bits are the baseline's (linalg.h,
+ * hk_avx_path). */
 __attribute__((target("avx"))) static void dot6_columns_avx(const double x[6], const double *yt, size_t stride,
                                                             int count, double *out)
 {
@@ -72,17 +72,17 @@ static void dot6_columns_sse2(const double x[6], const double *yt, size_t stride
     dot6_columns(x, yt, stride, count, out);
 }
 
-static int columns_avx_allowed = 1; /* hk_dot6_columns_allow_avx */
+int hk_avx_paths_allowed = 1;
 
-int hk_dot6_columns_allow_avx(int allow)
+int hk_avx_paths_allow(int allow)
 {
-    columns_avx_allowed = allow;
+    hk_avx_paths_allowed = allow;
     return __builtin_cpu_supports("avx");
 }
 
 void hk_dot6_columns(const double x[6], const double *yt, size_t stride, int count, double *out)
 {
-    if (columns_avx_allowed && __builtin_cpu_supports("avx"))
+    if (hk_avx_path())
         dot6_columns_avx(x, yt, stride, count, out);
     else
         dot6_columns_sse2(x, yt, stride, count, out);

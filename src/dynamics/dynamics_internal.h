@@ -146,9 +146,6 @@ int hk_terms_solve_linear(int n, const hk_ElementTerms *terms, const double *ext
  * takes the same factor, so that a strand's matrix is factored once a step. Returns 0 if
  * the matrix is not numerically positive definite. */
 int hk_upper_cholesky(int n, const double *a, const double *extra, double *u);
-/* Whether hk_upper_cholesky may take its AVX path where the CPU has AVX (the default):
- * tests compare it with the baseline's, to the bit. Returns whether the CPU has AVX. */
-int hk_upper_cholesky_allow_avx(int allow);
 
 /* Solves U U^T x = b in place (x holds b on entry) with hk_upper_cholesky's factor. */
 void hk_upper_solve(int n, const double *u, double *x);

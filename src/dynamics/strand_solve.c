@@ -181,8 +181,8 @@ static inline __attribute__((always_inline)) int upper_cholesky(int n, const dou
 
 /* The AVX path: dot4_down_pair's vector of four in one register (hk_upper_cholesky
  * 37.2 -> 29.9 million instructions in the head driver's 8 frames); no FMA (target
- * "avx" only), so the bits are the baseline's. Chosen at run time, as G+'s
- * (core/positive_part.c): the build stays portable (no -march). */
+ * "avx" only), so the bits are the baseline's. Chosen at run time (core/linalg.h,
+ * hk_avx_path): the build stays portable (no -march). */
 __attribute__((target("avx"))) static int upper_cholesky_avx(int n, const double *a, const double *extra, double *u)
 {
     return upper_cholesky(n, a, extra, u, 1);
@@ -193,17 +193,9 @@ static int upper_cholesky_sse2(int n, const double *a, const double *extra, doub
     return upper_cholesky(n, a, extra, u, 0);
 }
 
-static int cholesky_avx_allowed = 1; /* hk_upper_cholesky_allow_avx */
-
-int hk_upper_cholesky_allow_avx(int allow)
-{
-    cholesky_avx_allowed = allow;
-    return __builtin_cpu_supports("avx");
-}
-
 int hk_upper_cholesky(int n, const double *a, const double *extra, double *u)
 {
-    if (cholesky_avx_allowed && __builtin_cpu_supports("avx")) return upper_cholesky_avx(n, a, extra, u);
+    if (hk_avx_path()) return upper_cholesky_avx(n, a, extra, u);
     return upper_cholesky_sse2(n, a, extra, u);
 }
 
