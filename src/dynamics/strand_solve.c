@@ -40,7 +40,8 @@ static void mul66(double m[6][6], const double *x, double *out)
  * factorisation reads no more (hk_upper_cholesky). Mirroring each row into its column,
  * strided stores over the whole matrix, was a sixth of the assembly's instructions
  * (examples/guides200 shaking). */
-static void assemble_lower(int n, const hk_ElementTerms *terms, double *mass, double *scratch)
+static inline __attribute__((always_inline)) void assemble_lower(int n, const hk_ElementTerms *terms, double *mass,
+                                                                 double *scratch)
 {
     const size_t dim = (size_t)3 * (size_t)n;
     /* The screws xi_a transposed (6 rows of 3n), so that row b's products xi_a . Y_b
@@ -199,7 +200,7 @@ int hk_upper_cholesky(int n, const double *a, const double *extra, double *u)
     return upper_cholesky_sse2(n, a, extra, u);
 }
 
-void hk_upper_solve(int n, const double *u, double *x)
+static inline __attribute__((always_inline)) void upper_solve(int n, const double *u, double *x)
 {
     const size_t sn = (size_t)n;
     for (int i = n - 1; i >= 0; i--) { /* U y = b, from the last unknown */
@@ -216,8 +217,11 @@ void hk_upper_solve(int n, const double *u, double *x)
     }
 }
 
-int hk_terms_solve_dense(int n, const hk_ElementTerms *terms, const double *extra, const double *geo, double scale,
-                         const double *rhs, double *x, double *work)
+void hk_upper_solve(int n, const double *u, double *x) { upper_solve(n, u, x); }
+
+static inline __attribute__((always_inline)) int terms_solve_dense(int n, const hk_ElementTerms *terms,
+                                                                   const double *extra, const double *geo, double scale,
+                                                                   const double *rhs, double *x, double *work, int wide)
 {
     const int dim = 3 * n;
     const size_t count = (size_t)dim * (size_t)dim;
@@ -230,10 +234,32 @@ int hk_terms_solve_dense(int n, const hk_ElementTerms *terms, const double *extr
 #pragma omp simd
             for (size_t k = 0; k <= i; k++) row[k] += scale * g[k];
         }
-    if (!hk_upper_cholesky(dim, mass, extra, factor)) return 0;
+    if (!upper_cholesky(dim, mass, extra, factor, wide)) return 0;
     memcpy(x, rhs, (size_t)dim * sizeof(double));
-    hk_upper_solve(dim, factor, x);
+    upper_solve(dim, factor, x);
     return 1;
+}
+
+/* The whole dense solve on AVX where the CPU has it (its vectorised loops four wide,
+ * the same bits: core/linalg.h, hk_avx_path). */
+__attribute__((target("avx"))) static int terms_solve_dense_avx(int n, const hk_ElementTerms *terms,
+                                                                const double *extra, const double *geo, double scale,
+                                                                const double *rhs, double *x, double *work)
+{
+    return terms_solve_dense(n, terms, extra, geo, scale, rhs, x, work, 1);
+}
+
+static int terms_solve_dense_sse2(int n, const hk_ElementTerms *terms, const double *extra, const double *geo,
+                                  double scale, const double *rhs, double *x, double *work)
+{
+    return terms_solve_dense(n, terms, extra, geo, scale, rhs, x, work, 0);
+}
+
+int hk_terms_solve_dense(int n, const hk_ElementTerms *terms, const double *extra, const double *geo, double scale,
+                         const double *rhs, double *x, double *work)
+{
+    if (hk_avx_path()) return terms_solve_dense_avx(n, terms, extra, geo, scale, rhs, x, work);
+    return terms_solve_dense_sse2(n, terms, extra, geo, scale, rhs, x, work);
 }
 
 /* Cholesky of a symmetric 3x3 matrix in place (lower triangle); 0 if not SPD. */
