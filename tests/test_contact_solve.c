@@ -18,6 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/linalg.h"
 #include "dynamics/dynamics_internal.h"
 #include "dynamics/hair_contact_solve.h"
 #include "hairkit/io.h"
@@ -254,6 +255,11 @@ static void test_point_jacobians_match_finite_differences(void **state)
         block += 3 * m;
     }
     assert_true(element[0] < element[2]); /* blocks of two sizes at least */
+    /* the baseline's path (two columns a vector) gives the AVX path's bits */
+    hk_avx_paths_allow(0);
+    hk_dynamics_point_jacobians(d, NULL, rates, s, 3, screws, packed, 0, NULL, NULL, NULL);
+    hk_avx_paths_allow(1);
+    assert_memory_equal(packed, jac, 9 * udim * sizeof(double));
     free(packed);
     const double e = 1e-7;
     double worst = 0.0;

@@ -337,11 +337,10 @@ static void test_linear_solve_residual(void **state)
  * of the reversed matrix read backwards, to the bit (the contacts' solve relies on its
  * rows stopping at a point's element, the step's own solve on the same factor), and
  * hk_upper_solve solves with it; sizes with every remainder of the four partial sums. */
-static void test_upper_cholesky_is_the_reversed_factor(void **state)
+static void upper_cholesky_is_the_reversed_factor(void)
 {
-    (void)state;
     enum { MAX = 33 };
-    for (int n = 29; n <= MAX; n++) {
+    for (int n = 1; n <= MAX; n++) {
         const size_t sn = (size_t)n, count = sn * sn;
         double b[MAX * MAX], a[MAX * MAX], rev[MAX * MAX], u[MAX * MAX], extra[MAX], rextra[MAX];
         double x[MAX], rhs[MAX];
@@ -380,6 +379,17 @@ static void test_upper_cholesky_is_the_reversed_factor(void **state)
     }
     double indefinite[4] = {1.0, 2.0, 2.0, 1.0}, f[4], none[2] = {0.0, 0.0};
     assert_int_equal(hk_upper_cholesky(2, indefinite, none, f), 0);
+}
+
+/* Both paths, AVX's where the CPU has it and the baseline's, on every size from 1 (the
+ * column's rows taken two at a time leave an odd one in every other column). */
+static void test_upper_cholesky_is_the_reversed_factor(void **state)
+{
+    (void)state;
+    if (hk_avx_paths_allow(1)) upper_cholesky_is_the_reversed_factor();
+    hk_avx_paths_allow(0);
+    upper_cholesky_is_the_reversed_factor();
+    hk_avx_paths_allow(1);
 }
 
 /* Gauss-Newton stiffness of a point inside two overlapping shapes, a stiff sphere and a
@@ -565,7 +575,8 @@ static hk_SuperHelix *strand_copy(const hk_SuperHelix *a)
  * a strand's steps really decompose: a curly strand of N = 10 (30 x 30, as a guide of
  * the bench's head) with the full stiffness, refreshed every step, on a moving head.
  * Each step's matrix gives the same bytes on both paths, with negative eigenvalues in
- * most steps (the eigenvector path runs), and the whole run gives the same bytes. */
+ * most steps (the eigenvector path runs), and the whole run gives the same bytes, the
+ * other AVX paths (core/linalg.h: the dense solve, the Hessian's rows) switched with it. */
 static void test_positive_part_paths_on_strand(void **state)
 {
     (void)state;
@@ -591,18 +602,18 @@ static void test_positive_part_paths_on_strand(void **state)
     double *work = malloc(sizeof(double) * HK_POSITIVE_PART_WORK(dim));
     int indefinite = 0;
     for (int step = 0; step < steps; step++) {
-        hk_positive_part_allow_avx(1);
+        hk_positive_part_allow_avx(1), hk_avx_paths_allow(1);
         assert_int_equal(hk_strand_dynamics_step(da, &head, NULL, 0, 1.0 / 30, &err), HK_OK);
         int neg_avx = -1, neg_sse2 = -2;
         assert_int_equal(hk_symmetric_positive_part(dim, da->hess, avx, work, &neg_avx), 1);
-        hk_positive_part_allow_avx(0);
+        hk_positive_part_allow_avx(0), hk_avx_paths_allow(0);
         assert_int_equal(hk_strand_dynamics_step(db, &head, NULL, 0, 1.0 / 30, &err), HK_OK);
         assert_int_equal(hk_symmetric_positive_part(dim, da->hess, sse2, work, &neg_sse2), 1);
         assert_int_equal(neg_avx, neg_sse2);
         assert_memory_equal(avx, sse2, sizeof(double) * (size_t)(dim * dim));
         indefinite += neg_avx > 0;
     }
-    hk_positive_part_allow_avx(1);
+    hk_positive_part_allow_avx(1), hk_avx_paths_allow(1);
     print_message("curly N = 10: %d of %d steps' matrices indefinite\n", indefinite, steps);
     assert_true(indefinite >= steps / 2);
     assert_memory_equal(a->q, b->q, sizeof(double) * (size_t)dim);

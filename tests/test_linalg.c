@@ -307,6 +307,34 @@ static void test_positive_part_paths_same_bits(void **state)
     }
 }
 
+/* hk_dot6_columns is, to the bit, the plain dot product x . column j summed left to right,
+ * on either path (AVX's four columns a vector, the baseline's two, and each one's scalar
+ * remainder): every count from 0 to 33 and two strides. */
+static void test_dot6_columns_same_bits(void **state)
+{
+    (void)state;
+    enum { MAX = 33, STRIDE = 40 };
+    double yt[6 * STRIDE], x[6], out[MAX + 1];
+    for (int k = 0; k < 6 * STRIDE; k++) yt[k] = 2.0 * hk_test_uniform() - 1.0;
+    for (int k = 0; k < 6; k++) x[k] = 2.0 * hk_test_uniform() - 1.0;
+    const int avx = hk_avx_paths_allow(1);
+    for (int path = avx ? 0 : 1; path < 2; path++) {
+        hk_avx_paths_allow(path == 0);
+        for (size_t stride = MAX; stride <= STRIDE; stride += STRIDE - MAX)
+            for (int count = 0; count <= MAX; count++) {
+                out[count] = 7.0; /* not written */
+                hk_dot6_columns(x, yt, stride, count, out);
+                for (int j = 0; j < count; j++) {
+                    double want = x[0] * yt[j];
+                    for (size_t r = 1; r < 6; r++) want += x[r] * yt[r * stride + (size_t)j];
+                    assert_memory_equal(&out[j], &want, sizeof want);
+                }
+                assert_true(out[count] == 7.0);
+            }
+    }
+    hk_avx_paths_allow(1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -317,6 +345,7 @@ int main(void)
         cmocka_unit_test(test_positive_part_random),
         cmocka_unit_test(test_positive_part_spectra),
         cmocka_unit_test(test_positive_part_paths_same_bits),
+        cmocka_unit_test(test_dot6_columns_same_bits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -47,7 +47,8 @@ void hk_dot2(const double *a, const double *b, const double *c, int n, double *a
     *ac = (sc + c01[1]) + (c23[0] + c23[1]);
 }
 
-void hk_dot6_columns(const double x[6], const double *yt, size_t stride, int count, double *out)
+static inline __attribute__((always_inline)) void dot6_columns(const double x[6], const double *yt, size_t stride,
+                                                               int count, double *out)
 {
     const double *restrict y0 = yt, *restrict y1 = y0 + stride, *restrict y2 = y1 + stride;
     const double *restrict y3 = y2 + stride, *restrict y4 = y3 + stride, *restrict y5 = y4 + stride;
@@ -55,6 +56,36 @@ void hk_dot6_columns(const double x[6], const double *yt, size_t stride, int cou
     const double x0 = x[0], x1 = x[1], x2 = x[2], x3 = x[3], x4 = x[4], x5 = x[5];
 #pragma omp simd
     for (int j = 0; j < count; j++) o[j] = x0 * y0[j] + x1 * y1[j] + x2 * y2[j] + x3 * y3[j] + x4 * y4[j] + x5 * y5[j];
+}
+
+/* On AVX four columns a vector instead of two: each column's sum is its own lane's, in
+ * the same order (no FMA: target "avx" only), so the bits are the baseline's (linalg.h,
+ * hk_avx_path). */
+__attribute__((target("avx"))) static void dot6_columns_avx(const double x[6], const double *yt, size_t stride,
+                                                            int count, double *out)
+{
+    dot6_columns(x, yt, stride, count, out);
+}
+
+static void dot6_columns_sse2(const double x[6], const double *yt, size_t stride, int count, double *out)
+{
+    dot6_columns(x, yt, stride, count, out);
+}
+
+int hk_avx_paths_allowed = 1;
+
+int hk_avx_paths_allow(int allow)
+{
+    hk_avx_paths_allowed = allow;
+    return __builtin_cpu_supports("avx");
+}
+
+void hk_dot6_columns(const double x[6], const double *yt, size_t stride, int count, double *out)
+{
+    if (hk_avx_path())
+        dot6_columns_avx(x, yt, stride, count, out);
+    else
+        dot6_columns_sse2(x, yt, stride, count, out);
 }
 
 int hk_cholesky_factor(int n, const double *a, double shift, const double *d, double *l)

@@ -18,6 +18,18 @@ void hk_dot2(const double *a, const double *b, const double *c, int n, double *a
  * once (the loop over j vectorises). One row of X^T Y with Y stored transposed. */
 void hk_dot6_columns(const double x[6], const double *yt, size_t stride, int count, double *out);
 
+/* The AVX paths of the loops that GCC vectorises two doubles wide in the baseline build
+ * (-O2, no -march) and four wide with target("avx"): hk_dot6_columns, the dense solve's
+ * factorisation (hk_upper_cholesky), the contact points' Jacobian rows. Each element's
+ * operations are the same and in the same order (no FMA: target "avx" only), so either
+ * path gives the same bits; taken at run time where the CPU has AVX, unless a test
+ * turned them off (hk_avx_paths_allow(0)) to compare the baseline's. G+ has its own
+ * switch (hk_positive_part_allow_avx). */
+extern int hk_avx_paths_allowed;
+static inline int hk_avx_path(void) { return hk_avx_paths_allowed && __builtin_cpu_supports("avx"); }
+/* Sets whether the paths above may be taken; returns whether the CPU has AVX. */
+int hk_avx_paths_allow(int allow);
+
 /* Cholesky factor of the symmetric matrix a + shift * diag(d) (d may be NULL: identity)
  * into the lower triangle of l (n x n; the strict upper triangle is left alone). Only
  * the lower triangle of a is read, each entry before l's is written there: l may be a

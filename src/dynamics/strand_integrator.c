@@ -327,6 +327,28 @@ static int tr_bdf2(hk_StrandDynamics *d, const hk_RigidState heads[3], const hk_
     return 1;
 }
 
+/* out += row j of the dim x dim matrix a times v_j, for j = 0, 1, ... (G+ v in
+ * hk_dynamics_euler_delta). */
+static inline __attribute__((always_inline)) void rows_times(const double *a, const double *v, int dim,
+                                                             double *restrict out)
+{
+    for (int j = 0; j < dim; j++) {
+        const double *restrict row = a + (size_t)j * (size_t)dim;
+        const double vj = v[j];
+#pragma omp simd
+        for (int i = 0; i < dim; i++) out[i] += row[i] * vj;
+    }
+}
+
+/* Four entries a vector on AVX, two in the baseline: the same bits (core/linalg.h,
+ * hk_avx_path). */
+__attribute__((target("avx"))) static void rows_times_avx(const double *a, const double *v, int dim, double *out)
+{
+    rows_times(a, v, dim, out);
+}
+
+static void rows_times_sse2(const double *a, const double *v, int dim, double *out) { rows_times(a, v, dim, out); }
+
 /* The linearly implicit Euler step of issue 6 (paper 000 §3.4), kept for full heads
  * where its cost matters more than its accuracy:
  *     (M + h D + h^2 K) dv = h (f - h K v),   v += dv,   q += h v,
@@ -347,12 +369,10 @@ int hk_dynamics_euler_delta(hk_StrandDynamics *d, const hk_RigidState *head, con
          * v_j added for j = 0, 1, ... gives every entry of G+ v its sum in the order of
          * row i . v, the same bits, with the loop over i contiguous (vectorised). */
         const double *geo = hk_dynamics_geometric_positive(d);
-        for (int j = 0; j < dim; j++) {
-            const double *restrict row = geo + (size_t)j * (size_t)dim;
-            const double vj = d->v[j];
-#pragma omp simd
-            for (int i = 0; i < dim; i++) geo_v[i] += row[i] * vj;
-        }
+        if (hk_avx_path())
+            rows_times_avx(geo, d->v, dim, geo_v);
+        else
+            rows_times_sse2(geo, d->v, dim, geo_v);
     }
     for (int j = 0; j < dim; j++) {
         const double kl = sh->material.stiffness[j % 3] * sh->length[j / 3];

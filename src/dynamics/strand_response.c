@@ -10,9 +10,41 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/linalg.h"
 #include "dynamics_internal.h"
 
 static hk_Vec3 k_at(const double *q, int p) { return hk_v3(q[3 * p], q[3 * p + 1], q[3 * p + 2]); }
+
+/* A point's rows of d x / d q' over the columns c < count of the elements before its
+ * own: column c is w_c x x + t_c (hk_v3_cross's products, the same bits), with the
+ * screws' components in rows of their own (6 rows of dim) so that the loop vectorises. */
+static inline __attribute__((always_inline)) void screw_rows(const double *screws, int dim, int count, hk_Vec3 x,
+                                                             double *const row[3])
+{
+    const double *restrict wx = screws, *restrict wy = wx + dim, *restrict wz = wy + dim;
+    const double *restrict tx = wz + dim, *restrict ty = tx + dim, *restrict tz = ty + dim;
+    double *restrict r0 = row[0], *restrict r1 = row[1], *restrict r2 = row[2];
+    const double px = x.x, py = x.y, pz = x.z;
+#pragma omp simd
+    for (int c = 0; c < count; c++) {
+        r0[c] = (wy[c] * pz - wz[c] * py) + tx[c];
+        r1[c] = (wz[c] * px - wx[c] * pz) + ty[c];
+        r2[c] = (wx[c] * py - wy[c] * px) + tz[c];
+    }
+}
+
+/* Four columns a vector on AVX, two in the baseline: the same bits (core/linalg.h,
+ * hk_avx_path). */
+__attribute__((target("avx"))) static void screw_rows_avx(const double *screws, int dim, int count, hk_Vec3 x,
+                                                          double *const row[3])
+{
+    screw_rows(screws, dim, count, x, row);
+}
+
+static void screw_rows_sse2(const double *screws, int dim, int count, hk_Vec3 x, double *const row[3])
+{
+    screw_rows(screws, dim, count, x, row);
+}
 
 void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head, const double *rates, const double *s,
                                  int count, double *screws, double *jac, int packed, hk_Vec3 *pos, hk_Vec3 *vel,
@@ -78,18 +110,10 @@ void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head
         jac += 3 * stride;
         if (!packed)
             for (int r = 0; r < 3; r++) memset(row[r] + beyond, 0, (size_t)(dim - beyond) * sizeof(double));
-        /* Column c is w_c x x + t_c (hk_v3_cross's products, the same bits), with the
-         * screws' components in rows of their own so that the loops vectorise. */
-        const double *restrict wx = screws, *restrict wy = wx + dim, *restrict wz = wy + dim;
-        const double *restrict tx = wz + dim, *restrict ty = tx + dim, *restrict tz = ty + dim;
-        double *restrict r0 = row[0], *restrict r1 = row[1], *restrict r2 = row[2];
-        const double px = x.x, py = x.y, pz = x.z;
-#pragma omp simd
-        for (int c = 0; c < 3 * p; c++) {
-            r0[c] = (wy[c] * pz - wz[c] * py) + tx[c];
-            r1[c] = (wz[c] * px - wx[c] * pz) + ty[c];
-            r2[c] = (wx[c] * py - wy[c] * px) + tz[c];
-        }
+        if (hk_avx_path())
+            screw_rows_avx(screws, dim, 3 * p, x, row);
+        else
+            screw_rows_sse2(screws, dim, 3 * p, x, row);
         for (int b = 0; b < 3; b++) {
             const hk_Vec3 col = hk_m3_col(&own, b);
             row[0][3 * p + b] = col.x, row[1][3 * p + b] = col.y, row[2][3 * p + b] = col.z;

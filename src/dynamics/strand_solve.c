@@ -40,7 +40,8 @@ static void mul66(double m[6][6], const double *x, double *out)
  * factorisation reads no more (hk_upper_cholesky). Mirroring each row into its column,
  * strided stores over the whole matrix, was a sixth of the assembly's instructions
  * (examples/guides200 shaking). */
-static void assemble_lower(int n, const hk_ElementTerms *terms, double *mass, double *scratch)
+static inline __attribute__((always_inline)) void assemble_lower(int n, const hk_ElementTerms *terms, double *mass,
+                                                                 double *scratch)
 {
     const size_t dim = (size_t)3 * (size_t)n;
     /* The screws xi_a transposed (6 rows of 3n), so that row b's products xi_a . Y_b
@@ -81,7 +82,7 @@ void hk_terms_assemble(int n, const hk_ElementTerms *terms, double *mass, double
  * hk_upper_cholesky takes the same operations in the same order as the factorisation of
  * the reversed matrix. The terms of s1 and s0 lie side by side in memory, s1's first:
  * one vector (s1, s0) takes them without a shuffle, as (s3, s2) those of s3 and s2. */
-static inline double dot4_down(const double *a, const double *b, int n)
+static inline __attribute__((always_inline)) double dot4_down(const double *a, const double *b, int n)
 {
     typedef double Pair __attribute__((vector_size(16)));
     Pair s10 = {0.0, 0.0}, s32 = s10;
@@ -94,11 +95,62 @@ static inline double dot4_down(const double *a, const double *b, int n)
         s32 += a32 * b32;
     }
     double s0 = s10[1];
-    for (; k < n; k++) s0 += a[-k] * b[-k];
+    const int rest = n - k; /* at most three terms, written out (see dot4_down_pair) */
+    if (rest > 0) s0 += a[-k] * b[-k];
+    if (rest > 1) s0 += a[-k - 1] * b[-k - 1];
+    if (rest > 2) s0 += a[-k - 2] * b[-k - 2];
     return (s0 + s10[0]) + (s32[1] + s32[0]);
 }
 
-int hk_upper_cholesky(int n, const double *a, const double *extra, double *u)
+/* dot4_down(a, b, n) and dot4_down(c, b, n) at once, b's loads shared: each product
+ * takes the same operations in the same order as alone (the same bits). Four terms
+ * a[-k-3..-k] lie in memory as the partial sums s3, s2, s1, s0 take them: with wide (the
+ * AVX path) one vector of four holds (s3, s2, s1, s0), else two of two (GCC lowers a
+ * vector of four to worse than two pairs on SSE2: 45.6 against 37.2 million
+ * instructions). The remainder, at most three terms, is written out: as a loop its
+ * counter and branch cost as much as its products (hk_upper_cholesky's rows of 3N = 30
+ * leave a remainder in three of four rows). */
+static inline __attribute__((always_inline)) void dot4_down_pair(const double *a, const double *c, const double *b,
+                                                                 int n, double *ab, double *cb, int wide)
+{
+    typedef double Quad __attribute__((vector_size(32)));
+    typedef double Pair __attribute__((vector_size(16)));
+    double s[4] = {0.0, 0.0, 0.0, 0.0}, t[4] = {0.0, 0.0, 0.0, 0.0}; /* (s3, s2, s1, s0) */
+    int k = 0;
+    if (wide) {
+        Quad s4 = {0.0, 0.0, 0.0, 0.0}, t4 = s4;
+        for (; k + 4 <= n; k += 4) {
+            Quad a4, c4, b4;
+            memcpy(&b4, b - k - 3, sizeof b4);
+            memcpy(&a4, a - k - 3, sizeof a4), memcpy(&c4, c - k - 3, sizeof c4);
+            s4 += a4 * b4;
+            t4 += c4 * b4;
+        }
+        memcpy(s, &s4, sizeof s), memcpy(t, &t4, sizeof t);
+    } else {
+        Pair s10 = {0.0, 0.0}, s32 = s10, t10 = s10, t32 = s10;
+        for (; k + 4 <= n; k += 4) {
+            Pair a10, c10, b10, a32, c32, b32;
+            memcpy(&b10, b - k - 1, sizeof b10), memcpy(&b32, b - k - 3, sizeof b32);
+            memcpy(&a10, a - k - 1, sizeof a10), memcpy(&a32, a - k - 3, sizeof a32);
+            memcpy(&c10, c - k - 1, sizeof c10), memcpy(&c32, c - k - 3, sizeof c32);
+            s10 += a10 * b10, s32 += a32 * b32;
+            t10 += c10 * b10, t32 += c32 * b32;
+        }
+        memcpy(s, &s32, sizeof s32), memcpy(s + 2, &s10, sizeof s10);
+        memcpy(t, &t32, sizeof t32), memcpy(t + 2, &t10, sizeof t10);
+    }
+    double s0 = s[3], t0 = t[3];
+    const int rest = n - k;
+    if (rest > 0) s0 += a[-k] * b[-k], t0 += c[-k] * b[-k];
+    if (rest > 1) s0 += a[-k - 1] * b[-k - 1], t0 += c[-k - 1] * b[-k - 1];
+    if (rest > 2) s0 += a[-k - 2] * b[-k - 2], t0 += c[-k - 2] * b[-k - 2];
+    *ab = (s0 + s[2]) + (s[1] + s[0]);
+    *cb = (t0 + t[2]) + (t[1] + t[0]);
+}
+
+static inline __attribute__((always_inline)) int upper_cholesky(int n, const double *a, const double *extra, double *u,
+                                                                int wide)
 {
     const size_t sn = (size_t)n;
     /* Row j of U from column j on is row n - 1 - j of the reversed matrix's L read
@@ -115,15 +167,40 @@ int hk_upper_cholesky(int n, const double *a, const double *extra, double *u)
         if (!(diag > 1e-13 * ref) || !isfinite(diag)) return 0;
         const double ujj = sqrt(diag);
         u[jj] = ujj;
-        for (int i = j - 1; i >= 0; i--) {
-            const size_t ij = (size_t)i * sn + (size_t)j;
-            u[ij] = (aj[i] - dot4_down(u + (size_t)i * sn + (sn - 1), uj, len)) / ujj;
+        int i = j - 1;
+        for (; i >= 1; i -= 2) { /* rows i and i - 1 share uj's loads */
+            const double *ui = u + (size_t)i * sn + (sn - 1);
+            double di, dk;
+            dot4_down_pair(ui, ui - sn, uj, len, &di, &dk, wide);
+            u[(size_t)i * sn + (size_t)j] = (aj[i] - di) / ujj;
+            u[(size_t)(i - 1) * sn + (size_t)j] = (aj[i - 1] - dk) / ujj;
         }
+        if (i == 0) u[j] = (aj[0] - dot4_down(u + (sn - 1), uj, len)) / ujj;
     }
     return 1;
 }
 
-void hk_upper_solve(int n, const double *u, double *x)
+/* The AVX path: dot4_down_pair's vector of four in one register (hk_upper_cholesky
+ * 37.2 -> 29.9 million instructions in the head driver's 8 frames); no FMA (target
+ * "avx" only), so the bits are the baseline's. Chosen at run time (core/linalg.h,
+ * hk_avx_path): the build stays portable (no -march). */
+__attribute__((target("avx"))) static int upper_cholesky_avx(int n, const double *a, const double *extra, double *u)
+{
+    return upper_cholesky(n, a, extra, u, 1);
+}
+
+static int upper_cholesky_sse2(int n, const double *a, const double *extra, double *u)
+{
+    return upper_cholesky(n, a, extra, u, 0);
+}
+
+int hk_upper_cholesky(int n, const double *a, const double *extra, double *u)
+{
+    if (hk_avx_path()) return upper_cholesky_avx(n, a, extra, u);
+    return upper_cholesky_sse2(n, a, extra, u);
+}
+
+static inline __attribute__((always_inline)) void upper_solve(int n, const double *u, double *x)
 {
     const size_t sn = (size_t)n;
     for (int i = n - 1; i >= 0; i--) { /* U y = b, from the last unknown */
@@ -140,8 +217,11 @@ void hk_upper_solve(int n, const double *u, double *x)
     }
 }
 
-int hk_terms_solve_dense(int n, const hk_ElementTerms *terms, const double *extra, const double *geo, double scale,
-                         const double *rhs, double *x, double *work)
+void hk_upper_solve(int n, const double *u, double *x) { upper_solve(n, u, x); }
+
+static inline __attribute__((always_inline)) int terms_solve_dense(int n, const hk_ElementTerms *terms,
+                                                                   const double *extra, const double *geo, double scale,
+                                                                   const double *rhs, double *x, double *work, int wide)
 {
     const int dim = 3 * n;
     const size_t count = (size_t)dim * (size_t)dim;
@@ -154,10 +234,32 @@ int hk_terms_solve_dense(int n, const hk_ElementTerms *terms, const double *extr
 #pragma omp simd
             for (size_t k = 0; k <= i; k++) row[k] += scale * g[k];
         }
-    if (!hk_upper_cholesky(dim, mass, extra, factor)) return 0;
+    if (!upper_cholesky(dim, mass, extra, factor, wide)) return 0;
     memcpy(x, rhs, (size_t)dim * sizeof(double));
-    hk_upper_solve(dim, factor, x);
+    upper_solve(dim, factor, x);
     return 1;
+}
+
+/* The whole dense solve on AVX where the CPU has it (its vectorised loops four wide,
+ * the same bits: core/linalg.h, hk_avx_path). */
+__attribute__((target("avx"))) static int terms_solve_dense_avx(int n, const hk_ElementTerms *terms,
+                                                                const double *extra, const double *geo, double scale,
+                                                                const double *rhs, double *x, double *work)
+{
+    return terms_solve_dense(n, terms, extra, geo, scale, rhs, x, work, 1);
+}
+
+static int terms_solve_dense_sse2(int n, const hk_ElementTerms *terms, const double *extra, const double *geo,
+                                  double scale, const double *rhs, double *x, double *work)
+{
+    return terms_solve_dense(n, terms, extra, geo, scale, rhs, x, work, 0);
+}
+
+int hk_terms_solve_dense(int n, const hk_ElementTerms *terms, const double *extra, const double *geo, double scale,
+                         const double *rhs, double *x, double *work)
+{
+    if (hk_avx_path()) return terms_solve_dense_avx(n, terms, extra, geo, scale, rhs, x, work);
+    return terms_solve_dense_sse2(n, terms, extra, geo, scale, rhs, x, work);
 }
 
 /* Cholesky of a symmetric 3x3 matrix in place (lower triangle); 0 if not SPD. */
