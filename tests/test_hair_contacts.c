@@ -368,6 +368,63 @@ static void small_motion(Strands *st, double amount)
  * force must be tracked, except a minimum newly split off a valley already tracked
  * (two strands lying along each other whose distance profile grows a second dip):
  * walks cannot see those, the next rescan does. */
+/* The pairs' sort (two counting sorts, radix order) against a stable reference:
+ * pairs ordered by (i, a, j, b), those with equal keys in their input order (they
+ * carry their input place in d2), and hk_hc_run bounding each segment's run. */
+typedef struct Ranked {
+    hk_HcPair p;
+    int place;
+} Ranked;
+
+static int ranked_cmp(const void *x, const void *y)
+{
+    const hk_HcPair *a = &((const Ranked *)x)->p, *b = &((const Ranked *)y)->p;
+    const int ka[5] = {a->i, a->a, a->j, a->b, ((const Ranked *)x)->place};
+    const int kb[5] = {b->i, b->a, b->j, b->b, ((const Ranked *)y)->place};
+    for (int k = 0; k < 5; k++)
+        if (ka[k] != kb[k]) return ka[k] < kb[k] ? -1 : 1;
+    return 0;
+}
+
+static void test_pair_sort_stable(void **state)
+{
+    (void)state;
+    rng_seed(11);
+    Strands st = random_strands(12, 9, 0.004, 0.03);
+    const hk_HairContactDef p = test_params();
+    hk_HairContacts *c = make_contacts(st.g, &p);
+    update_ok(c, &st); /* the views the sort indexes the segments by */
+    const int n = 3000;
+    hk_Error err;
+    hk_HcPair *pairs = hk_alloc_array((size_t)n, sizeof *pairs, &err); /* the sort trades it for its own */
+    Ranked *ref = malloc((size_t)n * sizeof *ref);
+    assert_non_null(pairs);
+    assert_non_null(ref);
+    for (int k = 0; k < n; k++) {
+        /* few strands and segments: many equal keys */
+        const int i = (int)(uniform() * 4), j = i + 1 + (int)(uniform() * 3);
+        const hk_HcPair q = {i, (int)(uniform() * 8), j, (int)(uniform() * 8), (double)k, uniform(), uniform()};
+        pairs[k] = q;
+        ref[k] = (Ranked){q, k};
+    }
+    qsort(ref, (size_t)n, sizeof *ref, ranked_cmp);
+    int cap = n;
+    assert_int_equal(hk_hc_sort(c, &pairs, &cap, n, &err), HK_OK);
+    for (int k = 0; k < n; k++) assert_memory_equal(&pairs[k], &ref[k].p, sizeof pairs[k]);
+    for (int k = 0; k < n; k++) {
+        int begin, end;
+        hk_hc_run(c, pairs[k].i, pairs[k].a, &begin, &end);
+        assert_true(begin <= k && k < end);
+        assert_true(pairs[begin].i == pairs[k].i && pairs[begin].a == pairs[k].a);
+        assert_true(pairs[end - 1].i == pairs[k].i && pairs[end - 1].a == pairs[k].a);
+        assert_true(begin == 0 || pairs[begin - 1].i != pairs[k].i || pairs[begin - 1].a != pairs[k].a);
+        assert_true(end == n || pairs[end].i != pairs[k].i || pairs[end].a != pairs[k].a);
+    }
+    hk_free(pairs), free(ref);
+    hk_hair_contacts_destroy(c);
+    strands_free(&st);
+}
+
 static void test_tracking_matches_brute_force(void **state)
 {
     (void)state;
@@ -1110,6 +1167,7 @@ int main(void)
         cmocka_unit_test(test_segment_closest_reference),
         cmocka_unit_test(test_broad_phase_matches_brute_force),
         cmocka_unit_test(test_tracking_matches_brute_force),
+        cmocka_unit_test(test_pair_sort_stable),
         cmocka_unit_test(test_parallel_strands_one_pair),
         cmocka_unit_test(test_root_exclusion_and_self),
         cmocka_unit_test(test_crossing_force_values),

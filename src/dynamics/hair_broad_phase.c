@@ -22,16 +22,17 @@
 typedef double V2 __attribute__((vector_size(16)));
 typedef long long M2 __attribute__((vector_size(16)));
 
-/* One cell covered by a segment's box, copied in bucket order so that the pair loop
+/* One cell covered by a segment's box, written in bucket order so that the pair loop
  * reads memory in sequence. The box [lo, hi] as low = (lo, -hi) and high = (hi, -lo),
  * two coordinates a vector: two boxes overlap when a's low is at most b's high
  * everywhere (a.lo <= b.hi and b.lo <= a.hi; a negation is exact), six comparisons
  * in three. */
 typedef struct Entry {
     V2 low[3], high[3];
-    int32_t cell[3];
-    int starts; /* bit a: the segment's box starts in this cell along axis a */
-    int seg;    /* eligible segment index e */
+    uint64_t cell;  /* the cell's coordinates packed (cell_key): equal keys, the same cell */
+    int starts;     /* bit a: the segment's box starts in this cell along axis a */
+    int starts_bit; /* 1 << starts, for the pair loop's test (see partners) */
+    int seg;        /* eligible segment index e */
     int strand;
     int32_t x_lo, x_hi; /* slabs of the box's low and high x (see slab_of) */
 } Entry;
@@ -53,14 +54,12 @@ typedef struct Grid {
     double *reach;               /* half its length plus d0, grown a little for rounding */
     size_t *seg_entry;           /* n + 1: segment e's entries are [seg_entry[e], seg_entry[e + 1]) */
     size_t entry_cap;
-    int32_t *cell; /* 3 per entry: the cell's integer coordinates */
-    int *entry_seg;
     uint32_t *entry_bucket;
-    Entry *sorted;  /* entries by bucket */
-    int *sorted_of; /* per place in sorted: the entry there */
+    Entry *sorted; /* entries by bucket */
+    int *place;    /* per entry (segment by segment, cells in order): its place in sorted */
     size_t table_cap;
     size_t *bucket_start; /* table size + 1 */
-    uint32_t *crowded;    /* the buckets holding two entries or more */
+    uint32_t *crowded;    /* where the buckets holding two entries or more begin in sorted */
     int found_count;
     Found *found; /* per thread */
     int flag_cap;
@@ -79,8 +78,8 @@ void hk_hc_grid_free(hk_HairContacts *c)
     Grid *g = c->grid;
     if (!g) return;
     hk_free(g->seg_strand), hk_free(g->seg_index), hk_free(g->lo), hk_free(g->hi), hk_free(g->mid), hk_free(g->reach);
-    hk_free(g->half), hk_free(g->ends), hk_free(g->seg_entry), hk_free(g->sorted_of);
-    hk_free(g->cell), hk_free(g->entry_seg), hk_free(g->entry_bucket), hk_free(g->sorted);
+    hk_free(g->half), hk_free(g->ends), hk_free(g->seg_entry), hk_free(g->place);
+    hk_free(g->entry_bucket), hk_free(g->sorted);
     hk_free(g->bucket_start), hk_free(g->is_min), hk_free(g->strand_seg), hk_free(g->seg_order);
     hk_free(g->slab_start), hk_free(g->seg_cells), hk_free(g->seg_slab), hk_free(g->crowded);
     for (int t = 0; t < g->found_count; t++) hk_free(g->found[t].pairs);
@@ -118,16 +117,13 @@ static hk_Status reserve_segments(Grid *g, int n, hk_Error *err)
 static hk_Status reserve_entries(Grid *g, size_t n, size_t table, hk_Error *err)
 {
     if (n > g->entry_cap) {
-        hk_free(g->cell), hk_free(g->entry_seg), hk_free(g->entry_bucket), hk_free(g->sorted), hk_free(g->sorted_of);
-        hk_free(g->crowded);
+        hk_free(g->entry_bucket), hk_free(g->sorted), hk_free(g->place), hk_free(g->crowded);
         g->crowded = hk_alloc_array(n / 2 + 1, sizeof(uint32_t), err);
-        g->sorted_of = hk_alloc_array(n, sizeof(int), err);
-        g->cell = hk_alloc_array(n, 3 * sizeof(int32_t), err);
-        g->entry_seg = hk_alloc_array(n, sizeof(int), err);
+        g->place = hk_alloc_array(n, sizeof(int), err);
         g->entry_bucket = hk_alloc_array(n, sizeof(uint32_t), err);
-        g->sorted = hk_alloc_array(n, sizeof(Entry), err);
+        g->sorted = hk_alloc_array(n + n / 2 + 1, sizeof(Entry), err); /* and the crowded buckets' ends */
         g->entry_cap = n;
-        if (!g->cell || !g->entry_seg || !g->entry_bucket || !g->sorted || !g->sorted_of || !g->crowded) {
+        if (!g->entry_bucket || !g->sorted || !g->place || !g->crowded) {
             g->entry_cap = 0;
             return HK_ERR_NOMEM;
         }
@@ -164,6 +160,13 @@ static double max2(double a, double b) { return a > b ? a : b; }
 /* Integer cell coordinate of x along one axis (x >= origin, and (x - origin) / h
  * below 2^20 by the choice of h). The same expression serves boxes and corners. */
 static int32_t cell_of(double x, double origin, double h) { return (int32_t)((x - origin) / h); }
+
+/* The cell's coordinates (each in [0, 2^20]: see cell_of) packed 21 bits apiece, one
+ * comparison for the pair loop's test of the same cell instead of three. */
+static uint64_t cell_key(int32_t x, int32_t y, int32_t z)
+{
+    return (uint64_t)(uint32_t)x << 42 | (uint64_t)(uint32_t)y << 21 | (uint64_t)(uint32_t)z;
+}
 
 static uint32_t bucket_of(const int32_t cell[3], uint32_t mask)
 {
@@ -214,18 +217,27 @@ static hk_Status order_segments(Grid *g, int n, double origin, double top, doubl
 static double covered_cells(Grid *g, int n, hk_Vec3 origin, double h)
 {
     double total = 0.0;
+    /* (the axes written out: a loop over them with hk_v3_get took 82 instructions a
+     * segment instead of 51) */
     for (int e = 0; e < n; e++) {
         int32_t *cells = &g->seg_cells[6 * e];
-        double count = 1.0;
-        for (int ax = 0; ax < 3; ax++) {
-            cells[ax] = cell_of(hk_v3_get(g->lo[e], ax), hk_v3_get(origin, ax), h);
-            cells[3 + ax] = cell_of(hk_v3_get(g->hi[e], ax), hk_v3_get(origin, ax), h);
-            count *= (double)(cells[3 + ax] - cells[ax] + 1);
-        }
-        total += count;
+        const hk_Vec3 lo = g->lo[e], hi = g->hi[e];
+        cells[0] = cell_of(lo.x, origin.x, h), cells[1] = cell_of(lo.y, origin.y, h);
+        cells[2] = cell_of(lo.z, origin.z, h), cells[3] = cell_of(hi.x, origin.x, h);
+        cells[4] = cell_of(hi.y, origin.y, h), cells[5] = cell_of(hi.z, origin.z, h);
+        total +=
+            (double)(cells[3] - cells[0] + 1) * (double)(cells[4] - cells[1] + 1) * (double)(cells[5] - cells[2] + 1);
     }
     return total;
 }
+
+/* partners[s]: the set (bit t for t) of the start bits t with s | t = 7, so that the
+ * pair loop's first test, (s | t) == 7, is one AND with the other entry's 1 << t:
+ * 3 instructions instead of 4. With the crowded buckets' sentinels, 6 instructions
+ * an entry pair visited instead of 9 (5.04 million visits in 8 frames of
+ * examples/guides200 shaking with the settling's: the pair loop's own 118.4 -> 93.9
+ * million instructions). */
+static const int partners[8] = {0x80, 0xC0, 0xA0, 0xF0, 0x88, 0xCC, 0xAA, 0xFF};
 
 /* The boxes of two entries overlap (the comparisons two at a time, the same outcomes
  * as one by one; all combined without branches: see the pair loop). */
@@ -448,50 +460,76 @@ hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
         for (int32_t x = lo[0]; x <= hi[0]; x++)
             for (int32_t y = lo[1]; y <= hi[1]; y++)
                 for (int32_t z = lo[2]; z <= hi[2]; z++, at++) {
-                    int32_t *cell = &g->cell[3 * at];
-                    cell[0] = x, cell[1] = y, cell[2] = z;
-                    g->entry_seg[at] = s;
+                    const int32_t cell[3] = {x, y, z};
                     g->entry_bucket[at] = bucket_of(cell, (uint32_t)(table - 1));
                 }
     }
     /* Counting sort of the entries by bucket, stable; start[b] ends as the end of
-     * bucket b, which begins at the end of b - 1. The places are dealt in order, then
-     * the entries copied to them in parallel. */
+     * bucket b. The places are dealt in order, then the entries written to them in
+     * parallel. */
     double slab;
     if (order_segments(g, n, gmin.x, gmax.x, h, &slab, err) != HK_OK) return HK_ERR_NOMEM;
     size_t *start = g->bucket_start;
-    memset(start, 0, (table + 1) * sizeof *start);
-    for (size_t k = 0; k < m; k++) start[g->entry_bucket[k] + 1]++;
+    memset(start, 0, table * sizeof *start);
+    for (size_t k = 0; k < m; k++) start[g->entry_bucket[k]]++;
     /* (and the buckets where the pair loop has work, listed: it went through every
-     * bucket, then 65,536 for 27,000 entries, ~10 instructions each) */
+     * bucket, then 65,536 for 27,000 entries, ~10 instructions each). A crowded
+     * bucket ends with a sentinel, an entry of low x slab INT32_MAX and segment -1,
+     * which stops the pair loop's sweeps without a test of the bucket's end: 2 of
+     * the 9 instructions an entry pair visited. */
     long crowded = 0;
+    size_t next = 0;
     for (size_t k = 0; k < table; k++) {
-        const size_t count = start[k + 1];
-        start[k + 1] += start[k];
-        if (count >= 2) g->crowded[crowded++] = (uint32_t)k;
+        const size_t count = start[k];
+        start[k] = next, next += count;
+        if (count >= 2) {
+            g->crowded[crowded++] = (uint32_t)start[k];
+            g->sorted[next].x_lo = INT32_MAX, g->sorted[next].seg = -1;
+            next++;
+        }
     }
     /* The segments taken by their low x: each bucket then holds its entries in
      * nondecreasing slabs of low x, for the pair loop's sweep. */
     for (int q = 0; q < n; q++) {
         const int s = g->seg_order[q];
-        for (size_t k = g->seg_entry[s]; k < g->seg_entry[s + 1]; k++)
-            g->sorted_of[start[g->entry_bucket[k]]++] = (int)k;
+        for (size_t k = g->seg_entry[s]; k < g->seg_entry[s + 1]; k++) g->place[k] = (int)start[g->entry_bucket[k]]++;
     }
-    const long entry_count = (long)m;
+    /* Each segment's entries written to their places (in parallel, each place
+     * written once): the box, strand and slabs set up once a segment, the cells and
+     * start bits from the cells' loop. They were gathered place by place before,
+     * each entry reading its cell, segment, box and corners back from arrays: 74
+     * instructions an entry, 42.1 million in 8 frames of examples/guides200 shaking
+     * with the settling's (23 rescans), and 22.1 for the cells' listing; now 52 an
+     * entry with its segment's share, 29.8 and 16.9 million. */
 #pragma omp parallel for schedule(static) num_threads(threads)
-    for (long x = 0; x < entry_count; x++) {
-        const size_t k = (size_t)g->sorted_of[x];
-        Entry *en = &g->sorted[x];
-        memcpy(en->cell, &g->cell[3 * k], sizeof en->cell);
-        en->seg = g->entry_seg[k];
-        const hk_Vec3 lo = g->lo[en->seg], hi = g->hi[en->seg];
-        const int32_t *low_cell = &g->seg_cells[6 * en->seg];
-        en->starts =
-            (low_cell[0] == en->cell[0]) | (low_cell[1] == en->cell[1]) << 1 | (low_cell[2] == en->cell[2]) << 2;
-        en->strand = g->seg_strand[en->seg];
-        en->x_lo = g->seg_slab[2 * en->seg], en->x_hi = g->seg_slab[2 * en->seg + 1];
-        en->low[0] = (V2){lo.x, lo.y}, en->low[1] = (V2){lo.z, -hi.x}, en->low[2] = (V2){-hi.y, -hi.z};
-        en->high[0] = (V2){hi.x, hi.y}, en->high[1] = (V2){hi.z, -lo.x}, en->high[2] = (V2){-lo.y, -lo.z};
+    for (int s = 0; s < n; s++) {
+        /* (the corners' cells as locals: the entries written could alias them) */
+        const int32_t *cells = &g->seg_cells[6 * s];
+        const int32_t x0 = cells[0], y0 = cells[1], z0 = cells[2], y1 = cells[4], z1 = cells[5];
+        const hk_Vec3 lo = g->lo[s], hi = g->hi[s];
+        Entry proto;
+        proto.low[0] = (V2){lo.x, lo.y}, proto.low[1] = (V2){lo.z, -hi.x}, proto.low[2] = (V2){-hi.y, -hi.z};
+        proto.high[0] = (V2){hi.x, hi.y}, proto.high[1] = (V2){hi.z, -lo.x}, proto.high[2] = (V2){-lo.y, -lo.z};
+        proto.cell = 0, proto.starts = 0, proto.starts_bit = 0, proto.seg = s, proto.strand = g->seg_strand[s];
+        proto.x_lo = g->seg_slab[2 * s], proto.x_hi = g->seg_slab[2 * s + 1];
+        /* (one loop over the cells, z fastest as in the count: a box is often one
+         * cell thick, and three nested loops cost more in their bounds than the
+         * entries' writes) */
+        int32_t x = x0, y = y0, z = z0;
+        int starts = 7; /* the start bits of (x, y, z), kept along */
+        for (size_t at = g->seg_entry[s]; at < g->seg_entry[s + 1]; at++) {
+            Entry *en = &g->sorted[g->place[at]];
+            *en = proto;
+            en->cell = cell_key(x, y, z);
+            en->starts = starts, en->starts_bit = 1 << starts;
+            if (z < z1) {
+                z++, starts &= 3;
+            } else if (y < y1) {
+                z = z0, y++, starts = (starts & 1) | 4;
+            } else {
+                z = z0, y = y0, x++, starts = 6;
+            }
+        }
     }
 
     /* Pairs of entries sharing a cell, buckets in parallel: each thread keeps its own
@@ -503,11 +541,8 @@ hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
     long evaluations = 0;
 #pragma omp parallel for schedule(dynamic, 256) reduction(+ : evaluations) reduction(| : failed) num_threads(threads)
     for (long q = 0; q < crowded; q++) {
-        const size_t bucket = g->crowded[q];
         Found *out = &g->found[omp_get_thread_num()];
-        const size_t begin = bucket == 0 ? 0 : start[bucket - 1], end = start[bucket];
-        for (size_t x = begin; x < end && !failed; x++) {
-            const Entry *ex = &g->sorted[x];
+        for (const Entry *ex = g->sorted + g->crowded[q]; ex->seg >= 0 && !failed; ex++) {
             /* Sweep: the entries after x have no lower low x slab, and once above
              * x's high x slab their boxes start beyond x's (slab_of is
              * nondecreasing) and none overlaps it. It visits 218,000 entry pairs a
@@ -518,9 +553,8 @@ hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
              * own fields are read once (the compiler reloads them otherwise, as the
              * candidates written may alias them). */
             const int32_t x_hi = ex->x_hi;
-            const int x_starts = ex->starts;
-            const Entry *const stop = g->sorted + end;
-            for (const Entry *ey = ex + 1; ey < stop && ey->x_lo <= x_hi; ey++) {
+            const int x_partners = partners[ex->starts];
+            for (const Entry *ey = ex + 1; ey->x_lo <= x_hi; ey++) {
                 /* Two segments are measured in one of the cells both boxes cover only:
                  * the one holding the low corner of their overlap, whose cell is the
                  * larger of their low cells on each axis, i.e. (both boxes covering the
@@ -532,11 +566,9 @@ hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
                  * instructions an entry pair, 21 the overlap first, 19.6 with the boxes'
                  * comparisons two at a time, 16.4 so (callgrind, examples/guides200
                  * shaking, 316,000 entry pairs a step, before the sweep). */
-                if ((x_starts | ey->starts) != 7) continue;
+                if (!(ey->starts_bit & x_partners)) continue;
                 if (!boxes_overlap(ex, ey)) continue;
-                const int same =
-                    (ex->cell[0] == ey->cell[0]) & (ex->cell[1] == ey->cell[1]) & (ex->cell[2] == ey->cell[2]);
-                if (!(same & (ex->strand != ey->strand))) continue;
+                if (!((ex->cell == ey->cell) & (ex->strand != ey->strand))) continue;
                 /* (a tighter bound, the gap of the two segments' own boxes, dropped
                  * 4,000 more of the 31,000 pairs left here a step, but cost more
                  * than the measures it saved: 7.6 million instructions in 8 frames;

@@ -104,6 +104,8 @@ struct hk_HairContacts {
     int pairs_tmp_cap;
     int *bucket; /* counting-sort buckets (segments + 1) */
     int bucket_cap;
+    int *pair_order; /* the pairs by (j, b), the sort's first pass */
+    int pair_order_cap;
 
     hk_HcContact *contacts; /* per pair */
     int contact_cap, contact_count;
@@ -169,8 +171,8 @@ static inline int hk_hc_push_pair(hk_HcPair **array, int *count, int *cap, const
     return 1;
 }
 
-/* Sorts (*pairs)[0..n) by (i, a, j, b): counting sort on the global index of the
- * segment (i, a), then the short runs by (j, b). O(segments + pairs). The pairs are
+/* Sorts (*pairs)[0..n) by (i, a, j, b), stable: counting sorts on the global index of
+ * the segment (j, b), then of (i, a). O(segments + pairs). The pairs are
  * sorted into c->pairs_tmp, which then takes the place of *pairs (and *cap), not
  * copied back. Until the next sort, hk_hc_run gives the run [*begin, *end) of the
  * pairs of segment (i, a). */
