@@ -134,33 +134,34 @@ static int reserve(Buffer *b, size_t count, size_t size, hk_Error *err)
 
 struct hk_ContactSolve {
     int strand_count;
-    int *slot_start;         /* strand_count + 1: the strands' points, slots [start, next) */
-    size_t *dim_start;       /* strand_count + 1: offsets of the strands' 3N vectors */
-    size_t *jac_start;       /* strand_count + 1: offsets of the strands' first 3 x 3N block */
-    int *movable;            /* per strand: its step's matrix answered */
-    int *reversed;           /* per strand: A = U U^T in ul; its points' rows of Z in yt, w in dv */
-    size_t *ul_start;        /* strand_count + 1: offsets of the strands' U (3N x 3N) */
-    Buffer slots;            /* Slot per point */
-    Buffer at;               /* double per point: its s, as the Jacobians take them */
-    Buffer vel;              /* hk_Vec3 per point: its velocity with v^free */
-    Buffer forces;           /* hk_PointForce per point */
-    Buffer jac, yt;          /* double, 3 x m per point (m its support): rows of J and of
-                                Y^T = (A^-1 J^T)^T; a reversed strand's rows of J, then of
-                                Z^T = (U^-1 J^T)^T, in yt alone (predict_points) */
-    Buffer support;          /* int per point: its rows of J are zero from this column on */
-    Buffer block;            /* size_t per point: where its 3 rows start in jac and yt */
-    Buffer ul;               /* double: the reversed strands' U */
-    Buffer answered;         /* char per point: its rows of Y^T are set */
-    Buffer dv;               /* double, 3N per strand: the velocity change of the impulses */
-    Buffer vfree;            /* double, 3N per strand: its velocity after a step without them */
-    Buffer screws;           /* double, 18N per strand: work of the Jacobians */
-    Buffer pairs, old_pairs; /* PairState per pair, this step's and the last one's */
-    Buffer active;           /* int per pair: the pushing pairs of the last full sweep */
-    Buffer delta;            /* hk_Vec3 per pair: a change of its impulse (apply_by_strand) */
-    Buffer order, weight;    /* int and double per pair: the sweeps' order, the split's weights */
-    Buffer roots;            /* hk_Vec3 per strand: its root, where the split reads it */
-    Buffer segment_place;    /* int per strand and per segment + 1: dealing the points (layout) */
-    hk_ContactSplit split;   /* scratch of the split */
+    int *slot_start;                 /* strand_count + 1: the strands' points, slots [start, next) */
+    size_t *dim_start;               /* strand_count + 1: offsets of the strands' 3N vectors */
+    size_t *jac_start;               /* strand_count + 1: offsets of the strands' first 3 x 3N block */
+    int *movable;                    /* per strand: its step's matrix answered */
+    int *reversed;                   /* per strand: A = U U^T in ul; its points' rows of Z in yt, w in dv */
+    size_t *ul_start;                /* strand_count + 1: offsets of the strands' U (3N x 3N) */
+    Buffer slots;                    /* Slot per point */
+    Buffer at;                       /* double per point: its s, as the Jacobians take them */
+    Buffer vel;                      /* hk_Vec3 per point: its velocity with v^free */
+    Buffer forces;                   /* hk_PointForce per point */
+    Buffer jac, yt;                  /* double, 3 x m per point (m its support): rows of J and of
+                                        Y^T = (A^-1 J^T)^T; a reversed strand's rows of J, then of
+                                        Z^T = (U^-1 J^T)^T, in yt alone (predict_points) */
+    Buffer support;                  /* int per point: its rows of J are zero from this column on */
+    Buffer block;                    /* size_t per point: where its 3 rows start in jac and yt */
+    Buffer ul;                       /* double: the reversed strands' U */
+    Buffer answered;                 /* char per point: its rows of Y^T are set */
+    Buffer dv;                       /* double, 3N per strand: the velocity change of the impulses */
+    Buffer vfree;                    /* double, 3N per strand: its velocity after a step without them */
+    Buffer screws;                   /* double, 18N per strand: work of the Jacobians */
+    Buffer pairs, old_pairs;         /* PairState per pair, this step's and the last one's */
+    Buffer active;                   /* int per pair: the pushing pairs of the last full sweep */
+    Buffer delta;                    /* hk_Vec3 per pair: a change of its impulse (apply_by_strand) */
+    Buffer order, weight;            /* int and double per pair: the sweeps' order, the split's weights */
+    Buffer roots;                    /* hk_Vec3 per strand: its root, where the split reads it */
+    Buffer segment_place;            /* int per strand and per segment + 1: dealing the points (layout) */
+    hk_ContactSplit split;           /* scratch of the split */
+    int bounds[HK_SPLIT_GROUPS + 1]; /* the split's groups: order[bounds[x], bounds[x + 1]) */
     int old_count;
     int solved_count;        /* the pairs of the last solve swept (hk_contact_solve_sweep) */
     int last_count;          /* ... once finished, their impulses in world space (warm start of
@@ -874,7 +875,9 @@ static double sweep_cost(const PairState *ps)
  * along both in step): resting contacts start where they ended.
  * The points of the pairs that may push, those with an impulse or whose normal law
  * pushes at the free velocities, are marked wanted: their answers are solved for in
- * parallel before the sweeps. */
+ * parallel before the sweeps. The pair's weight in the split (sweep_cost) and its
+ * share of the warm start (its impulse, or zero) are set with the rest: both read only
+ * the pair itself, and so need no pass of their own. */
 static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double h)
 {
     PairState *pairs = cs->pairs.items;
@@ -882,6 +885,8 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
     const hk_HairContactDef *p = &c->p;
     const hk_Vec3 *vel = cs->vel.items;
     char *answered = cs->answered.items;
+    double *weight = cs->weight.items; /* the split's (split_pairs) */
+    hk_Vec3 *delta = cs->delta.items;  /* the warm start's (apply_by_strand) */
     /* To be called by every thread of a team (or by one thread alone): the pairs are
      * shared among them. */
     {
@@ -916,10 +921,10 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
             }
             /* (a point belongs to one pair: no other iteration writes these) */
             if (may_push(ps)) answered[ps->slot[0]] = answered[ps->slot[1]] = WANTED;
+            weight[k] = sweep_cost(ps);
+            delta[k] = has_impulse(ps) ? ps->lambda : hk_v3_zero();
         }
     }
-#pragma omp single nowait
-    cs->prepared = 1; /* read after the team's end */
 }
 
 /* Relative velocity in the basis at the step's end of pair ps with the impulses so far. */
@@ -1225,9 +1230,37 @@ void hk_contact_solve_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int stra
     if (strand >= 0 && strand < cs->strand_count) predict_points(cs, d, strand, head_end);
 }
 
+/* The pairs dealt to the groups of the sweeps (weighted by what the sweeps spend on
+ * them, set by prepare_pairs) into order and cs->bounds: it reads only the pairs'
+ * strands, the weights and the strands' roots, so that one thread makes it while the
+ * others start on the answers. */
+static void split_pairs(hk_ContactSolve *cs, const hk_HairContacts *contacts)
+{
+    const int strand_count = cs->strand_count;
+    hk_Vec3 *roots = cs->roots.items;
+    for (int s = 0; s < strand_count; s++) roots[s] = contacts->views[s].pos[0];
+    hk_contact_split(&cs->split, strand_count, roots, contacts->pair_count, contacts->pairs, cs->weight.items,
+                     cs->order.items, cs->bounds);
+}
+
+/* To be called by every thread of a team (or by one thread alone), every strand's
+ * points done: the pairs' laws, the split of the pairs beside the answers, then the
+ * warm start (the last step's impulses added to the strands' dv, which needs their
+ * points' answers). In the caller's parallel region, so that the step opens no region
+ * of its own for the split and the answers, nor for the warm start (each a fork and a
+ * join the threads wait on each other at). */
 void hk_contact_solve_prepare(hk_ContactSolve *cs, const hk_HairContacts *contacts, double dt)
 {
-    prepare_pairs(cs, contacts, dt);
+    prepare_pairs(cs, contacts, dt); /* (its loop's barrier: the pairs are set) */
+#pragma omp single nowait
+    split_pairs(cs, contacts);
+#pragma omp for schedule(dynamic, 2)
+    for (int s = 0; s < cs->strand_count; s++) answer_points(cs, cs->dyn[s], s);
+    /* The pairs' Delassus blocks are made when a sweep first finds them pushing
+     * (visit), side by side with the other group's. The warm start's share: */
+    apply_by_strand(cs, cs->delta.items, contacts->pair_count);
+#pragma omp single nowait
+    cs->prepared = 1; /* read after the team's end */
 }
 
 hk_Status hk_contact_solve_sweep(hk_ContactSolve *cs, const hk_HairContacts *contacts, hk_StrandDynamics **dyn,
@@ -1252,40 +1285,13 @@ hk_Status hk_contact_solve_sweep(hk_ContactSolve *cs, const hk_HairContacts *con
         {
 #pragma omp for schedule(dynamic, 2)
             for (int s = 0; s < strand_count; s++) predict_points(cs, dyn[s], s, head_end);
-            prepare_pairs(cs, contacts, dt);
+            hk_contact_solve_prepare(cs, contacts, dt);
         }
     }
     cs->opened = cs->laid_out = cs->prepared = 0;
-    PairState *pairs = cs->pairs.items;
     const int n = contacts->pair_count;
     SweepGroup group[HK_SPLIT_GROUPS];
-    int bounds[HK_SPLIT_GROUPS + 1];
-    int *order = cs->order.items;
-#pragma omp parallel num_threads(threads)
-    {
-        /* The pairs dealt to the groups of the sweeps (weighted by what the sweeps
-         * spend on them, sweep_cost), by one thread while the others start on the
-         * answers: it reads only the pairs' strands and laws. */
-#pragma omp single nowait
-        {
-            double *weight = cs->weight.items;
-            for (int k = 0; k < n; k++) weight[k] = sweep_cost(&pairs[k]);
-            hk_Vec3 *roots = cs->roots.items;
-            for (int s = 0; s < strand_count; s++) roots[s] = contacts->views[s].pos[0];
-            hk_contact_split(&cs->split, strand_count, roots, n, contacts->pairs, weight, order, bounds);
-        }
-#pragma omp for schedule(dynamic, 2)
-        for (int s = 0; s < strand_count; s++) answer_points(cs, dyn[s], s);
-    }
-    /* The pairs' Delassus blocks are made when a sweep first finds them pushing
-     * (visit), side by side with the other group's. The warm start's share: */
-    hk_Vec3 *delta = cs->delta.items;
-#pragma omp parallel num_threads(threads)
-    {
-#pragma omp for schedule(static)
-        for (int k = 0; k < n; k++) delta[k] = has_impulse(&pairs[k]) ? pairs[k].lambda : hk_v3_zero();
-        apply_by_strand(cs, delta, n);
-    }
+    const int *bounds = cs->bounds, *order = cs->order.items;
     for (int x = 0; x < HK_SPLIT_GROUPS; x++) group[x] = (SweepGroup){bounds[x], bounds[x + 1], 0, 0, 0, 0.0, 0.0};
     /* Groups 0 and 1 share no strand, nor do 2 and 3, nor 4 and 5: their visits touch
      * disjoint pairs and strands, and give the same bits side by side or one after the
