@@ -100,7 +100,7 @@ typedef struct PointRows {
  * were a third of the sweeps' first-level cache misses, callgrind's cache model on
  * examples/guides200 shaking.) */
 typedef struct PairState {
-    hk_Vec3 lambda;     /* impulse on a in the basis during the solve, in world space after */
+    hk_Vec3 lambda;     /* impulse on a in the basis (finished, in world space: cs->impulses) */
     double beta, gamma; /* normal law lambda_n = max(0, beta - gamma u_n) */
     hk_Vec3 free;       /* relative velocity in the basis at the strands' free velocities */
     PointRows point[2]; /* point a (strand i) and point b (strand j) */
@@ -155,8 +155,11 @@ struct hk_ContactSolve {
     Buffer vfree;                    /* double, 3N per strand: its velocity after a step without them */
     Buffer screws;                   /* double, 18N per strand: work of the Jacobians */
     Buffer pairs, old_pairs;         /* PairState per pair, this step's and the last one's */
+    Buffer impulses, old_impulses;   /* hk_Vec3 per pair: its impulse finished, in world space */
+    Buffer by_pair;                  /* int per point, strand by strand: 2 pair + side in pair order */
+    Buffer by_pair_fill;             /* int per strand: dealing by_pair (layout) */
     Buffer active;                   /* int per pair: the pushing pairs of the last full sweep */
-    Buffer delta;                    /* hk_Vec3 per pair: a change of its impulse (apply_by_strand) */
+    Buffer delta;                    /* hk_Vec3 per pair: its warm start (apply_to_strand) */
     Buffer order, weight;            /* int and double per pair: the sweeps' order, the split's weights */
     Buffer roots;                    /* hk_Vec3 per strand: its root, where the split reads it */
     Buffer segment_place;            /* int per strand and per segment + 1: dealing the points (layout) */
@@ -164,6 +167,7 @@ struct hk_ContactSolve {
     int bounds[HK_SPLIT_GROUPS + 1]; /* the split's groups: order[bounds[x], bounds[x + 1]) */
     int old_count;
     int solved_count;        /* the pairs of the last solve swept (hk_contact_solve_sweep) */
+    atomic_int finished;     /* its strands finished (finish_strand) */
     int last_count;          /* ... once finished, their impulses in world space (warm start of
                                 the next layout); -1: no solve to keep */
     double dt;               /* the step of the solve under way */
@@ -214,10 +218,11 @@ void hk_contact_solve_destroy(hk_ContactSolve *cs)
     hk_free(cs->reversed);
     hk_free(cs->ul_start);
     hk_free(cs->pointed);
-    Buffer *all[] = {
-        &cs->slots,   &cs->at,    &cs->vfree,    &cs->vel,   &cs->forces, &cs->jac,           &cs->yt,
-        &cs->support, &cs->ul,    &cs->answered, &cs->dv,    &cs->screws, &cs->pairs,         &cs->old_pairs,
-        &cs->active,  &cs->order, &cs->weight,   &cs->roots, &cs->delta,  &cs->segment_place, &cs->block};
+    Buffer *all[] = {&cs->slots, &cs->at,       &cs->vfree,        &cs->vel,       &cs->forces,
+                     &cs->jac,   &cs->yt,       &cs->support,      &cs->ul,        &cs->answered,
+                     &cs->dv,    &cs->screws,   &cs->pairs,        &cs->old_pairs, &cs->active,
+                     &cs->order, &cs->weight,   &cs->roots,        &cs->delta,     &cs->segment_place,
+                     &cs->block, &cs->impulses, &cs->old_impulses, &cs->by_pair,   &cs->by_pair_fill};
     for (size_t k = 0; k < sizeof all / sizeof *all; k++) hk_free(all[k]->items);
     hk_contact_split_free(&cs->split);
     hk_free(cs);
@@ -235,6 +240,9 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Error 
         Buffer swap = cs->old_pairs;
         cs->old_pairs = cs->pairs;
         cs->pairs = swap;
+        swap = cs->old_impulses;
+        cs->old_impulses = cs->impulses;
+        cs->impulses = swap;
         cs->old_count = cs->last_count;
         cs->last_count = -1;
     }
@@ -256,8 +264,19 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Error 
         !reserve(&cs->block, slots, sizeof(size_t), err) || !reserve(&cs->pairs, (size_t)n, sizeof(PairState), err) ||
         !reserve(&cs->active, (size_t)n, sizeof(int), err) || !reserve(&cs->order, (size_t)n, sizeof(int), err) ||
         !reserve(&cs->weight, (size_t)n, sizeof(double), err) ||
-        !reserve(&cs->roots, (size_t)g, sizeof(hk_Vec3), err) || !reserve(&cs->delta, (size_t)n, sizeof(hk_Vec3), err))
+        !reserve(&cs->roots, (size_t)g, sizeof(hk_Vec3), err) ||
+        !reserve(&cs->delta, (size_t)n, sizeof(hk_Vec3), err) ||
+        !reserve(&cs->impulses, (size_t)n, sizeof(hk_Vec3), err) || !reserve(&cs->by_pair, slots, sizeof(int), err) ||
+        !reserve(&cs->by_pair_fill, (size_t)g, sizeof(int), err))
         return HK_ERR_NOMEM;
+    /* Each strand's points in pair order, the order the impulses' changes are added to
+     * its dv in (apply_to_strand, finish_strand), as one pass over the pairs would. */
+    int *fill = cs->by_pair_fill.items, *by_pair = cs->by_pair.items;
+    memcpy(fill, cs->slot_start, (size_t)g * sizeof(int));
+    for (int k = 0; k < n; k++) {
+        by_pair[fill[c->pairs[k].i]++] = 2 * k;
+        by_pair[fill[c->pairs[k].j]++] = 2 * k + 1;
+    }
     /* The points dealt by (strand, segment), a counting sort on the segment's global
      * index (offset[strand] + segment): strand by strand as slot_start has them, and
      * each strand's nearly sorted by s for hk_hc_sort_keys (only the points on one
@@ -882,6 +901,7 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
 {
     PairState *pairs = cs->pairs.items;
     const PairState *old = cs->old_pairs.items;
+    const hk_Vec3 *old_impulse = cs->old_impulses.items;
     const hk_HairContactDef *p = &c->p;
     const hk_Vec3 *vel = cs->vel.items;
     char *answered = cs->answered.items;
@@ -908,7 +928,8 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
             ps->strand[0] = hp->i, ps->strand[1] = hp->j;
             if (k != next) o = first_not_less(old, cs->old_count, ps->key);
             while (o < cs->old_count && key_cmp(old[o].key, ps->key) < 0) o++;
-            if (o < cs->old_count && key_cmp(old[o].key, ps->key) == 0) ps->lambda = in_basis(ps->basis, old[o].lambda);
+            if (o < cs->old_count && key_cmp(old[o].key, ps->key) == 0)
+                ps->lambda = in_basis(ps->basis, old_impulse[o]);
             next = k + 1;
             for (int side = 0; side < 2; side++) {
                 const int strand = ps->strand[side], x = ps->slot[side];
@@ -951,30 +972,19 @@ static double normal_velocity(const PairState *ps)
     return u;
 }
 
-/* The strands of thread t of nt, [*lo, *hi): consecutive blocks. */
-static void strand_block(int strand_count, int t, int nt, int *lo, int *hi)
+/* The changes delta[k] of the impulses of strand s's pairs added to its dv, in pair
+ * order (by_pair): the order one pass of apply_change over all pairs adds them in, so
+ * that the strand's dv is the same bits whichever thread takes it and whatever the
+ * others do meanwhile. Zero changes are skipped. */
+static void apply_to_strand(hk_ContactSolve *cs, int s, const hk_Vec3 *delta)
 {
-    *lo = (int)((long)strand_count * t / nt);
-    *hi = (int)((long)strand_count * (t + 1) / nt);
-}
-
-/* To be called by every thread of a parallel region: the changes delta[k] of the
- * impulses of pairs [0, n) added to their strands' dv, each thread walking all pairs in
- * order and adding for its own block of strands (strand_block) only. Each strand gets
- * its additions in pair order, as from one pass of apply_change over the pairs: the
- * same bits whatever the number of threads. Zero changes are skipped. */
-static void apply_by_strand(hk_ContactSolve *cs, const hk_Vec3 *delta, int n)
-{
-    int lo, hi;
-    strand_block(cs->strand_count, omp_get_thread_num(), omp_get_num_threads(), &lo, &hi);
     const PairState *pairs = cs->pairs.items;
-    for (int k = 0; k < n; k++) {
+    const int *by_pair = cs->by_pair.items;
+    for (int r = cs->slot_start[s]; r < cs->slot_start[s + 1]; r++) {
+        const int k = by_pair[r] / 2, side = by_pair[r] % 2;
         if (delta[k].x == 0.0 && delta[k].y == 0.0 && delta[k].z == 0.0) continue;
-        for (int side = 0; side < 2; side++) {
-            const PointRows *pr = &pairs[k].point[side];
-            if (pairs[k].strand[side] >= lo && pairs[k].strand[side] < hi)
-                add_response(pr->dv, pr->resp, (size_t)pr->m, delta[k], side == 0 ? 1.0 : -1.0);
-        }
+        const PointRows *pr = &pairs[k].point[side];
+        add_response(pr->dv, pr->resp, (size_t)pr->m, delta[k], side == 0 ? 1.0 : -1.0);
     }
 }
 
@@ -1254,11 +1264,14 @@ void hk_contact_solve_prepare(hk_ContactSolve *cs, const hk_HairContacts *contac
     prepare_pairs(cs, contacts, dt); /* (its loop's barrier: the pairs are set) */
 #pragma omp single nowait
     split_pairs(cs, contacts);
-#pragma omp for schedule(dynamic, 2)
-    for (int s = 0; s < cs->strand_count; s++) answer_points(cs, cs->dyn[s], s);
-    /* The pairs' Delassus blocks are made when a sweep first finds them pushing
-     * (visit), side by side with the other group's. The warm start's share: */
-    apply_by_strand(cs, cs->delta.items, contacts->pair_count);
+    /* A strand's warm start needs its own points' answers alone: no barrier between.
+     * The pairs' Delassus blocks are made when a sweep first finds them pushing
+     * (visit), side by side with the other group's. */
+#pragma omp for schedule(dynamic, 2) nowait
+    for (int s = 0; s < cs->strand_count; s++) {
+        answer_points(cs, cs->dyn[s], s);
+        apply_to_strand(cs, s, cs->delta.items);
+    }
 #pragma omp single nowait
     cs->prepared = 1; /* read after the team's end */
 }
@@ -1302,68 +1315,83 @@ hk_Status hk_contact_solve_sweep(hk_ContactSolve *cs, const hk_HairContacts *con
     run_sweeps(cs, order, group, side_by_side, &local);
     cs->solved_count = n;
     cs->dt = dt;
+    atomic_store_explicit(&cs->finished, 0, memory_order_relaxed);
     if (stats) *stats = local;
     return HK_OK;
 }
 
+/* Pair ps's impulse brought into Coulomb's cone in *out: the bound of the last sweep's
+ * Tresca problems lags the normal impulses by a sweep, and what exceeds the cone is
+ * taken back. Returns 1 when it did (else *out is the impulse). */
+static int within_cone(const PairState *ps, double mu, hk_Vec3 *out)
+{
+    const hk_Vec3 l = ps->lambda;
+    const double t = sqrt(l.y * l.y + l.z * l.z), limit = mu * (l.x > 0.0 ? l.x : 0.0);
+    *out = l;
+    if (!(mu > 0.0 && t > limit)) return 0;
+    const double f = t > 0.0 ? limit / t : 0.0;
+    *out = hk_v3(l.x, f * l.y, f * l.z);
+    return 1;
+}
+
+/* Strand s's share of the solve's tail: its pairs' impulses within the cone, what was
+ * taken back taken from its dv too (in pair order, as apply_to_strand), its velocity
+ * change from w = U^T dv when reversed, its points' forces, and the impulses of the
+ * pairs it is side 0 of in world space (the next step's warm start). It reads the
+ * pairs and writes the strand's own arrays only, so that the strands are finished by
+ * any threads, each just before its commit, with no barrier between (the pair's
+ * impulse in the cone is found by both of its strands, by the same operations). */
+static void finish_strand(hk_ContactSolve *cs, int s)
+{
+    const PairState *pairs = cs->pairs.items;
+    const int *by_pair = cs->by_pair.items;
+    const Slot *slot = cs->slots.items;
+    hk_PointForce *forces = cs->forces.items;
+    hk_Vec3 *impulse = cs->impulses.items;
+    for (int r = cs->slot_start[s]; r < cs->slot_start[s + 1]; r++) {
+        const int k = by_pair[r] / 2, side = by_pair[r] % 2;
+        const PairState *ps = &pairs[k];
+        hk_Vec3 l;
+        if (within_cone(ps, cs->mu, &l)) {
+            const hk_Vec3 delta = hk_v3_sub(l, ps->lambda);
+            const PointRows *pr = &ps->point[side];
+            if (!(delta.x == 0.0 && delta.y == 0.0 && delta.z == 0.0))
+                add_response(pr->dv, pr->resp, (size_t)pr->m, delta, side == 0 ? 1.0 : -1.0);
+        }
+        /* The impulse in world space, as a force held over the step. */
+        const hk_Vec3 world = from_basis(ps->basis, l);
+        const int x = ps->slot[side];
+        forces[x].s = slot[x].at;
+        forces[x].force = hk_v3_scale(world, (side == 0 ? 1.0 : -1.0) / cs->dt);
+        forces[x].stiffness = forces[x].damping = hk_m3_zero();
+        if (side == 0) impulse[k] = world;
+    }
+    /* The reversed strand's velocity change from w = U^T dv: U^T dv = w, forward. */
+    if (cs->reversed[s]) {
+        const size_t dim = dim_of(cs, s);
+        const double *u = (const double *)cs->ul.items + cs->ul_start[s];
+        double *v = (double *)cs->dv.items + cs->dim_start[s];
+        for (size_t i = 0; i < dim; i++) {
+            double x = v[i];
+            for (size_t k = 0; k < i; k++) x -= u[k * dim + i] * v[k];
+            v[i] = x / u[i * dim + i];
+        }
+    }
+    /* The last strand finished keeps the impulses for the next step's warm start. */
+    if (atomic_fetch_add_explicit(&cs->finished, 1, memory_order_acq_rel) + 1 == cs->strand_count)
+        cs->last_count = cs->solved_count;
+}
+
 void hk_contact_solve_finish(hk_ContactSolve *cs)
 {
-    const int strand_count = cs->strand_count, n = cs->solved_count;
-    const double mu = cs->mu, dt = cs->dt;
-    PairState *pairs = cs->pairs.items;
-    hk_Vec3 *delta = cs->delta.items;
-    /* The bound of the last sweep's Tresca problems lags the normal impulses by a
-     * sweep: what exceeds Coulomb's cone is taken back (and from dv, which the commit
-     * uses). */
-    hk_PointForce *forces = cs->forces.items;
-    const Slot *slot = cs->slots.items;
-    const int slots = cs->slot_start[strand_count];
     /* To be called by every thread of a team (or by one thread alone). */
-    {
-#pragma omp for schedule(static)
-        for (int k = 0; k < n; k++) {
-            PairState *ps = &pairs[k];
-            const hk_Vec3 l = ps->lambda;
-            const double t = sqrt(l.y * l.y + l.z * l.z), limit = mu * (l.x > 0.0 ? l.x : 0.0);
-            delta[k] = hk_v3_zero();
-            if (!(mu > 0.0 && t > limit)) continue;
-            const double f = t > 0.0 ? limit / t : 0.0;
-            const hk_Vec3 next = hk_v3(l.x, f * l.y, f * l.z);
-            delta[k] = hk_v3_sub(next, ps->lambda);
-            ps->lambda = next;
-        }
-        apply_by_strand(cs, delta, n);
-        /* The reversed strands' velocity changes from w = U^T dv: U^T dv = w, forward;
-         * each thread its own block of strands, whose dv it has just completed. */
-        int lo, hi;
-        strand_block(strand_count, omp_get_thread_num(), omp_get_num_threads(), &lo, &hi);
-        for (int g = lo; g < hi; g++) {
-            if (!cs->reversed[g]) continue;
-            const size_t dim = dim_of(cs, g);
-            const double *u = (const double *)cs->ul.items + cs->ul_start[g];
-            double *v = (double *)cs->dv.items + cs->dim_start[g];
-            for (size_t i = 0; i < dim; i++) {
-                double x = v[i];
-                for (size_t k = 0; k < i; k++) x -= u[k * dim + i] * v[k];
-                v[i] = x / u[i * dim + i];
-            }
-        }
-        /* The impulses in world space, as forces held over the step, then in the pairs
-         * (for the next step's warm start). */
-#pragma omp for schedule(static)
-        for (int x = 0; x < slots; x++) {
-            const PairState *ps = &pairs[slot[x].index / 2];
-            const double sign = slot[x].index % 2 == 0 ? 1.0 : -1.0;
-            forces[x].s = slot[x].at;
-            forces[x].force = hk_v3_scale(from_basis(ps->basis, ps->lambda), sign / dt);
-            forces[x].stiffness = forces[x].damping = hk_m3_zero();
-        }
-#pragma omp for schedule(static) nowait
-        for (int k = 0; k < n; k++) pairs[k].lambda = from_basis(pairs[k].basis, pairs[k].lambda);
-    }
-    /* Kept for the warm start of the next step (read after the team's end). */
-#pragma omp single nowait
-    cs->last_count = n;
+#pragma omp for schedule(dynamic, 4)
+    for (int s = 0; s < cs->strand_count; s++) finish_strand(cs, s);
+}
+
+void hk_contact_solve_finish_strand(hk_ContactSolve *cs, int strand)
+{
+    if (strand >= 0 && strand < cs->strand_count) finish_strand(cs, strand);
 }
 
 hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts, hk_StrandDynamics **dyn,

@@ -59,6 +59,13 @@ hk_Status hk_contact_solve_sweep(hk_ContactSolve *cs, const hk_HairContacts *con
                                  hk_ContactSolveStats *stats, hk_Error *err);
 void hk_contact_solve_finish(hk_ContactSolve *cs);
 
+/* hk_contact_solve_finish strand by strand: once for every strand of the solve, on any
+ * thread and in any order, each before its strand's hk_contact_solve_forces or _commit
+ * (a strand's share reads the pairs and writes that strand's arrays alone); the same
+ * bits. hair_sim.c finishes each guide just before its commit, so that the commits
+ * wait for no thread to finish the whole solve first. */
+void hk_contact_solve_finish_strand(hk_ContactSolve *cs, int strand);
+
 /* A strand's step without the contacts needs the strand alone, not the pairs: the
  * simulation finds it for every strand while one thread finds the pairs (the contacts'
  * update gained 1.48 times on two threads, the strands' steps 1.92).

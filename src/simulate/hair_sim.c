@@ -634,13 +634,14 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
     hk_FirstError first;
     hk_first_error_init(&first);
     if (st == HK_OK) {
-        /* The solve finished (its forces and the guides' velocity changes) in the
-         * region of the commits: one parallel region less a step. */
+        /* The solve finished (its forces and the guide's velocity change) guide by
+         * guide, each just before its commit: no parallel region of its own, and no
+         * barrier in this one. */
 #pragma omp parallel reduction(+ : substeps, body, recovered, iterations) num_threads(threads)
         {
-            if (swept) hk_contact_solve_finish(sim->contact_solve);
 #pragma omp for schedule(dynamic, 4)
             for (int i = 0; i < sim->guide_count; i++) {
+                if (swept) hk_contact_solve_finish_strand(sim->contact_solve, i);
                 const GuideStep g = step_guide(sim, i, head_fn, user, t, dt, coupled, &head_end, &first);
                 substeps += g.taken, recovered += g.recovered, iterations += g.iterations;
                 body += hk_strand_dynamics_contact_count(sim->dyn[i]);
