@@ -35,12 +35,12 @@
  * loaded machine several times slower (docs/dynamics.md, "Contacts solved together"). */
 #include <math.h>
 #include <omp.h>
-#include <sched.h>
 #include <stddef.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/core_internal.h"
 #include "dynamics_internal.h"
 #include "hair_contact_solve.h"
 #include "hair_contact_split.h"
@@ -59,6 +59,12 @@
 /* A point's Y^T (or Z^T): NORMAL_ONLY, a reversed strand's point with row 0 of Z^T
  * alone, its rows 1 and 2 those of J in the basis (answer_points). */
 enum { UNANSWERED = 0, WANTED = 1, ANSWERED = 2, NORMAL_ONLY = 3 };
+
+/* A strand's stages in a step, bits of cs->stage (set with release, read with
+ * acquire): its step without the contacts is found (predict_free), its points taken
+ * by a thread, their Jacobians set (predict_points). The threads of a team wait on
+ * these, strand by strand, instead of on each other at barriers. */
+enum { PREDICTED = 1, POINTS_CLAIMED = 2, POINTED = 4 };
 
 /* A point: at its s, index 2 pair + side. */
 typedef hk_HcKey Slot;
@@ -174,7 +180,7 @@ struct hk_ContactSolve {
     int opened;              /* hk_contact_solve_open sized the strands' arrays for the next solve */
     int laid_out;            /* hk_contact_solve_layout dealt the next solve's points */
     int prepared;            /* hk_contact_solve_prepare set the next solve's pairs */
-    char *pointed;           /* per strand: its points' Jacobians are set (predict_points) */
+    atomic_int *stage;       /* per strand: PREDICTED, POINTS_CLAIMED, POINTED (its step's stages) */
     hk_StrandDynamics **dyn; /* the strands of the solve under way */
     double mu, viscous;      /* its friction coefficient and viscous friction (times the step) */
 };
@@ -197,10 +203,10 @@ hk_Status hk_contact_solve_create(int strand_count, hk_ContactSolve **out, hk_Er
     cs->movable = hk_calloc_array((size_t)strand_count, sizeof(int), err);
     cs->reversed = hk_calloc_array((size_t)strand_count, sizeof(int), err);
     cs->ul_start = hk_calloc_array((size_t)strand_count + 1, sizeof(size_t), err);
-    cs->pointed = hk_calloc_array((size_t)strand_count, sizeof(char), err);
+    cs->stage = hk_calloc_array((size_t)strand_count, sizeof(atomic_int), err);
     cs->last_count = -1;
     if (!cs->slot_start || !cs->dim_start || !cs->jac_start || !cs->movable || !cs->reversed || !cs->ul_start ||
-        !cs->pointed) {
+        !cs->stage) {
         hk_contact_solve_destroy(cs);
         return HK_ERR_NOMEM;
     }
@@ -217,7 +223,7 @@ void hk_contact_solve_destroy(hk_ContactSolve *cs)
     hk_free(cs->movable);
     hk_free(cs->reversed);
     hk_free(cs->ul_start);
-    hk_free(cs->pointed);
+    hk_free(cs->stage);
     Buffer *all[] = {&cs->slots, &cs->at,       &cs->vfree,        &cs->vel,       &cs->forces,
                      &cs->jac,   &cs->yt,       &cs->support,      &cs->ul,        &cs->answered,
                      &cs->dv,    &cs->screws,   &cs->pairs,        &cs->old_pairs, &cs->active,
@@ -305,7 +311,8 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Error 
             sl->index = 2 * k + side;
         }
     }
-    memset(cs->pointed, 0, (size_t)g);
+    /* (the strands' predictions may go on meanwhile: their bit is kept) */
+    for (int s = 0; s < g; s++) atomic_fetch_and_explicit(&cs->stage[s], PREDICTED, memory_order_relaxed);
     return HK_OK;
 }
 
@@ -365,16 +372,22 @@ static void predict_free(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const
     cs->reversed[s] = cs->movable[s] && hk_dynamics_reverse_factor(d, (double *)cs->ul.items + cs->ul_start[s]);
     for (size_t k = 0; k < dim; k++) vfree[k] = v[k] + (cs->movable[s] ? d->delta[k] : 0.0);
     memset((double *)cs->dv.items + cs->dim_start[s], 0, dim * sizeof(double));
+    atomic_fetch_or_explicit(&cs->stage[s], PREDICTED, memory_order_release);
+}
+
+/* Waits until strand s has reached stage bit. */
+static void wait_for_stage(hk_ContactSolve *cs, int s, int bit)
+{
+    long spins = 0;
+    while (!(atomic_load_explicit(&cs->stage[s], memory_order_acquire) & bit)) hk_spin_pause(&spins);
 }
 
 /* The Jacobians J of strand s's points (at the step's start) and their velocities
  * with v^free, once the pairs are known (layout). How the strand answers an impulse
  * at a point, Y^T = (A^-1 J^T)^T, is found later and only for the points of pairs
  * that may push (answer_points, answer_lazily). */
-static void predict_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const hk_RigidState *head_end)
+static void point_strand(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const hk_RigidState *head_end)
 {
-    if (cs->pointed[s]) return;
-    cs->pointed[s] = 1;
     sort_points(cs, s);
     const int begin = cs->slot_start[s], count = cs->slot_start[s + 1] - begin;
     if (count == 0) return;
@@ -399,6 +412,17 @@ static void predict_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, con
         at += 3 * (size_t)support[x];
     }
     memset((char *)cs->answered.items + begin, 0, (size_t)count);
+}
+
+/* point_strand once per strand and layout, by whichever thread claims it first, after
+ * the strand's prediction (waited for when another thread has it under way); then the
+ * strand is POINTED. */
+static void predict_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const hk_RigidState *head_end)
+{
+    if (atomic_fetch_or_explicit(&cs->stage[s], POINTS_CLAIMED, memory_order_acq_rel) & POINTS_CLAIMED) return;
+    wait_for_stage(cs, s, PREDICTED);
+    point_strand(cs, d, s, head_end);
+    atomic_fetch_or_explicit(&cs->stage[s], POINTED, memory_order_release);
 }
 
 /* Unknowns i and j = i - 1 of one right-hand side z: *a = z_i, then z_j less column
@@ -916,6 +940,8 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
             PairState *ps = &pairs[k];
             const hk_HcPair *hp = &c->pairs[k];
             const hk_HcContact *ct = &c->contacts[k];
+            wait_for_stage(cs, hp->i, POINTED); /* (its slots, velocities and rows) */
+            wait_for_stage(cs, hp->j, POINTED);
             ps->key[0] = hp->i, ps->key[1] = hp->a, ps->key[2] = hp->j, ps->key[3] = hp->b;
             ps->basis[0] = ct->normal;
             complete_basis(ps->basis);
@@ -1112,14 +1138,6 @@ static int claim_group(hk_ContactSolve *cs, const int *order, SweepGroup group[H
     return word < 0 ? -1 : 0;
 }
 
-/* A wait of a few hundred cycles, then the core is given up now and then: on a
- * machine with more runnable threads than cores the other thread needs it. */
-static void pause_for(long *spins)
-{
-    if (++*spins % 256 == 0) sched_yield();
-    for (volatile int k = 0; k < 64; k++) {}
-}
-
 /* The sweeps over the six groups: each of the three stages (groups 0 and 1, 2 and 3, 4
  * and 5, each two on disjoint strands) by this thread and one more when side_by_side;
  * the same bits either way. Pairs that do not push (most of those between d0 and 2 d0)
@@ -1137,7 +1155,7 @@ static void run_sweeps(hk_ContactSolve *cs, const int *order, SweepGroup group[H
         if (omp_get_thread_num() != 0) { /* the helper: claims what it finds open */
             long spins = 0;
             for (int r; (r = claim_group(cs, order, group, &share)) >= 0;)
-                if (r == 0) pause_for(&spins);
+                if (r == 0) hk_spin_pause(&spins);
         } else {
             for (int sweep = 0; sweep < HK_PGS_SWEEPS; sweep++) {
                 const int full = sweep % HK_PGS_FULL_EVERY == 0 || sweep == HK_PGS_SWEEPS - 1;
@@ -1148,7 +1166,7 @@ static void run_sweeps(hk_ContactSolve *cs, const int *order, SweepGroup group[H
                     while (claim_group(cs, order, group, &share) == 1) {}
                     long spins = 0;
                     while (atomic_load_explicit(&share.finished, memory_order_acquire) != 4 * stage + 2)
-                        pause_for(&spins);
+                        hk_spin_pause(&spins);
                 }
                 double change = 0.0, largest = 0.0;
                 if (full) local->pushing = local->sticking = 0;
@@ -1184,6 +1202,7 @@ hk_Status hk_contact_solve_open(hk_ContactSolve *cs, hk_StrandDynamics **dyn, in
         return HK_ERR_NOMEM;
     memset(cs->movable, 0, (size_t)strand_count * sizeof(int));
     memset(cs->reversed, 0, (size_t)strand_count * sizeof(int));
+    for (int s = 0; s < strand_count; s++) atomic_store_explicit(&cs->stage[s], 0, memory_order_relaxed);
     cs->opened = 1;
     return HK_OK;
 }
