@@ -935,12 +935,14 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
      * shared among them. */
     {
         int o = 0, next = -1; /* this thread's place among the old pairs, for pair next */
+        int pointed_i = -1;   /* the last strand i waited for (the pairs are sorted by i) */
 #pragma omp for schedule(static)
         for (int k = 0; k < c->pair_count; k++) {
             PairState *ps = &pairs[k];
             const hk_HcPair *hp = &c->pairs[k];
             const hk_HcContact *ct = &c->contacts[k];
-            wait_for_stage(cs, hp->i, POINTED); /* (its slots, velocities and rows) */
+            /* Its two strands' points done (their slots, velocities and rows). */
+            if (hp->i != pointed_i) wait_for_stage(cs, pointed_i = hp->i, POINTED);
             wait_for_stage(cs, hp->j, POINTED);
             ps->key[0] = hp->i, ps->key[1] = hp->a, ps->key[2] = hp->j, ps->key[3] = hp->b;
             ps->basis[0] = ct->normal;
