@@ -551,7 +551,7 @@ static void answer_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s)
         const int *support = cs->support.items;
         const double *u = (const double *)cs->ul.items + cs->ul_start[s];
         /* Only the warm-started pairs' impulses act before a sweep finds them pushing
-         * (apply_by_strand); the others' rows wait for that. */
+         * (apply_to_strand); the others' rows wait for that. */
         for (int x = begin; x < end; x++)
             if (answered[x] == WANTED && has_impulse(&pairs[slot[x].index / 2])) {
                 strand_rows_in_basis(cs, s, x);
@@ -930,7 +930,7 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
     const hk_Vec3 *vel = cs->vel.items;
     char *answered = cs->answered.items;
     double *weight = cs->weight.items; /* the split's (split_pairs) */
-    hk_Vec3 *delta = cs->delta.items;  /* the warm start's (apply_by_strand) */
+    hk_Vec3 *delta = cs->delta.items;  /* the warm start's (apply_to_strand) */
     /* To be called by every thread of a team (or by one thread alone): the pairs are
      * shared among them. */
     {
