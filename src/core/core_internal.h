@@ -4,6 +4,8 @@
 #ifndef HK_CORE_INTERNAL_H
 #define HK_CORE_INTERNAL_H
 
+#include <sched.h>
+
 #include "hairkit/core.h"
 
 /* The error of the lowest failing index of a parallel loop, so that the error reported
@@ -49,5 +51,14 @@ hk_Status hk_first_error_status(const hk_FirstError *fe, hk_Error *err);
  * and progress reports, never for results.*/
 double hk_seconds_now(void);
 double hk_thread_cpu_seconds(void); /* CPU time of the calling thread (s) */
+
+/* One pause of a spin-wait: a wait of a few hundred cycles, then the core given up now
+ * and then: on a machine with more runnable threads than cores the thread waited for
+ * needs it. Call it with the same *spins (from 0) for each check of the wait. */
+static inline void hk_spin_pause(long *spins)
+{
+    if (++*spins % 256 == 0) sched_yield();
+    for (volatile int k = 0; k < 64; k++) {}
+}
 
 #endif /* HK_CORE_INTERNAL_H */

@@ -35,12 +35,12 @@
  * loaded machine several times slower (docs/dynamics.md, "Contacts solved together"). */
 #include <math.h>
 #include <omp.h>
-#include <sched.h>
 #include <stddef.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/core_internal.h"
 #include "dynamics_internal.h"
 #include "hair_contact_solve.h"
 #include "hair_contact_split.h"
@@ -59,6 +59,12 @@
 /* A point's Y^T (or Z^T): NORMAL_ONLY, a reversed strand's point with row 0 of Z^T
  * alone, its rows 1 and 2 those of J in the basis (answer_points). */
 enum { UNANSWERED = 0, WANTED = 1, ANSWERED = 2, NORMAL_ONLY = 3 };
+
+/* A strand's stages in a step, bits of cs->stage (set with release, read with
+ * acquire): its step without the contacts is found (predict_free), its points taken
+ * by a thread, their Jacobians set (predict_points). The threads of a team wait on
+ * these, strand by strand, instead of on each other at barriers. */
+enum { PREDICTED = 1, POINTS_CLAIMED = 2, POINTED = 4 };
 
 /* A point: at its s, index 2 pair + side. */
 typedef hk_HcKey Slot;
@@ -100,7 +106,7 @@ typedef struct PointRows {
  * were a third of the sweeps' first-level cache misses, callgrind's cache model on
  * examples/guides200 shaking.) */
 typedef struct PairState {
-    hk_Vec3 lambda;     /* impulse on a in the basis during the solve, in world space after */
+    hk_Vec3 lambda;     /* impulse on a in the basis (finished, in world space: cs->impulses) */
     double beta, gamma; /* normal law lambda_n = max(0, beta - gamma u_n) */
     hk_Vec3 free;       /* relative velocity in the basis at the strands' free velocities */
     PointRows point[2]; /* point a (strand i) and point b (strand j) */
@@ -134,42 +140,47 @@ static int reserve(Buffer *b, size_t count, size_t size, hk_Error *err)
 
 struct hk_ContactSolve {
     int strand_count;
-    int *slot_start;         /* strand_count + 1: the strands' points, slots [start, next) */
-    size_t *dim_start;       /* strand_count + 1: offsets of the strands' 3N vectors */
-    size_t *jac_start;       /* strand_count + 1: offsets of the strands' first 3 x 3N block */
-    int *movable;            /* per strand: its step's matrix answered */
-    int *reversed;           /* per strand: A = U U^T in ul; its points' rows of Z in yt, w in dv */
-    size_t *ul_start;        /* strand_count + 1: offsets of the strands' U (3N x 3N) */
-    Buffer slots;            /* Slot per point */
-    Buffer at;               /* double per point: its s, as the Jacobians take them */
-    Buffer vel;              /* hk_Vec3 per point: its velocity with v^free */
-    Buffer forces;           /* hk_PointForce per point */
-    Buffer jac, yt;          /* double, 3 x m per point (m its support): rows of J and of
-                                Y^T = (A^-1 J^T)^T; a reversed strand's rows of J, then of
-                                Z^T = (U^-1 J^T)^T, in yt alone (predict_points) */
-    Buffer support;          /* int per point: its rows of J are zero from this column on */
-    Buffer block;            /* size_t per point: where its 3 rows start in jac and yt */
-    Buffer ul;               /* double: the reversed strands' U */
-    Buffer answered;         /* char per point: its rows of Y^T are set */
-    Buffer dv;               /* double, 3N per strand: the velocity change of the impulses */
-    Buffer vfree;            /* double, 3N per strand: its velocity after a step without them */
-    Buffer screws;           /* double, 18N per strand: work of the Jacobians */
-    Buffer pairs, old_pairs; /* PairState per pair, this step's and the last one's */
-    Buffer active;           /* int per pair: the pushing pairs of the last full sweep */
-    Buffer delta;            /* hk_Vec3 per pair: a change of its impulse (apply_by_strand) */
-    Buffer order, weight;    /* int and double per pair: the sweeps' order, the split's weights */
-    Buffer roots;            /* hk_Vec3 per strand: its root, where the split reads it */
-    Buffer segment_place;    /* int per strand and per segment + 1: dealing the points (layout) */
-    hk_ContactSplit split;   /* scratch of the split */
+    int *slot_start;                 /* strand_count + 1: the strands' points, slots [start, next) */
+    size_t *dim_start;               /* strand_count + 1: offsets of the strands' 3N vectors */
+    size_t *jac_start;               /* strand_count + 1: offsets of the strands' first 3 x 3N block */
+    int *movable;                    /* per strand: its step's matrix answered */
+    int *reversed;                   /* per strand: A = U U^T in ul; its points' rows of Z in yt, w in dv */
+    size_t *ul_start;                /* strand_count + 1: offsets of the strands' U (3N x 3N) */
+    Buffer slots;                    /* Slot per point */
+    Buffer at;                       /* double per point: its s, as the Jacobians take them */
+    Buffer vel;                      /* hk_Vec3 per point: its velocity with v^free */
+    Buffer forces;                   /* hk_PointForce per point */
+    Buffer jac, yt;                  /* double, 3 x m per point (m its support): rows of J and of
+                                        Y^T = (A^-1 J^T)^T; a reversed strand's rows of J, then of
+                                        Z^T = (U^-1 J^T)^T, in yt alone (predict_points) */
+    Buffer support;                  /* int per point: its rows of J are zero from this column on */
+    Buffer block;                    /* size_t per point: where its 3 rows start in jac and yt */
+    Buffer ul;                       /* double: the reversed strands' U */
+    Buffer answered;                 /* char per point: its rows of Y^T are set */
+    Buffer dv;                       /* double, 3N per strand: the velocity change of the impulses */
+    Buffer vfree;                    /* double, 3N per strand: its velocity after a step without them */
+    Buffer screws;                   /* double, 18N per strand: work of the Jacobians */
+    Buffer pairs, old_pairs;         /* PairState per pair, this step's and the last one's */
+    Buffer impulses, old_impulses;   /* hk_Vec3 per pair: its impulse finished, in world space */
+    Buffer by_pair;                  /* int per point, strand by strand: 2 pair + side in pair order */
+    Buffer by_pair_fill;             /* int per strand: dealing by_pair (layout) */
+    Buffer active;                   /* int per pair: the pushing pairs of the last full sweep */
+    Buffer delta;                    /* hk_Vec3 per pair: its warm start (apply_to_strand) */
+    Buffer order, weight;            /* int and double per pair: the sweeps' order, the split's weights */
+    Buffer roots;                    /* hk_Vec3 per strand: its root, where the split reads it */
+    Buffer segment_place;            /* int per strand and per segment + 1: dealing the points (layout) */
+    hk_ContactSplit split;           /* scratch of the split */
+    int bounds[HK_SPLIT_GROUPS + 1]; /* the split's groups: order[bounds[x], bounds[x + 1]) */
     int old_count;
     int solved_count;        /* the pairs of the last solve swept (hk_contact_solve_sweep) */
+    atomic_int finished;     /* its strands finished (finish_strand) */
     int last_count;          /* ... once finished, their impulses in world space (warm start of
                                 the next layout); -1: no solve to keep */
     double dt;               /* the step of the solve under way */
     int opened;              /* hk_contact_solve_open sized the strands' arrays for the next solve */
     int laid_out;            /* hk_contact_solve_layout dealt the next solve's points */
     int prepared;            /* hk_contact_solve_prepare set the next solve's pairs */
-    char *pointed;           /* per strand: its points' Jacobians are set (predict_points) */
+    atomic_int *stage;       /* per strand: PREDICTED, POINTS_CLAIMED, POINTED (its step's stages) */
     hk_StrandDynamics **dyn; /* the strands of the solve under way */
     double mu, viscous;      /* its friction coefficient and viscous friction (times the step) */
 };
@@ -192,10 +203,10 @@ hk_Status hk_contact_solve_create(int strand_count, hk_ContactSolve **out, hk_Er
     cs->movable = hk_calloc_array((size_t)strand_count, sizeof(int), err);
     cs->reversed = hk_calloc_array((size_t)strand_count, sizeof(int), err);
     cs->ul_start = hk_calloc_array((size_t)strand_count + 1, sizeof(size_t), err);
-    cs->pointed = hk_calloc_array((size_t)strand_count, sizeof(char), err);
+    cs->stage = hk_calloc_array((size_t)strand_count, sizeof(atomic_int), err);
     cs->last_count = -1;
     if (!cs->slot_start || !cs->dim_start || !cs->jac_start || !cs->movable || !cs->reversed || !cs->ul_start ||
-        !cs->pointed) {
+        !cs->stage) {
         hk_contact_solve_destroy(cs);
         return HK_ERR_NOMEM;
     }
@@ -212,11 +223,12 @@ void hk_contact_solve_destroy(hk_ContactSolve *cs)
     hk_free(cs->movable);
     hk_free(cs->reversed);
     hk_free(cs->ul_start);
-    hk_free(cs->pointed);
-    Buffer *all[] = {
-        &cs->slots,   &cs->at,    &cs->vfree,    &cs->vel,   &cs->forces, &cs->jac,           &cs->yt,
-        &cs->support, &cs->ul,    &cs->answered, &cs->dv,    &cs->screws, &cs->pairs,         &cs->old_pairs,
-        &cs->active,  &cs->order, &cs->weight,   &cs->roots, &cs->delta,  &cs->segment_place, &cs->block};
+    hk_free(cs->stage);
+    Buffer *all[] = {&cs->slots, &cs->at,       &cs->vfree,        &cs->vel,       &cs->forces,
+                     &cs->jac,   &cs->yt,       &cs->support,      &cs->ul,        &cs->answered,
+                     &cs->dv,    &cs->screws,   &cs->pairs,        &cs->old_pairs, &cs->active,
+                     &cs->order, &cs->weight,   &cs->roots,        &cs->delta,     &cs->segment_place,
+                     &cs->block, &cs->impulses, &cs->old_impulses, &cs->by_pair,   &cs->by_pair_fill};
     for (size_t k = 0; k < sizeof all / sizeof *all; k++) hk_free(all[k]->items);
     hk_contact_split_free(&cs->split);
     hk_free(cs);
@@ -234,6 +246,9 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Error 
         Buffer swap = cs->old_pairs;
         cs->old_pairs = cs->pairs;
         cs->pairs = swap;
+        swap = cs->old_impulses;
+        cs->old_impulses = cs->impulses;
+        cs->impulses = swap;
         cs->old_count = cs->last_count;
         cs->last_count = -1;
     }
@@ -255,8 +270,19 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Error 
         !reserve(&cs->block, slots, sizeof(size_t), err) || !reserve(&cs->pairs, (size_t)n, sizeof(PairState), err) ||
         !reserve(&cs->active, (size_t)n, sizeof(int), err) || !reserve(&cs->order, (size_t)n, sizeof(int), err) ||
         !reserve(&cs->weight, (size_t)n, sizeof(double), err) ||
-        !reserve(&cs->roots, (size_t)g, sizeof(hk_Vec3), err) || !reserve(&cs->delta, (size_t)n, sizeof(hk_Vec3), err))
+        !reserve(&cs->roots, (size_t)g, sizeof(hk_Vec3), err) ||
+        !reserve(&cs->delta, (size_t)n, sizeof(hk_Vec3), err) ||
+        !reserve(&cs->impulses, (size_t)n, sizeof(hk_Vec3), err) || !reserve(&cs->by_pair, slots, sizeof(int), err) ||
+        !reserve(&cs->by_pair_fill, (size_t)g, sizeof(int), err))
         return HK_ERR_NOMEM;
+    /* Each strand's points in pair order, the order the impulses' changes are added to
+     * its dv in (apply_to_strand, finish_strand), as one pass over the pairs would. */
+    int *fill = cs->by_pair_fill.items, *by_pair = cs->by_pair.items;
+    memcpy(fill, cs->slot_start, (size_t)g * sizeof(int));
+    for (int k = 0; k < n; k++) {
+        by_pair[fill[c->pairs[k].i]++] = 2 * k;
+        by_pair[fill[c->pairs[k].j]++] = 2 * k + 1;
+    }
     /* The points dealt by (strand, segment), a counting sort on the segment's global
      * index (offset[strand] + segment): strand by strand as slot_start has them, and
      * each strand's nearly sorted by s for hk_hc_sort_keys (only the points on one
@@ -285,7 +311,8 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Error 
             sl->index = 2 * k + side;
         }
     }
-    memset(cs->pointed, 0, (size_t)g);
+    /* (the strands' predictions may go on meanwhile: their bit is kept) */
+    for (int s = 0; s < g; s++) atomic_fetch_and_explicit(&cs->stage[s], PREDICTED, memory_order_relaxed);
     return HK_OK;
 }
 
@@ -345,16 +372,22 @@ static void predict_free(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const
     cs->reversed[s] = cs->movable[s] && hk_dynamics_reverse_factor(d, (double *)cs->ul.items + cs->ul_start[s]);
     for (size_t k = 0; k < dim; k++) vfree[k] = v[k] + (cs->movable[s] ? d->delta[k] : 0.0);
     memset((double *)cs->dv.items + cs->dim_start[s], 0, dim * sizeof(double));
+    atomic_fetch_or_explicit(&cs->stage[s], PREDICTED, memory_order_release);
+}
+
+/* Waits until strand s has reached stage bit. */
+static void wait_for_stage(hk_ContactSolve *cs, int s, int bit)
+{
+    long spins = 0;
+    while (!(atomic_load_explicit(&cs->stage[s], memory_order_acquire) & bit)) hk_spin_pause(&spins);
 }
 
 /* The Jacobians J of strand s's points (at the step's start) and their velocities
  * with v^free, once the pairs are known (layout). How the strand answers an impulse
  * at a point, Y^T = (A^-1 J^T)^T, is found later and only for the points of pairs
  * that may push (answer_points, answer_lazily). */
-static void predict_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const hk_RigidState *head_end)
+static void point_strand(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const hk_RigidState *head_end)
 {
-    if (cs->pointed[s]) return;
-    cs->pointed[s] = 1;
     sort_points(cs, s);
     const int begin = cs->slot_start[s], count = cs->slot_start[s + 1] - begin;
     if (count == 0) return;
@@ -379,6 +412,17 @@ static void predict_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, con
         at += 3 * (size_t)support[x];
     }
     memset((char *)cs->answered.items + begin, 0, (size_t)count);
+}
+
+/* point_strand once per strand and layout, by whichever thread claims it first, after
+ * the strand's prediction (waited for when another thread has it under way); then the
+ * strand is POINTED. */
+static void predict_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const hk_RigidState *head_end)
+{
+    if (atomic_fetch_or_explicit(&cs->stage[s], POINTS_CLAIMED, memory_order_acq_rel) & POINTS_CLAIMED) return;
+    wait_for_stage(cs, s, PREDICTED);
+    point_strand(cs, d, s, head_end);
+    atomic_fetch_or_explicit(&cs->stage[s], POINTED, memory_order_release);
 }
 
 /* Unknowns i and j = i - 1 of one right-hand side z: *a = z_i, then z_j less column
@@ -507,7 +551,7 @@ static void answer_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s)
         const int *support = cs->support.items;
         const double *u = (const double *)cs->ul.items + cs->ul_start[s];
         /* Only the warm-started pairs' impulses act before a sweep finds them pushing
-         * (apply_by_strand); the others' rows wait for that. */
+         * (apply_to_strand); the others' rows wait for that. */
         for (int x = begin; x < end; x++)
             if (answered[x] == WANTED && has_impulse(&pairs[slot[x].index / 2])) {
                 strand_rows_in_basis(cs, s, x);
@@ -874,23 +918,32 @@ static double sweep_cost(const PairState *ps)
  * along both in step): resting contacts start where they ended.
  * The points of the pairs that may push, those with an impulse or whose normal law
  * pushes at the free velocities, are marked wanted: their answers are solved for in
- * parallel before the sweeps. */
+ * parallel before the sweeps. The pair's weight in the split (sweep_cost) and its
+ * share of the warm start (its impulse, or zero) are set with the rest: both read only
+ * the pair itself, and so need no pass of their own. */
 static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double h)
 {
     PairState *pairs = cs->pairs.items;
     const PairState *old = cs->old_pairs.items;
+    const hk_Vec3 *old_impulse = cs->old_impulses.items;
     const hk_HairContactDef *p = &c->p;
     const hk_Vec3 *vel = cs->vel.items;
     char *answered = cs->answered.items;
+    double *weight = cs->weight.items; /* the split's (split_pairs) */
+    hk_Vec3 *delta = cs->delta.items;  /* the warm start's (apply_to_strand) */
     /* To be called by every thread of a team (or by one thread alone): the pairs are
      * shared among them. */
     {
         int o = 0, next = -1; /* this thread's place among the old pairs, for pair next */
+        int pointed_i = -1;   /* the last strand i waited for (the pairs are sorted by i) */
 #pragma omp for schedule(static)
         for (int k = 0; k < c->pair_count; k++) {
             PairState *ps = &pairs[k];
             const hk_HcPair *hp = &c->pairs[k];
             const hk_HcContact *ct = &c->contacts[k];
+            /* Its two strands' points done (their slots, velocities and rows). */
+            if (hp->i != pointed_i) wait_for_stage(cs, pointed_i = hp->i, POINTED);
+            wait_for_stage(cs, hp->j, POINTED);
             ps->key[0] = hp->i, ps->key[1] = hp->a, ps->key[2] = hp->j, ps->key[3] = hp->b;
             ps->basis[0] = ct->normal;
             complete_basis(ps->basis);
@@ -903,7 +956,8 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
             ps->strand[0] = hp->i, ps->strand[1] = hp->j;
             if (k != next) o = first_not_less(old, cs->old_count, ps->key);
             while (o < cs->old_count && key_cmp(old[o].key, ps->key) < 0) o++;
-            if (o < cs->old_count && key_cmp(old[o].key, ps->key) == 0) ps->lambda = in_basis(ps->basis, old[o].lambda);
+            if (o < cs->old_count && key_cmp(old[o].key, ps->key) == 0)
+                ps->lambda = in_basis(ps->basis, old_impulse[o]);
             next = k + 1;
             for (int side = 0; side < 2; side++) {
                 const int strand = ps->strand[side], x = ps->slot[side];
@@ -916,10 +970,10 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
             }
             /* (a point belongs to one pair: no other iteration writes these) */
             if (may_push(ps)) answered[ps->slot[0]] = answered[ps->slot[1]] = WANTED;
+            weight[k] = sweep_cost(ps);
+            delta[k] = has_impulse(ps) ? ps->lambda : hk_v3_zero();
         }
     }
-#pragma omp single nowait
-    cs->prepared = 1; /* read after the team's end */
 }
 
 /* Relative velocity in the basis at the step's end of pair ps with the impulses so far. */
@@ -946,30 +1000,19 @@ static double normal_velocity(const PairState *ps)
     return u;
 }
 
-/* The strands of thread t of nt, [*lo, *hi): consecutive blocks. */
-static void strand_block(int strand_count, int t, int nt, int *lo, int *hi)
+/* The changes delta[k] of the impulses of strand s's pairs added to its dv, in pair
+ * order (by_pair): the order one pass of apply_change over all pairs adds them in, so
+ * that the strand's dv is the same bits whichever thread takes it and whatever the
+ * others do meanwhile. Zero changes are skipped. */
+static void apply_to_strand(hk_ContactSolve *cs, int s, const hk_Vec3 *delta)
 {
-    *lo = (int)((long)strand_count * t / nt);
-    *hi = (int)((long)strand_count * (t + 1) / nt);
-}
-
-/* To be called by every thread of a parallel region: the changes delta[k] of the
- * impulses of pairs [0, n) added to their strands' dv, each thread walking all pairs in
- * order and adding for its own block of strands (strand_block) only. Each strand gets
- * its additions in pair order, as from one pass of apply_change over the pairs: the
- * same bits whatever the number of threads. Zero changes are skipped. */
-static void apply_by_strand(hk_ContactSolve *cs, const hk_Vec3 *delta, int n)
-{
-    int lo, hi;
-    strand_block(cs->strand_count, omp_get_thread_num(), omp_get_num_threads(), &lo, &hi);
     const PairState *pairs = cs->pairs.items;
-    for (int k = 0; k < n; k++) {
+    const int *by_pair = cs->by_pair.items;
+    for (int r = cs->slot_start[s]; r < cs->slot_start[s + 1]; r++) {
+        const int k = by_pair[r] / 2, side = by_pair[r] % 2;
         if (delta[k].x == 0.0 && delta[k].y == 0.0 && delta[k].z == 0.0) continue;
-        for (int side = 0; side < 2; side++) {
-            const PointRows *pr = &pairs[k].point[side];
-            if (pairs[k].strand[side] >= lo && pairs[k].strand[side] < hi)
-                add_response(pr->dv, pr->resp, (size_t)pr->m, delta[k], side == 0 ? 1.0 : -1.0);
-        }
+        const PointRows *pr = &pairs[k].point[side];
+        add_response(pr->dv, pr->resp, (size_t)pr->m, delta[k], side == 0 ? 1.0 : -1.0);
     }
 }
 
@@ -1100,14 +1143,6 @@ static int claim_group(hk_ContactSolve *cs, const int *order, SweepGroup group[H
     return word < 0 ? -1 : 0;
 }
 
-/* A wait of a few hundred cycles, then the core is given up now and then: on a
- * machine with more runnable threads than cores the other thread needs it. */
-static void pause_for(long *spins)
-{
-    if (++*spins % 256 == 0) sched_yield();
-    for (volatile int k = 0; k < 64; k++) {}
-}
-
 /* The sweeps over the six groups: each of the three stages (groups 0 and 1, 2 and 3, 4
  * and 5, each two on disjoint strands) by this thread and one more when side_by_side;
  * the same bits either way. Pairs that do not push (most of those between d0 and 2 d0)
@@ -1125,7 +1160,7 @@ static void run_sweeps(hk_ContactSolve *cs, const int *order, SweepGroup group[H
         if (omp_get_thread_num() != 0) { /* the helper: claims what it finds open */
             long spins = 0;
             for (int r; (r = claim_group(cs, order, group, &share)) >= 0;)
-                if (r == 0) pause_for(&spins);
+                if (r == 0) hk_spin_pause(&spins);
         } else {
             for (int sweep = 0; sweep < HK_PGS_SWEEPS; sweep++) {
                 const int full = sweep % HK_PGS_FULL_EVERY == 0 || sweep == HK_PGS_SWEEPS - 1;
@@ -1136,7 +1171,7 @@ static void run_sweeps(hk_ContactSolve *cs, const int *order, SweepGroup group[H
                     while (claim_group(cs, order, group, &share) == 1) {}
                     long spins = 0;
                     while (atomic_load_explicit(&share.finished, memory_order_acquire) != 4 * stage + 2)
-                        pause_for(&spins);
+                        hk_spin_pause(&spins);
                 }
                 double change = 0.0, largest = 0.0;
                 if (full) local->pushing = local->sticking = 0;
@@ -1172,6 +1207,7 @@ hk_Status hk_contact_solve_open(hk_ContactSolve *cs, hk_StrandDynamics **dyn, in
         return HK_ERR_NOMEM;
     memset(cs->movable, 0, (size_t)strand_count * sizeof(int));
     memset(cs->reversed, 0, (size_t)strand_count * sizeof(int));
+    for (int s = 0; s < strand_count; s++) atomic_store_explicit(&cs->stage[s], 0, memory_order_relaxed);
     cs->opened = 1;
     return HK_OK;
 }
@@ -1228,9 +1264,40 @@ void hk_contact_solve_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int stra
     if (strand >= 0 && strand < cs->strand_count) predict_points(cs, d, strand, head_end);
 }
 
+/* The pairs dealt to the groups of the sweeps (weighted by what the sweeps spend on
+ * them, set by prepare_pairs) into order and cs->bounds: it reads only the pairs'
+ * strands, the weights and the strands' roots, so that one thread makes it while the
+ * others start on the answers. */
+static void split_pairs(hk_ContactSolve *cs, const hk_HairContacts *contacts)
+{
+    const int strand_count = cs->strand_count;
+    hk_Vec3 *roots = cs->roots.items;
+    for (int s = 0; s < strand_count; s++) roots[s] = contacts->views[s].pos[0];
+    hk_contact_split(&cs->split, strand_count, roots, contacts->pair_count, contacts->pairs, cs->weight.items,
+                     cs->order.items, cs->bounds);
+}
+
+/* To be called by every thread of a team (or by one thread alone), every strand's
+ * points done: the pairs' laws, the split of the pairs beside the answers, then the
+ * warm start (the last step's impulses added to the strands' dv, which needs their
+ * points' answers). In the caller's parallel region, so that the step opens no region
+ * of its own for the split and the answers, nor for the warm start (each a fork and a
+ * join the threads wait on each other at). */
 void hk_contact_solve_prepare(hk_ContactSolve *cs, const hk_HairContacts *contacts, double dt)
 {
-    prepare_pairs(cs, contacts, dt);
+    prepare_pairs(cs, contacts, dt); /* (its loop's barrier: the pairs are set) */
+#pragma omp single nowait
+    split_pairs(cs, contacts);
+    /* A strand's warm start needs its own points' answers alone: no barrier between.
+     * The pairs' Delassus blocks are made when a sweep first finds them pushing
+     * (visit), side by side with the other group's. */
+#pragma omp for schedule(dynamic, 2) nowait
+    for (int s = 0; s < cs->strand_count; s++) {
+        answer_points(cs, cs->dyn[s], s);
+        apply_to_strand(cs, s, cs->delta.items);
+    }
+#pragma omp single nowait
+    cs->prepared = 1; /* read after the team's end */
 }
 
 hk_Status hk_contact_solve_sweep(hk_ContactSolve *cs, const hk_HairContacts *contacts, hk_StrandDynamics **dyn,
@@ -1255,40 +1322,13 @@ hk_Status hk_contact_solve_sweep(hk_ContactSolve *cs, const hk_HairContacts *con
         {
 #pragma omp for schedule(dynamic, 2)
             for (int s = 0; s < strand_count; s++) predict_points(cs, dyn[s], s, head_end);
-            prepare_pairs(cs, contacts, dt);
+            hk_contact_solve_prepare(cs, contacts, dt);
         }
     }
     cs->opened = cs->laid_out = cs->prepared = 0;
-    PairState *pairs = cs->pairs.items;
     const int n = contacts->pair_count;
     SweepGroup group[HK_SPLIT_GROUPS];
-    int bounds[HK_SPLIT_GROUPS + 1];
-    int *order = cs->order.items;
-#pragma omp parallel num_threads(threads)
-    {
-        /* The pairs dealt to the groups of the sweeps (weighted by what the sweeps
-         * spend on them, sweep_cost), by one thread while the others start on the
-         * answers: it reads only the pairs' strands and laws. */
-#pragma omp single nowait
-        {
-            double *weight = cs->weight.items;
-            for (int k = 0; k < n; k++) weight[k] = sweep_cost(&pairs[k]);
-            hk_Vec3 *roots = cs->roots.items;
-            for (int s = 0; s < strand_count; s++) roots[s] = contacts->views[s].pos[0];
-            hk_contact_split(&cs->split, strand_count, roots, n, contacts->pairs, weight, order, bounds);
-        }
-#pragma omp for schedule(dynamic, 2)
-        for (int s = 0; s < strand_count; s++) answer_points(cs, dyn[s], s);
-    }
-    /* The pairs' Delassus blocks are made when a sweep first finds them pushing
-     * (visit), side by side with the other group's. The warm start's share: */
-    hk_Vec3 *delta = cs->delta.items;
-#pragma omp parallel num_threads(threads)
-    {
-#pragma omp for schedule(static)
-        for (int k = 0; k < n; k++) delta[k] = has_impulse(&pairs[k]) ? pairs[k].lambda : hk_v3_zero();
-        apply_by_strand(cs, delta, n);
-    }
+    const int *bounds = cs->bounds, *order = cs->order.items;
     for (int x = 0; x < HK_SPLIT_GROUPS; x++) group[x] = (SweepGroup){bounds[x], bounds[x + 1], 0, 0, 0, 0.0, 0.0};
     /* Groups 0 and 1 share no strand, nor do 2 and 3, nor 4 and 5: their visits touch
      * disjoint pairs and strands, and give the same bits side by side or one after the
@@ -1299,68 +1339,83 @@ hk_Status hk_contact_solve_sweep(hk_ContactSolve *cs, const hk_HairContacts *con
     run_sweeps(cs, order, group, side_by_side, &local);
     cs->solved_count = n;
     cs->dt = dt;
+    atomic_store_explicit(&cs->finished, 0, memory_order_relaxed);
     if (stats) *stats = local;
     return HK_OK;
 }
 
+/* Pair ps's impulse brought into Coulomb's cone in *out: the bound of the last sweep's
+ * Tresca problems lags the normal impulses by a sweep, and what exceeds the cone is
+ * taken back. Returns 1 when it did (else *out is the impulse). */
+static int within_cone(const PairState *ps, double mu, hk_Vec3 *out)
+{
+    const hk_Vec3 l = ps->lambda;
+    const double t = sqrt(l.y * l.y + l.z * l.z), limit = mu * (l.x > 0.0 ? l.x : 0.0);
+    *out = l;
+    if (!(mu > 0.0 && t > limit)) return 0;
+    const double f = t > 0.0 ? limit / t : 0.0;
+    *out = hk_v3(l.x, f * l.y, f * l.z);
+    return 1;
+}
+
+/* Strand s's share of the solve's tail: its pairs' impulses within the cone, what was
+ * taken back taken from its dv too (in pair order, as apply_to_strand), its velocity
+ * change from w = U^T dv when reversed, its points' forces, and the impulses of the
+ * pairs it is side 0 of in world space (the next step's warm start). It reads the
+ * pairs and writes the strand's own arrays only, so that the strands are finished by
+ * any threads, each just before its commit, with no barrier between (the pair's
+ * impulse in the cone is found by both of its strands, by the same operations). */
+static void finish_strand(hk_ContactSolve *cs, int s)
+{
+    const PairState *pairs = cs->pairs.items;
+    const int *by_pair = cs->by_pair.items;
+    const Slot *slot = cs->slots.items;
+    hk_PointForce *forces = cs->forces.items;
+    hk_Vec3 *impulse = cs->impulses.items;
+    for (int r = cs->slot_start[s]; r < cs->slot_start[s + 1]; r++) {
+        const int k = by_pair[r] / 2, side = by_pair[r] % 2;
+        const PairState *ps = &pairs[k];
+        hk_Vec3 l;
+        if (within_cone(ps, cs->mu, &l)) {
+            const hk_Vec3 delta = hk_v3_sub(l, ps->lambda);
+            const PointRows *pr = &ps->point[side];
+            if (!(delta.x == 0.0 && delta.y == 0.0 && delta.z == 0.0))
+                add_response(pr->dv, pr->resp, (size_t)pr->m, delta, side == 0 ? 1.0 : -1.0);
+        }
+        /* The impulse in world space, as a force held over the step. */
+        const hk_Vec3 world = from_basis(ps->basis, l);
+        const int x = ps->slot[side];
+        forces[x].s = slot[x].at;
+        forces[x].force = hk_v3_scale(world, (side == 0 ? 1.0 : -1.0) / cs->dt);
+        forces[x].stiffness = forces[x].damping = hk_m3_zero();
+        if (side == 0) impulse[k] = world;
+    }
+    /* The reversed strand's velocity change from w = U^T dv: U^T dv = w, forward. */
+    if (cs->reversed[s]) {
+        const size_t dim = dim_of(cs, s);
+        const double *u = (const double *)cs->ul.items + cs->ul_start[s];
+        double *v = (double *)cs->dv.items + cs->dim_start[s];
+        for (size_t i = 0; i < dim; i++) {
+            double x = v[i];
+            for (size_t k = 0; k < i; k++) x -= u[k * dim + i] * v[k];
+            v[i] = x / u[i * dim + i];
+        }
+    }
+    /* The last strand finished keeps the impulses for the next step's warm start. */
+    if (atomic_fetch_add_explicit(&cs->finished, 1, memory_order_acq_rel) + 1 == cs->strand_count)
+        cs->last_count = cs->solved_count;
+}
+
 void hk_contact_solve_finish(hk_ContactSolve *cs)
 {
-    const int strand_count = cs->strand_count, n = cs->solved_count;
-    const double mu = cs->mu, dt = cs->dt;
-    PairState *pairs = cs->pairs.items;
-    hk_Vec3 *delta = cs->delta.items;
-    /* The bound of the last sweep's Tresca problems lags the normal impulses by a
-     * sweep: what exceeds Coulomb's cone is taken back (and from dv, which the commit
-     * uses). */
-    hk_PointForce *forces = cs->forces.items;
-    const Slot *slot = cs->slots.items;
-    const int slots = cs->slot_start[strand_count];
     /* To be called by every thread of a team (or by one thread alone). */
-    {
-#pragma omp for schedule(static)
-        for (int k = 0; k < n; k++) {
-            PairState *ps = &pairs[k];
-            const hk_Vec3 l = ps->lambda;
-            const double t = sqrt(l.y * l.y + l.z * l.z), limit = mu * (l.x > 0.0 ? l.x : 0.0);
-            delta[k] = hk_v3_zero();
-            if (!(mu > 0.0 && t > limit)) continue;
-            const double f = t > 0.0 ? limit / t : 0.0;
-            const hk_Vec3 next = hk_v3(l.x, f * l.y, f * l.z);
-            delta[k] = hk_v3_sub(next, ps->lambda);
-            ps->lambda = next;
-        }
-        apply_by_strand(cs, delta, n);
-        /* The reversed strands' velocity changes from w = U^T dv: U^T dv = w, forward;
-         * each thread its own block of strands, whose dv it has just completed. */
-        int lo, hi;
-        strand_block(strand_count, omp_get_thread_num(), omp_get_num_threads(), &lo, &hi);
-        for (int g = lo; g < hi; g++) {
-            if (!cs->reversed[g]) continue;
-            const size_t dim = dim_of(cs, g);
-            const double *u = (const double *)cs->ul.items + cs->ul_start[g];
-            double *v = (double *)cs->dv.items + cs->dim_start[g];
-            for (size_t i = 0; i < dim; i++) {
-                double x = v[i];
-                for (size_t k = 0; k < i; k++) x -= u[k * dim + i] * v[k];
-                v[i] = x / u[i * dim + i];
-            }
-        }
-        /* The impulses in world space, as forces held over the step, then in the pairs
-         * (for the next step's warm start). */
-#pragma omp for schedule(static)
-        for (int x = 0; x < slots; x++) {
-            const PairState *ps = &pairs[slot[x].index / 2];
-            const double sign = slot[x].index % 2 == 0 ? 1.0 : -1.0;
-            forces[x].s = slot[x].at;
-            forces[x].force = hk_v3_scale(from_basis(ps->basis, ps->lambda), sign / dt);
-            forces[x].stiffness = forces[x].damping = hk_m3_zero();
-        }
-#pragma omp for schedule(static) nowait
-        for (int k = 0; k < n; k++) pairs[k].lambda = from_basis(pairs[k].basis, pairs[k].lambda);
-    }
-    /* Kept for the warm start of the next step (read after the team's end). */
-#pragma omp single nowait
-    cs->last_count = n;
+#pragma omp for schedule(dynamic, 4)
+    for (int s = 0; s < cs->strand_count; s++) finish_strand(cs, s);
+}
+
+void hk_contact_solve_finish_strand(hk_ContactSolve *cs, int strand)
+{
+    if (strand >= 0 && strand < cs->strand_count) finish_strand(cs, strand);
 }
 
 hk_Status hk_contact_solve(hk_ContactSolve *cs, const hk_HairContacts *contacts, hk_StrandDynamics **dyn,

@@ -59,6 +59,13 @@ hk_Status hk_contact_solve_sweep(hk_ContactSolve *cs, const hk_HairContacts *con
                                  hk_ContactSolveStats *stats, hk_Error *err);
 void hk_contact_solve_finish(hk_ContactSolve *cs);
 
+/* hk_contact_solve_finish strand by strand: once for every strand of the solve, on any
+ * thread and in any order, each before its strand's hk_contact_solve_forces or _commit
+ * (a strand's share reads the pairs and writes that strand's arrays alone); the same
+ * bits. hair_sim.c finishes each guide just before its commit, so that the commits
+ * wait for no thread to finish the whole solve first. */
+void hk_contact_solve_finish_strand(hk_ContactSolve *cs, int strand);
+
 /* A strand's step without the contacts needs the strand alone, not the pairs: the
  * simulation finds it for every strand while one thread finds the pairs (the contacts'
  * update gained 1.48 times on two threads, the strands' steps 1.92).
@@ -73,12 +80,16 @@ void hk_contact_solve_predict(hk_ContactSolve *cs, hk_StrandDynamics *d, int str
  * (hair_sim.c: one region a step for the pairs, the strands' steps and this, instead
  * of four). Once the pairs are found (hk_hair_contacts_update) and the solve opened:
  * hk_contact_solve_layout deals the pairs' points to the strands (one thread; the
- * strands' predictions may go on beside it); then hk_contact_solve_points once per
- * strand, on any thread, after the strand's hk_contact_solve_predict (a second call
- * does nothing); then, when every strand's points are done, hk_contact_solve_prepare
- * by every thread of a team (or one thread alone). The hk_contact_solve that follows
- * (same contacts, dyn, head_end and dt) does whatever of this was not done, with the
- * same bits either way. A failed layout drops the solve under way. */
+ * strands' predictions may go on beside it); then hk_contact_solve_points for every
+ * strand, on any threads, once hk_contact_solve_predict has begun on it (it waits for
+ * a prediction under way on another thread; of two calls for a strand, the first
+ * does the work, the second returns at once); then hk_contact_solve_prepare by every
+ * thread of a team (or one thread alone): the pairs' laws, each once its two strands'
+ * points are done (waited for, so that a thread needs no barrier between its points
+ * and this), the split of the pairs, the points' answers and the warm start, all
+ * over by the end of the team's region (or a barrier). The hk_contact_solve that
+ * follows (same contacts, dyn, head_end and dt) does whatever of this was not done,
+ * with the same bits either way. A failed layout drops the solve under way. */
 hk_Status hk_contact_solve_layout(hk_ContactSolve *cs, const hk_HairContacts *contacts, hk_StrandDynamics **dyn,
                                   int strand_count, double dt, hk_Error *err);
 void hk_contact_solve_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int strand, const hk_RigidState *head_end);

@@ -543,7 +543,7 @@ static hk_Status overlapped_step(hk_HairSim *sim, const hk_RigidState *head_end,
     hk_Status update_st = HK_OK, layout_st = HK_OK;
     hk_Error update_err;
     const int contact_threads = hk_hc_threads(sim->contacts);
-    atomic_int laid_out;
+    atomic_int laid_out; /* 0 while the pairs' thread is at it, then 1, or -1 when it failed */
     atomic_init(&laid_out, 0);
 #pragma omp parallel num_threads(threads)
     {
@@ -554,17 +554,22 @@ static hk_Status overlapped_step(hk_HairSim *sim, const hk_RigidState *head_end,
             hk_hc_set_threads(sim->contacts, contact_threads);
             if (update_st == HK_OK)
                 layout_st = hk_contact_solve_layout(cs, sim->contacts, sim->dyn, sim->guide_count, dt, &update_err);
-            atomic_store_explicit(&laid_out, update_st == HK_OK && layout_st == HK_OK, memory_order_release);
+            atomic_store_explicit(&laid_out, update_st == HK_OK && layout_st == HK_OK ? 1 : -1, memory_order_release);
         }
-#pragma omp for schedule(dynamic, 2)
+#pragma omp for schedule(dynamic, 2) nowait
         for (int i = 0; i < sim->guide_count; i++) {
             hk_contact_solve_predict(cs, sim->dyn[i], i, head_end, dt);
-            if (atomic_load_explicit(&laid_out, memory_order_acquire))
+            if (atomic_load_explicit(&laid_out, memory_order_acquire) > 0)
                 hk_contact_solve_points(cs, sim->dyn[i], i, head_end);
         }
-        /* (the for's barrier: the layout is over, and laid_out the same for all) */
-        if (atomic_load_explicit(&laid_out, memory_order_relaxed)) {
-#pragma omp for schedule(dynamic, 8)
+        /* No barrier: a thread done with its guides goes on to the points of those
+         * stepped before the layout (hk_contact_solve_points waits for a guide's step
+         * still under way on another thread), then to the pairs' laws (each waits for
+         * its two guides' points). Only the layout itself is waited for here. */
+        long spins = 0;
+        while (atomic_load_explicit(&laid_out, memory_order_acquire) == 0) hk_spin_pause(&spins);
+        if (atomic_load_explicit(&laid_out, memory_order_relaxed) > 0) {
+#pragma omp for schedule(dynamic, 8) nowait
             for (int i = 0; i < sim->guide_count; i++) hk_contact_solve_points(cs, sim->dyn[i], i, head_end);
             hk_contact_solve_prepare(cs, sim->contacts, dt);
         }
@@ -634,13 +639,14 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
     hk_FirstError first;
     hk_first_error_init(&first);
     if (st == HK_OK) {
-        /* The solve finished (its forces and the guides' velocity changes) in the
-         * region of the commits: one parallel region less a step. */
+        /* The solve finished (its forces and the guide's velocity change) guide by
+         * guide, each just before its commit: no parallel region of its own, and no
+         * barrier in this one. */
 #pragma omp parallel reduction(+ : substeps, body, recovered, iterations) num_threads(threads)
         {
-            if (swept) hk_contact_solve_finish(sim->contact_solve);
 #pragma omp for schedule(dynamic, 4)
             for (int i = 0; i < sim->guide_count; i++) {
+                if (swept) hk_contact_solve_finish_strand(sim->contact_solve, i);
                 const GuideStep g = step_guide(sim, i, head_fn, user, t, dt, coupled, &head_end, &first);
                 substeps += g.taken, recovered += g.recovered, iterations += g.iterations;
                 body += hk_strand_dynamics_contact_count(sim->dyn[i]);
