@@ -580,7 +580,7 @@ static hk_SuperHelix *strand_copy(const hk_SuperHelix *a)
 static void test_positive_part_paths_on_strand(void **state)
 {
     (void)state;
-    if (!hk_positive_part_allow_avx(1)) {
+    if (!hk_avx_paths_allow(1)) {
         print_message("no AVX on this machine: nothing to compare\n");
         return;
     }
@@ -602,18 +602,18 @@ static void test_positive_part_paths_on_strand(void **state)
     double *work = malloc(sizeof(double) * HK_POSITIVE_PART_WORK(dim));
     int indefinite = 0;
     for (int step = 0; step < steps; step++) {
-        hk_positive_part_allow_avx(1), hk_avx_paths_allow(1);
+        hk_avx_paths_allow(1);
         assert_int_equal(hk_strand_dynamics_step(da, &head, NULL, 0, 1.0 / 30, &err), HK_OK);
         int neg_avx = -1, neg_sse2 = -2;
         assert_int_equal(hk_symmetric_positive_part(dim, da->hess, avx, work, &neg_avx), 1);
-        hk_positive_part_allow_avx(0), hk_avx_paths_allow(0);
+        hk_avx_paths_allow(0);
         assert_int_equal(hk_strand_dynamics_step(db, &head, NULL, 0, 1.0 / 30, &err), HK_OK);
         assert_int_equal(hk_symmetric_positive_part(dim, da->hess, sse2, work, &neg_sse2), 1);
         assert_int_equal(neg_avx, neg_sse2);
         assert_memory_equal(avx, sse2, sizeof(double) * (size_t)(dim * dim));
         indefinite += neg_avx > 0;
     }
-    hk_positive_part_allow_avx(1), hk_avx_paths_allow(1);
+    hk_avx_paths_allow(1);
     print_message("curly N = 10: %d of %d steps' matrices indefinite\n", indefinite, steps);
     assert_true(indefinite >= steps / 2);
     assert_memory_equal(a->q, b->q, sizeof(double) * (size_t)dim);

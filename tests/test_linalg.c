@@ -259,15 +259,15 @@ static void test_cholesky_solves(void **state)
  * (nothing to compare). */
 static int paths_agree(int n, const double *a)
 {
-    if (!hk_positive_part_allow_avx(1)) return 0;
+    if (!hk_avx_paths_allow(1)) return 0;
     const size_t nn = (size_t)n * (size_t)n;
     double *avx = malloc(sizeof(double) * nn), *sse2 = malloc(sizeof(double) * nn);
     double *work = malloc(sizeof(double) * HK_POSITIVE_PART_WORK(n));
     int neg_avx = -1, neg_sse2 = -2;
     assert_int_equal(hk_symmetric_positive_part(n, a, avx, work, &neg_avx), 1);
-    hk_positive_part_allow_avx(0);
+    hk_avx_paths_allow(0);
     assert_int_equal(hk_symmetric_positive_part(n, a, sse2, work, &neg_sse2), 1);
-    hk_positive_part_allow_avx(1);
+    hk_avx_paths_allow(1);
     assert_int_equal(neg_avx, neg_sse2);
     assert_memory_equal(avx, sse2, sizeof(double) * nn);
     free(avx), free(sse2), free(work);
@@ -280,7 +280,7 @@ static int paths_agree(int n, const double *a)
 static void test_positive_part_paths_same_bits(void **state)
 {
     (void)state;
-    if (!hk_positive_part_allow_avx(1)) {
+    if (!hk_avx_paths_allow(1)) {
         print_message("no AVX on this machine: the SSE2 path alone (the other tests)\n");
         return;
     }

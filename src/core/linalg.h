@@ -20,14 +20,15 @@ void hk_dot6_columns(const double x[6], const double *yt, size_t stride, int cou
 
 /* The AVX paths of the loops that GCC vectorises two doubles wide in the baseline build
  * (-O2, no -march) and four wide with target("avx"): hk_dot6_columns, the dense solve's
- * factorisation (hk_upper_cholesky), the contact points' Jacobian rows. Each element's
+ * factorisation (hk_upper_cholesky), the contact points' Jacobian rows, G+
+ * (hk_symmetric_positive_part, its kernels' four-wide Quads). Each element's
  * operations are the same and in the same order (no FMA: target "avx" only), so either
  * path gives the same bits; taken at run time where the CPU has AVX, unless a test
- * turned them off (hk_avx_paths_allow(0)) to compare the baseline's. G+ has its own
- * switch (hk_positive_part_allow_avx). */
+ * turned them off (hk_avx_paths_allow(0)) to compare the baseline's. */
 extern int hk_avx_paths_allowed;
 static inline int hk_avx_path(void) { return hk_avx_paths_allowed && __builtin_cpu_supports("avx"); }
-/* Sets whether the paths above may be taken; returns whether the CPU has AVX. */
+/* Sets whether the paths above may be taken; returns whether the CPU has AVX. Not
+ * thread-safe: for the tests that compare the two paths bit for bit. */
 int hk_avx_paths_allow(int allow);
 
 /* Cholesky factor of the symmetric matrix a + shift * diag(d) (d may be NULL: identity)
@@ -55,10 +56,5 @@ int hk_symmetric_eigen(int n, const double *a, double *w, double *v, double *e);
 #define HK_POSITIVE_PART_WORK(n)                                                                                       \
     ((size_t)(n) * (size_t)(n) + 5 * (size_t)(n) + ((size_t)(n) / 2 + 1) * (7 * (size_t)(n) + 6))
 int hk_symmetric_positive_part(int n, const double *a, double *out, double *work, int *negative);
-
-/* Lets hk_symmetric_positive_part take its AVX path (allow nonzero, the default) or
- * keeps it on the baseline SSE2 path (0), for the tests that compare the two bit for
- * bit; returns whether this machine has AVX. Not thread-safe: for tests only. */
-int hk_positive_part_allow_avx(int allow);
 
 #endif /* HK_CORE_LINALG_H */

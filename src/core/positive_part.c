@@ -859,16 +859,8 @@ static int positive_part_sse2(int n, const double *a, double *out, double *work,
     return positive_part(n, a, out, work, negative, 0);
 }
 
-static int avx_allowed = 1; /* hk_positive_part_allow_avx */
-
-int hk_positive_part_allow_avx(int allow)
-{
-    avx_allowed = allow;
-    return __builtin_cpu_supports("avx");
-}
-
 int hk_symmetric_positive_part(int n, const double *a, double *out, double *work, int *negative)
 {
-    if (avx_allowed && __builtin_cpu_supports("avx")) return positive_part_avx(n, a, out, work, negative);
+    if (hk_avx_path()) return positive_part_avx(n, a, out, work, negative);
     return positive_part_sse2(n, a, out, work, negative);
 }
