@@ -606,7 +606,7 @@ static inline __attribute__((always_inline)) void lanes_eigenvectors(Lanes *ln, 
  * down the rows, each row's lanes one vector operation (wide, eight lanes share a
  * splat of v's element), without the bookkeeping of the eigenvectors as rows (their
  * pairs aligned to even indices, a prologue and an epilogue for every four vectors and
- * reflector: the stage took 27 thousand instructions a call for a head's G, now 19
+ * reflector: the stage took 27 thousand instructions a call for a head's G, now 20
  * with the lanes' copy to rows). Each lane's sums are those of the rows' kernel it
  * replaced, to the bit: two partial sums, of the elements at even and at odd indices
  * from the first even one, in order, their sum, then the first element where its index
