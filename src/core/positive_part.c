@@ -603,14 +603,14 @@ static inline __attribute__((always_inline)) void lanes_eigenvectors(Lanes *ln, 
 /* x = Q x for the eigenvectors in the lanes of x (n rows of w), Q = H_0 ... H_{n-3}
  * from tridiagonalise: the reflectors from the last (LAPACK dormtr), each on every lane
  * at once, y -= tau (v . y) v (dlarf). In the lanes a reflector's product with v runs
- * down the rows, each row's lanes one vector operation (wide, eight lanes share a
- * splat of v's element), without the bookkeeping of the eigenvectors as rows (their
- * pairs aligned to even indices, a prologue and an epilogue for every four vectors and
- * reflector: the stage took 27 thousand instructions a call for a head's G, now 20
- * with the lanes' copy to rows). Each lane's sums are those of the rows' kernel it
- * replaced, to the bit: two partial sums, of the elements at even and at odd indices
- * from the first even one, in order, their sum, then the first element where its index
- * is odd, the last where one is left over. */
+ * down the rows, each row's lanes one vector operation (wide, eight lanes to two Quads
+ * that share a splat of v's element, the rest by pairs), without the bookkeeping of
+ * the eigenvectors as rows (their pairs aligned to even indices, a prologue and an
+ * epilogue for every four vectors and reflector: the stage took 27 thousand
+ * instructions a call for a head's G, now 20 with the lanes' copy to rows). Each lane's
+ * sums are those of the rows' kernel it replaced, to the bit: two partial sums, of the
+ * elements at even and at odd indices from the first even one, in order, their sum,
+ * then the first element where its index is odd, the last where one is left over. */
 static inline __attribute__((always_inline)) void reflect_lanes(const double *v, int m, int first, double tau,
                                                                 double *y, size_t sw, int w, int wide)
 {
@@ -645,20 +645,7 @@ static inline __attribute__((always_inline)) void reflect_lanes(const double *v,
             STORE_QUAD(yi + 4, load_quad(yi + 4) - g * vi);
         }
     }
-    for (; wide && j + 4 <= w; j += 4) { /* a Quad of lanes */
-        double *yj = y + j;
-        Quad s0 = splat4(0.0), s1 = splat4(0.0);
-        for (int i = i0; i < last; i += 2) {
-            s0 += splat4(v[i]) * load_quad(yj + (size_t)i * sw);
-            s1 += splat4(v[i + 1]) * load_quad(yj + (size_t)(i + 1) * sw);
-        }
-        Quad f = s0 + s1;
-        if (i0) f += splat4(v[0]) * load_quad(yj);
-        if (last < m) f += splat4(v[last]) * load_quad(yj + (size_t)last * sw);
-        f *= splat4(tau);
-        for (int i = 0; i < m; i++) STORE_QUAD(yj + (size_t)i * sw, load_quad(yj + (size_t)i * sw) - f * splat4(v[i]));
-    }
-    for (; j < w; j += 2) { /* a Pair of lanes */
+    for (; j < w; j += 2) { /* a Pair of lanes (the rest, or all of them on SSE2) */
         double *yj = y + j;
         Pair s0 = {0.0, 0.0}, s1 = {0.0, 0.0};
         for (int i = i0; i < last; i += 2) {
