@@ -4,7 +4,7 @@
  * The positive part A+ (hk_symmetric_positive_part) against V max(L, 0) V^T from the
  * decomposition and against what defines it: A+ positive semidefinite, A+ (A+ - A) = 0
  * (the two parts' products vanish), on random, repeated, clustered and graded spectra;
- * its AVX path against its SSE2 path, bit for bit.
+ * its AVX path against its SSE2 path, bit for bit, and its bits against main's (a hash).
  * Cholesky factors (also in place, bit for bit) and solves against the residual A x - b. */
 #include "hk_test.h"
 
@@ -307,6 +307,63 @@ static void test_positive_part_paths_same_bits(void **state)
     }
 }
 
+/* A fixed symmetric n x n matrix from a generator of its own (so that it does not
+ * depend on the other tests, nor on libm): kind 0 uniform in [-1, 1], 1 and 2 shifted
+ * as above (either side the fewer), 3 graded as a guide's G (entries falling by 0.75 a
+ * row and a column, 1.8e-10 at the last of 40, a third of the diagonal negative). */
+static void bits_matrix(int n, int kind, unsigned *state, double *a)
+{
+    double grade[80];
+    grade[0] = 1.0;
+    for (int k = 1; k < 2 * n; k++) grade[k] = grade[k - 1] * 0.75;
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j <= i; j++) {
+            *state = *state * 1664525u + 1013904223u;
+            double x = (double)(*state >> 8) / 16777216.0 * 2.0 - 1.0;
+            if (kind == 3) x *= grade[i + j] * (i != j ? 1.0 : i % 3 == 1 ? -4.0 : 4.0);
+            a[i * n + j] = a[j * n + i] = x;
+        }
+    if (kind == 1 || kind == 2)
+        for (int i = 0; i < n; i++) a[i * n + i] += (kind == 1 ? -0.6 : 1.2) * sqrt(n);
+}
+
+/* FNV-1a over A+'s bytes and the negative count of each matrix above, sizes 1 to 40. */
+static unsigned long long positive_part_bits(void)
+{
+    unsigned long long h = 1469598103934665603ULL;
+    unsigned state = 2026u;
+    double *a = malloc(sizeof(double) * 40 * 40), *out = malloc(sizeof(double) * 40 * 40);
+    double *work = malloc(sizeof(double) * HK_POSITIVE_PART_WORK(40));
+    for (int n = 1; n <= 40; n++)
+        for (int kind = 0; kind < 4; kind++) {
+            int negative = -1;
+            bits_matrix(n, kind, &state, a);
+            assert_int_equal(hk_symmetric_positive_part(n, a, out, work, &negative), 1);
+            const unsigned char *b = (const unsigned char *)out;
+            for (size_t k = 0; k < sizeof(double) * (size_t)(n * n); k++) h = (h ^ b[k]) * 1099511628211ULL;
+            h = (h ^ (unsigned)negative) * 1099511628211ULL;
+        }
+    free(a), free(out), free(work);
+    return h;
+}
+
+/* A+'s bits as main's kernels gave them (0a4b8d0, 7 December 2026), on either path:
+ * the kernels rewritten since for speed alone (the reflectors on the eigenvectors'
+ * lanes, the QL's next negligible off-diagonal noted by its sweep) must keep every
+ * operation and its order. A change that means to change the bits (another
+ * summation order, fewer solves: two instead of three gives 621d2c86eae511a2) updates
+ * the hash with its reasons. */
+static void test_positive_part_bits_kept(void **state)
+{
+    (void)state;
+    const int avx = hk_avx_paths_allow(1);
+    for (int path = avx ? 0 : 1; path < 2; path++) {
+        hk_avx_paths_allow(path == 0);
+        assert_true(positive_part_bits() == 0x0d13eb6682c9f03cULL);
+    }
+    hk_avx_paths_allow(1);
+}
+
 /* hk_dot6_columns is, to the bit, the plain dot product x . column j summed left to right,
  * on either path (AVX's four columns a vector, the baseline's two, and each one's scalar
  * remainder): every count from 0 to 33 and two strides. */
@@ -345,6 +402,7 @@ int main(void)
         cmocka_unit_test(test_positive_part_random),
         cmocka_unit_test(test_positive_part_spectra),
         cmocka_unit_test(test_positive_part_paths_same_bits),
+        cmocka_unit_test(test_positive_part_bits_kept),
         cmocka_unit_test(test_dot6_columns_same_bits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

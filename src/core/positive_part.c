@@ -365,11 +365,13 @@ static inline __attribute__((always_inline)) int tridiagonal_eigenvalues(int n, 
     double f = 0.0;
     e2[n - 1] = 0.0;
     for (int l = 0; l < n; l++) {
-        int iter = 0;
-        for (;;) {
-            int m = l;
-            while (e2[m] > c) m++; /* e2[n - 1] is zero: the search stops there */
-            if (m == l) break;
+        int iter = 0, m = l;
+        while (e2[m] > c) m++; /* e2[n - 1] is zero: the search stops there */
+        /* after a sweep the first negligible off-diagonal from l is known without the
+         * search: the sweep rewrites e2[l .. m] (e2[m] to zero) and notes the lowest
+         * one at or below c as it goes (the search took 5.6 of the 36 thousand
+         * instructions of the eigenvalues on a head's G, with a mispredicted exit) */
+        while (m != l) {
             if (iter++ == 60) return 0;
             /* Wilkinson-like shift from the leading 2 x 2 block, as tql2's, in the form
              * e2 / (delta + sign(delta) sqrt(delta^2 + e2)): one square root and one
@@ -381,11 +383,13 @@ static inline __attribute__((always_inline)) int tridiagonal_eigenvalues(int n, 
             for (int i = l + 1; i < n; i++) d[i] -= shift;
             f += shift;
             double g = d[m] != 0.0 ? d[m] : b, h = g, s = 0.0, u = 1.0, n1 = g, n2 = 1.0;
+            int negligible = m;
             for (int i = m - 1; i >= l; i--) {
                 const double p = g * h, r = p + e2[i], ginv = n2 / n1, tu = e2[i] * ginv * ginv * u;
                 u = 1.0 + tu;
                 const double cu = 1.0 / u;
                 e2[i + 1] = s * r;
+                if (!(e2[i + 1] > c)) negligible = i + 1;
                 s = tu * cu;
                 d[i + 1] = h + s * (h + d[i]);
                 double n0 = d[i] * n1 - e2[i] * n2;
@@ -405,6 +409,7 @@ static inline __attribute__((always_inline)) int tridiagonal_eigenvalues(int n, 
             e2[l] = s * g * h;
             d[l] = h;
             if (h == 0.0) break;
+            m = !(e2[l] > c) ? l : negligible;
         }
         d[l] += f;
     }
@@ -531,7 +536,7 @@ static inline void unit_length(double *v, double f, int n)
 /* Lane j of x scaled to unit length after made orthogonal to the earlier lanes of its
  * cluster (modified Gram-Schmidt, dstein's way to keep close eigenvalues' vectors
  * apart). The lanes are copied out to rows of t (k x n) for it, so that the products
- * run along memory, and back to x when another solve follows (back). f: k doubles.
+ * run along memory, and back to x (for the next solve or the reflectors). f: k doubles.
  * Each lane's operations are those of MGS lane by lane (each pass takes off one earlier
  * vector's part and finds the next one's product, the last pass the length), taken
  * right-looking: as soon as vector q + 1 is final, the later lanes of the cluster take
@@ -539,7 +544,7 @@ static inline void unit_length(double *v, double f, int n)
  * that their chains overlap, where lane by lane each pass waited on the last (the same
  * bits). */
 static inline __attribute__((always_inline)) void lanes_orthonormalise(const Lanes *ln, double *x, double *t, double *f,
-                                                                       int back, int wide)
+                                                                       int wide)
 {
     const int n = ln->n, k = ln->k;
     const size_t sk = (size_t)k, sn = (size_t)n, sw = (size_t)ln->w;
@@ -556,13 +561,14 @@ static inline __attribute__((always_inline)) void lanes_orthonormalise(const Lan
             for (int j = q + 2; j < b; j++) f[j] = sub_then_dot(t + (size_t)j * sn, f[j], tq, next, n, wide);
         }
     }
-    if (back) transpose(t, sn, sk, sn, x, sw);
+    transpose(t, sn, sk, sn, x, sw);
 }
 
-/* The eigenvectors of T (d, e) for the k eigenvalues lambda (ascending) into the rows of
- * t (k x n; x: n + 2 rows of k, the lanes' work) by inverse iteration: three solves from a fixed pseudo-random start, which
- * leave of the other eigenvalues' components (eps tnorm / gap)^3, gaps within a cluster
- * (closer than 1e-3 tnorm, dstein's bound) handled by the Gram-Schmidt step. */
+/* The eigenvectors of T (d, e) for the k eigenvalues lambda (ascending) into the lanes
+ * of x (n + 2 rows of w; t: k x n, Gram-Schmidt's rows) by inverse iteration: three
+ * solves from a fixed pseudo-random start, which leave of the other eigenvalues'
+ * components (eps tnorm / gap)^3, gaps within a cluster (closer than 1e-3 tnorm,
+ * dstein's bound) handled by the Gram-Schmidt step. */
 static inline __attribute__((always_inline)) void lanes_eigenvectors(Lanes *ln, const double *d, const double *e,
                                                                      const double *lambda, double tnorm, double *x,
                                                                      double *t, int wide)
@@ -590,121 +596,78 @@ static inline __attribute__((always_inline)) void lanes_eigenvectors(Lanes *ln, 
     for (size_t i = (size_t)n * sw; i < (size_t)(n + 2) * sw; i++) x[i] = 0.0;
     for (int pass = 0; pass < 3; pass++) {
         lanes_solve(ln, x);
-        lanes_orthonormalise(ln, x, t, ln->carry0, pass < 2, wide);
+        lanes_orthonormalise(ln, x, t, ln->carry0, wide);
     }
 }
 
-/* y -= tau (v . y) v for rows rows of y (1, 2 or 4, row stride sn), v and the rows m
- * long: the product along v and the multiple of it (LAPACK's dlarf), the rows sharing
- * the loads of v. first: the rows' index of y[0]; the pairs start at an even index, so
- * that each is loaded where the last reflector stored it whole (a load across two
- * stores waits for both: the loop took twice as long so); wide, four elements at a
- * time from an index multiple of 4 on, for the same reason, the products summed by
- * pairs in the same order. */
-/* reflect_rows' products of the elements i, i + 1 of its rows with v's. */
-static inline __attribute__((always_inline)) void rows_dot_pair(const double *v, double *const *yc, int i, int rows,
-                                                                Pair *s)
+/* x = Q x for the eigenvectors in the lanes of x (n rows of w), Q = H_0 ... H_{n-3}
+ * from tridiagonalise: the reflectors from the last (LAPACK dormtr), each on every lane
+ * at once, y -= tau (v . y) v (dlarf). In the lanes a reflector's product with v runs
+ * down the rows, each row's lanes one vector operation (wide, eight lanes to two Quads
+ * that share a splat of v's element, the rest by pairs), without the bookkeeping of
+ * the eigenvectors as rows (their pairs aligned to even indices, a prologue and an
+ * epilogue for every four vectors and reflector: the stage took 27 thousand
+ * instructions a call for a head's G, now 20 with the lanes' copy to rows). Each lane's
+ * sums are those of the rows' kernel it replaced, to the bit: two partial sums, of the
+ * elements at even and at odd indices from the first even one, in order, their sum,
+ * then the first element where its index is odd, the last where one is left over. */
+static inline __attribute__((always_inline)) void reflect_lanes(const double *v, int m, int first, double tau,
+                                                                double *y, size_t sw, int w, int wide)
 {
-    const Pair vi = load_pair(v + i);
-    s[0] += vi * load_pair(yc[0] + i);
-    if (rows > 1) s[1] += vi * load_pair(yc[1] + i);
-    if (rows > 2) {
-        s[2] += vi * load_pair(yc[2] + i);
-        s[3] += vi * load_pair(yc[3] + i);
-    }
-}
-
-/* reflect_rows' update of the elements i, i + 1 of its rows (their factors g). */
-static inline __attribute__((always_inline)) void rows_sub_pair(const double *v, double *const *yc, int i, int rows,
-                                                                const Pair *g)
-{
-    const Pair vi = load_pair(v + i);
-    store_pair(yc[0] + i, load_pair(yc[0] + i) - g[0] * vi);
-    if (rows > 1) store_pair(yc[1] + i, load_pair(yc[1] + i) - g[1] * vi);
-    if (rows > 2) {
-        store_pair(yc[2] + i, load_pair(yc[2] + i) - g[2] * vi);
-        store_pair(yc[3] + i, load_pair(yc[3] + i) - g[3] * vi);
-    }
-}
-
-static inline __attribute__((always_inline)) void reflect_rows(const double *v, int m, double tau, int first, double *y,
-                                                               size_t sn, int rows, int wide)
-{
-    double *const yc[4] = {y, y + sn, y + 2 * sn, y + 3 * sn};
-    const int i0 = first & 1, last = i0 + ((m - i0) & ~1); /* the elements left alone */
-    int q0 = i0, q1 = i0;                                  /* the quads: q0 .. q1 */
-    if (wide) {
-        q0 = i0 + ((first + i0) & 2) < last ? i0 + ((first + i0) & 2) : last;
-        q1 = q0 + ((last - q0) & ~3);
-    }
-    Pair s[4] = {{0.0, 0.0}, {0.0, 0.0}, {0.0, 0.0}, {0.0, 0.0}};
-    int i = i0;
-    for (; i < q0; i += 2) rows_dot_pair(v, yc, i, rows, s);
-    for (; i < q1; i += 4) {
-        const Quad vi = load_quad(v + i), p0 = vi * load_quad(yc[0] + i);
-        s[0] += LOW_PAIR(p0);
-        s[0] += HIGH_PAIR(p0);
-        if (rows > 1) {
-            const Quad p1 = vi * load_quad(yc[1] + i);
-            s[1] += LOW_PAIR(p1);
-            s[1] += HIGH_PAIR(p1);
+    const int i0 = first & 1, last = i0 + ((m - i0) & ~1);
+    int j = 0;
+    for (; wide && j + 8 <= w; j += 8) { /* two Quads of lanes, v's elements splat once */
+        double *yj = y + j;
+        Quad s0 = splat4(0.0), s1 = s0, t0 = s0, t1 = s0;
+        for (int i = i0; i < last; i += 2) {
+            const Quad v0 = splat4(v[i]), v1 = splat4(v[i + 1]);
+            double *y0 = yj + (size_t)i * sw, *y1 = y0 + sw;
+            s0 += v0 * load_quad(y0);
+            t0 += v0 * load_quad(y0 + 4);
+            s1 += v1 * load_quad(y1);
+            t1 += v1 * load_quad(y1 + 4);
         }
-        if (rows > 2) {
-            const Quad p2 = vi * load_quad(yc[2] + i), p3 = vi * load_quad(yc[3] + i);
-            s[2] += LOW_PAIR(p2);
-            s[2] += HIGH_PAIR(p2);
-            s[3] += LOW_PAIR(p3);
-            s[3] += HIGH_PAIR(p3);
+        Quad f = s0 + s1, g = t0 + t1;
+        if (i0) {
+            f += splat4(v[0]) * load_quad(yj);
+            g += splat4(v[0]) * load_quad(yj + 4);
+        }
+        if (last < m) {
+            f += splat4(v[last]) * load_quad(yj + (size_t)last * sw);
+            g += splat4(v[last]) * load_quad(yj + (size_t)last * sw + 4);
+        }
+        f *= splat4(tau);
+        g *= splat4(tau);
+        for (int i = 0; i < m; i++) {
+            double *yi = yj + (size_t)i * sw;
+            const Quad vi = splat4(v[i]);
+            STORE_QUAD(yi, load_quad(yi) - f * vi);
+            STORE_QUAD(yi + 4, load_quad(yi + 4) - g * vi);
         }
     }
-    for (; i < last; i += 2) rows_dot_pair(v, yc, i, rows, s);
-    double f[4] = {s[0][0] + s[0][1], s[1][0] + s[1][1], s[2][0] + s[2][1], s[3][0] + s[3][1]};
-    for (int c = 0; c < rows; c++) {
-        if (i0) f[c] += v[0] * yc[c][0];
-        if (last < m) f[c] += v[last] * yc[c][last];
-        f[c] *= tau;
-    }
-    const Pair g[4] = {splat(f[0]), splat(f[1]), splat(f[2]), splat(f[3])};
-    for (i = i0; i < q0; i += 2) rows_sub_pair(v, yc, i, rows, g);
-    if (q0 < q1) {
-        const Quad h0 = splat4(f[0]), h1 = splat4(f[1]), h2 = splat4(f[2]), h3 = splat4(f[3]);
-        for (; i < q1; i += 4) {
-            const Quad vi = load_quad(v + i);
-            STORE_QUAD(yc[0] + i, load_quad(yc[0] + i) - h0 * vi);
-            if (rows > 1) STORE_QUAD(yc[1] + i, load_quad(yc[1] + i) - h1 * vi);
-            if (rows > 2) {
-                STORE_QUAD(yc[2] + i, load_quad(yc[2] + i) - h2 * vi);
-                STORE_QUAD(yc[3] + i, load_quad(yc[3] + i) - h3 * vi);
-            }
+    for (; j < w; j += 2) { /* a Pair of lanes (the rest, or all of them on SSE2) */
+        double *yj = y + j;
+        Pair s0 = {0.0, 0.0}, s1 = {0.0, 0.0};
+        for (int i = i0; i < last; i += 2) {
+            s0 += splat(v[i]) * load_pair(yj + (size_t)i * sw);
+            s1 += splat(v[i + 1]) * load_pair(yj + (size_t)(i + 1) * sw);
         }
-    }
-    for (; i < last; i += 2) rows_sub_pair(v, yc, i, rows, g);
-    for (int c = 0; c < rows; c++) {
-        if (i0) yc[c][0] -= f[c] * v[0];
-        if (last < m) yc[c][last] -= f[c] * v[last];
+        Pair f = s0 + s1;
+        if (i0) f += splat(v[0]) * load_pair(yj);
+        if (last < m) f += splat(v[last]) * load_pair(yj + (size_t)last * sw);
+        f *= splat(tau);
+        for (int i = 0; i < m; i++) store_pair(yj + (size_t)i * sw, load_pair(yj + (size_t)i * sw) - f * splat(v[i]));
     }
 }
 
-/* x = Q x for the k rows of x (k x n), Q = H_0 ... H_{n-3} from tridiagonalise: the
- * reflectors from the last (LAPACK dormtr), each on all rows, four at a time: a row's
- * product waits for its last multiple, the other rows' work fills the wait. */
-static inline __attribute__((always_inline)) void apply_reflectors(int n, const double *a, const double *tau, int k,
+static inline __attribute__((always_inline)) void apply_reflectors(int n, const double *a, const double *tau, int w,
                                                                    double *x, int wide)
 {
-    const size_t sn = (size_t)n;
-    for (int r = n - 3; r >= 0; r--) {
-        if (tau[r] == 0.0) continue;
-        const double *v = a + (size_t)r * sn + (size_t)r + 1;
-        const int m = n - r - 1;
-        double *y = x + (size_t)r + 1;
-        int j = 0;
-        for (; j + 3 < k; j += 4) reflect_rows(v, m, tau[r], r + 1, y + (size_t)j * sn, sn, 4, wide);
-        if (j + 1 < k) {
-            reflect_rows(v, m, tau[r], r + 1, y + (size_t)j * sn, sn, 2, wide);
-            j += 2;
-        }
-        if (j < k) reflect_rows(v, m, tau[r], r + 1, y + (size_t)j * sn, sn, 1, wide);
-    }
+    const size_t sn = (size_t)n, sw = (size_t)w;
+    for (int r = n - 3; r >= 0; r--)
+        if (tau[r] != 0.0)
+            reflect_lanes(a + (size_t)r * sn + (size_t)r + 1, n - r - 1, r + 1, tau[r], x + (size_t)(r + 1) * sw, sw, w,
+                          wide);
 }
 
 /* The lower triangle of out (and the diagonal) = base + sum_q c[q] x_q x_q^T (base: a,
@@ -836,7 +799,8 @@ static inline __attribute__((always_inline)) int positive_part(int n, const doub
         ln.carry1 = ln.carry0 + lanes;
         ln.cluster = (int *)(ln.carry1 + lanes);
         lanes_eigenvectors(&ln, d, e, lambda, tnorm, x, xt, wide);
-        apply_reflectors(n, t, tau, k, xt, wide);
+        apply_reflectors(n, t, tau, ln.w, x, wide);
+        transpose(x, (size_t)ln.w, sn, (size_t)k, xt, sn); /* the vectors to rows for add_rank_k */
     }
     if (subtract)
         for (int q = 0; q < k; q++) lambda[q] = -lambda[q];
