@@ -17,6 +17,7 @@
 #include "core/linalg.h"
 #include "dynamics/dynamics_internal.h"
 #include "hairkit/dynamics.h"
+#include "hairkit/motion.h"
 #include "rod/helix_local.h"
 
 static double rnd(double lo, double hi) { return lo + (hi - lo) * hk_test_uniform(); }
@@ -571,6 +572,15 @@ static hk_SuperHelix *strand_copy(const hk_SuperHelix *a)
     return b;
 }
 
+/* Whether the CPU has AVX (its paths turned on), so that they can be compared with the
+ * baseline's. */
+static int avx_paths_to_compare(void)
+{
+    if (hk_avx_paths_allow(1)) return 1;
+    print_message("no AVX on this machine: nothing to compare\n");
+    return 0;
+}
+
 /* The positive part's AVX and SSE2 paths (hk_symmetric_positive_part) on the matrices
  * a strand's steps really decompose: a curly strand of N = 10 (30 x 30, as a guide of
  * the bench's head) with the full stiffness, refreshed every step, on a moving head.
@@ -580,10 +590,7 @@ static hk_SuperHelix *strand_copy(const hk_SuperHelix *a)
 static void test_positive_part_paths_on_strand(void **state)
 {
     (void)state;
-    if (!hk_avx_paths_allow(1)) {
-        print_message("no AVX on this machine: nothing to compare\n");
-        return;
-    }
+    if (!avx_paths_to_compare()) return;
     const int n = 10, dim = 3 * n, steps = 20;
     hk_SuperHelix *a = curly_strand(n), *b = strand_copy(a);
     hk_DynamicsDef p = hk_default_dynamics_def();
@@ -625,6 +632,50 @@ static void test_positive_part_paths_on_strand(void **state)
     hk_superhelix_destroy(b);
 }
 
+static void shake_state(void *user, double t, hk_RigidState *out) { hk_head_motion_eval(user, t, out); }
+
+/* The guides' evaluation compiled for AVX (its twins, core/avx_twins.h) and the
+ * baseline's give the same bits: a curly strand of N = 10 with the default integrator
+ * (TR-BDF2, Newton's iteration, the error control splitting steps) on a shaking head,
+ * 30 steps through hk_strand_dynamics_advance on each path, the states compared byte for
+ * byte after every step. */
+static void test_avx_twins_advance_the_same_bits(void **state)
+{
+    (void)state;
+    if (!avx_paths_to_compare()) return;
+    const int n = 10, dim = 3 * n, steps = 30;
+    hk_SuperHelix *a = curly_strand(n), *b = strand_copy(a);
+    const hk_DynamicsDef p = hk_default_dynamics_def();
+    hk_StrandDynamics *da = NULL, *db = NULL;
+    hk_HeadMotion *shake = NULL;
+    hk_Error err;
+    assert_int_equal(hk_strand_dynamics_create(a, &p, NULL, &da, &err), HK_OK);
+    assert_int_equal(hk_strand_dynamics_create(b, &p, NULL, &db, &err), HK_OK);
+    assert_int_equal(hk_head_motion_scripted("shake", 60.0, 2.0, hk_default_head_pivot(), &shake, &err), HK_OK);
+    int substeps = 0;
+    for (int step = 0; step < steps; step++) {
+        int sa = 0, sb = 0;
+        hk_avx_paths_allow(1);
+        assert_int_equal(hk_strand_dynamics_advance(da, shake_state, shake, step / 30.0, 1.0 / 30, NULL, 0, &sa, &err),
+                         HK_OK);
+        hk_avx_paths_allow(0);
+        assert_int_equal(hk_strand_dynamics_advance(db, shake_state, shake, step / 30.0, 1.0 / 30, NULL, 0, &sb, &err),
+                         HK_OK);
+        assert_int_equal(sa, sb);
+        substeps += sa;
+        assert_memory_equal(a->q, b->q, sizeof(double) * (size_t)dim);
+        assert_memory_equal(hk_strand_dynamics_velocity(da), hk_strand_dynamics_velocity(db),
+                            sizeof(double) * (size_t)dim);
+    }
+    hk_avx_paths_allow(1);
+    print_message("curly N = 10 shaken: %d steps taken in %d frames\n", substeps, steps);
+    hk_head_motion_destroy(shake);
+    hk_strand_dynamics_destroy(da);
+    hk_strand_dynamics_destroy(db);
+    hk_superhelix_destroy(a);
+    hk_superhelix_destroy(b);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -638,6 +689,7 @@ int main(void)
         cmocka_unit_test(test_body_stiffness_of_overlapping_shapes),
         cmocka_unit_test(test_point_pairs_bit_for_bit),
         cmocka_unit_test(test_positive_part_paths_on_strand),
+        cmocka_unit_test(test_avx_twins_advance_the_same_bits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -18,6 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/linalg.h"
 #include "hairkit/simulate.h"
 
 typedef struct Scene {
@@ -333,14 +334,51 @@ static void test_bad_input(void **state)
     free_scene(&sc);
 }
 
+/* The guides' evaluation compiled for AVX (its twins: the free steps, the contact
+ * points' Jacobians, the commits, the samples; core/avx_twins.h) and the baseline's
+ * give the same guides to the byte after the head's shake (contacts coupled, 2 threads). */
+static void test_same_bytes_on_the_avx_path(void **state)
+{
+    (void)state;
+    if (!hk_avx_paths_allow(1)) {
+        print_message("no AVX on this machine: nothing to compare\n");
+        return;
+    }
+    Scene sc;
+    load_scene(&sc);
+    double *guides[2];
+    size_t n = 0;
+    for (int avx = 1; avx >= 0; avx--) {
+        hk_avx_paths_allow(avx);
+        hk_HairSimDef o = hk_hair_sim_def_for(&sc.style);
+        o.threads = 2;
+        hk_HairSim *sim = NULL;
+        hk_HeadMotion *shake = NULL;
+        hk_Error err;
+        assert_int_equal(
+            hk_hair_sim_create(&sc.style, sc.collision.shapes, sc.collision.count, &sc.wick, &o, &sim, &err), HK_OK);
+        assert_int_equal(hk_head_motion_scripted("shake", 25.0, 1.0, hk_default_head_pivot(), &shake, &err), HK_OK);
+        assert_int_equal(hk_hair_sim_settle(sim, NULL, 0.1, 1.0 / 30.0, &err), HK_OK);
+        for (int f = 0; f < 6; f++)
+            assert_int_equal(hk_hair_sim_advance(sim, shake, f / 30.0, 1.0 / 30.0, NULL, &err), HK_OK);
+        guides[avx] = guides_now(sim);
+        n = (size_t)hk_hair_sim_guide_count(sim) * (size_t)hk_hair_sim_points_per_strand(sim) * 3;
+        hk_head_motion_destroy(shake);
+        hk_hair_sim_destroy(sim);
+    }
+    hk_avx_paths_allow(1);
+    assert_memory_equal(guides[0], guides[1], n * sizeof(double));
+    free(guides[0]);
+    free(guides[1]);
+    free_scene(&sc);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_still_head_keeps_rest_shape),
-        cmocka_unit_test(test_shaking_head_keeps_hair_out),
-        cmocka_unit_test(test_same_bytes_with_any_threads),
-        cmocka_unit_test(test_run_frames_outside_posed_body),
-        cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_still_head_keeps_rest_shape),   cmocka_unit_test(test_shaking_head_keeps_hair_out),
+        cmocka_unit_test(test_same_bytes_with_any_threads),   cmocka_unit_test(test_same_bytes_on_the_avx_path),
+        cmocka_unit_test(test_run_frames_outside_posed_body), cmocka_unit_test(test_bad_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

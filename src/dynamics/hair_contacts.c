@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "hair_contacts_internal.h"
+#include "core/avx_twins.h"
 
 /* Largest strand and total sizes accepted: far beyond any head of guides, small
  * enough that every index and the broad phase's entries stay well inside int. */
@@ -169,6 +170,7 @@ static void clear_forces(hk_HairContacts *c)
 
 hk_Status hk_hair_contacts_update(hk_HairContacts *c, const hk_StrandSamples *strands, int strand_count, hk_Error *err)
 {
+    HK_AVX_TWIN_RETURN(hk_hair_contacts_update, c, strands, strand_count, err);
     if (!c) return hk_error_set(err, HK_ERR_INVALID, "hair contacts: no contacts object");
     clear_forces(c);
     hk_Status st = check_strands(c, strands, strand_count, err);

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "dynamics_internal.h"
+#include "core/avx_twins.h"
 #include "core/linalg.h"
 #include "rod/helix_local.h"
 #include "rod/rod_internal.h"
@@ -721,6 +722,7 @@ void hk_strand_dynamics_energy(hk_StrandDynamics *d, const hk_RigidState *head, 
 void hk_strand_dynamics_points(hk_StrandDynamics *d, const hk_RigidState *head, const double *s, int count,
                                hk_Vec3 *pos, hk_Vec3 *vel)
 {
+    HK_AVX_TWIN_CALL(hk_strand_dynamics_points, d, head, s, count, pos, vel);
     const hk_RigidState still = hk_rigid_identity();
     if (!head) head = &still;
     hk_SuperHelix *sh = d->sh;

@@ -32,6 +32,7 @@
 #include <string.h>
 
 #include "dynamics_internal.h"
+#include "core/avx_twins.h"
 #include "core/linalg.h"
 #include "motion_internal.h"
 
@@ -358,6 +359,7 @@ static void rows_times_sse2(const double *a, const double *v, int dim, double *o
 int hk_dynamics_euler_delta(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces,
                             int force_count, double h)
 {
+    HK_AVX_TWIN_RETURN(hk_dynamics_euler_delta, d, head, forces, force_count, h);
     hk_SuperHelix *sh = d->sh;
     const int n = sh->n, dim = 3 * n;
     hk_dynamics_evaluate(d, head, forces, force_count, h, NULL);
@@ -425,6 +427,7 @@ static void restore_state(hk_StrandDynamics *d)
 hk_Status hk_strand_dynamics_step(hk_StrandDynamics *d, const hk_RigidState *head, const hk_PointForce *forces,
                                   int force_count, double dt, hk_Error *err)
 {
+    HK_AVX_TWIN_RETURN(hk_strand_dynamics_step, d, head, forces, force_count, dt, err);
     if (!(dt > 0.0) || !isfinite(dt)) return hk_error_set(err, HK_ERR_INVALID, "time step must be > 0, got %g", dt);
     const hk_RigidState still = hk_rigid_identity();
     if (!head) head = &still;
@@ -544,6 +547,7 @@ static int advance(hk_StrandDynamics *d, const Interval *iv, double t, double dt
 
 int hk_dynamics_euler_commit(hk_StrandDynamics *d, const double *v, double h, const hk_RigidState *head_end)
 {
+    HK_AVX_TWIN_RETURN(hk_dynamics_euler_commit, d, v, h, head_end);
     hk_SuperHelix *sh = d->sh;
     const int dim = 3 * sh->n;
     save_state(d);
@@ -567,6 +571,7 @@ int hk_dynamics_euler_commit(hk_StrandDynamics *d, const double *v, double h, co
 hk_Status hk_strand_dynamics_advance(hk_StrandDynamics *d, hk_HeadStateFn head, void *user, double t, double dt,
                                      const hk_PointForce *forces, int force_count, int *substeps, hk_Error *err)
 {
+    HK_AVX_TWIN_RETURN(hk_strand_dynamics_advance, d, head, user, t, dt, forces, force_count, substeps, err);
     int count = 0;
     if (substeps) *substeps = 0;
     if (!(dt > 0.0) || !isfinite(dt) || !isfinite(t))

@@ -10,6 +10,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/avx_twins.h"
 #include "core/linalg.h"
 #include "dynamics_internal.h"
 
@@ -50,6 +51,7 @@ void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head
                                  int count, double *screws, double *jac, int packed, hk_Vec3 *pos, hk_Vec3 *vel,
                                  int *element)
 {
+    HK_AVX_TWIN_CALL(hk_dynamics_point_jacobians, d, head, rates, s, count, screws, jac, packed, pos, vel, element);
     const hk_RigidState still = hk_rigid_identity();
     if (!head) head = &still;
     hk_SuperHelix *sh = d->sh;

@@ -1,0 +1,33 @@
+# The AVX twins' object (CMakeLists.txt, HK_AVX_TWIN_SOURCES; src/core/avx_twins.h):
+#   cmake -DLINKER=ld -DNM=nm -DOBJCOPY=objcopy -DOBJECTS="a.o;b.o" -DOUT=twins.o -P avx_twins.cmake
+# links the objects compiled with -mavx into one relocatable object, then renames every
+# global symbol defined there NAME_avx, the calls among them with it. The names come
+# from the objects themselves, so none can be forgotten: the twins never mix with the
+# baseline's functions, and a twin that kept its name would clash at the link.
+foreach(var LINKER NM OBJCOPY OBJECTS OUT)
+  if(NOT DEFINED ${var})
+    message(FATAL_ERROR "avx_twins.cmake: ${var} not given")
+  endif()
+endforeach()
+
+function(run)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "avx_twins.cmake: ${ARGN} failed (${rc}): ${err}")
+  endif()
+  set(run_output "${out}" PARENT_SCOPE)
+endfunction()
+
+run(${LINKER} -r -o ${OUT}.joined.o ${OBJECTS})
+run(${NM} --defined-only --extern-only --format=posix ${OUT}.joined.o)
+string(REGEX MATCHALL "[^\n]+" lines "${run_output}")
+set(renames "")
+foreach(line IN LISTS lines)
+  string(REGEX REPLACE " .*" "" name "${line}")
+  string(APPEND renames "${name} ${name}_avx\n")
+endforeach()
+if(renames STREQUAL "")
+  message(FATAL_ERROR "avx_twins.cmake: no symbol defined in ${OBJECTS}")
+endif()
+file(WRITE ${OUT}.renames "${renames}")
+run(${OBJCOPY} --redefine-syms=${OUT}.renames ${OUT}.joined.o ${OUT})
