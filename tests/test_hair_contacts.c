@@ -317,11 +317,14 @@ static void test_broad_phase_matches_brute_force(void **state)
 {
     (void)state;
     const hk_HairContactDef p = test_params();
-    /* Wavy guides, more of them, and a tangle of curly strands (long walks). */
-    const int sizes[][2] = {{40, 30}, {60, 25}, {8, 200}};
-    const double curl[3] = {0.4, 0.4, 1.5};
-    for (int t = 0; t < 3; t++) {
-        Strands st = random_strands_curl(sizes[t][0], sizes[t][1], 0.004, 0.04, curl[t]);
+    /* Wavy guides, more of them, a tangle of curly strands (long walks), and a tight
+     * bundle: starting within 4 mm, so that buckets hold a hundred entries and more,
+     * whose passed entry pairs fill the pair loop's list many times within one bucket
+     * (its flushes in the middle of a sweep's bucket). */
+    const int sizes[][2] = {{40, 30}, {60, 25}, {8, 200}, {120, 12}};
+    const double curl[4] = {0.4, 0.4, 1.5, 0.4}, box[4] = {0.04, 0.04, 0.04, 0.004};
+    for (int t = 0; t < 4; t++) {
+        Strands st = random_strands_curl(sizes[t][0], sizes[t][1], 0.004, box[t], curl[t]);
         hk_HairContacts *c = make_contacts(st.g, &p);
         update_ok(c, &st);
         /* Candidates: every segment pair closer than 2 d0, found once. */
