@@ -1101,8 +1101,13 @@ static void prefetch_rows(const PairState *ps)
 
 /* The kinds of sweep: over the pairs that pushed at the last full sweep; the solve's
  * first full sweep, which also writes each pair's idle check (IdleCheck); a later full
- * sweep, which checks the idle pairs from those. */
-enum { SWEEP_PUSHING = 0, SWEEP_FIRST_FULL = 1, SWEEP_FULL = 2 };
+ * sweep, which checks the idle pairs from those; or visits them all, when the tests
+ * turned the records off (hk_contact_solve_idle_records_allow). */
+enum { SWEEP_PUSHING = 0, SWEEP_FIRST_FULL = 1, SWEEP_FULL = 2, SWEEP_FULL_VISITS = 3 };
+
+static int idle_records_allowed = 1;
+
+void hk_contact_solve_idle_records_allow(int allow) { idle_records_allowed = allow; }
 
 /* What visit's test of an idle pair reads (normal_velocity), in one record followed by
  * row 0 of point a, then of point b: the records of a group's pairs one after another
@@ -1235,7 +1240,10 @@ static void run_sweeps(hk_ContactSolve *cs, const int *order, SweepGroup group[H
         } else {
             for (int sweep = 0; sweep < HK_PGS_SWEEPS; sweep++) {
                 const int full = sweep % HK_PGS_FULL_EVERY == 0 || sweep == HK_PGS_SWEEPS - 1;
-                share.kind = sweep == 0 ? SWEEP_FIRST_FULL : full ? SWEEP_FULL : SWEEP_PUSHING;
+                share.kind = sweep == 0                     ? SWEEP_FIRST_FULL
+                             : full && idle_records_allowed ? SWEEP_FULL
+                             : full                         ? SWEEP_FULL_VISITS
+                                                            : SWEEP_PUSHING;
                 for (int stage = 3 * sweep; stage < 3 * sweep + 3; stage++) {
                     atomic_store_explicit(&share.finished, 4 * stage, memory_order_relaxed);
                     atomic_store_explicit(&share.claim, 4 * stage, memory_order_release);
