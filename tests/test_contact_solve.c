@@ -197,6 +197,25 @@ static void test_commit_matches_the_step_with_forces(void **state)
     world_free(&b);
 }
 
+/* Worlds a and b solved alike: the same forces; each strand committed (at rest's head)
+ * to the same state, to the bit. */
+static void commit_both_alike(World *a, World *b, double h)
+{
+    const hk_RigidState still = hk_rigid_identity();
+    for (int i = 0; i < STRANDS; i++) {
+        int na = 0, nb = 0;
+        const hk_PointForce *fa = hk_contact_solve_forces(a->solve, i, &na);
+        const hk_PointForce *fb = hk_contact_solve_forces(b->solve, i, &nb);
+        assert_int_equal(na, nb);
+        if (na > 0) assert_memory_equal(fa, fb, (size_t)na * sizeof *fa);
+        assert_int_equal(hk_contact_solve_commit(a->solve, a->d[i], i, &still, h),
+                         hk_contact_solve_commit(b->solve, b->d[i], i, &still, h));
+        assert_memory_equal(a->sh[i]->q, b->sh[i]->q, 3 * (size_t)a->sh[i]->n * sizeof(double));
+        assert_memory_equal(hk_strand_dynamics_velocity(a->d[i]), hk_strand_dynamics_velocity(b->d[i]),
+                            3 * (size_t)a->sh[i]->n * sizeof(double));
+    }
+}
+
 /* The staged solve and the solve alone: the same forces, the same steps, to the bit. */
 static void test_staged_solve_gives_the_same_bits(void **state)
 {
@@ -204,7 +223,6 @@ static void test_staged_solve_gives_the_same_bits(void **state)
     World a, b;
     twin_worlds(&a, &b);
     const double h = 1.0 / 30.0;
-    const hk_RigidState still = hk_rigid_identity();
     int pushing = 0;
     for (int step = 0; step < 40; step++) {
         hk_ContactSolveStats sa, sb;
@@ -213,21 +231,39 @@ static void test_staged_solve_gives_the_same_bits(void **state)
         assert_int_equal(sa.pushing, sb.pushing);
         assert_int_equal(sa.sweeps, sb.sweeps);
         pushing += sa.pushing;
-        for (int i = 0; i < STRANDS; i++) {
-            int na = 0, nb = 0;
-            const hk_PointForce *fa = hk_contact_solve_forces(a.solve, i, &na);
-            const hk_PointForce *fb = hk_contact_solve_forces(b.solve, i, &nb);
-            assert_int_equal(na, nb);
-            if (na > 0) assert_memory_equal(fa, fb, (size_t)na * sizeof *fa);
-            assert_int_equal(hk_contact_solve_commit(a.solve, a.d[i], i, &still, h),
-                             hk_contact_solve_commit(b.solve, b.d[i], i, &still, h));
-            assert_memory_equal(a.sh[i]->q, b.sh[i]->q, 3 * (size_t)a.sh[i]->n * sizeof(double));
-            assert_memory_equal(hk_strand_dynamics_velocity(a.d[i]), hk_strand_dynamics_velocity(b.d[i]),
-                                3 * (size_t)a.sh[i]->n * sizeof(double));
-        }
+        commit_both_alike(&a, &b, h);
     }
     print_message("%d pairs pushed over 40 steps\n", pushing);
     assert_true(pushing > 20);
+    world_free(&a);
+    world_free(&b);
+}
+
+/* The full sweeps' idle checks from their records (hair_contact_solve.c, IdleCheck)
+ * and visit's own test: the same forces, the same steps, to the bit, over steps whose
+ * sweeps reach the later full sweeps (10 and 20), where the records are read. */
+static void test_idle_records_give_the_same_bits(void **state)
+{
+    (void)state;
+    World a, b;
+    twin_worlds(&a, &b);
+    const double h = 1.0 / 30.0;
+    int pushing = 0, long_solves = 0;
+    for (int step = 0; step < 40; step++) {
+        hk_ContactSolveStats sa, sb;
+        world_solve(&a, h, &sa);
+        hk_contact_solve_idle_records_allow(0);
+        world_solve(&b, h, &sb);
+        hk_contact_solve_idle_records_allow(1);
+        assert_int_equal(sa.pushing, sb.pushing);
+        assert_int_equal(sa.sweeps, sb.sweeps);
+        pushing += sa.pushing;
+        long_solves += sa.sweeps > 11;
+        commit_both_alike(&a, &b, h);
+    }
+    print_message("%d pairs pushed, %d solves past sweep 11 over 40 steps\n", pushing, long_solves);
+    assert_true(pushing > 20);
+    assert_true(long_solves > 0);
     world_free(&a);
     world_free(&b);
 }
@@ -410,6 +446,7 @@ int main(void)
         cmocka_unit_test(test_point_jacobians_reuse_only_the_swept_state),
         cmocka_unit_test(test_commit_matches_the_step_with_forces),
         cmocka_unit_test(test_staged_solve_gives_the_same_bits),
+        cmocka_unit_test(test_idle_records_give_the_same_bits),
         cmocka_unit_test(test_forces_opposite_and_in_the_cone),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -165,6 +165,9 @@ struct hk_ContactSolve {
     Buffer by_pair;                  /* int per point, strand by strand: 2 pair + side in pair order */
     Buffer by_pair_fill;             /* int per strand: dealing by_pair (layout) */
     Buffer active;                   /* int per pair: the pushing pairs of the last full sweep */
+    Buffer pushed;                   /* char per pair: its impulse is not zero (as visit tests it) */
+    Buffer checks;                   /* double: the idle checks' records in the sweeps' order (IdleCheck) */
+    size_t check_stride;             /* doubles a pair may take in checks: its header and two rows */
     Buffer delta;                    /* hk_Vec3 per pair: its warm start (apply_to_strand) */
     Buffer order, weight;            /* int and double per pair: the sweeps' order, the split's weights */
     Buffer roots;                    /* hk_Vec3 per strand: its root, where the split reads it */
@@ -224,11 +227,12 @@ void hk_contact_solve_destroy(hk_ContactSolve *cs)
     hk_free(cs->reversed);
     hk_free(cs->ul_start);
     hk_free(cs->stage);
-    Buffer *all[] = {&cs->slots, &cs->at,       &cs->vfree,        &cs->vel,       &cs->forces,
-                     &cs->jac,   &cs->yt,       &cs->support,      &cs->ul,        &cs->answered,
-                     &cs->dv,    &cs->screws,   &cs->pairs,        &cs->old_pairs, &cs->active,
-                     &cs->order, &cs->weight,   &cs->roots,        &cs->delta,     &cs->segment_place,
-                     &cs->block, &cs->impulses, &cs->old_impulses, &cs->by_pair,   &cs->by_pair_fill};
+    Buffer *all[] = {&cs->slots,  &cs->at,       &cs->vfree,        &cs->vel,       &cs->forces,
+                     &cs->jac,    &cs->yt,       &cs->support,      &cs->ul,        &cs->answered,
+                     &cs->dv,     &cs->screws,   &cs->pairs,        &cs->old_pairs, &cs->active,
+                     &cs->order,  &cs->weight,   &cs->roots,        &cs->delta,     &cs->segment_place,
+                     &cs->block,  &cs->impulses, &cs->old_impulses, &cs->by_pair,   &cs->by_pair_fill,
+                     &cs->pushed, &cs->checks};
     for (size_t k = 0; k < sizeof all / sizeof *all; k++) hk_free(all[k]->items);
     hk_contact_split_free(&cs->split);
     hk_free(cs);
@@ -269,6 +273,8 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Error 
         !reserve(&cs->support, slots, sizeof(int), err) || !reserve(&cs->answered, slots, sizeof(char), err) ||
         !reserve(&cs->block, slots, sizeof(size_t), err) || !reserve(&cs->pairs, (size_t)n, sizeof(PairState), err) ||
         !reserve(&cs->active, (size_t)n, sizeof(int), err) || !reserve(&cs->order, (size_t)n, sizeof(int), err) ||
+        !reserve(&cs->pushed, (size_t)n, sizeof(char), err) ||
+        !reserve(&cs->checks, (size_t)n * cs->check_stride, sizeof(double), err) ||
         !reserve(&cs->weight, (size_t)n, sizeof(double), err) ||
         !reserve(&cs->roots, (size_t)g, sizeof(hk_Vec3), err) ||
         !reserve(&cs->delta, (size_t)n, sizeof(hk_Vec3), err) ||
@@ -530,6 +536,9 @@ static void strand_rows_in_basis(hk_ContactSolve *cs, int s, int x)
 
 /* Pair ps has an impulse from the last step (its warm start, set by prepare_pairs). */
 static int has_impulse(const PairState *ps) { return hk_v3_norm2(ps->lambda) > 0.0; }
+
+/* Every component of v is zero (visit's test of an idle pair: no impulse). */
+static int is_zero(hk_Vec3 v) { return v.x == 0.0 && v.y == 0.0 && v.z == 0.0; }
 
 /* Y^T of strand s's points marked wanted (answered == WANTED), a run of consecutive
  * points solved at once; Z^T of a reversed strand's points of the pairs with an
@@ -972,6 +981,7 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
             if (may_push(ps)) answered[ps->slot[0]] = answered[ps->slot[1]] = WANTED;
             weight[k] = sweep_cost(ps);
             delta[k] = has_impulse(ps) ? ps->lambda : hk_v3_zero();
+            ((char *)cs->pushed.items)[k] = !is_zero(ps->lambda);
         }
     }
 }
@@ -1034,7 +1044,7 @@ static inline __attribute__((always_inline)) int visit(hk_ContactSolve *cs, int 
                                                        double *change, double *size)
 {
     PairState *ps = (PairState *)cs->pairs.items + k;
-    const int idle = ps->lambda.x == 0.0 && ps->lambda.y == 0.0 && ps->lambda.z == 0.0;
+    const int idle = is_zero(ps->lambda);
     /* No impulse and a normal law that does not push: zero stays the pair's answer
      * (with no push there is no friction either), whatever w. */
     if (idle && !(ps->beta - ps->gamma * normal_velocity(ps) > 0.0)) {
@@ -1054,6 +1064,7 @@ static inline __attribute__((always_inline)) int visit(hk_ContactSolve *cs, int 
     const hk_Vec3 next = hk_v3(lam[0], lam[1], lam[2]);
     const hk_Vec3 delta = hk_v3_sub(next, ps->lambda);
     ps->lambda = next;
+    ((char *)cs->pushed.items)[k] = !is_zero(next);
     const double dl = hk_v3_norm(delta);
     if (dl > 0.0) apply_change(ps, delta);
     if (dl > *change) *change = dl;
@@ -1088,25 +1099,90 @@ static void prefetch_rows(const PairState *ps)
         prefetch_bytes(ps->point[side].rows, 3 * (size_t)ps->point[side].m * sizeof(double));
 }
 
+/* The kinds of sweep: over the pairs that pushed at the last full sweep; the solve's
+ * first full sweep, which also writes each pair's idle check (IdleCheck); a later full
+ * sweep, which checks the idle pairs from those; or visits them all, when the tests
+ * turned the records off (hk_contact_solve_idle_records_allow). */
+enum { SWEEP_PUSHING = 0, SWEEP_FIRST_FULL = 1, SWEEP_FULL = 2, SWEEP_FULL_VISITS = 3 };
+
+static int idle_records_allowed = 1;
+
+void hk_contact_solve_idle_records_allow(int allow) { idle_records_allowed = allow; }
+
+/* What visit's test of an idle pair reads (normal_velocity), in one record followed by
+ * row 0 of point a, then of point b: the records of a group's pairs one after another
+ * in its order, so that a full sweep's checks read one stream instead of a pair's
+ * fields and two points' rows from three places (with the caches' neighbouring lines:
+ * its other rows, which an idle pair does not read). An idle check stalled on those
+ * loads, prefetched or not: 0.85-1.4 ms a full sweep against 0.55 for a sweep of the
+ * pushing pairs alone (thread CPU time, one thread, examples/guides200 shaking;
+ * docs/dynamics.md, "The idle checks' stream"). Row 0 of a point stays as it is
+ * through the solve (answer_lazily solves rows 1 and 2 only), and so do the rest. */
+typedef struct IdleCheck {
+    double beta, gamma, free_n; /* the pair's normal law, its normal velocity at the free velocities */
+    double *dv[2];              /* its strands' dv (or w) */
+    int m[2];                   /* its points' supports */
+} IdleCheck;
+#define CHECK_HEAD (sizeof(IdleCheck) / sizeof(double))
+
+/* Pair ps's record at record (IdleCheck); returns the end of the record. */
+static double *write_check(const PairState *ps, double *record)
+{
+    IdleCheck *ic = (IdleCheck *)record;
+    double *row = record + CHECK_HEAD;
+    ic->beta = ps->beta, ic->gamma = ps->gamma, ic->free_n = ps->free.x;
+    for (int side = 0; side < 2; side++) {
+        const PointRows *pr = &ps->point[side];
+        ic->dv[side] = pr->dv, ic->m[side] = pr->m;
+        memcpy(row, pr->rows, (size_t)pr->m * sizeof(double));
+        row += pr->m;
+    }
+    return row;
+}
+
+/* The normal law of the pair recorded in ic (its rows at row) pushes at the strands'
+ * dv so far: visit's test of an idle pair, by normal_velocity's operations in its
+ * order (the same bits). */
+static int check_pushes(const IdleCheck *ic, const double *row)
+{
+    double u = ic->free_n;
+    const double du0 = dot_n(row, ic->dv[0], (size_t)ic->m[0]);
+    u += du0;
+    const double du1 = dot_n(row + ic->m[0], ic->dv[1], (size_t)ic->m[1]);
+    u += -du1;
+    return ic->beta - ic->gamma * u > 0.0;
+}
+
 /* One sweep over a group's pairs: every pair on a full sweep (then its active pairs
  * are listed again), else its active pairs. A visit is a chain (the strands' dv, the
  * relative velocity, the law, the new dv) that waits on its loads: the pair two ahead
  * is asked for, and the rows of the next one, whose fields came with the last ask
  * (the sweeps' CPU time on one thread about 15 % less on examples/guides200
  * shaking, measured beside other jobs: docs/dynamics.md, "The sweeps' balance
- * counted"). */
-static void sweep_group(hk_ContactSolve *cs, const int *order, SweepGroup *gr, int full)
+ * counted"). On a later full sweep an idle pair is checked from its record and left
+ * as visit would leave it when its law does not push. */
+static void sweep_group(hk_ContactSolve *cs, const int *order, SweepGroup *gr, int kind)
 {
+    const int full = kind != SWEEP_PUSHING;
     int *active = (int *)cs->active.items + gr->begin;
     const int count = full ? gr->end - gr->begin : gr->active_count;
     const int *list = full ? order + gr->begin : active; /* (active is rewritten behind x) */
     const PairState *pairs = cs->pairs.items;
+    const char *pushed = cs->pushed.items;
+    double *record = (double *)cs->checks.items + (size_t)gr->begin * cs->check_stride;
     double change = 0.0, largest = 0.0;
     if (full) gr->pushing = gr->sticking = gr->active_count = 0;
     for (int x = 0; x < count; x++) {
         const int k = list[x];
+        if (kind == SWEEP_FULL) {
+            const IdleCheck *ic = (const IdleCheck *)record;
+            const double *row = record + CHECK_HEAD;
+            record += CHECK_HEAD + (size_t)ic->m[0] + (size_t)ic->m[1];
+            if (!pushed[k] && !check_pushes(ic, row)) continue; /* (visit: no push, size 0) */
+        }
         if (x + 2 < count) prefetch_pair(&pairs[list[x + 2]]);
         if (x + 1 < count) prefetch_rows(&pairs[list[x + 1]]);
+        if (kind == SWEEP_FIRST_FULL) record = write_check(&pairs[k], record);
         double l;
         const int law = visit(cs, k, cs->mu, cs->viscous, &change, &l);
         if (l > largest) largest = l;
@@ -1124,7 +1200,7 @@ static void sweep_group(hk_ContactSolve *cs, const int *order, SweepGroup *gr, i
 typedef struct SweepShare {
     atomic_int claim;    /* stage * 4 + the groups of the two claimed so far; -1: the sweeps are over */
     atomic_int finished; /* stage * 4 + the groups of the two done */
-    int full;            /* the sweep is a full one (set before its claims open) */
+    int kind;            /* the sweep's kind (SWEEP_PUSHING, ...; set before its claims open) */
 } SweepShare;
 
 /* Claims one of the two groups of the open stage (stage 3 sweep + p: groups 2p and
@@ -1136,7 +1212,7 @@ static int claim_group(hk_ContactSolve *cs, const int *order, SweepGroup group[H
     while (word >= 0 && (word & 3) < 2)
         if (atomic_compare_exchange_weak_explicit(&sh->claim, &word, word + 1, memory_order_acq_rel,
                                                   memory_order_acquire)) {
-            sweep_group(cs, order, &group[2 * ((word >> 2) % 3) + (word & 3)], sh->full);
+            sweep_group(cs, order, &group[2 * ((word >> 2) % 3) + (word & 3)], sh->kind);
             atomic_fetch_add_explicit(&sh->finished, 1, memory_order_release);
             return 1;
         }
@@ -1154,7 +1230,7 @@ static void run_sweeps(hk_ContactSolve *cs, const int *order, SweepGroup group[H
     SweepShare share; /* closed (both groups of stage 0 taken) until the first sweep opens */
     atomic_init(&share.claim, 2);
     atomic_init(&share.finished, 0);
-    share.full = 1;
+    share.kind = SWEEP_FIRST_FULL;
 #pragma omp parallel num_threads(side_by_side ? 2 : 1)
     {
         if (omp_get_thread_num() != 0) { /* the helper: claims what it finds open */
@@ -1164,7 +1240,10 @@ static void run_sweeps(hk_ContactSolve *cs, const int *order, SweepGroup group[H
         } else {
             for (int sweep = 0; sweep < HK_PGS_SWEEPS; sweep++) {
                 const int full = sweep % HK_PGS_FULL_EVERY == 0 || sweep == HK_PGS_SWEEPS - 1;
-                share.full = full;
+                share.kind = sweep == 0                     ? SWEEP_FIRST_FULL
+                             : full && idle_records_allowed ? SWEEP_FULL
+                             : full                         ? SWEEP_FULL_VISITS
+                                                            : SWEEP_PUSHING;
                 for (int stage = 3 * sweep; stage < 3 * sweep + 3; stage++) {
                     atomic_store_explicit(&share.finished, 4 * stage, memory_order_relaxed);
                     atomic_store_explicit(&share.claim, 4 * stage, memory_order_release);
@@ -1195,8 +1274,10 @@ hk_Status hk_contact_solve_open(hk_ContactSolve *cs, hk_StrandDynamics **dyn, in
         return hk_error_set(err, HK_ERR_INVALID, "contact solve: %d strands, expected %d", strand_count,
                             cs->strand_count);
     cs->dim_start[0] = cs->ul_start[0] = 0;
+    cs->check_stride = CHECK_HEAD;
     for (int s = 0; s < strand_count; s++) {
         const size_t dim = (size_t)(3 * dyn[s]->sh->n);
+        if (CHECK_HEAD + 2 * dim > cs->check_stride) cs->check_stride = CHECK_HEAD + 2 * dim;
         cs->dim_start[s + 1] = cs->dim_start[s] + dim;
         cs->ul_start[s + 1] = cs->ul_start[s] + dim * dim;
     }

@@ -108,4 +108,9 @@ const hk_PointForce *hk_contact_solve_forces(const hk_ContactSolve *cs, int stra
  * Call at most once per strand and solve. */
 int hk_contact_solve_commit(hk_ContactSolve *cs, hk_StrandDynamics *d, int strand, const hk_RigidState *head_end,
                             double dt);
+
+/* Sets whether the full sweeps after a solve's first check the idle pairs from their
+ * records (the default) or visit them all as the first does; the same bits either way.
+ * Not thread-safe: for the tests that compare the two. */
+void hk_contact_solve_idle_records_allow(int allow);
 #endif
