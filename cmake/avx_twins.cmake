@@ -24,6 +24,13 @@ string(REGEX MATCHALL "[^\n]+" lines "${run_output}")
 set(renames "")
 foreach(line IN LISTS lines)
   string(REGEX REPLACE " .*" "" name "${line}")
+  # Functions only: a global variable would get a renamed copy, and the twins would keep
+  # their own state beside the baseline's without a word (a file with one cannot be a twin).
+  string(REGEX REPLACE "^[^ ]+ ([^ ]+).*" "\\1" type "${line}")
+  if(NOT type STREQUAL "T")
+    message(FATAL_ERROR "avx_twins.cmake: ${name} (nm type ${type}) is not a function: "
+                        "a twin would duplicate its state; take its file out of HK_AVX_TWIN_SOURCES")
+  endif()
   string(APPEND renames "${name} ${name}_avx\n")
 endforeach()
 if(renames STREQUAL "")
