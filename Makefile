@@ -52,13 +52,14 @@ install: build
 
 # ASAN_CC=clang builds the sanitized tests with clang (whose UBSan checks more, e.g.
 # offsets applied to null pointers); the default is the system's cc. ASAN_CTEST_ARGS
-# (default: none, every test) are given to ctest, e.g. "-LE validation". A test whose
-# only fault is LeakSanitizer's tracer crashing at its exit is run once more
-# (scripts/asan-retry-tracer.sh says why).
+# (default: none, every test) are given to ctest, e.g. "-LE validation", and
+# ASAN_CMAKE_FLAGS (default: none) to cmake after CMAKE_FLAGS, e.g. "-DHK_SHARED=OFF".
+# A test whose only fault is LeakSanitizer's tracer crashing at its exit is run once
+# more (scripts/asan-retry-tracer.sh says why).
 asan:
 	@bash scripts/install-deps.sh $(if $(filter clang%,$(ASAN_CC)),--fuzz)
 	@$(if $(ASAN_CC),CC=$(ASAN_CC)) cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DHK_SANITIZE=ON \
-		$(CMAKE_FLAGS) > $(ASAN_BUILD).configure.log 2>&1 || { cat $(ASAN_BUILD).configure.log; exit 1; }
+		$(CMAKE_FLAGS) $(ASAN_CMAKE_FLAGS) > $(ASAN_BUILD).configure.log 2>&1 || { cat $(ASAN_BUILD).configure.log; exit 1; }
 	@cmake --build $(ASAN_BUILD) -j $(JOBS)
 	@cd $(ASAN_BUILD) && export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
 		LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp \

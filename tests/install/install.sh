@@ -5,7 +5,9 @@
 # builds examples/c against it with pkg-config (shared; static with --static) and with
 # find_package (hairkit::hairkit, hairkit::hairkit_static), runs each build on the
 # default scene at 4 hairs per cm^2 and checks its picture: the same bytes from all of
-# them and from `hairkit run`. Exits 77 (skipped) when a tool it needs is missing.
+# them and from `hairkit run`. A build without the shared library (HK_SHARED=OFF, as
+# CI's sanitizer build) is checked in its static half: the .a, pkg-config --static and
+# hairkit::hairkit_static. Exits 77 (skipped) when a tool it needs is missing.
 #
 # usage: install.sh BUILD_DIR SOURCE_DIR HAIRKIT CMAKE CC LIBDIR SHARED SANITIZE
 set -u
@@ -19,7 +21,6 @@ pkg-config --exists libpng || skip "pkg-config does not know libpng (hairkit.pc 
 case "$libdir" in
 /*) skip "CMAKE_INSTALL_LIBDIR is absolute ($libdir): the build cannot be installed elsewhere" ;;
 esac
-[ "$shared" = ON ] || skip "built without the shared library (HK_SHARED=OFF)"
 
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -37,7 +38,9 @@ if ! "$cmake" --install "$build" --prefix "$prefix" >"$tmp/install.log" 2>&1; th
 fi
 
 # ---- what is installed ----
-for f in "$lib/libhairkit.a" "$lib/libhairkit.so" "$lib/pkgconfig/hairkit.pc" \
+installed=("$lib/libhairkit.a")
+[ "$shared" = ON ] && installed+=("$lib/libhairkit.so")
+for f in "${installed[@]}" "$lib/pkgconfig/hairkit.pc" \
     "$lib/cmake/hairkit/hairkitConfig.cmake" "$lib/cmake/hairkit/hairkitConfigVersion.cmake" \
     "$prefix/include/hairkit/hairkit.h" "$prefix/include/hairkit/version.h" "$prefix/bin/hairkit"; do
     [ -e "$f" ] || fail "not installed: ${f#"$prefix"/}"
@@ -45,11 +48,13 @@ done
 version=$("$hk" --version | sed 's/^hairkit //')
 [ "$(pkg-config --modversion hairkit)" = "$version" ] ||
     fail "hairkit.pc says $(pkg-config --modversion hairkit), hairkit --version $version"
-soname=$(readelf -d "$lib/libhairkit.so" | sed -n 's/.*(SONAME).*\[\(.*\)\]/\1/p')
-major=${version%%.*} rest=${version#*.}
-if [ "$major" = 0 ]; then want=libhairkit.so.0.${rest%%.*}; else want=libhairkit.so.$major; fi
-[ "$soname" = "$want" ] || fail "soname '$soname', wanted $want"
-[ -e "$lib/$soname" ] || fail "not installed: $libdir/$soname"
+if [ "$shared" = ON ]; then
+    soname=$(readelf -d "$lib/libhairkit.so" | sed -n 's/.*(SONAME).*\[\(.*\)\]/\1/p')
+    major=${version%%.*} rest=${version#*.}
+    if [ "$major" = 0 ]; then want=libhairkit.so.0.${rest%%.*}; else want=libhairkit.so.$major; fi
+    [ "$soname" = "$want" ] || fail "soname '$soname', wanted $want"
+    [ -e "$lib/$soname" ] || fail "not installed: $libdir/$soname"
+fi
 
 # Every public header is in the umbrella header and compiles on its own, with no feature
 # macro and no other include path.
@@ -69,19 +74,21 @@ if grep -n '^[A-Za-z].*\bhk_[a-z0-9_]*(' "$prefix"/include/hairkit/*.h | grep -v
     fail "functions declared without HK_API in the public headers: $(head -5 "$tmp/internal")"
 fi
 
-# The shared library exports exactly the functions declared with HK_API.
-grep -ho '^HK_API [^(]*(' "$prefix"/include/hairkit/*.h | sed -E 's/.*[ *](hk_[A-Za-z0-9_]+) *\($/\1/' |
-    sort -u >"$tmp/declared"
-nm -D --defined-only "$lib/libhairkit.so" | awk '{print $NF}' | sort -u >"$tmp/exported"
-if [ "$sanitize" = ON ]; then # no version script with the sanitizers: hk_ names only
-    grep '^hk_' "$tmp/exported" >"$tmp/exported.hk"
-    mv "$tmp/exported.hk" "$tmp/exported"
+if [ "$shared" = ON ]; then
+    # The shared library exports exactly the functions declared with HK_API.
+    grep -ho '^HK_API [^(]*(' "$prefix"/include/hairkit/*.h | sed -E 's/.*[ *](hk_[A-Za-z0-9_]+) *\($/\1/' |
+        sort -u >"$tmp/declared"
+    nm -D --defined-only "$lib/libhairkit.so" | awk '{print $NF}' | sort -u >"$tmp/exported"
+    if [ "$sanitize" = ON ]; then # no version script with the sanitizers: hk_ names only
+        grep '^hk_' "$tmp/exported" >"$tmp/exported.hk"
+        mv "$tmp/exported.hk" "$tmp/exported"
+    fi
+    if ! cmp -s "$tmp/declared" "$tmp/exported"; then
+        fail "exported symbols differ from the HK_API declarations (< declared only, > exported only):
+    $(diff "$tmp/declared" "$tmp/exported" | grep '^[<>]' | head -20)"
+    fi
+    echo "install: $(wc -l <"$tmp/exported") functions exported by $soname"
 fi
-if ! cmp -s "$tmp/declared" "$tmp/exported"; then
-    fail "exported symbols differ from the HK_API declarations (< declared only, > exported only):
-$(diff "$tmp/declared" "$tmp/exported" | grep '^[<>]' | head -20)"
-fi
-echo "install: $(wc -l <"$tmp/exported") functions exported by $soname"
 
 # ---- examples/c built four ways ----
 example=$src/examples/c/grow_and_render.c
@@ -104,12 +111,14 @@ run() {
 }
 needed() { readelf -d "$1" | grep -c "NEEDED.*libhairkit"; }
 
-# pkg-config, shared library
-if "$cc" "${warn[@]}" -o "$tmp/pc-shared" "$example" $(pkg-config --cflags --libs hairkit) 2>"$tmp/cc.err"; then
-    [ "$(needed "$tmp/pc-shared")" = 1 ] || fail "pc-shared: does not use libhairkit.so"
-    run pc-shared "$tmp/pc-shared"
-else
-    fail "pc-shared: cc \$(pkg-config --cflags --libs hairkit) failed: $(head -c 600 "$tmp/cc.err")"
+if [ "$shared" = ON ]; then
+    # pkg-config, shared library
+    if "$cc" "${warn[@]}" -o "$tmp/pc-shared" "$example" $(pkg-config --cflags --libs hairkit) 2>"$tmp/cc.err"; then
+        [ "$(needed "$tmp/pc-shared")" = 1 ] || fail "pc-shared: does not use libhairkit.so"
+        run pc-shared "$tmp/pc-shared"
+    else
+        fail "pc-shared: cc \$(pkg-config --cflags --libs hairkit) failed: $(head -c 600 "$tmp/cc.err")"
+    fi
 fi
 # pkg-config --static, static library: a copy of the prefix without the .so, so that
 # -lhairkit finds libhairkit.a and only pkg-config's private flags complete the link.
@@ -124,7 +133,9 @@ else
     fail "pc-static: cc \$(pkg-config --static --cflags --libs hairkit) failed: $(head -c 600 "$tmp/cc.err")"
 fi
 # find_package(hairkit), hairkit::hairkit and hairkit::hairkit_static
-for kind in shared static; do
+kinds=static
+[ "$shared" = ON ] && kinds="shared static"
+for kind in $kinds; do
     static=OFF
     [ $kind = static ] && static=ON
     if "$cmake" -S "$src/examples/c" -B "$tmp/cm-$kind" -DCMAKE_PREFIX_PATH="$prefix" \
