@@ -52,8 +52,12 @@ double hk_dynamics_largest_entry(hk_StrandDynamics *d, const double *before, con
         const int tip = j == d->entry_count - 1;
         for (int k = 0; k < d->tip.shape_count; k++) {
             const hk_Shape *sh = &d->tip.shapes[k];
-            /* beyond the shape's bound (with extra = 0) the point is outside it */
-            if (!(sh->penalty > 0.0) || hk_v3_dist(to[j], sh->centre) > hk_shape_bound(sh)) continue;
+            /* beyond the shape's bound (with extra = 0), or clearly outside it, the
+             * point has no dent > entry >= 0: most points near the head lie outside
+             * it, and the test spares the dent's roots and divisions */
+            if (!(sh->penalty > 0.0) || hk_v3_dist(to[j], sh->centre) > hk_shape_bound(sh) ||
+                hk_shape_outside(sh, to[j]))
+                continue;
             const double dent = hk_shape_dent(sh, to[j], NULL, NULL);
             if (!(dent > entry)) continue;
             /* felt at the start: the penalty was on */
