@@ -35,10 +35,10 @@ static void set_zero(hk_Vec3 *grad, hk_Mat3 *hess)
  * four samples the dynamics' potential evaluates on examples/guides200), which then
  * need not take the value again. */
 typedef struct Radial {
-    hk_Vec3 d;     /* p - centre */
-    double q;      /* |d| */
-    int centre;    /* q within CENTRE_FRACTION of the smallest radius: no direction */
-    double R;      /* ellipsoid: the distance from the centre to the surface along d */
+    hk_Vec3 d;  /* p - centre */
+    double q;   /* |d| */
+    int centre; /* q within CENTRE_FRACTION of the smallest radius: no direction */
+    double R;   /* ellipsoid: the distance from the centre to the surface along d */
     double inv2[3], ml[3], iq;
     hk_Vec3 n;
 } Radial;
