@@ -20,11 +20,13 @@
 /* The cache slot of the head-space positions of the samples, the tip and the nodes for
  * coordinates q: a step's end is the next step's start, and a split step starts where
  * it did, so the two last states are kept (half the cost of the check; the nodes, for
- * the step's largest travel, come from the same walk). With the full stiffness the walk
- * is the potential's own (hk_dynamics_potential_walk), which the next evaluation at q
- * (the next step's, on a head) then takes over instead of walking again: a walk per
- * step saved, and the check's positions round as the potential's samples do. Its
- * samples of an element beyond every shape's reach are not computed (entry_known). */
+ * the step's largest travel, come from the same walk). With the full stiffness and the
+ * linearly implicit Euler step, which evaluates at the accepted q next (the next step's,
+ * on a head), the walk is the potential's own (hk_dynamics_potential_walk), which that
+ * evaluation then takes over instead of walking again: a walk per step saved, and the
+ * check's positions round as the potential's samples do. Its samples of an element
+ * beyond every shape's reach are not computed (entry_known). TR-BDF2's next evaluation
+ * is at a stage's iterate: it keeps the superhelix walk, the cheaper. */
 static int slot_of(hk_StrandDynamics *d, const double *q)
 {
     const size_t bytes = (size_t)(3 * d->sh->n) * sizeof(double);
@@ -35,7 +37,7 @@ static int slot_of(hk_StrandDynamics *d, const double *q)
         }
     const int k = d->entry_next;
     memcpy(d->entry_q[k], q, bytes);
-    if (d->params.stiffness == HK_STIFFNESS_FULL) {
+    if (d->params.stiffness == HK_STIFFNESS_FULL && d->params.integrator == HK_INTEGRATOR_LINEAR_EULER) {
         hk_dynamics_potential_walk(d, q, d->entry_pos[k], d->entry_known[k], d->entry_nodes[k]);
     } else {
         hk_dynamics_head_space_walk(d, q, d->entry_s, d->entry_count, d->entry_pos[k], d->entry_nodes[k]);

@@ -288,7 +288,8 @@ int hk_dynamics_solve(hk_StrandDynamics *d, double ch, double *out);
 void hk_dynamics_head_space_nodes(hk_StrandDynamics *d, const double *q, hk_Vec3 *nodes);
 hk_Vec3 hk_dynamics_head_space_tip(hk_StrandDynamics *d, const double *q);
 
-/* HK_STIFFNESS_FULL: the walk of the potential with the body's penalty (its nodes and
+/* HK_STIFFNESS_FULL (with the linearly implicit Euler step, contact_entry.c): the walk
+ * of the potential with the body's penalty (its nodes and
  * collision samples, head space) for coordinates q, kept for the next evaluation when
  * it is at q (hk_strand_workspace_prepare): the collision samples' positions (points,
  * contact_samples, known[i] where computed: not for elements beyond every shape's
@@ -318,8 +319,8 @@ double hk_dynamics_largest_entry(hk_StrandDynamics *d, const double *before, con
 
 /* The strand's head-space nodes (N + 1) for coordinates q, from the cache of
  * hk_dynamics_largest_entry (filled for q when absent): the same bits as
- * hk_dynamics_head_space_nodes with the Gauss-Newton stiffness, the potential's
- * (hk_dynamics_potential_walk) with the full one. Only with collision samples
+ * hk_dynamics_head_space_nodes, but the potential's (hk_dynamics_potential_walk) with
+ * the full stiffness and the linearly implicit Euler step. Only with collision samples
  * (contact_samples > 0). */
 const hk_Vec3 *hk_dynamics_entry_nodes(hk_StrandDynamics *d, const double *q);
 
