@@ -414,28 +414,29 @@ static void sweep(hk_StrandDynamics *d, const hk_RigidState *head, const hk_Poin
          * stiffness the potential told which touch: their kinematics two at a time,
          * their forces added in the order of the samples. */
         if (mode == SWEEP_STEP && full) {
-            int held = -1;
-            hk_Vec3 held_g = hk_v3_zero();
-            for (; sample < d->contact_samples; sample++) {
-                const double s = (sample + 0.5) * cw;
-                if (!last && s >= s_end) break;
-                hk_Vec3 grad;
-                if (!hk_strand_workspace_contact(d->ws_body, sample, &grad)) continue;
-                if (held < 0) {
-                    held = sample, held_g = grad;
-                    continue;
-                }
+            /* the element's touching samples as the potential listed them: its elements
+             * hold the samples the sweep's would (s = (i + 1/2) w against s_start, w the
+             * same quotient), in the same order */
+            const int *touch;
+            const int touches = hk_strand_workspace_touching(d->ws_body, p, &touch);
+            int m = 0;
+            for (; m + 1 < touches; m += 2) {
+                hk_Vec3 grad[2];
+                hk_strand_workspace_contact(d->ws_body, touch[m], &grad[0]);
+                hk_strand_workspace_contact(d->ws_body, touch[m + 1], &grad[1]);
                 hk_PointKinematics pk[2];
-                const double uu[2] = {(held + 0.5) * cw - sh->s_start[p], s - sh->s_start[p]};
+                const double uu[2] = {(touch[m] + 0.5) * cw - sh->s_start[p],
+                                      (touch[m + 1] + 0.5) * cw - sh->s_start[p]};
                 hk_point_contact2(&node, k, kd, uu, pk);
-                add_friction(d, head, t, &pk[0], held_g, ch);
-                add_friction(d, head, t, &pk[1], grad, ch);
-                held = -1;
+                add_friction(d, head, t, &pk[0], grad[0], ch);
+                add_friction(d, head, t, &pk[1], grad[1], ch);
             }
-            if (held >= 0) { /* the element's last one, alone */
+            if (m < touches) { /* the element's last one, alone */
+                hk_Vec3 grad;
+                hk_strand_workspace_contact(d->ws_body, touch[m], &grad);
                 hk_PointKinematics pk;
-                hk_point_kinematics(&node, k, kd, (held + 0.5) * cw - sh->s_start[p], 1, &pk);
-                add_friction(d, head, t, &pk, held_g, ch);
+                hk_point_kinematics(&node, k, kd, (touch[m] + 0.5) * cw - sh->s_start[p], 1, &pk);
+                add_friction(d, head, t, &pk, grad, ch);
             }
         }
         for (; mode == SWEEP_STEP && !full && sample < d->contact_samples; sample++) {

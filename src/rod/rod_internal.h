@@ -14,6 +14,12 @@
  * normal force here instead of evaluating the shapes again. */
 int hk_strand_workspace_contact(const hk_StrandWorkspace *ws, int i, hk_Vec3 *grad);
 
+/* The collision samples of element p that the last hk_strand_energy call with this
+ * workspace and a gradient found touching (those hk_strand_workspace_contact reports),
+ * ascending, in *samples; returns their count (0 after a call without a gradient or
+ * hk_strand_max_penetration). The dynamics' sweep visits these alone. */
+int hk_strand_workspace_touching(const hk_StrandWorkspace *ws, int p, const int **samples);
+
 /* The walk of hk_strand_energy (order as its: 2 with a Hessian, 1 with a gradient, 0
  * without) for coordinates q, the strand's root pose now and env, kept for the next
  * hk_strand_energy call with these very inputs, which then starts from it (the same

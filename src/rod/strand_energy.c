@@ -538,6 +538,12 @@ int hk_strand_workspace_contact(const hk_StrandWorkspace *ws, int i, hk_Vec3 *gr
     return 1;
 }
 
+int hk_strand_workspace_touching(const hk_StrandWorkspace *ws, int p, const int **samples)
+{
+    *samples = ws->touch + ws->first_touch[p];
+    return ws->first_touch[p + 1] - ws->first_touch[p];
+}
+
 double hk_strand_max_penetration(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, const double *q,
                                  hk_StrandWorkspace *ws)
 {
