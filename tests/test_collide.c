@@ -588,6 +588,51 @@ static void test_bound_follows_edits(void **state)
     hk_assert_rel(hk_shape_bound(&c), 0.13, 1e-15, 0);
 }
 
+/* hk_shape_beyond (the dynamics' error control passes a shape without its dent there)
+ * may only answer where the dent itself says dent + extra <= -margin, and
+ * hk_shape_outside only where dent < 0; both must answer for most far points (a test
+ * that never passes a shape would not show it is sound). Around the reach's sphere, on
+ * the cube's diagonal (where the sqrt(3) is tight) and at random. */
+static void test_beyond_and_outside(void **state)
+{
+    (void)state;
+    const double volumes[] = {0.0, 0.03, -0.02};
+    const double margins[] = {0.0, 1e-3, 0.02};
+    for (int i = 0; i < SHAPE_COUNT; i++)
+        for (int vi = 0; vi < 3; vi++)
+            for (int mi = 0; mi < 3; mi++) {
+                hk_Shape s = test_shape(i);
+                s.volume = volumes[vi];
+                const double extra = 0.8 * s.volume, margin = margins[mi];
+                const double reach = hk_shape_bound(&s) + sqrt(3.0) * (fabs(extra) + margin);
+                int beyond = 0, outside = 0;
+                for (int t = 0; t < 3000; t++) {
+                    const double r = t % 3 == 0 ? reach * (1.0 + 1e-6 * (2 * hk_test_uniform() - 1))
+                                                : 2.0 * reach * hk_test_uniform();
+                    const hk_Vec3 p = hk_v3_madd(s.centre, random_direction(), r);
+                    const double dent = hk_shape_dent(&s, p, NULL, NULL);
+                    if (hk_shape_beyond(&s, extra, margin, p)) {
+                        beyond++;
+                        assert_true(dent + extra <= -margin);
+                    }
+                    if (hk_shape_outside(&s, p)) {
+                        outside++;
+                        assert_true(dent < 0.0);
+                    }
+                }
+                assert_true(beyond > 500);
+                if (s.kind != HK_SHAPE_CUBOID) assert_true(outside > 1000);
+                /* the cube's envelope corner at the reach: just beyond it is beyond */
+                if (i == 6) {
+                    const hk_Vec3 diag = hk_v3_normalize(hk_v3_add(hk_v3_add(s.axis[0], s.axis[1]), s.axis[2]));
+                    const hk_Vec3 p = hk_v3_madd(s.centre, diag, reach * (1.0 + 1e-8));
+                    assert_true(hk_shape_beyond(&s, extra, margin, p));
+                    assert_true(hk_shape_dent(&s, p, NULL, NULL) + extra <= -margin);
+                    assert_false(hk_shape_beyond(&s, extra, margin, hk_v3_madd(s.centre, diag, reach * 0.999)));
+                }
+            }
+}
+
 /* ---- sums over shapes ----------------------------------------------------------- */
 
 static void test_sums(void **state)
@@ -668,6 +713,7 @@ int main(void)
         cmocka_unit_test(test_envelope),
         cmocka_unit_test(test_bound_never_rejects_contacts),
         cmocka_unit_test(test_bound_follows_edits),
+        cmocka_unit_test(test_beyond_and_outside),
         cmocka_unit_test(test_sums),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "hairkit/rod.h"
+#include "collide/collide_internal.h"
 #include "rod/rod_internal.h"
 
 typedef struct Scene {
@@ -236,12 +237,111 @@ static void test_contacts_per_sample(void **state)
     scene_free(&sc);
 }
 
+/* What one hk_strand_energy call gives: energy, gradient and Hessian for order 0, 1, 2
+ * (dim 18 at most), and the contacts per sample. */
+typedef struct Result {
+    double e, g[18], h[18 * 18];
+    int touches[512];
+    hk_Vec3 reported[512];
+} Result;
+
+static void energy_of(Scene *sc, hk_StrandWorkspace *ws, const double *q, int order, Result *r)
+{
+    memset(r, 0, sizeof *r);
+    r->e = hk_strand_energy(sc->sh, &sc->env, q, ws, order >= 1 ? r->g : NULL, order >= 2 ? r->h : NULL, NULL);
+    const int m = hk_strand_collision_sample_count(sc->sh, &sc->env);
+    assert_true(m <= 512);
+    for (int i = 0; i < m; i++) r->touches[i] = hk_strand_workspace_contact(ws, i, &r->reported[i]);
+}
+
+/* hk_strand_workspace_prepare's walk: the next hk_strand_energy call with the same
+ * coordinates, root pose, order and shapes starts from it and gives the bytes of a
+ * workspace never prepared; a call with other coordinates, another root pose or another
+ * order walks afresh (each also the bytes of a fresh workspace, and those inputs do
+ * change the bytes: a key that left one out would fail here). The prepared nodes and
+ * samples agree with the superhelix's own walk to rounding; a sample left out lies
+ * beyond the reach of every shape. */
+static void test_prepared_walk(void **state)
+{
+    (void)state;
+    Scene sc;
+    scene_init(&sc, 6, 1, 5);
+    const int dim = 3 * sc.sh->n, m = hk_strand_collision_sample_count(sc.sh, &sc.env);
+    hk_StrandWorkspace *fresh;
+    hk_Error err;
+    assert_int_equal(hk_strand_workspace_create(sc.sh, &sc.env, &fresh, &err), HK_OK);
+    static Result a, b, c;
+    double q[18], other[18];
+    memcpy(q, sc.sh->q, (size_t)dim * sizeof(double));
+    memcpy(other, q, sizeof other);
+    other[4] += 1e-6;
+    for (int order = 0; order <= 2; order++) {
+        hk_strand_workspace_prepare(sc.sh, &sc.env, q, order, sc.ws);
+        energy_of(&sc, sc.ws, q, order, &a);
+        energy_of(&sc, fresh, q, order, &b);
+        assert_memory_equal(&a, &b, sizeof a);
+        /* prepared for other coordinates: not taken */
+        hk_strand_workspace_prepare(sc.sh, &sc.env, other, order, sc.ws);
+        energy_of(&sc, sc.ws, q, order, &a);
+        assert_memory_equal(&a, &b, sizeof a);
+        energy_of(&sc, fresh, other, order, &c);
+        assert_memory_not_equal(&c, &b, sizeof c);
+        /* prepared with the root elsewhere: not taken */
+        const hk_Vec3 root = sc.sh->root;
+        sc.sh->root = hk_v3_add(root, hk_v3(0.0, 1e-4, 0.0));
+        hk_strand_workspace_prepare(sc.sh, &sc.env, q, order, sc.ws);
+        energy_of(&sc, fresh, q, order, &c);
+        assert_memory_not_equal(&c, &b, sizeof c);
+        sc.sh->root = root;
+        energy_of(&sc, sc.ws, q, order, &a);
+        assert_memory_equal(&a, &b, sizeof a);
+        /* prepared for another order: not taken (order 2's closed forms are the
+         * two-element lane code's) */
+        hk_strand_workspace_prepare(sc.sh, &sc.env, q, order == 2 ? 1 : 2, sc.ws);
+        energy_of(&sc, sc.ws, q, order, &a);
+        assert_memory_equal(&a, &b, sizeof a);
+    }
+    /* the prepared walk's nodes and samples, with a small sphere at the tip alone, so
+     * that the elements far from the tip are out of its reach */
+    hk_Vec3 nodes[7], walked[7], pos[512], at;
+    unsigned char known[512];
+    hk_superhelix_nodes(sc.sh, q, walked, NULL);
+    const hk_Shape small = hk_shape_sphere(walked[sc.sh->n], 1e-3, 0.0, 10.0);
+    hk_StrandEnvDef tip_only = sc.env;
+    tip_only.shapes = &small;
+    tip_only.shape_count = 1;
+    hk_strand_workspace_prepare(sc.sh, &tip_only, q, 2, sc.ws);
+    memcpy(nodes, hk_strand_workspace_nodes(sc.ws), sizeof nodes);
+    hk_strand_workspace_samples(sc.ws, pos, known);
+    for (int i = 0; i <= sc.sh->n; i++) hk_assert_near(hk_v3_dist(nodes[i], walked[i]), 0.0, 1e-12);
+    const double w = sc.sh->total_length / m;
+    int computed = 0;
+    for (int i = 0; i < m; i++) {
+        hk_superhelix_eval(sc.sh, q, (i + 0.5) * w, &at, NULL);
+        if (known[i]) {
+            computed++;
+            hk_assert_near(hk_v3_dist(pos[i], at), 0.0, 1e-12);
+            continue;
+        }
+        const hk_Shape *sh = &small;
+        const double reach = hk_shape_bound(sh) + sqrt(3.0) * fabs(tip_only.envelope_alpha * sh->volume);
+        assert_true(hk_v3_dist(at, sh->centre) > reach);
+    }
+    assert_true(computed > 0 && computed < m);
+    hk_strand_workspace_destroy(fresh);
+    scene_free(&sc);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_derivatives_free_strand),  cmocka_unit_test(test_derivatives_with_contacts),
-        cmocka_unit_test(test_energy_terms_independent), cmocka_unit_test(test_gravity_of_straight_rods),
-        cmocka_unit_test(test_penetration_report),       cmocka_unit_test(test_contacts_per_sample),
+        cmocka_unit_test(test_derivatives_free_strand),
+        cmocka_unit_test(test_derivatives_with_contacts),
+        cmocka_unit_test(test_energy_terms_independent),
+        cmocka_unit_test(test_gravity_of_straight_rods),
+        cmocka_unit_test(test_penetration_report),
+        cmocka_unit_test(test_contacts_per_sample),
+        cmocka_unit_test(test_prepared_walk),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

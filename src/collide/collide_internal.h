@@ -29,4 +29,24 @@ static inline double hk_shape_bound(const hk_Shape *s)
     return hk_larger(a, hk_larger(b, c));
 }
 
+/* Whether p lies so far from shape s that hk_shape_dent(s, p) + extra <= -margin
+ * (margin >= 0), so that the dent need not be taken: with c = |extra| + margin,
+ * |p - centre| >= bound + sqrt(3) c implies dent(p) <= -c for the sphere and the
+ * ellipsoid (dent <= bound - |p - centre|) and for the cuboid (were every face depth
+ * above -c, each |p_i| would be below half_i + c and |p - centre| below |half| +
+ * sqrt(3) c). A relative 1e-9 of the reach to spare covers the rounding of both sides,
+ * so the answers are those of the dent itself. Never for a field, whose dent beyond its
+ * grid is the field's own. */
+static inline int hk_shape_beyond(const hk_Shape *s, double extra, double margin, hk_Vec3 p)
+{
+    if (s->kind == HK_SHAPE_FIELD) return 0;
+    const double reach = (hk_shape_bound(s) + 1.7320508075688772 * (fabs(extra) + margin)) * (1.0 + 1e-9);
+    return hk_v3_norm2(hk_v3_sub(p, s->centre)) > reach * reach;
+}
+
+/* Whether p is clearly outside shape s itself (dent < 0, within rounding of the surface
+ * left to the dent), without the dent's square roots and divisions: a sphere's or an
+ * ellipsoid's point (penetration.c); 0 for the others. */
+int hk_shape_outside(const hk_Shape *s, hk_Vec3 p);
+
 #endif /* HK_COLLIDE_INTERNAL_H */

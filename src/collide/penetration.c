@@ -29,22 +29,43 @@ static void set_zero(hk_Vec3 *grad, hk_Mat3 *hess)
 /* All three kinds take d = p - centre and q2 = |d|^2, which the penalty already
  * computed for its rejection test. */
 
-static double sphere_dent(const hk_Shape *s, hk_Vec3 d, double q2, hk_Vec3 *grad, hk_Mat3 *hess)
+/* The sphere's and the ellipsoid's dent come in two parts: the value, and the
+ * derivatives from what the value computed (Radial). The penalty asks for the value
+ * first and for the derivatives only where the point is inside the envelope (one of
+ * four samples the dynamics' potential evaluates on examples/guides200), which then
+ * need not take the value again. */
+typedef struct Radial {
+    hk_Vec3 d;  /* p - centre */
+    double q;   /* |d| */
+    int centre; /* q within CENTRE_FRACTION of the smallest radius: no direction */
+    double R;   /* ellipsoid: the distance from the centre to the surface along d */
+    double inv2[3], ml[3], iq;
+    hk_Vec3 n;
+} Radial;
+
+static double sphere_value(const hk_Shape *s, hk_Vec3 d, double q2, Radial *o)
 {
     const double r = s->half.x, q = sqrt(q2);
-    if (q <= CENTRE_FRACTION * r) { /* no direction: deepest value, flat */
+    o->d = d, o->q = q;
+    o->centre = q <= CENTRE_FRACTION * r;
+    if (o->centre) return r; /* no direction: deepest value, flat */
+    return r - q;
+}
+
+static void sphere_derivatives(const Radial *o, hk_Vec3 *grad, hk_Mat3 *hess)
+{
+    if (o->centre) {
         set_zero(grad, hess);
-        return r;
+        return;
     }
-    const double iq = 1.0 / q;
-    const hk_Vec3 n = hk_v3_scale(d, iq);
+    const double iq = 1.0 / o->q;
+    const hk_Vec3 n = hk_v3_scale(o->d, iq);
     if (grad) *grad = hk_v3_neg(n);
     if (hess) /* d2(-|d|) = -(I - n n^T) / |d| */
 #pragma GCC unroll 3
         for (int i = 0; i < 3; i++)
 #pragma GCC unroll 3
             for (int j = 0; j < 3; j++) hess->m[i][j] = (hk_v3_get(n, i) * hk_v3_get(n, j) - (i == j)) * iq;
-    return r - q;
 }
 
 /* Thesis §4.1.2.1.1 measures the dent along the ray from the centre: with dist = |d|
@@ -75,27 +96,35 @@ static double sphere_dent(const hk_Shape *s, hk_Vec3 d, double q2, hk_Vec3 *grad
  * (n = U) g = 0 and hess dent = (a I - a^3 A)/q^2 - P/q, e.g. a (1 - a^2/b^2)/q^2 - 1/q
  * along V. All terms are O(1) multiples of powers of 1/q (|g| <= R <= amax), so
  * nothing under- or overflows away from the guarded centre. */
-static double ellipsoid_dent(const hk_Shape *s, hk_Vec3 d, double q2, hk_Vec3 *grad, hk_Mat3 *hess)
+static double ellipsoid_value(const hk_Shape *s, hk_Vec3 d, double q2, Radial *o)
 {
     const double amin = min3(s->half), q = sqrt(q2);
-    if (q <= CENTRE_FRACTION * amin) { /* direction undefined: documented fallback */
-        set_zero(grad, hess);
-        return amin;
-    }
+    o->centre = q <= CENTRE_FRACTION * amin;
+    if (o->centre) return amin; /* direction undefined: documented fallback */
     const double iq = 1.0 / q;
     const hk_Vec3 n = hk_v3_scale(d, iq);
-    double inv2[3], ml[3], sn = 0.0;
+    double sn = 0.0;
 #pragma GCC unroll 3
     for (int i = 0; i < 3; i++) {
         const double a = hk_v3_get(s->half, i);
-        inv2[i] = 1.0 / (a * a);
+        o->inv2[i] = 1.0 / (a * a);
         const double nl = hk_v3_dot(n, s->axis[i]);
-        ml[i] = nl * inv2[i]; /* local components of m = A n */
-        sn += nl * ml[i];
+        o->ml[i] = nl * o->inv2[i]; /* local components of m = A n */
+        sn += nl * o->ml[i];
     }
     const double R = 1.0 / sqrt(sn);
-    const double dent = R - q;
-    if (!grad && !hess) return dent;
+    o->q = q, o->iq = iq, o->n = n, o->R = R;
+    return R - q;
+}
+
+static void ellipsoid_derivatives(const hk_Shape *s, const Radial *o, hk_Vec3 *grad, hk_Mat3 *hess)
+{
+    if (o->centre) {
+        set_zero(grad, hess);
+        return;
+    }
+    const double R = o->R, iq = o->iq, *inv2 = o->inv2, *ml = o->ml;
+    const hk_Vec3 n = o->n;
     hk_Vec3 m = hk_v3_scale(s->axis[0], ml[0]);
     m = hk_v3_madd(m, s->axis[1], ml[1]);
     m = hk_v3_madd(m, s->axis[2], ml[2]);
@@ -117,7 +146,22 @@ static double ellipsoid_dent(const hk_Shape *s, hk_Vec3 d, double q2, hk_Vec3 *g
                 hess->m[i][j] = hess->m[j][i] = hr - ((i == j) - nv[i] * nv[j]) * iq;
             }
     }
-    return dent;
+}
+
+/* The sphere's or the ellipsoid's dent (radial_kind), and its derivatives from o. */
+static int radial_kind(const hk_Shape *s) { return s->kind == HK_SHAPE_SPHERE || s->kind == HK_SHAPE_ELLIPSOID; }
+
+static double radial_value(const hk_Shape *s, hk_Vec3 d, double q2, Radial *o)
+{
+    return s->kind == HK_SHAPE_SPHERE ? sphere_value(s, d, q2, o) : ellipsoid_value(s, d, q2, o);
+}
+
+static void radial_derivatives(const hk_Shape *s, const Radial *o, hk_Vec3 *grad, hk_Mat3 *hess)
+{
+    if (s->kind == HK_SHAPE_SPHERE)
+        sphere_derivatives(o, grad, hess);
+    else
+        ellipsoid_derivatives(s, o, grad, hess);
 }
 
 /* Thesis §4.1.2.1.3: the smallest of the three face depths. Ties go to the first
@@ -165,9 +209,12 @@ static double dent_at(const hk_Shape *s, hk_Vec3 d, double q2, hk_Vec3 *grad, hk
         if (s->field) return field_dent(s, d, grad, hess);
         break;
     case HK_SHAPE_SPHERE:
-        return sphere_dent(s, d, q2, grad, hess);
-    case HK_SHAPE_ELLIPSOID:
-        return ellipsoid_dent(s, d, q2, grad, hess);
+    case HK_SHAPE_ELLIPSOID: {
+        Radial o;
+        const double dent = radial_value(s, d, q2, &o);
+        if (grad || hess) radial_derivatives(s, &o, grad, hess);
+        return dent;
+    }
     case HK_SHAPE_CUBOID:
         return cuboid_dent(s, d, grad, hess);
     }
@@ -208,20 +255,25 @@ static inline int within_reach(const hk_Shape *shape, double alpha, hk_Vec3 p, d
 static double penalty_in_reach(const hk_Shape *shape, double extra, hk_Vec3 d, double q2, hk_Vec3 *grad, hk_Mat3 *hess)
 {
     const double k = shape->penalty;
-    /* Many points within reach stay outside the envelope (examples/guides200: about one
-     * of four samples that the dynamics' potential evaluates touches): the ellipsoid's
-     * and the sphere's depth alone, the same value as with its derivatives, tells
-     * before the Hessian is paid for. */
-    if ((grad || hess) && (shape->kind == HK_SHAPE_ELLIPSOID || shape->kind == HK_SHAPE_SPHERE) &&
-        !(dent_at(shape, d, q2, NULL, NULL) + extra > 0.0))
-        return 0.0;
     /* The Hessian needs the gradient (k g g^T) even when the caller does not; the
      * cuboid's and the field's own Hessians are zero, so they are not asked for. */
     hk_Vec3 g;
     hk_Mat3 h;
     hk_Mat3 *hp = hess && shape->kind != HK_SHAPE_CUBOID && shape->kind != HK_SHAPE_FIELD ? &h : NULL;
-    const double phi = dent_at(shape, d, q2, grad || hess ? &g : NULL, hp) + extra;
-    if (!(phi > 0.0)) return 0.0;
+    double phi;
+    if ((grad || hess) && radial_kind(shape)) {
+        /* Many points within reach stay outside the envelope (examples/guides200: about
+         * one of four samples that the dynamics' potential evaluates touches): the
+         * ellipsoid's and the sphere's depth alone tells before the derivatives are
+         * paid for, and they then start from what the depth computed. */
+        Radial o;
+        phi = radial_value(shape, d, q2, &o) + extra;
+        if (!(phi > 0.0)) return 0.0;
+        radial_derivatives(shape, &o, &g, hp);
+    } else {
+        phi = dent_at(shape, d, q2, grad || hess ? &g : NULL, hp) + extra;
+        if (!(phi > 0.0)) return 0.0;
+    }
     const double kphi = k * phi;
     if (grad) *grad = hk_v3_madd(*grad, g, kphi);
     if (hess) {
@@ -283,6 +335,12 @@ static int clearly_outside(const hk_Shape *s, hk_Vec3 d, double q2)
         break;
     }
     return 0;
+}
+
+int hk_shape_outside(const hk_Shape *s, hk_Vec3 p)
+{
+    const hk_Vec3 d = hk_v3_sub(p, s->centre);
+    return clearly_outside(s, d, hk_v3_norm2(d));
 }
 
 int hk_collision_deepest(const hk_Shape *shapes, int count, double alpha, hk_Vec3 p, double *depth)

@@ -243,10 +243,12 @@ struct hk_StrandDynamics {
     /* contact_entry.c: the collision samples' arc lengths and the tip's (entry_count),
      * and their head-space positions for the coordinates of two recent states (a
      * step's end is the next one's start): slot k holds entry_q[k] (3N),
-     * entry_pos[k] (entry_count) and the nodes of the same walk entry_nodes[k] (N + 1,
-     * for the step's largest travel), valid when entry_valid[k] */
+     * entry_pos[k] (entry_count; computed where entry_known[k], hk_dynamics_potential_walk)
+     * and the nodes of the same walk entry_nodes[k] (N + 1, for the step's largest
+     * travel), valid when entry_valid[k] */
     double *entry_s, *entry_q[2];
     hk_Vec3 *entry_pos[2], *entry_nodes[2];
+    unsigned char *entry_known[2];
     int entry_count, entry_valid[2], entry_next;
     /* The element ends' poses of the last sweep (strand_dynamics.c), which the contact
      * points' Jacobians at the same state walk to again (strand_response.c): they hold
@@ -286,6 +288,15 @@ int hk_dynamics_solve(hk_StrandDynamics *d, double ch, double *out);
 void hk_dynamics_head_space_nodes(hk_StrandDynamics *d, const double *q, hk_Vec3 *nodes);
 hk_Vec3 hk_dynamics_head_space_tip(hk_StrandDynamics *d, const double *q);
 
+/* HK_STIFFNESS_FULL (with the linearly implicit Euler step, contact_entry.c): the walk
+ * of the potential with the body's penalty (its nodes and
+ * collision samples, head space) for coordinates q, kept for the next evaluation when
+ * it is at q (hk_strand_workspace_prepare): the collision samples' positions (points,
+ * contact_samples, known[i] where computed: not for elements beyond every shape's
+ * reach), the tip's (points[contact_samples], the last node) and the nodes (N + 1). */
+void hk_dynamics_potential_walk(hk_StrandDynamics *d, const double *q, hk_Vec3 *points, unsigned char *known,
+                                hk_Vec3 *nodes);
+
 /* The strand's points at the arc lengths s[0..count) (ascending) for coordinates q, in
  * head space, and its nodes (N + 1; may be NULL) from the same walk. */
 void hk_dynamics_head_space_walk(hk_StrandDynamics *d, const double *q, const double *s, int count, hk_Vec3 *points,
@@ -308,7 +319,9 @@ double hk_dynamics_largest_entry(hk_StrandDynamics *d, const double *before, con
 
 /* The strand's head-space nodes (N + 1) for coordinates q, from the cache of
  * hk_dynamics_largest_entry (filled for q when absent): the same bits as
- * hk_dynamics_head_space_nodes. Only with collision samples (contact_samples > 0). */
+ * hk_dynamics_head_space_nodes, but the potential's (hk_dynamics_potential_walk) with
+ * the full stiffness and the linearly implicit Euler step. Only with collision samples
+ * (contact_samples > 0). */
 const hk_Vec3 *hk_dynamics_entry_nodes(hk_StrandDynamics *d, const double *q);
 
 /* Kinetic plus potential energy with the body's penalty (the energy that the motion

@@ -70,6 +70,7 @@ void hk_strand_dynamics_destroy(hk_StrandDynamics *d)
     hk_free(d->dense_work);
     hk_free(d->entry_s);
     hk_free(d->entry_pos[0]);
+    hk_free(d->entry_known[0]);
     hk_free(d->tip_shapes);
     hk_free(d);
 }
@@ -170,9 +171,10 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsDef *par
         const size_t ec = (size_t)d->entry_count;
         d->entry_s = hk_alloc_array(ec + 2 * dim, sizeof(double), err);
         d->entry_pos[0] = hk_alloc_array(2 * ec + 2 * ((size_t)n + 1), sizeof(hk_Vec3), err);
+        d->entry_known[0] = hk_alloc_array(2 * ec, 1, err);
         /* the tip's penalty: the body shapes only (tip_contact.c) */
         d->tip_shapes = hk_alloc_array((size_t)body->shape_count, sizeof(hk_Shape), err);
-        if (!d->entry_s || !d->entry_pos[0] || !d->tip_shapes) {
+        if (!d->entry_s || !d->entry_pos[0] || !d->entry_known[0] || !d->tip_shapes) {
             hk_strand_dynamics_destroy(d);
             return HK_ERR_NOMEM;
         }
@@ -181,6 +183,7 @@ hk_Status hk_strand_dynamics_create(hk_SuperHelix *sh, const hk_DynamicsDef *par
         d->entry_q[0] = d->entry_s + ec;
         d->entry_q[1] = d->entry_q[0] + dim;
         d->entry_pos[1] = d->entry_pos[0] + ec;
+        d->entry_known[1] = d->entry_known[0] + ec;
         d->entry_nodes[0] = d->entry_pos[1] + ec;
         d->entry_nodes[1] = d->entry_nodes[0] + n + 1;
         d->tip = d->contact;
@@ -411,28 +414,29 @@ static void sweep(hk_StrandDynamics *d, const hk_RigidState *head, const hk_Poin
          * stiffness the potential told which touch: their kinematics two at a time,
          * their forces added in the order of the samples. */
         if (mode == SWEEP_STEP && full) {
-            int held = -1;
-            hk_Vec3 held_g = hk_v3_zero();
-            for (; sample < d->contact_samples; sample++) {
-                const double s = (sample + 0.5) * cw;
-                if (!last && s >= s_end) break;
-                hk_Vec3 grad;
-                if (!hk_strand_workspace_contact(d->ws_body, sample, &grad)) continue;
-                if (held < 0) {
-                    held = sample, held_g = grad;
-                    continue;
-                }
+            /* the element's touching samples as the potential listed them: its elements
+             * hold the samples the sweep's would (s = (i + 1/2) w against s_start, w the
+             * same quotient), in the same order */
+            const int *touch;
+            const int touches = hk_strand_workspace_touching(d->ws_body, p, &touch);
+            int m = 0;
+            for (; m + 1 < touches; m += 2) {
+                hk_Vec3 grad[2];
+                hk_strand_workspace_contact(d->ws_body, touch[m], &grad[0]);
+                hk_strand_workspace_contact(d->ws_body, touch[m + 1], &grad[1]);
                 hk_PointKinematics pk[2];
-                const double uu[2] = {(held + 0.5) * cw - sh->s_start[p], s - sh->s_start[p]};
+                const double uu[2] = {(touch[m] + 0.5) * cw - sh->s_start[p],
+                                      (touch[m + 1] + 0.5) * cw - sh->s_start[p]};
                 hk_point_contact2(&node, k, kd, uu, pk);
-                add_friction(d, head, t, &pk[0], held_g, ch);
-                add_friction(d, head, t, &pk[1], grad, ch);
-                held = -1;
+                add_friction(d, head, t, &pk[0], grad[0], ch);
+                add_friction(d, head, t, &pk[1], grad[1], ch);
             }
-            if (held >= 0) { /* the element's last one, alone */
+            if (m < touches) { /* the element's last one, alone */
+                hk_Vec3 grad;
+                hk_strand_workspace_contact(d->ws_body, touch[m], &grad);
                 hk_PointKinematics pk;
-                hk_point_kinematics(&node, k, kd, (held + 0.5) * cw - sh->s_start[p], 1, &pk);
-                add_friction(d, head, t, &pk, held_g, ch);
+                hk_point_kinematics(&node, k, kd, (touch[m] + 0.5) * cw - sh->s_start[p], 1, &pk);
+                add_friction(d, head, t, &pk, grad, ch);
             }
         }
         for (; mode == SWEEP_STEP && !full && sample < d->contact_samples; sample++) {
@@ -516,6 +520,21 @@ void hk_dynamics_head_space_walk(hk_StrandDynamics *d, const double *q, const do
     const RootPose world = use_head_space(d);
     hk_superhelix_points_nodes(d->sh, q, s, count, points, nodes);
     restore_world_pose(d, world);
+}
+
+void hk_dynamics_potential_walk(hk_StrandDynamics *d, const double *q, hk_Vec3 *points, unsigned char *known,
+                                hk_Vec3 *nodes)
+{
+    hk_SuperHelix *sh = d->sh;
+    /* the order of the next evaluation's potential (hk_dynamics_evaluate's refresh) */
+    const int order = d->evaluations % d->params.hessian_interval == 0 ? 2 : 1;
+    const RootPose world = use_head_space(d);
+    hk_strand_workspace_prepare(sh, &d->body_env, q, order, d->ws_body);
+    restore_world_pose(d, world);
+    memcpy(nodes, hk_strand_workspace_nodes(d->ws_body), (size_t)(sh->n + 1) * sizeof(hk_Vec3));
+    hk_strand_workspace_samples(d->ws_body, points, known);
+    points[d->contact_samples] = nodes[sh->n]; /* the tip: the last node */
+    known[d->contact_samples] = 1;
 }
 
 hk_Vec3 hk_dynamics_head_space_tip(hk_StrandDynamics *d, const double *q)

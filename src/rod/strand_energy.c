@@ -46,6 +46,17 @@ struct hk_StrandWorkspace {
     hk_Vec3 *sfl;         /* sf in the element's start frame */
     double *xi;           /* Hessian: the screws xi_a, stored transposed (6 rows of 3N) */
     double *y;            /* Hessian: the 6-vectors Y_b, per coordinate */
+    /* the walk (walk(): the node poses, the elements' closed forms and the positions sp of
+     * the samples of the elements within reach of a shape, near[P]) for the coordinates
+     * key_q, the root pose key_root, key_frame, the order key_order and the shapes of
+     * key_env, kept by hk_strand_workspace_prepare for the next hk_strand_energy call
+     * alone (prepared) */
+    unsigned char *near;
+    double *key_q;
+    hk_Vec3 key_root;
+    hk_Mat3 key_frame;
+    int key_order, prepared;
+    hk_StrandEnvDef key_env;
 };
 
 /* The default environment: no shapes, no collisions (what a NULL env means). */
@@ -93,8 +104,11 @@ hk_Status hk_strand_workspace_create(const hk_SuperHelix *sh, const hk_StrandEnv
     ws->sfl = hk_alloc_array(sn, sizeof(hk_Vec3), err);
     ws->xi = hk_alloc_array((size_t)n * 3 * 6, sizeof(double), err);
     ws->y = hk_alloc_array((size_t)n * 3 * 6, sizeof(double), err);
+    ws->near = hk_calloc_array((size_t)n, 1, err);
+    ws->key_q = hk_alloc_array((size_t)n * 3, sizeof(double), err);
     if (!ws->elem_first_sample || !ws->sample_u || !ws->pos || !ws->frame || !ws->local || !ws->active || !ws->touch ||
-        !ws->first_touch || !ws->sp || !ws->sf || !ws->sa || !ws->sd || !ws->sd2 || !ws->sfl || !ws->xi || !ws->y) {
+        !ws->first_touch || !ws->sp || !ws->sf || !ws->sa || !ws->sd || !ws->sd2 || !ws->sfl || !ws->xi || !ws->y ||
+        !ws->near || !ws->key_q) {
         hk_strand_workspace_destroy(ws);
         return HK_ERR_NOMEM;
     }
@@ -131,6 +145,8 @@ void hk_strand_workspace_destroy(hk_StrandWorkspace *ws)
     hk_free(ws->sfl);
     hk_free(ws->xi);
     hk_free(ws->y);
+    hk_free(ws->near);
+    hk_free(ws->key_q);
     hk_free(ws);
 }
 
@@ -190,6 +206,60 @@ static void sample_derivatives(hk_StrandWorkspace *ws, hk_Vec3 k, const hk_Mat3 
     ws->sd[j] = hk_m3_mul(r, &dd[1]);
 }
 
+/* The collision samples' positions (sp) of the elements within reach of a shape
+ * (near): an inextensible element stays within its length of its start. Samples are
+ * evenly spaced by w: walk from one to the next with the element's own helix map,
+ * d(u + w) = d(u) + E(u) d(w), E(u + w) = E(u) E(w), instead of a closed form per
+ * sample. */
+static void sample_points(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, const double *q, hk_StrandWorkspace *ws)
+{
+    const double w = ws->sample_weight;
+    for (int p = 0; p < sh->n; p++) {
+        const int s0 = ws->elem_first_sample[p], s1 = ws->elem_first_sample[p + 1];
+        ws->near[p] = s0 != s1 && near_shapes(env, ws->pos[p], sh->length[p]);
+        if (!ws->near[p]) continue;
+        const hk_Mat3 *r = &ws->frame[p];
+        const hk_Vec3 k = k_of(q, p);
+        hk_ElementLocal at, step;
+        hk_element_local(k, ws->sample_u[s0], 0, 0, &at);
+        if (s1 - s0 > 1) hk_element_local(k, w, 0, 0, &step);
+        hk_Mat3 rot = at.rot;
+        hk_Vec3 d = hk_m3_col(&at.lam, 0);
+        for (int i = s0; i < s1; i++) {
+            if (i > s0) {
+                d = hk_v3_add(d, hk_m3_mul_v3(&rot, hk_m3_col(&step.lam, 0)));
+                rot = hk_m3_mul(&rot, &step.rot);
+            }
+            ws->sp[i] = hk_v3_add(ws->pos[p], hk_m3_mul_v3(r, d));
+        }
+    }
+}
+
+/* The walk of hk_strand_energy: node poses and closed forms, and the samples' positions,
+ * unless hk_strand_workspace_prepare left them for these very inputs. */
+static int prepared_for(const hk_StrandWorkspace *ws, const hk_SuperHelix *sh, const hk_StrandEnvDef *env,
+                        const double *q, int order)
+{
+    return ws->prepared && ws->key_order == order && ws->key_env.shapes == env->shapes &&
+           ws->key_env.shape_count == env->shape_count &&
+           memcmp(&ws->key_env.envelope_alpha, &env->envelope_alpha, sizeof(double)) == 0 &&
+           memcmp(&ws->key_root, &sh->root, sizeof sh->root) == 0 &&
+           memcmp(&ws->key_frame, &sh->root_frame, sizeof sh->root_frame) == 0 &&
+           memcmp(ws->key_q, q, (size_t)(3 * sh->n) * sizeof(double)) == 0;
+}
+
+static void walk(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, const double *q, int order,
+                 hk_StrandWorkspace *ws)
+{
+    if (!prepared_for(ws, sh, env, q, order)) {
+        forward(sh, q, order, ws);
+        if (ws->sample_count > 0) sample_points(sh, env, q, ws);
+    }
+    ws->prepared = 0;
+}
+
+/* Collision samples (the positions from sample_points): energy, and for active samples
+ * the data the derivatives need. */
 static double collisions(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, const double *q, int order,
                          hk_StrandWorkspace *ws, double *max_depth)
 {
@@ -200,25 +270,12 @@ static double collisions(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, co
         const int s0 = ws->elem_first_sample[p], s1 = ws->elem_first_sample[p + 1];
         ws->first_touch[p] = touching;
         for (int i = s0; i < s1; i++) ws->active[i] = 0;
-        /* Broad phase: an inextensible element stays within its length of its start. */
-        if (s0 == s1 || !near_shapes(env, ws->pos[p], sh->length[p])) continue;
+        if (!ws->near[p]) continue;
         const hk_Mat3 *r = &ws->frame[p];
         const hk_Vec3 k = k_of(q, p);
-        /* Samples are evenly spaced by w: walk from one to the next with the element's
-         * own helix map, d(u + w) = d(u) + E(u) d(w), E(u + w) = E(u) E(w), instead of
-         * a closed form per sample. */
-        hk_ElementLocal at, step;
-        hk_element_local(k, ws->sample_u[s0], 0, 0, &at);
-        if (s1 - s0 > 1) hk_element_local(k, w, 0, 0, &step);
-        hk_Mat3 rot = at.rot;
-        hk_Vec3 d = hk_m3_col(&at.lam, 0);
         int held = -1; /* a touching sample whose derivatives wait for the next one's */
         for (int i = s0; i < s1; i++) {
-            if (i > s0) {
-                d = hk_v3_add(d, hk_m3_mul_v3(&rot, hk_m3_col(&step.lam, 0)));
-                rot = hk_m3_mul(&rot, &step.rot);
-            }
-            const hk_Vec3 pt = hk_v3_add(ws->pos[p], hk_m3_mul_v3(r, d));
+            const hk_Vec3 pt = ws->sp[i];
             if (max_depth) {
                 double depth = hk_collision_depth(env->shapes, env->shape_count, env->envelope_alpha, pt);
                 if (depth > *max_depth) *max_depth = depth;
@@ -233,7 +290,6 @@ static double collisions(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, co
             if (order < 1) continue;
             ws->active[i] = 1;
             ws->touch[touching++] = i;
-            ws->sp[i] = pt;
             ws->sf[i] = hk_v3_scale(g, w);
             if (order >= 2) {
                 ws->sa[i] = hk_m3_scale(&h, w);
@@ -299,7 +355,7 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
     if (!env) env = &no_env;
     const int n = sh->n, dim = 3 * n;
     const int order = hess ? 2 : (grad ? 1 : 0);
-    forward(sh, q, order, ws);
+    walk(sh, env, q, order, ws);
 
     /* Elastic energy: constant curvature per element integrates exactly (§4.1.1.3.1). */
     double e_elastic = 0.0;
@@ -482,13 +538,43 @@ int hk_strand_workspace_contact(const hk_StrandWorkspace *ws, int i, hk_Vec3 *gr
     return 1;
 }
 
+int hk_strand_workspace_touching(const hk_StrandWorkspace *ws, int p, const int **samples)
+{
+    *samples = ws->touch + ws->first_touch[p];
+    return ws->first_touch[p + 1] - ws->first_touch[p];
+}
+
 double hk_strand_max_penetration(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, const double *q,
                                  hk_StrandWorkspace *ws)
 {
     if (ws->sample_count == 0) return 0.0;
     if (!env) env = &no_env;
-    forward(sh, q, 0, ws);
+    walk(sh, env, q, 0, ws);
     double depth = 0.0;
     collisions(sh, env, q, 0, ws, &depth);
     return depth;
+}
+
+void hk_strand_workspace_prepare(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, const double *q, int order,
+                                 hk_StrandWorkspace *ws)
+{
+    if (!env) env = &no_env;
+    walk(sh, env, q, order, ws);
+    memcpy(ws->key_q, q, (size_t)(3 * sh->n) * sizeof(double));
+    ws->key_root = sh->root;
+    ws->key_frame = sh->root_frame;
+    ws->key_order = order;
+    ws->key_env = *env;
+    ws->prepared = 1;
+}
+
+const hk_Vec3 *hk_strand_workspace_nodes(const hk_StrandWorkspace *ws) { return ws->pos; }
+
+void hk_strand_workspace_samples(const hk_StrandWorkspace *ws, hk_Vec3 *pos, unsigned char *known)
+{
+    for (int p = 0; p < ws->n; p++)
+        for (int i = ws->elem_first_sample[p]; i < ws->elem_first_sample[p + 1]; i++) {
+            known[i] = ws->near[p];
+            if (ws->near[p]) pos[i] = ws->sp[i];
+        }
 }
