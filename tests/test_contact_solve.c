@@ -239,12 +239,12 @@ static void test_staged_solve_gives_the_same_bits(void **state)
     world_free(&b);
 }
 
-/* The full sweeps' idle checks from their records (hair_contact_solve.c, IdleCheck)
- * and visit's own test: the same forces, the same steps, to the bit, over steps whose
- * sweeps reach the later full sweeps (10 and 20), where the records are read. */
-static void test_idle_records_give_the_same_bits(void **state)
+/* Worlds a and b solved alike but for b's records of one kind turned off by allow(0)
+ * (hair_contact_solve.c): the same forces, the same steps, to the bit, over steps whose
+ * sweeps reach the later full sweeps (10 and 20), where the idle checks' records are
+ * read and the pushing pairs' records written back. */
+static void solve_with_and_without(void (*allow)(int))
 {
-    (void)state;
     World a, b;
     twin_worlds(&a, &b);
     const double h = 1.0 / 30.0;
@@ -252,9 +252,9 @@ static void test_idle_records_give_the_same_bits(void **state)
     for (int step = 0; step < 40; step++) {
         hk_ContactSolveStats sa, sb;
         world_solve(&a, h, &sa);
-        hk_contact_solve_idle_records_allow(0);
+        allow(0);
         world_solve(&b, h, &sb);
-        hk_contact_solve_idle_records_allow(1);
+        allow(1);
         assert_int_equal(sa.pushing, sb.pushing);
         assert_int_equal(sa.sweeps, sb.sweeps);
         pushing += sa.pushing;
@@ -266,6 +266,20 @@ static void test_idle_records_give_the_same_bits(void **state)
     assert_true(long_solves > 0);
     world_free(&a);
     world_free(&b);
+}
+
+/* The full sweeps' idle checks from their records (IdleCheck) and visit's own test. */
+static void test_idle_records_give_the_same_bits(void **state)
+{
+    (void)state;
+    solve_with_and_without(hk_contact_solve_idle_records_allow);
+}
+
+/* The sweeps over the pushing pairs from their records (PushRecord) and in place. */
+static void test_push_records_give_the_same_bits(void **state)
+{
+    (void)state;
+    solve_with_and_without(hk_contact_solve_push_records_allow);
 }
 
 static void test_point_jacobians_match_finite_differences(void **state)
@@ -447,6 +461,7 @@ int main(void)
         cmocka_unit_test(test_commit_matches_the_step_with_forces),
         cmocka_unit_test(test_staged_solve_gives_the_same_bits),
         cmocka_unit_test(test_idle_records_give_the_same_bits),
+        cmocka_unit_test(test_push_records_give_the_same_bits),
         cmocka_unit_test(test_forces_opposite_and_in_the_cone),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
