@@ -173,7 +173,8 @@ struct hk_ContactSolve {
     Buffer pushed;                   /* char per pair: its impulse is not zero (as visit tests it) */
     Buffer checks;                   /* double: the idle checks' records in the sweeps' order (IdleCheck) */
     size_t check_stride;             /* doubles a pair may take in checks: its header and two rows */
-    Buffer pushes;                   /* double: the pushing pairs' records in the sweeps' order (PushRecord) */
+    Buffer pushes[2];                /* double: the pushing pairs' records in the sweeps' order, those read
+                                        and those written by a full sweep (PushRecord) */
     size_t push_stride;              /* doubles a pair may take in pushes: its fields and 2 x 6 rows */
     Buffer delta;                    /* hk_Vec3 per pair: its warm start (apply_to_strand) */
     Buffer order, weight;            /* int and double per pair: the sweeps' order, the split's weights */
@@ -239,7 +240,7 @@ void hk_contact_solve_destroy(hk_ContactSolve *cs)
                      &cs->dv,     &cs->screws,   &cs->pairs,        &cs->old_pairs, &cs->active,
                      &cs->order,  &cs->weight,   &cs->roots,        &cs->delta,     &cs->segment_place,
                      &cs->block,  &cs->impulses, &cs->old_impulses, &cs->by_pair,   &cs->by_pair_fill,
-                     &cs->pushed, &cs->checks,   &cs->pushes};
+                     &cs->pushed, &cs->checks,   &cs->pushes[0],    &cs->pushes[1]};
     for (size_t k = 0; k < sizeof all / sizeof *all; k++) hk_free(all[k]->items);
     hk_contact_split_free(&cs->split);
     hk_free(cs);
@@ -282,7 +283,8 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Error 
         !reserve(&cs->active, (size_t)n, sizeof(int), err) || !reserve(&cs->order, (size_t)n, sizeof(int), err) ||
         !reserve(&cs->pushed, (size_t)n, sizeof(char), err) ||
         !reserve(&cs->checks, (size_t)n * cs->check_stride, sizeof(double), err) ||
-        !reserve(&cs->pushes, (size_t)n * cs->push_stride, sizeof(double), err) ||
+        !reserve(&cs->pushes[0], (size_t)n * cs->push_stride, sizeof(double), err) ||
+        !reserve(&cs->pushes[1], (size_t)n * cs->push_stride, sizeof(double), err) ||
         !reserve(&cs->weight, (size_t)n, sizeof(double), err) ||
         !reserve(&cs->roots, (size_t)g, sizeof(hk_Vec3), err) ||
         !reserve(&cs->delta, (size_t)n, sizeof(hk_Vec3), err) ||
@@ -1113,12 +1115,12 @@ static void prefetch_rows(const PairState *ps)
  * turned the records off (hk_contact_solve_idle_records_allow). */
 enum { SWEEP_PUSHING = 0, SWEEP_FIRST_FULL = 1, SWEEP_FULL = 2, SWEEP_FULL_VISITS = 3 };
 
-/* What a sweep does with the pushing pairs' records (PushRecord): a full sweep followed
- * by sweeps over the pushing pairs writes them; those sweeps visit the pairs from them,
- * the last before a full sweep writing the impulses back to the pairs. Off when the
- * tests turned the records off (hk_contact_solve_push_records_allow): the sweeps over
- * the pushing pairs visit them in place. */
-enum { PUSH_WRITE = 1, PUSH_READ = 2, PUSH_BACK = 4 };
+/* What a sweep does with the pushing pairs' records (PushRecord): every sweep after the
+ * first visits the pairs listed at the last full sweep from their records (PUSH_READ),
+ * and every full sweep but the last writes those of the pairs it lists (PUSH_WRITE).
+ * Off when the tests turned the records off (hk_contact_solve_push_records_allow):
+ * every pair is visited in place. */
+enum { PUSH_WRITE = 1, PUSH_READ = 2 };
 
 static int idle_records_allowed = 1, push_records_allowed = 1;
 
@@ -1170,19 +1172,22 @@ static int check_pushes(const IdleCheck *ic, const double *row)
     return ic->beta - ic->gamma * u > 0.0;
 }
 
-/* A pushing pair's record in the stream that the sweeps over the pushing pairs read:
- * its fields (PairHot), then the rows of point a, then of point b (its 3 rows of J or
- * Z^T, then, when they differ, its 3 rows of Y^T), the records of a group's active
- * pairs one after another in its active list's order. Those sweeps read the pairs'
- * fields and the points' rows from three scattered places, about 1.4 MB a sweep on
- * examples/guides200 shaking, more than the 512 KiB second level: a pushing visit's
- * rows and fields were 3.9 of the sweeps' 5.3 million first-level read misses
- * (docs/dynamics.md, "The idle checks' stream"). Written by each full sweep as its
- * visits list the pairs that push (their rows just read, in the caches), read front to
- * back by the sweeps over the pushing pairs that follow; the last of those writes what
- * they change (lambda, nu) back to the pairs, where the full sweep and the solve's
- * tail read it. A record's visit is the pair's: the same operations on the same values
- * (a pair that pushed at a full sweep has its block: ready), the same bits. */
+/* A pushing pair's record in the stream the sweeps read it from: its fields (PairHot),
+ * then the rows of point a, then of point b (its 3 rows of J or Z^T, then, when they
+ * differ, its 3 rows of Y^T), the records of a group's active pairs one after another
+ * in its active list's order. Visited in place, a pushing pair's fields and its points'
+ * rows lie in three scattered places, about 1.4 MB a sweep on examples/guides200
+ * shaking, more than the 512 KiB second level: a pushing visit's rows and fields were
+ * 3.9 of the sweeps' 5.3 million first-level read misses (docs/dynamics.md, "The idle
+ * checks' stream"). Each full sweep but the last writes the records of the pairs its
+ * visits find pushing (their rows just read, in the caches) into one of two buffers;
+ * the sweeps over the pushing pairs that follow visit them from there, front to back,
+ * and so does the next full sweep, which meets them in its order (an active list is a
+ * part of its group's order, in that order), writes their impulses back to the pairs
+ * (lambda, nu: where the idle checks, the later sweeps and the solve's tail read them)
+ * and the next records into the other buffer. A record's visit is the pair's: the same
+ * operations on the same values (a pair that pushed at a full sweep has its block:
+ * ready), the same bits. */
 typedef struct PushRecord {
     PairHot hot; /* the pair's, its points' rows and resp pointing into the record */
     int pair;    /* its index */
@@ -1190,15 +1195,15 @@ typedef struct PushRecord {
 } PushRecord;
 #define PUSH_HEAD (sizeof(PushRecord) / sizeof(double))
 
-/* Pair k's record at record (PushRecord); returns the end of the record. */
-static double *write_push(const PairState *ps, int k, double *record)
+/* The record of pair k (its fields ph) at record (PushRecord); returns its end. */
+static double *write_push(const PairHot *ph, int k, double *record)
 {
     PushRecord *pr = (PushRecord *)record;
     double *row = record + PUSH_HEAD;
-    pr->hot = ps->hot;
+    pr->hot = *ph;
     pr->pair = k;
     for (int side = 0; side < 2; side++) {
-        const PointRows *from = &ps->hot.point[side];
+        const PointRows *from = &ph->point[side];
         PointRows *to = &pr->hot.point[side];
         const size_t n = 3 * (size_t)from->m;
         memcpy(row, from->rows, n * sizeof(double));
@@ -1215,55 +1220,62 @@ static double *write_push(const PairState *ps, int k, double *record)
 }
 
 /* One sweep over a group's pairs: every pair on a full sweep (then its active pairs
- * are listed again, and with PUSH_WRITE their records written), else its active pairs
- * (with PUSH_READ from their records, and with PUSH_BACK their impulses written back).
- * A visit is a chain (the strands' dv, the relative velocity, the law, the new dv) that
- * waits on its loads: the pair two ahead is asked for, and the rows of the next one,
- * whose fields came with the last ask (the sweeps' CPU time on one thread about 15 %
- * less on examples/guides200 shaking, measured beside other jobs: docs/dynamics.md,
- * "The sweeps' balance counted"); the records are read in order, as the hardware's
- * prefetcher follows. On a later full sweep an idle pair is checked from its record and
- * left as visit would leave it when its law does not push. One loop for the three ways,
- * so that visit is inlined once: as two copies, gcc left the law and the rows' sums
- * calls (4.7 million more instructions in the head driver's 8 frames). */
-static void sweep_group(hk_ContactSolve *cs, const int *order, SweepGroup *gr, int kind, int push)
+ * are listed again, and with PUSH_WRITE their records written into buffer 1 - from),
+ * else its active pairs; with PUSH_READ the pairs listed at the last full sweep are
+ * visited from their records in buffer from (PushRecord). A visit is a chain (the
+ * strands' dv, the relative velocity, the law, the new dv) that waits on its loads: in
+ * place, the pair two ahead is asked for, and the rows of the next one, whose fields
+ * came with the last ask (the sweeps' CPU time on one thread about 15 % less on
+ * examples/guides200 shaking, measured beside other jobs: docs/dynamics.md, "The
+ * sweeps' balance counted"); the records are read in order, as the hardware's
+ * prefetcher follows. On a later full sweep an idle pair is checked from its record
+ * (IdleCheck) and left as visit would leave it when its law does not push. One loop
+ * for every kind, so that visit is inlined once: as two copies, gcc left the law and
+ * the rows' sums calls (4.7 million more instructions in the head driver's 8 frames). */
+static void sweep_group(hk_ContactSolve *cs, const int *order, SweepGroup *gr, int kind, int push, int from)
 {
-    const int full = kind != SWEEP_PUSHING, from_records = !full && (push & PUSH_READ);
+    const int full = kind != SWEEP_PUSHING;
     int *active = (int *)cs->active.items + gr->begin;
     const int count = full ? gr->end - gr->begin : gr->active_count;
     const int *list = full ? order + gr->begin : active; /* (active is rewritten behind x) */
     PairState *pairs = cs->pairs.items;
     const char *pushed = cs->pushed.items;
     double *record = (double *)cs->checks.items + (size_t)gr->begin * cs->check_stride;
-    double *push_record = (double *)cs->pushes.items + (size_t)gr->begin * cs->push_stride;
+    const size_t at = (size_t)gr->begin * cs->push_stride;
+    double *in = (double *)cs->pushes[from].items + at, *out = (double *)cs->pushes[1 - from].items + at;
+    int unread = push & PUSH_READ ? gr->active_count : 0; /* records left in */
     double change = 0.0, largest = 0.0;
     if (full) gr->pushing = gr->sticking = gr->active_count = 0;
     for (int x = 0; x < count; x++) {
-        int k;
-        PairHot *ph;
-        if (from_records) {
-            PushRecord *pr = (PushRecord *)push_record;
-            push_record += pr->size;
-            k = pr->pair, ph = &pr->hot;
-        } else {
-            k = list[x], ph = &pairs[k].hot;
-            if (kind == SWEEP_FULL) {
-                const IdleCheck *ic = (const IdleCheck *)record;
-                const double *row = record + CHECK_HEAD;
-                record += CHECK_HEAD + (size_t)ic->m[0] + (size_t)ic->m[1];
-                if (!pushed[k] && !check_pushes(ic, row)) continue; /* (visit: no push, size 0) */
+        const int k = unread > 0 && !full ? ((const PushRecord *)in)->pair : list[x];
+        const int recorded = unread > 0 && ((const PushRecord *)in)->pair == k;
+        PairHot *ph = &pairs[k].hot;
+        if (recorded) {
+            ph = &((PushRecord *)in)->hot;
+            in += ((const PushRecord *)in)->size;
+            unread--;
+        }
+        if (kind == SWEEP_FULL) {
+            const IdleCheck *ic = (const IdleCheck *)record;
+            const double *row = record + CHECK_HEAD;
+            record += CHECK_HEAD + (size_t)ic->m[0] + (size_t)ic->m[1];
+            if (!pushed[k] && !check_pushes(ic, row)) { /* (visit: no push, size 0) */
+                if (recorded) pairs[k].hot.lambda = ph->lambda, pairs[k].hot.nu = ph->nu;
+                continue;
             }
+        }
+        if (!recorded) {
             if (x + 2 < count) prefetch_pair(&pairs[list[x + 2]]);
             if (x + 1 < count) prefetch_rows(&pairs[list[x + 1]]);
-            if (kind == SWEEP_FIRST_FULL) record = write_check(&pairs[k], record);
         }
+        if (kind == SWEEP_FIRST_FULL) record = write_check(&pairs[k], record);
         double l;
         const int law = visit(cs, ph, k, cs->mu, cs->viscous, &change, &l);
         if (l > largest) largest = l;
-        if (push & PUSH_BACK) pairs[k].hot.lambda = ph->lambda, pairs[k].hot.nu = ph->nu;
+        if (full && recorded) pairs[k].hot.lambda = ph->lambda, pairs[k].hot.nu = ph->nu;
         if (full && law > 0) {
             active[gr->active_count++] = k;
-            if (push & PUSH_WRITE) push_record = write_push(&pairs[k], k, push_record);
+            if (push & PUSH_WRITE) out = write_push(ph, k, out);
         }
         if (full) gr->pushing += law > 0, gr->sticking += law == 2;
     }
@@ -1280,6 +1292,7 @@ typedef struct SweepShare {
     atomic_int finished; /* stage * 4 + the groups of the two done */
     int kind;            /* the sweep's kind (SWEEP_PUSHING, ...; set before its claims open) */
     int push;            /* and what it does with the pushing pairs' records (PUSH_WRITE, ...) */
+    int from;            /* the buffer of those it reads (pushes[from]) */
 } SweepShare;
 
 /* Claims one of the two groups of the open stage (stage 3 sweep + p: groups 2p and
@@ -1291,7 +1304,7 @@ static int claim_group(hk_ContactSolve *cs, const int *order, SweepGroup group[H
     while (word >= 0 && (word & 3) < 2)
         if (atomic_compare_exchange_weak_explicit(&sh->claim, &word, word + 1, memory_order_acq_rel,
                                                   memory_order_acquire)) {
-            sweep_group(cs, order, &group[2 * ((word >> 2) % 3) + (word & 3)], sh->kind, sh->push);
+            sweep_group(cs, order, &group[2 * ((word >> 2) % 3) + (word & 3)], sh->kind, sh->push, sh->from);
             atomic_fetch_add_explicit(&sh->finished, 1, memory_order_release);
             return 1;
         }
@@ -1310,7 +1323,7 @@ static void run_sweeps(hk_ContactSolve *cs, const int *order, SweepGroup group[H
     atomic_init(&share.claim, 2);
     atomic_init(&share.finished, 0);
     share.kind = SWEEP_FIRST_FULL;
-    share.push = 0;
+    share.push = share.from = 0;
 #pragma omp parallel num_threads(side_by_side ? 2 : 1)
     {
         if (omp_get_thread_num() != 0) { /* the helper: claims what it finds open */
@@ -1324,10 +1337,9 @@ static void run_sweeps(hk_ContactSolve *cs, const int *order, SweepGroup group[H
                              : full && idle_records_allowed ? SWEEP_FULL
                              : full                         ? SWEEP_FULL_VISITS
                                                             : SWEEP_PUSHING;
-                const int next_full = (sweep + 1) % HK_PGS_FULL_EVERY == 0 || sweep + 1 == HK_PGS_SWEEPS - 1;
-                share.push = !push_records_allowed ? 0
-                             : full                ? (sweep + 1 < HK_PGS_SWEEPS && !next_full ? PUSH_WRITE : 0)
-                                                   : PUSH_READ | (next_full ? PUSH_BACK : 0);
+                share.push = !push_records_allowed
+                                 ? 0
+                                 : (sweep > 0 ? PUSH_READ : 0) | (full && sweep + 1 < HK_PGS_SWEEPS ? PUSH_WRITE : 0);
                 for (int stage = 3 * sweep; stage < 3 * sweep + 3; stage++) {
                     atomic_store_explicit(&share.finished, 4 * stage, memory_order_relaxed);
                     atomic_store_explicit(&share.claim, 4 * stage, memory_order_release);
@@ -1336,6 +1348,7 @@ static void run_sweeps(hk_ContactSolve *cs, const int *order, SweepGroup group[H
                     while (atomic_load_explicit(&share.finished, memory_order_acquire) != 4 * stage + 2)
                         hk_spin_pause(&spins);
                 }
+                if (share.push & PUSH_WRITE) share.from = 1 - share.from; /* (read by the next claims) */
                 double change = 0.0, largest = 0.0;
                 if (full) local->pushing = local->sticking = 0;
                 for (int x = 0; x < HK_SPLIT_GROUPS; x++) {
