@@ -1247,13 +1247,15 @@ static void sweep_group(hk_ContactSolve *cs, const int *order, SweepGroup *gr, i
     double change = 0.0, largest = 0.0;
     if (full) gr->pushing = gr->sticking = gr->active_count = 0;
     for (int x = 0; x < count; x++) {
-        const int k = unread > 0 && !full ? ((const PushRecord *)in)->pair : list[x];
-        const int recorded = unread > 0 && ((const PushRecord *)in)->pair == k;
-        PairHot *ph = &pairs[k].hot;
-        if (recorded) {
-            ph = &((PushRecord *)in)->hot;
-            in += ((const PushRecord *)in)->size;
+        int k, recorded = 0;
+        PairHot *ph;
+        if (unread > 0 && (!full || ((const PushRecord *)in)->pair == list[x])) {
+            PushRecord *pr = (PushRecord *)in;
+            k = pr->pair, ph = &pr->hot, recorded = 1;
+            in += pr->size;
             unread--;
+        } else {
+            k = list[x], ph = &pairs[k].hot;
         }
         if (kind == SWEEP_FULL) {
             const IdleCheck *ic = (const IdleCheck *)record;
