@@ -39,16 +39,18 @@ typedef struct World {
 } World;
 
 /* Three 20 cm strands of examples/guides200's hair rooted close together and
- * crossing as they fall, with the linearly implicit Euler step of full heads. */
-static void world_make(World *w, const hk_HairContactDef *cp)
+ * crossing as they fall, with the linearly implicit Euler step of full heads (the
+ * dense solver, whose points' rows of Z^T both read and answer, or the O(N) one,
+ * whose rows of J and of Y^T differ). */
+static void world_make_with(World *w, const hk_HairContactDef *cp, hk_DynamicsSolver solver)
 {
     hk_Error err;
     hk_Hairstyle style = hk_default_hairstyle();
     assert_int_equal(hk_hairstyle_load(HK_SOURCE_DIR "/examples/guides200/hairstyle.txt", &style, &err), HK_OK);
     hk_DynamicsDef p = style.dynamics;
     p.integrator = HK_INTEGRATOR_LINEAR_EULER;
-    p.solver = HK_DYNAMICS_DENSE;
-    p.stiffness = HK_STIFFNESS_FULL;
+    p.solver = solver;
+    p.stiffness = solver == HK_DYNAMICS_DENSE ? HK_STIFFNESS_FULL : HK_STIFFNESS_GAUSS_NEWTON;
     p.hessian_interval = 1;
     p.max_turn = p.max_travel = 1e9; /* one step each, as the commit takes it */
     const hk_Vec3 roots[STRANDS] = {hk_v3(0, 0, 0), hk_v3(0.004, 0.0, 0.05), hk_v3(-0.03, 0.003, 0.02)};
@@ -65,6 +67,8 @@ static void world_make(World *w, const hk_HairContactDef *cp)
     assert_int_equal(hk_contact_solve_create(STRANDS, &w->solve, &err), HK_OK);
     hk_hairstyle_free(&style);
 }
+
+static void world_make(World *w, const hk_HairContactDef *cp) { world_make_with(w, cp, HK_DYNAMICS_DENSE); }
 
 static void world_free(World *w)
 {
@@ -148,12 +152,14 @@ static hk_HairContactDef params(void)
 }
 
 /* Two worlds alike, each with the contacts of params(). */
-static void twin_worlds(World *a, World *b)
+static void twin_worlds_with(World *a, World *b, hk_DynamicsSolver solver)
 {
     const hk_HairContactDef cp = params();
-    world_make(a, &cp);
-    world_make(b, &cp);
+    world_make_with(a, &cp, solver);
+    world_make_with(b, &cp, solver);
 }
+
+static void twin_worlds(World *a, World *b) { twin_worlds_with(a, b, HK_DYNAMICS_DENSE); }
 
 static void test_commit_matches_the_step_with_forces(void **state)
 {
@@ -239,22 +245,22 @@ static void test_staged_solve_gives_the_same_bits(void **state)
     world_free(&b);
 }
 
-/* The full sweeps' idle checks from their records (hair_contact_solve.c, IdleCheck)
- * and visit's own test: the same forces, the same steps, to the bit, over steps whose
- * sweeps reach the later full sweeps (10 and 20), where the records are read. */
-static void test_idle_records_give_the_same_bits(void **state)
+/* Worlds a and b (with solver) solved alike but for b's records of one kind turned
+ * off by allow(0) (hair_contact_solve.c): the same forces, the same steps, to the bit,
+ * over steps whose sweeps reach the later full sweeps (10 and 20), where the idle
+ * checks' records are read and the pushing pairs' records written back. */
+static void solve_with_and_without(void (*allow)(int), hk_DynamicsSolver solver)
 {
-    (void)state;
     World a, b;
-    twin_worlds(&a, &b);
+    twin_worlds_with(&a, &b, solver);
     const double h = 1.0 / 30.0;
     int pushing = 0, long_solves = 0;
     for (int step = 0; step < 40; step++) {
         hk_ContactSolveStats sa, sb;
         world_solve(&a, h, &sa);
-        hk_contact_solve_idle_records_allow(0);
+        allow(0);
         world_solve(&b, h, &sb);
-        hk_contact_solve_idle_records_allow(1);
+        allow(1);
         assert_int_equal(sa.pushing, sb.pushing);
         assert_int_equal(sa.sweeps, sb.sweeps);
         pushing += sa.pushing;
@@ -266,6 +272,22 @@ static void test_idle_records_give_the_same_bits(void **state)
     assert_true(long_solves > 0);
     world_free(&a);
     world_free(&b);
+}
+
+/* The full sweeps' idle checks from their records (IdleCheck) and visit's own test. */
+static void test_idle_records_give_the_same_bits(void **state)
+{
+    (void)state;
+    solve_with_and_without(hk_contact_solve_idle_records_allow, HK_DYNAMICS_DENSE);
+}
+
+/* The sweeps from the pushing pairs' records (PushRecord) and in place, with either
+ * solver (the records copy one set of rows or two). */
+static void test_push_records_give_the_same_bits(void **state)
+{
+    (void)state;
+    solve_with_and_without(hk_contact_solve_push_records_allow, HK_DYNAMICS_DENSE);
+    solve_with_and_without(hk_contact_solve_push_records_allow, HK_DYNAMICS_LINEAR);
 }
 
 static void test_point_jacobians_match_finite_differences(void **state)
@@ -447,6 +469,7 @@ int main(void)
         cmocka_unit_test(test_commit_matches_the_step_with_forces),
         cmocka_unit_test(test_staged_solve_gives_the_same_bits),
         cmocka_unit_test(test_idle_records_give_the_same_bits),
+        cmocka_unit_test(test_push_records_give_the_same_bits),
         cmocka_unit_test(test_forces_opposite_and_in_the_cone),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -99,13 +99,13 @@ typedef struct PointRows {
     int m;              /* its support (zero from column m on), also the rows' stride */
 } PointRows;
 
-/* The fields a sweep reads first (the idle pairs' check) come first, in two cache
- * lines, then those a visit that pushes reads, then those it does not read: a visit
- * touches 348 of the 456 bytes. (With the law's parts in full and the basis and keys
- * among them a pair took 552 bytes, all read by a visit that pushes; the pairs' fields
- * were a third of the sweeps' first-level cache misses, callgrind's cache model on
- * examples/guides200 shaking.) */
-typedef struct PairState {
+/* The fields of a pair that a visit reads and writes, those of the idle pairs' check
+ * first, in two cache lines, then those a visit that pushes reads: 348 bytes, copied
+ * whole into the pushing pairs' stream (PushRecord). (With the law's parts in full and
+ * the basis and keys among them a pair took 552 bytes, all read by a visit that pushes;
+ * the pairs' fields were a third of the sweeps' first-level cache misses, callgrind's
+ * cache model on examples/guides200 shaking.) */
+typedef struct PairHot {
     hk_Vec3 lambda;     /* impulse on a in the basis (finished, in world space: cs->impulses) */
     double beta, gamma; /* normal law lambda_n = max(0, beta - gamma u_n) */
     hk_Vec3 free;       /* relative velocity in the basis at the strands' free velocities */
@@ -114,10 +114,15 @@ typedef struct PairState {
     double nu;          /* the multiplier of its friction's disc at its last visit (disc_qp) */
     LawParts law;       /* what the pair's law takes from w alone */
     int ready;          /* w is set (both points' responses are), and with it law */
-    int strand[2];      /* i and j */
-    int slot[2];        /* slots of point a and point b */
-    int key[4];         /* (i, a, j, b): warm start from the last step's same pair */
-    hk_Vec3 basis[3];   /* n (from b to a), t1, t2 */
+} PairHot;
+
+/* A pair: what a visit touches, then the fields it does not read. */
+typedef struct PairState {
+    PairHot hot;
+    int strand[2];    /* i and j */
+    int slot[2];      /* slots of point a and point b */
+    int key[4];       /* (i, a, j, b): warm start from the last step's same pair */
+    hk_Vec3 basis[3]; /* n (from b to a), t1, t2 */
 } PairState;
 
 /* A growable array: its items and how many it has room for. */
@@ -168,6 +173,9 @@ struct hk_ContactSolve {
     Buffer pushed;                   /* char per pair: its impulse is not zero (as visit tests it) */
     Buffer checks;                   /* double: the idle checks' records in the sweeps' order (IdleCheck) */
     size_t check_stride;             /* doubles a pair may take in checks: its header and two rows */
+    Buffer pushes[2];                /* double: the pushing pairs' records in the sweeps' order, those read
+                                        and those written by a full sweep (PushRecord) */
+    size_t push_stride;              /* doubles a pair may take in pushes: its fields and 2 x 6 rows */
     Buffer delta;                    /* hk_Vec3 per pair: its warm start (apply_to_strand) */
     Buffer order, weight;            /* int and double per pair: the sweeps' order, the split's weights */
     Buffer roots;                    /* hk_Vec3 per strand: its root, where the split reads it */
@@ -232,7 +240,7 @@ void hk_contact_solve_destroy(hk_ContactSolve *cs)
                      &cs->dv,     &cs->screws,   &cs->pairs,        &cs->old_pairs, &cs->active,
                      &cs->order,  &cs->weight,   &cs->roots,        &cs->delta,     &cs->segment_place,
                      &cs->block,  &cs->impulses, &cs->old_impulses, &cs->by_pair,   &cs->by_pair_fill,
-                     &cs->pushed, &cs->checks};
+                     &cs->pushed, &cs->checks,   &cs->pushes[0],    &cs->pushes[1]};
     for (size_t k = 0; k < sizeof all / sizeof *all; k++) hk_free(all[k]->items);
     hk_contact_split_free(&cs->split);
     hk_free(cs);
@@ -275,6 +283,8 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Error 
         !reserve(&cs->active, (size_t)n, sizeof(int), err) || !reserve(&cs->order, (size_t)n, sizeof(int), err) ||
         !reserve(&cs->pushed, (size_t)n, sizeof(char), err) ||
         !reserve(&cs->checks, (size_t)n * cs->check_stride, sizeof(double), err) ||
+        !reserve(&cs->pushes[0], (size_t)n * cs->push_stride, sizeof(double), err) ||
+        !reserve(&cs->pushes[1], (size_t)n * cs->push_stride, sizeof(double), err) ||
         !reserve(&cs->weight, (size_t)n, sizeof(double), err) ||
         !reserve(&cs->roots, (size_t)g, sizeof(hk_Vec3), err) ||
         !reserve(&cs->delta, (size_t)n, sizeof(hk_Vec3), err) ||
@@ -535,7 +545,7 @@ static void strand_rows_in_basis(hk_ContactSolve *cs, int s, int x)
 }
 
 /* Pair ps has an impulse from the last step (its warm start, set by prepare_pairs). */
-static int has_impulse(const PairState *ps) { return hk_v3_norm2(ps->lambda) > 0.0; }
+static int has_impulse(const PairState *ps) { return hk_v3_norm2(ps->hot.lambda) > 0.0; }
 
 /* Every component of v is zero (visit's test of an idle pair: no impulse). */
 static int is_zero(hk_Vec3 v) { return v.x == 0.0 && v.y == 0.0 && v.z == 0.0; }
@@ -865,13 +875,13 @@ static int first_not_less(const PairState *pairs, int count, const int key[4])
     return lo;
 }
 
-/* Pair ps's Delassus block in its basis, J_a Y_a + J_b Y_b (or Z_a^T Z_a + Z_b^T Z_b)
+/* Pair ph's Delassus block in its basis, J_a Y_a + J_b Y_b (or Z_a^T Z_a + Z_b^T Z_b)
  * with both points' rows of J (and so their answers) in that basis. */
-static void pair_block(hk_ContactSolve *cs, PairState *ps)
+static void pair_block(hk_ContactSolve *cs, PairHot *ph)
 {
-    memset(ps->w, 0, sizeof ps->w);
+    memset(ph->w, 0, sizeof ph->w);
     for (int side = 0; side < 2; side++) {
-        const PointRows *pr = &ps->point[side];
+        const PointRows *pr = &ph->point[side];
         const size_t m = (size_t)pr->m;
         const double *rows = pr->rows, *yt = pr->resp;
         /* Z^T Z is symmetric to the bit (a product's factors commute, the sums run in
@@ -882,14 +892,14 @@ static void pair_block(hk_ContactSolve *cs, PairState *ps)
             for (int q = 0; q < 3; q++)
                 e[r][q] = symmetric && q < r ? e[q][r] : dot_n(rows + (size_t)r * m, yt + (size_t)q * m, m);
         for (int r = 0; r < 3; r++)
-            for (int q = 0; q < 3; q++) ps->w[r][q] += e[r][q];
+            for (int q = 0; q < 3; q++) ph->w[r][q] += e[r][q];
     }
-    law_parts(ps->w, ps->gamma, cs->mu, cs->viscous, &ps->law);
-    ps->ready = 1;
+    law_parts(ph->w, ph->gamma, cs->mu, cs->viscous, &ph->law);
+    ph->ready = 1;
 }
 
 /* Pair ps's normal law pushes at the free velocities (its free set by prepare_pairs). */
-static int pushes_free(const PairState *ps) { return ps->beta - ps->gamma * ps->free.x > 0.0; }
+static int pushes_free(const PairState *ps) { return ps->hot.beta - ps->hot.gamma * ps->hot.free.x > 0.0; }
 
 /* A pair that may push this step: with an impulse from the last step, or whose normal
  * law pushes at the free velocities. */
@@ -915,7 +925,7 @@ static int may_push(const PairState *ps) { return pushes_free(ps) || has_impulse
  * (docs/dynamics.md, "The sweeps' balance counted"). */
 static double sweep_cost(const PairState *ps)
 {
-    const double m = ps->point[0].m + ps->point[1].m;
+    const double m = ps->hot.point[0].m + ps->hot.point[1].m;
     if (has_impulse(ps)) return 14400.0 + 280.0 * m;
     if (pushes_free(ps)) return 3500.0 + 63.0 * m;
     return 700.0 + 32.0 * m;
@@ -956,22 +966,22 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
             ps->key[0] = hp->i, ps->key[1] = hp->a, ps->key[2] = hp->j, ps->key[3] = hp->b;
             ps->basis[0] = ct->normal;
             complete_basis(ps->basis);
-            ps->beta = h * p->stiffness * (p->distance - ct->distance);
-            ps->gamma = h * h * p->stiffness + h * p->damping;
-            ps->lambda = hk_v3_zero();
-            ps->ready = 0;
-            ps->nu = 0.0;
-            ps->free = in_basis(ps->basis, hk_v3_sub(vel[ps->slot[0]], vel[ps->slot[1]]));
+            ps->hot.beta = h * p->stiffness * (p->distance - ct->distance);
+            ps->hot.gamma = h * h * p->stiffness + h * p->damping;
+            ps->hot.lambda = hk_v3_zero();
+            ps->hot.ready = 0;
+            ps->hot.nu = 0.0;
+            ps->hot.free = in_basis(ps->basis, hk_v3_sub(vel[ps->slot[0]], vel[ps->slot[1]]));
             ps->strand[0] = hp->i, ps->strand[1] = hp->j;
             if (k != next) o = first_not_less(old, cs->old_count, ps->key);
             while (o < cs->old_count && key_cmp(old[o].key, ps->key) < 0) o++;
             if (o < cs->old_count && key_cmp(old[o].key, ps->key) == 0)
-                ps->lambda = in_basis(ps->basis, old_impulse[o]);
+                ps->hot.lambda = in_basis(ps->basis, old_impulse[o]);
             next = k + 1;
             for (int side = 0; side < 2; side++) {
                 const int strand = ps->strand[side], x = ps->slot[side];
                 const size_t at = block_of(cs, x);
-                PointRows *pr = &ps->point[side];
+                PointRows *pr = &ps->hot.point[side];
                 pr->resp = (const double *)cs->yt.items + at;
                 pr->rows = cs->reversed[strand] ? pr->resp : (const double *)cs->jac.items + at;
                 pr->dv = (double *)cs->dv.items + cs->dim_start[strand];
@@ -980,18 +990,18 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
             /* (a point belongs to one pair: no other iteration writes these) */
             if (may_push(ps)) answered[ps->slot[0]] = answered[ps->slot[1]] = WANTED;
             weight[k] = sweep_cost(ps);
-            delta[k] = has_impulse(ps) ? ps->lambda : hk_v3_zero();
-            ((char *)cs->pushed.items)[k] = !is_zero(ps->lambda);
+            delta[k] = has_impulse(ps) ? ps->hot.lambda : hk_v3_zero();
+            ((char *)cs->pushed.items)[k] = !is_zero(ps->hot.lambda);
         }
     }
 }
 
-/* Relative velocity in the basis at the step's end of pair ps with the impulses so far. */
-static hk_Vec3 relative_velocity(const PairState *ps)
+/* Relative velocity in the basis at the step's end of pair ph with the impulses so far. */
+static hk_Vec3 relative_velocity(const PairHot *ph)
 {
-    hk_Vec3 u = ps->free;
+    hk_Vec3 u = ph->free;
     for (int side = 0; side < 2; side++) {
-        const PointRows *pr = &ps->point[side];
+        const PointRows *pr = &ph->point[side];
         const hk_Vec3 du = point_change(pr->rows, (size_t)pr->m, pr->dv);
         u = side == 0 ? hk_v3_add(u, du) : hk_v3_sub(u, du);
     }
@@ -999,11 +1009,11 @@ static hk_Vec3 relative_velocity(const PairState *ps)
 }
 
 /* Its normal part alone. */
-static double normal_velocity(const PairState *ps)
+static double normal_velocity(const PairHot *ph)
 {
-    double u = ps->free.x;
+    double u = ph->free.x;
     for (int side = 0; side < 2; side++) {
-        const PointRows *pr = &ps->point[side];
+        const PointRows *pr = &ph->point[side];
         const double du = dot_n(pr->rows, pr->dv, (size_t)pr->m);
         u += side == 0 ? du : -du;
     }
@@ -1021,57 +1031,57 @@ static void apply_to_strand(hk_ContactSolve *cs, int s, const hk_Vec3 *delta)
     for (int r = cs->slot_start[s]; r < cs->slot_start[s + 1]; r++) {
         const int k = by_pair[r] / 2, side = by_pair[r] % 2;
         if (delta[k].x == 0.0 && delta[k].y == 0.0 && delta[k].z == 0.0) continue;
-        const PointRows *pr = &pairs[k].point[side];
+        const PointRows *pr = &pairs[k].hot.point[side];
         add_response(pr->dv, pr->resp, (size_t)pr->m, delta[k], side == 0 ? 1.0 : -1.0);
     }
 }
 
-/* Changes pair ps's impulse by delta (in its basis), updating both strands' dv. */
-static void apply_change(const PairState *ps, hk_Vec3 delta)
+/* Changes pair ph's impulse by delta (in its basis), updating both strands' dv. */
+static void apply_change(const PairHot *ph, hk_Vec3 delta)
 {
     for (int side = 0; side < 2; side++) {
-        const PointRows *pr = &ps->point[side];
+        const PointRows *pr = &ph->point[side];
         add_response(pr->dv, pr->resp, (size_t)pr->m, delta, side == 0 ? 1.0 : -1.0);
     }
 }
 
-/* One Gauss-Seidel visit of pair k: its law given the other impulses, the strands'
+/* One Gauss-Seidel visit of pair k (ph: its fields, in the pair or in its record of the
+ * pushing pairs' stream, PushRecord): its law given the other impulses, the strands'
  * dv updated. *change is raised to the size of the impulse's change, *size receives the
  * new impulse's size; returns the law's verdict (contact_law). Inlined into its one
  * caller, the sweep's loop (gcc left it a call): 2.6 million fewer instructions in the
  * head driver's 8 frames, the same bits (docs/dynamics.md, "Two visits in flight"). */
-static inline __attribute__((always_inline)) int visit(hk_ContactSolve *cs, int k, double mu, double viscous,
-                                                       double *change, double *size)
+static inline __attribute__((always_inline)) int visit(hk_ContactSolve *cs, PairHot *ph, int k, double mu,
+                                                       double viscous, double *change, double *size)
 {
-    PairState *ps = (PairState *)cs->pairs.items + k;
-    const int idle = is_zero(ps->lambda);
+    const int idle = is_zero(ph->lambda);
     /* No impulse and a normal law that does not push: zero stays the pair's answer
      * (with no push there is no friction either), whatever w. */
-    if (idle && !(ps->beta - ps->gamma * normal_velocity(ps) > 0.0)) {
+    if (idle && !(ph->beta - ph->gamma * normal_velocity(ph) > 0.0)) {
         *size = 0.0;
         return 0;
     }
-    if (!ps->ready) {
+    if (!ph->ready) { /* (a record's pair pushed: it is ready, ph is its own) */
+        const PairState *ps = (const PairState *)cs->pairs.items + k;
         for (int side = 0; side < 2; side++) answer_lazily(cs, ps->strand[side], ps->slot[side]);
-        pair_block(cs, ps);
+        pair_block(cs, ph);
     }
-    const hk_Vec3 u = relative_velocity(ps);
-    const double lo[3] = {ps->lambda.x, ps->lambda.y, ps->lambda.z};
+    const hk_Vec3 u = relative_velocity(ph);
+    const double lo[3] = {ph->lambda.x, ph->lambda.y, ph->lambda.z};
     double u0[3] = {u.x, u.y, u.z}, lam[3] = {lo[0], lo[1], lo[2]};
-    for (int r = 0; r < 3; r++) u0[r] -= ps->w[r][0] * lo[0] + ps->w[r][1] * lo[1] + ps->w[r][2] * lo[2];
-    const int law = contact_law(ps->w, &ps->law, u0, ps->beta, ps->gamma, mu, viscous, mu * (lo[0] > 0.0 ? lo[0] : 0.0),
-                                lam, &ps->nu);
+    for (int r = 0; r < 3; r++) u0[r] -= ph->w[r][0] * lo[0] + ph->w[r][1] * lo[1] + ph->w[r][2] * lo[2];
+    const int law = contact_law(ph->w, &ph->law, u0, ph->beta, ph->gamma, mu, viscous, mu * (lo[0] > 0.0 ? lo[0] : 0.0),
+                                lam, &ph->nu);
     const hk_Vec3 next = hk_v3(lam[0], lam[1], lam[2]);
-    const hk_Vec3 delta = hk_v3_sub(next, ps->lambda);
-    ps->lambda = next;
+    const hk_Vec3 delta = hk_v3_sub(next, ph->lambda);
+    ph->lambda = next;
     ((char *)cs->pushed.items)[k] = !is_zero(next);
     const double dl = hk_v3_norm(delta);
-    if (dl > 0.0) apply_change(ps, delta);
+    if (dl > 0.0) apply_change(ph, delta);
     if (dl > *change) *change = dl;
     *size = hk_v3_norm(next);
     return law;
 }
-
 
 /* A group of pairs in the sweeps: order[begin, end) are its pairs, active[begin, begin
  * + active_count) those that pushed at its last full sweep (visited on every sweep). */
@@ -1096,7 +1106,7 @@ static void prefetch_pair(const PairState *ps) { prefetch_bytes(ps, offsetof(Pai
 static void prefetch_rows(const PairState *ps)
 {
     for (int side = 0; side < 2; side++)
-        prefetch_bytes(ps->point[side].rows, 3 * (size_t)ps->point[side].m * sizeof(double));
+        prefetch_bytes(ps->hot.point[side].rows, 3 * (size_t)ps->hot.point[side].m * sizeof(double));
 }
 
 /* The kinds of sweep: over the pairs that pushed at the last full sweep; the solve's
@@ -1105,9 +1115,18 @@ static void prefetch_rows(const PairState *ps)
  * turned the records off (hk_contact_solve_idle_records_allow). */
 enum { SWEEP_PUSHING = 0, SWEEP_FIRST_FULL = 1, SWEEP_FULL = 2, SWEEP_FULL_VISITS = 3 };
 
-static int idle_records_allowed = 1;
+/* What a sweep does with the pushing pairs' records (PushRecord): every sweep after the
+ * first visits the pairs listed at the last full sweep from their records (PUSH_READ),
+ * and every full sweep but the last writes those of the pairs it lists (PUSH_WRITE).
+ * Off when the tests turned the records off (hk_contact_solve_push_records_allow):
+ * every pair is visited in place. */
+enum { PUSH_WRITE = 1, PUSH_READ = 2 };
+
+static int idle_records_allowed = 1, push_records_allowed = 1;
 
 void hk_contact_solve_idle_records_allow(int allow) { idle_records_allowed = allow; }
+
+void hk_contact_solve_push_records_allow(int allow) { push_records_allowed = allow; }
 
 /* What visit's test of an idle pair reads (normal_velocity), in one record followed by
  * row 0 of point a, then of point b: the records of a group's pairs one after another
@@ -1130,9 +1149,9 @@ static double *write_check(const PairState *ps, double *record)
 {
     IdleCheck *ic = (IdleCheck *)record;
     double *row = record + CHECK_HEAD;
-    ic->beta = ps->beta, ic->gamma = ps->gamma, ic->free_n = ps->free.x;
+    ic->beta = ps->hot.beta, ic->gamma = ps->hot.gamma, ic->free_n = ps->hot.free.x;
     for (int side = 0; side < 2; side++) {
-        const PointRows *pr = &ps->point[side];
+        const PointRows *pr = &ps->hot.point[side];
         ic->dv[side] = pr->dv, ic->m[side] = pr->m;
         memcpy(row, pr->rows, (size_t)pr->m * sizeof(double));
         row += pr->m;
@@ -1153,40 +1172,113 @@ static int check_pushes(const IdleCheck *ic, const double *row)
     return ic->beta - ic->gamma * u > 0.0;
 }
 
+/* A pushing pair's record in the stream the sweeps read it from: its fields (PairHot),
+ * then the rows of point a, then of point b (its 3 rows of J or Z^T, then, when they
+ * differ, its 3 rows of Y^T), the records of a group's active pairs one after another
+ * in its active list's order. Visited in place, a pushing pair's fields and its points'
+ * rows lie in three scattered places, about 1.4 MB a sweep on examples/guides200
+ * shaking, more than the 512 KiB second level: a pushing visit's rows and fields were
+ * 3.9 of the sweeps' 5.3 million first-level read misses (docs/dynamics.md, "The idle
+ * checks' stream"). Each full sweep but the last writes the records of the pairs its
+ * visits find pushing (their rows just read, in the caches) into one of two buffers;
+ * the sweeps over the pushing pairs that follow visit them from there, front to back,
+ * and so does the next full sweep, which meets them in its order (an active list is a
+ * part of its group's order, in that order), writes their impulses back to the pairs
+ * (lambda, nu: where the idle checks, the later sweeps and the solve's tail read them)
+ * and the next records into the other buffer. A record's visit is the pair's: the same
+ * operations on the same values (a pair that pushed at a full sweep has its block:
+ * ready), the same bits. */
+typedef struct PushRecord {
+    PairHot hot; /* the pair's, its points' rows and resp pointing into the record */
+    int pair;    /* its index */
+    int size;    /* the record's doubles, its rows with it */
+} PushRecord;
+#define PUSH_HEAD (sizeof(PushRecord) / sizeof(double))
+
+/* The record of pair k (its fields ph) at record (PushRecord); returns its end. */
+static double *write_push(const PairHot *ph, int k, double *record)
+{
+    PushRecord *pr = (PushRecord *)record;
+    double *row = record + PUSH_HEAD;
+    pr->hot = *ph;
+    pr->pair = k;
+    for (int side = 0; side < 2; side++) {
+        const PointRows *from = &ph->point[side];
+        PointRows *to = &pr->hot.point[side];
+        const size_t n = 3 * (size_t)from->m;
+        memcpy(row, from->rows, n * sizeof(double));
+        to->rows = to->resp = row;
+        row += n;
+        if (from->resp != from->rows) {
+            memcpy(row, from->resp, n * sizeof(double));
+            to->resp = row;
+            row += n;
+        }
+    }
+    pr->size = (int)(row - record);
+    return row;
+}
+
 /* One sweep over a group's pairs: every pair on a full sweep (then its active pairs
- * are listed again), else its active pairs. A visit is a chain (the strands' dv, the
- * relative velocity, the law, the new dv) that waits on its loads: the pair two ahead
- * is asked for, and the rows of the next one, whose fields came with the last ask
- * (the sweeps' CPU time on one thread about 15 % less on examples/guides200
- * shaking, measured beside other jobs: docs/dynamics.md, "The sweeps' balance
- * counted"). On a later full sweep an idle pair is checked from its record and left
- * as visit would leave it when its law does not push. */
-static void sweep_group(hk_ContactSolve *cs, const int *order, SweepGroup *gr, int kind)
+ * are listed again, and with PUSH_WRITE their records written into buffer 1 - from),
+ * else its active pairs; with PUSH_READ the pairs listed at the last full sweep are
+ * visited from their records in buffer from (PushRecord). A visit is a chain (the
+ * strands' dv, the relative velocity, the law, the new dv) that waits on its loads: in
+ * place, the pair two ahead is asked for, and the rows of the next one, whose fields
+ * came with the last ask (the sweeps' CPU time on one thread about 15 % less on
+ * examples/guides200 shaking, measured beside other jobs: docs/dynamics.md, "The
+ * sweeps' balance counted"); the records are read in order, as the hardware's
+ * prefetcher follows. On a later full sweep an idle pair is checked from its record
+ * (IdleCheck) and left as visit would leave it when its law does not push. One loop
+ * for every kind, so that visit is inlined once: as two copies, gcc left the law and
+ * the rows' sums calls (4.7 million more instructions in the head driver's 8 frames). */
+static void sweep_group(hk_ContactSolve *cs, const int *order, SweepGroup *gr, int kind, int push, int from)
 {
     const int full = kind != SWEEP_PUSHING;
     int *active = (int *)cs->active.items + gr->begin;
     const int count = full ? gr->end - gr->begin : gr->active_count;
     const int *list = full ? order + gr->begin : active; /* (active is rewritten behind x) */
-    const PairState *pairs = cs->pairs.items;
+    PairState *pairs = cs->pairs.items;
     const char *pushed = cs->pushed.items;
     double *record = (double *)cs->checks.items + (size_t)gr->begin * cs->check_stride;
+    const size_t at = (size_t)gr->begin * cs->push_stride;
+    double *in = (double *)cs->pushes[from].items + at, *out = (double *)cs->pushes[1 - from].items + at;
+    int unread = push & PUSH_READ ? gr->active_count : 0; /* records left in */
     double change = 0.0, largest = 0.0;
     if (full) gr->pushing = gr->sticking = gr->active_count = 0;
     for (int x = 0; x < count; x++) {
-        const int k = list[x];
+        int k, recorded = 0;
+        PairHot *ph;
+        if (unread > 0 && (!full || ((const PushRecord *)in)->pair == list[x])) {
+            PushRecord *pr = (PushRecord *)in;
+            k = pr->pair, ph = &pr->hot, recorded = 1;
+            in += pr->size;
+            unread--;
+        } else {
+            k = list[x], ph = &pairs[k].hot;
+        }
         if (kind == SWEEP_FULL) {
             const IdleCheck *ic = (const IdleCheck *)record;
             const double *row = record + CHECK_HEAD;
             record += CHECK_HEAD + (size_t)ic->m[0] + (size_t)ic->m[1];
-            if (!pushed[k] && !check_pushes(ic, row)) continue; /* (visit: no push, size 0) */
+            if (!pushed[k] && !check_pushes(ic, row)) { /* (visit: no push, size 0) */
+                if (recorded) pairs[k].hot.lambda = ph->lambda, pairs[k].hot.nu = ph->nu;
+                continue;
+            }
         }
-        if (x + 2 < count) prefetch_pair(&pairs[list[x + 2]]);
-        if (x + 1 < count) prefetch_rows(&pairs[list[x + 1]]);
+        if (!recorded) {
+            if (x + 2 < count) prefetch_pair(&pairs[list[x + 2]]);
+            if (x + 1 < count) prefetch_rows(&pairs[list[x + 1]]);
+        }
         if (kind == SWEEP_FIRST_FULL) record = write_check(&pairs[k], record);
         double l;
-        const int law = visit(cs, k, cs->mu, cs->viscous, &change, &l);
+        const int law = visit(cs, ph, k, cs->mu, cs->viscous, &change, &l);
         if (l > largest) largest = l;
-        if (full && law > 0) active[gr->active_count++] = k;
+        if (full && recorded) pairs[k].hot.lambda = ph->lambda, pairs[k].hot.nu = ph->nu;
+        if (full && law > 0) {
+            active[gr->active_count++] = k;
+            if (push & PUSH_WRITE) out = write_push(ph, k, out);
+        }
         if (full) gr->pushing += law > 0, gr->sticking += law == 2;
     }
     gr->change = change, gr->largest = largest;
@@ -1201,6 +1293,8 @@ typedef struct SweepShare {
     atomic_int claim;    /* stage * 4 + the groups of the two claimed so far; -1: the sweeps are over */
     atomic_int finished; /* stage * 4 + the groups of the two done */
     int kind;            /* the sweep's kind (SWEEP_PUSHING, ...; set before its claims open) */
+    int push;            /* and what it does with the pushing pairs' records (PUSH_WRITE, ...) */
+    int from;            /* the buffer of those it reads (pushes[from]) */
 } SweepShare;
 
 /* Claims one of the two groups of the open stage (stage 3 sweep + p: groups 2p and
@@ -1212,7 +1306,7 @@ static int claim_group(hk_ContactSolve *cs, const int *order, SweepGroup group[H
     while (word >= 0 && (word & 3) < 2)
         if (atomic_compare_exchange_weak_explicit(&sh->claim, &word, word + 1, memory_order_acq_rel,
                                                   memory_order_acquire)) {
-            sweep_group(cs, order, &group[2 * ((word >> 2) % 3) + (word & 3)], sh->kind);
+            sweep_group(cs, order, &group[2 * ((word >> 2) % 3) + (word & 3)], sh->kind, sh->push, sh->from);
             atomic_fetch_add_explicit(&sh->finished, 1, memory_order_release);
             return 1;
         }
@@ -1231,6 +1325,7 @@ static void run_sweeps(hk_ContactSolve *cs, const int *order, SweepGroup group[H
     atomic_init(&share.claim, 2);
     atomic_init(&share.finished, 0);
     share.kind = SWEEP_FIRST_FULL;
+    share.push = share.from = 0;
 #pragma omp parallel num_threads(side_by_side ? 2 : 1)
     {
         if (omp_get_thread_num() != 0) { /* the helper: claims what it finds open */
@@ -1244,6 +1339,9 @@ static void run_sweeps(hk_ContactSolve *cs, const int *order, SweepGroup group[H
                              : full && idle_records_allowed ? SWEEP_FULL
                              : full                         ? SWEEP_FULL_VISITS
                                                             : SWEEP_PUSHING;
+                share.push = !push_records_allowed
+                                 ? 0
+                                 : (sweep > 0 ? PUSH_READ : 0) | (full && sweep + 1 < HK_PGS_SWEEPS ? PUSH_WRITE : 0);
                 for (int stage = 3 * sweep; stage < 3 * sweep + 3; stage++) {
                     atomic_store_explicit(&share.finished, 4 * stage, memory_order_relaxed);
                     atomic_store_explicit(&share.claim, 4 * stage, memory_order_release);
@@ -1252,6 +1350,7 @@ static void run_sweeps(hk_ContactSolve *cs, const int *order, SweepGroup group[H
                     while (atomic_load_explicit(&share.finished, memory_order_acquire) != 4 * stage + 2)
                         hk_spin_pause(&spins);
                 }
+                if (share.push & PUSH_WRITE) share.from = 1 - share.from; /* (read by the next claims) */
                 double change = 0.0, largest = 0.0;
                 if (full) local->pushing = local->sticking = 0;
                 for (int x = 0; x < HK_SPLIT_GROUPS; x++) {
@@ -1275,9 +1374,11 @@ hk_Status hk_contact_solve_open(hk_ContactSolve *cs, hk_StrandDynamics **dyn, in
                             cs->strand_count);
     cs->dim_start[0] = cs->ul_start[0] = 0;
     cs->check_stride = CHECK_HEAD;
+    cs->push_stride = PUSH_HEAD;
     for (int s = 0; s < strand_count; s++) {
         const size_t dim = (size_t)(3 * dyn[s]->sh->n);
         if (CHECK_HEAD + 2 * dim > cs->check_stride) cs->check_stride = CHECK_HEAD + 2 * dim;
+        if (PUSH_HEAD + 12 * dim > cs->push_stride) cs->push_stride = PUSH_HEAD + 12 * dim;
         cs->dim_start[s + 1] = cs->dim_start[s] + dim;
         cs->ul_start[s + 1] = cs->ul_start[s] + dim * dim;
     }
@@ -1430,7 +1531,7 @@ hk_Status hk_contact_solve_sweep(hk_ContactSolve *cs, const hk_HairContacts *con
  * taken back. Returns 1 when it did (else *out is the impulse). */
 static int within_cone(const PairState *ps, double mu, hk_Vec3 *out)
 {
-    const hk_Vec3 l = ps->lambda;
+    const hk_Vec3 l = ps->hot.lambda;
     const double t = sqrt(l.y * l.y + l.z * l.z), limit = mu * (l.x > 0.0 ? l.x : 0.0);
     *out = l;
     if (!(mu > 0.0 && t > limit)) return 0;
@@ -1458,8 +1559,8 @@ static void finish_strand(hk_ContactSolve *cs, int s)
         const PairState *ps = &pairs[k];
         hk_Vec3 l;
         if (within_cone(ps, cs->mu, &l)) {
-            const hk_Vec3 delta = hk_v3_sub(l, ps->lambda);
-            const PointRows *pr = &ps->point[side];
+            const hk_Vec3 delta = hk_v3_sub(l, ps->hot.lambda);
+            const PointRows *pr = &ps->hot.point[side];
             if (!(delta.x == 0.0 && delta.y == 0.0 && delta.z == 0.0))
                 add_response(pr->dv, pr->resp, (size_t)pr->m, delta, side == 0 ? 1.0 : -1.0);
         }

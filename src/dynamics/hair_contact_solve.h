@@ -113,4 +113,9 @@ int hk_contact_solve_commit(hk_ContactSolve *cs, hk_StrandDynamics *d, int stran
  * records (the default) or visit them all as the first does; the same bits either way.
  * Not thread-safe: for the tests that compare the two. */
 void hk_contact_solve_idle_records_allow(int allow);
+
+/* Sets whether the sweeps over the pushing pairs visit them from the records the full
+ * sweeps before them write (the default) or in place; the same bits either way. Not
+ * thread-safe: for the tests that compare the two. */
+void hk_contact_solve_push_records_allow(int allow);
 #endif
