@@ -84,8 +84,8 @@ typedef struct Grid {
     hk_Vec3 *lo, *hi;  /* its box grown by d0 */
     void *bound_block; /* allocated; bound is it aligned to 64 bytes */
     SegBound *bound;
-    hk_HcEnds *ends; /* the part of it that takes part */
-    size_t *seg_entry;           /* n + 1: segment e's entries are [seg_entry[e], seg_entry[e + 1]) */
+    hk_HcEnds *ends;   /* the part of it that takes part */
+    size_t *seg_entry; /* n + 1: segment e's entries are [seg_entry[e], seg_entry[e + 1]) */
     size_t entry_cap;
     uint32_t *entry_bucket;
     void *sorted_block; /* allocated; sorted is it aligned to 64 bytes */
@@ -140,8 +140,8 @@ static hk_Status reserve_segments(Grid *g, int n, hk_Error *err)
     g->hi = hk_alloc_array((size_t)n, sizeof(hk_Vec3), err);
     g->ends = hk_alloc_array((size_t)n, sizeof(hk_HcEnds), err);
     g->seg_cap = n;
-    if (g->seg_strand && g->bound && g->lo && g->hi && g->ends && g->seg_entry &&
-        g->seg_cells && g->seg_slab && g->seg_order)
+    if (g->seg_strand && g->bound && g->lo && g->hi && g->ends && g->seg_entry && g->seg_cells && g->seg_slab &&
+        g->seg_order)
         return HK_OK;
     g->seg_cap = 0;
     return HK_ERR_NOMEM;
@@ -342,7 +342,8 @@ static int consider(const hk_HairContacts *c, const EntryTag *x, const EntryTag 
     const uintptr_t swap = (uintptr_t)0 - (uintptr_t)(x->strand > y->strand);
     const uintptr_t flip = ((uintptr_t)x ^ (uintptr_t)y) & swap;
     const EntryTag *first = (const EntryTag *)((uintptr_t)x ^ flip), *second = (const EntryTag *)((uintptr_t)y ^ flip);
-    hk_HcPair p = {first->strand, g->bound[first->seg].index, second->strand, g->bound[second->seg].index, 0.0, 0.0, 0.0};
+    hk_HcPair p = {
+        first->strand, g->bound[first->seg].index, second->strand, g->bound[second->seg].index, 0.0, 0.0, 0.0};
     /* (the same bits as hk_hc_pair_distance2: the ends are its) */
     p.d2 = hk_hc_ends_distance2(&g->ends[first->seg], &g->ends[second->seg], &p.u, &p.v);
     if (out->count >= out->cap) { /* room made by appending the pair, then taken back */
