@@ -179,6 +179,83 @@ static void test_segment_closest_reference(void **state)
     }
 }
 
+/* The measure as written without SSE2 (segment_distance.c's scalar code, copied):
+ * the SSE2 code, whose lanes do the same operations in the same order, must give
+ * the same bits (the interior test's (u, v) as two lanes and one division, the
+ * edges two at a time). */
+static double scalar_clamp01(double x) { return x < 0.0 ? 0.0 : (x > 1.0 ? 1.0 : x); }
+
+static double scalar_point_segment(hk_Vec3 p, hk_Vec3 q0, hk_Vec3 d, double dd)
+{
+    return dd > 0.0 ? scalar_clamp01(hk_v3_dot(hk_v3_sub(p, q0), d) / dd) : 0.0;
+}
+
+static double scalar_dist2_at(hk_Vec3 p0, hk_Vec3 d1, hk_Vec3 q0, hk_Vec3 d2, double u, double v)
+{
+    return hk_v3_norm2(hk_v3_sub(hk_v3_madd(p0, d1, u), hk_v3_madd(q0, d2, v)));
+}
+
+static double scalar_closest(hk_Vec3 p0, hk_Vec3 p1, hk_Vec3 q0, hk_Vec3 q1, double *u, double *v)
+{
+    const hk_Vec3 d1 = hk_v3_sub(p1, p0), d2 = hk_v3_sub(q1, q0), r = hk_v3_sub(p0, q0);
+    const double a = hk_v3_dot(d1, d1), e = hk_v3_dot(d2, d2), b = hk_v3_dot(d1, d2);
+    const double c = hk_v3_dot(d1, r), f = hk_v3_dot(d2, r);
+    const double det = a * e - b * b;
+    if (det > 1e-12 * a * e && det > 0.0) {
+        const double uu = (b * f - c * e) / det, vv = (a * f - b * c) / det;
+        if (uu >= 0.0 && uu <= 1.0 && vv >= 0.0 && vv <= 1.0) {
+            *u = uu;
+            *v = vv;
+            return scalar_dist2_at(p0, d1, q0, d2, uu, vv);
+        }
+    }
+    double cu[4], cv[4], dd[4];
+    cu[0] = 0.0, cv[0] = scalar_point_segment(p0, q0, d2, e);
+    cu[1] = 1.0, cv[1] = scalar_point_segment(p1, q0, d2, e);
+    cv[2] = 0.0, cu[2] = scalar_point_segment(q0, p0, d1, a);
+    cv[3] = 1.0, cu[3] = scalar_point_segment(q1, p0, d1, a);
+    for (int k = 0; k < 4; k++) dd[k] = scalar_dist2_at(p0, d1, q0, d2, cu[k], cv[k]);
+    int best = 0;
+    for (int k = 1; k < 4; k++)
+        if (dd[k] < dd[best]) best = k;
+    *u = cu[best];
+    *v = cv[best];
+    return dd[best];
+}
+
+static void check_scalar_bits(hk_Vec3 p0, hk_Vec3 p1, hk_Vec3 q0, hk_Vec3 q1, int *inside)
+{
+    double u, v, su, sv;
+    const double d2 = hk_segment_closest(p0, p1, q0, q1, &u, &v), sd2 = scalar_closest(p0, p1, q0, q1, &su, &sv);
+    assert_memory_equal(&d2, &sd2, sizeof d2);
+    assert_memory_equal(&u, &su, sizeof u);
+    assert_memory_equal(&v, &sv, sizeof v);
+    *inside += u > 0.0 && u < 1.0 && v > 0.0 && v < 1.0;
+}
+
+static void test_segment_closest_scalar_bits(void **state)
+{
+    (void)state;
+    rng_seed(5);
+    int inside = 0;
+    /* Hair-sized segments (5 mm) near a head (10 cm from the origin, and 100 m for
+     * rounding far from it), crossing at every angle, nearly parallel (the guides
+     * side by side), zero-length, and sharing points. */
+    for (int t = 0; t < 200000; t++) {
+        const double far = t % 10 == 0 ? 100.0 : 0.1, len = 0.005;
+        const hk_Vec3 p0 = hk_v3_scale(random_unit(), far), q0 = hk_v3_madd(p0, random_unit(), 0.01 * uniform());
+        const hk_Vec3 d1 = hk_v3_scale(random_unit(), len * uniform());
+        hk_Vec3 d2 = hk_v3_scale(random_unit(), len * uniform());
+        if (t % 4 == 1) d2 = hk_v3_madd(hk_v3_scale(d1, 0.5 + uniform()), random_unit(), len * 1e-7);
+        if (t % 50 == 2) d2 = hk_v3_zero();
+        const hk_Vec3 p1 = t % 97 == 3 ? p0 : hk_v3_add(p0, d1), q1 = hk_v3_add(q0, d2);
+        check_scalar_bits(p0, p1, q0, q1, &inside);
+        check_scalar_bits(q0, q1, p0, p1, &inside);
+        check_scalar_bits(p0, p1, p0, q1, &inside);
+    }
+    assert_true(inside > 10000); /* the interior critical point taken, not only the edges */
+}
+
 /* ---- brute-force references ------------------------------------------------------ */
 
 typedef struct Quad {
@@ -336,6 +413,17 @@ static void test_broad_phase_matches_brute_force(void **state)
         brute_force(&st, &p, &reference, &pairs_ref, &contacts_ref);
         assert_true(reference.count > 100);
         assert_same_quads(&found, &reference);
+        /* and measured as hk_hc_pair_distance2 measures them, to the bit (the update
+         * takes the AVX twin where the CPU has AVX, the call below the baseline) */
+        for (int k = 0; k < c->candidate_count; k++) {
+            const hk_HcPair *q = &c->candidates[k];
+            double u, v;
+            const double d2 =
+                hk_hc_pair_distance2(&c->views[q->i], q->a, &c->views[q->j], q->b, p.root_exclusion, &u, &v);
+            assert_memory_equal(&d2, &q->d2, sizeof d2);
+            assert_memory_equal(&u, &q->u, sizeof u);
+            assert_memory_equal(&v, &q->v, sizeof v);
+        }
         /* Pairs: exactly the local minima within 2 d0, and the contacts within d0. */
         tracked_pairs(c, HUGE_VAL, &pairs);
         assert_same_quads(&pairs, &pairs_ref);
@@ -1179,6 +1267,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_segment_closest_known),
         cmocka_unit_test(test_segment_closest_reference),
+        cmocka_unit_test(test_segment_closest_scalar_bits),
         cmocka_unit_test(test_broad_phase_matches_brute_force),
         cmocka_unit_test(test_tracking_matches_brute_force),
         cmocka_unit_test(test_pair_sort_stable),

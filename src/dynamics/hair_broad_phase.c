@@ -64,16 +64,28 @@ typedef struct Found {
     size_t passed_cap; /* entry pairs */
 } Found;
 
+/* What the pair loop's list reads of a segment, one cache line (the array aligned to
+ * 64 bytes): surely_apart's midpoint, half-vector and reach, and the segment's index
+ * on its strand for the candidate. Four arrays before: the list's pairs, scattered,
+ * missed the first-level cache on up to seven lines a pair (0.57 million read misses
+ * in surely_apart, 23 rescans of examples/guides200 shaking, cachegrind). */
+typedef struct SegBound {
+    hk_Vec3 mid;  /* its midpoint */
+    hk_Vec3 half; /* half of it, (p1 - p0) / 2 */
+    double reach; /* half its length plus d0, grown a little for rounding */
+    int index;    /* its index on its strand */
+} SegBound;
+_Static_assert(sizeof(SegBound) == 64, "SegBound is meant to be one cache line");
+
 /* Scratch kept between rescans. */
 typedef struct Grid {
     int seg_cap;
-    int *seg_strand, *seg_index; /* eligible segment e is segment seg_index[e] of seg_strand[e] */
-    hk_Vec3 *lo, *hi;            /* its box grown by d0 */
-    hk_Vec3 *mid;                /* its midpoint */
-    hk_Vec3 *half;               /* half of it, (p1 - p0) / 2 */
-    hk_HcEnds *ends;             /* the part of it that takes part */
-    double *reach;               /* half its length plus d0, grown a little for rounding */
-    size_t *seg_entry;           /* n + 1: segment e's entries are [seg_entry[e], seg_entry[e + 1]) */
+    int *seg_strand;   /* eligible segment e is segment bound[e].index of seg_strand[e] */
+    hk_Vec3 *lo, *hi;  /* its box grown by d0 */
+    void *bound_block; /* allocated; bound is it aligned to 64 bytes */
+    SegBound *bound;
+    hk_HcEnds *ends;   /* the part of it that takes part */
+    size_t *seg_entry; /* n + 1: segment e's entries are [seg_entry[e], seg_entry[e + 1]) */
     size_t entry_cap;
     uint32_t *entry_bucket;
     void *sorted_block; /* allocated; sorted is it aligned to 64 bytes */
@@ -81,8 +93,8 @@ typedef struct Grid {
     EntryTag *tags;     /* theirs, at the same places */
     int *place;         /* per entry (segment by segment, cells in order): its place in sorted */
     size_t table_cap;
-    size_t *bucket_start; /* table size + 1 */
-    uint32_t *crowded;    /* where the buckets holding two entries or more begin in sorted */
+    size_t *bucket_start; /* 2 table size + 1: per bucket, its two runs (see the pair loop) */
+    uint32_t *crowded;    /* 2 per bucket where the pair loop has work: where its two runs begin in sorted */
     int found_count;
     Found *found; /* per thread */
     int flag_cap;
@@ -100,8 +112,8 @@ void hk_hc_grid_free(hk_HairContacts *c)
 {
     Grid *g = c->grid;
     if (!g) return;
-    hk_free(g->seg_strand), hk_free(g->seg_index), hk_free(g->lo), hk_free(g->hi), hk_free(g->mid), hk_free(g->reach);
-    hk_free(g->half), hk_free(g->ends), hk_free(g->seg_entry), hk_free(g->place);
+    hk_free(g->seg_strand), hk_free(g->bound_block), hk_free(g->lo), hk_free(g->hi);
+    hk_free(g->ends), hk_free(g->seg_entry), hk_free(g->place);
     hk_free(g->entry_bucket), hk_free(g->sorted_block), hk_free(g->tags);
     hk_free(g->bucket_start), hk_free(g->is_min), hk_free(g->strand_seg), hk_free(g->seg_order);
     hk_free(g->slab_start), hk_free(g->seg_cells), hk_free(g->seg_slab), hk_free(g->crowded);
@@ -114,24 +126,22 @@ void hk_hc_grid_free(hk_HairContacts *c)
 static hk_Status reserve_segments(Grid *g, int n, hk_Error *err)
 {
     if (n <= g->seg_cap) return HK_OK;
-    hk_free(g->seg_strand), hk_free(g->seg_index), hk_free(g->lo), hk_free(g->hi), hk_free(g->mid), hk_free(g->reach);
-    hk_free(g->half), hk_free(g->ends), hk_free(g->seg_entry), hk_free(g->seg_order), hk_free(g->seg_cells),
-        hk_free(g->seg_slab);
+    hk_free(g->seg_strand), hk_free(g->bound_block), hk_free(g->lo), hk_free(g->hi);
+    hk_free(g->ends), hk_free(g->seg_entry), hk_free(g->seg_order), hk_free(g->seg_cells), hk_free(g->seg_slab);
     g->seg_cells = hk_alloc_array((size_t)n, 6 * sizeof(int32_t), err);
     g->seg_slab = hk_alloc_array((size_t)n, 2 * sizeof(int32_t), err);
     g->seg_order = hk_alloc_array((size_t)n, sizeof(int), err);
     g->seg_entry = hk_alloc_array((size_t)n + 1, sizeof(size_t), err);
     g->seg_strand = hk_alloc_array((size_t)n, sizeof(int), err);
-    g->seg_index = hk_alloc_array((size_t)n, sizeof(int), err);
+    /* (one more for the alignment) */
+    g->bound_block = hk_alloc_array((size_t)n + 1, sizeof(SegBound), err);
+    g->bound = g->bound_block ? (SegBound *)(((uintptr_t)g->bound_block + 63) & ~(uintptr_t)63) : NULL;
     g->lo = hk_alloc_array((size_t)n, sizeof(hk_Vec3), err);
     g->hi = hk_alloc_array((size_t)n, sizeof(hk_Vec3), err);
-    g->mid = hk_alloc_array((size_t)n, sizeof(hk_Vec3), err);
-    g->half = hk_alloc_array((size_t)n, sizeof(hk_Vec3), err);
-    g->reach = hk_alloc_array((size_t)n, sizeof(double), err);
     g->ends = hk_alloc_array((size_t)n, sizeof(hk_HcEnds), err);
     g->seg_cap = n;
-    if (g->seg_strand && g->seg_index && g->lo && g->hi && g->mid && g->half && g->reach && g->ends && g->seg_entry &&
-        g->seg_cells && g->seg_slab && g->seg_order)
+    if (g->seg_strand && g->bound && g->lo && g->hi && g->ends && g->seg_entry && g->seg_cells && g->seg_slab &&
+        g->seg_order)
         return HK_OK;
     g->seg_cap = 0;
     return HK_ERR_NOMEM;
@@ -141,23 +151,24 @@ static hk_Status reserve_entries(Grid *g, size_t n, size_t table, hk_Error *err)
 {
     if (n > g->entry_cap) {
         hk_free(g->entry_bucket), hk_free(g->sorted_block), hk_free(g->tags), hk_free(g->place), hk_free(g->crowded);
-        g->crowded = hk_alloc_array(n / 2 + 1, sizeof(uint32_t), err);
+        g->crowded = hk_alloc_array(n / 2 + 1, 2 * sizeof(uint32_t), err);
         g->place = hk_alloc_array(n, sizeof(int), err);
         g->entry_bucket = hk_alloc_array(n, sizeof(uint32_t), err);
-        /* (and the crowded buckets' ends; one entry more for the alignment) */
-        g->sorted_block = hk_alloc_array(n + n / 2 + 2, sizeof(Entry), err);
+        /* (and the crowded buckets' runs' ends, two a bucket of two entries or more;
+         * one entry more for the alignment) */
+        g->sorted_block = hk_alloc_array(2 * n + 2, sizeof(Entry), err);
         g->sorted = g->sorted_block ? (Entry *)(((uintptr_t)g->sorted_block + 63) & ~(uintptr_t)63) : NULL;
-        g->tags = hk_alloc_array(n + n / 2 + 1, sizeof(EntryTag), err);
+        g->tags = hk_alloc_array(2 * n + 1, sizeof(EntryTag), err);
         g->entry_cap = n;
         if (!g->entry_bucket || !g->sorted || !g->tags || !g->place || !g->crowded) {
             g->entry_cap = 0;
             return HK_ERR_NOMEM;
         }
     }
-    if (table + 1 > g->table_cap) {
+    if (2 * table + 1 > g->table_cap) {
         hk_free(g->bucket_start);
-        g->bucket_start = hk_alloc_array(table + 1, sizeof(size_t), err);
-        g->table_cap = g->bucket_start ? table + 1 : 0;
+        g->bucket_start = hk_alloc_array(2 * table + 1, sizeof(size_t), err);
+        g->table_cap = g->bucket_start ? 2 * table + 1 : 0;
         if (!g->bucket_start) return HK_ERR_NOMEM;
     }
     return HK_OK;
@@ -310,10 +321,11 @@ static int boxes_overlap(const V2 a_low[3], const Entry *b)
  * (2 d0)^2 grown by 4e-9 of itself, as reach is. */
 static int surely_apart(const Grid *g, int x, int y, double apart2)
 {
-    const double r = g->reach[x] + g->reach[y];
-    const hk_Vec3 dm = hk_v3_sub(g->mid[x], g->mid[y]);
+    const SegBound *bx = &g->bound[x], *by = &g->bound[y];
+    const double r = bx->reach + by->reach;
+    const hk_Vec3 dm = hk_v3_sub(bx->mid, by->mid);
     const double m2 = hk_v3_norm2(dm);
-    const double l = m2 - fabs(hk_v3_dot(dm, g->half[x])) - fabs(hk_v3_dot(dm, g->half[y])) - 2e-12 * (r * r);
+    const double l = m2 - fabs(hk_v3_dot(dm, bx->half)) - fabs(hk_v3_dot(dm, by->half)) - 2e-12 * (r * r);
     /* (both bounds always, combined without a branch: see the pair loop) */
     return (m2 > r * r) | ((l > 0.0) & (l * l > apart2 * m2));
 }
@@ -323,13 +335,16 @@ static int surely_apart(const Grid *g, int x, int y, double apart2)
  * strand first and the candidate kept without a branch (the pair written, the count
  * advanced by d2 < band2): taken as branches, the order mispredicted 179,000 times in
  * 462,000 measures and the keeping 133,000 (cachegrind, examples/guides200 shaking, 23
- * rescans). */
+ * rescans). GCC made swap ? y : x a branch again (175,000 mispredictions): the tags'
+ * addresses are exchanged by a mask. */
 static int consider(const hk_HairContacts *c, const EntryTag *x, const EntryTag *y, double band2, Found *out)
 {
     const Grid *g = c->grid;
-    const int swap = x->strand > y->strand;
-    const EntryTag *first = swap ? y : x, *second = swap ? x : y;
-    hk_HcPair p = {first->strand, g->seg_index[first->seg], second->strand, g->seg_index[second->seg], 0.0, 0.0, 0.0};
+    const uintptr_t swap = (uintptr_t)0 - (uintptr_t)(x->strand > y->strand);
+    const uintptr_t flip = ((uintptr_t)x ^ (uintptr_t)y) & swap;
+    const EntryTag *first = (const EntryTag *)((uintptr_t)x ^ flip), *second = (const EntryTag *)((uintptr_t)y ^ flip);
+    hk_HcPair p = {
+        first->strand, g->bound[first->seg].index, second->strand, g->bound[second->seg].index, 0.0, 0.0, 0.0};
     /* (the same bits as hk_hc_pair_distance2: the ends are its) */
     p.d2 = hk_hc_ends_distance2(&g->ends[first->seg], &g->ends[second->seg], &p.u, &p.v);
     if (out->count >= out->cap) { /* room made by appending the pair, then taken back */
@@ -434,11 +449,13 @@ hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
             hk_hc_segment_ends(&c->views[s], k, c->p.root_exclusion, &p0, &p1, &t0);
             hk_Vec3 lo = hk_v3(min2(p0.x, p1.x), min2(p0.y, p1.y), min2(p0.z, p1.z));
             hk_Vec3 hi = hk_v3(max2(p0.x, p1.x), max2(p0.y, p1.y), max2(p0.z, p1.z));
-            g->seg_strand[e] = s, g->seg_index[e] = k;
+            g->seg_strand[e] = s;
             g->ends[e] = (hk_HcEnds){p0, p1, t0};
-            g->mid[e] = hk_v3_scale(hk_v3_add(p0, p1), 0.5);
-            g->half[e] = hk_v3_scale(hk_v3_sub(p1, p0), 0.5);
-            g->reach[e] = (0.5 * hk_v3_dist(p0, p1) + d0) * (1.0 + 1e-9);
+            SegBound *b = &g->bound[e];
+            b->index = k;
+            b->mid = hk_v3_scale(hk_v3_add(p0, p1), 0.5);
+            b->half = hk_v3_scale(hk_v3_sub(p1, p0), 0.5);
+            b->reach = (0.5 * hk_v3_dist(p0, p1) + d0) * (1.0 + 1e-9);
             g->lo[e] = hk_v3_sub(lo, grow), g->hi[e] = hk_v3_add(hi, grow);
         }
     hk_Vec3 gmin = hk_v3(HUGE_VAL, HUGE_VAL, HUGE_VAL), gmax = hk_v3_neg(gmin);
@@ -499,34 +516,36 @@ hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
         for (int32_t x = lo[0]; x <= hi[0]; x++)
             for (int32_t y = lo[1]; y <= hi[1]; y++)
                 for (int32_t z = lo[2]; z <= hi[2]; z++, at++) {
+                    /* (the bucket, and whether the box starts in the cell along x) */
                     const int32_t cell[3] = {x, y, z};
-                    g->entry_bucket[at] = bucket_of(cell, (uint32_t)(table - 1));
+                    g->entry_bucket[at] = bucket_of(cell, (uint32_t)(table - 1)) << 1 | (uint32_t)(x == lo[0]);
                 }
     }
-    /* Counting sort of the entries by bucket, stable; start[b] ends as the end of
-     * bucket b. The places are dealt in order, then the entries written to them in
-     * parallel. */
+    /* Counting sort of the entries by bucket and, within a bucket, by whether their
+     * box starts in their cell along x (after those that do not), stable; start[2 b
+     * + 1] ends as the end of bucket b. The places are dealt in order, then the
+     * entries written to them in parallel. */
     double slab;
     if (order_segments(g, n, gmin.x, gmax.x, h, &slab, err) != HK_OK) return HK_ERR_NOMEM;
     size_t *start = g->bucket_start;
-    memset(start, 0, table * sizeof *start);
+    memset(start, 0, 2 * table * sizeof *start);
     for (size_t k = 0; k < m; k++) start[g->entry_bucket[k]]++;
     /* (and the buckets where the pair loop has work, listed: it went through every
-     * bucket, then 65,536 for 27,000 entries, ~10 instructions each). A crowded
-     * bucket ends with a sentinel, an entry of low x slab INT32_MAX, which stops
-     * the pair loop's sweeps without a test of the bucket's end: 2 of the 9
-     * instructions an entry pair visited. */
+     * bucket, then 65,536 for 27,000 entries, ~10 instructions each: two entries or
+     * more, one of them starting along x). Each run of such a bucket ends with a
+     * sentinel, an entry of low x slab INT32_MAX, which stops the pair loop's sweeps
+     * without a test of the run's end: 2 of the 9 instructions an entry pair
+     * visited. */
     long crowded = 0;
     size_t next = 0, most = 0; /* most: the largest bucket */
     for (size_t k = 0; k < table; k++) {
-        const size_t count = start[k];
-        start[k] = next, next += count;
+        const size_t behind = start[2 * k], starting = start[2 * k + 1], count = behind + starting;
+        const int work = count >= 2 && starting >= 1;
         most = count > most ? count : most;
-        if (count >= 2) {
-            g->crowded[crowded++] = (uint32_t)start[k];
-            g->sorted[next].x_lo = INT32_MAX;
-            next++;
-        }
+        start[2 * k] = next, next += behind;
+        if (work) g->crowded[2 * crowded] = (uint32_t)start[2 * k], g->sorted[next++].x_lo = INT32_MAX;
+        start[2 * k + 1] = next, next += starting;
+        if (work) g->crowded[2 * crowded++ + 1] = (uint32_t)start[2 * k + 1], g->sorted[next++].x_lo = INT32_MAX;
     }
     /* The segments taken by their low x: each bucket then holds its entries in
      * nondecreasing slabs of low x, for the pair loop's sweep. */
@@ -587,21 +606,32 @@ hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
         Found *out = &g->found[omp_get_thread_num()];
         uint64_t *passed = out->passed;
         size_t count = 0;
-        for (const Entry *ex = g->sorted + g->crowded[q]; ex->x_lo != INT32_MAX; ex++) {
-            /* Sweep: the entries after x have no lower low x slab, and once above
-             * x's high x slab their boxes start beyond x's (slab_of is
-             * nondecreasing) and none overlaps it. It visits 218,000 entry pairs a
-             * step instead of all 316,000 sharing a bucket (examples/guides200
-             * shaking). x's own fields are read once (the compiler reloads them
-             * otherwise, as the list written may alias them). */
+        /* A bucket's two runs: the entries whose box starts before their cell along
+         * x, then those starting in it. Two entries of the first run never pass the
+         * start bits' test (neither starts in the cell along x) and are not visited:
+         * a sweep from the first run goes through the second, one from the second
+         * through the rest of it (954,000 of the 5.04 million entry pairs visited
+         * before in 23 rescans of examples/guides200 shaking). */
+        const Entry *const starting = g->sorted + g->crowded[2 * q + 1];
+        for (const Entry *ex = g->sorted + g->crowded[2 * q]; ex->x_lo != INT32_MAX || ex + 1 == starting; ex++) {
+            if (ex + 1 == starting) continue; /* the first run's end */
+            /* Sweep: the entries after x in its run, or those of the second run, have
+             * no lower low x slab than x in its cell, and once above x's high x slab
+             * their boxes start beyond x's (slab_of is nondecreasing) and none
+             * overlaps it. It visits 218,000 entry pairs a step instead of all
+             * 316,000 sharing a bucket (examples/guides200 shaking). x's own fields
+             * are read once (the compiler reloads them otherwise, as the list written
+             * may alias them). */
+            const Entry *const first_y = ex < starting ? starting : ex + 1;
             const int32_t x_hi = ex->x_hi;
             const int x_partners = partners[ex->starts >> 8];
             V2 x_low[3];
             entry_low(ex, x_low);
             const int x_strand = ex->strand;
             const uint64_t x_place = (uint64_t)(ex - g->sorted), next_y = (uint64_t)1 << 32;
-            uint64_t xy = x_place | (x_place + 1) << 32; /* the pair (x, y) as the list keeps it */
-            for (const Entry *ey = ex + 1; ey->x_lo <= x_hi; ey++, xy += next_y) {
+            /* the pair (x, y) as the list keeps it */
+            uint64_t xy = x_place | (uint64_t)(first_y - g->sorted) << 32;
+            for (const Entry *ey = first_y; ey->x_lo <= x_hi; ey++, xy += next_y) {
                 /* Two segments are measured in one of the cells both boxes cover only:
                  * the one holding the low corner of their overlap, whose cell is the
                  * larger of their low cells on each axis, i.e. (both boxes covering the

@@ -113,7 +113,7 @@ void hk_hair_contacts_destroy(hk_HairContacts *c)
     if (!c) return;
     hk_hc_grid_free(c);
     hk_free(c->counts), hk_free(c->views), hk_free(c->pairs), hk_free(c->pairs_tmp), hk_free(c->bucket),
-        hk_free(c->pair_order);
+        hk_free(c->pair_order), hk_free(c->pair_key);
     hk_free(c->contacts), hk_free(c->forces), hk_free(c->force_start), hk_free(c->force_key);
     hk_free(c->force_order), hk_free(c->candidates);
     hk_free(c);

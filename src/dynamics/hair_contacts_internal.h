@@ -104,8 +104,10 @@ struct hk_HairContacts {
     int pairs_tmp_cap;
     int *bucket; /* counting-sort buckets (segments + 1) */
     int bucket_cap;
-    int *pair_order; /* the pairs by (j, b), the sort's first pass */
+    int *pair_order; /* 2 per pair: the pairs by (j, b), the sort's first pass, then by (i, a, j, b) */
     int pair_order_cap;
+    int *pair_key; /* 2 per pair: the global indices of its segments (j, b), then those of (i, a) */
+    int pair_key_cap;
 
     hk_HcContact *contacts; /* per pair */
     int contact_cap, contact_count;

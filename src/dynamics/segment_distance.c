@@ -110,8 +110,21 @@ static inline __attribute__((always_inline)) double closest(hk_Vec3 p0, hk_Vec3 
      * otherwise the minimum over the edges below is exact anyway. */
     const double det = a * e - b * b;
     if (det > 1e-12 * a * e && det > 0.0) {
+#ifdef __SSE2__
+        /* (uu, vv) as two lanes, one division, and whether both are in [0, 1] by one
+         * test: the four comparisons as branches mispredicted 343,000 times in
+         * 462,000 measures (cachegrind, examples/guides200 shaking, 23 rescans), the
+         * critical point being in the square for 6 % of them. The lanes do the
+         * scalar expressions' operations (the same bits). */
+        const __m128d uv = _mm_div_pd(
+            _mm_sub_pd(_mm_mul_pd(_mm_set_pd(a, b), _mm_set1_pd(f)), _mm_mul_pd(_mm_set_pd(b, c), _mm_set_pd(c, e))),
+            _mm_set1_pd(det));
+        const double uu = _mm_cvtsd_f64(uv), vv = _mm_cvtsd_f64(hi2(uv));
+        if (_mm_movemask_pd(_mm_and_pd(_mm_cmpge_pd(uv, _mm_setzero_pd()), _mm_cmple_pd(uv, _mm_set1_pd(1.0)))) == 3) {
+#else
         const double uu = (b * f - c * e) / det, vv = (a * f - b * c) / det;
         if (uu >= 0.0 && uu <= 1.0 && vv >= 0.0 && vv <= 1.0) {
+#endif
             *u = uu;
             *v = vv;
             return dist2_at(p0, hk_v3_sub(p1, p0), q0, hk_v3_sub(q1, q0), uu, vv);
