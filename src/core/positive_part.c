@@ -393,13 +393,16 @@ static inline __attribute__((always_inline)) int tridiagonal_eigenvalues(int n, 
                 s = tu * cu;
                 d[i + 1] = h + s * (h + d[i]);
                 double n0 = d[i] * n1 - e2[i] * n2;
-                if (n0 == 0.0) n0 = b * n1; /* g = 0: tqlrat's g = b */
-                if (fabs(n0) < 0x1p-600) {
-                    n0 *= 0x1p600;
-                    n1 *= 0x1p600;
-                } else if (fabs(n0) > 0x1p600) {
-                    n0 *= 0x1p-600;
-                    n1 *= 0x1p-600;
+                /* zero lies below the range: its test leaves the common path */
+                if (fabs(n0) < 0x1p-600 || fabs(n0) > 0x1p600) {
+                    if (n0 == 0.0) n0 = b * n1; /* g = 0: tqlrat's g = b */
+                    if (fabs(n0) < 0x1p-600) {
+                        n0 *= 0x1p600;
+                        n1 *= 0x1p600;
+                    } else if (fabs(n0) > 0x1p600) {
+                        n0 *= 0x1p-600;
+                        n1 *= 0x1p-600;
+                    }
                 }
                 n2 = n1;
                 n1 = n0;
