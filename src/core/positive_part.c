@@ -632,6 +632,53 @@ static inline __attribute__((always_inline)) void lanes_eigenvectors(Lanes *ln, 
     }
 }
 
+/* reflect_lanes on eight lanes from yj (two Quads, v's elements splat once), or ten
+ * (k = 9, 10: nearly every head's G): the last two ride along as a Pair on the same
+ * splats and pass over the rows (a pass of their own cost 1.8 thousand instructions a
+ * call more). */
+static inline __attribute__((always_inline)) void reflect_eight_lanes(const double *v, int m, int i0, int last,
+                                                                      double tau, double *yj, size_t sw, int ten)
+{
+    Quad s0 = splat4(0.0), s1 = s0, t0 = s0, t1 = s0;
+    Pair p0 = {0.0, 0.0}, p1 = p0;
+    for (int i = i0; i < last; i += 2) {
+        const Quad v0 = splat4(v[i]), v1 = splat4(v[i + 1]);
+        double *y0 = yj + (size_t)i * sw, *y1 = y0 + sw;
+        s0 += v0 * load_quad(y0);
+        t0 += v0 * load_quad(y0 + 4);
+        s1 += v1 * load_quad(y1);
+        t1 += v1 * load_quad(y1 + 4);
+        if (ten) {
+            p0 += LOW_PAIR(v0) * load_pair(y0 + 8);
+            p1 += LOW_PAIR(v1) * load_pair(y1 + 8);
+        }
+    }
+    Quad f = s0 + s1, g = t0 + t1;
+    Pair h = p0 + p1;
+    if (i0) {
+        const Quad v0 = splat4(v[0]);
+        f += v0 * load_quad(yj);
+        g += v0 * load_quad(yj + 4);
+        if (ten) h += LOW_PAIR(v0) * load_pair(yj + 8);
+    }
+    if (last < m) {
+        const Quad vl = splat4(v[last]);
+        f += vl * load_quad(yj + (size_t)last * sw);
+        g += vl * load_quad(yj + (size_t)last * sw + 4);
+        if (ten) h += LOW_PAIR(vl) * load_pair(yj + (size_t)last * sw + 8);
+    }
+    f *= splat4(tau);
+    g *= splat4(tau);
+    h *= splat(tau);
+    for (int i = 0; i < m; i++) {
+        double *yi = yj + (size_t)i * sw;
+        const Quad vi = splat4(v[i]);
+        STORE_QUAD(yi, load_quad(yi) - f * vi);
+        STORE_QUAD(yi + 4, load_quad(yi + 4) - g * vi);
+        if (ten) store_pair(yi + 8, load_pair(yi + 8) - h * LOW_PAIR(vi));
+    }
+}
+
 /* x = Q x for the eigenvectors in the lanes of x (n rows of w), Q = H_0 ... H_{n-3}
  * from tridiagonalise: the reflectors from the last (LAPACK dormtr), each on every lane
  * at once, y -= tau (v . y) v (dlarf). In the lanes a reflector's product with v runs
@@ -648,35 +695,12 @@ static inline __attribute__((always_inline)) void reflect_lanes(const double *v,
 {
     const int i0 = first & 1, last = i0 + ((m - i0) & ~1);
     int j = 0;
-    for (; wide && j + 8 <= w; j += 8) { /* two Quads of lanes, v's elements splat once */
-        double *yj = y + j;
-        Quad s0 = splat4(0.0), s1 = s0, t0 = s0, t1 = s0;
-        for (int i = i0; i < last; i += 2) {
-            const Quad v0 = splat4(v[i]), v1 = splat4(v[i + 1]);
-            double *y0 = yj + (size_t)i * sw, *y1 = y0 + sw;
-            s0 += v0 * load_quad(y0);
-            t0 += v0 * load_quad(y0 + 4);
-            s1 += v1 * load_quad(y1);
-            t1 += v1 * load_quad(y1 + 4);
-        }
-        Quad f = s0 + s1, g = t0 + t1;
-        if (i0) {
-            f += splat4(v[0]) * load_quad(yj);
-            g += splat4(v[0]) * load_quad(yj + 4);
-        }
-        if (last < m) {
-            f += splat4(v[last]) * load_quad(yj + (size_t)last * sw);
-            g += splat4(v[last]) * load_quad(yj + (size_t)last * sw + 4);
-        }
-        f *= splat4(tau);
-        g *= splat4(tau);
-        for (int i = 0; i < m; i++) {
-            double *yi = yj + (size_t)i * sw;
-            const Quad vi = splat4(v[i]);
-            STORE_QUAD(yi, load_quad(yi) - f * vi);
-            STORE_QUAD(yi + 4, load_quad(yi + 4) - g * vi);
-        }
-    }
+    for (; wide && j + 8 <= w; j += 8)
+        if (w - j == 10) {
+            reflect_eight_lanes(v, m, i0, last, tau, y + j, sw, 1);
+            j += 2;
+        } else
+            reflect_eight_lanes(v, m, i0, last, tau, y + j, sw, 0);
     for (; j < w; j += 2) { /* a Pair of lanes (the rest, or all of them on SSE2) */
         double *yj = y + j;
         Pair s0 = {0.0, 0.0}, s1 = {0.0, 0.0};
