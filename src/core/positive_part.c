@@ -327,6 +327,41 @@ static inline __attribute__((always_inline)) void tridiagonalise(int n, double *
     if (n >= 1) e[n - 1] = 0.0;
 }
 
+/* The state of a QL sweep (tridiagonal_eigenvalues, below) between its steps. */
+typedef struct {
+    double g, h, s, u, n1, n2;
+    int negligible; /* the lowest off-diagonal at or below the tolerance so far */
+} QlSweep;
+
+/* One step of the sweep, at row i (tridiagonal_eigenvalues tells the recurrences). */
+static inline __attribute__((always_inline)) void ql_step(QlSweep *q, double *d, double *e2, int i, double b,
+                                                          double c)
+{
+    const double p = q->g * q->h, r = p + e2[i], ginv = q->n2 / q->n1, tu = e2[i] * ginv * ginv * q->u;
+    q->u = 1.0 + tu;
+    const double cu = 1.0 / q->u;
+    e2[i + 1] = q->s * r;
+    if (!(e2[i + 1] > c)) q->negligible = i + 1;
+    q->s = tu * cu;
+    d[i + 1] = q->h + q->s * (q->h + d[i]);
+    double n0 = d[i] * q->n1 - e2[i] * q->n2, n1 = q->n1;
+    /* zero lies below the range: its test leaves the common path */
+    if (fabs(n0) < 0x1p-600 || fabs(n0) > 0x1p600) {
+        if (n0 == 0.0) n0 = b * n1; /* g = 0: tqlrat's g = b */
+        if (fabs(n0) < 0x1p-600) {
+            n0 *= 0x1p600;
+            n1 *= 0x1p600;
+        } else if (fabs(n0) > 0x1p600) {
+            n0 *= 0x1p-600;
+            n1 *= 0x1p-600;
+        }
+    }
+    q->n2 = n1;
+    q->n1 = n0;
+    q->g = n0 / n1;
+    q->h = q->g * cu;
+}
+
 /* The eigenvalues of the symmetric tridiagonal matrix with diagonal d and squared
  * off-diagonal e2 (e2[i] couples i and i + 1; both overwritten, d with the eigenvalues,
  * unordered) by the rational QL iteration of Pal, Walker and Kahan (EISPACK tqlrat;
@@ -382,37 +417,19 @@ static inline __attribute__((always_inline)) int tridiagonal_eigenvalues(int n, 
 #pragma omp simd
             for (int i = l + 1; i < n; i++) d[i] -= shift;
             f += shift;
-            double g = d[m] != 0.0 ? d[m] : b, h = g, s = 0.0, u = 1.0, n1 = g, n2 = 1.0;
-            int negligible = m;
-            for (int i = m - 1; i >= l; i--) {
-                const double p = g * h, r = p + e2[i], ginv = n2 / n1, tu = e2[i] * ginv * ginv * u;
-                u = 1.0 + tu;
-                const double cu = 1.0 / u;
-                e2[i + 1] = s * r;
-                if (!(e2[i + 1] > c)) negligible = i + 1;
-                s = tu * cu;
-                d[i + 1] = h + s * (h + d[i]);
-                double n0 = d[i] * n1 - e2[i] * n2;
-                /* zero lies below the range: its test leaves the common path */
-                if (fabs(n0) < 0x1p-600 || fabs(n0) > 0x1p600) {
-                    if (n0 == 0.0) n0 = b * n1; /* g = 0: tqlrat's g = b */
-                    if (fabs(n0) < 0x1p-600) {
-                        n0 *= 0x1p600;
-                        n1 *= 0x1p600;
-                    } else if (fabs(n0) > 0x1p600) {
-                        n0 *= 0x1p-600;
-                        n1 *= 0x1p-600;
-                    }
-                }
-                n2 = n1;
-                n1 = n0;
-                g = n1 / n2;
-                h = g * cu;
+            const double g = d[m] != 0.0 ? d[m] : b;
+            QlSweep q = {.g = g, .h = g, .s = 0.0, .u = 1.0, .n1 = g, .n2 = 1.0, .negligible = m};
+            int i = m - 1;
+            for (; i > l; i -= 2) { /* two steps a turn: n1 and n2 trade registers, no copies */
+                ql_step(&q, d, e2, i, b, c);
+                ql_step(&q, d, e2, i - 1, b, c);
             }
-            e2[l] = s * g * h;
+            if (i == l) ql_step(&q, d, e2, i, b, c);
+            const double h = q.h;
+            e2[l] = q.s * q.g * h;
             d[l] = h;
             if (h == 0.0) break;
-            m = !(e2[l] > c) ? l : negligible;
+            m = !(e2[l] > c) ? l : q.negligible;
         }
         d[l] += f;
     }
