@@ -212,21 +212,27 @@ static inline __attribute__((always_inline)) void block_pass(int m, double *b, s
                     STORE_QUAD(y + j, load_quad(y + j) + (qu0 * x0 + qu1 * x1));
                 }
             }
+            /* the splats past the loop from the Quads' low halves: the pairs' own,
+             * kept alive through it beside the Quads, were spilled around it (about 30
+             * instructions a pair of rows) */
+            r.v0 = LOW_PAIR(qv0), r.v1 = LOW_PAIR(qv1), r.w0 = LOW_PAIR(qw0), r.w1 = LOW_PAIR(qw1);
+            r.u0 = LOW_PAIR(qu0), r.u1 = LOW_PAIR(qu1);
         }
         for (; j < end; j += 2) row_pair_step(&r, j, v, w, u, y);
         if (v && j < m) { /* m odd: the last column */
-            b0[j] -= v0 * w[j] + w0 * v[j];
-            b1[j] -= v1 * w[j] + w1 * v[j];
+            b0[j] -= r.v0[0] * w[j] + r.w0[0] * v[j];
+            b1[j] -= r.v1[0] * w[j] + r.w1[0] * v[j];
         }
         if (u) {
+            const double u0s = r.u0[0], u1s = r.u1[0];
             double r0 = r.dot0[0] + r.dot0[1], r1 = r.dot1[0] + r.dot1[1];
             if (j < m) {
                 r0 += b0[j] * u[j];
                 r1 += b1[j] * u[j];
-                y[j] += u0 * b0[j] + u1 * b1[j];
+                y[j] += u0s * b0[j] + u1s * b1[j];
             }
-            y[i] += (b0[i] * u0 + b0[i + 1] * u1) + r0;
-            y[i + 1] += (b0[i + 1] * u0 + b1[i + 1] * u1) + r1;
+            y[i] += (b0[i] * u0s + b0[i + 1] * u1s) + r0;
+            y[i + 1] += (b0[i + 1] * u0s + b1[i + 1] * u1s) + r1;
         }
     }
     if (i < m) {
