@@ -340,8 +340,7 @@ typedef struct {
 } QlSweep;
 
 /* One step of the sweep, at row i (tridiagonal_eigenvalues tells the recurrences). */
-static inline __attribute__((always_inline)) void ql_step(QlSweep *q, double *d, double *e2, int i, double b,
-                                                          double c)
+static inline __attribute__((always_inline)) void ql_step(QlSweep *q, double *d, double *e2, int i, double b, double c)
 {
     const double p = q->g * q->h, r = p + e2[i], ginv = q->n2 / q->n1, tu = e2[i] * ginv * ginv * q->u;
     q->u = 1.0 + tu;
