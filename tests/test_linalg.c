@@ -4,7 +4,9 @@
  * The positive part A+ (hk_symmetric_positive_part) against V max(L, 0) V^T from the
  * decomposition and against what defines it: A+ positive semidefinite, A+ (A+ - A) = 0
  * (the two parts' products vanish), on random, repeated, clustered and graded spectra;
- * its AVX path against its SSE2 path, bit for bit, and its bits against main's (a hash).
+ * its AVX path against its SSE2 path, bit for bit, and its bits against main's (a hash);
+ * the Cholesky test that skips it where G is positive definite (strand_dynamics.c)
+ * against it on semidefinite and barely indefinite matrices.
  * Cholesky factors (also in place, bit for bit) and solves against the residual A x - b. */
 #include "hk_test.h"
 
