@@ -255,6 +255,51 @@ static inline __attribute__((always_inline)) double dot(const double *a, const d
     return (s0 + s[1]) + (s[2] + s[3]);
 }
 
+/* The short loops over a row below (rows of 30 and less): wide four at a time, else
+ * two, the last one alone, each element's operations as written (GCC's loops for "omp
+ * simd" peel and check more than the arithmetic on such rows). x[i] *= f: */
+static inline __attribute__((always_inline)) void scale_by(double *x, double f, int n, int wide)
+{
+    int i = 0;
+    if (wide)
+        for (const Quad fq = splat4(f); i + 4 <= n; i += 4) STORE_QUAD(x + i, load_quad(x + i) * fq);
+    for (const Pair fp = splat(f); i + 2 <= n; i += 2) store_pair(x + i, load_pair(x + i) * fp);
+    if (i < n) x[i] *= f;
+}
+
+/* y[i] += f x[i] */
+static inline __attribute__((always_inline)) void add_multiple(double *y, double f, const double *x, int n, int wide)
+{
+    int i = 0;
+    if (wide)
+        for (const Quad fq = splat4(f); i + 4 <= n; i += 4) STORE_QUAD(y + i, load_quad(y + i) + fq * load_quad(x + i));
+    for (const Pair fp = splat(f); i + 2 <= n; i += 2) store_pair(y + i, load_pair(y + i) + fp * load_pair(x + i));
+    if (i < n) y[i] += f * x[i];
+}
+
+/* x[i] -= c */
+static inline __attribute__((always_inline)) void sub_constant(double *x, double c, int n, int wide)
+{
+    int i = 0;
+    if (wide)
+        for (const Quad cq = splat4(c); i + 4 <= n; i += 4) STORE_QUAD(x + i, load_quad(x + i) - cq);
+    for (const Pair cp = splat(c); i + 2 <= n; i += 2) store_pair(x + i, load_pair(x + i) - cp);
+    if (i < n) x[i] -= c;
+}
+
+/* s[i] -= a p[i] + b x[i] (a row of dsyr2's update) */
+static inline __attribute__((always_inline)) void sub_rank2_row(double *s, double a, const double *p, double b,
+                                                                const double *x, int n, int wide)
+{
+    int i = 0;
+    if (wide)
+        for (const Quad aq = splat4(a), bq = splat4(b); i + 4 <= n; i += 4)
+            STORE_QUAD(s + i, load_quad(s + i) - (aq * load_quad(p + i) + bq * load_quad(x + i)));
+    for (const Pair ap = splat(a), bp = splat(b); i + 2 <= n; i += 2)
+        store_pair(s + i, load_pair(s + i) - (ap * load_pair(p + i) + bp * load_pair(x + i)));
+    if (i < n) s[i] -= a * p[i] + b * x[i];
+}
+
 /* The Householder reflector H = I - tau v v^T with H x = (beta, 0, ..., 0) for the m
  * elements x (LAPACK dlarfg): v into x (its first element 1), beta into *e. Returns 0
  * if x is already reduced (H = I, tau 0). */
@@ -271,8 +316,7 @@ static inline __attribute__((always_inline)) int make_reflector(double *x, int m
     const double scale = 1.0 / (alpha - beta);
     *e = beta;
     *tau = (beta - alpha) / beta;
-#pragma omp simd
-    for (int i = 1; i < m; i++) x[i] *= scale;
+    scale_by(x + 1, scale, m - 1, wide);
     return 1;
 }
 
@@ -300,11 +344,9 @@ static inline __attribute__((always_inline)) void tridiagonalise(int n, double *
          * steps; S v is ready when the last step's pass took it) */
         if (!ready) block_pass(m, s, sn, NULL, NULL, x, p, wide);
         const double t = tau[k];
-#pragma omp simd
-        for (int j = 0; j < m; j++) p[j] *= t;
+        scale_by(p, t, m, wide);
         const double half = -0.5 * t * dot(p, x, m, wide);
-#pragma omp simd
-        for (int j = 0; j < m; j++) p[j] += half * x[j];
+        add_multiple(p, half, x, m, wide);
         if (!next) {
             block_pass(m, s, sn, x, p, NULL, NULL, wide);
             continue;
@@ -312,8 +354,7 @@ static inline __attribute__((always_inline)) void tridiagonalise(int n, double *
         /* S's first row first: it gives the next reflector, which the pass over the
          * rest of S takes its product with */
         const double x0 = x[0], p0 = p[0];
-#pragma omp simd
-        for (int j = 0; j < m; j++) s[j] -= x0 * p[j] + p0 * x[j];
+        sub_rank2_row(s, x0, p, p0, x, m, wide);
         have = make_reflector(s + 1, m - 1, &e[k + 1], &tau[k + 1], wide);
         if (have)
             block_pass(m - 1, s + sn + 1, sn, x + 1, p + 1, s + 1, q, wide);
@@ -391,7 +432,8 @@ static inline __attribute__((always_inline)) void ql_step(QlSweep *q, double *d,
  *   (e2 / g^2) u_{i-1} over u, without the cancellation of u - 1).
  * Three divisions a step, none on a chain: the eigenvalues of the head's guides' G
  * (N = 10) in 0.65 of tqlrat's time, within 2e-15 tnorm of tqlrat's. */
-static inline __attribute__((always_inline)) int tridiagonal_eigenvalues(int n, double *d, double *e2, double tnorm)
+static inline __attribute__((always_inline)) int tridiagonal_eigenvalues(int n, double *d, double *e2, double tnorm,
+                                                                         int wide)
 {
     if (n == 0) return 1;
     /* T scaled by 2^-ex: tnorm in [1, 2) (ex bounded so that 2^-2ex is a double) */
@@ -426,8 +468,7 @@ static inline __attribute__((always_inline)) int tridiagonal_eigenvalues(int n, 
             const double g0 = d[l], half = 0.5 * (d[l + 1] - g0), r0 = sqrt(half * half + e2[l]);
             d[l] = e2[l] / (half + (half >= 0.0 ? r0 : -r0));
             const double shift = g0 - d[l];
-#pragma omp simd
-            for (int i = l + 1; i < n; i++) d[i] -= shift;
+            sub_constant(d + l + 1, shift, n - l - 1, wide);
             f += shift;
             const double g = d[m] != 0.0 ? d[m] : b;
             QlSweep q = {.g = g, .h = g, .s = 0.0, .u = 1.0, .n1 = g, .n2 = 1.0, .negligible = m};
@@ -559,11 +600,9 @@ static inline __attribute__((always_inline)) void transpose(const double *src, s
 }
 
 /* v scaled to unit length, f its squared length. */
-static inline void unit_length(double *v, double f, int n)
+static inline __attribute__((always_inline)) void unit_length(double *v, double f, int n, int wide)
 {
-    const double scale = 1.0 / sqrt(f);
-#pragma omp simd
-    for (int i = 0; i < n; i++) v[i] *= scale;
+    scale_by(v, 1.0 / sqrt(f), n, wide);
 }
 
 /* Lane j of x scaled to unit length after made orthogonal to the earlier lanes of its
@@ -585,12 +624,12 @@ static inline __attribute__((always_inline)) void lanes_orthonormalise(const Lan
     for (int a = 0, b; a < k; a = b) { /* the cluster a .. b - 1 */
         for (b = a + 1; b < k && ln->cluster[b] == a;) b++;
         double *ta = t + (size_t)a * sn;
-        unit_length(ta, sub_then_dot(ta, 0.0, NULL, ta, n, wide), n);
+        unit_length(ta, sub_then_dot(ta, 0.0, NULL, ta, n, wide), n, wide);
         for (int j = a + 1; j < b; j++) f[j] = sub_then_dot(t + (size_t)j * sn, 0.0, NULL, ta, n, wide);
         for (int q = a; q + 1 < b; q++) {
             const double *tq = t + (size_t)q * sn;
             double *next = t + (size_t)(q + 1) * sn;
-            unit_length(next, sub_then_dot(next, f[q + 1], tq, next, n, wide), n);
+            unit_length(next, sub_then_dot(next, f[q + 1], tq, next, n, wide), n, wide);
             for (int j = q + 2; j < b; j++) f[j] = sub_then_dot(t + (size_t)j * sn, f[j], tq, next, n, wide);
         }
     }
@@ -856,7 +895,7 @@ static inline __attribute__((always_inline)) int positive_part(int n, const doub
     /* not a number anywhere (fmax passes over one): no convergence, as tql2 would say */
     double sum = 0.0;
     for (int i = 0; i < n; i++) sum += fabs(d[i]) + fabs(e[i]);
-    if (!isfinite(sum) || !tridiagonal_eigenvalues(n, w, e2, tnorm)) return 0;
+    if (!isfinite(sum) || !tridiagonal_eigenvalues(n, w, e2, tnorm, wide)) return 0;
     int neg = 0, pos = 0;
     for (int i = 0; i < n; i++) {
         neg += w[i] < 0.0;
