@@ -646,6 +646,8 @@ static inline __attribute__((always_inline)) void lanes_orthonormalise(const Lan
 #define START_SEED  12345u
 
 static double start_draws[START_DRAWS];
+static int start_drawn; /* set once they are: a call from another constructor run
+                         * before this one (their order is unspecified) draws its own */
 
 static inline unsigned next_draw(unsigned state) { return state * 1664525u + 1013904223u; }
 
@@ -658,6 +660,7 @@ __attribute__((constructor)) static void make_start_draws(void)
         state = next_draw(state);
         start_draws[i] = draw_value(state);
     }
+    start_drawn = 1;
 }
 
 /* The eigenvectors of T (d, e) for the k eigenvalues lambda (ascending) into the lanes
@@ -681,7 +684,7 @@ static inline __attribute__((always_inline)) void lanes_eigenvectors(Lanes *ln, 
     lanes_factor(ln, d, e, DBL_EPSILON * tnorm);
     const size_t sw = (size_t)ln->w;
     const size_t sk = (size_t)k;
-    const int drawn = (size_t)n * sk <= START_DRAWS;
+    const int drawn = start_drawn && (size_t)n * sk <= START_DRAWS;
     unsigned state = START_SEED;
     for (size_t i = 0; i < (size_t)n; i++) {
         double *xi = x + i * sw;
