@@ -684,18 +684,22 @@ static inline __attribute__((always_inline)) void lanes_eigenvectors(Lanes *ln, 
     lanes_factor(ln, d, e, DBL_EPSILON * tnorm);
     const size_t sw = (size_t)ln->w;
     const size_t sk = (size_t)k;
-    const int drawn = start_drawn && (size_t)n * sk <= START_DRAWS;
-    unsigned state = START_SEED;
-    for (size_t i = 0; i < (size_t)n; i++) {
-        double *xi = x + i * sw;
-        if (drawn)
+    if (start_drawn && (size_t)n * sk <= START_DRAWS)
+        for (size_t i = 0; i < (size_t)n; i++) {
+            double *xi = x + i * sw;
             for (size_t j = 0; j < sk; j++) xi[j] = start_draws[i * sk + j];
-        else
+            for (size_t j = sk; j < sw; j++) xi[j] = 0.0;
+        }
+    else {
+        unsigned state = START_SEED;
+        for (size_t i = 0; i < (size_t)n; i++) {
+            double *xi = x + i * sw;
             for (size_t j = 0; j < sk; j++) {
                 state = next_draw(state);
                 xi[j] = draw_value(state);
             }
-        for (size_t j = sk; j < sw; j++) xi[j] = 0.0;
+            for (size_t j = sk; j < sw; j++) xi[j] = 0.0;
+        }
     }
     for (size_t i = (size_t)n * sw; i < (size_t)(n + 2) * sw; i++) x[i] = 0.0;
     for (int pass = 0; pass < 3; pass++) {
