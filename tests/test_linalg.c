@@ -4,7 +4,9 @@
  * The positive part A+ (hk_symmetric_positive_part) against V max(L, 0) V^T from the
  * decomposition and against what defines it: A+ positive semidefinite, A+ (A+ - A) = 0
  * (the two parts' products vanish), on random, repeated, clustered and graded spectra;
- * its AVX path against its SSE2 path, bit for bit, and its bits against main's (a hash).
+ * its AVX path against its SSE2 path, bit for bit, and its bits against main's (a hash);
+ * the Cholesky test that skips it where G is positive definite (strand_dynamics.c)
+ * against it on semidefinite and barely indefinite matrices.
  * Cholesky factors (also in place, bit for bit) and solves against the residual A x - b. */
 #include "hk_test.h"
 
@@ -313,7 +315,7 @@ static void test_positive_part_paths_same_bits(void **state)
  * row and a column, 1.8e-10 at the last of 40, a third of the diagonal negative). */
 static void bits_matrix(int n, int kind, unsigned *state, double *a)
 {
-    double grade[80];
+    double grade[160]; /* n up to 80 */
     grade[0] = 1.0;
     for (int k = 1; k < 2 * n; k++) grade[k] = grade[k - 1] * 0.75;
     for (int i = 0; i < n; i++)
@@ -364,6 +366,83 @@ static void test_positive_part_bits_kept(void **state)
     hk_avx_paths_allow(1);
 }
 
+/* The inverse iteration's start is copied from draws made once (2,048 of them) where
+ * its n x k numbers fit, and drawn at the call beyond: both sides of that bound, and
+ * sizes past 40, give main's bits (e3cdd56, before the draws were made once), on
+ * either path. FNV-1a as above; n = 45 .. 80, uniform and shifted either way (k from
+ * about 20 to 40: 900 to 3,200 draws). */
+static void test_positive_part_long_starts_bits_kept(void **state)
+{
+    (void)state;
+    const int sizes[4] = {45, 64, 65, 80};
+    double *a = malloc(sizeof(double) * 80 * 80), *out = malloc(sizeof(double) * 80 * 80);
+    double *work = malloc(sizeof(double) * HK_POSITIVE_PART_WORK(80));
+    const int avx = hk_avx_paths_allow(1);
+    int fit = 0, drawn = 0; /* starts within and beyond the draws made once */
+    for (int path = avx ? 0 : 1; path < 2; path++) {
+        hk_avx_paths_allow(path == 0);
+        unsigned long long h = 1469598103934665603ULL;
+        unsigned seed = 2027u;
+        for (int s = 0; s < 4; s++)
+            for (int kind = 0; kind < 3; kind++) {
+                const int n = sizes[s];
+                int negative = -1;
+                bits_matrix(n, kind, &seed, a);
+                assert_int_equal(hk_symmetric_positive_part(n, a, out, work, &negative), 1);
+                const int k = 2 * negative < n ? negative : n - negative; /* no zero eigenvalue here */
+                if (n * k <= 2048)
+                    fit++;
+                else
+                    drawn++;
+                const unsigned char *b = (const unsigned char *)out;
+                for (size_t i = 0; i < sizeof(double) * (size_t)(n * n); i++) h = (h ^ b[i]) * 1099511628211ULL;
+                h = (h ^ (unsigned)negative) * 1099511628211ULL;
+            }
+        assert_true(h == 0xb889d50175d10193ULL);
+    }
+    assert_true(fit > 0 && drawn > 0);
+    hk_avx_paths_allow(1);
+    free(a), free(out), free(work);
+}
+
+/* strand_dynamics.c skips the decomposition where a Cholesky factorisation of G
+ * succeeds (hk_cholesky_factor, a pivot above 1e-13 of its diagonal entry) and takes
+ * G for G+. Against the full path: positive definite, the full path finds no negative
+ * eigenvalue and returns G bit for bit (A minus no mode); singular positive
+ * semidefinite and barely indefinite (the eigenvalue nearest zero at -1e-14 and -1e-10
+ * of the largest), where the factorisation may pass only if G+ is G to that order (the
+ * shortcut's error is the eigenvalue it misses, within the factorisation's bound) and
+ * must fail at -1e-10 (an indefinite matrix beyond round-off has a negative pivot). */
+static void test_positive_part_cholesky_shortcut(void **state)
+{
+    (void)state;
+    enum { N = 30 };
+    double d[N], q[N * N], a[N * N], out[N * N], l[N * N], work[HK_POSITIVE_PART_WORK(N)];
+    const double nearest[5] = {1e-3, 1e-8, 0.0, -1e-14, -1e-10};
+    for (int c = 0; c < 5; c++) {
+        /* graded as a guide's G, all positive, the smallest replaced */
+        for (int k = 0; k < N; k++) d[k] = pow(10.0, -5.0 * k / (N - 1.0));
+        d[N - 1] = nearest[c];
+        known_spectrum(N, d, q, a);
+        int negative = -1;
+        assert_int_equal(hk_symmetric_positive_part(N, a, out, work, &negative), 1);
+        const int passes = hk_cholesky_factor(N, a, 0.0, NULL, l);
+        double diff = 0.0;
+        for (int i = 0; i < N * N; i++) diff = fmax(diff, fabs(out[i] - a[i]));
+        if (nearest[c] > 0.0) { /* positive definite: both ways G itself */
+            assert_true(passes);
+            assert_int_equal(negative, 0);
+            assert_memory_equal(out, a, sizeof a);
+        }
+        if (nearest[c] <= 0.0) /* G+ is G to the eigenvalue left out (and round-off) */
+            assert_true(diff <= fabs(nearest[c]) + 1e-14);
+        if (nearest[c] == -1e-10) {
+            assert_false(passes);
+            assert_true(negative == 1 && diff >= 0.5e-10 / N);
+        }
+    }
+}
+
 /* hk_dot6_columns is, to the bit, the plain dot product x . column j summed left to right,
  * on either path (AVX's four columns a vector, the baseline's two, and each one's scalar
  * remainder): every count from 0 to 33 and two strides. */
@@ -403,6 +482,8 @@ int main(void)
         cmocka_unit_test(test_positive_part_spectra),
         cmocka_unit_test(test_positive_part_paths_same_bits),
         cmocka_unit_test(test_positive_part_bits_kept),
+        cmocka_unit_test(test_positive_part_long_starts_bits_kept),
+        cmocka_unit_test(test_positive_part_cholesky_shortcut),
         cmocka_unit_test(test_dot6_columns_same_bits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -212,21 +212,27 @@ static inline __attribute__((always_inline)) void block_pass(int m, double *b, s
                     STORE_QUAD(y + j, load_quad(y + j) + (qu0 * x0 + qu1 * x1));
                 }
             }
+            /* the splats past the loop from the Quads' low halves: the pairs' own,
+             * kept alive through it beside the Quads, were spilled around it (about 30
+             * instructions a pair of rows) */
+            r.v0 = LOW_PAIR(qv0), r.v1 = LOW_PAIR(qv1), r.w0 = LOW_PAIR(qw0), r.w1 = LOW_PAIR(qw1);
+            r.u0 = LOW_PAIR(qu0), r.u1 = LOW_PAIR(qu1);
         }
         for (; j < end; j += 2) row_pair_step(&r, j, v, w, u, y);
         if (v && j < m) { /* m odd: the last column */
-            b0[j] -= v0 * w[j] + w0 * v[j];
-            b1[j] -= v1 * w[j] + w1 * v[j];
+            b0[j] -= r.v0[0] * w[j] + r.w0[0] * v[j];
+            b1[j] -= r.v1[0] * w[j] + r.w1[0] * v[j];
         }
         if (u) {
+            const double u0s = r.u0[0], u1s = r.u1[0];
             double r0 = r.dot0[0] + r.dot0[1], r1 = r.dot1[0] + r.dot1[1];
             if (j < m) {
                 r0 += b0[j] * u[j];
                 r1 += b1[j] * u[j];
-                y[j] += u0 * b0[j] + u1 * b1[j];
+                y[j] += u0s * b0[j] + u1s * b1[j];
             }
-            y[i] += (b0[i] * u0 + b0[i + 1] * u1) + r0;
-            y[i + 1] += (b0[i + 1] * u0 + b1[i + 1] * u1) + r1;
+            y[i] += (b0[i] * u0s + b0[i + 1] * u1s) + r0;
+            y[i + 1] += (b0[i + 1] * u0s + b1[i + 1] * u1s) + r1;
         }
     }
     if (i < m) {
@@ -249,6 +255,51 @@ static inline __attribute__((always_inline)) double dot(const double *a, const d
     return (s0 + s[1]) + (s[2] + s[3]);
 }
 
+/* The short loops over a row below (rows of 30 and less): wide four at a time, else
+ * two, the last one alone, each element's operations as written (GCC's loops for "omp
+ * simd" peel and check more than the arithmetic on such rows). x[i] *= f: */
+static inline __attribute__((always_inline)) void scale_by(double *x, double f, int n, int wide)
+{
+    int i = 0;
+    if (wide)
+        for (const Quad fq = splat4(f); i + 4 <= n; i += 4) STORE_QUAD(x + i, load_quad(x + i) * fq);
+    for (const Pair fp = splat(f); i + 2 <= n; i += 2) store_pair(x + i, load_pair(x + i) * fp);
+    if (i < n) x[i] *= f;
+}
+
+/* y[i] += f x[i] */
+static inline __attribute__((always_inline)) void add_multiple(double *y, double f, const double *x, int n, int wide)
+{
+    int i = 0;
+    if (wide)
+        for (const Quad fq = splat4(f); i + 4 <= n; i += 4) STORE_QUAD(y + i, load_quad(y + i) + fq * load_quad(x + i));
+    for (const Pair fp = splat(f); i + 2 <= n; i += 2) store_pair(y + i, load_pair(y + i) + fp * load_pair(x + i));
+    if (i < n) y[i] += f * x[i];
+}
+
+/* x[i] -= c */
+static inline __attribute__((always_inline)) void sub_constant(double *x, double c, int n, int wide)
+{
+    int i = 0;
+    if (wide)
+        for (const Quad cq = splat4(c); i + 4 <= n; i += 4) STORE_QUAD(x + i, load_quad(x + i) - cq);
+    for (const Pair cp = splat(c); i + 2 <= n; i += 2) store_pair(x + i, load_pair(x + i) - cp);
+    if (i < n) x[i] -= c;
+}
+
+/* s[i] -= a p[i] + b x[i] (a row of dsyr2's update) */
+static inline __attribute__((always_inline)) void sub_rank2_row(double *s, double a, const double *p, double b,
+                                                                const double *x, int n, int wide)
+{
+    int i = 0;
+    if (wide)
+        for (const Quad aq = splat4(a), bq = splat4(b); i + 4 <= n; i += 4)
+            STORE_QUAD(s + i, load_quad(s + i) - (aq * load_quad(p + i) + bq * load_quad(x + i)));
+    for (const Pair ap = splat(a), bp = splat(b); i + 2 <= n; i += 2)
+        store_pair(s + i, load_pair(s + i) - (ap * load_pair(p + i) + bp * load_pair(x + i)));
+    if (i < n) s[i] -= a * p[i] + b * x[i];
+}
+
 /* The Householder reflector H = I - tau v v^T with H x = (beta, 0, ..., 0) for the m
  * elements x (LAPACK dlarfg): v into x (its first element 1), beta into *e. Returns 0
  * if x is already reduced (H = I, tau 0). */
@@ -265,8 +316,7 @@ static inline __attribute__((always_inline)) int make_reflector(double *x, int m
     const double scale = 1.0 / (alpha - beta);
     *e = beta;
     *tau = (beta - alpha) / beta;
-#pragma omp simd
-    for (int i = 1; i < m; i++) x[i] *= scale;
+    scale_by(x + 1, scale, m - 1, wide);
     return 1;
 }
 
@@ -294,11 +344,9 @@ static inline __attribute__((always_inline)) void tridiagonalise(int n, double *
          * steps; S v is ready when the last step's pass took it) */
         if (!ready) block_pass(m, s, sn, NULL, NULL, x, p, wide);
         const double t = tau[k];
-#pragma omp simd
-        for (int j = 0; j < m; j++) p[j] *= t;
+        scale_by(p, t, m, wide);
         const double half = -0.5 * t * dot(p, x, m, wide);
-#pragma omp simd
-        for (int j = 0; j < m; j++) p[j] += half * x[j];
+        add_multiple(p, half, x, m, wide);
         if (!next) {
             block_pass(m, s, sn, x, p, NULL, NULL, wide);
             continue;
@@ -306,8 +354,7 @@ static inline __attribute__((always_inline)) void tridiagonalise(int n, double *
         /* S's first row first: it gives the next reflector, which the pass over the
          * rest of S takes its product with */
         const double x0 = x[0], p0 = p[0];
-#pragma omp simd
-        for (int j = 0; j < m; j++) s[j] -= x0 * p[j] + p0 * x[j];
+        sub_rank2_row(s, x0, p, p0, x, m, wide);
         have = make_reflector(s + 1, m - 1, &e[k + 1], &tau[k + 1], wide);
         if (have)
             block_pass(m - 1, s + sn + 1, sn, x + 1, p + 1, s + 1, q, wide);
@@ -325,6 +372,40 @@ static inline __attribute__((always_inline)) void tridiagonalise(int n, double *
     }
     if (n >= 1) d[n - 1] = a[sn * sn - 1];
     if (n >= 1) e[n - 1] = 0.0;
+}
+
+/* The state of a QL sweep (tridiagonal_eigenvalues, below) between its steps. */
+typedef struct {
+    double g, h, s, u, n1, n2;
+    int negligible; /* the lowest off-diagonal at or below the tolerance so far */
+} QlSweep;
+
+/* One step of the sweep, at row i (tridiagonal_eigenvalues tells the recurrences). */
+static inline __attribute__((always_inline)) void ql_step(QlSweep *q, double *d, double *e2, int i, double b, double c)
+{
+    const double p = q->g * q->h, r = p + e2[i], ginv = q->n2 / q->n1, tu = e2[i] * ginv * ginv * q->u;
+    q->u = 1.0 + tu;
+    const double cu = 1.0 / q->u;
+    e2[i + 1] = q->s * r;
+    if (!(e2[i + 1] > c)) q->negligible = i + 1;
+    q->s = tu * cu;
+    d[i + 1] = q->h + q->s * (q->h + d[i]);
+    double n0 = d[i] * q->n1 - e2[i] * q->n2, n1 = q->n1;
+    /* zero lies below the range: its test leaves the common path */
+    if (fabs(n0) < 0x1p-600 || fabs(n0) > 0x1p600) {
+        if (n0 == 0.0) n0 = b * n1; /* g = 0: tqlrat's g = b */
+        if (fabs(n0) < 0x1p-600) {
+            n0 *= 0x1p600;
+            n1 *= 0x1p600;
+        } else if (fabs(n0) > 0x1p600) {
+            n0 *= 0x1p-600;
+            n1 *= 0x1p-600;
+        }
+    }
+    q->n2 = n1;
+    q->n1 = n0;
+    q->g = n0 / n1;
+    q->h = q->g * cu;
 }
 
 /* The eigenvalues of the symmetric tridiagonal matrix with diagonal d and squared
@@ -351,7 +432,8 @@ static inline __attribute__((always_inline)) void tridiagonalise(int n, double *
  *   (e2 / g^2) u_{i-1} over u, without the cancellation of u - 1).
  * Three divisions a step, none on a chain: the eigenvalues of the head's guides' G
  * (N = 10) in 0.65 of tqlrat's time, within 2e-15 tnorm of tqlrat's. */
-static inline __attribute__((always_inline)) int tridiagonal_eigenvalues(int n, double *d, double *e2, double tnorm)
+static inline __attribute__((always_inline)) int tridiagonal_eigenvalues(int n, double *d, double *e2, double tnorm,
+                                                                         int wide)
 {
     if (n == 0) return 1;
     /* T scaled by 2^-ex: tnorm in [1, 2) (ex bounded so that 2^-2ex is a double) */
@@ -364,13 +446,20 @@ static inline __attribute__((always_inline)) int tridiagonal_eigenvalues(int n, 
     const double b = DBL_EPSILON * tnorm * scale, c = b * b;
     double f = 0.0;
     e2[n - 1] = 0.0;
+    int known = 0; /* past l: the first negligible off-diagonal from l, noted by l - 1's last sweep */
     for (int l = 0; l < n; l++) {
         int iter = 0, m = l;
-        while (e2[m] > c) m++; /* e2[n - 1] is zero: the search stops there */
+        if (known > l)
+            m = known;
+        else
+            while (e2[m] > c) m++; /* e2[n - 1] is zero: the search stops there */
+        known = 0;
         /* after a sweep the first negligible off-diagonal from l is known without the
          * search: the sweep rewrites e2[l .. m] (e2[m] to zero) and notes the lowest
          * one at or below c as it goes (the search took 5.6 of the 36 thousand
-         * instructions of the eigenvalues on a head's G, with a mispredicted exit) */
+         * instructions of the eigenvalues on a head's G, with a mispredicted exit); the
+         * last sweep of an eigenvalue notes it for the next (its own search took most
+         * of what was left of that) */
         while (m != l) {
             if (iter++ == 60) return 0;
             /* Wilkinson-like shift from the leading 2 x 2 block, as tql2's, in the form
@@ -379,37 +468,22 @@ static inline __attribute__((always_inline)) int tridiagonal_eigenvalues(int n, 
             const double g0 = d[l], half = 0.5 * (d[l + 1] - g0), r0 = sqrt(half * half + e2[l]);
             d[l] = e2[l] / (half + (half >= 0.0 ? r0 : -r0));
             const double shift = g0 - d[l];
-#pragma omp simd
-            for (int i = l + 1; i < n; i++) d[i] -= shift;
+            sub_constant(d + l + 1, shift, n - l - 1, wide);
             f += shift;
-            double g = d[m] != 0.0 ? d[m] : b, h = g, s = 0.0, u = 1.0, n1 = g, n2 = 1.0;
-            int negligible = m;
-            for (int i = m - 1; i >= l; i--) {
-                const double p = g * h, r = p + e2[i], ginv = n2 / n1, tu = e2[i] * ginv * ginv * u;
-                u = 1.0 + tu;
-                const double cu = 1.0 / u;
-                e2[i + 1] = s * r;
-                if (!(e2[i + 1] > c)) negligible = i + 1;
-                s = tu * cu;
-                d[i + 1] = h + s * (h + d[i]);
-                double n0 = d[i] * n1 - e2[i] * n2;
-                if (n0 == 0.0) n0 = b * n1; /* g = 0: tqlrat's g = b */
-                if (fabs(n0) < 0x1p-600) {
-                    n0 *= 0x1p600;
-                    n1 *= 0x1p600;
-                } else if (fabs(n0) > 0x1p600) {
-                    n0 *= 0x1p-600;
-                    n1 *= 0x1p-600;
-                }
-                n2 = n1;
-                n1 = n0;
-                g = n1 / n2;
-                h = g * cu;
+            const double g = d[m] != 0.0 ? d[m] : b;
+            QlSweep q = {.g = g, .h = g, .s = 0.0, .u = 1.0, .n1 = g, .n2 = 1.0, .negligible = m};
+            int i = m - 1;
+            for (; i > l; i -= 2) { /* two steps a turn: n1 and n2 trade registers, no copies */
+                ql_step(&q, d, e2, i, b, c);
+                ql_step(&q, d, e2, i - 1, b, c);
             }
-            e2[l] = s * g * h;
+            if (i == l) ql_step(&q, d, e2, i, b, c);
+            const double h = q.h;
+            e2[l] = q.s * q.g * h;
             d[l] = h;
+            known = q.negligible;
             if (h == 0.0) break;
-            m = !(e2[l] > c) ? l : negligible;
+            m = !(e2[l] > c) ? l : q.negligible;
         }
         d[l] += f;
     }
@@ -526,11 +600,9 @@ static inline __attribute__((always_inline)) void transpose(const double *src, s
 }
 
 /* v scaled to unit length, f its squared length. */
-static inline void unit_length(double *v, double f, int n)
+static inline __attribute__((always_inline)) void unit_length(double *v, double f, int n, int wide)
 {
-    const double scale = 1.0 / sqrt(f);
-#pragma omp simd
-    for (int i = 0; i < n; i++) v[i] *= scale;
+    scale_by(v, 1.0 / sqrt(f), n, wide);
 }
 
 /* Lane j of x scaled to unit length after made orthogonal to the earlier lanes of its
@@ -552,16 +624,43 @@ static inline __attribute__((always_inline)) void lanes_orthonormalise(const Lan
     for (int a = 0, b; a < k; a = b) { /* the cluster a .. b - 1 */
         for (b = a + 1; b < k && ln->cluster[b] == a;) b++;
         double *ta = t + (size_t)a * sn;
-        unit_length(ta, sub_then_dot(ta, 0.0, NULL, ta, n, wide), n);
+        unit_length(ta, sub_then_dot(ta, 0.0, NULL, ta, n, wide), n, wide);
         for (int j = a + 1; j < b; j++) f[j] = sub_then_dot(t + (size_t)j * sn, 0.0, NULL, ta, n, wide);
         for (int q = a; q + 1 < b; q++) {
             const double *tq = t + (size_t)q * sn;
             double *next = t + (size_t)(q + 1) * sn;
-            unit_length(next, sub_then_dot(next, f[q + 1], tq, next, n, wide), n);
+            unit_length(next, sub_then_dot(next, f[q + 1], tq, next, n, wide), n, wide);
             for (int j = q + 2; j < b; j++) f[j] = sub_then_dot(t + (size_t)j * sn, f[j], tq, next, n, wide);
         }
     }
     transpose(t, sn, sk, sn, x, sw);
+}
+
+/* The inverse iteration's start: a fixed pseudo-random sequence (a linear congruential
+ * generator, its top 24 bits scaled to -0.5 .. 0.5), drawn row by row into the k lanes.
+ * Its first START_DRAWS draws are made once, when the library is loaded: drawn at every
+ * call, the generator's chain of integer products cost about 3.8 thousand instructions
+ * on a head's G (n = 30, k = 10), copied 0.5. Longer starts are drawn as before, the
+ * same numbers either way. */
+#define START_DRAWS 2048
+#define START_SEED  12345u
+
+static double start_draws[START_DRAWS];
+static int start_drawn; /* set once they are: a call from another constructor run
+                         * before this one (their order is unspecified) draws its own */
+
+static inline unsigned next_draw(unsigned state) { return state * 1664525u + 1013904223u; }
+
+static inline double draw_value(unsigned state) { return (double)(state >> 8) / 16777216.0 - 0.5; }
+
+__attribute__((constructor)) static void make_start_draws(void)
+{
+    unsigned state = START_SEED;
+    for (int i = 0; i < START_DRAWS; i++) {
+        state = next_draw(state);
+        start_draws[i] = draw_value(state);
+    }
+    start_drawn = 1;
 }
 
 /* The eigenvectors of T (d, e) for the k eigenvalues lambda (ascending) into the lanes
@@ -584,19 +683,75 @@ static inline __attribute__((always_inline)) void lanes_eigenvectors(Lanes *ln, 
     if (ln->w > k) ln->shift[k] = ln->shift[k - 1]; /* the spare lane: finite factors */
     lanes_factor(ln, d, e, DBL_EPSILON * tnorm);
     const size_t sw = (size_t)ln->w;
-    unsigned state = 12345u;
-    for (size_t i = 0; i < (size_t)n; i++) {
-        double *xi = x + i * sw;
-        for (size_t j = 0; j < (size_t)k; j++) {
-            state = state * 1664525u + 1013904223u;
-            xi[j] = (double)(state >> 8) / 16777216.0 - 0.5;
+    const size_t sk = (size_t)k;
+    if (start_drawn && (size_t)n * sk <= START_DRAWS)
+        for (size_t i = 0; i < (size_t)n; i++) {
+            double *xi = x + i * sw;
+            for (size_t j = 0; j < sk; j++) xi[j] = start_draws[i * sk + j];
+            for (size_t j = sk; j < sw; j++) xi[j] = 0.0;
         }
-        for (size_t j = (size_t)k; j < sw; j++) xi[j] = 0.0;
+    else {
+        unsigned state = START_SEED;
+        for (size_t i = 0; i < (size_t)n; i++) {
+            double *xi = x + i * sw;
+            for (size_t j = 0; j < sk; j++) {
+                state = next_draw(state);
+                xi[j] = draw_value(state);
+            }
+            for (size_t j = sk; j < sw; j++) xi[j] = 0.0;
+        }
     }
     for (size_t i = (size_t)n * sw; i < (size_t)(n + 2) * sw; i++) x[i] = 0.0;
     for (int pass = 0; pass < 3; pass++) {
         lanes_solve(ln, x);
         lanes_orthonormalise(ln, x, t, ln->carry0, wide);
+    }
+}
+
+/* reflect_lanes on eight lanes from yj (two Quads, v's elements splat once), or ten
+ * (k = 9, 10: nearly every head's G): the last two ride along as a Pair on the same
+ * splats and pass over the rows (a pass of their own cost 1.8 thousand instructions a
+ * call more). */
+static inline __attribute__((always_inline)) void reflect_eight_lanes(const double *v, int m, int i0, int last,
+                                                                      double tau, double *yj, size_t sw, int ten)
+{
+    Quad s0 = splat4(0.0), s1 = s0, t0 = s0, t1 = s0;
+    Pair p0 = {0.0, 0.0}, p1 = p0;
+    for (int i = i0; i < last; i += 2) {
+        const Quad v0 = splat4(v[i]), v1 = splat4(v[i + 1]);
+        double *y0 = yj + (size_t)i * sw, *y1 = y0 + sw;
+        s0 += v0 * load_quad(y0);
+        t0 += v0 * load_quad(y0 + 4);
+        s1 += v1 * load_quad(y1);
+        t1 += v1 * load_quad(y1 + 4);
+        if (ten) {
+            p0 += LOW_PAIR(v0) * load_pair(y0 + 8);
+            p1 += LOW_PAIR(v1) * load_pair(y1 + 8);
+        }
+    }
+    Quad f = s0 + s1, g = t0 + t1;
+    Pair h = p0 + p1;
+    if (i0) {
+        const Quad v0 = splat4(v[0]);
+        f += v0 * load_quad(yj);
+        g += v0 * load_quad(yj + 4);
+        if (ten) h += LOW_PAIR(v0) * load_pair(yj + 8);
+    }
+    if (last < m) {
+        const Quad vl = splat4(v[last]);
+        f += vl * load_quad(yj + (size_t)last * sw);
+        g += vl * load_quad(yj + (size_t)last * sw + 4);
+        if (ten) h += LOW_PAIR(vl) * load_pair(yj + (size_t)last * sw + 8);
+    }
+    f *= splat4(tau);
+    g *= splat4(tau);
+    h *= splat(tau);
+    for (int i = 0; i < m; i++) {
+        double *yi = yj + (size_t)i * sw;
+        const Quad vi = splat4(v[i]);
+        STORE_QUAD(yi, load_quad(yi) - f * vi);
+        STORE_QUAD(yi + 4, load_quad(yi + 4) - g * vi);
+        if (ten) store_pair(yi + 8, load_pair(yi + 8) - h * LOW_PAIR(vi));
     }
 }
 
@@ -616,35 +771,12 @@ static inline __attribute__((always_inline)) void reflect_lanes(const double *v,
 {
     const int i0 = first & 1, last = i0 + ((m - i0) & ~1);
     int j = 0;
-    for (; wide && j + 8 <= w; j += 8) { /* two Quads of lanes, v's elements splat once */
-        double *yj = y + j;
-        Quad s0 = splat4(0.0), s1 = s0, t0 = s0, t1 = s0;
-        for (int i = i0; i < last; i += 2) {
-            const Quad v0 = splat4(v[i]), v1 = splat4(v[i + 1]);
-            double *y0 = yj + (size_t)i * sw, *y1 = y0 + sw;
-            s0 += v0 * load_quad(y0);
-            t0 += v0 * load_quad(y0 + 4);
-            s1 += v1 * load_quad(y1);
-            t1 += v1 * load_quad(y1 + 4);
-        }
-        Quad f = s0 + s1, g = t0 + t1;
-        if (i0) {
-            f += splat4(v[0]) * load_quad(yj);
-            g += splat4(v[0]) * load_quad(yj + 4);
-        }
-        if (last < m) {
-            f += splat4(v[last]) * load_quad(yj + (size_t)last * sw);
-            g += splat4(v[last]) * load_quad(yj + (size_t)last * sw + 4);
-        }
-        f *= splat4(tau);
-        g *= splat4(tau);
-        for (int i = 0; i < m; i++) {
-            double *yi = yj + (size_t)i * sw;
-            const Quad vi = splat4(v[i]);
-            STORE_QUAD(yi, load_quad(yi) - f * vi);
-            STORE_QUAD(yi + 4, load_quad(yi + 4) - g * vi);
-        }
-    }
+    for (; wide && j + 8 <= w; j += 8)
+        if (w - j == 10) {
+            reflect_eight_lanes(v, m, i0, last, tau, y + j, sw, 1);
+            j += 2;
+        } else
+            reflect_eight_lanes(v, m, i0, last, tau, y + j, sw, 0);
     for (; j < w; j += 2) { /* a Pair of lanes (the rest, or all of them on SSE2) */
         double *yj = y + j;
         Pair s0 = {0.0, 0.0}, s1 = {0.0, 0.0};
@@ -770,7 +902,7 @@ static inline __attribute__((always_inline)) int positive_part(int n, const doub
     /* not a number anywhere (fmax passes over one): no convergence, as tql2 would say */
     double sum = 0.0;
     for (int i = 0; i < n; i++) sum += fabs(d[i]) + fabs(e[i]);
-    if (!isfinite(sum) || !tridiagonal_eigenvalues(n, w, e2, tnorm)) return 0;
+    if (!isfinite(sum) || !tridiagonal_eigenvalues(n, w, e2, tnorm, wide)) return 0;
     int neg = 0, pos = 0;
     for (int i = 0; i < n; i++) {
         neg += w[i] < 0.0;
