@@ -36,12 +36,44 @@ static void mul66(double m[6][6], const double *x, double *out)
     for (int i = 0; i < 6; i++) out[i] = dot6(m[i], x);
 }
 
+/* mul66 with m given by its columns (mt[j][i] = m[i][j]): the six rows side by side,
+ * each entry's products and sums in dot6's order (the same bits), four and two lanes on
+ * the AVX path (wide), three pairs else. */
+static inline __attribute__((always_inline)) void mul66_columns(double mt[6][6], const double *x, double *out,
+                                                                int wide)
+{
+    typedef double Quad __attribute__((vector_size(32)));
+    typedef double Pair __attribute__((vector_size(16)));
+    if (wide) {
+        Quad lo, c;
+        Pair hi, d;
+        memcpy(&lo, mt[0], sizeof lo), memcpy(&hi, mt[0] + 4, sizeof hi);
+        lo *= x[0], hi *= x[0];
+#pragma GCC unroll 5
+        for (int j = 1; j < 6; j++) {
+            memcpy(&c, mt[j], sizeof c), memcpy(&d, mt[j] + 4, sizeof d);
+            lo += c * x[j], hi += d * x[j];
+        }
+        memcpy(out, &lo, sizeof lo), memcpy(out + 4, &hi, sizeof hi);
+        return;
+    }
+    Pair r0, r1, r2, c0, c1, c2;
+    memcpy(&r0, mt[0], sizeof r0), memcpy(&r1, mt[0] + 2, sizeof r1), memcpy(&r2, mt[0] + 4, sizeof r2);
+    r0 *= x[0], r1 *= x[0], r2 *= x[0];
+#pragma GCC unroll 5
+    for (int j = 1; j < 6; j++) {
+        memcpy(&c0, mt[j], sizeof c0), memcpy(&c1, mt[j] + 2, sizeof c1), memcpy(&c2, mt[j] + 4, sizeof c2);
+        r0 += c0 * x[j], r1 += c1 * x[j], r2 += c2 * x[j];
+    }
+    memcpy(out, &r0, sizeof r0), memcpy(out + 2, &r1, sizeof r1), memcpy(out + 4, &r2, sizeof r2);
+}
+
 /* The lower triangle and diagonal of the effective mass matrix, by rows: the
  * factorisation reads no more (hk_upper_cholesky). Mirroring each row into its column,
  * strided stores over the whole matrix, was a sixth of the assembly's instructions
  * (examples/guides200 shaking). */
 static inline __attribute__((always_inline)) void assemble_lower(int n, const hk_ElementTerms *terms, double *mass,
-                                                                 double *scratch)
+                                                                 double *scratch, int wide)
 {
     const size_t dim = (size_t)3 * (size_t)n;
     /* The screws xi_a transposed (6 rows of 3n), so that row b's products xi_a . Y_b
@@ -50,28 +82,30 @@ static inline __attribute__((always_inline)) void assemble_lower(int n, const hk
     for (int p = 0; p < n; p++)
         for (int b = 0; b < 3; b++)
             for (int r = 0; r < 6; r++) xt[(size_t)r * dim + (size_t)(3 * p + b)] = terms[p].xi[b][r];
-    double beyond[6][6];
-    memset(beyond, 0, sizeof beyond);
+    /* the inertia of everything beyond, by columns (beyond_t[j][i] = beyond[i][j]) for
+     * mul66_columns */
+    double beyond_t[6][6];
+    memset(beyond_t, 0, sizeof beyond_t);
     for (int p = n - 1; p >= 0; p--) {
         const hk_ElementTerms *t = &terms[p];
         for (int b = 0; b < 3; b++) {
             const size_t ib = (size_t)(3 * p + b);
             double sxi[6], y[6];
-            mul66(beyond, t->xi[b], sxi);
+            mul66_columns(beyond_t, t->xi[b], sxi, wide);
             for (int i = 0; i < 6; i++) y[i] = t->coupling[b][i] + sxi[i];
             double *row = mass + ib * dim;
             hk_dot6_columns(y, xt, dim, 3 * p, row);
             for (int a = 0; a <= b; a++) row[3 * p + a] = t->mass[a][b] + dot6(t->xi[a], sxi);
         }
-        for (int i = 0; i < 6; i++)
-            for (int j = 0; j < 6; j++) beyond[i][j] += t->inertia[i][j];
+        for (int j = 0; j < 6; j++)
+            for (int i = 0; i < 6; i++) beyond_t[j][i] += t->inertia[i][j];
     }
 }
 
 void hk_terms_assemble(int n, const hk_ElementTerms *terms, double *mass, double *scratch)
 {
     const size_t dim = (size_t)3 * (size_t)n;
-    assemble_lower(n, terms, mass, scratch);
+    assemble_lower(n, terms, mass, scratch, 0);
     for (size_t i = 0; i < dim; i++) /* mirrored: exactly symmetric */
         for (size_t j = 0; j < i; j++) mass[j * dim + i] = mass[i * dim + j];
 }
@@ -152,6 +186,7 @@ static inline __attribute__((always_inline)) void dot4_down_pair(const double *a
 static inline __attribute__((always_inline)) int upper_cholesky(int n, const double *a, const double *extra, double *u,
                                                                 int wide)
 {
+    typedef double Pair __attribute__((vector_size(16)));
     const size_t sn = (size_t)n;
     /* Row j of U from column j on is row n - 1 - j of the reversed matrix's L read
      * backwards: its dot products run from the rows' ends. a's lower triangle is read,
@@ -172,8 +207,14 @@ static inline __attribute__((always_inline)) int upper_cholesky(int n, const dou
             const double *ui = u + (size_t)i * sn + (sn - 1);
             double di, dk;
             dot4_down_pair(ui, ui - sn, uj, len, &di, &dk, wide);
-            u[(size_t)i * sn + (size_t)j] = (aj[i] - di) / ujj;
-            u[(size_t)(i - 1) * sn + (size_t)j] = (aj[i - 1] - dk) / ujj;
+            /* both entries' subtraction and division in two lanes: one division
+             * instruction for two, each lane's the same IEEE operation */
+            Pair num;
+            memcpy(&num, aj + i - 1, sizeof num);
+            num -= (Pair){dk, di};
+            const Pair q = num / ujj;
+            u[(size_t)i * sn + (size_t)j] = q[1];
+            u[(size_t)(i - 1) * sn + (size_t)j] = q[0];
         }
         if (i == 0) u[j] = (aj[0] - dot4_down(u + (sn - 1), uj, len)) / ujj;
     }
@@ -226,7 +267,7 @@ static inline __attribute__((always_inline)) int terms_solve_dense(int n, const 
     const int dim = 3 * n;
     const size_t count = (size_t)dim * (size_t)dim;
     double *mass = work, *factor = work + count;
-    assemble_lower(n, terms, mass, work + 2 * count);
+    assemble_lower(n, terms, mass, work + 2 * count, wide);
     if (geo) /* the lower triangle, which the factorisation reads */
         for (size_t i = 0; i < (size_t)dim; i++) {
             double *restrict row = mass + i * (size_t)dim;
