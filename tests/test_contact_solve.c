@@ -416,6 +416,53 @@ static void test_point_jacobians_reuse_only_the_swept_state(void **state)
     world_free(&b);
 }
 
+/* hk_dynamics_reverse_factor: the factor U of the step's dense solve (A = U U^T) with
+ * U^T in its strict lower part (row i there is column i of U), copied by 2 x 2 blocks,
+ * for an even size (3N = 30) and an odd one (27: the last row alone), on both paths. */
+static void test_reverse_factor_holds_u_and_its_transpose(void **state)
+{
+    (void)state;
+    hk_Error err;
+    hk_Hairstyle style = hk_default_hairstyle();
+    assert_int_equal(hk_hairstyle_load(HK_SOURCE_DIR "/examples/guides200/hairstyle.txt", &style, &err), HK_OK);
+    hk_DynamicsDef p = style.dynamics;
+    p.integrator = HK_INTEGRATOR_LINEAR_EULER;
+    p.solver = HK_DYNAMICS_DENSE;
+    p.stiffness = HK_STIFFNESS_FULL;
+    const hk_StrandEnvDef env = hk_default_strand_env_def();
+    const int full = style.strand.element_count;
+    for (int elements = full - 1; elements <= full; elements++)
+        for (int avx = 0; avx < 2; avx++) {
+            if (!hk_avx_paths_allow(avx) && avx) continue; /* no AVX: the baseline alone */
+            style.strand.element_count = elements;
+            hk_SuperHelix *sh;
+            hk_StrandDynamics *d;
+            assert_int_equal(hk_superhelix_from_def(&style.strand, hk_v3(0, 0, 0), hk_v3(0, 0.3, -1), &sh, &err), HK_OK);
+            assert_int_equal(hk_strand_dynamics_create(sh, &p, &env, &d, &err), HK_OK);
+            const int dim = 3 * sh->n;
+            for (int k = 0; k < dim; k++) sh->q[k] += 0.5 * sin(3.0 * k); /* bent, twisted */
+            const hk_RigidState head = hk_rigid_identity();
+            assert_true(hk_dynamics_euler_delta(d, &head, NULL, 0, 1.0 / 30.0));
+            assert_false(d->dense_fallback);
+            const size_t sd = (size_t)dim;
+            const double *f = d->work + sd * sd; /* the factor the dense solve left */
+            double *u = malloc(sd * sd * sizeof(double));
+            assert_non_null(u);
+            assert_int_equal(hk_dynamics_reverse_factor(d, u), 1);
+            for (size_t i = 0; i < sd; i++)
+                for (size_t k = 0; k < sd; k++) {
+                    const double want = k < i ? f[k * sd + i] : f[i * sd + k];
+                    assert_memory_equal(&u[i * sd + k], &want, sizeof want);
+                }
+            free(u);
+            hk_strand_dynamics_destroy(d);
+            hk_superhelix_destroy(sh);
+        }
+    hk_avx_paths_allow(1);
+    style.strand.element_count = full;
+    hk_hairstyle_free(&style);
+}
+
 static void test_forces_opposite_and_in_the_cone(void **state)
 {
     (void)state;
@@ -471,6 +518,7 @@ int main(void)
         cmocka_unit_test(test_idle_records_give_the_same_bits),
         cmocka_unit_test(test_push_records_give_the_same_bits),
         cmocka_unit_test(test_forces_opposite_and_in_the_cone),
+        cmocka_unit_test(test_reverse_factor_holds_u_and_its_transpose),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
