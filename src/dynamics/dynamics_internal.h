@@ -150,6 +150,11 @@ int hk_upper_cholesky(int n, const double *a, const double *extra, double *u);
 /* Solves U U^T x = b in place (x holds b on entry) with hk_upper_cholesky's factor. */
 void hk_upper_solve(int n, const double *u, double *x);
 
+/* Solves U^T x = y in place (x holds y on entry), U upper triangular (n x n, row-major):
+ * hk_upper_solve's second half. Each x_i takes its terms U_ki x_k in the order of k, then
+ * the division by U_ii: the bits of that sum taken along U's column i. */
+void hk_upper_transpose_solve(int n, const double *u, double *x);
+
 /* out = (M + diag(extra)) x in O(n) (two sweeps; screws: 6 n doubles of work). */
 void hk_terms_multiply(int n, const hk_ElementTerms *terms, const double *extra, const double *x, double *out,
                        double *screws);

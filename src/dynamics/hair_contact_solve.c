@@ -1572,17 +1572,13 @@ static void finish_strand(hk_ContactSolve *cs, int s)
         forces[x].stiffness = forces[x].damping = hk_m3_zero();
         if (side == 0) impulse[k] = world;
     }
-    /* The reversed strand's velocity change from w = U^T dv: U^T dv = w, forward. */
-    if (cs->reversed[s]) {
-        const size_t dim = dim_of(cs, s);
-        const double *u = (const double *)cs->ul.items + cs->ul_start[s];
-        double *v = (double *)cs->dv.items + cs->dim_start[s];
-        for (size_t i = 0; i < dim; i++) {
-            double x = v[i];
-            for (size_t k = 0; k < i; k++) x -= u[k * dim + i] * v[k];
-            v[i] = x / u[i * dim + i];
-        }
-    }
+    /* The reversed strand's velocity change from w = U^T dv: U^T dv = w, forward, by
+     * U's rows (each unknown known leaves all those below it side by side, instead of
+     * each unknown's chain of subtractions down U's column: the same operations in the
+     * same order for each entry). */
+    if (cs->reversed[s])
+        hk_upper_transpose_solve((int)dim_of(cs, s), (const double *)cs->ul.items + cs->ul_start[s],
+                                 (double *)cs->dv.items + cs->dim_start[s]);
     /* The last strand finished keeps the impulses for the next step's warm start. */
     if (atomic_fetch_add_explicit(&cs->finished, 1, memory_order_acq_rel) + 1 == cs->strand_count)
         cs->last_count = cs->solved_count;

@@ -241,14 +241,13 @@ int hk_upper_cholesky(int n, const double *a, const double *extra, double *u)
     return upper_cholesky_sse2(n, a, extra, u);
 }
 
-static inline __attribute__((always_inline)) void upper_solve(int n, const double *u, double *x)
+/* U^T x = y in place by the rows of U: once x_i is known it leaves the rows below, all
+ * of them side by side (vectorised), each x_k taking its terms in the order of i as a
+ * sum along U's column k would. */
+static inline __attribute__((always_inline)) void upper_transpose_solve(int n, const double *u, double *x)
 {
     const size_t sn = (size_t)n;
-    for (int i = n - 1; i >= 0; i--) { /* U y = b, from the last unknown */
-        const double *row = u + (size_t)i * sn;
-        x[i] = (x[i] - dot4_down(row + n - 1, x + n - 1, n - 1 - i)) / row[i];
-    }
-    for (int i = 0; i < n; i++) { /* U^T x = y by the rows of U: x_i leaves the rows below */
+    for (int i = 0; i < n; i++) {
         const double *restrict row = u + (size_t)i * sn;
         double *restrict rest = x + i + 1;
         const double xi = x[i] / row[i];
@@ -258,7 +257,31 @@ static inline __attribute__((always_inline)) void upper_solve(int n, const doubl
     }
 }
 
+static inline __attribute__((always_inline)) void upper_solve(int n, const double *u, double *x)
+{
+    const size_t sn = (size_t)n;
+    for (int i = n - 1; i >= 0; i--) { /* U y = b, from the last unknown */
+        const double *row = u + (size_t)i * sn;
+        x[i] = (x[i] - dot4_down(row + n - 1, x + n - 1, n - 1 - i)) / row[i];
+    }
+    upper_transpose_solve(n, u, x);
+}
+
 void hk_upper_solve(int n, const double *u, double *x) { upper_solve(n, u, x); }
+
+/* Four entries a vector where the CPU has AVX (the same bits: core/linalg.h). */
+__attribute__((target("avx"))) static void upper_transpose_solve_avx(int n, const double *u, double *x)
+{
+    upper_transpose_solve(n, u, x);
+}
+
+static void upper_transpose_solve_sse2(int n, const double *u, double *x) { upper_transpose_solve(n, u, x); }
+
+void hk_upper_transpose_solve(int n, const double *u, double *x)
+{
+    if (hk_avx_path()) upper_transpose_solve_avx(n, u, x);
+    else upper_transpose_solve_sse2(n, u, x);
+}
 
 static inline __attribute__((always_inline)) int terms_solve_dense(int n, const hk_ElementTerms *terms,
                                                                    const double *extra, const double *geo, double scale,
