@@ -42,16 +42,26 @@ typedef struct World {
  * crossing as they fall, with the linearly implicit Euler step of full heads (the
  * dense solver, whose points' rows of Z^T both read and answer, or the O(N) one,
  * whose rows of J and of Y^T differ). */
-static void world_make_with(World *w, const hk_HairContactDef *cp, hk_DynamicsSolver solver)
+/* examples/guides200's hairstyle in *style, and its dynamics with the linearly implicit
+ * Euler step of full heads and the given solver. */
+static hk_DynamicsDef guides_dynamics(hk_Hairstyle *style, hk_DynamicsSolver solver)
 {
     hk_Error err;
-    hk_Hairstyle style = hk_default_hairstyle();
-    assert_int_equal(hk_hairstyle_load(HK_SOURCE_DIR "/examples/guides200/hairstyle.txt", &style, &err), HK_OK);
-    hk_DynamicsDef p = style.dynamics;
+    *style = hk_default_hairstyle();
+    assert_int_equal(hk_hairstyle_load(HK_SOURCE_DIR "/examples/guides200/hairstyle.txt", style, &err), HK_OK);
+    hk_DynamicsDef p = style->dynamics;
     p.integrator = HK_INTEGRATOR_LINEAR_EULER;
     p.solver = solver;
     p.stiffness = solver == HK_DYNAMICS_DENSE ? HK_STIFFNESS_FULL : HK_STIFFNESS_GAUSS_NEWTON;
     p.hessian_interval = 1;
+    return p;
+}
+
+static void world_make_with(World *w, const hk_HairContactDef *cp, hk_DynamicsSolver solver)
+{
+    hk_Error err;
+    hk_Hairstyle style;
+    hk_DynamicsDef p = guides_dynamics(&style, solver);
     p.max_turn = p.max_travel = 1e9; /* one step each, as the commit takes it */
     const hk_Vec3 roots[STRANDS] = {hk_v3(0, 0, 0), hk_v3(0.004, 0.0, 0.05), hk_v3(-0.03, 0.003, 0.02)};
     const hk_Vec3 dirs[STRANDS] = {hk_v3(0, 0, 1), hk_v3(0, 0.01, -1), hk_v3(1, 0.02, 0.1)};
@@ -423,12 +433,8 @@ static void test_reverse_factor_holds_u_and_its_transpose(void **state)
 {
     (void)state;
     hk_Error err;
-    hk_Hairstyle style = hk_default_hairstyle();
-    assert_int_equal(hk_hairstyle_load(HK_SOURCE_DIR "/examples/guides200/hairstyle.txt", &style, &err), HK_OK);
-    hk_DynamicsDef p = style.dynamics;
-    p.integrator = HK_INTEGRATOR_LINEAR_EULER;
-    p.solver = HK_DYNAMICS_DENSE;
-    p.stiffness = HK_STIFFNESS_FULL;
+    hk_Hairstyle style;
+    const hk_DynamicsDef p = guides_dynamics(&style, HK_DYNAMICS_DENSE);
     const hk_StrandEnvDef env = hk_default_strand_env_def();
     const int full = style.strand.element_count;
     for (int elements = full - 1; elements <= full; elements++)
@@ -437,7 +443,8 @@ static void test_reverse_factor_holds_u_and_its_transpose(void **state)
             style.strand.element_count = elements;
             hk_SuperHelix *sh;
             hk_StrandDynamics *d;
-            assert_int_equal(hk_superhelix_from_def(&style.strand, hk_v3(0, 0, 0), hk_v3(0, 0.3, -1), &sh, &err), HK_OK);
+            assert_int_equal(hk_superhelix_from_def(&style.strand, hk_v3(0, 0, 0), hk_v3(0, 0.3, -1), &sh, &err),
+                             HK_OK);
             assert_int_equal(hk_strand_dynamics_create(sh, &p, &env, &d, &err), HK_OK);
             const int dim = 3 * sh->n;
             for (int k = 0; k < dim; k++) sh->q[k] += 0.5 * sin(3.0 * k); /* bent, twisted */

@@ -39,8 +39,7 @@ static void mul66(double m[6][6], const double *x, double *out)
 /* mul66 with m given by its columns (mt[j][i] = m[i][j]): the six rows side by side,
  * each entry's products and sums in dot6's order (the same bits), four and two lanes on
  * the AVX path (wide), three pairs else. */
-static inline __attribute__((always_inline)) void mul66_columns(double mt[6][6], const double *x, double *out,
-                                                                int wide)
+static inline __attribute__((always_inline)) void mul66_columns(double mt[6][6], const double *x, double *out, int wide)
 {
     typedef double Quad __attribute__((vector_size(32)));
     typedef double Pair __attribute__((vector_size(16)));
@@ -279,8 +278,10 @@ static void upper_transpose_solve_sse2(int n, const double *u, double *x) { uppe
 
 void hk_upper_transpose_solve(int n, const double *u, double *x)
 {
-    if (hk_avx_path()) upper_transpose_solve_avx(n, u, x);
-    else upper_transpose_solve_sse2(n, u, x);
+    if (hk_avx_path())
+        upper_transpose_solve_avx(n, u, x);
+    else
+        upper_transpose_solve_sse2(n, u, x);
 }
 
 static inline __attribute__((always_inline)) int terms_solve_dense(int n, const hk_ElementTerms *terms,
