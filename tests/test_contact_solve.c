@@ -427,8 +427,8 @@ static void test_point_jacobians_reuse_only_the_swept_state(void **state)
 }
 
 /* hk_dynamics_reverse_factor: the factor U of the step's dense solve (A = U U^T) with
- * U^T in its strict lower part (row i there is column i of U), copied by 2 x 2 blocks,
- * for an even size (3N = 30) and an odd one (27: the last row alone), on both paths. */
+ * U^T in its strict lower part (row i there is column i of U), for an even size (3N =
+ * 30) and an odd one (27), on both paths. */
 static void test_reverse_factor_holds_u_and_its_transpose(void **state)
 {
     (void)state;

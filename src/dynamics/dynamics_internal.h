@@ -139,8 +139,8 @@ int hk_terms_solve_linear(int n, const hk_ElementTerms *terms, const double *ext
 
 /* Cholesky's factorisation with the unknowns in reverse order: the symmetric a +
  * diag(extra) (n x n, row-major; its lower triangle read) as U U^T with U upper
- * triangular, into u's upper triangle (u's strict lower part is left alone; u may be
- * a). The same bits as hk_cholesky_factor(n, a reversed, 1.0, extra reversed) read
+ * triangular, into u's upper triangle, and U^T into its strict lower part (u may be a).
+ * The same bits as hk_cholesky_factor(n, a reversed, 1.0, extra reversed) read
  * backwards. A point's rows of J are zero beyond its own element, and so are its rows of
  * U^-1 J^T, which the contacts' solve uses (hair_contact_solve.c); the step's own solve
  * takes the same factor, so that a strand's matrix is factored once a step. Returns 0 if
@@ -375,9 +375,10 @@ int hk_dynamics_resolve_rows(hk_StrandDynamics *d, const double *rhs, int count,
 
 /* The matrix A of the last successful hk_dynamics_euler_delta as A = U U^T with U
  * upper triangular (3N x 3N, row-major), a copy of the factor its dense solve took
- * (hk_upper_cholesky), with U^T in its strict lower part: row i there holds column i of
- * U, contiguous for the contacts' back substitutions (hair_contact_solve.c). Returns 0
- * without a dense matrix (the O(N) solver or its dense fallback). */
+ * (hk_upper_cholesky), with U^T in its strict lower part as hk_upper_cholesky writes it:
+ * row i there holds column i of U, contiguous for the contacts' back substitutions
+ * (hair_contact_solve.c). Returns 0 without a dense matrix (the O(N) solver or its dense
+ * fallback). */
 int hk_dynamics_reverse_factor(const hk_StrandDynamics *d, double *u);
 
 /* Jacobians of `count` points at the sorted arc lengths s for the current q: jac holds

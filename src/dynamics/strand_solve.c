@@ -189,7 +189,10 @@ static inline __attribute__((always_inline)) int upper_cholesky(int n, const dou
     const size_t sn = (size_t)n;
     /* Row j of U from column j on is row n - 1 - j of the reversed matrix's L read
      * backwards: its dot products run from the rows' ends. a's lower triangle is read,
-     * along row j (a[j][i] = a[i][j]). */
+     * along row j (a[j][i] = a[i][j]). U^T goes to u's strict lower part as well (row j
+     * there is column j of U, written along the row as column j is found): the contacts'
+     * solve takes U by columns (hk_dynamics_reverse_factor), and the factorisation reads
+     * only U's upper part. */
     for (int j = n - 1; j >= 0; j--) {
         const size_t jj = (size_t)j * sn + (size_t)j;
         const double *uj = u + (size_t)j * sn + (sn - 1), *aj = a + (size_t)j * sn;
@@ -214,8 +217,9 @@ static inline __attribute__((always_inline)) int upper_cholesky(int n, const dou
             const Pair q = num / ujj;
             u[(size_t)i * sn + (size_t)j] = q[1];
             u[(size_t)(i - 1) * sn + (size_t)j] = q[0];
+            memcpy(u + (size_t)j * sn + (size_t)(i - 1), &q, sizeof q); /* U^T, after aj's read */
         }
-        if (i == 0) u[j] = (aj[0] - dot4_down(u + (sn - 1), uj, len)) / ujj;
+        if (i == 0) u[j] = u[(size_t)j * sn] = (aj[0] - dot4_down(u + (sn - 1), uj, len)) / ujj;
     }
     return 1;
 }
