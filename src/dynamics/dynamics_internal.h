@@ -369,17 +369,17 @@ hk_FrameKinematics hk_dynamics_root_kinematics(const hk_StrandDynamics *d, const
 
 /* hk_dynamics_resolve for `count` right-hand sides, the rows of rhs (count x 3N), into
  * the rows of out, one by one (the contacts' solve takes the dense solver's strands by
- * their reversed factor, hk_dynamics_reverse_factor: this is for the O(N) solver and
+ * their reversed factor, hk_dynamics_reversed_factor: this is for the O(N) solver and
  * the dense fallback). Returns 0 if it cannot. */
 int hk_dynamics_resolve_rows(hk_StrandDynamics *d, const double *rhs, int count, double *out);
 
 /* The matrix A of the last successful hk_dynamics_euler_delta as A = U U^T with U
- * upper triangular (3N x 3N, row-major), a copy of the factor its dense solve took
- * (hk_upper_cholesky), with U^T in its strict lower part as hk_upper_cholesky writes it:
- * row i there holds column i of U, contiguous for the contacts' back substitutions
- * (hair_contact_solve.c). Returns 0 without a dense matrix (the O(N) solver or its dense
- * fallback). */
-int hk_dynamics_reverse_factor(const hk_StrandDynamics *d, double *u);
+ * upper triangular (3N x 3N, row-major): the factor its dense solve took
+ * (hk_upper_cholesky), with U^T in its strict lower part as hk_upper_cholesky writes it
+ * (row i there holds column i of U, contiguous for the contacts' back substitutions,
+ * hair_contact_solve.c). Read in place, not copied: valid until the strand's next dense
+ * solve. NULL without a dense matrix (the O(N) solver or its dense fallback). */
+const double *hk_dynamics_reversed_factor(const hk_StrandDynamics *d);
 
 /* Jacobians of `count` points at the sorted arc lengths s for the current q: jac holds
  * count blocks of 3 x 3N (row-major: d pos / d q'), or with packed of 3 x 3(p + 1) for

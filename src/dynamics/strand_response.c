@@ -132,24 +132,10 @@ static const double *dense_factor(const hk_StrandDynamics *d)
     return d->params.solver == HK_DYNAMICS_DENSE ? d->work + sd * sd : NULL;
 }
 
-int hk_dynamics_reverse_factor(const hk_StrandDynamics *d, double *u)
+const double *hk_dynamics_reversed_factor(const hk_StrandDynamics *d)
 {
-    HK_AVX_TWIN_RETURN(hk_dynamics_reverse_factor, d, u);
-    if (d->dense_fallback || d->params.solver != HK_DYNAMICS_DENSE) return 0;
-    const size_t count = (size_t)(3 * d->sh->n) * (size_t)(3 * d->sh->n);
-    const double *f = dense_factor(d); /* U, and U^T below it (hk_upper_cholesky) */
-    /* Copied four doubles a move (two in the baseline) by hand: GCC would make a loop of
-     * doubles a call of memcpy, whose string instruction for 7 kB callgrind counts a byte
-     * an instruction. */
-    typedef double Quad __attribute__((vector_size(32)));
-    size_t k = 0;
-    for (; k + 4 <= count; k += 4) {
-        Quad q;
-        memcpy(&q, f + k, sizeof q);
-        memcpy(u + k, &q, sizeof q);
-    }
-    for (; k < count; k++) u[k] = f[k];
-    return 1;
+    if (d->dense_fallback || d->params.solver != HK_DYNAMICS_DENSE) return NULL;
+    return dense_factor(d); /* U, and U^T below it (hk_upper_cholesky) */
 }
 
 int hk_dynamics_resolve(hk_StrandDynamics *d, const double *rhs, double *out)

@@ -191,7 +191,7 @@ static inline __attribute__((always_inline)) int upper_cholesky(int n, const dou
      * backwards: its dot products run from the rows' ends. a's lower triangle is read,
      * along row j (a[j][i] = a[i][j]). U^T goes to u's strict lower part as well (row j
      * there is column j of U, written along the row as column j is found): the contacts'
-     * solve takes U by columns (hk_dynamics_reverse_factor), and the factorisation reads
+     * solve takes U by columns (hk_dynamics_reversed_factor), and the factorisation reads
      * only U's upper part. */
     for (int j = n - 1; j >= 0; j--) {
         const size_t jj = (size_t)j * sn + (size_t)j;
