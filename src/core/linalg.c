@@ -63,27 +63,22 @@ static inline __attribute__((always_inline)) void dot6_columns(const double x[6]
     double *restrict o = out;
     const double x0 = x[0], x1 = x[1], x2 = x[2], x3 = x[3], x4 = x[4], x5 = x[5];
     int j = 0;
+    /* columns j to j + width - 1 in a vector V */
+#define HK_DOT6_COLUMNS(V)                                                                                             \
+    do {                                                                                                               \
+        V a, s;                                                                                                        \
+        memcpy(&a, y0 + j, sizeof a), s = x0 * a;                                                                      \
+        memcpy(&a, y1 + j, sizeof a), s += x1 * a;                                                                     \
+        memcpy(&a, y2 + j, sizeof a), s += x2 * a;                                                                     \
+        memcpy(&a, y3 + j, sizeof a), s += x3 * a;                                                                     \
+        memcpy(&a, y4 + j, sizeof a), s += x4 * a;                                                                     \
+        memcpy(&a, y5 + j, sizeof a), s += x5 * a;                                                                     \
+        memcpy(o + j, &s, sizeof s);                                                                                   \
+    } while (0)
     if (wide)
-        for (; j + 4 <= count; j += 4) {
-            Quad a, s;
-            memcpy(&a, y0 + j, sizeof a), s = x0 * a;
-            memcpy(&a, y1 + j, sizeof a), s += x1 * a;
-            memcpy(&a, y2 + j, sizeof a), s += x2 * a;
-            memcpy(&a, y3 + j, sizeof a), s += x3 * a;
-            memcpy(&a, y4 + j, sizeof a), s += x4 * a;
-            memcpy(&a, y5 + j, sizeof a), s += x5 * a;
-            memcpy(o + j, &s, sizeof s);
-        }
-    for (; j + 2 <= count; j += 2) {
-        Pair a, s;
-        memcpy(&a, y0 + j, sizeof a), s = x0 * a;
-        memcpy(&a, y1 + j, sizeof a), s += x1 * a;
-        memcpy(&a, y2 + j, sizeof a), s += x2 * a;
-        memcpy(&a, y3 + j, sizeof a), s += x3 * a;
-        memcpy(&a, y4 + j, sizeof a), s += x4 * a;
-        memcpy(&a, y5 + j, sizeof a), s += x5 * a;
-        memcpy(o + j, &s, sizeof s);
-    }
+        for (; j + 4 <= count; j += 4) HK_DOT6_COLUMNS(Quad);
+    for (; j + 2 <= count; j += 2) HK_DOT6_COLUMNS(Pair);
+#undef HK_DOT6_COLUMNS
     if (j < count) o[j] = x0 * y0[j] + x1 * y1[j] + x2 * y2[j] + x3 * y3[j] + x4 * y4[j] + x5 * y5[j];
 }
 
