@@ -79,7 +79,9 @@ static inline __attribute__((always_inline)) void assemble_lower(int n, const hk
      * are taken for every earlier a at once (hk_dot6_columns: the same bits as dot6). */
     double *xt = scratch;
     for (int p = 0; p < n; p++)
+#pragma GCC unroll 3
         for (int b = 0; b < 3; b++)
+#pragma GCC unroll 6
             for (int r = 0; r < 6; r++) xt[(size_t)r * dim + (size_t)(3 * p + b)] = terms[p].xi[b][r];
     /* the inertia of everything beyond, by columns (beyond_t[j][i] = beyond[i][j]) for
      * mul66_columns */
