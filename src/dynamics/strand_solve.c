@@ -36,35 +36,43 @@ static void mul66(double m[6][6], const double *x, double *out)
     for (int i = 0; i < 6; i++) out[i] = dot6(m[i], x);
 }
 
-/* mul66 with m given by its columns (mt[j][i] = m[i][j]): the six rows side by side,
- * each entry's products and sums in dot6's order (the same bits), four and two lanes on
- * the AVX path (wide), three pairs else. */
-static inline __attribute__((always_inline)) void mul66_columns(double mt[6][6], const double *x, double *out, int wide)
+/* mul66 with m given by its columns (mt[j][i] = m[i][j]), and c + that product into sum:
+ * the six rows side by side, each entry's products and sums in dot6's order (the same
+ * bits), four and two lanes on the AVX path (wide), three pairs else. */
+static inline __attribute__((always_inline)) void mul66_columns(double mt[6][6], const double *x, double *out,
+                                                                const double *c, double *sum, int wide)
 {
     typedef double Quad __attribute__((vector_size(32)));
     typedef double Pair __attribute__((vector_size(16)));
     if (wide) {
-        Quad lo, c;
+        Quad lo, q;
         Pair hi, d;
         memcpy(&lo, mt[0], sizeof lo), memcpy(&hi, mt[0] + 4, sizeof hi);
         lo *= x[0], hi *= x[0];
 #pragma GCC unroll 5
         for (int j = 1; j < 6; j++) {
-            memcpy(&c, mt[j], sizeof c), memcpy(&d, mt[j] + 4, sizeof d);
-            lo += c * x[j], hi += d * x[j];
+            memcpy(&q, mt[j], sizeof q), memcpy(&d, mt[j] + 4, sizeof d);
+            lo += q * x[j], hi += d * x[j];
         }
         memcpy(out, &lo, sizeof lo), memcpy(out + 4, &hi, sizeof hi);
+        memcpy(&q, c, sizeof q), memcpy(&d, c + 4, sizeof d);
+        q += lo, d += hi;
+        memcpy(sum, &q, sizeof q), memcpy(sum + 4, &d, sizeof d);
         return;
     }
-    Pair r0, r1, r2, c0, c1, c2;
-    memcpy(&r0, mt[0], sizeof r0), memcpy(&r1, mt[0] + 2, sizeof r1), memcpy(&r2, mt[0] + 4, sizeof r2);
-    r0 *= x[0], r1 *= x[0], r2 *= x[0];
+    Pair r[3], e;
+#pragma GCC unroll 3
+    for (int i = 0; i < 3; i++) memcpy(&r[i], mt[0] + 2 * i, sizeof r[i]), r[i] *= x[0];
 #pragma GCC unroll 5
-    for (int j = 1; j < 6; j++) {
-        memcpy(&c0, mt[j], sizeof c0), memcpy(&c1, mt[j] + 2, sizeof c1), memcpy(&c2, mt[j] + 4, sizeof c2);
-        r0 += c0 * x[j], r1 += c1 * x[j], r2 += c2 * x[j];
+    for (int j = 1; j < 6; j++)
+#pragma GCC unroll 3
+        for (int i = 0; i < 3; i++) memcpy(&e, mt[j] + 2 * i, sizeof e), r[i] += e * x[j];
+#pragma GCC unroll 3
+    for (int i = 0; i < 3; i++) {
+        memcpy(out + 2 * i, &r[i], sizeof r[i]);
+        memcpy(&e, c + 2 * i, sizeof e), e += r[i];
+        memcpy(sum + 2 * i, &e, sizeof e);
     }
-    memcpy(out, &r0, sizeof r0), memcpy(out + 2, &r1, sizeof r1), memcpy(out + 4, &r2, sizeof r2);
 }
 
 /* The lower triangle and diagonal of the effective mass matrix, by rows: the
@@ -92,8 +100,7 @@ static inline __attribute__((always_inline)) void assemble_lower(int n, const hk
         for (int b = 0; b < 3; b++) {
             const size_t ib = (size_t)(3 * p + b);
             double sxi[6], y[6];
-            mul66_columns(beyond_t, t->xi[b], sxi, wide);
-            for (int i = 0; i < 6; i++) y[i] = t->coupling[b][i] + sxi[i];
+            mul66_columns(beyond_t, t->xi[b], sxi, t->coupling[b], y, wide);
             double *row = mass + ib * dim;
             hk_dot6_columns(y, xt, dim, 3 * p, row);
             for (int a = 0; a <= b; a++) row[3 * p + a] = t->mass[a][b] + dot6(t->xi[a], sxi);
