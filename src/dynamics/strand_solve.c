@@ -26,6 +26,10 @@
 #include "dynamics_internal.h"
 #include "core/linalg.h"
 
+/* GCC's vectors: four doubles (AVX, on the paths taken with wide) and two (SSE2) */
+typedef double Quad __attribute__((vector_size(32)));
+typedef double Pair __attribute__((vector_size(16)));
+
 static double dot6(const double *a, const double *b)
 {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3] + a[4] * b[4] + a[5] * b[5];
@@ -42,8 +46,6 @@ static void mul66(double m[6][6], const double *x, double *out)
 static inline __attribute__((always_inline)) void mul66_columns(double mt[6][6], const double *x, double *out,
                                                                 const double *c, double *sum, int wide)
 {
-    typedef double Quad __attribute__((vector_size(32)));
-    typedef double Pair __attribute__((vector_size(16)));
     if (wide) {
         Quad lo, q;
         Pair hi, d;
@@ -126,7 +128,6 @@ void hk_terms_assemble(int n, const hk_ElementTerms *terms, double *mass, double
  * one vector (s1, s0) takes them without a shuffle, as (s3, s2) those of s3 and s2. */
 static inline __attribute__((always_inline)) double dot4_down(const double *a, const double *b, int n)
 {
-    typedef double Pair __attribute__((vector_size(16)));
     Pair s10 = {0.0, 0.0}, s32 = s10;
     int k = 0;
     for (; k + 4 <= n; k += 4) {
@@ -155,8 +156,6 @@ static inline __attribute__((always_inline)) double dot4_down(const double *a, c
 static inline __attribute__((always_inline)) void dot4_down_pair(const double *a, const double *c, const double *b,
                                                                  int n, double *ab, double *cb, int wide)
 {
-    typedef double Quad __attribute__((vector_size(32)));
-    typedef double Pair __attribute__((vector_size(16)));
     double s[4] = {0.0, 0.0, 0.0, 0.0}, t[4] = {0.0, 0.0, 0.0, 0.0}; /* (s3, s2, s1, s0) */
     int k = 0;
     if (wide) {
@@ -194,7 +193,6 @@ static inline __attribute__((always_inline)) void dot4_down_pair(const double *a
 static inline __attribute__((always_inline)) int upper_cholesky(int n, const double *a, const double *extra, double *u,
                                                                 int wide)
 {
-    typedef double Pair __attribute__((vector_size(16)));
     const size_t sn = (size_t)n;
     /* Row j of U from column j on is row n - 1 - j of the reversed matrix's L read
      * backwards: its dot products run from the rows' ends. a's lower triangle is read,
@@ -256,38 +254,52 @@ int hk_upper_cholesky(int n, const double *a, const double *extra, double *u)
 /* U^T x = y in place by the rows of U: once x_i is known it leaves the rows below, all
  * of them side by side (vectorised), each x_k taking its terms in the order of i as a
  * sum along U's column k would. */
-static inline __attribute__((always_inline)) void upper_transpose_solve(int n, const double *u, double *x)
+static inline __attribute__((always_inline)) void upper_transpose_solve(int n, const double *u, double *x, int wide)
 {
     const size_t sn = (size_t)n;
     for (int i = 0; i < n; i++) {
-        const double *restrict row = u + (size_t)i * sn;
+        const double *restrict row = u + (size_t)i * sn + (size_t)(i + 1);
         double *restrict rest = x + i + 1;
-        const double xi = x[i] / row[i];
+        const double xi = x[i] / row[-1];
         x[i] = xi;
-#pragma omp simd
-        for (int k = 0; k < n - 1 - i; k++) rest[k] -= row[i + 1 + k] * xi;
+        /* four, two, one at a time by hand: an `omp simd` loop's peeling and checks cost
+         * more than the arithmetic on rows of 29 and less */
+        const int len = n - 1 - i;
+        int k = 0;
+#define HK_REST_LESS(V)                                                                                                \
+    do {                                                                                                               \
+        V r, c;                                                                                                        \
+        memcpy(&r, rest + k, sizeof r), memcpy(&c, row + k, sizeof c);                                                 \
+        r -= c * xi;                                                                                                   \
+        memcpy(rest + k, &r, sizeof r);                                                                                \
+    } while (0)
+        if (wide)
+            for (; k + 4 <= len; k += 4) HK_REST_LESS(Quad);
+        for (; k + 2 <= len; k += 2) HK_REST_LESS(Pair);
+#undef HK_REST_LESS
+        if (k < len) rest[k] -= row[k] * xi;
     }
 }
 
-static inline __attribute__((always_inline)) void upper_solve(int n, const double *u, double *x)
+static inline __attribute__((always_inline)) void upper_solve(int n, const double *u, double *x, int wide)
 {
     const size_t sn = (size_t)n;
     for (int i = n - 1; i >= 0; i--) { /* U y = b, from the last unknown */
         const double *row = u + (size_t)i * sn;
         x[i] = (x[i] - dot4_down(row + n - 1, x + n - 1, n - 1 - i)) / row[i];
     }
-    upper_transpose_solve(n, u, x);
+    upper_transpose_solve(n, u, x, wide);
 }
 
-void hk_upper_solve(int n, const double *u, double *x) { upper_solve(n, u, x); }
+void hk_upper_solve(int n, const double *u, double *x) { upper_solve(n, u, x, 0); }
 
 /* Four entries a vector where the CPU has AVX (the same bits: core/linalg.h). */
 __attribute__((target("avx"))) static void upper_transpose_solve_avx(int n, const double *u, double *x)
 {
-    upper_transpose_solve(n, u, x);
+    upper_transpose_solve(n, u, x, 1);
 }
 
-static void upper_transpose_solve_sse2(int n, const double *u, double *x) { upper_transpose_solve(n, u, x); }
+static void upper_transpose_solve_sse2(int n, const double *u, double *x) { upper_transpose_solve(n, u, x, 0); }
 
 void hk_upper_transpose_solve(int n, const double *u, double *x)
 {
@@ -314,7 +326,7 @@ static inline __attribute__((always_inline)) int terms_solve_dense(int n, const 
         }
     if (!upper_cholesky(dim, mass, extra, factor, wide)) return 0;
     memcpy(x, rhs, (size_t)dim * sizeof(double));
-    upper_solve(dim, factor, x);
+    upper_solve(dim, factor, x, wide);
     return 1;
 }
 
