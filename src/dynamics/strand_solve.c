@@ -251,33 +251,40 @@ int hk_upper_cholesky(int n, const double *a, const double *extra, double *u)
     return upper_cholesky_sse2(n, a, extra, u);
 }
 
+/* y[k] += x[k] a for k < n: four, two, one at a time by hand (four with wide, the AVX
+ * path), each entry's product and sum as the scalar's. An `omp simd` loop's peeling and
+ * checks cost more than the arithmetic on the factor's rows of 3N = 30 and less. */
+static inline __attribute__((always_inline)) void add_multiple(double *restrict y, const double *restrict x, double a,
+                                                               int n, int wide)
+{
+    int k = 0;
+    Quad q, r;
+    Pair p, s;
+    if (wide)
+        for (; k + 4 <= n; k += 4) {
+            memcpy(&q, y + k, sizeof q), memcpy(&r, x + k, sizeof r);
+            q += r * a;
+            memcpy(y + k, &q, sizeof q);
+        }
+    for (; k + 2 <= n; k += 2) {
+        memcpy(&p, y + k, sizeof p), memcpy(&s, x + k, sizeof s);
+        p += s * a;
+        memcpy(y + k, &p, sizeof p);
+    }
+    if (k < n) y[k] += x[k] * a;
+}
+
 /* U^T x = y in place by the rows of U: once x_i is known it leaves the rows below, all
- * of them side by side (vectorised), each x_k taking its terms in the order of i as a
- * sum along U's column k would. */
+ * of them side by side, each x_k taking its terms in the order of i as a sum along U's
+ * column k would (less U_ik x_i as plus U_ik (-x_i): the same bits, negation is exact). */
 static inline __attribute__((always_inline)) void upper_transpose_solve(int n, const double *u, double *x, int wide)
 {
     const size_t sn = (size_t)n;
     for (int i = 0; i < n; i++) {
-        const double *restrict row = u + (size_t)i * sn + (size_t)(i + 1);
-        double *restrict rest = x + i + 1;
-        const double xi = x[i] / row[-1];
+        const double *row = u + (size_t)i * sn;
+        const double xi = x[i] / row[i];
         x[i] = xi;
-        /* four, two, one at a time by hand: an `omp simd` loop's peeling and checks cost
-         * more than the arithmetic on rows of 29 and less */
-        const int len = n - 1 - i;
-        int k = 0;
-#define HK_REST_LESS(V)                                                                                                \
-    do {                                                                                                               \
-        V r, c;                                                                                                        \
-        memcpy(&r, rest + k, sizeof r), memcpy(&c, row + k, sizeof c);                                                 \
-        r -= c * xi;                                                                                                   \
-        memcpy(rest + k, &r, sizeof r);                                                                                \
-    } while (0)
-        if (wide)
-            for (; k + 4 <= len; k += 4) HK_REST_LESS(Quad);
-        for (; k + 2 <= len; k += 2) HK_REST_LESS(Pair);
-#undef HK_REST_LESS
-        if (k < len) rest[k] -= row[k] * xi;
+        add_multiple(x + i + 1, row + i + 1, -xi, n - 1 - i, wide);
     }
 }
 
@@ -318,12 +325,8 @@ static inline __attribute__((always_inline)) int terms_solve_dense(int n, const 
     double *mass = work, *factor = work + count;
     assemble_lower(n, terms, mass, work + 2 * count, wide);
     if (geo) /* the lower triangle, which the factorisation reads */
-        for (size_t i = 0; i < (size_t)dim; i++) {
-            double *restrict row = mass + i * (size_t)dim;
-            const double *restrict g = geo + i * (size_t)dim;
-#pragma omp simd
-            for (size_t k = 0; k <= i; k++) row[k] += scale * g[k];
-        }
+        for (int i = 0; i < dim; i++)
+            add_multiple(mass + (size_t)i * (size_t)dim, geo + (size_t)i * (size_t)dim, scale, i + 1, wide);
     if (!upper_cholesky(dim, mass, extra, factor, wide)) return 0;
     memcpy(x, rhs, (size_t)dim * sizeof(double));
     upper_solve(dim, factor, x, wide);
