@@ -42,16 +42,26 @@ typedef struct World {
  * crossing as they fall, with the linearly implicit Euler step of full heads (the
  * dense solver, whose points' rows of Z^T both read and answer, or the O(N) one,
  * whose rows of J and of Y^T differ). */
-static void world_make_with(World *w, const hk_HairContactDef *cp, hk_DynamicsSolver solver)
+/* examples/guides200's hairstyle in *style, and its dynamics with the linearly implicit
+ * Euler step of full heads and the given solver. */
+static hk_DynamicsDef guides_dynamics(hk_Hairstyle *style, hk_DynamicsSolver solver)
 {
     hk_Error err;
-    hk_Hairstyle style = hk_default_hairstyle();
-    assert_int_equal(hk_hairstyle_load(HK_SOURCE_DIR "/examples/guides200/hairstyle.txt", &style, &err), HK_OK);
-    hk_DynamicsDef p = style.dynamics;
+    *style = hk_default_hairstyle();
+    assert_int_equal(hk_hairstyle_load(HK_SOURCE_DIR "/examples/guides200/hairstyle.txt", style, &err), HK_OK);
+    hk_DynamicsDef p = style->dynamics;
     p.integrator = HK_INTEGRATOR_LINEAR_EULER;
     p.solver = solver;
     p.stiffness = solver == HK_DYNAMICS_DENSE ? HK_STIFFNESS_FULL : HK_STIFFNESS_GAUSS_NEWTON;
     p.hessian_interval = 1;
+    return p;
+}
+
+static void world_make_with(World *w, const hk_HairContactDef *cp, hk_DynamicsSolver solver)
+{
+    hk_Error err;
+    hk_Hairstyle style;
+    hk_DynamicsDef p = guides_dynamics(&style, solver);
     p.max_turn = p.max_travel = 1e9; /* one step each, as the commit takes it */
     const hk_Vec3 roots[STRANDS] = {hk_v3(0, 0, 0), hk_v3(0.004, 0.0, 0.05), hk_v3(-0.03, 0.003, 0.02)};
     const hk_Vec3 dirs[STRANDS] = {hk_v3(0, 0, 1), hk_v3(0, 0.01, -1), hk_v3(1, 0.02, 0.1)};
@@ -416,6 +426,55 @@ static void test_point_jacobians_reuse_only_the_swept_state(void **state)
     world_free(&b);
 }
 
+/* hk_dynamics_reversed_factor, which the contacts' solve reads in place: the factor U of
+ * the step's dense solve (A = U U^T, the bits hk_dynamics_resolve solves with) with U^T
+ * in its strict lower part (row i there is column i of U), for an even size (3N = 30)
+ * and an odd one (27), on both paths; none with the O(N) solver. */
+static void test_reversed_factor_holds_u_and_its_transpose(void **state)
+{
+    (void)state;
+    hk_Error err;
+    hk_Hairstyle style;
+    const hk_StrandEnvDef env = hk_default_strand_env_def();
+    const hk_RigidState head = hk_rigid_identity();
+    for (int dense = 0; dense < 2; dense++) {
+        const hk_DynamicsDef p = guides_dynamics(&style, dense ? HK_DYNAMICS_DENSE : HK_DYNAMICS_LINEAR);
+        const int full = style.strand.element_count;
+        for (int elements = full - 1; elements <= full; elements++)
+            for (int avx = 0; avx < 2; avx++) {
+                if (!hk_avx_paths_allow(avx) && avx) continue; /* no AVX: the baseline alone */
+                style.strand.element_count = elements;
+                hk_SuperHelix *sh;
+                hk_StrandDynamics *d;
+                assert_int_equal(hk_superhelix_from_def(&style.strand, hk_v3(0, 0, 0), hk_v3(0, 0.3, -1), &sh, &err),
+                                 HK_OK);
+                assert_int_equal(hk_strand_dynamics_create(sh, &p, &env, &d, &err), HK_OK);
+                const int dim = 3 * sh->n;
+                for (int k = 0; k < dim; k++) sh->q[k] += 0.5 * sin(3.0 * k); /* bent, twisted */
+                assert_true(hk_dynamics_euler_delta(d, &head, NULL, 0, 1.0 / 30.0));
+                const double *u = hk_dynamics_reversed_factor(d);
+                if (!dense) {
+                    assert_null(u);
+                } else {
+                    assert_non_null(u);
+                    const size_t sd = (size_t)dim;
+                    for (size_t i = 0; i < sd; i++)
+                        for (size_t k = 0; k < i; k++) assert_memory_equal(&u[i * sd + k], &u[k * sd + i], sizeof *u);
+                    double rhs[90], x[90];
+                    for (int k = 0; k < dim; k++) rhs[k] = x[k] = cos(2.0 * k);
+                    hk_upper_solve(dim, u, x);
+                    assert_int_equal(hk_dynamics_resolve(d, rhs, rhs), 1);
+                    assert_memory_equal(x, rhs, sd * sizeof *x);
+                }
+                hk_strand_dynamics_destroy(d);
+                hk_superhelix_destroy(sh);
+            }
+        hk_avx_paths_allow(1);
+        style.strand.element_count = full;
+        hk_hairstyle_free(&style);
+    }
+}
+
 static void test_forces_opposite_and_in_the_cone(void **state)
 {
     (void)state;
@@ -471,6 +530,7 @@ int main(void)
         cmocka_unit_test(test_idle_records_give_the_same_bits),
         cmocka_unit_test(test_push_records_give_the_same_bits),
         cmocka_unit_test(test_forces_opposite_and_in_the_cone),
+        cmocka_unit_test(test_reversed_factor_holds_u_and_its_transpose),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -336,8 +336,9 @@ static void test_linear_solve_residual(void **state)
 
 /* The dense solve's factor A = U U^T (hk_upper_cholesky) is Cholesky's factorisation
  * of the reversed matrix read backwards, to the bit (the contacts' solve relies on its
- * rows stopping at a point's element, the step's own solve on the same factor), and
- * hk_upper_solve solves with it; sizes with every remainder of the four partial sums. */
+ * rows stopping at a point's element, the step's own solve on the same factor), with
+ * U^T in its strict lower part, and hk_upper_solve solves with it, hk_upper_transpose_solve its U^T to the bit of the
+ * column sums; sizes with every remainder of the four partial sums. */
 static void upper_cholesky_is_the_reversed_factor(void)
 {
     enum { MAX = 33 };
@@ -358,8 +359,10 @@ static void upper_cholesky_is_the_reversed_factor(void)
         assert_int_equal(hk_cholesky_factor(n, rev, 1.0, rextra, rev), 1);
         assert_int_equal(hk_upper_cholesky(n, a, extra, u), 1);
         for (size_t i = 0; i < sn; i++)
-            for (size_t j = i; j < sn; j++)
+            for (size_t j = i; j < sn; j++) {
                 assert_memory_equal(&u[i * sn + j], &rev[count - 1 - (i * sn + j)], sizeof(double));
+                assert_memory_equal(&u[j * sn + i], &u[i * sn + j], sizeof(double)); /* U^T below */
+            }
         /* only the lower triangle is read: the same factor with the strict upper one
          * not a number, in place (u may be a) */
         double lower[MAX * MAX];
@@ -367,8 +370,18 @@ static void upper_cholesky_is_the_reversed_factor(void)
         for (size_t i = 0; i < sn; i++)
             for (size_t j = i + 1; j < sn; j++) lower[i * sn + j] = NAN;
         assert_int_equal(hk_upper_cholesky(n, lower, extra, lower), 1);
-        for (size_t i = 0; i < sn; i++)
-            for (size_t j = i; j < sn; j++) assert_memory_equal(&lower[i * sn + j], &u[i * sn + j], sizeof(double));
+        assert_memory_equal(lower, u, count * sizeof(double));
+        /* U^T y = rhs by U's rows, to the bit of the sum down each column (the contacts'
+         * solve finishes a strand so) */
+        double y[MAX], want[MAX];
+        memcpy(y, rhs, sn * sizeof(double));
+        hk_upper_transpose_solve(n, u, y);
+        for (size_t i = 0; i < sn; i++) {
+            double v = rhs[i];
+            for (size_t k = 0; k < i; k++) v -= u[k * sn + i] * want[k];
+            want[i] = v / u[i * sn + i];
+        }
+        assert_memory_equal(y, want, sn * sizeof(double));
         hk_upper_solve(n, u, x);
         double rnorm = 0.0, bnorm = 0.0;
         for (size_t i = 0; i < sn; i++) {

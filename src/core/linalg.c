@@ -4,6 +4,7 @@
 #include <float.h>
 #include <math.h>
 #include <stddef.h>
+#include <string.h>
 
 /* Dot product with four partial sums: the compiler may not reorder floating-point
  * sums on its own, and a fixed order keeps results identical on every machine. Inline
@@ -47,15 +48,38 @@ void hk_dot2(const double *a, const double *b, const double *c, int n, double *a
     *ac = (sc + c01[1]) + (c23[0] + c23[1]);
 }
 
+/* out[j] = x . (column j of the six rows yt), for j < count: each sum in hk_dot6's order
+ * ((x0 y0 + x1 y1) + x2 y2) + ..., the columns side by side, four a vector on the AVX
+ * path (wide), then two, then one. By hand rather than an `omp simd` loop, whose
+ * peeling and remainder checks cost more than the arithmetic on rows of 3N = 30 and
+ * less (the assembly's and the potential's Hessian rows, count = 3p). */
 static inline __attribute__((always_inline)) void dot6_columns(const double x[6], const double *yt, size_t stride,
-                                                               int count, double *out)
+                                                               int count, double *out, int wide)
 {
+    typedef double Quad __attribute__((vector_size(32)));
+    typedef double Pair __attribute__((vector_size(16)));
     const double *restrict y0 = yt, *restrict y1 = y0 + stride, *restrict y2 = y1 + stride;
     const double *restrict y3 = y2 + stride, *restrict y4 = y3 + stride, *restrict y5 = y4 + stride;
     double *restrict o = out;
     const double x0 = x[0], x1 = x[1], x2 = x[2], x3 = x[3], x4 = x[4], x5 = x[5];
-#pragma omp simd
-    for (int j = 0; j < count; j++) o[j] = x0 * y0[j] + x1 * y1[j] + x2 * y2[j] + x3 * y3[j] + x4 * y4[j] + x5 * y5[j];
+    int j = 0;
+    /* columns j to j + width - 1 in a vector V */
+#define HK_DOT6_COLUMNS(V)                                                                                             \
+    do {                                                                                                               \
+        V a, s;                                                                                                        \
+        memcpy(&a, y0 + j, sizeof a), s = x0 * a;                                                                      \
+        memcpy(&a, y1 + j, sizeof a), s += x1 * a;                                                                     \
+        memcpy(&a, y2 + j, sizeof a), s += x2 * a;                                                                     \
+        memcpy(&a, y3 + j, sizeof a), s += x3 * a;                                                                     \
+        memcpy(&a, y4 + j, sizeof a), s += x4 * a;                                                                     \
+        memcpy(&a, y5 + j, sizeof a), s += x5 * a;                                                                     \
+        memcpy(o + j, &s, sizeof s);                                                                                   \
+    } while (0)
+    if (wide)
+        for (; j + 4 <= count; j += 4) HK_DOT6_COLUMNS(Quad);
+    for (; j + 2 <= count; j += 2) HK_DOT6_COLUMNS(Pair);
+#undef HK_DOT6_COLUMNS
+    if (j < count) o[j] = x0 * y0[j] + x1 * y1[j] + x2 * y2[j] + x3 * y3[j] + x4 * y4[j] + x5 * y5[j];
 }
 
 /* On AVX four columns a vector instead of two: each column's sum is its own lane's, in
@@ -64,12 +88,12 @@ static inline __attribute__((always_inline)) void dot6_columns(const double x[6]
 __attribute__((target("avx"))) static void dot6_columns_avx(const double x[6], const double *yt, size_t stride,
                                                             int count, double *out)
 {
-    dot6_columns(x, yt, stride, count, out);
+    dot6_columns(x, yt, stride, count, out, 1);
 }
 
 static void dot6_columns_sse2(const double x[6], const double *yt, size_t stride, int count, double *out)
 {
-    dot6_columns(x, yt, stride, count, out);
+    dot6_columns(x, yt, stride, count, out, 0);
 }
 
 int hk_avx_paths_allowed = 1;

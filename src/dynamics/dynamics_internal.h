@@ -139,8 +139,8 @@ int hk_terms_solve_linear(int n, const hk_ElementTerms *terms, const double *ext
 
 /* Cholesky's factorisation with the unknowns in reverse order: the symmetric a +
  * diag(extra) (n x n, row-major; its lower triangle read) as U U^T with U upper
- * triangular, into u's upper triangle (u's strict lower part is left alone; u may be
- * a). The same bits as hk_cholesky_factor(n, a reversed, 1.0, extra reversed) read
+ * triangular, into u's upper triangle, and U^T into its strict lower part (u may be a).
+ * The same bits as hk_cholesky_factor(n, a reversed, 1.0, extra reversed) read
  * backwards. A point's rows of J are zero beyond its own element, and so are its rows of
  * U^-1 J^T, which the contacts' solve uses (hair_contact_solve.c); the step's own solve
  * takes the same factor, so that a strand's matrix is factored once a step. Returns 0 if
@@ -149,6 +149,11 @@ int hk_upper_cholesky(int n, const double *a, const double *extra, double *u);
 
 /* Solves U U^T x = b in place (x holds b on entry) with hk_upper_cholesky's factor. */
 void hk_upper_solve(int n, const double *u, double *x);
+
+/* Solves U^T x = y in place (x holds y on entry), U upper triangular (n x n, row-major):
+ * hk_upper_solve's second half. Each x_i takes its terms U_ki x_k in the order of k, then
+ * the division by U_ii: the bits of that sum taken along U's column i. */
+void hk_upper_transpose_solve(int n, const double *u, double *x);
 
 /* out = (M + diag(extra)) x in O(n) (two sweeps; screws: 6 n doubles of work). */
 void hk_terms_multiply(int n, const hk_ElementTerms *terms, const double *extra, const double *x, double *out,
@@ -364,16 +369,17 @@ hk_FrameKinematics hk_dynamics_root_kinematics(const hk_StrandDynamics *d, const
 
 /* hk_dynamics_resolve for `count` right-hand sides, the rows of rhs (count x 3N), into
  * the rows of out, one by one (the contacts' solve takes the dense solver's strands by
- * their reversed factor, hk_dynamics_reverse_factor: this is for the O(N) solver and
+ * their reversed factor, hk_dynamics_reversed_factor: this is for the O(N) solver and
  * the dense fallback). Returns 0 if it cannot. */
 int hk_dynamics_resolve_rows(hk_StrandDynamics *d, const double *rhs, int count, double *out);
 
 /* The matrix A of the last successful hk_dynamics_euler_delta as A = U U^T with U
- * upper triangular (3N x 3N, row-major), a copy of the factor its dense solve took
- * (hk_upper_cholesky), with U^T in its strict lower part: row i there holds column i of
- * U, contiguous for the contacts' back substitutions (hair_contact_solve.c). Returns 0
- * without a dense matrix (the O(N) solver or its dense fallback). */
-int hk_dynamics_reverse_factor(const hk_StrandDynamics *d, double *u);
+ * upper triangular (3N x 3N, row-major): the factor its dense solve took
+ * (hk_upper_cholesky), with U^T in its strict lower part as hk_upper_cholesky writes it
+ * (row i there holds column i of U, contiguous for the contacts' back substitutions,
+ * hair_contact_solve.c). Read in place, not copied: valid until the strand's next dense
+ * solve. NULL without a dense matrix (the O(N) solver or its dense fallback). */
+const double *hk_dynamics_reversed_factor(const hk_StrandDynamics *d);
 
 /* Jacobians of `count` points at the sorted arc lengths s for the current q: jac holds
  * count blocks of 3 x 3N (row-major: d pos / d q'), or with packed of 3 x 3(p + 1) for

@@ -149,8 +149,9 @@ struct hk_ContactSolve {
     size_t *dim_start;               /* strand_count + 1: offsets of the strands' 3N vectors */
     size_t *jac_start;               /* strand_count + 1: offsets of the strands' first 3 x 3N block */
     int *movable;                    /* per strand: its step's matrix answered */
-    int *reversed;                   /* per strand: A = U U^T in ul; its points' rows of Z in yt, w in dv */
-    size_t *ul_start;                /* strand_count + 1: offsets of the strands' U (3N x 3N) */
+    int *reversed;                   /* per strand: A = U U^T (factor); its points' rows of Z in yt, w in dv */
+    const double **factor;           /* per strand: a reversed strand's U, U^T below it, read where its
+                                        dynamics keeps it (hk_dynamics_reversed_factor) */
     Buffer slots;                    /* Slot per point */
     Buffer at;                       /* double per point: its s, as the Jacobians take them */
     Buffer vel;                      /* hk_Vec3 per point: its velocity with v^free */
@@ -160,7 +161,6 @@ struct hk_ContactSolve {
                                         Z^T = (U^-1 J^T)^T, in yt alone (predict_points) */
     Buffer support;                  /* int per point: its rows of J are zero from this column on */
     Buffer block;                    /* size_t per point: where its 3 rows start in jac and yt */
-    Buffer ul;                       /* double: the reversed strands' U */
     Buffer answered;                 /* char per point: its rows of Y^T are set */
     Buffer dv;                       /* double, 3N per strand: the velocity change of the impulses */
     Buffer vfree;                    /* double, 3N per strand: its velocity after a step without them */
@@ -213,10 +213,10 @@ hk_Status hk_contact_solve_create(int strand_count, hk_ContactSolve **out, hk_Er
     cs->jac_start = hk_calloc_array((size_t)strand_count + 1, sizeof(size_t), err);
     cs->movable = hk_calloc_array((size_t)strand_count, sizeof(int), err);
     cs->reversed = hk_calloc_array((size_t)strand_count, sizeof(int), err);
-    cs->ul_start = hk_calloc_array((size_t)strand_count + 1, sizeof(size_t), err);
+    cs->factor = hk_calloc_array((size_t)strand_count, sizeof(const double *), err);
     cs->stage = hk_calloc_array((size_t)strand_count, sizeof(atomic_int), err);
     cs->last_count = -1;
-    if (!cs->slot_start || !cs->dim_start || !cs->jac_start || !cs->movable || !cs->reversed || !cs->ul_start ||
+    if (!cs->slot_start || !cs->dim_start || !cs->jac_start || !cs->movable || !cs->reversed || !cs->factor ||
         !cs->stage) {
         hk_contact_solve_destroy(cs);
         return HK_ERR_NOMEM;
@@ -233,14 +233,14 @@ void hk_contact_solve_destroy(hk_ContactSolve *cs)
     hk_free(cs->jac_start);
     hk_free(cs->movable);
     hk_free(cs->reversed);
-    hk_free(cs->ul_start);
+    hk_free((void *)cs->factor);
     hk_free(cs->stage);
-    Buffer *all[] = {&cs->slots,  &cs->at,       &cs->vfree,        &cs->vel,       &cs->forces,
-                     &cs->jac,    &cs->yt,       &cs->support,      &cs->ul,        &cs->answered,
-                     &cs->dv,     &cs->screws,   &cs->pairs,        &cs->old_pairs, &cs->active,
-                     &cs->order,  &cs->weight,   &cs->roots,        &cs->delta,     &cs->segment_place,
-                     &cs->block,  &cs->impulses, &cs->old_impulses, &cs->by_pair,   &cs->by_pair_fill,
-                     &cs->pushed, &cs->checks,   &cs->pushes[0],    &cs->pushes[1]};
+    Buffer *all[] = {&cs->slots,    &cs->at,           &cs->vfree,     &cs->vel,           &cs->forces,
+                     &cs->jac,      &cs->yt,           &cs->support,   &cs->answered,      &cs->dv,
+                     &cs->screws,   &cs->pairs,        &cs->old_pairs, &cs->active,        &cs->order,
+                     &cs->weight,   &cs->roots,        &cs->delta,     &cs->segment_place, &cs->block,
+                     &cs->impulses, &cs->old_impulses, &cs->by_pair,   &cs->by_pair_fill,  &cs->pushed,
+                     &cs->checks,   &cs->pushes[0],    &cs->pushes[1]};
     for (size_t k = 0; k < sizeof all / sizeof *all; k++) hk_free(all[k]->items);
     hk_contact_split_free(&cs->split);
     hk_free(cs);
@@ -385,7 +385,8 @@ static void predict_free(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const
     double *vfree = (double *)cs->vfree.items + cs->dim_start[s];
     const double *v = hk_strand_dynamics_velocity(d);
     cs->movable[s] = hk_dynamics_euler_delta(d, head_end, NULL, 0, h);
-    cs->reversed[s] = cs->movable[s] && hk_dynamics_reverse_factor(d, (double *)cs->ul.items + cs->ul_start[s]);
+    cs->factor[s] = cs->movable[s] ? hk_dynamics_reversed_factor(d) : NULL;
+    cs->reversed[s] = cs->factor[s] != NULL;
     for (size_t k = 0; k < dim; k++) vfree[k] = v[k] + (cs->movable[s] ? d->delta[k] : 0.0);
     memset((double *)cs->dv.items + cs->dim_start[s], 0, dim * sizeof(double));
     atomic_fetch_or_explicit(&cs->stage[s], PREDICTED, memory_order_release);
@@ -502,7 +503,7 @@ static void back_substitute(const double *u, size_t dim, int m, double *z0, doub
 /* Rows first..2 of Z^T = (U^-1 J^T)^T of point x of reversed strand s, in place of its
  * rows of J in the basis (in yt): U z = j by back substitution from the point's support
  * down (z is zero beyond it, as j is), by columns: once z_i is known, column i of U
- * (row i of the lower part, hk_dynamics_reverse_factor) times z_i leaves the rows above
+ * (row i of the lower part, hk_dynamics_reversed_factor) times z_i leaves the rows above
  * it, the right-hand sides side by side. No sum runs along a row, so the loop over the rows
  * above is vectorised: answer_points took 4.0-4.2 ms a step by rows (each z_i the end
  * of a chain of dependent additions), 2.9-3.2 ms so (examples/guides200 shaking, one
@@ -511,7 +512,7 @@ static void reversed_rows(hk_ContactSolve *cs, int s, int x, int first)
 {
     const int m = ((const int *)cs->support.items)[x];
     const size_t sm = (size_t)m;
-    const double *u = (const double *)cs->ul.items + cs->ul_start[s];
+    const double *u = cs->factor[s];
     double *z = (double *)cs->yt.items + block_of(cs, x);
     back_substitute(u, dim_of(cs, s), m, z + (size_t)first * sm, z + (size_t)(first + 1) * sm, z + 2 * sm, 3 - first);
 }
@@ -568,7 +569,7 @@ static void answer_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s)
         const PairState *pairs = cs->pairs.items;
         const Slot *slot = cs->slots.items;
         const int *support = cs->support.items;
-        const double *u = (const double *)cs->ul.items + cs->ul_start[s];
+        const double *u = cs->factor[s];
         /* Only the warm-started pairs' impulses act before a sweep finds them pushing
          * (apply_to_strand); the others' rows wait for that. */
         for (int x = begin; x < end; x++)
@@ -1372,7 +1373,7 @@ hk_Status hk_contact_solve_open(hk_ContactSolve *cs, hk_StrandDynamics **dyn, in
     if (strand_count != cs->strand_count)
         return hk_error_set(err, HK_ERR_INVALID, "contact solve: %d strands, expected %d", strand_count,
                             cs->strand_count);
-    cs->dim_start[0] = cs->ul_start[0] = 0;
+    cs->dim_start[0] = 0;
     cs->check_stride = CHECK_HEAD;
     cs->push_stride = PUSH_HEAD;
     for (int s = 0; s < strand_count; s++) {
@@ -1380,11 +1381,9 @@ hk_Status hk_contact_solve_open(hk_ContactSolve *cs, hk_StrandDynamics **dyn, in
         if (CHECK_HEAD + 2 * dim > cs->check_stride) cs->check_stride = CHECK_HEAD + 2 * dim;
         if (PUSH_HEAD + 12 * dim > cs->push_stride) cs->push_stride = PUSH_HEAD + 12 * dim;
         cs->dim_start[s + 1] = cs->dim_start[s] + dim;
-        cs->ul_start[s + 1] = cs->ul_start[s] + dim * dim;
     }
     const size_t dims = cs->dim_start[strand_count];
-    if (!reserve(&cs->ul, cs->ul_start[strand_count], sizeof(double), err) ||
-        !reserve(&cs->dv, dims, sizeof(double), err) || !reserve(&cs->vfree, dims, sizeof(double), err) ||
+    if (!reserve(&cs->dv, dims, sizeof(double), err) || !reserve(&cs->vfree, dims, sizeof(double), err) ||
         !reserve(&cs->screws, 6 * dims, sizeof(double), err))
         return HK_ERR_NOMEM;
     memset(cs->movable, 0, (size_t)strand_count * sizeof(int));
@@ -1572,17 +1571,12 @@ static void finish_strand(hk_ContactSolve *cs, int s)
         forces[x].stiffness = forces[x].damping = hk_m3_zero();
         if (side == 0) impulse[k] = world;
     }
-    /* The reversed strand's velocity change from w = U^T dv: U^T dv = w, forward. */
-    if (cs->reversed[s]) {
-        const size_t dim = dim_of(cs, s);
-        const double *u = (const double *)cs->ul.items + cs->ul_start[s];
-        double *v = (double *)cs->dv.items + cs->dim_start[s];
-        for (size_t i = 0; i < dim; i++) {
-            double x = v[i];
-            for (size_t k = 0; k < i; k++) x -= u[k * dim + i] * v[k];
-            v[i] = x / u[i * dim + i];
-        }
-    }
+    /* The reversed strand's velocity change from w = U^T dv: U^T dv = w, forward, by
+     * U's rows (each unknown known leaves all those below it side by side, instead of
+     * each unknown's chain of subtractions down U's column: the same operations in the
+     * same order for each entry). */
+    if (cs->reversed[s])
+        hk_upper_transpose_solve((int)dim_of(cs, s), cs->factor[s], (double *)cs->dv.items + cs->dim_start[s]);
     /* The last strand finished keeps the impulses for the next step's warm start. */
     if (atomic_fetch_add_explicit(&cs->finished, 1, memory_order_acq_rel) + 1 == cs->strand_count)
         cs->last_count = cs->solved_count;

@@ -330,15 +330,34 @@ static int tr_bdf2(hk_StrandDynamics *d, const hk_RigidState heads[3], const hk_
 }
 
 /* out += row j of the dim x dim matrix a times v_j, for j = 0, 1, ... (G+ v in
- * hk_dynamics_euler_delta). */
+ * hk_dynamics_euler_delta): each out[i] takes its terms in the order of j, four (wide,
+ * the AVX path), two or one entries at a time kept in a register over the rows, instead
+ * of loaded and stored for every row. */
 static inline __attribute__((always_inline)) void rows_times(const double *a, const double *v, int dim,
-                                                             double *restrict out)
+                                                             double *restrict out, int wide)
 {
-    for (int j = 0; j < dim; j++) {
-        const double *restrict row = a + (size_t)j * (size_t)dim;
-        const double vj = v[j];
-#pragma omp simd
-        for (int i = 0; i < dim; i++) out[i] += row[i] * vj;
+    typedef double Quad __attribute__((vector_size(32)));
+    typedef double Pair __attribute__((vector_size(16)));
+    const size_t stride = (size_t)dim;
+    int i = 0;
+#define HK_ROWS_TIMES(V)                                                                                               \
+    do {                                                                                                               \
+        V sum, r;                                                                                                      \
+        memcpy(&sum, out + i, sizeof sum);                                                                             \
+        for (int j = 0; j < dim; j++) {                                                                                \
+            memcpy(&r, a + (size_t)j * stride + (size_t)i, sizeof r);                                                  \
+            sum += r * v[j];                                                                                           \
+        }                                                                                                              \
+        memcpy(out + i, &sum, sizeof sum);                                                                             \
+    } while (0)
+    if (wide)
+        for (; i + 4 <= dim; i += 4) HK_ROWS_TIMES(Quad);
+    for (; i + 2 <= dim; i += 2) HK_ROWS_TIMES(Pair);
+#undef HK_ROWS_TIMES
+    for (; i < dim; i++) {
+        double sum = out[i];
+        for (int j = 0; j < dim; j++) sum += a[(size_t)j * stride + (size_t)i] * v[j];
+        out[i] = sum;
     }
 }
 
@@ -346,10 +365,10 @@ static inline __attribute__((always_inline)) void rows_times(const double *a, co
  * hk_avx_path). */
 __attribute__((target("avx"))) static void rows_times_avx(const double *a, const double *v, int dim, double *out)
 {
-    rows_times(a, v, dim, out);
+    rows_times(a, v, dim, out, 1);
 }
 
-static void rows_times_sse2(const double *a, const double *v, int dim, double *out) { rows_times(a, v, dim, out); }
+static void rows_times_sse2(const double *a, const double *v, int dim, double *out) { rows_times(a, v, dim, out, 0); }
 
 /* The linearly implicit Euler step of issue 6 (paper 000 §3.4), kept for full heads
  * where its cost matters more than its accuracy:

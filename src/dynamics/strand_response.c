@@ -72,10 +72,12 @@ void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head
                 hk_end_kinematics(&node, &ends[p], k_at(rates, p), &end);
             else
                 hk_point_kinematics(&node, k_at(sh->q, p), k_at(rates, p), sh->length[p], 1, &end);
+#pragma GCC unroll 3
             for (int b = 0; b < 3; b++) { /* as hk_element_terms_set_screw */
                 const hk_Vec3 w = hk_m3_col(&end.jac_rot, b);
                 const hk_Vec3 t = hk_v3_add(hk_m3_col(&end.jac, b), hk_v3_cross(end.k.pos, w));
                 const double z[6] = {w.x, w.y, w.z, t.x, t.y, t.z};
+#pragma GCC unroll 6
                 for (int r = 0; r < 6; r++) screws[(size_t)r * (size_t)dim + (size_t)(3 * p + b)] = z[r];
             }
             node = end.k;
@@ -116,6 +118,7 @@ void hk_dynamics_point_jacobians(hk_StrandDynamics *d, const hk_RigidState *head
             screw_rows_avx(screws, dim, 3 * p, x, row);
         else
             screw_rows_sse2(screws, dim, 3 * p, x, row);
+#pragma GCC unroll 3
         for (int b = 0; b < 3; b++) {
             const hk_Vec3 col = hk_m3_col(&own, b);
             row[0][3 * p + b] = col.x, row[1][3 * p + b] = col.y, row[2][3 * p + b] = col.z;
@@ -132,16 +135,10 @@ static const double *dense_factor(const hk_StrandDynamics *d)
     return d->params.solver == HK_DYNAMICS_DENSE ? d->work + sd * sd : NULL;
 }
 
-int hk_dynamics_reverse_factor(const hk_StrandDynamics *d, double *u)
+const double *hk_dynamics_reversed_factor(const hk_StrandDynamics *d)
 {
-    if (d->dense_fallback || d->params.solver != HK_DYNAMICS_DENSE) return 0;
-    const size_t sd = (size_t)(3 * d->sh->n);
-    const double *f = dense_factor(d);
-    for (size_t i = 0; i < sd; i++) {
-        for (size_t k = 0; k < i; k++) u[i * sd + k] = f[k * sd + i];
-        memcpy(u + i * sd + i, f + i * sd + i, (sd - i) * sizeof(double));
-    }
-    return 1;
+    if (d->dense_fallback || d->params.solver != HK_DYNAMICS_DENSE) return NULL;
+    return dense_factor(d); /* U, and U^T below it (hk_upper_cholesky) */
 }
 
 int hk_dynamics_resolve(hk_StrandDynamics *d, const double *rhs, double *out)

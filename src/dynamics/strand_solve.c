@@ -26,6 +26,10 @@
 #include "dynamics_internal.h"
 #include "core/linalg.h"
 
+/* GCC's vectors: four doubles (AVX, on the paths taken with wide) and two (SSE2) */
+typedef double Quad __attribute__((vector_size(32)));
+typedef double Pair __attribute__((vector_size(16)));
+
 static double dot6(const double *a, const double *b)
 {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3] + a[4] * b[4] + a[5] * b[5];
@@ -36,42 +40,82 @@ static void mul66(double m[6][6], const double *x, double *out)
     for (int i = 0; i < 6; i++) out[i] = dot6(m[i], x);
 }
 
+/* mul66 with m given by its columns (mt[j][i] = m[i][j]), and c + that product into sum:
+ * the six rows side by side, each entry's products and sums in dot6's order (the same
+ * bits), four and two lanes on the AVX path (wide), three pairs else. */
+static inline __attribute__((always_inline)) void mul66_columns(double mt[6][6], const double *x, double *out,
+                                                                const double *c, double *sum, int wide)
+{
+    if (wide) {
+        Quad lo, q;
+        Pair hi, d;
+        memcpy(&lo, mt[0], sizeof lo), memcpy(&hi, mt[0] + 4, sizeof hi);
+        lo *= x[0], hi *= x[0];
+#pragma GCC unroll 5
+        for (int j = 1; j < 6; j++) {
+            memcpy(&q, mt[j], sizeof q), memcpy(&d, mt[j] + 4, sizeof d);
+            lo += q * x[j], hi += d * x[j];
+        }
+        memcpy(out, &lo, sizeof lo), memcpy(out + 4, &hi, sizeof hi);
+        memcpy(&q, c, sizeof q), memcpy(&d, c + 4, sizeof d);
+        q += lo, d += hi;
+        memcpy(sum, &q, sizeof q), memcpy(sum + 4, &d, sizeof d);
+        return;
+    }
+    Pair r[3], e;
+#pragma GCC unroll 3
+    for (int i = 0; i < 3; i++) memcpy(&r[i], mt[0] + 2 * i, sizeof r[i]), r[i] *= x[0];
+#pragma GCC unroll 5
+    for (int j = 1; j < 6; j++)
+#pragma GCC unroll 3
+        for (int i = 0; i < 3; i++) memcpy(&e, mt[j] + 2 * i, sizeof e), r[i] += e * x[j];
+#pragma GCC unroll 3
+    for (int i = 0; i < 3; i++) {
+        memcpy(out + 2 * i, &r[i], sizeof r[i]);
+        memcpy(&e, c + 2 * i, sizeof e), e += r[i];
+        memcpy(sum + 2 * i, &e, sizeof e);
+    }
+}
+
 /* The lower triangle and diagonal of the effective mass matrix, by rows: the
  * factorisation reads no more (hk_upper_cholesky). Mirroring each row into its column,
  * strided stores over the whole matrix, was a sixth of the assembly's instructions
  * (examples/guides200 shaking). */
 static inline __attribute__((always_inline)) void assemble_lower(int n, const hk_ElementTerms *terms, double *mass,
-                                                                 double *scratch)
+                                                                 double *scratch, int wide)
 {
     const size_t dim = (size_t)3 * (size_t)n;
     /* The screws xi_a transposed (6 rows of 3n), so that row b's products xi_a . Y_b
      * are taken for every earlier a at once (hk_dot6_columns: the same bits as dot6). */
     double *xt = scratch;
     for (int p = 0; p < n; p++)
+#pragma GCC unroll 3
         for (int b = 0; b < 3; b++)
+#pragma GCC unroll 6
             for (int r = 0; r < 6; r++) xt[(size_t)r * dim + (size_t)(3 * p + b)] = terms[p].xi[b][r];
-    double beyond[6][6];
-    memset(beyond, 0, sizeof beyond);
+    /* the inertia of everything beyond, by columns (beyond_t[j][i] = beyond[i][j]) for
+     * mul66_columns */
+    double beyond_t[6][6];
+    memset(beyond_t, 0, sizeof beyond_t);
     for (int p = n - 1; p >= 0; p--) {
         const hk_ElementTerms *t = &terms[p];
         for (int b = 0; b < 3; b++) {
             const size_t ib = (size_t)(3 * p + b);
             double sxi[6], y[6];
-            mul66(beyond, t->xi[b], sxi);
-            for (int i = 0; i < 6; i++) y[i] = t->coupling[b][i] + sxi[i];
+            mul66_columns(beyond_t, t->xi[b], sxi, t->coupling[b], y, wide);
             double *row = mass + ib * dim;
             hk_dot6_columns(y, xt, dim, 3 * p, row);
             for (int a = 0; a <= b; a++) row[3 * p + a] = t->mass[a][b] + dot6(t->xi[a], sxi);
         }
-        for (int i = 0; i < 6; i++)
-            for (int j = 0; j < 6; j++) beyond[i][j] += t->inertia[i][j];
+        for (int j = 0; j < 6; j++)
+            for (int i = 0; i < 6; i++) beyond_t[j][i] += t->inertia[i][j];
     }
 }
 
 void hk_terms_assemble(int n, const hk_ElementTerms *terms, double *mass, double *scratch)
 {
     const size_t dim = (size_t)3 * (size_t)n;
-    assemble_lower(n, terms, mass, scratch);
+    assemble_lower(n, terms, mass, scratch, 0);
     for (size_t i = 0; i < dim; i++) /* mirrored: exactly symmetric */
         for (size_t j = 0; j < i; j++) mass[j * dim + i] = mass[i * dim + j];
 }
@@ -84,7 +128,6 @@ void hk_terms_assemble(int n, const hk_ElementTerms *terms, double *mass, double
  * one vector (s1, s0) takes them without a shuffle, as (s3, s2) those of s3 and s2. */
 static inline __attribute__((always_inline)) double dot4_down(const double *a, const double *b, int n)
 {
-    typedef double Pair __attribute__((vector_size(16)));
     Pair s10 = {0.0, 0.0}, s32 = s10;
     int k = 0;
     for (; k + 4 <= n; k += 4) {
@@ -113,8 +156,6 @@ static inline __attribute__((always_inline)) double dot4_down(const double *a, c
 static inline __attribute__((always_inline)) void dot4_down_pair(const double *a, const double *c, const double *b,
                                                                  int n, double *ab, double *cb, int wide)
 {
-    typedef double Quad __attribute__((vector_size(32)));
-    typedef double Pair __attribute__((vector_size(16)));
     double s[4] = {0.0, 0.0, 0.0, 0.0}, t[4] = {0.0, 0.0, 0.0, 0.0}; /* (s3, s2, s1, s0) */
     int k = 0;
     if (wide) {
@@ -155,7 +196,10 @@ static inline __attribute__((always_inline)) int upper_cholesky(int n, const dou
     const size_t sn = (size_t)n;
     /* Row j of U from column j on is row n - 1 - j of the reversed matrix's L read
      * backwards: its dot products run from the rows' ends. a's lower triangle is read,
-     * along row j (a[j][i] = a[i][j]). */
+     * along row j (a[j][i] = a[i][j]). U^T goes to u's strict lower part as well (row j
+     * there is column j of U, written along the row as column j is found): the contacts'
+     * solve takes U by columns (hk_dynamics_reversed_factor), and the factorisation reads
+     * only U's upper part. */
     for (int j = n - 1; j >= 0; j--) {
         const size_t jj = (size_t)j * sn + (size_t)j;
         const double *uj = u + (size_t)j * sn + (sn - 1), *aj = a + (size_t)j * sn;
@@ -172,10 +216,17 @@ static inline __attribute__((always_inline)) int upper_cholesky(int n, const dou
             const double *ui = u + (size_t)i * sn + (sn - 1);
             double di, dk;
             dot4_down_pair(ui, ui - sn, uj, len, &di, &dk, wide);
-            u[(size_t)i * sn + (size_t)j] = (aj[i] - di) / ujj;
-            u[(size_t)(i - 1) * sn + (size_t)j] = (aj[i - 1] - dk) / ujj;
+            /* both entries' subtraction and division in two lanes: one division
+             * instruction for two, each lane's the same IEEE operation */
+            Pair num;
+            memcpy(&num, aj + i - 1, sizeof num);
+            num -= (Pair){dk, di};
+            const Pair q = num / ujj;
+            u[(size_t)i * sn + (size_t)j] = q[1];
+            u[(size_t)(i - 1) * sn + (size_t)j] = q[0];
+            memcpy(u + (size_t)j * sn + (size_t)(i - 1), &q, sizeof q); /* U^T, after aj's read */
         }
-        if (i == 0) u[j] = (aj[0] - dot4_down(u + (sn - 1), uj, len)) / ujj;
+        if (i == 0) u[j] = u[(size_t)j * sn] = (aj[0] - dot4_down(u + (sn - 1), uj, len)) / ujj;
     }
     return 1;
 }
@@ -200,24 +251,70 @@ int hk_upper_cholesky(int n, const double *a, const double *extra, double *u)
     return upper_cholesky_sse2(n, a, extra, u);
 }
 
-static inline __attribute__((always_inline)) void upper_solve(int n, const double *u, double *x)
+/* y[k] += x[k] a for k < n: four, two, one at a time by hand (four with wide, the AVX
+ * path), each entry's product and sum as the scalar's. An `omp simd` loop's peeling and
+ * checks cost more than the arithmetic on the factor's rows of 3N = 30 and less. */
+static inline __attribute__((always_inline)) void add_multiple(double *restrict y, const double *restrict x, double a,
+                                                               int n, int wide)
+{
+    int k = 0;
+    Quad q, r;
+    Pair p, s;
+    if (wide)
+        for (; k + 4 <= n; k += 4) {
+            memcpy(&q, y + k, sizeof q), memcpy(&r, x + k, sizeof r);
+            q += r * a;
+            memcpy(y + k, &q, sizeof q);
+        }
+    for (; k + 2 <= n; k += 2) {
+        memcpy(&p, y + k, sizeof p), memcpy(&s, x + k, sizeof s);
+        p += s * a;
+        memcpy(y + k, &p, sizeof p);
+    }
+    if (k < n) y[k] += x[k] * a;
+}
+
+/* U^T x = y in place by the rows of U: once x_i is known it leaves the rows below, all
+ * of them side by side, each x_k taking its terms in the order of i as a sum along U's
+ * column k would (less U_ik x_i as plus U_ik (-x_i): the same bits, negation is exact). */
+static inline __attribute__((always_inline)) void upper_transpose_solve(int n, const double *u, double *x, int wide)
+{
+    const size_t sn = (size_t)n;
+    for (int i = 0; i < n; i++) {
+        const double *row = u + (size_t)i * sn;
+        const double xi = x[i] / row[i];
+        x[i] = xi;
+        add_multiple(x + i + 1, row + i + 1, -xi, n - 1 - i, wide);
+    }
+}
+
+static inline __attribute__((always_inline)) void upper_solve(int n, const double *u, double *x, int wide)
 {
     const size_t sn = (size_t)n;
     for (int i = n - 1; i >= 0; i--) { /* U y = b, from the last unknown */
         const double *row = u + (size_t)i * sn;
         x[i] = (x[i] - dot4_down(row + n - 1, x + n - 1, n - 1 - i)) / row[i];
     }
-    for (int i = 0; i < n; i++) { /* U^T x = y by the rows of U: x_i leaves the rows below */
-        const double *restrict row = u + (size_t)i * sn;
-        double *restrict rest = x + i + 1;
-        const double xi = x[i] / row[i];
-        x[i] = xi;
-#pragma omp simd
-        for (int k = 0; k < n - 1 - i; k++) rest[k] -= row[i + 1 + k] * xi;
-    }
+    upper_transpose_solve(n, u, x, wide);
 }
 
-void hk_upper_solve(int n, const double *u, double *x) { upper_solve(n, u, x); }
+void hk_upper_solve(int n, const double *u, double *x) { upper_solve(n, u, x, 0); }
+
+/* Four entries a vector where the CPU has AVX (the same bits: core/linalg.h). */
+__attribute__((target("avx"))) static void upper_transpose_solve_avx(int n, const double *u, double *x)
+{
+    upper_transpose_solve(n, u, x, 1);
+}
+
+static void upper_transpose_solve_sse2(int n, const double *u, double *x) { upper_transpose_solve(n, u, x, 0); }
+
+void hk_upper_transpose_solve(int n, const double *u, double *x)
+{
+    if (hk_avx_path())
+        upper_transpose_solve_avx(n, u, x);
+    else
+        upper_transpose_solve_sse2(n, u, x);
+}
 
 static inline __attribute__((always_inline)) int terms_solve_dense(int n, const hk_ElementTerms *terms,
                                                                    const double *extra, const double *geo, double scale,
@@ -226,17 +323,13 @@ static inline __attribute__((always_inline)) int terms_solve_dense(int n, const 
     const int dim = 3 * n;
     const size_t count = (size_t)dim * (size_t)dim;
     double *mass = work, *factor = work + count;
-    assemble_lower(n, terms, mass, work + 2 * count);
+    assemble_lower(n, terms, mass, work + 2 * count, wide);
     if (geo) /* the lower triangle, which the factorisation reads */
-        for (size_t i = 0; i < (size_t)dim; i++) {
-            double *restrict row = mass + i * (size_t)dim;
-            const double *restrict g = geo + i * (size_t)dim;
-#pragma omp simd
-            for (size_t k = 0; k <= i; k++) row[k] += scale * g[k];
-        }
+        for (int i = 0; i < dim; i++)
+            add_multiple(mass + (size_t)i * (size_t)dim, geo + (size_t)i * (size_t)dim, scale, i + 1, wide);
     if (!upper_cholesky(dim, mass, extra, factor, wide)) return 0;
     memcpy(x, rhs, (size_t)dim * sizeof(double));
-    upper_solve(dim, factor, x);
+    upper_solve(dim, factor, x, wide);
     return 1;
 }
 

@@ -516,15 +516,16 @@ double hk_strand_energy(const hk_SuperHelix *sh, const hk_StrandEnvDef *env, con
         /* Off-diagonal blocks: a in an earlier element than b, H_ab = xi_a . Y_b, row b
          * at once over a (the screws stored transposed), then mirrored. 0.0 + h: the
          * bits of a sum into a cleared matrix (-0 turns +0). */
-        for (int b = 3; b < dim; b++) {
-            double *row = hess + (size_t)b * (size_t)dim;
-            const int first_b = (b / 3) * 3;
-            hk_dot6_columns(ws->y + (size_t)b * 6, ws->xi, (size_t)dim, first_b, row);
-#pragma GCC unroll 3
-            for (int a = 0; a < first_b; a++) {
-                const double h = 0.0 + row[a];
-                row[a] = h;
-                hess[(size_t)a * (size_t)dim + (size_t)b] = h;
+        for (int b = 3; b < dim; b += 3) { /* element b / 3's three rows, mirrored together */
+            double *r0 = hess + (size_t)b * (size_t)dim, *r1 = r0 + dim, *r2 = r1 + dim;
+            hk_dot6_columns(ws->y + (size_t)b * 6, ws->xi, (size_t)dim, b, r0);
+            hk_dot6_columns(ws->y + (size_t)(b + 1) * 6, ws->xi, (size_t)dim, b, r1);
+            hk_dot6_columns(ws->y + (size_t)(b + 2) * 6, ws->xi, (size_t)dim, b, r2);
+            for (int a = 0; a < b; a++) {
+                const double h0 = 0.0 + r0[a], h1 = 0.0 + r1[a], h2 = 0.0 + r2[a];
+                r0[a] = h0, r1[a] = h1, r2[a] = h2;
+                double *mirror = hess + (size_t)a * (size_t)dim + (size_t)b;
+                mirror[0] = h0, mirror[1] = h1, mirror[2] = h2;
             }
         }
     }
