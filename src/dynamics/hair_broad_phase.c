@@ -75,7 +75,7 @@ static void entry_low(const Entry *e, float low4[4], float low2[2])
 typedef struct Found {
     hk_HcPair *pairs;
     int count, cap;
-    uint64_t *passed;  /* place of x | place of y << 32 */
+    uint64_t *passed;  /* place of x << 32 | place of y (y's in the low half: the next y is one more) */
     size_t passed_cap; /* entry pairs */
 } Found;
 
@@ -353,11 +353,12 @@ static int surely_apart(const Grid *g, int x, int y, double apart2)
  * advanced by d2 < band2): taken as branches, the order mispredicted 179,000 times in
  * 462,000 measures and the keeping 133,000 (cachegrind, examples/guides200 shaking, 23
  * rescans). GCC made swap ? y : x a branch again (175,000 mispredictions): the tags'
- * addresses are exchanged by a mask. */
+ * addresses are exchanged by a mask. The eligible segments are numbered strand by
+ * strand, so of two strands' segments the lower strand's has the lower number. */
 static int consider(const hk_HairContacts *c, const EntryTag *x, const EntryTag *y, double band2, Found *out)
 {
     const Grid *g = c->grid;
-    const uintptr_t swap = (uintptr_t)0 - (uintptr_t)(g->seg_strand[x->seg] > g->seg_strand[y->seg]);
+    const uintptr_t swap = (uintptr_t)0 - (uintptr_t)(x->seg > y->seg);
     const uintptr_t flip = ((uintptr_t)x ^ (uintptr_t)y) & swap;
     const EntryTag *first = (const EntryTag *)((uintptr_t)x ^ flip), *second = (const EntryTag *)((uintptr_t)y ^ flip);
     hk_HcPair p = {g->seg_strand[first->seg],
@@ -647,7 +648,7 @@ hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
              * are read once (the compiler reloads them otherwise, as the list written
              * may alias them). */
             const Entry *const first_y = ex < starting ? starting : ex + 1;
-            const uint64_t x_place = (uint64_t)(ex - g->sorted), next_y = (uint64_t)1 << 32;
+            const uint64_t x_place = (uint64_t)(ex - g->sorted);
             const int32_t x_hi = g->tags[x_place].x_hi;
             const uint32_t x_key = ex->key;
             /* (the start bits s of x: its key's lowest bit set is 1 << s) */
@@ -660,8 +661,8 @@ hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
             entry_low(ex, low4, low2);
 #endif
             /* the pair (x, y) as the list keeps it */
-            uint64_t xy = x_place | (uint64_t)(first_y - g->sorted) << 32;
-            for (const Entry *ey = first_y; ey->x_lo <= x_hi; ey++, xy += next_y) {
+            uint64_t xy = x_place << 32 | (uint64_t)(first_y - g->sorted);
+            for (const Entry *ey = first_y; ey->x_lo <= x_hi; ey++, xy++) {
                 /* Two segments are measured in one of the cells both boxes cover only:
                  * the one holding the low corner of their overlap, whose cell is the
                  * larger of their low cells on each axis, i.e. (both boxes covering the
@@ -692,13 +693,13 @@ hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
                 size_t near = 0;
                 for (size_t k = 0; k < count; k++) {
                     const uint64_t pair = passed[k];
-                    const EntryTag *x = &g->tags[(uint32_t)pair], *y = &g->tags[pair >> 32];
+                    const EntryTag *x = &g->tags[pair >> 32], *y = &g->tags[(uint32_t)pair];
                     passed[near] = pair;
                     near += (size_t)((x->cell == y->cell) & !surely_apart(g, x->seg, y->seg, apart2));
                 }
                 evaluations += (long)near;
                 for (size_t k = 0; k < near && !failed; k++)
-                    if (!consider(c, &g->tags[(uint32_t)passed[k]], &g->tags[passed[k] >> 32], band2, out)) failed = 1;
+                    if (!consider(c, &g->tags[passed[k] >> 32], &g->tags[(uint32_t)passed[k]], band2, out)) failed = 1;
                 count = 0;
             }
             if (failed) break;
