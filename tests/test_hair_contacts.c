@@ -430,6 +430,15 @@ static void test_broad_phase_matches_brute_force(void **state)
             assert_memory_equal(&u, &q->u, sizeof u);
             assert_memory_equal(&v, &q->v, sizeof v);
         }
+        /* The baseline's path (the pair loop's box test by SSE without VEX) finds the
+         * same candidates in the same order, to the bit. */
+        hk_avx_paths_allow(0);
+        hk_HairContacts *base = make_contacts(st.g, &p);
+        update_ok(base, &st);
+        hk_avx_paths_allow(1);
+        assert_int_equal(base->candidate_count, c->candidate_count);
+        assert_memory_equal(base->candidates, c->candidates, (size_t)c->candidate_count * sizeof(hk_HcPair));
+        hk_hair_contacts_destroy(base);
         /* Pairs: exactly the local minima within 2 d0, and the contacts within d0. */
         tracked_pairs(c, HUGE_VAL, &pairs);
         assert_same_quads(&pairs, &pairs_ref);
