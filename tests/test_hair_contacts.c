@@ -397,11 +397,17 @@ static void test_broad_phase_matches_brute_force(void **state)
     /* Wavy guides, more of them, a tangle of curly strands (long walks), and a tight
      * bundle: starting within 4 mm, so that buckets hold a hundred entries and more,
      * whose passed entry pairs fill the pair loop's list many times within one bucket
-     * (its flushes in the middle of a sweep's bucket). */
-    const int sizes[][2] = {{40, 30}, {60, 25}, {8, 200}, {120, 12}};
-    const double curl[4] = {0.4, 0.4, 1.5, 0.4}, box[4] = {0.04, 0.04, 0.04, 0.004};
-    for (int t = 0; t < 4; t++) {
+     * (its flushes in the middle of a sweep's bucket). Last, wavy guides 100 km from
+     * the origin, where floats are 7.8 mm apart: the pair loop's boxes in floats must
+     * keep every pair whose boxes in doubles overlap, by a few um or by 7 mm. */
+    const int sizes[][2] = {{40, 30}, {60, 25}, {8, 200}, {120, 12}, {40, 30}};
+    const double curl[5] = {0.4, 0.4, 1.5, 0.4, 0.4}, box[5] = {0.04, 0.04, 0.04, 0.004, 0.04};
+    const hk_Vec3 far = hk_v3(1e5, -7e4, 3e4);
+    for (int t = 0; t < 5; t++) {
         Strands st = random_strands_curl(sizes[t][0], sizes[t][1], 0.004, box[t], curl[t]);
+        if (t == 4)
+            for (int i = 0; i < st.g; i++)
+                for (int k = 0; k < st.n; k++) *P(&st, i, k) = hk_v3_add(*P(&st, i, k), far);
         hk_HairContacts *c = make_contacts(st.g, &p);
         update_ok(c, &st);
         /* Candidates: every segment pair closer than 2 d0, found once. */
@@ -424,6 +430,15 @@ static void test_broad_phase_matches_brute_force(void **state)
             assert_memory_equal(&u, &q->u, sizeof u);
             assert_memory_equal(&v, &q->v, sizeof v);
         }
+        /* The baseline's path (the pair loop's box test by SSE without VEX) finds the
+         * same candidates in the same order, to the bit. */
+        hk_avx_paths_allow(0);
+        hk_HairContacts *base = make_contacts(st.g, &p);
+        update_ok(base, &st);
+        hk_avx_paths_allow(1);
+        assert_int_equal(base->candidate_count, c->candidate_count);
+        assert_memory_equal(base->candidates, c->candidates, (size_t)c->candidate_count * sizeof(hk_HcPair));
+        hk_hair_contacts_destroy(base);
         /* Pairs: exactly the local minima within 2 d0, and the contacts within d0. */
         tracked_pairs(c, HUGE_VAL, &pairs);
         assert_same_quads(&pairs, &pairs_ref);

@@ -17,42 +17,57 @@
 
 #include "hair_contacts_internal.h"
 
-/* Two doubles side by side (GCC's vector extension, as in piece_rk4_tangent.c), and
- * the masks their comparisons give. */
-typedef double V2 __attribute__((vector_size(16)));
-typedef long long M2 __attribute__((vector_size(16)));
-
 /* One cell covered by a segment's box, written in bucket order so that the pair loop
- * reads memory in sequence, one cache line an entry (the array aligned to 64 bytes).
- * The box [lo, hi] as high = (hi, -lo), two coordinates a vector; its low = (lo, -hi)
- * is high negated and reordered (see entry_low), made once a sweep for the entry it
- * starts from: two boxes overlap when a's low is at most b's high everywhere (a.lo <=
- * b.hi and b.lo <= a.hi; a negation is exact), six comparisons in three. The entries
- * were 128 bytes with the low beside the high and the cell and segment (now in
- * EntryTag): the pair loop read twice the memory, and the entries' scattered writes
- * missed the first-level cache on twice the lines (cachegrind, examples/guides200
- * shaking). */
+ * reads memory in sequence, two entries a cache line (the array aligned to 64 bytes).
+ * The box [lo, hi] as high = (hi, -lo) in floats (rounded to nearest); its low = (lo,
+ * -hi) is high negated and reordered (see entry_low), made once a sweep for the entry
+ * it starts from: two boxes overlap when a's low is at most b's high everywhere (a.lo
+ * <= b.hi and b.lo <= a.hi), six comparisons in two. Rounding to nearest is monotonic
+ * and symmetric (float(-x) = -float(x)), so a.lo <= b.hi in doubles gives float(a.lo)
+ * <= float(b.hi): the floats' boxes overlap wherever the doubles' do, and the few pairs
+ * more they let through (apart by less than a float's rounding) are dropped by
+ * surely_apart or the measure, which take the doubles: the same candidates. The
+ * entries were 64 bytes with the box in doubles (and 128 before, its low beside it):
+ * the pair loop reads half the memory, and the entries' writes to their scattered
+ * places (~26,000 entries a rescan of examples/guides200 shaking) touch half the
+ * lines. The strand shares a word with the start bits: key = strand << 8 | 1 << s, s
+ * with bit a set where the box starts in this cell along axis a. */
 typedef struct Entry {
-    V2 high[3];
-    int32_t x_lo, x_hi; /* slabs of the box's low and high x (see slab_of) */
-    int strand;
-    int starts; /* 1 << s | s << 8, s with bit a set where the box starts in this cell along axis a */
+    float high[6]; /* hi.x, hi.y, hi.z, -lo.x, -lo.y, -lo.z */
+    int32_t x_lo;  /* slab of the box's low x (see slab_of) */
+    uint32_t key;
 } Entry;
+_Static_assert(sizeof(Entry) == 32, "two entries are meant to share a cache line");
 
 /* What the pair loop's later stages need of an entry (at the entry's place). */
 typedef struct EntryTag {
     uint64_t cell; /* the cell's coordinates packed (cell_key): equal keys, the same cell */
     int seg;       /* eligible segment index e */
-    int strand;
+    int32_t x_hi;  /* slab of the box's high x, where a sweep from the entry ends */
 } EntryTag;
 
-/* The low corner of an entry's box as (lo, -hi), from its high (hi, -lo). */
-static void entry_low(const Entry *e, V2 low[3])
+#ifdef __SSE2__
+/* The low corner of an entry's box as (lo, -hi), from its high (hi, -lo): low4 = (lo.x,
+ * lo.y, lo.z, -hi.x) and low2 = (-hi.y, -hi.z, -0, -0) (see boxes_overlap), the
+ * high's lanes reordered and negated (exact). */
+static void entry_low(const Entry *e, __m128 *low4, __m128 *low2)
 {
-    low[0] = (V2){-e->high[1][1], -e->high[2][0]};
-    low[1] = (V2){-e->high[2][1], -e->high[0][0]};
-    low[2] = (V2){-e->high[0][1], -e->high[1][0]};
+    const __m128 sign = _mm_set1_ps(-0.0f);
+    const __m128 high4 = _mm_load_ps(e->high);
+    const __m128 high2 = _mm_castsi128_ps(_mm_loadl_epi64((const __m128i *)(const void *)&e->high[4]));
+    const __m128 mixed = _mm_shuffle_ps(high4, high2, _MM_SHUFFLE(1, 0, 0, 3)); /* (h3, h0, h4, h5) */
+    *low4 = _mm_xor_ps(sign, _mm_shuffle_ps(mixed, mixed, _MM_SHUFFLE(1, 3, 2, 0)));
+    *low2 = _mm_xor_ps(sign, _mm_shuffle_ps(high4, _mm_setzero_ps(), _MM_SHUFFLE(0, 0, 2, 1)));
 }
+#else
+/* The low corner of an entry's box as (lo, -hi): low4 = (lo.x, lo.y, lo.z, -hi.x),
+ * low2 = (-hi.y, -hi.z), from its high (hi, -lo). */
+static void entry_low(const Entry *e, float low4[4], float low2[2])
+{
+    low4[0] = -e->high[3], low4[1] = -e->high[4], low4[2] = -e->high[5], low4[3] = -e->high[0];
+    low2[0] = -e->high[1], low2[1] = -e->high[2];
+}
+#endif
 
 /* Candidates found by one thread, and its list of the entry pairs of one bucket
  * that pass the pair loop's tests (see the pair loop), as places in sorted, x then
@@ -60,7 +75,7 @@ static void entry_low(const Entry *e, V2 low[3])
 typedef struct Found {
     hk_HcPair *pairs;
     int count, cap;
-    uint64_t *passed;  /* place of x | place of y << 32 */
+    uint64_t *passed;  /* place of x << 32 | place of y (y's in the low half: the next y is one more) */
     size_t passed_cap; /* entry pairs */
 } Found;
 
@@ -286,23 +301,25 @@ static double covered_cells(Grid *g, int n, hk_Vec3 origin, double h)
  * million instructions). */
 static const int partners[8] = {0x80, 0xC0, 0xA0, 0xF0, 0x88, 0xCC, 0xAA, 0xFF};
 
-/* The boxes of two entries overlap (the comparisons two at a time, the same outcomes
- * as one by one; all combined without branches: see the pair loop). */
-static int boxes_overlap(const V2 a_low[3], const Entry *b)
-{
+/* The boxes of two entries overlap, a's low corner given (low4, low2 of entry_low):
+ * all combined without branches (see the pair loop). */
 #ifdef __SSE2__
-    /* SSE2's own comparisons and both lanes' signs at once: GCC turns the vector
-     * extension's masks into booleans lane by lane, 8 more instructions for each of
-     * ~130,000 box tests a step (the same comparisons, the same outcomes). */
-    const __m128d all = _mm_and_pd(_mm_and_pd(_mm_cmple_pd((__m128d)a_low[0], (__m128d)b->high[0]),
-                                              _mm_cmple_pd((__m128d)a_low[1], (__m128d)b->high[1])),
-                                   _mm_cmple_pd((__m128d)a_low[2], (__m128d)b->high[2]));
-    return _mm_movemask_pd(all) == 3;
-#else
-    const M2 all = (a_low[0] <= b->high[0]) & (a_low[1] <= b->high[1]) & (a_low[2] <= b->high[2]);
-    return (int)(all[0] & all[1] & 1);
-#endif
+static int boxes_overlap(__m128 a_low4, __m128 a_low2, const Entry *b)
+{
+    /* SSE's own comparisons and the lanes' signs at once: b's first four coordinates
+     * in one load (the entry is aligned to 32 bytes), its last two in the low half of
+     * another whose high half is zero (a_low2's is -0, and -0 <= 0). */
+    const __m128 high4 = _mm_load_ps(b->high);
+    const __m128 high2 = _mm_castsi128_ps(_mm_loadl_epi64((const __m128i *)(const void *)&b->high[4]));
+    return _mm_movemask_ps(_mm_and_ps(_mm_cmple_ps(a_low4, high4), _mm_cmple_ps(a_low2, high2))) == 15;
 }
+#else
+static int boxes_overlap(const float a_low4[4], const float a_low2[2], const Entry *b)
+{
+    return (a_low4[0] <= b->high[0]) & (a_low4[1] <= b->high[1]) & (a_low4[2] <= b->high[2]) &
+           (a_low4[3] <= b->high[3]) & (a_low2[0] <= b->high[4]) & (a_low2[1] <= b->high[5]);
+}
+#endif
 
 /* Two segments (midpoints m, half-vectors h = (p1 - p0) / 2, lengths l) are apart by
  * at least the gap of their projections on any unit axis n, n.(m_x - m_y) - |n.h_x| -
@@ -336,15 +353,21 @@ static int surely_apart(const Grid *g, int x, int y, double apart2)
  * advanced by d2 < band2): taken as branches, the order mispredicted 179,000 times in
  * 462,000 measures and the keeping 133,000 (cachegrind, examples/guides200 shaking, 23
  * rescans). GCC made swap ? y : x a branch again (175,000 mispredictions): the tags'
- * addresses are exchanged by a mask. */
+ * addresses are exchanged by a mask. The eligible segments are numbered strand by
+ * strand, so of two strands' segments the lower strand's has the lower number. */
 static int consider(const hk_HairContacts *c, const EntryTag *x, const EntryTag *y, double band2, Found *out)
 {
     const Grid *g = c->grid;
-    const uintptr_t swap = (uintptr_t)0 - (uintptr_t)(x->strand > y->strand);
+    const uintptr_t swap = (uintptr_t)0 - (uintptr_t)(x->seg > y->seg);
     const uintptr_t flip = ((uintptr_t)x ^ (uintptr_t)y) & swap;
     const EntryTag *first = (const EntryTag *)((uintptr_t)x ^ flip), *second = (const EntryTag *)((uintptr_t)y ^ flip);
-    hk_HcPair p = {
-        first->strand, g->bound[first->seg].index, second->strand, g->bound[second->seg].index, 0.0, 0.0, 0.0};
+    hk_HcPair p = {g->seg_strand[first->seg],
+                   g->bound[first->seg].index,
+                   g->seg_strand[second->seg],
+                   g->bound[second->seg].index,
+                   0.0,
+                   0.0,
+                   0.0};
     /* (the same bits as hk_hc_pair_distance2: the ends are its) */
     p.d2 = hk_hc_ends_distance2(&g->ends[first->seg], &g->ends[second->seg], &p.u, &p.v);
     if (out->count >= out->cap) { /* room made by appending the pair, then taken back */
@@ -567,9 +590,11 @@ hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
         const int32_t x0 = cells[0], y0 = cells[1], z0 = cells[2], y1 = cells[4], z1 = cells[5];
         const hk_Vec3 lo = g->lo[s], hi = g->hi[s];
         Entry proto;
-        proto.high[0] = (V2){hi.x, hi.y}, proto.high[1] = (V2){hi.z, -lo.x}, proto.high[2] = (V2){-lo.y, -lo.z};
-        proto.starts = 0, proto.strand = g->seg_strand[s];
-        proto.x_lo = g->seg_slab[2 * s], proto.x_hi = g->seg_slab[2 * s + 1];
+        proto.high[0] = (float)hi.x, proto.high[1] = (float)hi.y, proto.high[2] = (float)hi.z;
+        proto.high[3] = (float)-lo.x, proto.high[4] = (float)-lo.y, proto.high[5] = (float)-lo.z;
+        proto.x_lo = g->seg_slab[2 * s];
+        const uint32_t strand_key = (uint32_t)g->seg_strand[s] << 8; /* (strands < 2^24: hair_contacts.c) */
+        const int32_t x_hi = g->seg_slab[2 * s + 1];
         /* (one loop over the cells, z fastest as in the count: a box is often one
          * cell thick, and three nested loops cost more in their bounds than the
          * entries' writes) */
@@ -579,8 +604,8 @@ hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
             const int place = g->place[at];
             Entry *en = &g->sorted[place];
             *en = proto;
-            en->starts = 1 << starts | starts << 8;
-            g->tags[place] = (EntryTag){cell_key(x, y, z), s, proto.strand};
+            en->key = strand_key | 1u << starts;
+            g->tags[place] = (EntryTag){cell_key(x, y, z), s, x_hi};
             if (z < z1) {
                 z++, starts &= 3;
             } else if (y < y1) {
@@ -623,15 +648,21 @@ hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
              * are read once (the compiler reloads them otherwise, as the list written
              * may alias them). */
             const Entry *const first_y = ex < starting ? starting : ex + 1;
-            const int32_t x_hi = ex->x_hi;
-            const int x_partners = partners[ex->starts >> 8];
-            V2 x_low[3];
-            entry_low(ex, x_low);
-            const int x_strand = ex->strand;
-            const uint64_t x_place = (uint64_t)(ex - g->sorted), next_y = (uint64_t)1 << 32;
+            const uint64_t x_place = (uint64_t)(ex - g->sorted);
+            const int32_t x_hi = g->tags[x_place].x_hi;
+            const uint32_t x_key = ex->key;
+            /* (the start bits s of x: its key's lowest bit set is 1 << s) */
+            const uint32_t x_partners = (uint32_t)partners[__builtin_ctz(x_key)], x_strand = x_key >> 8;
+#ifdef __SSE2__
+            __m128 low4, low2;
+            entry_low(ex, &low4, &low2);
+#else
+            float low4[4], low2[2];
+            entry_low(ex, low4, low2);
+#endif
             /* the pair (x, y) as the list keeps it */
-            uint64_t xy = x_place | (uint64_t)(first_y - g->sorted) << 32;
-            for (const Entry *ey = first_y; ey->x_lo <= x_hi; ey++, xy += next_y) {
+            uint64_t xy = x_place << 32 | (uint64_t)(first_y - g->sorted);
+            for (const Entry *ey = first_y; ey->x_lo <= x_hi; ey++, xy++) {
                 /* Two segments are measured in one of the cells both boxes cover only:
                  * the one holding the low corner of their overlap, whose cell is the
                  * larger of their low cells on each axis, i.e. (both boxes covering the
@@ -646,7 +677,8 @@ hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
                  * time than making every test for every pair (18 more instructions a
                  * pair visited; the broad phase's thread time 5.40 against 5.81 ms a
                  * rescan with the tests as branches, ten alternated runs). */
-                const int pass = ((ey->starts & x_partners) != 0) & boxes_overlap(x_low, ey) & (x_strand != ey->strand);
+                const uint32_t y_key = ey->key;
+                const int pass = ((y_key & x_partners) != 0) & boxes_overlap(low4, low2, ey) & (x_strand != y_key >> 8);
                 passed[count] = xy;
                 count += (size_t)pass;
             }
@@ -661,13 +693,13 @@ hk_Status hk_hc_broad_phase(hk_HairContacts *c, hk_Error *err)
                 size_t near = 0;
                 for (size_t k = 0; k < count; k++) {
                     const uint64_t pair = passed[k];
-                    const EntryTag *x = &g->tags[(uint32_t)pair], *y = &g->tags[pair >> 32];
+                    const EntryTag *x = &g->tags[pair >> 32], *y = &g->tags[(uint32_t)pair];
                     passed[near] = pair;
                     near += (size_t)((x->cell == y->cell) & !surely_apart(g, x->seg, y->seg, apart2));
                 }
                 evaluations += (long)near;
                 for (size_t k = 0; k < near && !failed; k++)
-                    if (!consider(c, &g->tags[(uint32_t)passed[k]], &g->tags[passed[k] >> 32], band2, out)) failed = 1;
+                    if (!consider(c, &g->tags[passed[k] >> 32], &g->tags[(uint32_t)passed[k]], band2, out)) failed = 1;
                 count = 0;
             }
             if (failed) break;
