@@ -216,16 +216,6 @@ static inline __attribute__((always_inline)) void scale_by(double *x, double f, 
     if (i < n) x[i] *= f;
 }
 
-/* y[i] += f x[i] */
-static inline __attribute__((always_inline)) void add_multiple(double *y, double f, const double *x, int n, int wide)
-{
-    int i = 0;
-    if (wide)
-        for (const Quad fq = splat4(f); i + 4 <= n; i += 4) STORE_QUAD(y + i, load_quad(y + i) + fq * load_quad(x + i));
-    for (const Pair fp = splat(f); i + 2 <= n; i += 2) store_pair(y + i, load_pair(y + i) + fp * load_pair(x + i));
-    if (i < n) y[i] += f * x[i];
-}
-
 /* s[i] -= a p[i] + b x[i] (a row of dsyr2's update) */
 static inline __attribute__((always_inline)) void sub_rank2_row(double *s, double a, const double *p, double b,
                                                                 const double *x, int n, int wide)

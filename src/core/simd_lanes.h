@@ -1,6 +1,6 @@
 /* Doubles side by side in vector registers (GCC's vector extension), for the
- * kernels of src/core/positive_part.c and the tridiagonal eigenvalues it calls
- * (tridiagonal_eigenvalues.h). Internal: included by those files only. */
+ * kernels of src/core/positive_part.c, the tridiagonal eigenvalues it calls
+ * (tridiagonal_eigenvalues.h) and src/dynamics/strand_solve.c. Internal: included by those files only. */
 #ifndef HK_CORE_SIMD_LANES_H
 #define HK_CORE_SIMD_LANES_H
 
@@ -68,6 +68,19 @@ static inline __attribute__((always_inline)) void sub_constant(double *x, double
         for (const Quad cq = splat4(c); i + 4 <= n; i += 4) STORE_QUAD(x + i, load_quad(x + i) - cq);
     for (const Pair cp = splat(c); i + 2 <= n; i += 2) store_pair(x + i, load_pair(x + i) - cp);
     if (i < n) x[i] -= c;
+}
+
+/* y[i] += f x[i] for i < n: four (wide, the AVX path), two, one at a time by hand, each
+ * entry's product and sum as the scalar's (positive_part.c; strand_solve.c's factor rows).
+ * An `omp simd` loop's peeling and checks cost more than the arithmetic on rows of 3N = 30
+ * and less. */
+static inline __attribute__((always_inline)) void add_multiple(double *y, double f, const double *x, int n, int wide)
+{
+    int i = 0;
+    if (wide)
+        for (const Quad fq = splat4(f); i + 4 <= n; i += 4) STORE_QUAD(y + i, load_quad(y + i) + fq * load_quad(x + i));
+    for (const Pair fp = splat(f); i + 2 <= n; i += 2) store_pair(y + i, load_pair(y + i) + fp * load_pair(x + i));
+    if (i < n) y[i] += f * x[i];
 }
 
 #endif

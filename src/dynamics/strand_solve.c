@@ -25,10 +25,7 @@
 
 #include "dynamics_internal.h"
 #include "core/linalg.h"
-
-/* GCC's vectors: four doubles (AVX, on the paths taken with wide) and two (SSE2) */
-typedef double Quad __attribute__((vector_size(32)));
-typedef double Pair __attribute__((vector_size(16)));
+#include "core/simd_lanes.h" /* Quad, Pair (four doubles on the paths taken with wide), add_multiple */
 
 static double dot6(const double *a, const double *b)
 {
@@ -251,29 +248,6 @@ int hk_upper_cholesky(int n, const double *a, const double *extra, double *u)
     return upper_cholesky_sse2(n, a, extra, u);
 }
 
-/* y[k] += x[k] a for k < n: four, two, one at a time by hand (four with wide, the AVX
- * path), each entry's product and sum as the scalar's. An `omp simd` loop's peeling and
- * checks cost more than the arithmetic on the factor's rows of 3N = 30 and less. */
-static inline __attribute__((always_inline)) void add_multiple(double *restrict y, const double *restrict x, double a,
-                                                               int n, int wide)
-{
-    int k = 0;
-    Quad q, r;
-    Pair p, s;
-    if (wide)
-        for (; k + 4 <= n; k += 4) {
-            memcpy(&q, y + k, sizeof q), memcpy(&r, x + k, sizeof r);
-            q += r * a;
-            memcpy(y + k, &q, sizeof q);
-        }
-    for (; k + 2 <= n; k += 2) {
-        memcpy(&p, y + k, sizeof p), memcpy(&s, x + k, sizeof s);
-        p += s * a;
-        memcpy(y + k, &p, sizeof p);
-    }
-    if (k < n) y[k] += x[k] * a;
-}
-
 /* U^T x = y in place by the rows of U: once x_i is known it leaves the rows below, all
  * of them side by side, each x_k taking its terms in the order of i as a sum along U's
  * column k would (less U_ik x_i as plus U_ik (-x_i): the same bits, negation is exact). */
@@ -284,7 +258,7 @@ static inline __attribute__((always_inline)) void upper_transpose_solve(int n, c
         const double *row = u + (size_t)i * sn;
         const double xi = x[i] / row[i];
         x[i] = xi;
-        add_multiple(x + i + 1, row + i + 1, -xi, n - 1 - i, wide);
+        add_multiple(x + i + 1, -xi, row + i + 1, n - 1 - i, wide);
     }
 }
 
@@ -326,7 +300,7 @@ static inline __attribute__((always_inline)) int terms_solve_dense(int n, const 
     assemble_lower(n, terms, mass, work + 2 * count, wide);
     if (geo) /* the lower triangle, which the factorisation reads */
         for (int i = 0; i < dim; i++)
-            add_multiple(mass + (size_t)i * (size_t)dim, geo + (size_t)i * (size_t)dim, scale, i + 1, wide);
+            add_multiple(mass + (size_t)i * (size_t)dim, scale, geo + (size_t)i * (size_t)dim, i + 1, wide);
     if (!upper_cholesky(dim, mass, extra, factor, wide)) return 0;
     memcpy(x, rhs, (size_t)dim * sizeof(double));
     upper_solve(dim, factor, x, wide);
