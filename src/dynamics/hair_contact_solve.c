@@ -41,6 +41,7 @@
 #include <string.h>
 
 #include "core/core_internal.h"
+#include "core/linalg.h" /* hk_avx_path: the rows' AVX paths */
 #include "dynamics_internal.h"
 #include "hair_contact_solve.h"
 #include "hair_contact_split.h"
@@ -831,12 +832,35 @@ static hk_Vec3 from_basis(const hk_Vec3 basis[3], hk_Vec3 x)
 
 /* v += sign * Y lam for the point whose Y^T rows are yt (3 rows of its support m,
  * packed). */
-static void add_response(double *v, const double *yt, size_t m, hk_Vec3 lam, double sign)
+static inline __attribute__((always_inline)) void add_response_lanes(double *v, const double *yt, size_t m,
+                                                                     hk_Vec3 lam, double sign)
 {
     const double l0 = sign * lam.x, l1 = sign * lam.y, l2 = sign * lam.z;
     const double *y1 = yt + m, *y2 = yt + 2 * m;
 #pragma omp simd
     for (size_t k = 0; k < m; k++) v[k] += yt[k] * l0 + y1[k] * l1 + y2[k] * l2;
+}
+
+/* Four entries a vector where the CPU has AVX: each entry's products and sums are its
+ * own, in the same order, and there is no FMA (target "avx" only), so the bits are the
+ * baseline's (core/linalg.h, hk_avx_path). */
+__attribute__((target("avx"))) static void add_response_avx(double *v, const double *yt, size_t m, hk_Vec3 lam,
+                                                            double sign)
+{
+    add_response_lanes(v, yt, m, lam, sign);
+}
+
+static void add_response_sse2(double *v, const double *yt, size_t m, hk_Vec3 lam, double sign)
+{
+    add_response_lanes(v, yt, m, lam, sign);
+}
+
+static void add_response(double *v, const double *yt, size_t m, hk_Vec3 lam, double sign)
+{
+    if (hk_avx_path())
+        add_response_avx(v, yt, m, lam, sign);
+    else
+        add_response_sse2(v, yt, m, lam, sign);
 }
 
 /* J dv for the point whose J rows are jac (3 rows of its support m, packed); the three
