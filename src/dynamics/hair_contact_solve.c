@@ -464,7 +464,8 @@ static inline void two_pivots(double *z, const double *ci, const double *cj, int
  * once for both and half the loops' overhead (callgrind, head driver on
  * examples/guides200 shaking, 8 frames: back_substitute 106.7 -> 78.8 million
  * instructions). */
-static void back_substitute(const double *u, size_t dim, int m, double *z0, double *z1, double *z2, int rows)
+static inline __attribute__((always_inline)) void back_substitute_lanes(const double *u, size_t dim, int m, double *z0,
+                                                                        double *z1, double *z2, int rows)
 {
     int i = m - 1;
     for (; i >= 1; i -= 2) {
@@ -501,6 +502,28 @@ static void back_substitute(const double *u, size_t dim, int m, double *z0, doub
     }
 }
 
+/* On AVX where the CPU has it: the loops over the entries above four a vector, each
+ * entry's operations its own and in its order, no FMA: the same bits (core/linalg.h,
+ * hk_avx_path). */
+__attribute__((target("avx"))) static void back_substitute_avx(const double *u, size_t dim, int m, double *z0,
+                                                               double *z1, double *z2, int rows)
+{
+    back_substitute_lanes(u, dim, m, z0, z1, z2, rows);
+}
+
+static void back_substitute_sse2(const double *u, size_t dim, int m, double *z0, double *z1, double *z2, int rows)
+{
+    back_substitute_lanes(u, dim, m, z0, z1, z2, rows);
+}
+
+static void back_substitute(const double *u, size_t dim, int m, double *z0, double *z1, double *z2, int rows)
+{
+    if (hk_avx_path())
+        back_substitute_avx(u, dim, m, z0, z1, z2, rows);
+    else
+        back_substitute_sse2(u, dim, m, z0, z1, z2, rows);
+}
+
 /* Rows first..2 of Z^T = (U^-1 J^T)^T of point x of reversed strand s, in place of its
  * rows of J in the basis (in yt): U z = j by back substitution from the point's support
  * down (z is zero beyond it, as j is), by columns: once z_i is known, column i of U
@@ -521,7 +544,8 @@ static void reversed_rows(hk_ContactSolve *cs, int s, int x, int first)
 /* Rows of a point's J (3 x dim, zero from column m on) turned into the basis: row r
  * becomes basis[r] . J, each sum in hk_v3_dot's order (the same bits as it), the
  * columns side by side (vectorised). */
-static void rows_in_basis(double *jac, size_t dim, size_t m, const hk_Vec3 basis[3])
+static inline __attribute__((always_inline)) void rows_in_basis_lanes(double *jac, size_t dim, size_t m,
+                                                                      const hk_Vec3 basis[3])
 {
     double *j1 = jac + dim, *j2 = jac + 2 * dim;
     const double n0 = basis[0].x, n1 = basis[0].y, n2 = basis[0].z;
@@ -534,6 +558,25 @@ static void rows_in_basis(double *jac, size_t dim, size_t m, const hk_Vec3 basis
         j1[k] = s0 * c0 + s1 * c1 + s2 * c2;
         j2[k] = t0 * c0 + t1 * c1 + t2 * c2;
     }
+}
+
+/* Four columns a vector where the CPU has AVX (the same bits, as back_substitute_avx). */
+__attribute__((target("avx"))) static void rows_in_basis_avx(double *jac, size_t dim, size_t m, const hk_Vec3 basis[3])
+{
+    rows_in_basis_lanes(jac, dim, m, basis);
+}
+
+static void rows_in_basis_sse2(double *jac, size_t dim, size_t m, const hk_Vec3 basis[3])
+{
+    rows_in_basis_lanes(jac, dim, m, basis);
+}
+
+static void rows_in_basis(double *jac, size_t dim, size_t m, const hk_Vec3 basis[3])
+{
+    if (hk_avx_path())
+        rows_in_basis_avx(jac, dim, m, basis);
+    else
+        rows_in_basis_sse2(jac, dim, m, basis);
 }
 
 /* Point x of strand s has its rows of J (in yt for a reversed strand) turned into its
