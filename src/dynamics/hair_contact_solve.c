@@ -41,7 +41,8 @@
 #include <string.h>
 
 #include "core/core_internal.h"
-#include "core/linalg.h" /* hk_avx_path: the rows' AVX paths */
+#include "core/linalg.h"     /* hk_avx_path: the rows' AVX paths */
+#include "core/simd_lanes.h" /* Pair, Quad: the rows' sums in lanes (rows_dot_lanes) */
 #include "dynamics_internal.h"
 #include "hair_contact_solve.h"
 #include "hair_contact_split.h"
@@ -361,11 +362,63 @@ static void complete_basis(hk_Vec3 basis[3])
     basis[2] = hk_v3_cross(n, basis[1]);
 }
 
+/* out[r] = sum over i < n of a[r stride + i] x[i] for the rows r < rows (1 to 3), each in
+ * two lanes as GCC vectorised the `omp simd` reductions these sums were written as (the
+ * bits of every sweep since): lane l adds the products of the entries i = l mod 2 in
+ * order, the last entry of an odd n goes to lane 0's sum, then come 0.0 (the
+ * reduction's start) and lane 1's sum. With wide (the AVX path) four products at once,
+ * added to the lanes two by two in that order: the same bits in fewer instructions. */
+static inline __attribute__((always_inline)) double lanes_sum(Pair acc, const double *a, const double *x, size_t i,
+                                                               size_t n)
+{
+    double s = acc[0];
+    if (i < n) s = a[i] * x[i] + s;
+    return (s + 0.0) + acc[1];
+}
+
+#define ADD_PRODUCTS_QUAD(acc, row)                                                                                    \
+    do {                                                                                                               \
+        const Quad p_ = load_quad((row) + i) * xq;                                                                     \
+        acc += LOW_PAIR(p_);                                                                                           \
+        acc += HIGH_PAIR(p_);                                                                                          \
+    } while (0)
+
+static inline __attribute__((always_inline)) void rows_dot_lanes(const double *a, size_t stride, int rows,
+                                                                 const double *x, size_t n, double *out, int wide)
+{
+    const double *a1 = a + stride, *a2 = a + 2 * stride; /* (read only when rows > 1, > 2) */
+    Pair acc0 = splat(0.0), acc1 = acc0, acc2 = acc0;
+    size_t i = 0;
+    if (wide)
+        for (; i + 4 <= n; i += 4) {
+            const Quad xq = load_quad(x + i);
+            ADD_PRODUCTS_QUAD(acc0, a);
+            if (rows > 1) ADD_PRODUCTS_QUAD(acc1, a1);
+            if (rows > 2) ADD_PRODUCTS_QUAD(acc2, a2);
+        }
+    for (; i + 2 <= n; i += 2) {
+        const Pair xp = load_pair(x + i);
+        acc0 += load_pair(a + i) * xp;
+        if (rows > 1) acc1 += load_pair(a1 + i) * xp;
+        if (rows > 2) acc2 += load_pair(a2 + i) * xp;
+    }
+    out[0] = lanes_sum(acc0, a, x, i, n);
+    if (rows > 1) out[1] = lanes_sum(acc1, a1, x, i, n);
+    if (rows > 2) out[2] = lanes_sum(acc2, a2, x, i, n);
+}
+
+__attribute__((target("avx"))) static double dot_n_avx(const double *a, const double *b, size_t n)
+{
+    double s;
+    rows_dot_lanes(a, n, 1, b, n, &s, 1);
+    return s;
+}
+
 static double dot_n(const double *a, const double *b, size_t n)
 {
-    double s = 0.0;
-#pragma omp simd reduction(+ : s)
-    for (size_t i = 0; i < n; i++) s += a[i] * b[i];
+    if (hk_avx_path()) return dot_n_avx(a, b, n);
+    double s;
+    rows_dot_lanes(a, n, 1, b, n, &s, 0);
     return s;
 }
 
@@ -907,19 +960,20 @@ static void add_response(double *v, const double *yt, size_t m, hk_Vec3 lam, dou
 }
 
 /* J dv for the point whose J rows are jac (3 rows of its support m, packed); the three
- * sums interleaved. (The order of the sums is the vectoriser's, the same on every run
- * of the same build.) */
+ * sums side by side (rows_dot_lanes). */
+__attribute__((target("avx"))) static void point_change_avx(const double *jac, size_t m, const double *dv, double *out)
+{
+    rows_dot_lanes(jac, m, 3, dv, m, out, 1);
+}
+
 static hk_Vec3 point_change(const double *jac, size_t m, const double *dv)
 {
-    const double *j1 = jac + m, *j2 = jac + 2 * m;
-    double a0 = 0.0, a1 = 0.0, a2 = 0.0;
-#pragma omp simd reduction(+ : a0, a1, a2)
-    for (size_t k = 0; k < m; k++) {
-        a0 += jac[k] * dv[k];
-        a1 += j1[k] * dv[k];
-        a2 += j2[k] * dv[k];
-    }
-    return hk_v3(a0, a1, a2);
+    double a[3];
+    if (hk_avx_path())
+        point_change_avx(jac, m, dv, a);
+    else
+        rows_dot_lanes(jac, m, 3, dv, m, a, 0);
+    return hk_v3(a[0], a[1], a[2]);
 }
 
 static int key_cmp(const int a[4], const int b[4])
