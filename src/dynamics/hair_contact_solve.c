@@ -765,7 +765,7 @@ static void eliminate3(double a[3][3], LawParts *lp)
 
 /* Solves a x = b with a eliminated by eliminate3 (b is overwritten): the operations on
  * b of the whole elimination, in its order; 0 when singular or not finite. */
-static int solve_eliminated3(const LawParts *lp, double b[3], double x[3])
+static inline __attribute__((always_inline)) int solve_eliminated3(const LawParts *lp, double b[3], double x[3])
 {
     if (!lp->regular) return 0;
     /* Written out with the packed places (upper_at, factor_at) as constants: as loops the
@@ -816,7 +816,7 @@ static void eigen2(const double a[2][2], LawParts *lp)
  * examples/guides200 the loop then runs 3.5 times a solve on the edge instead of 4.5
  * from 0) and leaves as the root (0 inside the disc). y = 0 when a is not positive
  * definite. */
-static void disc_qp(const LawParts *lp, const double g[2], double s, double y[2], double *nu_io)
+static inline __attribute__((always_inline)) void disc_qp(const LawParts *lp, const double g[2], double s, double y[2], double *nu_io)
 {
     y[0] = y[1] = 0.0;
     const double start = *nu_io > 0.0 ? *nu_io : 0.0;
@@ -877,7 +877,7 @@ static void law_parts(double w[3][3], double gamma, double mu, double viscous, L
  * disc's edge, both found exactly (the edge by one trust-region problem on the normal
  * block's Schur complement). mu = 0: the viscous lam_t = -viscous u_t.
  * Returns 2 when it sticks, 1 when it pushes otherwise, 0 when it does not push. */
-static int contact_law(double w[3][3], const LawParts *lp, const double u0[3], double beta, double gamma, double mu,
+static inline __attribute__((always_inline)) int contact_law(double w[3][3], const LawParts *lp, const double u0[3], double beta, double gamma, double mu,
                        double viscous, double bound, double lam[3], double *nu)
 {
     const double free_push = beta - gamma * u0[0];
@@ -961,18 +961,11 @@ static void add_response(double *v, const double *yt, size_t m, hk_Vec3 lam, dou
 
 /* J dv for the point whose J rows are jac (3 rows of its support m, packed); the three
  * sums side by side (rows_dot_lanes). */
-__attribute__((target("avx"))) static void point_change_avx(const double *jac, size_t m, const double *dv, double *out)
-{
-    rows_dot_lanes(jac, m, 3, dv, m, out, 1);
-}
-
-static hk_Vec3 point_change(const double *jac, size_t m, const double *dv)
+static inline __attribute__((always_inline)) hk_Vec3 point_change(const double *jac, size_t m, const double *dv,
+                                                                   int wide)
 {
     double a[3];
-    if (hk_avx_path())
-        point_change_avx(jac, m, dv, a);
-    else
-        rows_dot_lanes(jac, m, 3, dv, m, a, 0);
+    rows_dot_lanes(jac, m, 3, dv, m, a, wide);
     return hk_v3(a[0], a[1], a[2]);
 }
 
@@ -1119,24 +1112,25 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
 }
 
 /* Relative velocity in the basis at the step's end of pair ph with the impulses so far. */
-static hk_Vec3 relative_velocity(const PairHot *ph)
+static inline __attribute__((always_inline)) hk_Vec3 relative_velocity(const PairHot *ph, int wide)
 {
     hk_Vec3 u = ph->free;
     for (int side = 0; side < 2; side++) {
         const PointRows *pr = &ph->point[side];
-        const hk_Vec3 du = point_change(pr->rows, (size_t)pr->m, pr->dv);
+        const hk_Vec3 du = point_change(pr->rows, (size_t)pr->m, pr->dv, wide);
         u = side == 0 ? hk_v3_add(u, du) : hk_v3_sub(u, du);
     }
     return u;
 }
 
 /* Its normal part alone. */
-static double normal_velocity(const PairHot *ph)
+static inline __attribute__((always_inline)) double normal_velocity(const PairHot *ph, int wide)
 {
     double u = ph->free.x;
     for (int side = 0; side < 2; side++) {
         const PointRows *pr = &ph->point[side];
-        const double du = dot_n(pr->rows, pr->dv, (size_t)pr->m);
+        double du;
+        rows_dot_lanes(pr->rows, 0, 1, pr->dv, (size_t)pr->m, &du, wide);
         u += side == 0 ? du : -du;
     }
     return u;
@@ -1159,11 +1153,11 @@ static void apply_to_strand(hk_ContactSolve *cs, int s, const hk_Vec3 *delta)
 }
 
 /* Changes pair ph's impulse by delta (in its basis), updating both strands' dv. */
-static void apply_change(const PairHot *ph, hk_Vec3 delta)
+static inline __attribute__((always_inline)) void apply_change(const PairHot *ph, hk_Vec3 delta)
 {
     for (int side = 0; side < 2; side++) {
         const PointRows *pr = &ph->point[side];
-        add_response(pr->dv, pr->resp, (size_t)pr->m, delta, side == 0 ? 1.0 : -1.0);
+        add_response_lanes(pr->dv, pr->resp, (size_t)pr->m, delta, side == 0 ? 1.0 : -1.0);
     }
 }
 
@@ -1174,12 +1168,12 @@ static void apply_change(const PairHot *ph, hk_Vec3 delta)
  * caller, the sweep's loop (gcc left it a call): 2.6 million fewer instructions in the
  * head driver's 8 frames, the same bits (docs/dynamics.md, "Two visits in flight"). */
 static inline __attribute__((always_inline)) int visit(hk_ContactSolve *cs, PairHot *ph, int k, double mu,
-                                                       double viscous, double *change, double *size)
+                                                       double viscous, double *change, double *size, int wide)
 {
     const int idle = is_zero(ph->lambda);
     /* No impulse and a normal law that does not push: zero stays the pair's answer
      * (with no push there is no friction either), whatever w. */
-    if (idle && !(ph->beta - ph->gamma * normal_velocity(ph) > 0.0)) {
+    if (idle && !(ph->beta - ph->gamma * normal_velocity(ph, wide) > 0.0)) {
         *size = 0.0;
         return 0;
     }
@@ -1188,7 +1182,7 @@ static inline __attribute__((always_inline)) int visit(hk_ContactSolve *cs, Pair
         for (int side = 0; side < 2; side++) answer_lazily(cs, ps->strand[side], ps->slot[side]);
         pair_block(cs, ph);
     }
-    const hk_Vec3 u = relative_velocity(ph);
+    const hk_Vec3 u = relative_velocity(ph, wide);
     const double lo[3] = {ph->lambda.x, ph->lambda.y, ph->lambda.z};
     double u0[3] = {u.x, u.y, u.z}, lam[3] = {lo[0], lo[1], lo[2]};
     for (int r = 0; r < 3; r++) u0[r] -= ph->w[r][0] * lo[0] + ph->w[r][1] * lo[1] + ph->w[r][2] * lo[2];
@@ -1284,12 +1278,12 @@ static double *write_check(const PairState *ps, double *record)
 /* The normal law of the pair recorded in ic (its rows at row) pushes at the strands'
  * dv so far: visit's test of an idle pair, by normal_velocity's operations in its
  * order (the same bits). */
-static int check_pushes(const IdleCheck *ic, const double *row)
+static inline __attribute__((always_inline)) int check_pushes(const IdleCheck *ic, const double *row, int wide)
 {
-    double u = ic->free_n;
-    const double du0 = dot_n(row, ic->dv[0], (size_t)ic->m[0]);
+    double u = ic->free_n, du0, du1;
+    rows_dot_lanes(row, 0, 1, ic->dv[0], (size_t)ic->m[0], &du0, wide);
     u += du0;
-    const double du1 = dot_n(row + ic->m[0], ic->dv[1], (size_t)ic->m[1]);
+    rows_dot_lanes(row + ic->m[0], 0, 1, ic->dv[1], (size_t)ic->m[1], &du1, wide);
     u += -du1;
     return ic->beta - ic->gamma * u > 0.0;
 }
@@ -1354,7 +1348,9 @@ static double *write_push(const PairHot *ph, int k, double *record)
  * (IdleCheck) and left as visit would leave it when its law does not push. One loop
  * for every kind, so that visit is inlined once: as two copies, gcc left the law and
  * the rows' sums calls (4.7 million more instructions in the head driver's 8 frames). */
-static void sweep_group(hk_ContactSolve *cs, const int *order, SweepGroup *gr, int kind, int push, int from)
+static inline __attribute__((always_inline)) void sweep_group_lanes(hk_ContactSolve *cs, const int *order,
+                                                                    SweepGroup *gr, int kind, int push, int from,
+                                                                    int wide)
 {
     const int full = kind != SWEEP_PUSHING;
     int *active = (int *)cs->active.items + gr->begin;
@@ -1383,7 +1379,7 @@ static void sweep_group(hk_ContactSolve *cs, const int *order, SweepGroup *gr, i
             const IdleCheck *ic = (const IdleCheck *)record;
             const double *row = record + CHECK_HEAD;
             record += CHECK_HEAD + (size_t)ic->m[0] + (size_t)ic->m[1];
-            if (!pushed[k] && !check_pushes(ic, row)) { /* (visit: no push, size 0) */
+            if (!pushed[k] && !check_pushes(ic, row, wide)) { /* (visit: no push, size 0) */
                 if (recorded) pairs[k].hot.lambda = ph->lambda, pairs[k].hot.nu = ph->nu;
                 continue;
             }
@@ -1394,7 +1390,7 @@ static void sweep_group(hk_ContactSolve *cs, const int *order, SweepGroup *gr, i
         }
         if (kind == SWEEP_FIRST_FULL) record = write_check(&pairs[k], record);
         double l;
-        const int law = visit(cs, ph, k, cs->mu, cs->viscous, &change, &l);
+        const int law = visit(cs, ph, k, cs->mu, cs->viscous, &change, &l, wide);
         if (l > largest) largest = l;
         if (full && recorded) pairs[k].hot.lambda = ph->lambda, pairs[k].hot.nu = ph->nu;
         if (full && law > 0) {
@@ -1404,6 +1400,29 @@ static void sweep_group(hk_ContactSolve *cs, const int *order, SweepGroup *gr, i
         if (full) gr->pushing += law > 0, gr->sticking += law == 2;
     }
     gr->change = change, gr->largest = largest;
+}
+
+/* The sweeps on AVX where the CPU has it: the rows' sums and responses four entries a
+ * vector (rows_dot_lanes, add_response_lanes), the rest the same operations (no FMA):
+ * the same bits (core/linalg.h, hk_avx_path), chosen once a group instead of at each
+ * of a visit's calls. */
+__attribute__((target("avx"))) static void sweep_group_avx(hk_ContactSolve *cs, const int *order, SweepGroup *gr,
+                                                           int kind, int push, int from)
+{
+    sweep_group_lanes(cs, order, gr, kind, push, from, 1);
+}
+
+static void sweep_group_sse2(hk_ContactSolve *cs, const int *order, SweepGroup *gr, int kind, int push, int from)
+{
+    sweep_group_lanes(cs, order, gr, kind, push, from, 0);
+}
+
+static void sweep_group(hk_ContactSolve *cs, const int *order, SweepGroup *gr, int kind, int push, int from)
+{
+    if (hk_avx_path())
+        sweep_group_avx(cs, order, gr, kind, push, from);
+    else
+        sweep_group_sse2(cs, order, gr, kind, push, from);
 }
 
 /* What the two threads of the sweeps share: a group is claimed by whichever thread
