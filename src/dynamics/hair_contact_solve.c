@@ -362,20 +362,16 @@ static void complete_basis(hk_Vec3 basis[3])
     basis[2] = hk_v3_cross(n, basis[1]);
 }
 
-/* out[r] = sum over i < n of a[r stride + i] x[i] for the rows r < rows (1 to 3), each in
- * two lanes as GCC vectorised the `omp simd` reductions these sums were written as (the
- * bits of every sweep since): lane l adds the products of the entries i = l mod 2 in
- * order, the last entry of an odd n goes to lane 0's sum, then come 0.0 (the
- * reduction's start) and lane 1's sum. With wide (the AVX path) four products at once,
- * added to the lanes two by two in that order: the same bits in fewer instructions. */
+/* The sum of rows_dot_lanes's two lanes acc, with the odd entry i < n of a . x. */
 static inline __attribute__((always_inline)) double lanes_sum(Pair acc, const double *a, const double *x, size_t i,
-                                                               size_t n)
+                                                              size_t n)
 {
     double s = acc[0];
     if (i < n) s = a[i] * x[i] + s;
     return (s + 0.0) + acc[1];
 }
 
+/* acc += row[i..i+3] x[i..i+3] (xq), the first two products, then the last two. */
 #define ADD_PRODUCTS_QUAD(acc, row)                                                                                    \
     do {                                                                                                               \
         const Quad p_ = load_quad((row) + i) * xq;                                                                     \
@@ -383,6 +379,12 @@ static inline __attribute__((always_inline)) double lanes_sum(Pair acc, const do
         acc += HIGH_PAIR(p_);                                                                                          \
     } while (0)
 
+/* out[r] = sum over i < n of a[r stride + i] x[i] for the rows r < rows (1 to 3), each in
+ * two lanes as GCC vectorised the `omp simd` reductions these sums were written as (the
+ * bits of every sweep since): lane l adds the products of the entries i = l mod 2 in
+ * order, the last entry of an odd n goes to lane 0's sum, then come 0.0 (the
+ * reduction's start) and lane 1's sum. With wide (the AVX path) four products at once,
+ * added to the lanes two by two in that order: the same bits in fewer instructions. */
 static inline __attribute__((always_inline)) void rows_dot_lanes(const double *a, size_t stride, int rows,
                                                                  const double *x, size_t n, double *out, int wide)
 {
@@ -407,10 +409,11 @@ static inline __attribute__((always_inline)) void rows_dot_lanes(const double *a
     if (rows > 2) out[2] = lanes_sum(acc2, a2, x, i, n);
 }
 
+/* a . b over n entries (rows_dot_lanes), on the AVX path where the CPU has it. */
 __attribute__((target("avx"))) static double dot_n_avx(const double *a, const double *b, size_t n)
 {
     double s;
-    rows_dot_lanes(a, n, 1, b, n, &s, 1);
+    rows_dot_lanes(a, 0, 1, b, n, &s, 1);
     return s;
 }
 
@@ -418,7 +421,7 @@ static double dot_n(const double *a, const double *b, size_t n)
 {
     if (hk_avx_path()) return dot_n_avx(a, b, n);
     double s;
-    rows_dot_lanes(a, n, 1, b, n, &s, 0);
+    rows_dot_lanes(a, 0, 1, b, n, &s, 0);
     return s;
 }
 
@@ -816,7 +819,8 @@ static void eigen2(const double a[2][2], LawParts *lp)
  * examples/guides200 the loop then runs 3.5 times a solve on the edge instead of 4.5
  * from 0) and leaves as the root (0 inside the disc). y = 0 when a is not positive
  * definite. */
-static inline __attribute__((always_inline)) void disc_qp(const LawParts *lp, const double g[2], double s, double y[2], double *nu_io)
+static inline __attribute__((always_inline)) void disc_qp(const LawParts *lp, const double g[2], double s, double y[2],
+                                                          double *nu_io)
 {
     y[0] = y[1] = 0.0;
     const double start = *nu_io > 0.0 ? *nu_io : 0.0;
@@ -877,8 +881,9 @@ static void law_parts(double w[3][3], double gamma, double mu, double viscous, L
  * disc's edge, both found exactly (the edge by one trust-region problem on the normal
  * block's Schur complement). mu = 0: the viscous lam_t = -viscous u_t.
  * Returns 2 when it sticks, 1 when it pushes otherwise, 0 when it does not push. */
-static inline __attribute__((always_inline)) int contact_law(double w[3][3], const LawParts *lp, const double u0[3], double beta, double gamma, double mu,
-                       double viscous, double bound, double lam[3], double *nu)
+static inline __attribute__((always_inline)) int contact_law(double w[3][3], const LawParts *lp, const double u0[3],
+                                                             double beta, double gamma, double mu, double viscous,
+                                                             double bound, double lam[3], double *nu)
 {
     const double free_push = beta - gamma * u0[0];
     if (mu > 0.0 || viscous > 0.0) {
@@ -928,8 +933,8 @@ static hk_Vec3 from_basis(const hk_Vec3 basis[3], hk_Vec3 x)
 
 /* v += sign * Y lam for the point whose Y^T rows are yt (3 rows of its support m,
  * packed). */
-static inline __attribute__((always_inline)) void add_response_lanes(double *v, const double *yt, size_t m,
-                                                                     hk_Vec3 lam, double sign)
+static inline __attribute__((always_inline)) void add_response_lanes(double *v, const double *yt, size_t m, hk_Vec3 lam,
+                                                                     double sign)
 {
     const double l0 = sign * lam.x, l1 = sign * lam.y, l2 = sign * lam.z;
     const double *y1 = yt + m, *y2 = yt + 2 * m;
@@ -962,7 +967,7 @@ static void add_response(double *v, const double *yt, size_t m, hk_Vec3 lam, dou
 /* J dv for the point whose J rows are jac (3 rows of its support m, packed); the three
  * sums side by side (rows_dot_lanes). */
 static inline __attribute__((always_inline)) hk_Vec3 point_change(const double *jac, size_t m, const double *dv,
-                                                                   int wide)
+                                                                  int wide)
 {
     double a[3];
     rows_dot_lanes(jac, m, 3, dv, m, a, wide);
@@ -1164,9 +1169,12 @@ static inline __attribute__((always_inline)) void apply_change(const PairHot *ph
 /* One Gauss-Seidel visit of pair k (ph: its fields, in the pair or in its record of the
  * pushing pairs' stream, PushRecord): its law given the other impulses, the strands'
  * dv updated. *change is raised to the size of the impulse's change, *size receives the
- * new impulse's size; returns the law's verdict (contact_law). Inlined into its one
- * caller, the sweep's loop (gcc left it a call): 2.6 million fewer instructions in the
- * head driver's 8 frames, the same bits (docs/dynamics.md, "Two visits in flight"). */
+ * new impulse's size; returns the law's verdict (contact_law). wide: the AVX path's
+ * sums (rows_dot_lanes). Inlined into the sweep's loop (gcc left it a call): 2.6
+ * million fewer instructions in the head driver's 8 frames, the same bits
+ * (docs/dynamics.md, "Two visits in flight"); so are the law, its solve and its disc
+ * (always_inline since the loop has two twins, which gcc left them calls from: 20
+ * million). */
 static inline __attribute__((always_inline)) int visit(hk_ContactSolve *cs, PairHot *ph, int k, double mu,
                                                        double viscous, double *change, double *size, int wide)
 {
@@ -1347,10 +1355,10 @@ static double *write_push(const PairHot *ph, int k, double *record)
  * prefetcher follows. On a later full sweep an idle pair is checked from its record
  * (IdleCheck) and left as visit would leave it when its law does not push. One loop
  * for every kind, so that visit is inlined once: as two copies, gcc left the law and
- * the rows' sums calls (4.7 million more instructions in the head driver's 8 frames). */
-static inline __attribute__((always_inline)) void sweep_group_lanes(hk_ContactSolve *cs, const int *order,
-                                                                    SweepGroup *gr, int kind, int push, int from,
-                                                                    int wide)
+ * the rows' sums calls (4.7 million more instructions in the head driver's 8 frames).
+ * wide: the AVX path's sums (sweep_group_avx). */
+static inline __attribute__((always_inline)) void
+sweep_group_lanes(hk_ContactSolve *cs, const int *order, SweepGroup *gr, int kind, int push, int from, int wide)
 {
     const int full = kind != SWEEP_PUSHING;
     int *active = (int *)cs->active.items + gr->begin;
