@@ -335,8 +335,10 @@ static void test_bad_input(void **state)
 }
 
 /* The guides' evaluation compiled for AVX (its twins: the free steps, the contact
- * points' Jacobians, the commits, the samples; core/avx_twins.h) and the baseline's
- * give the same guides to the byte after the head's shake (contacts coupled, 2 threads). */
+ * points' Jacobians, the commits, the samples; core/avx_twins.h), the contacts' solve's
+ * AVX paths (the answers' back substitution, the sweeps and their rows' sums:
+ * hair_contact_solve.c) and the baseline's give the same guides to the byte after the
+ * head's shake (contacts coupled, 2 threads). */
 static void test_same_bytes_on_the_avx_path(void **state)
 {
     (void)state;

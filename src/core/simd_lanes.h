@@ -1,6 +1,7 @@
 /* Doubles side by side in vector registers (GCC's vector extension), for the
  * kernels of src/core/positive_part.c, the tridiagonal eigenvalues it calls
- * (tridiagonal_eigenvalues.h) and src/dynamics/strand_solve.c. Internal: included by those files only. */
+ * (tridiagonal_eigenvalues.h), src/dynamics/strand_solve.c and the contacts' rows'
+ * sums (src/dynamics/hair_contact_solve.c). Internal: included by those files only. */
 #ifndef HK_CORE_SIMD_LANES_H
 #define HK_CORE_SIMD_LANES_H
 

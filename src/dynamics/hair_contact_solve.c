@@ -41,6 +41,8 @@
 #include <string.h>
 
 #include "core/core_internal.h"
+#include "core/linalg.h"     /* hk_avx_path: the rows' AVX paths */
+#include "core/simd_lanes.h" /* Pair, Quad: the rows' sums in lanes (rows_dot_lanes) */
 #include "dynamics_internal.h"
 #include "hair_contact_solve.h"
 #include "hair_contact_split.h"
@@ -360,11 +362,66 @@ static void complete_basis(hk_Vec3 basis[3])
     basis[2] = hk_v3_cross(n, basis[1]);
 }
 
+/* The sum of rows_dot_lanes's two lanes acc, with the odd entry i < n of a . x. */
+static inline __attribute__((always_inline)) double lanes_sum(Pair acc, const double *a, const double *x, size_t i,
+                                                              size_t n)
+{
+    double s = acc[0];
+    if (i < n) s = a[i] * x[i] + s;
+    return (s + 0.0) + acc[1];
+}
+
+/* acc += row[i..i+3] x[i..i+3] (xq), the first two products, then the last two. */
+#define ADD_PRODUCTS_QUAD(acc, row)                                                                                    \
+    do {                                                                                                               \
+        const Quad p_ = load_quad((row) + i) * xq;                                                                     \
+        acc += LOW_PAIR(p_);                                                                                           \
+        acc += HIGH_PAIR(p_);                                                                                          \
+    } while (0)
+
+/* out[r] = sum over i < n of a[r stride + i] x[i] for the rows r < rows (1 to 3), each in
+ * two lanes as GCC vectorised the `omp simd` reductions these sums were written as (the
+ * bits of every sweep since): lane l adds the products of the entries i = l mod 2 in
+ * order, the last entry of an odd n goes to lane 0's sum, then come 0.0 (the
+ * reduction's start) and lane 1's sum. With wide (the AVX path) four products at once,
+ * added to the lanes two by two in that order: the same bits in fewer instructions. */
+static inline __attribute__((always_inline)) void rows_dot_lanes(const double *a, size_t stride, int rows,
+                                                                 const double *x, size_t n, double *out, int wide)
+{
+    const double *a1 = a + stride, *a2 = a + 2 * stride; /* (read only when rows > 1, > 2) */
+    Pair acc0 = splat(0.0), acc1 = acc0, acc2 = acc0;
+    size_t i = 0;
+    if (wide)
+        for (; i + 4 <= n; i += 4) {
+            const Quad xq = load_quad(x + i);
+            ADD_PRODUCTS_QUAD(acc0, a);
+            if (rows > 1) ADD_PRODUCTS_QUAD(acc1, a1);
+            if (rows > 2) ADD_PRODUCTS_QUAD(acc2, a2);
+        }
+    for (; i + 2 <= n; i += 2) {
+        const Pair xp = load_pair(x + i);
+        acc0 += load_pair(a + i) * xp;
+        if (rows > 1) acc1 += load_pair(a1 + i) * xp;
+        if (rows > 2) acc2 += load_pair(a2 + i) * xp;
+    }
+    out[0] = lanes_sum(acc0, a, x, i, n);
+    if (rows > 1) out[1] = lanes_sum(acc1, a1, x, i, n);
+    if (rows > 2) out[2] = lanes_sum(acc2, a2, x, i, n);
+}
+
+/* a . b over n entries (rows_dot_lanes), on the AVX path where the CPU has it. */
+__attribute__((target("avx"))) static double dot_n_avx(const double *a, const double *b, size_t n)
+{
+    double s;
+    rows_dot_lanes(a, 0, 1, b, n, &s, 1);
+    return s;
+}
+
 static double dot_n(const double *a, const double *b, size_t n)
 {
-    double s = 0.0;
-#pragma omp simd reduction(+ : s)
-    for (size_t i = 0; i < n; i++) s += a[i] * b[i];
+    if (hk_avx_path()) return dot_n_avx(a, b, n);
+    double s;
+    rows_dot_lanes(a, 0, 1, b, n, &s, 0);
     return s;
 }
 
@@ -463,7 +520,8 @@ static inline void two_pivots(double *z, const double *ci, const double *cj, int
  * once for both and half the loops' overhead (callgrind, head driver on
  * examples/guides200 shaking, 8 frames: back_substitute 106.7 -> 78.8 million
  * instructions). */
-static void back_substitute(const double *u, size_t dim, int m, double *z0, double *z1, double *z2, int rows)
+static inline __attribute__((always_inline)) void back_substitute_lanes(const double *u, size_t dim, int m, double *z0,
+                                                                        double *z1, double *z2, int rows)
 {
     int i = m - 1;
     for (; i >= 1; i -= 2) {
@@ -500,6 +558,28 @@ static void back_substitute(const double *u, size_t dim, int m, double *z0, doub
     }
 }
 
+/* On AVX where the CPU has it: the loops over the entries above four a vector, each
+ * entry's operations its own and in its order, no FMA: the same bits (core/linalg.h,
+ * hk_avx_path). */
+__attribute__((target("avx"))) static void back_substitute_avx(const double *u, size_t dim, int m, double *z0,
+                                                               double *z1, double *z2, int rows)
+{
+    back_substitute_lanes(u, dim, m, z0, z1, z2, rows);
+}
+
+static void back_substitute_sse2(const double *u, size_t dim, int m, double *z0, double *z1, double *z2, int rows)
+{
+    back_substitute_lanes(u, dim, m, z0, z1, z2, rows);
+}
+
+static void back_substitute(const double *u, size_t dim, int m, double *z0, double *z1, double *z2, int rows)
+{
+    if (hk_avx_path())
+        back_substitute_avx(u, dim, m, z0, z1, z2, rows);
+    else
+        back_substitute_sse2(u, dim, m, z0, z1, z2, rows);
+}
+
 /* Rows first..2 of Z^T = (U^-1 J^T)^T of point x of reversed strand s, in place of its
  * rows of J in the basis (in yt): U z = j by back substitution from the point's support
  * down (z is zero beyond it, as j is), by columns: once z_i is known, column i of U
@@ -520,7 +600,8 @@ static void reversed_rows(hk_ContactSolve *cs, int s, int x, int first)
 /* Rows of a point's J (3 x dim, zero from column m on) turned into the basis: row r
  * becomes basis[r] . J, each sum in hk_v3_dot's order (the same bits as it), the
  * columns side by side (vectorised). */
-static void rows_in_basis(double *jac, size_t dim, size_t m, const hk_Vec3 basis[3])
+static inline __attribute__((always_inline)) void rows_in_basis_lanes(double *jac, size_t dim, size_t m,
+                                                                      const hk_Vec3 basis[3])
 {
     double *j1 = jac + dim, *j2 = jac + 2 * dim;
     const double n0 = basis[0].x, n1 = basis[0].y, n2 = basis[0].z;
@@ -533,6 +614,25 @@ static void rows_in_basis(double *jac, size_t dim, size_t m, const hk_Vec3 basis
         j1[k] = s0 * c0 + s1 * c1 + s2 * c2;
         j2[k] = t0 * c0 + t1 * c1 + t2 * c2;
     }
+}
+
+/* Four columns a vector where the CPU has AVX (the same bits, as back_substitute_avx). */
+__attribute__((target("avx"))) static void rows_in_basis_avx(double *jac, size_t dim, size_t m, const hk_Vec3 basis[3])
+{
+    rows_in_basis_lanes(jac, dim, m, basis);
+}
+
+static void rows_in_basis_sse2(double *jac, size_t dim, size_t m, const hk_Vec3 basis[3])
+{
+    rows_in_basis_lanes(jac, dim, m, basis);
+}
+
+static void rows_in_basis(double *jac, size_t dim, size_t m, const hk_Vec3 basis[3])
+{
+    if (hk_avx_path())
+        rows_in_basis_avx(jac, dim, m, basis);
+    else
+        rows_in_basis_sse2(jac, dim, m, basis);
 }
 
 /* Point x of strand s has its rows of J (in yt for a reversed strand) turned into its
@@ -668,7 +768,7 @@ static void eliminate3(double a[3][3], LawParts *lp)
 
 /* Solves a x = b with a eliminated by eliminate3 (b is overwritten): the operations on
  * b of the whole elimination, in its order; 0 when singular or not finite. */
-static int solve_eliminated3(const LawParts *lp, double b[3], double x[3])
+static inline __attribute__((always_inline)) int solve_eliminated3(const LawParts *lp, double b[3], double x[3])
 {
     if (!lp->regular) return 0;
     /* Written out with the packed places (upper_at, factor_at) as constants: as loops the
@@ -719,7 +819,8 @@ static void eigen2(const double a[2][2], LawParts *lp)
  * examples/guides200 the loop then runs 3.5 times a solve on the edge instead of 4.5
  * from 0) and leaves as the root (0 inside the disc). y = 0 when a is not positive
  * definite. */
-static void disc_qp(const LawParts *lp, const double g[2], double s, double y[2], double *nu_io)
+static inline __attribute__((always_inline)) void disc_qp(const LawParts *lp, const double g[2], double s, double y[2],
+                                                          double *nu_io)
 {
     y[0] = y[1] = 0.0;
     const double start = *nu_io > 0.0 ? *nu_io : 0.0;
@@ -780,8 +881,9 @@ static void law_parts(double w[3][3], double gamma, double mu, double viscous, L
  * disc's edge, both found exactly (the edge by one trust-region problem on the normal
  * block's Schur complement). mu = 0: the viscous lam_t = -viscous u_t.
  * Returns 2 when it sticks, 1 when it pushes otherwise, 0 when it does not push. */
-static int contact_law(double w[3][3], const LawParts *lp, const double u0[3], double beta, double gamma, double mu,
-                       double viscous, double bound, double lam[3], double *nu)
+static inline __attribute__((always_inline)) int contact_law(double w[3][3], const LawParts *lp, const double u0[3],
+                                                             double beta, double gamma, double mu, double viscous,
+                                                             double bound, double lam[3], double *nu)
 {
     const double free_push = beta - gamma * u0[0];
     if (mu > 0.0 || viscous > 0.0) {
@@ -831,7 +933,8 @@ static hk_Vec3 from_basis(const hk_Vec3 basis[3], hk_Vec3 x)
 
 /* v += sign * Y lam for the point whose Y^T rows are yt (3 rows of its support m,
  * packed). */
-static void add_response(double *v, const double *yt, size_t m, hk_Vec3 lam, double sign)
+static inline __attribute__((always_inline)) void add_response_lanes(double *v, const double *yt, size_t m, hk_Vec3 lam,
+                                                                     double sign)
 {
     const double l0 = sign * lam.x, l1 = sign * lam.y, l2 = sign * lam.z;
     const double *y1 = yt + m, *y2 = yt + 2 * m;
@@ -839,20 +942,36 @@ static void add_response(double *v, const double *yt, size_t m, hk_Vec3 lam, dou
     for (size_t k = 0; k < m; k++) v[k] += yt[k] * l0 + y1[k] * l1 + y2[k] * l2;
 }
 
-/* J dv for the point whose J rows are jac (3 rows of its support m, packed); the three
- * sums interleaved. (The order of the sums is the vectoriser's, the same on every run
- * of the same build.) */
-static hk_Vec3 point_change(const double *jac, size_t m, const double *dv)
+/* Four entries a vector where the CPU has AVX: each entry's products and sums are its
+ * own, in the same order, and there is no FMA (target "avx" only), so the bits are the
+ * baseline's (core/linalg.h, hk_avx_path). */
+__attribute__((target("avx"))) static void add_response_avx(double *v, const double *yt, size_t m, hk_Vec3 lam,
+                                                            double sign)
 {
-    const double *j1 = jac + m, *j2 = jac + 2 * m;
-    double a0 = 0.0, a1 = 0.0, a2 = 0.0;
-#pragma omp simd reduction(+ : a0, a1, a2)
-    for (size_t k = 0; k < m; k++) {
-        a0 += jac[k] * dv[k];
-        a1 += j1[k] * dv[k];
-        a2 += j2[k] * dv[k];
-    }
-    return hk_v3(a0, a1, a2);
+    add_response_lanes(v, yt, m, lam, sign);
+}
+
+static void add_response_sse2(double *v, const double *yt, size_t m, hk_Vec3 lam, double sign)
+{
+    add_response_lanes(v, yt, m, lam, sign);
+}
+
+static void add_response(double *v, const double *yt, size_t m, hk_Vec3 lam, double sign)
+{
+    if (hk_avx_path())
+        add_response_avx(v, yt, m, lam, sign);
+    else
+        add_response_sse2(v, yt, m, lam, sign);
+}
+
+/* J dv for the point whose J rows are jac (3 rows of its support m, packed); the three
+ * sums side by side (rows_dot_lanes). */
+static inline __attribute__((always_inline)) hk_Vec3 point_change(const double *jac, size_t m, const double *dv,
+                                                                  int wide)
+{
+    double a[3];
+    rows_dot_lanes(jac, m, 3, dv, m, a, wide);
+    return hk_v3(a[0], a[1], a[2]);
 }
 
 static int key_cmp(const int a[4], const int b[4])
@@ -998,24 +1117,25 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
 }
 
 /* Relative velocity in the basis at the step's end of pair ph with the impulses so far. */
-static hk_Vec3 relative_velocity(const PairHot *ph)
+static inline __attribute__((always_inline)) hk_Vec3 relative_velocity(const PairHot *ph, int wide)
 {
     hk_Vec3 u = ph->free;
     for (int side = 0; side < 2; side++) {
         const PointRows *pr = &ph->point[side];
-        const hk_Vec3 du = point_change(pr->rows, (size_t)pr->m, pr->dv);
+        const hk_Vec3 du = point_change(pr->rows, (size_t)pr->m, pr->dv, wide);
         u = side == 0 ? hk_v3_add(u, du) : hk_v3_sub(u, du);
     }
     return u;
 }
 
 /* Its normal part alone. */
-static double normal_velocity(const PairHot *ph)
+static inline __attribute__((always_inline)) double normal_velocity(const PairHot *ph, int wide)
 {
     double u = ph->free.x;
     for (int side = 0; side < 2; side++) {
         const PointRows *pr = &ph->point[side];
-        const double du = dot_n(pr->rows, pr->dv, (size_t)pr->m);
+        double du;
+        rows_dot_lanes(pr->rows, 0, 1, pr->dv, (size_t)pr->m, &du, wide);
         u += side == 0 ? du : -du;
     }
     return u;
@@ -1038,27 +1158,30 @@ static void apply_to_strand(hk_ContactSolve *cs, int s, const hk_Vec3 *delta)
 }
 
 /* Changes pair ph's impulse by delta (in its basis), updating both strands' dv. */
-static void apply_change(const PairHot *ph, hk_Vec3 delta)
+static inline __attribute__((always_inline)) void apply_change(const PairHot *ph, hk_Vec3 delta)
 {
     for (int side = 0; side < 2; side++) {
         const PointRows *pr = &ph->point[side];
-        add_response(pr->dv, pr->resp, (size_t)pr->m, delta, side == 0 ? 1.0 : -1.0);
+        add_response_lanes(pr->dv, pr->resp, (size_t)pr->m, delta, side == 0 ? 1.0 : -1.0);
     }
 }
 
 /* One Gauss-Seidel visit of pair k (ph: its fields, in the pair or in its record of the
  * pushing pairs' stream, PushRecord): its law given the other impulses, the strands'
  * dv updated. *change is raised to the size of the impulse's change, *size receives the
- * new impulse's size; returns the law's verdict (contact_law). Inlined into its one
- * caller, the sweep's loop (gcc left it a call): 2.6 million fewer instructions in the
- * head driver's 8 frames, the same bits (docs/dynamics.md, "Two visits in flight"). */
+ * new impulse's size; returns the law's verdict (contact_law). wide: the AVX path's
+ * sums (rows_dot_lanes). Inlined into the sweep's loop (gcc left it a call): 2.6
+ * million fewer instructions in the head driver's 8 frames, the same bits
+ * (docs/dynamics.md, "Two visits in flight"); so are the law, its solve and its disc
+ * (always_inline since the loop has two twins, which gcc left them calls from: 20
+ * million). */
 static inline __attribute__((always_inline)) int visit(hk_ContactSolve *cs, PairHot *ph, int k, double mu,
-                                                       double viscous, double *change, double *size)
+                                                       double viscous, double *change, double *size, int wide)
 {
     const int idle = is_zero(ph->lambda);
     /* No impulse and a normal law that does not push: zero stays the pair's answer
      * (with no push there is no friction either), whatever w. */
-    if (idle && !(ph->beta - ph->gamma * normal_velocity(ph) > 0.0)) {
+    if (idle && !(ph->beta - ph->gamma * normal_velocity(ph, wide) > 0.0)) {
         *size = 0.0;
         return 0;
     }
@@ -1067,7 +1190,7 @@ static inline __attribute__((always_inline)) int visit(hk_ContactSolve *cs, Pair
         for (int side = 0; side < 2; side++) answer_lazily(cs, ps->strand[side], ps->slot[side]);
         pair_block(cs, ph);
     }
-    const hk_Vec3 u = relative_velocity(ph);
+    const hk_Vec3 u = relative_velocity(ph, wide);
     const double lo[3] = {ph->lambda.x, ph->lambda.y, ph->lambda.z};
     double u0[3] = {u.x, u.y, u.z}, lam[3] = {lo[0], lo[1], lo[2]};
     for (int r = 0; r < 3; r++) u0[r] -= ph->w[r][0] * lo[0] + ph->w[r][1] * lo[1] + ph->w[r][2] * lo[2];
@@ -1163,12 +1286,12 @@ static double *write_check(const PairState *ps, double *record)
 /* The normal law of the pair recorded in ic (its rows at row) pushes at the strands'
  * dv so far: visit's test of an idle pair, by normal_velocity's operations in its
  * order (the same bits). */
-static int check_pushes(const IdleCheck *ic, const double *row)
+static inline __attribute__((always_inline)) int check_pushes(const IdleCheck *ic, const double *row, int wide)
 {
-    double u = ic->free_n;
-    const double du0 = dot_n(row, ic->dv[0], (size_t)ic->m[0]);
+    double u = ic->free_n, du0, du1;
+    rows_dot_lanes(row, 0, 1, ic->dv[0], (size_t)ic->m[0], &du0, wide);
     u += du0;
-    const double du1 = dot_n(row + ic->m[0], ic->dv[1], (size_t)ic->m[1]);
+    rows_dot_lanes(row + ic->m[0], 0, 1, ic->dv[1], (size_t)ic->m[1], &du1, wide);
     u += -du1;
     return ic->beta - ic->gamma * u > 0.0;
 }
@@ -1232,8 +1355,10 @@ static double *write_push(const PairHot *ph, int k, double *record)
  * prefetcher follows. On a later full sweep an idle pair is checked from its record
  * (IdleCheck) and left as visit would leave it when its law does not push. One loop
  * for every kind, so that visit is inlined once: as two copies, gcc left the law and
- * the rows' sums calls (4.7 million more instructions in the head driver's 8 frames). */
-static void sweep_group(hk_ContactSolve *cs, const int *order, SweepGroup *gr, int kind, int push, int from)
+ * the rows' sums calls (4.7 million more instructions in the head driver's 8 frames).
+ * wide: the AVX path's sums (sweep_group_avx). */
+static inline __attribute__((always_inline)) void
+sweep_group_lanes(hk_ContactSolve *cs, const int *order, SweepGroup *gr, int kind, int push, int from, int wide)
 {
     const int full = kind != SWEEP_PUSHING;
     int *active = (int *)cs->active.items + gr->begin;
@@ -1262,7 +1387,7 @@ static void sweep_group(hk_ContactSolve *cs, const int *order, SweepGroup *gr, i
             const IdleCheck *ic = (const IdleCheck *)record;
             const double *row = record + CHECK_HEAD;
             record += CHECK_HEAD + (size_t)ic->m[0] + (size_t)ic->m[1];
-            if (!pushed[k] && !check_pushes(ic, row)) { /* (visit: no push, size 0) */
+            if (!pushed[k] && !check_pushes(ic, row, wide)) { /* (visit: no push, size 0) */
                 if (recorded) pairs[k].hot.lambda = ph->lambda, pairs[k].hot.nu = ph->nu;
                 continue;
             }
@@ -1273,7 +1398,7 @@ static void sweep_group(hk_ContactSolve *cs, const int *order, SweepGroup *gr, i
         }
         if (kind == SWEEP_FIRST_FULL) record = write_check(&pairs[k], record);
         double l;
-        const int law = visit(cs, ph, k, cs->mu, cs->viscous, &change, &l);
+        const int law = visit(cs, ph, k, cs->mu, cs->viscous, &change, &l, wide);
         if (l > largest) largest = l;
         if (full && recorded) pairs[k].hot.lambda = ph->lambda, pairs[k].hot.nu = ph->nu;
         if (full && law > 0) {
@@ -1283,6 +1408,29 @@ static void sweep_group(hk_ContactSolve *cs, const int *order, SweepGroup *gr, i
         if (full) gr->pushing += law > 0, gr->sticking += law == 2;
     }
     gr->change = change, gr->largest = largest;
+}
+
+/* The sweeps on AVX where the CPU has it: the rows' sums and responses four entries a
+ * vector (rows_dot_lanes, add_response_lanes), the rest the same operations (no FMA):
+ * the same bits (core/linalg.h, hk_avx_path), chosen once a group instead of at each
+ * of a visit's calls. */
+__attribute__((target("avx"))) static void sweep_group_avx(hk_ContactSolve *cs, const int *order, SweepGroup *gr,
+                                                           int kind, int push, int from)
+{
+    sweep_group_lanes(cs, order, gr, kind, push, from, 1);
+}
+
+static void sweep_group_sse2(hk_ContactSolve *cs, const int *order, SweepGroup *gr, int kind, int push, int from)
+{
+    sweep_group_lanes(cs, order, gr, kind, push, from, 0);
+}
+
+static void sweep_group(hk_ContactSolve *cs, const int *order, SweepGroup *gr, int kind, int push, int from)
+{
+    if (hk_avx_path())
+        sweep_group_avx(cs, order, gr, kind, push, from);
+    else
+        sweep_group_sse2(cs, order, gr, kind, push, from);
 }
 
 /* What the two threads of the sweeps share: a group is claimed by whichever thread
