@@ -41,6 +41,7 @@
 #include <string.h>
 
 #include "core/core_internal.h"
+#include "contact_rows.h"
 #include "dynamics_internal.h"
 #include "hair_contact_solve.h"
 #include "hair_contact_split.h"
@@ -442,64 +443,6 @@ static void predict_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, con
     atomic_fetch_or_explicit(&cs->stage[s], POINTED, memory_order_release);
 }
 
-/* Unknowns i and j = i - 1 of one right-hand side z: *a = z_i, then z_j less column
- * i's share, *b = z_j (back_substitute). */
-static inline void two_pivots(double *z, const double *ci, const double *cj, int i, double *a, double *b)
-{
-    const int j = i - 1;
-    *a = z[i] / ci[i];
-    z[i] = *a;
-    z[j] -= ci[j] * *a;
-    *b = z[j] / cj[j];
-    z[j] = *b;
-}
-
-/* Back substitution U z = j for up to three right-hand sides side by side (rows: 3
- * for z0, z1, z2; 2 for z0, z1; 1 for z0), each solved by the same operations in the
- * same order whatever the others: a row solved alone has the bits it has solved with
- * the others (reversed_rows). Columns i and i - 1 are taken in one pass over the
- * entries above them, z_k = (z_k - U_ki z_i) - U_k,i-1 z_i-1: the two subtractions one
- * column at a time makes, in their order (the same bits), with z loaded and stored
- * once for both and half the loops' overhead (callgrind, head driver on
- * examples/guides200 shaking, 8 frames: back_substitute 106.7 -> 78.8 million
- * instructions). */
-static void back_substitute(const double *u, size_t dim, int m, double *z0, double *z1, double *z2, int rows)
-{
-    int i = m - 1;
-    for (; i >= 1; i -= 2) {
-        const int j = i - 1;
-        const double *ci = u + (size_t)i * dim, *cj = u + (size_t)j * dim; /* ci[k] = U[k][i] for k < i */
-        double a0, b0, a1, b1, a2, b2;
-        two_pivots(z0, ci, cj, i, &a0, &b0);
-        if (rows == 1) {
-#pragma omp simd
-            for (int k = 0; k < j; k++) z0[k] = (z0[k] - ci[k] * a0) - cj[k] * b0;
-            continue;
-        }
-        two_pivots(z1, ci, cj, i, &a1, &b1);
-        if (rows == 2) {
-#pragma omp simd
-            for (int k = 0; k < j; k++) {
-                z0[k] = (z0[k] - ci[k] * a0) - cj[k] * b0;
-                z1[k] = (z1[k] - ci[k] * a1) - cj[k] * b1;
-            }
-            continue;
-        }
-        two_pivots(z2, ci, cj, i, &a2, &b2);
-#pragma omp simd
-        for (int k = 0; k < j; k++) {
-            z0[k] = (z0[k] - ci[k] * a0) - cj[k] * b0;
-            z1[k] = (z1[k] - ci[k] * a1) - cj[k] * b1;
-            z2[k] = (z2[k] - ci[k] * a2) - cj[k] * b2;
-        }
-    }
-    if (i == 0) { /* the first unknown, when m is odd */
-        z0[0] /= u[0];
-        if (rows > 1) z1[0] /= u[0];
-        if (rows > 2) z2[0] /= u[0];
-    }
-}
-
 /* Rows first..2 of Z^T = (U^-1 J^T)^T of point x of reversed strand s, in place of its
  * rows of J in the basis (in yt): U z = j by back substitution from the point's support
  * down (z is zero beyond it, as j is), by columns: once z_i is known, column i of U
@@ -514,25 +457,8 @@ static void reversed_rows(hk_ContactSolve *cs, int s, int x, int first)
     const size_t sm = (size_t)m;
     const double *u = cs->factor[s];
     double *z = (double *)cs->yt.items + block_of(cs, x);
-    back_substitute(u, dim_of(cs, s), m, z + (size_t)first * sm, z + (size_t)(first + 1) * sm, z + 2 * sm, 3 - first);
-}
-
-/* Rows of a point's J (3 x dim, zero from column m on) turned into the basis: row r
- * becomes basis[r] . J, each sum in hk_v3_dot's order (the same bits as it), the
- * columns side by side (vectorised). */
-static void rows_in_basis(double *jac, size_t dim, size_t m, const hk_Vec3 basis[3])
-{
-    double *j1 = jac + dim, *j2 = jac + 2 * dim;
-    const double n0 = basis[0].x, n1 = basis[0].y, n2 = basis[0].z;
-    const double s0 = basis[1].x, s1 = basis[1].y, s2 = basis[1].z;
-    const double t0 = basis[2].x, t1 = basis[2].y, t2 = basis[2].z;
-#pragma omp simd
-    for (size_t k = 0; k < m; k++) {
-        const double c0 = jac[k], c1 = j1[k], c2 = j2[k];
-        jac[k] = n0 * c0 + n1 * c1 + n2 * c2;
-        j1[k] = s0 * c0 + s1 * c1 + s2 * c2;
-        j2[k] = t0 * c0 + t1 * c1 + t2 * c2;
-    }
+    hk_contact_back_substitute(u, dim_of(cs, s), m, z + (size_t)first * sm, z + (size_t)(first + 1) * sm, z + 2 * sm,
+                               3 - first);
 }
 
 /* Point x of strand s has its rows of J (in yt for a reversed strand) turned into its
@@ -542,7 +468,8 @@ static void strand_rows_in_basis(hk_ContactSolve *cs, int s, int x)
 {
     const PairState *ps = (const PairState *)cs->pairs.items + ((const Slot *)cs->slots.items)[x].index / 2;
     const size_t m = support_of(cs, x);
-    rows_in_basis((double *)(cs->reversed[s] ? cs->yt.items : cs->jac.items) + block_of(cs, x), m, m, ps->basis);
+    hk_contact_rows_in_basis((double *)(cs->reversed[s] ? cs->yt.items : cs->jac.items) + block_of(cs, x), m, m,
+                             ps->basis);
 }
 
 /* Pair ps has an impulse from the last step (its warm start, set by prepare_pairs). */
@@ -594,7 +521,7 @@ static void answer_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s)
                 z[rows++] = (double *)cs->yt.items + block_of(cs, x);
                 answered[x] = NORMAL_ONLY;
             }
-            back_substitute(u, dim_of(cs, s), m, z[0], z[1], z[2], rows);
+            hk_contact_back_substitute(u, dim_of(cs, s), m, z[0], z[1], z[2], rows);
         }
         return;
     }
