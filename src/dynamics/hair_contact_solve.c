@@ -153,6 +153,7 @@ struct hk_ContactSolve {
     int *reversed;                   /* per strand: A = U U^T (factor); its points' rows of Z in yt, w in dv */
     const double **factor;           /* per strand: a reversed strand's U, U^T below it, read where its
                                         dynamics keeps it (hk_dynamics_reversed_factor) */
+    const hk_HairContacts *contacts; /* the solve's pairs (layout): their normals, the bases' first vectors */
     Buffer slots;                    /* Slot per point */
     Buffer at;                       /* double per point: its s, as the Jacobians take them */
     Buffer vel;                      /* hk_Vec3 per point: its velocity with v^free */
@@ -328,6 +329,7 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Error 
             sl->index = 2 * k + side;
         }
     }
+    cs->contacts = c;
     /* (the strands' predictions may go on meanwhile: their bit is kept) */
     for (int s = 0; s < g; s++) atomic_fetch_and_explicit(&cs->stage[s], PREDICTED, memory_order_relaxed);
     return HK_OK;
@@ -400,10 +402,52 @@ static void wait_for_stage(hk_ContactSolve *cs, int s, int bit)
     while (!(atomic_load_explicit(&cs->stage[s], memory_order_acquire) & bit)) hk_spin_pause(&spins);
 }
 
-/* The Jacobians J of strand s's points (at the step's start) and their velocities
- * with v^free, once the pairs are known (layout). How the strand answers an impulse
- * at a point, Y^T = (A^-1 J^T)^T, is found later and only for the points of pairs
- * that may push (answer_points, answer_lazily). */
+/* Strand s's points' rows of J turned into their pairs' bases (n the contact's normal,
+ * completed by complete_basis; each pair's kept by its point a's strand for
+ * prepare_pairs and the sweeps): right after the Jacobians wrote them, while they are
+ * in the caches, rather than when the answers are solved for (answer_points), after
+ * every strand's points (beyond the support J stays zero). */
+static void rows_in_bases(hk_ContactSolve *cs, int s)
+{
+    const Slot *slot = cs->slots.items;
+    PairState *pairs = cs->pairs.items;
+    double *all = cs->reversed[s] ? cs->yt.items : cs->jac.items;
+    for (int x = cs->slot_start[s]; x < cs->slot_start[s + 1]; x++) {
+        const int k = slot[x].index / 2;
+        hk_Vec3 basis[3] = {cs->contacts->contacts[k].normal};
+        complete_basis(basis);
+        if (slot[x].index % 2 == 0) memcpy(pairs[k].basis, basis, sizeof basis);
+        const size_t m = support_of(cs, x);
+        hk_contact_rows_in_basis(all + block_of(cs, x), m, m, basis);
+    }
+}
+
+/* Row 0 of Z^T = (U^-1 J^T)^T of every point of reversed strand s, in place of its
+ * normal row of J (what a pair that does not push needs to read its normal velocity,
+ * J dv = Z^T w: every pair's idle check), up to three consecutive points of the same
+ * support solved side by side: a back substitution is a chain of divisions, each
+ * waiting for the last, and one row alone took as long as three. Each row gets the bits
+ * it gets alone (hk_contact_back_substitute). Rows 1 and 2 stay in the basis until the
+ * pair may push (answer_points, answer_lazily). Solved with the Jacobians, while their
+ * rows are in the caches. */
+static void normal_rows(hk_ContactSolve *cs, int s)
+{
+    const int end = cs->slot_start[s + 1];
+    const int *support = cs->support.items;
+    for (int x = cs->slot_start[s]; x < end;) {
+        const int m = support[x];
+        double *z[3] = {NULL, NULL, NULL};
+        int rows = 0;
+        for (; x < end && rows < 3 && support[x] == m; x++) z[rows++] = (double *)cs->yt.items + block_of(cs, x);
+        hk_contact_back_substitute(cs->factor[s], dim_of(cs, s), m, z[0], z[1], z[2], rows);
+    }
+}
+
+/* The Jacobians J of strand s's points (at the step's start) in their pairs' bases and
+ * their velocities with v^free, once the pairs are known (layout), and a reversed
+ * strand's normal rows of Z^T. How the strand answers an impulse at a point, Y^T =
+ * (A^-1 J^T)^T, is found later and only for the points of pairs that may push
+ * (answer_points, answer_lazily). */
 static void point_strand(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const hk_RigidState *head_end)
 {
     sort_points(cs, s);
@@ -430,6 +474,8 @@ static void point_strand(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const
         at += 3 * (size_t)support[x];
     }
     memset((char *)cs->answered.items + begin, 0, (size_t)count);
+    rows_in_bases(cs, s);
+    if (reversed) normal_rows(cs, s);
 }
 
 /* point_strand once per strand and layout, by whichever thread claims it first, after
@@ -461,17 +507,6 @@ static void reversed_rows(hk_ContactSolve *cs, int s, int x, int first)
                                3 - first);
 }
 
-/* Point x of strand s has its rows of J (in yt for a reversed strand) turned into its
- * pair's basis (prepare_pairs set the bases), just before its answer is solved for,
- * while its rows are in the caches. (beyond the support J stays zero) */
-static void strand_rows_in_basis(hk_ContactSolve *cs, int s, int x)
-{
-    const PairState *ps = (const PairState *)cs->pairs.items + ((const Slot *)cs->slots.items)[x].index / 2;
-    const size_t m = support_of(cs, x);
-    hk_contact_rows_in_basis((double *)(cs->reversed[s] ? cs->yt.items : cs->jac.items) + block_of(cs, x), m, m,
-                             ps->basis);
-}
-
 /* Pair ps has an impulse from the last step (its warm start, set by prepare_pairs). */
 static int has_impulse(const PairState *ps) { return hk_v3_norm2(ps->hot.lambda) > 0.0; }
 
@@ -479,12 +514,12 @@ static int has_impulse(const PairState *ps) { return hk_v3_norm2(ps->hot.lambda)
 static int is_zero(hk_Vec3 v) { return v.x == 0.0 && v.y == 0.0 && v.z == 0.0; }
 
 /* Y^T of strand s's points marked wanted (answered == WANTED), a run of consecutive
- * points solved at once; Z^T of a reversed strand's points of the pairs with an
- * impulse from the last step (a triangular solve over the point's support), and row 0
- * of it of the others (what a pair that does not push needs to read its normal
- * velocity: J dv = Z^T w; the rest when a sweep finds it pushing, answer_lazily: on
- * examples/guides200 shaking, of 3,700 wanted points a step 2,200 had an impulse,
- * and 730 more came to push), their rows 1 and 2 left in the basis for that. A strand whose
+ * points solved at once; rows 1 and 2 of Z^T of a reversed strand's points of the pairs
+ * with an impulse from the last step (a triangular solve over the point's support; row
+ * 0 of every point is solved with its Jacobian, normal_rows), the others' left in the
+ * basis (what a pair that does not push needs is its normal velocity: J dv = Z^T w; the
+ * rest when a sweep finds it pushing, answer_lazily: on examples/guides200 shaking, of
+ * 3,700 wanted points a step 2,200 had an impulse, and 730 more came to push). A strand whose
  * matrix does not answer becomes immovable: all its points answer zero (nothing has
  * used them yet). */
 static void answer_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s)
@@ -495,37 +530,18 @@ static void answer_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s)
     if (cs->reversed[s]) { /* every point: its rows of Z^T also read its velocity change */
         const PairState *pairs = cs->pairs.items;
         const Slot *slot = cs->slots.items;
-        const int *support = cs->support.items;
-        const double *u = cs->factor[s];
-        /* Only the warm-started pairs' impulses act before a sweep finds them pushing
-         * (apply_to_strand); the others' rows wait for that. */
+        /* Row 0 is solved (normal_rows). Only the warm-started pairs' impulses act before
+         * a sweep finds them pushing (apply_to_strand); the others' rows 1 and 2 wait for
+         * that. */
         for (int x = begin; x < end; x++)
             if (answered[x] == WANTED && has_impulse(&pairs[slot[x].index / 2])) {
-                strand_rows_in_basis(cs, s, x);
-                reversed_rows(cs, s, x, 0);
+                reversed_rows(cs, s, x, 1);
                 answered[x] = ANSWERED;
-            }
-        /* The other points' normal rows, up to three consecutive ones of the same
-         * support solved side by side: a back substitution is a chain of divisions,
-         * each waiting for the last, and one row alone took as long as three. */
-        for (int x = begin; x < end;) {
-            if (answered[x] == ANSWERED) {
-                x++;
-                continue;
-            }
-            const int m = support[x];
-            double *z[3] = {NULL, NULL, NULL};
-            int rows = 0;
-            for (; x < end && rows < 3 && answered[x] != ANSWERED && support[x] == m; x++) {
-                strand_rows_in_basis(cs, s, x);
-                z[rows++] = (double *)cs->yt.items + block_of(cs, x);
+            } else {
                 answered[x] = NORMAL_ONLY;
             }
-            hk_contact_back_substitute(u, dim_of(cs, s), m, z[0], z[1], z[2], rows);
-        }
         return;
     }
-    for (int x = begin; x < end; x++) strand_rows_in_basis(cs, s, x);
     for (int x = begin; ok && x < end;) {
         if (answered[x] != WANTED) {
             x++;
@@ -892,8 +908,7 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
             if (hp->i != pointed_i) wait_for_stage(cs, pointed_i = hp->i, POINTED);
             wait_for_stage(cs, hp->j, POINTED);
             ps->key[0] = hp->i, ps->key[1] = hp->a, ps->key[2] = hp->j, ps->key[3] = hp->b;
-            ps->basis[0] = ct->normal;
-            complete_basis(ps->basis);
+            /* (its basis set with its point a's rows, rows_in_bases) */
             ps->hot.beta = h * p->stiffness * (p->distance - ct->distance);
             ps->hot.gamma = h * h * p->stiffness + h * p->damping;
             ps->hot.lambda = hk_v3_zero();
