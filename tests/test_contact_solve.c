@@ -486,9 +486,11 @@ static void test_contact_rows_kernels(void **state)
 {
     (void)state;
     enum { DIM = 30 };
-    static double u[DIM * DIM]; /* column i at u + i DIM: U[k][i] for k <= i */
-    for (int i = 0; i < DIM; i++)
+    static double u[DIM * DIM], inverse[DIM]; /* column i at u + i DIM: U[k][i] for k <= i */
+    for (int i = 0; i < DIM; i++) {
         for (int k = 0; k < DIM; k++) u[i * DIM + k] = k == i ? 2.0 + 0.1 * i : k < i ? 0.5 * sin(7.0 * i + k) : -1.0;
+        inverse[i] = 1.0 / u[i * DIM + i];
+    }
     const hk_Vec3 basis[3] = {hk_v3(0.48, -0.6, 0.64), hk_v3(0.8, 0.6, 0.0), hk_v3(-0.384, 0.512, 0.768)};
     double first[2][3 * DIM + 3 * DIM]; /* the baseline's results, per support */
     for (int avx = 0; avx < 2; avx++) {
@@ -497,13 +499,13 @@ static void test_contact_rows_kernels(void **state)
             double j[3][DIM], z[3][DIM], alone[DIM], two[2][DIM], rows[3 * DIM];
             for (int r = 0; r < 3; r++)
                 for (int k = 0; k < DIM; k++) j[r][k] = z[r][k] = k < m ? cos(5.0 * r + k) : 0.0;
-            hk_contact_back_substitute(u, DIM, m, z[0], z[1], z[2], 3);
+            hk_contact_back_substitute(u, inverse, DIM, m, z[0], z[1], z[2], 3);
             memcpy(two, j[1], sizeof two);
-            hk_contact_back_substitute(u, DIM, m, two[0], two[1], NULL, 2);
+            hk_contact_back_substitute(u, inverse, DIM, m, two[0], two[1], NULL, 2);
             assert_memory_equal(two, z[1], sizeof two);
             for (int r = 0; r < 3; r++) {
                 memcpy(alone, j[r], sizeof alone);
-                hk_contact_back_substitute(u, DIM, m, alone, NULL, NULL, 1);
+                hk_contact_back_substitute(u, inverse, DIM, m, alone, NULL, NULL, 1);
                 assert_memory_equal(alone, z[r], sizeof alone);
                 for (int k = 0; k < m; k++) {
                     double uz = 0.0;

@@ -27,13 +27,13 @@ void hk_contact_rows_in_basis(double *jac, size_t stride, size_t m, const hk_Vec
 
 /* Unknowns i and j = i - 1 of one right-hand side z: *a = z_i, then z_j less column
  * i's share, *b = z_j (hk_contact_back_substitute). */
-static inline void two_pivots(double *z, const double *ci, const double *cj, int i, double *a, double *b)
+static inline void two_pivots(double *z, const double *ci, const double *inverse, int i, double *a, double *b)
 {
     const int j = i - 1;
-    *a = z[i] / ci[i];
+    *a = z[i] * inverse[i];
     z[i] = *a;
     z[j] -= ci[j] * *a;
-    *b = z[j] / cj[j];
+    *b = z[j] * inverse[j];
     z[j] = *b;
 }
 
@@ -46,21 +46,22 @@ static inline void two_pivots(double *z, const double *ci, const double *cj, int
  * once for both and half the loops' overhead (callgrind, head driver on
  * examples/guides200 shaking, 8 frames: back_substitute 106.7 -> 78.8 million
  * instructions). */
-void hk_contact_back_substitute(const double *u, size_t dim, int m, double *z0, double *z1, double *z2, int rows)
+void hk_contact_back_substitute(const double *u, const double *inverse, size_t dim, int m, double *z0, double *z1,
+                                double *z2, int rows)
 {
-    HK_AVX_TWIN_CALL(hk_contact_back_substitute, u, dim, m, z0, z1, z2, rows);
+    HK_AVX_TWIN_CALL(hk_contact_back_substitute, u, inverse, dim, m, z0, z1, z2, rows);
     int i = m - 1;
     for (; i >= 1; i -= 2) {
         const int j = i - 1;
         const double *ci = u + (size_t)i * dim, *cj = u + (size_t)j * dim; /* ci[k] = U[k][i] for k < i */
         double a0, b0, a1, b1, a2, b2;
-        two_pivots(z0, ci, cj, i, &a0, &b0);
+        two_pivots(z0, ci, inverse, i, &a0, &b0);
         if (rows == 1) {
 #pragma omp simd
             for (int k = 0; k < j; k++) z0[k] = (z0[k] - ci[k] * a0) - cj[k] * b0;
             continue;
         }
-        two_pivots(z1, ci, cj, i, &a1, &b1);
+        two_pivots(z1, ci, inverse, i, &a1, &b1);
         if (rows == 2) {
 #pragma omp simd
             for (int k = 0; k < j; k++) {
@@ -69,7 +70,7 @@ void hk_contact_back_substitute(const double *u, size_t dim, int m, double *z0, 
             }
             continue;
         }
-        two_pivots(z2, ci, cj, i, &a2, &b2);
+        two_pivots(z2, ci, inverse, i, &a2, &b2);
 #pragma omp simd
         for (int k = 0; k < j; k++) {
             z0[k] = (z0[k] - ci[k] * a0) - cj[k] * b0;
@@ -78,8 +79,8 @@ void hk_contact_back_substitute(const double *u, size_t dim, int m, double *z0, 
         }
     }
     if (i == 0) { /* the first unknown, when m is odd */
-        z0[0] /= u[0];
-        if (rows > 1) z1[0] /= u[0];
-        if (rows > 2) z2[0] /= u[0];
+        z0[0] *= inverse[0];
+        if (rows > 1) z1[0] *= inverse[0];
+        if (rows > 2) z2[0] *= inverse[0];
     }
 }

@@ -16,9 +16,10 @@
 void hk_contact_rows_in_basis(double *jac, size_t stride, size_t m, const hk_Vec3 basis[3]);
 
 /* Back substitution U z = j over the first m unknowns (U upper triangular, column i
- * at u + i dim) for up to three right-hand sides side by side (rows: 3 for z0, z1, z2;
- * 2 for z0, z1; 1 for z0), each solved by the same operations in the same order
- * whatever the others. */
-void hk_contact_back_substitute(const double *u, size_t dim, int m, double *z0, double *z1, double *z2, int rows);
+ * at u + i dim; inverse[i] = 1 / U_ii) for up to three right-hand sides side by side
+ * (rows: 3 for z0, z1, z2; 2 for z0, z1; 1 for z0), each solved by the same operations
+ * in the same order whatever the others. */
+void hk_contact_back_substitute(const double *u, const double *inverse, size_t dim, int m, double *z0, double *z1,
+                                double *z2, int rows);
 
 #endif /* HK_CONTACT_ROWS_H */
