@@ -21,6 +21,7 @@
 
 #include "core/core_internal.h"
 #include "core/linalg.h"
+#include "dynamics/contact_rows.h"
 #include "dynamics/dynamics_internal.h"
 #include "dynamics/hair_contact_solve.h"
 #include "hairkit/io.h"
@@ -475,6 +476,65 @@ static void test_reversed_factor_holds_u_and_its_transpose(void **state)
     }
 }
 
+/* contact_rows.c, the kernels of the answers, for an odd and an even support on both
+ * paths: a point's rows turned into a basis are hk_v3_dot's bits; the back substitution
+ * solves U z = j (to rounding: a residual below 1e-13 of the right-hand side's size,
+ * with U's diagonal at 2 or more and its other entries below 0.5), a row solved alone
+ * has the bits it has beside one or two others (the answers solve rows so, normal_rows
+ * and reversed_rows), and the AVX twin gives the baseline's bits. */
+static void test_contact_rows_kernels(void **state)
+{
+    (void)state;
+    enum { DIM = 30 };
+    static double u[DIM * DIM], inverse[DIM]; /* column i at u + i DIM: U[k][i] for k <= i */
+    for (int i = 0; i < DIM; i++) {
+        for (int k = 0; k < DIM; k++) u[i * DIM + k] = k == i ? 2.0 + 0.1 * i : k < i ? 0.5 * sin(7.0 * i + k) : -1.0;
+        inverse[i] = 1.0 / u[i * DIM + i];
+    }
+    const hk_Vec3 basis[3] = {hk_v3(0.48, -0.6, 0.64), hk_v3(0.8, 0.6, 0.0), hk_v3(-0.384, 0.512, 0.768)};
+    double first[2][3 * DIM + 3 * DIM]; /* the baseline's results, per support */
+    for (int avx = 0; avx < 2; avx++) {
+        if (!hk_avx_paths_allow(avx) && avx) continue; /* no AVX: the baseline alone */
+        for (int m = 17; m <= 18; m++) {
+            double j[3][DIM], z[3][DIM], alone[DIM], two[2][DIM], rows[3 * DIM];
+            for (int r = 0; r < 3; r++)
+                for (int k = 0; k < DIM; k++) j[r][k] = z[r][k] = k < m ? cos(5.0 * r + k) : 0.0;
+            hk_contact_back_substitute(u, inverse, DIM, m, z[0], z[1], z[2], 3);
+            memcpy(two, j[1], sizeof two);
+            hk_contact_back_substitute(u, inverse, DIM, m, two[0], two[1], NULL, 2);
+            assert_memory_equal(two, z[1], sizeof two);
+            for (int r = 0; r < 3; r++) {
+                memcpy(alone, j[r], sizeof alone);
+                hk_contact_back_substitute(u, inverse, DIM, m, alone, NULL, NULL, 1);
+                assert_memory_equal(alone, z[r], sizeof alone);
+                for (int k = 0; k < m; k++) {
+                    double uz = 0.0;
+                    for (int i = k; i < m; i++) uz += u[i * DIM + k] * z[r][i];
+                    assert_true(fabs(uz - j[r][k]) <= 1e-13);
+                }
+                for (int k = m; k < DIM; k++) assert_true(z[r][k] == 0.0);
+            }
+            for (int r = 0; r < 3; r++)
+                for (int k = 0; k < m; k++) rows[r * m + k] = j[r][k];
+            hk_contact_rows_in_basis(rows, (size_t)m, (size_t)m, basis);
+            for (int r = 0; r < 3; r++)
+                for (int k = 0; k < m; k++) {
+                    const double in_basis = hk_v3_dot(basis[r], hk_v3(j[0][k], j[1][k], j[2][k]));
+                    assert_memory_equal(&rows[r * m + k], &in_basis, sizeof in_basis);
+                }
+            double *mine = first[m - 17];
+            if (avx) {
+                assert_memory_equal(mine, z, sizeof z);
+                assert_memory_equal(mine + 3 * DIM, rows, 3 * (size_t)m * sizeof *rows);
+            } else {
+                memcpy(mine, z, sizeof z);
+                memcpy(mine + 3 * DIM, rows, 3 * (size_t)m * sizeof *rows);
+            }
+        }
+    }
+    hk_avx_paths_allow(1);
+}
+
 static void test_forces_opposite_and_in_the_cone(void **state)
 {
     (void)state;
@@ -531,6 +591,7 @@ int main(void)
         cmocka_unit_test(test_push_records_give_the_same_bits),
         cmocka_unit_test(test_forces_opposite_and_in_the_cone),
         cmocka_unit_test(test_reversed_factor_holds_u_and_its_transpose),
+        cmocka_unit_test(test_contact_rows_kernels),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

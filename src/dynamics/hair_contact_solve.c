@@ -43,6 +43,7 @@
 #include "core/core_internal.h"
 #include "core/linalg.h"     /* hk_avx_path: the rows' AVX paths */
 #include "core/simd_lanes.h" /* Pair, Quad: the rows' sums in lanes (rows_dot_lanes) */
+#include "contact_rows.h"
 #include "dynamics_internal.h"
 #include "hair_contact_solve.h"
 #include "hair_contact_split.h"
@@ -154,6 +155,7 @@ struct hk_ContactSolve {
     int *reversed;                   /* per strand: A = U U^T (factor); its points' rows of Z in yt, w in dv */
     const double **factor;           /* per strand: a reversed strand's U, U^T below it, read where its
                                         dynamics keeps it (hk_dynamics_reversed_factor) */
+    const hk_HairContacts *contacts; /* the solve's pairs (layout): their normals, the bases' first vectors */
     Buffer slots;                    /* Slot per point */
     Buffer at;                       /* double per point: its s, as the Jacobians take them */
     Buffer vel;                      /* hk_Vec3 per point: its velocity with v^free */
@@ -165,6 +167,7 @@ struct hk_ContactSolve {
     Buffer block;                    /* size_t per point: where its 3 rows start in jac and yt */
     Buffer answered;                 /* char per point: its rows of Y^T are set */
     Buffer dv;                       /* double, 3N per strand: the velocity change of the impulses */
+    Buffer inverse;                  /* double, 3N per strand: a reversed strand's 1 / U_ii (point_strand) */
     Buffer vfree;                    /* double, 3N per strand: its velocity after a step without them */
     Buffer screws;                   /* double, 18N per strand: work of the Jacobians */
     Buffer pairs, old_pairs;         /* PairState per pair, this step's and the last one's */
@@ -242,7 +245,7 @@ void hk_contact_solve_destroy(hk_ContactSolve *cs)
                      &cs->screws,   &cs->pairs,        &cs->old_pairs, &cs->active,        &cs->order,
                      &cs->weight,   &cs->roots,        &cs->delta,     &cs->segment_place, &cs->block,
                      &cs->impulses, &cs->old_impulses, &cs->by_pair,   &cs->by_pair_fill,  &cs->pushed,
-                     &cs->checks,   &cs->pushes[0],    &cs->pushes[1]};
+                     &cs->checks,   &cs->pushes[0],    &cs->pushes[1], &cs->inverse};
     for (size_t k = 0; k < sizeof all / sizeof *all; k++) hk_free(all[k]->items);
     hk_contact_split_free(&cs->split);
     hk_free(cs);
@@ -329,6 +332,7 @@ static hk_Status layout(hk_ContactSolve *cs, const hk_HairContacts *c, hk_Error 
             sl->index = 2 * k + side;
         }
     }
+    cs->contacts = c;
     /* (the strands' predictions may go on meanwhile: their bit is kept) */
     for (int s = 0; s < g; s++) atomic_fetch_and_explicit(&cs->stage[s], PREDICTED, memory_order_relaxed);
     return HK_OK;
@@ -456,10 +460,71 @@ static void wait_for_stage(hk_ContactSolve *cs, int s, int bit)
     while (!(atomic_load_explicit(&cs->stage[s], memory_order_acquire) & bit)) hk_spin_pause(&spins);
 }
 
-/* The Jacobians J of strand s's points (at the step's start) and their velocities
- * with v^free, once the pairs are known (layout). How the strand answers an impulse
- * at a point, Y^T = (A^-1 J^T)^T, is found later and only for the points of pairs
- * that may push (answer_points, answer_lazily). */
+/* Strand s's points' rows of J turned into their pairs' bases (n the contact's normal,
+ * completed by complete_basis; each pair's kept by its point a's strand for
+ * prepare_pairs and the sweeps): right after the Jacobians wrote them, while they are
+ * in the caches, rather than when the answers are solved for (answer_points), after
+ * every strand's points (beyond the support J stays zero). */
+static void rows_in_bases(hk_ContactSolve *cs, int s)
+{
+    const Slot *slot = cs->slots.items;
+    PairState *pairs = cs->pairs.items;
+    double *all = cs->reversed[s] ? cs->yt.items : cs->jac.items;
+    for (int x = cs->slot_start[s]; x < cs->slot_start[s + 1]; x++) {
+        const int k = slot[x].index / 2;
+        hk_Vec3 basis[3] = {cs->contacts->contacts[k].normal};
+        complete_basis(basis);
+        if (slot[x].index % 2 == 0) memcpy(pairs[k].basis, basis, sizeof basis);
+        const size_t m = support_of(cs, x);
+        hk_contact_rows_in_basis(all + block_of(cs, x), m, m, basis);
+    }
+}
+
+/* The reciprocals of reversed strand s's U_ii, once per step: its back substitutions
+ * (hk_contact_back_substitute) multiply by them instead of dividing, so that the chain
+ * of its unknowns, each waiting for the last, takes a multiplication (4 cycles) a link
+ * instead of a division (13 and more): a third less time a call (a loop of one
+ * support of 18 on its own, one row or three). z_i = z_i (1 / U_ii) differs from
+ * z_i / U_ii by rounding (docs/dynamics.md, "Speed", 7 December 2026, afternoon). */
+static void invert_diagonal(hk_ContactSolve *cs, int s)
+{
+    const size_t dim = dim_of(cs, s);
+    const double *u = cs->factor[s];
+    double *inverse = (double *)cs->inverse.items + cs->dim_start[s];
+    for (size_t i = 0; i < dim; i++) inverse[i] = 1.0 / u[i * dim + i];
+}
+
+static const double *inverse_of(const hk_ContactSolve *cs, int s)
+{
+    return (const double *)cs->inverse.items + cs->dim_start[s];
+}
+
+/* Row 0 of Z^T = (U^-1 J^T)^T of every point of reversed strand s, in place of its
+ * normal row of J (what a pair that does not push needs to read its normal velocity,
+ * J dv = Z^T w: every pair's idle check), up to three consecutive points of the same
+ * support solved side by side: a back substitution is a chain of divisions, each
+ * waiting for the last, and one row alone took as long as three. Each row gets the bits
+ * it gets alone (hk_contact_back_substitute). Rows 1 and 2 stay in the basis until the
+ * pair may push (answer_points, answer_lazily). Solved with the Jacobians, while their
+ * rows are in the caches. */
+static void normal_rows(hk_ContactSolve *cs, int s)
+{
+    const int end = cs->slot_start[s + 1];
+    const int *support = cs->support.items;
+    for (int x = cs->slot_start[s]; x < end;) {
+        const int m = support[x];
+        double *z[3] = {NULL, NULL, NULL};
+        int rows = 0;
+        for (; x < end && rows < 3 && support[x] == m; x++) z[rows++] = (double *)cs->yt.items + block_of(cs, x);
+        hk_contact_back_substitute(cs->factor[s], inverse_of(cs, s), dim_of(cs, s), m, z[0], z[1], z[2], rows);
+    }
+}
+
+/* The Jacobians J of strand s's points (at the step's start) in their pairs' bases and
+ * their velocities with v^free, once the pairs are known (layout), and a reversed
+ * strand's normal rows of Z^T. How the strand answers an impulse at a point, Y^T =
+ * (A^-1 J^T)^T, is found later and only for the points of pairs that may push
+ * (answer_points, answer_lazily). */
 static void point_strand(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const hk_RigidState *head_end)
 {
     sort_points(cs, s);
@@ -486,6 +551,11 @@ static void point_strand(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const
         at += 3 * (size_t)support[x];
     }
     memset((char *)cs->answered.items + begin, 0, (size_t)count);
+    rows_in_bases(cs, s);
+    if (reversed) {
+        invert_diagonal(cs, s);
+        normal_rows(cs, s);
+    }
 }
 
 /* point_strand once per strand and layout, by whichever thread claims it first, after
@@ -497,87 +567,6 @@ static void predict_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, con
     wait_for_stage(cs, s, PREDICTED);
     point_strand(cs, d, s, head_end);
     atomic_fetch_or_explicit(&cs->stage[s], POINTED, memory_order_release);
-}
-
-/* Unknowns i and j = i - 1 of one right-hand side z: *a = z_i, then z_j less column
- * i's share, *b = z_j (back_substitute). */
-static inline void two_pivots(double *z, const double *ci, const double *cj, int i, double *a, double *b)
-{
-    const int j = i - 1;
-    *a = z[i] / ci[i];
-    z[i] = *a;
-    z[j] -= ci[j] * *a;
-    *b = z[j] / cj[j];
-    z[j] = *b;
-}
-
-/* Back substitution U z = j for up to three right-hand sides side by side (rows: 3
- * for z0, z1, z2; 2 for z0, z1; 1 for z0), each solved by the same operations in the
- * same order whatever the others: a row solved alone has the bits it has solved with
- * the others (reversed_rows). Columns i and i - 1 are taken in one pass over the
- * entries above them, z_k = (z_k - U_ki z_i) - U_k,i-1 z_i-1: the two subtractions one
- * column at a time makes, in their order (the same bits), with z loaded and stored
- * once for both and half the loops' overhead (callgrind, head driver on
- * examples/guides200 shaking, 8 frames: back_substitute 106.7 -> 78.8 million
- * instructions). */
-static inline __attribute__((always_inline)) void back_substitute_lanes(const double *u, size_t dim, int m, double *z0,
-                                                                        double *z1, double *z2, int rows)
-{
-    int i = m - 1;
-    for (; i >= 1; i -= 2) {
-        const int j = i - 1;
-        const double *ci = u + (size_t)i * dim, *cj = u + (size_t)j * dim; /* ci[k] = U[k][i] for k < i */
-        double a0, b0, a1, b1, a2, b2;
-        two_pivots(z0, ci, cj, i, &a0, &b0);
-        if (rows == 1) {
-#pragma omp simd
-            for (int k = 0; k < j; k++) z0[k] = (z0[k] - ci[k] * a0) - cj[k] * b0;
-            continue;
-        }
-        two_pivots(z1, ci, cj, i, &a1, &b1);
-        if (rows == 2) {
-#pragma omp simd
-            for (int k = 0; k < j; k++) {
-                z0[k] = (z0[k] - ci[k] * a0) - cj[k] * b0;
-                z1[k] = (z1[k] - ci[k] * a1) - cj[k] * b1;
-            }
-            continue;
-        }
-        two_pivots(z2, ci, cj, i, &a2, &b2);
-#pragma omp simd
-        for (int k = 0; k < j; k++) {
-            z0[k] = (z0[k] - ci[k] * a0) - cj[k] * b0;
-            z1[k] = (z1[k] - ci[k] * a1) - cj[k] * b1;
-            z2[k] = (z2[k] - ci[k] * a2) - cj[k] * b2;
-        }
-    }
-    if (i == 0) { /* the first unknown, when m is odd */
-        z0[0] /= u[0];
-        if (rows > 1) z1[0] /= u[0];
-        if (rows > 2) z2[0] /= u[0];
-    }
-}
-
-/* On AVX where the CPU has it: the loops over the entries above four a vector, each
- * entry's operations its own and in its order, no FMA: the same bits (core/linalg.h,
- * hk_avx_path). */
-__attribute__((target("avx"))) static void back_substitute_avx(const double *u, size_t dim, int m, double *z0,
-                                                               double *z1, double *z2, int rows)
-{
-    back_substitute_lanes(u, dim, m, z0, z1, z2, rows);
-}
-
-static void back_substitute_sse2(const double *u, size_t dim, int m, double *z0, double *z1, double *z2, int rows)
-{
-    back_substitute_lanes(u, dim, m, z0, z1, z2, rows);
-}
-
-static void back_substitute(const double *u, size_t dim, int m, double *z0, double *z1, double *z2, int rows)
-{
-    if (hk_avx_path())
-        back_substitute_avx(u, dim, m, z0, z1, z2, rows);
-    else
-        back_substitute_sse2(u, dim, m, z0, z1, z2, rows);
 }
 
 /* Rows first..2 of Z^T = (U^-1 J^T)^T of point x of reversed strand s, in place of its
@@ -594,55 +583,8 @@ static void reversed_rows(hk_ContactSolve *cs, int s, int x, int first)
     const size_t sm = (size_t)m;
     const double *u = cs->factor[s];
     double *z = (double *)cs->yt.items + block_of(cs, x);
-    back_substitute(u, dim_of(cs, s), m, z + (size_t)first * sm, z + (size_t)(first + 1) * sm, z + 2 * sm, 3 - first);
-}
-
-/* Rows of a point's J (3 x dim, zero from column m on) turned into the basis: row r
- * becomes basis[r] . J, each sum in hk_v3_dot's order (the same bits as it), the
- * columns side by side (vectorised). */
-static inline __attribute__((always_inline)) void rows_in_basis_lanes(double *jac, size_t dim, size_t m,
-                                                                      const hk_Vec3 basis[3])
-{
-    double *j1 = jac + dim, *j2 = jac + 2 * dim;
-    const double n0 = basis[0].x, n1 = basis[0].y, n2 = basis[0].z;
-    const double s0 = basis[1].x, s1 = basis[1].y, s2 = basis[1].z;
-    const double t0 = basis[2].x, t1 = basis[2].y, t2 = basis[2].z;
-#pragma omp simd
-    for (size_t k = 0; k < m; k++) {
-        const double c0 = jac[k], c1 = j1[k], c2 = j2[k];
-        jac[k] = n0 * c0 + n1 * c1 + n2 * c2;
-        j1[k] = s0 * c0 + s1 * c1 + s2 * c2;
-        j2[k] = t0 * c0 + t1 * c1 + t2 * c2;
-    }
-}
-
-/* Four columns a vector where the CPU has AVX (the same bits, as back_substitute_avx). */
-__attribute__((target("avx"))) static void rows_in_basis_avx(double *jac, size_t dim, size_t m, const hk_Vec3 basis[3])
-{
-    rows_in_basis_lanes(jac, dim, m, basis);
-}
-
-static void rows_in_basis_sse2(double *jac, size_t dim, size_t m, const hk_Vec3 basis[3])
-{
-    rows_in_basis_lanes(jac, dim, m, basis);
-}
-
-static void rows_in_basis(double *jac, size_t dim, size_t m, const hk_Vec3 basis[3])
-{
-    if (hk_avx_path())
-        rows_in_basis_avx(jac, dim, m, basis);
-    else
-        rows_in_basis_sse2(jac, dim, m, basis);
-}
-
-/* Point x of strand s has its rows of J (in yt for a reversed strand) turned into its
- * pair's basis (prepare_pairs set the bases), just before its answer is solved for,
- * while its rows are in the caches. (beyond the support J stays zero) */
-static void strand_rows_in_basis(hk_ContactSolve *cs, int s, int x)
-{
-    const PairState *ps = (const PairState *)cs->pairs.items + ((const Slot *)cs->slots.items)[x].index / 2;
-    const size_t m = support_of(cs, x);
-    rows_in_basis((double *)(cs->reversed[s] ? cs->yt.items : cs->jac.items) + block_of(cs, x), m, m, ps->basis);
+    hk_contact_back_substitute(u, inverse_of(cs, s), dim_of(cs, s), m, z + (size_t)first * sm,
+                               z + (size_t)(first + 1) * sm, z + 2 * sm, 3 - first);
 }
 
 /* Pair ps has an impulse from the last step (its warm start, set by prepare_pairs). */
@@ -652,12 +594,12 @@ static int has_impulse(const PairState *ps) { return hk_v3_norm2(ps->hot.lambda)
 static int is_zero(hk_Vec3 v) { return v.x == 0.0 && v.y == 0.0 && v.z == 0.0; }
 
 /* Y^T of strand s's points marked wanted (answered == WANTED), a run of consecutive
- * points solved at once; Z^T of a reversed strand's points of the pairs with an
- * impulse from the last step (a triangular solve over the point's support), and row 0
- * of it of the others (what a pair that does not push needs to read its normal
- * velocity: J dv = Z^T w; the rest when a sweep finds it pushing, answer_lazily: on
- * examples/guides200 shaking, of 3,700 wanted points a step 2,200 had an impulse,
- * and 730 more came to push), their rows 1 and 2 left in the basis for that. A strand whose
+ * points solved at once; rows 1 and 2 of Z^T of a reversed strand's points of the pairs
+ * with an impulse from the last step (a triangular solve over the point's support; row
+ * 0 of every point is solved with its Jacobian, normal_rows), the others' left in the
+ * basis (what a pair that does not push needs is its normal velocity: J dv = Z^T w; the
+ * rest when a sweep finds it pushing, answer_lazily: on examples/guides200 shaking, of
+ * 3,700 wanted points a step 2,200 had an impulse, and 730 more came to push). A strand whose
  * matrix does not answer becomes immovable: all its points answer zero (nothing has
  * used them yet). */
 static void answer_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s)
@@ -668,37 +610,18 @@ static void answer_points(hk_ContactSolve *cs, hk_StrandDynamics *d, int s)
     if (cs->reversed[s]) { /* every point: its rows of Z^T also read its velocity change */
         const PairState *pairs = cs->pairs.items;
         const Slot *slot = cs->slots.items;
-        const int *support = cs->support.items;
-        const double *u = cs->factor[s];
-        /* Only the warm-started pairs' impulses act before a sweep finds them pushing
-         * (apply_to_strand); the others' rows wait for that. */
+        /* Row 0 is solved (normal_rows). Only the warm-started pairs' impulses act before
+         * a sweep finds them pushing (apply_to_strand); the others' rows 1 and 2 wait for
+         * that. */
         for (int x = begin; x < end; x++)
             if (answered[x] == WANTED && has_impulse(&pairs[slot[x].index / 2])) {
-                strand_rows_in_basis(cs, s, x);
-                reversed_rows(cs, s, x, 0);
+                reversed_rows(cs, s, x, 1);
                 answered[x] = ANSWERED;
-            }
-        /* The other points' normal rows, up to three consecutive ones of the same
-         * support solved side by side: a back substitution is a chain of divisions,
-         * each waiting for the last, and one row alone took as long as three. */
-        for (int x = begin; x < end;) {
-            if (answered[x] == ANSWERED) {
-                x++;
-                continue;
-            }
-            const int m = support[x];
-            double *z[3] = {NULL, NULL, NULL};
-            int rows = 0;
-            for (; x < end && rows < 3 && answered[x] != ANSWERED && support[x] == m; x++) {
-                strand_rows_in_basis(cs, s, x);
-                z[rows++] = (double *)cs->yt.items + block_of(cs, x);
+            } else {
                 answered[x] = NORMAL_ONLY;
             }
-            back_substitute(u, dim_of(cs, s), m, z[0], z[1], z[2], rows);
-        }
         return;
     }
-    for (int x = begin; x < end; x++) strand_rows_in_basis(cs, s, x);
     for (int x = begin; ok && x < end;) {
         if (answered[x] != WANTED) {
             x++;
@@ -1084,8 +1007,7 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
             if (hp->i != pointed_i) wait_for_stage(cs, pointed_i = hp->i, POINTED);
             wait_for_stage(cs, hp->j, POINTED);
             ps->key[0] = hp->i, ps->key[1] = hp->a, ps->key[2] = hp->j, ps->key[3] = hp->b;
-            ps->basis[0] = ct->normal;
-            complete_basis(ps->basis);
+            /* (its basis set with its point a's rows, rows_in_bases) */
             ps->hot.beta = h * p->stiffness * (p->distance - ct->distance);
             ps->hot.gamma = h * h * p->stiffness + h * p->damping;
             ps->hot.lambda = hk_v3_zero();
@@ -1532,7 +1454,7 @@ hk_Status hk_contact_solve_open(hk_ContactSolve *cs, hk_StrandDynamics **dyn, in
     }
     const size_t dims = cs->dim_start[strand_count];
     if (!reserve(&cs->dv, dims, sizeof(double), err) || !reserve(&cs->vfree, dims, sizeof(double), err) ||
-        !reserve(&cs->screws, 6 * dims, sizeof(double), err))
+        !reserve(&cs->inverse, dims, sizeof(double), err) || !reserve(&cs->screws, 6 * dims, sizeof(double), err))
         return HK_ERR_NOMEM;
     memset(cs->movable, 0, (size_t)strand_count * sizeof(int));
     memset(cs->reversed, 0, (size_t)strand_count * sizeof(int));
