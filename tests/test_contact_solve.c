@@ -7,7 +7,7 @@
  *  - the solve's work staged by the caller (hk_contact_solve_open to _prepare, as
  *    hair_sim.c does beside the contacts' update, and _sweep then _finish, or
  *    _finish_strand strand by strand in any order) gives the bits of the solve alone,
- *    step after step (each warm started from the last);
+ *    step after step (each warm started from the last), and its evaluations;
  *  - the point Jacobians agree with finite differences of the points' positions, and
  *    those taken with the ends of the step's sweep are the bits of a fresh walk;
  *  - the forces are equal and opposite, and the friction stays in Coulomb's cone. */
@@ -247,6 +247,8 @@ static void test_staged_solve_gives_the_same_bits(void **state)
         world_solve_staged(&b, h, step % 3 == 2, step % 2 == 1, &sb);
         assert_int_equal(sa.pushing, sb.pushing);
         assert_int_equal(sa.sweeps, sb.sweeps);
+        assert_true(sa.evaluations >= STRANDS); /* (one at least per strand's prediction) */
+        assert_int_equal(sa.evaluations, sb.evaluations);
         pushing += sa.pushing;
         commit_both_alike(&a, &b, h);
     }

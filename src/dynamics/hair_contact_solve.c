@@ -152,6 +152,7 @@ struct hk_ContactSolve {
     size_t *dim_start;               /* strand_count + 1: offsets of the strands' 3N vectors */
     size_t *jac_start;               /* strand_count + 1: offsets of the strands' first 3 x 3N block */
     int *movable;                    /* per strand: its step's matrix answered */
+    int *evaluations;                /* per strand: the evaluations of its step without the contacts */
     int *reversed;                   /* per strand: A = U U^T (factor); its points' rows of Z in yt, w in dv */
     const double **factor;           /* per strand: a reversed strand's U, U^T below it, read where its
                                         dynamics keeps it (hk_dynamics_reversed_factor) */
@@ -217,12 +218,13 @@ hk_Status hk_contact_solve_create(int strand_count, hk_ContactSolve **out, hk_Er
     cs->dim_start = hk_calloc_array((size_t)strand_count + 1, sizeof(size_t), err);
     cs->jac_start = hk_calloc_array((size_t)strand_count + 1, sizeof(size_t), err);
     cs->movable = hk_calloc_array((size_t)strand_count, sizeof(int), err);
+    cs->evaluations = hk_calloc_array((size_t)strand_count, sizeof(int), err);
     cs->reversed = hk_calloc_array((size_t)strand_count, sizeof(int), err);
     cs->factor = hk_calloc_array((size_t)strand_count, sizeof(const double *), err);
     cs->stage = hk_calloc_array((size_t)strand_count, sizeof(atomic_int), err);
     cs->last_count = -1;
-    if (!cs->slot_start || !cs->dim_start || !cs->jac_start || !cs->movable || !cs->reversed || !cs->factor ||
-        !cs->stage) {
+    if (!cs->slot_start || !cs->dim_start || !cs->jac_start || !cs->movable || !cs->evaluations || !cs->reversed ||
+        !cs->factor || !cs->stage) {
         hk_contact_solve_destroy(cs);
         return HK_ERR_NOMEM;
     }
@@ -237,6 +239,7 @@ void hk_contact_solve_destroy(hk_ContactSolve *cs)
     hk_free(cs->dim_start);
     hk_free(cs->jac_start);
     hk_free(cs->movable);
+    hk_free(cs->evaluations);
     hk_free(cs->reversed);
     hk_free((void *)cs->factor);
     hk_free(cs->stage);
@@ -445,7 +448,9 @@ static void predict_free(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const
     const size_t dim = dim_of(cs, s);
     double *vfree = (double *)cs->vfree.items + cs->dim_start[s];
     const double *v = hk_strand_dynamics_velocity(d);
+    const long before = d->stats.iterations;
     cs->movable[s] = hk_dynamics_euler_delta(d, head_end, NULL, 0, h);
+    cs->evaluations[s] = (int)(d->stats.iterations - before);
     cs->factor[s] = cs->movable[s] ? hk_dynamics_reversed_factor(d) : NULL;
     cs->reversed[s] = cs->factor[s] != NULL;
     for (size_t k = 0; k < dim; k++) vfree[k] = v[k] + (cs->movable[s] ? d->delta[k] : 0.0);
@@ -976,8 +981,8 @@ static double sweep_cost(const PairState *ps)
 
 /* Each pair's basis and normal law, and its impulse of the last step when the same
  * segment pair was tracked then (pairs and old pairs are both sorted by (i, a, j, b):
- * each thread finds its first pair's place among the old ones by bisection, then walks
- * along both in step): resting contacts start where they ended.
+ * each chunk of pairs finds its first pair's place among the old ones by bisection,
+ * then walks along both in step): resting contacts start where they ended.
  * The points of the pairs that may push, those with an impulse or whose normal law
  * pushes at the free velocities, are marked wanted: their answers are solved for in
  * parallel before the sweeps. The pair's weight in the split (sweep_cost) and its
@@ -994,11 +999,14 @@ static void prepare_pairs(hk_ContactSolve *cs, const hk_HairContacts *c, double 
     double *weight = cs->weight.items; /* the split's (split_pairs) */
     hk_Vec3 *delta = cs->delta.items;  /* the warm start's (apply_to_strand) */
     /* To be called by every thread of a team (or by one thread alone): the pairs are
-     * shared among them. */
+     * shared among them, in chunks taken in turn, so that a thread that comes late from
+     * the points (or is slowed) leaves more of them to the other: in two halves, one
+     * per thread, the two waited 0.12 ms a step together at the barrier that ends the
+     * loop (docs/dynamics.md, "Where the 2-thread step loses"). */
     {
         int o = 0, next = -1; /* this thread's place among the old pairs, for pair next */
         int pointed_i = -1;   /* the last strand i waited for (the pairs are sorted by i) */
-#pragma omp for schedule(static)
+#pragma omp for schedule(dynamic, 32)
         for (int k = 0; k < c->pair_count; k++) {
             PairState *ps = &pairs[k];
             const hk_HcPair *hp = &c->pairs[k];
@@ -1457,6 +1465,7 @@ hk_Status hk_contact_solve_open(hk_ContactSolve *cs, hk_StrandDynamics **dyn, in
         !reserve(&cs->inverse, dims, sizeof(double), err) || !reserve(&cs->screws, 6 * dims, sizeof(double), err))
         return HK_ERR_NOMEM;
     memset(cs->movable, 0, (size_t)strand_count * sizeof(int));
+    memset(cs->evaluations, 0, (size_t)strand_count * sizeof(int));
     memset(cs->reversed, 0, (size_t)strand_count * sizeof(int));
     for (int s = 0; s < strand_count; s++) atomic_store_explicit(&cs->stage[s], 0, memory_order_relaxed);
     cs->opened = 1;
@@ -1555,7 +1564,7 @@ hk_Status hk_contact_solve_sweep(hk_ContactSolve *cs, const hk_HairContacts *con
                                  int strand_count, const hk_RigidState *head_end, double dt,
                                  hk_ContactSolveStats *stats, hk_Error *err)
 {
-    hk_ContactSolveStats local = {0, 0, 0, 0.0};
+    hk_ContactSolveStats local = {0, 0, 0, 0.0, 0};
     hk_Status st = check_solve(cs, contacts, strand_count, dt, err);
     if (st != HK_OK) return st;
     const int threads = hk_hc_threads(contacts);
@@ -1588,6 +1597,7 @@ hk_Status hk_contact_solve_sweep(hk_ContactSolve *cs, const hk_HairContacts *con
     for (int x = 0; x < HK_SPLIT_GROUPS; x += 2)
         side_by_side |= threads > 1 && bounds[x + 1] > bounds[x] && bounds[x + 2] > bounds[x + 1];
     run_sweeps(cs, order, group, side_by_side, &local);
+    for (int s = 0; s < strand_count; s++) local.evaluations += cs->evaluations[s];
     cs->solved_count = n;
     cs->dt = dt;
     atomic_store_explicit(&cs->finished, 0, memory_order_relaxed);

@@ -30,10 +30,11 @@
 typedef struct hk_ContactSolve hk_ContactSolve;
 
 typedef struct hk_ContactSolveStats {
-    int sweeps;      /* Gauss-Seidel sweeps of the last solve */
-    int pushing;     /* pairs with a normal impulse */
-    int sticking;    /* ... of which stick (within the friction cone's interior) */
-    double residual; /* largest impulse change of the last sweep relative to the largest impulse */
+    int sweeps;       /* Gauss-Seidel sweeps of the last solve */
+    int pushing;      /* pairs with a normal impulse */
+    int sticking;     /* ... of which stick (within the friction cone's interior) */
+    double residual;  /* largest impulse change of the last sweep relative to the largest impulse */
+    long evaluations; /* the strands' evaluations in their steps without the contacts (predict) */
 } hk_ContactSolveStats;
 
 hk_Status hk_contact_solve_create(int strand_count, hk_ContactSolve **out, hk_Error *err);

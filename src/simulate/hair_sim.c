@@ -601,8 +601,11 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
      * (hk_hair_sim_def_for). */
     const int coupled = sim->options.dynamics.integrator == HK_INTEGRATOR_LINEAR_EULER;
     hk_Status st = HK_OK;
-    long predicted = 0; /* evaluations of the contacts' solve */
-    int swept = 0;      /* the solve's impulses are found, to be finished with the commits */
+    /* The evaluations of the solve's predictions, counted by the solve: summed here
+     * from the guides' stats before and after, on the master between the parallel
+     * regions, they read a line of every guide last written on either core. */
+    long predicted = 0;
+    int swept = 0; /* the solve's impulses are found, to be finished with the commits */
     hk_RigidState head_end = hk_rigid_identity();
     if (head_fn) head_fn(user, t + dt, &head_end);
     if (sim->contacts) {
@@ -614,7 +617,6 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
         }
         sim->sampled = 0;
         hk_hc_set_geometry_only(sim->contacts, coupled); /* the solve takes no penalty forces */
-        for (int i = 0; i < sim->guide_count; i++) predicted -= hk_strand_dynamics_stats(sim->dyn[i]).iterations;
         if (coupled && threads > 1) {
             st = hk_contact_solve_open(sim->contact_solve, sim->dyn, sim->guide_count, err);
             if (st == HK_OK) st = overlapped_step(sim, &head_end, dt, threads, err);
@@ -628,11 +630,11 @@ static hk_Status advance(hk_HairSim *sim, hk_HeadStateFn head_fn, void *user, do
             st = hk_contact_solve_sweep(sim->contact_solve, sim->contacts, sim->dyn, sim->guide_count, &head_end, dt,
                                         &cstats, err);
             swept = st == HK_OK;
+            predicted = swept ? cstats.evaluations : 0;
             local.contacts = cstats.pushing;
             local.sticking = cstats.sticking;
             local.contact_sweeps = cstats.sweeps;
         }
-        for (int i = 0; i < sim->guide_count; i++) predicted += hk_strand_dynamics_stats(sim->dyn[i]).iterations;
     }
     int substeps = 0, body = 0, recovered = 0;
     long iterations = 0;
