@@ -68,8 +68,8 @@ static int reference_law(double w[3][3], const double u0[3], double beta, double
     *margin = INFINITY;
     const long double f = mu > 0.0 ? 1.0L : viscous, e = mu > 0.0 ? 0.0L : 1.0L;
     long double a[3][3] = {{den, (long double)gamma * w[0][1], (long double)gamma * w[0][2]},
-                                 {f * w[1][0], e + f * w[1][1], f * w[1][2]},
-                                 {f * w[2][0], f * w[2][1], e + f * w[2][2]}};
+                           {f * w[1][0], e + f * w[1][1], f * w[1][2]},
+                           {f * w[2][0], f * w[2][1], e + f * w[2][2]}};
     const long double rhs[3] = {free_push, -f * u0[1], -f * u0[2]}, d = det3(a);
     long double x[3];
     for (int c = 0; c < 3; c++) {
