@@ -130,8 +130,9 @@ static inline void eigen2(const double a[2][2], LawParts *lp)
  * below), Q = sum w_i / (e_i + nu)^2, the relative error of |y| after a step from
  * one of relative error d is K d^2 with K = f'' f / (2 f'^2) = 3/2 (Q W / P^2 - 1)
  * (f' = P W^-3/2, f'' = -3 (Q W - P^2) W^-5/2), K taken at the iterate. On the
- * head driver's 8 frames the loop's passes with a square root fell from 3.57 to 2.6 a
- * solve on the edge. */
+ * head driver's settling and 8 frames the passes with a square root fell from 3.57 to
+ * 2.78 a solve on the edge, the visits' law from 121-142 to 96-115 ns (its latency,
+ * docs/dynamics.md, "The contact law's divisions off the visit's chain"). */
 static inline __attribute__((always_inline)) void disc_qp(const LawParts *lp, const double g[2], double s, double y[2],
                                                           double *nu_io)
 {
