@@ -87,7 +87,9 @@ static inline __attribute__((always_inline)) int solve_eliminated3(const LawPart
     x[2] = b[2] * u[5];
     x[1] = (b[1] - u[4] * x[2]) * u[3];
     x[0] = (b[0] - u[1] * x[1] - u[2] * x[2]) * u[0];
-    return isfinite(x[0]) && isfinite(x[1]) && isfinite(x[2]);
+    /* One test on the sum: not finite when any is (inf - inf is NaN); it rejects a finite
+     * solution only when the sum overflows, impulses beyond 1e307, no answer either. */
+    return isfinite(x[0] + x[1] + x[2]);
 }
 
 /* The eigen-decomposition of the symmetric 2 x 2 a = sum e_i v_i v_i^T into lp. */
