@@ -396,22 +396,6 @@ static inline __attribute__((always_inline)) void rows_dot_lanes(const double *a
     if (rows > 2) out[2] = lanes_sum(acc2, a2, x, i, n);
 }
 
-/* a . b over n entries (rows_dot_lanes), on the AVX path where the CPU has it. */
-__attribute__((target("avx"))) static double dot_n_avx(const double *a, const double *b, size_t n)
-{
-    double s;
-    rows_dot_lanes(a, 0, 1, b, n, &s, 1);
-    return s;
-}
-
-static double dot_n(const double *a, const double *b, size_t n)
-{
-    if (hk_avx_path()) return dot_n_avx(a, b, n);
-    double s;
-    rows_dot_lanes(a, 0, 1, b, n, &s, 0);
-    return s;
-}
-
 /* Where point x's 3 rows (of stride its support) start in jac and yt. */
 static size_t block_of(const hk_ContactSolve *cs, int x) { return ((const size_t *)cs->block.items)[x]; }
 
@@ -487,8 +471,8 @@ static const double *inverse_of(const hk_ContactSolve *cs, int s)
 /* Row 0 of Z^T = (U^-1 J^T)^T of every point of reversed strand s, in place of its
  * normal row of J (what a pair that does not push needs to read its normal velocity,
  * J dv = Z^T w: every pair's idle check), up to three consecutive points of the same
- * support solved side by side: a back substitution is a chain of divisions, each
- * waiting for the last, and one row alone took as long as three. Each row gets the bits
+ * support solved side by side: a back substitution is a chain, each unknown waiting
+ * for the last, and one row alone took as long as three. Each row gets the bits
  * it gets alone (hk_contact_back_substitute). Rows 1 and 2 stay in the basis until the
  * pair may push (answer_points, answer_lazily). Solved with the Jacobians, while their
  * rows are in the caches. */
@@ -721,8 +705,11 @@ static int first_not_less(const PairState *pairs, int count, const int key[4])
 }
 
 /* Pair ph's Delassus block in its basis, J_a Y_a + J_b Y_b (or Z_a^T Z_a + Z_b^T Z_b)
- * with both points' rows of J (and so their answers) in that basis. */
-static void pair_block(hk_ContactSolve *cs, PairHot *ph)
+ * with both points' rows of J (and so their answers) in that basis. Column q of a
+ * point's block, row r of J times row q of Y^T, in one pass over the rows (each sum
+ * rows_dot_lanes's own, the bits it has alone), inlined into the sweep's twins (wide:
+ * its AVX path) instead of a call that chose its path at each of the nine sums. */
+static inline __attribute__((always_inline)) void pair_block(hk_ContactSolve *cs, PairHot *ph, int wide)
 {
     memset(ph->w, 0, sizeof ph->w);
     for (int side = 0; side < 2; side++) {
@@ -730,12 +717,14 @@ static void pair_block(hk_ContactSolve *cs, PairHot *ph)
         const size_t m = (size_t)pr->m;
         const double *rows = pr->rows, *yt = pr->resp;
         /* Z^T Z is symmetric to the bit (a product's factors commute, the sums run in
-         * one order): its lower triangle is copied. */
+         * one order): rows q to 2 of column q are summed, the rest copied. */
         const int symmetric = rows == yt;
-        double e[3][3];
-        for (int r = 0; r < 3; r++)
-            for (int q = 0; q < 3; q++)
-                e[r][q] = symmetric && q < r ? e[q][r] : dot_n(rows + (size_t)r * m, yt + (size_t)q * m, m);
+        double e[3][3], column[3];
+        for (int q = 0; q < 3; q++) {
+            const int first = symmetric ? q : 0;
+            rows_dot_lanes(rows + (size_t)first * m, m, 3 - first, yt + (size_t)q * m, m, column, wide);
+            for (int r = 0; r < 3; r++) e[r][q] = r < first ? e[q][r] : column[r - first];
+        }
         for (int r = 0; r < 3; r++)
             for (int q = 0; q < 3; q++) ph->w[r][q] += e[r][q];
     }
@@ -915,7 +904,7 @@ static inline __attribute__((always_inline)) int visit(hk_ContactSolve *cs, Pair
     if (!ph->ready) { /* (a record's pair pushed: it is ready, ph is its own) */
         const PairState *ps = (const PairState *)cs->pairs.items + k;
         for (int side = 0; side < 2; side++) answer_lazily(cs, ps->strand[side], ps->slot[side]);
-        pair_block(cs, ph);
+        pair_block(cs, ph, wide);
     }
     const hk_Vec3 u = relative_velocity(ph, wide);
     const double lo[3] = {ph->lambda.x, ph->lambda.y, ph->lambda.z};
