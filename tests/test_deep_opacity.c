@@ -223,7 +223,8 @@ static void test_thin_columns(void **state)
     long fragments = 0;
     for (int k = 0; k < 200000; k++) {
         const int x0 = (int)(100.0 * hk_test_uniform()), y0 = (int)(100.0 * hk_test_uniform());
-        const hk_Rect clip = {x0, y0, x0 + 1 + (int)(32.0 * hk_test_uniform()), y0 + 1 + (int)(32.0 * hk_test_uniform())};
+        const hk_Rect clip = {x0, y0, x0 + 1 + (int)(32.0 * hk_test_uniform()),
+                              y0 + 1 + (int)(32.0 * hk_test_uniform())};
         hk_RasterPoint a = {coordinate(), coordinate(), 1.0f, 1.0f}, b = a;
         const double kind = hk_test_uniform();
         if (kind < 0.7) { /* short ones start near the clip (its pixel grid kept) */
@@ -233,7 +234,8 @@ static void test_thin_columns(void **state)
         if (kind < 0.5) { /* short, as a hair's segments in the map: a few texels */
             b.x = a.x + (float)(12.0 * hk_test_uniform() - 6.0), b.y = a.y + (float)(12.0 * hk_test_uniform() - 6.0);
         } else if (kind < 0.7) { /* very short */
-            b.x = a.x + (float)(1e-3 * (hk_test_uniform() - 0.5)), b.y = a.y + (float)(1e-3 * (hk_test_uniform() - 0.5));
+            b.x = a.x + (float)(1e-3 * (hk_test_uniform() - 0.5)),
+            b.y = a.y + (float)(1e-3 * (hk_test_uniform() - 0.5));
         } else if (kind < 0.8) { /* along an axis */
             if (hk_test_uniform() < 0.5)
                 b.x = coordinate();

@@ -200,9 +200,7 @@ static hk_Status hair_opacity_map(const hk_Scene *scene, const uint8_t *segment_
     if (hair->point_count == 0) return HK_OK;
     if (!HK_RESERVE(m->proj, m->proj_cap, hair->point_count, err)) return HK_ERR_NOMEM;
     hk_RasterPoint *proj = m->proj;
-#pragma omp parallel for schedule(static) num_threads(scene->threads)
-    for (long i = 0; i < (long)hair->point_count; i++)
-        proj[i] = hk_view_project(&m->view, hk_hair_point(hair, (uint32_t)i));
+    hk_view_project_points(&m->view, hair, proj, scene->threads);
     /* Each thread's fragment buffer, kept for the next picture. */
     const int threads = scene->threads;
     if (threads > m->frag_threads) {
