@@ -319,7 +319,7 @@ void hk_light_lookup(const hk_LightMaps *m, hk_Vec3 p, double *head_visible, dou
      * opacity interpolated between its layers in each texel. */
     const float bias = (float)(2.0 * m->texel);
     const float fx = q.x - 0.5f, fy = q.y - 0.5f;
-    const int x0 = (int)floorf(fx), y0 = (int)floorf(fy);
+    const int x0 = ifloor(fx), y0 = ifloor(fy); /* floorf without a call into libm */
     const float wx = fx - (float)x0, wy = fy - (float)y0;
     double sum = 0.0, lit = 0.0;
     for (int j = 0; j < 2; j++)
