@@ -6,9 +6,13 @@
  *  - test_projection_same_bits: random points, perspective and orthographic views,
  *    points behind the eye (depth 0 there), counts 0 to 13, 1 and 2 threads.
  *  - test_camera_fit_same_bits: hk_camera_frame of random hair with and without a head,
- *    with the AVX paths allowed and not: the same view, byte for byte. */
+ *    with the AVX paths allowed and not: the same view, byte for byte.
+ *  - test_scene_bounds: hk_scene_bounds (render.c; four points a step in SSE, the rest
+ *    one by one) against the points' plain min and max, for counts 0 to 40 and 1 and 2
+ *    threads, and a NaN or an infinity at every place refused. */
 #include "hk_test.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -95,11 +99,44 @@ static void test_camera_fit_same_bits(void **state)
     hk_mesh_free(&ball);
 }
 
+static void test_scene_bounds(void **state)
+{
+    (void)state;
+    const hk_RenderDef o = hk_default_render_def();
+    const hk_Visuality vis = hk_default_visuality();
+    for (uint32_t strands = 1; strands <= 20; strands++)
+        for (int threads = 1; threads <= 2; threads++) {
+            hk_HairFile h;
+            random_hair(&h, strands, 2); /* 2 to 40 points */
+            hk_Scene sc;
+            memset(&sc, 0, sizeof sc);
+            sc.hair = &h, sc.vis = &vis, sc.opt = &o, sc.threads = threads;
+            hk_Error err;
+            assert_int_equal(hk_scene_bounds(&sc, &err), HK_OK);
+            double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+            for (size_t i = 0; i < 3 * (size_t)h.point_count; i++) {
+                lo[i % 3] = fmin(lo[i % 3], h.points[i]);
+                hi[i % 3] = fmax(hi[i % 3], h.points[i]);
+            }
+            const hk_Vec3 want_lo = hk_v3(lo[0], lo[1], lo[2]), want_hi = hk_v3(hi[0], hi[1], hi[2]);
+            assert_memory_equal(&sc.lo, &want_lo, sizeof want_lo);
+            assert_memory_equal(&sc.hi, &want_hi, sizeof want_hi);
+            for (size_t i = 0; i < 3 * (size_t)h.point_count; i++) {
+                const float kept = h.points[i];
+                h.points[i] = i % 2 ? NAN : -INFINITY;
+                assert_int_equal(hk_scene_bounds(&sc, &err), HK_ERR_INVALID);
+                h.points[i] = kept;
+            }
+            hk_hair_free(&h);
+        }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_projection_same_bits),
         cmocka_unit_test(test_camera_fit_same_bits),
+        cmocka_unit_test(test_scene_bounds),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
