@@ -24,7 +24,9 @@
  *  - test_thin_columns: the map's rasteriser (hk_raster_segment_thin) visits only the
  *    columns its test on t can accept; it must emit the same fragments, bit for bit,
  *    as the walk over the wider range it had before (copied here as the reference),
- *    for random segments, ends on pixel centres and edges, and clips. */
+ *    for random segments, ends on pixel centres and edges, and clips; and every
+ *    fragment must lie in the segment's box for the map's bins
+ *    (hk_segment_box_thin_inline). */
 #include "hk_test.h"
 
 #include <float.h>
@@ -220,7 +222,7 @@ static void test_thin_columns(void **state)
 {
     (void)state;
     static Emitted got, want;
-    long fragments = 0;
+    long fragments = 0, boxed_area = 0;
     for (int k = 0; k < 200000; k++) {
         const int x0 = (int)(100.0 * hk_test_uniform()), y0 = (int)(100.0 * hk_test_uniform());
         const hk_Rect clip = {x0, y0, x0 + 1 + (int)(32.0 * hk_test_uniform()),
@@ -256,7 +258,21 @@ static void test_thin_columns(void **state)
             assert_memory_equal(&got.alpha[i], &want.alpha[i], sizeof(float));
         }
         fragments += got.count;
+        /* The box the map's bins take (hk_segment_box_thin_inline) holds every
+         * fragment drawn anywhere in the image: a tile outside it gets none. */
+        const hk_Rect image = {0, 0, 128, 128};
+        got.count = 0;
+        hk_raster_segment_thin(a, b, width, image, record, &got);
+        hk_Rect box = {0, 0, 0, 0};
+        const int boxed = hk_segment_box_thin_inline(a, b, image.x1, image.y1, &box);
+        if (got.count > 0) assert_true(boxed);
+        for (int i = 0; i < got.count; i++) {
+            assert_true(got.x[i] >= box.x0 && got.x[i] < box.x1);
+            assert_true(got.y[i] >= box.y0 && got.y[i] < box.y1);
+        }
+        boxed_area += boxed ? (long)(box.x1 - box.x0) * (box.y1 - box.y0) : 0;
     }
+    print_message("boxes of %ld pixels in all\n", boxed_area);
     print_message("%ld fragments, the same\n", fragments);
     assert_true(fragments > 100000); /* the segments reach their clips (137,000) */
 }

@@ -41,12 +41,13 @@ static inline __attribute__((always_inline)) float segment_width(const hk_Scene 
     return (float)(0.5 * (hk_hair_thickness_at(s, i) + hk_hair_thickness_at(s, i + 1))) * proj[i].px_per_unit;
 }
 
+/* The texels the thin rasteriser can reach (not the wide one's box, a texel and a half
+ * wider on every side: segments were binned into twice as many tiles as they drew in). */
 static int hair_box(void *user, uint32_t i, hk_Rect *box)
 {
     const LightPass *lp = user;
     if (!lp->segment_start[i]) return 0;
-    return hk_segment_box_inline(lp->proj[i], lp->proj[i + 1], segment_width(lp->scene, lp->proj, i), lp->maps->size,
-                                 lp->maps->size, box);
+    return hk_segment_box_thin_inline(lp->proj[i], lp->proj[i + 1], lp->maps->size, lp->maps->size, box);
 }
 
 HK_TILE_BINS_BUILD(bin_hair, hair_box)
