@@ -107,9 +107,8 @@ static double fit_distance(const hk_Scene *scene, const Fit *f)
     /* max is exact: the same result whatever the threads and lanes. */
 #pragma omp parallel reduction(max : dist) num_threads(scene->threads)
     {
-        const size_t parts = (size_t)omp_get_num_threads(), part = (size_t)omp_get_thread_num();
-        const size_t hi = n * (part + 1) / parts;
-        size_t i = n * part / parts;
+        size_t i, hi;
+        hk_points_part(n, &i, &hi);
 #ifdef HK_POINTS_AVX
         if (avx) i = needed_avx(f, h->points, i, hi, &dist);
 #endif
@@ -136,9 +135,8 @@ static Spread fit_spread(const hk_Scene *scene, const Fit *f)
     double xlo = 1e300, xhi = -1e300, ylo = 1e300, yhi = -1e300;
 #pragma omp parallel reduction(min : xlo, ylo) reduction(max : xhi, yhi) num_threads(scene->threads)
     {
-        const size_t parts = (size_t)omp_get_num_threads(), part = (size_t)omp_get_thread_num();
-        const size_t hi = n * (part + 1) / parts;
-        size_t i = n * part / parts;
+        size_t i, hi;
+        hk_points_part(n, &i, &hi);
         Spread s = {xlo, xhi, ylo, yhi};
 #ifdef HK_POINTS_AVX
         if (avx) i = spread_avx(f, h->points, i, hi, &s);

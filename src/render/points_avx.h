@@ -6,10 +6,21 @@
 #ifndef HK_RENDER_POINTS_AVX_H
 #define HK_RENDER_POINTS_AVX_H
 
+#include <stddef.h>
+
+#include <omp.h>
+
+/* The calling thread's part [*lo, *hi) of n points, in an OpenMP parallel region:
+ * contiguous parts in thread order (each part's vectors and its rest in it). */
+static inline void hk_points_part(size_t n, size_t *lo, size_t *hi)
+{
+    const size_t parts = (size_t)omp_get_num_threads(), part = (size_t)omp_get_thread_num();
+    *lo = n * part / parts, *hi = n * (part + 1) / parts;
+}
+
 #if defined(__x86_64__) && defined(__GNUC__)
 #define HK_POINTS_AVX 1
 #include <immintrin.h>
-#include <stddef.h>
 
 #include "hairkit/vecmath.h"
 

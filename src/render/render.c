@@ -10,6 +10,7 @@
 #include <emmintrin.h>
 #endif
 
+#include "points_avx.h"
 #include "render_internal.h"
 
 hk_RenderDef hk_default_render_def(void)
@@ -138,9 +139,8 @@ hk_Status hk_scene_bounds(hk_Scene *sc, hk_Error *err)
                                                        : hx, hy, hz) reduction(|                                       \
                                                                                : nonfinite) num_threads(sc->threads)
     {
-        const size_t n = h->point_count, parts = (size_t)omp_get_num_threads(), part = (size_t)omp_get_thread_num();
-        const size_t hi = n * (part + 1) / parts;
-        size_t i = n * part / parts;
+        size_t i, hi;
+        hk_points_part(h->point_count, &i, &hi);
 #ifdef __SSE2__
         /* Four points a step in three vectors of the floats as they lie (x y z x, y z x y,
          * z x y z): each lane keeps one coordinate's min and max (minps and maxps are

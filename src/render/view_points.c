@@ -45,9 +45,8 @@ void hk_view_project_points(const hk_View *v, const hk_HairFile *h, hk_RasterPoi
 #endif
 #pragma omp parallel num_threads(threads)
     {
-        const size_t parts = (size_t)omp_get_num_threads(), part = (size_t)omp_get_thread_num();
-        const size_t hi = n * (part + 1) / parts;
-        size_t i = n * part / parts;
+        size_t i, hi;
+        hk_points_part(n, &i, &hi);
 #ifdef HK_POINTS_AVX
         if (avx) i = project_avx(v, h->points, i, hi, out);
 #endif
