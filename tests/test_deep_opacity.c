@@ -20,7 +20,13 @@
  *    the last layer) in a map of those sheets only (the same framing). Transmittance
  *    therefore falls with every sheet passed: 6 mm > 14 mm > 30 mm. Equally deep layers
  *    (2, 4, 6, 8 mm) put the sheets at 9 and 20 mm both in the last layer, and the
- *    point at 14 mm, in front of the sheet at 20 mm, in its shadow. */
+ *    point at 14 mm, in front of the sheet at 20 mm, in its shadow.
+ *  - test_thin_columns: the map's rasteriser (hk_raster_segment_thin) visits only the
+ *    columns its test on t can accept; it must emit the same fragments, bit for bit,
+ *    as the walk over the wider range it had before (copied here as the reference),
+ *    for random segments, ends on pixel centres and edges, and clips; and every
+ *    fragment must lie in the segment's box for the map's bins
+ *    (hk_segment_box_thin_inline). */
 #include "hk_test.h"
 
 #include <float.h>
@@ -29,6 +35,7 @@
 #include <string.h>
 
 #include "hairkit/render.h"
+#include "render/raster_inline.h"
 #include "render/render_internal.h"
 
 enum { POINTS = 11 };
@@ -158,11 +165,124 @@ static void test_transmittance_behind_sheets(void **state)
     hk_hair_free(&h);
 }
 
+/* Fragments of one segment, as emitted. */
+typedef struct Emitted {
+    int count;
+    int x[512], y[512];
+    float t[512], alpha[512];
+} Emitted;
+
+static void record(void *user, int x, int y, float t, float alpha)
+{
+    Emitted *e = user;
+    assert_true(e->count < 512);
+    e->x[e->count] = x, e->y[e->count] = y, e->t[e->count] = t, e->alpha[e->count] = alpha;
+    e->count++;
+}
+
+/* hk_raster_segment_thin before its columns were narrowed (a copy): every column from
+ * the segment's lower end less 1/2 to its upper end rounded up, each tested on t. */
+static void thin_reference(hk_RasterPoint a, hk_RasterPoint b, float width, hk_Rect clip, Emitted *out)
+{
+    const float dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
+    if (!(len2 > 1e-12f) || !(width > 0.0f)) return;
+    const int x_major = fabsf(dx) >= fabsf(dy);
+    const float major_a = x_major ? a.x : a.y, d_major = x_major ? dx : dy;
+    const float minor_a = x_major ? a.y : a.x, d_minor = x_major ? dy : dx;
+    float alpha = width * sqrtf(len2) / fabsf(d_major);
+    if (alpha > 1.0f) alpha = 1.0f;
+    const int lo_major = x_major ? clip.x0 : clip.y0, hi_major = x_major ? clip.x1 : clip.y1;
+    const int lo_minor = x_major ? clip.y0 : clip.x0, hi_minor = x_major ? clip.y1 : clip.x1;
+    const int m0 = ifloor(clampf(minf(major_a, major_a + d_major) - 0.5f, (float)lo_major, (float)hi_major));
+    const int m1 = iceil(clampf(maxf(major_a, major_a + d_major), (float)lo_major - 1.0f, (float)hi_major - 1.0f));
+    for (int m = m0; m <= m1; m++) {
+        const float t = ((float)m + 0.5f - major_a) / d_major;
+        if (!(t >= 0.0f && t < 1.0f)) continue;
+        const float minor = minor_a + t * d_minor;
+        if (!(minor >= (float)lo_minor && minor < (float)hi_minor)) continue;
+        const int n = (int)minor;
+        if (n < lo_minor || n >= hi_minor) continue;
+        record(out, x_major ? m : n, x_major ? n : m, t, alpha);
+    }
+}
+
+/* A coordinate: anywhere in [-20, 140), or on a pixel centre or edge (where the test
+ * on t decides at its bounds), or just beside one. */
+static float coordinate(void)
+{
+    const double u = hk_test_uniform(), v = -20.0 + 160.0 * hk_test_uniform();
+    if (u < 0.4) return (float)v;
+    const float whole = (float)floor(v);
+    if (u < 0.6) return whole + 0.5f;
+    if (u < 0.8) return whole;
+    return nextafterf(whole + 0.5f, u < 0.9 ? 1e9f : -1e9f);
+}
+
+static void test_thin_columns(void **state)
+{
+    (void)state;
+    static Emitted got, want;
+    long fragments = 0, boxed_area = 0;
+    for (int k = 0; k < 200000; k++) {
+        const int x0 = (int)(100.0 * hk_test_uniform()), y0 = (int)(100.0 * hk_test_uniform());
+        const hk_Rect clip = {x0, y0, x0 + 1 + (int)(32.0 * hk_test_uniform()),
+                              y0 + 1 + (int)(32.0 * hk_test_uniform())};
+        hk_RasterPoint a = {coordinate(), coordinate(), 1.0f, 1.0f}, b = a;
+        const double kind = hk_test_uniform();
+        if (kind < 0.7) { /* short ones start near the clip (its pixel grid kept) */
+            a.x += (float)(x0 - (int)floorf(a.x) + (int)(40.0 * hk_test_uniform()) - 4);
+            a.y += (float)(y0 - (int)floorf(a.y) + (int)(40.0 * hk_test_uniform()) - 4);
+        }
+        if (kind < 0.5) { /* short, as a hair's segments in the map: a few texels */
+            b.x = a.x + (float)(12.0 * hk_test_uniform() - 6.0), b.y = a.y + (float)(12.0 * hk_test_uniform() - 6.0);
+        } else if (kind < 0.7) { /* very short */
+            b.x = a.x + (float)(1e-3 * (hk_test_uniform() - 0.5)),
+            b.y = a.y + (float)(1e-3 * (hk_test_uniform() - 0.5));
+        } else if (kind < 0.8) { /* along an axis */
+            if (hk_test_uniform() < 0.5)
+                b.x = coordinate();
+            else
+                b.y = coordinate();
+        } else {
+            b.x = coordinate(), b.y = coordinate();
+        }
+        const float width = (float)(2.0 * hk_test_uniform());
+        got.count = want.count = 0;
+        hk_raster_segment_thin(a, b, width, clip, record, &got);
+        thin_reference(a, b, width, clip, &want);
+        assert_int_equal(got.count, want.count);
+        for (int i = 0; i < got.count; i++) {
+            assert_int_equal(got.x[i], want.x[i]);
+            assert_int_equal(got.y[i], want.y[i]);
+            assert_memory_equal(&got.t[i], &want.t[i], sizeof(float));
+            assert_memory_equal(&got.alpha[i], &want.alpha[i], sizeof(float));
+        }
+        fragments += got.count;
+        /* The box the map's bins take (hk_segment_box_thin_inline) holds every
+         * fragment drawn anywhere in the image: a tile outside it gets none. */
+        const hk_Rect image = {0, 0, 128, 128};
+        got.count = 0;
+        hk_raster_segment_thin(a, b, width, image, record, &got);
+        hk_Rect box = {0, 0, 0, 0};
+        const int boxed = hk_segment_box_thin_inline(a, b, image.x1, image.y1, &box);
+        if (got.count > 0) assert_true(boxed);
+        for (int i = 0; i < got.count; i++) {
+            assert_true(got.x[i] >= box.x0 && got.x[i] < box.x1);
+            assert_true(got.y[i] >= box.y0 && got.y[i] < box.y1);
+        }
+        boxed_area += boxed ? (long)(box.x1 - box.x0) * (box.y1 - box.y0) : 0;
+    }
+    print_message("boxes of %ld pixels in all\n", boxed_area);
+    print_message("%ld fragments, the same\n", fragments);
+    assert_true(fragments > 100000); /* the segments reach their clips (137,000) */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_layer_layout),
         cmocka_unit_test(test_transmittance_behind_sheets),
+        cmocka_unit_test(test_thin_columns),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -34,6 +34,14 @@
 /* Normalised Gaussian of variance v at x. */
 static double gauss(double v, double x) { return exp(-x * x / (2.0 * v)) / sqrt(2.0 * HK_PI * v); }
 
+/* fmax(lo, fmin(hi, x)) by comparisons, as the same values (x NaN: hi; -0.0 kept),
+ * without two calls into libm per use, a few a vertex shaded. */
+static inline double clamp_to(double x, double lo, double hi)
+{
+    const double below = x < hi ? x : hi;
+    return below > lo ? below : lo;
+}
+
 static double channel(hk_Vec3 v, int c) { return c == 0 ? v.x : c == 1 ? v.y : v.z; }
 static void set_channel(hk_Vec3 *v, int c, double x)
 {
@@ -149,14 +157,20 @@ hk_DualEntry hk_dual_lookup(const hk_DualScattering *ds, double sin_i)
     return out;
 }
 
-hk_Vec3 hk_dual_global_fraction(const hk_DualEntry *en, double n)
+/* G of hk_dual_global_fraction, given direct = exp(-n) (the shaders have it already).
+ * Comparisons, not fmin and fmax (calls into libm): the same values, NaN included
+ * (a NaN a_f takes 1, a NaN difference 0, as with fmin and fmax). */
+static hk_Vec3 global_fraction(const hk_DualEntry *en, double n, double direct)
 {
-    const double direct = exp(-n);
     hk_Vec3 g;
-    for (int c = 0; c < 3; c++)
-        set_channel(&g, c, HK_DUAL_DF * fmax(0.0, exp(-n * (1.0 - fmin(channel(en->a_f, c), 1.0))) - direct));
+    for (int c = 0; c < 3; c++) {
+        const double af = channel(en->a_f, c), kept = exp(-n * (1.0 - (af < 1.0 ? af : 1.0))) - direct;
+        set_channel(&g, c, HK_DUAL_DF * (kept > 0.0 ? kept : 0.0));
+    }
     return g;
 }
+
+hk_Vec3 hk_dual_global_fraction(const hk_DualEntry *en, double n) { return global_fraction(en, n, exp(-n)); }
 
 /* Angles of a pair of directions about the fibre. */
 typedef struct Angles {
@@ -202,7 +216,7 @@ hk_Vec3 hk_shade_dual_marschner(const hk_DualScattering *ds, hk_Vec3 t, hk_Vec3 
     const Angles a = angles(t, l, e);
     const hk_DualEntry en = hk_dual_lookup(ds, a.sin_i);
     const double direct = exp(-n);
-    const hk_Vec3 global = hk_dual_global_fraction(&en, n);
+    const hk_Vec3 global = global_fraction(&en, n, direct);
     const hk_Vec3 spread = hk_v3_scale(en.beta_f2, n);
     /* Light arriving unscattered: the single lobes and the neighbours' backscattering. */
     hk_Vec3 out = hk_v3_scale(
@@ -230,7 +244,8 @@ hk_Vec3 hk_shade_dual_kajiya_kay(const hk_DualScattering *ds, hk_Vec3 t, hk_Vec3
                                  const hk_Visuality *v)
 {
     const double tl = hk_v3_dot(t, l), te = hk_v3_dot(t, e);
-    const double sin_tl = sqrt(fmax(0.0, 1.0 - tl * tl)), sin_te = sqrt(fmax(0.0, 1.0 - te * te));
+    const double cos2_tl = 1.0 - tl * tl, cos2_te = 1.0 - te * te; /* fmax(0, .) by comparisons */
+    const double sin_tl = sqrt(cos2_tl > 0.0 ? cos2_tl : 0.0), sin_te = sqrt(cos2_te > 0.0 ? cos2_te : 0.0);
     const double cone = sin_tl * sin_te - tl * te; /* cos(theta_i + theta_o) */
     const double p = v->glossiness;
     const double spec = cone > 0.0 ? pow(cone, p) : 0.0;
@@ -239,21 +254,22 @@ hk_Vec3 hk_shade_dual_kajiya_kay(const hk_DualScattering *ds, hk_Vec3 t, hk_Vec3
     if (!(n > 1e-6)) return out; /* nothing in front: nothing forward-scattered */
     /* Only a_f and beta_f2 of the entry are needed: interpolated alone (the whole
      * entry is 27 numbers). */
-    const double ti = asin(fmax(-1.0, fmin(1.0, tl)));
-    const double x = fmax(0.0, fmin((double)(HK_DUAL_THETA - 1), (ti + 0.5 * HK_PI) / (HK_PI / HK_DUAL_THETA) - 0.5));
+    const double ti = asin(clamp_to(tl, -1.0, 1.0));
+    const double x = clamp_to((ti + 0.5 * HK_PI) / (HK_PI / HK_DUAL_THETA) - 0.5, 0.0, (double)(HK_DUAL_THETA - 1));
     const int k = x < HK_DUAL_THETA - 1 ? (int)x : HK_DUAL_THETA - 2;
     const double w = x - k;
     hk_DualEntry en;
     en.a_f = hk_v3_add(ds->at[k].a_f, hk_v3_scale(hk_v3_sub(ds->at[k + 1].a_f, ds->at[k].a_f), w));
     en.beta_f2 = hk_v3_add(ds->at[k].beta_f2, hk_v3_scale(hk_v3_sub(ds->at[k + 1].beta_f2, ds->at[k].beta_f2), w));
-    const hk_Vec3 global = hk_dual_global_fraction(&en, n);
+    const hk_Vec3 global = global_fraction(&en, n, direct);
     /* The specular cone cos^p(2 theta_h) is about a Gaussian of variance 1 / (4 p) in
      * theta_h; widened by the spread s2 it keeps its integral: the exponent becomes
      * p' = p v / (v + s2) and the peak sqrt(p' / p). The spread of the three channels
      * differs by a few per cent: their mean is taken (one power instead of three). */
-    const double var = 1.0 / (4.0 * fmax(p, 1e-6));
+    const double p_min = p > 1e-6 ? p : 1e-6; /* fmax(p, 1e-6), NaN included */
+    const double var = 1.0 / (4.0 * p_min);
     const double s2 = n * (en.beta_f2.x + en.beta_f2.y + en.beta_f2.z) / 3.0, pw = p * var / (var + s2);
-    const double spec_g = cone > 0.0 ? sqrt(pw / fmax(p, 1e-6)) * pow(cone, pw) : 0.0;
+    const double spec_g = cone > 0.0 ? sqrt(pw / p_min) * pow(cone, pw) : 0.0;
     const hk_Vec3 kk = hk_v3_add(hk_v3_scale(v->diffuse, sin_tl), hk_v3_scale(v->specular, spec_g));
     return hk_v3(out.x + global.x * kk.x, out.y + global.y * kk.y, out.z + global.z * kk.z);
 }

@@ -82,7 +82,8 @@ static void shade(const hk_HairShader *s, uint32_t i, float out[3])
     const hk_RenderDef *o = sc->opt;
     const int has_next = s->segment_start[i], has_prev = i > 0 && s->segment_start[i - 1];
     hk_Vec3 t = hk_v3_sub(hk_hair_point(h, has_next ? i + 1 : i), hk_hair_point(h, has_prev ? i - 1 : i));
-    t = hk_v3_norm(t) > 0.0 ? hk_v3_normalize(t) : hk_v3(0, 1, 0);
+    const double length = hk_v3_norm(t); /* hk_v3_normalize's, once */
+    t = length > 0.0 ? hk_v3_scale(t, 1.0 / length) : hk_v3(0, 1, 0);
     const hk_Vec3 p = hk_hair_point(h, i);
     const hk_Vec3 e = hk_v3_normalize(hk_v3_sub(s->camera->origin, p));
     double head_visible = 1.0, opacity = 0.0;

@@ -41,12 +41,13 @@ static inline __attribute__((always_inline)) float segment_width(const hk_Scene 
     return (float)(0.5 * (hk_hair_thickness_at(s, i) + hk_hair_thickness_at(s, i + 1))) * proj[i].px_per_unit;
 }
 
+/* The texels the thin rasteriser can reach (not the wide one's box, a texel and a half
+ * wider on every side: segments were binned into twice as many tiles as they drew in). */
 static int hair_box(void *user, uint32_t i, hk_Rect *box)
 {
     const LightPass *lp = user;
     if (!lp->segment_start[i]) return 0;
-    return hk_segment_box_inline(lp->proj[i], lp->proj[i + 1], segment_width(lp->scene, lp->proj, i), lp->maps->size,
-                                 lp->maps->size, box);
+    return hk_segment_box_thin_inline(lp->proj[i], lp->proj[i + 1], lp->maps->size, lp->maps->size, box);
 }
 
 HK_TILE_BINS_BUILD(bin_hair, hair_box)
@@ -200,9 +201,7 @@ static hk_Status hair_opacity_map(const hk_Scene *scene, const uint8_t *segment_
     if (hair->point_count == 0) return HK_OK;
     if (!HK_RESERVE(m->proj, m->proj_cap, hair->point_count, err)) return HK_ERR_NOMEM;
     hk_RasterPoint *proj = m->proj;
-#pragma omp parallel for schedule(static) num_threads(scene->threads)
-    for (long i = 0; i < (long)hair->point_count; i++)
-        proj[i] = hk_view_project(&m->view, hk_hair_point(hair, (uint32_t)i));
+    hk_view_project_points(&m->view, hair, proj, scene->threads);
     /* Each thread's fragment buffer, kept for the next picture. */
     const int threads = scene->threads;
     if (threads > m->frag_threads) {
@@ -321,7 +320,7 @@ void hk_light_lookup(const hk_LightMaps *m, hk_Vec3 p, double *head_visible, dou
      * opacity interpolated between its layers in each texel. */
     const float bias = (float)(2.0 * m->texel);
     const float fx = q.x - 0.5f, fy = q.y - 0.5f;
-    const int x0 = (int)floorf(fx), y0 = (int)floorf(fy);
+    const int x0 = ifloor(fx), y0 = ifloor(fy); /* floorf without a call into libm */
     const float wx = fx - (float)x0, wy = fy - (float)y0;
     double sum = 0.0, lit = 0.0;
     for (int j = 0; j < 2; j++)

@@ -44,6 +44,9 @@ static inline hk_RasterPoint hk_view_project(const hk_View *v, hk_Vec3 p)
     return r;
 }
 
+/* hk_view_project of every point of h into out, in parallel (view_points.c). */
+void hk_view_project_points(const hk_View *v, const hk_HairFile *h, hk_RasterPoint *out, int threads);
+
 /* Pixel rectangle [x0, x1) x [y0, y1). */
 typedef struct hk_Rect {
     int x0, y0, x1, y1;

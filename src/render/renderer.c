@@ -220,9 +220,7 @@ static hk_Status draw(hk_Renderer *r, const hk_HairFile *hair, const hk_Mesh *he
         return HK_ERR_NOMEM;
     hk_RasterPoint *proj = r->proj, *head_proj = r->head_proj;
     float *near = r->near;
-#pragma omp parallel for schedule(static) num_threads(sc.threads)
-    for (long i = 0; i < (long)hair->point_count; i++)
-        proj[i] = hk_view_project(&cam, hk_hair_point(hair, (uint32_t)i));
+    hk_view_project_points(&cam, hair, proj, sc.threads);
     /* What the tiles sort their segments by, copied into the bins next to the
      * segments (read there in order, rather than from scattered points by every
      * tile). */
