@@ -445,7 +445,8 @@ static hk_Status write_frame(Run *r, long k, double t, int job_threads, hk_Error
          * thread and the camera fitted to it; its picture is then drawn as the others
          * are, on a thread of its own beside frame 1's. Drawn alone with every thread,
          * it left a core idle in its serial parts and at its loops' ends, and the frames
-         * after it went in pairs out of step, the last drawn alone on one core. */
+         * after it went in pairs (1 and 2, 3 and 4, ...): of an even count the last was
+         * drawn alone, one core idle. */
         j->threads = r->threads;
         regrow_frame(j);
         j->threads = job_threads;
