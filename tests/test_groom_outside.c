@@ -9,6 +9,7 @@
  *    the roots and every strand that touches no body shape as they were;
  *  - regrowing the strands from moved guides (a simulated frame) projects them too;
  *  - a straight strand through a sphere is pushed out around it;
+ *  - the quick tests that pass over points clearly outside change no byte;
  *  - the same bytes with 1 and 2 threads. */
 #include "hk_test.h"
 
@@ -177,6 +178,79 @@ static void test_regrown_strands_outside(void **state)
     hk_groom_free(&g);
 }
 
+/* The quick tests of body_projection.c (a point clearly outside every shape is not
+ * asked of hk_collision_deepest) change no byte: every strand of the blend
+ * (MaxTipDistance 0, hundreds of which enter the head), and strands laid across the
+ * surfaces of the head's three ellipsoids at relative offsets from 1e-5 down to 1e-12
+ * of their radii (where the quick tests' slack lies), kept outside by the body shapes
+ * with the quick tests and by the same shapes with six far spheres added, more shapes
+ * than the quick tests take (8), so that every point is asked of hk_collision_deepest:
+ * the same floats. */
+static void test_quick_tests_same_bytes(void **state)
+{
+    Head plain = *(const Head *)state[0];
+    plain.style.interpolation.max_tip_distance = 0.0;
+    const Head *h = &plain;
+    hk_Shape padded[9];
+    memcpy(padded, h->body, 3 * sizeof(hk_Shape));
+    for (int i = 3; i < 9; i++) padded[i] = hk_shape_sphere(hk_v3(100.0 + i, 0, 0), 0.01, 0.0, 1.0);
+    hk_Groom blend;
+    regrow(h, 0, 1, 0.0, &blend);
+    const int n = blend.points_per_strand;
+    float *a = hk_alloc_array((size_t)n, 3 * sizeof(float), NULL),
+          *b = hk_alloc_array((size_t)n, 3 * sizeof(float), NULL);
+    assert_non_null(a);
+    assert_non_null(b);
+    long moved = 0;
+    for (int s = 0; s < blend.strand_count; s++) {
+        memcpy(a, blend.strands + (size_t)s * n * 3, (size_t)n * 3 * sizeof(float));
+        memcpy(b, a, (size_t)n * 3 * sizeof(float));
+        hk_groom_keep_outside(h->body, 3, a, n);
+        hk_groom_keep_outside(padded, 9, b, n);
+        assert_memory_equal(a, b, (size_t)n * 3 * sizeof(float));
+        moved += memcmp(a, blend.strands + (size_t)s * n * 3, (size_t)n * 3 * sizeof(float)) != 0;
+    }
+    assert_true(moved > 100);
+    /* Across the surfaces: strands of two points, the root a tenth of the radius outside
+     * and the point at (1 + e) times the surface's radius in its direction, e running
+     * through +-1e-5 ... +-1e-12 and 0 (the root is never moved nor tested). */
+    enum { OFFSETS = 17 };
+    const double e[OFFSETS] = {1e-5,  -1e-5, 1e-6,   -1e-6, 2e-7,   -2e-7, 1e-8, -1e-8, 1e-9,
+                               -1e-9, 1e-10, -1e-10, 1e-12, -1e-12, 0.0,   3e-6, -3e-6};
+    long near = 0, pushed = 0;
+    for (int shape = 0; shape < 3; shape++)
+        for (int dir = 0; dir < 400; dir++) {
+            const hk_Shape *sh = &h->body[shape];
+            /* directions spread over the sphere (a Fibonacci lattice) */
+            const double z = 1.0 - (2.0 * dir + 1.0) / 400.0, r = sqrt(1.0 - z * z), phi = 2.399963229728653 * dir;
+            const hk_Vec3 u = hk_v3(r * cos(phi), r * sin(phi), z);
+            /* the ellipsoid's radius along u: 1 / sqrt(sum (u.axis_k / half_k)^2) */
+            double inv2 = 0.0;
+            for (int k = 0; k < 3; k++) {
+                const double c = hk_v3_dot(u, sh->axis[k]) / hk_v3_get(sh->half, k);
+                inv2 += c * c;
+            }
+            const double radius = 1.0 / sqrt(inv2);
+            for (int j = 0; j < OFFSETS; j++) {
+                const hk_Vec3 root = hk_v3_madd(sh->centre, u, radius * 1.1),
+                              x = hk_v3_madd(sh->centre, u, radius * (1.0 + e[j]));
+                float p[6] = {(float)root.x, (float)root.y, (float)root.z, (float)x.x, (float)x.y, (float)x.z}, q[6];
+                near += fabs(hk_shape_dent(sh, hk_v3(p[3], p[4], p[5]), NULL, NULL)) < 1e-7;
+                memcpy(q, p, sizeof p);
+                hk_groom_keep_outside(h->body, 3, p, 2);
+                hk_groom_keep_outside(padded, 9, q, 2);
+                assert_memory_equal(p, q, sizeof p);
+                pushed += p[3] != (float)x.x || p[4] != (float)x.y || p[5] != (float)x.z;
+            }
+        }
+    print_message("%ld strands of the blend moved; %ld points within 1e-7 m of a surface, %ld pushed\n", moved, near,
+                  pushed);
+    assert_true(near > 5000 && pushed > 5000);
+    hk_free(a);
+    hk_free(b);
+    hk_groom_free(&blend);
+}
+
 /* A straight strand from above a sphere of radius 5 cm straight through it: pushed
  * out, it goes round the sphere with every segment at its length. A styling sphere is
  * not body: hk_groom_body_shapes leaves it out. */
@@ -221,6 +295,7 @@ int main(void)
         cmocka_unit_test(test_default_head_outside_body),
         cmocka_unit_test(test_projection_keeps_lengths),
         cmocka_unit_test(test_regrown_strands_outside),
+        cmocka_unit_test(test_quick_tests_same_bytes),
     };
     const struct CMUnitTest alone[] = {cmocka_unit_test(test_strand_through_sphere)};
     return cmocka_run_group_tests(head, load_head, free_head) | cmocka_run_group_tests(alone, NULL, NULL);

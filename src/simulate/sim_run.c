@@ -282,20 +282,27 @@ static const hk_Mesh *moved_head(Run *r, hk_Mesh *moved, double t)
     return moved;
 }
 
-/* The picture of the job's frame. The camera is fixed at the first frame's fit, backed
- * off by 15 % to leave room for the hair's motion (frame 0 is drawn alone: the others
- * wait for its camera). */
+/* The camera, fixed at the first frame's fit, backed off by 15 % to leave room for the
+ * hair's motion: fitted to the job's frame when none is yet. */
+static hk_Status fit_camera(FrameJob *j, const hk_HairFile *hair)
+{
+    Run *r = j->run;
+    if (r->ro.camera_distance > 0.0) return HK_OK;
+    const hk_Status st = hk_render_fit_camera(hair, moved_head(r, &j->moved, j->t), &r->ro, &r->ro.camera_target,
+                                              &r->ro.camera_distance, &j->err);
+    r->ro.camera_distance *= 1.15;
+    return st;
+}
+
+/* The picture of the job's frame, with the camera of the first frame (fit_camera:
+ * fitted before any other frame is drawn). */
 static hk_Status render_frame(FrameJob *j, const hk_HairFile *hair)
 {
     Run *r = j->run;
     hk_Error *err = &j->err;
     double t0 = omp_get_wtime();
+    hk_Status st = fit_camera(j, hair);
     const hk_Mesh *head = moved_head(r, &j->moved, j->t);
-    hk_Status st = HK_OK;
-    if (!(r->ro.camera_distance > 0.0)) {
-        st = hk_render_fit_camera(hair, head, &r->ro, &r->ro.camera_target, &r->ro.camera_distance, err);
-        r->ro.camera_distance *= 1.15;
-    }
     hk_RenderDef ro = r->ro;
     ro.threads = j->threads;
     if (st == HK_OK && !j->renderer) st = hk_renderer_create(&j->renderer, err);
@@ -310,25 +317,38 @@ static hk_Status render_frame(FrameJob *j, const hk_HairFile *hair)
     return st;
 }
 
-/* The job's frame: the interpolated hair grown from its guides as written, out of the
- * body where the head is at t, and its picture (on the job's thread). */
-static void *frame_job(void *arg)
+/* The job's interpolated hair, grown from its guides as written, out of the body where
+ * the head is at t. */
+static void regrow_frame(FrameJob *j)
 {
-    FrameJob *j = arg;
     Run *r = j->run;
     const hk_SimRunDef *o = r->o;
-    double t0 = omp_get_wtime();
+    const double t0 = omp_get_wtime();
     const hk_RigidState head = hk_sim_head_pose(o->motion, j->t);
     j->st = hk_sim_grow_hair(&r->scene.style, r->scene.collision.shapes, r->scene.collision.count, &head,
                              &r->scene.wick, o->seed, j->threads, 0, 1, &j->groom, &j->hair, &j->err);
     j->seconds_regrow += omp_get_wtime() - t0;
-    if (j->st == HK_OK && o->full_hair) {
-        t0 = omp_get_wtime();
+}
+
+/* The job's full hair when asked, and its picture (on the job's thread). */
+static void *draw_job(void *arg)
+{
+    FrameJob *j = arg;
+    Run *r = j->run;
+    if (j->st == HK_OK && r->o->full_hair) {
+        const double t0 = omp_get_wtime();
         j->st = save_hair(r, &j->hair, "frame", j->k, &j->bytes, &j->err);
         j->seconds_write += omp_get_wtime() - t0;
     }
     if (j->st == HK_OK) j->st = render_frame(j, &j->hair);
     return NULL;
+}
+
+/* The job's frame: its hair regrown and drawn (on the job's thread). */
+static void *frame_job(void *arg)
+{
+    regrow_frame(arg);
+    return draw_job(arg);
 }
 
 /* Frame k is written, and every frame before it. */
@@ -415,12 +435,26 @@ static hk_Status write_frame(Run *r, long k, double t, int job_threads, hk_Error
     }
     memcpy(j->groom.guides, g->guides, values * sizeof(double));
     j->run = r, j->k = k, j->t = t, j->threads = job_threads, j->busy = 1;
-    /* Frame 0 is drawn alone, with every thread: it fixes the camera of the others. */
-    if (r->at_once == 1 || k == 0) {
+    if (r->at_once == 1) {
         frame_job(j);
         return collect(r, j, 1, err);
     }
-    if (pthread_create(&j->thread, NULL, frame_job, j) != 0) {
+    void *(*job)(void *) = frame_job;
+    if (k == 0) {
+        /* Frame 0 fixes the camera of every frame: its hair is regrown here with every
+         * thread and the camera fitted to it; its picture is then drawn as the others
+         * are, on a thread of its own beside frame 1's. Drawn alone with every thread,
+         * it left a core idle in its serial parts and at its loops' ends, and the frames
+         * after it went in pairs (1 and 2, 3 and 4, ...): of an even count the last was
+         * drawn alone, one core idle. */
+        j->threads = r->threads;
+        regrow_frame(j);
+        j->threads = job_threads;
+        if (j->st == HK_OK) j->st = fit_camera(j, &j->hair);
+        if (j->st != HK_OK) return collect(r, j, 1, err);
+        job = draw_job;
+    }
+    if (pthread_create(&j->thread, NULL, job, j) != 0) {
         j->busy = 0;
         return hk_error_set(err, HK_ERR_NOMEM, "cannot start a thread for frame %ld", k);
     }
@@ -509,7 +543,7 @@ hk_Status hk_simulation_run(const char *setup_path, const char *dir, const hk_Si
             r.p.substeps += stats.substeps;
             r.p.recovered += stats.recovered;
         }
-        if (st == HK_OK) st = write_frame(&r, k, t, k == 0 ? threads : job_threads, err);
+        if (st == HK_OK) st = write_frame(&r, k, t, job_threads, err);
         if (k == 0 && r.sim) hk_hair_sim_set_threads(r.sim, step_threads);
     }
     st = collect_all(&r, k, st, err);
