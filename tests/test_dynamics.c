@@ -337,14 +337,16 @@ static void test_linear_solve_residual(void **state)
 /* The dense solve's factor A = U U^T (hk_upper_cholesky) is Cholesky's factorisation
  * of the reversed matrix read backwards, to the bit (the contacts' solve relies on its
  * rows stopping at a point's element, the step's own solve on the same factor), with
- * U^T in its strict lower part, and hk_upper_solve solves with it, hk_upper_transpose_solve its U^T to the bit of the
- * column sums; sizes with every remainder of the four partial sums. */
+ * U^T in its strict lower part and the reciprocals of its diagonal after it, and
+ * hk_upper_solve solves with it, hk_upper_transpose_solve its U^T to the bit of the
+ * column sums times those reciprocals; sizes with every remainder of the four partial
+ * sums. */
 static void upper_cholesky_is_the_reversed_factor(void)
 {
     enum { MAX = 33 };
     for (int n = 1; n <= MAX; n++) {
         const size_t sn = (size_t)n, count = sn * sn;
-        double b[MAX * MAX], a[MAX * MAX], rev[MAX * MAX], u[MAX * MAX], extra[MAX], rextra[MAX];
+        double b[MAX * MAX], a[MAX * MAX], rev[MAX * MAX], u[MAX * MAX + MAX], extra[MAX], rextra[MAX];
         double x[MAX], rhs[MAX];
         for (size_t k = 0; k < count; k++) b[k] = rnd(-1, 1);
         for (size_t i = 0; i < sn; i++) /* B B^T: positive semi-definite, symmetric to the bit */
@@ -363,14 +365,18 @@ static void upper_cholesky_is_the_reversed_factor(void)
                 assert_memory_equal(&u[i * sn + j], &rev[count - 1 - (i * sn + j)], sizeof(double));
                 assert_memory_equal(&u[j * sn + i], &u[i * sn + j], sizeof(double)); /* U^T below */
             }
+        for (size_t i = 0; i < sn; i++) { /* then the diagonal's reciprocals */
+            const double inverse = 1.0 / u[i * sn + i];
+            assert_memory_equal(&u[count + i], &inverse, sizeof(double));
+        }
         /* only the lower triangle is read: the same factor with the strict upper one
          * not a number, in place (u may be a) */
-        double lower[MAX * MAX];
+        double lower[MAX * MAX + MAX];
         memcpy(lower, a, count * sizeof(double));
         for (size_t i = 0; i < sn; i++)
             for (size_t j = i + 1; j < sn; j++) lower[i * sn + j] = NAN;
         assert_int_equal(hk_upper_cholesky(n, lower, extra, lower), 1);
-        assert_memory_equal(lower, u, count * sizeof(double));
+        assert_memory_equal(lower, u, HK_UPPER_FACTOR_SIZE(n) * sizeof(double));
         /* U^T y = rhs by U's rows, to the bit of the sum down each column (the contacts'
          * solve finishes a strand so) */
         double y[MAX], want[MAX];
@@ -379,7 +385,7 @@ static void upper_cholesky_is_the_reversed_factor(void)
         for (size_t i = 0; i < sn; i++) {
             double v = rhs[i];
             for (size_t k = 0; k < i; k++) v -= u[k * sn + i] * want[k];
-            want[i] = v / u[i * sn + i];
+            want[i] = v * (1.0 / u[i * sn + i]);
         }
         assert_memory_equal(y, want, sn * sizeof(double));
         hk_upper_solve(n, u, x);
@@ -391,7 +397,7 @@ static void upper_cholesky_is_the_reversed_factor(void)
         }
         assert_true(sqrt(rnorm) <= 1e-9 * sqrt(bnorm));
     }
-    double indefinite[4] = {1.0, 2.0, 2.0, 1.0}, f[4], none[2] = {0.0, 0.0};
+    double indefinite[4] = {1.0, 2.0, 2.0, 1.0}, f[6], none[2] = {0.0, 0.0};
     assert_int_equal(hk_upper_cholesky(2, indefinite, none, f), 0);
 }
 

@@ -84,4 +84,19 @@ static inline __attribute__((always_inline)) void add_multiple(double *y, double
     if (i < n) y[i] += f * x[i];
 }
 
+/* y[i] = (y[i] + f x[i]) + g z[i] for i < n: add_multiple by f and x, then by g and z,
+ * in one pass (each entry's operations and their order as the two calls': the same
+ * bits), y loaded and stored once for both. */
+static inline __attribute__((always_inline)) void add_multiple2(double *y, double f, const double *x, double g,
+                                                                const double *z, int n, int wide)
+{
+    int i = 0;
+    if (wide)
+        for (const Quad fq = splat4(f), gq = splat4(g); i + 4 <= n; i += 4)
+            STORE_QUAD(y + i, (load_quad(y + i) + fq * load_quad(x + i)) + gq * load_quad(z + i));
+    for (const Pair fp = splat(f), gp = splat(g); i + 2 <= n; i += 2)
+        store_pair(y + i, (load_pair(y + i) + fp * load_pair(x + i)) + gp * load_pair(z + i));
+    if (i < n) y[i] = (y[i] + f * x[i]) + g * z[i];
+}
+
 #endif

@@ -125,10 +125,10 @@ void hk_terms_generalized_force(int n, const hk_ElementTerms *terms, double *out
 
 /* Solves (M + diag(extra)) x = rhs where M is the effective mass the terms describe:
  * dense assembly and Cholesky as A = U U^T, U upper triangular (hk_upper_cholesky; work:
- * HK_DENSE_WORK(n) doubles: the matrix's lower triangle, geo added to it, U and the
- * assembly's scratch) or the O(n) recursion (work: HK_LINEAR_WORK(n) doubles). Returns 0 if the system is not positive
- * definite. */
-#define HK_DENSE_WORK(n)  ((size_t)18 * (size_t)(n) * (size_t)(n) + HK_ASSEMBLE_WORK(n))
+ * HK_DENSE_WORK(n) doubles: the matrix's lower triangle, geo added to it, U with its
+ * diagonal's reciprocals and the assembly's scratch) or the O(n) recursion (work:
+ * HK_LINEAR_WORK(n) doubles). Returns 0 if the system is not positive definite. */
+#define HK_DENSE_WORK(n)  ((size_t)18 * (size_t)(n) * (size_t)(n) + (size_t)3 * (size_t)(n) + HK_ASSEMBLE_WORK(n))
 #define HK_LINEAR_WORK(n) ((size_t)21 * (size_t)(n))
 /* dense: geo (may be NULL) is a further symmetric 3n x 3n matrix added times scale
  * (its lower triangle read). */
@@ -139,20 +139,23 @@ int hk_terms_solve_linear(int n, const hk_ElementTerms *terms, const double *ext
 
 /* Cholesky's factorisation with the unknowns in reverse order: the symmetric a +
  * diag(extra) (n x n, row-major; its lower triangle read) as U U^T with U upper
- * triangular, into u's upper triangle, and U^T into its strict lower part (u may be a).
- * The same bits as hk_cholesky_factor(n, a reversed, 1.0, extra reversed) read
- * backwards. A point's rows of J are zero beyond its own element, and so are its rows of
+ * triangular, into u's upper triangle, and U^T into its strict lower part (u may be a),
+ * then 1 / U_ii at u + n n (HK_UPPER_FACTOR_SIZE(n) doubles in all): the solves with
+ * the factor multiply by them instead of dividing on their chains. U has the same bits
+ * as hk_cholesky_factor(n, a reversed, 1.0, extra reversed) read backwards. A point's rows of J are zero beyond its own element, and so are its rows of
  * U^-1 J^T, which the contacts' solve uses (hair_contact_solve.c); the step's own solve
  * takes the same factor, so that a strand's matrix is factored once a step. Returns 0 if
  * the matrix is not numerically positive definite. */
 int hk_upper_cholesky(int n, const double *a, const double *extra, double *u);
+#define HK_UPPER_FACTOR_SIZE(n) ((size_t)(n) * (size_t)(n) + (size_t)(n))
 
 /* Solves U U^T x = b in place (x holds b on entry) with hk_upper_cholesky's factor. */
 void hk_upper_solve(int n, const double *u, double *x);
 
 /* Solves U^T x = y in place (x holds y on entry), U upper triangular (n x n, row-major):
- * hk_upper_solve's second half. Each x_i takes its terms U_ki x_k in the order of k, then
- * the division by U_ii: the bits of that sum taken along U's column i. */
+ * hk_upper_solve's second half, with hk_upper_cholesky's factor (U, then 1 / U_ii). Each
+ * x_i takes its terms U_ki x_k in the order of k, then the product by 1 / U_ii: the bits
+ * of that sum taken along U's column i. */
 void hk_upper_transpose_solve(int n, const double *u, double *x);
 
 /* out = (M + diag(extra)) x in O(n) (two sweeps; screws: 6 n doubles of work). */
@@ -377,8 +380,8 @@ int hk_dynamics_resolve_rows(hk_StrandDynamics *d, const double *rhs, int count,
  * upper triangular (3N x 3N, row-major): the factor its dense solve took
  * (hk_upper_cholesky), with U^T in its strict lower part as hk_upper_cholesky writes it
  * (row i there holds column i of U, contiguous for the contacts' back substitutions,
- * hair_contact_solve.c). Read in place, not copied: valid until the strand's next dense
- * solve. NULL without a dense matrix (the O(N) solver or its dense fallback). */
+ * hair_contact_solve.c), then the 3N reciprocals 1 / U_ii. Read in place, not copied:
+ * valid until the strand's next dense solve. NULL without a dense matrix (the O(N) solver or its dense fallback). */
 const double *hk_dynamics_reversed_factor(const hk_StrandDynamics *d);
 
 /* Jacobians of `count` points at the sorted arc lengths s for the current q: jac holds

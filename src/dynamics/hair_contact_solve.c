@@ -134,8 +134,8 @@ struct hk_ContactSolve {
     int *movable;                    /* per strand: its step's matrix answered */
     int *evaluations;                /* per strand: the evaluations of its step without the contacts */
     int *reversed;                   /* per strand: A = U U^T (factor); its points' rows of Z in yt, w in dv */
-    const double **factor;           /* per strand: a reversed strand's U, U^T below it, read where its
-                                        dynamics keeps it (hk_dynamics_reversed_factor) */
+    const double **factor;           /* per strand: a reversed strand's U, U^T below it, then 1 / U_ii,
+                                        read where its dynamics keeps it (hk_dynamics_reversed_factor) */
     const hk_HairContacts *contacts; /* the solve's pairs (layout): their normals, the bases' first vectors */
     Buffer slots;                    /* Slot per point */
     Buffer at;                       /* double per point: its s, as the Jacobians take them */
@@ -148,7 +148,6 @@ struct hk_ContactSolve {
     Buffer block;                    /* size_t per point: where its 3 rows start in jac and yt */
     Buffer answered;                 /* char per point: its rows of Y^T are set */
     Buffer dv;                       /* double, 3N per strand: the velocity change of the impulses */
-    Buffer inverse;                  /* double, 3N per strand: a reversed strand's 1 / U_ii (point_strand) */
     Buffer vfree;                    /* double, 3N per strand: its velocity after a step without them */
     Buffer screws;                   /* double, 18N per strand: work of the Jacobians */
     Buffer pairs, old_pairs;         /* PairState per pair, this step's and the last one's */
@@ -228,7 +227,7 @@ void hk_contact_solve_destroy(hk_ContactSolve *cs)
                      &cs->screws,   &cs->pairs,        &cs->old_pairs, &cs->active,        &cs->order,
                      &cs->weight,   &cs->roots,        &cs->delta,     &cs->segment_place, &cs->block,
                      &cs->impulses, &cs->old_impulses, &cs->by_pair,   &cs->by_pair_fill,  &cs->pushed,
-                     &cs->checks,   &cs->pushes[0],    &cs->pushes[1], &cs->inverse};
+                     &cs->checks,   &cs->pushes[0],    &cs->pushes[1]};
     for (size_t k = 0; k < sizeof all / sizeof *all; k++) hk_free(all[k]->items);
     hk_contact_split_free(&cs->split);
     hk_free(cs);
@@ -449,23 +448,17 @@ static void rows_in_bases(hk_ContactSolve *cs, int s)
     }
 }
 
-/* The reciprocals of reversed strand s's U_ii, once per step: its back substitutions
- * (hk_contact_back_substitute) multiply by them instead of dividing, so that the chain
- * of its unknowns, each waiting for the last, takes a multiplication (4 cycles) a link
- * instead of a division (13 and more): a third less time a call (a loop of one
- * support of 18 on its own, one row or three). z_i = z_i (1 / U_ii) differs from
- * z_i / U_ii by rounding (docs/dynamics.md, "Speed", 7 December 2026, afternoon). */
-static void invert_diagonal(hk_ContactSolve *cs, int s)
-{
-    const size_t dim = dim_of(cs, s);
-    const double *u = cs->factor[s];
-    double *inverse = (double *)cs->inverse.items + cs->dim_start[s];
-    for (size_t i = 0; i < dim; i++) inverse[i] = 1.0 / u[i * dim + i];
-}
-
+/* The reciprocals of reversed strand s's U_ii, made by its factorisation after U
+ * (hk_upper_cholesky): its back substitutions (hk_contact_back_substitute) multiply by
+ * them instead of dividing, so that the chain of its unknowns, each waiting for the
+ * last, takes a multiplication (4 cycles) a link instead of a division (13 and more): a
+ * third less time a call (a loop of one support of 18 on its own, one row or three).
+ * z_i = z_i (1 / U_ii) differs from z_i / U_ii by rounding (docs/dynamics.md, "Speed",
+ * 7 December 2026, afternoon). */
 static const double *inverse_of(const hk_ContactSolve *cs, int s)
 {
-    return (const double *)cs->inverse.items + cs->dim_start[s];
+    const size_t dim = dim_of(cs, s);
+    return cs->factor[s] + dim * dim;
 }
 
 /* Row 0 of Z^T = (U^-1 J^T)^T of every point of reversed strand s, in place of its
@@ -521,10 +514,7 @@ static void point_strand(hk_ContactSolve *cs, hk_StrandDynamics *d, int s, const
     }
     memset((char *)cs->answered.items + begin, 0, (size_t)count);
     rows_in_bases(cs, s);
-    if (reversed) {
-        invert_diagonal(cs, s);
-        normal_rows(cs, s);
-    }
+    if (reversed) normal_rows(cs, s);
 }
 
 /* point_strand once per strand and layout, by whichever thread claims it first, after
@@ -1248,7 +1238,7 @@ hk_Status hk_contact_solve_open(hk_ContactSolve *cs, hk_StrandDynamics **dyn, in
     }
     const size_t dims = cs->dim_start[strand_count];
     if (!reserve(&cs->dv, dims, sizeof(double), err) || !reserve(&cs->vfree, dims, sizeof(double), err) ||
-        !reserve(&cs->inverse, dims, sizeof(double), err) || !reserve(&cs->screws, 6 * dims, sizeof(double), err))
+        !reserve(&cs->screws, 6 * dims, sizeof(double), err))
         return HK_ERR_NOMEM;
     memset(cs->movable, 0, (size_t)strand_count * sizeof(int));
     memset(cs->evaluations, 0, (size_t)strand_count * sizeof(int));

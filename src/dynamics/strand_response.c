@@ -138,7 +138,7 @@ static const double *dense_factor(const hk_StrandDynamics *d)
 const double *hk_dynamics_reversed_factor(const hk_StrandDynamics *d)
 {
     if (d->dense_fallback || d->params.solver != HK_DYNAMICS_DENSE) return NULL;
-    return dense_factor(d); /* U, and U^T below it (hk_upper_cholesky) */
+    return dense_factor(d); /* U, U^T below it, then 1 / U_ii (hk_upper_cholesky) */
 }
 
 int hk_dynamics_resolve(hk_StrandDynamics *d, const double *rhs, double *out)

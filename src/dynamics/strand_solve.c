@@ -196,7 +196,9 @@ static inline __attribute__((always_inline)) int upper_cholesky(int n, const dou
      * along row j (a[j][i] = a[i][j]). U^T goes to u's strict lower part as well (row j
      * there is column j of U, written along the row as column j is found): the contacts'
      * solve takes U by columns (hk_dynamics_reversed_factor), and the factorisation reads
-     * only U's upper part. */
+     * only U's upper part. The reciprocals of U's diagonal follow the n x n block
+     * (hk_upper_cholesky). */
+    double *inverse = u + sn * sn;
     for (int j = n - 1; j >= 0; j--) {
         const size_t jj = (size_t)j * sn + (size_t)j;
         const double *uj = u + (size_t)j * sn + (sn - 1), *aj = a + (size_t)j * sn;
@@ -208,6 +210,7 @@ static inline __attribute__((always_inline)) int upper_cholesky(int n, const dou
         if (!(diag > 1e-13 * ref) || !isfinite(diag)) return 0;
         const double ujj = sqrt(diag);
         u[jj] = ujj;
+        inverse[j] = 1.0 / ujj;
         int i = j - 1;
         for (; i >= 1; i -= 2) { /* rows i and i - 1 share uj's loads */
             const double *ui = u + (size_t)i * sn + (sn - 1);
@@ -250,25 +253,49 @@ int hk_upper_cholesky(int n, const double *a, const double *extra, double *u)
 
 /* U^T x = y in place by the rows of U: once x_i is known it leaves the rows below, all
  * of them side by side, each x_k taking its terms in the order of i as a sum along U's
- * column k would (less U_ik x_i as plus U_ik (-x_i): the same bits, negation is exact). */
+ * column k would (less U_ik x_i as plus U_ik (-x_i): the same bits, negation is exact).
+ * Each unknown waits for the last: x_i times 1 / U_ii (the factor's reciprocals) puts a
+ * multiplication (4 cycles) on that chain where a division took 13 and more; the
+ * product differs from the quotient by rounding. Two unknowns a pass (add_multiple2,
+ * the same bits as a pass each): a pass's vector loads of x read what the last pass's
+ * stores wrote at other offsets, which the CPU cannot forward, so each pass waited for
+ * the last one's stores (3N = 30, a solve timed alone: 365 -> 260 ns with the
+ * reciprocals, 180 ns paired; docs/dynamics.md, "Speed", 7 December 2026, evening). */
 static inline __attribute__((always_inline)) void upper_transpose_solve(int n, const double *u, double *x, int wide)
 {
     const size_t sn = (size_t)n;
-    for (int i = 0; i < n; i++) {
-        const double *row = u + (size_t)i * sn;
-        const double xi = x[i] / row[i];
-        x[i] = xi;
-        add_multiple(x + i + 1, -xi, row + i + 1, n - 1 - i, wide);
+    const double *inverse = u + sn * sn;
+    int i = 0;
+    for (; i + 1 < n; i += 2) { /* x_i, then x_i+1 less its term of x_i */
+        const double *row = u + (size_t)i * sn, *next = row + sn;
+        const double xi = x[i] * inverse[i];
+        const double xj = (x[i + 1] + -xi * row[i + 1]) * inverse[i + 1];
+        x[i] = xi, x[i + 1] = xj;
+        add_multiple2(x + i + 2, -xi, row + i + 2, -xj, next + i + 2, n - 2 - i, wide);
     }
+    if (i < n) x[i] *= inverse[i];
 }
 
+/* U U^T x = b: U y = b from the last unknown, then U^T x = y. The first half by U's
+ * columns (U^T's rows, below the diagonal), two unknowns a pass, as upper_transpose_solve
+ * and the contacts' back substitution (contact_rows.c): once x_i is known, U_ki x_i
+ * leaves every x_k above it side by side. By rows, a dot product along each row (its
+ * sums in another order: other bits), each unknown waited for the last one's division
+ * and its store: 3N = 30 timed alone, the whole solve 740 -> 545 ns with the
+ * reciprocals, 365 ns by columns. */
 static inline __attribute__((always_inline)) void upper_solve(int n, const double *u, double *x, int wide)
 {
     const size_t sn = (size_t)n;
-    for (int i = n - 1; i >= 0; i--) { /* U y = b, from the last unknown */
-        const double *row = u + (size_t)i * sn;
-        x[i] = (x[i] - dot4_down(row + n - 1, x + n - 1, n - 1 - i)) / row[i];
+    const double *inverse = u + sn * sn;
+    int i = n - 1;
+    for (; i >= 1; i -= 2) {                                  /* x_i, then x_i-1 less its term of x_i */
+        const double *ci = u + (size_t)i * sn, *cj = ci - sn; /* ci[k] = U_ki for k < i */
+        const double xi = x[i] * inverse[i];
+        const double xj = (x[i - 1] + -xi * ci[i - 1]) * inverse[i - 1];
+        x[i] = xi, x[i - 1] = xj;
+        add_multiple2(x, -xi, ci, -xj, cj, i - 1, wide);
     }
+    if (i == 0) x[0] *= inverse[0];
     upper_transpose_solve(n, u, x, wide);
 }
 
@@ -296,8 +323,8 @@ static inline __attribute__((always_inline)) int terms_solve_dense(int n, const 
 {
     const int dim = 3 * n;
     const size_t count = (size_t)dim * (size_t)dim;
-    double *mass = work, *factor = work + count;
-    assemble_lower(n, terms, mass, work + 2 * count, wide);
+    double *mass = work, *factor = work + count; /* U, then its diagonal's reciprocals */
+    assemble_lower(n, terms, mass, work + 2 * count + (size_t)dim, wide);
     if (geo) /* the lower triangle, which the factorisation reads */
         for (int i = 0; i < dim; i++)
             add_multiple(mass + (size_t)i * (size_t)dim, scale, geo + (size_t)i * (size_t)dim, i + 1, wide);
