@@ -266,6 +266,56 @@ static void test_subpixel_coverage(void **state)
         }
 }
 
+/* The fragments a rasteriser emits, in order. */
+typedef struct Emitted {
+    int count;
+    struct {
+        int x, y;
+        float t, alpha;
+    } at[4096];
+} Emitted;
+static void record_fragment(void *user, int x, int y, float t, float alpha)
+{
+    Emitted *e = user;
+    if (e->count == 4096) return;
+    e->at[e->count].x = x, e->at[e->count].y = y, e->at[e->count].t = t, e->at[e->count].alpha = alpha;
+    e->count++;
+}
+
+/* hk_raster_segment, which walks only the columns a pixel drawn can be in, emits what
+ * the walk of every column within reach of the ends does, bit for bit and in the same
+ * order: random segments in and around a tile, at every angle, thin and wide, long and
+ * next to nothing, some pixels closed. */
+static void test_segment_columns(void **state)
+{
+    (void)state;
+    static Emitted narrow, wide;
+    const hk_Rect clip = {64, 32, 96, 64};
+    uint8_t closed[HK_TILE * HK_TILE];
+    long long fragments = 0;
+    for (uint64_t k = 0; k < 20000; k++) {
+        for (int p = 0; p < HK_TILE * HK_TILE; p++) closed[p] = k % 3 == 0 && hk_rng_uniform(7, k, (uint64_t)p) < 0.3;
+        /* some long segments across the tile, a few from far outside it */
+        const float reach = k % 11 == 0 ? 3000.0f : k % 5 == 0 ? 40.0f : 4.0f;
+        hk_RasterPoint a = {(float)(60.0 + 40.0 * hk_rng_uniform(1, k, 0)),
+                            (float)(28.0 + 40.0 * hk_rng_uniform(1, k, 1)), 1.0f, 1.0f};
+        hk_RasterPoint b = a;
+        b.x += (float)(reach * (2.0 * hk_rng_uniform(1, k, 2) - 1.0));
+        b.y += (float)(reach * (2.0 * hk_rng_uniform(1, k, 3) - 1.0));
+        if (k % 97 == 0) b.x = a.x, b.y = a.y + 1e-7f; /* next to nothing */
+        const float width = (float)(k % 7 == 0 ? 6.0 * hk_rng_uniform(1, k, 4) : hk_rng_uniform(1, k, 4));
+        narrow.count = wide.count = 0;
+        hk_raster_segment(a, b, width, clip, k % 3 == 0 ? closed : NULL, record_fragment, &narrow);
+        hk_raster_segment_columns(a, b, width, clip, k % 3 == 0 ? closed : NULL, record_fragment, &wide, 0);
+        assert_int_equal(narrow.count, wide.count);
+        assert_true(narrow.count < 4096);
+        assert_memory_equal(narrow.at, wide.at, (size_t)narrow.count * sizeof narrow.at[0]);
+        fragments += narrow.count;
+    }
+    printf("segments drawn as with every column: %lld fragments\n", fragments);
+    assert_true(fragments > 100000); /* the segments did draw (158,301 when written) */
+}
+
 /* A small random head of hair over a sphere: same bytes with 1 and 2 threads, every
  * pixel finite, hair visible, and a PNG that libpng reads back. */
 static void make_scene(hk_HairFile *h, hk_Mesh *ball)
@@ -666,6 +716,7 @@ int main(void)
         cmocka_unit_test(test_kajiya_kay_pixel),
         cmocka_unit_test(test_shadow_from_occluder),
         cmocka_unit_test(test_subpixel_coverage),
+        cmocka_unit_test(test_segment_columns),
         cmocka_unit_test(test_scene_deterministic_finite_png),
         cmocka_unit_test(test_depth_order),
         cmocka_unit_test(test_fragment_key_sort),

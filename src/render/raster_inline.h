@@ -69,8 +69,8 @@ static inline int hk_segment_box_inline(hk_RasterPoint a, hk_RasterPoint b, floa
  * rows of HK_TILE from the clip's corner) is non-zero are passed over before any
  * arithmetic: in a full head's tiles half the fragments fell on pixels already
  * opaque. */
-static inline void hk_raster_segment(hk_RasterPoint a, hk_RasterPoint b, float width, hk_Rect clip,
-                                     const uint8_t *closed, hk_FragmentFn emit, void *user)
+static inline void hk_raster_segment_columns(hk_RasterPoint a, hk_RasterPoint b, float width, hk_Rect clip,
+                                             const uint8_t *closed, hk_FragmentFn emit, void *user, int narrow)
 {
     const float drawn = width > 1.0f ? width : 1.0f;
     const float thin = width < 1.0f ? width : 1.0f; /* sub-pixel hair: coverage becomes opacity */
@@ -86,9 +86,27 @@ static inline void hk_raster_segment(hk_RasterPoint a, hk_RasterPoint b, float w
     const float across = reach * sqrtf(len2) / fabsf(d_major); /* reach measured across */
     const int lo_major = x_major ? clip.x0 : clip.y0, hi_major = x_major ? clip.x1 : clip.y1;
     const int lo_minor = x_major ? clip.y0 : clip.x0, hi_minor = x_major ? clip.y1 : clip.x1;
-    /* Clamp in floats first: a segment far off screen must not overflow an int. */
-    const int m0 = ifloor(clampf(minf(major_a, major_b) - reach, (float)lo_major, (float)hi_major));
-    const int m1 = iceil(clampf(maxf(major_a, major_b) + reach, (float)lo_major - 1.0f, (float)hi_major - 1.0f));
+    /* The columns: a pixel drawn has its centre c = a + t (b - a) + s n, t in [0, 1)
+     * and |s| < reach along the line's unit normal n, whose major component is
+     * d_minor / len: c's major coordinate lies within reach |d_minor| / len of the ends'
+     * range, not reach, and the columns are those whose centres do (the columns past
+     * the ends of a segment near the major axis held only pixels projecting outside
+     * [0, 1)). A sixteenth of a pixel and 2^-16 of the ends' coordinates more cover
+     * the rounding of t and of the distance (a few units in the last place of the
+     * coordinates), and at most reach keeps the columns a subset of those within reach
+     * of the ends: the pixels are the same. narrow 0: every column within reach of the
+     * ends (the test's reference).
+     * Clamp in floats first: a segment far off screen must not overflow an int. */
+    int m0, m1;
+    if (narrow) {
+        const float slack = 0.0625f + (fabsf(a.x) + fabsf(a.y) + fabsf(b.x) + fabsf(b.y)) * (1.0f / 65536.0f);
+        const float beyond = minf(reach, reach * fabsf(d_minor) * inv_len + slack);
+        m0 = iceil(clampf(minf(major_a, major_b) - beyond - 0.5f, (float)lo_major, (float)hi_major));
+        m1 = ifloor(clampf(maxf(major_a, major_b) + beyond - 0.5f, (float)lo_major - 1.0f, (float)hi_major - 1.0f));
+    } else {
+        m0 = ifloor(clampf(minf(major_a, major_b) - reach, (float)lo_major, (float)hi_major));
+        m1 = iceil(clampf(maxf(major_a, major_b) + reach, (float)lo_major - 1.0f, (float)hi_major - 1.0f));
+    }
     const float slope = d_minor / d_major;
     for (int m = m0; m <= m1; m++) {
         const float cm = (float)m + 0.5f;
@@ -115,6 +133,12 @@ static inline void hk_raster_segment(hk_RasterPoint a, hk_RasterPoint b, float w
     }
 }
 
+
+static inline void hk_raster_segment(hk_RasterPoint a, hk_RasterPoint b, float width, hk_Rect clip,
+                                     const uint8_t *closed, hk_FragmentFn emit, void *user)
+{
+    hk_raster_segment_columns(a, b, width, clip, closed, emit, user, 1);
+}
 
 /* The pixels hk_raster_segment_thin can emit for a-b, whatever its clip and width,
  * clipped to the image: 0 when none (and, as hk_segment_box_inline, when an end is
