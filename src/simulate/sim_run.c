@@ -283,13 +283,14 @@ static const hk_Mesh *moved_head(Run *r, hk_Mesh *moved, double t)
 }
 
 /* The camera, fixed at the first frame's fit, backed off by 15 % to leave room for the
- * hair's motion: fitted to the job's frame when none is yet. */
-static hk_Status fit_camera(FrameJob *j, const hk_HairFile *hair)
+ * hair's motion: fitted to the job's frame (its hair, its head moved to j->t) when none
+ * is yet. */
+static hk_Status fit_camera(FrameJob *j, const hk_HairFile *hair, const hk_Mesh *head)
 {
     Run *r = j->run;
     if (r->ro.camera_distance > 0.0) return HK_OK;
-    const hk_Status st = hk_render_fit_camera(hair, moved_head(r, &j->moved, j->t), &r->ro, &r->ro.camera_target,
-                                              &r->ro.camera_distance, &j->err);
+    const hk_Status st =
+        hk_render_fit_camera(hair, head, &r->ro, &r->ro.camera_target, &r->ro.camera_distance, &j->err);
     r->ro.camera_distance *= 1.15;
     return st;
 }
@@ -301,8 +302,8 @@ static hk_Status render_frame(FrameJob *j, const hk_HairFile *hair)
     Run *r = j->run;
     hk_Error *err = &j->err;
     double t0 = omp_get_wtime();
-    hk_Status st = fit_camera(j, hair);
     const hk_Mesh *head = moved_head(r, &j->moved, j->t);
+    hk_Status st = fit_camera(j, hair, head);
     hk_RenderDef ro = r->ro;
     ro.threads = j->threads;
     if (st == HK_OK && !j->renderer) st = hk_renderer_create(&j->renderer, err);
@@ -450,7 +451,7 @@ static hk_Status write_frame(Run *r, long k, double t, int job_threads, hk_Error
         j->threads = r->threads;
         regrow_frame(j);
         j->threads = job_threads;
-        if (j->st == HK_OK) j->st = fit_camera(j, &j->hair);
+        if (j->st == HK_OK) j->st = fit_camera(j, &j->hair, moved_head(r, &j->moved, j->t));
         if (j->st != HK_OK) return collect(r, j, 1, err);
         job = draw_job;
     }
