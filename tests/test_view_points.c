@@ -9,7 +9,8 @@
  *    with the AVX paths allowed and not: the same view, byte for byte.
  *  - test_scene_bounds: hk_scene_bounds (render.c; four points a step in SSE, the rest
  *    one by one) against the points' plain min and max, for counts 0 to 40 and 1 and 2
- *    threads, and a NaN or an infinity at every place refused. */
+ *    threads, and a NaN or an infinity at every place refused; hk_hair_extent (the same
+ *    code, core/float_bounds.c) the widest side of that box. */
 #include "hk_test.h"
 
 #include <math.h>
@@ -17,6 +18,7 @@
 #include <string.h>
 
 #include "core/linalg.h"
+#include "hairkit/hair_formats.h"
 #include "hairkit/render.h"
 #include "render/render_internal.h"
 
@@ -121,6 +123,9 @@ static void test_scene_bounds(void **state)
             const hk_Vec3 want_lo = hk_v3(lo[0], lo[1], lo[2]), want_hi = hk_v3(hi[0], hi[1], hi[2]);
             assert_memory_equal(&sc.lo, &want_lo, sizeof want_lo);
             assert_memory_equal(&sc.hi, &want_hi, sizeof want_hi);
+            /* hk_hair_extent, the same box's widest side (core/float_bounds.c, shared) */
+            const double extent = fmax(fmax(hi[0] - lo[0], hi[1] - lo[1]), hi[2] - lo[2]);
+            assert_true(hk_hair_extent(&h) == extent);
             for (size_t i = 0; i < 3 * (size_t)h.point_count; i++) {
                 const float kept = h.points[i];
                 h.points[i] = i % 2 ? NAN : -INFINITY;

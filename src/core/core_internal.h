@@ -5,6 +5,7 @@
 #define HK_CORE_INTERNAL_H
 
 #include <sched.h>
+#include <stddef.h>
 
 #include "hairkit/core.h"
 
@@ -60,5 +61,11 @@ static inline void hk_spin_pause(long *spins)
     if (++*spins % 256 == 0) sched_yield();
     for (volatile int k = 0; k < 64; k++) {}
 }
+
+/* The box of n points stored as three floats each (x y z x y z ...): lo and hi
+ * (+HUGE_VALF and -HUGE_VALF when n is 0), in SSE where there is. Returns 1 when a
+ * coordinate is not finite (the box then means nothing; the caller finds the point).
+ * Min and max are exact in any order: the same box whatever the path. */
+int hk_float_points_bounds(const float *xyz, size_t n, float lo[3], float hi[3]);
 
 #endif /* HK_CORE_INTERNAL_H */

@@ -6,10 +6,8 @@
 #include <string.h>
 
 #include <omp.h>
-#ifdef __SSE2__
-#include <emmintrin.h>
-#endif
 
+#include "core/core_internal.h"
 #include "points_avx.h"
 #include "render_internal.h"
 
@@ -129,11 +127,8 @@ hk_Status hk_scene_bounds(hk_Scene *sc, hk_Error *err)
     /* In parallel (millions of points): min and max do not depend on the order. In the
      * file's floats: their min and max are those of the doubles they convert to
      * (exactly), at a fraction of the work (every frame of an animation pays for it). */
-    const float *pts = h->points;
     float lx = HUGE_VALF, ly = HUGE_VALF, lz = HUGE_VALF, hx = -HUGE_VALF, hy = -HUGE_VALF, hz = -HUGE_VALF;
     int nonfinite = 0;
-    /* Without branches: a point that is not finite makes the box meaningless, but the
-     * picture is refused then, and the point is looked for below. */
 #pragma omp parallel reduction(min                                                                                     \
                                : lx, ly, lz) reduction(max                                                             \
                                                        : hx, hy, hz) reduction(|                                       \
@@ -141,35 +136,10 @@ hk_Status hk_scene_bounds(hk_Scene *sc, hk_Error *err)
     {
         size_t i, hi;
         hk_points_part(h->point_count, &i, &hi);
-#ifdef __SSE2__
-        /* Four points a step in three vectors of the floats as they lie (x y z x, y z x y,
-         * z x y z): each lane keeps one coordinate's min and max (minps and maxps are
-         * the comparisons below, lane by lane), gathered after the loop. */
-        __m128 lo[3], up[3], odd = _mm_setzero_ps();
-        for (int k = 0; k < 3; k++) lo[k] = _mm_set1_ps(HUGE_VALF), up[k] = _mm_set1_ps(-HUGE_VALF);
-        for (; i + 4 <= hi; i += 4)
-            for (int k = 0; k < 3; k++) {
-                const __m128 v = _mm_loadu_ps(pts + 3 * i + 4 * (size_t)k);
-                lo[k] = _mm_min_ps(v, lo[k]), up[k] = _mm_max_ps(v, up[k]);
-                odd = _mm_or_ps(odd, _mm_cmpneq_ps(_mm_sub_ps(v, v), _mm_setzero_ps())); /* NaN - NaN, inf - inf */
-            }
-        float l[3][4], u[3][4];
-        for (int k = 0; k < 3; k++) _mm_storeu_ps(l[k], lo[k]), _mm_storeu_ps(u[k], up[k]);
-        nonfinite |= _mm_movemask_ps(odd) != 0;
-        for (int lane = 0; lane < 12; lane++) { /* lane 4 k + j holds coordinate (4 k + j) % 3 */
-            const float a = l[lane / 4][lane % 4], b = u[lane / 4][lane % 4];
-            float *low = lane % 3 == 0 ? &lx : lane % 3 == 1 ? &ly : &lz;
-            float *high = lane % 3 == 0 ? &hx : lane % 3 == 1 ? &hy : &hz;
-            *low = a < *low ? a : *low, *high = b > *high ? b : *high;
-        }
-#endif
-        for (; i < hi; i++) {
-            const float x = pts[3 * i], y = pts[3 * i + 1], z = pts[3 * i + 2];
-            nonfinite |= !(x - x == 0.0f) | !(y - y == 0.0f) | !(z - z == 0.0f); /* NaN for NaN and infinities */
-            /* Comparisons, not fmin and fmax: those are calls into libm (they must
-             * handle NaN, refused here), a few per cent of a frame's picture. */
-            lx = x < lx ? x : lx, ly = y < ly ? y : ly, lz = z < lz ? z : lz;
-            hx = x > hx ? x : hx, hy = y > hy ? y : hy, hz = z > hz ? z : hz;
+        float lo[3], up[3];
+        if (hi > i) { /* (no points: h->points may be NULL) */
+            nonfinite |= hk_float_points_bounds(h->points + 3 * i, hi - i, lo, up);
+            lx = lo[0], ly = lo[1], lz = lo[2], hx = up[0], hy = up[1], hz = up[2];
         }
     }
     for (long i = 0; nonfinite && i < (long)h->point_count; i++)
