@@ -948,12 +948,21 @@ static void prefetch_bytes(const void *p, size_t n)
 }
 
 /* What a visit of pair ps reads from memory (visit): its own fields up to those the
- * sweeps do not read (PairState), and its points' three rows. */
-static void prefetch_pair(const PairState *ps) { prefetch_bytes(ps, offsetof(PairState, strand)); }
-static void prefetch_rows(const PairState *ps)
+ * sweeps do not read (PairState), and its points' three rows; of a pair with no impulse
+ * (idle: pushed, a byte apart), whose visit starts with the idle test, only what the test
+ * reads (and write_check copies): the fields before w and row 0 of each point. The
+ * solve's first sweep visits every pair in place, three in four of them idle: asked for
+ * whole, their rows 1 and 2 and the rest of their fields took the memory's time for
+ * nothing (docs/dynamics.md, "Speed", dyn19). */
+static void prefetch_pair(const PairState *ps, int idle)
 {
+    prefetch_bytes(ps, idle ? offsetof(PairState, hot.w) : offsetof(PairState, strand));
+}
+static void prefetch_rows(const PairState *ps, int idle)
+{
+    const size_t rows = idle ? 1 : 3;
     for (int side = 0; side < 2; side++)
-        prefetch_bytes(ps->hot.point[side].rows, 3 * (size_t)ps->hot.point[side].m * sizeof(double));
+        prefetch_bytes(ps->hot.point[side].rows, rows * (size_t)ps->hot.point[side].m * sizeof(double));
 }
 
 /* The kinds of sweep: over the pairs that pushed at the last full sweep; the solve's
@@ -1116,8 +1125,8 @@ sweep_group_lanes(hk_ContactSolve *cs, const int *order, SweepGroup *gr, int kin
             }
         }
         if (!recorded) {
-            if (x + 2 < count) prefetch_pair(&pairs[list[x + 2]]);
-            if (x + 1 < count) prefetch_rows(&pairs[list[x + 1]]);
+            if (x + 2 < count) prefetch_pair(&pairs[list[x + 2]], !pushed[list[x + 2]]);
+            if (x + 1 < count) prefetch_rows(&pairs[list[x + 1]], !pushed[list[x + 1]]);
         }
         if (kind == SWEEP_FIRST_FULL) record = write_check(&pairs[k], record);
         double l;
