@@ -348,51 +348,68 @@ static void complete_basis(hk_Vec3 basis[3])
     basis[2] = hk_v3_cross(n, basis[1]);
 }
 
-/* The sum of rows_dot_lanes's two lanes acc, with the odd entry i < n of a . x. */
-static inline __attribute__((always_inline)) double lanes_sum(Pair acc, const double *a, const double *x, size_t i,
-                                                              size_t n)
+/* The sum of rows_dot_lanes's four lanes, lo (lanes 0 and 1) and hi (2 and 3), with the
+ * odd entry i < n of a . x. */
+static inline __attribute__((always_inline)) double lanes_sum(Pair lo, Pair hi, const double *a, const double *x,
+                                                              size_t i, size_t n)
 {
-    double s = acc[0];
-    if (i < n) s = a[i] * x[i] + s;
-    return (s + 0.0) + acc[1];
+    const Pair s = lo + hi;
+    double r = s[0];
+    if (i < n) r = a[i] * x[i] + r;
+    return r + s[1];
 }
 
-/* acc += row[i..i+3] x[i..i+3] (xq), the first two products, then the last two. */
-#define ADD_PRODUCTS_QUAD(acc, row)                                                                                    \
+/* lo += row[i..i+1] x[i..i+1], hi += row[i+2..i+3] x[i+2..i+3] (xl, xh): four lanes as two
+ * Pairs (the baseline's path). */
+#define ADD_PRODUCTS_PAIRS(lo, hi, row)                                                                                \
     do {                                                                                                               \
-        const Quad p_ = load_quad((row) + i) * xq;                                                                     \
-        acc += LOW_PAIR(p_);                                                                                           \
-        acc += HIGH_PAIR(p_);                                                                                          \
+        lo += load_pair((row) + i) * xl;                                                                               \
+        hi += load_pair((row) + i + 2) * xh;                                                                           \
     } while (0)
 
 /* out[r] = sum over i < n of a[r stride + i] x[i] for the rows r < rows (1 to 3), each in
- * two lanes as GCC vectorised the `omp simd` reductions these sums were written as (the
- * bits of every sweep since): lane l adds the products of the entries i = l mod 2 in
- * order, the last entry of an odd n goes to lane 0's sum, then come 0.0 (the
- * reduction's start) and lane 1's sum. With wide (the AVX path) four products at once,
- * added to the lanes two by two in that order: the same bits in fewer instructions. */
+ * four lanes: lane l adds the products of the entries i = l mod 4 below the last multiple
+ * of 4 in order, then a pair left over goes to lanes 0 and 1 and an odd last entry to
+ * lane 0's sum (lanes_sum): (lane 0 + lane 2) + (lane 1 + lane 3). With wide (the AVX
+ * path) the four lanes are one Quad, a product and a sum each four entries, else two
+ * Pairs: the same operations, the same bits. The two lanes before (each Quad's products
+ * added to a Pair two by two, in the order GCC had vectorised the `omp simd` reductions
+ * in) waited on two sums in a row each four entries and took two instructions more
+ * (docs/dynamics.md, "Speed", dyn19). */
 static inline __attribute__((always_inline)) void rows_dot_lanes(const double *a, size_t stride, int rows,
                                                                  const double *x, size_t n, double *out, int wide)
 {
     const double *a1 = a + stride, *a2 = a + 2 * stride; /* (read only when rows > 1, > 2) */
-    Pair acc0 = splat(0.0), acc1 = acc0, acc2 = acc0;
+    Pair lo0 = splat(0.0), lo1 = lo0, lo2 = lo0, hi0 = lo0, hi1 = lo0, hi2 = lo0;
     size_t i = 0;
-    if (wide)
+    if (wide) {
+        Quad q0 = splat4(0.0), q1 = q0, q2 = q0;
         for (; i + 4 <= n; i += 4) {
             const Quad xq = load_quad(x + i);
-            ADD_PRODUCTS_QUAD(acc0, a);
-            if (rows > 1) ADD_PRODUCTS_QUAD(acc1, a1);
-            if (rows > 2) ADD_PRODUCTS_QUAD(acc2, a2);
+            q0 += load_quad(a + i) * xq;
+            if (rows > 1) q1 += load_quad(a1 + i) * xq;
+            if (rows > 2) q2 += load_quad(a2 + i) * xq;
         }
-    for (; i + 2 <= n; i += 2) {
+        lo0 = LOW_PAIR(q0), hi0 = HIGH_PAIR(q0);
+        if (rows > 1) lo1 = LOW_PAIR(q1), hi1 = HIGH_PAIR(q1);
+        if (rows > 2) lo2 = LOW_PAIR(q2), hi2 = HIGH_PAIR(q2);
+    } else
+        for (; i + 4 <= n; i += 4) {
+            const Pair xl = load_pair(x + i), xh = load_pair(x + i + 2);
+            ADD_PRODUCTS_PAIRS(lo0, hi0, a);
+            if (rows > 1) ADD_PRODUCTS_PAIRS(lo1, hi1, a1);
+            if (rows > 2) ADD_PRODUCTS_PAIRS(lo2, hi2, a2);
+        }
+    if (i + 2 <= n) {
         const Pair xp = load_pair(x + i);
-        acc0 += load_pair(a + i) * xp;
-        if (rows > 1) acc1 += load_pair(a1 + i) * xp;
-        if (rows > 2) acc2 += load_pair(a2 + i) * xp;
+        lo0 += load_pair(a + i) * xp;
+        if (rows > 1) lo1 += load_pair(a1 + i) * xp;
+        if (rows > 2) lo2 += load_pair(a2 + i) * xp;
+        i += 2;
     }
-    out[0] = lanes_sum(acc0, a, x, i, n);
-    if (rows > 1) out[1] = lanes_sum(acc1, a1, x, i, n);
-    if (rows > 2) out[2] = lanes_sum(acc2, a2, x, i, n);
+    out[0] = lanes_sum(lo0, hi0, a, x, i, n);
+    if (rows > 1) out[1] = lanes_sum(lo1, hi1, a1, x, i, n);
+    if (rows > 2) out[2] = lanes_sum(lo2, hi2, a2, x, i, n);
 }
 
 /* Where point x's 3 rows (of stride its support) start in jac and yt. */
@@ -931,12 +948,21 @@ static void prefetch_bytes(const void *p, size_t n)
 }
 
 /* What a visit of pair ps reads from memory (visit): its own fields up to those the
- * sweeps do not read (PairState), and its points' three rows. */
-static void prefetch_pair(const PairState *ps) { prefetch_bytes(ps, offsetof(PairState, strand)); }
-static void prefetch_rows(const PairState *ps)
+ * sweeps do not read (PairState), and its points' three rows; of a pair with no impulse
+ * (idle: pushed, a byte apart), whose visit starts with the idle test, only what the test
+ * reads (and write_check copies): the fields before w and row 0 of each point. The
+ * solve's first sweep visits every pair in place, three in four of them idle: asked for
+ * whole, their rows 1 and 2 and the rest of their fields took the memory's time for
+ * nothing (docs/dynamics.md, "Speed", dyn19). */
+static void prefetch_pair(const PairState *ps, int idle)
 {
+    prefetch_bytes(ps, idle ? offsetof(PairState, hot.w) : offsetof(PairState, strand));
+}
+static void prefetch_rows(const PairState *ps, int idle)
+{
+    const size_t rows = idle ? 1 : 3;
     for (int side = 0; side < 2; side++)
-        prefetch_bytes(ps->hot.point[side].rows, 3 * (size_t)ps->hot.point[side].m * sizeof(double));
+        prefetch_bytes(ps->hot.point[side].rows, rows * (size_t)ps->hot.point[side].m * sizeof(double));
 }
 
 /* The kinds of sweep: over the pairs that pushed at the last full sweep; the solve's
@@ -1099,8 +1125,8 @@ sweep_group_lanes(hk_ContactSolve *cs, const int *order, SweepGroup *gr, int kin
             }
         }
         if (!recorded) {
-            if (x + 2 < count) prefetch_pair(&pairs[list[x + 2]]);
-            if (x + 1 < count) prefetch_rows(&pairs[list[x + 1]]);
+            if (x + 2 < count) prefetch_pair(&pairs[list[x + 2]], !pushed[list[x + 2]]);
+            if (x + 1 < count) prefetch_rows(&pairs[list[x + 1]], !pushed[list[x + 1]]);
         }
         if (kind == SWEEP_FIRST_FULL) record = write_check(&pairs[k], record);
         double l;
