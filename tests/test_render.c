@@ -1,8 +1,8 @@
 /* The renderer: the pixel of a lit strand against the Kajiya-Kay formula written out
  * here from the paper (Kajiya & Kay 1989, Lansink 2010 §4.1.5), shadows from an
  * occluder in the light's view, sub-pixel coverage against the analytic area of a
- * thin line, determinism across thread counts, no NaN or black frames, and a PNG that
- * libpng reads back. */
+ * thin line, determinism across thread counts, no NaN or black frames, a PNG that
+ * libpng reads back, and its bytes against the sRGB curve. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -389,6 +389,62 @@ static void test_scene_deterministic_finite_png(void **state)
     hk_hair_free(&h);
 }
 
+/* The PNG's bytes against the sRGB curve written out here (IEC 61966-2-1, rounded to
+ * the nearest byte): floats spread over [0, 1] (every 2^12th), the floats around each
+ * byte's first value, and those outside [0, 1] and NaN, which take 0 or 255. */
+static uint8_t reference_srgb_byte(float linear)
+{
+    if (!(linear > 0.0f)) return 0;
+    if (linear >= 1.0f) return 255;
+    const double v = linear <= 0.0031308f ? 12.92 * linear : 1.055 * pow(linear, 1.0 / 2.4) - 0.055;
+    return (uint8_t)lrint(v * 255.0);
+}
+
+static float float_from_bits(uint32_t bits)
+{
+    float f;
+    memcpy(&f, &bits, sizeof f);
+    return f;
+}
+
+static void test_png_srgb_bytes(void **state)
+{
+    (void)state;
+    const uint32_t one = 0x3f800000u, step = 1u << 12, spread = one / step + 1;
+    const float odd[] = {-0.0f, -1.0f, 1.0f, 2.0f, INFINITY, -INFINITY, NAN, 1e-30f};
+    const size_t odd_count = sizeof odd / sizeof *odd, count = spread + 255 * 5 + odd_count;
+    hk_Canvas c;
+    c.width = 512, c.height = (int)((count + 3 * 512 - 1) / (3 * 512));
+    c.rgb = hk_calloc_array(3 * (size_t)c.width * (size_t)c.height, sizeof *c.rgb, NULL);
+    size_t at = 0;
+    for (uint32_t k = 0; k < spread; k++) c.rgb[at++] = float_from_bits(k * step);
+    for (int b = 1; b < 256; b++) { /* the first float of byte b, by bisection, and two either side */
+        uint32_t lo = 0, hi = one;
+        while (hi - lo > 1) {
+            const uint32_t mid = lo + (hi - lo) / 2;
+            if (reference_srgb_byte(float_from_bits(mid)) >= b)
+                hi = mid;
+            else
+                lo = mid;
+        }
+        for (uint32_t d = 0; d < 5; d++) c.rgb[at++] = float_from_bits(hi - 2 + d);
+    }
+    for (size_t k = 0; k < odd_count; k++) c.rgb[at++] = odd[k];
+    char path[4096];
+    snprintf(path, sizeof path, "%s/srgb.png", hk_test_tmpdir());
+    assert_int_equal(hk_render_write_png(&c, path, NULL), HK_OK);
+    int w, h;
+    uint8_t *bytes;
+    assert_int_equal(hk_png_read_rgb8(path, &w, &h, &bytes, NULL), HK_OK);
+    assert_int_equal(w, c.width);
+    assert_int_equal(h, c.height);
+    size_t wrong = 0;
+    for (size_t k = 0; k < 3 * (size_t)w * (size_t)h; k++) wrong += bytes[k] != reference_srgb_byte(c.rgb[k]);
+    assert_int_equal(wrong, 0);
+    hk_free(bytes);
+    hk_free(c.rgb);
+}
+
 /* The depth order made as it is read (read in steps, as the tiles do) equals a plain
  * stable sort by depth: spreads narrow and wide, many ties, zero, negatives and NaN
  * (which sort as zero), sizes around the small-bucket threshold. */
@@ -718,6 +774,7 @@ int main(void)
         cmocka_unit_test(test_subpixel_coverage),
         cmocka_unit_test(test_segment_columns),
         cmocka_unit_test(test_scene_deterministic_finite_png),
+        cmocka_unit_test(test_png_srgb_bytes),
         cmocka_unit_test(test_depth_order),
         cmocka_unit_test(test_fragment_key_sort),
         cmocka_unit_test(test_renderer_reuse),
