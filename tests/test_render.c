@@ -316,6 +316,76 @@ static void test_segment_columns(void **state)
     assert_true(fragments > 100000); /* the segments did draw (158,301 when written) */
 }
 
+/* The samples a triangle rasteriser emits, in (row, column, sample) order. */
+typedef struct Sampled {
+    int count;
+    struct {
+        int x, y, s;
+        float l[3];
+    } at[8192];
+} Sampled;
+static void record_sample(void *user, int x, int y, int s, float l0, float l1, float l2)
+{
+    Sampled *e = user;
+    if (e->count == 8192) return;
+    e->at[e->count].x = x, e->at[e->count].y = y, e->at[e->count].s = s;
+    e->at[e->count].l[0] = l0, e->at[e->count].l[1] = l1, e->at[e->count].l[2] = l2;
+    e->count++;
+}
+static int sample_before(const void *a, const void *b)
+{
+    const int *p = a, *q = b; /* x, y, s */
+    return p[1] != q[1] ? p[1] - q[1] : p[0] != q[0] ? p[0] - q[0] : p[2] - q[2];
+}
+
+/* hk_raster_triangle emits the samples, and their barycentric coordinates bit for bit,
+ * of the formula written per sample (as it was before the factors of a row of samples
+ * were taken once), in any order: random triangles in and around a tile, small and
+ * large, thin, with corners on sample positions, 1 and 2 x 2 samples a pixel. */
+static void test_triangle_samples(void **state)
+{
+    (void)state;
+    static Sampled got, want;
+    const hk_Rect clip = {64, 32, 96, 64};
+    long long samples = 0;
+    for (uint64_t k = 0; k < 20000; k++) {
+        const double size = k % 3 == 0 ? 3.0 : k % 3 == 1 ? 20.0 : 200.0;
+        hk_RasterPoint v[3];
+        for (int c = 0; c < 3; c++) {
+            v[c].x = (float)(80.0 + size * (hk_rng_uniform(2, k, (uint64_t)(2 * c)) - 0.5));
+            v[c].y = (float)(48.0 + size * (hk_rng_uniform(2, k, (uint64_t)(2 * c + 1)) - 0.5));
+            v[c].z = v[c].px_per_unit = 1.0f;
+        }
+        if (k % 7 == 0) /* thin */
+            v[2].x = v[0].x + 1e-3f * (v[1].x - v[0].x), v[2].y = v[0].y + 1e-3f * (v[1].y - v[0].y) + 1e-4f;
+        if (k % 11 == 0) v[0].x = floorf(v[0].x) + 0.25f, v[1].y = floorf(v[1].y) + 0.75f;
+        const int n = k % 2 ? 2 : 1;
+        got.count = want.count = 0;
+        hk_raster_triangle(v, clip, n, record_sample, &got);
+        const float area = (v[1].x - v[0].x) * (v[2].y - v[0].y) - (v[2].x - v[0].x) * (v[1].y - v[0].y);
+        if (fabsf(area) > 1e-12f) {
+            const float inv = 1.0f / area;
+            for (int y = clip.y0; y < clip.y1; y++)
+                for (int x = clip.x0; x < clip.x1; x++)
+                    for (int s = 0; s < n * n; s++) {
+                        const float px = (float)x + (n == 2 ? 0.25f + 0.5f * (float)(s & 1) : 0.5f);
+                        const float py = (float)y + (n == 2 ? 0.25f + 0.5f * (float)(s >> 1) : 0.5f);
+                        const float l0 = ((v[1].x - px) * (v[2].y - py) - (v[2].x - px) * (v[1].y - py)) * inv;
+                        const float l1 = ((v[2].x - px) * (v[0].y - py) - (v[0].x - px) * (v[2].y - py)) * inv;
+                        const float l2 = 1.0f - l0 - l1;
+                        if (l0 >= 0.0f && l1 >= 0.0f && l2 >= 0.0f) record_sample(&want, x, y, s, l0, l1, l2);
+                    }
+        }
+        assert_int_equal(got.count, want.count);
+        assert_true(got.count < 8192);
+        qsort(got.at, (size_t)got.count, sizeof got.at[0], sample_before);
+        assert_memory_equal(got.at, want.at, (size_t)got.count * sizeof got.at[0]);
+        samples += got.count;
+    }
+    printf("triangles drawn as by the formula per sample: %lld samples\n", samples);
+    assert_true(samples > 1000000); /* the triangles did draw */
+}
+
 /* A small random head of hair over a sphere: same bytes with 1 and 2 threads, every
  * pixel finite, hair visible, and a PNG that libpng reads back. */
 static void make_scene(hk_HairFile *h, hk_Mesh *ball)
@@ -773,6 +843,7 @@ int main(void)
         cmocka_unit_test(test_shadow_from_occluder),
         cmocka_unit_test(test_subpixel_coverage),
         cmocka_unit_test(test_segment_columns),
+        cmocka_unit_test(test_triangle_samples),
         cmocka_unit_test(test_scene_deterministic_finite_png),
         cmocka_unit_test(test_png_srgb_bytes),
         cmocka_unit_test(test_depth_order),
