@@ -1,8 +1,8 @@
 /* The renderer: the pixel of a lit strand against the Kajiya-Kay formula written out
  * here from the paper (Kajiya & Kay 1989, Lansink 2010 §4.1.5), shadows from an
  * occluder in the light's view, sub-pixel coverage against the analytic area of a
- * thin line, determinism across thread counts, no NaN or black frames, and a PNG that
- * libpng reads back. */
+ * thin line, determinism across thread counts, no NaN or black frames, a PNG that
+ * libpng reads back, and its bytes against the sRGB curve. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -316,6 +316,76 @@ static void test_segment_columns(void **state)
     assert_true(fragments > 100000); /* the segments did draw (158,301 when written) */
 }
 
+/* The samples a triangle rasteriser emits, in (row, column, sample) order. */
+typedef struct Sampled {
+    int count;
+    struct {
+        int x, y, s;
+        float l[3];
+    } at[8192];
+} Sampled;
+static void record_sample(void *user, int x, int y, int s, float l0, float l1, float l2)
+{
+    Sampled *e = user;
+    if (e->count == 8192) return;
+    e->at[e->count].x = x, e->at[e->count].y = y, e->at[e->count].s = s;
+    e->at[e->count].l[0] = l0, e->at[e->count].l[1] = l1, e->at[e->count].l[2] = l2;
+    e->count++;
+}
+static int sample_before(const void *a, const void *b)
+{
+    const int *p = a, *q = b; /* x, y, s */
+    return p[1] != q[1] ? p[1] - q[1] : p[0] != q[0] ? p[0] - q[0] : p[2] - q[2];
+}
+
+/* hk_raster_triangle emits the samples, and their barycentric coordinates bit for bit,
+ * of the formula written per sample (as it was before the factors of a row of samples
+ * were taken once), in any order: random triangles in and around a tile, small and
+ * large, thin, with corners on sample positions, 1 and 2 x 2 samples a pixel. */
+static void test_triangle_samples(void **state)
+{
+    (void)state;
+    static Sampled got, want;
+    const hk_Rect clip = {64, 32, 96, 64};
+    long long samples = 0;
+    for (uint64_t k = 0; k < 20000; k++) {
+        const double size = k % 3 == 0 ? 3.0 : k % 3 == 1 ? 20.0 : 200.0;
+        hk_RasterPoint v[3];
+        for (int c = 0; c < 3; c++) {
+            v[c].x = (float)(80.0 + size * (hk_rng_uniform(2, k, (uint64_t)(2 * c)) - 0.5));
+            v[c].y = (float)(48.0 + size * (hk_rng_uniform(2, k, (uint64_t)(2 * c + 1)) - 0.5));
+            v[c].z = v[c].px_per_unit = 1.0f;
+        }
+        if (k % 7 == 0) /* thin */
+            v[2].x = v[0].x + 1e-3f * (v[1].x - v[0].x), v[2].y = v[0].y + 1e-3f * (v[1].y - v[0].y) + 1e-4f;
+        if (k % 11 == 0) v[0].x = floorf(v[0].x) + 0.25f, v[1].y = floorf(v[1].y) + 0.75f;
+        const int n = k % 2 ? 2 : 1;
+        got.count = want.count = 0;
+        hk_raster_triangle(v, clip, n, record_sample, &got);
+        const float area = (v[1].x - v[0].x) * (v[2].y - v[0].y) - (v[2].x - v[0].x) * (v[1].y - v[0].y);
+        if (fabsf(area) > 1e-12f) {
+            const float inv = 1.0f / area;
+            for (int y = clip.y0; y < clip.y1; y++)
+                for (int x = clip.x0; x < clip.x1; x++)
+                    for (int s = 0; s < n * n; s++) {
+                        const float px = (float)x + (n == 2 ? 0.25f + 0.5f * (float)(s & 1) : 0.5f);
+                        const float py = (float)y + (n == 2 ? 0.25f + 0.5f * (float)(s >> 1) : 0.5f);
+                        const float l0 = ((v[1].x - px) * (v[2].y - py) - (v[2].x - px) * (v[1].y - py)) * inv;
+                        const float l1 = ((v[2].x - px) * (v[0].y - py) - (v[0].x - px) * (v[2].y - py)) * inv;
+                        const float l2 = 1.0f - l0 - l1;
+                        if (l0 >= 0.0f && l1 >= 0.0f && l2 >= 0.0f) record_sample(&want, x, y, s, l0, l1, l2);
+                    }
+        }
+        assert_int_equal(got.count, want.count);
+        assert_true(got.count < 8192);
+        qsort(got.at, (size_t)got.count, sizeof got.at[0], sample_before);
+        assert_memory_equal(got.at, want.at, (size_t)got.count * sizeof got.at[0]);
+        samples += got.count;
+    }
+    printf("triangles drawn as by the formula per sample: %lld samples\n", samples);
+    assert_true(samples > 1000000); /* the triangles did draw */
+}
+
 /* A small random head of hair over a sphere: same bytes with 1 and 2 threads, every
  * pixel finite, hair visible, and a PNG that libpng reads back. */
 static void make_scene(hk_HairFile *h, hk_Mesh *ball)
@@ -387,6 +457,62 @@ static void test_scene_deterministic_finite_png(void **state)
     hk_canvas_free(&img[1]);
     hk_mesh_free(&ball);
     hk_hair_free(&h);
+}
+
+/* The PNG's bytes against the sRGB curve written out here (IEC 61966-2-1, rounded to
+ * the nearest byte): floats spread over [0, 1] (every 2^12th), the floats around each
+ * byte's first value, and those outside [0, 1] and NaN, which take 0 or 255. */
+static uint8_t reference_srgb_byte(float linear)
+{
+    if (!(linear > 0.0f)) return 0;
+    if (linear >= 1.0f) return 255;
+    const double v = linear <= 0.0031308f ? 12.92 * linear : 1.055 * pow(linear, 1.0 / 2.4) - 0.055;
+    return (uint8_t)lrint(v * 255.0);
+}
+
+static float float_from_bits(uint32_t bits)
+{
+    float f;
+    memcpy(&f, &bits, sizeof f);
+    return f;
+}
+
+static void test_png_srgb_bytes(void **state)
+{
+    (void)state;
+    const uint32_t one = 0x3f800000u, step = 1u << 12, spread = one / step + 1;
+    const float odd[] = {-0.0f, -1.0f, 1.0f, 2.0f, INFINITY, -INFINITY, NAN, 1e-30f};
+    const size_t odd_count = sizeof odd / sizeof *odd, count = spread + 255 * 5 + odd_count;
+    hk_Canvas c;
+    c.width = 512, c.height = (int)((count + 3 * 512 - 1) / (3 * 512));
+    c.rgb = hk_calloc_array(3 * (size_t)c.width * (size_t)c.height, sizeof *c.rgb, NULL);
+    size_t at = 0;
+    for (uint32_t k = 0; k < spread; k++) c.rgb[at++] = float_from_bits(k * step);
+    for (int b = 1; b < 256; b++) { /* the first float of byte b, by bisection, and two either side */
+        uint32_t lo = 0, hi = one;
+        while (hi - lo > 1) {
+            const uint32_t mid = lo + (hi - lo) / 2;
+            if (reference_srgb_byte(float_from_bits(mid)) >= b)
+                hi = mid;
+            else
+                lo = mid;
+        }
+        for (uint32_t d = 0; d < 5; d++) c.rgb[at++] = float_from_bits(hi - 2 + d);
+    }
+    for (size_t k = 0; k < odd_count; k++) c.rgb[at++] = odd[k];
+    char path[4096];
+    snprintf(path, sizeof path, "%s/srgb.png", hk_test_tmpdir());
+    assert_int_equal(hk_render_write_png(&c, path, NULL), HK_OK);
+    int w, h;
+    uint8_t *bytes;
+    assert_int_equal(hk_png_read_rgb8(path, &w, &h, &bytes, NULL), HK_OK);
+    assert_int_equal(w, c.width);
+    assert_int_equal(h, c.height);
+    size_t wrong = 0;
+    for (size_t k = 0; k < 3 * (size_t)w * (size_t)h; k++) wrong += bytes[k] != reference_srgb_byte(c.rgb[k]);
+    assert_int_equal(wrong, 0);
+    hk_free(bytes);
+    hk_free(c.rgb);
 }
 
 /* The depth order made as it is read (read in steps, as the tiles do) equals a plain
@@ -717,7 +843,9 @@ int main(void)
         cmocka_unit_test(test_shadow_from_occluder),
         cmocka_unit_test(test_subpixel_coverage),
         cmocka_unit_test(test_segment_columns),
+        cmocka_unit_test(test_triangle_samples),
         cmocka_unit_test(test_scene_deterministic_finite_png),
+        cmocka_unit_test(test_png_srgb_bytes),
         cmocka_unit_test(test_depth_order),
         cmocka_unit_test(test_fragment_key_sort),
         cmocka_unit_test(test_renderer_reuse),

@@ -59,24 +59,17 @@ HK_TILE_BINS_BUILD(bin_hair, hair_box)
  * texels), rather than in a pass over the tile's fragments afterwards. */
 typedef struct LightSink {
     LightFragment *frag;
-    size_t count, cap;
+    size_t count;
     float az, dz; /* the segment's depth at its start, and its change to the end */
     uint32_t size;
-    int failed;
     float *z0;
 } LightSink;
 
+/* The room is made before each segment (opacity_tile), not tested for each fragment: a
+ * segment gives a tile at most one fragment a column of the tile. */
 HK_FRAGMENT_INLINE void hair_fragment(void *user, int x, int y, float t, float alpha)
 {
     LightSink *k = user;
-    if (k->count == k->cap) {
-        LightFragment *grown = hk_grow_fragments(k->frag, &k->cap, sizeof *grown);
-        if (!grown) {
-            k->failed = 1;
-            return;
-        }
-        k->frag = grown;
-    }
     LightFragment *f = &k->frag[k->count++];
     const float z = k->az + t * k->dz; /* orthographic: depth is linear */
     const uint32_t texel = (uint32_t)y * k->size + (uint32_t)x;
@@ -112,20 +105,30 @@ static void opacity_tile(LightPass *lp, const hk_TileBins *bins, int tile)
 {
     hk_LightMaps *m = lp->maps;
     const hk_Rect r = hk_tile_rect(bins, tile, m->size, m->size);
-    LightSink sink = {lp->frag, 0, lp->cap, 0.0f, 0.0f, (uint32_t)m->size, 0, m->hair_z0};
+    LightSink sink = {lp->frag, 0, 0.0f, 0.0f, (uint32_t)m->size, m->hair_z0};
+    size_t cap = lp->cap;
+    int failed = 0;
     const hk_RasterPoint *proj = lp->proj;
     const hk_Scene *scene = lp->scene;
     const uint32_t end = bins->start[tile + 1];
-    for (uint32_t k = bins->start[tile]; k < end && !sink.failed; k++) {
+    for (uint32_t k = bins->start[tile]; k < end; k++) {
         const uint32_t i = bins->items[k];
         /* The tile's segments are scattered over the projected points: fetch ahead. */
         if (k + 16 < end) __builtin_prefetch(&proj[bins->items[k + 16]]);
+        if (cap - sink.count < HK_TILE) {
+            LightFragment *grown = hk_grow_fragments(sink.frag, &cap, sizeof *grown);
+            if (!grown) {
+                failed = 1;
+                break;
+            }
+            sink.frag = grown;
+        }
         const hk_RasterPoint a = proj[i], b = proj[i + 1];
         sink.az = a.z, sink.dz = b.z - a.z;
         hk_raster_segment_thin(a, b, segment_width(scene, proj, i), r, hair_fragment, &sink);
     }
-    lp->frag = sink.frag, lp->cap = sink.cap, lp->count = sink.count;
-    if (sink.failed) {
+    lp->frag = sink.frag, lp->cap = cap, lp->count = sink.count;
+    if (failed) {
         lp->failed = 1;
         return;
     }

@@ -20,17 +20,28 @@ void hk_raster_triangle(const hk_RasterPoint v[3], hk_Rect clip, int supersample
     const int y1 = iceil(clampf(maxf(v[0].y, maxf(v[1].y, v[2].y)), (float)clip.y0 - 1.0f, (float)clip.y1 - 1.0f));
     const float inv = 1.0f / area;
     const int n = supersample == 2 ? 2 : 1;
+    const float offset[2] = {n == 2 ? 0.25f : 0.5f, 0.75f}; /* of the samples in a pixel */
+    /* Each factor of the edge functions depends on one coordinate of the sample: the
+     * factors of a row of samples are taken once for the row, the products are as
+     * before (a sample of the head took 50 instructions, its offsets converted and
+     * every factor found again). The samples are emitted row of samples by row rather
+     * than pixel by pixel: each is still emitted once, and the callbacks keep the
+     * nearest of what each sample receives. */
     for (int y = y0; y <= y1; y++)
-        for (int x = x0; x <= x1; x++)
-            for (int s = 0; s < n * n; s++) {
-                const float px = (float)x + (n == 2 ? 0.25f + 0.5f * (float)(s & 1) : 0.5f);
-                const float py = (float)y + (n == 2 ? 0.25f + 0.5f * (float)(s >> 1) : 0.5f);
-                /* Edge functions, normalised: the screen-space barycentric coordinates. */
-                const float l0 = ((v[1].x - px) * (v[2].y - py) - (v[2].x - px) * (v[1].y - py)) * inv;
-                const float l1 = ((v[2].x - px) * (v[0].y - py) - (v[0].x - px) * (v[2].y - py)) * inv;
-                const float l2 = 1.0f - l0 - l1;
-                if (l0 >= 0.0f && l1 >= 0.0f && l2 >= 0.0f) emit(user, x, y, s, l0, l1, l2);
-            }
+        for (int sy = 0; sy < n; sy++) {
+            const float py = (float)y + offset[sy];
+            const float r0 = v[0].y - py, r1 = v[1].y - py, r2 = v[2].y - py;
+            for (int x = x0; x <= x1; x++)
+                for (int sx = 0; sx < n; sx++) {
+                    const float px = (float)x + offset[sx];
+                    const float c0 = v[0].x - px, c1 = v[1].x - px, c2 = v[2].x - px;
+                    /* Edge functions, normalised: the screen-space barycentric coordinates. */
+                    const float l0 = (c1 * r2 - c2 * r1) * inv;
+                    const float l1 = (c2 * r0 - c0 * r2) * inv;
+                    const float l2 = 1.0f - l0 - l1;
+                    if (l0 >= 0.0f && l1 >= 0.0f && l2 >= 0.0f) emit(user, x, y, n * sy + sx, l0, l1, l2);
+                }
+        }
 }
 
 int hk_triangle_box(const hk_RasterPoint v[3], int image_w, int image_h, hk_Rect *box)

@@ -166,13 +166,15 @@ static inline int hk_segment_box_thin_inline(hk_RasterPoint a, hk_RasterPoint b,
 
 /* One pixel per step along the major axis (the pixel the centre line crosses), with
  * the opacity of the strip of the given width within that column (clamped to 1): the
- * segment's total opacity at half the fragments, for the light's opacity map. */
-static inline void hk_raster_segment_thin(hk_RasterPoint a, hk_RasterPoint b, float width, hk_Rect clip,
-                                          hk_FragmentFn emit, void *user)
+ * segment's total opacity at half the fragments, for the light's opacity map. The
+ * major axis is known to the compiler in each of its two copies (x_major 1 or 0): the
+ * choices between the axes were made again for every column. */
+static inline __attribute__((always_inline)) void hk_raster_segment_thin_axis(hk_RasterPoint a, hk_RasterPoint b,
+                                                                              float width, hk_Rect clip,
+                                                                              hk_FragmentFn emit, void *user,
+                                                                              const int x_major)
 {
     const float dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
-    if (!(len2 > 1e-12f) || !(width > 0.0f)) return;
-    const int x_major = fabsf(dx) >= fabsf(dy);
     const float major_a = x_major ? a.x : a.y, d_major = x_major ? dx : dy;
     const float minor_a = x_major ? a.y : a.x, d_minor = x_major ? dy : dx;
     /* The strip of width w crosses each column over a length sqrt(len2) / |d_major|. */
@@ -199,6 +201,17 @@ static inline void hk_raster_segment_thin(hk_RasterPoint a, hk_RasterPoint b, fl
         const int n = (int)minor; /* floor, and in [lo_minor, hi_minor): minor is, lo_minor >= 0 */
         emit(user, x_major ? m : n, x_major ? n : m, t, alpha);
     }
+}
+
+static inline __attribute__((always_inline)) void
+hk_raster_segment_thin(hk_RasterPoint a, hk_RasterPoint b, float width, hk_Rect clip, hk_FragmentFn emit, void *user)
+{
+    const float dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
+    if (!(len2 > 1e-12f) || !(width > 0.0f)) return;
+    if (fabsf(dx) >= fabsf(dy))
+        hk_raster_segment_thin_axis(a, b, width, clip, emit, user, 1);
+    else
+        hk_raster_segment_thin_axis(a, b, width, clip, emit, user, 0);
 }
 
 #endif

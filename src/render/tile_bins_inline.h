@@ -55,6 +55,18 @@
             const float k = key ? key[i] : 0.0f;                                                                       \
             const unsigned tx0 = r.x0 / HK_TILE, tx1 = (r.x1 - 1u) / HK_TILE;                                          \
             const unsigned ty0 = r.y0 / HK_TILE, ty1 = (r.y1 - 1u) / HK_TILE;                                          \
+            if (tx0 == tx1 && ty0 == ty1) { /* one tile, most items: without the loops' setup */                       \
+                const size_t t = (size_t)ty0 * (size_t)tiles_x + tx0;                                                  \
+                if (cull && k >= cull[t]) continue;                                                                    \
+                if (fill) {                                                                                            \
+                    const uint64_t at = c[t]++;                                                                        \
+                    if (key) keys[at] = k;                                                                             \
+                    items[at] = i;                                                                                     \
+                } else {                                                                                               \
+                    c[t]++;                                                                                            \
+                }                                                                                                      \
+                continue;                                                                                              \
+            }                                                                                                          \
             for (unsigned ty = ty0; ty <= ty1; ty++)                                                                   \
                 for (unsigned tx = tx0; tx <= tx1; tx++) {                                                             \
                     const size_t t = (size_t)ty * (size_t)tiles_x + tx;                                                \

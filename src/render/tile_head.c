@@ -43,9 +43,12 @@ static hk_Vec3 shade_skin(const hk_TileInput *in, int tri, float b0, float b1)
     }
     /* Lambert (thesis head shader) plus a faint Blinn-Phong sheen. */
     const hk_Vec3 l = in->scene->light_dir, e = hk_v3_normalize(hk_v3_sub(in->camera->origin, p));
-    const double diffuse = fmax(0.0, hk_v3_dot(n, l));
+    /* fmax(0, .) by comparisons (fmax is a call into libm, three a sample): the same
+     * values, NaN included; a -0.0 becomes +0.0, which adds and powers alike. */
+    const double nl = hk_v3_dot(n, l), diffuse = nl > 0.0 ? nl : 0.0;
     const hk_Vec3 h = hk_v3_normalize(hk_v3_add(l, e));
-    const double sheen = diffuse > 0.0 ? 0.04 * pow(fmax(0.0, hk_v3_dot(n, h)), 40.0) : 0.0;
+    const double nh = hk_v3_dot(n, h);
+    const double sheen = diffuse > 0.0 ? 0.04 * pow(nh > 0.0 ? nh : 0.0, 40.0) : 0.0;
     const double ambient = 2.0 * o->ambient_intensity; /* skin is not in the visuality file */
     return hk_v3_add(hk_v3_scale(o->skin, ambient + o->light_intensity * visible * diffuse),
                      hk_v3_scale(hk_v3(1, 1, 1), o->light_intensity * visible * sheen));
@@ -82,7 +85,7 @@ float hk_tile_head(const hk_TileInput *in, int tile, hk_TileHead *w, hk_TileBase
                     continue;
                 }
                 sum = hk_v3_add(sum, shade_skin(in, w->sample_tri[k], w->sample_l[k][0], w->sample_l[k][1]));
-                far = fmaxf(far, w->sample_z[k]);
+                far = maxf(far, w->sample_z[k]); /* a number: kept only below FLT_MAX */
             }
             out->base[p][0] = (float)(0.25 * sum.x), out->base[p][1] = (float)(0.25 * sum.y);
             out->base[p][2] = (float)(0.25 * sum.z);
