@@ -10,6 +10,22 @@
 #include "raster_inline.h"
 #include "render_internal.h"
 
+/* Item i's entry in tile t (fill 1: written at the tile's next place, with its key k
+ * when there are keys; fill 0: counted), unless the tile culls it. */
+static inline __attribute__((always_inline)) void hk_tile_bin_entry(size_t t, uint32_t i, float k, const float *key,
+                                                                    const float *cull, uint32_t *items, float *keys,
+                                                                    uint64_t *c, int fill)
+{
+    if (cull && k >= cull[t]) return;
+    if (fill) {
+        const uint64_t at = c[t]++;
+        if (key) keys[at] = k;
+        items[at] = i;
+    } else {
+        c[t]++;
+    }
+}
+
 /* HK_TILE_BINS_BUILD(name, box_of) defines
  *   static hk_Status name(uint32_t item_count, void *user, const float *key,
  *                         const float *cull, int width, int height, hk_TileBins *bins,
@@ -56,29 +72,12 @@
             const unsigned tx0 = r.x0 / HK_TILE, tx1 = (r.x1 - 1u) / HK_TILE;                                          \
             const unsigned ty0 = r.y0 / HK_TILE, ty1 = (r.y1 - 1u) / HK_TILE;                                          \
             if (tx0 == tx1 && ty0 == ty1) { /* one tile, most items: without the loops' setup */                       \
-                const size_t t = (size_t)ty0 * (size_t)tiles_x + tx0;                                                  \
-                if (cull && k >= cull[t]) continue;                                                                    \
-                if (fill) {                                                                                            \
-                    const uint64_t at = c[t]++;                                                                        \
-                    if (key) keys[at] = k;                                                                             \
-                    items[at] = i;                                                                                     \
-                } else {                                                                                               \
-                    c[t]++;                                                                                            \
-                }                                                                                                      \
+                hk_tile_bin_entry((size_t)ty0 *(size_t)tiles_x + tx0, i, k, key, cull, items, keys, c, fill);          \
                 continue;                                                                                              \
             }                                                                                                          \
             for (unsigned ty = ty0; ty <= ty1; ty++)                                                                   \
-                for (unsigned tx = tx0; tx <= tx1; tx++) {                                                             \
-                    const size_t t = (size_t)ty * (size_t)tiles_x + tx;                                                \
-                    if (cull && k >= cull[t]) continue;                                                                \
-                    if (fill) {                                                                                        \
-                        const uint64_t at = c[t]++;                                                                    \
-                        if (key) keys[at] = k;                                                                         \
-                        items[at] = i;                                                                                 \
-                    } else {                                                                                           \
-                        c[t]++;                                                                                        \
-                    }                                                                                                  \
-                }                                                                                                      \
+                for (unsigned tx = tx0; tx <= tx1; tx++)                                                               \
+                    hk_tile_bin_entry((size_t)ty *(size_t)tiles_x + tx, i, k, key, cull, items, keys, c, fill);        \
         }                                                                                                              \
     }                                                                                                                  \
     static void name##_ranges(uint32_t item_count, void *user, const float *key, const float *cull, hk_TileBins *bins, \
