@@ -30,6 +30,12 @@ typedef struct Fragment {
     float r, g, b;
     uint32_t pixel; /* index within the tile */
 } Fragment;
+/* What compositing reads of a fragment, moved next to the pixel's other fragments by
+ * composite's counting sort: read through the sorted keys, the fragments of a pixel
+ * were scattered over the whole tile's arrays (a cache miss or two each). */
+typedef struct Shade {
+    float a, r, g, b;
+} Shade;
 
 /* The segment being drawn. */
 typedef struct Segment {
@@ -60,6 +66,7 @@ struct hk_TileHair {
     int failed;
     uint32_t pixel_start[NPX + 1];
     uint64_t *keys, *keys_tmp;
+    Shade *shades; /* with keys, in pixel order */
     size_t keys_cap;
     /* saturation */
     uint32_t pending[NPX];
@@ -91,6 +98,7 @@ void hk_tile_hair_destroy(hk_TileHair *w)
     free(w->pend);
     free(w->keys);
     free(w->keys_tmp);
+    free(w->shades);
     free(w);
 }
 
@@ -247,20 +255,27 @@ static int composite(hk_TileHair *w, hk_Canvas *image)
         if (k) w->keys = k;
         uint64_t *t = realloc(w->keys_tmp, w->count * sizeof *t);
         if (t) w->keys_tmp = t;
-        if (!k || !t) {
+        Shade *sh = realloc(w->shades, w->count * sizeof *sh);
+        if (sh) w->shades = sh;
+        if (!k || !t || !sh) {
             w->failed = 1;
             return most;
         }
         w->keys_cap = w->count;
     }
     /* Counting sort by pixel; key = depth bits (positive floats order as integers)
-     * above the fragment's index, so equal depths keep drawing order. */
+     * above the fragment's place in pixel order, which increases with its index within
+     * a pixel, so equal depths keep drawing order. */
     uint32_t fill[NPX];
     memcpy(fill, w->pixel_start, sizeof fill);
     for (size_t i = 0; i < w->count; i++) {
+        const Fragment *f = &w->frag[i];
+        const Pending *q = &w->pend[i];
+        const uint32_t at = fill[f->pixel]++;
         uint32_t bits;
-        memcpy(&bits, &w->pend[i].z, sizeof bits);
-        w->keys[fill[w->frag[i].pixel]++] = ((uint64_t)bits << 32) | (uint64_t)i;
+        memcpy(&bits, &q->z, sizeof bits);
+        w->keys[at] = ((uint64_t)bits << 32) | (uint64_t)at;
+        w->shades[at] = (Shade){q->a, f->r, f->g, f->b};
     }
     for (int y = w->r.y0; y < w->r.y1; y++)
         for (int x = w->r.x0; x < w->r.x1; x++) {
@@ -271,12 +286,11 @@ static int composite(hk_TileHair *w, hk_Canvas *image)
             /* The segments were drawn nearest first, so a pixel's fragments come nearly
              * in depth order: insertion sort, unless it moves them too often. */
             if (!hk_sort_nearly_sorted(k, n, n <= 64 ? SIZE_MAX : 8 * n))
-                hk_sort_by_high_bits(k, (uint32_t)n, w->keys_tmp); /* keys hold i in increasing order */
+                hk_sort_by_high_bits(k, (uint32_t)n, w->keys_tmp); /* places in increasing order */
             float cr = 0.0f, cg = 0.0f, cb = 0.0f, through = 1.0f;
             for (size_t i = 0; i < n && through > 1e-4f; i++) {
-                const uint32_t j = (uint32_t)(k[i] & 0xffffffffu);
-                const Fragment *f = &w->frag[j];
-                const float a = w->pend[j].a;
+                const Shade *f = &w->shades[k[i] & 0xffffffffu];
+                const float a = f->a;
                 cr += through * a * f->r, cg += through * a * f->g, cb += through * a * f->b;
                 through *= 1.0f - a;
             }
