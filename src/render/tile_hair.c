@@ -232,18 +232,34 @@ static void settle(hk_TileHair *w, float front)
         if (l->near > front) continue;
         Pending *v = w->pool + l->at;
         /* Newest first: the products in the order of before (a list pushed at its
-         * head), so that the same pixels close at the same fragments. */
+         * head), so that the same pixels close at the same fragments. Without
+         * branches (which fragments are final is a coin toss; the compiler made
+         * branches of conditional expressions): a fragment that stays multiplies by
+         * 1 - 0, which changes no bit, and offers +inf as the nearest. */
         float through = w->through[p];
-        for (uint32_t i = l->count; i-- > 0;)
-            if (v[i].z <= front) through *= 1.0f - v[i].a;
+        for (uint32_t i = l->count; i-- > 0;) {
+            const uint32_t final = -(uint32_t)(v[i].z <= front);
+            uint32_t bits;
+            memcpy(&bits, &v[i].a, sizeof bits);
+            bits &= final;
+            float a;
+            memcpy(&a, &bits, sizeof a);
+            through *= 1.0f - a;
+        }
         w->through[p] = through;
         float nearest = HUGE_VALF;
         uint32_t kept = 0;
-        for (uint32_t i = 0; i < l->count; i++)
-            if (!(v[i].z <= front)) {
-                if (v[i].z < nearest) nearest = v[i].z;
-                v[kept++] = v[i];
-            }
+        for (uint32_t i = 0; i < l->count; i++) {
+            const Pending f = v[i];
+            const uint32_t final = -(uint32_t)(f.z <= front);
+            uint32_t bits;
+            memcpy(&bits, &f.z, sizeof bits);
+            bits |= final & 0x7f800000u; /* +inf (z is positive) */
+            float z;
+            memcpy(&z, &bits, sizeof z);
+            v[kept] = f, kept += 1 + final;
+            nearest = z < nearest ? z : nearest;
+        }
         l->count = kept, l->near = nearest;
         if (through < SATURATED) close_pixel(w, p);
     }
