@@ -18,31 +18,29 @@
 #define SATURATED    (1.0f / 1024.0f)
 #define SETTLE_BATCH 64 /* segments between two saturation checks */
 
-/* A fragment, written in drawing order and read once, in that order, by composite's
- * counting sort. */
+/* Each pixel keeps its fragments side by side, in drawing order, in a block of a pool
+ * of the tile (a new block twice as large when it is full; the old one is left until
+ * the next tile), and the fragments not final yet again in a block of a second pool.
+ * Settling reads a pixel's pending block, a few cache lines: walked as a list through
+ * the tile's fragments, every step waited on memory, and settling takes 3.5 steps a
+ * fragment (38.8 million for f5's 11.0 million fragments, a pending fragment being
+ * walked again until it is final). Compositing reads a pixel's block: sorted by pixel
+ * from the tile's array of fragments, each fragment was read once in order and
+ * stored far away twice (its key, its colour). */
 typedef struct Fragment {
     float z, a, r, g, b;
-    uint32_t pixel; /* index within the tile */
 } Fragment;
-/* A fragment not final yet, as settle reads it. Each pixel's lie side by side in
- * drawing order (a block of the tile's pool, twice as large when full), so that
- * settling reads a pixel's few cache lines: walked as a list through the tile's
- * fragments, every step waited on memory, and settling takes 3.5 steps a fragment
- * (38.8 million for f5's 11.0 million fragments; 11 a pixel walked on average, the
- * pending fragments being walked again until they are final). */
 typedef struct Pending {
     float z, a;
 } Pending;
-typedef struct PixelPending {
-    uint32_t at, count, cap; /* the block: pool[at .. at + cap) */
-    float near;              /* nearest pending fragment (+inf: none) */
-} PixelPending;
-/* What compositing reads of a fragment, moved next to the pixel's other fragments by
- * composite's counting sort: read through the sorted keys, the fragments of a pixel
- * were scattered over the whole tile's arrays (a cache miss or two each). */
-typedef struct Shade {
-    float a, r, g, b;
-} Shade;
+typedef struct Block {
+    uint32_t at, count, cap; /* pool[at .. at + count), room for cap */
+} Block;
+typedef struct Pixel {
+    Block frag, pend;
+    float near;    /* nearest pending fragment (+inf: none) */
+    float through; /* light through the final fragments */
+} Pixel;
 
 /* The segment being drawn. */
 typedef struct Segment {
@@ -67,18 +65,15 @@ struct hk_TileHair {
     hk_HairShader *shader;
     float lod; /* the level of detail's k (1: every strand drawn) */
     /* fragments */
+    Pixel pixel[NPX];
     Fragment *frag;
-    size_t count, cap;
+    Pending *pend;
+    size_t frag_used, frag_cap, pend_used, pend_cap;
+    size_t count;
     int failed;
-    uint32_t pixel_start[NPX + 1];
-    uint64_t *keys, *keys_tmp;
-    Shade *shades; /* with keys, in pixel order */
+    uint64_t *keys, *keys_tmp; /* a pixel's, for sorting */
     size_t keys_cap;
     /* saturation */
-    PixelPending pending[NPX];
-    Pending *pool;
-    size_t pool_used, pool_cap;
-    float through[NPX];
     uint8_t saturated[NPX], touched[NPX];
     uint16_t touched_list[NPX];
     int touched_count;
@@ -102,10 +97,9 @@ void hk_tile_hair_destroy(hk_TileHair *w)
     free(w->order);
     free(w->sort_work);
     free(w->frag);
-    free(w->pool);
+    free(w->pend);
     free(w->keys);
     free(w->keys_tmp);
-    free(w->shades);
     free(w);
 }
 
@@ -122,30 +116,21 @@ static int reserve_segments(hk_TileHair *w, size_t n)
     return 1;
 }
 
-/* The fragment array twice as long; 0 when out of memory. */
-static __attribute__((noinline)) int grow_fragments(hk_TileHair *w)
+/* A full block b of items of `size` bytes moved to a new one twice as large at the end
+ * of *pool (*used items of *cap taken); 0 when out of memory. */
+static __attribute__((noinline)) int grow_block(void **pool, size_t *used, size_t *cap, size_t size, Block *b)
 {
-    Fragment *f = hk_grow_fragments(w->frag, &w->cap, sizeof *f);
-    if (!f) return 0;
-    w->frag = f;
-    return 1;
-}
-
-/* Pixel p's pending block full: a new one twice as large at the end of the pool (the
- * old one is left unused until the next tile); 0 when out of memory. */
-static __attribute__((noinline)) int grow_pending(hk_TileHair *w, int p)
-{
-    PixelPending *l = &w->pending[p];
-    const uint32_t cap = l->cap ? 2 * l->cap : 8;
-    while (w->pool_used + cap > w->pool_cap) {
-        Pending *pool = hk_grow_fragments(w->pool, &w->pool_cap, sizeof *pool);
-        if (!pool) return 0;
-        w->pool = pool;
+    const uint32_t room = b->cap ? 2 * b->cap : 8;
+    while (*used + room > *cap) {
+        void *grown = hk_grow_fragments(*pool, cap, size);
+        if (!grown) return 0;
+        *pool = grown;
     }
-    if (w->pool_used + cap > UINT32_MAX) return 0;
-    memcpy(w->pool + w->pool_used, w->pool + l->at, l->count * sizeof *w->pool);
-    l->at = (uint32_t)w->pool_used, l->cap = cap;
-    w->pool_used += cap;
+    if (*used + room > UINT32_MAX) return 0;
+    char *base = *pool;
+    if (b->count) memcpy(base + *used * size, base + b->at * size, b->count * size);
+    b->at = (uint32_t)*used, b->cap = room;
+    *used += room;
     return 1;
 }
 
@@ -179,8 +164,11 @@ HK_FRAGMENT_INLINE void hair_fragment(void *user, int x, int y, float t, float a
     const Segment *s = w->current;
     const float z = 1.0f / ((1.0f - t) / s->a.z + t / s->b.z); /* perspective-correct */
     if (z >= w->head->cutoff[p]) return;
-    PixelPending *l = &w->pending[p];
-    if ((w->count == w->cap && !grow_fragments(w)) || (l->count == l->cap && !grow_pending(w, (int)p))) {
+    Pixel *px = &w->pixel[p];
+    if ((px->frag.count == px->frag.cap &&
+         !grow_block((void **)&w->frag, &w->frag_used, &w->frag_cap, sizeof *w->frag, &px->frag)) ||
+        (px->pend.count == px->pend.cap &&
+         !grow_block((void **)&w->pend, &w->pend_used, &w->pend_cap, sizeof *w->pend, &px->pend))) {
         w->failed = 1;
         return;
     }
@@ -188,15 +176,15 @@ HK_FRAGMENT_INLINE void hair_fragment(void *user, int x, int y, float t, float a
     const hk_HairFile *h = w->hair;
     if (h->transparency) alpha *= 1.0f - ((1.0f - t) * h->transparency[s->first] + t * h->transparency[s->first + 1]);
     if (w->lod > 1.0f) lod_alpha(&alpha, w->lod);
-    Fragment *f = &w->frag[w->count++];
-    f->z = z, f->a = alpha > 1.0f ? 1.0f : alpha, f->pixel = p;
+    Fragment *f = &w->frag[px->frag.at + px->frag.count++];
+    f->z = z, f->a = alpha > 1.0f ? 1.0f : alpha;
     f->r = s->ca[0] + t * (s->cb[0] - s->ca[0]);
     f->g = s->ca[1] + t * (s->cb[1] - s->ca[1]);
     f->b = s->ca[2] + t * (s->cb[2] - s->ca[2]);
-    Pending *q = &w->pool[l->at + l->count++];
+    Pending *q = &w->pend[px->pend.at + px->pend.count++];
     q->z = z, q->a = f->a;
-    w->pixel_start[p + 1]++; /* the pixel's fragments, counted for composite */
-    if (z < l->near) l->near = z;
+    w->count++;
+    if (z < px->near) px->near = z;
     if (!w->touched[p]) w->touched[p] = 1, w->touched_list[w->touched_count++] = (uint16_t)p;
 }
 
@@ -228,16 +216,16 @@ static void settle(hk_TileHair *w, float front)
         w->touched[p] = 0;
         /* Nothing to fold: walking the list (scattered over the fragments, so it waits
          * on memory) would change nothing. */
-        PixelPending *l = &w->pending[p];
-        if (l->near > front) continue;
-        Pending *v = w->pool + l->at;
+        Pixel *px = &w->pixel[p];
+        if (px->near > front) continue;
+        Pending *v = w->pend + px->pend.at;
         /* Newest first: the products in the order of before (a list pushed at its
          * head), so that the same pixels close at the same fragments. Without
          * branches (which fragments are final is a coin toss; the compiler made
          * branches of conditional expressions): a fragment that stays multiplies by
          * 1 - 0, which changes no bit, and offers +inf as the nearest. */
-        float through = w->through[p];
-        for (uint32_t i = l->count; i-- > 0;) {
+        float through = px->through;
+        for (uint32_t i = px->pend.count; i-- > 0;) {
             const uint32_t final = -(uint32_t)(v[i].z <= front);
             uint32_t bits;
             memcpy(&bits, &v[i].a, sizeof bits);
@@ -246,10 +234,10 @@ static void settle(hk_TileHair *w, float front)
             memcpy(&a, &bits, sizeof a);
             through *= 1.0f - a;
         }
-        w->through[p] = through;
+        px->through = through;
         float nearest = HUGE_VALF;
         uint32_t kept = 0;
-        for (uint32_t i = 0; i < l->count; i++) {
+        for (uint32_t i = 0; i < px->pend.count; i++) {
             const Pending f = v[i];
             const uint32_t final = -(uint32_t)(f.z <= front);
             uint32_t bits;
@@ -260,7 +248,7 @@ static void settle(hk_TileHair *w, float front)
             v[kept] = f, kept += 1 + final;
             nearest = z < nearest ? z : nearest;
         }
-        l->count = kept, l->near = nearest;
+        px->pend.count = kept, px->near = nearest;
         if (through < SATURATED) close_pixel(w, p);
     }
     w->touched_count = 0;
@@ -283,51 +271,41 @@ static int hidden(const hk_TileHair *w, hk_TileBox b)
  * front to back over the head or background. */
 static int composite(hk_TileHair *w, hk_Canvas *image)
 {
-    /* pixel_start[p + 1] holds pixel p's count (hair_fragment): the offsets. */
-    int most = 0;
-    for (int p = 0; p < NPX; p++) {
-        if ((int)w->pixel_start[p + 1] > most) most = (int)w->pixel_start[p + 1];
-        w->pixel_start[p + 1] += w->pixel_start[p];
-    }
-    if (w->count > w->keys_cap) {
-        uint64_t *k = realloc(w->keys, w->count * sizeof *k);
+    uint32_t most = 0;
+    for (int p = 0; p < NPX; p++)
+        if (w->pixel[p].frag.count > most) most = w->pixel[p].frag.count;
+    if (most > w->keys_cap) {
+        uint64_t *k = realloc(w->keys, most * sizeof *k);
         if (k) w->keys = k;
-        uint64_t *t = realloc(w->keys_tmp, w->count * sizeof *t);
+        uint64_t *t = realloc(w->keys_tmp, most * sizeof *t);
         if (t) w->keys_tmp = t;
-        Shade *sh = realloc(w->shades, w->count * sizeof *sh);
-        if (sh) w->shades = sh;
-        if (!k || !t || !sh) {
+        if (!k || !t) {
             w->failed = 1;
-            return most;
+            return (int)most;
         }
-        w->keys_cap = w->count;
-    }
-    /* Counting sort by pixel; key = depth bits (positive floats order as integers)
-     * above the fragment's place in pixel order, which increases with its index within
-     * a pixel, so equal depths keep drawing order. */
-    uint32_t fill[NPX];
-    memcpy(fill, w->pixel_start, sizeof fill);
-    for (size_t i = 0; i < w->count; i++) {
-        const Fragment *f = &w->frag[i];
-        const uint32_t at = fill[f->pixel]++;
-        uint32_t bits;
-        memcpy(&bits, &f->z, sizeof bits);
-        w->keys[at] = ((uint64_t)bits << 32) | (uint64_t)at;
-        w->shades[at] = (Shade){f->a, f->r, f->g, f->b};
+        w->keys_cap = most;
     }
     for (int y = w->r.y0; y < w->r.y1; y++)
         for (int x = w->r.x0; x < w->r.x1; x++) {
             const int p = (y - w->r.y0) * HK_TILE + (x - w->r.x0);
-            const size_t n = w->pixel_start[p + 1] - w->pixel_start[p];
-            /* No fragment in the tile: w->keys may be NULL, and NULL + 0 is undefined. */
-            uint64_t *k = n ? w->keys + w->pixel_start[p] : w->keys;
+            const uint32_t n = w->pixel[p].frag.count;
+            /* No fragment in the pixel: the pool may be NULL, and NULL + 0 is undefined. */
+            const Fragment *frag = n ? w->frag + w->pixel[p].frag.at : NULL;
+            /* key = depth bits (positive floats order as integers) above the place in
+             * drawing order, so that equal depths keep it. */
+            uint64_t *k = w->keys;
+            for (uint32_t i = 0; i < n; i++) {
+                uint32_t bits;
+                memcpy(&bits, &frag[i].z, sizeof bits);
+                k[i] = ((uint64_t)bits << 32) | (uint64_t)i;
+            }
             /* The segments were drawn nearest first, so a pixel's fragments come nearly
              * in depth order: insertion sort, unless it moves them too often. */
-            if (!hk_sort_nearly_sorted(k, n, n <= 64 ? SIZE_MAX : 8 * n))
-                hk_sort_by_high_bits(k, (uint32_t)n, w->keys_tmp); /* places in increasing order */
+            if (!hk_sort_nearly_sorted(k, n, n <= 64 ? SIZE_MAX : 8 * (size_t)n))
+                hk_sort_by_high_bits(k, n, w->keys_tmp); /* places in increasing order */
             float cr = 0.0f, cg = 0.0f, cb = 0.0f, through = 1.0f;
-            for (size_t i = 0; i < n && through > 1e-4f; i++) {
-                const Shade *f = &w->shades[k[i] & 0xffffffffu];
+            for (uint32_t i = 0; i < n && through > 1e-4f; i++) {
+                const Fragment *f = &frag[k[i] & 0xffffffffu];
                 const float a = f->a;
                 cr += through * a * f->r, cg += through * a * f->g, cb += through * a * f->b;
                 through *= 1.0f - a;
@@ -337,7 +315,7 @@ static int composite(hk_TileHair *w, hk_Canvas *image)
             o[1] = cg + through * w->head->base[p][1];
             o[2] = cb + through * w->head->base[p][2];
         }
-    return most;
+    return (int)most;
 }
 
 static float segment_width(const hk_Scene *sc, const Segment *s)
@@ -354,11 +332,10 @@ int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_Tile
     w->r = hk_tile_rect(bins, tile, sc->opt->width, sc->opt->height);
     w->head = head, w->hair = sc->hair, w->shader = in->shader;
     w->lod = (float)sc->thickness_scale;
-    w->count = 0, w->failed = 0, w->touched_count = 0, w->pool_used = 0;
-    memset(w->pixel_start, 0, sizeof w->pixel_start);
+    w->count = 0, w->failed = 0, w->touched_count = 0, w->frag_used = 0, w->pend_used = 0;
     for (int p = 0; p < NPX; p++) {
-        w->pending[p] = (PixelPending){0, 0, 0, HUGE_VALF};
-        w->through[p] = 1.0f, w->saturated[p] = 0, w->touched[p] = 0;
+        w->pixel[p] = (Pixel){{0, 0, 0}, {0, 0, 0}, HUGE_VALF, 1.0f};
+        w->saturated[p] = 0, w->touched[p] = 0;
     }
     for (int y = 0; y < HK_TILE; y++)
         w->open_row[y] = y < w->r.y1 - w->r.y0 ? UINT32_MAX >> (HK_TILE - (w->r.x1 - w->r.x0)) : 0;
