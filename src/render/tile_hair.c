@@ -34,7 +34,7 @@ typedef struct Pending {
     float z, a;
 } Pending;
 typedef struct Block {
-    uint32_t at, count, cap; /* pool[at .. at + count), room for cap */
+    uint32_t at, first, count, cap; /* pool[at + first .. at + count), room for cap */
 } Block;
 typedef struct Pixel {
     Block frag, pend;
@@ -116,10 +116,17 @@ static int reserve_segments(hk_TileHair *w, size_t n)
     return 1;
 }
 
-/* A full block b of items of `size` bytes moved to a new one twice as large at the end
- * of *pool (*used items of *cap taken); 0 when out of memory. */
+/* A full block b of items of `size` bytes: its items moved to its start if they do not
+ * begin there, else to a new block twice as large at the end of *pool (*used items of
+ * *cap taken); 0 when out of memory. */
 static __attribute__((noinline)) int grow_block(void **pool, size_t *used, size_t *cap, size_t size, Block *b)
 {
+    char *base = *pool;
+    if (b->first) {
+        memmove(base + b->at * size, base + (b->at + b->first) * size, (b->count - b->first) * size);
+        b->count -= b->first, b->first = 0;
+        return 1;
+    }
     const uint32_t room = b->cap ? 2 * b->cap : 8;
     while (*used + room > *cap) {
         void *grown = hk_grow_fragments(*pool, cap, size);
@@ -127,7 +134,7 @@ static __attribute__((noinline)) int grow_block(void **pool, size_t *used, size_
         *pool = grown;
     }
     if (*used + room > UINT32_MAX) return 0;
-    char *base = *pool;
+    base = *pool;
     if (b->count) memcpy(base + *used * size, base + b->at * size, b->count * size);
     b->at = (uint32_t)*used, b->cap = room;
     *used += room;
@@ -214,41 +221,34 @@ static void settle(hk_TileHair *w, float front)
     for (int k = 0; k < w->touched_count; k++) {
         const int p = w->touched_list[k];
         w->touched[p] = 0;
-        /* Nothing to fold: walking the list (scattered over the fragments, so it waits
-         * on memory) would change nothing. */
+        /* Nothing to fold: walking the pixel's pending fragments would change
+         * nothing. */
         Pixel *px = &w->pixel[p];
         if (px->near > front) continue;
         Pending *v = w->pend + px->pend.at;
         /* Newest first: the products in the order of before (a list pushed at its
-         * head), so that the same pixels close at the same fragments. Without
-         * branches (which fragments are final is a coin toss; the compiler made
-         * branches of conditional expressions): a fragment that stays multiplies by
-         * 1 - 0, which changes no bit, and offers +inf as the nearest. */
-        float through = px->through;
-        for (uint32_t i = px->pend.count; i-- > 0;) {
-            const uint32_t final = -(uint32_t)(v[i].z <= front);
-            uint32_t bits;
-            memcpy(&bits, &v[i].a, sizeof bits);
-            bits &= final;
-            float a;
-            memcpy(&a, &bits, sizeof a);
-            through *= 1.0f - a;
-        }
-        px->through = through;
-        float nearest = HUGE_VALF;
-        uint32_t kept = 0;
-        for (uint32_t i = 0; i < px->pend.count; i++) {
+         * head), so that the same pixels close at the same fragments; those that
+         * stay move up, in order, to end the block. Without branches (which fragments
+         * are final is a coin toss; the compiler made branches of conditional
+         * expressions): a fragment that stays multiplies by 1 - 0, which changes no
+         * bit, and one that is final offers +inf as the nearest. */
+        float through = px->through, nearest = HUGE_VALF;
+        uint32_t top = px->pend.count;
+        for (uint32_t i = px->pend.count; i-- > px->pend.first;) {
             const Pending f = v[i];
             const uint32_t final = -(uint32_t)(f.z <= front);
-            uint32_t bits;
-            memcpy(&bits, &f.z, sizeof bits);
-            bits |= final & 0x7f800000u; /* +inf (z is positive) */
-            float z;
-            memcpy(&z, &bits, sizeof z);
-            v[kept] = f, kept += 1 + final;
+            uint32_t a_bits, z_bits;
+            memcpy(&a_bits, &f.a, sizeof a_bits);
+            memcpy(&z_bits, &f.z, sizeof z_bits);
+            a_bits &= final, z_bits = (z_bits & ~final) | (final & 0x7f800000u); /* +inf */
+            float a, z;
+            memcpy(&a, &a_bits, sizeof a);
+            memcpy(&z, &z_bits, sizeof z);
+            through *= 1.0f - a;
             nearest = z < nearest ? z : nearest;
+            v[top - 1] = f, top -= 1 + final;
         }
-        px->pend.count = kept, px->near = nearest;
+        px->through = through, px->near = nearest, px->pend.first = top;
         if (through < SATURATED) close_pixel(w, p);
     }
     w->touched_count = 0;
@@ -334,7 +334,7 @@ int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_Tile
     w->lod = (float)sc->thickness_scale;
     w->count = 0, w->failed = 0, w->touched_count = 0, w->frag_used = 0, w->pend_used = 0;
     for (int p = 0; p < NPX; p++) {
-        w->pixel[p] = (Pixel){{0, 0, 0}, {0, 0, 0}, HUGE_VALF, 1.0f};
+        w->pixel[p] = (Pixel){{0, 0, 0, 0}, {0, 0, 0, 0}, HUGE_VALF, 1.0f};
         w->saturated[p] = 0, w->touched[p] = 0;
     }
     for (int y = 0; y < HK_TILE; y++)
