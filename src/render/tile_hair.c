@@ -18,28 +18,28 @@
 #define SATURATED    (1.0f / 1024.0f)
 #define SETTLE_BATCH 64 /* segments between two saturation checks */
 
-/* Each pixel keeps its fragments side by side, in drawing order, in a block of a pool
- * of the tile (a new block twice as large when it is full; the old one is left until
- * the next tile), and the fragments not final yet again in a block of a second pool.
- * Settling reads a pixel's pending block, a few cache lines: walked as a list through
- * the tile's fragments, every step waited on memory, and settling takes 3.5 steps a
- * fragment (38.8 million for f5's 11.0 million fragments, a pending fragment being
- * walked again until it is final). Compositing reads a pixel's block: sorted by pixel
- * from the tile's array of fragments, each fragment was read once in order and
- * stored far away twice (its key, its colour). */
+/* Each pixel keeps its fragments in drawing order in chunks of FRAG_CHUNK, side by
+ * side in a pool of the tile, and those not final yet in a block of a second pool
+ * (moved to a block twice as large when full: the old one is left until the next
+ * tile). Settling reads a pixel's pending block, a few cache lines: walked as a list
+ * through the tile's fragments, every step waited on memory, and settling takes 3.5
+ * steps a fragment (38.8 million for f5's 11.0 million fragments, a pending fragment
+ * being walked again until it is final). Compositing reads a pixel's chunks: sorted by
+ * pixel from the tile's array of fragments, each fragment was read once in order and
+ * stored far away twice (its key, its colour). Chunks, not blocks that double: copying
+ * the blocks was 2.8 % of a picture's time (perf). */
+#define FRAG_CHUNK 16
 typedef struct Fragment {
     float z, a, r, g, b;
 } Fragment;
 typedef struct Pending {
     float z, a;
 } Pending;
-typedef struct Block {
-    uint32_t at, first, count, cap; /* pool[at + first .. at + count), room for cap */
-} Block;
 typedef struct Pixel {
-    Block frag, pend;
-    float near;    /* nearest pending fragment (+inf: none) */
-    float through; /* light through the final fragments */
+    uint32_t frag_count, frag_first, frag_last;         /* chunks: pool positions */
+    uint32_t pend_at, pend_first, pend_count, pend_cap; /* pend[at + first .. at + count) */
+    float near;                                         /* nearest pending fragment (+inf: none) */
+    float through;                                      /* light through the final fragments */
 } Pixel;
 
 /* The segment being drawn. */
@@ -67,6 +67,7 @@ struct hk_TileHair {
     /* fragments */
     Pixel pixel[NPX];
     Fragment *frag;
+    uint32_t *chunk_next; /* chunk at FRAG_CHUNK * c: position of the pixel's next chunk */
     Pending *pend;
     size_t frag_used, frag_cap, pend_used, pend_cap;
     size_t count;
@@ -97,6 +98,7 @@ void hk_tile_hair_destroy(hk_TileHair *w)
     free(w->order);
     free(w->sort_work);
     free(w->frag);
+    free(w->chunk_next);
     free(w->pend);
     free(w->keys);
     free(w->keys_tmp);
@@ -116,28 +118,51 @@ static int reserve_segments(hk_TileHair *w, size_t n)
     return 1;
 }
 
-/* A full block b of items of `size` bytes: its items moved to its start if they do not
- * begin there, else to a new block twice as large at the end of *pool (*used items of
- * *cap taken); 0 when out of memory. */
-static __attribute__((noinline)) int grow_block(void **pool, size_t *used, size_t *cap, size_t size, Block *b)
+/* A new chunk for pixel px's fragments; 0 when out of memory. */
+static __attribute__((noinline)) int new_chunk(hk_TileHair *w, Pixel *px)
 {
-    char *base = *pool;
-    if (b->first) {
-        memmove(base + b->at * size, base + (b->at + b->first) * size, (b->count - b->first) * size);
-        b->count -= b->first, b->first = 0;
+    if (w->frag_used + FRAG_CHUNK > w->frag_cap) {
+        size_t cap = w->frag_cap;
+        Fragment *f = hk_grow_fragments(w->frag, &cap, sizeof *f); /* a multiple of FRAG_CHUNK */
+        if (!f) return 0;
+        w->frag = f;
+        uint32_t *next = realloc(w->chunk_next, cap / FRAG_CHUNK * sizeof *next);
+        if (!next) return 0;
+        w->chunk_next = next, w->frag_cap = cap;
+    }
+    if (w->frag_used + FRAG_CHUNK > UINT32_MAX) return 0;
+    const uint32_t at = (uint32_t)w->frag_used;
+    w->frag_used += FRAG_CHUNK;
+    if (px->frag_count)
+        w->chunk_next[px->frag_last / FRAG_CHUNK] = at;
+    else
+        px->frag_first = at;
+    px->frag_last = at;
+    return 1;
+}
+
+/* Pixel px's pending block full: its fragments moved to its start if they do not
+ * begin there, else to a new block twice as large at the end of the pool; 0 when out
+ * of memory. */
+static __attribute__((noinline)) int grow_pending(hk_TileHair *w, Pixel *px)
+{
+    Pending *from = w->pend + px->pend_at + px->pend_first;
+    const uint32_t n = px->pend_count - px->pend_first;
+    if (px->pend_first) {
+        for (uint32_t i = 0; i < n; i++) w->pend[px->pend_at + i] = from[i]; /* a few: no call */
+        px->pend_first = 0, px->pend_count = n;
         return 1;
     }
-    const uint32_t room = b->cap ? 2 * b->cap : 8;
-    while (*used + room > *cap) {
-        void *grown = hk_grow_fragments(*pool, cap, size);
+    const uint32_t room = px->pend_cap ? 2 * px->pend_cap : 8;
+    while (w->pend_used + room > w->pend_cap) {
+        Pending *grown = hk_grow_fragments(w->pend, &w->pend_cap, sizeof *grown);
         if (!grown) return 0;
-        *pool = grown;
+        w->pend = grown;
     }
-    if (*used + room > UINT32_MAX) return 0;
-    base = *pool;
-    if (b->count) memcpy(base + *used * size, base + b->at * size, b->count * size);
-    b->at = (uint32_t)*used, b->cap = room;
-    *used += room;
+    if (w->pend_used + room > UINT32_MAX) return 0;
+    if (n) memcpy(w->pend + w->pend_used, w->pend + px->pend_at, n * sizeof *w->pend);
+    px->pend_at = (uint32_t)w->pend_used, px->pend_cap = room;
+    w->pend_used += room;
     return 1;
 }
 
@@ -172,10 +197,8 @@ HK_FRAGMENT_INLINE void hair_fragment(void *user, int x, int y, float t, float a
     const float z = 1.0f / ((1.0f - t) / s->a.z + t / s->b.z); /* perspective-correct */
     if (z >= w->head->cutoff[p]) return;
     Pixel *px = &w->pixel[p];
-    if ((px->frag.count == px->frag.cap &&
-         !grow_block((void **)&w->frag, &w->frag_used, &w->frag_cap, sizeof *w->frag, &px->frag)) ||
-        (px->pend.count == px->pend.cap &&
-         !grow_block((void **)&w->pend, &w->pend_used, &w->pend_cap, sizeof *w->pend, &px->pend))) {
+    if ((px->frag_count % FRAG_CHUNK == 0 && !new_chunk(w, px)) ||
+        (px->pend_count == px->pend_cap && !grow_pending(w, px))) {
         w->failed = 1;
         return;
     }
@@ -183,12 +206,12 @@ HK_FRAGMENT_INLINE void hair_fragment(void *user, int x, int y, float t, float a
     const hk_HairFile *h = w->hair;
     if (h->transparency) alpha *= 1.0f - ((1.0f - t) * h->transparency[s->first] + t * h->transparency[s->first + 1]);
     if (w->lod > 1.0f) lod_alpha(&alpha, w->lod);
-    Fragment *f = &w->frag[px->frag.at + px->frag.count++];
+    Fragment *f = &w->frag[px->frag_last + px->frag_count++ % FRAG_CHUNK];
     f->z = z, f->a = alpha > 1.0f ? 1.0f : alpha;
     f->r = s->ca[0] + t * (s->cb[0] - s->ca[0]);
     f->g = s->ca[1] + t * (s->cb[1] - s->ca[1]);
     f->b = s->ca[2] + t * (s->cb[2] - s->ca[2]);
-    Pending *q = &w->pend[px->pend.at + px->pend.count++];
+    Pending *q = &w->pend[px->pend_at + px->pend_count++];
     q->z = z, q->a = f->a;
     w->count++;
     if (z < px->near) px->near = z;
@@ -225,7 +248,7 @@ static void settle(hk_TileHair *w, float front)
          * nothing. */
         Pixel *px = &w->pixel[p];
         if (px->near > front) continue;
-        Pending *v = w->pend + px->pend.at;
+        Pending *v = w->pend + px->pend_at;
         /* Newest first: the products in the order of before (a list pushed at its
          * head), so that the same pixels close at the same fragments; those that
          * stay move up, in order, to end the block. Without branches (which fragments
@@ -233,8 +256,8 @@ static void settle(hk_TileHair *w, float front)
          * expressions): a fragment that stays multiplies by 1 - 0, which changes no
          * bit, and one that is final offers +inf as the nearest. */
         float through = px->through, nearest = HUGE_VALF;
-        uint32_t top = px->pend.count;
-        for (uint32_t i = px->pend.count; i-- > px->pend.first;) {
+        uint32_t top = px->pend_count;
+        for (uint32_t i = px->pend_count; i-- > px->pend_first;) {
             const Pending f = v[i];
             const uint32_t final = -(uint32_t)(f.z <= front);
             uint32_t a_bits, z_bits;
@@ -248,7 +271,7 @@ static void settle(hk_TileHair *w, float front)
             nearest = z < nearest ? z : nearest;
             v[top - 1] = f, top -= 1 + final;
         }
-        px->through = through, px->near = nearest, px->pend.first = top;
+        px->through = through, px->near = nearest, px->pend_first = top;
         if (through < SATURATED) close_pixel(w, p);
     }
     w->touched_count = 0;
@@ -273,7 +296,7 @@ static int composite(hk_TileHair *w, hk_Canvas *image)
 {
     uint32_t most = 0;
     for (int p = 0; p < NPX; p++)
-        if (w->pixel[p].frag.count > most) most = w->pixel[p].frag.count;
+        if (w->pixel[p].frag_count > most) most = w->pixel[p].frag_count;
     if (most > w->keys_cap) {
         uint64_t *k = realloc(w->keys, most * sizeof *k);
         if (k) w->keys = k;
@@ -288,16 +311,19 @@ static int composite(hk_TileHair *w, hk_Canvas *image)
     for (int y = w->r.y0; y < w->r.y1; y++)
         for (int x = w->r.x0; x < w->r.x1; x++) {
             const int p = (y - w->r.y0) * HK_TILE + (x - w->r.x0);
-            const uint32_t n = w->pixel[p].frag.count;
-            /* No fragment in the pixel: the pool may be NULL, and NULL + 0 is undefined. */
-            const Fragment *frag = n ? w->frag + w->pixel[p].frag.at : NULL;
-            /* key = depth bits (positive floats order as integers) above the place in
-             * drawing order, so that equal depths keep it. */
+            const uint32_t n = w->pixel[p].frag_count;
+            /* key = depth bits (positive floats order as integers) above the position in
+             * the pool, which increases in drawing order (a pixel's chunks are taken in
+             * turn), so that equal depths keep it. */
             uint64_t *k = w->keys;
-            for (uint32_t i = 0; i < n; i++) {
-                uint32_t bits;
-                memcpy(&bits, &frag[i].z, sizeof bits);
-                k[i] = ((uint64_t)bits << 32) | (uint64_t)i;
+            for (uint32_t i = 0, c = w->pixel[p].frag_first; i < n;) {
+                const uint32_t end = n - i > FRAG_CHUNK ? i + FRAG_CHUNK : n;
+                for (uint32_t at = c; i < end; i++, at++) {
+                    uint32_t bits;
+                    memcpy(&bits, &w->frag[at].z, sizeof bits);
+                    k[i] = ((uint64_t)bits << 32) | (uint64_t)at;
+                }
+                if (i < n) c = w->chunk_next[c / FRAG_CHUNK];
             }
             /* The segments were drawn nearest first, so a pixel's fragments come nearly
              * in depth order: insertion sort, unless it moves them too often. */
@@ -305,7 +331,7 @@ static int composite(hk_TileHair *w, hk_Canvas *image)
                 hk_sort_by_high_bits(k, n, w->keys_tmp); /* places in increasing order */
             float cr = 0.0f, cg = 0.0f, cb = 0.0f, through = 1.0f;
             for (uint32_t i = 0; i < n && through > 1e-4f; i++) {
-                const Fragment *f = &frag[k[i] & 0xffffffffu];
+                const Fragment *f = &w->frag[k[i] & 0xffffffffu];
                 const float a = f->a;
                 cr += through * a * f->r, cg += through * a * f->g, cb += through * a * f->b;
                 through *= 1.0f - a;
@@ -334,7 +360,7 @@ int hk_tile_hair(hk_TileHair *w, const hk_TileInput *in, int tile, const hk_Tile
     w->lod = (float)sc->thickness_scale;
     w->count = 0, w->failed = 0, w->touched_count = 0, w->frag_used = 0, w->pend_used = 0;
     for (int p = 0; p < NPX; p++) {
-        w->pixel[p] = (Pixel){{0, 0, 0, 0}, {0, 0, 0, 0}, HUGE_VALF, 1.0f};
+        w->pixel[p] = (Pixel){0, 0, 0, 0, 0, 0, 0, HUGE_VALF, 1.0f};
         w->saturated[p] = 0, w->touched[p] = 0;
     }
     for (int y = 0; y < HK_TILE; y++)
