@@ -241,6 +241,10 @@ static void settle(hk_TileHair *w, float front)
         close_pixel(w, (int)(h & 0xffffu));
         w->head_next++;
     }
+    uint32_t front_bits, inf_bits;
+    const float inf = HUGE_VALF;
+    memcpy(&front_bits, &front, sizeof front_bits);
+    memcpy(&inf_bits, &inf, sizeof inf_bits);
     for (int k = 0; k < w->touched_count; k++) {
         const int p = w->touched_list[k];
         w->touched[p] = 0;
@@ -253,25 +257,27 @@ static void settle(hk_TileHair *w, float front)
          * head), so that the same pixels close at the same fragments; those that
          * stay move up, in order, to end the block. Without branches (which fragments
          * are final is a coin toss; the compiler made branches of conditional
-         * expressions): a fragment that stays multiplies by 1 - 0, which changes no
-         * bit, and one that is final offers +inf as the nearest. */
-        float through = px->through, nearest = HUGE_VALF;
-        uint32_t top = px->pend_count;
+         * expressions), on the depths' bits (positive: they order as integers): a
+         * fragment that stays multiplies by 1 - 0, which changes no bit, and one that
+         * is final offers all ones, above +inf's bits, as the nearest. */
+        float through = px->through;
+        uint32_t nearest = inf_bits, top = px->pend_count;
         for (uint32_t i = px->pend_count; i-- > px->pend_first;) {
-            const Pending f = v[i];
-            const uint32_t final = -(uint32_t)(f.z <= front);
-            uint32_t a_bits, z_bits;
-            memcpy(&a_bits, &f.a, sizeof a_bits);
-            memcpy(&z_bits, &f.z, sizeof z_bits);
-            a_bits &= final, z_bits = (z_bits & ~final) | (final & 0x7f800000u); /* +inf */
-            float a, z;
+            uint32_t z, a_bits;
+            memcpy(&z, &v[i].z, sizeof z);
+            memcpy(&a_bits, &v[i].a, sizeof a_bits);
+            const uint32_t final = -(uint32_t)(z <= front_bits);
+            a_bits &= final;
+            float a;
             memcpy(&a, &a_bits, sizeof a);
-            memcpy(&z, &z_bits, sizeof z);
             through *= 1.0f - a;
-            nearest = z < nearest ? z : nearest;
-            v[top - 1] = f, top -= 1 + final;
+            nearest = (z | final) < nearest ? z | final : nearest;
+            v[top - 1] = v[i], top -= 1 + final;
         }
-        px->through = through, px->near = nearest, px->pend_first = top;
+        /* None left: the block is empty from its start (no moving when it fills). */
+        if (top == px->pend_count) top = px->pend_count = 0;
+        px->through = through, px->pend_first = top;
+        memcpy(&px->near, &nearest, sizeof nearest);
         if (through < SATURATED) close_pixel(w, p);
     }
     w->touched_count = 0;
