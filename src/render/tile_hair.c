@@ -34,7 +34,6 @@ typedef struct Fragment {
 } Fragment;
 typedef struct Pending {
     float z, a;
-    uint32_t order; /* its place in drawing order */
 } Pending;
 typedef struct Pixel {
     uint32_t frag_count, frag_first, frag_last;         /* chunks: pool positions */
@@ -212,13 +211,9 @@ HK_FRAGMENT_INLINE void hair_fragment(void *user, int x, int y, float t, float a
     f->r = s->ca[0] + t * (s->cb[0] - s->ca[0]);
     f->g = s->ca[1] + t * (s->cb[1] - s->ca[1]);
     f->b = s->ca[2] + t * (s->cb[2] - s->ca[2]);
-    /* The block is kept in order of depth (a new fragment rarely lies in front of
-     * one pending: the segments come nearest first), so that settling reads only the
-     * fragments it makes final. */
-    Pending *v = w->pend + px->pend_at;
-    uint32_t j = px->pend_count++;
-    for (; j > px->pend_first && v[j - 1].z > z; j--) v[j] = v[j - 1];
-    v[j] = (Pending){z, f->a, (uint32_t)w->count++};
+    Pending *q = &w->pend[px->pend_at + px->pend_count++];
+    q->z = z, q->a = f->a;
+    w->count++;
     if (z < px->near) px->near = z;
     if (!w->touched[p]) w->touched[p] = 1, w->touched_list[w->touched_count++] = (uint16_t)p;
 }
@@ -246,6 +241,10 @@ static void settle(hk_TileHair *w, float front)
         close_pixel(w, (int)(h & 0xffffu));
         w->head_next++;
     }
+    uint32_t front_bits, inf_bits;
+    const float inf = HUGE_VALF;
+    memcpy(&front_bits, &front, sizeof front_bits);
+    memcpy(&inf_bits, &inf, sizeof inf_bits);
     for (int k = 0; k < w->touched_count; k++) {
         const int p = w->touched_list[k];
         w->touched[p] = 0;
@@ -254,27 +253,31 @@ static void settle(hk_TileHair *w, float front)
         Pixel *px = &w->pixel[p];
         if (px->near > front) continue;
         Pending *v = w->pend + px->pend_at;
-        /* The fragments in front of `front` begin the block (in order of depth). */
-        uint32_t end = px->pend_first;
-        while (end < px->pend_count && v[end].z <= front) end++;
         /* Newest first: the products in the order of before (a list pushed at its
-         * head), so that the same pixels close at the same fragments. */
-        for (uint32_t i = px->pend_first + 1; i < end; i++) {
-            const Pending f = v[i];
-            uint32_t at = i;
-            for (; at > px->pend_first && v[at - 1].order < f.order; at--) v[at] = v[at - 1];
-            v[at] = f;
-        }
+         * head), so that the same pixels close at the same fragments; those that
+         * stay move up, in order, to end the block. Without branches (which fragments
+         * are final is a coin toss; the compiler made branches of conditional
+         * expressions), on the depths' bits (positive: they order as integers): a
+         * fragment that stays multiplies by 1 - 0, which changes no bit, and one that
+         * is final offers all ones, above +inf's bits, as the nearest. */
         float through = px->through;
-        for (uint32_t i = px->pend_first; i < end; i++) through *= 1.0f - v[i].a;
-        px->through = through;
-        if (end == px->pend_count) { /* none left: the block is empty from its start */
-            px->pend_first = px->pend_count = 0;
-            px->near = HUGE_VALF;
-        } else {
-            px->pend_first = end;
-            px->near = v[end].z;
+        uint32_t nearest = inf_bits, top = px->pend_count;
+        for (uint32_t i = px->pend_count; i-- > px->pend_first;) {
+            uint32_t z, a_bits;
+            memcpy(&z, &v[i].z, sizeof z);
+            memcpy(&a_bits, &v[i].a, sizeof a_bits);
+            const uint32_t final = -(uint32_t)(z <= front_bits);
+            a_bits &= final;
+            float a;
+            memcpy(&a, &a_bits, sizeof a);
+            through *= 1.0f - a;
+            nearest = (z | final) < nearest ? z | final : nearest;
+            v[top - 1] = v[i], top -= 1 + final;
         }
+        /* None left: the block is empty from its start (no moving when it fills). */
+        if (top == px->pend_count) top = px->pend_count = 0;
+        px->through = through, px->pend_first = top;
+        memcpy(&px->near, &nearest, sizeof nearest);
         if (through < SATURATED) close_pixel(w, p);
     }
     w->touched_count = 0;
