@@ -146,9 +146,9 @@ static __attribute__((noinline)) int new_chunk(hk_TileHair *w, Pixel *px)
  * of memory. */
 static __attribute__((noinline)) int grow_pending(hk_TileHair *w, Pixel *px)
 {
-    Pending *from = w->pend + px->pend_at + px->pend_first;
     const uint32_t n = px->pend_count - px->pend_first;
-    if (px->pend_first) {
+    if (px->pend_first) { /* (then the pool exists: w->pend may be NULL before a first block) */
+        const Pending *from = w->pend + px->pend_at + px->pend_first;
         for (uint32_t i = 0; i < n; i++) w->pend[px->pend_at + i] = from[i]; /* a few: no call */
         px->pend_first = 0, px->pend_count = n;
         return 1;
